@@ -1,0 +1,124 @@
+# Helpers so that every library, service and test target in rigger looks alike.
+include_guard(GLOBAL)
+
+set(RIGGER_WARNINGS -Wall -Wextra -Wpedantic -Wshadow)
+
+# Compile options shared by every rigger C++ target.
+function(rigger_target_defaults target)
+  target_compile_options(${target} PRIVATE
+    $<$<COMPILE_LANGUAGE:CXX>:${RIGGER_WARNINGS}>
+    $<$<AND:$<COMPILE_LANGUAGE:CXX>,$<BOOL:${RIGGER_WERROR}>>:-Werror>)
+  target_compile_definitions(${target} PRIVATE
+    RIGGER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    RIGGER_BINARY_DIR="${PROJECT_BINARY_DIR}")
+endfunction()
+
+# Adds every immediate subfolder of DIR holding a CMakeLists.txt (honours RIGGER_ONLY).
+function(rigger_add_subdirectories dir)
+  file(GLOB children RELATIVE ${CMAKE_CURRENT_SOURCE_DIR}/${dir} ${CMAKE_CURRENT_SOURCE_DIR}/${dir}/*/CMakeLists.txt)
+  list(SORT children)
+  foreach(child ${children})
+    get_filename_component(name ${child} DIRECTORY)
+    if(RIGGER_ONLY AND NOT name IN_LIST RIGGER_ONLY)
+      continue()
+    endif()
+    add_subdirectory(${dir}/${name})
+  endforeach()
+endfunction()
+
+# Adds DIR when it has a CMakeLists.txt and RIGGER_ONLY does not exclude it.
+function(rigger_add_optional_subdirectory dir)
+  get_filename_component(name ${dir} NAME)
+  if(RIGGER_ONLY AND NOT name IN_LIST RIGGER_ONLY AND NOT dir IN_LIST RIGGER_ONLY)
+    return()
+  endif()
+  if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${dir}/CMakeLists.txt)
+    add_subdirectory(${dir})
+  endif()
+endfunction()
+
+# rigger_add_library(NAME SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# A static library; headers under <folder>/include are public.
+function(rigger_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(${name} STATIC ${ARG_SOURCES})
+  rigger_target_defaults(${name})
+  set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_include_directories(${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+  endif()
+  if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/src)
+    target_include_directories(${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/src)
+  endif()
+  target_link_libraries(${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+endfunction()
+
+# rigger_add_executable(NAME SOURCES ... [DEPS ...]): a binary placed in <build>/bin.
+function(rigger_add_executable name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  rigger_target_defaults(${name})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS})
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
+endfunction()
+
+# rigger_add_service(NAME CORE_SOURCES ... [DEPS ...]):
+#   rigger_<NAME>_core (static library: everything but main) and the executable <NAME> (src/main.cpp).
+function(rigger_add_service name)
+  cmake_parse_arguments(ARG "" "" "CORE_SOURCES;DEPS" ${ARGN})
+  rigger_add_library(rigger_${name}_core SOURCES ${ARG_CORE_SOURCES} PUBLIC_DEPS ${ARG_DEPS})
+  rigger_add_executable(${name} SOURCES src/main.cpp DEPS rigger_${name}_core)
+endfunction()
+
+# rigger_add_test(NAME SOURCES ... DEPS ... LABEL unit|dds|integration [TIMEOUT s] [RUN_SERIAL])
+# One GoogleTest binary; each test case becomes a ctest test with the label and a timeout.
+# RUN_SERIAL: for tests that assert a deadline (e.g. discovery within 3 s) and must not share the
+# machine's two cores with the rest of the suite.
+function(rigger_add_test name)
+  if(NOT RIGGER_BUILD_TESTS)
+    return()
+  endif()
+  cmake_parse_arguments(ARG "RUN_SERIAL" "LABEL;TIMEOUT" "SOURCES;DEPS" ${ARGN})
+  if(NOT ARG_LABEL)
+    message(FATAL_ERROR "rigger_add_test(${name}): LABEL is required (unit, dds, integration, fuzz)")
+  endif()
+  if(NOT ARG_TIMEOUT)
+    if(ARG_LABEL STREQUAL "unit")
+      set(ARG_TIMEOUT 60)
+    else()
+      set(ARG_TIMEOUT 120)
+    endif()
+  endif()
+  add_executable(${name} ${ARG_SOURCES})
+  rigger_target_defaults(${name})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gmock GTest::gtest_main)
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
+  set(serial FALSE)
+  if(ARG_RUN_SERIAL)
+    set(serial TRUE)
+  endif()
+  gtest_discover_tests(${name}
+    DISCOVERY_TIMEOUT 60
+    PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial}
+    ENVIRONMENT "RIGGER_BIN_DIR=${PROJECT_BINARY_DIR}/bin;RIGGER_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+endfunction()
+
+# rigger_add_fuzzer(NAME SOURCES ... DEPS ... [CORPUS dir]): a libFuzzer target (clang only),
+# registered as a ctest test (label fuzz) that runs it briefly.
+function(rigger_add_fuzzer name)
+  if(NOT RIGGER_BUILD_FUZZ)
+    return()
+  endif()
+  cmake_parse_arguments(ARG "" "SECONDS" "SOURCES;DEPS" ${ARGN})
+  if(NOT ARG_SECONDS)
+    set(ARG_SECONDS 10)
+  endif()
+  add_executable(${name} ${ARG_SOURCES})
+  rigger_target_defaults(${name})
+  target_compile_options(${name} PRIVATE -fsanitize=fuzzer,address,undefined)
+  target_link_options(${name} PRIVATE -fsanitize=fuzzer,address,undefined)
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS})
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/fuzz)
+  add_test(NAME ${name} COMMAND ${name} -max_total_time=${ARG_SECONDS} -rss_limit_mb=2048)
+  set_tests_properties(${name} PROPERTIES LABELS fuzz TIMEOUT ${ARG_SECONDS}0)
+endfunction()

@@ -1,0 +1,56 @@
+#pragma once
+/// @file
+/// QoS profiles, named after their use. Every topic in docs/topics.md names the profile it uses.
+
+#include <chrono>
+
+#include <dds/dds.h>
+
+namespace rigger::dds {
+
+/// Move-only owner of a dds_qos_t.
+class Qos {
+ public:
+  Qos();
+  Qos(Qos&& other) noexcept;
+  Qos& operator=(Qos&& other) noexcept;
+  Qos(const Qos&) = delete;
+  Qos& operator=(const Qos&) = delete;
+  ~Qos();
+
+  const dds_qos_t* get() const { return qos_; }
+  dds_qos_t* get() { return qos_; }
+
+  Qos& reliable(std::chrono::milliseconds max_blocking = std::chrono::milliseconds(100));
+  Qos& best_effort();
+  Qos& keep_last(int depth);
+  Qos& keep_all();
+  Qos& volatile_durability();
+  Qos& transient_local();
+  /// MANUAL_BY_PARTICIPANT liveliness with `lease`: the process asserts it from its work loop, so a hung
+  /// thread is noticed, not only a dead process.
+  Qos& manual_liveliness(std::chrono::milliseconds lease);
+
+ private:
+  dds_qos_t* qos_;
+};
+
+/// The default liveliness lease of announcement writers (services, executors).
+inline constexpr std::chrono::milliseconds kDefaultLease{300};
+
+namespace qos {
+/// Commands that must all arrive, in order: reliable, keep-all, volatile (SkillCommand, TaskCommand, Recipe).
+Qos commands();
+/// Events that must all arrive, in order: reliable, keep-all, volatile (SkillEvent, query replies).
+Qos events();
+/// Latest state for late joiners: reliable, transient-local, keep-last 1 per instance.
+Qos state();
+/// High-rate sensor data where only the newest matters: best effort, keep-last 1, volatile.
+Qos sensor_stream();
+/// Velocity setpoints: reliable, keep-last 1, volatile (the newest command wins; its age is checked on receipt).
+Qos setpoints();
+/// Liveliness-monitored announcements: state() plus MANUAL_BY_PARTICIPANT liveliness with `lease`.
+Qos announcements(std::chrono::milliseconds lease = kDefaultLease);
+}  // namespace qos
+
+}  // namespace rigger::dds

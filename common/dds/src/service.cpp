@@ -1,0 +1,126 @@
+#include "rigger/dds/service.hpp"
+
+#include <pthread.h>
+#include <signal.h>
+
+#include <cstdlib>
+#include <iostream>
+#include <thread>
+
+namespace rigger::dds {
+namespace {
+
+// Signals are taken by one dedicated thread with sigwait(): the handler-free way to turn SIGINT and
+// SIGTERM into EventLoop::stop(), which is not async-signal-safe. The mask is set before any other
+// thread (Cyclone's included) exists, so every thread inherits it.
+class SignalThread {
+ public:
+  SignalThread() {
+    sigemptyset(&set_);
+    sigaddset(&set_, SIGINT);
+    sigaddset(&set_, SIGTERM);
+    sigaddset(&set_, SIGHUP);
+    sigaddset(&set_, SIGUSR1);
+    pthread_sigmask(SIG_BLOCK, &set_, nullptr);
+  }
+  void start(EventLoop& loop, const Logger& log) {
+    thread_ = std::thread([this, &loop, log] {
+      int sig = 0;
+      sigwait(&set_, &sig);
+      if (sig != SIGUSR1) {
+        log->info("signal received signal={} action=stop", strsignal(sig));
+        loop.stop();
+      }
+    });
+  }
+  ~SignalThread() {
+    if (thread_.joinable()) {
+      pthread_kill(thread_.native_handle(), SIGUSR1);  // wakes sigwait when no signal came
+      thread_.join();
+    }
+  }
+
+ private:
+  sigset_t set_;
+  std::thread thread_;
+};
+
+}  // namespace
+
+std::uint32_t domain_from_environment(std::uint32_t fallback) {
+  const char* env = std::getenv("RIGGER_DOMAIN");
+  if (!env || !*env) return fallback;
+  char* end = nullptr;
+  const long v = std::strtol(env, &end, 10);
+  if (*end != '\0' || v < 0 || v > 232) {
+    throw std::invalid_argument(std::string("RIGGER_DOMAIN='") + env + "' is not a domain id in [0, 232]");
+  }
+  return static_cast<std::uint32_t>(v);
+}
+
+int run_service(int argc, char** argv, const ServiceSpec& spec) {
+  ServiceOptions options;
+  CLI::App app{spec.description, spec.kind};
+  app.add_option("--id", options.id, "Service id, unique on the domain (default: the service kind)");
+  app.add_option("--domain", options.domain, "DDS domain id (default: $RIGGER_DOMAIN or 0)")->check(CLI::Range(0, 232));
+  app.add_option("--config", options.config_path, "Configuration file (JSON)");
+  app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error, critical or off");
+  if (spec.add_options) spec.add_options(app);
+  try {
+    options.domain = domain_from_environment(0);
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? kExitOk : kExitUsage;
+  } catch (const std::exception& e) {
+    std::cerr << spec.kind << ": " << e.what() << "\n";
+    return kExitUsage;
+  }
+  if (options.id.empty()) options.id = spec.kind;
+
+  Logger log;
+  try {
+    log = make_logger(options.id, options.log_level);
+  } catch (const std::exception& e) {
+    std::cerr << spec.kind << ": " << e.what() << "\n";
+    return kExitUsage;
+  }
+
+  SignalThread signals;  // before the participant, so Cyclone's threads inherit the blocked mask
+  try {
+    Config config = options.config_path.empty() ? Config::empty() : Config::load(options.config_path);
+    Participant participant(options.domain);
+    EventLoop loop(participant);
+    ServiceAnnouncer announcer(participant, options.id, spec.kind);
+    announcer.announce(ServiceStatus::kStarting);
+    signals.start(loop, log);
+    // Assert liveliness from the work loop: if the loop hangs, the lease runs out and others see it.
+    loop.every(kDefaultLease / 3, [&participant] { participant.assert_liveliness(); });
+    // A reader starved of CPU may expire a lease before it processed the liveliness messages that were
+    // queued for it; the instance then stays NOT_ALIVE until a new sample. Re-announcing once a second
+    // heals such a false loss within a second, for the price of one small sample a second.
+    loop.every(kServiceRefreshPeriod, [&announcer] { announcer.reannounce(); });
+    loop.on_status(announcer.writer_handle(), DDS_LIVELINESS_LOST_STATUS, [&] {
+      log->warn("liveliness lost: the work loop stalled longer than the lease; announcing again");
+      announcer.reannounce();
+    });
+
+    ServiceContext ctx{options, log, participant, loop, announcer, config};
+    std::unique_ptr<Node> node = spec.make_node(ctx);
+    announcer.announce(ServiceStatus::kReady);
+    log->info("ready service={} kind={} domain={} pid={}", options.id, spec.kind, options.domain, getpid());
+    loop.run();
+    log->info("stopping service={}", options.id);
+    announcer.announce(ServiceStatus::kStopping);
+    node.reset();  // the node brings its devices to a safe state here
+    log->info("stopped service={}", options.id);
+    return kExitOk;
+  } catch (const ConfigError& e) {
+    log->critical("bad configuration: {}", e.what());
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    log->critical("fatal: {}", e.what());
+    return kExitFailure;
+  }
+}
+
+}  // namespace rigger::dds

@@ -1,0 +1,85 @@
+#pragma once
+/// @file
+/// A set of real rigger processes on a private DDS domain, for multi-process tests:
+///
+///   rigger::testing::Cell cell;                       // own domain id, own log folder
+///   cell.start("echo-1", "echo", {"--id", "echo-1"});  // binary from the build's bin/
+///   ASSERT_TRUE(cell.wait_ready({"echo-1"}, 5s));      // waits on READY announcements, never sleeps
+///   ...                                                // drive it through cell.participant()
+///   EXPECT_TRUE(cell.stop_all().ok);                   // SIGINT, wait, check exit codes
+///
+/// The MultiProcessTest fixture does the last step in TearDown and prints every log on failure.
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "rigger/dds/event_loop.hpp"
+#include "rigger/dds/participant.hpp"
+#include "rigger/dds/service_state.hpp"
+#include "rigger/testing/domain.hpp"
+#include "rigger/testing/process.hpp"
+
+namespace rigger::testing {
+
+struct StopReport {
+  bool ok = true;          ///< every process exited with code 0 after SIGINT
+  std::string problems;    ///< one line per process that did not
+};
+
+class Cell {
+ public:
+  Cell();
+  ~Cell();
+
+  std::uint32_t domain_id() const { return domain_.id(); }
+  dds::Participant& participant() { return *participant_; }
+  dds::EventLoop& loop() { return *loop_; }
+  dds::ServiceDirectory& directory() { return *directory_; }
+  const std::string& log_dir() const { return log_dir_; }
+
+  /// Starts `binary` (a name in the build's bin/ or a path) as process `name` with `--domain <id>`
+  /// appended unless `add_domain` is false.
+  ChildProcess& start(const std::string& name, const std::string& binary, std::vector<std::string> args = {},
+                      bool add_domain = true);
+  ChildProcess& process(const std::string& name);
+  bool has(const std::string& name) const { return processes_.count(name) > 0; }
+
+  /// Runs the test's event loop (its readers and timers) until every id in `service_ids` announced
+  /// READY and is alive, or `timeout`. Fails fast if one of the started processes exits meanwhile.
+  bool wait_ready(const std::vector<std::string>& service_ids, std::chrono::milliseconds timeout);
+  /// Runs the test's event loop until `done()` or `timeout`.
+  bool wait_until(const std::function<bool()>& done, std::chrono::milliseconds timeout);
+
+  /// Sends `sig` to process `name` and waits for it to end.
+  std::optional<ExitStatus> stop(const std::string& name, int sig, std::chrono::milliseconds timeout);
+  /// SIGINT to every running process; each must exit 0 within `timeout`.
+  StopReport stop_all(std::chrono::milliseconds timeout = std::chrono::milliseconds(10000));
+  /// Every process's log, headed by its name.
+  std::string logs() const;
+
+ private:
+  DomainLease domain_;
+  std::string log_dir_;
+  std::unique_ptr<dds::Participant> participant_;
+  std::unique_ptr<dds::EventLoop> loop_;
+  std::unique_ptr<dds::ServiceDirectory> directory_;
+  std::map<std::string, std::unique_ptr<ChildProcess>> processes_;
+  std::map<std::string, ExitStatus> ended_;
+};
+
+/// GoogleTest fixture owning a Cell: stops every process in TearDown, expects clean exits, and prints
+/// the logs of all processes when the test failed.
+class MultiProcessTest : public ::testing::Test {
+ protected:
+  void TearDown() override;
+  Cell cell_;
+  /// Set to false in tests that end processes on purpose with unclean exits.
+  bool expect_clean_exit_ = true;
+};
+
+}  // namespace rigger::testing

@@ -1,0 +1,124 @@
+#include "rigger/testing/process.hpp"
+
+#include "rigger/testing/domain.hpp"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+extern char** environ;
+
+namespace rigger::testing {
+
+std::string ExitStatus::describe() const {
+  if (exited) return "exit code " + std::to_string(code);
+  return std::string("killed by ") + strsignal(signal);
+}
+
+ChildProcess::ChildProcess(const std::string& binary, const std::vector<std::string>& args,
+                           const std::map<std::string, std::string>& env, const std::string& log_path,
+                           std::function<void()> on_exit)
+    : log_path_(log_path) {
+  std::vector<std::string> argv_store{binary};
+  argv_store.insert(argv_store.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : argv_store) argv.push_back(a.data());
+  argv.push_back(nullptr);
+
+  std::map<std::string, std::string> merged;
+  for (char** e = environ; *e; ++e) {
+    const std::string kv(*e);
+    const auto eq = kv.find('=');
+    if (eq != std::string::npos) merged[kv.substr(0, eq)] = kv.substr(eq + 1);
+  }
+  for (const auto& [k, v] : env) merged[k] = v;
+  std::vector<std::string> env_store;
+  for (const auto& [k, v] : merged) env_store.push_back(k + "=" + v);
+  std::vector<char*> envp;
+  for (auto& e : env_store) envp.push_back(e.data());
+  envp.push_back(nullptr);
+
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  // The child starts with no blocked signals and default dispositions, whatever the test process has.
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  sigset_t none, defaults;
+  sigemptyset(&none);
+  sigemptyset(&defaults);
+  sigaddset(&defaults, SIGINT);
+  sigaddset(&defaults, SIGTERM);
+  sigaddset(&defaults, SIGPIPE);
+  posix_spawnattr_setsigmask(&attr, &none);
+  posix_spawnattr_setsigdefault(&attr, &defaults);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+  const std::string path = binary.find('/') == std::string::npos ? bin_dir_path(binary) : binary;
+  const int rc = posix_spawn(&pid_, path.c_str(), &actions, &attr, argv.data(), envp.data());
+  posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attr);
+  if (rc != 0) throw std::runtime_error("cannot start " + path + ": " + strerror(rc));
+
+  reaper_ = std::thread([this, on_exit = std::move(on_exit)] {
+    // Wait without reaping, record the end, and only then reap under the lock: signal() can never hit
+    // a recycled PID that belongs to some other process.
+    siginfo_t info{};
+    while (waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED | WNOWAIT) < 0 && errno == EINTR) {
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ExitStatus s;
+      s.exited = info.si_code == CLD_EXITED;
+      s.code = s.exited ? info.si_status : 0;
+      s.signal = s.exited ? 0 : info.si_status;
+      status_ = s;
+      int ignored = 0;
+      waitpid(pid_, &ignored, 0);
+    }
+    cv_.notify_all();
+    if (on_exit) on_exit();
+  });
+}
+
+std::string ChildProcess::bin_dir_path(const std::string& name) { return bin_dir() + "/" + name; }
+
+ChildProcess::~ChildProcess() {
+  signal(SIGKILL);
+  if (reaper_.joinable()) reaper_.join();
+}
+
+bool ChildProcess::signal(int sig) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (status_ || pid_ <= 0) return false;  // already reaped: the PID may belong to someone else now
+  return ::kill(pid_, sig) == 0;
+}
+
+std::optional<ExitStatus> ChildProcess::wait(std::chrono::milliseconds timeout) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  cv_.wait_for(lock, timeout, [this] { return status_.has_value(); });
+  return status_;
+}
+
+bool ChildProcess::running() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return !status_.has_value();
+}
+
+std::string ChildProcess::log() const {
+  std::ifstream in(log_path_);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace rigger::testing
