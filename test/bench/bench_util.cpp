@@ -1,0 +1,68 @@
+#include "bench_util.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <regex>
+#include <sstream>
+
+namespace rigger::bench {
+
+double percentile(std::vector<double> values, double q) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const auto rank = static_cast<size_t>(std::ceil(q * static_cast<double>(values.size())));
+  return values[std::min(values.size() - 1, rank == 0 ? 0 : rank - 1)];
+}
+
+std::string run_command(const std::string& command) {
+  std::string out;
+  FILE* p = popen(command.c_str(), "r");
+  if (!p) return out;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
+  pclose(p);
+  return out;
+}
+
+DdsperfLatency run_ddsperf_pingpong(std::uint32_t domain, int rate_hz, int payload_bytes, int seconds, bool waitset) {
+  const std::string d = std::to_string(domain);
+  const std::string mode = waitset ? " waitset" : "";
+  // pong runs a little longer than ping so that every ping is answered; both end by themselves (-D).
+  const std::string cmd = "ddsperf -i " + d + " -D " + std::to_string(seconds + 3) + " pong" + mode +
+                          " >/dev/null 2>&1 & sleep 0.5; ddsperf -i " + d + " -D " + std::to_string(seconds + 1) +
+                          " ping " + std::to_string(rate_hz) + "Hz size " + std::to_string(payload_bytes) + mode +
+                          " 2>&1; wait";
+  DdsperfLatency out;
+  out.raw = run_command(cmd);
+  // e.g. "[123] 2.000  vm:26591 size 64 mean 46.9us min 18.9us 50% 40.8us 90% 48.6us 99% 150.0us max 2161.7us cnt 1000"
+  static const std::regex line(R"(50% ([0-9.]+)us 90% ([0-9.]+)us 99% ([0-9.]+)us max [0-9.]+us cnt ([0-9]+))");
+  std::istringstream in(out.raw);
+  std::string l;
+  double s50 = 0, s90 = 0, s99 = 0;
+  bool first = true;
+  while (std::getline(in, l)) {
+    std::smatch m;
+    if (!std::regex_search(l, m, line)) continue;
+    if (first) {  // the first second includes discovery and warm-up, as our own warm-up is excluded
+      first = false;
+      continue;
+    }
+    const double cnt = std::stod(m[4]);
+    s50 += std::stod(m[1]) * cnt;
+    s90 += std::stod(m[2]) * cnt;
+    s99 += std::stod(m[3]) * cnt;
+    out.count += static_cast<std::uint64_t>(cnt);
+  }
+  if (out.count > 0) {
+    const double c = static_cast<double>(out.count);
+    out.p50_us = 2 * s50 / c;  // ddsperf reports (t_now - t_sent) / 2
+    out.p90_us = 2 * s90 / c;
+    out.p99_us = 2 * s99 / c;
+  }
+  return out;
+}
+
+}  // namespace rigger::bench

@@ -1,0 +1,30 @@
+#pragma once
+// Small helpers shared by the benchmarks: percentiles and running ddsperf as the DDS reference.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rigger::bench {
+
+/// The q-quantile (0..1) of `values` (nearest rank); 0 when empty.
+double percentile(std::vector<double> values, double q);
+
+/// Latency summary as ddsperf prints it for one run: the count-weighted mean of its per-second
+/// percentiles, converted to round trips (ddsperf prints half the round trip).
+struct DdsperfLatency {
+  double p50_us = 0;
+  double p90_us = 0;
+  double p99_us = 0;
+  std::uint64_t count = 0;
+  std::string raw;  ///< ddsperf's output, for the report when parsing fails
+};
+
+/// Runs `ddsperf pong` and `ddsperf ping <rate>Hz size <bytes>` for `seconds` on `domain` (loopback
+/// configuration from CYCLONEDDS_URI) and returns the round-trip figures. `waitset` selects ddsperf's
+/// waitset triggering instead of its default listener triggering.
+DdsperfLatency run_ddsperf_pingpong(std::uint32_t domain, int rate_hz, int payload_bytes, int seconds, bool waitset);
+
+/// Runs a shell command and returns its stdout.
+std::string run_command(const std::string& command);
+
+}  // namespace rigger::bench

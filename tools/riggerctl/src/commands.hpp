@@ -1,0 +1,19 @@
+#pragma once
+/// @file
+/// riggerctl's commands. Each `add_*` registers a subcommand on the app; the callback it installs
+/// returns the process exit code through `exit_code`.
+
+#include <CLI/CLI.hpp>
+
+namespace rigger::ctl {
+
+/// Options shared by every command.
+struct CommonOptions {
+  std::uint32_t domain = 0;
+};
+
+/// `riggerctl services [--wait N] [--lost ID] [--timeout S]`: lists the rigger services alive on the
+/// domain, or waits until N are READY, or until service ID is lost.
+void add_services_command(CLI::App& app, const CommonOptions& common, int& exit_code);
+
+}  // namespace rigger::ctl
