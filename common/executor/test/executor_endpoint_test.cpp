@@ -1,0 +1,150 @@
+// The executor side of the protocol, driven by a raw controller-side writer/reader in the same process.
+#include "rigger/executor/executor_endpoint.hpp"
+
+#include <gtest/gtest.h>
+
+#include "rigger/dds/conversions.hpp"
+#include "rigger/testing/domain.hpp"
+
+namespace rigger::executor {
+namespace {
+
+using namespace std::chrono_literals;
+
+struct Event {
+  std::string node, kind_code, message;
+  rigger_skill_SkillEventKind kind;
+  std::uint64_t seq, command_seq;
+};
+
+class ExecutorEndpointTest : public ::testing::Test {
+ protected:
+  ExecutorEndpointTest() {
+    library_ = {{"library_version", 1}, {"skills", {{{"name", "Wait"}}, {{"name", "Grasp"}}}}};
+    endpoint_ = std::make_unique<ExecutorEndpoint>(
+        participant_, loop_, null_logger(), "exec-1", library_,
+        ExecutorEndpoint::Handlers{[this](const StartRequest& r) { starts_.push_back(r); },
+                                   [this](const ShutdownRequest& r) { shutdowns_.push_back(r); }});
+    loop_.on_data(events_, [this] {
+      events_.take([this](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
+        received_.push_back({dds::to_string(e.node_id), dds::to_string(e.code), dds::to_string(e.message), e.kind,
+                             e.seq, e.command_seq});
+      });
+    });
+    EXPECT_TRUE(commands_.wait_for_readers(1, 5s));
+  }
+
+  void send(const std::string& executor, const std::string& node, rigger_skill_SkillCommandKind kind, std::uint64_t seq,
+            const std::string& skill = "Wait", const std::string& params = "{}") {
+    rigger_skill_SkillCommand c{};
+    const std::string task = "t1", reason = "test";
+    c.executor_id = dds::wire_string(executor);
+    c.task_id = dds::wire_string(task);
+    c.node_id = dds::wire_string(node);
+    c.skill = dds::wire_string(skill);
+    c.kind = kind;
+    c.params_json = dds::wire_string(params);
+    c.reason = dds::wire_string(reason);
+    c.seq = seq;
+    ASSERT_EQ(commands_.write(c), DDS_RETCODE_OK);
+  }
+
+  testing::DomainLease domain_;
+  dds::Participant participant_{domain_.id()};
+  dds::EventLoop loop_{participant_};
+  dds::Writer<rigger_skill_SkillCommand> commands_{participant_, kCommandTopic, dds::qos::commands()};
+  dds::Reader<rigger_skill_SkillEvent> events_{participant_, kEventTopic, dds::qos::events()};
+  nlohmann::json library_;
+  std::unique_ptr<ExecutorEndpoint> endpoint_;
+  std::vector<StartRequest> starts_;
+  std::vector<ShutdownRequest> shutdowns_;
+  std::vector<Event> received_;
+};
+
+TEST_F(ExecutorEndpointTest, StartThenSuccessCarriesTheStartSeq) {
+  send("exec-1", "n1", rigger_skill_SKILL_START, 7, "Wait", R"({"duration_s": 2})");
+  ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 1; }, 5s));
+  EXPECT_EQ(starts_[0].skill, "Wait");
+  EXPECT_EQ(starts_[0].params["duration_s"], 2);
+  EXPECT_EQ(starts_[0].run.start_seq, 7u);
+  EXPECT_TRUE(endpoint_->report(starts_[0].run, EventKind::kProgress, "", "half", 0.5));
+  EXPECT_TRUE(endpoint_->report(starts_[0].run, EventKind::kSuccess));
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 2; }, 5s));
+  EXPECT_EQ(received_[0].kind, rigger_skill_SKILL_EVENT_PROGRESS);
+  EXPECT_EQ(received_[1].kind, rigger_skill_SKILL_EVENT_SUCCESS);
+  EXPECT_EQ(received_[1].command_seq, 7u);
+  EXPECT_LT(received_[0].seq, received_[1].seq);
+  // The run is over: a late report is dropped, not sent.
+  EXPECT_FALSE(endpoint_->report(starts_[0].run, EventKind::kFailure, "LATE"));
+  EXPECT_TRUE(endpoint_->active_runs().empty());
+}
+
+TEST_F(ExecutorEndpointTest, IgnoresOtherExecutorsAndStaleSeqs) {
+  send("exec-2", "n1", rigger_skill_SKILL_START, 1);
+  send("exec-1", "n2", rigger_skill_SKILL_START, 5);
+  send("exec-1", "n3", rigger_skill_SKILL_START, 5);  // duplicate seq: dropped
+  send("exec-1", "n4", rigger_skill_SKILL_START, 4);  // older seq: dropped
+  send("exec-1", "n5", rigger_skill_SKILL_START, 6);
+  ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 2; }, 5s));
+  loop_.run_until([] { return false; }, 100ms);  // nothing else may arrive
+  ASSERT_EQ(starts_.size(), 2u);
+  EXPECT_EQ(starts_[0].run.node_id, "n2");
+  EXPECT_EQ(starts_[1].run.node_id, "n5");
+}
+
+TEST_F(ExecutorEndpointTest, BadParamsAndUnknownSkillFailWithCodes) {
+  send("exec-1", "bad", rigger_skill_SKILL_START, 1, "Wait", "{not json");
+  send("exec-1", "arr", rigger_skill_SKILL_START, 2, "Wait", "[1,2]");
+  send("exec-1", "unk", rigger_skill_SKILL_START, 3, "Fly", "{}");
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 3; }, 5s));
+  EXPECT_TRUE(starts_.empty());
+  EXPECT_EQ(received_[0].kind_code, "BAD_PARAMS");
+  EXPECT_EQ(received_[1].kind_code, "BAD_PARAMS");
+  EXPECT_EQ(received_[2].kind_code, "UNKNOWN_SKILL");
+  for (const auto& e : received_) EXPECT_EQ(e.kind, rigger_skill_SKILL_EVENT_FAILURE);
+}
+
+TEST_F(ExecutorEndpointTest, ShutdownOfARunningLeafReachesTheHandler) {
+  send("exec-1", "n1", rigger_skill_SKILL_START, 1);
+  send("exec-1", "n1", rigger_skill_SKILL_SHUTDOWN, 2);
+  ASSERT_TRUE(loop_.run_until([&] { return shutdowns_.size() == 1; }, 5s));
+  EXPECT_EQ(shutdowns_[0].run.start_seq, 1u);
+  EXPECT_EQ(shutdowns_[0].reason, "test");
+  EXPECT_TRUE(endpoint_->report(shutdowns_[0].run, EventKind::kStopped));
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 1; }, 5s));
+  EXPECT_EQ(received_[0].kind, rigger_skill_SKILL_EVENT_STOPPED);
+}
+
+TEST_F(ExecutorEndpointTest, ShutdownOfAnUnknownLeafIsAcknowledgedAtOnce) {
+  send("exec-1", "ghost", rigger_skill_SKILL_SHUTDOWN, 1);
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 1; }, 5s));
+  EXPECT_TRUE(shutdowns_.empty());
+  EXPECT_EQ(received_[0].kind, rigger_skill_SKILL_EVENT_STOPPED);
+  EXPECT_EQ(received_[0].kind_code, "NOT_RUNNING");
+}
+
+TEST_F(ExecutorEndpointTest, AnnouncesItsLibrary) {
+  dds::Reader<rigger_skill_ExecutorAnnouncement> reader(participant_, kAnnouncementTopic, dds::qos::state());
+  std::string library;
+  std::vector<std::string> skills;
+  loop_.on_data(reader, [&] {
+    reader.take([&](const rigger_skill_ExecutorAnnouncement& a, const dds_sample_info_t&) {
+      library = dds::to_string(a.library_json);
+      skills = dds::to_string_vector(a.skills);
+    });
+  });
+  ASSERT_TRUE(loop_.run_until([&] { return !library.empty(); }, 5s));
+  EXPECT_EQ(nlohmann::json::parse(library), library_);
+  EXPECT_EQ(skills, (std::vector<std::string>{"Wait", "Grasp"}));
+}
+
+TEST(ExecutorEndpointSetup, RejectsALibraryWithoutSkills) {
+  testing::DomainLease domain;
+  dds::Participant participant(domain.id());
+  dds::EventLoop loop(participant);
+  EXPECT_THROW(ExecutorEndpoint(participant, loop, null_logger(), "x", nlohmann::json::object(), {}),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rigger::executor
