@@ -12,6 +12,17 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(MODBUS REQUIRED IMPORTED_TARGET libmodbus>=3.1)
 find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc calib3d aruco)
 find_package(mujoco 2.2 REQUIRED)
+# Debian's mujoco 2.2.2 package lists /usr/include/libqhull_r/ as an include directory although
+# libqhull-dev is not installed (MuJoCo's public headers do not need it), and CMake refuses imported
+# targets with missing include paths: keep only the directories that exist.
+get_target_property(rigger_mujoco_includes mujoco::mujoco INTERFACE_INCLUDE_DIRECTORIES)
+set(rigger_mujoco_existing_includes "")
+foreach(dir IN LISTS rigger_mujoco_includes)
+  if(EXISTS "${dir}")
+    list(APPEND rigger_mujoco_existing_includes "${dir}")
+  endif()
+endforeach()
+set_target_properties(mujoco::mujoco PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${rigger_mujoco_existing_includes}")
 if(RIGGER_BUILD_TESTS)
   find_package(GTest 1.12 REQUIRED)
   include(GoogleTest)

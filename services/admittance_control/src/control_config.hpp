@@ -1,0 +1,53 @@
+#pragma once
+/// @file
+/// The admittance_control service's configuration file (JSON, format in docs/control.md and the
+/// shipped `services/admittance_control/config/admittance_control.json`): loop rates and the
+/// parameters of the robot law, the crane law and the visual servo. Every key is optional (defaults
+/// as in the structs); unknown keys are refused. Also the reader of the insertion offset from an
+/// object's CAD features. Setup-time only: everything here throws rigger::ConfigError naming the
+/// file, the JSON pointer and what was expected.
+
+#include <string>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "crane_admittance.hpp"
+#include "rigger/base/config.hpp"
+#include "robot_admittance.hpp"
+#include "visual_servo.hpp"
+
+namespace rigger::control {
+
+/// Everything the admittance_control service is configured with.
+struct ControlConfig {
+  double robot_rate_hz = 500.0;  ///< robot law loop rate, Hz
+  double crane_rate_hz = 50.0;   ///< crane law loop rate, Hz
+  RobotAdmittanceConfig robot;
+  CraneAdmittanceConfig crane;
+  /// The servo's gains and limits; its insertion offset comes with each servo request from the world
+  /// model (insertion_offset_from_features()), so the configured one stays the identity.
+  VisualServoConfig visual_servo;
+};
+
+/// Reads the configuration from its root object ("robot", "crane", "visual_servo" sections) and
+/// checks every key (config.finish()).
+/// @throws rigger::ConfigError on a wrong type, a value out of range or an unknown key.
+ControlConfig load_control_config(const Config& config);
+
+/// Reads the configuration file at `path`. @throws rigger::ConfigError.
+ControlConfig load_control_config_file(const std::string& path);
+
+/// A pose in the cell configuration's form {"position_m": [x, y, z], "rpy_deg": [roll, pitch, yaw]}
+/// with R = Rz(yaw) Ry(pitch) Rx(roll). `source` and `pointer` name the value in errors.
+/// @throws rigger::ConfigError when a key is missing or not three finite numbers, or a key is unknown.
+Eigen::Isometry3d pose_from_config_json(const nlohmann::json& value, const std::string& source,
+                                        const std::string& pointer);
+
+/// The insertion offset (the load's pose in the target's frame) from an object's CAD features in
+/// the cell configuration's form: `features.insertion.pose_in_target`.
+/// @throws rigger::ConfigError naming `source` and the JSON pointer (below "/insertion") when absent
+///   or malformed.
+Eigen::Isometry3d insertion_offset_from_features(const nlohmann::json& features, const std::string& source);
+
+}  // namespace rigger::control

@@ -1,0 +1,137 @@
+#include "rigger/sim/cell_geometry.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace rigger::sim {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string read_file(const std::string& path) {
+  std::ifstream stream(path);
+  std::ostringstream text;
+  text << stream.rdbuf();
+  return text.str();
+}
+
+std::string shared_cell_text() { return read_file(RIGGER_CELL_JSON); }
+
+// Replaces the first occurrence of `from` (which must exist) in the shared cell JSON.
+std::string shared_cell_with(const std::string& from, const std::string& to) {
+  std::string text = shared_cell_text();
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "test setup: '" << from << "' not in the cell JSON";
+  if (at != std::string::npos) {
+    text.replace(at, from.size(), to);
+  }
+  return text;
+}
+
+std::string parse_error(const std::string& text) {
+  try {
+    parse_cell_geometry(text, "cell.json");
+  } catch (const CellGeometryError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(CellGeometry, ReadsTheSharedCellFile) {
+  const CellGeometry cell = load_cell_geometry(RIGGER_CELL_JSON);
+  EXPECT_DOUBLE_EQ(cell.crane.rail_height_m, 4.5);
+  EXPECT_DOUBLE_EQ(cell.crane.bridge_range_m[1], 8.0);
+  EXPECT_DOUBLE_EQ(cell.crane.rope_length_range_m[0], 0.5);
+  EXPECT_DOUBLE_EQ(cell.crane.max_speed_mps[2], 0.2);
+  EXPECT_DOUBLE_EQ(cell.gripper.holding_force_n, 1200.0);
+  EXPECT_DOUBLE_EQ(cell.gripper.flange_to_face_m, 0.12);
+  EXPECT_EQ(cell.robot.model, "kuka_lbr_iiwa_14_r820");
+  EXPECT_TRUE(cell.load.size_m.isApprox(Eigen::Vector3d(0.40, 0.30, 0.20)));
+  EXPECT_DOUBLE_EQ(cell.load.mass_kg, 40.0);
+  EXPECT_TRUE(cell.load.pose_world_load.translation().isApprox(Eigen::Vector3d(3.55, 1.75, 1.20)));
+  EXPECT_TRUE(
+      cell.load.pose_load_rope_attachment.translation().isApprox(Eigen::Vector3d(0, 0, 0.10)));
+  ASSERT_TRUE(cell.grasp_frame("grasp_side").has_value());
+  EXPECT_FALSE(cell.grasp_frame("grasp_top").has_value());
+  ASSERT_TRUE(cell.load.pose_target_load_inserted.has_value());
+  EXPECT_TRUE(
+      cell.load.pose_target_load_inserted->translation().isApprox(Eigen::Vector3d(0, 0, 0.10)));
+  EXPECT_TRUE(cell.target.size_m.isApprox(Eigen::Vector3d(0.50, 0.40, 0.95)));
+}
+
+TEST(CellGeometry, GraspSideFrameHasToolZIntoTheMinusXFaceAndToolXDown) {
+  const CellGeometry cell = load_cell_geometry(RIGGER_CELL_JSON);
+  const Eigen::Isometry3d grasp = *cell.grasp_frame("grasp_side");
+  EXPECT_TRUE(grasp.linear().col(2).isApprox(Eigen::Vector3d::UnitX(), 1e-9));
+  EXPECT_TRUE(grasp.linear().col(0).isApprox(-Eigen::Vector3d::UnitZ(), 1e-9));
+  EXPECT_NEAR(grasp.translation().x(), -0.20, 1e-12);  // on the -x face
+}
+
+TEST(CellGeometry, ComposesPosesThroughParents) {
+  // Make the target a child of the crane frame, shifted: its world pose follows.
+  std::string text = shared_cell_with(
+      R"("id": "crane", "kind": "device", "parent": "world",
+      "pose": { "position_m": [0, 0, 0], "rpy_deg": [0, 0, 0] },)",
+      R"("id": "crane", "kind": "device", "parent": "world",
+      "pose": { "position_m": [1, 0, 0], "rpy_deg": [0, 0, 90] },)");
+  const auto at = text.find(R"("id": "target", "kind": "object", "parent": "world")");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, std::string(R"("id": "target", "kind": "object", "parent": "world")").size(),
+               R"("id": "target", "kind": "object", "parent": "crane")");
+  const CellGeometry cell = parse_cell_geometry(text, "cell.json");
+  // Target at (3.55, 2.25, 0.95) in a crane frame at (1, 0, 0) turned 90 deg about z.
+  EXPECT_TRUE(cell.target.pose_world_target.translation().isApprox(
+      Eigen::Vector3d(1.0 - 2.25, 3.55, 0.95), 1e-9));
+}
+
+TEST(CellGeometry, ErrorsNameFileAndJsonPointer) {
+  EXPECT_THAT(
+      parse_error(shared_cell_with(R"("mass_kg": 40.0)", R"("mass_kg": -40.0)")),
+      AllOf(HasSubstr("cell.json"), HasSubstr("/entities/5/model/mass_kg"), HasSubstr("positive")));
+  EXPECT_THAT(parse_error(shared_cell_with(R"("rail_height_m": 4.5,)", "")),
+              AllOf(HasSubstr("/entities/1/attributes/rail_height_m"), HasSubstr("missing")));
+  EXPECT_THAT(
+      parse_error(shared_cell_with(R"("size_m": [0.40, 0.30, 0.20])", R"("size_m": [0.40, 0.30])")),
+      AllOf(HasSubstr("/entities/5/model/size_m"), HasSubstr("array of 3")));
+  EXPECT_THAT(parse_error(shared_cell_with(R"("bridge_range_m": [0.0, 8.0])",
+                                           R"("bridge_range_m": [8.0, 0.0])")),
+              AllOf(HasSubstr("/entities/1/attributes/bridge_range_m"), HasSubstr("min < max")));
+  EXPECT_THAT(
+      parse_error(shared_cell_with(R"("holding_force_n": 1200)", R"("holding_force_n": "strong")")),
+      AllOf(HasSubstr("holding_force_n"), HasSubstr("expected a number")));
+  EXPECT_THAT(
+      parse_error(shared_cell_with(R"("model": "kuka_lbr_iiwa_14_r820")", R"("model": "ur10")")),
+      HasSubstr("kuka_lbr_iiwa_14_r820"));
+  EXPECT_THAT(parse_error(shared_cell_with(R"("rope_length_range_m": [0.5, 3.8])",
+                                           R"("rope_length_range_m": [0.5, 4.8])")),
+              HasSubstr("rail_height_m"));
+}
+
+TEST(CellGeometry, MissingEntityAndBrokenParentsAreErrors) {
+  EXPECT_THAT(parse_error(shared_cell_with(R"("id": "gripper")", R"("id": "magnet")")),
+              HasSubstr("entity with id 'gripper'"));
+  EXPECT_THAT(
+      parse_error(shared_cell_with(R"("id": "target", "kind": "object", "parent": "world")",
+                                   R"("id": "target", "kind": "object", "parent": "target")")),
+      HasSubstr("cycle"));
+  EXPECT_THAT(parse_error(shared_cell_with(R"("id": "crane")", R"("id": "robot")")),
+              HasSubstr("duplicate entity id 'robot'"));
+}
+
+TEST(CellGeometry, RejectsInvalidJsonAndMissingFiles) {
+  EXPECT_THAT(parse_error("{ \"entities\": [ "), HasSubstr("not valid JSON"));
+  EXPECT_THAT(parse_error("{}"), HasSubstr("/entities: missing"));
+  EXPECT_THAT(parse_error(R"({"entities": {}})"), HasSubstr("/entities: expected an array"));
+  try {
+    load_cell_geometry("/nonexistent/cell.json");
+    FAIL() << "expected CellGeometryError";
+  } catch (const CellGeometryError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("/nonexistent/cell.json"));
+  }
+}
+
+}  // namespace
+}  // namespace rigger::sim
