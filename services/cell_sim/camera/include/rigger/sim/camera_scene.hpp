@@ -1,0 +1,92 @@
+#pragma once
+/// @file
+/// What the simulated camera needs from the cell configuration (deploy/cell/simulated_cell.json):
+/// the camera's intrinsics and pose, and each boxed object with its fiducial markers.
+///
+/// This is a deliberately minimal reader, local to the camera library. When the world model's full
+/// cell-configuration loader exists, build a CameraScene from it instead and delete this parser.
+
+#include <Eigen/Geometry>
+#include <nlohmann/json_fwd.hpp>
+
+#include <array>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rigger::sim {
+
+/// A malformed or unusable cell configuration. what() names the file, the JSON pointer and what was
+/// expected there.
+class CameraSceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Pinhole camera as in sensor_msgs/CameraInfo. Pixel (0, 0) is the centre of the top-left pixel.
+/// The optical frame has z forward, x right, y down.
+struct CameraModel {
+  int width_px = 0;
+  int height_px = 0;
+  double fx_px = 0.0;
+  double fy_px = 0.0;
+  double cx_px = 0.0;
+  double cy_px = 0.0;
+  /// plumb_bob k1 k2 p1 p2 k3. The renderer supports only zero distortion.
+  std::array<double, 5> distortion{};
+  double rate_hz = 30.0;
+  /// Standard deviation of the additive Gaussian pixel noise, in grey levels (0..255).
+  double noise_stddev = 0.0;
+};
+
+/// A square fiducial marker printed on an object. Marker frame (OpenCV ArUco convention): origin at
+/// the marker centre, x to the right of the printed image, y up, z out of the printed face. The
+/// marker's black outer border is size_m wide; the white quiet zone around it is not included.
+struct MarkerSpec {
+  int id = 0;
+  double size_m = 0.0;
+  Eigen::Isometry3d pose_object_marker = Eigen::Isometry3d::Identity();
+};
+
+/// A rigid box-shaped object with markers on its faces.
+struct BoxObject {
+  std::string id;
+  /// Full edge lengths along the box axes, metres.
+  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();
+  /// The box centre (axes along the edges) in the object's frame: the object frame need not be
+  /// the box centre (the target's is the centre of its top face).
+  Eigen::Isometry3d pose_object_box = Eigen::Isometry3d::Identity();
+  std::vector<MarkerSpec> markers;
+  /// The object's pose in the world as configured (the scenario's initial pose).
+  Eigen::Isometry3d pose_world_object = Eigen::Isometry3d::Identity();
+};
+
+/// Everything the camera renders, read from one cell configuration.
+struct CameraScene {
+  std::string camera_id;
+  CameraModel camera;
+  Eigen::Isometry3d pose_world_camera = Eigen::Isometry3d::Identity();
+  /// OpenCV predefined dictionary id (cv::aruco::PREDEFINED_DICTIONARY_NAME) shared by all markers.
+  int dictionary = 0;
+  std::string dictionary_name;
+  std::vector<BoxObject> objects;
+};
+
+/// Reads the camera scene from a cell configuration file.
+/// camera_id names the entity holding the "camera" block; objects are the entities of kind
+/// "object" whose model is a box. Throws CameraSceneError naming the file and JSON pointer.
+CameraScene load_camera_scene(const std::filesystem::path& cell_json, const std::string& camera_id = "camera");
+
+/// Same, from parsed JSON; source names the origin in error messages.
+CameraScene parse_camera_scene(const nlohmann::json& cell, const std::string& source,
+                               const std::string& camera_id = "camera");
+
+/// The OpenCV dictionary id for a name such as "DICT_4X4_50"; throws std::invalid_argument.
+int aruco_dictionary_from_name(const std::string& name);
+
+/// A pose from translation (m) and roll-pitch-yaw (deg), R = Rz(yaw) Ry(pitch) Rx(roll).
+Eigen::Isometry3d pose_from_rpy_deg(const Eigen::Vector3d& position_m, const Eigen::Vector3d& rpy_deg);
+
+}  // namespace rigger::sim
