@@ -5,8 +5,7 @@
 namespace rigger::dds {
 
 EventLoop::EventLoop(const Participant& participant)
-    : participant_(participant),
-      waitset_(dds_create_waitset(participant.handle()), "create waitset"),
+    : waitset_(dds_create_waitset(participant.handle()), "create waitset"),
       guard_(dds_create_guardcondition(participant.handle()), "create guard condition") {
   check(dds_waitset_attach(waitset_.handle(), guard_.handle(), 0), "attach guard condition");
 }

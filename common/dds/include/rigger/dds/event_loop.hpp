@@ -77,7 +77,6 @@ class EventLoop {
   void run_due_timers();
   void run_posted();
 
-  const Participant& participant_;
   Entity waitset_;
   Entity guard_;
   std::vector<Entity> read_conditions_;
