@@ -11,6 +11,7 @@
 #include <rigger/idl/operator.h>
 #include <rigger/idl/robot.h>
 #include <rigger/idl/sensing.h>
+#include <rigger/idl/sim.h>
 #include <rigger/idl/skill.h>
 #include <rigger/idl/system.h>
 #include <rigger/idl/task.h>
@@ -67,6 +68,9 @@ RIGGER_IDL_TYPE(rigger_admittance_AdmittanceCommand)
 RIGGER_IDL_TYPE(rigger_admittance_AdmittanceState)
 RIGGER_IDL_TYPE(rigger_operator_ui_OperatorPrompt)
 RIGGER_IDL_TYPE(rigger_operator_ui_OperatorResponse)
+RIGGER_IDL_TYPE(rigger_sim_SimControl)
+RIGGER_IDL_TYPE(rigger_sim_SimEvent)
+RIGGER_IDL_TYPE(rigger_sim_SimStatus)
 
 #undef RIGGER_IDL_TYPE
 
