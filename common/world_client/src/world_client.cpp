@@ -1,0 +1,200 @@
+#include "rigger/world_client/world_client.hpp"
+
+#include <utility>
+
+#include "rigger/dds/conversions.hpp"
+
+namespace rigger::world_client {
+
+WorldClient::WorldClient(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string client_id)
+    : loop_(loop),
+      log_(std::move(log)),
+      client_id_(std::move(client_id)),
+      queries_(participant, kQueryTopic, dds::qos::commands()),
+      replies_(participant, kReplyTopic, dds::qos::events()),
+      updates_(participant, kUpdateTopic, dds::qos::commands()),
+      update_results_(participant, kUpdateResultTopic, dds::qos::events()) {
+  loop_.on_data(replies_, [this] { on_replies(); });
+  loop_.on_data(update_results_, [this] { on_update_results(); });
+}
+
+WorldClient::~WorldClient() {
+  for (auto& [id, p] : pending_) loop_.cancel(p.timer);
+}
+
+bool WorldClient::connected() const { return queries_.matched_readers() > 0 && replies_.matched_writers() > 0; }
+
+std::uint64_t WorldClient::is_localized(const std::string& entity, double max_age_s, std::chrono::milliseconds timeout,
+                                        Callback cb) {
+  return send_query(rigger_world_QUERY_IS_LOCALIZED, entity, "", "", max_age_s, timeout, std::move(cb));
+}
+
+std::uint64_t WorldClient::pose(const std::string& entity, const std::string& frame, std::chrono::milliseconds timeout,
+                                Callback cb) {
+  return send_query(rigger_world_QUERY_POSE, entity, frame, "", 0.0, timeout, std::move(cb));
+}
+
+std::uint64_t WorldClient::feature_pose(const std::string& entity, const std::string& feature_id,
+                                        const std::string& frame, std::chrono::milliseconds timeout, Callback cb) {
+  return send_query(rigger_world_QUERY_POSE, entity, frame, feature_id, 0.0, timeout, std::move(cb));
+}
+
+std::uint64_t WorldClient::features(const std::string& entity, std::chrono::milliseconds timeout, Callback cb) {
+  return send_query(rigger_world_QUERY_FEATURES, entity, "", "", 0.0, timeout, std::move(cb));
+}
+
+std::uint64_t WorldClient::entity(const std::string& entity, std::chrono::milliseconds timeout, Callback cb) {
+  return send_query(rigger_world_QUERY_ENTITY, entity, "", "", 0.0, timeout, std::move(cb));
+}
+
+std::uint64_t WorldClient::list(std::chrono::milliseconds timeout, Callback cb) {
+  return send_query(rigger_world_QUERY_LIST, "", "", "", 0.0, timeout, std::move(cb));
+}
+
+std::uint64_t WorldClient::update_pose(const std::string& entity, const std::string& parent_frame,
+                                       const Eigen::Isometry3d& pose, WallTime stamp, double quality, bool localized,
+                                       std::chrono::milliseconds timeout, Callback cb) {
+  rigger_world_EntityUpdate u{};
+  u.entity_id = dds::wire_string(entity);
+  u.parent_frame = dds::wire_string(parent_frame);
+  u.has_pose = true;
+  u.pose.pose = dds::to_wire(pose);
+  u.has_quality = quality >= 0.0;
+  u.quality = u.has_quality ? quality : 0.0;
+  u.has_localized = true;
+  u.localized = localized;
+  u.stamp = dds::to_wire(stamp);
+  return send_update(u, updates_.matched_readers() > 0, timeout, std::move(cb));
+}
+
+std::uint64_t WorldClient::set_localized(const std::string& entity, bool localized, WallTime stamp,
+                                         std::chrono::milliseconds timeout, Callback cb) {
+  rigger_world_EntityUpdate u{};
+  u.entity_id = dds::wire_string(entity);
+  u.has_localized = true;
+  u.localized = localized;
+  u.stamp = dds::to_wire(stamp);
+  return send_update(u, updates_.matched_readers() > 0, timeout, std::move(cb));
+}
+
+void WorldClient::cancel(std::uint64_t request_id) {
+  auto it = pending_.find(request_id);
+  if (it == pending_.end()) return;
+  loop_.cancel(it->second.timer);
+  pending_.erase(it);
+}
+
+std::uint64_t WorldClient::track(std::chrono::milliseconds timeout, Callback cb) {
+  const std::uint64_t id = next_request_id_++;
+  Pending p;
+  p.callback = std::move(cb);
+  p.timer = loop_.after(timeout, [this, id, timeout] {
+    fail_soon(id, "no reply from the world model within " + std::to_string(timeout.count()) + " ms");
+  });
+  pending_.emplace(id, std::move(p));
+  return id;
+}
+
+std::uint64_t WorldClient::send_query(int kind, const std::string& entity, const std::string& frame,
+                                      const std::string& feature, double max_age_s, std::chrono::milliseconds timeout,
+                                      Callback cb) {
+  const std::uint64_t id = track(timeout, std::move(cb));
+  if (!connected()) {
+    // Answer on the next loop turn, never inside the call: callers may hold state the callback changes.
+    loop_.post([this, id] { fail_soon(id, "no world model is matched on rigger/world/query"); });
+    return id;
+  }
+  rigger_world_WorldQuery q{};
+  q.client_id = dds::wire_string(client_id_);
+  q.request_id = id;
+  q.kind = static_cast<rigger_world_QueryKind>(kind);
+  q.entity_id = dds::wire_string(entity);
+  q.frame_id = dds::wire_string(frame);
+  q.feature_id = dds::wire_string(feature);
+  q.max_age_s = max_age_s;
+  const dds_return_t rc = queries_.write(q);
+  if (rc != DDS_RETCODE_OK) {
+    log_->warn("world query write failed request_id={} rc={}", id, rc);
+    loop_.post([this, id, rc] { fail_soon(id, "writing the query failed: " + std::string(dds_strretcode(rc))); });
+  }
+  return id;
+}
+
+std::uint64_t WorldClient::send_update(rigger_world_EntityUpdate& update, bool matched, std::chrono::milliseconds timeout,
+                                       Callback cb) {
+  const std::uint64_t id = track(timeout, std::move(cb));
+  if (!matched || update_results_.matched_writers() == 0) {
+    loop_.post([this, id] { fail_soon(id, "no world model is matched on rigger/world/update"); });
+    return id;
+  }
+  update.source = dds::wire_string(client_id_);
+  update.seq = id;
+  const dds_return_t rc = updates_.write(update);
+  if (rc != DDS_RETCODE_OK) {
+    log_->warn("world update write failed request_id={} rc={}", id, rc);
+    loop_.post([this, id, rc] { fail_soon(id, "writing the update failed: " + std::string(dds_strretcode(rc))); });
+  }
+  return id;
+}
+
+void WorldClient::fail_soon(std::uint64_t request_id, const std::string& why) {
+  Reply r;
+  r.ok = false;
+  r.code = kUnreachable;
+  r.message = why;
+  finish(request_id, r);
+}
+
+void WorldClient::finish(std::uint64_t request_id, const Reply& reply) {
+  auto it = pending_.find(request_id);
+  if (it == pending_.end()) return;  // cancelled, timed out, or a duplicate answer
+  loop_.cancel(it->second.timer);
+  Callback cb = std::move(it->second.callback);
+  pending_.erase(it);  // before the callback: it may issue or cancel requests
+  if (cb) cb(reply);
+}
+
+void WorldClient::on_replies() {
+  std::vector<std::pair<std::uint64_t, Reply>> done;
+  replies_.take([&](const rigger_world_WorldReply& w, const dds_sample_info_t&) {
+    if (dds::to_string(w.client_id) != client_id_ || pending_.count(w.request_id) == 0) return;
+    Reply r;
+    r.ok = w.ok;
+    r.code = dds::to_string(w.code);
+    r.message = dds::to_string(w.message);
+    r.localized = w.localized;
+    r.age_s = w.age_s;
+    if (w.ok) {
+      r.pose = dds::to_domain(w.pose.pose);
+      r.frame = dds::to_string(w.pose.header.frame_id);
+    }
+    const std::string text = dds::to_string(w.result_json);
+    if (!text.empty()) {
+      r.result = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+      if (r.result.is_discarded()) {
+        r = Reply{};
+        r.code = kBadReply;
+        r.message = "the world model's result_json is not JSON";
+      }
+    }
+    done.emplace_back(w.request_id, std::move(r));
+  });
+  // Callbacks run after the take: they may send requests, which must not re-enter the reader.
+  for (const auto& [id, r] : done) finish(id, r);
+}
+
+void WorldClient::on_update_results() {
+  std::vector<std::pair<std::uint64_t, Reply>> done;
+  update_results_.take([&](const rigger_world_UpdateResult& w, const dds_sample_info_t&) {
+    if (dds::to_string(w.source) != client_id_ || pending_.count(w.seq) == 0) return;
+    Reply r;
+    r.ok = w.accepted;
+    r.code = dds::to_string(w.code);
+    r.message = dds::to_string(w.reason);
+    r.result = {{"entity_id", dds::to_string(w.entity_id)}, {"revision", w.revision}};
+    done.emplace_back(w.seq, std::move(r));
+  });
+  for (const auto& [id, r] : done) finish(id, r);
+}
+
+}  // namespace rigger::world_client

@@ -1,0 +1,178 @@
+#include "wire_decoding.hpp"
+
+#include <cmath>
+
+#include "world_json.hpp"
+
+namespace rigger::world {
+namespace {
+
+using nlohmann::json;
+
+std::string text(const char* s) { return s ? std::string(s) : std::string(); }
+
+DecodeError error(std::string code, std::string message) { return DecodeError{std::move(code), std::move(message)}; }
+
+// Ids are echoed in messages: clip what we quote so a megabyte of garbage makes a short reason.
+std::string quote_id(const std::string& s) {
+  constexpr std::size_t kMaxQuoted = 80;
+  std::string out = s.size() > kMaxQuoted ? s.substr(0, kMaxQuoted) + "..." : s;
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+  }
+  return "\"" + out + "\"";
+}
+
+std::optional<DecodeError> check_id(const std::string& field, const std::string& value) {
+  if (is_valid_identifier(value)) return std::nullopt;
+  return error("BAD_ID", field + " " + quote_id(value) + ": expected 1 to 64 characters from [A-Za-z0-9_.-]");
+}
+
+struct TooDeep {};
+
+// Bounds nesting while parsing (DESIGN 6), so deep input is refused before it is built.
+std::optional<json> parse_bounded(const std::string& s) {
+  try {
+    json parsed = json::parse(s, [](int depth, json::parse_event_t, json&) {
+      if (depth > kMaxAttributeDepth) throw TooDeep{};
+      return true;
+    });
+    return parsed;
+  } catch (const TooDeep&) {
+    return std::nullopt;
+  } catch (const json::exception&) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
+std::optional<Stamp> decode_stamp(const rigger_geometry_Time& wire) {
+  if (wire.nanosec >= 1000000000u) return std::nullopt;
+  const auto ns = std::chrono::seconds(wire.sec) + std::chrono::nanoseconds(wire.nanosec);
+  return Stamp(std::chrono::duration_cast<Stamp::duration>(ns));
+}
+
+Decoded<EntityUpdate> decode_update(const rigger_world_EntityUpdate& wire) {
+  EntityUpdate u;
+  u.entity_id = text(wire.entity_id);
+  u.source = text(wire.source);
+  if (auto e = check_id("entity_id", u.entity_id)) return *e;
+  if (u.source.empty()) return error("MISSING_SOURCE", "source is empty");
+  if (u.source.size() > 256) return error("BAD_ID", "source: expected at most 256 characters");
+
+  const auto stamp = decode_stamp(wire.stamp);
+  if (!stamp) return error("BAD_STAMP", "stamp.nanosec " + std::to_string(wire.stamp.nanosec) + ": expected < 1e9");
+  u.stamp = *stamp;
+
+  const std::string parent = text(wire.parent_frame);
+  if (!parent.empty()) {
+    if (auto e = check_id("parent_frame", parent)) return *e;
+    u.parent = parent;
+  }
+  if (wire.has_pose) {
+    const auto& p = wire.pose.pose;
+    const double values[7] = {p.position.x, p.position.y, p.position.z, p.orientation.x, p.orientation.y,
+                              p.orientation.z, p.orientation.w};
+    for (double v : values) {
+      if (!std::isfinite(v)) return error("NOT_FINITE", "pose of " + quote_id(u.entity_id) + ": NaN or infinity");
+    }
+    PoseValue pose;
+    pose.position_m = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
+    // Kept as sent (not normalised): the store rejects a non-unit quaternion with its own code.
+    pose.orientation = Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
+    u.pose = pose;
+  }
+  if (wire.has_covariance) {
+    Covariance6d cov;
+    for (int i = 0; i < 36; ++i) {
+      const double v = wire.pose.covariance[i];
+      if (!std::isfinite(v)) {
+        return error("NOT_FINITE", "covariance[" + std::to_string(i) + "] of " + quote_id(u.entity_id) + ": NaN or infinity");
+      }
+      cov(i / 6, i % 6) = v;
+    }
+    u.covariance = cov;
+  }
+  if (wire.has_quality) {
+    if (!std::isfinite(wire.quality)) return error("NOT_FINITE", "quality of " + quote_id(u.entity_id) + ": NaN or infinity");
+    u.quality = wire.quality;
+  }
+  if (wire.has_localized) u.localized = wire.localized;
+
+  const std::string attributes = text(wire.attributes_json);
+  if (!attributes.empty()) {
+    if (attributes.size() > kMaxAttributesJsonBytes) {
+      return error("BAD_ATTRIBUTES", "attributes_json: expected at most " + std::to_string(kMaxAttributesJsonBytes) +
+                                         " bytes, got " + std::to_string(attributes.size()));
+    }
+    auto patch = parse_bounded(attributes);
+    if (!patch) {
+      return error("BAD_ATTRIBUTES", "attributes_json: expected a JSON object nested at most " +
+                                         std::to_string(kMaxAttributeDepth) + " levels");
+    }
+    if (!patch->is_object()) return error("BAD_ATTRIBUTES", "attributes_json: expected a JSON object");
+    u.attributes_patch = std::move(*patch);
+  }
+  return u;
+}
+
+Decoded<EntityUpdate> decode_tracked_pose(const rigger_vision_TrackedPose& wire) {
+  // The same checks as an update: build the equivalent update sample and decode that.
+  rigger_world_EntityUpdate u{};
+  std::string source = kTrackerSource, empty;
+  u.source = source.data();
+  u.entity_id = wire.object_id;
+  u.parent_frame = wire.tracked && wire.header.frame_id ? wire.header.frame_id : empty.data();
+  u.attributes_json = empty.data();
+  u.stamp = wire.header.stamp;
+  u.has_localized = true;
+  u.localized = wire.tracked;
+  if (wire.tracked) {
+    u.has_pose = true;
+    u.pose = wire.pose;
+    u.has_quality = true;
+    u.quality = wire.quality;
+    bool all_zero = true;
+    for (double c : wire.pose.covariance) all_zero = all_zero && c == 0.0;
+    u.has_covariance = !all_zero && !(wire.pose.covariance[0] < 0.0);
+  }
+  return decode_update(u);
+}
+
+Decoded<WorldQuery> decode_query(const rigger_world_WorldQuery& wire) {
+  WorldQuery q;
+  q.client_id = text(wire.client_id);
+  q.request_id = wire.request_id;
+  q.entity_id = text(wire.entity_id);
+  q.frame_id = text(wire.frame_id);
+  q.feature_id = text(wire.feature_id);
+  switch (wire.kind) {
+    case rigger_world_QUERY_POSE: q.kind = QueryKind::kPose; break;
+    case rigger_world_QUERY_IS_LOCALIZED: q.kind = QueryKind::kIsLocalized; break;
+    case rigger_world_QUERY_FEATURES: q.kind = QueryKind::kFeatures; break;
+    case rigger_world_QUERY_ENTITY: q.kind = QueryKind::kEntity; break;
+    case rigger_world_QUERY_LIST: q.kind = QueryKind::kList; break;
+    default:
+      return error("BAD_QUERY", "kind " + std::to_string(static_cast<long long>(wire.kind)) + ": expected 0 to 4");
+  }
+  if (q.kind != QueryKind::kList) {
+    if (auto e = check_id("entity_id", q.entity_id)) return *e;
+  }
+  if (q.kind == QueryKind::kPose) {
+    if (auto e = check_id("frame_id", q.frame_id)) return *e;
+    if (!q.feature_id.empty()) {
+      if (auto e = check_id("feature_id", q.feature_id)) return *e;
+    }
+  }
+  if (!std::isfinite(wire.max_age_s)) return error("BAD_QUERY", "max_age_s: expected a finite number of seconds");
+  if (q.kind == QueryKind::kIsLocalized && wire.max_age_s > 0.0) {
+    // Beyond ~292 years nanoseconds overflow; such an age limit means "any age".
+    if (wire.max_age_s < 9.0e9) {
+      q.max_age = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(wire.max_age_s));
+    }
+  }
+  return q;
+}
+
+}  // namespace rigger::world

@@ -1,0 +1,230 @@
+#include "world_model_node.hpp"
+
+#include <filesystem>
+
+#include "rigger/dds/conversions.hpp"
+#include "world_cell_config.hpp"
+#include "world_json.hpp"
+
+namespace rigger::world {
+namespace {
+
+rigger_world_EntityKind to_wire(EntityKind kind) {
+  switch (kind) {
+    case EntityKind::kObject: return rigger_world_ENTITY_OBJECT;
+    case EntityKind::kDevice: return rigger_world_ENTITY_DEVICE;
+    case EntityKind::kFrame: return rigger_world_ENTITY_FRAME;
+  }
+  return rigger_world_ENTITY_FRAME;
+}
+
+WorldStore load_store(const WorldModelSettings& settings, const Config& config, const Logger& log) {
+  const std::string path = resolve_repo_path(settings.cell_config);
+  try {
+    const CellConfig cell = load_cell_config(path);
+    log->info("cell loaded file={} entities={}", path, cell.entities.size());
+    return WorldStore::from_config(cell, std::chrono::system_clock::now());
+  } catch (const CellConfigError& e) {
+    throw ConfigError(config.file(), "/cell_config", e.what());
+  }
+}
+
+std::optional<WorldDatabase> open_database(const WorldModelSettings& settings, WorldStore& store, const Logger& log) {
+  if (settings.database.empty()) {
+    log->warn("persistence off: state will not survive a restart");
+    return std::nullopt;
+  }
+  const std::filesystem::path path(settings.database);
+  if (path.has_parent_path()) {
+    std::error_code ec;
+    std::filesystem::create_directories(path.parent_path(), ec);
+    if (ec) throw PersistenceError(path.string() + ": cannot create its folder: " + ec.message());
+  }
+  WorldDatabaseOptions options;
+  options.max_change_log_rows = settings.max_change_log_rows;
+  WorldDatabase db = WorldDatabase::open(path, options);
+  const RestoreReport report = store.restore_stale(db.load());
+  log->info("state restored database={} restored={} ignored={} revision={}", path.string(), report.restored.size(),
+            report.ignored.size(), store.revision());
+  for (const auto& id : report.ignored) log->warn("persisted entity ignored id={} (no longer configured)", id);
+  return db;
+}
+
+}  // namespace
+
+std::string resolve_repo_path(const std::string& path) {
+  const std::filesystem::path p(path);
+  if (p.is_absolute()) return path;
+  return (std::filesystem::path(RIGGER_SOURCE_DIR) / p).string();
+}
+
+WorldModelSettings read_settings(const Config& config) {
+  WorldModelSettings s;
+  s.cell_config = config.get<std::string>("cell_config", s.cell_config);
+  if (s.cell_config.empty()) config.fail("cell_config", "expected a file path, got an empty string");
+  s.database = config.get<std::string>("database", s.database);
+  s.max_change_log_rows = config.get_in_range<unsigned>("max_change_log_rows", 100000u, 100u, 10000000u);
+  s.follow_tracker = config.get<bool>("follow_tracker", s.follow_tracker);
+  config.finish();
+  return s;
+}
+
+WorldModelNode::WorldModelNode(dds::ServiceContext& ctx, const WorldModelSettings& settings)
+    : ctx_(ctx),
+      store_(load_store(settings, ctx.config, ctx.log)),
+      db_(open_database(settings, store_, ctx.log)),
+      entities_(ctx.participant, kEntityTopic, dds::qos::state()),
+      changes_(ctx.participant, kChangeTopic, dds::qos::events()),
+      update_results_(ctx.participant, kUpdateResultTopic, dds::qos::events()),
+      replies_(ctx.participant, kReplyTopic, dds::qos::events()),
+      updates_(ctx.participant, kUpdateTopic, dds::qos::commands()),
+      queries_(ctx.participant, kQueryTopic, dds::qos::commands()) {
+  for (const auto& [id, entity] : store_.entities()) publish_entity(entity);
+  ctx.loop.on_data(updates_, [this] { on_updates(); });
+  ctx.loop.on_data(queries_, [this] { on_queries(); });
+  if (settings.follow_tracker) {
+    tracker_poses_.emplace(ctx.participant, kTrackerPoseTopic, dds::qos::sensor_stream());
+    ctx.loop.on_data(*tracker_poses_, [this] { on_tracker_poses(); });
+  }
+  ctx.log->info("world model ready entities={} revision={}", store_.entities().size(), store_.revision());
+}
+
+void WorldModelNode::on_updates() {
+  updates_.take([this](const rigger_world_EntityUpdate& wire, const dds_sample_info_t&) {
+    const std::string source = dds::to_string(wire.source);
+    const std::string entity_id = dds::to_string(wire.entity_id);
+    auto decoded = decode_update(wire);
+    if (auto* err = std::get_if<DecodeError>(&decoded)) {
+      ctx_.log->warn("update refused source={} seq={} code={} reason={}", source, wire.seq, err->code, err->message);
+      send_update_result(source, wire.seq, entity_id, false, err->code, err->message, store_.revision());
+      return;
+    }
+    const UpdateResult result = apply(std::get<EntityUpdate>(decoded));
+    if (!result.accepted()) {
+      const std::string code(to_code(result.status));
+      ctx_.log->info("update rejected source={} seq={} entity={} code={} reason={}", source, wire.seq, entity_id, code,
+                     result.reason);
+      send_update_result(source, wire.seq, entity_id, false, code, result.reason, store_.revision());
+      return;
+    }
+    send_update_result(source, wire.seq, entity_id, true, "ACCEPTED", "", result.change->revision);
+  });
+}
+
+UpdateResult WorldModelNode::apply(const EntityUpdate& update) {
+  UpdateResult result = store_.apply(update);
+  if (!result.accepted()) return result;
+  const ChangeRecord& change = *result.change;
+  revisions_[change.entity_id] = change.revision;
+  if (db_) {
+    const SaveResult saved = db_->save(change);
+    if (!saved.ok) ctx_.log->error("saving change failed revision={} error={}", change.revision, saved.error);
+  }
+  publish_entity(change.after);
+  publish_change(change);
+  return result;
+}
+
+void WorldModelNode::on_tracker_poses() {
+  tracker_poses_->take([this](const rigger_vision_TrackedPose& wire, const dds_sample_info_t&) {
+    if (!wire.tracked) {
+      // A lost object is reported every frame: only the first report changes anything.
+      const Entity* e = store_.find(dds::to_string(wire.object_id));
+      if (e == nullptr || !e->localized) return;
+    }
+    auto decoded = decode_tracked_pose(wire);
+    if (auto* err = std::get_if<DecodeError>(&decoded)) {
+      ctx_.log->debug("tracker pose refused object={} code={} reason={}", dds::to_string(wire.object_id), err->code,
+                      err->message);
+      return;
+    }
+    const UpdateResult result = apply(std::get<EntityUpdate>(decoded));
+    if (!result.accepted()) {
+      // Debug only: at camera rate a late frame (STAMP_BACKWARDS) is normal, not news.
+      ctx_.log->debug("tracker pose rejected object={} code={} reason={}", dds::to_string(wire.object_id),
+                      to_code(result.status), result.reason);
+    }
+  });
+}
+
+void WorldModelNode::on_queries() {
+  queries_.take([this](const rigger_world_WorldQuery& wire, const dds_sample_info_t&) {
+    const std::string client_id = dds::to_string(wire.client_id);
+    auto decoded = decode_query(wire);
+    if (auto* err = std::get_if<DecodeError>(&decoded)) {
+      QueryAnswer answer;
+      answer.code = err->code;
+      answer.message = err->message;
+      send_reply(client_id, wire.request_id, answer);
+      return;
+    }
+    send_reply(client_id, wire.request_id, answer_query(store_, std::get<WorldQuery>(decoded), std::chrono::system_clock::now()));
+  });
+}
+
+void WorldModelNode::publish_entity(const Entity& entity) {
+  rigger_world_EntityState s{};
+  s.entity_id = dds::wire_string(entity.id);
+  s.kind = to_wire(entity.kind);
+  s.parent_frame = dds::wire_string(entity.parent);
+  s.has_pose = entity.pose.has_value();
+  s.pose.pose = dds::to_wire(entity.pose ? entity.pose->pose_parent_entity : Eigen::Isometry3d::Identity());
+  if (entity.pose && entity.pose->covariance) dds::covariance_to_wire(*entity.pose->covariance, s.pose.covariance);
+  s.quality = entity.pose && entity.pose->quality ? *entity.pose->quality : 0.0;
+  s.localized = entity.localized;
+  s.stale = entity.stale;
+  s.stamp = dds::to_wire(entity.pose ? entity.pose->stamp : entity.stamp);
+  s.source = dds::wire_string(entity.source);
+  const std::string features = features_to_json(entity.features).dump();
+  const std::string attributes = entity.attributes.dump();
+  s.features_json = dds::wire_string(features);
+  s.attributes_json = dds::wire_string(attributes);
+  const auto rev = revisions_.find(entity.id);
+  s.revision = rev == revisions_.end() ? 0 : rev->second;
+  const dds_return_t rc = entities_.write(s);
+  if (rc != DDS_RETCODE_OK) ctx_.log->error("entity publish failed id={} rc={}", entity.id, rc);
+}
+
+void WorldModelNode::publish_change(const ChangeRecord& change) {
+  rigger_world_EntityChange c{};
+  const std::string what = change.what();
+  c.entity_id = dds::wire_string(change.entity_id);
+  c.revision = change.revision;
+  c.source = dds::wire_string(change.source);
+  c.what = dds::wire_string(what);
+  c.stamp = dds::to_wire(change.stamp);
+  changes_.write(c);
+}
+
+void WorldModelNode::send_update_result(const std::string& source, std::uint64_t seq, const std::string& entity_id,
+                                        bool accepted, const std::string& code, const std::string& reason,
+                                        std::uint64_t revision) {
+  rigger_world_UpdateResult r{};
+  r.source = dds::wire_string(source);
+  r.seq = seq;
+  r.entity_id = dds::wire_string(entity_id);
+  r.accepted = accepted;
+  r.code = dds::wire_string(code);
+  r.reason = dds::wire_string(reason);
+  r.revision = revision;
+  update_results_.write(r);
+}
+
+void WorldModelNode::send_reply(const std::string& client_id, std::uint64_t request_id, const QueryAnswer& answer) {
+  rigger_world_WorldReply r{};
+  const std::string result = answer.result.is_null() ? std::string() : answer.result.dump();
+  r.client_id = dds::wire_string(client_id);
+  r.request_id = request_id;
+  r.ok = answer.ok;
+  r.code = dds::wire_string(answer.code);
+  r.message = dds::wire_string(answer.message);
+  r.pose.header.stamp = dds::to_wire(answer.stamp);
+  r.pose.header.frame_id = dds::wire_string(answer.frame);
+  r.pose.pose = dds::to_wire(answer.pose_frame_entity);
+  r.localized = answer.localized;
+  r.age_s = answer.age_s;
+  r.result_json = dds::wire_string(result);
+  replies_.write(r);
+}
+
+}  // namespace rigger::world

@@ -1,0 +1,90 @@
+#pragma once
+/// @file
+/// The world_model process's DDS node: owns the WorldStore and its SQLite database, publishes every
+/// entity on `rigger/world/entity` (state QoS: late joiners see the world at once) at start and on
+/// each accepted change, publishes who changed what on `rigger/world/change`, answers updates on
+/// `rigger/world/update_result` and queries on `rigger/world/reply`. Bad samples are answered with a
+/// reason and change nothing; nothing a peer sends can crash it.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "rigger/dds/pubsub.hpp"
+#include "rigger/dds/service.hpp"
+#include "wire_decoding.hpp"
+#include "world_answers.hpp"
+#include "world_persistence.hpp"
+#include "world_store.hpp"
+
+namespace rigger::world {
+
+inline constexpr const char* kEntityTopic = "rigger/world/entity";
+inline constexpr const char* kUpdateTopic = "rigger/world/update";
+inline constexpr const char* kUpdateResultTopic = "rigger/world/update_result";
+inline constexpr const char* kChangeTopic = "rigger/world/change";
+inline constexpr const char* kQueryTopic = "rigger/world/query";
+inline constexpr const char* kReplyTopic = "rigger/world/reply";
+inline constexpr const char* kTrackerPoseTopic = "rigger/tracker/pose";
+
+/// The default cell configuration, relative to the repository root.
+inline constexpr const char* kDefaultCellConfig = "deploy/cell/simulated_cell.json";
+/// The default database file.
+inline constexpr const char* kDefaultDatabase = "/tmp/rigger/world_model.sqlite";
+
+/// Settings of the node, from the --config file (keys below) and the command line (which wins).
+struct WorldModelSettings {
+  /// "cell_config": the cell file; a relative path is resolved against the repository root.
+  std::string cell_config = kDefaultCellConfig;
+  /// "database": the SQLite file (its folder is created); "" keeps no state across restarts.
+  std::string database = kDefaultDatabase;
+  /// "max_change_log_rows": integer in [100, 10000000], default 100000.
+  std::size_t max_change_log_rows = 100000;
+  /// "follow_tracker": apply `rigger/tracker/pose` samples as updates (default true).
+  bool follow_tracker = true;
+};
+
+/// Reads the settings from `config` (and calls config.finish()). @throws ConfigError.
+WorldModelSettings read_settings(const Config& config);
+
+/// Resolves a relative cell-configuration path against the repository root.
+std::string resolve_repo_path(const std::string& path);
+
+/// The world model node (see the file comment). Loop thread only.
+class WorldModelNode : public dds::Node {
+ public:
+  /// Loads the cell configuration, opens the database and restores its state as stale, then
+  /// publishes every entity. @throws ConfigError for a bad cell file (exit 2), PersistenceError for
+  /// an unusable database (exit 1).
+  WorldModelNode(dds::ServiceContext& ctx, const WorldModelSettings& settings);
+
+  const WorldStore& store() const { return store_; }
+
+ private:
+  void on_updates();
+  void on_queries();
+  void on_tracker_poses();
+  /// Applies a decoded update; saves, publishes and returns the verdict.
+  UpdateResult apply(const EntityUpdate& update);
+  void publish_entity(const Entity& entity);
+  void publish_change(const ChangeRecord& change);
+  void send_update_result(const std::string& source, std::uint64_t seq, const std::string& entity_id, bool accepted,
+                          const std::string& code, const std::string& reason, std::uint64_t revision);
+  void send_reply(const std::string& client_id, std::uint64_t request_id, const QueryAnswer& answer);
+
+  dds::ServiceContext& ctx_;
+  WorldStore store_;
+  std::optional<WorldDatabase> db_;
+  std::map<std::string, std::uint64_t, std::less<>> revisions_;  // entity id -> revision of its last change
+  dds::Writer<rigger_world_EntityState> entities_;
+  dds::Writer<rigger_world_EntityChange> changes_;
+  dds::Writer<rigger_world_UpdateResult> update_results_;
+  dds::Writer<rigger_world_WorldReply> replies_;
+  dds::Reader<rigger_world_EntityUpdate> updates_;
+  dds::Reader<rigger_world_WorldQuery> queries_;
+  std::optional<dds::Reader<rigger_vision_TrackedPose>> tracker_poses_;
+};
+
+}  // namespace rigger::world
