@@ -1,0 +1,8 @@
+#include "monitor_host_node.hpp"
+
+int main(int argc, char** argv) {
+  return rigger::dds::run_service(
+      argc, argv,
+      {"monitor_host", "Hosts TimerMonitor, ForceMonitor and YankMonitor leaves; a monitor never reports success.", {},
+       [](rigger::dds::ServiceContext& ctx) { return std::make_unique<rigger::monitor::MonitorHostNode>(ctx); }});
+}
