@@ -1,0 +1,88 @@
+#pragma once
+/// @file
+/// The cell_sim process's configuration (deploy/config/cell_sim.json), read with rigger::Config so
+/// that every bad value is reported with the file, the JSON pointer and what was expected. No DDS.
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "rigger/base/config.hpp"
+#include "rigger/plc/plc_emulator.hpp"
+#include "rigger/sim/cell_physics.hpp"
+
+namespace rigger::cell_sim {
+
+/// Which wrench rigger/robot/wrench carries.
+enum class WrenchSource {
+  kExternal,  ///< the sensor reading minus the gripper's static weight (a controller with tool-load data)
+  kRaw,       ///< what the sensor between flange and gripper reads, gripper weight included
+};
+
+/// Rates are in simulated time: at a real-time factor of 1 they are wall-clock rates.
+struct CellSimConfig {
+  /// The cell description (crane limits, geometry, camera); deploy/cell/simulated_cell.json.
+  std::filesystem::path cell_file;
+  /// The MJCF; empty: the model shipped with the physics library.
+  std::filesystem::path model_file;
+
+  /// Simulated seconds per wall second; 0: as fast as possible (unpaced). Keep 1 with a crane
+  /// gateway attached: the PLC's heartbeat watchdog runs on simulated time, as the crane does.
+  double real_time_factor = 1.0;
+  /// When the physics falls behind its schedule by more than this, it skips ahead (the simulation
+  /// then runs slower than requested) instead of catching up in a burst.
+  std::chrono::milliseconds max_lag{100};
+  /// SCHED_FIFO priority of the physics thread (1..99); 0 keeps the normal scheduler.
+  int realtime_priority = 0;
+
+  // --- robot driver
+  double wrench_rate_hz = 1000.0;
+  WrenchSource wrench_source = WrenchSource::kExternal;
+  double robot_state_rate_hz = 100.0;
+  double gripper_state_rate_hz = 10.0;
+  /// Longest timeout a twist command may ask for (its timeout_s is capped to this).
+  std::chrono::milliseconds max_twist_timeout{500};
+  /// How far a command's stamp may lie ahead of our clock (clock skew between hosts).
+  std::chrono::milliseconds max_command_future{50};
+  /// Motion commands older than this on receipt are refused (a burst after a network drop).
+  std::chrono::milliseconds max_motion_command_age{1000};
+  sim::CellPhysicsOptions physics;  ///< noise, seed, model path, twist backstop
+
+  // --- crane PLC emulator
+  plc::PlcEmulatorConfig plc;  ///< limits come from the cell file's crane entity
+  std::string crane_id = "crane";
+  std::chrono::milliseconds plc_scan_period{4};
+  /// Start with the Modbus server listening (false: the link is "cut" until SIM_PLC_LINK on).
+  bool plc_link_up = true;
+
+  // --- camera
+  bool camera_enabled = true;
+  std::string camera_id = "camera";
+  /// Frames per simulated second; unset: the cell file's rate_hz.
+  std::optional<double> camera_rate_hz;
+  /// Image size; 0: the cell file's. Intrinsics scale with it.
+  int camera_width_px = 0;
+  int camera_height_px = 0;
+  /// Pixel noise in grey levels; unset: the cell file's noise_stddev.
+  std::optional<double> camera_noise_stddev;
+  double camera_blur_sigma_px = 0.0;
+
+  // --- tests and benchmarks
+  double ground_truth_rate_hz = 50.0;
+  double status_rate_hz = 100.0;
+};
+
+/// Reads every key of `config` (see docs/cell-sim.md); relative paths are taken relative to the
+/// configuration file's folder. Does not call finish(). Loads the cell file's crane limits.
+/// @throws ConfigError naming the file, the key and what was expected.
+CellSimConfig read_cell_sim_config(const Config& config);
+
+/// The cell file used without a configuration: the repository's deploy/cell/simulated_cell.json.
+std::filesystem::path default_cell_file();
+
+/// Steps of `timestep` between two publications at `rate_hz` (at least 1).
+std::uint64_t steps_per_period(double rate_hz, std::chrono::nanoseconds timestep);
+
+}  // namespace rigger::cell_sim

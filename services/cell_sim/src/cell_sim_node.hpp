@@ -1,0 +1,108 @@
+#pragma once
+/// @file
+/// The cell_sim process's DDS plumbing: the robot driver's, gripper's, camera's and the simulator's
+/// own topics (docs/cell-sim.md), wired to the physics thread (SimRunner) and the camera thread
+/// (CameraWorker). Commands are checked on the event loop's thread and go to the physics thread
+/// through its mailbox; reports are published from the physics and camera threads (Cyclone writers
+/// are thread-safe).
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "camera_worker.hpp"
+#include "command_gate.hpp"
+#include "rigger/dds/pubsub.hpp"
+#include "rigger/dds/service.hpp"
+#include "sim_runner.hpp"
+
+namespace rigger::cell_sim {
+
+inline constexpr const char* kWrenchTopic = "rigger/robot/wrench";
+inline constexpr const char* kRobotStateTopic = "rigger/robot/state";
+inline constexpr const char* kTwistTopic = "rigger/robot/cmd_twist";
+inline constexpr const char* kMotionTopic = "rigger/robot/cmd_motion";
+inline constexpr const char* kMotionStatusTopic = "rigger/robot/motion_status";
+inline constexpr const char* kGripperCommandTopic = "rigger/gripper/cmd";
+inline constexpr const char* kGripperStateTopic = "rigger/gripper/state";
+inline constexpr const char* kImageTopic = "rigger/camera/image";
+inline constexpr const char* kCameraInfoTopic = "rigger/camera/info";
+inline constexpr const char* kGroundTruthTopic = "rigger/sim/ground_truth";
+inline constexpr const char* kSimControlTopic = "rigger/sim/control";
+inline constexpr const char* kSimEventTopic = "rigger/sim/event";
+inline constexpr const char* kSimStatusTopic = "rigger/sim/status";
+
+/// Frame ids on the wire: the robot's base is the cell entity "robot"; the wrist sensor reports in
+/// the tool frame (magnet face centre, flange axes); ground truth is in the world frame.
+inline constexpr const char* kBaseFrame = "robot";
+inline constexpr const char* kToolFrame = "tool";
+inline constexpr const char* kWorldFrame = "world";
+
+/// Command-line overrides of the configuration (for tests and the benchmark).
+struct CommandLine {
+  std::optional<std::uint16_t> plc_port;
+  std::optional<double> real_time_factor;
+  void add_to(CLI::App& app);
+};
+
+/// Configuration: deploy/config/cell_sim.json, keys in docs/cell-sim.md.
+class CellSimNode : public dds::Node, private SimOutputs {
+ public:
+  /// @throws ConfigError (bad configuration, cell file or model), crane::ModbusError (port in use), DdsError.
+  CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_line);
+  /// Stops the physics thread with the arm and the crane stopped and the Modbus server closed.
+  ~CellSimNode() override;
+
+ private:
+  // SimOutputs (physics and camera threads)
+  void publish_wrench(const sim::Wrench& wrench_tool, WallTime stamp) override;
+  void publish_robot_state(const RobotReport& report, WallTime stamp) override;
+  void publish_gripper_state(const GripperReport& report, WallTime stamp) override;
+  void publish_motion_status(const MotionReport& report, WallTime stamp) override;
+  void publish_ground_truth(const GroundTruth& truth, WallTime stamp) override;
+  void publish_status(const StatusReport& status, WallTime stamp) override;
+  void publish_control_result(const ControlResult& result, WallTime stamp) override;
+  void publish_image(const cv::Mat& image_mono8, WallTime stamp);
+  void publish_camera_info(const sim::CameraModel& camera);
+
+  // event loop thread
+  void on_twist();
+  void on_motion();
+  void on_gripper();
+  void on_sim_control();
+  void refuse_motion(const std::string& motion_id, const std::string& code, const std::string& message);
+  bool log_allowed(std::chrono::steady_clock::time_point& last);
+
+  dds::ServiceContext& ctx_;
+  CellSimConfig config_;
+  Eigen::Isometry3d pose_world_base_ = Eigen::Isometry3d::Identity();
+  CommandGate twist_gate_;
+  std::uint64_t twists_refused_ = 0;
+  std::chrono::steady_clock::time_point last_twist_log_{};
+  std::chrono::steady_clock::time_point last_motion_log_{};
+
+  dds::Writer<rigger_sensing_WrenchStamped> wrench_;
+  dds::Writer<rigger_robot_RobotState> robot_state_;
+  dds::Writer<rigger_robot_MotionStatus> motion_status_;
+  dds::Writer<rigger_robot_GripperState> gripper_state_;
+  dds::Writer<rigger_vision_Image> image_;
+  dds::Writer<rigger_vision_CameraInfo> camera_info_;
+  dds::Writer<rigger_vision_TrackedPose> ground_truth_;
+  dds::Writer<rigger_sim_SimEvent> sim_event_;
+  dds::Writer<rigger_sim_SimStatus> sim_status_;
+  dds::Reader<rigger_sensing_TwistCommand> twist_;
+  dds::Reader<rigger_robot_MotionCommand> motion_;
+  dds::Reader<rigger_robot_GripperCommand> gripper_;
+  dds::Reader<rigger_sim_SimControl> sim_control_;
+
+  // Destroyed before the writers they publish through: first the runner (physics thread), then the camera.
+  std::unique_ptr<CameraWorker> camera_;
+  std::unique_ptr<SimRunner> runner_;
+};
+
+}  // namespace rigger::cell_sim

@@ -1,0 +1,329 @@
+#include "sim_runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <condition_variable>
+#include <mutex>
+
+#include "rigger/crane_protocol/register_map.hpp"
+#include "rigger/sim/cell_geometry.hpp"
+
+namespace rigger::cell_sim {
+namespace {
+
+using namespace std::chrono_literals;
+
+/// Records what the runner reports.
+class RecordingOutputs : public SimOutputs {
+ public:
+  void publish_wrench(const sim::Wrench& w, WallTime) override {
+    const std::lock_guard<std::mutex> lock(mutex);
+    ++wrenches;
+    last_wrench = w;
+  }
+  void publish_robot_state(const RobotReport& r, WallTime) override {
+    const std::lock_guard<std::mutex> lock(mutex);
+    robot.push_back(r);
+  }
+  void publish_gripper_state(const GripperReport& r, WallTime) override {
+    const std::lock_guard<std::mutex> lock(mutex);
+    gripper.push_back(r);
+  }
+  void publish_motion_status(const MotionReport& r, WallTime) override {
+    const std::lock_guard<std::mutex> lock(mutex);
+    motions.push_back(r);
+  }
+  void publish_ground_truth(const GroundTruth& t, WallTime) override {
+    const std::lock_guard<std::mutex> lock(mutex);
+    truths.push_back(t);
+  }
+  void publish_status(const StatusReport& s, WallTime) override {
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      status.push_back(s);
+    }
+    status_cv.notify_all();
+  }
+  void publish_control_result(const ControlResult& r, WallTime) override {
+    const std::lock_guard<std::mutex> lock(mutex);
+    controls.push_back(r);
+  }
+
+  std::mutex mutex;
+  std::condition_variable status_cv;
+  std::size_t wrenches = 0;
+  sim::Wrench last_wrench;
+  std::vector<RobotReport> robot;
+  std::vector<GripperReport> gripper;
+  std::vector<MotionReport> motions;
+  std::vector<GroundTruth> truths;
+  std::vector<StatusReport> status;
+  std::vector<ControlResult> controls;
+};
+
+CellSimConfig test_config() {
+  CellSimConfig c = read_cell_sim_config(Config::parse(
+      R"({"plc": {"port": 0, "link_up": false}, "camera": {"enabled": false}, "robot": {"gripper_state_rate_hz": 10}})",
+      "test.json"));
+  return c;
+}
+
+class SimRunnerTest : public ::testing::Test {
+ protected:
+  SimRunnerTest()
+      : config_(test_config()), runner_(config_, sim::load_cell_geometry(config_.cell_file), out_, null_logger()) {}
+
+  SimControlCommand control(ControlKind kind, bool on = false, double value = 0.0) {
+    SimControlCommand c;
+    c.kind = kind;
+    c.on = on;
+    c.value = value;
+    c.seq = ++seq_;
+    c.source = "test";
+    return c;
+  }
+  const ControlResult& last_control() { return out_.controls.back(); }
+  Eigen::Vector3d tool_position() { return out_.robot.back().state.pose_base_tool.translation(); }
+  const MotionReport* motion_report(const std::string& id, MotionPhase phase) {
+    for (const auto& m : out_.motions)
+      if (m.motion_id == id && m.phase == phase) return &m;
+    return nullptr;
+  }
+  TwistCommand twist_up(double speed_mps, WallTime expires, std::uint64_t seq) {
+    TwistCommand t;
+    t.twist_base.linear_mps = {0.0, 0.0, speed_mps};
+    t.expires = expires;
+    t.seq = seq;
+    return t;
+  }
+
+  CellSimConfig config_;
+  RecordingOutputs out_;
+  SimRunner runner_;
+  std::uint64_t seq_ = 0;
+};
+
+TEST_F(SimRunnerTest, PublishesAtTheConfiguredRatesOfSimulatedTime) {
+  runner_.step_for_test(1000);
+  EXPECT_EQ(out_.wrenches, 1000u);      // 1 kHz
+  EXPECT_EQ(out_.robot.size(), 100u);   // 100 Hz
+  EXPECT_EQ(out_.status.size(), 100u);  // 100 Hz
+  EXPECT_EQ(out_.truths.size(), 50u);   // 50 Hz
+  EXPECT_GE(out_.gripper.size(), 10u);  // 10 Hz and on change
+  EXPECT_NEAR(out_.status.back().sim_time_s, 1.0, 1e-9);
+  EXPECT_EQ(out_.status.back().steps, 1000u);
+  // The external wrench excludes the gripper's weight: at rest, holding nothing, it is about zero.
+  EXPECT_LT(out_.last_wrench.force_n.norm(), 2.0);
+}
+
+TEST_F(SimRunnerTest, StatusReportsTheCraneInTheModbusConvention) {
+  runner_.step_for_test(100);
+  const StatusReport& s = out_.status.back();
+  const auto& crane = runner_.geometry().crane;
+  EXPECT_GT(s.crane_position_m.z(), crane.rail_height_m - crane.rope_length_range_m[1]);
+  EXPECT_LT(s.crane_position_m.z(), crane.rail_height_m - crane.rope_length_range_m[0]);
+  EXPECT_FALSE(s.plc_link_up);
+  EXPECT_EQ(s.plc_port, 0);
+  EXPECT_TRUE(s.plc_status_word & crane::status_bit::kReady);
+}
+
+TEST_F(SimRunnerTest, AFreshTwistMovesTheToolAndItsExpiryStopsIt) {
+  runner_.step_for_test(10);
+  const Eigen::Vector3d start = tool_position();
+  runner_.submit(twist_up(0.05, std::chrono::system_clock::now() + 10s, 1));
+  runner_.step_for_test(500);
+  const Eigen::Vector3d moved = tool_position();
+  EXPECT_GT(moved.z() - start.z(), 0.01);
+  EXPECT_EQ(out_.robot.back().last_command_seq, 1u);
+  EXPECT_EQ(out_.robot.back().state.mode, sim::RobotMode::Twist);
+
+  runner_.submit(twist_up(0.05, std::chrono::system_clock::now(), 2));  // expires at once
+  runner_.step_for_test(400);
+  const Eigen::Vector3d a = tool_position();
+  runner_.step_for_test(200);
+  EXPECT_LT((tool_position() - a).norm(), 1e-3) << "the arm must stop when its twist expires";
+}
+
+TEST_F(SimRunnerTest, EmergencyStopRefusesMotionUntilReleasedAndLatchesThePlcFault) {
+  runner_.submit(control(ControlKind::kEstop, true));
+  runner_.step_for_test(20);
+  ASSERT_FALSE(out_.controls.empty());
+  EXPECT_TRUE(last_control().accepted);
+  EXPECT_EQ(last_control().seq, 1u);
+  EXPECT_TRUE(out_.status.back().estop_pressed);
+  EXPECT_EQ(out_.status.back().plc_fault_code, static_cast<std::uint16_t>(crane::FaultCode::kEmergencyStop));
+  EXPECT_TRUE(out_.robot.back().estop);
+
+  const Eigen::Vector3d start = tool_position();
+  runner_.submit(twist_up(0.05, std::chrono::system_clock::now() + 10s, 5));
+  MotionCommand joint;
+  joint.motion_id = "m1";
+  joint.kind = MotionKind::kJoint;
+  joint.joint_goal_rad = sim::ready_joint_positions();
+  runner_.submit(joint);
+  runner_.step_for_test(300);
+  EXPECT_LT((tool_position() - start).norm(), 1e-3);
+  ASSERT_NE(motion_report("m1", MotionPhase::kFailed), nullptr);
+  EXPECT_EQ(motion_report("m1", MotionPhase::kFailed)->code, "EMERGENCY_STOP");
+
+  runner_.submit(control(ControlKind::kEstop, false));
+  runner_.step_for_test(20);
+  EXPECT_FALSE(out_.status.back().estop_pressed);
+  EXPECT_FALSE(out_.robot.back().estop);
+  // The crane PLC keeps its e-stop fault latched until the gateway resets it.
+  EXPECT_EQ(out_.status.back().plc_fault_code, static_cast<std::uint16_t>(crane::FaultCode::kEmergencyStop));
+  runner_.submit(twist_up(0.05, std::chrono::system_clock::now() + 10s, 6));
+  runner_.step_for_test(300);
+  EXPECT_GT((tool_position() - start).norm(), 5e-3);
+}
+
+TEST_F(SimRunnerTest, JointMotionReportsAcceptedExecutingAndSucceeded) {
+  sim::JointVector goal = sim::ready_joint_positions();
+  goal[0] += 0.1;
+  MotionCommand joint;
+  joint.motion_id = "joint-1";
+  joint.kind = MotionKind::kJoint;
+  joint.joint_goal_rad = goal;
+  joint.timeout = 10s;
+  runner_.submit(joint);
+  runner_.step_for_test(4000);
+  EXPECT_NE(motion_report("joint-1", MotionPhase::kAccepted), nullptr);
+  EXPECT_NE(motion_report("joint-1", MotionPhase::kExecuting), nullptr);
+  ASSERT_NE(motion_report("joint-1", MotionPhase::kSucceeded), nullptr);
+  EXPECT_NEAR(out_.robot.back().state.position_rad[0], goal[0], 0.01);
+}
+
+TEST_F(SimRunnerTest, AMotionThatOverrunsItsTimeoutFailsAndStops) {
+  sim::JointVector goal = sim::ready_joint_positions();
+  goal[0] += 1.0;
+  MotionCommand joint;
+  joint.motion_id = "slow";
+  joint.kind = MotionKind::kJoint;
+  joint.joint_goal_rad = goal;
+  joint.speed_fraction = 0.2;
+  joint.timeout = 50ms;
+  runner_.submit(joint);
+  runner_.step_for_test(200);
+  ASSERT_NE(motion_report("slow", MotionPhase::kFailed), nullptr);
+  EXPECT_EQ(motion_report("slow", MotionPhase::kFailed)->code, "TIMEOUT");
+}
+
+TEST_F(SimRunnerTest, RefusedMotionsFailWithTheReason) {
+  MotionCommand far;
+  far.motion_id = "far";
+  far.kind = MotionKind::kCartesian;
+  far.goal_base_tool = Eigen::Isometry3d(Eigen::Translation3d(3.0, 0.0, 0.0));
+  runner_.submit(far);
+  MotionCommand bent;
+  bent.motion_id = "bent";
+  bent.kind = MotionKind::kJoint;
+  bent.joint_goal_rad = sim::JointVector::Constant(3.0);  // beyond A2's 120 degrees
+  runner_.submit(bent);
+  runner_.step_for_test(2);
+  ASSERT_NE(motion_report("far", MotionPhase::kFailed), nullptr);
+  EXPECT_EQ(motion_report("far", MotionPhase::kFailed)->code, "UNREACHABLE");
+  ASSERT_NE(motion_report("bent", MotionPhase::kFailed), nullptr);
+  EXPECT_EQ(motion_report("bent", MotionPhase::kFailed)->code, "OUT_OF_RANGE");
+}
+
+TEST_F(SimRunnerTest, AStopEndsTheRunningMotionAndSucceedsAtRest) {
+  sim::JointVector goal = sim::ready_joint_positions();
+  goal[0] += 1.0;
+  MotionCommand joint;
+  joint.motion_id = "long";
+  joint.kind = MotionKind::kJoint;
+  joint.joint_goal_rad = goal;
+  runner_.submit(joint);
+  runner_.step_for_test(300);
+  MotionCommand stop;
+  stop.motion_id = "stop";
+  stop.kind = MotionKind::kStop;
+  runner_.submit(stop);
+  runner_.step_for_test(2000);
+  ASSERT_NE(motion_report("long", MotionPhase::kAborted), nullptr);
+  EXPECT_EQ(motion_report("long", MotionPhase::kAborted)->code, "STOPPED");
+  EXPECT_NE(motion_report("stop", MotionPhase::kSucceeded), nullptr);
+}
+
+TEST_F(SimRunnerTest, GripperCommandIsAppliedAndReportedAtOnce) {
+  runner_.step_for_test(5);
+  const std::size_t before = out_.gripper.size();
+  runner_.submit(GripperCommand{true, 7});
+  runner_.step_for_test(1);
+  ASSERT_GT(out_.gripper.size(), before);
+  EXPECT_TRUE(out_.gripper.back().state.energized);
+  EXPECT_EQ(out_.gripper.back().last_command_seq, 7u);
+}
+
+TEST_F(SimRunnerTest, FaultInjectionIsAcknowledged) {
+  runner_.submit(control(ControlKind::kSetHoldingForce, false, 100.0));
+  runner_.step_for_test(10);
+  EXPECT_TRUE(last_control().accepted);
+  EXPECT_DOUBLE_EQ(out_.status.back().gripper_holding_force_n, 100.0);
+  runner_.submit(control(ControlKind::kSetHoldingForce, false, -1.0));  // back to the cell's
+  runner_.step_for_test(10);
+  EXPECT_DOUBLE_EQ(out_.status.back().gripper_holding_force_n, runner_.geometry().gripper.holding_force_n);
+
+  SimControlCommand push = control(ControlKind::kSetLoadForce);
+  push.vector = {50.0, 0.0, 0.0};
+  runner_.submit(push);
+  runner_.step_for_test(10);
+  EXPECT_TRUE(last_control().accepted);
+  EXPECT_EQ(out_.status.back().load_external_force_n, Eigen::Vector3d(50.0, 0.0, 0.0));
+
+  SimControlCommand bad = control(ControlKind::kSetLoadForce);
+  bad.vector = {std::nan(""), 0.0, 0.0};
+  runner_.submit(bad);
+  runner_.step_for_test(1);
+  EXPECT_FALSE(last_control().accepted);
+  EXPECT_EQ(last_control().seq, bad.seq);
+}
+
+TEST_F(SimRunnerTest, PlcLinkGoesDownAndUp) {
+  runner_.submit(control(ControlKind::kPlcLink, true));
+  runner_.step_for_test(10);
+  ASSERT_TRUE(last_control().accepted) << last_control().message;
+  EXPECT_NE(runner_.plc_port(), 0);
+  EXPECT_TRUE(out_.status.back().plc_link_up);
+  runner_.submit(control(ControlKind::kPlcLink, false));
+  runner_.step_for_test(10);
+  EXPECT_TRUE(last_control().accepted);
+  EXPECT_EQ(runner_.plc_port(), 0);
+  EXPECT_FALSE(out_.status.back().plc_link_up);
+}
+
+TEST_F(SimRunnerTest, ResetReturnsToTheInitialState) {
+  runner_.submit(twist_up(0.05, std::chrono::system_clock::now() + 10s, 1));
+  runner_.submit(control(ControlKind::kSetHoldingForce, false, 10.0));
+  runner_.step_for_test(500);
+  runner_.step_for_test(10);
+  const Eigen::Vector3d moved = tool_position();
+  runner_.submit(control(ControlKind::kReset));
+  runner_.step_for_test(10);
+  EXPECT_TRUE(last_control().accepted) << last_control().message;
+  EXPECT_LT(out_.status.back().sim_time_s, 0.02);
+  EXPECT_GT((tool_position() - moved).norm(), 0.01);
+  EXPECT_DOUBLE_EQ(out_.status.back().gripper_holding_force_n, runner_.geometry().gripper.holding_force_n);
+}
+
+TEST(SimRunner, RunsInRealTimeOnItsThreadAndStopsSafely) {
+  CellSimConfig config = test_config();
+  RecordingOutputs out;
+  SimRunner runner(config, sim::load_cell_geometry(config.cell_file), out, null_logger());
+  const auto t0 = std::chrono::steady_clock::now();
+  runner.start();
+  {
+    std::unique_lock<std::mutex> lock(out.mutex);
+    ASSERT_TRUE(out.status_cv.wait_for(lock, 10s, [&] { return out.status.size() >= 30; }));
+  }
+  runner.stop();
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::lock_guard<std::mutex> lock(out.mutex);
+  const double sim_s = out.status.back().sim_time_s;
+  // 30 status reports at 100 Hz are 0.3 s of simulated time; paced, that takes at least 0.3 s.
+  EXPECT_GE(wall_s, sim_s * 0.95);
+  EXPECT_EQ(runner.plc_port(), 0);
+}
+
+}  // namespace
+}  // namespace rigger::cell_sim

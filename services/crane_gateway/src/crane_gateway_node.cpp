@@ -1,0 +1,272 @@
+#include "crane_gateway_node.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include "rigger/crane_protocol/crane_config.hpp"
+#include "rigger/dds/conversions.hpp"
+
+namespace rigger::crane_gateway {
+namespace {
+
+namespace fs = std::filesystem;
+using SteadyClock = std::chrono::steady_clock;
+
+// Paths in a configuration file are relative to that file (the shipped one works from any folder).
+fs::path resolve_path(const Config& config, const std::string& value) {
+  const fs::path path(value);
+  if (path.is_absolute()) return path;
+  const fs::path file(config.file());
+  return fs::exists(file) ? file.parent_path() / path : path;
+}
+
+std::chrono::milliseconds get_ms(const Config& config, const std::string& key, int fallback, int lo, int hi) {
+  return std::chrono::milliseconds(config.get_in_range<int>(key, fallback, lo, hi));
+}
+
+// rigger/crane/state is written every cycle: with a liveliness lease on the writer, asserted by each
+// write, readers see a hung cycle thread within the lease, not only a dead process.
+dds::Qos state_qos() {
+  dds::Qos qos = dds::qos::state();
+  dds_qset_liveliness(qos.get(), DDS_LIVELINESS_MANUAL_BY_TOPIC, DDS_MSECS(dds::kDefaultLease.count()));
+  return qos;
+}
+
+}  // namespace
+
+void CommandLine::add_to(CLI::App& app) {
+  app.add_option("--plc-host", plc_host, "PLC address (overrides plc/host)");
+  app.add_option("--plc-port", plc_port, "PLC Modbus TCP port (overrides plc/port)")->check(CLI::Range(1, 65535));
+}
+
+CraneGatewayConfig read_gateway_config(const Config& config) {
+  CraneGatewayConfig out;
+  const fs::path cell_file = config.has("cell_file")
+                                 ? resolve_path(config, config.get<std::string>("cell_file"))
+                                 : fs::path(RIGGER_SOURCE_DIR) / "deploy" / "cell" / "simulated_cell.json";
+  const std::string crane_id = config.get<std::string>("crane_id", "crane");
+  try {
+    out.logic.plausibility.limits = crane::load_crane_limits(cell_file.string(), crane_id);
+  } catch (const crane::CraneConfigError& e) {
+    config.fail(config.has("cell_file") ? "cell_file" : "", e.what());
+  }
+
+  const Config plc = config.child_or_empty("plc");
+  out.plc_host = plc.get<std::string>("host", "127.0.0.1");
+  out.plc_port = plc.get<std::uint16_t>("port", 1502);
+  if (out.plc_port == 0) plc.fail("port", "expected a port in [1, 65535]");
+  out.unit_id = plc.get_in_range("unit_id", 1, 0, 255);
+  out.response_timeout = get_ms(plc, "response_timeout_ms", 50, 1, 5000);
+
+  const double rate_hz = config.get_in_range("cycle_rate_hz", 50.0, 1.0, 500.0);
+  out.cycle_period = std::chrono::milliseconds(std::max<long>(1, std::lround(1000.0 / rate_hz)));
+  const Config backoff = config.child_or_empty("reconnect_backoff_ms");
+  out.reconnect_backoff_min = get_ms(backoff, "min", 20, 1, 60000);
+  out.reconnect_backoff_max = get_ms(backoff, "max", 2000, 1, 600000);
+
+  out.logic.command_timeout = get_ms(config, "command_timeout_ms", 100, 1, 10000);
+  out.logic.max_command_future = get_ms(config, "max_command_future_ms", 50, 0, 5000);
+  out.logic.plc_heartbeat_timeout = get_ms(config, "plc_heartbeat_timeout_ms", 250, 10, 10000);
+  out.logic.reset_pulse_cycles = config.get_in_range("reset_pulse_cycles", 3, 1, 100);
+  const Config plausible = config.child_or_empty("plausibility");
+  out.logic.plausibility.position_margin_m = plausible.get_in_range("position_margin_m", 0.2, 0.0, 10.0);
+  out.logic.plausibility.speed_factor = plausible.get_in_range("speed_factor", 1.25, 1.0, 10.0);
+  out.logic.plausibility.load_factor = plausible.get_in_range("load_factor", 2.0, 1.0, 100.0);
+  try {
+    validate(out);
+  } catch (const GatewayConfigError& e) {
+    config.fail("", e.what());
+  }
+  return out;
+}
+
+CraneStateReport summarize(const GatewayState& state) {
+  CraneStateReport r;
+  r.link_ok = state.link_up;
+  const bool plc_fault = state.link_up && state.plc && state.plc->flags.fault;
+  r.fault = state.fault != GatewayFault::kNone || plc_fault;
+  if (state.fault != GatewayFault::kNone) {
+    r.fault_text = std::string(fault_name(state.fault)) + ": " + state.fault_reason;
+  } else if (plc_fault) {
+    r.fault_text = std::string(crane::fault_code_name(state.plc->fault_code));
+  }
+  if (state.external_control_granted) {
+    r.mode = rigger_crane_CRANE_EXTERNAL;
+  } else if (!state.link_up || r.fault || (state.plc && state.plc->flags.emergency_stop)) {
+    r.mode = rigger_crane_CRANE_STOPPED;
+  } else {
+    r.mode = rigger_crane_CRANE_LOCAL;
+  }
+  return r;
+}
+
+CraneGatewayNode::CraneGatewayNode(dds::ServiceContext& ctx, const CommandLine& command_line)
+    : ctx_(ctx),
+      config_([&] {
+        CraneGatewayConfig c = read_gateway_config(ctx.config);
+        if (command_line.plc_host) c.plc_host = *command_line.plc_host;
+        if (command_line.plc_port) c.plc_port = *command_line.plc_port;
+        ctx.config.finish();
+        return c;
+      }()),
+      state_(ctx.participant, kStateTopic, state_qos()),
+      commands_(ctx.participant, kCommandTopic, dds::qos::setpoints()),
+      control_(ctx.participant, kControlTopic, dds::qos::commands()),
+      gateway_(config_) {
+  ctx.loop.on_data(commands_, [this] { on_command(); });
+  ctx.loop.on_data(control_, [this] { on_control(); });
+  thread_ = std::thread([this] { work(); });
+  ctx.log->info("crane gateway started plc={}:{} unit_id={} cycle_ms={} command_timeout_ms={}", config_.plc_host,
+                config_.plc_port, config_.unit_id, config_.cycle_period.count(),
+                std::chrono::duration_cast<std::chrono::milliseconds>(config_.logic.command_timeout).count());
+}
+
+CraneGatewayNode::~CraneGatewayNode() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+  gateway_.release();
+  publish(gateway_.state(), std::chrono::system_clock::now());
+  ctx_.log->info("crane released: enable and external control off, setpoints zero");
+}
+
+void CraneGatewayNode::on_command() {
+  commands_.take([this](const rigger_crane_CraneVelocityCommand& c, const dds_sample_info_t&) {
+    const WallTime now = std::chrono::system_clock::now();
+    VelocityCommand command;
+    command.velocity_mps = {c.velocity_mps[0], c.velocity_mps[1], c.velocity_mps[2]};
+    command.stamp = dds::to_domain(c.header.stamp);
+    command.seq = c.seq;
+    std::string refusal;
+    // The command's own timeout is checked on receipt too (DESIGN §6); the gateway's configured
+    // command timeout then bounds how long an accepted command drives the crane.
+    if (std::isnan(c.timeout_s) || c.timeout_s < 0.0) {
+      refusal = "timeout_s must be >= 0";
+    } else if (c.timeout_s > 0.0 && now - command.stamp > from_seconds(std::min(c.timeout_s, 1e6))) {
+      refusal = "stale";
+    } else {
+      const CommandVerdict verdict = gateway_.submit_command(command);
+      if (verdict == CommandVerdict::kAccepted) {
+        last_command_seq_ = c.seq;
+        return;
+      }
+      refusal = std::string(verdict_name(verdict));
+    }
+    ++commands_refused_;
+    const auto steady_now = SteadyClock::now();
+    if (steady_now - last_refusal_log_ > std::chrono::seconds(2)) {
+      last_refusal_log_ = steady_now;
+      ctx_.log->warn("velocity command ignored seq={} source={} reason={} refused_total={}", c.seq,
+                     dds::to_string(c.source), refusal, commands_refused_);
+    }
+  });
+}
+
+void CraneGatewayNode::on_control() {
+  control_.take([this](const rigger_crane_CraneControl& c, const dds_sample_info_t&) {
+    const char* what = "unknown";
+    switch (c.kind) {
+      case rigger_crane_CRANE_ENABLE:
+        control_request_.enable = true;
+        what = "enable";
+        break;
+      case rigger_crane_CRANE_DISABLE:
+        control_request_ = ControlRequest{};
+        what = "disable";
+        break;
+      case rigger_crane_CRANE_RESET:
+        gateway_.request_reset();
+        what = "reset";
+        break;
+      case rigger_crane_CRANE_REQUEST_EXTERNAL:
+        // External control needs the drives on: the request implies enable.
+        control_request_ = ControlRequest{true, true};
+        what = "request_external";
+        break;
+      case rigger_crane_CRANE_RELEASE_EXTERNAL:
+        control_request_.external_control = false;
+        what = "release_external";
+        break;
+      default:
+        ctx_.log->warn("crane control ignored seq={} reason=unknown kind {}", c.seq, static_cast<int>(c.kind));
+        return;
+    }
+    gateway_.set_control(control_request_);
+    ctx_.log->info("crane control kind={} seq={} source={} enable={} external={}", what, c.seq,
+                   dds::to_string(c.source), control_request_.enable, control_request_.external_control);
+  });
+}
+
+void CraneGatewayNode::work() {
+  const auto period = config_.cycle_period;
+  auto next = SteadyClock::now();
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!stop_) {
+    lock.unlock();
+    const CycleReport report = gateway_.cycle();
+    const GatewayState state = gateway_.state();
+    publish(state, std::chrono::system_clock::now());
+    log_cycle(report, state);
+    lock.lock();
+    next += period;
+    const auto now = SteadyClock::now();
+    // After a stall (a debugger, SIGSTOP) cycle on from now rather than in a burst.
+    if (next < now - period) next = now;
+    wake_.wait_until(lock, next, [this] { return stop_; });
+  }
+}
+
+void CraneGatewayNode::log_cycle(const CycleReport& report, const GatewayState& state) {
+  if (report.outcome == CycleOutcome::kWaitingToReconnect) return;
+  const bool changed = !last_outcome_ || *last_outcome_ != report.outcome;
+  const auto now = SteadyClock::now();
+  if (!changed && (report.reason == last_reason_ || now - last_repeat_log_ < std::chrono::seconds(5))) return;
+  last_outcome_ = report.outcome;
+  last_reason_ = report.reason;
+  last_repeat_log_ = now;
+  if (report.outcome == CycleOutcome::kOk) {
+    ctx_.log->info("crane link ok plc={}:{} connects={} link_losses={}", config_.plc_host, config_.plc_port,
+                   state.connects, state.link_losses);
+  } else {
+    ctx_.log->warn("crane cycle outcome={} reason=\"{}\" link_up={} link_losses={}", outcome_name(report.outcome),
+                   report.reason, state.link_up, state.link_losses);
+  }
+}
+
+void CraneGatewayNode::publish(const GatewayState& state, WallTime now) {
+  const CraneStateReport summary = summarize(state);
+  rigger_crane_CraneState w{};
+  w.header.stamp = dds::to_wire(now);
+  w.header.frame_id = const_cast<char*>("crane");
+  w.mode = summary.mode;
+  w.link_ok = summary.link_ok;
+  w.fault = summary.fault;
+  w.fault_text = dds::wire_string(summary.fault_text);
+  w.last_command_seq = last_command_seq_.load();
+  // While the link is down, positions, velocities and load are the last values read (link_ok false).
+  if (state.plc) {
+    const crane::CraneStatus& plc = *state.plc;
+    for (int i = 0; i < 3; ++i) {
+      w.position_m[i] = plc.position_m[i];
+      w.velocity_mps[i] = plc.velocity_mps[i];
+    }
+    w.load_mass_kg = plc.load_kg;
+    w.plc_heartbeat = plc.plc_heartbeat;
+    if (state.link_up) {
+      w.ready = plc.flags.ready;
+      w.enabled = plc.flags.enabled;
+      w.external_control = state.external_control_granted;
+      w.moving = plc.flags.moving;
+      w.estop = plc.flags.emergency_stop;
+      w.overload = plc.flags.overload;
+      w.status_word = crane::encode_status_word(plc.flags);
+      w.fault_code = static_cast<std::uint16_t>(plc.fault_code);
+    }
+  }
+  state_.write(w);
+}
+
+}  // namespace rigger::crane_gateway
