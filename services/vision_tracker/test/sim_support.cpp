@@ -1,5 +1,7 @@
 #include "sim_support.hpp"
 
+#include "vision_tracker_node.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -13,27 +15,7 @@ std::string cell_json_path() {
 }
 std::string deployed_cell_json_path() { return std::string(RIGGER_SOURCE_DIR) + "/deploy/cell/simulated_cell.json"; }
 
-TrackerConfig tracker_config_from_scene(const sim::CameraScene& scene) {
-  TrackerConfig config;
-  config.camera.width_px = scene.camera.width_px;
-  config.camera.height_px = scene.camera.height_px;
-  config.camera.fx_px = scene.camera.fx_px;
-  config.camera.fy_px = scene.camera.fy_px;
-  config.camera.cx_px = scene.camera.cx_px;
-  config.camera.cy_px = scene.camera.cy_px;
-  config.camera.distortion = scene.camera.distortion;
-  config.pose_world_camera = scene.pose_world_camera;
-  config.detector.dictionary = scene.dictionary;
-  for (const sim::BoxObject& object : scene.objects) {
-    ObjectLayout layout;
-    layout.object_id = object.id;
-    for (const sim::MarkerSpec& marker : object.markers) {
-      layout.markers.push_back({marker.id, marker.size_m, marker.pose_object_marker});
-    }
-    config.objects.push_back(layout);
-  }
-  return config;
-}
+TrackerConfig tracker_config_from_scene(const sim::CameraScene& scene) { return tracker_config_from_cell_scene(scene); }
 
 sim::RenderSettings render_settings(double noise_stddev, std::uint64_t seed) {
   sim::RenderSettings settings;

@@ -1,0 +1,167 @@
+#include "vision_tracker_node.hpp"
+
+#include <filesystem>
+
+#include "rigger/dds/conversions.hpp"
+
+namespace rigger::vision {
+
+namespace {
+
+// A relative cell path is tried from the working directory first (a deployment), then from the
+// repository root (tests and development runs from a build directory).
+std::filesystem::path resolve_cell_file(const std::string& path) {
+  const std::filesystem::path p(path);
+  if (p.is_absolute() || std::filesystem::exists(p)) return p;
+  const std::filesystem::path in_source = std::filesystem::path(RIGGER_SOURCE_DIR) / p;
+  return std::filesystem::exists(in_source) ? in_source : p;
+}
+
+Tracker make_tracker(const Config& config) {
+  const std::string cell_file = config.get<std::string>("cell_file", "deploy/cell/simulated_cell.json");
+  const std::string camera_id = config.get<std::string>("camera_id", "camera");
+  const double lost_after_s = config.get_in_range("lost_after_s", 0.5, 0.01, 10.0);
+  try {
+    TrackerConfig tracker_config = tracker_config_from_cell_scene(sim::load_camera_scene(resolve_cell_file(cell_file), camera_id));
+    tracker_config.lost_after = from_seconds(lost_after_s);
+    return Tracker(std::move(tracker_config));
+  } catch (const std::exception& e) {
+    throw ConfigError(config.file(), config.pointer() + "/cell_file", e.what());
+  }
+}
+
+TrackerMode start_mode(const Config& config) {
+  return config.get_enum("start_mode", "idle", {"idle", "continuous"}) == "continuous" ? TrackerMode::kContinuous
+                                                                                       : TrackerMode::kIdle;
+}
+
+const char* to_string(FrameStatus status) {
+  switch (status) {
+    case FrameStatus::kOk: return "ok";
+    case FrameStatus::kEmptyImage: return "empty image";
+    case FrameStatus::kWrongEncoding: return "not mono8";
+    case FrameStatus::kWrongSize: return "not the configured camera's size";
+    case FrameStatus::kOutOfOrder: return "stamp not after the previous image's";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+TrackerConfig tracker_config_from_cell_scene(const sim::CameraScene& scene) {
+  TrackerConfig config;
+  config.camera.width_px = scene.camera.width_px;
+  config.camera.height_px = scene.camera.height_px;
+  config.camera.fx_px = scene.camera.fx_px;
+  config.camera.fy_px = scene.camera.fy_px;
+  config.camera.cx_px = scene.camera.cx_px;
+  config.camera.cy_px = scene.camera.cy_px;
+  config.camera.distortion = scene.camera.distortion;
+  config.pose_world_camera = scene.pose_world_camera;
+  config.detector.dictionary = scene.dictionary;
+  for (const sim::BoxObject& object : scene.objects) {
+    ObjectLayout layout;
+    layout.object_id = object.id;
+    for (const sim::MarkerSpec& marker : object.markers) {
+      layout.markers.push_back({marker.id, marker.size_m, marker.pose_object_marker});
+    }
+    config.objects.push_back(layout);
+  }
+  return config;
+}
+
+VisionTrackerNode::VisionTrackerNode(dds::ServiceContext& ctx)
+    : ctx_(ctx),
+      frame_id_(ctx.config.get<std::string>("frame_id", "world")),
+      tracker_(make_tracker(ctx.config)),
+      mode_(start_mode(ctx.config)),
+      images_(ctx.participant, kImageTopic, dds::qos::sensor_stream()),
+      commands_(ctx.participant, kCommandTopic, dds::qos::commands()),
+      poses_(ctx.participant, kPoseTopic, dds::qos::sensor_stream()) {
+  ctx.config.finish();
+  ctx.loop.on_data(images_, [this] { on_image(); });
+  ctx.loop.on_data(commands_, [this] { on_command(); });
+  ctx.log->info("tracking {} objects, mode {}", tracker_.config().objects.size(),
+                mode_ == TrackerMode::kIdle ? "idle" : "continuous");
+}
+
+void VisionTrackerNode::on_command() {
+  commands_.take([this](const rigger_vision_TrackerCommand& cmd, const dds_sample_info_t&) {
+    const TrackerMode before = mode_;
+    switch (cmd.kind) {
+      case rigger_vision_TRACK_ONCE: mode_ = TrackerMode::kOnce; break;
+      case rigger_vision_TRACK_CONTINUOUS: mode_ = TrackerMode::kContinuous; break;
+      case rigger_vision_TRACK_STOP: mode_ = TrackerMode::kIdle; break;
+      default:
+        ctx_.log->warn("command dropped seq={} source={}: unknown kind {}", cmd.seq, dds::to_string(cmd.source),
+                       static_cast<int>(cmd.kind));
+        return;
+    }
+    // Tracks (regions of interest, filter state) from before an idle spell are stale: start afresh.
+    if (before == TrackerMode::kIdle && mode_ != TrackerMode::kIdle) tracker_.reset();
+    ctx_.log->info("command seq={} source={} kind={}", cmd.seq, dds::to_string(cmd.source), static_cast<int>(cmd.kind));
+  });
+}
+
+void VisionTrackerNode::on_image() {
+  images_.take([this](const rigger_vision_Image& image, const dds_sample_info_t&) {
+    if (mode_ == TrackerMode::kIdle) {  // idle: no processing at all
+      ++images_ignored_;
+      return;
+    }
+    process(image);
+  });
+}
+
+void VisionTrackerNode::process(const rigger_vision_Image& image) {
+  const std::string encoding = dds::to_string(image.encoding);
+  const std::uint64_t expected_bytes = static_cast<std::uint64_t>(image.step) * image.height;
+  const char* problem = nullptr;
+  if (encoding != "mono8") problem = "encoding is not mono8";
+  else if (image.width == 0 || image.height == 0) problem = "width or height is zero";
+  else if (image.step < image.width) problem = "step is less than width";
+  else if (image.data._length != expected_bytes || image.data._buffer == nullptr) problem = "data length is not step * height";
+  if (problem) {
+    ++images_dropped_;
+    ctx_.log->warn("image dropped: {} (encoding={} width={} height={} step={} data_bytes={})", problem, encoding,
+                   image.width, image.height, image.step, image.data._length);
+    return;
+  }
+  // A view of the sample's buffer, no copy: the tracker is done with it before the loan returns.
+  const cv::Mat view(static_cast<int>(image.height), static_cast<int>(image.width), CV_8UC1, image.data._buffer,
+                     image.step);
+  const FrameResult result = tracker_.process(view, dds::to_domain(image.header.stamp));
+  if (result.status != FrameStatus::kOk) {
+    ++images_dropped_;
+    ctx_.log->warn("image dropped by the tracker: {}", to_string(result.status));
+    return;
+  }
+  ++images_processed_;
+  if (mode_ == TrackerMode::kOnce) mode_ = TrackerMode::kIdle;
+  publish(result);
+}
+
+void VisionTrackerNode::publish(const FrameResult& result) {
+  const rigger_geometry_Time stamp = dds::to_wire(result.stamp);
+  for (const ObjectTrack& track : result.objects) {
+    rigger_vision_TrackedPose out{};
+    out.header.stamp = stamp;  // always the image's stamp; a lost object says so with tracked=false
+    out.header.frame_id = dds::wire_string(frame_id_);
+    out.object_id = dds::wire_string(track.object_id);
+    out.tracked = track.detected;
+    if (track.detected) {
+      out.pose.pose = dds::to_wire(track.pose_world_object);
+      dds::covariance_to_wire(track.covariance_world, out.pose.covariance);
+      out.quality = track.quality;
+      out.markers_used = static_cast<std::uint32_t>(track.markers_used);
+      out.reprojection_error_px = track.reprojection_rms_px;
+    } else {
+      // Never the last pose under this image's stamp: a lost object carries no pose at all.
+      out.pose.pose = dds::to_wire(Eigen::Isometry3d::Identity());
+      out.quality = 0.0;
+    }
+    poses_.write(out);
+  }
+}
+
+}  // namespace rigger::vision
