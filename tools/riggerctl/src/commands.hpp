@@ -16,4 +16,8 @@ struct CommonOptions {
 /// domain, or waits until N are READY, or until service ID is lost.
 void add_services_command(CLI::App& app, const CommonOptions& common, int& exit_code);
 
+/// `validate FILE [--library FILE]` (offline), `run FILE`, `status`, `tree TASK`, `skills`, `cancel TASK`,
+/// `log TASK`. Exit codes: 0 ok; 1 invalid recipe / task not SUCCEEDED; 2 usage; 3 no task controller.
+void add_task_commands(CLI::App& app, const CommonOptions& common, int& exit_code);
+
 }  // namespace rigger::ctl

@@ -1,0 +1,168 @@
+#include "scripted_executor_node.hpp"
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+namespace rigger::scripted {
+namespace {
+
+std::chrono::nanoseconds seconds(double s) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(s));
+}
+
+nlohmann::json load_library(const Config& config) {
+  const std::string name = config.get<std::string>("library_file", "recipes/examples/skill_library.json");
+  std::filesystem::path path(name);
+  if (path.is_relative() && !std::filesystem::exists(path)) path = std::filesystem::path(RIGGER_SOURCE_DIR) / name;
+  std::ifstream in(path);
+  if (!in) config.fail("library_file", "cannot open " + path.string());
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    config.fail("library_file", path.string() + " is not JSON: " + e.what());
+  }
+}
+
+}  // namespace
+
+ScriptedExecutorNode::ScriptedExecutorNode(dds::ServiceContext& ctx) : ctx_(ctx) {
+  nlohmann::json library = load_library(ctx.config);
+  if (!library.contains("skills") || !library["skills"].is_array())
+    ctx.config.fail("library_file", "expected a skill library with a \"skills\" array");
+  std::set<std::string> wanted;
+  if (ctx.config.has("skills"))
+    for (const auto& s : ctx.config.get<std::vector<std::string>>("skills")) wanted.insert(s);
+  nlohmann::json skills = nlohmann::json::array();
+  for (const auto& d : library["skills"]) {
+    const std::string name = d.value("name", "");
+    if (!wanted.empty() && !wanted.count(name)) continue;
+    is_monitor_[name] = d.value("kind", "skill") == "monitor";
+    wanted.erase(name);
+    skills.push_back(d);
+  }
+  if (!wanted.empty()) ctx.config.fail("skills", "not in the library: " + *wanted.begin());
+  library["skills"] = skills;
+
+  default_monitor_.mode = Mode::kRun;
+  default_skill_ = parse_behaviour(ctx.config.child_or_empty("default"), default_skill_);
+  if (ctx.config.has("behaviours")) {
+    const auto& raw = ctx.config.raw("behaviours");
+    if (!raw.is_object()) ctx.config.fail("behaviours", "expected an object: skill name → behaviour");
+    auto children = ctx.config.child("behaviours");
+    for (const auto& [name, value] : raw.items()) {
+      auto m = is_monitor_.find(name);
+      if (m == is_monitor_.end()) children.fail(name, "not an announced skill or monitor");
+      by_skill_[name] = parse_behaviour(children.child(name), m->second ? default_monitor_ : default_skill_);
+    }
+  }
+  if (ctx.config.has("nodes")) {
+    const auto& raw = ctx.config.raw("nodes");
+    if (!raw.is_object()) ctx.config.fail("nodes", "expected an object: node id → behaviour");
+    auto children = ctx.config.child("nodes");
+    for (const auto& [node_id, value] : raw.items()) by_node_[node_id] = parse_behaviour(children.child(node_id), default_skill_);
+  }
+  ctx.config.finish();
+
+  endpoint_ = std::make_unique<executor::ExecutorEndpoint>(
+      ctx.participant, ctx.loop, ctx.log, ctx.options.id, library,
+      executor::ExecutorEndpoint::Handlers{[this](const executor::StartRequest& r) { on_start(r); },
+                                           [this](const executor::ShutdownRequest& r) { on_shutdown(r); }});
+  ctx.log->info("scripted executor ready skills={}", skills.size());
+}
+
+ScriptedExecutorNode::~ScriptedExecutorNode() {
+  for (auto& [key, a] : active_)
+    for (auto t : a.timers) ctx_.loop.cancel(t);
+}
+
+const Behaviour& ScriptedExecutorNode::behaviour_for(const std::string& skill, const std::string& node_id) const {
+  if (auto n = by_node_.find(node_id); n != by_node_.end()) return n->second;
+  if (auto s = by_skill_.find(skill); s != by_skill_.end()) return s->second;
+  auto m = is_monitor_.find(skill);
+  return m != is_monitor_.end() && m->second ? default_monitor_ : default_skill_;
+}
+
+void ScriptedExecutorNode::on_start(const executor::StartRequest& request) {
+  const Key key{request.run.task_id, request.run.node_id};
+  const Behaviour& b = behaviour_for(request.skill, request.run.node_id);
+  ctx_.log->info("start task={} node={} skill={} mode={} delay_s={}", key.first, key.second, request.skill,
+                 to_string(b.mode), b.delay_s);
+  // A restart of the same node (Retry) replaces the previous run's leftovers.
+  if (auto old = active_.find(key); old != active_.end()) {
+    for (auto t : old->second.timers) ctx_.loop.cancel(t);
+    active_.erase(old);
+  }
+  Active& a = active_[key];
+  a.run = request.run;
+  a.behaviour = b;
+  const auto start_seq = request.run.start_seq;
+  for (unsigned i = 1; i <= b.progress_steps; ++i) {
+    const double fraction = static_cast<double>(i) / (b.progress_steps + 1);
+    a.timers.push_back(ctx_.loop.after(seconds(b.delay_s * fraction), [this, key, fraction, start_seq] {
+      auto it = active_.find(key);
+      if (it == active_.end() || it->second.run.start_seq != start_seq || it->second.stopping) return;
+      endpoint_->report(it->second.run, executor::EventKind::kProgress, "", "scripted progress", fraction);
+    }));
+  }
+  if (b.mode == Mode::kRun) return;
+  a.timers.push_back(ctx_.loop.after(seconds(b.delay_s), [this, key, start_seq] {
+    auto it = active_.find(key);
+    if (it == active_.end() || it->second.run.start_seq != start_seq || it->second.stopping) return;
+    const Behaviour& beh = it->second.behaviour;
+    switch (beh.mode) {
+      case Mode::kSucceed: finish(key, executor::EventKind::kSuccess, "", beh.message); break;
+      case Mode::kFail: finish(key, executor::EventKind::kFailure, beh.code, beh.message); break;
+      case Mode::kCrash:
+        ctx_.log->warn("scripted crash task={} node={}", key.first, key.second);
+        ctx_.log->flush();
+        std::abort();
+      case Mode::kHang:
+        ctx_.log->warn("scripted hang task={} node={}: blocking the event loop", key.first, key.second);
+        ctx_.log->flush();
+        // Block the loop thread for good: no liveliness assertion, no events. Signals still end
+        // the process (run_service's handler stops the loop, which never returns here: the test kills us).
+        for (;;) ::pause();
+      case Mode::kRun: break;
+    }
+  }));
+}
+
+void ScriptedExecutorNode::on_shutdown(const executor::ShutdownRequest& request) {
+  const Key key{request.run.task_id, request.run.node_id};
+  auto it = active_.find(key);
+  if (it == active_.end()) return;
+  Active& a = it->second;
+  ctx_.log->info("shutdown task={} node={} reason={} never_stop={} stop_delay_s={}", key.first, key.second,
+                 request.reason, a.behaviour.never_stop, a.behaviour.stop_delay_s);
+  if (a.behaviour.never_stop || a.stopping) return;
+  a.stopping = true;
+  for (auto t : a.timers) ctx_.loop.cancel(t);
+  a.timers.clear();
+  if (a.behaviour.stop_delay_s <= 0.0) {
+    finish(key, executor::EventKind::kStopped, "", "stopped");
+    return;
+  }
+  const auto start_seq = a.run.start_seq;
+  a.timers.push_back(ctx_.loop.after(seconds(a.behaviour.stop_delay_s), [this, key, start_seq] {
+    auto i = active_.find(key);
+    if (i == active_.end() || i->second.run.start_seq != start_seq) return;
+    finish(key, executor::EventKind::kStopped, "", "stopped after a slow stop");
+  }));
+}
+
+void ScriptedExecutorNode::finish(const Key& key, executor::EventKind kind, std::string code, std::string message) {
+  auto it = active_.find(key);
+  if (it == active_.end()) return;
+  const executor::LeafRun run = it->second.run;
+  for (auto t : it->second.timers) ctx_.loop.cancel(t);
+  active_.erase(it);
+  endpoint_->report(run, kind, code, message);  // code/message are copies: they may have lived in the erased entry
+}
+
+}  // namespace rigger::scripted

@@ -1,0 +1,55 @@
+#pragma once
+/// @file
+/// The scripted executor's node: announces a skill library through ExecutorEndpoint and plays a
+/// Behaviour (behaviour.hpp) for every START.
+///
+/// Configuration keys:
+///   "library_file": string, path of a skill-library file (relative paths: to the working directory,
+///                   then to the source tree's root); default recipes/examples/skill_library.json
+///   "skills":       array of names to announce (default: every description in the library)
+///   "default":      behaviour for skills (monitors default to {"mode": "run"})
+///   "behaviours":   object: skill name → behaviour (overrides "default")
+///   "nodes":        object: recipe node id ("root/0/1") → behaviour (overrides the skill's)
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "behaviour.hpp"
+#include "rigger/dds/service.hpp"
+#include "rigger/executor/executor_endpoint.hpp"
+
+namespace rigger::scripted {
+
+class ScriptedExecutorNode : public dds::Node {
+ public:
+  /// @throws ConfigError, DdsError.
+  explicit ScriptedExecutorNode(dds::ServiceContext& ctx);
+  ~ScriptedExecutorNode() override;
+
+ private:
+  struct Active {
+    executor::LeafRun run;
+    Behaviour behaviour;
+    std::vector<dds::EventLoop::TimerId> timers;
+    bool stopping = false;
+  };
+  using Key = std::pair<std::string, std::string>;  // task, node
+
+  void on_start(const executor::StartRequest& request);
+  void on_shutdown(const executor::ShutdownRequest& request);
+  void finish(const Key& key, executor::EventKind kind, std::string code, std::string message);
+  const Behaviour& behaviour_for(const std::string& skill, const std::string& node_id) const;
+
+  dds::ServiceContext& ctx_;
+  std::map<std::string, Behaviour> by_skill_;
+  std::map<std::string, Behaviour> by_node_;
+  Behaviour default_skill_;
+  Behaviour default_monitor_;
+  std::map<std::string, bool> is_monitor_;
+  std::map<Key, Active> active_;
+  std::unique_ptr<executor::ExecutorEndpoint> endpoint_;
+};
+
+}  // namespace rigger::scripted

@@ -1,0 +1,82 @@
+#pragma once
+/// @file
+/// The task controller's journal (DESIGN §6 "Nothing is lost"): every accepted recipe and every
+/// event/transition, with wall-clock timestamps, in one SQLite file.
+///
+/// Durability: WAL mode with synchronous=FULL. FULL fsyncs the WAL at every commit, so a row that
+/// insert returned from survives a power cut as well as a crash; NORMAL would survive a process crash
+/// only. The journal is written before acting (a recipe before its first START), and the rates are
+/// low (one row per node transition), so the fsync cost is affordable and we keep the stronger rule.
+///
+/// Thread safety: none; one owner thread (the controller's event loop). Errors at open throw
+/// JournalError; in steady state write errors are returned (false) so the caller can log them.
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+struct sqlite3;
+
+namespace rigger::task_controller {
+
+class JournalError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// One timeline line.
+struct JournalRecord {
+  double stamp_s = 0;   ///< wall clock, seconds since the Unix epoch
+  std::string task_id;
+  std::string node_id;  ///< "" for task-level lines
+  std::string kind;     ///< "RECIPE", "TASK", "NODE", "EVENT", "COMMAND", "ESCALATION", "REJECTED_EVENT"
+  std::string code;
+  std::string message;
+};
+
+/// A task as the journal knows it.
+struct JournalTask {
+  std::string task_id;
+  std::string state;  ///< "RUNNING", "SUCCEEDED", "FAILED", "CANCELED", "INTERRUPTED"
+  double submitted_s = 0;
+  std::string recipe_json;
+};
+
+class Journal {
+ public:
+  /// Opens (creating) the journal at `path` (":memory:" for tests). @throws JournalError.
+  explicit Journal(const std::string& path);
+  ~Journal();
+  Journal(const Journal&) = delete;
+  Journal& operator=(const Journal&) = delete;
+
+  /// Records an accepted recipe; the task is RUNNING (unfinished) until finish_task().
+  bool add_task(const std::string& task_id, const std::string& recipe_json, double stamp_s);
+  /// Marks a task finished with `state` ("SUCCEEDED", "FAILED", "CANCELED", "INTERRUPTED").
+  bool finish_task(const std::string& task_id, const std::string& state, const std::string& code,
+                   const std::string& message, double stamp_s);
+  /// Appends one timeline line.
+  bool add_record(const JournalRecord& record);
+
+  /// Tasks whose state is still RUNNING (the controller died while they ran).
+  std::vector<JournalTask> unfinished_tasks() const;
+  /// Whether the journal knows `task_id` (finished or not).
+  bool has_task(const std::string& task_id) const;
+  /// The timeline of one task in order, at most `max_entries` (the newest are dropped).
+  std::vector<JournalRecord> timeline(const std::string& task_id, std::size_t max_entries) const;
+  /// Every task, newest first, at most `max_tasks`.
+  std::vector<JournalTask> tasks(std::size_t max_tasks) const;
+
+  /// Last SQLite error text.
+  std::string last_error() const;
+
+ private:
+  bool exec(const char* sql);
+  sqlite3* db_ = nullptr;
+};
+
+/// Wall-clock now in seconds since the epoch.
+double wall_now_s();
+
+}  // namespace rigger::task_controller

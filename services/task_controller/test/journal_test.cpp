@@ -1,0 +1,83 @@
+// The journal keeps accepted recipes and timelines across a reopen (the crash/restart case), and
+// reports tasks that never finished.
+#include "journal.hpp"
+
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+namespace rigger::task_controller {
+namespace {
+
+class JournalTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("rigger_journal_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    path_ = (dir_ / "journal.sqlite").string();
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+  std::string path_;
+};
+
+TEST_F(JournalTest, UnfinishedTaskSurvivesReopenAndIsReportedOnce) {
+  {
+    Journal j(path_);
+    ASSERT_TRUE(j.add_task("t1", "{\"recipe\":1}", 10.0));
+    ASSERT_TRUE(j.add_task("t2", "{}", 11.0));
+    ASSERT_TRUE(j.finish_task("t2", "SUCCEEDED", "", "", 12.0));
+    ASSERT_TRUE(j.add_record({10.5, "t1", "root/0", "NODE", "RUNNING", ""}));
+  }  // closed without finishing t1, as a killed controller would leave it
+  Journal j(path_);
+  auto unfinished = j.unfinished_tasks();
+  ASSERT_EQ(unfinished.size(), 1U);
+  EXPECT_EQ(unfinished[0].task_id, "t1");
+  EXPECT_EQ(unfinished[0].recipe_json, "{\"recipe\":1}");
+  ASSERT_TRUE(j.finish_task("t1", "INTERRUPTED", "INTERRUPTED", "controller restarted", 20.0));
+  EXPECT_TRUE(j.unfinished_tasks().empty());
+  auto timeline = j.timeline("t1", 100);
+  ASSERT_EQ(timeline.size(), 3U);
+  EXPECT_EQ(timeline[0].kind, "RECIPE");
+  EXPECT_EQ(timeline[1].node_id, "root/0");
+  EXPECT_EQ(timeline[2].code, "INTERRUPTED");
+}
+
+TEST_F(JournalTest, DuplicateTaskIdIsRefused) {
+  Journal j(path_);
+  ASSERT_TRUE(j.add_task("t", "{}", 1.0));
+  EXPECT_TRUE(j.has_task("t"));
+  EXPECT_FALSE(j.has_task("other"));
+  EXPECT_FALSE(j.add_task("t", "{}", 2.0));
+}
+
+TEST_F(JournalTest, TimelineIsBoundedAndOrdered) {
+  Journal j(path_);
+  ASSERT_TRUE(j.add_task("t", "{}", 1.0));
+  for (int i = 0; i < 50; ++i) ASSERT_TRUE(j.add_record({2.0 + i, "t", "n" + std::to_string(i), "EVENT", "", ""}));
+  auto timeline = j.timeline("t", 10);
+  ASSERT_EQ(timeline.size(), 10U);
+  EXPECT_EQ(timeline[0].kind, "RECIPE");
+  EXPECT_EQ(timeline[1].node_id, "n0");
+  EXPECT_TRUE(j.timeline("missing", 10).empty());
+}
+
+TEST_F(JournalTest, StrangeTextIsStoredVerbatim) {
+  Journal j(path_);
+  const std::string text = std::string("quote ' \" nul-free \xff\xfe bytes; DROP TABLE tasks;");
+  ASSERT_TRUE(j.add_task("t'; --", text, 1.0));
+  auto tasks = j.tasks(10);
+  ASSERT_EQ(tasks.size(), 1U);
+  EXPECT_EQ(tasks[0].recipe_json, text);
+  EXPECT_EQ(tasks[0].task_id, "t'; --");
+}
+
+TEST_F(JournalTest, UnopenablePathThrows) {
+  EXPECT_THROW(Journal((dir_ / "missing-dir" / "j.sqlite").string()), JournalError);
+}
+
+}  // namespace
+}  // namespace rigger::task_controller

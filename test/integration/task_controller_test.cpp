@@ -1,0 +1,308 @@
+// Acceptance of the task controller (issue 3) with real processes: the controller, scripted
+// executors and this test's own participant on a private domain. The test observes the skill
+// commands the executors receive, the node status and the task status; it never sleeps.
+#include <signal.h>
+
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "rigger/dds/conversions.hpp"
+#include "rigger/dds/pubsub.hpp"
+#include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/testing/cell.hpp"
+#include "task_controller_node.hpp"
+
+namespace rigger::testing {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+namespace tc = rigger::task_controller;
+
+struct SeenStatus {
+  int state = -1;
+  std::string code, message, failed_node;
+  std::vector<std::string> errors;  // "pointer: message"
+  Clock::time_point at;
+};
+struct SeenNode {
+  int state = -1;
+  std::string code;
+  Clock::time_point at;
+};
+struct SeenCommand {
+  std::string executor, task, node;
+  int kind = 0;
+  Clock::time_point at;
+};
+
+bool terminal(int s) {
+  return s == rigger_task_TASK_REJECTED || s == rigger_task_TASK_SUCCEEDED || s == rigger_task_TASK_FAILED ||
+         s == rigger_task_TASK_CANCELED;
+}
+
+/// Skill ‖ two monitors: Localize (camera) with YankMonitor and ForceMonitor, M = 1, K = 1.
+std::string paper_pattern(const std::string& task_id) {
+  nlohmann::json r = {
+      {"recipe_version", 1},
+      {"task_id", task_id},
+      {"root",
+       {{"type", "Parallel"},
+        {"success_threshold", 1},
+        {"failure_threshold", 1},
+        {"stop_timeout_s", 2},
+        {"children",
+         {{{"type", "Skill"}, {"skill", "Localize"}, {"params", {{"object", "load"}}}},
+          {{"type", "Monitor"}, {"monitor", "YankMonitor"}, {"params", nlohmann::json::object()}},
+          {{"type", "Monitor"}, {"monitor", "ForceMonitor"}, {"params", {{"max_force_n", 250}}}}}}}}};
+  return r.dump();
+}
+
+class TaskControllerTest : public MultiProcessTest {
+ protected:
+  void SetUp() override {
+    auto& p = cell_.participant();
+    recipes_ = std::make_unique<dds::Writer<rigger_task_Recipe>>(p, tc::kRecipeTopic, dds::qos::commands());
+    statuses_ = std::make_unique<dds::Reader<rigger_task_TaskStatus>>(p, tc::kTaskStatusTopic, dds::qos::state());
+    nodes_ = std::make_unique<dds::Reader<rigger_task_NodeStatus>>(p, tc::kNodeStatusTopic, dds::qos::state());
+    commands_ = std::make_unique<dds::Reader<rigger_skill_SkillCommand>>(p, executor::kCommandTopic,
+                                                                        dds::qos::commands());
+    cell_.loop().on_data(*statuses_, [this] {
+      statuses_->take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
+        SeenStatus seen{static_cast<int>(s.state), dds::to_string(s.code), dds::to_string(s.message),
+                        dds::to_string(s.failed_node), {}, Clock::now()};
+        for (uint32_t i = 0; i < s.errors._length; ++i)
+          seen.errors.push_back(dds::to_string(s.errors._buffer[i].pointer) + ": " +
+                                dds::to_string(s.errors._buffer[i].message));
+        status_[dds::to_string(s.task_id)].push_back(seen);
+      });
+    });
+    cell_.loop().on_data(*nodes_, [this] {
+      nodes_->take([this](const rigger_task_NodeStatus& s, const dds_sample_info_t&) {
+        node_[dds::to_string(s.task_id) + "|" + dds::to_string(s.node_id)].push_back(
+            {static_cast<int>(s.state), dds::to_string(s.code), Clock::now()});
+      });
+    });
+    cell_.loop().on_data(*commands_, [this] {
+      commands_->take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
+        commands_seen_.push_back({dds::to_string(c.executor_id), dds::to_string(c.task_id), dds::to_string(c.node_id),
+                                  static_cast<int>(c.kind), Clock::now()});
+      });
+    });
+    journal_path_ = cell_.log_dir() + "/journal.sqlite";
+  }
+
+  std::string write_config(const std::string& name, const nlohmann::json& config) {
+    const std::string path = cell_.log_dir() + "/" + name + ".json";
+    std::ofstream(path) << config.dump(2);
+    return path;
+  }
+
+  void start_controller() {
+    const auto cfg = write_config("tc", {{"journal_path", journal_path_}, {"executor_wait_s", 0.5}});
+    cell_.start("tc", "task_controller", {"--id", "tc", "--config", cfg});
+  }
+
+  /// exec-skills offers Localize, exec-monitors the two monitors; `nodes` scripts behaviours per node id.
+  void start_executors(const nlohmann::json& skill_nodes, const nlohmann::json& monitor_nodes) {
+    cell_.start("exec-skills", "scripted_executor",
+                {"--id", "exec-skills", "--config",
+                 write_config("exec-skills", {{"skills", {"Localize"}}, {"nodes", skill_nodes}})});
+    cell_.start("exec-monitors", "scripted_executor",
+                {"--id", "exec-monitors", "--config",
+                 write_config("exec-monitors", {{"skills", {"YankMonitor", "ForceMonitor"}}, {"nodes", monitor_nodes}})});
+  }
+
+  void start_all(const nlohmann::json& skill_nodes, const nlohmann::json& monitor_nodes) {
+    start_controller();
+    start_executors(skill_nodes, monitor_nodes);
+    ASSERT_TRUE(cell_.wait_ready({"tc", "exec-skills", "exec-monitors"}, 20s));
+    ASSERT_TRUE(recipes_->wait_for_readers(1, 10s));
+  }
+
+  void submit(const std::string& task_id, const std::string& text) {
+    rigger_task_Recipe r{};
+    const std::string submitter = "test";
+    r.task_id = dds::wire_string(task_id);
+    r.recipe_json = dds::wire_string(text);
+    r.submitter = dds::wire_string(submitter);
+    r.stamp = dds::wire_now();
+    ASSERT_EQ(recipes_->write(r), DDS_RETCODE_OK);
+  }
+
+  bool finished(const std::string& task_id) const {
+    auto it = status_.find(task_id);
+    return it != status_.end() && !it->second.empty() && terminal(it->second.back().state);
+  }
+  const SeenStatus& last(const std::string& task_id) { return status_.at(task_id).back(); }
+  bool wait_finished(const std::string& task_id, std::chrono::milliseconds timeout = 20s) {
+    return cell_.wait_until([&] { return finished(task_id); }, timeout);
+  }
+  bool node_reached(const std::string& task_id, const std::string& node_id, int state) const {
+    auto it = node_.find(task_id + "|" + node_id);
+    if (it == node_.end()) return false;
+    for (const auto& n : it->second)
+      if (n.state == state) return true;
+    return false;
+  }
+  const SeenNode* node_at(const std::string& task_id, const std::string& node_id, int state) const {
+    auto it = node_.find(task_id + "|" + node_id);
+    if (it == node_.end()) return nullptr;
+    for (const auto& n : it->second)
+      if (n.state == state) return &n;
+    return nullptr;
+  }
+  std::size_t count_commands(const std::string& task_id, int kind) const {
+    std::size_t n = 0;
+    for (const auto& c : commands_seen_)
+      if (c.task == task_id && c.kind == kind) ++n;
+    return n;
+  }
+
+  std::unique_ptr<dds::Writer<rigger_task_Recipe>> recipes_;
+  std::unique_ptr<dds::Reader<rigger_task_TaskStatus>> statuses_;
+  std::unique_ptr<dds::Reader<rigger_task_NodeStatus>> nodes_;
+  std::unique_ptr<dds::Reader<rigger_skill_SkillCommand>> commands_;
+  std::map<std::string, std::vector<SeenStatus>> status_;
+  std::map<std::string, std::vector<SeenNode>> node_;
+  std::vector<SeenCommand> commands_seen_;
+  std::string journal_path_;
+};
+
+TEST_F(TaskControllerTest, SkillWithMonitorsSucceedsWhenTheSkillDoesAndStopsTheMonitorsFirst) {
+  start_all({{"root/0", {{"mode", "succeed"}, {"delay_s", 0.3}, {"progress_steps", 2}}}}, nlohmann::json::object());
+  submit("ok", paper_pattern("ok"));
+  ASSERT_TRUE(wait_finished("ok"));
+  const auto& s = last("ok");
+  ASSERT_EQ(s.state, rigger_task_TASK_SUCCEEDED) << s.code << " " << s.message;
+  ASSERT_TRUE(node_reached("ok", "root/0", rigger_task_NODE_SUCCESS));
+  // Both monitors were shut down and acknowledged before the task reported.
+  for (const char* monitor : {"root/1", "root/2"}) {
+    const SeenNode* stopped = node_at("ok", monitor, rigger_task_NODE_STOPPED);
+    ASSERT_NE(stopped, nullptr) << monitor;
+    EXPECT_LE(stopped->at, s.at) << monitor;
+  }
+  EXPECT_EQ(count_commands("ok", rigger_skill_SKILL_START), 3U);
+  EXPECT_EQ(count_commands("ok", rigger_skill_SKILL_SHUTDOWN), 2U);
+}
+
+TEST_F(TaskControllerTest, AFiringMonitorFailsTheParallelAfterTheSkillStopped) {
+  start_all({{"root/0", {{"mode", "run"}, {"stop_delay_s", 0.2}}}},
+            {{"root/1", {{"mode", "fail"}, {"delay_s", 0.3}, {"code", "YANK_DETECTED"}}}});
+  submit("yank", paper_pattern("yank"));
+  ASSERT_TRUE(wait_finished("yank"));
+  const auto& s = last("yank");
+  EXPECT_EQ(s.state, rigger_task_TASK_FAILED);
+  EXPECT_EQ(s.code, "YANK_DETECTED");
+  EXPECT_EQ(s.failed_node, "root/1");
+  const SeenNode* stopped = node_at("yank", "root/0", rigger_task_NODE_STOPPED);
+  ASSERT_NE(stopped, nullptr);
+  EXPECT_LE(stopped->at, s.at);
+  const SeenNode* fired = node_at("yank", "root/1", rigger_task_NODE_FAILURE);
+  ASSERT_NE(fired, nullptr);
+  // The skill's stop takes 200 ms by script; everything else is messaging.
+  EXPECT_LT(s.at - fired->at, 1000ms);
+}
+
+TEST_F(TaskControllerTest, KilledExecutorFailsItsLeafWithExecutorLostAndStopsSiblingsWithin500ms) {
+  expect_clean_exit_ = false;
+  start_all({{"root/0", {{"mode", "run"}}}}, nlohmann::json::object());
+  submit("kill", paper_pattern("kill"));
+  ASSERT_TRUE(cell_.wait_until([&] { return count_commands("kill", rigger_skill_SKILL_START) == 3; }, 10s));
+  const auto t0 = Clock::now();
+  ASSERT_TRUE(cell_.process("exec-skills").signal(SIGKILL));
+  ASSERT_TRUE(wait_finished("kill", 5s));
+  const auto took = Clock::now() - t0;
+  const auto& s = last("kill");
+  EXPECT_EQ(s.state, rigger_task_TASK_FAILED);
+  EXPECT_EQ(s.code, "EXECUTOR_LOST");
+  EXPECT_EQ(s.failed_node, "root/0");
+  EXPECT_TRUE(node_reached("kill", "root/1", rigger_task_NODE_STOPPED));
+  EXPECT_TRUE(node_reached("kill", "root/2", rigger_task_NODE_STOPPED));
+  std::cout << "SIGKILL → task FAILED(EXECUTOR_LOST), monitors stopped: "
+            << std::chrono::duration_cast<std::chrono::milliseconds>(took).count() << " ms\n";
+  EXPECT_LT(took, 500ms);
+}
+
+TEST_F(TaskControllerTest, HungExecutorFailsItsLeafWithExecutorLostWithin500ms) {
+  expect_clean_exit_ = false;
+  start_all({{"root/0", {{"mode", "run"}}}}, nlohmann::json::object());
+  submit("hang", paper_pattern("hang"));
+  ASSERT_TRUE(cell_.wait_until([&] { return count_commands("hang", rigger_skill_SKILL_START) == 3; }, 10s));
+  const auto t0 = Clock::now();
+  ASSERT_TRUE(cell_.process("exec-skills").signal(SIGSTOP));
+  ASSERT_TRUE(wait_finished("hang", 5s));
+  const auto took = Clock::now() - t0;
+  cell_.process("exec-skills").signal(SIGKILL);
+  const auto& s = last("hang");
+  EXPECT_EQ(s.state, rigger_task_TASK_FAILED);
+  EXPECT_EQ(s.code, "EXECUTOR_LOST");
+  EXPECT_TRUE(node_reached("hang", "root/1", rigger_task_NODE_STOPPED));
+  EXPECT_TRUE(node_reached("hang", "root/2", rigger_task_NODE_STOPPED));
+  std::cout << "SIGSTOP → task FAILED(EXECUTOR_LOST): "
+            << std::chrono::duration_cast<std::chrono::milliseconds>(took).count() << " ms\n";
+  EXPECT_LT(took, 500ms);
+}
+
+TEST_F(TaskControllerTest, HostileRecipesAreRejectedWithAReasonAndNothingStarts) {
+  start_all(nlohmann::json::object(), nlohmann::json::object());
+  std::map<std::string, std::string> hostile;
+  hostile["deep"] = std::string(1'000'000, '[') + std::string(1'000'000, ']');
+  // 8 MB, twice the controller's 4 MB bound. (100 MB does not fit through a reliable writer whose
+  // max_blocking is 100 ms: write() returns TIMEOUT on the submitting side; see the report.)
+  hostile["huge"] = "{\"recipe_version\": 1, \"task_id\": \"huge\", \"description\": \"" +
+                    std::string(8U * 1024U * 1024U, 'x') + "\"}";
+  hostile["types"] = R"({"recipe_version": "one", "task_id": "types", "root": {"type": "Sequence", "children": 5}})";
+  auto unknown = nlohmann::json::parse(paper_pattern("unknown"));
+  unknown["root"]["children"][0]["skill"] = "Teleport";
+  hostile["unknown"] = unknown.dump();
+  auto thresholds = nlohmann::json::parse(paper_pattern("thresholds"));
+  thresholds["root"]["success_threshold"] = 2;  // only one child can succeed
+  hostile["thresholds"] = thresholds.dump();
+  auto conflict = nlohmann::json::parse(paper_pattern("conflict"));
+  conflict["root"]["children"][1] = {{"type", "Skill"}, {"skill", "Localize"}, {"params", {{"object", "target"}}}};
+  hostile["conflict"] = conflict.dump();  // two branches claim the camera
+  hostile["utf8"] = "{\"recipe_version\": 1, \"task_id\": \"utf8\", \"description\": \"\xc3\x28\", \"root\": {}}";
+  // One at a time: a multi-megabyte sample keeps the reliable writer busy beyond its max_blocking.
+  for (const auto& [id, text] : hostile) {
+    submit(id, text);
+    ASSERT_TRUE(wait_finished(id, 20s)) << id;
+  }
+  for (const auto& [id, text] : hostile) {
+    const auto& s = last(id);
+    EXPECT_EQ(s.state, rigger_task_TASK_REJECTED) << id;
+    EXPECT_FALSE(s.errors.empty() && s.message.empty()) << id;
+    std::cout << id << ": " << s.code << " " << (s.errors.empty() ? s.message : s.errors.front()) << "\n";
+  }
+  EXPECT_TRUE(commands_seen_.empty());
+  // The controller keeps serving.
+  submit("after", paper_pattern("after"));
+  ASSERT_TRUE(wait_finished("after"));
+  EXPECT_EQ(last("after").state, rigger_task_TASK_SUCCEEDED) << last("after").code << " " << last("after").message;
+}
+
+TEST_F(TaskControllerTest, RestartedControllerReportsTheTaskInterruptedAndStartsNothing) {
+  expect_clean_exit_ = false;
+  start_all({{"root/0", {{"mode", "run"}}}}, nlohmann::json::object());
+  submit("crash", paper_pattern("crash"));
+  ASSERT_TRUE(cell_.wait_until([&] { return count_commands("crash", rigger_skill_SKILL_START) == 3; }, 10s));
+  ASSERT_TRUE(cell_.stop("tc", SIGKILL, 5s).has_value());
+  const std::size_t commands_before = commands_seen_.size();
+  status_.erase("crash");
+  cell_.start("tc-2", "task_controller",
+              {"--id", "tc-2", "--config", write_config("tc-2", {{"journal_path", journal_path_}})});
+  ASSERT_TRUE(cell_.wait_until([&] { return finished("crash"); }, 20s));
+  const auto& s = last("crash");
+  EXPECT_EQ(s.state, rigger_task_TASK_FAILED);
+  EXPECT_EQ(s.code, "INTERRUPTED");
+  ASSERT_TRUE(cell_.wait_ready({"tc-2"}, 20s));
+  EXPECT_EQ(commands_seen_.size(), commands_before);
+}
+
+}  // namespace
+}  // namespace rigger::testing

@@ -1,0 +1,451 @@
+// riggerctl's task commands: validate (offline), run, status, tree, skills, cancel, log.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "recipe/recipe_validator.hpp"
+#include "rigger/base/time.hpp"
+#include "rigger/dds/conversions.hpp"
+#include "rigger/dds/event_loop.hpp"
+#include "rigger/dds/pubsub.hpp"
+#include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/skill/skill_library.hpp"
+#include "task_controller_node.hpp"
+
+namespace rigger::ctl {
+namespace {
+
+namespace tc = rigger::task_controller;
+using std::chrono::duration_cast;
+using std::chrono::nanoseconds;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kExitFailed = 1;
+constexpr int kExitNoController = 3;
+
+nanoseconds seconds(double s) { return duration_cast<nanoseconds>(std::chrono::duration<double>(s)); }
+
+const char* task_state_name(int s) {
+  switch (s) {
+    case rigger_task_TASK_ACCEPTED: return "ACCEPTED";
+    case rigger_task_TASK_REJECTED: return "REJECTED";
+    case rigger_task_TASK_RUNNING: return "RUNNING";
+    case rigger_task_TASK_PAUSED: return "PAUSED";
+    case rigger_task_TASK_SUCCEEDED: return "SUCCEEDED";
+    case rigger_task_TASK_FAILED: return "FAILED";
+    case rigger_task_TASK_CANCELED: return "CANCELED";
+    default: return "?";
+  }
+}
+
+bool task_terminal(int s) {
+  return s == rigger_task_TASK_REJECTED || s == rigger_task_TASK_SUCCEEDED || s == rigger_task_TASK_FAILED ||
+         s == rigger_task_TASK_CANCELED;
+}
+
+const char* node_state_name(int s) {
+  switch (s) {
+    case rigger_task_NODE_IDLE: return "IDLE";
+    case rigger_task_NODE_RUNNING: return "RUNNING";
+    case rigger_task_NODE_STOPPING: return "STOPPING";
+    case rigger_task_NODE_SUCCESS: return "SUCCESS";
+    case rigger_task_NODE_FAILURE: return "FAILURE";
+    case rigger_task_NODE_STOPPED: return "STOPPED";
+    default: return "?";
+  }
+}
+
+std::int64_t wire_ns(const rigger_geometry_Time& t) { return static_cast<std::int64_t>(t.sec) * 1000000000LL + t.nanosec; }
+
+std::string format_wall(const rigger_geometry_Time& t) {
+  const std::time_t secs = static_cast<std::time_t>(t.sec);
+  std::tm tm{};
+  gmtime_r(&secs, &tm);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%02d:%02d:%02d.%03u", tm.tm_hour, tm.tm_min, tm.tm_sec, t.nanosec / 1000000U);
+  return buf;
+}
+
+/// A node's line in the live tree, indented by depth.
+struct NodeLine {
+  std::string type, name, state, code, message, executor;
+  double progress = -1;
+};
+
+std::string node_line(const std::string& id, const NodeLine& n) {
+  const auto depth = static_cast<std::size_t>(std::count(id.begin(), id.end(), '/'));
+  std::string out(2 * depth, ' ');
+  out += id + " " + n.type;
+  if (!n.name.empty()) out += " \"" + n.name + "\"";
+  out += "  " + n.state;
+  if (n.progress >= 0) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, " %3.0f%%", n.progress * 100.0);
+    out += buf;
+  }
+  if (!n.executor.empty()) out += "  @" + n.executor;
+  if (!n.code.empty()) out += "  " + n.code;
+  if (!n.message.empty()) out += ": " + n.message;
+  return out;
+}
+
+NodeLine to_line(const rigger_task_NodeStatus& s) {
+  return {dds::to_string(s.node_type), dds::to_string(s.name), node_state_name(s.state), dds::to_string(s.code),
+          dds::to_string(s.message), dds::to_string(s.executor_id), s.progress};
+}
+
+std::string read_file(const std::string& path, std::string& error) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    error = "cannot open " + path;
+    return {};
+  }
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// --- validate ---
+
+int validate(const std::string& file, const std::string& library_file) {
+  skill::SkillLibrary library;
+  try {
+    library = skill::SkillLibrary::load_file(library_file);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "riggerctl: skill library %s: %s\n", library_file.c_str(), e.what());
+    return 2;
+  }
+  recipe::RecipeValidator validator(std::move(library));
+  const auto result = validator.validate_file(file);
+  if (result.ok()) {
+    std::printf("%s: valid (%zu nodes)\n", file.c_str(), result.recipe->tree.nodes.size());
+    return 0;
+  }
+  for (const auto& e : result.errors)
+    std::printf("%s: %s: %s\n", file.c_str(), e.pointer.empty() ? "(document)" : e.pointer.c_str(), e.message.c_str());
+  return 1;
+}
+
+// --- run ---
+
+struct RunOptions {
+  std::string file;
+  std::string task_id;
+  double timeout_s = 0;  // 0: no limit
+  double match_timeout_s = 10;
+  bool quiet = false;
+};
+
+int run_recipe(const CommonOptions& common, const RunOptions& opt) {
+  std::string error;
+  std::string text = read_file(opt.file, error);
+  if (!error.empty()) {
+    std::fprintf(stderr, "riggerctl: %s\n", error.c_str());
+    return 2;
+  }
+  std::string task_id = opt.task_id;
+  {
+    auto doc = nlohmann::json::parse(text, nullptr, false);
+    if (!doc.is_discarded() && doc.is_object()) {
+      if (!task_id.empty()) {
+        doc["task_id"] = task_id;  // a new id for a re-run of the same file
+        text = doc.dump(2);
+      } else if (doc.contains("task_id") && doc["task_id"].is_string()) {
+        task_id = doc["task_id"].get<std::string>();
+      }
+    }
+  }
+  if (task_id.empty()) task_id = std::filesystem::path(opt.file).stem().string();
+
+  dds::Participant participant(common.domain);
+  dds::EventLoop loop(participant);
+  dds::Writer<rigger_task_Recipe> recipes(participant, tc::kRecipeTopic, dds::qos::commands());
+  dds::Reader<rigger_task_TaskStatus> statuses(participant, tc::kTaskStatusTopic, dds::qos::state());
+  dds::Reader<rigger_task_NodeStatus> nodes(participant, tc::kNodeStatusTopic, dds::qos::state());
+
+  if (!recipes.wait_for_readers(1, seconds(opt.match_timeout_s))) {
+    std::fprintf(stderr, "riggerctl: no task controller on domain %u (waited %.1f s)\n", common.domain,
+                 opt.match_timeout_s);
+    return kExitNoController;
+  }
+  const std::int64_t sent_ns = to_unix_ns(std::chrono::system_clock::now());
+  std::map<std::string, NodeLine> tree;
+  bool finished = false;
+  int final_state = -1;
+  std::string code, message, failed_node;
+  std::vector<std::pair<std::string, std::string>> errors;
+
+  loop.on_data(nodes, [&] {
+    nodes.take([&](const rigger_task_NodeStatus& s, const dds_sample_info_t&) {
+      if (dds::to_string(s.task_id) != task_id || wire_ns(s.stamp) < sent_ns) return;
+      const std::string id = dds::to_string(s.node_id);
+      tree[id] = to_line(s);
+      if (!opt.quiet) std::printf("%s\n", node_line(id, tree[id]).c_str());
+      std::fflush(stdout);
+    });
+  });
+  loop.on_data(statuses, [&] {
+    statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
+      // Transient-local: an old status of the same id may arrive first; only ours counts.
+      if (dds::to_string(s.task_id) != task_id || wire_ns(s.stamp) < sent_ns) return;
+      std::printf("task %s %s\n", task_id.c_str(), task_state_name(s.state));
+      std::fflush(stdout);
+      if (!task_terminal(s.state)) return;
+      finished = true;
+      final_state = s.state;
+      code = dds::to_string(s.code);
+      message = dds::to_string(s.message);
+      failed_node = dds::to_string(s.failed_node);
+      for (uint32_t i = 0; i < s.errors._length; ++i)
+        errors.emplace_back(dds::to_string(s.errors._buffer[i].pointer), dds::to_string(s.errors._buffer[i].message));
+    });
+  });
+
+  rigger_task_Recipe r{};
+  const std::string submitter = "riggerctl";
+  r.task_id = dds::wire_string(task_id);
+  r.recipe_json = dds::wire_string(text);
+  r.submitter = dds::wire_string(submitter);
+  r.stamp = dds::wire_now();
+  if (recipes.write(r) != DDS_RETCODE_OK) {
+    std::fprintf(stderr, "riggerctl: publishing the recipe failed\n");
+    return kExitFailed;
+  }
+  const auto limit = opt.timeout_s > 0 ? seconds(opt.timeout_s) : seconds(365.0 * 24 * 3600);
+  if (!loop.run_until([&] { return finished; }, limit)) {
+    std::fprintf(stderr, "riggerctl: task %s did not finish within %.1f s (it keeps running; riggerctl cancel %s)\n",
+                 task_id.c_str(), opt.timeout_s, task_id.c_str());
+    return kExitFailed;
+  }
+  if (final_state == rigger_task_TASK_SUCCEEDED) {
+    std::printf("task %s SUCCEEDED\n", task_id.c_str());
+    return 0;
+  }
+  std::fprintf(stderr, "task %s %s", task_id.c_str(), task_state_name(final_state));
+  if (!failed_node.empty()) {
+    auto it = tree.find(failed_node);
+    std::fprintf(stderr, " at %s", failed_node.c_str());
+    if (it != tree.end() && !it->second.name.empty()) std::fprintf(stderr, " (%s)", it->second.name.c_str());
+  }
+  std::fprintf(stderr, ": %s %s\n", code.c_str(), message.c_str());
+  for (const auto& [pointer, msg] : errors) std::fprintf(stderr, "  %s: %s\n", pointer.c_str(), msg.c_str());
+  return kExitFailed;
+}
+
+// --- journal queries (status, log) ---
+
+int journal_query(const CommonOptions& common, const std::string& task_id, double timeout_s) {
+  dds::Participant participant(common.domain);
+  dds::EventLoop loop(participant);
+  dds::Writer<rigger_task_JournalQuery> queries(participant, tc::kJournalQueryTopic, dds::qos::commands());
+  dds::Reader<rigger_task_JournalReply> replies(participant, tc::kJournalReplyTopic, dds::qos::events());
+  if (!queries.wait_for_readers(1, seconds(timeout_s)) ||
+      !dds::wait_for_status(replies.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return replies.matched_writers() > 0; },
+                       seconds(timeout_s))) {
+    std::fprintf(stderr, "riggerctl: no task controller on domain %u\n", common.domain);
+    return kExitNoController;
+  }
+  const std::string client = "riggerctl-" + std::to_string(::getpid());
+  const std::uint64_t request_id = 1;
+  bool done = false;
+  int rc = 0;
+  loop.on_data(replies, [&] {
+    replies.take([&](const rigger_task_JournalReply& rep, const dds_sample_info_t&) {
+      if (dds::to_string(rep.client_id) != client || rep.request_id != request_id) return;
+      done = true;
+      if (!rep.ok) {
+        std::fprintf(stderr, "riggerctl: %s\n", dds::to_string(rep.message).c_str());
+        rc = kExitFailed;
+        return;
+      }
+      if (task_id.empty()) std::printf("%-32s %-12s %s\n", "TASK", "STATE", "SUBMITTED (UTC)");
+      for (uint32_t i = 0; i < rep.entries._length; ++i) {
+        const auto& e = rep.entries._buffer[i];
+        if (task_id.empty())
+          std::printf("%-32s %-12s %s\n", dds::to_string(e.node_id).c_str(), dds::to_string(e.code).c_str(),
+                      format_wall(e.stamp).c_str());
+        else
+          std::printf("%s  %-14s %-16s %-12s %s\n", format_wall(e.stamp).c_str(), dds::to_string(e.kind).c_str(),
+                      dds::to_string(e.node_id).c_str(), dds::to_string(e.code).c_str(),
+                      dds::to_string(e.message).c_str());
+      }
+    });
+  });
+  rigger_task_JournalQuery q{};
+  q.client_id = dds::wire_string(client);
+  q.request_id = request_id;
+  q.task_id = dds::wire_string(task_id);
+  q.max_entries = 1000;
+  queries.write(q);
+  if (!loop.run_until([&] { return done; }, seconds(timeout_s))) {
+    std::fprintf(stderr, "riggerctl: the task controller did not answer within %.1f s\n", timeout_s);
+    return kExitNoController;
+  }
+  return rc;
+}
+
+// --- tree ---
+
+int show_tree(const CommonOptions& common, const std::string& task_id, double timeout_s) {
+  dds::Participant participant(common.domain);
+  dds::Reader<rigger_task_NodeStatus> nodes(participant, tc::kNodeStatusTopic, dds::qos::state());
+  if (!dds::wait_for_status(nodes.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return nodes.matched_writers() > 0; },
+                       seconds(timeout_s))) {
+    std::fprintf(stderr, "riggerctl: no task controller on domain %u\n", common.domain);
+    return kExitNoController;
+  }
+  dds_reader_wait_for_historical_data(nodes.handle(), DDS_SECS(static_cast<std::int64_t>(timeout_s)));
+  std::map<std::string, NodeLine> tree;
+  nodes.take([&](const rigger_task_NodeStatus& s, const dds_sample_info_t&) {
+    if (dds::to_string(s.task_id) == task_id) tree[dds::to_string(s.node_id)] = to_line(s);
+  });
+  if (tree.empty()) {
+    std::fprintf(stderr, "riggerctl: no node status for task %s\n", task_id.c_str());
+    return kExitFailed;
+  }
+  // Ids sort as "root", "root/0", "root/0/1", "root/1": pre-order except for ≥ 10 siblings, which is fine for reading.
+  for (const auto& [id, n] : tree) std::printf("%s\n", node_line(id, n).c_str());
+  return 0;
+}
+
+// --- skills ---
+
+int show_skills(const CommonOptions& common, double timeout_s) {
+  dds::Participant participant(common.domain);
+  dds::Reader<rigger_skill_ExecutorAnnouncement> ann(participant, executor::kAnnouncementTopic, dds::qos::state());
+  if (!dds::wait_for_status(ann.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return ann.matched_writers() > 0; },
+                       seconds(timeout_s))) {
+    std::fprintf(stderr, "riggerctl: no executor on domain %u\n", common.domain);
+    return kExitFailed;
+  }
+  dds_reader_wait_for_historical_data(ann.handle(), DDS_SECS(static_cast<std::int64_t>(timeout_s)));
+  int count = 0;
+  ann.take([&](const rigger_skill_ExecutorAnnouncement& a, const dds_sample_info_t& info) {
+    if (info.instance_state != DDS_IST_ALIVE) return;
+    ++count;
+    std::printf("%s (pid %d on %s)\n", dds::to_string(a.executor_id).c_str(), a.pid, dds::to_string(a.host).c_str());
+    auto lib = nlohmann::json::parse(dds::to_string(a.library_json), nullptr, false);
+    if (lib.is_discarded() || !lib.contains("skills")) return;
+    for (const auto& d : lib["skills"]) {
+      std::string params;
+      if (d.contains("params"))
+        for (const auto& p : d["params"]) {
+          params += params.empty() ? "" : ", ";
+          params += p.value("name", "?") + ":" + p.value("type", "?");
+          if (p.contains("unit")) params += "[" + p["unit"].get<std::string>() + "]";
+          if (p.contains("default")) params += "=" + p["default"].dump();
+        }
+      std::printf("  %-8s %-28s (%s)\n", d.value("kind", "skill").c_str(), d.value("name", "?").c_str(), params.c_str());
+    }
+  });
+  if (count == 0) std::printf("no live executor\n");
+  return 0;
+}
+
+// --- cancel ---
+
+int cancel_task(const CommonOptions& common, const std::string& task_id, const std::string& reason, double timeout_s) {
+  dds::Participant participant(common.domain);
+  dds::EventLoop loop(participant);
+  dds::Writer<rigger_task_TaskCommand> commands(participant, tc::kTaskCommandTopic, dds::qos::commands());
+  dds::Reader<rigger_task_TaskStatus> statuses(participant, tc::kTaskStatusTopic, dds::qos::state());
+  if (!commands.wait_for_readers(1, seconds(timeout_s))) {
+    std::fprintf(stderr, "riggerctl: no task controller on domain %u\n", common.domain);
+    return kExitNoController;
+  }
+  bool done = false;
+  int state = -1;
+  loop.on_data(statuses, [&] {
+    statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
+      if (dds::to_string(s.task_id) != task_id || !task_terminal(s.state)) return;
+      done = true;
+      state = s.state;
+    });
+  });
+  rigger_task_TaskCommand c{};
+  const std::string issuer = "riggerctl";
+  c.task_id = dds::wire_string(task_id);
+  c.kind = rigger_task_TASK_CANCEL;
+  c.reason = dds::wire_string(reason);
+  c.issuer = dds::wire_string(issuer);
+  c.seq = 1;
+  c.stamp = dds::wire_now();
+  commands.write(c);
+  if (!loop.run_until([&] { return done; }, seconds(timeout_s))) {
+    std::fprintf(stderr, "riggerctl: task %s did not end within %.1f s\n", task_id.c_str(), timeout_s);
+    return kExitFailed;
+  }
+  std::printf("task %s %s\n", task_id.c_str(), task_state_name(state));
+  return state == rigger_task_TASK_CANCELED ? 0 : kExitFailed;
+}
+
+}  // namespace
+
+void add_task_commands(CLI::App& app, const CommonOptions& common, int& exit_code) {
+  {
+    auto* cmd = app.add_subcommand("validate", "Validate a recipe offline against a skill-library file (exit 0/1).");
+    auto file = std::make_shared<std::string>();
+    auto library = std::make_shared<std::string>(std::string(RIGGER_SOURCE_DIR) + "/recipes/examples/skill_library.json");
+    cmd->add_option("FILE", *file, "recipe file")->required();
+    cmd->add_option("--library", *library, "skill-library file (default: recipes/examples/skill_library.json)");
+    cmd->callback([file, library, &exit_code] { exit_code = validate(*file, *library); });
+  }
+  {
+    auto* cmd = app.add_subcommand("run", "Submit a recipe, show the live tree, exit 0 on SUCCEEDED.");
+    auto opt = std::make_shared<RunOptions>();
+    cmd->add_option("FILE", opt->file, "recipe file")->required();
+    cmd->add_option("--task-id", opt->task_id, "submit under this task id (re-running a file needs a new id)");
+    cmd->add_option("--timeout", opt->timeout_s, "give up waiting after S seconds (0: never)");
+    cmd->add_option("--match-timeout", opt->match_timeout_s, "wait this long for the task controller");
+    cmd->add_flag("--quiet", opt->quiet, "print only task state changes");
+    cmd->callback([opt, &common, &exit_code] { exit_code = run_recipe(common, *opt); });
+  }
+  auto timeout = std::make_shared<double>(5.0);
+  {
+    auto* cmd = app.add_subcommand("status", "List the tasks the controller's journal knows, newest first.");
+    cmd->add_option("--timeout", *timeout, "seconds to wait for the controller");
+    cmd->callback([timeout, &common, &exit_code] { exit_code = journal_query(common, "", *timeout); });
+  }
+  {
+    auto* cmd = app.add_subcommand("log", "The journal's timeline of a task.");
+    auto task = std::make_shared<std::string>();
+    cmd->add_option("TASK", *task, "task id")->required();
+    cmd->add_option("--timeout", *timeout, "seconds to wait for the controller");
+    cmd->callback([task, timeout, &common, &exit_code] { exit_code = journal_query(common, *task, *timeout); });
+  }
+  {
+    auto* cmd = app.add_subcommand("tree", "The last status of every node of a task.");
+    auto task = std::make_shared<std::string>();
+    cmd->add_option("TASK", *task, "task id")->required();
+    cmd->add_option("--timeout", *timeout, "seconds to wait for the controller");
+    cmd->callback([task, timeout, &common, &exit_code] { exit_code = show_tree(common, *task, *timeout); });
+  }
+  {
+    auto* cmd = app.add_subcommand("skills", "Live executors and the skills and monitors they offer.");
+    cmd->add_option("--timeout", *timeout, "seconds to wait for an executor");
+    cmd->callback([timeout, &common, &exit_code] { exit_code = show_skills(common, *timeout); });
+  }
+  {
+    auto* cmd = app.add_subcommand("cancel", "Cancel a running task and wait until it stopped.");
+    auto task = std::make_shared<std::string>();
+    auto reason = std::make_shared<std::string>("canceled from riggerctl");
+    cmd->add_option("TASK", *task, "task id")->required();
+    cmd->add_option("--reason", *reason, "why (journalled)");
+    cmd->add_option("--timeout", *timeout, "seconds to wait for the task to end");
+    cmd->callback([task, reason, timeout, &common, &exit_code] {
+      exit_code = cancel_task(common, *task, *reason, *timeout);
+    });
+  }
+}
+
+}  // namespace rigger::ctl
