@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <regex>
 #include <sstream>
 
@@ -14,6 +15,12 @@ double percentile(std::vector<double> values, double q) {
   std::sort(values.begin(), values.end());
   const auto rank = static_cast<size_t>(std::ceil(q * static_cast<double>(values.size())));
   return values[std::min(values.size() - 1, rank == 0 ? 0 : rank - 1)];
+}
+
+int int_option(int argc, char** argv, const std::string& name, int fallback) {
+  for (int i = 1; i + 1 < argc; i += 2)
+    if (name == argv[i]) return std::atoi(argv[i + 1]);
+  return fallback;
 }
 
 std::string run_command(const std::string& command) {

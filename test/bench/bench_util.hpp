@@ -24,6 +24,9 @@ struct DdsperfLatency {
 /// waitset triggering instead of its default listener triggering.
 DdsperfLatency run_ddsperf_pingpong(std::uint32_t domain, int rate_hz, int payload_bytes, int seconds, bool waitset);
 
+/// The integer after `--name` in argv ("--name value" pairs), or `fallback` when absent.
+int int_option(int argc, char** argv, const std::string& name, int fallback);
+
 /// Runs a shell command and returns its stdout.
 std::string run_command(const std::string& command);
 

@@ -25,15 +25,9 @@ struct Options {
 };
 
 Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string k = argv[i];
-    const int v = std::atoi(argv[i + 1]);
-    if (k == "--rate") o.rate_hz = v;
-    else if (k == "--size") o.size = v;
-    else if (k == "--seconds") o.seconds = v;
-  }
-  return o;
+  using rigger::bench::int_option;
+  return {int_option(argc, argv, "--rate", 1000), int_option(argc, argv, "--size", 64),
+          int_option(argc, argv, "--seconds", 10)};
 }
 
 // Same QoS as the echo service and as ddsperf's ping/pong: reliable, keep-last 1.

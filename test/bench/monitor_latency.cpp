@@ -29,14 +29,8 @@ struct Options {
 };
 
 Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string k = argv[i];
-    const int v = std::atoi(argv[i + 1]);
-    if (k == "--trials") o.trials = v;
-    else if (k == "--rate") o.rate_hz = v;
-  }
-  return o;
+  using rigger::bench::int_option;
+  return {int_option(argc, argv, "--trials", 300), int_option(argc, argv, "--rate", 1000)};
 }
 
 }  // namespace

@@ -28,15 +28,9 @@ struct Options {
 };
 
 Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string k = argv[i];
-    const int v = std::atoi(argv[i + 1]);
-    if (k == "--rate") o.rate_hz = v;
-    else if (k == "--seconds") o.seconds = v;
-    else if (k == "--entities") o.entities = v;
-  }
-  return o;
+  using rigger::bench::int_option;
+  return {int_option(argc, argv, "--rate", 1000), int_option(argc, argv, "--seconds", 10),
+          int_option(argc, argv, "--entities", 1000)};
 }
 
 // world + 20 hub frames + objects spread over the hubs: every query composes poses through world.
