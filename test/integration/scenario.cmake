@@ -1,0 +1,18 @@
+# The paper's scenario end to end on every real process (issue 7): success and four fault variants.
+# Each test runs the cell in real time (about 1–3 minutes); they run alone, since the physics, the
+# camera and the tracker need the machine's cores to keep real time.
+set(_scenario_services cell_sim crane_gateway world_model vision_tracker admittance_control monitor_host
+    skill_executor task_controller scripted_operator)
+set(_scenario_ready TRUE)
+foreach(t IN LISTS _scenario_services)
+  if(NOT TARGET ${t})
+    set(_scenario_ready FALSE)
+  endif()
+endforeach()
+if(_scenario_ready)
+  rigger_add_test(rigger_scenario_test
+    SOURCES scenario_test.cpp
+    DEPS rigger_test_harness Eigen3::Eigen nlohmann_json::nlohmann_json
+    LABEL integration TIMEOUT 420 RUN_SERIAL)
+  add_dependencies(rigger_scenario_test ${_scenario_services})
+endif()

@@ -1,0 +1,317 @@
+#pragma once
+// The paper's scenario on real processes (issue 7): every service of deploy/compose.yaml started by the
+// test harness on a private DDS domain with the shipped configurations (paths made absolute, the PLC on
+// a free port, state files in the test's log folder), a recipe submitted on rigger/task/recipe, and the
+// test watching the task, the nodes and the simulator's ground truth. Nothing sleeps: every wait is on
+// samples, with a deadline.
+#include <signal.h>
+
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cell_sim_test_support.hpp"
+#include "rigger/dds/conversions.hpp"
+#include "rigger/dds/pubsub.hpp"
+#include "rigger/dds/qos.hpp"
+#include "rigger/idl/types.hpp"
+#include "rigger/testing/cell.hpp"
+
+namespace rigger::testing::scenario {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+/// A node's last status.
+struct NodeView {
+  std::string name, type, executor, code, message;
+  int state = -1;
+  double started_s = 0.0, finished_s = 0.0;  // wall clock, s since the epoch (0: not yet)
+  int runs = 0;                              // times it was seen entering RUNNING
+};
+
+inline bool task_terminal(int s) {
+  return s == rigger_task_TASK_REJECTED || s == rigger_task_TASK_SUCCEEDED || s == rigger_task_TASK_FAILED ||
+         s == rigger_task_TASK_CANCELED;
+}
+
+inline double seconds_of(const rigger_geometry_Time& t) { return t.sec + 1e-9 * t.nanosec; }
+
+/// The whole cell: starts the services, observes the task and the physics.
+class ScenarioCell {
+ public:
+  /// `operator_rules`: extra --rule arguments for the scripted operator (first match wins, before its
+  /// configured rules).
+  explicit ScenarioCell(Cell& cell, std::vector<std::string> operator_rules = {})
+      : cell_(cell),
+        sim_(cell),
+        recipes_(cell.participant(), "rigger/task/recipe", dds::qos::commands()),
+        status_(cell.participant(), "rigger/task/status", dds::qos::state()),
+        nodes_(cell.participant(), "rigger/task/node_status", dds::qos::state()),
+        truth_(cell.participant(), "rigger/sim/ground_truth", dds::qos::sensor_stream()),
+        robot_(cell.participant(), "rigger/robot/state", dds::qos::sensor_stream()),
+        gripper_(cell.participant(), "rigger/gripper/state", dds::qos::state()) {
+    cell.loop().on_data(status_, [this] {
+      status_.take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
+        if (dds::to_string(s.task_id) != task_id_) return;
+        task_state_ = static_cast<int>(s.state);
+        task_code_ = dds::to_string(s.code);
+        task_message_ = dds::to_string(s.message);
+        failed_node_ = dds::to_string(s.failed_node);
+        for (uint32_t i = 0; i < s.errors._length; ++i)
+          task_errors_ += dds::to_string(s.errors._buffer[i].pointer) + ": " +
+                          dds::to_string(s.errors._buffer[i].message) + "\n";
+      });
+    });
+    cell.loop().on_data(nodes_, [this] {
+      nodes_.take([this](const rigger_task_NodeStatus& s, const dds_sample_info_t&) {
+        if (dds::to_string(s.task_id) != task_id_) return;
+        NodeView& n = nodes_seen_[dds::to_string(s.node_id)];
+        const int state = static_cast<int>(s.state);
+        if (state == rigger_task_NODE_RUNNING && n.state != rigger_task_NODE_RUNNING) ++n.runs;
+        n.state = state;
+        n.name = dds::to_string(s.name);
+        n.type = dds::to_string(s.node_type);
+        n.executor = dds::to_string(s.executor_id);
+        n.code = dds::to_string(s.code);
+        n.message = dds::to_string(s.message);
+        n.started_s = seconds_of(s.started);
+        n.finished_s = seconds_of(s.finished);
+      });
+    });
+    cell.loop().on_data(truth_, [this] {
+      truth_.take([this](const rigger_vision_TrackedPose& p, const dds_sample_info_t&) {
+        truth_poses_[dds::to_string(p.object_id)] = dds::to_domain(p.pose.pose);
+      });
+    });
+    cell.loop().on_data(robot_, [this] {
+      robot_.take([this](const rigger_robot_RobotState& s, const dds_sample_info_t&) {
+        robot_tool_ = dds::to_domain(s.tool_pose);
+        robot_moving_ = s.moving;
+        ++robot_samples_;
+      });
+    });
+    cell.loop().on_data(gripper_, [this] {
+      gripper_.take([this](const rigger_robot_GripperState& s, const dds_sample_info_t&) {
+        gripper_energized_ = s.energized;
+        gripper_holding_ = s.holding;
+        if (s.holding) ever_held_ = true;
+      });
+    });
+    start_services(std::move(operator_rules));
+  }
+
+  SimChannel& sim() { return sim_; }
+
+  /// Submits `recipe_file` (repository-relative); returns false when no controller reads recipes.
+  bool submit(const std::string& recipe_file) {
+    std::ifstream in(repo_file(recipe_file));
+    const nlohmann::json recipe = nlohmann::json::parse(in);
+    task_id_ = recipe.at("task_id").get<std::string>();
+    const std::string text = recipe.dump();
+    if (!recipes_.wait_for_readers(1, 10s)) return false;
+    rigger_task_Recipe r{};
+    r.task_id = dds::wire_string(task_id_);
+    r.recipe_json = dds::wire_string(text);
+    r.submitter = dds::wire_string("scenario-test");
+    r.stamp = dds::wire_now();
+    recipes_.write(r);
+    submitted_ = Clock::now();
+    return true;
+  }
+
+  /// Runs the test's loop until the task ended or `timeout`.
+  bool wait_task_end(std::chrono::milliseconds timeout) {
+    return cell_.wait_until([&] { return task_terminal(task_state_); }, timeout);
+  }
+  /// Runs until the node named `name` reached `state` (any run), or `timeout`.
+  bool wait_node(const std::string& name, int state, std::chrono::milliseconds timeout) {
+    return cell_.wait_until(
+        [&] {
+          const NodeView* n = node(name);
+          return (n != nullptr && n->state == state) || task_terminal(task_state_);
+        },
+        timeout);
+  }
+
+  const NodeView* node(const std::string& name) const {
+    for (const auto& [id, n] : nodes_seen_)
+      if (n.name == name) return &n;
+    return nullptr;
+  }
+  const std::map<std::string, NodeView>& nodes() const { return nodes_seen_; }
+
+  int task_state() const { return task_state_; }
+  const std::string& task_code() const { return task_code_; }
+  std::string task_summary() const {
+    return "state " + std::to_string(task_state_) + " code " + task_code_ + " node " + failed_node_ + ": " +
+           task_message_ + "\n" + task_errors_;
+  }
+  double task_seconds() const { return std::chrono::duration<double>(Clock::now() - submitted_).count(); }
+
+  std::optional<Eigen::Isometry3d> truth(const std::string& object) const {
+    auto it = truth_poses_.find(object);
+    if (it == truth_poses_.end()) return std::nullopt;
+    return it->second;
+  }
+  /// The load's true pose relative to where the insertion puts it: target · insertion offset (the cell
+  /// file's `insertion.pose_in_target` of the load).
+  std::optional<std::pair<double, double>> insertion_error() const {
+    const auto load = truth("load");
+    const auto target = truth("target");
+    if (!load || !target) return std::nullopt;
+    const Eigen::Isometry3d goal = *target * insertion_offset();
+    const double dist = (goal.translation() - load->translation()).norm();
+    const double angle = Eigen::AngleAxisd(goal.linear() * load->linear().transpose()).angle();
+    return std::make_pair(dist, angle);
+  }
+
+  bool gripper_energized() const { return gripper_energized_; }
+  bool gripper_holding() const { return gripper_holding_; }
+  bool ever_held() const { return ever_held_; }
+
+  /// Observes the robot's tool and the crane over `samples` robot-state samples (100 Hz: 2 s for 200)
+  /// and returns the largest tool displacement and crane speed seen, from the first sample on.
+  std::pair<double, double> motion_over(std::uint64_t samples) {
+    const std::uint64_t start = robot_samples_;
+    cell_.wait_until([&] { return robot_samples_ > start; }, 2s);
+    const Eigen::Vector3d p0 = robot_tool_.translation();
+    double max_tool = 0.0, max_crane = 0.0;
+    const std::size_t history_start = sim_.history().size();
+    cell_.wait_until(
+        [&] {
+          max_tool = std::max(max_tool, (robot_tool_.translation() - p0).norm());
+          return robot_samples_ >= start + samples;
+        },
+        std::chrono::milliseconds(samples * 30 + 5000));
+    for (std::size_t i = history_start; i < sim_.history().size(); ++i)
+      max_crane = std::max(max_crane, sim_.history()[i].crane_velocity_mps.norm());
+    return {max_tool, max_crane};
+  }
+
+  /// Skill nodes with their durations, in start order, as the demo prints them.
+  std::string durations() const {
+    std::vector<std::pair<double, std::string>> lines;
+    for (const auto& [id, n] : nodes_seen_) {
+      if (n.type != "Skill" || n.started_s <= 0.0) continue;
+      char buf[200];
+      const double end = n.finished_s > 0.0 ? n.finished_s : n.started_s;
+      std::snprintf(buf, sizeof buf, "  %-32s %-10s %6.1f s  %s", n.name.c_str(), state_name(n.state), end - n.started_s,
+                    n.code.c_str());
+      lines.emplace_back(n.started_s, buf);
+    }
+    std::sort(lines.begin(), lines.end());
+    std::string out;
+    for (const auto& [t, l] : lines) out += l + "\n";
+    return out;
+  }
+
+  static const char* state_name(int s) {
+    switch (s) {
+      case rigger_task_NODE_IDLE: return "IDLE";
+      case rigger_task_NODE_RUNNING: return "RUNNING";
+      case rigger_task_NODE_STOPPING: return "STOPPING";
+      case rigger_task_NODE_SUCCESS: return "SUCCESS";
+      case rigger_task_NODE_FAILURE: return "FAILURE";
+      case rigger_task_NODE_STOPPED: return "STOPPED";
+      default: return "?";
+    }
+  }
+
+ private:
+  static Eigen::Isometry3d insertion_offset() {
+    std::ifstream in(repo_file("deploy/cell/simulated_cell.json"));
+    const nlohmann::json cell = nlohmann::json::parse(in);
+    for (const auto& e : cell.at("entities")) {
+      if (e.at("id") != "load") continue;
+      const auto& p = e.at("features").at("insertion").at("pose_in_target");
+      const auto& t = p.at("position_m");
+      const auto& r = p.at("rpy_deg");
+      const double k = M_PI / 180.0;
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      pose.translation() = Eigen::Vector3d(t[0].get<double>(), t[1].get<double>(), t[2].get<double>());
+      pose.linear() = (Eigen::AngleAxisd(r[2].get<double>() * k, Eigen::Vector3d::UnitZ()) *
+                       Eigen::AngleAxisd(r[1].get<double>() * k, Eigen::Vector3d::UnitY()) *
+                       Eigen::AngleAxisd(r[0].get<double>() * k, Eigen::Vector3d::UnitX()))
+                          .toRotationMatrix();
+      return pose;
+    }
+    throw std::runtime_error("the cell file has no load with an insertion feature");
+  }
+
+  /// deploy/config/<name>.json with `patch` merged in, written to the log folder (relative paths in the
+  /// shipped file are relative to the repository root or to deploy/config; the copies use absolute ones).
+  std::string config(const std::string& name, const nlohmann::json& patch = nlohmann::json::object()) {
+    std::ifstream in(repo_file("deploy/config/" + name + ".json"));
+    nlohmann::json c = nlohmann::json::parse(in);
+    for (const char* key : {"cell_file", "cell_config"}) {
+      if (!c.contains(key)) continue;
+      std::string path = c[key].get<std::string>();
+      if (path.rfind("../", 0) == 0) path = "deploy/config/" + path;
+      c[key] = repo_file(path);
+    }
+    c.merge_patch(patch);
+    const std::string path = cell_.log_dir() + "/" + name + ".json";
+    std::ofstream(path) << c.dump(2);
+    return path;
+  }
+
+  void start_services(std::vector<std::string> operator_rules) {
+    const std::string port = std::to_string(free_tcp_port());
+    const std::string dir = cell_.log_dir();
+    cell_.start("cell_sim", "cell_sim", {"--config", config("cell_sim"), "--plc-port", port});
+    cell_.start("crane_gateway", "crane_gateway", {"--config", config("crane_gateway"), "--plc-port", port});
+    cell_.start("world_model", "world_model",
+                {"--config", config("world_model"), "--db", dir + "/world_model.sqlite"});
+    cell_.start("vision_tracker", "vision_tracker", {"--config", config("vision_tracker")});
+    cell_.start("admittance_control", "admittance_control", {"--config", config("admittance_control")});
+    cell_.start("monitors", "monitor_host", {"--id", "monitors", "--config", config("monitor_host")});
+    for (const char* executor : {"robot-skills", "perception-skills", "operator-skills"})
+      cell_.start(executor, "skill_executor", {"--id", executor, "--config", config(executor)});
+    cell_.start("task_controller", "task_controller",
+                {"--config", config("task_controller", {{"journal_path", dir + "/journal.sqlite"}})});
+    std::vector<std::string> args = {"--config", config("scripted_operator")};
+    for (auto& r : operator_rules) {
+      args.push_back("--rule");
+      args.push_back(std::move(r));
+    }
+    cell_.start("scripted_operator", "scripted_operator", args);
+    ready_ = cell_.wait_ready({"cell_sim", "crane_gateway", "world_model", "vision_tracker", "admittance_control",
+                               "monitors", "robot-skills", "perception-skills", "operator-skills",
+                               "task_controller", "scripted_operator"},
+                              60s);
+  }
+
+ public:
+  bool ready() const { return ready_; }
+
+ private:
+  Cell& cell_;
+  SimChannel sim_;
+  dds::Writer<rigger_task_Recipe> recipes_;
+  dds::Reader<rigger_task_TaskStatus> status_;
+  dds::Reader<rigger_task_NodeStatus> nodes_;
+  dds::Reader<rigger_vision_TrackedPose> truth_;
+  dds::Reader<rigger_robot_RobotState> robot_;
+  dds::Reader<rigger_robot_GripperState> gripper_;
+  bool ready_ = false;
+  std::string task_id_;
+  Clock::time_point submitted_{};
+  int task_state_ = -1;
+  std::string task_code_, task_message_, failed_node_, task_errors_;
+  std::map<std::string, NodeView> nodes_seen_;
+  std::map<std::string, Eigen::Isometry3d> truth_poses_;
+  Eigen::Isometry3d robot_tool_ = Eigen::Isometry3d::Identity();
+  bool robot_moving_ = false;
+  std::uint64_t robot_samples_ = 0;
+  bool gripper_energized_ = false, gripper_holding_ = false, ever_held_ = false;
+};
+
+}  // namespace rigger::testing::scenario
