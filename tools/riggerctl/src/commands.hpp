@@ -20,4 +20,14 @@ void add_services_command(CLI::App& app, const CommonOptions& common, int& exit_
 /// `log TASK`. Exit codes: 0 ok; 1 invalid recipe / task not SUCCEEDED; 2 usage; 3 no task controller.
 void add_task_commands(CLI::App& app, const CommonOptions& common, int& exit_code);
 
+/// `operator [--list] [--answer PROMPT_ID=ANSWER]... [--timeout S]`: shows the pending operator prompts
+/// and answers them (interactive on stdin by default). Exit codes: 0 ok; 1 prompt missing/withdrawn or
+/// answer not an option; 2 usage.
+void add_operator_command(CLI::App& app, const CommonOptions& common, int& exit_code);
+
+/// `jog [--script STEPS | --device PATH | --keyboard] [--speed M/S] [--rate HZ]`: publishes the operator's
+/// joystick reference (rigger/operator/joystick) and always ends with a zero twist. Exit codes: 0 ok;
+/// 1 no reader (--script) or lost device; 2 usage.
+void add_jog_command(CLI::App& app, const CommonOptions& common, int& exit_code);
+
 }  // namespace rigger::ctl

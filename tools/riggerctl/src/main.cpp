@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
   app.add_option("--domain", common.domain, "DDS domain id (default: $RIGGER_DOMAIN or 0)")->check(CLI::Range(0, 232));
   rigger::ctl::add_services_command(app, common, exit_code);
   rigger::ctl::add_task_commands(app, common, exit_code);
+  rigger::ctl::add_operator_command(app, common, exit_code);
+  rigger::ctl::add_jog_command(app, common, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
