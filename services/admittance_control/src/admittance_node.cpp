@@ -1,6 +1,8 @@
 #include "admittance_node.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 #include "rigger/dds/conversions.hpp"
@@ -10,10 +12,41 @@ namespace rigger::control {
 namespace {
 
 // Node keys are read before load_control_config(), whose finish() then accepts them as read.
-double read_twist_timeout(const Config& config) { return config.get_in_range("twist_timeout_s", 0.05, 0.002, 1.0); }
-double read_crane_timeout(const Config& config) { return config.get_in_range("crane_timeout_s", 0.2, 0.02, 2.0); }
+double read_twist_timeout(const Config& config) {
+  return config.get_in_range("twist_timeout_s", 0.05, 0.002, 1.0);
+}
+double read_crane_timeout(const Config& config) {
+  return config.get_in_range("crane_timeout_s", 0.2, 0.02, 2.0);
+}
 
-std::chrono::nanoseconds period_of(double rate_hz) { return from_seconds(1.0 / rate_hz); }
+// The robot base's pose in the world: entity `robot_id` of the configured cell file, else identity.
+// A relative path is taken from the configuration file's folder, then the working directory, then
+// the repository (development runs from a build directory).
+Eigen::Isometry3d read_pose_world_base(const Config& config, const std::string& robot_id) {
+  if (!config.has("cell_file")) return Eigen::Isometry3d::Identity();
+  const std::filesystem::path path(config.get<std::string>("cell_file"));
+  std::filesystem::path resolved = path;
+  if (path.is_relative()) {
+    const std::filesystem::path next_to_config = std::filesystem::path(config.file()).parent_path() / path;
+    const std::filesystem::path in_source = std::filesystem::path(RIGGER_SOURCE_DIR) / path;
+    resolved = next_to_config;  // the documented place, named in the error when nothing is found
+    if (!std::filesystem::exists(next_to_config)) {
+      if (std::filesystem::exists(path))
+        resolved = path;
+      else if (std::filesystem::exists(in_source))
+        resolved = in_source;
+    }
+  }
+  try {
+    return entity_pose_from_cell_file(resolved.string(), robot_id);
+  } catch (const ConfigError& e) {
+    throw ConfigError(config.file(), config.pointer() + "/cell_file", e.what());
+  }
+}
+
+std::chrono::nanoseconds period_of(double rate_hz) {
+  return from_seconds(1.0 / rate_hz);
+}
 
 // The age of a wire stamp now; an absent stamp is infinitely old (the laws then report it stale).
 Seconds age_of(const std::optional<WallTime>& stamp) {
@@ -34,6 +67,10 @@ AdmittanceNode::AdmittanceNode(dds::ServiceContext& ctx)
     : ctx_(ctx),
       twist_timeout_s_(read_twist_timeout(ctx.config)),
       crane_timeout_s_(read_crane_timeout(ctx.config)),
+      pose_world_base_(read_pose_world_base(ctx.config, ctx.config.get<std::string>("robot_id", "robot"))),
+      robot_id_(ctx.config.get<std::string>("robot_id", "robot")),
+      crane_state_timeout_(ctx.config.get_in_range("crane_state_timeout_s", 0.5, 0.05, 5.0)),
+      commander_grace_(ctx.config.get_in_range("commander_grace_s", 2.0, 0.1, 10.0)),
       config_(load_control_config(ctx.config)),
       robot_(config_.robot),
       crane_(config_.crane),
@@ -42,6 +79,8 @@ AdmittanceNode::AdmittanceNode(dds::ServiceContext& ctx)
       commands_(ctx.participant, kCommandTopic, dds::qos::commands()),
       joystick_(ctx.participant, kJoystickTopic, dds::qos::setpoints()),
       tracker_poses_(ctx.participant, kTrackerPoseTopic, dds::qos::sensor_stream()),
+      crane_states_(ctx.participant, kCraneStateTopic, dds::qos::state()),
+      directory_(ctx.participant),
       cmd_twist_(ctx.participant, kCmdTwistTopic, dds::qos::setpoints()),
       crane_cmd_(ctx.participant, kCraneCmdTopic, dds::qos::setpoints()),
       state_(ctx.participant, kStateTopic, dds::qos::state()) {
@@ -50,10 +89,17 @@ AdmittanceNode::AdmittanceNode(dds::ServiceContext& ctx)
   ctx.loop.on_data(commands_, [this] { on_command(); });
   ctx.loop.on_data(joystick_, [this] { on_joystick(); });
   ctx.loop.on_data(tracker_poses_, [this] { on_tracker_pose(); });
+  ctx.loop.on_data(crane_states_, [this] { on_crane_state(); });
+  ctx.loop.on_data(directory_.reader(), [this] { on_directory(); });
   ctx.loop.every(period_of(config_.robot_rate_hz), [this] { robot_step(); });
   ctx.loop.every(period_of(config_.crane_rate_hz), [this] { crane_step(); });
   publish_state();
-  ctx.log->info("robot loop {} Hz, crane loop {} Hz, mode OFF", config_.robot_rate_hz, config_.crane_rate_hz);
+  const Eigen::Vector3d rpy = pose_world_base_.linear().eulerAngles(2, 1, 0).reverse() * 180.0 / kPi;
+  ctx.log->info(
+      "robot loop {} Hz, crane loop {} Hz, mode OFF; robot base '{}' in the world at ({}, {}, {}) m, "
+      "rpy ({:.1f}, {:.1f}, {:.1f}) deg",
+      config_.robot_rate_hz, config_.crane_rate_hz, robot_id_, pose_world_base_.translation().x(),
+      pose_world_base_.translation().y(), pose_world_base_.translation().z(), rpy.x(), rpy.y(), rpy.z());
 }
 
 AdmittanceNode::~AdmittanceNode() {
@@ -76,6 +122,7 @@ void AdmittanceNode::on_robot_state() {
     // passed on (not normalised) so that the law can refuse an invalid one (ORIENTATION_INVALID).
     const auto& q = s.flange_pose.orientation;
     orientation_base_sensor_ = Eigen::Quaterniond(q.w, q.x, q.y, q.z);
+    tcp_position_base_ = dds::to_domain(s.tool_pose.position);
   });
 }
 
@@ -87,29 +134,160 @@ void AdmittanceNode::on_joystick() {
 }
 
 void AdmittanceNode::on_tracker_pose() {
-  // The visual-servo reference is not wired into the node yet (see README): poses are taken so the
-  // reader does not keep waking the loop.
-  tracker_poses_.take([](const rigger_vision_TrackedPose&, const dds_sample_info_t&) {});
+  bool servo_input = false;
+  tracker_poses_.take([&](const rigger_vision_TrackedPose& p, const dds_sample_info_t&) {
+    const std::string id = dds::to_string(p.object_id);
+    TrackerSample& sample = tracked_[id];
+    sample.pose_world = dds::to_domain(p.pose.pose);
+    sample.quality = p.quality;
+    sample.tracked = p.tracked;
+    sample.stamp = dds::to_domain(p.header.stamp);
+    servo_input = servo_input || id == servo_object_ || id == servo_target_;
+  });
+  if (servo_input) servo_step();
+}
+
+void AdmittanceNode::on_crane_state() {
+  crane_states_.take([this](const rigger_crane_CraneState& c, const dds_sample_info_t&) {
+    crane_state_ = CraneSample{c.fault, c.link_ok, dds::to_string(c.fault_text), dds::EventLoop::Clock::now()};
+  });
+  check_crane();
+}
+
+void AdmittanceNode::on_directory() {
+  if (directory_.update()) check_commander();
+}
+
+void AdmittanceNode::servo_step() {
+  if (reference_ != ReferenceSource::kVisualServo || !servo_) return;
+  const WallTime now = std::chrono::system_clock::now();
+  const auto tracked_pose = [&](const std::string& id) {
+    TrackedPose out;
+    const auto it = tracked_.find(id);
+    if (it == tracked_.end()) {
+      out.age = Seconds(std::numeric_limits<double>::infinity());
+      return out;
+    }
+    out.pose_world = it->second.pose_world;
+    out.quality = it->second.tracked ? it->second.quality : 0.0;  // a lost object carries no pose
+    out.age = std::chrono::duration_cast<Seconds>(now - it->second.stamp);
+    return out;
+  };
+  const TrackedPose object = tracked_pose(servo_object_);
+  servo_output_ = servo_->update(object, tracked_pose(servo_target_));
+  // The servo's twist is the object's (world); the robot commands its TCP: v + w x (p_tcp - p_object).
+  Twist at_tcp;
+  if (servo_output_->tracking() && tcp_position_base_) {
+    const Eigen::Vector3d p_tcp_world = pose_world_base_ * *tcp_position_base_;
+    at_tcp = shift_twist(servo_output_->twist_world, p_tcp_world - object.pose_world.translation());
+  }
+  // A stopped servo is a zero reference at once (not one that runs on until it is stale).
+  servo_reference_base_ = rotate(pose_world_base_.linear().transpose(), at_tcp);
+  servo_reference_stamp_ = now;
+}
+
+void AdmittanceNode::check_commander() {
+  if (commander_.empty() || mode_ == AdmittanceMode::kOff) return;
+  const auto& services = directory_.services();
+  const auto it = services.find(commander_);
+  const bool alive = it != services.end() && it->second.alive && it->second.status != dds::ServiceStatus::kStopping;
+  if (alive) {
+    commander_seen_ = true;
+    return;
+  }
+  if (commander_seen_) {
+    go_off(kFaultCommanderLost, "commander '" + commander_ + "' lost (" +
+                                    (it == services.end() ? std::string("gone")
+                                     : !it->second.alive  ? std::string("not alive")
+                                                          : std::string("stopping")) +
+                                    " on rigger/system/service_state)");
+  } else if (dds::EventLoop::Clock::now() - commander_since_ > commander_grace_) {
+    go_off(kFaultCommanderLost, "commander '" + commander_ + "' not seen alive on rigger/system/service_state within " +
+                                    std::to_string(commander_grace_.count()) + " s of its command");
+  }
+}
+
+void AdmittanceNode::check_crane() {
+  if (mode_ != AdmittanceMode::kRobotAndCrane) return;
+  if (crane_state_ && !crane_state_->link_ok) {
+    go_off(kFaultCraneFault, "rigger/crane/state: link down (" + crane_state_->fault_text + ")");
+  } else if (crane_state_ && crane_state_->fault) {
+    go_off(kFaultCraneFault, "rigger/crane/state: fault (" + crane_state_->fault_text + ")");
+  } else {
+    const auto now = dds::EventLoop::Clock::now();
+    const auto since = crane_state_ ? std::max(crane_state_->received, mode_since_) : mode_since_;
+    if (now - since > crane_state_timeout_)
+      go_off(kFaultCraneFault,
+             "no rigger/crane/state for more than " + std::to_string(crane_state_timeout_.count()) + " s");
+  }
+}
+
+void AdmittanceNode::go_off(const std::string& code, const std::string& text) {
+  ctx_.log->error("{}: {}; mode {} -> OFF, robot and crane ramp to zero", code, text, to_string(mode_));
+  node_fault_ = code;
+  node_fault_text_ = text;
+  mode_ = AdmittanceMode::kOff;
+  reference_ = ReferenceSource::kNone;
+  servo_.reset();
+  robot_.set_reference_source(ReferenceSource::kNone);
+  robot_.set_mode(AdmittanceMode::kOff);
+  crane_.set_enabled(false);
+  publish_state();
+}
+
+std::string AdmittanceNode::accept_servo_request(const rigger_admittance_AdmittanceCommand& c) {
+  const std::string object = dds::to_string(c.servo_object);
+  const std::string target = dds::to_string(c.servo_target);
+  if (object.empty() || target.empty()) return "VISUAL_SERVO needs servo_object and servo_target";
+  if (object == target) return "servo_object and servo_target are the same object '" + object + "'";
+  const auto& p = c.servo_goal_in_target.position;
+  const auto& q = c.servo_goal_in_target.orientation;
+  const Eigen::Vector4d quaternion(q.w, q.x, q.y, q.z);
+  if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+    return "servo_goal_in_target.position is not finite";
+  if (!quaternion.allFinite() || std::abs(quaternion.norm() - 1.0) > 1e-3)
+    return "servo_goal_in_target.orientation is not a unit quaternion (norm " + std::to_string(quaternion.norm()) + ")";
+  VisualServoConfig servo_config = config_.visual_servo;
+  servo_config.pose_target_load_insertion = dds::to_domain(c.servo_goal_in_target);
+  servo_config.pose_target_load_insertion.linear() =
+      Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized().toRotationMatrix();
+  servo_.emplace(servo_config);
+  servo_object_ = object;
+  servo_target_ = target;
+  servo_output_.reset();
+  servo_reference_stamp_.reset();
+  return "";
 }
 
 void AdmittanceNode::on_command() {
   commands_.take([this](const rigger_admittance_AdmittanceCommand& c, const dds_sample_info_t&) {
-    last_command_seq_ = c.seq;
     const std::string source = dds::to_string(c.source);
     AdmittanceMode mode;
     switch (c.mode) {
-      case rigger_admittance_ADMITTANCE_OFF: mode = AdmittanceMode::kOff; break;
-      case rigger_admittance_ADMITTANCE_ROBOT: mode = AdmittanceMode::kRobot; break;
-      case rigger_admittance_ADMITTANCE_ROBOT_AND_CRANE: mode = AdmittanceMode::kRobotAndCrane; break;
+      case rigger_admittance_ADMITTANCE_OFF:
+        mode = AdmittanceMode::kOff;
+        break;
+      case rigger_admittance_ADMITTANCE_ROBOT:
+        mode = AdmittanceMode::kRobot;
+        break;
+      case rigger_admittance_ADMITTANCE_ROBOT_AND_CRANE:
+        mode = AdmittanceMode::kRobotAndCrane;
+        break;
       default:
         ctx_.log->warn("command refused seq={} source={}: unknown mode {}", c.seq, source, static_cast<int>(c.mode));
         return;
     }
     ReferenceSource reference;
     switch (c.reference) {
-      case rigger_admittance_REFERENCE_NONE: reference = ReferenceSource::kNone; break;
-      case rigger_admittance_REFERENCE_JOYSTICK: reference = ReferenceSource::kJoystick; break;
-      case rigger_admittance_REFERENCE_VISUAL_SERVO: reference = ReferenceSource::kVisualServo; break;
+      case rigger_admittance_REFERENCE_NONE:
+        reference = ReferenceSource::kNone;
+        break;
+      case rigger_admittance_REFERENCE_JOYSTICK:
+        reference = ReferenceSource::kJoystick;
+        break;
+      case rigger_admittance_REFERENCE_VISUAL_SERVO:
+        reference = ReferenceSource::kVisualServo;
+        break;
       default:
         ctx_.log->warn("command refused seq={} source={}: unknown reference {}", c.seq, source,
                        static_cast<int>(c.reference));
@@ -119,8 +297,8 @@ void AdmittanceNode::on_command() {
     const auto bad_length = [](std::uint32_t n) { return n != 0 && n != 6; };
     if (bad_length(c.mass._length) || bad_length(c.damping._length) || bad_length(c.stiffness._length) ||
         (c.axes._length != 0 && c.axes._length != 6)) {
-      ctx_.log->warn("command refused seq={} source={}: mass, damping, stiffness and axes need 0 or 6 values",
-                     c.seq, source);
+      ctx_.log->warn("command refused seq={} source={}: mass, damping, stiffness and axes need 0 or 6 values", c.seq,
+                     source);
       return;
     }
     if (c.mass._length || c.damping._length || c.stiffness._length) {
@@ -139,17 +317,42 @@ void AdmittanceNode::on_command() {
       for (std::size_t i = 0; i < 6; ++i) axes[i] = c.axes._buffer[i];
       robot_.set_selected_axes(axes);
     }
+    last_command_seq_ = c.seq;
+    node_fault_.clear();  // any accepted command acknowledges a latched node fault
+    node_fault_text_.clear();
     if (reference == ReferenceSource::kVisualServo) {
-      ctx_.log->warn("command seq={}: the visual-servo reference is not available in this node yet; no reference",
-                     c.seq);
+      if (const std::string refusal = accept_servo_request(c); !refusal.empty()) {
+        ctx_.log->warn("command refused seq={} source={}: {}", c.seq, source, refusal);
+        go_off(kFaultServoRequestInvalid, "command seq " + std::to_string(c.seq) + ": " + refusal);
+        return;
+      }
+    } else {
+      servo_.reset();
+      servo_output_.reset();
+      servo_object_.clear();
+      servo_target_.clear();
     }
+    commander_ = source;
+    commander_seen_ = false;
+    commander_since_ = dds::EventLoop::Clock::now();
+    mode_since_ = commander_since_;
     mode_ = mode;
     reference_ = reference;
     robot_.set_reference_source(reference);
     robot_.set_mode(mode);  // also acknowledges a latched fault
     crane_.set_enabled(mode == AdmittanceMode::kRobotAndCrane);
-    ctx_.log->info("command seq={} source={} mode={} reference={}", c.seq, source, to_string(mode),
-                   to_string(reference));
+    if (reference == ReferenceSource::kVisualServo) {
+      const Eigen::Isometry3d goal = servo_->config().pose_target_load_insertion;
+      ctx_.log->info(
+          "command seq={} source={} mode={} reference=VISUAL_SERVO object={} target={} goal_in_target=({}, {}, "
+          "{}) m",
+          c.seq, source, to_string(mode), servo_object_, servo_target_, goal.translation().x(), goal.translation().y(),
+          goal.translation().z());
+    } else {
+      ctx_.log->info("command seq={} source={} mode={} reference={}", c.seq, source, to_string(mode),
+                     to_string(reference));
+    }
+    check_commander();
     publish_state();
   });
 }
@@ -167,15 +370,24 @@ void AdmittanceNode::robot_step() {
     reference.frame = ControlFrame::kBase;
     reference.age = age_of(joystick_stamp_);
   }
+  if (reference_ == ReferenceSource::kVisualServo && servo_reference_stamp_) {
+    reference.source = ReferenceSource::kVisualServo;
+    reference.twist = servo_reference_base_;
+    reference.frame = ControlFrame::kBase;
+    reference.age = age_of(servo_reference_stamp_);
+  }
   if (!orientation_base_sensor_) {
     // Without the sensor's orientation the wrench cannot be turned into the base frame: zero.
     robot_output_ = AdmittanceOutput{};
+    robot_twist_base_ = Twist{};
     if (mode_ != AdmittanceMode::kOff) publish_twist(Vector6d::Zero());
   } else {
-    robot_output_ = robot_.step(dt, WrenchSample{wrench_sensor_, age_of(wrench_stamp_)}, *orientation_base_sensor_,
-                                reference);
+    robot_output_ =
+        robot_.step(dt, WrenchSample{wrench_sensor_, age_of(wrench_stamp_)}, *orientation_base_sensor_, reference);
     Twist twist = robot_output_.twist;
-    if (robot_output_.frame == ControlFrame::kTool) twist = rotate(orientation_base_sensor_->normalized().toRotationMatrix(), twist);
+    if (robot_output_.frame == ControlFrame::kTool)
+      twist = rotate(orientation_base_sensor_->normalized().toRotationMatrix(), twist);
+    robot_twist_base_ = twist;
     if (robot_output_.status.state != AdmittanceState::kOff) {
       publish_twist(twist.stacked());
     } else if (robot_published_) {
@@ -191,11 +403,14 @@ void AdmittanceNode::crane_step() {
   const Seconds dt = last_crane_step_ ? std::chrono::duration_cast<Seconds>(now - *last_crane_step_)
                                       : std::chrono::duration_cast<Seconds>(period_of(config_.crane_rate_hz));
   last_crane_step_ = now;
+  check_commander();
+  check_crane();
+  servo_step();  // at the crane rate too: a tracker that went silent shows as stale here
   CraneInput input;
-  // Base orientation = world orientation (see the header), so base-frame vectors are world vectors.
-  input.force_on_robot_world_n = robot_output_.wrench_base.force_n;
+  const Eigen::Matrix3d R_world_base = pose_world_base_.linear();
+  input.force_on_robot_world_n = R_world_base * robot_output_.wrench_base.force_n;
   input.force_age = orientation_base_sensor_ ? age_of(wrench_stamp_) : Seconds(std::numeric_limits<double>::infinity());
-  input.robot_velocity_world_mps = robot_output_.twist.linear_mps;
+  input.robot_velocity_world_mps = R_world_base * robot_twist_base_.linear_mps;
   crane_output_ = crane_.step(dt, input);
   if (crane_output_.status.state != CraneState::kDisabled) {
     publish_crane(crane_output_.velocity_world_mps);
@@ -209,7 +424,7 @@ void AdmittanceNode::crane_step() {
 void AdmittanceNode::publish_twist(const Vector6d& twist_base) {
   rigger_sensing_TwistCommand out{};
   out.header.stamp = dds::wire_now();
-  out.header.frame_id = const_cast<char*>("base");
+  out.header.frame_id = dds::wire_string(robot_id_);  // the driver's base frame
   out.seq = ++twist_seq_;
   out.twist = dds::to_wire_twist(twist_base);
   out.timeout_s = twist_timeout_s_;
@@ -236,19 +451,33 @@ void AdmittanceNode::publish_crane(const Eigen::Vector3d& velocity_world_mps) {
 }
 
 std::string AdmittanceNode::fault_code() const {
+  if (!node_fault_.empty()) return node_fault_;
   if (mode_ == AdmittanceMode::kOff) return "";
   if (!orientation_base_sensor_) return kFaultNoRobotState;
   if (robot_output_.status.fault != AdmittanceFault::kNone) return std::string(to_string(robot_output_.status.fault));
   if (crane_output_.status.fault != CraneFault::kNone) return std::string(to_string(crane_output_.status.fault));
+  if (servo_stopped()) return std::string(to_string(servo_output_->stop_reason));
   return "";
+}
+
+bool AdmittanceNode::servo_stopped() const {
+  return reference_ == ReferenceSource::kVisualServo && servo_output_ && !servo_output_->tracking();
 }
 
 void AdmittanceNode::publish_state() {
   const std::string code = fault_code();
+  if (code != last_fault_code_ && node_fault_.empty() && !servo_stopped()) {
+    // The laws' faults (the node's own are logged where they are raised; a servo stop is only reported:
+    // a flickering tracker would flood the log).
+    if (!code.empty())
+      ctx_.log->warn("fault {} in mode {}: output is zero", code, to_string(mode_));
+    else if (!last_fault_code_.empty())
+      ctx_.log->info("fault {} cleared", last_fault_code_);
+  }
   last_fault_code_ = code;
   rigger_admittance_AdmittanceState out{};
   out.header.stamp = dds::wire_now();
-  out.header.frame_id = const_cast<char*>("base");
+  out.header.frame_id = dds::wire_string(robot_id_);
   out.mode = mode_ == AdmittanceMode::kOff     ? rigger_admittance_ADMITTANCE_OFF
              : mode_ == AdmittanceMode::kRobot ? rigger_admittance_ADMITTANCE_ROBOT
                                                : rigger_admittance_ADMITTANCE_ROBOT_AND_CRANE;
@@ -258,13 +487,26 @@ void AdmittanceNode::publish_state() {
   out.fault = !code.empty();
   out.fault_code = dds::wire_string(code);
   std::string text;
-  if (code == kFaultNoRobotState) text = "no rigger/robot/state received yet";
-  else if (!code.empty()) text = "output is zero";
+  if (!node_fault_.empty())
+    text = node_fault_text_;
+  else if (code == kFaultNoRobotState)
+    text = "no rigger/robot/state received yet";
+  else if (servo_stopped())
+    text = "visual servo stopped: its reference is zero, the robot stays compliant";
+  else if (!code.empty())
+    text = "output is zero";
   out.fault_text = dds::wire_string(text);
   out.filtered_wrench = dds::to_wire_wrench(robot_output_.wrench_applied.stacked());
   out.robot_twist = dds::to_wire_twist(robot_output_.twist.stacked());
   out.crane_velocity = dds::to_wire_vector(crane_output_.velocity_world_mps);
   out.last_command_seq = last_command_seq_;
+  // Servo: converged only while the servo runs and tracks; the error is NaN while unknown.
+  const bool servo_running = reference_ == ReferenceSource::kVisualServo && servo_output_.has_value();
+  out.servo_converged = servo_running && servo_output_->converged;
+  out.servo_error_m = servo_running && servo_output_->error_valid ? servo_output_->error.distance_m
+                                                                  : std::numeric_limits<double>::quiet_NaN();
+  out.servo_error_rad = servo_running && servo_output_->error_valid ? servo_output_->error.angle_rad
+                                                                    : std::numeric_limits<double>::quiet_NaN();
   state_.write(out);
 }
 

@@ -2,9 +2,12 @@
 /// @file
 /// The admittance_control DDS node: wrench, robot state, commands and references in; the robot's
 /// twist setpoints (robot loop), the crane's velocity setpoints (crane loop) and the service state
-/// out. The laws are RobotAdmittance and CraneAdmittance (docs/control.md); this is plumbing.
+/// out. The laws are RobotAdmittance, CraneAdmittance and VisualServo (docs/control.md); this is
+/// plumbing, plus the node's own safety: commander liveliness and the crane's faults.
+/// Everything runs on the service's event loop thread (not thread-safe otherwise).
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -13,7 +16,9 @@
 #include "rigger/base/time.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
+#include "rigger/dds/service_state.hpp"
 #include "robot_admittance.hpp"
+#include "visual_servo.hpp"
 
 namespace rigger::control {
 
@@ -26,15 +31,39 @@ inline constexpr const char* kCmdTwistTopic = "rigger/robot/cmd_twist";
 inline constexpr const char* kCraneCmdTopic = "rigger/crane/cmd_velocity";
 inline constexpr const char* kStateTopic = "rigger/admittance/state";
 
-/// Fault code of the node itself (the laws' codes are theirs, e.g. WRENCH_STALE, FORCE_STALE):
-/// no robot state received yet, so the sensor's orientation is unknown and the output is zero.
+inline constexpr const char* kCraneStateTopic = "rigger/crane/state";
+
+/// Fault codes of the node itself (the laws' codes are theirs, e.g. WRENCH_STALE, FORCE_STALE).
+/// No robot state received yet, so the sensor's orientation is unknown and the output is zero.
 inline constexpr const char* kFaultNoRobotState = "ROBOT_STATE_MISSING";
+/// The commanding process (AdmittanceCommand.source) was lost: mode OFF, latched until the next command.
+inline constexpr const char* kFaultCommanderLost = "COMMANDER_LOST";
+/// rigger/crane/state reported a fault or link down, or went silent, in ROBOT_AND_CRANE: mode OFF
+/// (robot and crane ramp to zero), latched until the next command.
+inline constexpr const char* kFaultCraneFault = "CRANE_FAULT";
+/// A VISUAL_SERVO command without object or target, or with a goal that is not a finite rigid pose:
+/// refused, mode OFF, latched until the next command.
+inline constexpr const char* kFaultServoRequestInvalid = "SERVO_REQUEST_INVALID";
+/// While the servo's reference is stopped, fault_code is VisualServo's stop reason (LOAD_QUALITY_LOW,
+/// TARGET_QUALITY_LOW, LOAD_POSE_STALE, TARGET_POSE_STALE, LOAD_POSE_INVALID, TARGET_POSE_INVALID):
+/// not latched, the mode stays, the robot stays compliant with a zero reference.
 
 /// Configuration: the keys of load_control_config() ("robot", "crane", "visual_servo"; rates are
 /// robot.rate_hz and crane.rate_hz) and these (optional):
 ///   "twist_timeout_s": number in [0.002, 1], default 0.05 — timeout_s of each cmd_twist
 ///   "crane_timeout_s": number in [0.02, 2], default 0.2 — timeout_s of each crane cmd_velocity
-/// The robot base's orientation is taken to be the world's (true in the simulated cell).
+///   "cell_file": path of the cell file (relative paths: to the configuration file's folder), default
+///       none. The robot base's pose in the world is the pose of entity `robot_id` in it; without a
+///       cell file the base is taken to be the world frame.
+///   "robot_id": string, default "robot" — the robot's entity in the cell file, and the frame id of
+///       the published cmd_twist (the robot driver's base frame)
+///   "crane_state_timeout_s": number in [0.05, 5], default 0.5 — rigger/crane/state older than this
+///       in ROBOT_AND_CRANE is a CRANE_FAULT
+///   "commander_grace_s": number in [0.1, 10], default 2 — a command's source must be seen alive on
+///       rigger/system/service_state within this time, else COMMANDER_LOST
+/// Frames: the wrench, the robot state and cmd_twist are in the robot base frame B; tracker poses
+/// and the crane (bridge x, trolley y, hoist z) in the world frame; the crane frame is taken to be
+/// the world frame (true in the simulated cell). The published AdmittanceState is in B.
 /// @throws ConfigError (exit 2).
 class AdmittanceNode : public dds::Node {
  public:
@@ -45,39 +74,93 @@ class AdmittanceNode : public dds::Node {
   /// Setpoints published so far (loop thread).
   std::uint64_t twist_seq() const { return twist_seq_; }
   std::uint64_t crane_seq() const { return crane_seq_; }
+  /// The robot base's pose in the world (from the cell file, else identity).
+  const Eigen::Isometry3d& pose_world_base() const { return pose_world_base_; }
 
  private:
+  /// The latest tracker sample of one object.
+  struct TrackerSample {
+    Eigen::Isometry3d pose_world = Eigen::Isometry3d::Identity();
+    double quality = 0.0;
+    bool tracked = false;
+    WallTime stamp{};
+  };
+  /// The latest crane state (rigger/crane/state).
+  struct CraneSample {
+    bool fault = false;
+    bool link_ok = false;
+    std::string fault_text;
+    dds::EventLoop::Clock::time_point received{};
+  };
+
   void on_wrench();
   void on_robot_state();
   void on_command();
   void on_joystick();
   void on_tracker_pose();
+  void on_crane_state();
+  void on_directory();
   void robot_step();
   void crane_step();
+  void servo_step();
+  void check_commander();
+  void check_crane();
+  /// Mode OFF (both laws ramp to zero) with a node fault latched until the next command.
+  void go_off(const std::string& code, const std::string& text);
+  /// Why a VISUAL_SERVO command is refused ("" when it is fine); sets servo_ on success.
+  std::string accept_servo_request(const rigger_admittance_AdmittanceCommand& c);
   void publish_twist(const Vector6d& twist_base);
   void publish_crane(const Eigen::Vector3d& velocity_world_mps);
   void publish_state();
   std::string fault_code() const;
+  /// True while the servo runs but its reference is stopped (quality, age, invalid pose).
+  bool servo_stopped() const;
 
   dds::ServiceContext& ctx_;
   double twist_timeout_s_;
   double crane_timeout_s_;
+  Eigen::Isometry3d pose_world_base_;
+  std::string robot_id_;
+  Seconds crane_state_timeout_;
+  Seconds commander_grace_;
   ControlConfig config_;
   RobotAdmittance robot_;
   CraneAdmittance crane_;
   AdmittanceMode mode_ = AdmittanceMode::kOff;
   ReferenceSource reference_ = ReferenceSource::kNone;
   std::uint64_t last_command_seq_ = 0;
+  dds::EventLoop::Clock::time_point mode_since_{};
+
+  // Node faults (latched until the next accepted command).
+  std::string node_fault_;
+  std::string node_fault_text_;
+
+  // Commander liveliness.
+  std::string commander_;
+  bool commander_seen_ = false;
+  dds::EventLoop::Clock::time_point commander_since_{};
+
+  // Visual servo: the request and the latest result.
+  std::optional<VisualServo> servo_;
+  std::string servo_object_;
+  std::string servo_target_;
+  std::optional<ServoOutput> servo_output_;
+  std::optional<WallTime> servo_reference_stamp_;
+  Twist servo_reference_base_;  // at the TCP, base frame
+  std::map<std::string, TrackerSample> tracked_;
 
   // Latest inputs.
   std::optional<WallTime> wrench_stamp_;
   Wrench wrench_sensor_;
   std::optional<Eigen::Quaterniond> orientation_base_sensor_;
+  std::optional<Eigen::Vector3d> tcp_position_base_;
   std::optional<WallTime> joystick_stamp_;
   Twist joystick_twist_;
+  std::optional<CraneSample> crane_state_;
 
   // Latest outputs.
   AdmittanceOutput robot_output_;
+  Twist robot_twist_base_;  // the last commanded TCP twist, base frame
   CraneOutput crane_output_;
   bool robot_published_ = false;  // a non-zero stream is out: the next OFF step sends one zero
   bool crane_published_ = false;
@@ -92,6 +175,8 @@ class AdmittanceNode : public dds::Node {
   dds::Reader<rigger_admittance_AdmittanceCommand> commands_;
   dds::Reader<rigger_sensing_TwistCommand> joystick_;
   dds::Reader<rigger_vision_TrackedPose> tracker_poses_;
+  dds::Reader<rigger_crane_CraneState> crane_states_;
+  dds::ServiceDirectory directory_;
   dds::Writer<rigger_sensing_TwistCommand> cmd_twist_;
   dds::Writer<rigger_crane_CraneVelocityCommand> crane_cmd_;
   dds::Writer<rigger_admittance_AdmittanceState> state_;

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <vector>
 
 namespace rigger::control {
@@ -163,13 +164,15 @@ ControlConfig load_control_config(const Config& config) {
   return out;
 }
 
-ControlConfig load_control_config_file(const std::string& path) { return load_control_config(Config::load(path)); }
+ControlConfig load_control_config_file(const std::string& path) {
+  return load_control_config(Config::load(path));
+}
 
 Eigen::Isometry3d pose_from_config_json(const nlohmann::json& value, const std::string& source,
                                         const std::string& pointer) {
   if (!value.is_object())
-    throw ConfigError(source, pointer, "expected an object {\"position_m\": [..], \"rpy_deg\": [..]}, got " +
-                                           json_kind(value));
+    throw ConfigError(source, pointer,
+                      "expected an object {\"position_m\": [..], \"rpy_deg\": [..]}, got " + json_kind(value));
   for (const auto& item : value.items())
     if (item.key() != "position_m" && item.key() != "rpy_deg" && item.key() != "comment")
       throw ConfigError(source, pointer + "/" + item.key(), "unknown key (expected position_m and rpy_deg)");
@@ -192,6 +195,32 @@ Eigen::Isometry3d insertion_offset_from_features(const nlohmann::json& features,
   const auto pose = insertion->find("pose_in_target");
   if (pose == insertion->end()) throw ConfigError(source, "/insertion/pose_in_target", "missing required key");
   return pose_from_config_json(*pose, source, "/insertion/pose_in_target");
+}
+
+Eigen::Isometry3d entity_pose_from_cell_file(const std::string& path, const std::string& entity_id) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path, "", "cannot open the cell file");
+  nlohmann::json cell;
+  try {
+    cell = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw ConfigError(path, "", std::string("not valid JSON: ") + e.what());
+  }
+  const auto entities = cell.find("entities");
+  if (entities == cell.end() || !entities->is_array()) throw ConfigError(path, "/entities", "expected an array");
+  for (std::size_t i = 0; i < entities->size(); ++i) {
+    const nlohmann::json& entity = (*entities)[i];
+    if (!entity.is_object() || entity.value("id", std::string()) != entity_id) continue;
+    const std::string pointer = "/entities/" + std::to_string(i);
+    const std::string parent = entity.value("parent", std::string());
+    if (parent != "world")
+      throw ConfigError(path, pointer + "/parent",
+                        "entity '" + entity_id + "' must have parent 'world', got '" + parent + "'");
+    const auto pose = entity.find("pose");
+    if (pose == entity.end()) throw ConfigError(path, pointer + "/pose", "missing required key");
+    return pose_from_config_json(*pose, path, pointer + "/pose");
+  }
+  throw ConfigError(path, "/entities", "no entity with id '" + entity_id + "'");
 }
 
 }  // namespace rigger::control

@@ -50,4 +50,11 @@ Eigen::Isometry3d pose_from_config_json(const nlohmann::json& value, const std::
 ///   or malformed.
 Eigen::Isometry3d insertion_offset_from_features(const nlohmann::json& features, const std::string& source);
 
+/// The pose in the world of the entity `entity_id` of a cell file (deploy/cell/*.json: an
+/// "entities" array of {id, parent, pose}), e.g. the robot's base. The entity's parent must be
+/// "world" (nested parents are not resolved here).
+/// @throws rigger::ConfigError naming `path` and the JSON pointer when the file cannot be read, the
+///   entity is missing, has another parent or a malformed pose.
+Eigen::Isometry3d entity_pose_from_cell_file(const std::string& path, const std::string& entity_id);
+
 }  // namespace rigger::control

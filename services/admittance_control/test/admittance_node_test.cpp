@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,7 +28,12 @@ class AdmittanceNodeTest : public ::testing::Test {
         command_writer_(participant_, kCommandTopic, dds::qos::commands()),
         twists_(participant_, kCmdTwistTopic, dds::qos::setpoints()),
         crane_cmds_(participant_, kCraneCmdTopic, dds::qos::setpoints()),
-        states_(participant_, kStateTopic, dds::qos::state()) {
+        states_(participant_, kStateTopic, dds::qos::state()),
+        tracker_writer_(participant_, kTrackerPoseTopic, dds::qos::sensor_stream()),
+        crane_state_writer_(participant_, kCraneStateTopic, dds::qos::state()) {
+    announcer_.announce(dds::ServiceStatus::kReady);  // the commands' source ("admittance-test") is alive
+    // As run_service does: the announcements' liveliness is asserted from the loop (MANUAL_BY_PARTICIPANT).
+    loop_.every(dds::kDefaultLease / 3, [this] { participant_.assert_liveliness(); });
     node_ = std::make_unique<AdmittanceNode>(context_);
     loop_.on_data(twists_, [this] {
       twists_.take([this](const rigger_sensing_TwistCommand& t, const dds_sample_info_t&) {
@@ -42,7 +48,8 @@ class AdmittanceNodeTest : public ::testing::Test {
     });
     loop_.on_data(states_, [this] {
       states_.take([this](const rigger_admittance_AdmittanceState& s, const dds_sample_info_t&) {
-        state_log_.push_back({s.fault, dds::to_string(s.fault_code), s.last_command_seq});
+        state_log_.push_back({s.fault, dds::to_string(s.fault_code), dds::to_string(s.fault_text), s.last_command_seq,
+                              s.mode, s.servo_converged, s.servo_error_m, s.servo_error_rad});
       });
     });
   }
@@ -94,8 +101,63 @@ class AdmittanceNodeTest : public ::testing::Test {
   struct StateSample {
     bool fault;
     std::string code;
+    std::string text;
     std::uint64_t last_command_seq;
+    rigger_admittance_AdmittanceMode mode;
+    bool servo_converged;
+    double servo_error_m;
+    double servo_error_rad;
   };
+
+  /// A visual-servo command; waits for the state that acknowledges it.
+  void servo_command(const std::string& object, const std::string& target, const Eigen::Isometry3d& goal,
+                     double quaternion_scale = 1.0) {
+    rigger_admittance_AdmittanceCommand c{};
+    c.header.stamp = dds::wire_now();
+    c.seq = ++command_seq_;
+    c.mode = rigger_admittance_ADMITTANCE_ROBOT;
+    c.reference = rigger_admittance_REFERENCE_VISUAL_SERVO;
+    c.servo_object = dds::wire_string(object);
+    c.servo_target = dds::wire_string(target);
+    c.servo_goal_in_target = dds::to_wire(goal);
+    c.servo_goal_in_target.orientation.w *= quaternion_scale;
+    c.servo_goal_in_target.orientation.x *= quaternion_scale;
+    c.servo_goal_in_target.orientation.y *= quaternion_scale;
+    c.servo_goal_in_target.orientation.z *= quaternion_scale;
+    c.source = dds::wire_string(source_);
+    ASSERT_EQ(command_writer_.write(c), DDS_RETCODE_OK);
+    const std::uint64_t seq = command_seq_;
+    ASSERT_TRUE(loop_.run_until([&] { return !state_log_.empty() && state_log_.back().last_command_seq == seq; }, 5s));
+  }
+
+  /// Tracker poses of the load and the target at 30 Hz (world frame, fresh stamps) until cancelled.
+  dds::EventLoop::TimerId start_tracker(const Eigen::Isometry3d& load, const Eigen::Isometry3d& target,
+                                        double load_quality = 0.9) {
+    return loop_.every(33ms, [this, load, target, load_quality] {
+      for (const auto& [id, pose] : {std::pair<const char*, Eigen::Isometry3d>{"load", load}, {"target", target}}) {
+        rigger_vision_TrackedPose p{};
+        p.header.stamp = dds::wire_now();
+        p.header.frame_id = const_cast<char*>("world");
+        p.object_id = const_cast<char*>(id);
+        p.pose.pose = dds::to_wire(pose);
+        p.quality = std::string(id) == "load" ? load_quality : 0.9;
+        p.tracked = true;
+        tracker_writer_.write(p);
+      }
+    });
+  }
+
+  /// A crane state every 20 ms (as the gateway publishes it) with `fault` and `link_ok` as set.
+  void start_crane_state() {
+    crane_timer_ = loop_.every(20ms, [this] {
+      rigger_crane_CraneState c{};
+      c.header.stamp = dds::wire_now();
+      c.link_ok = crane_link_ok_;
+      c.fault = crane_fault_;
+      c.fault_text = const_cast<char*>(crane_fault_ ? "estop" : "");
+      crane_state_writer_.write(c);
+    });
+  }
 
   rigger::testing::DomainLease lease_;
   dds::ServiceOptions options_{"admittance-test", 0, "", "info"};
@@ -109,6 +171,11 @@ class AdmittanceNodeTest : public ::testing::Test {
   dds::Reader<rigger_sensing_TwistCommand> twists_;
   dds::Reader<rigger_crane_CraneVelocityCommand> crane_cmds_;
   dds::Reader<rigger_admittance_AdmittanceState> states_;
+  dds::Writer<rigger_vision_TrackedPose> tracker_writer_;
+  dds::Writer<rigger_crane_CraneState> crane_state_writer_;
+  dds::EventLoop::TimerId crane_timer_ = 0;
+  bool crane_fault_ = false;
+  bool crane_link_ok_ = true;
   std::unique_ptr<AdmittanceNode> node_;
   std::vector<TwistSample> twist_log_;
   std::vector<CraneSample> crane_log_;
@@ -116,7 +183,7 @@ class AdmittanceNodeTest : public ::testing::Test {
   Vector6d wrench_ = Vector6d::Zero();
   dds::EventLoop::TimerId wrench_timer_ = 0;
   std::uint64_t command_seq_ = 0;
-  std::string source_ = "test";
+  std::string source_ = "admittance-test";
   std::string sensor_frame_ = "sensor";
 };
 
@@ -124,6 +191,58 @@ class AdmittanceNodeCraneTest : public AdmittanceNodeTest {
  protected:
   AdmittanceNodeCraneTest() : AdmittanceNodeTest(R"({"crane": {"selected_axes": [true, true, true]}})") {}
 };
+
+class AdmittanceNodeCellTest : public AdmittanceNodeTest {
+ protected:
+  AdmittanceNodeCellTest()
+      : AdmittanceNodeTest(R"({"cell_file": ")" + std::string(RIGGER_SOURCE_DIR) +
+                           R"(/deploy/cell/simulated_cell.json", "robot_id": "robot"})") {}
+};
+
+TEST_F(AdmittanceNodeCellTest, TheRobotBaseComesFromTheCellFile) {
+  EXPECT_TRUE(node_->pose_world_base().translation().isApprox(Eigen::Vector3d(2.55, 2.0, 0.9), 1e-12));
+}
+
+TEST_F(AdmittanceNodeCellTest, VisualServoTwistIsTurnedIntoTheBaseAndMovedToTheTcp) {
+  // The TCP at the base origin, i.e. (2.55, 2.0, 0.9) in the world; the load 0.2 m in front of it.
+  publish_robot_state();
+  start_wrench_stream(Vector6d::Zero());
+  Eigen::Isometry3d load = Eigen::Isometry3d::Identity();
+  load.translation() = Eigen::Vector3d(2.75, 2.0, 0.9);
+  Eigen::Isometry3d target = Eigen::Isometry3d::Identity();
+  target.translation() = Eigen::Vector3d(2.75, 2.0, 0.8);
+  // Goal: the load turned 10 degrees about the world z over the target: the TCP, 0.2 m behind the
+  // load's origin, must move sideways (w x r), not only turn.
+  Eigen::Isometry3d goal = Eigen::Isometry3d::Identity();
+  goal.translation() = Eigen::Vector3d(0.0, 0.0, 0.1);
+  goal.linear() = Eigen::AngleAxisd(10.0 * kPi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  start_tracker(load, target);
+  servo_command("load", "target", goal);
+  ASSERT_TRUE(loop_.run_until([&] { return !twist_log_.empty() && twist_log_.back().twist(5) > 0.085; }, 5s));
+  const Vector6d& twist = twist_log_.back().twist;
+  // v_tcp = v_load + w x (p_tcp - p_load) = 0 + (0, 0, wz) x (-0.2, 0, 0) = (0, -0.2 wz, 0).
+  EXPECT_NEAR(twist(1), -0.2 * twist(5), 0.02 * std::abs(twist(5)) + 1e-4);
+  EXPECT_NEAR(twist(0), 0.0, 1e-6);
+  EXPECT_NEAR(twist(2), 0.0, 1e-6);
+}
+
+TEST(AdmittanceNodeConfig, AMissingCellFileIsAConfigurationErrorNamingTheKey) {
+  rigger::testing::DomainLease lease;
+  dds::ServiceOptions options{"admittance-test", 0, "", "info"};
+  dds::Participant participant(lease.id());
+  dds::EventLoop loop(participant);
+  dds::ServiceAnnouncer announcer(participant, "admittance-test", "admittance_control");
+  dds::ServiceContext context{options,     null_logger(),
+                              participant, loop,
+                              announcer,   Config::parse(R"({"cell_file": "/no/such/cell.json"})", "test.json")};
+  try {
+    AdmittanceNode node(context);
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.pointer(), "/cell_file") << e.what();
+    EXPECT_NE(std::string(e.what()).find("/no/such/cell.json"), std::string::npos) << e.what();
+  }
+}
 
 TEST_F(AdmittanceNodeTest, ModeOffPublishesNoSetpoints) {
   publish_robot_state();
@@ -184,6 +303,7 @@ TEST_F(AdmittanceNodeTest, NoRobotStateMeansZeroOutputAndAFault) {
 
 TEST_F(AdmittanceNodeCraneTest, UpwardPushRaisesTheHookOnTheWire) {
   publish_robot_state();
+  start_crane_state();
   // The load pushes the robot up (+z, world): the crane must lift, i.e. hook height rate > 0 on the wire.
   start_wrench_stream((Vector6d() << 0, 0, 20, 0, 0, 0).finished());
   command(rigger_admittance_ADMITTANCE_ROBOT_AND_CRANE);
@@ -192,7 +312,8 @@ TEST_F(AdmittanceNodeCraneTest, UpwardPushRaisesTheHookOnTheWire) {
   for (const CraneSample& c : crane_log_) EXPECT_GE(c.velocity.z(), 0.0) << "seq " << c.seq;
   // Back to OFF: one zero setpoint for each of robot and crane once their laws have stopped, then silence.
   command(rigger_admittance_ADMITTANCE_OFF);
-  ASSERT_TRUE(loop_.run_until([&] { return crane_log_.back().velocity.isZero() && twist_log_.back().twist.isZero(); }, 5s));
+  ASSERT_TRUE(
+      loop_.run_until([&] { return crane_log_.back().velocity.isZero() && twist_log_.back().twist.isZero(); }, 5s));
   // Let both laws finish stopping (at most a few crane periods), then expect silence.
   const std::size_t settled = state_log_.size();
   ASSERT_TRUE(loop_.run_until([&] { return state_log_.size() >= settled + 5; }, 5s));
@@ -204,6 +325,143 @@ TEST_F(AdmittanceNodeCraneTest, UpwardPushRaisesTheHookOnTheWire) {
   ASSERT_TRUE(loop_.run_until([&] { return state_log_.size() >= states + 5; }, 5s));
   EXPECT_EQ(twist_log_.size(), twists);
   EXPECT_EQ(crane_log_.size(), cranes);
+}
+
+TEST_F(AdmittanceNodeTest, VisualServoMovesTheTcpTowardsTheGoalAndReportsTheError) {
+  publish_robot_state();  // TCP at the base origin = world origin (no cell file)
+  start_wrench_stream(Vector6d::Zero());
+  Eigen::Isometry3d load = Eigen::Isometry3d::Identity();
+  load.translation() = Eigen::Vector3d(0.0, 0.0, 0.5);
+  Eigen::Isometry3d target = Eigen::Isometry3d::Identity();
+  target.translation() = Eigen::Vector3d(0.3, 0.0, 0.4);
+  Eigen::Isometry3d goal = Eigen::Isometry3d::Identity();
+  goal.translation() = Eigen::Vector3d(0.0, 0.0, 0.1);  // on the target's top: 0.3 m along +x from the load
+  start_tracker(load, target);
+  servo_command("load", "target", goal);
+  ASSERT_TRUE(loop_.run_until([&] { return !twist_log_.empty() && twist_log_.back().twist(0) > 0.05; }, 5s));
+  const Vector6d& twist = twist_log_.back().twist;
+  EXPECT_NEAR(twist(1), 0.0, 1e-6);
+  EXPECT_NEAR(twist(2), 0.0, 1e-6);
+  EXPECT_LE(twist(0), 0.1 + 1e-9);  // the servo's speed limit
+  ASSERT_TRUE(loop_.run_until([&] { return std::isfinite(state_log_.back().servo_error_m); }, 5s));
+  EXPECT_NEAR(state_log_.back().servo_error_m, 0.3, 1e-6);
+  EXPECT_NEAR(state_log_.back().servo_error_rad, 0.0, 1e-6);
+  EXPECT_FALSE(state_log_.back().servo_converged);
+  EXPECT_FALSE(state_log_.back().fault) << state_log_.back().code;
+}
+
+TEST_F(AdmittanceNodeTest, VisualServoStopReasonIsReportedAndClearsWithGoodPoses) {
+  publish_robot_state();
+  start_wrench_stream(Vector6d::Zero());
+  Eigen::Isometry3d target = Eigen::Isometry3d::Identity();
+  target.translation() = Eigen::Vector3d(0.3, 0.0, 0.4);
+  const auto poor = start_tracker(Eigen::Isometry3d::Identity(), target, 0.2);  // below min_quality 0.5
+  servo_command("load", "target", Eigen::Isometry3d::Identity());
+  ASSERT_TRUE(loop_.run_until([&] { return state_log_.back().code == "LOAD_QUALITY_LOW"; }, 5s))
+      << state_log_.back().code;
+  EXPECT_EQ(state_log_.back().mode, rigger_admittance_ADMITTANCE_ROBOT);  // not latched, the mode stays
+  for (const TwistSample& t : twist_log_) EXPECT_TRUE(t.twist.isZero(1e-9)) << "seq " << t.seq;
+  loop_.cancel(poor);
+  start_tracker(Eigen::Isometry3d::Identity(), target);
+  ASSERT_TRUE(loop_.run_until([&] { return !state_log_.back().fault; }, 5s)) << state_log_.back().code;
+  ASSERT_TRUE(loop_.run_until([&] { return !twist_log_.empty() && twist_log_.back().twist(0) > 0.01; }, 5s));
+}
+
+TEST_F(AdmittanceNodeTest, VisualServoConvergedWhenTheLoadIsAtTheGoal) {
+  publish_robot_state();
+  start_wrench_stream(Vector6d::Zero());
+  Eigen::Isometry3d target = Eigen::Isometry3d::Identity();
+  target.translation() = Eigen::Vector3d(0.3, 0.0, 0.4);
+  Eigen::Isometry3d goal = Eigen::Isometry3d::Identity();
+  goal.translation() = Eigen::Vector3d(0.0, 0.0, 0.1);
+  start_tracker(target * goal, target);
+  servo_command("load", "target", goal);
+  ASSERT_TRUE(loop_.run_until([&] { return state_log_.back().servo_converged; }, 5s));
+  EXPECT_LT(state_log_.back().servo_error_m, 1e-9);
+}
+
+TEST_F(AdmittanceNodeTest, VisualServoRequestWithoutTargetIsRefusedAndNothingMoves) {
+  publish_robot_state();
+  start_wrench_stream(Vector6d::Zero());
+  servo_command("load", "", Eigen::Isometry3d::Identity());
+  EXPECT_EQ(state_log_.back().code, kFaultServoRequestInvalid);
+  EXPECT_EQ(state_log_.back().mode, rigger_admittance_ADMITTANCE_OFF);
+  const std::size_t states = state_log_.size();
+  ASSERT_TRUE(loop_.run_until([&] { return state_log_.size() >= states + 5; }, 5s));
+  EXPECT_TRUE(twist_log_.empty());
+  EXPECT_EQ(state_log_.back().code, kFaultServoRequestInvalid);  // latched until the next command
+  command(rigger_admittance_ADMITTANCE_OFF);
+  EXPECT_FALSE(state_log_.back().fault);
+}
+
+TEST_F(AdmittanceNodeTest, VisualServoRequestWithNonUnitQuaternionIsRefused) {
+  publish_robot_state();
+  servo_command("load", "target", Eigen::Isometry3d::Identity(), 1.1);
+  EXPECT_EQ(state_log_.back().code, kFaultServoRequestInvalid);
+  EXPECT_EQ(state_log_.back().mode, rigger_admittance_ADMITTANCE_OFF);
+  EXPECT_TRUE(twist_log_.empty());
+}
+
+TEST_F(AdmittanceNodeTest, LostCommanderStopsTheRobot) {
+  publish_robot_state();
+  start_wrench_stream((Vector6d() << 20, 0, 0, 0, 0, 0).finished());
+  auto executor = std::make_unique<dds::ServiceAnnouncer>(participant_, "executor-7", "skill_executor");
+  executor->announce(dds::ServiceStatus::kReady);
+  source_ = "executor-7";
+  command(rigger_admittance_ADMITTANCE_ROBOT);
+  ASSERT_TRUE(loop_.run_until([&] { return !twist_log_.empty() && twist_log_.back().twist(0) > 0.05; }, 5s));
+  EXPECT_FALSE(state_log_.back().fault) << state_log_.back().code;
+  executor.reset();  // unregisters: the directory sees it leave at once
+  ASSERT_TRUE(loop_.run_until([&] { return state_log_.back().code == kFaultCommanderLost; }, 5s));
+  EXPECT_EQ(state_log_.back().mode, rigger_admittance_ADMITTANCE_OFF);
+  ASSERT_TRUE(loop_.run_until([&] { return twist_log_.back().twist.isZero(0.0); }, 5s));
+}
+
+TEST_F(AdmittanceNodeTest, CommanderNeverSeenStopsTheRobotAfterTheGrace) {
+  publish_robot_state();
+  start_wrench_stream(Vector6d::Zero());
+  source_ = "nobody";
+  command(rigger_admittance_ADMITTANCE_ROBOT);
+  ASSERT_TRUE(loop_.run_until([&] { return state_log_.back().code == kFaultCommanderLost; }, 5s));
+  EXPECT_EQ(state_log_.back().mode, rigger_admittance_ADMITTANCE_OFF);
+}
+
+TEST_F(AdmittanceNodeCraneTest, CraneFaultStopsRobotAndCraneAndLatches) {
+  publish_robot_state();
+  start_crane_state();
+  start_wrench_stream((Vector6d() << 20, 0, 0, 0, 0, 0).finished());
+  command(rigger_admittance_ADMITTANCE_ROBOT_AND_CRANE);
+  ASSERT_TRUE(loop_.run_until([&] { return !twist_log_.empty() && twist_log_.back().twist(0) > 0.05; }, 5s));
+  EXPECT_FALSE(state_log_.back().fault) << state_log_.back().code;
+  crane_fault_ = true;
+  ASSERT_TRUE(loop_.run_until([&] { return state_log_.back().code == kFaultCraneFault; }, 5s));
+  EXPECT_EQ(state_log_.back().mode, rigger_admittance_ADMITTANCE_OFF);
+  ASSERT_TRUE(loop_.run_until(
+      [&] { return twist_log_.back().twist.isZero(0.0) && !crane_log_.empty() && crane_log_.back().velocity.isZero(); },
+      5s));
+  crane_fault_ = false;  // the fault clears at the crane, but stays latched here until the next command
+  const std::size_t states = state_log_.size();
+  ASSERT_TRUE(loop_.run_until([&] { return state_log_.size() >= states + 5; }, 5s));
+  EXPECT_EQ(state_log_.back().code, kFaultCraneFault);
+  command(rigger_admittance_ADMITTANCE_ROBOT_AND_CRANE);
+  EXPECT_FALSE(state_log_.back().fault) << state_log_.back().code;
+}
+
+TEST_F(AdmittanceNodeCraneTest, CraneLinkDownIsACraneFault) {
+  publish_robot_state();
+  start_crane_state();
+  start_wrench_stream(Vector6d::Zero());
+  command(rigger_admittance_ADMITTANCE_ROBOT_AND_CRANE);
+  crane_link_ok_ = false;
+  ASSERT_TRUE(loop_.run_until([&] { return state_log_.back().code == kFaultCraneFault; }, 5s));
+}
+
+TEST_F(AdmittanceNodeCraneTest, SilentCraneStateIsACraneFault) {
+  publish_robot_state();
+  start_wrench_stream(Vector6d::Zero());
+  command(rigger_admittance_ADMITTANCE_ROBOT_AND_CRANE);
+  ASSERT_TRUE(loop_.run_until([&] { return state_log_.back().code == kFaultCraneFault; }, 5s))
+      << state_log_.back().code << ": " << state_log_.back().text;
 }
 
 }  // namespace

@@ -21,7 +21,8 @@ ConfigError error_for(const std::string& text) {
 }
 
 TEST(ControlConfig, TheShippedFileParsesToTheDocumentedDefaults) {
-  const ControlConfig c = load_control_config_file(kSource + "/services/admittance_control/config/admittance_control.json");
+  const ControlConfig c =
+      load_control_config_file(kSource + "/services/admittance_control/config/admittance_control.json");
   const ControlConfig defaults = load_control_config(Config::empty());
   EXPECT_EQ(c.robot_rate_hz, 500.0);
   EXPECT_EQ(c.crane_rate_hz, 50.0);
@@ -76,8 +77,7 @@ TEST(ControlConfig, ErrorsNameThePointerAndWhatWasExpected) {
       {R"({"robot": {"gains": {"mass": [10, 10, 10]}}})", "/robot/gains/mass", "6 numbers"},
       {R"({"robot": {"frame": "world"}})", "/robot/frame", "base, tool"},
       {R"({"robot": {"selected_axes": [true, 1, true, true, true, true]}})", "/robot/selected_axes", "booleans"},
-      {R"({"robot": {"limits": {"max_acceleration": [1, 1, 1, 2, 2, -2]}}})", "/robot/limits/max_acceleration/5",
-       "rz"},
+      {R"({"robot": {"limits": {"max_acceleration": [1, 1, 1, 2, 2, -2]}}})", "/robot/limits/max_acceleration/5", "rz"},
       {R"({"robot": {"wrench_timeout_s": "fast"}})", "/robot/wrench_timeout_s", "a number"},
       {R"({"robot": {"rate_hz": 10}})", "/robot/rate_hz", "max_time_step_s"},
       {R"({"crane": {"robot_velocity_feedforward": 2}})", "/crane/robot_velocity_feedforward", "[0, 1]"},
@@ -109,8 +109,8 @@ TEST(InsertionOffset, IsReadFromTheCellsLoadFeatures) {
 
 TEST(InsertionOffset, RollPitchYawFollowTheCellConvention) {
   // R = Rz(yaw) Ry(pitch) Rx(roll): with roll 90 and yaw 90, the x axis goes to y and y goes to z.
-  const Eigen::Isometry3d p = pose_from_config_json(
-      nlohmann::json::parse(R"({"position_m": [1, 2, 3], "rpy_deg": [90, 0, 90]})"), "t", "/p");
+  const Eigen::Isometry3d p =
+      pose_from_config_json(nlohmann::json::parse(R"({"position_m": [1, 2, 3], "rpy_deg": [90, 0, 90]})"), "t", "/p");
   EXPECT_NEAR((p.linear() * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), 0.0, 1e-12);
   EXPECT_NEAR((p.linear() * Eigen::Vector3d::UnitY() - Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-12);
   EXPECT_EQ(p.translation(), Eigen::Vector3d(1.0, 2.0, 3.0));
@@ -135,6 +135,39 @@ TEST(InsertionOffset, MissingOrMalformedFeaturesAreNamed) {
   EXPECT_EQ(pointer_of(R"({"insertion": {"pose_in_target": {"position_m": [0, 0, 0], "rpy": [0, 0, 0]}}})"),
             "/insertion/pose_in_target/rpy");
   EXPECT_EQ(pointer_of(R"([1, 2])"), "");
+}
+
+TEST(CellFile, TheRobotBaseIsReadFromTheCellFile) {
+  const Eigen::Isometry3d base = entity_pose_from_cell_file(kSource + "/deploy/cell/simulated_cell.json", "robot");
+  EXPECT_TRUE(base.translation().isApprox(Eigen::Vector3d(2.55, 2.0, 0.9), 1e-12));
+  EXPECT_TRUE(base.linear().isIdentity(1e-12));
+}
+
+TEST(CellFile, ErrorsNameTheFileAndTheEntity) {
+  const std::string cell = kSource + "/deploy/cell/simulated_cell.json";
+  try {
+    entity_pose_from_cell_file(cell, "no_such_robot");
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.file(), cell);
+    EXPECT_NE(std::string(e.what()).find("no_such_robot"), std::string::npos) << e.what();
+  }
+  // The gripper's parent is the robot, not the world: refused rather than resolved wrongly.
+  EXPECT_THROW(entity_pose_from_cell_file(cell, "gripper"), ConfigError);
+  EXPECT_THROW(entity_pose_from_cell_file(kSource + "/no/such/cell.json", "robot"), ConfigError);
+}
+
+TEST(CellFile, TheDeployedConfigurationPlacesTheBaseFromTheCellFile) {
+  // deploy/config/admittance_control.json names the cell file relative to itself; the node keys are
+  // read by the node, the laws' sections must still parse.
+  const Config config = Config::load(kSource + "/deploy/config/admittance_control.json");
+  EXPECT_EQ(config.get<std::string>("cell_file"), "../cell/simulated_cell.json");
+  EXPECT_EQ(config.get<std::string>("robot_id"), "robot");
+  for (const char* key : {"twist_timeout_s", "crane_timeout_s", "crane_state_timeout_s", "commander_grace_s"})
+    config.get<double>(key);
+  const ControlConfig c = load_control_config(config);
+  EXPECT_EQ(c.robot.tcp_in_sensor_m, Eigen::Vector3d::Zero());  // cell_sim's wrench is about the tool point
+  EXPECT_TRUE(c.crane.selected_axes[2]);                        // the insertion goes down: hoist on
 }
 
 }  // namespace

@@ -1,0 +1,150 @@
+// Wake-up lateness of the admittance node's control loop (not a test; run on demand):
+//
+//   rigger_admittance_loop_bench [--seconds N]   (default 10 s per measurement)
+//
+// The node runs in-process on its EventLoop, in mode ROBOT, fed like in the cell: a wrench sample
+// every 1 ms and a robot state every 10 ms from another thread (another participant, so the samples
+// cross Cyclone's loopback path). A probe timer with the robot loop's period (2 ms) is added to the
+// same loop right after the node's: its lateness (wake-up time minus its drift-free deadline) is what
+// the node's 500 Hz step sees, plus the step itself (the probe runs after it when both are due).
+// The same run then measures a bare timed loop, clock_nanosleep(TIMER_ABSTIME) every 2 ms on a plain
+// thread, while the same wrench stream keeps running: the floor the machine offers.
+// Prints p50, p99, p99.9 and max of both, in microseconds.
+#include <time.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "admittance_node.hpp"
+#include "rigger/dds/conversions.hpp"
+#include "rigger/testing/domain.hpp"
+
+namespace rigger::control {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr std::chrono::nanoseconds kPeriod = std::chrono::milliseconds(2);
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const auto index = static_cast<std::size_t>(std::min<double>(v.size() - 1, q * static_cast<double>(v.size())));
+  return v[index];
+}
+
+void print(const char* name, const std::vector<double>& us) {
+  std::printf("%-44s n=%7zu  p50 %7.1f us  p99 %7.1f us  p99.9 %7.1f us  max %8.1f us\n", name, us.size(),
+              quantile(us, 0.5), quantile(us, 0.99), quantile(us, 0.999),
+              us.empty() ? 0.0 : *std::max_element(us.begin(), us.end()));
+}
+
+timespec to_timespec(std::chrono::nanoseconds t) {
+  timespec ts{};
+  ts.tv_sec = static_cast<time_t>(t.count() / 1000000000);
+  ts.tv_nsec = static_cast<long>(t.count() % 1000000000);
+  return ts;
+}
+
+// A wrench every 1 ms and a robot state every 10 ms until `stop` (absolute-deadline sleeps).
+void feed(std::uint32_t domain, const std::atomic<bool>& stop) {
+  dds::Participant participant(domain);
+  dds::Writer<rigger_sensing_WrenchStamped> wrench(participant, kWrenchTopic, dds::qos::sensor_stream());
+  dds::Writer<rigger_robot_RobotState> state(participant, kRobotStateTopic, dds::qos::sensor_stream());
+  timespec next{};
+  clock_gettime(CLOCK_MONOTONIC, &next);
+  for (std::uint64_t k = 0; !stop.load(); ++k) {
+    rigger_sensing_WrenchStamped w{};
+    w.header.stamp = dds::wire_now();
+    w.header.frame_id = const_cast<char*>("tool");
+    w.wrench =
+        dds::to_wire_wrench((dds::Vector6d() << 5.0 + 0.1 * static_cast<double>(k % 7), 0, 0, 0, 0, 0).finished());
+    wrench.write(w);
+    if (k % 10 == 0) {
+      rigger_robot_RobotState s{};
+      s.header.stamp = dds::wire_now();
+      s.flange_pose = dds::to_wire(Eigen::Isometry3d::Identity());
+      s.tool_pose = s.flange_pose;
+      state.write(s);
+    }
+    next.tv_nsec += 1000000;
+    if (next.tv_nsec >= 1000000000) {
+      next.tv_nsec -= 1000000000;
+      ++next.tv_sec;
+    }
+    clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr);
+  }
+}
+
+std::vector<double> measure_node_loop(std::uint32_t domain, std::chrono::seconds duration) {
+  dds::ServiceOptions options{"admittance-bench", domain, "", "warn"};
+  dds::Participant participant(domain);
+  dds::EventLoop loop(participant);
+  dds::ServiceAnnouncer announcer(participant, options.id, "admittance_control");
+  dds::ServiceContext context{options, null_logger(), participant, loop, announcer, Config::parse("{}", "bench")};
+  AdmittanceNode node(context);
+  std::vector<double> lateness_us;
+  lateness_us.reserve(static_cast<std::size_t>(duration / kPeriod) + 16);
+  auto deadline = Clock::now() + kPeriod;  // the probe's first deadline, as EventLoop::every sets it
+  loop.every(kPeriod, [&] {
+    const auto now = Clock::now();
+    lateness_us.push_back(std::chrono::duration<double, std::micro>(now - deadline).count());
+    deadline = std::max(deadline + kPeriod, now);  // as EventLoop re-schedules after a stall
+  });
+  // ROBOT mode, so that the robot step does its full work (and publishes twists).
+  dds::Writer<rigger_admittance_AdmittanceCommand> commands(participant, kCommandTopic, dds::qos::commands());
+  rigger_admittance_AdmittanceCommand c{};
+  c.header.stamp = dds::wire_now();
+  c.seq = 1;
+  c.mode = rigger_admittance_ADMITTANCE_ROBOT;
+  c.reference = rigger_admittance_REFERENCE_NONE;
+  commands.write(c);
+  loop.run_until([&] { return false; }, std::chrono::seconds(1));  // warm-up
+  lateness_us.clear();
+  loop.run_until([&] { return false; }, duration);
+  return lateness_us;
+}
+
+std::vector<double> measure_bare_loop(std::chrono::seconds duration) {
+  std::vector<double> lateness_us;
+  lateness_us.reserve(static_cast<std::size_t>(duration / kPeriod) + 16);
+  timespec now{};
+  clock_gettime(CLOCK_MONOTONIC, &now);
+  std::chrono::nanoseconds next = std::chrono::seconds(now.tv_sec) + std::chrono::nanoseconds(now.tv_nsec);
+  const auto end = next + duration;
+  while (next < end) {
+    next += kPeriod;
+    const timespec ts = to_timespec(next);
+    clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    const auto woke = std::chrono::seconds(now.tv_sec) + std::chrono::nanoseconds(now.tv_nsec);
+    lateness_us.push_back(std::chrono::duration<double, std::micro>(woke - next).count());
+  }
+  return lateness_us;
+}
+
+}  // namespace
+}  // namespace rigger::control
+
+int main(int argc, char** argv) {
+  using namespace rigger::control;
+  int seconds = 10;
+  for (int i = 1; i + 1 < argc; ++i)
+    if (std::strcmp(argv[i], "--seconds") == 0) seconds = std::max(1, std::atoi(argv[i + 1]));
+  rigger::testing::DomainLease lease;
+  std::atomic<bool> stop{false};
+  std::thread feeder([&] { feed(lease.id(), stop); });
+  const auto node = measure_node_loop(lease.id(), std::chrono::seconds(seconds));
+  const auto bare = measure_bare_loop(std::chrono::seconds(seconds));
+  stop = true;
+  feeder.join();
+  std::printf("wake-up lateness of a 2 ms loop, %d s each, 1 kHz wrench stream running:\n", seconds);
+  print("admittance node's EventLoop (probe timer)", node);
+  print("bare clock_nanosleep(TIMER_ABSTIME) loop", bare);
+  return 0;
+}
