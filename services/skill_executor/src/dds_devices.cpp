@@ -150,7 +150,14 @@ DdsGripper::DdsGripper(const dds::Participant& participant, dds::EventLoop& loop
       commands_(participant, kGripperCommandTopic, dds::qos::commands()),
       state_(participant, loop, kGripperStateTopic, dds::qos::state(),
              [](const rigger_robot_GripperState& s) {
-               return GripperSnapshot{s.energized, s.holding, s.last_command_seq};
+               GripperSnapshot g;
+               g.stamp = dds::to_domain(s.header.stamp);
+               g.energized = s.energized;
+               g.contact = s.contact;
+               g.holding = s.holding;
+               g.holding_force_n = s.holding_force_n;
+               g.last_command_seq = s.last_command_seq;
+               return g;
              }),
       seq_(initial_seq()) {}
 
@@ -169,6 +176,11 @@ OpId DdsGripper::set_energized(bool energize, std::chrono::nanoseconds timeout, 
       });
   if (commands_.write(c) != DDS_RETCODE_OK) log_->warn("gripper command write failed seq={}", seq);
   return id;
+}
+
+OpId DdsGripper::wait_state(std::function<bool(const GripperSnapshot&)> predicate, std::chrono::nanoseconds timeout,
+                            StateCallback done) {
+  return state_.wait(std::move(predicate), timeout, std::move(done));
 }
 
 }  // namespace rigger::skill_executor

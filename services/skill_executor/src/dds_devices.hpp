@@ -26,12 +26,6 @@ inline constexpr const char* kRobotStateTopic = "rigger/robot/state";
 inline constexpr const char* kGripperCommandTopic = "rigger/gripper/cmd";
 inline constexpr const char* kGripperStateTopic = "rigger/gripper/state";
 
-struct GripperSnapshot {
-  bool energized = false;
-  bool holding = false;
-  std::uint64_t last_command_seq = 0;
-};
-
 class DdsRobot final : public RobotMotion {
  public:
   /// `source` names the commands' sender (the executor id) and prefixes motion ids.
@@ -70,6 +64,8 @@ class DdsGripper final : public Gripper {
  public:
   DdsGripper(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
   OpId set_energized(bool energize, std::chrono::nanoseconds timeout, OpCallback done) override;
+  OpId wait_state(std::function<bool(const GripperSnapshot&)> predicate, std::chrono::nanoseconds timeout,
+                  StateCallback done) override;
   void cancel(OpId id) override { state_.cancel(id); }
 
  private:

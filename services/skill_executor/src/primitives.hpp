@@ -68,13 +68,32 @@ class RobotMotion {
   virtual void cancel(OpId id) = 0;
 };
 
+/// The gripper as of one rigger/gripper/state sample.
+struct GripperSnapshot {
+  WallTime stamp;
+  bool energized = false;  ///< the magnet is on (commanded and confirmed by the driver)
+  bool contact = false;    ///< the face touches something (within the magnet's air gap)
+  bool holding = false;    ///< the magnet holds an object (energized, flat on it, not slipped)
+  double holding_force_n = 0.0;
+  std::uint64_t last_command_seq = 0;  ///< seq of the newest rigger/gripper/cmd the driver applied
+};
+
 /// The gripper (magnetic on the simulated cell): rigger/gripper/cmd and rigger/gripper/state.
 class Gripper {
  public:
+  using StateCallback = std::function<void(std::optional<GripperSnapshot>)>;
   virtual ~Gripper() = default;
   /// Energizes or releases; `done` ok once the gripper reports the new state for this command,
   /// TIMEOUT otherwise.
   virtual OpId set_energized(bool energize, std::chrono::nanoseconds timeout, OpCallback done) = 0;
+  /// Waits for the first gripper state sample received after this call that satisfies `predicate`;
+  /// `done` with it, or std::nullopt after `timeout`. E.g. "holding" (grasp confirmed), "!holding"
+  /// (a loss), or `[](auto&) { return true; }` for the next sample (the driver publishes at ≥ 10 Hz
+  /// and on every change, so a one-second wait without a sample means the gripper state is stale).
+  virtual OpId wait_state(std::function<bool(const GripperSnapshot&)> predicate, std::chrono::nanoseconds timeout,
+                          StateCallback done) = 0;
+  /// Forgets a pending operation (set_energized or wait_state): its callback will not run. The
+  /// command already sent stays sent.
   virtual void cancel(OpId id) = 0;
 };
 
@@ -97,12 +116,24 @@ class FeatureResolver {
   virtual void cancel(OpId id) = 0;
 };
 
+// The cell devices of cell_devices.hpp (crane health, tracker, admittance, operator, world model).
+class CraneMonitor;
+class VisionTracker;
+class AdmittanceController;
+class OperatorPanel;
+class WorldAccess;
+
 /// The devices an executor gives its skills; a null pointer means "not configured in this executor"
 /// (a skill that needs it fails with DEVICE_UNAVAILABLE).
 struct Devices {
   RobotMotion* robot = nullptr;
   Gripper* gripper = nullptr;
   FeatureResolver* world = nullptr;
+  CraneMonitor* crane = nullptr;              ///< rigger/crane/state, rigger/crane/control
+  VisionTracker* tracker = nullptr;           ///< rigger/tracker/command, rigger/tracker/pose
+  AdmittanceController* admittance = nullptr; ///< rigger/admittance/command, rigger/admittance/state
+  OperatorPanel* operator_panel = nullptr;    ///< rigger/operator/prompt, rigger/operator/response
+  WorldAccess* world_access = nullptr;        ///< world model features and pose updates
 };
 
 }  // namespace rigger::skill_executor

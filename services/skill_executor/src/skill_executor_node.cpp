@@ -33,11 +33,25 @@ SkillExecutorNode::SkillExecutorNode(dds::ServiceContext& ctx, SkillRegistry reg
     world_client_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log,
                                                                 executor_id + "-" + std::to_string(::getpid()));
     resolver_ = std::make_unique<WorldFeatureResolver>(*world_client_);
+    world_access_ = std::make_unique<DdsWorldAccess>(*world_client_);
   }
+  if (ctx.config.get<bool>("crane", true))
+    crane_ = std::make_unique<DdsCraneMonitor>(ctx.participant, ctx.loop, ctx.log, executor_id);
+  if (ctx.config.get<bool>("tracker", true))
+    tracker_ = std::make_unique<DdsVisionTracker>(ctx.participant, ctx.loop, ctx.log, executor_id);
+  if (ctx.config.get<bool>("admittance", true))
+    admittance_ = std::make_unique<DdsAdmittanceController>(ctx.participant, ctx.loop, ctx.log, executor_id);
+  if (ctx.config.get<bool>("operator", true))
+    operator_panel_ = std::make_unique<DdsOperatorPanel>(ctx.participant, ctx.loop, ctx.log, executor_id);
   run_options_.resolve_frame = ctx.config.get<std::string>("resolve_frame", "world");
   run_options_.resolve_timeout = from_seconds(ctx.config.get_in_range("resolve_timeout_s", 2.0, 0.05, 30.0));
   ctx.config.finish();
   devices_ = Devices{robot_.get(), gripper_.get(), resolver_.get()};
+  devices_.crane = crane_.get();
+  devices_.tracker = tracker_.get();
+  devices_.admittance = admittance_.get();
+  devices_.operator_panel = operator_panel_.get();
+  devices_.world_access = world_access_.get();
   endpoint_ = std::make_unique<executor::ExecutorEndpoint>(
       ctx.participant, ctx.loop, ctx.log, executor_id, registry_.library_json(skills),
       executor::ExecutorEndpoint::Handlers{[this](const executor::StartRequest& r) { on_start(r); },

@@ -9,7 +9,12 @@
 ///   "skills": array of skill names, default every skill of this binary
 ///   "robot": boolean, default true — offer the robot (cmd_motion/motion_status/state) to skills
 ///   "gripper": boolean, default true — offer the gripper (gripper/cmd, gripper/state)
-///   "world_model": boolean, default true — resolve feature_ref params through the world model
+///   "world_model": boolean, default true — resolve feature_ref params through the world model, and offer
+///                  its features and pose updates (Localize, Screw, InsertVisuallyGuided)
+///   "crane": boolean, default true — offer the crane's health and external control (crane/state, crane/control)
+///   "tracker": boolean, default true — offer the vision tracker (tracker/command, tracker/pose)
+///   "admittance": boolean, default true — offer admittance control (admittance/command, admittance/state)
+///   "operator": boolean, default true — offer operator prompts (operator/prompt, operator/response)
 ///   "resolve_frame": string, default "world" — the frame feature_ref params are resolved in
 ///   "resolve_timeout_s": number in [0.05, 30], default 2
 /// On node destruction (service stop) every running skill's safe stop is commanded (not awaited: the
@@ -20,6 +25,7 @@
 #include <string>
 #include <utility>
 
+#include "dds_cell_devices.hpp"
 #include "dds_devices.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
@@ -65,6 +71,11 @@ class SkillExecutorNode : public dds::Node {
   std::unique_ptr<DdsGripper> gripper_;
   std::unique_ptr<world_client::WorldClient> world_client_;
   std::unique_ptr<WorldFeatureResolver> resolver_;
+  std::unique_ptr<DdsWorldAccess> world_access_;
+  std::unique_ptr<DdsCraneMonitor> crane_;
+  std::unique_ptr<DdsVisionTracker> tracker_;
+  std::unique_ptr<DdsAdmittanceController> admittance_;
+  std::unique_ptr<DdsOperatorPanel> operator_panel_;
   Devices devices_;
   SkillRun::Options run_options_;
   std::map<RunKey, std::unique_ptr<SkillRun>> runs_;

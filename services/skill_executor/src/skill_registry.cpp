@@ -2,7 +2,14 @@
 
 #include <stdexcept>
 
+#include "skills/attach_robot_to_load.hpp"
+#include "skills/collaborative_move_load.hpp"
+#include "skills/insert_visually_guided.hpp"
+#include "skills/localize.hpp"
 #include "skills/move_to.hpp"
+#include "skills/pick_place.hpp"
+#include "skills/release.hpp"
+#include "skills/screw.hpp"
 
 namespace rigger::skill_executor {
 
@@ -48,6 +55,14 @@ nlohmann::json SkillRegistry::library_json(const std::vector<std::string>& names
 SkillRegistry builtin_skills() {
   SkillRegistry registry;
   registry.add({MoveToSkill::describe(), [] { return std::make_unique<MoveToSkill>(); }});
+  registry.add({LocalizeSkill::describe(), [] { return std::make_unique<LocalizeSkill>(); }});
+  registry.add({ScrewSkill::describe(), [] { return std::make_unique<ScrewSkill>(); }});
+  registry.add({CollaborativeMoveLoadSkill::describe(), [] { return std::make_unique<CollaborativeMoveLoadSkill>(); }});
+  registry.add({InsertVisuallyGuidedSkill::describe(), [] { return std::make_unique<InsertVisuallyGuidedSkill>(); }});
+  registry.add({AttachRobotToLoadSkill::describe(), [] { return std::make_unique<AttachRobotToLoadSkill>(); }});
+  registry.add({ReleaseSkill::describe(), [] { return std::make_unique<ReleaseSkill>(); }});
+  registry.add({PickSkill::describe(), [] { return std::make_unique<PickSkill>(); }});
+  registry.add({PlaceSkill::describe(), [] { return std::make_unique<PlaceSkill>(); }});
   return registry;
 }
 

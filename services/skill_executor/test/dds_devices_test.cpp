@@ -50,6 +50,33 @@ TEST_F(DdsDevicesTest, GripperTimesOutWithoutAnAnswer) {
   EXPECT_EQ(result->code, "TIMEOUT");
 }
 
+TEST_F(DdsDevicesTest, GripperWaitStateEndsOnTheFirstMatchingSampleOrTimesOut) {
+  DdsGripper gripper(participant_, loop_, null_logger(), "exec");
+  dds::Writer<rigger_robot_GripperState> state(participant_, kGripperStateTopic, dds::qos::state());
+  ASSERT_TRUE(state.wait_for_readers(1, 5s));
+  std::optional<std::optional<GripperSnapshot>> holding, timed_out;
+  gripper.wait_state([](const GripperSnapshot& g) { return g.holding; }, 5s,
+                     [&](std::optional<GripperSnapshot> g) { holding = g; });
+  gripper.wait_state([](const GripperSnapshot& g) { return g.holding_force_n > 5000.0; }, 200ms,
+                     [&](std::optional<GripperSnapshot> g) { timed_out = g; });
+  rigger_robot_GripperState s{};
+  s.energized = true;
+  s.contact = true;
+  state.write(s);  // energized, not holding: no answer to the first wait
+  loop_.run_until([] { return false; }, 100ms);
+  EXPECT_FALSE(holding);
+  s.holding = true;
+  s.holding_force_n = 1200.0;
+  s.header.stamp = dds::wire_now();
+  state.write(s);
+  ASSERT_TRUE(loop_.run_until([&] { return holding && timed_out; }, 5s));
+  ASSERT_TRUE(holding->has_value());
+  EXPECT_TRUE((*holding)->holding);
+  EXPECT_TRUE((*holding)->contact);
+  EXPECT_DOUBLE_EQ((*holding)->holding_force_n, 1200.0);
+  EXPECT_FALSE(timed_out->has_value());
+}
+
 TEST_F(DdsDevicesTest, RobotMoveEndsOnItsOwnMotionIdAndATimeoutStopsIt) {
   DdsRobot robot(participant_, loop_, null_logger(), "exec");
   dds::Reader<rigger_robot_MotionCommand> cmds(participant_, kMotionCommandTopic, dds::qos::commands());

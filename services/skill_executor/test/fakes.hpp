@@ -120,11 +120,12 @@ class FakeResolver final : public FeatureResolver {
     auto it = requests_.begin();
     auto req = std::move(it->second);
     requests_.erase(it);
-    ResolvedFeature f{req.ref, req.frame, pose, true, 0.1};
+    ResolvedFeature f{req.ref, req.frame, pose, localized, 0.1};
     req.done(result, f);
     return true;
   }
   std::size_t pending() const { return requests_.size(); }
+  bool localized = true;  ///< what answer() reports
   const Request* oldest() const { return requests_.empty() ? nullptr : &requests_.begin()->second; }
 
  private:
@@ -132,11 +133,92 @@ class FakeResolver final : public FeatureResolver {
   OpId next_ = 0;
 };
 
+/// The gripper: set_energized and wait_state are recorded; the test confirms commands (`confirm`)
+/// and publishes state samples (`publish`), which end every pending wait whose predicate they satisfy.
+class FakeGripper final : public Gripper {
+ public:
+  struct Command {
+    bool energize = false;
+    std::chrono::nanoseconds timeout{0};
+    OpCallback done;
+  };
+  struct Wait {
+    std::function<bool(const GripperSnapshot&)> predicate;
+    std::chrono::nanoseconds timeout{0};
+    StateCallback done;
+  };
+  OpId set_energized(bool energize, std::chrono::nanoseconds timeout, OpCallback done) override {
+    commands_[++next_] = {energize, timeout, std::move(done)};
+    commanded.push_back(energize);
+    return next_;
+  }
+  OpId wait_state(std::function<bool(const GripperSnapshot&)> predicate, std::chrono::nanoseconds timeout,
+                  StateCallback done) override {
+    waits_[++next_] = {std::move(predicate), timeout, std::move(done)};
+    return next_;
+  }
+  void cancel(OpId id) override {
+    if (commands_.erase(id) + waits_.erase(id)) ++cancels;
+  }
+  /// The newest pending set_energized, or nullptr.
+  const Command* pending_command() const { return commands_.empty() ? nullptr : &commands_.rbegin()->second; }
+  /// Completes the newest pending set_energized; false when none is pending.
+  bool confirm(const OpResult& result = OpResult::success()) {
+    if (commands_.empty()) return false;
+    auto it = std::prev(commands_.end());
+    auto done = std::move(it->second.done);
+    commands_.erase(it);
+    done(result);
+    return true;
+  }
+  /// Offers a state sample to the pending waits; returns how many it ended.
+  int publish(const GripperSnapshot& state) {
+    std::vector<StateCallback> ready;
+    for (auto it = waits_.begin(); it != waits_.end();) {
+      if (it->second.predicate(state)) {
+        ready.push_back(std::move(it->second.done));
+        it = waits_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    for (auto& done : ready) done(state);
+    return static_cast<int>(ready.size());
+  }
+  /// Ends the oldest pending wait with std::nullopt (its timeout); false when none is pending.
+  bool time_out_wait() {
+    if (waits_.empty()) return false;
+    auto it = waits_.begin();
+    auto done = std::move(it->second.done);
+    waits_.erase(it);
+    done(std::nullopt);
+    return true;
+  }
+  std::size_t pending_waits() const { return waits_.size(); }
+  const Wait* oldest_wait() const { return waits_.empty() ? nullptr : &waits_.begin()->second; }
+
+  static GripperSnapshot state(bool energized, bool holding, bool contact = false) {
+    GripperSnapshot g;
+    g.energized = energized;
+    g.holding = holding;
+    g.contact = contact || holding;
+    return g;
+  }
+
+  std::vector<bool> commanded;  ///< every set_energized, in order
+  int cancels = 0;
+
+ private:
+  std::map<OpId, Command> commands_;
+  std::map<OpId, Wait> waits_;
+  OpId next_ = 0;
+};
+
 /// A SkillRun on fakes, recording its progress and result.
 struct RunHarness {
   RunHarness(const SkillType& type, nlohmann::json params) {
     run = std::make_unique<SkillRun>(
-        type, std::move(params), Devices{&robot, nullptr, &resolver}, timers, null_logger(),
+        type, std::move(params), Devices{&robot, &gripper, &resolver}, timers, null_logger(),
         SkillRun::Callbacks{[this](double f, const std::string& m) { progress.emplace_back(f, m); },
                             [this](const SkillResult& r) {
                               ++results;
@@ -145,6 +227,7 @@ struct RunHarness {
   }
   FakeTimers timers;
   FakeRobot robot;
+  FakeGripper gripper;
   FakeResolver resolver;
   std::unique_ptr<SkillRun> run;
   std::vector<std::pair<double, std::string>> progress;

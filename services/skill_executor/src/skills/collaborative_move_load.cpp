@@ -1,0 +1,210 @@
+#include "collaborative_move_load.hpp"
+
+#include "collaborative.hpp"
+
+namespace rigger::skill_executor {
+
+const skill::SkillDescription& CollaborativeMoveLoadSkill::describe() {
+  static const skill::SkillDescription kDescription = [] {
+    using skill::ParamSpec;
+    using skill::ParamType;
+    skill::SkillDescription d;
+    d.name = "CollaborativeMoveLoad";
+    d.kind = skill::SkillKind::kSkill;
+    d.description =
+        "The operator guides the crane-carried load held by the robot with the joystick: admittance "
+        "control of robot and crane (ROBOT_AND_CRANE, reference JOYSTICK) until the operator answers "
+        "'done' (or duration_s passed); then admittance OFF.";
+    d.params = {
+        ParamSpec{"object",
+                  ParamType::kString,
+                  "",
+                  1.0,
+                  std::nullopt,
+                  nlohmann::json("load"),
+                  {},
+                  "The crane-carried object the robot holds."},
+        ParamSpec{"reference",
+                  ParamType::kEnum,
+                  "",
+                  std::nullopt,
+                  std::nullopt,
+                  nlohmann::json("joystick"),
+                  {"joystick"},
+                  "The motion reference: the operator's joystick (rigger/operator/joystick). Visual servoing is "
+                  "InsertVisuallyGuided's."},
+        ParamSpec{
+            "duration_s",
+            ParamType::kNumber,
+            "s",
+            0.0,
+            3600.0,
+            nlohmann::json(0.0),
+            {},
+            "Ends with SUCCESS after this time (the operator may end earlier); 0: only the operator's 'done' ends it."},
+        ParamSpec{"max_duration_s",
+                  ParamType::kNumber,
+                  "s",
+                  1.0,
+                  7200.0,
+                  nlohmann::json(600.0),
+                  {},
+                  "With duration_s = 0: fails with TIMEOUT when the operator did not answer within this time."},
+    };
+    d.resources = {"robot", "crane", "operator", "$object"};
+    d.preconditions = {*skill::parse_predicate("attached(robot,$object)")};
+    d.postconditions = {*skill::parse_predicate("moved($object)"), *skill::parse_predicate("!localized($object)")};
+    return d;
+  }();
+  return kDescription;
+}
+
+CollaborativeMoveLoadSkill::CollaborativeMoveLoadSkill() {
+  const auto stop = [this](SafeStopDone done) { safe_stop(done); };
+  add_state({"check_crane", [this] { check_crane(); }, nothing_to_stop});
+  add_state({"crane_external", [this] { crane_external(); }, nothing_to_stop});
+  add_state({"engage", [this] { engage(); }, stop});
+  add_state({"guide", [this] { guide(); }, stop});
+  add_state({"disengage", [this] { disengage(); }, stop});
+}
+
+void CollaborativeMoveLoadSkill::safe_stop(const SafeStopDone& done) {
+  admittance_safe_stop(ctx().devices().admittance, nullptr, "", done);
+}
+
+void CollaborativeMoveLoadSkill::check_crane() {
+  const Devices& devices = ctx().devices();
+  const char* missing = devices.admittance == nullptr       ? "an admittance controller"
+                        : devices.crane == nullptr          ? "a crane monitor"
+                        : devices.operator_panel == nullptr ? "an operator panel"
+                                                            : nullptr;
+  if (missing) {
+    fail("DEVICE_UNAVAILABLE", std::string("this executor has no ") + missing);
+    return;
+  }
+  ctx().progress(0.05, "checking the crane");
+  CraneMonitor* crane = devices.crane;
+  const OpId id = crane->check_health(kCraneStateMaxAge, kCraneCheckTimeout, guard([this](const OpResult& r) {
+                                        if (r.ok)
+                                          transition("crane_external");
+                                        else
+                                          fail(kCraneFault, r.message);
+                                      }));
+  track([crane, id] { crane->cancel(id); });
+}
+
+void CollaborativeMoveLoadSkill::crane_external() {
+  CraneMonitor* crane = ctx().devices().crane;
+  const OpId id = crane->request_external(kCraneExternalTimeout, guard([this](const OpResult& r) {
+                                            if (r.ok)
+                                              transition("engage");
+                                            else
+                                              fail(kCraneFault, r.message);
+                                          }));
+  track([crane, id] { crane->cancel(id); });
+}
+
+void CollaborativeMoveLoadSkill::engage() {
+  ctx().progress(0.1, "admittance ROBOT_AND_CRANE with the joystick");
+  AdmittanceController* admittance = ctx().devices().admittance;
+  AdmittanceRequest request;
+  request.mode = AdmittanceModeRequest::kRobotAndCrane;
+  request.reference = AdmittanceReference::kJoystick;
+  const OpId id = admittance->command(request, kAdmittanceEngageTimeout, guard([this](const OpResult& r) {
+                                        if (r.ok)
+                                          transition("guide");
+                                        else
+                                          fail(r.code == "ADMITTANCE_PREEMPTED" ? r.code : "ADMITTANCE_FAULT",
+                                               "engaging admittance ROBOT_AND_CRANE: " + r.code + ": " + r.message);
+                                      }));
+  track([admittance, id] { admittance->cancel(id); });
+}
+
+void CollaborativeMoveLoadSkill::guide() {
+  const Devices& devices = ctx().devices();
+  const std::string object = params().at("object").get<std::string>();
+  const double duration_s = params().at("duration_s").get<double>();
+  const double max_duration_s = params().at("max_duration_s").get<double>();
+  ctx().progress(-1.0, "the operator guides " + object + " with the joystick; answer 'done' when it is in place");
+
+  CraneMonitor* crane = devices.crane;
+  const OpId crane_watch =
+      crane->watch_health(kCraneMaxSilence, guard([this](const OpResult& r) { fail(kCraneFault, r.message); }));
+  track([crane, crane_watch] { crane->cancel(crane_watch); });
+
+  AdmittanceController* admittance = devices.admittance;
+  const OpId admittance_watch = admittance->watch(guard([this](const AdmittanceSnapshot& s) { on_admittance(s); }));
+  track([admittance, admittance_watch] { admittance->cancel(admittance_watch); });
+  track([this] {
+    if (fault_timer_ != 0) ctx().cancel_timer(fault_timer_);
+    fault_timer_ = 0;
+  });
+
+  OperatorPanel* panel = devices.operator_panel;
+  OperatorPromptSpec spec;
+  spec.kind = "confirm";
+  spec.title = "Guide the " + object;
+  spec.text = "Guide the " + object +
+              " with the joystick (robot and crane follow). Answer done when it is in place, "
+              "abort to stop.";
+  spec.options = {"done", "abort"};
+  spec.details = {{"object", object}, {"duration_s", duration_s}};
+  spec.timeout_s = duration_s > 0.0 ? duration_s : max_duration_s;
+  const OpId prompt = panel->ask(spec, from_seconds(spec.timeout_s + 1.0), guard([this](std::optional<std::string> a) {
+                                   if (a && *a == "done")
+                                     transition("disengage");
+                                   else if (a)
+                                     fail("OPERATOR_ABORTED", "the operator aborted the guided move");
+                                   // No answer: the duration timers below decide.
+                                 }));
+  track([panel, prompt] { panel->withdraw(prompt); });
+
+  if (duration_s > 0.0) {
+    after(from_seconds(duration_s), [this] { transition("disengage"); });
+  } else {
+    after(from_seconds(max_duration_s), [this, max_duration_s] {
+      fail("TIMEOUT",
+           "the operator did not answer 'done' within " + std::to_string(static_cast<int>(max_duration_s)) + " s");
+    });
+  }
+}
+
+void CollaborativeMoveLoadSkill::on_admittance(const AdmittanceSnapshot& s) {
+  if (!s.fault) {
+    if (fault_timer_ != 0) ctx().cancel_timer(fault_timer_);
+    fault_timer_ = 0;
+  } else if (fault_timer_ == 0) {
+    const std::string code = admittance_fault_code(s.fault_code);
+    const std::string message = "admittance_control: " + s.fault_code + " " + s.fault_text;
+    fault_timer_ =
+        ctx().after(kAdmittanceFaultGrace, guard([this, code, message] {
+                      fault_timer_ = 0;
+                      fail(code, message + " (for " + std::to_string(kAdmittanceFaultGrace.count()) + " ms)");
+                    }));
+  }
+  if (s.mode != AdmittanceModeRequest::kRobotAndCrane || s.reference != AdmittanceReference::kJoystick) {
+    if (s.fault) {  // the controller went OFF by itself on a latched fault (CRANE_FAULT, COMMANDER_LOST, ...)
+      fail(admittance_fault_code(s.fault_code),
+           "admittance_control stopped with fault " + s.fault_code + " " + s.fault_text);
+      return;
+    }
+    fail("ADMITTANCE_PREEMPTED", "admittance_control left ROBOT_AND_CRANE/JOYSTICK (another command?)");
+  }
+}
+
+void CollaborativeMoveLoadSkill::disengage() {
+  ctx().progress(0.95, "admittance OFF");
+  AdmittanceController* admittance = ctx().devices().admittance;
+  AdmittanceRequest off;
+  off.mode = AdmittanceModeRequest::kOff;
+  const OpId id =
+      admittance->command(off, kAdmittanceStopTimeout, guard([this](const OpResult& r) {
+                            if (r.ok)
+                              succeed("the operator moved the load; admittance OFF, robot and crane at rest");
+                            else
+                              fail("ADMITTANCE_FAULT", "admittance OFF not confirmed: " + r.code + ": " + r.message);
+                          }));
+  track([admittance, id] { admittance->cancel(id); });
+}
+
+}  // namespace rigger::skill_executor

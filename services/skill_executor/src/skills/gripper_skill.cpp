@@ -1,0 +1,200 @@
+#include "gripper_skill.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "../cell_devices.hpp"
+
+namespace rigger::skill_executor {
+
+namespace {
+std::string mm(double m) {
+  return std::to_string(static_cast<long long>(std::lround(m * 1000.0))) + " mm";
+}
+}  // namespace
+
+double speed_scale_for(double tool_speed_mps) {
+  return std::clamp(tool_speed_mps / kRobotMaxToolSpeedMps, 0.001, 1.0);
+}
+
+Eigen::Isometry3d along_tool_z(const Eigen::Isometry3d& pose, double distance_m) {
+  return pose * Eigen::Translation3d(0.0, 0.0, distance_m);
+}
+
+std::optional<std::string> check_straight_approach(const Eigen::Isometry3d& from, const Eigen::Isometry3d& to,
+                                                   double max_reach_m, double max_length_m, double max_angle_rad) {
+  for (const auto* pose : {&from, &to}) {
+    PoseParam p{*pose, kRobotBaseFrame};
+    if (auto error = plan_cartesian_goal(p, max_reach_m)) return *error;
+  }
+  const double length_m = (to.translation() - from.translation()).norm();
+  if (length_m > max_length_m)
+    return "the straight approach is " + mm(length_m) + " long, more than the " + mm(max_length_m) + " allowed";
+  const double angle_rad = Eigen::AngleAxisd(from.linear().transpose() * to.linear()).angle();
+  if (angle_rad > max_angle_rad) {
+    return "the approach and grasp orientations differ by " + std::to_string(angle_rad * 180.0 / M_PI) +
+           " deg (a straight approach allows " + std::to_string(max_angle_rad * 180.0 / M_PI) + " deg)";
+  }
+  return std::nullopt;
+}
+
+GripperSkill::~GripperSkill() {
+  if (overall_timer_ != 0) ctx().cancel_timer(overall_timer_);
+}
+
+bool GripperSkill::require_devices(bool robot, bool gripper, bool world) {
+  const Devices& d = ctx().devices();
+  const char* missing = robot && !d.robot       ? "robot"
+                        : gripper && !d.gripper ? "gripper"
+                        : world && !d.world     ? "world model"
+                                                : nullptr;
+  if (missing == nullptr) return true;
+  fail("DEVICE_UNAVAILABLE", std::string("this executor has no ") + missing);
+  return false;
+}
+
+void GripperSkill::start_overall_timeout(double timeout_s) {
+  overall_timeout_ = from_seconds(timeout_s);
+  // Not a state timer: it spans every state. fail() runs the current state's safe stop first.
+  overall_timer_ = ctx().after(overall_timeout_, [this, timeout_s] {
+    overall_timer_ = 0;
+    if (finished() || stopping()) return;
+    fail("TIMEOUT", "not done within timeout_s = " + std::to_string(timeout_s) + " s (in state " + state() + ")");
+  });
+}
+
+void GripperSkill::check_crane(bool required, std::function<void()> then) {
+  if (!required) {
+    then();
+    return;
+  }
+  CraneMonitor* crane = ctx().devices().crane;
+  if (crane == nullptr) {
+    fail("DEVICE_UNAVAILABLE", "this executor has no crane state (needed by check_crane = true)");
+    return;
+  }
+  const OpId id = crane->check_health(std::chrono::seconds(1), std::chrono::seconds(2),
+                                      guard([this, then = std::move(then)](const OpResult& result) {
+                                        if (result.ok)
+                                          then();
+                                        else
+                                          fail(result.code.empty() ? kCraneFault : result.code, result.message);
+                                      }));
+  track([crane, id] { crane->cancel(id); });
+}
+
+void GripperSkill::watch_crane(bool required) {
+  CraneMonitor* crane = ctx().devices().crane;
+  if (!required || crane == nullptr) return;  // check_crane() refused a missing crane before
+  const OpId id =
+      crane->watch_health(std::chrono::seconds(1), guard([this](const OpResult& problem) {
+                            fail(problem.code.empty() ? kCraneFault : problem.code,
+                                 "the crane reported a problem in state " + state() + ": " + problem.message);
+                          }));
+  track([crane, id] { crane->cancel(id); });
+}
+
+void GripperSkill::resolve_in_robot_frame(const std::string& ref, std::function<void(const Eigen::Isometry3d&)> then) {
+  FeatureResolver* world = ctx().devices().world;
+  const OpId id = world->resolve(
+      ref, kRobotBaseFrame, kResolveTimeout,
+      guard([this, ref, then = std::move(then)](const OpResult& result, const ResolvedFeature& feature) {
+        if (!result.ok) {
+          fail(result.code.empty() ? "WORLD_UNREACHABLE" : result.code, "feature " + ref + ": " + result.message);
+          return;
+        }
+        if (!feature.localized) {
+          fail("NOT_LOCALIZED", "feature " + ref + ": its entity has not been localized (run Localize first)");
+          return;
+        }
+        if (feature.frame != kRobotBaseFrame) {
+          fail("NOT_VERIFIABLE",
+               "feature " + ref + " came back in frame '" + feature.frame + "', not '" + kRobotBaseFrame + "'");
+          return;
+        }
+        then(feature.pose);
+      }));
+  if (id != 0) track([world, id] { world->cancel(id); });
+}
+
+void GripperSkill::move_tool(const Eigen::Isometry3d& pose_robot_tool, double speed_scale,
+                             std::chrono::nanoseconds timeout, std::function<void()> then) {
+  MotionGoal goal;
+  goal.kind = MotionGoal::Kind::kCartesian;
+  goal.pose_frame_tool = pose_robot_tool;
+  goal.frame = kRobotBaseFrame;
+  goal.speed_scale = speed_scale;
+  RobotMotion* robot = ctx().devices().robot;
+  const OpId id = robot->move(goal, timeout, guard([this, then = std::move(then)](const OpResult& result) {
+                                if (result.ok)
+                                  then();
+                                else
+                                  fail(result.code.empty() ? "MOTION_FAILED" : result.code, result.message);
+                              }));
+  track([robot, id] { robot->cancel(id); });
+}
+
+void GripperSkill::set_magnet(bool energize, std::function<void()> then) {
+  Gripper* gripper = ctx().devices().gripper;
+  const OpId id = gripper->set_energized(
+      energize, kGripperTimeout, guard([this, energize, then = std::move(then)](const OpResult& result) {
+        if (result.ok)
+          then();
+        else
+          fail("GRIPPER_TIMEOUT", std::string("the gripper did not confirm ") + (energize ? "energize" : "release") +
+                                      ": " + result.message);
+      }));
+  track([gripper, id] { gripper->cancel(id); });
+}
+
+void GripperSkill::wait_gripper(std::function<bool(const GripperSnapshot&)> predicate, std::chrono::nanoseconds timeout,
+                                std::function<void(const GripperSnapshot&)> on_sample,
+                                std::function<void()> on_timeout) {
+  Gripper* gripper = ctx().devices().gripper;
+  const OpId id = gripper->wait_state(
+      std::move(predicate), timeout,
+      guard([on_sample = std::move(on_sample), on_timeout = std::move(on_timeout)](std::optional<GripperSnapshot> s) {
+        if (s)
+          on_sample(*s);
+        else
+          on_timeout();
+      }));
+  track([gripper, id] { gripper->cancel(id); });
+}
+
+void GripperSkill::read_gripper(std::function<void(const GripperSnapshot&)> then) {
+  wait_gripper([](const GripperSnapshot&) { return true; }, kStateTimeout, std::move(then),
+               [this] {
+                 fail("GRIPPER_STATE_STALE",
+                      "no rigger/gripper/state sample within " + std::to_string(kStateTimeout.count()) + " s");
+               });
+}
+
+void GripperSkill::read_robot(std::function<void(const RobotSnapshot&)> then) {
+  RobotMotion* robot = ctx().devices().robot;
+  const OpId id = robot->next_state(
+      kStateTimeout, guard([this, then = std::move(then)](std::optional<RobotSnapshot> s) {
+        if (!s) {
+          fail("ROBOT_STATE_STALE",
+               "no rigger/robot/state sample within " + std::to_string(kStateTimeout.count()) + " s");
+          return;
+        }
+        if (s->frame != kRobotBaseFrame) {
+          fail("NOT_VERIFIABLE", "the robot reports its tool in '" + s->frame + "', not '" + kRobotBaseFrame + "'");
+          return;
+        }
+        if (!s->fault.empty()) {
+          fail("ROBOT_FAULT", "the robot reports the fault '" + s->fault + "'");
+          return;
+        }
+        then(*s);
+      }));
+  track([robot, id] { robot->cancel(id); });
+}
+
+void GripperSkill::stop_robot(const SafeStopDone& done) {
+  // Not guarded: the safe stop runs after the state was left, and its answer is what STOPPED waits for.
+  ctx().devices().robot->stop(kStopTimeout, [done](const OpResult& result) { done(result.ok, result.message); });
+}
+
+}  // namespace rigger::skill_executor

@@ -1,0 +1,394 @@
+#include "insert_visually_guided.hpp"
+
+#include <cmath>
+
+#include "../pose_param.hpp"
+#include "collaborative.hpp"
+
+namespace rigger::skill_executor {
+
+std::optional<std::string> insertion_goal(const nlohmann::json& features, const std::string& target,
+                                          const Eigen::Vector3d& standoff_in_target_m, Eigen::Isometry3d& goal) {
+  const auto insertion = features.find("insertion");
+  if (insertion == features.end() || !insertion->is_object()) return std::string("it has no insertion feature");
+  const std::string insertion_target = insertion->value("target", std::string());
+  if (insertion_target != target) {
+    return "its insertion feature is for target '" + insertion_target + "', not '" + target + "'";
+  }
+  if (!insertion->contains("pose_in_target")) return std::string("its insertion feature has no pose_in_target");
+  try {
+    goal = pose_from_param(insertion->at("pose_in_target"), target).pose;
+  } catch (const std::exception& e) {
+    return std::string("insertion.pose_in_target: ") + e.what();
+  }
+  if (!goal.matrix().allFinite()) return std::string("insertion.pose_in_target is not finite");
+  goal.translation() += standoff_in_target_m;
+  return std::nullopt;
+}
+
+const skill::SkillDescription& InsertVisuallyGuidedSkill::describe() {
+  static const skill::SkillDescription kDescription = [] {
+    using skill::ParamSpec;
+    using skill::ParamType;
+    skill::SkillDescription d;
+    d.name = "InsertVisuallyGuided";
+    d.kind = skill::SkillKind::kSkill;
+    d.description =
+        "Brings the crane-carried load held by the robot to its insertion pose on the target by visual "
+        "servoing (admittance ROBOT_AND_CRANE, reference VISUAL_SERVO, tracker continuous); succeeds when "
+        "converged within tolerance for settle_s, then admittance OFF (robot and crane hold, magnet on).";
+    d.params = {
+        ParamSpec{"object",
+                  ParamType::kString,
+                  "",
+                  1.0,
+                  std::nullopt,
+                  nlohmann::json("load"),
+                  {},
+                  "The tracked object that moves (held by the robot, carried by the crane)."},
+        ParamSpec{"target",
+                  ParamType::kString,
+                  "",
+                  1.0,
+                  std::nullopt,
+                  nlohmann::json("target"),
+                  {},
+                  "The tracked object it is inserted into."},
+        ParamSpec{"tolerance_m",
+                  ParamType::kNumber,
+                  "m",
+                  0.0005,
+                  0.05,
+                  nlohmann::json(0.005),
+                  {},
+                  "Largest position error counted as inserted."},
+        ParamSpec{
+            "tolerance_rad",
+            ParamType::kNumber,
+            "rad",
+            0.0008,
+            0.2,
+            nlohmann::json(M_PI / 180.0),
+            {},
+            "Largest rotation error counted as inserted; default 1 deg (write {\"value\": 1, \"unit\": \"deg\"})."},
+        ParamSpec{"settle_s",
+                  ParamType::kNumber,
+                  "s",
+                  0.0,
+                  30.0,
+                  nlohmann::json(1.0),
+                  {},
+                  "The error must stay within tolerance this long."},
+        ParamSpec{"timeout_s",
+                  ParamType::kNumber,
+                  "s",
+                  1.0,
+                  600.0,
+                  nlohmann::json(120.0),
+                  {},
+                  "Fails with TIMEOUT when not settled this long after the servo started."},
+        ParamSpec{"standoff_x_m",
+                  ParamType::kNumber,
+                  "m",
+                  -0.5,
+                  0.5,
+                  nlohmann::json(0.0),
+                  {},
+                  "Stand-off added to the insertion position, x in the target frame."},
+        ParamSpec{"standoff_y_m",
+                  ParamType::kNumber,
+                  "m",
+                  -0.5,
+                  0.5,
+                  nlohmann::json(0.0),
+                  {},
+                  "Stand-off added to the insertion position, y in the target frame."},
+        ParamSpec{"standoff_z_m",
+                  ParamType::kNumber,
+                  "m",
+                  -0.5,
+                  0.5,
+                  nlohmann::json(0.0),
+                  {},
+                  "Stand-off added to the insertion position, z in the target frame (e.g. 0.05 to stop above)."},
+        ParamSpec{"min_quality",
+                  ParamType::kNumber,
+                  "",
+                  0.0,
+                  1.0,
+                  nlohmann::json(0.5),
+                  {},
+                  "Tracker poses below this quality count as not tracked."},
+        ParamSpec{"tracking_lost_s",
+                  ParamType::kNumber,
+                  "s",
+                  0.05,
+                  10.0,
+                  nlohmann::json(1.0),
+                  {},
+                  "Fails with TRACKING_LOST when object or target is not tracked (or the servo stops for "
+                  "tracking) for this long."},
+    };
+    d.resources = {"robot", "crane", "camera", "$object", "$target"};
+    d.preconditions = {*skill::parse_predicate("attached(robot,$object)"),
+                       *skill::parse_predicate("localized($object)"), *skill::parse_predicate("localized($target)")};
+    d.postconditions = {*skill::parse_predicate("inserted($object,$target)")};
+    return d;
+  }();
+  return kDescription;
+}
+
+InsertVisuallyGuidedSkill::InsertVisuallyGuidedSkill() {
+  const auto stop = [this](SafeStopDone done) { safe_stop(done); };
+  add_state({"check_crane", [this] { check_crane(); }, nothing_to_stop});
+  add_state({"lookup", [this] { lookup(); }, nothing_to_stop});
+  add_state({"crane_external", [this] { crane_external(); }, nothing_to_stop});
+  add_state({"track", [this] { start_tracking(); }, [this](SafeStopDone done) { stop_tracking(done); }});
+  add_state({"engage", [this] { engage(); }, stop});
+  add_state({"servo", [this] { servo(); }, stop});
+  add_state({"hold", [this] { hold(); }, stop});
+}
+
+void InsertVisuallyGuidedSkill::safe_stop(const SafeStopDone& done) {
+  admittance_safe_stop(ctx().devices().admittance, ctx().devices().tracker, object_, done);
+}
+
+void InsertVisuallyGuidedSkill::stop_tracking(const SafeStopDone& done) {
+  ctx().devices().tracker->command(TrackerRequest::kStop, object_);
+  done(true, "tracker stopped; nothing else was commanded");
+}
+
+bool InsertVisuallyGuidedSkill::good(const TrackedObjectSample& s) const {
+  return s.tracked && s.quality >= min_quality_ && s.pose.matrix().allFinite();
+}
+
+void InsertVisuallyGuidedSkill::rearm(std::uint64_t& slot, std::chrono::nanoseconds delay,
+                                      std::function<void()> handler) {
+  if (slot != 0) ctx().cancel_timer(slot);
+  slot = ctx().after(delay, guard(std::move(handler)));
+}
+
+void InsertVisuallyGuidedSkill::cancel_timers() {
+  for (std::uint64_t* slot : {&lost_timer_[0], &lost_timer_[1], &servo_stop_timer_, &settle_timer_, &fault_timer_}) {
+    if (*slot != 0) ctx().cancel_timer(*slot);
+    *slot = 0;
+  }
+}
+
+void InsertVisuallyGuidedSkill::check_crane() {
+  const Devices& devices = ctx().devices();
+  const char* missing = devices.admittance == nullptr     ? "an admittance controller"
+                        : devices.crane == nullptr        ? "a crane monitor"
+                        : devices.tracker == nullptr      ? "a vision tracker"
+                        : devices.world_access == nullptr ? "a world model"
+                                                          : nullptr;
+  if (missing) {
+    fail("DEVICE_UNAVAILABLE", std::string("this executor has no ") + missing);
+    return;
+  }
+  object_ = params().at("object").get<std::string>();
+  target_ = params().at("target").get<std::string>();
+  min_quality_ = params().at("min_quality").get<double>();
+  if (object_ == target_) {
+    fail("BAD_PARAMS", "/params/target: the target must differ from the object '" + object_ + "'");
+    return;
+  }
+  ctx().progress(0.02, "checking the crane");
+  CraneMonitor* crane = devices.crane;
+  const OpId id = crane->check_health(kCraneStateMaxAge, kCraneCheckTimeout, guard([this](const OpResult& r) {
+                                        if (r.ok)
+                                          transition("lookup");
+                                        else
+                                          fail(kCraneFault, r.message);
+                                      }));
+  track([crane, id] { crane->cancel(id); });
+}
+
+void InsertVisuallyGuidedSkill::lookup() {
+  WorldAccess* world = ctx().devices().world_access;
+  const OpId id = world->features(object_, kWorldTimeout, guard([this](const OpResult& r, const nlohmann::json& f) {
+                                    if (!r.ok) {
+                                      fail(r.code, "features of '" + object_ + "': " + r.message);
+                                      return;
+                                    }
+                                    const Eigen::Vector3d standoff(params().at("standoff_x_m").get<double>(),
+                                                                   params().at("standoff_y_m").get<double>(),
+                                                                   params().at("standoff_z_m").get<double>());
+                                    if (auto error = insertion_goal(f, target_, standoff, goal_)) {
+                                      fail("UNKNOWN_FEATURE", "'" + object_ + "': " + *error);
+                                      return;
+                                    }
+                                    transition("crane_external");
+                                  }));
+  track([world, id] { world->cancel(id); });
+}
+
+void InsertVisuallyGuidedSkill::crane_external() {
+  CraneMonitor* crane = ctx().devices().crane;
+  const OpId id = crane->request_external(kCraneExternalTimeout, guard([this](const OpResult& r) {
+                                            if (r.ok)
+                                              transition("track");
+                                            else
+                                              fail(kCraneFault, r.message);
+                                          }));
+  track([crane, id] { crane->cancel(id); });
+}
+
+void InsertVisuallyGuidedSkill::start_tracking() {
+  ctx().progress(0.05, "tracking " + object_ + " and " + target_);
+  VisionTracker* tracker = ctx().devices().tracker;
+  seen_[0] = seen_[1] = false;
+  const std::string names[2] = {object_, target_};
+  for (int i = 0; i < 2; ++i) {
+    const OpId w = tracker->watch(names[i], guard([this, i](const TrackedObjectSample& s) {
+                                    if (!good(s)) return;
+                                    seen_[i] = true;
+                                    if (seen_[0] && seen_[1]) transition("engage");
+                                  }));
+    track([tracker, w] { tracker->cancel(w); });
+  }
+  tracker->command(TrackerRequest::kContinuous, object_);
+  tracker->command(TrackerRequest::kContinuous, target_);
+  after(kTrackStartTimeout, [this] {
+    fail("TRACKING_LOST", std::string("no good tracker pose of ") +
+                              (!seen_[0] && !seen_[1] ? object_ + " and " + target_
+                               : !seen_[0]            ? object_
+                                                      : target_) +
+                              " within " + std::to_string(kTrackStartTimeout.count()) + " s of TRACK_CONTINUOUS");
+  });
+}
+
+void InsertVisuallyGuidedSkill::engage() {
+  ctx().progress(0.1, "admittance ROBOT_AND_CRANE, visual servo to " + target_);
+  AdmittanceController* admittance = ctx().devices().admittance;
+  AdmittanceRequest request;
+  request.mode = AdmittanceModeRequest::kRobotAndCrane;
+  request.reference = AdmittanceReference::kVisualServo;
+  request.servo_object = object_;
+  request.servo_target = target_;
+  request.servo_goal_in_target = goal_;
+  const OpId id = admittance->command(request, kAdmittanceEngageTimeout, guard([this](const OpResult& r) {
+                                        if (r.ok)
+                                          transition("servo");
+                                        else
+                                          fail(r.code == "ADMITTANCE_PREEMPTED" ? r.code : "ADMITTANCE_FAULT",
+                                               "engaging the visual servo: " + r.code + ": " + r.message);
+                                      }));
+  track([admittance, id] { admittance->cancel(id); });
+}
+
+void InsertVisuallyGuidedSkill::servo() {
+  const Devices& devices = ctx().devices();
+  track([this] { cancel_timers(); });
+
+  CraneMonitor* crane = devices.crane;
+  const OpId crane_watch =
+      crane->watch_health(kCraneMaxSilence, guard([this](const OpResult& r) { fail(kCraneFault, r.message); }));
+  track([crane, crane_watch] { crane->cancel(crane_watch); });
+
+  AdmittanceController* admittance = devices.admittance;
+  const OpId admittance_watch = admittance->watch(guard([this](const AdmittanceSnapshot& s) { on_admittance(s); }));
+  track([admittance, admittance_watch] { admittance->cancel(admittance_watch); });
+
+  VisionTracker* tracker = devices.tracker;
+  const double lost_s = params().at("tracking_lost_s").get<double>();
+  const std::string names[2] = {object_, target_};
+  for (int i = 0; i < 2; ++i) {
+    const OpId w = tracker->watch(names[i], guard([this, i](const TrackedObjectSample& s) { on_pose(i, s); }));
+    track([tracker, w] { tracker->cancel(w); });
+    const std::string name = names[i];
+    rearm(lost_timer_[i], from_seconds(lost_s), [this, name, lost_s] {
+      fail("TRACKING_LOST", "no good tracker pose of " + name + " for " + std::to_string(lost_s) + " s");
+    });
+  }
+  const double timeout_s = params().at("timeout_s").get<double>();
+  after(from_seconds(timeout_s), [this, timeout_s] {
+    fail("TIMEOUT",
+         "not inserted within " + std::to_string(static_cast<int>(timeout_s)) + " s" +
+             (last_error_m_ >= 0.0 ? "; last servo error " + servo_error_text(last_error_m_, last_error_rad_) : ""));
+  });
+}
+
+void InsertVisuallyGuidedSkill::on_pose(int index, const TrackedObjectSample& s) {
+  if (!good(s)) return;  // the lost timer keeps running
+  const double lost_s = params().at("tracking_lost_s").get<double>();
+  const std::string name = index == 0 ? object_ : target_;
+  rearm(lost_timer_[index], from_seconds(lost_s), [this, name, lost_s] {
+    fail("TRACKING_LOST", "no good tracker pose of " + name + " for " + std::to_string(lost_s) + " s");
+  });
+}
+
+void InsertVisuallyGuidedSkill::on_admittance(const AdmittanceSnapshot& s) {
+  const double lost_s = params().at("tracking_lost_s").get<double>();
+  if (is_tracking_stop_code(s.fault_code)) {
+    // The servo stopped its reference for lack of tracking: output zero, safe. Fail only if it lasts.
+    if (fault_timer_ != 0) ctx().cancel_timer(fault_timer_);
+    fault_timer_ = 0;
+    if (servo_stop_timer_ == 0) {
+      const std::string code = s.fault_code;
+      rearm(servo_stop_timer_, from_seconds(lost_s), [this, code, lost_s] {
+        fail("TRACKING_LOST", "the visual servo reported " + code + " for " + std::to_string(lost_s) + " s");
+      });
+    }
+  } else {
+    if (servo_stop_timer_ != 0) ctx().cancel_timer(servo_stop_timer_);
+    servo_stop_timer_ = 0;
+    if (!s.fault) {
+      if (fault_timer_ != 0) ctx().cancel_timer(fault_timer_);
+      fault_timer_ = 0;
+    } else if (fault_timer_ == 0) {
+      const std::string code = admittance_fault_code(s.fault_code);
+      const std::string message = "admittance_control: " + s.fault_code + " " + s.fault_text;
+      rearm(fault_timer_, kAdmittanceFaultGrace, [this, code, message] {
+        fail(code, message + " (for " + std::to_string(kAdmittanceFaultGrace.count()) + " ms)");
+      });
+    }
+  }
+  if (s.mode != AdmittanceModeRequest::kRobotAndCrane || s.reference != AdmittanceReference::kVisualServo) {
+    if (s.fault) {  // the controller went OFF by itself on a latched fault (CRANE_FAULT, COMMANDER_LOST, ...)
+      fail(admittance_fault_code(s.fault_code),
+           "admittance_control stopped with fault " + s.fault_code + " " + s.fault_text);
+      return;
+    }
+    fail("ADMITTANCE_PREEMPTED", "admittance_control left ROBOT_AND_CRANE/VISUAL_SERVO (another command?)");
+    return;
+  }
+  last_error_m_ = s.servo_error_m;
+  last_error_rad_ = s.servo_error_rad;
+  if (!last_progress_ || s.stamp - *last_progress_ >= std::chrono::seconds(1)) {
+    last_progress_ = s.stamp;
+    ctx().progress(-1.0, "servo error " + servo_error_text(s.servo_error_m, s.servo_error_rad));
+  }
+  const bool within = !s.fault && s.servo_converged && s.servo_error_m <= params().at("tolerance_m").get<double>() &&
+                      s.servo_error_rad <= params().at("tolerance_rad").get<double>();
+  if (!within) {
+    if (settle_timer_ != 0) ctx().cancel_timer(settle_timer_);
+    settle_timer_ = 0;
+    return;
+  }
+  if (settle_timer_ == 0) {
+    rearm(settle_timer_, from_seconds(params().at("settle_s").get<double>()), [this] { transition("hold"); });
+  }
+}
+
+void InsertVisuallyGuidedSkill::hold() {
+  ctx().progress(0.95, "inserted; admittance OFF (robot and crane hold, magnet on)");
+  const Devices& devices = ctx().devices();
+  devices.tracker->command(TrackerRequest::kStop, object_);
+  AdmittanceController* admittance = devices.admittance;
+  AdmittanceRequest off;
+  off.mode = AdmittanceModeRequest::kOff;
+  const OpId id =
+      admittance->command(off, kAdmittanceStopTimeout, guard([this](const OpResult& r) {
+                            if (r.ok) {
+                              succeed("inserted " + object_ + " into " + target_ + " (servo error " +
+                                      servo_error_text(last_error_m_, last_error_rad_) +
+                                      "); admittance OFF, robot and crane hold, magnet on");
+                            } else {
+                              fail("ADMITTANCE_FAULT", "admittance OFF not confirmed: " + r.code + ": " + r.message);
+                            }
+                          }));
+  track([admittance, id] { admittance->cancel(id); });
+}
+
+}  // namespace rigger::skill_executor

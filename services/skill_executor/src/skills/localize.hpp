@@ -1,0 +1,58 @@
+#pragma once
+/// @file
+/// Localize: detects an object with the camera and stores its pose in the world model.
+///
+///   detect ──good pose──▶ update ──ACCEPTED──▶ SUCCESS
+///     │                    │ STAMP_BACKWARDS (a newer pose landed first): back to detect, at most 3 times
+///     ▼ (timeout)          ▼ (rejected / unreachable)
+///   NOT_DETECTED         WORLD_UPDATE_REJECTED / WORLD_UNREACHABLE
+///
+/// detect: TRACK_ONCE for the object (repeated every kRetryPeriod, and at once after a pose of a newer
+/// image that was not good enough, since the tracker goes idle after one image), until a
+/// rigger/tracker/pose of the object with tracked=true, quality ≥ min_quality and an image stamp newer
+/// than the first command. update: rigger/world/update of pose (in the tracker's frame), quality and
+/// localized=true, stamped with the image's stamp; waits for the world model's accepted result, so the
+/// postcondition localized(object) holds when it succeeds (the world model may also follow the tracker
+/// topic by itself; the equal stamp is accepted).
+///
+/// Safe stops: nothing moves in either state (the tracker goes idle by itself after TRACK_ONCE).
+/// Params: object, min_quality (0–1, default 0.5), timeout_s (0.1–60 s, default 5). Claims "camera".
+/// Failure codes: DEVICE_UNAVAILABLE, NOT_DETECTED, WORLD_UPDATE_REJECTED, WORLD_UNREACHABLE.
+
+#include <optional>
+#include <string>
+
+#include "../cell_devices.hpp"
+#include "../skill.hpp"
+
+namespace rigger::skill_executor {
+
+class LocalizeSkill final : public Skill {
+ public:
+  static const skill::SkillDescription& describe();
+  LocalizeSkill();
+
+  /// TRACK_ONCE is repeated this often while no good pose arrived (a best-effort pose may be lost).
+  static constexpr std::chrono::milliseconds kRetryPeriod{500};
+  /// How long the world model may take to answer the update.
+  static constexpr std::chrono::seconds kUpdateTimeout{2};
+  /// Updates refused with STAMP_BACKWARDS are retried with a fresh detection this often at most.
+  static constexpr int kMaxUpdateAttempts = 3;
+
+ private:
+  void detect();
+  void on_sample(const TrackedObjectSample& sample);
+  void send_once();
+  void update();
+
+  std::string object_;
+  double min_quality_ = 0.5;
+  std::optional<WallTime> first_command_;
+  WallTime last_command_;
+  std::optional<TrackedObjectSample> last_seen_;
+  std::optional<TrackedObjectSample> detected_;
+  int update_attempts_ = 0;
+  std::uint64_t retry_timer_ = 0;
+};
+
+}  // namespace rigger::skill_executor

@@ -1,0 +1,334 @@
+#include "pick_place.hpp"
+
+#include "../world_resolver.hpp"
+
+namespace rigger::skill_executor {
+
+namespace {
+
+using skill::ParamSpec;
+using skill::ParamType;
+
+ParamSpec object_param(const char* what) {
+  return ParamSpec{"object", ParamType::kString, "", 1.0, std::nullopt, std::nullopt, {}, what};
+}
+ParamSpec approach_m_param() {
+  return ParamSpec{"approach_m",
+                   ParamType::kNumber,
+                   "m",
+                   0.01,
+                   kPickPlaceMaxApproachM,
+                   nlohmann::json(0.10),
+                   {},
+                   "The approach pose is the target tool pose moved back this far along the tool's -z axis."};
+}
+ParamSpec approach_speed_param() {
+  return ParamSpec{"approach_speed_m_per_s",
+                   ParamType::kNumber,
+                   "m/s",
+                   0.005,
+                   0.25,
+                   nlohmann::json(0.05),
+                   {},
+                   "Tool speed of the straight descent and of the retreat."};
+}
+ParamSpec retreat_param() {
+  return ParamSpec{"retreat_m",
+                   ParamType::kNumber,
+                   "m",
+                   0.0,
+                   kPickPlaceMaxApproachM,
+                   nlohmann::json(0.10),
+                   {},
+                   "Straight retreat along the tool's -z axis at the end (0: none)."};
+}
+ParamSpec speed_scale_param() {
+  return ParamSpec{"speed_scale",
+                   ParamType::kNumber,
+                   "",
+                   0.01,
+                   1.0,
+                   nlohmann::json(0.2),
+                   {},
+                   "Fraction of the robot's maximum speed for the transfer to the approach pose."};
+}
+ParamSpec max_reach_param() {
+  return ParamSpec{"max_reach_m",
+                   ParamType::kNumber,
+                   "m",
+                   0.1,
+                   5.0,
+                   nlohmann::json(1.2),
+                   {},
+                   "Tool poses farther than this from the robot base are refused by the planner."};
+}
+ParamSpec timeout_param() {
+  return ParamSpec{"timeout_s", ParamType::kNumber,
+                   "s",         1.0,
+                   600.0,       nlohmann::json(60.0),
+                   {},          "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer."};
+}
+
+}  // namespace
+
+// ---- Pick ---------------------------------------------------------------------------------------
+
+const skill::SkillDescription& PickSkill::describe() {
+  static const skill::SkillDescription kDescription = [] {
+    skill::SkillDescription d;
+    d.name = "Pick";
+    d.kind = skill::SkillKind::kSkill;
+    d.description =
+        "Picks an object within the robot's payload with the magnetic gripper: approach pose, straight "
+        "descent to the grasp frame, energize and confirm the hold, straight retreat.";
+    d.params = {
+        object_param("The object picked (claimed while the skill runs)."),
+        ParamSpec{"grasp",
+                  ParamType::kFeatureRef,
+                  "",
+                  std::nullopt,
+                  std::nullopt,
+                  std::nullopt,
+                  {},
+                  "Grasp frame = tool pose at the grasp (z into the object), e.g. part/grasp_top."},
+        approach_m_param(),
+        approach_speed_param(),
+        retreat_param(),
+        speed_scale_param(),
+        ParamSpec{"hold_timeout_s",
+                  ParamType::kNumber,
+                  "s",
+                  0.1,
+                  10.0,
+                  nlohmann::json(2.0),
+                  {},
+                  "After energizing, the magnet must report holding within this time (else GRASP_FAILED)."},
+        max_reach_param(),
+        timeout_param(),
+    };
+    d.resources = {"robot", "gripper", "$object"};
+    d.preconditions = {*skill::parse_predicate("localized($object)")};
+    d.postconditions = {*skill::parse_predicate("attached(robot,$object)")};
+    return d;
+  }();
+  return kDescription;
+}
+
+PickSkill::PickSkill() {
+  const auto stop = [this](SafeStopDone done) { stop_robot(done); };
+  add_state({"check", [this] { check(); }, nothing_to_stop});
+  add_state({"resolve", [this] { resolve(); }, nothing_to_stop});
+  add_state({"move_approach", [this] { move_approach(); }, stop});
+  add_state({"descend", [this] { descend(); }, stop});
+  add_state({"grip", [this] { grip(); }, nothing_to_stop});
+  add_state({"await_hold", [this] { await_hold(); }, nothing_to_stop});
+  add_state({"retreat", [this] { retreat(); }, stop});
+  add_state({"verify", [this] { verify(); }, nothing_to_stop});
+}
+
+void PickSkill::check() {
+  if (!require_devices(true, true, true)) return;
+  start_overall_timeout(params().at("timeout_s").get<double>());
+  ctx().progress(0.0, "checking the gripper");
+  read_gripper([this](const GripperSnapshot& g) {
+    if (g.holding) {
+      fail("GRIPPER_OCCUPIED", "the gripper already holds something");
+      return;
+    }
+    transition("resolve");
+  });
+}
+
+void PickSkill::resolve() {
+  resolve_in_robot_frame(params().at("grasp").get<std::string>(), [this](const Eigen::Isometry3d& grasp) {
+    grasp_ = grasp;
+    approach_ = along_tool_z(grasp_, -params().at("approach_m").get<double>());
+    const double reach_m = params().at("max_reach_m").get<double>();
+    std::optional<std::string> error =
+        check_straight_approach(approach_, grasp_, reach_m, kPickPlaceMaxApproachM, 1e-6);
+    if (!error) {
+      error = check_straight_approach(along_tool_z(grasp_, -params().at("retreat_m").get<double>()), grasp_, reach_m,
+                                      kPickPlaceMaxApproachM, 1e-6);
+    }
+    if (error) {
+      fail("PLAN_FAILED", *error);
+      return;
+    }
+    transition("move_approach");
+  });
+}
+
+void PickSkill::move_approach() {
+  ctx().progress(0.2, "moving to the approach pose");
+  move_tool(approach_, params().at("speed_scale").get<double>(), motion_timeout(), [this] { transition("descend"); });
+}
+
+void PickSkill::descend() {
+  ctx().progress(0.4, "descending to the grasp");
+  move_tool(grasp_, speed_scale_for(params().at("approach_speed_m_per_s").get<double>()), motion_timeout(),
+            [this] { transition("grip"); });
+}
+
+void PickSkill::grip() {
+  ctx().progress(0.6, "energizing the magnet");
+  set_magnet(true, [this] { transition("await_hold"); });
+}
+
+void PickSkill::await_hold() {
+  const double timeout_s = params().at("hold_timeout_s").get<double>();
+  wait_gripper([](const GripperSnapshot& g) { return g.holding; }, from_seconds(timeout_s),
+               [this](const GripperSnapshot&) {
+                 if (params().at("retreat_m").get<double>() <= 0.0)
+                   transition("verify");
+                 else
+                   transition("retreat");
+               },
+               [this, timeout_s] {
+                 fail("GRASP_FAILED", "the magnet did not report holding within " + std::to_string(timeout_s) + " s");
+               });
+}
+
+void PickSkill::retreat() {
+  ctx().progress(0.8, "retreating with the object");
+  move_tool(along_tool_z(grasp_, -params().at("retreat_m").get<double>()),
+            speed_scale_for(params().at("approach_speed_m_per_s").get<double>()), motion_timeout(),
+            [this] { transition("verify"); });
+}
+
+void PickSkill::verify() {
+  read_gripper([this](const GripperSnapshot& g) {
+    if (!g.holding) {
+      fail("GRASP_LOST", "the object was lost during the retreat");
+      return;
+    }
+    succeed("picked " + params().at("object").get<std::string>());
+  });
+}
+
+// ---- Place --------------------------------------------------------------------------------------
+
+const skill::SkillDescription& PlaceSkill::describe() {
+  static const skill::SkillDescription kDescription = [] {
+    skill::SkillDescription d;
+    d.name = "Place";
+    d.kind = skill::SkillKind::kSkill;
+    d.description =
+        "Places a held object: approach pose, straight descent to the place pose, release and confirm, "
+        "straight retreat.";
+    d.params = {
+        object_param("The object placed (claimed while the skill runs)."),
+        ParamSpec{"pose",
+                  ParamType::kPose,
+                  "",
+                  std::nullopt,
+                  std::nullopt,
+                  std::nullopt,
+                  {},
+                  "Tool pose at the release (z into the support), in the robot base frame \"robot\" (the default) or "
+                  "relative to a world-model feature named as its frame, e.g. \"frame\": \"fixture/place_top\"."},
+        approach_m_param(),
+        approach_speed_param(),
+        retreat_param(),
+        speed_scale_param(),
+        max_reach_param(),
+        timeout_param(),
+    };
+    d.resources = {"robot", "gripper", "$object"};
+    d.preconditions = {*skill::parse_predicate("attached(robot,$object)")};
+    d.postconditions = {*skill::parse_predicate("!attached(robot,$object)"),
+                        *skill::parse_predicate("placed($object)")};
+    return d;
+  }();
+  return kDescription;
+}
+
+PlaceSkill::PlaceSkill() {
+  const auto stop = [this](SafeStopDone done) { stop_robot(done); };
+  add_state({"check", [this] { check(); }, nothing_to_stop});
+  add_state({"resolve", [this] { resolve(); }, nothing_to_stop});
+  add_state({"move_approach", [this] { move_approach(); }, stop});
+  add_state({"descend", [this] { descend(); }, stop});
+  add_state({"release", [this] { release(); }, nothing_to_stop});
+  add_state({"confirm_released", [this] { confirm_released(); }, nothing_to_stop});
+  add_state({"retreat", [this] { retreat(); }, stop});
+}
+
+void PlaceSkill::check() {
+  pose_ = pose_from_param(params().at("pose"), kRobotBaseFrame);
+  const bool feature_frame = split_feature_ref(pose_.frame).has_value();
+  if (!require_devices(true, true, feature_frame)) return;
+  if (!feature_frame && pose_.frame != kRobotBaseFrame) {
+    fail("PLAN_FAILED", "the place pose is in frame '" + pose_.frame + "'; Place takes the robot base frame '" +
+                            kRobotBaseFrame + "' or a world-model feature (entity/feature)");
+    return;
+  }
+  start_overall_timeout(params().at("timeout_s").get<double>());
+  ctx().progress(0.0, "checking the gripper");
+  read_gripper([this](const GripperSnapshot& g) {
+    if (!g.holding) {
+      fail("NOT_HOLDING", "the gripper holds nothing to place");
+      return;
+    }
+    transition("resolve");
+  });
+}
+
+void PlaceSkill::resolve() {
+  if (pose_.frame == kRobotBaseFrame) {
+    planned(pose_.pose);
+    return;
+  }
+  resolve_in_robot_frame(pose_.frame, [this](const Eigen::Isometry3d& feature) { planned(feature * pose_.pose); });
+}
+
+void PlaceSkill::planned(const Eigen::Isometry3d& place) {
+  place_ = place;
+  approach_ = along_tool_z(place_, -params().at("approach_m").get<double>());
+  const double reach_m = params().at("max_reach_m").get<double>();
+  std::optional<std::string> error = check_straight_approach(approach_, place_, reach_m, kPickPlaceMaxApproachM, 1e-6);
+  if (!error) {
+    error = check_straight_approach(along_tool_z(place_, -params().at("retreat_m").get<double>()), place_, reach_m,
+                                    kPickPlaceMaxApproachM, 1e-6);
+  }
+  if (error) {
+    fail("PLAN_FAILED", *error);
+    return;
+  }
+  transition("move_approach");
+}
+
+void PlaceSkill::move_approach() {
+  ctx().progress(0.2, "moving to the approach pose");
+  move_tool(approach_, params().at("speed_scale").get<double>(), motion_timeout(), [this] { transition("descend"); });
+}
+
+void PlaceSkill::descend() {
+  ctx().progress(0.4, "descending to the place pose");
+  move_tool(place_, speed_scale_for(params().at("approach_speed_m_per_s").get<double>()), motion_timeout(),
+            [this] { transition("release"); });
+}
+
+void PlaceSkill::release() {
+  ctx().progress(0.6, "releasing");
+  set_magnet(false, [this] { transition("confirm_released"); });
+}
+
+void PlaceSkill::confirm_released() {
+  wait_gripper([](const GripperSnapshot& g) { return !g.energized && !g.holding; }, kGripperTimeout,
+               [this](const GripperSnapshot&) {
+                 if (params().at("retreat_m").get<double>() <= 0.0)
+                   succeed("placed (no retreat)");
+                 else
+                   transition("retreat");
+               },
+               [this] { fail("RELEASE_FAILED", "the gripper still reports energized or holding after the release"); });
+}
+
+void PlaceSkill::retreat() {
+  ctx().progress(0.8, "retreating");
+  move_tool(along_tool_z(place_, -params().at("retreat_m").get<double>()),
+            speed_scale_for(params().at("approach_speed_m_per_s").get<double>()), motion_timeout(),
+            [this] { succeed("placed " + params().at("object").get<std::string>()); });
+}
+
+}  // namespace rigger::skill_executor

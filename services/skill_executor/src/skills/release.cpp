@@ -1,0 +1,133 @@
+#include "release.hpp"
+
+namespace rigger::skill_executor {
+
+const skill::SkillDescription& ReleaseSkill::describe() {
+  static const skill::SkillDescription kDescription = [] {
+    using skill::ParamSpec;
+    using skill::ParamType;
+    skill::SkillDescription d;
+    d.name = "Release";
+    d.kind = skill::SkillKind::kSkill;
+    d.description =
+        "De-energizes the magnetic gripper, confirms it let go and retreats the tool straight back along "
+        "its -z axis by retreat_m.";
+    d.params = {
+        ParamSpec{"object",
+                  ParamType::kString,
+                  "",
+                  1.0,
+                  std::nullopt,
+                  nlohmann::json("load"),
+                  {},
+                  "The object let go of (claimed while the skill runs)."},
+        ParamSpec{"retreat_m",
+                  ParamType::kNumber,
+                  "m",
+                  0.0,
+                  0.5,
+                  nlohmann::json(0.10),
+                  {},
+                  "Distance of the straight retreat along the tool's -z axis (0: none)."},
+        ParamSpec{"retreat_speed_m_per_s",
+                  ParamType::kNumber,
+                  "m/s",
+                  0.005,
+                  0.25,
+                  nlohmann::json(0.05),
+                  {},
+                  "Tool speed of the retreat."},
+        ParamSpec{"max_reach_m",
+                  ParamType::kNumber,
+                  "m",
+                  0.1,
+                  5.0,
+                  nlohmann::json(1.2),
+                  {},
+                  "A retreat goal farther than this from the robot base is refused by the planner."},
+        ParamSpec{"check_crane",
+                  ParamType::kBoolean,
+                  "",
+                  std::nullopt,
+                  std::nullopt,
+                  nlohmann::json(true),
+                  {},
+                  "Refuse to let go unless the crane reports healthy (rigger/crane/state)."},
+        ParamSpec{"timeout_s",
+                  ParamType::kNumber,
+                  "s",
+                  1.0,
+                  600.0,
+                  nlohmann::json(30.0),
+                  {},
+                  "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer."},
+    };
+    d.resources = {"robot", "gripper", "$object"};
+    d.postconditions = {*skill::parse_predicate("!attached(robot,$object)")};
+    return d;
+  }();
+  return kDescription;
+}
+
+ReleaseSkill::ReleaseSkill() {
+  add_state({"check", [this] { check(); }, nothing_to_stop});
+  add_state({"release", [this] { release(); }, nothing_to_stop});
+  add_state({"confirm_released", [this] { confirm_released(); }, nothing_to_stop});
+  add_state({"read_pose", [this] { read_pose(); }, nothing_to_stop});
+  add_state({"retreat", [this] { retreat(); }, [this](SafeStopDone done) { stop_robot(done); }});
+}
+
+void ReleaseSkill::check() {
+  if (!require_devices(true, true, false)) return;
+  start_overall_timeout(params().at("timeout_s").get<double>());
+  ctx().progress(0.0, "checking the crane and the gripper");
+  check_crane(params().at("check_crane").get<bool>(), [this] {
+    read_gripper([this](const GripperSnapshot& g) {
+      if (!g.energized && !g.holding) {
+        fail("NOT_HOLDING", "the gripper is neither energized nor holding: nothing to release");
+        return;
+      }
+      transition("release");
+    });
+  });
+}
+
+void ReleaseSkill::release() {
+  ctx().progress(0.2, "de-energizing the magnet");
+  set_magnet(false, [this] { transition("confirm_released"); });
+}
+
+void ReleaseSkill::confirm_released() {
+  wait_gripper([](const GripperSnapshot& g) { return !g.energized && !g.holding; }, kGripperTimeout,
+               [this](const GripperSnapshot&) {
+                 if (params().at("retreat_m").get<double>() <= 0.0)
+                   succeed("released (no retreat)");
+                 else
+                   transition("read_pose");
+               },
+               [this] {
+                 fail("RELEASE_FAILED", "the gripper still reports energized or holding " +
+                                            std::to_string(kGripperTimeout.count()) + " s after the release");
+               });
+}
+
+void ReleaseSkill::read_pose() {
+  read_robot([this](const RobotSnapshot& s) {
+    retreat_goal_ = along_tool_z(s.tool_pose, -params().at("retreat_m").get<double>());
+    if (auto error =
+            plan_cartesian_goal(PoseParam{retreat_goal_, kRobotBaseFrame}, params().at("max_reach_m").get<double>())) {
+      fail("PLAN_FAILED", "retreat: " + *error);
+      return;
+    }
+    transition("retreat");
+  });
+}
+
+void ReleaseSkill::retreat() {
+  ctx().progress(0.6, "retreating");
+  move_tool(
+      retreat_goal_, speed_scale_for(params().at("retreat_speed_m_per_s").get<double>()), motion_timeout(),
+      [this] { succeed("released and retreated " + std::to_string(params().at("retreat_m").get<double>()) + " m"); });
+}
+
+}  // namespace rigger::skill_executor

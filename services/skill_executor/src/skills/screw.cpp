@@ -1,0 +1,215 @@
+#include "screw.hpp"
+
+#include <cstdio>
+
+#include "../world_resolver.hpp"
+
+namespace rigger::skill_executor {
+
+namespace {
+
+std::string fixed(double v, int digits = 1) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+}  // namespace
+
+std::string find_screw_hole(const nlohmann::json& features, const std::string& id, ScrewHole& hole) {
+  const auto holes = features.find("screw_holes");
+  if (holes == features.end() || !holes->is_array()) return "'" + hole.entity + "' has no screw holes";
+  for (const auto& h : *holes) {
+    if (!h.is_object() || h.value("id", std::string()) != id) continue;
+    if (h.contains("screw_type") && h["screw_type"].is_string()) hole.screw_type = h["screw_type"].get<std::string>();
+    if (h.contains("torque_nm") && h["torque_nm"].is_number()) hole.torque_nm = h["torque_nm"].get<double>();
+    return "";
+  }
+  return "'" + hole.entity + "' has no screw hole '" + id + "'";
+}
+
+const skill::SkillDescription& ScrewSkill::describe() {
+  static const skill::SkillDescription kDescription = [] {
+    using skill::ParamSpec;
+    using skill::ParamType;
+    skill::SkillDescription d;
+    d.name = "Screw";
+    d.kind = skill::SkillKind::kSkill;
+    d.description =
+        "Prompts the operator hole by hole with the screw type, torque and position (rigger/operator/prompt) "
+        "and waits for each confirmation (rigger/operator/response): done, failed or abort.";
+    d.params = {
+        ParamSpec{"holes",
+                  ParamType::kStringList,
+                  "",
+                  1.0,
+                  32.0,
+                  std::nullopt,
+                  {},
+                  "Feature refs of the screw holes, in order, e.g. [\"target/h1\", \"target/h2\"]."},
+        ParamSpec{"torque_nm",
+                  ParamType::kNumber,
+                  "Nm",
+                  0.0,
+                  400.0,
+                  nlohmann::json(0.0),
+                  {},
+                  "Tightening torque for every hole; 0: each hole's torque from the world model."},
+        ParamSpec{"screw_type",
+                  ParamType::kString,
+                  "",
+                  std::nullopt,
+                  64.0,
+                  nlohmann::json(""),
+                  {},
+                  "Screw type for every hole; empty: each hole's type from the world model."},
+        ParamSpec{"timeout_per_hole_s",
+                  ParamType::kNumber,
+                  "s",
+                  1.0,
+                  3600.0,
+                  nlohmann::json(600.0),
+                  {},
+                  "Fails with OPERATOR_TIMEOUT when a hole is not confirmed within this time."},
+        ParamSpec{"object",
+                  ParamType::kString,
+                  "",
+                  1.0,
+                  std::nullopt,
+                  nlohmann::json("load"),
+                  {},
+                  "The object being fastened (for the conditions)."},
+        ParamSpec{"target",
+                  ParamType::kString,
+                  "",
+                  1.0,
+                  std::nullopt,
+                  nlohmann::json("target"),
+                  {},
+                  "The object it is fastened to (for the conditions)."},
+    };
+    d.resources = {"operator"};
+    d.preconditions = {*skill::parse_predicate("inserted($object,$target)")};
+    d.postconditions = {*skill::parse_predicate("fastened($object,$target)")};
+    return d;
+  }();
+  return kDescription;
+}
+
+ScrewSkill::ScrewSkill() {
+  add_state({"lookup", [this] { lookup(); }, nothing_to_stop});
+  // The prompt is withdrawn when the state is left (tracked), before any safe stop runs.
+  add_state({"prompt", [this] { prompt(); }, [](SafeStopDone done) { done(true, "prompt withdrawn"); }});
+}
+
+void ScrewSkill::lookup() {
+  const Devices& devices = ctx().devices();
+  if (devices.operator_panel == nullptr || devices.world_access == nullptr || devices.world == nullptr) {
+    fail("DEVICE_UNAVAILABLE", devices.operator_panel == nullptr ? "this executor has no operator panel"
+                                                                 : "this executor has no world model");
+    return;
+  }
+  for (const auto& ref_json : params().at("holes")) {
+    const std::string ref = ref_json.get<std::string>();
+    const auto parts = split_feature_ref(ref);
+    if (!parts) {
+      fail("BAD_PARAMS", "/params/holes: \"" + ref + "\" is not a feature ref entity/hole (e.g. \"target/h1\")");
+      return;
+    }
+    holes_.push_back(ScrewHole{ref, parts->first, parts->second, "", 0.0, Eigen::Vector3d::Zero()});
+  }
+  ctx().progress(0.0, "looking up " + std::to_string(holes_.size()) + " screw holes");
+  lookup_next();
+}
+
+void ScrewSkill::lookup_next() {
+  if (lookup_index_ == holes_.size()) {
+    current_ = 0;
+    transition("prompt");
+    return;
+  }
+  ScrewHole& hole = holes_[lookup_index_];
+  if (!features_.contains(hole.entity)) {  // one FEATURES query per entity
+    WorldAccess* world = ctx().devices().world_access;
+    const std::string entity = hole.entity;
+    const OpId id = world->features(entity, kWorldTimeout,
+                                    guard([this, entity](const OpResult& result, const nlohmann::json& features) {
+                                      if (!result.ok) {
+                                        fail(result.code, "features of '" + entity + "': " + result.message);
+                                        return;
+                                      }
+                                      features_[entity] = features;
+                                      lookup_next();
+                                    }));
+    track([world, id] { world->cancel(id); });
+    return;
+  }
+  if (auto error = find_screw_hole(features_[hole.entity], hole.id, hole); !error.empty()) {
+    fail("UNKNOWN_FEATURE", hole.ref + ": " + error);
+    return;
+  }
+  const std::string type_override = params().at("screw_type").get<std::string>();
+  const double torque_override = params().at("torque_nm").get<double>();
+  if (!type_override.empty()) hole.screw_type = type_override;
+  if (torque_override > 0.0) hole.torque_nm = torque_override;
+  if (hole.screw_type.empty() || !(hole.torque_nm > 0.0)) {
+    fail("BAD_PARAMS", hole.ref + ": the world model gives no screw type or torque and the params give none");
+    return;
+  }
+  FeatureResolver* resolver = ctx().devices().world;
+  const OpId id = resolver->resolve(
+      hole.ref, "world", kWorldTimeout, guard([this](const OpResult& result, const ResolvedFeature& feature) {
+        ScrewHole& h = holes_[lookup_index_];
+        if (!result.ok) {
+          fail(result.code.empty() ? "UNKNOWN_FEATURE" : result.code, "position of " + h.ref + ": " + result.message);
+          return;
+        }
+        h.position_world_m = feature.pose.translation();
+        ++lookup_index_;
+        lookup_next();
+      }));
+  track([resolver, id] { resolver->cancel(id); });
+}
+
+void ScrewSkill::prompt() {
+  const ScrewHole& hole = holes_[current_];
+  const std::string of = std::to_string(current_ + 1) + "/" + std::to_string(holes_.size());
+  const double timeout_s = params().at("timeout_per_hole_s").get<double>();
+  OperatorPromptSpec spec;
+  spec.kind = "screw";
+  spec.title = "Screw hole " + hole.id + " (" + of + ")";
+  spec.text = "Screw a " + hole.screw_type + " into " + hole.ref + " and tighten it to " + fixed(hole.torque_nm) +
+              " Nm; answer done, failed or abort.";
+  spec.options = {kDone, kFailed, kAbort};
+  spec.details = {{"hole", hole.id},
+                  {"hole_ref", hole.ref},
+                  {"screw_type", hole.screw_type},
+                  {"torque_nm", hole.torque_nm},
+                  {"position_m", {hole.position_world_m.x(), hole.position_world_m.y(), hole.position_world_m.z()}}};
+  spec.timeout_s = timeout_s;
+  ctx().progress(static_cast<double>(current_) / static_cast<double>(holes_.size()),
+                 "hole " + hole.ref + " (" + of + "): " + hole.screw_type + " at " + fixed(hole.torque_nm) + " Nm");
+  OperatorPanel* panel = ctx().devices().operator_panel;
+  const OpId id =
+      panel->ask(spec, from_seconds(timeout_s), guard([this, timeout_s](std::optional<std::string> answer) {
+                   const ScrewHole& h = holes_[current_];
+                   if (!answer) {
+                     fail("OPERATOR_TIMEOUT", "hole " + h.ref + " not confirmed within " + fixed(timeout_s, 0) + " s");
+                   } else if (*answer == kDone) {
+                     ++current_;
+                     if (current_ == holes_.size()) {
+                       ctx().progress(1.0, "all " + std::to_string(holes_.size()) + " holes screwed");
+                       succeed("the operator screwed " + std::to_string(holes_.size()) + " holes");
+                     } else {
+                       transition("prompt");  // the next hole (this prompt is withdrawn first)
+                     }
+                   } else if (*answer == kFailed) {
+                     fail("SCREW_FAILED", "the operator reports hole " + h.ref + " failed");
+                   } else {
+                     fail("OPERATOR_ABORTED", "the operator aborted at hole " + h.ref);
+                   }
+                 }));
+  track([panel, id] { panel->withdraw(id); });
+}
+
+}  // namespace rigger::skill_executor

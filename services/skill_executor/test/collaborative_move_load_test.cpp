@@ -1,0 +1,265 @@
+// CollaborativeMoveLoad's FSM on fakes: crane precondition, engage, the operator's answers and the
+// duration, crane and admittance faults during guiding, and shutdown from every state (admittance OFF
+// confirmed before STOPPED).
+#include <gtest/gtest.h>
+
+#include "cell_fakes.hpp"
+#include "skills/collaborative.hpp"
+#include "skills/collaborative_move_load.hpp"
+
+namespace rigger::skill_executor {
+namespace {
+
+using namespace std::chrono_literals;
+using testing::CellRunHarness;
+
+AdmittanceSnapshot guiding_state() {
+  AdmittanceSnapshot s;
+  s.mode = AdmittanceModeRequest::kRobotAndCrane;
+  s.reference = AdmittanceReference::kJoystick;
+  return s;
+}
+
+class CollaborativeMoveLoadTest : public ::testing::Test {
+ protected:
+  SkillType type_{CollaborativeMoveLoadSkill::describe(),
+                  [] { return std::make_unique<CollaborativeMoveLoadSkill>(); }};
+  nlohmann::json params_ = nlohmann::json::object();
+
+  /// Runs to `guide`.
+  void to_guide(CellRunHarness& h) {
+    h.run->start();
+    ASSERT_EQ(h.state(), "check_crane");
+    ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
+    ASSERT_EQ(h.state(), "crane_external");
+    ASSERT_TRUE(h.crane.complete_external(OpResult::success()));
+    ASSERT_EQ(h.state(), "engage");
+    const AdmittanceRequest* r = h.admittance.pending();
+    ASSERT_NE(r, nullptr);
+    EXPECT_EQ(r->mode, AdmittanceModeRequest::kRobotAndCrane);
+    EXPECT_EQ(r->reference, AdmittanceReference::kJoystick);
+    ASSERT_TRUE(h.admittance.complete(OpResult::success()));
+    ASSERT_EQ(h.state(), "guide");
+  }
+};
+
+TEST_F(CollaborativeMoveLoadTest, TheOperatorsDoneEndsItWithAdmittanceOff) {
+  CellRunHarness h(type_, params_);
+  to_guide(h);
+  EXPECT_EQ(h.crane.watches(), 1u);
+  EXPECT_EQ(h.admittance.watches(), 1u);
+  ASSERT_EQ(h.operator_panel.active(), 1u);
+  EXPECT_EQ(h.operator_panel.newest()->spec.options, (std::vector<std::string>{"done", "abort"}));
+  h.admittance.publish(guiding_state());  // a healthy state changes nothing
+  ASSERT_TRUE(h.operator_panel.answer("done"));
+  EXPECT_EQ(h.state(), "disengage");
+  EXPECT_EQ(h.operator_panel.active(), 0u);
+  EXPECT_EQ(h.crane.watches(), 0u);
+  ASSERT_NE(h.admittance.pending(), nullptr);
+  EXPECT_EQ(h.admittance.pending()->mode, AdmittanceModeRequest::kOff);
+  EXPECT_FALSE(h.result) << "not before OFF is confirmed";
+  ASSERT_TRUE(h.admittance.complete(OpResult::success()));
+  ASSERT_TRUE(h.succeeded());
+  EXPECT_EQ(h.timers.pending(), 0u);
+}
+
+TEST_F(CollaborativeMoveLoadTest, ADurationEndsItWithoutAnAnswer) {
+  params_["duration_s"] = 20.0;
+  CellRunHarness h(type_, params_);
+  to_guide(h);
+  h.timers.advance(19s);
+  EXPECT_EQ(h.state(), "guide");
+  h.timers.advance(1s);
+  EXPECT_EQ(h.state(), "disengage");
+  ASSERT_TRUE(h.admittance.complete(OpResult::success()));
+  EXPECT_TRUE(h.succeeded());
+}
+
+TEST_F(CollaborativeMoveLoadTest, NoAnswerWithinMaxDurationIsTimeoutAfterAdmittanceOff) {
+  params_["max_duration_s"] = 30.0;
+  CellRunHarness h(type_, params_);
+  to_guide(h);
+  h.timers.advance(30s);
+  EXPECT_FALSE(h.result) << "reported before admittance OFF was confirmed";
+  ASSERT_NE(h.admittance.pending(), nullptr);
+  EXPECT_EQ(h.admittance.pending()->mode, AdmittanceModeRequest::kOff);
+  ASSERT_TRUE(h.admittance.complete(OpResult::success()));
+  EXPECT_TRUE(h.failed_with("TIMEOUT"));
+}
+
+TEST_F(CollaborativeMoveLoadTest, FailuresWhileGuidingStopFirstThenReportTheirCode) {
+  struct Case {
+    const char* name;
+    std::function<void(CellRunHarness&)> cause;
+    const char* code;
+  };
+  const std::vector<Case> cases = {
+      {"abort", [](CellRunHarness& h) { h.operator_panel.answer("abort"); }, "OPERATOR_ABORTED"},
+      {"crane", [](CellRunHarness& h) { h.crane.problem("crane: e-stop latched"); }, "CRANE_FAULT"},
+      {"admittance fault",
+       [](CellRunHarness& h) {
+         auto s = guiding_state();
+         s.fault = true;
+         s.fault_code = "WRENCH_STALE";
+         h.admittance.publish(s);
+         h.timers.advance(kAdmittanceFaultGrace);
+       },
+       "ADMITTANCE_FAULT"},
+      {"admittance crane fault",
+       [](CellRunHarness& h) {
+         auto s = guiding_state();
+         s.fault = true;
+         s.fault_code = "CRANE_FAULT";
+         h.admittance.publish(s);
+         h.timers.advance(kAdmittanceFaultGrace);
+       },
+       "CRANE_FAULT"},
+      {"admittance went OFF on a crane fault",
+       [](CellRunHarness& h) {
+         auto s = guiding_state();
+         s.mode = AdmittanceModeRequest::kOff;
+         s.fault = true;
+         s.fault_code = "CRANE_FAULT";
+         h.admittance.publish(s);  // at once: the controller has already stopped
+       },
+       "CRANE_FAULT"},
+      {"admittance went OFF on another fault",
+       [](CellRunHarness& h) {
+         auto s = guiding_state();
+         s.mode = AdmittanceModeRequest::kOff;
+         s.fault = true;
+         s.fault_code = "COMMANDER_LOST";
+         h.admittance.publish(s);
+       },
+       "ADMITTANCE_FAULT"},
+      {"preempted",
+       [](CellRunHarness& h) {
+         auto s = guiding_state();
+         s.mode = AdmittanceModeRequest::kOff;
+         h.admittance.publish(s);
+       },
+       "ADMITTANCE_PREEMPTED"},
+  };
+  for (const auto& c : cases) {
+    CellRunHarness h(type_, params_);
+    to_guide(h);
+    c.cause(h);
+    EXPECT_FALSE(h.result) << c.name << ": reported before admittance OFF was confirmed";
+    EXPECT_EQ(h.operator_panel.active(), 0u) << c.name;
+    ASSERT_TRUE(h.admittance.complete(OpResult::success())) << c.name;
+    EXPECT_TRUE(h.failed_with(c.code)) << c.name << " got " << (h.result ? h.result->code : "nothing");
+    EXPECT_EQ(h.admittance.offs(), 1) << c.name;
+  }
+}
+
+TEST_F(CollaborativeMoveLoadTest, AMomentaryAdmittanceFaultDoesNotEndTheMove) {
+  CellRunHarness h(type_, params_);
+  to_guide(h);
+  auto s = guiding_state();
+  s.fault = true;
+  s.fault_code = "WRENCH_STALE";
+  h.admittance.publish(s);
+  h.timers.advance(kAdmittanceFaultGrace / 2);
+  h.admittance.publish(guiding_state());
+  h.timers.advance(kAdmittanceFaultGrace);
+  EXPECT_FALSE(h.result);
+  EXPECT_EQ(h.state(), "guide");
+}
+
+TEST_F(CollaborativeMoveLoadTest, AnUnhealthyCraneFailsThePreconditionWithoutCommandingAnything) {
+  CellRunHarness h(type_, params_);
+  h.run->start();
+  ASSERT_TRUE(h.crane.complete_check(OpResult::failure(kCraneFault, "crane: fault 3")));
+  ASSERT_TRUE(h.failed_with("CRANE_FAULT"));
+  EXPECT_TRUE(h.admittance.requests.empty());
+  EXPECT_EQ(h.crane.external_requests, 0);
+}
+
+TEST_F(CollaborativeMoveLoadTest, ExternalControlNotGrantedIsACraneFault) {
+  CellRunHarness h(type_, params_);
+  h.run->start();
+  ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
+  ASSERT_TRUE(h.crane.complete_external(OpResult::failure(kCraneFault, "not granted")));
+  EXPECT_TRUE(h.failed_with("CRANE_FAULT"));
+  EXPECT_TRUE(h.admittance.requests.empty());
+}
+
+TEST_F(CollaborativeMoveLoadTest, AnEngageThatIsNotConfirmedIsAnAdmittanceFaultAfterOff) {
+  CellRunHarness h(type_, params_);
+  h.run->start();
+  ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
+  ASSERT_TRUE(h.crane.complete_external(OpResult::success()));
+  ASSERT_TRUE(h.admittance.complete(OpResult::failure("TIMEOUT", "no state")));
+  EXPECT_FALSE(h.result);
+  ASSERT_TRUE(h.admittance.complete(OpResult::success()));  // the OFF of the safe stop
+  EXPECT_TRUE(h.failed_with("ADMITTANCE_FAULT"));
+}
+
+TEST_F(CollaborativeMoveLoadTest, BadParamsAndMissingDevices) {
+  for (const auto& params : {nlohmann::json{{"duration_s", -1}}, nlohmann::json{{"max_duration_s", 0}},
+                             nlohmann::json{{"object", ""}}, nlohmann::json{{"speed", 1}}}) {
+    CellRunHarness h(type_, params);
+    h.run->start();
+    EXPECT_TRUE(h.failed_with("BAD_PARAMS")) << params.dump();
+  }
+  CellRunHarness h(type_, params_, [](Devices& d) { d.crane = nullptr; });
+  h.run->start();
+  EXPECT_TRUE(h.failed_with("DEVICE_UNAVAILABLE"));
+}
+
+TEST_F(CollaborativeMoveLoadTest, ShutdownInEveryStateReachesTheSafeStop) {
+  // Resting states before anything moves: STOPPED at once, nothing commanded.
+  for (const char* state : {"check_crane", "crane_external"}) {
+    CellRunHarness h(type_, params_);
+    h.run->start();
+    if (std::string(state) == "crane_external") {
+      ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
+    }
+    ASSERT_EQ(h.state(), state);
+    h.run->shutdown("test");
+    EXPECT_TRUE(h.stopped()) << state;
+    EXPECT_TRUE(h.admittance.requests.empty()) << state;
+  }
+  // engage, guide, disengage: STOPPED only once admittance OFF is confirmed; SAFE_STOP_FAILED otherwise.
+  for (const char* state : {"engage", "guide", "disengage"}) {
+    for (bool confirmed : {true, false}) {
+      CellRunHarness h(type_, params_);
+      h.run->start();
+      ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
+      ASSERT_TRUE(h.crane.complete_external(OpResult::success()));
+      if (std::string(state) != "engage") {
+        ASSERT_TRUE(h.admittance.complete(OpResult::success()));
+      }
+      if (std::string(state) == "disengage") {
+        ASSERT_TRUE(h.operator_panel.answer("done"));
+      }
+      ASSERT_EQ(h.state(), state);
+      h.run->shutdown("test");
+      EXPECT_FALSE(h.result) << state;
+      ASSERT_NE(h.admittance.pending(), nullptr) << state;
+      EXPECT_EQ(h.admittance.pending()->mode, AdmittanceModeRequest::kOff) << state;
+      ASSERT_TRUE(h.admittance.complete(confirmed ? OpResult::success() : OpResult::failure("TIMEOUT", "no OFF")));
+      EXPECT_TRUE(confirmed ? h.stopped() : h.failed_with("SAFE_STOP_FAILED")) << state;
+      EXPECT_EQ(h.operator_panel.active(), 0u) << state;
+      EXPECT_EQ(h.timers.pending(), 0u) << state;
+    }
+  }
+  // Every state's on_shutdown directly.
+  CellRunHarness h(type_, params_);
+  to_guide(h);
+  for (const auto& name : h.run->skill()->state_names()) {
+    std::optional<bool> safe;
+    const auto before = h.admittance.requests.size();
+    h.run->skill()->find_state(name)->on_shutdown([&](bool s, const std::string&) { safe = s; });
+    if (h.admittance.requests.size() > before) {
+      EXPECT_FALSE(safe) << name << ": safe before OFF was confirmed";
+      EXPECT_EQ(h.admittance.requests.back().mode, AdmittanceModeRequest::kOff);
+      ASSERT_TRUE(h.admittance.complete(OpResult::success()));
+    }
+    ASSERT_TRUE(safe.has_value()) << name;
+    EXPECT_TRUE(*safe) << name;
+  }
+}
+
+}  // namespace
+}  // namespace rigger::skill_executor
