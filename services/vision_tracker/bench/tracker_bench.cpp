@@ -80,10 +80,10 @@ void run_tracker(benchmark::State& state, const TrackerConfig& config) {
   state.counters["detected_share"] = searched > 0 ? static_cast<double>(detected) / searched : 0.0;
 }
 
-void BM_Tracker(benchmark::State& state) { run_tracker(state, testing::tracker_config_from_scene(sequence().scene)); }
+void BM_Tracker(benchmark::State& state) { run_tracker(state, testing::tracker_config_from_file(testing::cell_json_path())); }
 
 void BM_TrackerFullFrameEveryImage(benchmark::State& state) {
-  TrackerConfig config = testing::tracker_config_from_scene(sequence().scene);
+  TrackerConfig config = testing::tracker_config_from_file(testing::cell_json_path());
   config.detector.track_in_roi = false;
   run_tracker(state, config);
 }

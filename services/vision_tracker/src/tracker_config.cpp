@@ -2,6 +2,7 @@
 
 #include <opencv2/aruco/dictionary.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -89,6 +90,41 @@ void validate(const TrackerConfig& config) {
               "a marker id used once (" + std::to_string(marker.id) + " is also on '" + it->second + "')");
     }
   }
+}
+
+TrackerConfig tracker_config_from_cell(const cell::CellFile& file, const std::string& camera_id) {
+  const cell::CellEntity& camera = file.require(camera_id, "the camera the tracker looks through");
+  if (!camera.camera) {
+    file.fail(camera.pointer + "/camera", "the intrinsics of camera \"" + camera_id + "\"", "nothing (missing key)");
+  }
+  const cell::CameraIntrinsics& intrinsics = *camera.camera;
+  TrackerConfig config;
+  config.camera = {intrinsics.width_px, intrinsics.height_px, intrinsics.fx, intrinsics.fy, intrinsics.cx,
+                   intrinsics.cy, {}};
+  if (intrinsics.distortion.size() > config.camera.distortion.size()) {
+    file.fail(camera.pointer + "/camera/distortion", "4 or 5 numbers (k1 k2 p1 p2 [k3], plumb_bob)",
+              std::to_string(intrinsics.distortion.size()) + " numbers");
+  }
+  std::copy(intrinsics.distortion.begin(), intrinsics.distortion.end(), config.camera.distortion.begin());
+  config.pose_world_camera = file.pose_root_entity(camera_id);
+
+  std::string dictionary;
+  for (const cell::CellEntity& entity : file.entities) {
+    if (!entity.features.markers) continue;
+    const cell::MarkerLayout& layout = *entity.features.markers;
+    if (!dictionary.empty() && layout.dictionary != dictionary) {
+      file.fail(entity.pointer + "/features/markers/dictionary", "the dictionary of every other layout (" + dictionary + ")",
+                "\"" + layout.dictionary + "\"");
+    }
+    dictionary = layout.dictionary;
+    ObjectLayout object{entity.id, {}};
+    for (const cell::Marker& marker : layout.items) {
+      object.markers.push_back({marker.id, marker.size_m, marker.pose_entity_marker});
+    }
+    config.objects.push_back(std::move(object));
+  }
+  if (!dictionary.empty()) config.detector.dictionary = cell::marker_dictionary(dictionary)->opencv_id;
+  return config;
 }
 
 }  // namespace rigger::vision

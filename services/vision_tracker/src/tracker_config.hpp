@@ -1,8 +1,8 @@
 #pragma once
 /// @file
 /// Configuration of the vision tracker: the camera, the marker layouts of the tracked objects
-/// (both from the world model's cell configuration) and the tuning of detection, pose estimation,
-/// filtering and the lost-tracking rule.
+/// (both from the cell file, read with rigger_cell_config) and the tuning of detection, pose
+/// estimation, filtering and the lost-tracking rule.
 
 #include <Eigen/Geometry>
 
@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "rigger/cell_config/cell_file.hpp"
 
 namespace rigger::vision {
 
@@ -124,5 +126,10 @@ struct TrackerConfig {
 
 /// Throws TrackerConfigError naming the first bad field (e.g. "objects[1].markers[0].size_m").
 void validate(const TrackerConfig& config);
+
+/// The camera `camera_id` (intrinsics, pose in the root frame) and every object with markers of a
+/// validated cell file; tuning keeps its defaults. Throws cell::CellFileError naming the file and the
+/// JSON pointer (no such camera, no intrinsics, distortion beyond k3, layouts in different dictionaries).
+TrackerConfig tracker_config_from_cell(const cell::CellFile& file, const std::string& camera_id);
 
 }  // namespace rigger::vision

@@ -22,7 +22,7 @@ Tracker make_tracker(const Config& config) {
   const std::string camera_id = config.get<std::string>("camera_id", "camera");
   const double lost_after_s = config.get_in_range("lost_after_s", 0.5, 0.01, 10.0);
   try {
-    TrackerConfig tracker_config = tracker_config_from_cell_scene(sim::load_camera_scene(resolve_cell_file(cell_file), camera_id));
+    TrackerConfig tracker_config = tracker_config_from_cell(cell::load_cell_file(resolve_cell_file(cell_file)), camera_id);
     tracker_config.lost_after = from_seconds(lost_after_s);
     return Tracker(std::move(tracker_config));
   } catch (const std::exception& e) {
@@ -30,9 +30,10 @@ Tracker make_tracker(const Config& config) {
   }
 }
 
-TrackerMode start_mode(const Config& config) {
-  return config.get_enum("start_mode", "idle", {"idle", "continuous"}) == "continuous" ? TrackerMode::kContinuous
-                                                                                       : TrackerMode::kIdle;
+std::vector<std::string> object_ids(const TrackerConfig& config) {
+  std::vector<std::string> ids;
+  for (const ObjectLayout& object : config.objects) ids.push_back(object.object_id);
+  return ids;
 }
 
 const char* to_string(FrameStatus status) {
@@ -48,64 +49,77 @@ const char* to_string(FrameStatus status) {
 
 }  // namespace
 
-TrackerConfig tracker_config_from_cell_scene(const sim::CameraScene& scene) {
-  TrackerConfig config;
-  config.camera.width_px = scene.camera.width_px;
-  config.camera.height_px = scene.camera.height_px;
-  config.camera.fx_px = scene.camera.fx_px;
-  config.camera.fy_px = scene.camera.fy_px;
-  config.camera.cx_px = scene.camera.cx_px;
-  config.camera.cy_px = scene.camera.cy_px;
-  config.camera.distortion = scene.camera.distortion;
-  config.pose_world_camera = scene.pose_world_camera;
-  config.detector.dictionary = scene.dictionary;
-  for (const sim::BoxObject& object : scene.objects) {
-    ObjectLayout layout;
-    layout.object_id = object.id;
-    for (const sim::MarkerSpec& marker : object.markers) {
-      layout.markers.push_back({marker.id, marker.size_m, marker.pose_object_marker});
-    }
-    config.objects.push_back(layout);
-  }
-  return config;
-}
-
 VisionTrackerNode::VisionTrackerNode(dds::ServiceContext& ctx)
     : ctx_(ctx),
       frame_id_(ctx.config.get<std::string>("frame_id", "world")),
       tracker_(make_tracker(ctx.config)),
-      mode_(start_mode(ctx.config)),
+      schedule_(object_ids(tracker_.config()), ctx.config.get_in_range("once_min_quality", 0.5, 0.0, 1.0)),
+      once_timeout_(from_seconds(ctx.config.get_in_range("once_timeout_s", 2.0, 0.05, 60.0))),
       images_(ctx.participant, kImageTopic, dds::qos::sensor_stream()),
       commands_(ctx.participant, kCommandTopic, dds::qos::commands()),
       poses_(ctx.participant, kPoseTopic, dds::qos::sensor_stream()) {
+  const bool continuous = ctx.config.get_enum("start_mode", "idle", {"idle", "continuous"}) == "continuous";
+  if (continuous) schedule_.track_continuous("");
   ctx.config.finish();
   ctx.loop.on_data(images_, [this] { on_image(); });
   ctx.loop.on_data(commands_, [this] { on_command(); });
-  ctx.log->info("tracking {} objects, mode {}", tracker_.config().objects.size(),
-                mode_ == TrackerMode::kIdle ? "idle" : "continuous");
+  ctx.log->info("tracking {} objects, mode {}", tracker_.config().objects.size(), continuous ? "continuous" : "idle");
 }
 
 void VisionTrackerNode::on_command() {
   commands_.take([this](const rigger_vision_TrackerCommand& cmd, const dds_sample_info_t&) {
-    const TrackerMode before = mode_;
-    switch (cmd.kind) {
-      case rigger_vision_TRACK_ONCE: mode_ = TrackerMode::kOnce; break;
-      case rigger_vision_TRACK_CONTINUOUS: mode_ = TrackerMode::kContinuous; break;
-      case rigger_vision_TRACK_STOP: mode_ = TrackerMode::kIdle; break;
-      default:
-        ctx_.log->warn("command dropped seq={} source={}: unknown kind {}", cmd.seq, dds::to_string(cmd.source),
-                       static_cast<int>(cmd.kind));
-        return;
+    const bool was_active = schedule_.any_active();
+    if (!apply(cmd)) {
+      ++commands_dropped_;
+      return;
     }
+    ++commands_applied_;
     // Tracks (regions of interest, filter state) from before an idle spell are stale: start afresh.
-    if (before == TrackerMode::kIdle && mode_ != TrackerMode::kIdle) tracker_.reset();
-    ctx_.log->info("command seq={} source={} kind={}", cmd.seq, dds::to_string(cmd.source), static_cast<int>(cmd.kind));
+    if (!was_active && schedule_.any_active()) tracker_.reset();
+    ctx_.log->info("command seq={} source={} kind={} object={}", cmd.seq, dds::to_string(cmd.source),
+                   static_cast<int>(cmd.kind), dds::to_string(cmd.object_id));
   });
+}
+
+bool VisionTrackerNode::apply(const rigger_vision_TrackerCommand& cmd) {
+  const std::string object_id = dds::to_string(cmd.object_id);
+  bool known = false;
+  switch (cmd.kind) {
+    case rigger_vision_TRACK_ONCE: {
+      // Fresh means from an image taken after the command was sent (its stamp), as the sender checks.
+      const Stamp sent = dds::to_domain(cmd.header.stamp);
+      const Stamp fresh_after = sent > Stamp{} ? sent : std::chrono::system_clock::now();
+      known = schedule_.track_once(object_id, fresh_after, dds::EventLoop::Clock::now() + once_timeout_);
+      if (known) ctx_.loop.after(once_timeout_, [this] { on_once_deadline(); });
+      break;
+    }
+    case rigger_vision_TRACK_CONTINUOUS: known = schedule_.track_continuous(object_id); break;
+    case rigger_vision_TRACK_STOP: known = schedule_.stop(object_id); break;
+    default:
+      ctx_.log->warn("command dropped seq={} source={}: unknown kind {}", cmd.seq, dds::to_string(cmd.source),
+                     static_cast<int>(cmd.kind));
+      return false;
+  }
+  if (!known) {
+    ctx_.log->warn("command dropped seq={} source={}: unknown object \"{}\"", cmd.seq, dds::to_string(cmd.source),
+                   object_id);
+  }
+  return known;
+}
+
+void VisionTrackerNode::on_once_deadline() {
+  // A deadline timer may outlive its request (done, stopped or replaced): expire() only ends overdue ones.
+  for (const std::string& id : schedule_.expire(dds::EventLoop::Clock::now())) {
+    ctx_.log->warn("track_once timed out object={} timeout_s={}", id, std::chrono::duration<double>(once_timeout_).count());
+    ObjectTrack lost;
+    lost.object_id = id;
+    publish(lost, std::chrono::system_clock::now());
+  }
 }
 
 void VisionTrackerNode::on_image() {
   images_.take([this](const rigger_vision_Image& image, const dds_sample_info_t&) {
-    if (mode_ == TrackerMode::kIdle) {  // idle: no processing at all
+    if (!schedule_.any_active()) {  // nothing tracked: no processing at all
       ++images_ignored_;
       return;
     }
@@ -137,31 +151,29 @@ void VisionTrackerNode::process(const rigger_vision_Image& image) {
     return;
   }
   ++images_processed_;
-  if (mode_ == TrackerMode::kOnce) mode_ = TrackerMode::kIdle;
-  publish(result);
+  for (const ObjectTrack& track : result.objects) {
+    if (schedule_.on_track(track.object_id, result.stamp, track.detected, track.quality)) publish(track, result.stamp);
+  }
 }
 
-void VisionTrackerNode::publish(const FrameResult& result) {
-  const rigger_geometry_Time stamp = dds::to_wire(result.stamp);
-  for (const ObjectTrack& track : result.objects) {
-    rigger_vision_TrackedPose out{};
-    out.header.stamp = stamp;  // always the image's stamp; a lost object says so with tracked=false
-    out.header.frame_id = dds::wire_string(frame_id_);
-    out.object_id = dds::wire_string(track.object_id);
-    out.tracked = track.detected;
-    if (track.detected) {
-      out.pose.pose = dds::to_wire(track.pose_world_object);
-      dds::covariance_to_wire(track.covariance_world, out.pose.covariance);
-      out.quality = track.quality;
-      out.markers_used = static_cast<std::uint32_t>(track.markers_used);
-      out.reprojection_error_px = track.reprojection_rms_px;
-    } else {
-      // Never the last pose under this image's stamp: a lost object carries no pose at all.
-      out.pose.pose = dds::to_wire(Eigen::Isometry3d::Identity());
-      out.quality = 0.0;
-    }
-    poses_.write(out);
+void VisionTrackerNode::publish(const ObjectTrack& track, Stamp stamp) {
+  rigger_vision_TrackedPose out{};
+  out.header.stamp = dds::to_wire(stamp);  // the image's stamp; a lost object says so with tracked=false
+  out.header.frame_id = dds::wire_string(frame_id_);
+  out.object_id = dds::wire_string(track.object_id);
+  out.tracked = track.detected;
+  if (track.detected) {
+    out.pose.pose = dds::to_wire(track.pose_world_object);
+    dds::covariance_to_wire(track.covariance_world, out.pose.covariance);
+    out.quality = track.quality;
+    out.markers_used = static_cast<std::uint32_t>(track.markers_used);
+    out.reprojection_error_px = track.reprojection_rms_px;
+  } else {
+    // Never the last pose under this image's stamp: a lost object carries no pose at all.
+    out.pose.pose = dds::to_wire(Eigen::Isometry3d::Identity());
+    out.quality = 0.0;
   }
+  poses_.write(out);
 }
 
 }  // namespace rigger::vision

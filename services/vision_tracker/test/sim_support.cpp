@@ -1,6 +1,5 @@
 #include "sim_support.hpp"
 
-#include "vision_tracker_node.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +14,9 @@ std::string cell_json_path() {
 }
 std::string deployed_cell_json_path() { return std::string(RIGGER_SOURCE_DIR) + "/deploy/cell/simulated_cell.json"; }
 
-TrackerConfig tracker_config_from_scene(const sim::CameraScene& scene) { return tracker_config_from_cell_scene(scene); }
+TrackerConfig tracker_config_from_file(const std::string& cell_json) {
+  return tracker_config_from_cell(cell::load_cell_file(cell_json), "camera");
+}
 
 sim::RenderSettings render_settings(double noise_stddev, std::uint64_t seed) {
   sim::RenderSettings settings;

@@ -17,9 +17,8 @@ std::string cell_json_path();
 /// deploy/cell/simulated_cell.json, the cell the deployment runs.
 std::string deployed_cell_json_path();
 
-/// The simulated cell's camera and object layouts as a tracker configuration (what the world
-/// model's cell configuration will provide).
-TrackerConfig tracker_config_from_scene(const sim::CameraScene& scene);
+/// The camera "camera" and the object layouts of a cell file as a tracker configuration.
+TrackerConfig tracker_config_from_file(const std::string& cell_json);
 
 /// Render settings for the tests: distinct albedos, the given noise.
 sim::RenderSettings render_settings(double noise_stddev, std::uint64_t seed = 7);

@@ -39,7 +39,7 @@ class TrackerAccuracyTest : public ::testing::Test {
     sim::RenderSettings settings = testing::render_settings(noise_stddev);
     settings.blur_sigma_px = blur_px;
     sim::CameraRenderer renderer(*scene_, settings);
-    TrackerConfig config = testing::tracker_config_from_scene(*scene_);
+    TrackerConfig config = testing::tracker_config_from_file(testing::deployed_cell_json_path());
     config.detector = detector;
     config.detector.dictionary = scene_->dictionary;
     std::mt19937 rng(20240611);

@@ -2,8 +2,10 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <string>
 
@@ -71,6 +73,46 @@ TEST(TrackerConfig, NamesTheBadTuningField) {
               HasSubstr("filter.velocity_gain: expected a value in [0, 4 - 2 * position_gain)"));
   EXPECT_THAT(error_of([](TrackerConfig& c) { c.lost_after = std::chrono::milliseconds(-1); }),
               HasSubstr("lost_after"));
+}
+
+nlohmann::json deployed_cell() {
+  std::ifstream file(std::string(RIGGER_SOURCE_DIR) + "/deploy/cell/simulated_cell.json");
+  return nlohmann::json::parse(file);
+}
+
+std::string cell_error_of(const nlohmann::json& cell, const std::string& camera_id = "camera") {
+  try {
+    tracker_config_from_cell(cell::cell_file_from_json(cell, "cell.json"), camera_id);
+  } catch (const cell::CellFileError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(TrackerConfigFromCell, TakesTheCameraAndEveryMarkerLayout) {
+  const TrackerConfig config = tracker_config_from_cell(cell::cell_file_from_json(deployed_cell(), "cell.json"), "camera");
+  EXPECT_EQ(config.camera.width_px, 1280);
+  EXPECT_DOUBLE_EQ(config.camera.fx_px, 1000.0);
+  EXPECT_TRUE(config.pose_world_camera.translation().isApprox(Eigen::Vector3d(5.1, 2.0, 1.6)));
+  EXPECT_EQ(config.detector.dictionary, 0);  // DICT_4X4_50
+  ASSERT_EQ(config.objects.size(), 2u);
+  EXPECT_EQ(config.objects[0].object_id, "load");
+  ASSERT_EQ(config.objects[1].markers.size(), 2u);
+  EXPECT_EQ(config.objects[1].markers[1].id, 11);
+  EXPECT_DOUBLE_EQ(config.objects[1].markers[1].size_m, 0.10);
+  EXPECT_NO_THROW(validate(config));
+}
+
+TEST(TrackerConfigFromCell, NamesWhatItCannotUse) {
+  EXPECT_THAT(cell_error_of(deployed_cell(), "robot"), HasSubstr("cell.json: /entities/2/camera: expected the intrinsics"));
+  EXPECT_THAT(cell_error_of(deployed_cell(), "eye"), HasSubstr("/entities: expected an entity with id \"eye\""));
+  nlohmann::json cell = deployed_cell();
+  cell["entities"][6]["features"]["markers"]["dictionary"] = "DICT_5X5_50";
+  EXPECT_THAT(cell_error_of(cell), HasSubstr("/entities/6/features/markers/dictionary: expected the dictionary of "
+                                             "every other layout (DICT_4X4_50)"));
+  cell = deployed_cell();
+  cell["entities"][4]["camera"]["distortion"] = nlohmann::json::array({0, 0, 0, 0, 0, 0, 0, 0});
+  EXPECT_THAT(cell_error_of(cell), HasSubstr("/entities/4/camera/distortion: expected 4 or 5 numbers"));
 }
 
 }  // namespace

@@ -18,7 +18,7 @@ class TrackerTest : public ::testing::Test {
  protected:
   void SetUp() override {
     scene_ = sim::load_camera_scene(testing::cell_json_path());
-    config_ = testing::tracker_config_from_scene(scene_);
+    config_ = testing::tracker_config_from_file(testing::cell_json_path());
     poses_ = testing::both_visible_poses(scene_);
     renderer_ = std::make_unique<sim::CameraRenderer>(scene_, testing::render_settings(scene_.camera.noise_stddev));
   }

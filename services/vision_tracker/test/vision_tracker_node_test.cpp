@@ -1,6 +1,7 @@
 // The vision tracker node in-process on a private domain: rendered images in, poses out.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -24,14 +25,11 @@ class VisionTrackerNodeTest : public ::testing::Test {
       : participant_(lease_.id()),
         loop_(participant_),
         announcer_(participant_, "vision_tracker-test", "vision_tracker"),
-        context_{options_, null_logger(), participant_, loop_, announcer_,
-                 Config::parse(R"({"cell_file": "deploy/cell/simulated_cell.json"})", "test")},
         scene_(sim::load_camera_scene(testing::deployed_cell_json_path())),
         renderer_(scene_, testing::render_settings(2.0)),
         images_(participant_, kImageTopic, dds::qos::sensor_stream()),
         commands_(participant_, kCommandTopic, dds::qos::commands()),
         poses_(participant_, kPoseTopic, dds::qos::sensor_stream()) {
-    node_ = std::make_unique<VisionTrackerNode>(context_);
     loop_.on_data(poses_, [this] {
       poses_.take([this](const rigger_vision_TrackedPose& p, const dds_sample_info_t&) {
         Received r;
@@ -46,16 +44,37 @@ class VisionTrackerNodeTest : public ::testing::Test {
     });
   }
 
-  void command(rigger_vision_TrackerCommandKind kind) {
+  void SetUp() override { start(); }
+
+  /// (Re)starts the node with the deployed cell and `extra_config` keys (",\"key\": value...").
+  void start(const std::string& extra_config = "") {
+    node_.reset();
+    context_.reset(new dds::ServiceContext{
+        options_, null_logger(), participant_, loop_, announcer_,
+        Config::parse(R"({"cell_file": "deploy/cell/simulated_cell.json")" + extra_config + "}", "test")});
+    node_ = std::make_unique<VisionTrackerNode>(*context_);
+  }
+
+  /// Sends a command and waits until the node has handled it; returns its stamp.
+  WallTime command(rigger_vision_TrackerCommandKind kind, const std::string& object_id = "") {
     rigger_vision_TrackerCommand cmd{};
-    cmd.header.stamp = dds::wire_now();
+    const WallTime stamp = std::chrono::system_clock::now();
+    cmd.header.stamp = dds::to_wire(stamp);
     cmd.seq = ++seq_;
+    cmd.object_id = dds::wire_string(object_id);
     cmd.kind = kind;
     cmd.source = dds::wire_string(source_);
-    ASSERT_EQ(commands_.write(cmd), DDS_RETCODE_OK);
-    const auto before = node_->mode();
-    // The command is processed when the mode changes (every test command changes it).
-    ASSERT_TRUE(loop_.run_until([&] { return node_->mode() != before; }, 5s));
+    EXPECT_EQ(commands_.write(cmd), DDS_RETCODE_OK);
+    const auto handled = [&] { return node_->commands_applied() + node_->commands_dropped(); };
+    const auto before = handled();
+    EXPECT_TRUE(loop_.run_until([&] { return handled() > before; }, 5s));
+    return stamp;
+  }
+
+  /// A stamp for the next image: now, and always after the previous image's.
+  WallTime next_stamp() {
+    last_stamp_ = std::max(std::chrono::system_clock::now(), last_stamp_ + 1ms);
+    return last_stamp_;
   }
 
   void send(const cv::Mat& image, WallTime stamp, const std::string& encoding = "mono8", int extra_bytes = 0) {
@@ -97,7 +116,7 @@ class VisionTrackerNodeTest : public ::testing::Test {
   dds::Participant participant_;
   dds::EventLoop loop_;
   dds::ServiceAnnouncer announcer_;
-  dds::ServiceContext context_;
+  std::unique_ptr<dds::ServiceContext> context_;
   sim::CameraScene scene_;
   sim::CameraRenderer renderer_;
   dds::Writer<rigger_vision_Image> images_;
@@ -108,6 +127,7 @@ class VisionTrackerNodeTest : public ::testing::Test {
   std::uint64_t seq_ = 0;
   std::string source_ = "test";
   std::string camera_frame_ = "camera";
+  WallTime last_stamp_{};
 };
 
 TEST_F(VisionTrackerNodeTest, PublishesTheRenderedObjectsPosesWithTheImageStamp) {
@@ -175,31 +195,93 @@ TEST_F(VisionTrackerNodeTest, LostObjectIsReportedUntrackedAtOnceWithQualityZero
   EXPECT_EQ(to_unix_ns(lost.stamp), to_unix_ns(t1));
 }
 
-TEST_F(VisionTrackerNodeTest, IdleProcessesNothingAndTrackOnceProcessesOneImage) {
-  EXPECT_EQ(node_->mode(), TrackerMode::kIdle);
+TEST_F(VisionTrackerNodeTest, IdleProcessesNothingAndTrackOnceForAllPublishesEachObjectOnce) {
+  EXPECT_FALSE(node_->schedule().any_active());
   const cv::Mat image = render(visible_poses());
-  const WallTime t0 = std::chrono::system_clock::now();
-  command(rigger_vision_TRACK_ONCE);
-  send(image, t0);
-  ASSERT_TRUE(loop_.run_until([&] { return node_->images_processed() == 1; }, 5s));
-  EXPECT_EQ(node_->mode(), TrackerMode::kIdle);
-  // Idle again: the next image is taken and ignored; only the image after the next TRACK_ONCE counts.
-  send(image, t0 + 33ms);
+  send(image, next_stamp());
   ASSERT_TRUE(loop_.run_until([&] { return node_->images_ignored() == 1; }, 5s));
   command(rigger_vision_TRACK_ONCE);
-  send(image, t0 + 66ms);
-  ASSERT_TRUE(loop_.run_until([&] { return node_->images_processed() == 2; }, 5s));
+  const WallTime t1 = next_stamp();
+  send(image, t1);
   const std::size_t objects = scene_.objects.size();
-  ASSERT_TRUE(loop_.run_until([&] {
-    std::size_t done = 0;
-    for (const auto& entry : received_) done += entry.second.size() == 2 ? 1 : 0;
-    return done == objects;
-  }, 5s));
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == objects; }, 5s));
+  EXPECT_EQ(node_->images_processed(), 1u);
+  EXPECT_FALSE(node_->schedule().any_active()) << "every object had its pose: idle again";
+  // Idle again: the next image is taken and ignored.
+  send(image, next_stamp());
+  ASSERT_TRUE(loop_.run_until([&] { return node_->images_ignored() == 2; }, 5s));
   for (const auto& [id, list] : received_) {
-    ASSERT_EQ(list.size(), 2u) << id;
-    EXPECT_EQ(to_unix_ns(list.back().stamp), to_unix_ns(t0 + 66ms)) << id;
+    ASSERT_EQ(list.size(), 1u) << id;
+    EXPECT_TRUE(list.front().tracked) << id;
+    EXPECT_GE(list.front().quality, 0.5) << id;
+    EXPECT_EQ(to_unix_ns(list.front().stamp), to_unix_ns(t1)) << id;
   }
   EXPECT_EQ(node_->images_dropped(), 0u);
+}
+
+TEST_F(VisionTrackerNodeTest, TrackOnceForOneObjectPublishesOnlyItsFreshPose) {
+  const cv::Mat image = render(visible_poses());
+  const WallTime before_command = next_stamp();
+  const WallTime sent = command(rigger_vision_TRACK_ONCE, "load");
+  ASSERT_GT(sent, before_command);
+  // An image taken before the command is looked at but does not end TRACK_ONCE.
+  send(image, before_command);
+  ASSERT_TRUE(loop_.run_until([&] { return node_->images_processed() == 1; }, 5s));
+  EXPECT_TRUE(received_.empty());
+  EXPECT_TRUE(node_->schedule().once_pending("load"));
+  const WallTime fresh = next_stamp();
+  send(image, fresh);
+  ASSERT_TRUE(loop_.run_until([&] { return received_.count("load") == 1; }, 5s));
+  EXPECT_EQ(node_->images_processed(), 2u);
+  ASSERT_EQ(received_["load"].size(), 1u);
+  EXPECT_TRUE(received_["load"].front().tracked);
+  EXPECT_GE(received_["load"].front().quality, 0.5);
+  EXPECT_EQ(to_unix_ns(received_["load"].front().stamp), to_unix_ns(fresh));
+  EXPECT_GT(received_["load"].front().stamp, sent);
+  EXPECT_EQ(received_.count("target"), 0u) << "only the commanded object";
+  EXPECT_FALSE(node_->schedule().any_active());
+}
+
+TEST_F(VisionTrackerNodeTest, TrackOnceReturnsAContinuousObjectToContinuous) {
+  const cv::Mat image = render(visible_poses());
+  command(rigger_vision_TRACK_CONTINUOUS, "target");
+  command(rigger_vision_TRACK_ONCE, "load");
+  send(image, next_stamp());
+  ASSERT_TRUE(loop_.run_until([&] { return received_["load"].size() == 1 && received_["target"].size() == 1; }, 5s));
+  send(image, next_stamp());
+  ASSERT_TRUE(loop_.run_until([&] { return received_["target"].size() == 2; }, 5s));
+  EXPECT_EQ(node_->images_processed(), 2u);
+  EXPECT_EQ(received_["load"].size(), 1u) << "load went back to idle";
+  EXPECT_TRUE(node_->schedule().continuous("target"));
+  command(rigger_vision_TRACK_STOP, "target");
+  send(image, next_stamp());
+  ASSERT_TRUE(loop_.run_until([&] { return node_->images_ignored() == 1; }, 5s));
+}
+
+TEST_F(VisionTrackerNodeTest, TrackOnceGivesUpAfterItsTimeoutWithTrackedFalse) {
+  start(R"(, "once_timeout_s": 1.0)");
+  std::vector<sim::ObjectPose> without_load;
+  for (const auto& p : visible_poses()) {
+    if (p.object_id != "load") without_load.push_back(p);
+  }
+  const WallTime sent = command(rigger_vision_TRACK_ONCE, "load");
+  send(render(without_load), next_stamp());  // looked at (unless the timeout came first): no load in it
+  ASSERT_TRUE(loop_.run_until([&] { return received_.count("load") == 1; }, 5s));
+  EXPECT_EQ(node_->images_processed() + node_->images_ignored(), 1u);
+  ASSERT_EQ(received_["load"].size(), 1u);
+  const Received& lost = received_["load"].front();
+  EXPECT_FALSE(lost.tracked);
+  EXPECT_EQ(lost.quality, 0.0);
+  EXPECT_GT(lost.stamp, sent);
+  EXPECT_FALSE(node_->schedule().any_active());
+  EXPECT_EQ(received_.count("target"), 0u);
+}
+
+TEST_F(VisionTrackerNodeTest, CommandsForUnknownObjectsAreDropped) {
+  command(rigger_vision_TRACK_CONTINUOUS, "crane");
+  EXPECT_EQ(node_->commands_dropped(), 1u);
+  EXPECT_EQ(node_->commands_applied(), 0u);
+  EXPECT_FALSE(node_->schedule().any_active());
 }
 
 }  // namespace

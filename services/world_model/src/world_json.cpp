@@ -9,7 +9,6 @@ namespace {
 using nlohmann::json;
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
-constexpr std::size_t kMaxDescribedChars = 60;
 
 json vector_json(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
@@ -27,37 +26,6 @@ double finite_number(const json& value, const char* what) {
 }
 
 }  // namespace
-
-std::string join_pointer(const std::string& base, std::string_view key) {
-  std::string result = base + "/";
-  for (const char c : key) {
-    if (c == '~') {
-      result += "~0";
-    } else if (c == '/') {
-      result += "~1";
-    } else {
-      result += c;
-    }
-  }
-  return result;
-}
-
-std::string describe_json(const json& value) {
-  std::string text = value.dump(-1, ' ', false, json::error_handler_t::replace);
-  if (text.size() > kMaxDescribedChars) text = text.substr(0, kMaxDescribedChars) + "...";
-  if (value.is_number_float() && !std::isfinite(value.get<double>())) text = std::to_string(value.get<double>());
-  return std::string(value.type_name()) + " " + text;
-}
-
-bool is_valid_identifier(std::string_view text) {
-  if (text.empty() || text.size() > 64) return false;
-  for (const char c : text) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '.' ||
-                    c == '-';
-    if (!ok) return false;
-  }
-  return true;
-}
 
 json pose_to_config_json(const Eigen::Isometry3d& pose) {
   // eulerAngles(2, 1, 0) returns (yaw, pitch, roll) for R = Rz(yaw) Ry(pitch) Rx(roll).

@@ -9,19 +9,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rigger/cell_config/json_text.hpp"
 #include "world_types.hpp"
 
 namespace rigger::world {
 
-/// Appends `key` to JSON pointer `base`, escaping '~' and '/' as RFC 6901 requires.
-std::string join_pointer(const std::string& base, std::string_view key);
-
-/// A short rendering of a JSON value for error messages, e.g. `string "abc"` or `array [1,2]`
-/// (at most about 80 characters).
-std::string describe_json(const nlohmann::json& value);
-
-/// True for 1 to 64 characters from [A-Za-z0-9_.-]: the form of entity and feature ids.
-bool is_valid_identifier(std::string_view text);
+// Pointers, value renderings and the id form of the cell file's reader (rigger_cell_config).
+using cell::describe_json;
+using cell::is_valid_identifier;
+using cell::join_pointer;
 
 /// `{"position_m": [x, y, z], "rpy_deg": [roll, pitch, yaw]}`, the cell configuration's pose form
 /// (R = Rz(yaw) Ry(pitch) Rx(roll)).

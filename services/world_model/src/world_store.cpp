@@ -124,15 +124,22 @@ std::string ChangeRecord::what() const {
 WorldStore WorldStore::from_config(const CellConfig& config, Stamp loaded_at) {
   WorldStore store;
   const std::string source = "config:" + config.source;
-  for (Entity entity : config.entities) {
+  for (const cell::CellEntity& configured : config.entities) {
+    Entity entity;
+    entity.id = configured.id;
+    entity.kind = configured.kind;
+    entity.parent = configured.parent;
+    if (configured.pose_parent_entity) {
+      entity.pose = PoseEstimate{*configured.pose_parent_entity, loaded_at, source, std::nullopt, std::nullopt};
+    }
+    entity.localized = configured.localized;
     entity.stamp = loaded_at;
     entity.source = source;
-    if (entity.pose) {
-      entity.pose->stamp = loaded_at;
-      entity.pose->source = source;
-    }
-    const std::string id = entity.id;
-    store.entities_.emplace(id, std::move(entity));
+    entity.features = configured.features;
+    entity.model = configured.model;
+    entity.camera = configured.camera;
+    entity.attributes = configured.attributes;
+    store.entities_.emplace(entity.id, std::move(entity));
   }
   return store;
 }

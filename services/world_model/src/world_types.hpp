@@ -1,7 +1,8 @@
 #pragma once
 /// @file
 /// The world model's domain types: entities (objects, devices, frames), their poses in a parent frame,
-/// their CAD features, camera intrinsics and free attributes. Pure C++ (Eigen, nlohmann::json), no DDS.
+/// their CAD features, camera intrinsics (the cell file's types, from rigger_cell_config) and free
+/// attributes. Pure C++ (Eigen, nlohmann::json), no DDS.
 ///
 /// Conventions used throughout `rigger::world`:
 /// - Poses are `Eigen::Isometry3d` named `pose_<frame>_<entity>`: the pose of `entity` expressed in
@@ -22,6 +23,8 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "rigger/cell_config/cell_types.hpp"
+
 namespace rigger::world {
 
 /// Wall-clock time since the Unix epoch; identical to `rigger::WallTime`.
@@ -29,89 +32,20 @@ using Stamp = std::chrono::system_clock::time_point;
 /// Pose covariance over (x, y, z, rx, ry, rz), m² and rad².
 using Covariance6d = Eigen::Matrix<double, 6, 6>;
 
-/// What an entity is. Only frames may be roots of the frame tree.
-enum class EntityKind { kObject, kDevice, kFrame };
-
-/// "object", "device" or "frame" (the spelling used in the cell configuration and on the wire).
-std::string_view to_string(EntityKind kind);
-/// Parses "object", "device" or "frame"; std::nullopt for anything else.
-std::optional<EntityKind> entity_kind_from_string(std::string_view text);
-
-/// A named pose feature of an entity (grasp frame, approach waypoint), in the entity's own frame.
-struct NamedPose {
-  std::string id;
-  Eigen::Isometry3d pose_entity_feature = Eigen::Isometry3d::Identity();
-};
-
-/// A screw hole: where (in the entity's frame, z along the screw axis), which screw and how tight.
-struct ScrewHole {
-  std::string id;
-  Eigen::Isometry3d pose_entity_hole = Eigen::Isometry3d::Identity();
-  std::string screw_type;  ///< e.g. "M12x40"
-  double torque_nm = 0.0;  ///< tightening torque, N m, > 0
-};
-
-/// One fiducial marker of a layout.
-struct Marker {
-  int id = 0;                 ///< id in the layout's dictionary, >= 0
-  double size_m = 0.0;        ///< side length of the black square, m, > 0
-  Eigen::Isometry3d pose_entity_marker = Eigen::Isometry3d::Identity();
-};
-
-/// The fiducial markers fixed on an entity, all from one dictionary.
-struct MarkerLayout {
-  std::string dictionary;  ///< OpenCV ArUco dictionary name, e.g. "DICT_4X4_50"
-  std::vector<Marker> items;
-};
-
-/// Where this entity goes when it is inserted: its pose in the target entity's frame.
-struct Insertion {
-  std::string target;  ///< id of the target entity
-  Eigen::Isometry3d pose_target_entity = Eigen::Isometry3d::Identity();
-};
-
-/// CAD features of an entity. Feature ids (grasp frames, approach waypoints, screw holes and
-/// "rope_attachment") are unique within one entity.
-struct CadFeatures {
-  std::optional<Eigen::Isometry3d> rope_attachment;  ///< pose_entity_attachment, where the crane rope hooks
-  std::vector<NamedPose> grasp_frames;
-  std::vector<NamedPose> approach_waypoints;
-  std::vector<ScrewHole> screw_holes;
-  std::optional<MarkerLayout> markers;
-  std::optional<Insertion> insertion;
-
-  /// True when no feature is defined.
-  bool empty() const;
-  /// The pose (in the entity's frame) of the named grasp frame, approach waypoint, screw hole or
-  /// "rope_attachment"; std::nullopt when there is no such feature.
-  std::optional<Eigen::Isometry3d> find_pose(std::string_view feature_id) const;
-};
-
-/// The geometric model of an object (what the CAD model says about its shape and mass).
-struct ObjectModel {
-  std::string shape;               ///< "box" (the only shape so far)
-  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();  ///< box extents along x, y, z, m
-  std::optional<double> mass_kg;   ///< > 0 when given
-  std::string frame;               ///< where the entity frame sits on the model, in words
-  bool is_static = false;          ///< fixed to the floor (a target fixture)
-};
-
-/// Pinhole camera intrinsics (OpenCV model), pixels.
-struct CameraIntrinsics {
-  int width_px = 0;
-  int height_px = 0;
-  double fx = 0.0;
-  double fy = 0.0;
-  double cx = 0.0;
-  double cy = 0.0;
-  std::vector<double> distortion;  ///< OpenCV order k1 k2 p1 p2 [k3 [k4 k5 k6 [s1..s4 [tx ty]]]]
-  double rate_hz = 0.0;            ///< frame rate, > 0
-  double noise_stddev = 0.0;       ///< simulated image noise (grey levels), >= 0
-  std::string optical_frame;       ///< axis convention of the camera frame, in words
-
-  /// The 3x3 camera matrix K.
-  Eigen::Matrix3d camera_matrix() const;
-};
+// The cell file's types are the world model's (rigger_cell_config).
+using cell::CadFeatures;
+using cell::CameraIntrinsics;
+using cell::EntityKind;
+using cell::Insertion;
+using cell::Marker;
+using cell::MarkerLayout;
+using cell::NamedPose;
+using cell::ObjectModel;
+using cell::ScrewHole;
+using cell::entity_kind_from_string;
+using cell::pose_from_position_rpy_deg;
+using cell::rotation_from_rpy_deg;
+using cell::to_string;
 
 /// A pose estimate of an entity in its parent frame.
 struct PoseEstimate {
@@ -141,10 +75,5 @@ struct Entity {
 
 /// Entities by id (ordered, so listings and serialisations are deterministic).
 using EntityMap = std::map<std::string, Entity, std::less<>>;
-
-/// Rotation R = Rz(yaw) Ry(pitch) Rx(roll) from roll, pitch, yaw in degrees (the cell file's `rpy_deg`).
-Eigen::Matrix3d rotation_from_rpy_deg(const Eigen::Vector3d& rpy_deg);
-/// Pose from a position (m) and roll-pitch-yaw angles (deg) as in the cell configuration.
-Eigen::Isometry3d pose_from_position_rpy_deg(const Eigen::Vector3d& position_m, const Eigen::Vector3d& rpy_deg);
 
 }  // namespace rigger::world

@@ -89,7 +89,7 @@ void BM_CellPhysicsHoldingLoad(benchmark::State& state) {
   const CellGeometry& cell = physics.geometry();
   const Eigen::Isometry3d base_from_world = physics.pose_world_robot_base().inverse();
   physics.move_tool(
-      base_from_world * physics.pose_world_load() * cell.load.approach_waypoints.front().pose, 0.5);
+      base_from_world * physics.pose_world_load() * cell.load.approach_waypoints.front().pose_entity_feature, 0.5);
   physics.step(3s);
   physics.set_gripper_energized(true);
   physics.move_tool(base_from_world * physics.pose_world_load() * *cell.grasp_frame("grasp_side"),

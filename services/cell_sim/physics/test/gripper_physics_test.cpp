@@ -29,7 +29,7 @@ Eigen::Isometry3d grasp_pose(const CellPhysics& physics, double gap_m = 0.0, dou
 
 void approach_pre_grasp(CellPhysics& physics) {
   const Eigen::Isometry3d pre =
-      feature_in_base(physics, physics.geometry().load.approach_waypoints.front().pose);
+      feature_in_base(physics, physics.geometry().load.approach_waypoints.front().pose_entity_feature);
   ASSERT_TRUE(physics.move_tool(pre, 0.5).ok());
   ASSERT_TRUE(finish_motion(physics)) << physics.robot_state().motion.message;
 }

@@ -56,7 +56,7 @@ TEST(RobotPhysics, ReachesGraspSideOnTheLoadAndTheInsertionGraspPoint) {
 
   // And the arm gets there: straight-line moves to pre-grasp, then onto the face.
   const Eigen::Isometry3d pre_grasp_base =
-      feature_in_base(physics, cell.load.approach_waypoints.front().pose);
+      feature_in_base(physics, cell.load.approach_waypoints.front().pose_entity_feature);
   const CommandResult pre = physics.move_tool(pre_grasp_base, 0.5);
   ASSERT_TRUE(pre.ok()) << pre.message;
   ASSERT_TRUE(finish_motion(physics)) << physics.robot_state().motion.message;

@@ -1,13 +1,14 @@
 #pragma once
 /// @file
 /// What the simulated camera needs from the cell configuration (deploy/cell/simulated_cell.json):
-/// the camera's intrinsics and pose, and each boxed object with its fiducial markers.
-///
-/// This is a deliberately minimal reader, local to the camera library. When the world model's full
-/// cell-configuration loader exists, build a CameraScene from it instead and delete this parser.
+/// the camera's intrinsics and pose, and each boxed object with its fiducial markers. Read with the
+/// shared cell-file reader (rigger_cell_config); the rules only the renderer needs (one dictionary,
+/// markers flat on a box face, named box frames, plumb_bob distortion) are checked here.
 
 #include <Eigen/Geometry>
 #include <nlohmann/json_fwd.hpp>
+
+#include "rigger/cell_config/cell_file.hpp"
 
 #include <array>
 #include <filesystem>
@@ -83,10 +84,7 @@ CameraScene load_camera_scene(const std::filesystem::path& cell_json, const std:
 CameraScene parse_camera_scene(const nlohmann::json& cell, const std::string& source,
                                const std::string& camera_id = "camera");
 
-/// The OpenCV dictionary id for a name such as "DICT_4X4_50"; throws std::invalid_argument.
-int aruco_dictionary_from_name(const std::string& name);
-
-/// A pose from translation (m) and roll-pitch-yaw (deg), R = Rz(yaw) Ry(pitch) Rx(roll).
-Eigen::Isometry3d pose_from_rpy_deg(const Eigen::Vector3d& position_m, const Eigen::Vector3d& rpy_deg);
+/// Same, from a validated cell file. Throws cell::CellFileError naming the file and JSON pointer.
+CameraScene camera_scene_from(const cell::CellFile& file, const std::string& camera_id = "camera");
 
 }  // namespace rigger::sim

@@ -1,6 +1,8 @@
 #pragma once
 // The part of the cell geometry contract (deploy/cell/simulated_cell.json) that the physics needs:
-// poses resolved to the world frame, sizes, masses, crane ranges and the load's features.
+// poses resolved to the world frame, sizes, masses, crane ranges and the load's features. Read with the
+// shared cell-file reader (rigger_cell_config); the crane, robot and gripper numbers are entity
+// attributes checked here.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -10,19 +12,19 @@
 #include <string>
 #include <vector>
 
+#include "rigger/cell_config/cell_file.hpp"
+
 namespace rigger::sim {
 
-/// Bad or missing cell geometry.  what() names the file, the JSON pointer and what was expected.
+/// Bad or missing cell geometry. what() names the file, the JSON pointer and what was expected (the cell
+/// file reader's cell::CellFileError text), or what does not fit the physics model.
 class CellGeometryError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
 /// A named pose of a feature, in its owner's frame.
-struct NamedPose {
-  std::string id;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-};
+using NamedPose = cell::NamedPose;
 
 struct CraneGeometry {
   /// Crane frame in the world: its x is the bridge travel, y the trolley travel.
@@ -81,5 +83,9 @@ CellGeometry load_cell_geometry(const std::filesystem::path& path);
 
 /// Parses cell JSON text; `source` names it in error messages.  Throws CellGeometryError.
 CellGeometry parse_cell_geometry(const std::string& json_text, const std::string& source);
+
+/// The physics' part of a validated cell file: entities "crane", "robot", "gripper", "load" and "target"
+/// with the attributes, model and features the physics needs.  Throws cell::CellFileError.
+CellGeometry cell_geometry_from(const cell::CellFile& file);
 
 }  // namespace rigger::sim

@@ -1,4 +1,4 @@
-#include "world_cell_config.hpp"
+#include "rigger/cell_config/cell_file.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -10,9 +10,9 @@
 #include <set>
 #include <utility>
 
-#include "world_json.hpp"
+#include "rigger/cell_config/json_text.hpp"
 
-namespace rigger::world {
+namespace rigger::cell {
 namespace {
 
 using nlohmann::json;
@@ -24,17 +24,18 @@ std::string format_error(const std::string& file, const std::string& pointer, co
   return text;
 }
 
-// Validation helpers bound to one source name; every failure throws CellConfigError.
+// Validation helpers bound to one source name; every failure throws CellFileError.
 class Checker {
  public:
   explicit Checker(std::string file) : file_(std::move(file)) {}
 
   [[noreturn]] void fail(const std::string& pointer, const std::string& expected, const std::string& got = {}) const {
-    throw CellConfigError(file_, pointer, expected, got);
+    throw CellFileError(file_, pointer, expected, got);
   }
 
   // An object whose keys are all in `allowed` ("comment" is always allowed).
-  const json& object(const json& value, const std::string& pointer, std::initializer_list<std::string_view> allowed) const {
+  const json& object(const json& value, const std::string& pointer,
+                     std::initializer_list<std::string_view> allowed) const {
     if (!value.is_object()) fail(pointer, "an object", describe_json(value));
     for (const auto& item : value.items()) {
       const std::string& key = item.key();
@@ -90,9 +91,9 @@ class Checker {
     return number_value;
   }
 
-  std::int64_t integer(const json& value, const std::string& pointer, std::int64_t min_value, std::int64_t max_value) const {
-    const std::string expected =
-        "an integer in [" + std::to_string(min_value) + ", " + std::to_string(max_value) + "]";
+  std::int64_t integer(const json& value, const std::string& pointer, std::int64_t min_value,
+                       std::int64_t max_value) const {
+    const std::string expected = "an integer in [" + std::to_string(min_value) + ", " + std::to_string(max_value) + "]";
     if (!value.is_number_integer()) fail(pointer, expected, describe_json(value));
     if (value.is_number_unsigned()) {
       const auto unsigned_value = value.get<std::uint64_t>();
@@ -116,7 +117,8 @@ class Checker {
     }
     std::vector<double> result;
     result.reserve(value.size());
-    for (std::size_t i = 0; i < value.size(); ++i) result.push_back(number(value[i], pointer + "/" + std::to_string(i)));
+    for (std::size_t i = 0; i < value.size(); ++i)
+      result.push_back(number(value[i], pointer + "/" + std::to_string(i)));
     return result;
   }
 
@@ -127,21 +129,24 @@ class Checker {
 
   Eigen::Isometry3d pose(const json& value, const std::string& pointer) const {
     object(value, pointer, {"position_m", "rpy_deg"});
-    const Eigen::Vector3d position_m = vector3(require(value, pointer, "position_m", "[x, y, z] in metres"),
-                                               pointer + "/position_m");
-    const Eigen::Vector3d rpy_deg = vector3(require(value, pointer, "rpy_deg", "[roll, pitch, yaw] in degrees"),
-                                            pointer + "/rpy_deg");
+    const Eigen::Vector3d position_m =
+        vector3(require(value, pointer, "position_m", "[x, y, z] in metres"), pointer + "/position_m");
+    const Eigen::Vector3d rpy_deg =
+        vector3(require(value, pointer, "rpy_deg", "[roll, pitch, yaw] in degrees"), pointer + "/rpy_deg");
     return pose_from_position_rpy_deg(position_m, rpy_deg);
   }
 
   // Attributes are free, but must be plain JSON: no NaN or infinity smuggled in by code.
   void finite_everywhere(const json& value, const std::string& pointer, int depth = 0) const {
-    if (depth > kMaxCellConfigDepth) fail(pointer, "at most " + std::to_string(kMaxCellConfigDepth) + " levels of nesting");
-    if (value.is_number_float() && !std::isfinite(value.get<double>())) fail(pointer, "a finite number", describe_json(value));
+    if (depth > kMaxCellFileDepth) fail(pointer, "at most " + std::to_string(kMaxCellFileDepth) + " levels of nesting");
+    if (value.is_number_float() && !std::isfinite(value.get<double>()))
+      fail(pointer, "a finite number", describe_json(value));
     if (value.is_object()) {
-      for (const auto& item : value.items()) finite_everywhere(item.value(), join_pointer(pointer, item.key()), depth + 1);
+      for (const auto& item : value.items())
+        finite_everywhere(item.value(), join_pointer(pointer, item.key()), depth + 1);
     } else if (value.is_array()) {
-      for (std::size_t i = 0; i < value.size(); ++i) finite_everywhere(value[i], pointer + "/" + std::to_string(i), depth + 1);
+      for (std::size_t i = 0; i < value.size(); ++i)
+        finite_everywhere(value[i], pointer + "/" + std::to_string(i), depth + 1);
     }
   }
 
@@ -149,29 +154,16 @@ class Checker {
   std::string file_;
 };
 
-// How many markers an OpenCV predefined dictionary holds (ids are 0 .. size-1).
-std::optional<int> dictionary_size(std::string_view name) {
-  static const std::map<std::string_view, int> kSizes = {
-      {"DICT_4X4_50", 50},         {"DICT_4X4_100", 100},       {"DICT_4X4_250", 250},
-      {"DICT_4X4_1000", 1000},     {"DICT_5X5_50", 50},         {"DICT_5X5_100", 100},
-      {"DICT_5X5_250", 250},       {"DICT_5X5_1000", 1000},     {"DICT_6X6_50", 50},
-      {"DICT_6X6_100", 100},       {"DICT_6X6_250", 250},       {"DICT_6X6_1000", 1000},
-      {"DICT_7X7_50", 50},         {"DICT_7X7_100", 100},       {"DICT_7X7_250", 250},
-      {"DICT_7X7_1000", 1000},     {"DICT_ARUCO_ORIGINAL", 1024}, {"DICT_APRILTAG_16h5", 30},
-      {"DICT_APRILTAG_25h9", 35},  {"DICT_APRILTAG_36h10", 2320}, {"DICT_APRILTAG_36h11", 587}};
-  const auto it = kSizes.find(name);
-  if (it == kSizes.end()) return std::nullopt;
-  return it->second;
-}
-
 class EntityParser {
  public:
   explicit EntityParser(const Checker& check) : check_(check) {}
 
-  Entity parse(const json& value, const std::string& pointer) {
-    check_.object(value, pointer,
-                  {"id", "kind", "parent", "pose", "localized", "attributes", "camera", "model", "features", "description"});
-    Entity entity;
+  CellEntity parse(const json& value, const std::string& pointer) {
+    check_.object(
+        value, pointer,
+        {"id", "kind", "parent", "pose", "localized", "attributes", "camera", "model", "features", "description"});
+    CellEntity entity;
+    entity.pointer = pointer;
     entity.id = check_.identifier(check_.require(value, pointer, "id", "an entity id"), pointer + "/id");
     const std::string kind_text =
         check_.string(check_.require(value, pointer, "kind", "\"object\", \"device\" or \"frame\""), pointer + "/kind");
@@ -189,18 +181,18 @@ class EntityParser {
     }
 
     if (const json* pose = Checker::find(value, "pose")) {
-      if (entity.parent.empty()) check_.fail(pointer + "/pose", "no pose on a root frame (it defines its own frame)", "a pose");
-      PoseEstimate estimate;
-      estimate.pose_parent_entity = check_.pose(*pose, pointer + "/pose");
-      entity.pose = estimate;
+      if (entity.parent.empty())
+        check_.fail(pointer + "/pose", "no pose on a root frame (it defines its own frame)", "a pose");
+      entity.pose_parent_entity = check_.pose(*pose, pointer + "/pose");
     }
 
     // Calibrated devices and fixed frames are localized by the configuration; objects must be localized by
     // perception first unless the file says otherwise.
-    entity.localized = entity.pose.has_value() && entity.kind != EntityKind::kObject;
+    entity.localized = entity.pose_parent_entity.has_value() && entity.kind != EntityKind::kObject;
     if (const json* localized = Checker::find(value, "localized")) {
       entity.localized = check_.boolean(*localized, pointer + "/localized");
-      if (entity.localized && !entity.pose) check_.fail(pointer + "/localized", "false for an entity without a pose", "true");
+      if (entity.localized && !entity.pose_parent_entity)
+        check_.fail(pointer + "/localized", "false for an entity without a pose", "true");
     }
 
     if (const json* attributes = Checker::find(value, "attributes")) {
@@ -213,11 +205,13 @@ class EntityParser {
     }
 
     if (const json* camera = Checker::find(value, "camera")) {
-      if (entity.kind != EntityKind::kDevice) check_.fail(pointer + "/camera", "camera intrinsics only on a device", kind_text);
+      if (entity.kind != EntityKind::kDevice)
+        check_.fail(pointer + "/camera", "camera intrinsics only on a device", kind_text);
       entity.camera = parse_camera(*camera, pointer + "/camera");
     }
     if (const json* model = Checker::find(value, "model")) {
-      if (entity.kind != EntityKind::kObject) check_.fail(pointer + "/model", "an object model only on an object", kind_text);
+      if (entity.kind != EntityKind::kObject)
+        check_.fail(pointer + "/model", "an object model only on an object", kind_text);
       entity.model = parse_model(*model, pointer + "/model");
     }
     if (const json* features = Checker::find(value, "features")) {
@@ -229,24 +223,28 @@ class EntityParser {
 
  private:
   CameraIntrinsics parse_camera(const json& value, const std::string& pointer) const {
-    check_.object(value, pointer,
-                  {"width", "height", "fx", "fy", "cx", "cy", "distortion", "rate_hz", "noise_stddev", "optical_frame"});
+    check_.object(
+        value, pointer,
+        {"width", "height", "fx", "fy", "cx", "cy", "distortion", "rate_hz", "noise_stddev", "optical_frame"});
     CameraIntrinsics camera;
-    camera.width_px = static_cast<int>(
-        check_.integer(check_.require(value, pointer, "width", "the image width in pixels"), pointer + "/width", 1, 65535));
-    camera.height_px = static_cast<int>(
-        check_.integer(check_.require(value, pointer, "height", "the image height in pixels"), pointer + "/height", 1, 65535));
+    camera.width_px = static_cast<int>(check_.integer(
+        check_.require(value, pointer, "width", "the image width in pixels"), pointer + "/width", 1, 65535));
+    camera.height_px = static_cast<int>(check_.integer(
+        check_.require(value, pointer, "height", "the image height in pixels"), pointer + "/height", 1, 65535));
     camera.fx = check_.positive(check_.require(value, pointer, "fx", "the focal length fx in pixels"), pointer + "/fx");
     camera.fy = check_.positive(check_.require(value, pointer, "fy", "the focal length fy in pixels"), pointer + "/fy");
-    camera.cx = check_.number(check_.require(value, pointer, "cx", "the principal point cx in pixels"), pointer + "/cx");
-    camera.cy = check_.number(check_.require(value, pointer, "cy", "the principal point cy in pixels"), pointer + "/cy");
+    camera.cx =
+        check_.number(check_.require(value, pointer, "cx", "the principal point cx in pixels"), pointer + "/cx");
+    camera.cy =
+        check_.number(check_.require(value, pointer, "cy", "the principal point cy in pixels"), pointer + "/cy");
     if (camera.cx < 0.0 || camera.cx > camera.width_px) {
       check_.fail(pointer + "/cx", "a principal point inside the image [0, width]", describe_json(value.at("cx")));
     }
     if (camera.cy < 0.0 || camera.cy > camera.height_px) {
       check_.fail(pointer + "/cy", "a principal point inside the image [0, height]", describe_json(value.at("cy")));
     }
-    camera.rate_hz = check_.positive(check_.require(value, pointer, "rate_hz", "the frame rate in Hz"), pointer + "/rate_hz");
+    camera.rate_hz =
+        check_.positive(check_.require(value, pointer, "rate_hz", "the frame rate in Hz"), pointer + "/rate_hz");
     if (const json* distortion = Checker::find(value, "distortion")) {
       camera.distortion = check_.numbers(*distortion, pointer + "/distortion", {4, 5, 8, 12, 14},
                                          "an array of 4, 5, 8, 12 or 14 numbers (OpenCV distortion coefficients)");
@@ -266,13 +264,16 @@ class EntityParser {
     ObjectModel model;
     model.shape = check_.string(check_.require(value, pointer, "shape", "\"box\""), pointer + "/shape");
     if (model.shape != "box") check_.fail(pointer + "/shape", "\"box\"", describe_json(value.at("shape")));
-    model.size_m = check_.vector3(check_.require(value, pointer, "size_m", "[x, y, z] extents in metres"), pointer + "/size_m");
+    model.size_m =
+        check_.vector3(check_.require(value, pointer, "size_m", "[x, y, z] extents in metres"), pointer + "/size_m");
     if ((model.size_m.array() <= 0.0).any()) {
       check_.fail(pointer + "/size_m", "three extents > 0 m", describe_json(value.at("size_m")));
     }
-    if (const json* mass = Checker::find(value, "mass_kg")) model.mass_kg = check_.positive(*mass, pointer + "/mass_kg");
+    if (const json* mass = Checker::find(value, "mass_kg"))
+      model.mass_kg = check_.positive(*mass, pointer + "/mass_kg");
     if (const json* frame = Checker::find(value, "frame")) model.frame = check_.string(*frame, pointer + "/frame");
-    if (const json* is_static = Checker::find(value, "static")) model.is_static = check_.boolean(*is_static, pointer + "/static");
+    if (const json* is_static = Checker::find(value, "static"))
+      model.is_static = check_.boolean(*is_static, pointer + "/static");
     return model;
   }
 
@@ -300,8 +301,9 @@ class EntityParser {
     if (const json* insertion = Checker::find(value, "insertion")) {
       check_.object(*insertion, pointer + "/insertion", {"target", "pose_in_target"});
       Insertion result;
-      result.target = check_.identifier(check_.require(*insertion, pointer + "/insertion", "target", "the target entity id"),
-                                        pointer + "/insertion/target");
+      result.target =
+          check_.identifier(check_.require(*insertion, pointer + "/insertion", "target", "the target entity id"),
+                            pointer + "/insertion/target");
       result.pose_target_entity =
           check_.pose(check_.require(*insertion, pointer + "/insertion", "pose_in_target", "a pose"),
                       pointer + "/insertion/pose_in_target");
@@ -312,7 +314,8 @@ class EntityParser {
 
   void claim_feature_id(const std::string& id, const std::string& pointer) {
     const auto [it, inserted] = feature_ids_.emplace(id, pointer);
-    if (!inserted) check_.fail(pointer, "a feature id unique within the entity", "\"" + id + "\", already used at " + it->second);
+    if (!inserted)
+      check_.fail(pointer, "a feature id unique within the entity", "\"" + id + "\", already used at " + it->second);
   }
 
   const json& array(const json& value, const std::string& pointer) const {
@@ -328,7 +331,8 @@ class EntityParser {
       NamedPose named;
       named.id = check_.identifier(check_.require(value[i], item_pointer, "id", "a feature id"), item_pointer + "/id");
       claim_feature_id(named.id, item_pointer + "/id");
-      named.pose_entity_feature = check_.pose(check_.require(value[i], item_pointer, "pose", "a pose"), item_pointer + "/pose");
+      named.pose_entity_feature =
+          check_.pose(check_.require(value[i], item_pointer, "pose", "a pose"), item_pointer + "/pose");
       result.push_back(named);
     }
     return result;
@@ -342,9 +346,11 @@ class EntityParser {
       ScrewHole hole;
       hole.id = check_.identifier(check_.require(value[i], item_pointer, "id", "a feature id"), item_pointer + "/id");
       claim_feature_id(hole.id, item_pointer + "/id");
-      hole.pose_entity_hole = check_.pose(check_.require(value[i], item_pointer, "pose", "a pose"), item_pointer + "/pose");
-      hole.screw_type = check_.string(check_.require(value[i], item_pointer, "screw_type", "a screw type such as \"M12x40\""),
-                                      item_pointer + "/screw_type");
+      hole.pose_entity_hole =
+          check_.pose(check_.require(value[i], item_pointer, "pose", "a pose"), item_pointer + "/pose");
+      hole.screw_type =
+          check_.string(check_.require(value[i], item_pointer, "screw_type", "a screw type such as \"M12x40\""),
+                        item_pointer + "/screw_type");
       if (hole.screw_type.empty()) check_.fail(item_pointer + "/screw_type", "a non-empty screw type", "\"\"");
       hole.torque_nm = check_.positive(check_.require(value[i], item_pointer, "torque_nm", "the torque in N m"),
                                        item_pointer + "/torque_nm");
@@ -356,10 +362,10 @@ class EntityParser {
   MarkerLayout parse_markers(const json& value, const std::string& pointer) const {
     check_.object(value, pointer, {"dictionary", "items"});
     MarkerLayout layout;
-    layout.dictionary =
-        check_.string(check_.require(value, pointer, "dictionary", "an ArUco dictionary name"), pointer + "/dictionary");
-    const auto size = dictionary_size(layout.dictionary);
-    if (!size) {
+    layout.dictionary = check_.string(check_.require(value, pointer, "dictionary", "an ArUco dictionary name"),
+                                      pointer + "/dictionary");
+    const auto dictionary = marker_dictionary(layout.dictionary);
+    if (!dictionary) {
       check_.fail(pointer + "/dictionary", "an OpenCV predefined dictionary such as \"DICT_4X4_50\"",
                   describe_json(value.at("dictionary")));
     }
@@ -369,8 +375,8 @@ class EntityParser {
       const std::string item_pointer = pointer + "/items/" + std::to_string(i);
       check_.object(items[i], item_pointer, {"id", "size_m", "pose"});
       Marker marker;
-      marker.id = static_cast<int>(
-          check_.integer(check_.require(items[i], item_pointer, "id", "a marker id"), item_pointer + "/id", 0, *size - 1));
+      marker.id = static_cast<int>(check_.integer(check_.require(items[i], item_pointer, "id", "a marker id"),
+                                                  item_pointer + "/id", 0, dictionary->size - 1));
       if (!ids.insert(marker.id).second) {
         check_.fail(item_pointer + "/id", "a marker id unique within the layout", std::to_string(marker.id));
       }
@@ -401,8 +407,8 @@ class ParseGuard {
   explicit ParseGuard(const std::string& source) : source_(source) {}
 
   bool operator()(int depth, json::parse_event_t event, json& parsed) {
-    if (depth > kMaxCellConfigDepth) {
-      throw CellConfigError(source_, pointer(), "at most " + std::to_string(kMaxCellConfigDepth) + " levels of nesting");
+    if (depth > kMaxCellFileDepth) {
+      throw CellFileError(source_, pointer(), "at most " + std::to_string(kMaxCellFileDepth) + " levels of nesting");
     }
     switch (event) {
       case json::parse_event_t::object_start:
@@ -415,7 +421,7 @@ class ParseGuard {
         Level& level = levels_.back();
         level.key = parsed.get<std::string>();
         if (!level.keys.insert(level.key).second) {
-          throw CellConfigError(source_, pointer(), "unique keys in an object", "duplicate key \"" + level.key + "\"");
+          throw CellFileError(source_, pointer(), "unique keys in an object", "duplicate key \"" + level.key + "\"");
         }
         break;
       }
@@ -450,72 +456,140 @@ class ParseGuard {
 
 }  // namespace
 
-CellConfigError::CellConfigError(std::string file, std::string pointer, std::string expected, std::string got)
+CellFileError::CellFileError(std::string file, std::string pointer, std::string expected, std::string got)
     : std::runtime_error(format_error(file, pointer, expected, got)),
       file_(std::move(file)),
       pointer_(std::move(pointer)),
       expected_(std::move(expected)) {}
 
-CellConfig load_cell_config(const std::filesystem::path& path) {
+const CellEntity* CellFile::find(std::string_view id) const {
+  const auto it = std::find_if(entities.begin(), entities.end(), [&](const CellEntity& e) { return e.id == id; });
+  return it == entities.end() ? nullptr : &*it;
+}
+
+const CellEntity& CellFile::require(std::string_view id, std::string_view purpose) const {
+  const CellEntity* entity = find(id);
+  if (entity == nullptr) {
+    fail("/entities", "an entity with id \"" + std::string(id) + "\" (" + std::string(purpose) + ")", "none");
+  }
+  return *entity;
+}
+
+Eigen::Isometry3d CellFile::pose_root_entity(std::string_view id) const {
+  // A validated file has known parents and no cycles, so the walk ends at a root frame.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  for (const CellEntity* entity = &require(id, "a pose lookup"); entity != nullptr;
+       entity = entity->parent.empty() ? nullptr : find(entity->parent)) {
+    if (entity->pose_parent_entity) pose = *entity->pose_parent_entity * pose;
+  }
+  return pose;
+}
+
+void CellFile::fail(const std::string& pointer, const std::string& expected, const std::string& got) const {
+  throw CellFileError(source, pointer, expected, got);
+}
+
+AttributeReader::AttributeReader(const CellFile& file, const CellEntity& entity) : file_(file), entity_(entity) {}
+
+std::string AttributeReader::pointer(std::string_view key) const {
+  return join_pointer(entity_.pointer + "/attributes", key);
+}
+
+const json& AttributeReader::value(std::string_view key, const std::string& expected) const {
+  const auto it = entity_.attributes.find(key);
+  if (it == entity_.attributes.end()) file_.fail(pointer(key), expected, "nothing (missing key)");
+  return *it;
+}
+
+double AttributeReader::number(std::string_view key) const {
+  return Checker(file_.source).number(value(key, "a number"), pointer(key));
+}
+
+double AttributeReader::positive(std::string_view key) const {
+  return Checker(file_.source).positive(value(key, "a number > 0"), pointer(key));
+}
+
+Eigen::Vector2d AttributeReader::range(std::string_view key) const {
+  const std::string expected = "[min, max], two numbers with min < max";
+  const json& range_value = value(key, expected);
+  const auto values = Checker(file_.source).numbers(range_value, pointer(key), {2}, expected);
+  if (!(values[0] < values[1])) file_.fail(pointer(key), expected, describe_json(range_value));
+  return {values[0], values[1]};
+}
+
+Eigen::Vector3d AttributeReader::positive3(std::string_view key) const {
+  const std::string expected = "an array of 3 numbers > 0";
+  const json& triple = value(key, expected);
+  const auto values = Checker(file_.source).numbers(triple, pointer(key), {3}, expected);
+  if (*std::min_element(values.begin(), values.end()) <= 0.0) file_.fail(pointer(key), expected, describe_json(triple));
+  return {values[0], values[1], values[2]};
+}
+
+std::string AttributeReader::text(std::string_view key) const {
+  return Checker(file_.source).string(value(key, "a string"), pointer(key));
+}
+
+CellFile load_cell_file(const std::filesystem::path& path) {
   const std::string source = path.string();
   std::ifstream file(path, std::ios::binary);
-  if (!file) throw CellConfigError(source, "", "a readable file", std::strerror(errno));
+  if (!file) throw CellFileError(source, "", "a readable file", std::strerror(errno));
   std::string text;
   char buffer[65536];
   while (file.read(buffer, sizeof buffer) || file.gcount() > 0) {
     text.append(buffer, static_cast<std::size_t>(file.gcount()));
-    if (text.size() > kMaxCellConfigBytes) {
-      throw CellConfigError(source, "", "at most " + std::to_string(kMaxCellConfigBytes) + " bytes", "a larger file");
+    if (text.size() > kMaxCellFileBytes) {
+      throw CellFileError(source, "", "at most " + std::to_string(kMaxCellFileBytes) + " bytes", "a larger file");
     }
   }
-  if (file.bad()) throw CellConfigError(source, "", "a readable file", "a read error");
-  return parse_cell_config(text, source);
+  if (file.bad()) throw CellFileError(source, "", "a readable file", "a read error");
+  return parse_cell_file(text, source);
 }
 
-CellConfig parse_cell_config(std::string_view text, const std::string& source) {
-  if (text.size() > kMaxCellConfigBytes) {
-    throw CellConfigError(source, "", "at most " + std::to_string(kMaxCellConfigBytes) + " bytes",
-                          std::to_string(text.size()) + " bytes");
+CellFile parse_cell_file(std::string_view text, const std::string& source) {
+  if (text.size() > kMaxCellFileBytes) {
+    throw CellFileError(source, "", "at most " + std::to_string(kMaxCellFileBytes) + " bytes",
+                        std::to_string(text.size()) + " bytes");
   }
   json document;
   try {
     document = json::parse(text.begin(), text.end(), ParseGuard(source));
   } catch (const json::exception& error) {
-    throw CellConfigError(source, "", "valid JSON", error.what());
+    throw CellFileError(source, "", "valid JSON", error.what());
   }
-  return cell_config_from_json(document, source);
+  return cell_file_from_json(document, source);
 }
 
-CellConfig cell_config_from_json(const json& document, const std::string& source) {
+CellFile cell_file_from_json(const json& document, const std::string& source) {
   const Checker check(source);
   check.object(document, "", {"cell_version", "description", "entities"});
-  CellConfig config;
-  config.source = source;
-  config.cell_version = static_cast<int>(
-      check.integer(check.require(document, "", "cell_version", "the format version 1"), "/cell_version", kCellVersion, kCellVersion));
+  CellFile file;
+  file.source = source;
+  file.cell_version =
+      static_cast<int>(check.integer(check.require(document, "", "cell_version", "the format version 1"),
+                                     "/cell_version", kCellVersion, kCellVersion));
   if (const json* description = Checker::find(document, "description")) {
-    config.description = check.string(*description, "/description");
+    file.description = check.string(*description, "/description");
   }
   const json& entities = check.require(document, "", "entities", "an array of entities");
-  if (!entities.is_array() || entities.empty()) check.fail("/entities", "a non-empty array of entities", describe_json(entities));
+  if (!entities.is_array() || entities.empty())
+    check.fail("/entities", "a non-empty array of entities", describe_json(entities));
 
   EntityParser parser(check);
   std::map<std::string, std::size_t> index_of;
   for (std::size_t i = 0; i < entities.size(); ++i) {
     const std::string pointer = "/entities/" + std::to_string(i);
-    Entity entity = parser.parse(entities[i], pointer);
+    CellEntity entity = parser.parse(entities[i], pointer);
     const auto [it, inserted] = index_of.emplace(entity.id, i);
     if (!inserted) {
       check.fail(pointer + "/id", "an entity id unique in the cell",
                  "\"" + entity.id + "\", already used at /entities/" + std::to_string(it->second));
     }
-    config.entities.push_back(std::move(entity));
+    file.entities.push_back(std::move(entity));
   }
-
   // References are resolved after every id is known, so the file may list entities in any order.
   std::map<std::pair<std::string, int>, std::string> marker_owner;  // (dictionary, id) -> pointer
-  for (std::size_t i = 0; i < config.entities.size(); ++i) {
-    const Entity& entity = config.entities[i];
+  for (std::size_t i = 0; i < file.entities.size(); ++i) {
+    const CellEntity& entity = file.entities[i];
     const std::string pointer = "/entities/" + std::to_string(i);
     if (!entity.parent.empty() && index_of.count(entity.parent) == 0) {
       check.fail(pointer + "/parent", "the id of an entity of this cell", "unknown entity \"" + entity.parent + "\"");
@@ -523,14 +597,16 @@ CellConfig cell_config_from_json(const json& document, const std::string& source
     if (entity.features.insertion) {
       const std::string& target = entity.features.insertion->target;
       if (index_of.count(target) == 0 || target == entity.id) {
-        check.fail(pointer + "/features/insertion/target", "the id of another entity of this cell", "\"" + target + "\"");
+        check.fail(pointer + "/features/insertion/target", "the id of another entity of this cell",
+                   "\"" + target + "\"");
       }
     }
     if (entity.features.markers) {
       const MarkerLayout& layout = *entity.features.markers;
       for (std::size_t m = 0; m < layout.items.size(); ++m) {
         const std::string marker_pointer = pointer + "/features/markers/items/" + std::to_string(m) + "/id";
-        const auto [it, inserted] = marker_owner.emplace(std::make_pair(layout.dictionary, layout.items[m].id), marker_pointer);
+        const auto [it, inserted] =
+            marker_owner.emplace(std::make_pair(layout.dictionary, layout.items[m].id), marker_pointer);
         if (!inserted) {
           check.fail(marker_pointer, "a marker id unique in the cell for dictionary " + layout.dictionary,
                      std::to_string(layout.items[m].id) + ", already used at " + it->second);
@@ -538,22 +614,22 @@ CellConfig cell_config_from_json(const json& document, const std::string& source
       }
     }
   }
-  for (std::size_t i = 0; i < config.entities.size(); ++i) {
-    std::vector<std::string> chain{config.entities[i].id};
-    std::string parent = config.entities[i].parent;
+  for (std::size_t i = 0; i < file.entities.size(); ++i) {
+    std::vector<std::string> chain{file.entities[i].id};
+    std::string parent = file.entities[i].parent;
     while (!parent.empty()) {
       chain.push_back(parent);
-      if (parent == config.entities[i].id) {
+      if (parent == file.entities[i].id) {
         std::string cycle;
         for (const auto& id : chain) cycle += (cycle.empty() ? "" : " -> ") + id;
         check.fail("/entities/" + std::to_string(i) + "/parent", "a frame tree without cycles", "the cycle " + cycle);
       }
       // A cycle not through entity i is reported when the loop reaches one of its members.
-      if (chain.size() > config.entities.size() + 1) break;
-      parent = config.entities[index_of.at(parent)].parent;
+      if (chain.size() > file.entities.size() + 1) break;
+      parent = file.entities[index_of.at(parent)].parent;
     }
   }
-  return config;
+  return file;
 }
 
-}  // namespace rigger::world
+}  // namespace rigger::cell

@@ -1,0 +1,118 @@
+#pragma once
+/// @file
+/// The typed contents of a cell file (deploy/cell/*.json, format in docs/world-model.md): entity kinds,
+/// CAD features, object models, camera intrinsics, and the file's pose convention. Pure C++ (Eigen);
+/// value types, no shared state.
+///
+/// Poses are `Eigen::Isometry3d` named `pose_<frame>_<entity>`: the pose of `entity` expressed in `frame`
+/// (it maps points from the entity's frame into `frame`). Metres and radians.
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+namespace rigger::cell {
+
+/// What an entity is. Only frames may be roots of the frame tree.
+enum class EntityKind { kObject, kDevice, kFrame };
+
+/// "object", "device" or "frame" (the spelling used in the cell file and on the wire).
+std::string_view to_string(EntityKind kind);
+/// Parses "object", "device" or "frame"; std::nullopt for anything else.
+std::optional<EntityKind> entity_kind_from_string(std::string_view text);
+
+/// A named pose feature of an entity (grasp frame, approach waypoint), in the entity's own frame.
+struct NamedPose {
+  std::string id;
+  Eigen::Isometry3d pose_entity_feature = Eigen::Isometry3d::Identity();
+};
+
+/// A screw hole: where (in the entity's frame, z along the screw axis), which screw and how tight.
+struct ScrewHole {
+  std::string id;
+  Eigen::Isometry3d pose_entity_hole = Eigen::Isometry3d::Identity();
+  std::string screw_type;  ///< e.g. "M12x40"
+  double torque_nm = 0.0;  ///< tightening torque, N m, > 0
+};
+
+/// One square fiducial marker of a layout. Marker frame (OpenCV ArUco convention): origin at the marker
+/// centre, x to the right of the printed image, y up, z out of the printed face.
+struct Marker {
+  int id = 0;           ///< id in the layout's dictionary, >= 0
+  double size_m = 0.0;  ///< side length of the black square, m, > 0
+  Eigen::Isometry3d pose_entity_marker = Eigen::Isometry3d::Identity();
+};
+
+/// The fiducial markers fixed on an entity, all from one dictionary.
+struct MarkerLayout {
+  std::string dictionary;  ///< OpenCV ArUco dictionary name, e.g. "DICT_4X4_50"
+  std::vector<Marker> items;
+};
+
+/// An OpenCV predefined marker dictionary.
+struct MarkerDictionary {
+  int opencv_id = 0;  ///< cv::aruco::PREDEFINED_DICTIONARY_NAME value
+  int size = 0;       ///< number of markers; ids are 0 .. size-1
+};
+
+/// The predefined dictionary of this name (e.g. "DICT_4X4_50"); std::nullopt for an unknown name.
+std::optional<MarkerDictionary> marker_dictionary(std::string_view name);
+
+/// Where this entity goes when it is inserted: its pose in the target entity's frame.
+struct Insertion {
+  std::string target;  ///< id of the target entity
+  Eigen::Isometry3d pose_target_entity = Eigen::Isometry3d::Identity();
+};
+
+/// CAD features of an entity. Feature ids (grasp frames, approach waypoints, screw holes and
+/// "rope_attachment") are unique within one entity.
+struct CadFeatures {
+  std::optional<Eigen::Isometry3d> rope_attachment;  ///< pose_entity_attachment, where the crane rope hooks
+  std::vector<NamedPose> grasp_frames;
+  std::vector<NamedPose> approach_waypoints;
+  std::vector<ScrewHole> screw_holes;
+  std::optional<MarkerLayout> markers;
+  std::optional<Insertion> insertion;
+
+  /// True when no feature is defined.
+  bool empty() const;
+  /// The pose (in the entity's frame) of the named grasp frame, approach waypoint, screw hole or
+  /// "rope_attachment"; std::nullopt when there is no such feature.
+  std::optional<Eigen::Isometry3d> find_pose(std::string_view feature_id) const;
+};
+
+/// The geometric model of an object (what the CAD model says about its shape and mass).
+struct ObjectModel {
+  std::string shape;                                 ///< "box" (the only shape so far)
+  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();  ///< box extents along x, y, z, m
+  std::optional<double> mass_kg;                     ///< > 0 when given
+  std::string frame;                                 ///< where the entity frame sits on the model, in words
+  bool is_static = false;                            ///< fixed to the floor (a target fixture)
+};
+
+/// Pinhole camera intrinsics (OpenCV model), pixels. Pixel (0, 0) is the centre of the top-left pixel.
+struct CameraIntrinsics {
+  int width_px = 0;
+  int height_px = 0;
+  double fx = 0.0;
+  double fy = 0.0;
+  double cx = 0.0;
+  double cy = 0.0;
+  std::vector<double> distortion;  ///< OpenCV order k1 k2 p1 p2 [k3 [k4 k5 k6 [s1..s4 [tx ty]]]]
+  double rate_hz = 0.0;            ///< frame rate, > 0
+  double noise_stddev = 0.0;       ///< simulated image noise (grey levels), >= 0
+  std::string optical_frame;       ///< axis convention of the camera frame, in words
+
+  /// The 3x3 camera matrix K.
+  Eigen::Matrix3d camera_matrix() const;
+};
+
+/// Rotation R = Rz(yaw) Ry(pitch) Rx(roll) from roll, pitch, yaw in degrees (the cell file's `rpy_deg`).
+Eigen::Matrix3d rotation_from_rpy_deg(const Eigen::Vector3d& rpy_deg);
+/// Pose from a position (m) and roll-pitch-yaw angles (deg) as in the cell file.
+Eigen::Isometry3d pose_from_position_rpy_deg(const Eigen::Vector3d& position_m, const Eigen::Vector3d& rpy_deg);
+
+}  // namespace rigger::cell
