@@ -17,7 +17,7 @@ std::chrono::nanoseconds seconds(double s) {
 }
 
 nlohmann::json load_library(const Config& config) {
-  const std::string name = config.get<std::string>("library_file", "recipes/examples/skill_library.json");
+  const std::string name = config.get<std::string>("library_file", "test/data/scripted_skill_library.json");
   std::filesystem::path path(name);
   if (path.is_relative() && !std::filesystem::exists(path)) path = std::filesystem::path(RIGGER_SOURCE_DIR) / name;
   std::ifstream in(path);
@@ -39,14 +39,15 @@ ScriptedExecutorNode::ScriptedExecutorNode(dds::ServiceContext& ctx) : ctx_(ctx)
   if (ctx.config.has("skills"))
     for (const auto& s : ctx.config.get<std::vector<std::string>>("skills")) wanted.insert(s);
   nlohmann::json skills = nlohmann::json::array();
+  std::set<std::string> missing = wanted;  // `wanted` itself must stay whole: it filters every description
   for (const auto& d : library["skills"]) {
     const std::string name = d.value("name", "");
     if (!wanted.empty() && !wanted.count(name)) continue;
     is_monitor_[name] = d.value("kind", "skill") == "monitor";
-    wanted.erase(name);
+    missing.erase(name);
     skills.push_back(d);
   }
-  if (!wanted.empty()) ctx.config.fail("skills", "not in the library: " + *wanted.begin());
+  if (!missing.empty()) ctx.config.fail("skills", "not in the library: " + *missing.begin());
   library["skills"] = skills;
 
   default_monitor_.mode = Mode::kRun;

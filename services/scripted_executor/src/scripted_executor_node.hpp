@@ -5,7 +5,7 @@
 ///
 /// Configuration keys:
 ///   "library_file": string, path of a skill-library file (relative paths: to the working directory,
-///                   then to the source tree's root); default recipes/examples/skill_library.json
+///                   then to the source tree's root); default test/data/scripted_skill_library.json
 ///   "skills":       array of names to announce (default: every description in the library)
 ///   "default":      behaviour for skills (monitors default to {"mode": "run"})
 ///   "behaviours":   object: skill name → behaviour (overrides "default")

@@ -22,7 +22,7 @@ using Json = nlohmann::json;
 
 const skill::SkillLibrary& library() {
   static const skill::SkillLibrary kLibrary =
-      skill::SkillLibrary::load_file(std::string(RIGGER_SOURCE_DIR) + "/recipes/examples/skill_library.json");
+      skill::SkillLibrary::load_file(std::string(RIGGER_SOURCE_DIR) + "/test/data/scripted_skill_library.json");
   return kLibrary;
 }
 

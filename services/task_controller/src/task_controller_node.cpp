@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <chrono>
 
+#include "recipe/conditions.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/skill/skill_library.hpp"
 #include "rigger/world_client/world_client.hpp"
 
 namespace rigger::task_controller {
@@ -43,6 +45,12 @@ bool intersects(const std::vector<std::string>& a, const std::vector<std::string
       return true;
     }
   return false;
+}
+
+/// The conditions the controller answers itself (through the world model), as a skill library.
+const skill::SkillLibrary& controller_conditions() {
+  static const skill::SkillLibrary library = skill::SkillLibrary::from_json(recipe::controller_conditions_json());
+  return library;
 }
 
 }  // namespace
@@ -213,7 +221,8 @@ class TaskControllerNode::Task : public bt::Port {
     s.code = dds::wire_string(status.code);
     s.message = dds::wire_string(status.message);
     s.progress = status.progress.value_or(-1.0);
-    s.progress_text = dds::wire_string(std::string());
+    const std::string no_progress_text;  // named: wire_string() keeps a pointer into it until write()
+    s.progress_text = dds::wire_string(no_progress_text);
     s.executor_id = dds::wire_string(executor);
     if (status.started_at) s.started = wall_of(*status.started_at);
     if (status.finished_at) s.finished = wall_of(*status.finished_at);
@@ -234,33 +243,24 @@ class TaskControllerNode::Task : public bt::Port {
       state = rigger_task_TASK_CANCELED;
       journal_state = "CANCELED";
     }
-    if (!node_.journal_.finish_task(id_, journal_state, result.code, result.message, wall_now_s()))
+    // The result lists every escalated safe stop (docs/behavior-tree.md rule 3).
+    std::string message = result.message;
+    if (!result.escalated.empty()) {
+      std::string nodes;
+      for (const auto& n : result.escalated) nodes += (nodes.empty() ? "" : ", ") + n;
+      message += (message.empty() ? "" : "; ") + std::string("safe stop escalated: ") + nodes;
+    }
+    if (!node_.journal_.finish_task(id_, journal_state, result.code, message, wall_now_s()))
       node_.ctx_.log->error("journal write failed task={}: {}", id_, node_.journal_.last_error());
-    node_.publish_task(id_, state, result.code, result.message, result.origin);
+    node_.publish_task(id_, state, result.code, message, result.origin);
     node_.ctx_.log->info("task finished task={} outcome={} code={} origin={} message={}", id_,
-                         bt::to_string(result.outcome), result.code, result.origin, result.message);
+                         bt::to_string(result.outcome), result.code, result.origin, message);
     TaskControllerNode* node = &node_;
     std::string id = id_;
     node_.ctx_.loop.post([node, id] { node->forget_task(id); });
   }
 
- private:
-  void send(const bt::NodeSpec& spec, const LeafRun& run, rigger_skill_SkillCommandKind kind, const std::string& params,
-            const std::string& reason) {
-    rigger_skill_SkillCommand c{};
-    c.executor_id = dds::wire_string(run.executor_id);
-    c.task_id = dds::wire_string(id_);
-    c.node_id = dds::wire_string(spec.id);
-    c.skill = dds::wire_string(spec.leaf);
-    c.kind = kind;
-    c.params_json = dds::wire_string(params);
-    c.reason = dds::wire_string(reason);
-    c.seq = run.start_seq;
-    c.stamp = dds::wire_now();
-    if (node_.commands_.write(c) != DDS_RETCODE_OK)
-      node_.ctx_.log->error("skill command write failed task={} node={}", id_, spec.id);
-  }
-
+  /// Publishes the prompt of `spec` (active) or its withdrawal (inactive).
   void write_prompt(const std::string& prompt_id, const bt::NodeSpec& spec, bool active) {
     rigger_operator_ui_OperatorPrompt p{};
     const std::string kind = "decision";
@@ -278,6 +278,23 @@ class TaskControllerNode::Task : public bt::Port {
     p.active = active;
     p.stamp = dds::wire_now();
     node_.prompts_.write(p);
+  }
+
+ private:
+  void send(const bt::NodeSpec& spec, const LeafRun& run, rigger_skill_SkillCommandKind kind, const std::string& params,
+            const std::string& reason) {
+    rigger_skill_SkillCommand c{};
+    c.executor_id = dds::wire_string(run.executor_id);
+    c.task_id = dds::wire_string(id_);
+    c.node_id = dds::wire_string(spec.id);
+    c.skill = dds::wire_string(spec.leaf);
+    c.kind = kind;
+    c.params_json = dds::wire_string(params);
+    c.reason = dds::wire_string(reason);
+    c.seq = run.start_seq;
+    c.stamp = dds::wire_now();
+    if (node_.commands_.write(c) != DDS_RETCODE_OK)
+      node_.ctx_.log->error("skill command write failed task={} node={}", id_, spec.id);
   }
 
   TaskControllerNode& node_;
@@ -435,6 +452,10 @@ skill::SkillLibrary TaskControllerNode::live_library() const {
     for (const auto& e : library.merge(*parsed.value))
       ctx_.log->warn("executor library conflict executor={} at {}: {}", id, e.pointer, e.message);
   }
+  // The conditions the controller evaluates itself (evaluate_condition) need no executor; an executor
+  // that announces one as well keeps its description.
+  for (const auto& [name, description] : controller_conditions().descriptions())
+    if (library.find(name) == nullptr) library.add(description);
   return library;
 }
 
@@ -660,26 +681,49 @@ void TaskControllerNode::on_operator_responses() {
   responses_.take([this](const rigger_operator_ui_OperatorResponse& resp, const dds_sample_info_t&) {
     const std::string prompt_id = dds::to_string(resp.prompt_id);
     const std::string answer = dds::to_string(resp.answer);
+    const std::string by = dds::to_string(resp.operator_id);
+    // Prompt ids are "<task>#<node>#<activation>" (Task::ask_operator).
     const auto hash = prompt_id.find('#');
-    if (hash == std::string::npos) return;
-    auto it = tasks_.find(prompt_id.substr(0, hash));
-    if (it == tasks_.end()) return;
+    if (hash == std::string::npos) {
+      ctx_.log->warn("operator answer rejected: prompt id {} is not one of ours", prompt_id);
+      return;
+    }
+    const std::string task_id = prompt_id.substr(0, hash);
+    const auto node_end = prompt_id.find('#', hash + 1);
+    const std::string prompt_node =
+        prompt_id.substr(hash + 1, node_end == std::string::npos ? std::string::npos : node_end - hash - 1);
+    auto it = tasks_.find(task_id);
+    if (it == tasks_.end() || it->second->prompts().count(prompt_id) == 0) {
+      // Answered, withdrawn (the task was canceled or its branch shut down) or never asked.
+      ctx_.log->warn("operator answer rejected: prompt {} is not open answer={} by={}", prompt_id, answer, by);
+      if (journal_.has_task(task_id))
+        journal({wall_now_s(), task_id, prompt_node, "REJECTED_EVENT", "NOT_ASKED",
+                 "answer \"" + answer + "\" by " + by + " to prompt " + prompt_id +
+                     ", which is not open (answered, withdrawn or task ended)"});
+      return;
+    }
     Task& task = *it->second;
     auto p = task.prompts().find(prompt_id);
-    if (p == task.prompts().end()) return;  // answered or withdrawn already
     const auto [node_id, activation] = p->second;
     auto index = task.engine().find(node_id);
     if (!index) return;
-    const auto& options = task.engine().spec().nodes[*index].options;
+    const auto& spec = task.engine().spec().nodes[*index];
+    const auto& options = spec.options;
     std::size_t choice = options.size();
     for (std::size_t i = 0; i < options.size(); ++i)
       if (options[i] == answer) choice = i;
     if (choice == options.size()) {
-      ctx_.log->warn("operator answer not an option prompt={} answer={}", prompt_id, answer);
+      std::string expected;
+      for (const auto& o : options) expected += (expected.empty() ? "\"" : ", \"") + o + "\"";
+      ctx_.log->warn("operator answer not an option prompt={} answer={} expected={}", prompt_id, answer, expected);
+      journal({wall_now_s(), task.id(), node_id, "REJECTED_EVENT", "NOT_AN_OPTION",
+               "answer \"" + answer + "\" by " + by + ": expected one of " + expected});
       return;
     }
     task.prompts().erase(p);
-    journal({wall_now_s(), task.id(), node_id, "OPERATOR", "ANSWER", answer + " by " + dds::to_string(resp.operator_id)});
+    journal({wall_now_s(), task.id(), node_id, "OPERATOR", "ANSWER", answer + " by " + by});
+    // The question is settled: withdraw it so that no operator UI keeps showing it.
+    task.write_prompt(prompt_id, spec, false);
     task.log_result("operator decision", node_id, task.engine().on_operator_decision(node_id, activation, choice));
   });
 }

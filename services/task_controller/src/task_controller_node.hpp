@@ -24,7 +24,8 @@
 ///                      waits this long for one to appear (re-validated on every new announcement)
 ///                      before it is rejected
 ///
-/// Conditions: ObjectLocalized is answered by the world model (WorldClient); an unreachable world model
+/// Conditions: ObjectLocalized is answered by the world model (WorldClient) and is always part of the
+/// library recipes are validated against (no executor needs to announce it); an unreachable world model
 /// fails the Condition with WORLD_UNREACHABLE, an unknown condition with UNKNOWN_CONDITION.
 
 #include <cstdint>

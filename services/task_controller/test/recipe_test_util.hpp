@@ -12,7 +12,16 @@ namespace rigger::recipe::testing {
 
 inline std::string source_path(const std::string& relative) { return std::string(RIGGER_SOURCE_DIR) + "/" + relative; }
 
+/// The fixed library the controller's tests are written against (test/data/scripted_skill_library.json,
+/// also what the scripted executor announces): the tests check tree semantics, not the real skills.
 inline const skill::SkillLibrary& example_library() {
+  static const skill::SkillLibrary kLibrary =
+      skill::SkillLibrary::load_file(source_path("test/data/scripted_skill_library.json"));
+  return kLibrary;
+}
+
+/// The real library, generated from the code's descriptions (tools/update-skill-library).
+inline const skill::SkillLibrary& generated_library() {
   static const skill::SkillLibrary kLibrary =
       skill::SkillLibrary::load_file(source_path("recipes/examples/skill_library.json"));
   return kLibrary;

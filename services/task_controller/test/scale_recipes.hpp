@@ -12,7 +12,7 @@ namespace rigger::testing {
 
 /// 1 + 9 × groups nodes: a Sequence of `groups` Timeout(Parallel(1, 1, [Sequence[Localize,
 /// ObjectLocalized, Pick, Place], YankMonitor, ForceMonitor])), each group on its own object
-/// "part<g>". Valid against recipes/examples/skill_library.json.
+/// "part<g>". Valid against test/data/scripted_skill_library.json.
 inline nlohmann::json big_recipe(std::size_t groups) {
   using Json = nlohmann::json;
   Json children = Json::array();

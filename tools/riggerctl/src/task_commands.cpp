@@ -3,16 +3,21 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "run_display.hpp"
 #include "recipe/recipe_validator.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
@@ -88,7 +93,7 @@ std::string node_line(const std::string& id, const NodeLine& n) {
   out += id + " " + n.type;
   if (!n.name.empty()) out += " \"" + n.name + "\"";
   out += "  " + n.state;
-  if (n.progress >= 0) {
+  if (n.progress >= 0 && (n.state == "RUNNING" || n.state == "STOPPING")) {  // a finished node's is history
     char buf[32];
     std::snprintf(buf, sizeof buf, " %3.0f%%", n.progress * 100.0);
     out += buf;
@@ -97,6 +102,22 @@ std::string node_line(const std::string& id, const NodeLine& n) {
   if (!n.code.empty()) out += "  " + n.code;
   if (!n.message.empty()) out += ": " + n.message;
   return out;
+}
+
+NodeUpdate to_update(const rigger_task_NodeStatus& s) {
+  NodeUpdate u;
+  u.id = dds::to_string(s.node_id);
+  u.type = dds::to_string(s.node_type);
+  u.name = dds::to_string(s.name);
+  u.state = node_state_name(s.state);
+  u.code = dds::to_string(s.code);
+  u.message = dds::to_string(s.message);
+  u.executor = dds::to_string(s.executor_id);
+  u.progress_text = dds::to_string(s.progress_text);
+  u.progress = s.progress;
+  u.started_s = static_cast<double>(wire_ns(s.started)) * 1e-9;
+  u.finished_s = static_cast<double>(wire_ns(s.finished)) * 1e-9;
+  return u;
 }
 
 NodeLine to_line(const rigger_task_NodeStatus& s) {
@@ -173,13 +194,21 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
   dds::Reader<rigger_task_TaskStatus> statuses(participant, tc::kTaskStatusTopic, dds::qos::state());
   dds::Reader<rigger_task_NodeStatus> nodes(participant, tc::kNodeStatusTopic, dds::qos::state());
 
-  if (!recipes.wait_for_readers(1, seconds(opt.match_timeout_s))) {
+  // Also wait for the controller's status writers: a state change published before they matched
+  // would reach us only as the latest state (state QoS keeps one sample per node), not as a line.
+  const auto matched = [&](auto& reader) {
+    return dds::wait_for_status(
+        reader.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return reader.matched_writers() > 0; },
+        seconds(opt.match_timeout_s));
+  };
+  if (!recipes.wait_for_readers(1, seconds(opt.match_timeout_s)) || !matched(statuses) || !matched(nodes)) {
     std::fprintf(stderr, "riggerctl: no task controller on domain %u (waited %.1f s)\n", common.domain,
                  opt.match_timeout_s);
     return kExitNoController;
   }
   const std::int64_t sent_ns = to_unix_ns(std::chrono::system_clock::now());
   std::map<std::string, NodeLine> tree;
+  RunDisplay display(!opt.quiet && ::isatty(STDOUT_FILENO) != 0);
   bool finished = false;
   int final_state = -1;
   std::string code, message, failed_node;
@@ -190,7 +219,8 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
       if (dds::to_string(s.task_id) != task_id || wire_ns(s.stamp) < sent_ns) return;
       const std::string id = dds::to_string(s.node_id);
       tree[id] = to_line(s);
-      if (!opt.quiet) std::printf("%s\n", node_line(id, tree[id]).c_str());
+      const std::string shown = display.update(to_update(s));
+      if (!opt.quiet) std::fputs(shown.c_str(), stdout);
       std::fflush(stdout);
     });
   });
@@ -227,6 +257,8 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
                  task_id.c_str(), opt.timeout_s, task_id.c_str());
     return kExitFailed;
   }
+  const double wall_s = static_cast<double>(to_unix_ns(std::chrono::system_clock::now()) - sent_ns) * 1e-9;
+  if (!opt.quiet) std::printf("%s", display.durations(wall_s).c_str());
   if (final_state == rigger_task_TASK_SUCCEEDED) {
     std::printf("task %s SUCCEEDED\n", task_id.c_str());
     return 0;
@@ -244,40 +276,51 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
 
 // --- journal queries (status, log) ---
 
-int journal_query(const CommonOptions& common, const std::string& task_id, double timeout_s) {
-  dds::Participant participant(common.domain);
-  dds::EventLoop loop(participant);
-  dds::Writer<rigger_task_JournalQuery> queries(participant, tc::kJournalQueryTopic, dds::qos::commands());
-  dds::Reader<rigger_task_JournalReply> replies(participant, tc::kJournalReplyTopic, dds::qos::events());
+/// One journal line as the controller sent it.
+struct JournalLine {
+  rigger_geometry_Time stamp{};
+  std::string node_id, kind, code, message;
+};
+
+/// The controller's answer to a journal query: ok, or the controller's reason in `message`.
+struct JournalAnswer {
+  bool answered = false;  ///< false: no controller matched or answered within the timeout
+  bool ok = false;
+  std::string message;
+  std::vector<JournalLine> lines;
+};
+
+/// The journal's query writer and reply reader; declare it before the EventLoop that asks through it.
+struct JournalTopics {
+  explicit JournalTopics(dds::Participant& participant)
+      : queries(participant, tc::kJournalQueryTopic, dds::qos::commands()),
+        replies(participant, tc::kJournalReplyTopic, dds::qos::events()) {}
+  dds::Writer<rigger_task_JournalQuery> queries;
+  dds::Reader<rigger_task_JournalReply> replies;
+};
+
+/// Asks the controller's journal for `task_id`'s timeline ("" : the task list) and waits for the answer.
+JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std::string& task_id, double timeout_s) {
+  JournalAnswer answer;
+  auto& queries = topics.queries;
+  auto& replies = topics.replies;
   if (!queries.wait_for_readers(1, seconds(timeout_s)) ||
-      !dds::wait_for_status(replies.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return replies.matched_writers() > 0; },
-                       seconds(timeout_s))) {
-    std::fprintf(stderr, "riggerctl: no task controller on domain %u\n", common.domain);
-    return kExitNoController;
-  }
+      !dds::wait_for_status(
+          replies.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return replies.matched_writers() > 0; },
+          seconds(timeout_s)))
+    return answer;
   const std::string client = "riggerctl-" + std::to_string(::getpid());
   const std::uint64_t request_id = 1;
-  bool done = false;
-  int rc = 0;
   loop.on_data(replies, [&] {
     replies.take([&](const rigger_task_JournalReply& rep, const dds_sample_info_t&) {
       if (dds::to_string(rep.client_id) != client || rep.request_id != request_id) return;
-      done = true;
-      if (!rep.ok) {
-        std::fprintf(stderr, "riggerctl: %s\n", dds::to_string(rep.message).c_str());
-        rc = kExitFailed;
-        return;
-      }
-      if (task_id.empty()) std::printf("%-32s %-12s %s\n", "TASK", "STATE", "SUBMITTED (UTC)");
+      answer.answered = true;
+      answer.ok = rep.ok;
+      answer.message = dds::to_string(rep.message);
       for (uint32_t i = 0; i < rep.entries._length; ++i) {
         const auto& e = rep.entries._buffer[i];
-        if (task_id.empty())
-          std::printf("%-32s %-12s %s\n", dds::to_string(e.node_id).c_str(), dds::to_string(e.code).c_str(),
-                      format_wall(e.stamp).c_str());
-        else
-          std::printf("%s  %-14s %-16s %-12s %s\n", format_wall(e.stamp).c_str(), dds::to_string(e.kind).c_str(),
-                      dds::to_string(e.node_id).c_str(), dds::to_string(e.code).c_str(),
-                      dds::to_string(e.message).c_str());
+        answer.lines.push_back({e.stamp, dds::to_string(e.node_id), dds::to_string(e.kind), dds::to_string(e.code),
+                                dds::to_string(e.message)});
       }
     });
   });
@@ -287,11 +330,34 @@ int journal_query(const CommonOptions& common, const std::string& task_id, doubl
   q.task_id = dds::wire_string(task_id);
   q.max_entries = 1000;
   queries.write(q);
-  if (!loop.run_until([&] { return done; }, seconds(timeout_s))) {
-    std::fprintf(stderr, "riggerctl: the task controller did not answer within %.1f s\n", timeout_s);
+  loop.run_until([&] { return answer.answered; }, seconds(timeout_s));
+  loop.on_data(replies, [&replies] { replies.take([](const rigger_task_JournalReply&, const dds_sample_info_t&) {}); });
+  return answer;
+}
+
+int journal_query(const CommonOptions& common, const std::string& task_id, double timeout_s) {
+  dds::Participant participant(common.domain);
+  JournalTopics topics(participant);
+  dds::EventLoop loop(participant);
+  const JournalAnswer answer = ask_journal(topics, loop, task_id, timeout_s);
+  if (!answer.answered) {
+    std::fprintf(stderr, "riggerctl: no task controller on domain %u answered within %.1f s\n", common.domain,
+                 timeout_s);
     return kExitNoController;
   }
-  return rc;
+  if (!answer.ok) {
+    std::fprintf(stderr, "riggerctl: %s\n", answer.message.c_str());
+    return kExitFailed;
+  }
+  if (task_id.empty()) std::printf("%-32s %-12s %s\n", "TASK", "STATE", "SUBMITTED (UTC)");
+  for (const auto& e : answer.lines) {
+    if (task_id.empty())
+      std::printf("%-32s %-12s %s\n", e.node_id.c_str(), e.code.c_str(), format_wall(e.stamp).c_str());
+    else
+      std::printf("%s  %-14s %-16s %-12s %s\n", format_wall(e.stamp).c_str(), e.kind.c_str(), e.node_id.c_str(),
+                  e.code.c_str(), e.message.c_str());
+  }
+  return 0;
 }
 
 // --- tree ---
@@ -299,69 +365,137 @@ int journal_query(const CommonOptions& common, const std::string& task_id, doubl
 int show_tree(const CommonOptions& common, const std::string& task_id, double timeout_s) {
   dds::Participant participant(common.domain);
   dds::Reader<rigger_task_NodeStatus> nodes(participant, tc::kNodeStatusTopic, dds::qos::state());
-  if (!dds::wait_for_status(nodes.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return nodes.matched_writers() > 0; },
-                       seconds(timeout_s))) {
-    std::fprintf(stderr, "riggerctl: no task controller on domain %u\n", common.domain);
+  JournalTopics topics(participant);
+  dds::EventLoop loop(participant);
+  // Node status is transient-local, but it arrives some time after the reader matched (Cyclone's
+  // wait_for_historical_data does not wait for transient-local data). The journal says which nodes
+  // ever changed state, i.e. which statuses to wait for.
+  const JournalAnswer journal = ask_journal(topics, loop, task_id, timeout_s);
+  if (!journal.answered) {
+    std::fprintf(stderr, "riggerctl: no task controller on domain %u answered within %.1f s\n", common.domain,
+                 timeout_s);
     return kExitNoController;
   }
-  dds_reader_wait_for_historical_data(nodes.handle(), DDS_SECS(static_cast<std::int64_t>(timeout_s)));
+  if (!journal.ok) {
+    std::fprintf(stderr, "riggerctl: no node status for task %s (%s)\n", task_id.c_str(), journal.message.c_str());
+    return kExitFailed;
+  }
+  std::set<std::string> expected;
+  for (const auto& l : journal.lines)
+    if (l.kind == "NODE" && !l.node_id.empty()) expected.insert(l.node_id);
   std::map<std::string, NodeLine> tree;
-  nodes.take([&](const rigger_task_NodeStatus& s, const dds_sample_info_t&) {
-    if (dds::to_string(s.task_id) == task_id) tree[dds::to_string(s.node_id)] = to_line(s);
+  const auto have_all = [&] {
+    return std::all_of(expected.begin(), expected.end(), [&](const std::string& id) { return tree.count(id) > 0; });
+  };
+  loop.on_data(nodes, [&] {
+    nodes.take([&](const rigger_task_NodeStatus& s, const dds_sample_info_t&) {
+      if (dds::to_string(s.task_id) == task_id) tree[dds::to_string(s.node_id)] = to_line(s);
+    });
   });
+  const bool complete = loop.run_until(have_all, seconds(timeout_s));
   if (tree.empty()) {
     std::fprintf(stderr, "riggerctl: no node status for task %s\n", task_id.c_str());
     return kExitFailed;
   }
-  // Ids sort as "root", "root/0", "root/0/1", "root/1": pre-order except for ≥ 10 siblings, which is fine for reading.
-  for (const auto& [id, n] : tree) std::printf("%s\n", node_line(id, n).c_str());
+  // Pre-order: ids compare by their numeric path ("root/2" before "root/10").
+  std::vector<std::pair<std::vector<long>, std::string>> order;
+  for (const auto& [id, n] : tree) {
+    std::vector<long> path;
+    for (std::size_t slash = id.find('/'); slash != std::string::npos; slash = id.find('/', slash + 1))
+      path.push_back(std::strtol(id.c_str() + slash + 1, nullptr, 10));
+    order.emplace_back(std::move(path), id);
+  }
+  std::sort(order.begin(), order.end());
+  for (const auto& [path, id] : order) std::printf("%s\n", node_line(id, tree.at(id)).c_str());
+  if (!complete)
+    std::fprintf(stderr, "riggerctl: %zu of %zu nodes have no status (the controller restarted since?)\n",
+                 expected.size() - std::min(expected.size(), tree.size()), expected.size());
   return 0;
 }
 
 // --- skills ---
 
+std::string pad(const std::string& s, std::size_t width) {
+  return s.size() >= width ? s : s + std::string(width - s.size(), ' ');
+}
+
+/// One executor's lines for `skills`: its id, pid and host, then each description with its parameters.
+std::string describe_executor(const rigger_skill_ExecutorAnnouncement& a) {
+  std::string out;
+  char line[512];
+  std::snprintf(line, sizeof line, "%s (pid %d on %s)\n", dds::to_string(a.executor_id).c_str(), a.pid,
+                dds::to_string(a.host).c_str());
+  out += line;
+  auto lib = nlohmann::json::parse(dds::to_string(a.library_json), nullptr, false);
+  if (lib.is_discarded() || !lib.contains("skills")) return out;
+  for (const auto& d : lib["skills"]) {
+    std::string params;
+    if (d.contains("params"))
+      for (const auto& p : d["params"]) {
+        params += params.empty() ? "" : ", ";
+        params += p.value("name", "?") + ":" + p.value("type", "?");
+        if (p.contains("unit")) params += "[" + p["unit"].get<std::string>() + "]";
+        if (p.contains("default")) params += "=" + p["default"].dump();
+      }
+    out += "  " + pad(d.value("kind", "skill"), 9) + " " + pad(d.value("name", "?"), 28) + " (" + params + ")\n";
+  }
+  return out;
+}
+
 int show_skills(const CommonOptions& common, double timeout_s) {
   dds::Participant participant(common.domain);
   dds::Reader<rigger_skill_ExecutorAnnouncement> ann(participant, executor::kAnnouncementTopic, dds::qos::state());
+  dds::EventLoop loop(participant);
   if (!dds::wait_for_status(ann.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return ann.matched_writers() > 0; },
                        seconds(timeout_s))) {
     std::fprintf(stderr, "riggerctl: no executor on domain %u\n", common.domain);
     return kExitFailed;
   }
-  dds_reader_wait_for_historical_data(ann.handle(), DDS_SECS(static_cast<std::int64_t>(timeout_s)));
-  int count = 0;
-  ann.take([&](const rigger_skill_ExecutorAnnouncement& a, const dds_sample_info_t& info) {
-    if (info.instance_state != DDS_IST_ALIVE) return;
-    ++count;
-    std::printf("%s (pid %d on %s)\n", dds::to_string(a.executor_id).c_str(), a.pid, dds::to_string(a.host).c_str());
-    auto lib = nlohmann::json::parse(dds::to_string(a.library_json), nullptr, false);
-    if (lib.is_discarded() || !lib.contains("skills")) return;
-    for (const auto& d : lib["skills"]) {
-      std::string params;
-      if (d.contains("params"))
-        for (const auto& p : d["params"]) {
-          params += params.empty() ? "" : ", ";
-          params += p.value("name", "?") + ":" + p.value("type", "?");
-          if (p.contains("unit")) params += "[" + p["unit"].get<std::string>() + "]";
-          if (p.contains("default")) params += "=" + p["default"].dump();
-        }
-      std::printf("  %-8s %-28s (%s)\n", d.value("kind", "skill").c_str(), d.value("name", "?").c_str(), params.c_str());
-    }
+  // The announcements are transient-local but arrive after the match; each executor has one writer, so
+  // wait until every matched writer's announcement is here.
+  std::map<dds_instance_handle_t, std::string> by_writer;  // publication handle → printed text
+  std::map<std::string, std::string> shown;                // executor id → printed text (sorted output)
+  loop.on_data(ann, [&] {
+    ann.take([&](const rigger_skill_ExecutorAnnouncement& a, const dds_sample_info_t& info) {
+      if (info.instance_state != DDS_IST_ALIVE) return;
+      by_writer[info.publication_handle] = dds::to_string(a.executor_id);
+      shown[dds::to_string(a.executor_id)] = describe_executor(a);
+    });
   });
-  if (count == 0) std::printf("no live executor\n");
+  loop.run_until([&] { return by_writer.size() >= static_cast<std::size_t>(ann.matched_writers()); },
+                 seconds(timeout_s));
+  for (const auto& [id, text] : shown) std::fputs(text.c_str(), stdout);
+  if (shown.empty()) std::printf("no live executor\n");
   return 0;
 }
-
 // --- cancel ---
 
 int cancel_task(const CommonOptions& common, const std::string& task_id, const std::string& reason, double timeout_s) {
   dds::Participant participant(common.domain);
-  dds::EventLoop loop(participant);
   dds::Writer<rigger_task_TaskCommand> commands(participant, tc::kTaskCommandTopic, dds::qos::commands());
   dds::Reader<rigger_task_TaskStatus> statuses(participant, tc::kTaskStatusTopic, dds::qos::state());
+  JournalTopics topics(participant);
+  dds::EventLoop loop(participant);
   if (!commands.wait_for_readers(1, seconds(timeout_s))) {
     std::fprintf(stderr, "riggerctl: no task controller on domain %u\n", common.domain);
     return kExitNoController;
+  }
+  // The journal knows whether the task exists and whether it already ended (its last line is the
+  // TASK result): the controller ignores commands for such tasks, so there is nothing to wait for.
+  const JournalAnswer journal = ask_journal(topics, loop, task_id, timeout_s);
+  if (!journal.answered) {
+    std::fprintf(stderr, "riggerctl: no task controller on domain %u answered within %.1f s\n", common.domain,
+                 timeout_s);
+    return kExitNoController;
+  }
+  if (!journal.ok) {
+    std::fprintf(stderr, "riggerctl: no task %s (%s)\n", task_id.c_str(), journal.message.c_str());
+    return kExitFailed;
+  }
+  for (const auto& l : journal.lines) {
+    if (l.kind != "TASK") continue;
+    std::printf("task %s had already ended: %s\n", task_id.c_str(), l.code.c_str());
+    return l.code == "CANCELED" ? 0 : kExitFailed;
   }
   bool done = false;
   int state = -1;

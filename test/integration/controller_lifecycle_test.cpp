@@ -1,0 +1,235 @@
+// The task lifecycle through the controller as a real process, against scripted executors:
+// PAUSE/RESUME (docs/behavior-tree.md rule 7), CANCEL (rule 8), OperatorDecision over
+// rigger/operator/prompt|response, and the stop-timeout escalation (rule 3).
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "controller_test_support.hpp"
+
+namespace rigger::testing::controller {
+namespace {
+
+json skill(const std::string& name, const std::string& object) {
+  return {{"type", "Skill"}, {"name", name}, {"skill", "Localize"}, {"params", {{"object", object}}}};
+}
+json recipe(const std::string& task_id, const json& root) {
+  return {{"recipe_version", 1}, {"task_id", task_id}, {"root", root}};
+}
+
+class LifecycleTest : public ControllerTest {
+ protected:
+  void start_cell(const json& nodes, const json& behaviours = json::object()) {
+    start_controller();
+    start_scripted("exec", {"Localize", "TimerMonitor", "YankMonitor"}, nodes, behaviours);
+    wait_ready({"tc", "exec"});
+  }
+};
+
+TEST_F(LifecycleTest, PauseLetsTheRunningLeafFinishButStartsNothingNewUntilResume) {
+  start_cell(
+      {{"root/0", {{"mode", "succeed"}, {"delay_s", 0.5}}}, {"root/1", {{"mode", "succeed"}, {"delay_s", 0.1}}}});
+  submit("pause",
+         recipe("pause", {{"type", "Sequence"}, {"children", {skill("first", "load"), skill("second", "target")}}}));
+  ASSERT_TRUE(wait_command("pause", "root/0", rigger_skill_SKILL_START));
+  command("pause", rigger_task_TASK_PAUSE, "crane operator needs a minute");
+  ASSERT_TRUE(wait_task("pause", rigger_task_TASK_PAUSED));
+  EXPECT_EQ(task_at("pause", rigger_task_TASK_PAUSED)->message, "crane operator needs a minute");
+  // The running leaf is not stopped: it finishes, and its SUCCESS is taken.
+  ASSERT_TRUE(wait_node("pause", "root/0", rigger_task_NODE_SUCCESS));
+  EXPECT_EQ(command_at("pause", "root/0", rigger_skill_SKILL_SHUTDOWN), nullptr);
+  // The journal (answered after the controller handled that SUCCESS) shows the next START held back.
+  const auto held = journal("pause");
+  EXPECT_TRUE(has_line(held, "", "COMMAND", "PAUSE"));
+  EXPECT_TRUE(has_line(held, "root/0", "EVENT", "SUCCESS"));
+  EXPECT_FALSE(has_line(held, "root/1", "COMMAND", "START"));
+  EXPECT_EQ(command_at("pause", "root/1", rigger_skill_SKILL_START), nullptr);
+  EXPECT_FALSE(finished("pause"));
+  // A second PAUSE is refused and journalled as such; the task stays paused.
+  command("pause", rigger_task_TASK_PAUSE, "again");
+  ASSERT_TRUE(cell_.wait_until(
+      [&] {
+        const auto lines = journal("pause");
+        return has_line(lines, "", "REJECTED_EVENT", "WRONG_PHASE");
+      },
+      10s));
+
+  const auto resumed_at = Clock::now();
+  command("pause", rigger_task_TASK_RESUME, "go on");
+  ASSERT_TRUE(wait_command("pause", "root/1", rigger_skill_SKILL_START));
+  EXPECT_GE(command_at("pause", "root/1", rigger_skill_SKILL_START)->at, resumed_at);
+  ASSERT_TRUE(wait_finished("pause"));
+  EXPECT_EQ(last("pause").state, rigger_task_TASK_SUCCEEDED) << last("pause").code << " " << last("pause").message;
+  // PAUSED then RUNNING again, in that order.
+  const TaskSeen* paused = task_at("pause", rigger_task_TASK_PAUSED);
+  bool running_after_pause = false;
+  for (const auto& s : tasks_["pause"])
+    if (s.state == rigger_task_TASK_RUNNING && s.at > paused->at) running_after_pause = true;
+  EXPECT_TRUE(running_after_pause);
+}
+
+TEST_F(LifecycleTest, CancelWhilePausedStopsTheRunningLeafAndDropsTheHeldStart) {
+  start_cell({{"root/0", {{"mode", "run"}, {"stop_delay_s", 0.1}}}});
+  submit("pc", recipe("pc", {{"type", "Sequence"}, {"children", {skill("first", "load"), skill("second", "target")}}}));
+  ASSERT_TRUE(wait_command("pc", "root/0", rigger_skill_SKILL_START));
+  command("pc", rigger_task_TASK_PAUSE, "hold");
+  ASSERT_TRUE(wait_task("pc", rigger_task_TASK_PAUSED));
+  command("pc", rigger_task_TASK_CANCEL, "never mind");
+  ASSERT_TRUE(wait_finished("pc"));
+  EXPECT_EQ(last("pc").state, rigger_task_TASK_CANCELED);
+  EXPECT_NE(command_at("pc", "root/0", rigger_skill_SKILL_SHUTDOWN), nullptr);
+  EXPECT_NE(node_at("pc", "root/0", rigger_task_NODE_STOPPED), nullptr);
+  EXPECT_EQ(command_at("pc", "root/1", rigger_skill_SKILL_START), nullptr);
+}
+
+TEST_F(LifecycleTest, CancelShutsEveryRunningLeafDownAndEndsCanceledAfterAllStopped) {
+  start_cell({{"root/0", {{"mode", "run"}, {"stop_delay_s", 0.3}}}});
+  const json root = {{"type", "Parallel"},
+                     {"success_threshold", 1},
+                     {"failure_threshold", 1},
+                     {"children",
+                      {skill("localize", "load"),
+                       {{"type", "Monitor"}, {"monitor", "TimerMonitor"}, {"params", {{"max_duration_s", 600}}}},
+                       {{"type", "Monitor"}, {"monitor", "YankMonitor"}}}}};
+  submit("cancel", recipe("cancel", root));
+  ASSERT_TRUE(cell_.wait_until([&] { return count_commands("cancel", rigger_skill_SKILL_START) == 3; }, 20s));
+  command("cancel", rigger_task_TASK_CANCEL, "load swinging");
+  ASSERT_TRUE(wait_finished("cancel"));
+  const TaskSeen& s = last("cancel");
+  EXPECT_EQ(s.state, rigger_task_TASK_CANCELED);
+  EXPECT_EQ(s.code, "CANCELED");
+  EXPECT_NE(s.message.find("load swinging"), std::string::npos) << s.message;
+  // Every running leaf got SHUTDOWN and answered STOPPED before the task reported CANCELED.
+  for (const char* node : {"root/0", "root/1", "root/2"}) {
+    EXPECT_NE(command_at("cancel", node, rigger_skill_SKILL_SHUTDOWN), nullptr) << node;
+    const EventSeen* stopped = event_at("cancel", node, rigger_skill_SKILL_EVENT_STOPPED);
+    ASSERT_NE(stopped, nullptr) << node;
+    EXPECT_LE(stopped->at, s.at) << node;
+    const NodeSeen* n = node_at("cancel", node, rigger_task_NODE_STOPPED);
+    ASSERT_NE(n, nullptr) << node;
+    EXPECT_TRUE(n->code.empty()) << node << ": " << n->code;  // a clean stop, not a timeout
+  }
+  EXPECT_NE(node_at("cancel", "root", rigger_task_NODE_STOPPED), nullptr);
+  const auto lines = journal("cancel");
+  EXPECT_TRUE(has_line(lines, "", "COMMAND", "CANCEL"));
+  EXPECT_TRUE(has_line(lines, "root/0", "EVENT", "STOPPED"));
+  // A command for a task that has ended changes nothing.
+  command("cancel", rigger_task_TASK_RESUME, "too late");
+  EXPECT_EQ(last("cancel").state, rigger_task_TASK_CANCELED);
+}
+
+/// OperatorDecision at the root: "joystick" → root/0 (Localize load), "abort" → root/1 (Localize target).
+json decision(const std::string& task_id) {
+  return recipe(task_id, {{"type", "OperatorDecision"},
+                          {"name", "how"},
+                          {"prompt", "How should the load be brought to the target?"},
+                          {"options",
+                           {{{"label", "joystick"}, {"child", skill("by hand", "load")}},
+                            {{"label", "abort"}, {"child", skill("give up", "target")}}}}});
+}
+
+TEST_F(LifecycleTest, OperatorDecisionTakesTheBranchOfEachAnswer) {
+  start_cell({{"root/1", {{"mode", "fail"}, {"delay_s", 0.1}, {"code", "ABANDONED"}}}});
+  for (const auto& [task, choice, taken, other] :
+       {std::tuple<std::string, std::string, std::string, std::string>{"op-joystick", "joystick", "root/0", "root/1"},
+        {"op-abort", "abort", "root/1", "root/0"}}) {
+    submit(task, decision(task));
+    ASSERT_TRUE(cell_.wait_until(
+        [&, task = task] {
+          const PromptSeen* p = prompt(task, "root");
+          return p != nullptr && p->active;
+        },
+        20s))
+        << task;
+    const PromptSeen* asked = prompt(task, "root");
+    EXPECT_EQ(asked->text, "How should the load be brought to the target?");
+    EXPECT_EQ(asked->options, (std::vector<std::string>{"joystick", "abort"}));
+    EXPECT_EQ(count_commands(task, rigger_skill_SKILL_START), 0U) << "nothing starts before the answer";
+    // An answer that is not an option is journalled as rejected and changes nothing.
+    answer(asked->prompt_id, "sideways");
+    ASSERT_TRUE(cell_.wait_until(
+        [&, task = task] { return has_line(journal(task), "root", "REJECTED_EVENT", "NOT_AN_OPTION"); }, 10s))
+        << task;
+    EXPECT_EQ(count_commands(task, rigger_skill_SKILL_START), 0U);
+    answer(asked->prompt_id, choice);
+    ASSERT_TRUE(wait_finished(task)) << task;
+    EXPECT_NE(command_at(task, taken, rigger_skill_SKILL_START), nullptr) << task;
+    EXPECT_EQ(command_at(task, other, rigger_skill_SKILL_START), nullptr) << task;
+    // Once answered, the prompt is withdrawn so that no UI keeps asking.
+    ASSERT_TRUE(cell_.wait_until([&, task = task] { return !prompt(task, "root")->active; }, 10s)) << task;
+    const auto lines = journal(task);
+    EXPECT_TRUE(has_line(lines, "root", "OPERATOR", "ASK")) << task;
+    EXPECT_TRUE(has_line(lines, "root", "OPERATOR", "ANSWER")) << task;
+  }
+  EXPECT_EQ(last("op-joystick").state, rigger_task_TASK_SUCCEEDED);
+  EXPECT_EQ(last("op-abort").state, rigger_task_TASK_FAILED);
+  EXPECT_EQ(last("op-abort").code, "ABANDONED");
+  EXPECT_EQ(last("op-abort").failed_node, "root/1");
+}
+
+TEST_F(LifecycleTest, CancelWithdrawsAnOpenPromptAndALateAnswerIsIgnored) {
+  start_cell(json::object());
+  submit("op-cancel", decision("op-cancel"));
+  ASSERT_TRUE(cell_.wait_until(
+      [&] {
+        const PromptSeen* p = prompt("op-cancel", "root");
+        return p != nullptr && p->active;
+      },
+      20s));
+  const std::string prompt_id = prompt("op-cancel", "root")->prompt_id;
+  command("op-cancel", rigger_task_TASK_CANCEL, "shift over");
+  ASSERT_TRUE(wait_finished("op-cancel"));
+  EXPECT_EQ(last("op-cancel").state, rigger_task_TASK_CANCELED);
+  ASSERT_TRUE(cell_.wait_until([&] { return !prompt("op-cancel", "root")->active; }, 10s));
+  EXPECT_EQ(prompt("op-cancel", "root")->prompt_id, prompt_id);
+  answer(prompt_id, "joystick");
+  // The answer arrives at a task that no longer asks: journalled as rejected, nothing starts.
+  ASSERT_TRUE(
+      cell_.wait_until([&] { return has_line(journal("op-cancel"), "root", "REJECTED_EVENT", "NOT_ASKED"); }, 10s));
+  EXPECT_EQ(count_commands("op-cancel", rigger_skill_SKILL_START), 0U);
+}
+
+TEST_F(LifecycleTest, ASkillThatNeverAnswersStoppedIsEscalatedAfterItsStopTimeout) {
+  start_cell({{"root/0", {{"mode", "run"}, {"never_stop", true}}},
+              {"root/1", {{"mode", "fail"}, {"delay_s", 0.2}, {"code", "YANK_DETECTED"}}}});
+  const json root = {{"type", "Parallel"},
+                     {"success_threshold", 1},
+                     {"failure_threshold", 1},
+                     {"stop_timeout_s", 0.5},
+                     {"children", {skill("hold on", "load"), {{"type", "Monitor"}, {"monitor", "YankMonitor"}}}}};
+  submit("hung", recipe("hung", root));
+  ASSERT_TRUE(wait_finished("hung"));
+  const TaskSeen& s = last("hung");
+  // The Parallel reports the monitor's failure, but only after the skill's stop timeout passed.
+  EXPECT_EQ(s.state, rigger_task_TASK_FAILED);
+  EXPECT_EQ(s.code, "YANK_DETECTED");
+  EXPECT_EQ(s.failed_node, "root/1");
+  EXPECT_NE(s.message.find("safe stop escalated: root/0"), std::string::npos) << s.message;
+  const CommandSeen* shutdown = command_at("hung", "root/0", rigger_skill_SKILL_SHUTDOWN);
+  ASSERT_NE(shutdown, nullptr);
+  EXPECT_EQ(event_at("hung", "root/0", rigger_skill_SKILL_EVENT_STOPPED), nullptr);
+  const NodeSeen* timed_out = node_at("hung", "root/0", rigger_task_NODE_STOPPED);
+  ASSERT_NE(timed_out, nullptr);
+  EXPECT_EQ(timed_out->code, "STOP_TIMEOUT");
+  EXPECT_NE(timed_out->message.find("did not acknowledge SHUTDOWN within 0.5 s"), std::string::npos)
+      << timed_out->message;
+  const NodeSeen* parallel = node_at("hung", "root", rigger_task_NODE_FAILURE);
+  ASSERT_NE(parallel, nullptr);
+  EXPECT_LE(timed_out->at, parallel->at);
+  // The SHUTDOWN (and its 0.5 s stop timer) went out in the same turn that published the monitor's
+  // FAILURE, so the Parallel's report follows that FAILURE by the stop timeout (less delivery jitter).
+  const NodeSeen* fired = node_at("hung", "root/1", rigger_task_NODE_FAILURE);
+  ASSERT_NE(fired, nullptr);
+  EXPECT_GE(parallel->at - fired->at, 400ms) << "the Parallel reported before the stop timeout";
+  // The journal names the escalation with the resources of the leaf.
+  const auto lines = journal("hung");
+  bool escalation = false;
+  for (const auto& l : lines)
+    if (l.node == "root/0" && l.kind == "ESCALATION" && l.code == "SAFE_STOP" &&
+        l.message.find("camera") != std::string::npos)
+      escalation = true;
+  EXPECT_TRUE(escalation);
+}
+
+}  // namespace
+}  // namespace rigger::testing::controller
