@@ -60,11 +60,12 @@ TEST_F(ScenarioTest, SlipFiresTheYankMonitorAndTheAttachIsRetried) {
   ASSERT_TRUE(cell_.wait_until([&] { return s.gripper_holding() || task_terminal(s.task_state()); }, 120s))
       << s.task_summary();
   ASSERT_FALSE(task_terminal(s.task_state())) << s.task_summary();
-  ASSERT_TRUE(s.sim().send(rigger_sim_SIM_SET_HOLDING_FORCE, true, 30.0).value_or(std::make_pair(false, "")).first);
+  // The pull first (a step the wrist feels), then the magnet weakened below it: the grip slips.
   ASSERT_TRUE(s.sim()
                   .send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, Eigen::Vector3d(60.0, 0.0, 0.0))
                   .value_or(std::make_pair(false, ""))
                   .first);
+  ASSERT_TRUE(s.sim().send(rigger_sim_SIM_SET_HOLDING_FORCE, true, 30.0).value_or(std::make_pair(false, "")).first);
   ASSERT_TRUE(s.wait_node("yank monitor", rigger_task_NODE_FAILURE, 20s)) << s.task_summary();
   // The slip happened; take the injected force away and give the magnet its strength back.
   ASSERT_TRUE(s.sim().send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, Eigen::Vector3d::Zero())
