@@ -75,7 +75,10 @@ class ScenarioCell {
         if (dds::to_string(s.task_id) != task_id_) return;
         NodeView& n = nodes_seen_[dds::to_string(s.node_id)];
         const int state = static_cast<int>(s.state);
-        if (state == rigger_task_NODE_RUNNING && n.state != rigger_task_NODE_RUNNING) ++n.runs;
+        if (state == rigger_task_NODE_RUNNING && n.state != rigger_task_NODE_RUNNING) {
+          ++n.runs;
+          if (const auto e = insertion_error()) error_at_start_[dds::to_string(s.name)] = *e;
+        }
         n.state = state;
         n.name = dds::to_string(s.name);
         n.type = dds::to_string(s.node_type);
@@ -173,27 +176,48 @@ class ScenarioCell {
     return std::make_pair(dist, angle);
   }
 
+  /// The insertion error (as insertion_error()) when the node named `name` last started running.
+  std::optional<std::pair<double, double>> insertion_error_at_start(const std::string& name) const {
+    auto it = error_at_start_.find(name);
+    if (it == error_at_start_.end()) return std::nullopt;
+    return it->second;
+  }
+
   bool gripper_energized() const { return gripper_energized_; }
   bool gripper_holding() const { return gripper_holding_; }
   bool ever_held() const { return ever_held_; }
 
-  /// Observes the robot's tool and the crane over `samples` robot-state samples (100 Hz: 2 s for 200)
-  /// and returns the largest tool displacement and crane speed seen, from the first sample on.
-  std::pair<double, double> motion_over(std::uint64_t samples) {
+  /// What happened after a stop: how long robot and crane took to come to rest, and how far they moved
+  /// once at rest.
+  struct AfterStop {
+    bool at_rest = false;    ///< the robot reported not moving and the crane slower than 5 mm/s
+    double rest_after_s = 0.0;  ///< from the call
+    Clock::time_point rest_at{};  ///< when both were first seen at rest
+    double max_tool_m = 0.0;    ///< largest tool displacement over the window, from the first sample at rest
+    double max_crane_mps = 0.0; ///< largest crane speed over the window
+  };
+  /// Waits (up to 5 s) until robot and crane are at rest, then watches them over `samples` robot-state
+  /// samples (100 Hz: 200 = 2 s) for any motion.
+  AfterStop motion_after_stop(std::uint64_t samples) {
+    AfterStop r;
+    const auto t0 = Clock::now();
+    auto crane_speed = [&] { return sim_.has_status() ? sim_.latest().crane_velocity_mps.norm() : 1.0; };
+    r.at_rest = cell_.wait_until([&] { return robot_samples_ > 0 && !robot_moving_ && crane_speed() < 0.005; }, 5s);
+    r.rest_at = Clock::now();
+    r.rest_after_s = std::chrono::duration<double>(r.rest_at - t0).count();
+    if (!r.at_rest) return r;
     const std::uint64_t start = robot_samples_;
-    cell_.wait_until([&] { return robot_samples_ > start; }, 2s);
     const Eigen::Vector3d p0 = robot_tool_.translation();
-    double max_tool = 0.0, max_crane = 0.0;
     const std::size_t history_start = sim_.history().size();
     cell_.wait_until(
         [&] {
-          max_tool = std::max(max_tool, (robot_tool_.translation() - p0).norm());
+          r.max_tool_m = std::max(r.max_tool_m, (robot_tool_.translation() - p0).norm());
           return robot_samples_ >= start + samples;
         },
         std::chrono::milliseconds(samples * 30 + 5000));
     for (std::size_t i = history_start; i < sim_.history().size(); ++i)
-      max_crane = std::max(max_crane, sim_.history()[i].crane_velocity_mps.norm());
-    return {max_tool, max_crane};
+      r.max_crane_mps = std::max(r.max_crane_mps, sim_.history()[i].crane_velocity_mps.norm());
+    return r;
   }
 
   /// Skill nodes with their durations, in start order, as the demo prints them.
@@ -308,6 +332,7 @@ class ScenarioCell {
   std::string task_code_, task_message_, failed_node_, task_errors_;
   std::map<std::string, NodeView> nodes_seen_;
   std::map<std::string, Eigen::Isometry3d> truth_poses_;
+  std::map<std::string, std::pair<double, double>> error_at_start_;
   Eigen::Isometry3d robot_tool_ = Eigen::Isometry3d::Identity();
   bool robot_moving_ = false;
   std::uint64_t robot_samples_ = 0;

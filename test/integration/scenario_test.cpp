@@ -21,8 +21,8 @@ class ScenarioTest : public MultiProcessTest {
   }
 };
 
-// The scenario succeeds and the load ends within 5 mm of its insertion pose in the physics; the robot
-// has let go and stands still.
+// The scenario succeeds and the load ends within 5 mm and 1 degree of its insertion pose in the physics;
+// the robot has let go and stands still.
 TEST_F(ScenarioTest, CraneInsertSucceeds) {
   ScenarioCell s(cell_);
   ASSERT_TRUE(s.ready()) << "not every service came up";
@@ -31,8 +31,13 @@ TEST_F(ScenarioTest, CraneInsertSucceeds) {
   print_report(s, "crane insert");
   ASSERT_EQ(s.task_state(), rigger_task_TASK_SUCCEEDED) << s.task_summary();
 
-  const auto error = s.insertion_error();
+  // Where the load ends: screwed on, i.e. as the robot lets go after the operator's screws. (The physics
+  // has no screws, so once released the load hangs from the rope again and may drift by the rope's lean:
+  // printed, not asserted.)
+  const auto error = s.insertion_error_at_start("release and retreat");
   ASSERT_TRUE(error.has_value());
+  std::printf("  load vs insertion pose when screwed on (before the release): %.1f mm, %.2f deg\n",
+              error->first * 1000.0, error->second * 180.0 / M_PI);
   EXPECT_LT(error->first, 0.005) << "the load is not where the insertion puts it";
   EXPECT_LT(error->second, 1.0 * M_PI / 180.0);
   EXPECT_TRUE(s.ever_held());
@@ -45,13 +50,14 @@ TEST_F(ScenarioTest, CraneInsertSucceeds) {
     EXPECT_EQ(n->runs, 1) << name;
   }
   EXPECT_EQ(s.node("back off"), nullptr) << "the recovery branch ran";
-  const auto [tool_moved, crane_speed] = s.motion_over(100);
-  EXPECT_LT(tool_moved, 0.001);
-  EXPECT_LT(crane_speed, 0.005);
+  const auto after = s.motion_after_stop(100);
+  EXPECT_TRUE(after.at_rest);
+  EXPECT_LT(after.max_tool_m, 0.001);
+  EXPECT_LT(after.max_crane_mps, 0.005);
 }
 
-// A grasp slip injected in the physics while the attach verifies its hold: the yank monitor fires, the
-// Retry runs the attach again (after localizing the load anew), and the task goes on to succeed.
+// A grasp slip injected in the physics once the magnet holds: a pull on the load fires the yank monitor, the
+// magnet, weakened, lets go, and the Retry localizes the load anew and attaches again: success.
 TEST_F(ScenarioTest, SlipFiresTheYankMonitorAndTheAttachIsRetried) {
   ScenarioCell s(cell_);
   ASSERT_TRUE(s.ready()) << "not every service came up";
@@ -60,17 +66,22 @@ TEST_F(ScenarioTest, SlipFiresTheYankMonitorAndTheAttachIsRetried) {
   ASSERT_TRUE(cell_.wait_until([&] { return s.gripper_holding() || task_terminal(s.task_state()); }, 120s))
       << s.task_summary();
   ASSERT_FALSE(task_terminal(s.task_state())) << s.task_summary();
-  // The pull first (a step the wrist feels), then the magnet weakened below it: the grip slips.
+  // A 300 N pull on the load, away from the magnet (which holds 1,200 N): the wrist feels the step; the
+  // load's 40 kg and the arm's compliance spread it over ~30 ms, ~3,800 N/s through the monitor's 10 Hz
+  // filter, above the recipe's 2,000 N/s (an 80 N pull measured 1,006 N/s; the magnet's own grip on
+  // contact ~1,000 N/s).
   ASSERT_TRUE(s.sim()
-                  .send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, Eigen::Vector3d(60.0, 0.0, 0.0))
+                  .send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, Eigen::Vector3d(300.0, 0.0, 0.0))
                   .value_or(std::make_pair(false, ""))
                   .first);
-  ASSERT_TRUE(s.sim().send(rigger_sim_SIM_SET_HOLDING_FORCE, true, 30.0).value_or(std::make_pair(false, "")).first);
   ASSERT_TRUE(s.wait_node("yank monitor", rigger_task_NODE_FAILURE, 20s)) << s.task_summary();
-  // The slip happened; take the injected force away and give the magnet its strength back.
   ASSERT_TRUE(s.sim().send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, Eigen::Vector3d::Zero())
                   .value_or(std::make_pair(false, ""))
                   .first);
+  // The magnet weakened to 10 N: the moments of holding a swinging 40 kg load peel it off.
+  ASSERT_TRUE(s.sim().send(rigger_sim_SIM_SET_HOLDING_FORCE, true, 10.0).value_or(std::make_pair(false, "")).first);
+  ASSERT_TRUE(cell_.wait_until([&] { return !s.gripper_holding(); }, 10s)) << "the load did not slip";
+  // The magnet's strength back; the Retry localizes the load anew and attaches again.
   ASSERT_TRUE(s.sim().send(rigger_sim_SIM_SET_HOLDING_FORCE, true, -1.0).value_or(std::make_pair(false, "")).first);
   const NodeView* yank = s.node("yank monitor");
   ASSERT_NE(yank, nullptr);
@@ -113,9 +124,12 @@ TEST_F(ScenarioTest, PlcLinkCutDuringInsertionFailsWithCraneFault) {
   print_report(s, "PLC link cut");
   EXPECT_EQ(s.task_state(), rigger_task_TASK_FAILED);
   EXPECT_EQ(s.task_code(), "CRANE_FAULT") << s.task_summary();
-  const auto [tool_moved, crane_speed] = s.motion_over(200);
-  EXPECT_LT(tool_moved, 0.002) << "the robot moved after the task failed";
-  EXPECT_LT(crane_speed, 0.005) << "the crane moved after the task failed";
+  const auto after = s.motion_after_stop(200);
+  std::printf("  at rest %.2f s after the task failed; then over 2 s: tool %.2f mm, crane %.1f mm/s at most\n",
+              after.rest_after_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
+  EXPECT_TRUE(after.at_rest) << "robot or crane still moving 5 s after the failure";
+  EXPECT_LT(after.max_tool_m, 0.002) << "the robot moved after the task failed";
+  EXPECT_LT(after.max_crane_mps, 0.005) << "the crane moved after the task failed";
   EXPECT_TRUE(s.gripper_holding()) << "the load must stay held";
 }
 
@@ -132,9 +146,10 @@ TEST_F(ScenarioTest, OperatorReportsAFailedScrew) {
   EXPECT_EQ(s.node("release and retreat"), nullptr) << "nothing may be released after a failed screw";
   EXPECT_TRUE(s.gripper_energized());
   EXPECT_TRUE(s.gripper_holding());
-  const auto [tool_moved, crane_speed] = s.motion_over(100);
-  EXPECT_LT(tool_moved, 0.002);
-  EXPECT_LT(crane_speed, 0.005);
+  const auto after = s.motion_after_stop(100);
+  EXPECT_TRUE(after.at_rest);
+  EXPECT_LT(after.max_tool_m, 0.002);
+  EXPECT_LT(after.max_crane_mps, 0.005);
 }
 
 // The robot's skill executor is SIGKILLed during the insertion: the controller reports EXECUTOR_LOST for
@@ -144,6 +159,7 @@ TEST_F(ScenarioTest, ExecutorKilledDuringInsertionStopsTheMotion) {
   ScenarioCell s(cell_);
   ASSERT_TRUE(s.ready()) << "not every service came up";
   ASSERT_TRUE(run_until_insertion_moves(this, cell_, s, 0.05)) << s.task_summary();
+  const auto kill_time = Clock::now();
   const auto killed = cell_.stop("robot-skills", SIGKILL, 5s);
   ASSERT_TRUE(killed.has_value());
   ASSERT_TRUE(s.wait_node("insert visually guided", rigger_task_NODE_FAILURE, 10s)) << s.task_summary();
@@ -151,9 +167,14 @@ TEST_F(ScenarioTest, ExecutorKilledDuringInsertionStopsTheMotion) {
   ASSERT_TRUE(s.wait_task_end(60s)) << s.task_summary();
   print_report(s, "executor killed");
   EXPECT_EQ(s.task_state(), rigger_task_TASK_FAILED);
-  const auto [tool_moved, crane_speed] = s.motion_over(200);
-  EXPECT_LT(tool_moved, 0.002) << "the robot kept moving without its executor";
-  EXPECT_LT(crane_speed, 0.005) << "the crane kept moving without its executor";
+  const auto after = s.motion_after_stop(200);
+  const double rest_s = std::chrono::duration<double>(after.rest_at - kill_time).count();
+  std::printf("  EXECUTOR_LOST; robot and crane at rest (checked) within %.2f s of the kill; then over 2 s: tool "
+              "%.2f mm, crane %.1f mm/s at most\n",
+              rest_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
+  EXPECT_TRUE(after.at_rest) << "robot or crane still moving 5 s after the executor died";
+  EXPECT_LT(after.max_tool_m, 0.002) << "the robot kept moving without its executor";
+  EXPECT_LT(after.max_crane_mps, 0.005) << "the crane kept moving without its executor";
   EXPECT_TRUE(s.gripper_holding());
 }
 

@@ -106,7 +106,9 @@ TEST_F(AttachTest, SuccessMovesToTheApproachEnergizesApproachesSlowlyAndVerifies
   EXPECT_EQ(h.gripper.commanded, std::vector<bool>{true});
   auto* approach = h.robot.pending(Kind::kMove);
   ASSERT_NE(approach, nullptr);
-  EXPECT_TRUE(approach->goal.pose_frame_tool.isApprox(kGrasp, 1e-12));
+  // The straight approach aims press_in_m (default 10 mm) past the grasp frame, along the tool z.
+  const Eigen::Isometry3d pressed_in = kGrasp * Eigen::Translation3d(0.0, 0.0, 0.01);
+  EXPECT_TRUE(approach->goal.pose_frame_tool.isApprox(pressed_in, 1e-12));
   EXPECT_NEAR(approach->goal.speed_scale, 0.02 / kRobotMaxToolSpeedMps, 1e-12);  // approach_speed default 0.02 m/s
   drive_to(h, "verify");
   ASSERT_NE(h.gripper.oldest_wait(), nullptr);

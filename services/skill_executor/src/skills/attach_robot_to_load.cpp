@@ -54,6 +54,15 @@ const skill::SkillDescription& AttachRobotToLoadSkill::describe() {
                   nlohmann::json(0.02),
                   {},
                   "Tool speed of the straight approach (and of the retreat of a retry)."},
+        ParamSpec{"press_in_m",
+                  ParamType::kNumber,
+                  "m",
+                  0.0,
+                  0.03,
+                  nlohmann::json(0.01),
+                  {},
+                  "How far past the grasp frame, along the tool z (into the face), the straight approach aims: the "
+                  "face still reaches a load that hangs or sways slightly farther away, and a hanging load yields."},
         ParamSpec{"speed_scale",
                   ParamType::kNumber,
                   "",
@@ -221,7 +230,9 @@ void AttachRobotToLoadSkill::re_resolve() {
 void AttachRobotToLoadSkill::approach() {
   ctx().progress(0.6, "approaching the grasp frame");
   watch_crane(params().at("check_crane").get<bool>());
-  move_tool(grasp_, speed_scale_for(params().at("approach_speed_m_per_s").get<double>()), motion_timeout(),
+  const Eigen::Isometry3d pressed_in =
+      grasp_ * Eigen::Translation3d(0.0, 0.0, params().at("press_in_m").get<double>());
+  move_tool(pressed_in, speed_scale_for(params().at("approach_speed_m_per_s").get<double>()), motion_timeout(),
             [this] { transition("await_hold"); });
 }
 
