@@ -1,6 +1,7 @@
 #include "journal.hpp"
 
 #include <chrono>
+#include <filesystem>
 #include <memory>
 
 #include <sqlite3.h>
@@ -36,6 +37,12 @@ double wall_now_s() {
 }
 
 Journal::Journal(const std::string& path) {
+  // The journal's folder is created on first use (e.g. /var/tmp/rigger on a fresh machine); a failure
+  // shows in sqlite3_open's error below.
+  if (const auto folder = std::filesystem::path(path).parent_path(); !folder.empty()) {
+    std::error_code ignored;
+    std::filesystem::create_directories(folder, ignored);
+  }
   if (sqlite3_open(path.c_str(), &db_) != SQLITE_OK) {
     std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
     sqlite3_close(db_);

@@ -13,6 +13,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
+#include <filesystem>
 #include <deque>
 #include <fstream>
 #include <iostream>
@@ -561,7 +563,14 @@ int demo(const GlobalOptions& g, const std::string& recipe_arg) {
     std::fflush(stdout);
     SpawnRequest req;
     req.path = riggerctl;
-    req.args = {"--domain", std::to_string(file.domain), "run", recipe};
+    // A task id is used once (the journal keeps every task): each demo run submits under a new one.
+    char stamp[32];
+    const std::time_t now = std::time(nullptr);
+    std::tm tm{};
+    localtime_r(&now, &tm);
+    std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
+    const std::string task_id = std::filesystem::path(recipe).stem().string() + "-" + stamp;
+    req.args = {"--domain", std::to_string(file.domain), "run", recipe, "--task-id", task_id};
     req.env["RIGGER_DOMAIN"] = std::to_string(file.domain);
     if (!file.dds_config.empty()) req.env["CYCLONEDDS_URI"] = file.dds_uri();
     // Ctrl-C goes to riggerctl (same terminal process group), which cancels the task; we then still

@@ -95,6 +95,15 @@ std::string RunDisplay::update(const NodeUpdate& node) {
   return out;
 }
 
+std::size_t RunDisplay::skills_run() const {
+  std::size_t n = 0;
+  for (const auto& [id, node] : last_) {
+    const auto it = timing_.find(id);
+    if (node.type == "Skill" && it != timing_.end() && it->second.runs > 0) ++n;
+  }
+  return n;
+}
+
 std::string RunDisplay::durations(double wall_s) const {
   std::vector<std::pair<double, std::string>> skills;
   for (const auto& [id, n] : last_) {

@@ -44,6 +44,8 @@ class RunDisplay {
   std::string durations(double wall_s) const;
 
   const std::map<std::string, NodeUpdate>& nodes() const { return last_; }
+  /// Skill nodes that have started at least once.
+  std::size_t skills_run() const;
 
  private:
   struct Timing {

@@ -228,9 +228,11 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
     statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
       // Transient-local: an old status of the same id may arrive first; only ours counts.
       if (dds::to_string(s.task_id) != task_id || wire_ns(s.stamp) < sent_ns) return;
-      std::printf("task %s %s\n", task_id.c_str(), task_state_name(s.state));
-      std::fflush(stdout);
-      if (!task_terminal(s.state)) return;
+      if (!task_terminal(s.state)) {  // the end is reported below, once
+        std::printf("task %s %s\n", task_id.c_str(), task_state_name(s.state));
+        std::fflush(stdout);
+        return;
+      }
       finished = true;
       final_state = s.state;
       code = dds::to_string(s.code);
@@ -258,7 +260,7 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
     return kExitFailed;
   }
   const double wall_s = static_cast<double>(to_unix_ns(std::chrono::system_clock::now()) - sent_ns) * 1e-9;
-  if (!opt.quiet) std::printf("%s", display.durations(wall_s).c_str());
+  if (!opt.quiet && display.skills_run() > 0) std::printf("%s", display.durations(wall_s).c_str());
   if (final_state == rigger_task_TASK_SUCCEEDED) {
     std::printf("task %s SUCCEEDED\n", task_id.c_str());
     return 0;
