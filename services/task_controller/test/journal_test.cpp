@@ -3,6 +3,7 @@
 #include "journal.hpp"
 
 #include <filesystem>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -75,8 +76,15 @@ TEST_F(JournalTest, StrangeTextIsStoredVerbatim) {
   EXPECT_EQ(tasks[0].task_id, "t'; --");
 }
 
+TEST_F(JournalTest, MissingFolderIsCreated) {
+  Journal journal((dir_ / "missing-dir" / "j.sqlite").string());
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "missing-dir" / "j.sqlite"));
+}
+
 TEST_F(JournalTest, UnopenablePathThrows) {
-  EXPECT_THROW(Journal((dir_ / "missing-dir" / "j.sqlite").string()), JournalError);
+  // A regular file where the folder should be: the folder cannot be created, the database not opened.
+  std::ofstream(dir_ / "a-file") << "x";
+  EXPECT_THROW(Journal((dir_ / "a-file" / "j.sqlite").string()), JournalError);
 }
 
 }  // namespace
