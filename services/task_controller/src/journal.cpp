@@ -36,7 +36,7 @@ double wall_now_s() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-Journal::Journal(const std::string& path) {
+Journal::Journal(const std::string& path, JournalSync sync) {
   // The journal's folder is created on first use (e.g. /var/tmp/rigger on a fresh machine); a failure
   // shows in sqlite3_open's error below.
   if (const auto folder = std::filesystem::path(path).parent_path(); !folder.empty()) {
@@ -50,8 +50,9 @@ Journal::Journal(const std::string& path) {
     throw JournalError("cannot open journal " + path + ": " + why);
   }
   sqlite3_busy_timeout(db_, 2000);
-  // See the header for why FULL rather than NORMAL.
-  const bool ok = exec("PRAGMA journal_mode=WAL;") && exec("PRAGMA synchronous=FULL;") &&
+  // See the header for the two sync levels.
+  const bool ok = exec("PRAGMA journal_mode=WAL;") &&
+                  exec(sync == JournalSync::kFull ? "PRAGMA synchronous=FULL;" : "PRAGMA synchronous=NORMAL;") &&
                   exec("CREATE TABLE IF NOT EXISTS tasks (task_id TEXT PRIMARY KEY, state TEXT NOT NULL, "
                        "submitted REAL NOT NULL, finished REAL, code TEXT, message TEXT, recipe TEXT NOT NULL);") &&
                   exec("CREATE TABLE IF NOT EXISTS records (id INTEGER PRIMARY KEY AUTOINCREMENT, stamp REAL NOT NULL, "

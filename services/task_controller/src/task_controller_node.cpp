@@ -308,7 +308,9 @@ class TaskControllerNode::Task : public bt::Port {
 
 TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
     : ctx_(ctx),
-      journal_(ctx.config.get<std::string>("journal_path", "task_controller_journal.sqlite")),
+      journal_(ctx.config.get<std::string>("journal_path", "task_controller_journal.sqlite"),
+               ctx.config.get_enum("journal_sync", "normal", {"normal", "full"}) == "full" ? JournalSync::kFull
+                                                                                       : JournalSync::kNormal),
       announcements_(ctx.participant, executor::kAnnouncementTopic, dds::qos::state()),
       commands_(ctx.participant, executor::kCommandTopic, dds::qos::commands()),
       events_(ctx.participant, executor::kEventTopic, dds::qos::events()),

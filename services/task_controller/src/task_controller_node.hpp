@@ -17,6 +17,9 @@
 ///
 /// Configuration keys (all optional):
 ///   "journal_path": string, default "task_controller_journal.sqlite"
+///   "journal_sync": "normal" (default: no fsync per commit; survives controller crashes and restarts) or
+///                   "full" (an fsync per commit; also survives a power cut, ~50x the reaction latency).
+///                   See journal.hpp.
 ///   "default_stop_timeout_s": number in [0.01, 600], default 5
 ///   "max_recipe_bytes": integer in [1024, 67108864], default 4194304
 ///   "max_recipe_depth": integer in [8, 1024], default 128
