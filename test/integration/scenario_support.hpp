@@ -57,7 +57,13 @@ class ScenarioCell {
         nodes_(cell.participant(), "rigger/task/node_status", dds::qos::state()),
         truth_(cell.participant(), "rigger/sim/ground_truth", dds::qos::sensor_stream()),
         robot_(cell.participant(), "rigger/robot/state", dds::qos::sensor_stream()),
-        gripper_(cell.participant(), "rigger/gripper/state", dds::qos::state()) {
+        gripper_(cell.participant(), "rigger/gripper/state", dds::qos::state()),
+        crane_(cell.participant(), "rigger/crane/state", dds::qos::state()) {
+    cell.loop().on_data(crane_, [this] {
+      crane_.take([this](const rigger_crane_CraneState& c, const dds_sample_info_t&) {
+        crane_ready_ = c.link_ok && c.ready && !c.fault;
+      });
+    });
     cell.loop().on_data(status_, [this] {
       status_.take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
         if (dds::to_string(s.task_id) != task_id_) return;
@@ -311,6 +317,9 @@ class ScenarioCell {
                                "monitors", "robot-skills", "perception-skills", "operator-skills",
                                "task_controller", "scripted_operator"},
                               60s);
+    // READY means every process is up; the cell is ready once the gateway also holds its Modbus link to
+    // the PLC (started together, the gateway may try before the emulator listens and back off).
+    ready_ = ready_ && cell_.wait_until([&] { return crane_ready_; }, 30s);
   }
 
  public:
@@ -325,6 +334,8 @@ class ScenarioCell {
   dds::Reader<rigger_vision_TrackedPose> truth_;
   dds::Reader<rigger_robot_RobotState> robot_;
   dds::Reader<rigger_robot_GripperState> gripper_;
+  dds::Reader<rigger_crane_CraneState> crane_;
+  bool crane_ready_ = false;
   bool ready_ = false;
   std::string task_id_;
   Clock::time_point submitted_{};
