@@ -9,12 +9,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rigger/base/time.hpp"
+
 namespace rigger::scripted {
 namespace {
 
-std::chrono::nanoseconds seconds(double s) {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(s));
-}
 
 nlohmann::json load_library(const Config& config) {
   const std::string name = config.get<std::string>("library_file", "test/data/scripted_skill_library.json");
@@ -105,14 +104,14 @@ void ScriptedExecutorNode::on_start(const executor::StartRequest& request) {
   const auto start_seq = request.run.start_seq;
   for (unsigned i = 1; i <= b.progress_steps; ++i) {
     const double fraction = static_cast<double>(i) / (b.progress_steps + 1);
-    a.timers.push_back(ctx_.loop.after(seconds(b.delay_s * fraction), [this, key, fraction, start_seq] {
+    a.timers.push_back(ctx_.loop.after(from_seconds(b.delay_s * fraction), [this, key, fraction, start_seq] {
       auto it = active_.find(key);
       if (it == active_.end() || it->second.run.start_seq != start_seq || it->second.stopping) return;
       endpoint_->report(it->second.run, executor::EventKind::kProgress, "", "scripted progress", fraction);
     }));
   }
   if (b.mode == Mode::kRun) return;
-  a.timers.push_back(ctx_.loop.after(seconds(b.delay_s), [this, key, start_seq] {
+  a.timers.push_back(ctx_.loop.after(from_seconds(b.delay_s), [this, key, start_seq] {
     auto it = active_.find(key);
     if (it == active_.end() || it->second.run.start_seq != start_seq || it->second.stopping) return;
     const Behaviour& beh = it->second.behaviour;
@@ -150,7 +149,7 @@ void ScriptedExecutorNode::on_shutdown(const executor::ShutdownRequest& request)
     return;
   }
   const auto start_seq = a.run.start_seq;
-  a.timers.push_back(ctx_.loop.after(seconds(a.behaviour.stop_delay_s), [this, key, start_seq] {
+  a.timers.push_back(ctx_.loop.after(from_seconds(a.behaviour.stop_delay_s), [this, key, start_seq] {
     auto i = active_.find(key);
     if (i == active_.end() || i->second.run.start_seq != start_seq) return;
     finish(key, executor::EventKind::kStopped, "", "stopped after a slow stop");

@@ -2,17 +2,10 @@
 
 #include <chrono>
 
+#include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
 
 namespace rigger::scripted_operator {
-namespace {
-
-std::chrono::nanoseconds seconds(double s) {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(s));
-}
-
-}  // namespace
-
 Prompt to_domain(const rigger_operator_ui_OperatorPrompt& p) {
   Prompt prompt;
   prompt.prompt_id = dds::to_string(p.prompt_id);
@@ -101,7 +94,7 @@ void ScriptedOperatorNode::on_prompt(const Prompt& prompt) {
   p.answer = *chosen;
   p.rule = rule;
   p.description = description;
-  p.timer = ctx_.loop.after(seconds(rule->delay_s), [this, id] { answer(id); });
+  p.timer = ctx_.loop.after(from_seconds(rule->delay_s), [this, id] { answer(id); });
   ctx_.log->debug("prompt {} -> {} in {:.1f} s id={} rule={}", description, *chosen, rule->delay_s, id, rule->origin);
 }
 

@@ -26,6 +26,7 @@
 
 #include "commands.hpp"
 #include "jog_input.hpp"
+#include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
@@ -55,9 +56,6 @@ struct JogOptions {
 
 using Clock = std::chrono::steady_clock;
 
-std::chrono::nanoseconds seconds(double s) {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(s));
-}
 
 /// Turns SIGINT, SIGTERM and SIGHUP into a call on the event loop (a sigwait thread, as run_service
 /// does). Construct before the participant so that Cyclone's threads inherit the blocked mask.
@@ -254,8 +252,8 @@ int run(const CommonOptions& common, JogOptions opt) {
   };
   signals.start(loop, [&](int sig) { finish(std::string("signal ") + strsignal(sig), 0); });
 
-  const bool have_reader =
-      publisher.writer().wait_for_readers(1, seconds(input == Input::kScript ? opt.wait_s : std::min(opt.wait_s, 1.0)));
+  const bool have_reader = publisher.writer().wait_for_readers(
+      1, from_seconds(input == Input::kScript ? opt.wait_s : std::min(opt.wait_s, 1.0)));
   if (!have_reader && input == Input::kScript) {
     std::fprintf(stderr, "riggerctl jog: no reader of %s on domain %u after %.1f s (is admittance_control running?)\n",
                  kJoystickTopic, common.domain, opt.wait_s);
@@ -317,7 +315,7 @@ int run(const CommonOptions& common, JogOptions opt) {
             if (key == jog::Key::kQuit) finish("quit", 0);
             if (key == jog::Key::kOther) continue;
             held = jog::key_twist(key, opt.speed_mps);
-            held_until = key == jog::Key::kStop ? Clock::time_point{} : Clock::now() + seconds(opt.hold_s);
+            held_until = key == jog::Key::kStop ? Clock::time_point{} : Clock::now() + from_seconds(opt.hold_s);
           }
           tick();  // react at once, not at the next period
         },
@@ -343,7 +341,7 @@ int run(const CommonOptions& common, JogOptions opt) {
   }
 
   tick();
-  loop.every(seconds(1.0 / opt.rate_hz), tick);
+  loop.every(from_seconds(1.0 / opt.rate_hz), tick);
   while (!done && !loop.stop_requested()) loop.run_until([&] { return done; }, std::chrono::hours(24));
 
   // The last word is always zero, and it is delivered before the process exits.

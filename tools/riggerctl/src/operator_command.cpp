@@ -20,6 +20,7 @@
 
 #include "commands.hpp"
 #include "operator_format.hpp"
+#include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
@@ -38,9 +39,6 @@ struct OperatorOptions {
   std::string comment;
 };
 
-std::chrono::nanoseconds seconds(double s) {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(s));
-}
 
 std::string default_operator_id() {
   const char* user = std::getenv("USER");
@@ -208,7 +206,7 @@ int run_list(const CommonOptions& common, const OperatorOptions& opt) {
   PromptBoard board(participant);
   board.attach(loop, [](const PromptBoard::Event&) {});
   // Prompts are state (transient-local): they arrive right after discovery. Collect for the window.
-  loop.run_until([] { return false; }, seconds(opt.timeout_s < 0 ? 2.0 : opt.timeout_s));
+  loop.run_until([] { return false; }, from_seconds(opt.timeout_s < 0 ? 2.0 : opt.timeout_s));
   print_list(board);
   return 0;
 }
@@ -237,7 +235,7 @@ int run_answers(const CommonOptions& common, const OperatorOptions& opt) {
   for (const auto& [id, input] : wanted) {
     const std::string& prompt_id = id;
     loop.run_until([&] { return board.find(prompt_id) || board.withdrawn(prompt_id) || board.answered_by(prompt_id); },
-                   seconds(timeout_s));
+                   from_seconds(timeout_s));
     const PromptView* p = board.find(prompt_id);
     if (!p) {
       if (auto by = board.answered_by(prompt_id))

@@ -31,14 +31,11 @@ namespace rigger::ctl {
 namespace {
 
 namespace tc = rigger::task_controller;
-using std::chrono::duration_cast;
-using std::chrono::nanoseconds;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kExitFailed = 1;
 constexpr int kExitNoController = 3;
 
-nanoseconds seconds(double s) { return duration_cast<nanoseconds>(std::chrono::duration<double>(s)); }
 
 const char* task_state_name(int s) {
   switch (s) {
@@ -199,9 +196,9 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
   const auto matched = [&](auto& reader) {
     return dds::wait_for_status(
         reader.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return reader.matched_writers() > 0; },
-        seconds(opt.match_timeout_s));
+        from_seconds(opt.match_timeout_s));
   };
-  if (!recipes.wait_for_readers(1, seconds(opt.match_timeout_s)) || !matched(statuses) || !matched(nodes)) {
+  if (!recipes.wait_for_readers(1, from_seconds(opt.match_timeout_s)) || !matched(statuses) || !matched(nodes)) {
     std::fprintf(stderr, "riggerctl: no task controller on domain %u (waited %.1f s)\n", common.domain,
                  opt.match_timeout_s);
     return kExitNoController;
@@ -253,7 +250,7 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
     std::fprintf(stderr, "riggerctl: publishing the recipe failed\n");
     return kExitFailed;
   }
-  const auto limit = opt.timeout_s > 0 ? seconds(opt.timeout_s) : seconds(365.0 * 24 * 3600);
+  const auto limit = opt.timeout_s > 0 ? from_seconds(opt.timeout_s) : from_seconds(365.0 * 24 * 3600);
   if (!loop.run_until([&] { return finished; }, limit)) {
     std::fprintf(stderr, "riggerctl: task %s did not finish within %.1f s (it keeps running; riggerctl cancel %s)\n",
                  task_id.c_str(), opt.timeout_s, task_id.c_str());
@@ -306,10 +303,10 @@ JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std
   JournalAnswer answer;
   auto& queries = topics.queries;
   auto& replies = topics.replies;
-  if (!queries.wait_for_readers(1, seconds(timeout_s)) ||
+  if (!queries.wait_for_readers(1, from_seconds(timeout_s)) ||
       !dds::wait_for_status(
           replies.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return replies.matched_writers() > 0; },
-          seconds(timeout_s)))
+          from_seconds(timeout_s)))
     return answer;
   const std::string client = "riggerctl-" + std::to_string(::getpid());
   const std::uint64_t request_id = 1;
@@ -332,7 +329,7 @@ JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std
   q.task_id = dds::wire_string(task_id);
   q.max_entries = 1000;
   queries.write(q);
-  loop.run_until([&] { return answer.answered; }, seconds(timeout_s));
+  loop.run_until([&] { return answer.answered; }, from_seconds(timeout_s));
   loop.on_data(replies, [&replies] { replies.take([](const rigger_task_JournalReply&, const dds_sample_info_t&) {}); });
   return answer;
 }
@@ -394,7 +391,7 @@ int show_tree(const CommonOptions& common, const std::string& task_id, double ti
       if (dds::to_string(s.task_id) == task_id) tree[dds::to_string(s.node_id)] = to_line(s);
     });
   });
-  const bool complete = loop.run_until(have_all, seconds(timeout_s));
+  const bool complete = loop.run_until(have_all, from_seconds(timeout_s));
   if (tree.empty()) {
     std::fprintf(stderr, "riggerctl: no node status for task %s\n", task_id.c_str());
     return kExitFailed;
@@ -449,7 +446,7 @@ int show_skills(const CommonOptions& common, double timeout_s) {
   dds::Reader<rigger_skill_ExecutorAnnouncement> ann(participant, executor::kAnnouncementTopic, dds::qos::state());
   dds::EventLoop loop(participant);
   if (!dds::wait_for_status(ann.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return ann.matched_writers() > 0; },
-                       seconds(timeout_s))) {
+                       from_seconds(timeout_s))) {
     std::fprintf(stderr, "riggerctl: no executor on domain %u\n", common.domain);
     return kExitFailed;
   }
@@ -465,7 +462,7 @@ int show_skills(const CommonOptions& common, double timeout_s) {
     });
   });
   loop.run_until([&] { return by_writer.size() >= static_cast<std::size_t>(ann.matched_writers()); },
-                 seconds(timeout_s));
+                 from_seconds(timeout_s));
   for (const auto& [id, text] : shown) std::fputs(text.c_str(), stdout);
   if (shown.empty()) std::printf("no live executor\n");
   return 0;
@@ -478,7 +475,7 @@ int cancel_task(const CommonOptions& common, const std::string& task_id, const s
   dds::Reader<rigger_task_TaskStatus> statuses(participant, tc::kTaskStatusTopic, dds::qos::state());
   JournalTopics topics(participant);
   dds::EventLoop loop(participant);
-  if (!commands.wait_for_readers(1, seconds(timeout_s))) {
+  if (!commands.wait_for_readers(1, from_seconds(timeout_s))) {
     std::fprintf(stderr, "riggerctl: no task controller on domain %u\n", common.domain);
     return kExitNoController;
   }
@@ -517,7 +514,7 @@ int cancel_task(const CommonOptions& common, const std::string& task_id, const s
   c.seq = 1;
   c.stamp = dds::wire_now();
   commands.write(c);
-  if (!loop.run_until([&] { return done; }, seconds(timeout_s))) {
+  if (!loop.run_until([&] { return done; }, from_seconds(timeout_s))) {
     std::fprintf(stderr, "riggerctl: task %s did not end within %.1f s\n", task_id.c_str(), timeout_s);
     return kExitFailed;
   }
