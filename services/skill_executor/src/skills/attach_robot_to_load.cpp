@@ -1,14 +1,6 @@
 #include "attach_robot_to_load.hpp"
 
-#include <cmath>
-
 namespace rigger::skill_executor {
-
-namespace {
-std::string mm(double m) {
-  return std::to_string(static_cast<long long>(std::lround(m * 1000.0))) + " mm";
-}
-}  // namespace
 
 const skill::SkillDescription& AttachRobotToLoadSkill::describe() {
   static const skill::SkillDescription kDescription = [] {
@@ -96,14 +88,7 @@ const skill::SkillDescription& AttachRobotToLoadSkill::describe() {
                   {},
                   "Largest displacement of the grasp frame between planning and the final approach (else "
                   "LOAD_MOVING)."},
-        ParamSpec{"max_reach_m",
-                  ParamType::kNumber,
-                  "m",
-                  0.1,
-                  5.0,
-                  nlohmann::json(1.2),
-                  {},
-                  "Tool poses farther than this from the robot base are refused by the planner."},
+        max_reach_param(),
         ParamSpec{"check_crane",
                   ParamType::kBoolean,
                   "",
@@ -112,14 +97,7 @@ const skill::SkillDescription& AttachRobotToLoadSkill::describe() {
                   nlohmann::json(true),
                   {},
                   "Refuse to move unless the crane reports healthy (rigger/crane/state)."},
-        ParamSpec{"timeout_s",
-                  ParamType::kNumber,
-                  "s",
-                  1.0,
-                  600.0,
-                  nlohmann::json(60.0),
-                  {},
-                  "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer."},
+        timeout_param(),
     };
     d.resources = {"robot", "gripper", "$object"};
     d.preconditions = {*skill::parse_predicate("localized($object)")};
@@ -230,8 +208,7 @@ void AttachRobotToLoadSkill::re_resolve() {
 void AttachRobotToLoadSkill::approach() {
   ctx().progress(0.6, "approaching the grasp frame");
   watch_crane(params().at("check_crane").get<bool>());
-  const Eigen::Isometry3d pressed_in =
-      grasp_ * Eigen::Translation3d(0.0, 0.0, params().at("press_in_m").get<double>());
+  const Eigen::Isometry3d pressed_in = along_tool_z(grasp_, params().at("press_in_m").get<double>());
   move_tool(pressed_in, speed_scale_for(params().at("approach_speed_m_per_s").get<double>()), motion_timeout(),
             [this] { transition("await_hold"); });
 }

@@ -7,14 +7,31 @@
 
 namespace rigger::skill_executor {
 
-namespace {
-std::string mm(double m) {
-  return std::to_string(static_cast<long long>(std::lround(m * 1000.0))) + " mm";
-}
-}  // namespace
+std::string mm(double m) { return std::to_string(static_cast<long long>(std::lround(m * 1000.0))) + " mm"; }
 
 double speed_scale_for(double tool_speed_mps) {
   return std::clamp(tool_speed_mps / kRobotMaxToolSpeedMps, 0.001, 1.0);
+}
+
+skill::ParamSpec max_reach_param() {
+  using skill::ParamSpec;
+  using skill::ParamType;
+  return ParamSpec{"max_reach_m",
+                   ParamType::kNumber,
+                   "m",
+                   0.1,
+                   5.0,
+                   nlohmann::json(1.2),
+                   {},
+                   "Tool poses farther than this from the robot base are refused by the planner."};
+}
+skill::ParamSpec timeout_param() {
+  using skill::ParamSpec;
+  using skill::ParamType;
+  return ParamSpec{"timeout_s", ParamType::kNumber,
+                   "s",         1.0,
+                   600.0,       nlohmann::json(60.0),
+                   {},          "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer."};
 }
 
 Eigen::Isometry3d along_tool_z(const Eigen::Isometry3d& pose, double distance_m) {

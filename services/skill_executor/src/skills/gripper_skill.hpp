@@ -21,6 +21,7 @@
 
 #include "../skill.hpp"
 #include "move_to.hpp"
+#include "rigger/skill/param_spec.hpp"
 
 namespace rigger::skill_executor {
 
@@ -30,6 +31,14 @@ inline constexpr double kRobotMaxToolSpeedMps = 0.5;
 
 /// speed_scale for a tool speed in m/s, clamped to [0.001, 1].
 double speed_scale_for(double tool_speed_mps);
+
+/// A length for messages, rounded to whole millimetres: "12 mm".
+std::string mm(double m);
+
+/// The parameters the gripper skills share: `max_reach_m` (m, [0.1, 5], default 1.2; farther tool poses are
+/// refused by the planner) and `timeout_s` (s, [1, 600], default 60; the whole skill).
+skill::ParamSpec max_reach_param();
+skill::ParamSpec timeout_param();
 
 /// `pose` moved by `distance_m` along its own z axis (negative: back, away from the face).
 Eigen::Isometry3d along_tool_z(const Eigen::Isometry3d& pose, double distance_m);

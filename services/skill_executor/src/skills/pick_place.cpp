@@ -52,23 +52,6 @@ ParamSpec speed_scale_param() {
                    {},
                    "Fraction of the robot's maximum speed for the transfer to the approach pose."};
 }
-ParamSpec max_reach_param() {
-  return ParamSpec{"max_reach_m",
-                   ParamType::kNumber,
-                   "m",
-                   0.1,
-                   5.0,
-                   nlohmann::json(1.2),
-                   {},
-                   "Tool poses farther than this from the robot base are refused by the planner."};
-}
-ParamSpec timeout_param() {
-  return ParamSpec{"timeout_s", ParamType::kNumber,
-                   "s",         1.0,
-                   600.0,       nlohmann::json(60.0),
-                   {},          "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer."};
-}
-
 }  // namespace
 
 // ---- Pick ---------------------------------------------------------------------------------------
