@@ -226,18 +226,19 @@ void ModbusRegisterServer::serve(int listen_fd) {
         continue;
       }
       const bool rejected = writes_outside(query.data(), length);
+      // Counted before the reply goes out: a client that has its answer also sees it in stats().
+      std::function<void()> on_request;
+      {
+        const std::lock_guard<std::mutex> lock(stats_mutex_);
+        ++(rejected ? stats_.requests_rejected : stats_.requests_served);
+        on_request = on_request_;
+      }
       int reply = 0;
       {
         const std::lock_guard<std::mutex> lock(registers_mutex_);
         reply = rejected ? modbus_reply_exception(context, query.data(),
                                                   MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS)
                          : modbus_reply(context, query.data(), length, mapping_);
-      }
-      std::function<void()> on_request;
-      {
-        const std::lock_guard<std::mutex> lock(stats_mutex_);
-        ++(rejected ? stats_.requests_rejected : stats_.requests_served);
-        on_request = on_request_;
       }
       if (reply < 0) {
         dropped.push_back(fd);
