@@ -1,20 +1,21 @@
-// The task controller as a real process (with a scripted executor) on a private domain; run on
+// The task controller as a real process, with scripted executors, on a private domain; run on
 // demand, not a test. Prints:
 //
-//  1. Reaction latency: a skill's SUCCESS event → the controller's START of the next node of a
-//     Sequence of Localize skills, p50/p90/p99, measured two ways:
-//       - receipt:  this process sees the SUCCESS (from the executor) and the START (from the
-//                   controller); the gap is the controller's handling plus one DDS hop;
-//       - stamps:   SkillCommand.stamp − SkillEvent.stamp (wall clocks of one host): the executor's
-//                   publish → the controller's publish, one DDS hop plus the handling;
-//     next to ddsperf ping/pong round trips measured in the same run (two hops, no handling).
-//     Run twice: the journal on disk (SQLite, synchronous=FULL) and on /dev/shm (tmpfs), which shows
-//     what the journal's fsyncs cost.
+//  1. Reaction latency (issue 3): a monitor's FAILURE written → the sibling skill's SHUTDOWN received,
+//     across three processes (monitor executor → controller → skill executor), p50/p90/p99, with the
+//     journal as deployed (journal_sync normal) and with journal_sync full. Clocks: the FAILURE's and
+//     SHUTDOWN's stamps are their writers' wall clocks; "received" is this process's wall clock when
+//     the SHUTDOWN arrives (it subscribes like the skill executor, through the same path); the skill
+//     executor's STOPPED stamp bounds its own receipt from above. One host, one clock.
+//     Next to ddsperf ping/pong one-way latency (half its round trip) at the same rate, measured in
+//     the same run with ddsperf's waitset and with its listener triggering.
 //  2. Idle CPU: CPU seconds per wall second (/proc/PID/stat utime+stime) of the controller with no
 //     task, with 1 running leaf and with 100 running leaves (1 skill + 99 monitors in a Parallel),
-//     each over --idle-seconds, next to an idle echo service measured over the same windows.
+//     each over --idle-seconds (default 60, the issue's "60 s skill"), next to an idle ddsperf
+//     participant (ddsperf pong, nobody pinging) and an idle echo service over the same windows.
 //
-//   build-x/bench/task_controller_live_bench [--steps 300] [--idle-seconds 10] [--ddsperf-seconds 5]
+//   build/bench/task_controller_live_bench [--trials 1000] [--period-ms 10] [--idle-seconds 60]
+//                                          [--ddsperf-seconds 10]
 #include <unistd.h>
 
 #include <cstdio>
@@ -63,10 +64,6 @@ double cpu_seconds(pid_t pid) {
   return static_cast<double>(utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
 }
 
-double us(Clock::duration d) {
-  return std::chrono::duration<double, std::micro>(d).count();
-}
-
 std::int64_t wire_ns(const rigger_geometry_Time& t) {
   return static_cast<std::int64_t>(t.sec) * 1000000000LL + t.nanosec;
 }
@@ -108,13 +105,12 @@ struct Observer {
   std::uint64_t seq = 0;
 };
 
-struct Timing {
-  Clock::time_point seen;
-  std::int64_t stamp_ns = 0;
-};
-
 struct Reaction {
-  std::vector<double> receipt_us, stamp_us;
+  // Per trial, from the monitor's FAILURE (its executor's stamp) to:
+  std::vector<double> shutdown_written_us;   ///< the controller's SHUTDOWN stamp (1 hop + handling)
+  std::vector<double> shutdown_received_us;  ///< this process receiving that SHUTDOWN (2 hops + handling)
+  std::vector<double> stopped_written_us;    ///< the skill executor's STOPPED stamp (bounds its receipt)
+  double trials_per_s = 0;
   bool ok = false;
 };
 
@@ -123,39 +119,52 @@ bool terminal(int s) {
          s == rigger_task_TASK_CANCELED;
 }
 
-/// Runs a Sequence of `steps` Localize skills (each succeeds at once) through a fresh controller whose
-/// journal is `journal_path`, and collects SUCCESS(root/i) → START(root/i+1).
-Reaction measure_reaction(const std::string& journal_path, int steps) {
+/// The paper's pattern, repeated: Repeat(trials, ForceSuccess(Parallel(1, 1)[skill, monitor])). The
+/// skill (Localize on executor "skills") runs until shut down; the monitor (TimerMonitor on executor
+/// "monitors", another process) fails `period_ms` after its START. Three processes take part — the
+/// monitor's executor, the controller, the skill's executor — and this one watches the topics.
+Reaction measure_reaction(const std::string& journal_sync, int trials, int period_ms) {
   Reaction out;
   rigger::testing::Cell cell;
   const std::string dir = cell.log_dir();
   cell.start("tc", "task_controller",
              {"--id", "tc", "--log-level", "warn", "--config",
-              write_file(dir + "/tc.json", json{{"journal_path", journal_path}}.dump())});
-  cell.start(
-      "exec", "scripted_executor",
-      {"--id", "exec", "--log-level", "warn", "--config",
-       write_file(dir + "/exec.json",
-                  json{{"skills", {"Localize"}}, {"default", {{"mode", "succeed"}, {"delay_s", 0.002}}}}.dump())});
-  if (!cell.wait_ready({"tc", "exec"}, 30s)) {
+              write_file(dir + "/tc.json",
+                         json{{"journal_path", dir + "/journal-" + journal_sync + ".sqlite"}, {"journal_sync", journal_sync}}.dump())});
+  cell.start("skills", "scripted_executor",
+             {"--id", "skills", "--log-level", "warn", "--config",
+              write_file(dir + "/skills.json", json{{"skills", {"Localize"}}, {"default", {{"mode", "run"}}}}.dump())});
+  cell.start("monitors", "scripted_executor",
+             {"--id", "monitors", "--log-level", "warn", "--config",
+              write_file(dir + "/monitors.json",
+                         json{{"skills", {"TimerMonitor"}},
+                              {"behaviours",
+                               {{"TimerMonitor", {{"mode", "fail"}, {"delay_s", period_ms / 1000.0}, {"code", "BENCH"}}}}}}
+                             .dump())});
+  if (!cell.wait_ready({"tc", "skills", "monitors"}, 30s)) {
     std::fprintf(stderr, "services did not become ready\n%s", cell.logs().c_str());
     return out;
   }
   Observer obs(cell);
   if (!obs.recipes.wait_for_readers(1, 10s)) return out;
-  std::map<std::string, Timing> success, start;
+  // Trials run one after the other (the next starts after the skill STOPPED), so the i-th FAILURE,
+  // SHUTDOWN and STOPPED belong to trial i.
+  std::vector<std::int64_t> failure_ns, shutdown_stamp_ns, shutdown_seen_ns, stopped_ns;
   bool done = false;
   int final_state = -1;
   cell.loop().on_data(obs.events, [&] {
-    const auto now = Clock::now();
     obs.events.take([&](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
-      if (e.kind == rigger_skill_SKILL_EVENT_SUCCESS) success[dds::to_string(e.node_id)] = {now, wire_ns(e.stamp)};
+      const std::string executor = dds::to_string(e.executor_id);
+      if (executor == "monitors" && e.kind == rigger_skill_SKILL_EVENT_FAILURE) failure_ns.push_back(wire_ns(e.stamp));
+      if (executor == "skills" && e.kind == rigger_skill_SKILL_EVENT_STOPPED) stopped_ns.push_back(wire_ns(e.stamp));
     });
   });
   cell.loop().on_data(obs.commands, [&] {
-    const auto now = Clock::now();
+    const std::int64_t seen = wire_ns(dds::wire_now());
     obs.commands.take([&](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
-      if (c.kind == rigger_skill_SKILL_START) start[dds::to_string(c.node_id)] = {now, wire_ns(c.stamp)};
+      if (c.kind != rigger_skill_SKILL_SHUTDOWN || dds::to_string(c.executor_id) != "skills") return;
+      shutdown_stamp_ns.push_back(wire_ns(c.stamp));
+      shutdown_seen_ns.push_back(seen);
     });
   });
   cell.loop().on_data(obs.statuses, [&] {
@@ -166,29 +175,40 @@ Reaction measure_reaction(const std::string& journal_path, int steps) {
       }
     });
   });
-  json children = json::array();
-  for (int i = 0; i < steps; ++i)
-    children.push_back({{"type", "Skill"}, {"skill", "Localize"}, {"params", {{"object", "load"}}}});
-  obs.submit(
-      "reaction",
-      {{"recipe_version", 1}, {"task_id", "reaction"}, {"root", {{"type", "Sequence"}, {"children", children}}}});
-  if (!cell.wait_until([&] { return done; }, std::chrono::seconds(30 + steps / 5))) {
+  const json parallel = {
+      {"type", "Parallel"},
+      {"success_threshold", 1},
+      {"failure_threshold", 1},
+      {"children",
+       {{{"type", "Skill"}, {"skill", "Localize"}, {"params", {{"object", "load"}}}},
+        {{"type", "Monitor"}, {"monitor", "TimerMonitor"}, {"params", {{"max_duration_s", 3600}}}}}}};
+  const json root = {{"type", "Repeat"},
+                     {"repetitions", trials},
+                     {"child", {{"type", "ForceSuccess"}, {"child", parallel}}}};
+  const auto t0 = Clock::now();
+  obs.submit("reaction", {{"recipe_version", 1}, {"task_id", "reaction"}, {"root", root}});
+  if (!cell.wait_until([&] { return done; }, std::chrono::milliseconds(30000 + trials * (period_ms + 20)))) {
     std::fprintf(stderr, "the reaction recipe did not finish\n");
     return out;
   }
+  out.trials_per_s = trials / std::chrono::duration<double>(Clock::now() - t0).count();
   if (final_state != rigger_task_TASK_SUCCEEDED) {
     std::fprintf(stderr, "the reaction recipe ended in state %d\n%s", final_state, cell.logs().c_str());
     return out;
   }
-  for (int i = 0; i + 1 < steps; ++i) {
-    auto s = success.find("root/" + std::to_string(i));
-    auto n = start.find("root/" + std::to_string(i + 1));
-    if (s == success.end() || n == start.end()) continue;
-    out.receipt_us.push_back(us(n->second.seen - s->second.seen));
-    out.stamp_us.push_back(static_cast<double>(n->second.stamp_ns - s->second.stamp_ns) / 1000.0);
-  }
   cell.stop_all();
-  out.ok = !out.receipt_us.empty();
+  const std::size_t n = failure_ns.size();
+  if (n == 0 || shutdown_stamp_ns.size() != n || stopped_ns.size() != n) {
+    std::fprintf(stderr, "unpaired events: %zu FAILURE, %zu SHUTDOWN, %zu STOPPED\n", n, shutdown_stamp_ns.size(),
+                 stopped_ns.size());
+    return out;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    out.shutdown_written_us.push_back(static_cast<double>(shutdown_stamp_ns[i] - failure_ns[i]) / 1000.0);
+    out.shutdown_received_us.push_back(static_cast<double>(shutdown_seen_ns[i] - failure_ns[i]) / 1000.0);
+    out.stopped_written_us.push_back(static_cast<double>(stopped_ns[i] - failure_ns[i]) / 1000.0);
+  }
+  out.ok = true;
   return out;
 }
 
@@ -218,13 +238,17 @@ int measure_idle(int seconds) {
   const std::string dir = cell.log_dir();
   auto& tcp = cell.start("tc", "task_controller",
                          {"--id", "tc", "--log-level", "warn", "--config",
-                          write_file(dir + "/tc.json", json{{"journal_path", dir + "/journal.sqlite"}}.dump())});
+                          write_file(dir + "/tc.json", json{{"journal_path", dir + "/journal-idle.sqlite"}}.dump())});
   auto& exec =
       cell.start("exec", "scripted_executor",
                  {"--id", "exec", "--log-level", "warn", "--config",
                   write_file(dir + "/exec.json",
                              json{{"skills", {"Localize", "TimerMonitor"}}, {"default", {{"mode", "run"}}}}.dump())});
   auto& echo = cell.start("echo", "echo", {"--id", "echo", "--log-level", "warn"});
+  // An idle ddsperf participant on the same domain and configuration: pong, with nobody pinging.
+  auto& ddsperf = cell.start("ddsperf", "/usr/bin/ddsperf",
+                             {"-i", std::to_string(cell.domain_id()), "-D", std::to_string(4 * seconds + 60), "pong"},
+                             false);
   if (!cell.wait_ready({"tc", "exec", "echo"}, 30s)) {
     std::fprintf(stderr, "services did not become ready\n%s", cell.logs().c_str());
     return 1;
@@ -242,11 +266,12 @@ int measure_idle(int seconds) {
     obs.statuses.take(
         [&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) { state[dds::to_string(s.task_id)] = s.state; });
   });
-  const std::vector<pid_t> pids = {tcp.pid(), echo.pid(), exec.pid()};
+  const std::vector<pid_t> pids = {tcp.pid(), ddsperf.pid(), echo.pid(), exec.pid()};
   std::printf("\nIdle CPU (CPU s per wall s, /proc/PID/stat utime+stime over %d s each)\n", seconds);
-  std::printf("%-34s %14s %14s %14s\n", "", "task_controller", "echo (idle)", "scripted exec");
+  std::printf("%-20s %10s %10s %8s %10s %10s\n", "", "controller", "ddsperf", "ratio", "echo", "scripted");
   auto row = [&](const char* label, const std::vector<double>& s) {
-    std::printf("%-34s %14.4f %14.4f %14.4f\n", label, s[0], s[1], s[2]);
+    std::printf("%-20s %10.4f %10.4f %7.2fx %10.4f %10.4f\n", label, s[0], s[1], s[0] / std::max(1e-9, s[1]), s[2],
+                s[3]);
   };
   row("no task", cpu_share(cell, pids, seconds));
 
@@ -275,6 +300,7 @@ int measure_idle(int seconds) {
   row("100 running leaves", cpu_share(cell, pids, seconds));
   obs.cancel("hundred");
   cell.wait_until([&] { return state["hundred"] == rigger_task_TASK_CANCELED; }, 20s);
+  cell.stop("ddsperf", SIGINT, 5s);
   cell.stop_all();
   return 0;
 }
@@ -283,37 +309,45 @@ int measure_idle(int seconds) {
 
 int main(int argc, char** argv) {
   using rigger::bench::int_option;
-  const int steps = int_option(argc, argv, "--steps", 300);
-  const int idle_seconds = int_option(argc, argv, "--idle-seconds", 10);
-  const int ddsperf_seconds = int_option(argc, argv, "--ddsperf-seconds", 5);
+  using rigger::bench::percentile;
+  const int trials = int_option(argc, argv, "--trials", 1000);
+  const int period_ms = std::max(1, int_option(argc, argv, "--period-ms", 10));
+  const int idle_seconds = int_option(argc, argv, "--idle-seconds", 60);
+  const int ddsperf_seconds = int_option(argc, argv, "--ddsperf-seconds", 10);
 
-  const std::string disk_journal = "/tmp/rigger-bench-journal-" + std::to_string(::getpid()) + ".sqlite";
-  const std::string shm_journal = "/dev/shm/rigger-bench-journal-" + std::to_string(::getpid()) + ".sqlite";
-  const Reaction disk = measure_reaction(disk_journal, steps);
-  const Reaction shm = measure_reaction(shm_journal, steps);
-  for (const auto& f : {disk_journal, shm_journal})
-    for (const char* suffix : {"", "-wal", "-shm"}) std::remove((f + suffix).c_str());
-  if (!disk.ok || !shm.ok) return 1;
-
-  std::uint32_t domain = 0;
-  rigger::bench::DdsperfLatency ref;
+  const Reaction normal = measure_reaction("normal", trials, period_ms);
+  const Reaction full = measure_reaction("full", std::max(1, trials / 5), period_ms);
+  if (!normal.ok || !full.ok) return 1;
+  // ddsperf at the rate the trials ran (rounded), on the same payload order (a SkillEvent is ~150 B).
+  const int rate_hz = std::max(1, static_cast<int>(normal.trials_per_s + 0.5));
+  rigger::bench::DdsperfLatency waitset, listener;
   {
     rigger::testing::DomainLease lease;
-    domain = lease.id();
-    ref = rigger::bench::run_ddsperf_pingpong(domain, 1000, 64, ddsperf_seconds, true);
+    waitset = rigger::bench::run_ddsperf_pingpong(lease.id(), rate_hz, 128, ddsperf_seconds, true);
+    listener = rigger::bench::run_ddsperf_pingpong(lease.id(), rate_hz, 128, ddsperf_seconds, false);
   }
-  std::printf("Reaction: SUCCESS of root/i -> START of root/i+1, Sequence of %d Localize (scripted, 2 ms each)\n",
-              steps);
-  std::printf("%-58s %9s %9s %9s %7s\n", "", "p50 us", "p90 us", "p99 us", "n");
-  print_row("journal on disk: receipt (handling + 1 hop)", disk.receipt_us);
-  print_row("journal on disk: stamps (1 hop + handling)", disk.stamp_us);
-  print_row("journal on /dev/shm: receipt", shm.receipt_us);
-  print_row("journal on /dev/shm: stamps", shm.stamp_us);
-  if (ref.count == 0) {
-    std::fprintf(stderr, "could not parse ddsperf output:\n%s\n", ref.raw.c_str());
-  } else {
-    std::printf("%-58s %9.1f %9.1f %9.1f %7llu\n", "ddsperf ping/pong round trip (2 hops, 64 B, 1 kHz, waitset)",
-                ref.p50_us, ref.p90_us, ref.p99_us, static_cast<unsigned long long>(ref.count));
+  if (waitset.count == 0 || listener.count == 0) {
+    std::fprintf(stderr, "could not parse ddsperf output:\n%s\n%s\n", waitset.raw.c_str(), listener.raw.c_str());
+    return 1;
   }
+  std::printf("Reaction: monitor FAILURE written -> sibling SHUTDOWN, Repeat(ForceSuccess(Parallel(1,1)[skill, "
+              "monitor])), %d trials at %.0f per s\n",
+              trials, normal.trials_per_s);
+  std::printf("%-62s %9s %9s %9s %7s\n", "", "p50 us", "p90 us", "p99 us", "n");
+  print_row("SHUTDOWN received (2 hops + controller), journal normal", normal.shutdown_received_us);
+  print_row("  SHUTDOWN written by the controller (1 hop + handling)", normal.shutdown_written_us);
+  print_row("  STOPPED written by the skill executor (bounds its receipt)", normal.stopped_written_us);
+  print_row("SHUTDOWN received, journal_sync full", full.shutdown_received_us);
+  const auto ref_row = [](const char* label, const rigger::bench::DdsperfLatency& r) {
+    std::printf("%-62s %9.1f %9.1f %9.1f %7llu\n", label, r.p50_us / 2, r.p90_us / 2, r.p99_us / 2,
+                static_cast<unsigned long long>(r.count));
+  };
+  std::printf("ddsperf one-way (half the round trip), 128 B, %d Hz:\n", rate_hz);
+  ref_row("  ddsperf waitset triggering (as rigger's event loop)", waitset);
+  ref_row("  ddsperf listener triggering (ddsperf's default)", listener);
+  const double p50 = percentile(normal.shutdown_received_us, 0.5);
+  const double p99 = percentile(normal.shutdown_received_us, 0.99);
+  std::printf("p50 / one-way: %.2fx (waitset) %.2fx (listener), target <= 3x; p99 %.0f us, target <= 1000 us\n",
+              p50 / (waitset.p50_us / 2), p50 / (listener.p50_us / 2), p99);
   return measure_idle(idle_seconds);
 }

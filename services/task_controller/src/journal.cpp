@@ -58,20 +58,34 @@ Journal::Journal(const std::string& path, JournalSync sync) {
                   exec("CREATE TABLE IF NOT EXISTS records (id INTEGER PRIMARY KEY AUTOINCREMENT, stamp REAL NOT NULL, "
                        "task_id TEXT NOT NULL, node_id TEXT NOT NULL, kind TEXT NOT NULL, code TEXT NOT NULL, "
                        "message TEXT NOT NULL);") &&
-                  exec("CREATE INDEX IF NOT EXISTS records_task ON records(task_id, id);");
+                  exec("CREATE INDEX IF NOT EXISTS records_task ON records(task_id, id);") &&
+                  sqlite3_prepare_v2(db_,
+                                     "INSERT INTO records(stamp, task_id, node_id, kind, code, message) "
+                                     "VALUES(?, ?, ?, ?, ?, ?);",
+                                     -1, &insert_record_, nullptr) == SQLITE_OK;
   if (!ok) {
     std::string why = last_error();
+    sqlite3_finalize(insert_record_);
     sqlite3_close(db_);
     db_ = nullptr;
     throw JournalError("cannot initialise journal " + path + ": " + why);
   }
 }
 
-Journal::~Journal() { sqlite3_close(db_); }
+Journal::~Journal() {
+  sqlite3_finalize(insert_record_);
+  sqlite3_close(db_);
+}
 
-bool Journal::exec(const char* sql) { return sqlite3_exec(db_, sql, nullptr, nullptr, nullptr) == SQLITE_OK; }
+std::string Journal::last_error() const {
+  if (!rollback_error_.empty()) return rollback_error_;
+  return db_ ? sqlite3_errmsg(db_) : "journal not open";
+}
 
-std::string Journal::last_error() const { return db_ ? sqlite3_errmsg(db_) : "journal not open"; }
+bool Journal::exec(const char* sql) {
+  rollback_error_.clear();
+  return sqlite3_exec(db_, sql, nullptr, nullptr, nullptr) == SQLITE_OK;
+}
 
 bool Journal::add_task(const std::string& task_id, const std::string& recipe_json, double stamp_s) {
   auto s = prepare(db_, "INSERT INTO tasks(task_id, state, submitted, recipe) VALUES(?, 'RUNNING', ?, ?);");
@@ -97,15 +111,28 @@ bool Journal::finish_task(const std::string& task_id, const std::string& state, 
 }
 
 bool Journal::add_record(const JournalRecord& r) {
-  auto s = prepare(db_, "INSERT INTO records(stamp, task_id, node_id, kind, code, message) VALUES(?, ?, ?, ?, ?, ?);");
-  if (!s) return false;
-  sqlite3_bind_double(s.get(), 1, r.stamp_s);
-  bind_text(s.get(), 2, r.task_id);
-  bind_text(s.get(), 3, r.node_id);
-  bind_text(s.get(), 4, r.kind);
-  bind_text(s.get(), 5, r.code);
-  bind_text(s.get(), 6, r.message);
-  return sqlite3_step(s.get()) == SQLITE_DONE;
+  sqlite3_stmt* s = insert_record_;
+  sqlite3_reset(s);
+  sqlite3_bind_double(s, 1, r.stamp_s);
+  bind_text(s, 2, r.task_id);
+  bind_text(s, 3, r.node_id);
+  bind_text(s, 4, r.kind);
+  bind_text(s, 5, r.code);
+  bind_text(s, 6, r.message);
+  return sqlite3_step(s) == SQLITE_DONE;
+}
+
+bool Journal::add_records(const std::vector<JournalRecord>& records) {
+  if (!exec("BEGIN;")) return false;
+  for (const auto& r : records) {
+    if (!add_record(r)) {
+      std::string why = sqlite3_errmsg(db_);  // ROLLBACK overwrites SQLite's message
+      exec("ROLLBACK;");
+      rollback_error_ = std::move(why);
+      return false;
+    }
+  }
+  return exec("COMMIT;");
 }
 
 std::vector<JournalTask> Journal::unfinished_tasks() const {

@@ -206,28 +206,22 @@ class TaskControllerNode::Task : public bt::Port {
   }
 
   void node_changed(const bt::NodeSpec& spec, const bt::NodeStatus& status) override {
-    rigger_task_NodeStatus s{};
-    const std::string parent = parent_of(spec.id);
-    const std::string type(bt::to_string(spec.kind));
-    const std::string name = spec.name.empty() ? spec.leaf : spec.name;
+    TaskControllerNode::NodeStatusRow row;
     auto run = runs_.find(spec.id);
-    const std::string executor = run != runs_.end() ? run->second.executor_id : std::string();
-    s.task_id = dds::wire_string(id_);
-    s.node_id = dds::wire_string(spec.id);
-    s.parent_id = dds::wire_string(parent);
-    s.node_type = dds::wire_string(type);
-    s.name = dds::wire_string(name);
-    s.state = to_wire(status.state);
-    s.code = dds::wire_string(status.code);
-    s.message = dds::wire_string(status.message);
-    s.progress = status.progress.value_or(-1.0);
-    const std::string no_progress_text;  // named: wire_string() keeps a pointer into it until write()
-    s.progress_text = dds::wire_string(no_progress_text);
-    s.executor_id = dds::wire_string(executor);
-    if (status.started_at) s.started = wall_of(*status.started_at);
-    if (status.finished_at) s.finished = wall_of(*status.finished_at);
-    s.stamp = dds::wire_now();
-    node_.node_status_.write(s);
+    row.task_id = id_;
+    row.node_id = spec.id;
+    row.parent_id = parent_of(spec.id);
+    row.node_type = bt::to_string(spec.kind);
+    row.name = spec.name.empty() ? spec.leaf : spec.name;
+    row.state = to_wire(status.state);
+    row.code = status.code;
+    row.message = status.message;
+    row.progress = status.progress.value_or(-1.0);
+    row.executor_id = run != runs_.end() ? run->second.executor_id : std::string();
+    if (status.started_at) row.started = wall_of(*status.started_at);
+    if (status.finished_at) row.finished = wall_of(*status.finished_at);
+    row.stamp = dds::wire_now();
+    node_.queue_node_status(std::move(row));
     if (status.state != NodeState::kRunning || !status.progress)  // progress lines are not worth a row each
       node_.journal({wall_now_s(), id_, spec.id, "NODE", std::string(bt::to_string(status.state)),
                      status.code.empty() ? status.message : status.code + ": " + status.message});
@@ -250,6 +244,7 @@ class TaskControllerNode::Task : public bt::Port {
       for (const auto& n : result.escalated) nodes += (nodes.empty() ? "" : ", ") + n;
       message += (message.empty() ? "" : "; ") + std::string("safe stop escalated: ") + nodes;
     }
+    node_.flush_side_effects();  // the task's row comes after its timeline
     if (!node_.journal_.finish_task(id_, journal_state, result.code, message, wall_now_s()))
       node_.ctx_.log->error("journal write failed task={}: {}", id_, node_.journal_.last_error());
     node_.publish_task(id_, state, result.code, message, result.origin);
@@ -355,11 +350,46 @@ TaskControllerNode::~TaskControllerNode() {
   }
   tasks_.clear();
   for (auto& [id, p] : pending_) ctx_.loop.cancel(p.timer);
+  flush_side_effects();
 }
 
 void TaskControllerNode::journal(const JournalRecord& record) {
-  if (!journal_.add_record(record))
-    ctx_.log->error("journal write failed task={} kind={}: {}", record.task_id, record.kind, journal_.last_error());
+  if (journal_backlog_.empty() && status_backlog_.empty()) ctx_.loop.post([this] { flush_side_effects(); });
+  journal_backlog_.push_back(record);
+}
+
+void TaskControllerNode::queue_node_status(NodeStatusRow row) {
+  if (journal_backlog_.empty() && status_backlog_.empty()) ctx_.loop.post([this] { flush_side_effects(); });
+  status_backlog_.push_back(std::move(row));
+}
+
+void TaskControllerNode::flush_side_effects() {
+  for (const auto& row : status_backlog_) {
+    rigger_task_NodeStatus s{};
+    s.task_id = dds::wire_string(row.task_id);
+    s.node_id = dds::wire_string(row.node_id);
+    s.parent_id = dds::wire_string(row.parent_id);
+    s.node_type = dds::wire_string(row.node_type);
+    s.name = dds::wire_string(row.name);
+    s.state = row.state;
+    s.code = dds::wire_string(row.code);
+    s.message = dds::wire_string(row.message);
+    s.progress = row.progress;
+    const std::string no_progress_text;  // named: wire_string() keeps a pointer into it until write()
+    s.progress_text = dds::wire_string(no_progress_text);
+    s.executor_id = dds::wire_string(row.executor_id);
+    s.started = row.started;
+    s.finished = row.finished;
+    s.stamp = row.stamp;
+    if (node_status_.write(s) != DDS_RETCODE_OK)
+      ctx_.log->error("node status write failed task={} node={}", row.task_id, row.node_id);
+  }
+  status_backlog_.clear();
+  if (journal_backlog_.empty()) return;
+  if (!journal_.add_records(journal_backlog_))
+    ctx_.log->error("journal write failed: {} rows lost, first task={} kind={}: {}", journal_backlog_.size(),
+                    journal_backlog_.front().task_id, journal_backlog_.front().kind, journal_.last_error());
+  journal_backlog_.clear();
 }
 
 void TaskControllerNode::report_interrupted() {
@@ -563,6 +593,7 @@ void TaskControllerNode::handle_recipe(const std::string& task_id, const std::st
     }
   }
   // Journal before acting: a crash from here on leaves the task unfinished in the journal.
+  flush_side_effects();  // the journal in the order things happened
   if (!journal_.add_task(task_id, text, wall_now_s())) {
     reject(task_id, codes::kJournalError, "journal write failed: " + journal_.last_error());
     return;
@@ -731,6 +762,7 @@ void TaskControllerNode::on_operator_responses() {
 }
 
 void TaskControllerNode::on_journal_queries() {
+  flush_side_effects();  // a query sees every row queued so far
   journal_queries_.take([this](const rigger_task_JournalQuery& q, const dds_sample_info_t&) {
     const std::string task_id = dds::to_string(q.task_id);
     const std::size_t max = q.max_entries == 0 ? 1000 : std::min<std::uint32_t>(q.max_entries, 10000);

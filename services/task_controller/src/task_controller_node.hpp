@@ -14,12 +14,15 @@
 ///  - rigger/task/command: CANCEL, PAUSE, RESUME.  rigger/operator/prompt|response: OperatorDecision.
 ///  - rigger/task/journal_query → journal_reply: the journal's timeline for riggerctl.
 /// Nothing polls: the node does work only when data arrives or one of the engine's timers is due.
+/// Commands first: a handler sends the START/SHUTDOWN commands it causes at once; the node statuses and
+/// journal rows it causes are queued and written together right after it (flush_side_effects()). A
+/// controller killed in between loses those rows, never a task: the recipe row was written before the
+/// first START, so a restarted controller reports the task INTERRUPTED.
 ///
 /// Configuration keys (all optional):
 ///   "journal_path": string, default "task_controller_journal.sqlite"
 ///   "journal_sync": "normal" (default: no fsync per commit; survives controller crashes and restarts) or
-///                   "full" (an fsync per commit; also survives a power cut, ~50x the reaction latency).
-///                   See journal.hpp.
+///                   "full" (an fsync per commit; also survives a power cut). See journal.hpp.
 ///   "default_stop_timeout_s": number in [0.01, 600], default 5
 ///   "max_recipe_bytes": integer in [1024, 67108864], default 4194304
 ///   "max_recipe_depth": integer in [8, 1024], default 128
@@ -105,7 +108,15 @@ class TaskControllerNode : public dds::Node {
                     const std::string& failed_node, const std::vector<recipe::Error>& errors = {});
   void reject(const std::string& task_id, const std::string& code, const std::string& message,
               const std::vector<recipe::Error>& errors = {});
+  /// Queues a journal row; see flush_side_effects().
   void journal(const JournalRecord& record);
+  /// Writes the queued node statuses and journal rows (one transaction). A handler sends its commands
+  /// (START, SHUTDOWN) first; this runs once it returned, on the loop's next turn (posted by the first
+  /// queued item), and before anything that reads the journal or writes a task row.
+  void flush_side_effects();
+  struct NodeStatusRow;
+  /// Queues a node status sample, like journal().
+  void queue_node_status(NodeStatusRow row);
   void forget_task(const std::string& task_id);
 
   dds::ServiceContext& ctx_;
@@ -135,6 +146,16 @@ class TaskControllerNode : public dds::Node {
   std::unique_ptr<world_client::WorldClient> world_;  ///< Condition nodes query the world model through it
   std::chrono::milliseconds condition_timeout_{1000};
   std::uint64_t command_seq_ = 0;
+
+  /// A NodeStatus sample's contents, owned until flush_side_effects() writes it.
+  struct NodeStatusRow {
+    std::string task_id, node_id, parent_id, node_type, name, code, message, executor_id;
+    rigger_task_NodeState state{};
+    double progress = -1.0;
+    rigger_geometry_Time started{}, finished{}, stamp{};
+  };
+  std::vector<NodeStatusRow> status_backlog_;
+  std::vector<JournalRecord> journal_backlog_;
 };
 
 }  // namespace rigger::task_controller

@@ -47,6 +47,26 @@ TEST_F(JournalTest, UnfinishedTaskSurvivesReopenAndIsReportedOnce) {
   EXPECT_EQ(timeline[2].code, "INTERRUPTED");
 }
 
+TEST_F(JournalTest, ABatchOfRecordsIsStoredInOrderAndSurvivesReopen) {
+  {
+    Journal j(path_, JournalSync::kFull);
+    ASSERT_TRUE(j.add_task("t", "{}", 1.0));
+    ASSERT_TRUE(j.add_records({}));
+    ASSERT_TRUE(j.add_records({{2.0, "t", "root/1", "EVENT", "FAILURE", "BENCH: fired"},
+                               {2.0, "t", "root/1", "NODE", "FAILED", ""},
+                               {2.1, "t", "root/0", "COMMAND", "SHUTDOWN", "sibling failed"}}));
+    ASSERT_TRUE(j.add_record({3.0, "t", "root/0", "EVENT", "STOPPED", ""}));
+  }
+  Journal j(path_);
+  const auto timeline = j.timeline("t", 100);
+  ASSERT_EQ(timeline.size(), 5U);
+  EXPECT_EQ(timeline[1].code, "FAILURE");
+  EXPECT_EQ(timeline[2].code, "FAILED");
+  EXPECT_EQ(timeline[3].code, "SHUTDOWN");
+  EXPECT_EQ(timeline[3].message, "sibling failed");
+  EXPECT_EQ(timeline[4].code, "STOPPED");
+}
+
 TEST_F(JournalTest, DuplicateTaskIdIsRefused) {
   Journal j(path_);
   ASSERT_TRUE(j.add_task("t", "{}", 1.0));
