@@ -105,6 +105,15 @@ TEST_F(RiggerctlTest, RunOfAnInvalidRecipeExitsOneAndListsEveryError) {
   EXPECT_TRUE(commands_seen_.empty());
   // A file that is not there is a usage error (2).
   EXPECT_EQ(ctl("run-missing", {"run", cell_.log_dir() + "/no-such-file.json"}).code(), 2);
+  // A recipe bigger than any controller accepts (100 MB) is refused before anything is published.
+  const std::string huge_file = cell_.log_dir() + "/huge.json";
+  std::ofstream(huge_file) << "{\"recipe_version\": 1, \"task_id\": \"ctl-huge\", \"description\": \""
+                           << std::string(100U * 1024U * 1024U, 'x') << "\"}";
+  const CtlResult huge = ctl("run-huge", {"run", huge_file});
+  EXPECT_EQ(huge.code(), 1) << huge.output;
+  EXPECT_TRUE(contains(huge.output, "100.0 MB is more than any task controller accepts")) << huge.output;
+  EXPECT_TRUE(contains(huge.output, "nothing was sent")) << huge.output;
+  EXPECT_EQ(tasks_.count("ctl-huge"), 0U);
 }
 
 TEST_F(RiggerctlTest, WithoutAControllerRunAndStatusExitThree) {

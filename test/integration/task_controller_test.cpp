@@ -68,6 +68,9 @@ class TaskControllerTest : public MultiProcessTest {
   void SetUp() override {
     auto& p = cell_.participant();
     recipes_ = std::make_unique<dds::Writer<rigger_task_Recipe>>(p, tc::kRecipeTopic, dds::qos::commands());
+    // A writer that waits long enough for a 100 MB sample to go out (commands() gives up after 100 ms).
+    patient_recipes_ = std::make_unique<dds::Writer<rigger_task_Recipe>>(
+        p, tc::kRecipeTopic, dds::qos::commands().reliable(std::chrono::seconds(60)));
     statuses_ = std::make_unique<dds::Reader<rigger_task_TaskStatus>>(p, tc::kTaskStatusTopic, dds::qos::state());
     nodes_ = std::make_unique<dds::Reader<rigger_task_NodeStatus>>(p, tc::kNodeStatusTopic, dds::qos::state());
     commands_ = std::make_unique<dds::Reader<rigger_skill_SkillCommand>>(p, executor::kCommandTopic,
@@ -125,14 +128,14 @@ class TaskControllerTest : public MultiProcessTest {
     ASSERT_TRUE(recipes_->wait_for_readers(1, 10s));
   }
 
-  void submit(const std::string& task_id, const std::string& text) {
+  void submit(const std::string& task_id, const std::string& text, bool patient = false) {
     rigger_task_Recipe r{};
     const std::string submitter = "test";
     r.task_id = dds::wire_string(task_id);
     r.recipe_json = dds::wire_string(text);
     r.submitter = dds::wire_string(submitter);
     r.stamp = dds::wire_now();
-    ASSERT_EQ(recipes_->write(r), DDS_RETCODE_OK);
+    ASSERT_EQ((patient ? patient_recipes_ : recipes_)->write(r), DDS_RETCODE_OK);
   }
 
   bool finished(const std::string& task_id) const {
@@ -164,7 +167,7 @@ class TaskControllerTest : public MultiProcessTest {
     return n;
   }
 
-  std::unique_ptr<dds::Writer<rigger_task_Recipe>> recipes_;
+  std::unique_ptr<dds::Writer<rigger_task_Recipe>> recipes_, patient_recipes_;
   std::unique_ptr<dds::Reader<rigger_task_TaskStatus>> statuses_;
   std::unique_ptr<dds::Reader<rigger_task_NodeStatus>> nodes_;
   std::unique_ptr<dds::Reader<rigger_skill_SkillCommand>> commands_;
@@ -253,10 +256,9 @@ TEST_F(TaskControllerTest, HostileRecipesAreRejectedWithAReasonAndNothingStarts)
   start_all(nlohmann::json::object(), nlohmann::json::object());
   std::map<std::string, std::string> hostile;
   hostile["deep"] = std::string(1'000'000, '[') + std::string(1'000'000, ']');
-  // 8 MB, twice the controller's 4 MB bound. (100 MB does not fit through a reliable writer whose
-  // max_blocking is 100 ms: write() returns TIMEOUT on the submitting side; see the report.)
+  // 100 MB, 25 times the controller's 4 MB bound, through DDS (a writer that waits for it to go out).
   hostile["huge"] = "{\"recipe_version\": 1, \"task_id\": \"huge\", \"description\": \"" +
-                    std::string(8U * 1024U * 1024U, 'x') + "\"}";
+                    std::string(100U * 1024U * 1024U, 'x') + "\"}";
   hostile["types"] = R"({"recipe_version": "one", "task_id": "types", "root": {"type": "Sequence", "children": 5}})";
   auto unknown = nlohmann::json::parse(paper_pattern("unknown"));
   unknown["root"]["children"][0]["skill"] = "Teleport";
@@ -270,8 +272,12 @@ TEST_F(TaskControllerTest, HostileRecipesAreRejectedWithAReasonAndNothingStarts)
   hostile["utf8"] = "{\"recipe_version\": 1, \"task_id\": \"utf8\", \"description\": \"\xc3\x28\", \"root\": {}}";
   // One at a time: a multi-megabyte sample keeps the reliable writer busy beyond its max_blocking.
   for (const auto& [id, text] : hostile) {
-    submit(id, text);
-    ASSERT_TRUE(wait_finished(id, 20s)) << id;
+    const auto t0 = Clock::now();
+    submit(id, text, id == "huge");
+    ASSERT_TRUE(wait_finished(id, 60s)) << id;
+    if (id == "huge")
+      std::cout << "100 MB recipe: write + rejection took "
+                << std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count() << " ms\n";
   }
   for (const auto& [id, text] : hostile) {
     const auto& s = last(id);

@@ -320,7 +320,7 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
   validator_options_.default_stop_timeout =
       bt::Seconds(ctx.config.get_in_range<double>("default_stop_timeout_s", 5.0, 0.01, 600.0));
   validator_options_.limits.max_bytes =
-      ctx.config.get_in_range<unsigned>("max_recipe_bytes", 4U * 1024U * 1024U, 1024U, 64U * 1024U * 1024U);
+      ctx.config.get_in_range<unsigned>("max_recipe_bytes", 4U * 1024U * 1024U, 1024U, kMaxRecipeBytesCeiling);
   validator_options_.limits.max_depth = ctx.config.get_in_range<unsigned>("max_recipe_depth", 128U, 8U, 1024U);
   executor_wait_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
       std::chrono::duration<double>(ctx.config.get_in_range<double>("executor_wait_s", 2.0, 0.0, 600.0)));

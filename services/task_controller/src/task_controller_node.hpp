@@ -24,7 +24,7 @@
 ///   "journal_sync": "normal" (default: no fsync per commit; survives controller crashes and restarts) or
 ///                   "full" (an fsync per commit; also survives a power cut). See journal.hpp.
 ///   "default_stop_timeout_s": number in [0.01, 600], default 5
-///   "max_recipe_bytes": integer in [1024, 67108864], default 4194304
+///   "max_recipe_bytes": integer in [1024, 67108864 (kMaxRecipeBytesCeiling)], default 4194304
 ///   "max_recipe_depth": integer in [8, 1024], default 128
 ///   "executor_wait_s": number in [0, 600], default 2: a recipe naming a skill no live executor offers
 ///                      waits this long for one to appear (re-validated on every new announcement)
@@ -56,6 +56,9 @@ class WorldClient;
 namespace rigger::task_controller {
 
 inline constexpr const char* kRecipeTopic = "rigger/task/recipe";
+/// The largest max_recipe_bytes a controller can be configured with: a bigger recipe is refused by
+/// every controller (riggerctl run says so before publishing it).
+inline constexpr unsigned kMaxRecipeBytesCeiling = 64U * 1024U * 1024U;
 inline constexpr const char* kTaskCommandTopic = "rigger/task/command";
 inline constexpr const char* kTaskStatusTopic = "rigger/task/status";
 inline constexpr const char* kNodeStatusTopic = "rigger/task/node_status";

@@ -171,6 +171,14 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
     std::fprintf(stderr, "riggerctl: %s\n", error.c_str());
     return 2;
   }
+  if (text.size() > tc::kMaxRecipeBytesCeiling) {
+    std::fprintf(stderr,
+                 "riggerctl: %s: %.1f MB is more than any task controller accepts (max_recipe_bytes is at most "
+                 "%u MB, 4 MB by default); nothing was sent\n",
+                 opt.file.c_str(), static_cast<double>(text.size()) / (1024.0 * 1024.0),
+                 tc::kMaxRecipeBytesCeiling / (1024U * 1024U));
+    return kExitFailed;
+  }
   std::string task_id = opt.task_id;
   {
     auto doc = nlohmann::json::parse(text, nullptr, false);
@@ -246,8 +254,10 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
   r.recipe_json = dds::wire_string(text);
   r.submitter = dds::wire_string(submitter);
   r.stamp = dds::wire_now();
-  if (recipes.write(r) != DDS_RETCODE_OK) {
-    std::fprintf(stderr, "riggerctl: publishing the recipe failed\n");
+  if (const dds_return_t rc = recipes.write(r); rc != DDS_RETCODE_OK) {
+    std::fprintf(stderr, "riggerctl: publishing the recipe (%.1f MB) failed: %s%s\n",
+                 static_cast<double>(text.size()) / (1024.0 * 1024.0), dds_strretcode(rc),
+                 rc == DDS_RETCODE_TIMEOUT ? " (the controller did not take it in time)" : "");
     return kExitFailed;
   }
   const auto limit = opt.timeout_s > 0 ? from_seconds(opt.timeout_s) : from_seconds(365.0 * 24 * 3600);
