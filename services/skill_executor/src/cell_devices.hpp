@@ -58,6 +58,8 @@ class CraneMonitor {
   /// Waits for a crane state stamped no earlier than `max_age` before the call; `done` ok when it shows
   /// a healthy crane, else kCraneFault with crane_problem()'s text, or kCraneFault "no fresh crane
   /// state" after `timeout`. A fresh enough state already received answers at once (next loop turn).
+  /// A state without a PLC link does not answer: the gateway may be (re)connecting, so the check waits
+  /// for the link until `timeout`, then fails saying the link is down.
   virtual OpId check_health(std::chrono::nanoseconds max_age, std::chrono::nanoseconds timeout, OpCallback done) = 0;
   /// Calls `on_problem` (kCraneFault) once: at the first crane state showing a problem, or when no
   /// crane state arrived for `max_silence`. Runs until cancel().

@@ -111,8 +111,13 @@ OpId DdsCraneMonitor::check_health(std::chrono::nanoseconds max_age, std::chrono
   p.since = std::chrono::system_clock::now() - std::chrono::duration_cast<std::chrono::system_clock::duration>(max_age);
   p.done = std::move(done);
   p.timer = loop_.after(timeout, [this, id, timeout] {
-    finish(id, OpResult::failure(kCraneFault, "no fresh rigger/crane/state within " +
-                                                  std::to_string(to_seconds(timeout)) + " s (crane gateway down?)"));
+    auto it = pending_.find(id);
+    if (it == pending_.end()) return;
+    const std::string seconds = std::to_string(to_seconds(timeout));
+    finish(id, OpResult::failure(kCraneFault, it->second.link_down.empty()
+                                                  ? "no fresh rigger/crane/state within " + seconds +
+                                                        " s (crane gateway down?)"
+                                                  : it->second.link_down + " (for " + seconds + " s)"));
   });
   pending_.emplace(id, std::move(p));
   if (state_.latest())
@@ -215,6 +220,10 @@ void DdsCraneMonitor::evaluate(OpId id, const CraneSnapshot& s) {
     return;
   }
   if (s.stamp < it->second.since) return;  // too old: wait for a fresh one
+  if (!s.link_ok) {  // the gateway is (re)connecting to the PLC: wait for the link, up to the timeout
+    it->second.link_down = *problem;
+    return;
+  }
   if (problem)
     finish(id, OpResult::failure(kCraneFault, *problem));
   else

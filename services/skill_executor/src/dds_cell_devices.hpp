@@ -95,6 +95,7 @@ class DdsCraneMonitor final : public CraneMonitor {
   struct Pending {
     bool external = false;  // request_external (else check_health)
     WallTime since;         // check_health: the oldest acceptable stamp
+    std::string link_down;  // check_health: the link-down problem seen while waiting, if any
     OpCallback done;
     dds::EventLoop::TimerId timer = 0;
   };

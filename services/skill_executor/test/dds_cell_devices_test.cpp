@@ -276,6 +276,31 @@ TEST_F(DdsCellDevicesTest, CraneMonitorChecksFreshStatesWatchesAndRequestsExtern
   EXPECT_TRUE(external->ok) << external->message;
 }
 
+TEST_F(DdsCellDevicesTest, CraneHealthCheckWaitsForThePlcLinkUpToItsTimeout) {
+  DdsCraneMonitor crane(participant_, loop_, null_logger(), "robot-skills");
+  dds::Writer<rigger_crane_CraneState> state(participant_, kCraneStateTopic, dds::qos::state());
+  ASSERT_TRUE(state.wait_for_readers(1, 5s));
+  auto no_link = crane_state(true);
+  no_link.link_ok = false;
+
+  // The link stays down: the check fails at its timeout, not at the first state, and says why.
+  std::optional<OpResult> check;
+  const auto t0 = std::chrono::steady_clock::now();
+  crane.check_health(1s, 300ms, [&](const OpResult& r) { check = r; });
+  state.write(no_link);
+  ASSERT_TRUE(loop_.run_until([&] { return check.has_value(); }, 5s));
+  EXPECT_GE(std::chrono::steady_clock::now() - t0, 300ms);
+  EXPECT_EQ(check->code, kCraneFault);
+  EXPECT_NE(check->message.find("no link to the PLC"), std::string::npos) << check->message;
+
+  // The gateway (re)connects while a check waits: the check passes.
+  check.reset();
+  crane.check_health(1s, 5s, [&](const OpResult& r) { check = r; });
+  state.write(crane_state(true));
+  ASSERT_TRUE(loop_.run_until([&] { return check.has_value(); }, 5s));
+  EXPECT_TRUE(check->ok) << check->message;
+}
+
 TEST_F(DdsCellDevicesTest, AdmittanceCommandsAreConfirmedByTheStatesSeqAndOffWaitsForRest) {
   DdsAdmittanceController admittance(participant_, loop_, null_logger(), "robot-skills");
   dds::Reader<rigger_admittance_AdmittanceCommand> commands(participant_, kAdmittanceCommandTopic,
