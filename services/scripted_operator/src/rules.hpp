@@ -22,22 +22,11 @@
 #include <nlohmann/json.hpp>
 
 #include "rigger/base/config.hpp"
+#include "rigger/operator_ui/prompt.hpp"
 
 namespace rigger::scripted_operator {
 
-/// A prompt as the operator sees it: the domain form of rigger::operator_ui::OperatorPrompt.
-struct Prompt {
-  std::string prompt_id;
-  std::string task_id;
-  std::string node_id;
-  std::string kind;
-  std::string title;
-  std::string text;
-  std::vector<std::string> options;
-  std::string details_json;  ///< a JSON object, or empty
-  double timeout_s = 0.0;
-  bool active = false;
-};
+using operator_ui::Prompt;
 
 struct Rule {
   std::string kind;  ///< empty: any kind

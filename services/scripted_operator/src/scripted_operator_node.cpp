@@ -6,21 +6,6 @@
 #include "rigger/dds/conversions.hpp"
 
 namespace rigger::scripted_operator {
-Prompt to_domain(const rigger_operator_ui_OperatorPrompt& p) {
-  Prompt prompt;
-  prompt.prompt_id = dds::to_string(p.prompt_id);
-  prompt.task_id = dds::to_string(p.task_id);
-  prompt.node_id = dds::to_string(p.node_id);
-  prompt.kind = dds::to_string(p.kind);
-  prompt.title = dds::to_string(p.title);
-  prompt.text = dds::to_string(p.text);
-  prompt.options = dds::to_string_vector(p.options);
-  prompt.details_json = dds::to_string(p.details_json);
-  prompt.timeout_s = p.timeout_s;
-  prompt.active = p.active;
-  return prompt;
-}
-
 ScriptedOperatorNode::ScriptedOperatorNode(dds::ServiceContext& ctx, const std::vector<std::string>& rule_arguments)
     : ctx_(ctx),
       prompts_(ctx.participant, kPromptTopic, dds::qos::state()),
@@ -49,7 +34,7 @@ ScriptedOperatorNode::~ScriptedOperatorNode() {
 
 void ScriptedOperatorNode::on_prompts() {
   prompts_.take(
-      [this](const rigger_operator_ui_OperatorPrompt& p, const dds_sample_info_t&) { on_prompt(to_domain(p)); },
+      [this](const rigger_operator_ui_OperatorPrompt& p, const dds_sample_info_t&) { on_prompt(operator_ui::to_domain(p)); },
       [this](const rigger_operator_ui_OperatorPrompt& key, const dds_sample_info_t& info) {
         // A disposed prompt instance is gone for good: forget it (its id may be reused).
         if (info.instance_state != DDS_IST_NOT_ALIVE_DISPOSED) return;

@@ -23,11 +23,8 @@
 
 namespace rigger::scripted_operator {
 
-inline constexpr const char* kPromptTopic = "rigger/operator/prompt";
-inline constexpr const char* kResponseTopic = "rigger/operator/response";
-
-/// Domain form of a wire prompt.
-Prompt to_domain(const rigger_operator_ui_OperatorPrompt& p);
+using operator_ui::kPromptTopic;
+using operator_ui::kResponseTopic;
 
 class ScriptedOperatorNode : public dds::Node {
  public:

@@ -28,8 +28,8 @@
 namespace rigger::ctl {
 namespace {
 
-constexpr const char* kPromptTopic = "rigger/operator/prompt";
-constexpr const char* kResponseTopic = "rigger/operator/response";
+using operator_ui::kPromptTopic;
+using operator_ui::kResponseTopic;
 
 struct OperatorOptions {
   bool list = false;
@@ -45,21 +45,6 @@ std::string default_operator_id() {
   char host[256] = {};
   gethostname(host, sizeof host - 1);
   return std::string(user && *user ? user : "operator") + "@" + host;
-}
-
-PromptView to_view(const rigger_operator_ui_OperatorPrompt& p) {
-  PromptView v;
-  v.prompt_id = dds::to_string(p.prompt_id);
-  v.task_id = dds::to_string(p.task_id);
-  v.node_id = dds::to_string(p.node_id);
-  v.kind = dds::to_string(p.kind);
-  v.title = dds::to_string(p.title);
-  v.text = dds::to_string(p.text);
-  v.options = dds::to_string_vector(p.options);
-  v.details_json = dds::to_string(p.details_json);
-  v.timeout_s = p.timeout_s;
-  v.active = p.active;
-  return v;
 }
 
 std::string join(const std::vector<std::string>& items) {
@@ -119,7 +104,7 @@ class PromptBoard {
   std::vector<Event> take_prompts() {
     std::vector<Event> events;
     prompts_.take([&](const rigger_operator_ui_OperatorPrompt& p, const dds_sample_info_t&) {
-      PromptView v = to_view(p);
+      PromptView v = operator_ui::to_domain(p);
       const std::string id = v.prompt_id;
       if (!v.active) {
         withdrawn_.insert(id);

@@ -8,21 +8,11 @@
 #include <utility>
 #include <vector>
 
+#include "rigger/operator_ui/prompt.hpp"
+
 namespace rigger::ctl {
 
-/// A prompt as riggerctl shows it (domain form of rigger::operator_ui::OperatorPrompt).
-struct PromptView {
-  std::string prompt_id;
-  std::string task_id;
-  std::string node_id;
-  std::string kind;
-  std::string title;
-  std::string text;
-  std::vector<std::string> options;
-  std::string details_json;  ///< a JSON object, or empty
-  double timeout_s = 0.0;
-  bool active = false;
-};
+using PromptView = operator_ui::Prompt;
 
 /// Several lines: header (position, id, kind, task/node), title, text, details as key: value, and the
 /// options numbered from 1. Ends with a newline.

@@ -1,0 +1,32 @@
+#pragma once
+/// @file
+/// The operator's side of rigger/operator/prompt and rigger/operator/response (idl/operator_ui.idl):
+/// topic names and a prompt in domain form (std::string, std::vector), converted from the wire once.
+
+#include <string>
+#include <vector>
+
+#include "rigger/idl/operator.h"
+
+namespace rigger::operator_ui {
+
+inline constexpr const char* kPromptTopic = "rigger/operator/prompt";
+inline constexpr const char* kResponseTopic = "rigger/operator/response";
+
+/// A prompt as the operator sees it: the domain form of OperatorPrompt.
+struct Prompt {
+  std::string prompt_id;
+  std::string task_id;
+  std::string node_id;
+  std::string kind;
+  std::string title;
+  std::string text;
+  std::vector<std::string> options;
+  std::string details_json;  ///< a JSON object, or empty
+  double timeout_s = 0.0;
+  bool active = false;  ///< false: the prompt was withdrawn or answered
+};
+
+Prompt to_domain(const rigger_operator_ui_OperatorPrompt& wire);
+
+}  // namespace rigger::operator_ui
