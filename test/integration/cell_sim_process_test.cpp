@@ -292,6 +292,52 @@ TEST_F(CellSimProcessTest, FaultInjectionIsAcknowledgedAndBadControlsRefused) {
   EXPECT_TRUE(cell_.wait_until([&] { return sim_->has_status() && sim_->latest().sim_time_s < 1.0; }, 5s));
 }
 
+// `riggerctl sim`, the newcomer's way to break the simulated cell on purpose (docs/getting-started.md).
+TEST_F(CellSimProcessTest, RiggerctlSimInjectsFaultsAndSaysWhenThereIsNoSimulator) {
+  // Runs riggerctl on the test's domain to its end, the test's loop running meanwhile.
+  int runs = 0;
+  const auto riggerctl = [&](const std::vector<std::string>& args) {
+    std::vector<std::string> all = {"--domain", std::to_string(cell_.domain_id())};
+    all.insert(all.end(), args.begin(), args.end());
+    auto* loop = &cell_.loop();
+    ChildProcess p("riggerctl", all, {{"CYCLONEDDS_URI", default_dds_config_uri()}},
+                   cell_.log_dir() + "/riggerctl-" + std::to_string(++runs) + ".log", [loop] { loop->post([] {}); });
+    cell_.wait_until([&] { return !p.running(); }, 30s);
+    const auto status = p.wait(1s);
+    return std::make_pair(status && status->exited ? status->code : -1, p.log());
+  };
+  const auto none = riggerctl({"sim", "--timeout", "1", "reset"});
+  EXPECT_EQ(none.first, 3) << none.second;
+  EXPECT_NE(none.second.find("no simulated cell on domain"), std::string::npos) << none.second;
+
+  start();
+  ASSERT_TRUE(cell_.wait_until([&] { return sim_->has_status() && sim_->latest().plc_link_up; }, 10s));
+  const auto cut = riggerctl({"sim", "plc-link", "off"});
+  EXPECT_EQ(cut.first, 0) << cut.second;
+  EXPECT_TRUE(cell_.wait_until([&] { return !sim_->latest().plc_link_up; }, 5s));
+  EXPECT_EQ(riggerctl({"sim", "plc-link", "on"}).first, 0);
+  EXPECT_TRUE(cell_.wait_until([&] { return sim_->latest().plc_link_up; }, 5s));
+
+  EXPECT_EQ(riggerctl({"sim", "holding-force", "10"}).first, 0);
+  EXPECT_TRUE(cell_.wait_until([&] { return std::abs(sim_->latest().gripper_holding_force_n - 10.0) < 1e-9; }, 5s));
+  EXPECT_EQ(riggerctl({"sim", "load-force", "0", "20", "0"}).first, 0);
+  EXPECT_TRUE(cell_.wait_until(
+      [&] { return (sim_->latest().load_external_force_n - Eigen::Vector3d(0, 20, 0)).norm() < 1e-9; }, 5s));
+
+  // The simulator's refusal and a usage error are told apart, and neither changes anything.
+  const auto refused = riggerctl({"sim", "load-force", "0", "nan", "0"});
+  EXPECT_EQ(refused.first, 1) << refused.second;
+  EXPECT_NE(refused.second.find("refused load-force"), std::string::npos) << refused.second;
+  EXPECT_NE(refused.second.find("not finite"), std::string::npos) << refused.second;
+  const auto usage = riggerctl({"sim", "holding-force", "strong"});
+  EXPECT_EQ(usage.first, 2) << usage.second;
+  EXPECT_NE(usage.second.find("expected a force in N"), std::string::npos) << usage.second;
+  EXPECT_EQ(sim_->latest().load_external_force_n, Eigen::Vector3d(0, 20, 0));
+
+  EXPECT_EQ(riggerctl({"sim", "reset"}).first, 0);
+  EXPECT_TRUE(cell_.wait_until([&] { return sim_->latest().load_external_force_n.isZero(); }, 5s));
+}
+
 TEST_F(CellSimProcessTest, BadConfigurationExitsWithCode2NamingTheKey) {
   expect_refused_configuration(cell_, "cell_sim", R"({"plc": {"heartbeat_timeout_ms": 400}})",
                                "/plc/heartbeat_timeout_ms");

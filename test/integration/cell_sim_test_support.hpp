@@ -62,6 +62,8 @@ struct SimStatusView {
   Eigen::Vector3d crane_position_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d crane_velocity_mps = Eigen::Vector3d::Zero();
   std::uint64_t camera_frames = 0;
+  double gripper_holding_force_n = 0.0;
+  Eigen::Vector3d load_external_force_n = Eigen::Vector3d::Zero();
 };
 
 /// The simulator's side channel, from a test: its status (every sample kept) and fault injection
@@ -88,6 +90,8 @@ class SimChannel {
         v.crane_velocity_mps =
             Eigen::Vector3d(s.crane_velocity_mps[0], s.crane_velocity_mps[1], s.crane_velocity_mps[2]);
         v.camera_frames = s.camera_frames;
+        v.gripper_holding_force_n = s.gripper_holding_force_n;
+        v.load_external_force_n = dds::to_domain(s.load_external_force_n);
         history_.push_back(v);
       });
     });

@@ -30,4 +30,9 @@ void add_operator_command(CLI::App& app, const CommonOptions& common, int& exit_
 /// 1 no reader (--script) or lost device; 2 usage.
 void add_jog_command(CLI::App& app, const CommonOptions& common, int& exit_code);
 
+/// `sim plc-link on|off`, `sim estop on|off`, `sim holding-force N|default`, `sim load-force FX FY FZ`,
+/// `sim reset` [--timeout S]: fault injection into the simulated cell, answered by cell_sim. Exit
+/// codes: 0 done; 1 refused or unanswered; 2 usage; 3 no simulator on the domain.
+void add_sim_command(CLI::App& app, const CommonOptions& common, int& exit_code);
+
 }  // namespace rigger::ctl
