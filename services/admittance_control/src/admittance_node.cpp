@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "rigger/cell_config/cell_file.hpp"
 #include "rigger/dds/conversions.hpp"
 
 namespace rigger::control {
@@ -19,27 +20,50 @@ double read_crane_timeout(const Config& config) {
   return config.get_in_range("crane_timeout_s", 0.2, 0.02, 2.0);
 }
 
-// The robot base's pose in the world: entity `robot_id` of the configured cell file, else identity.
-// A relative path is taken from the configuration file's folder, then the working directory, then
-// the repository (development runs from a build directory).
-Eigen::Isometry3d read_pose_world_base(const Config& config, const std::string& robot_id) {
-  if (!config.has("cell_file")) return Eigen::Isometry3d::Identity();
+// The configured cell file: a relative path is taken from the configuration file's folder, then the
+// working directory, then the repository (development runs from a build directory).
+std::optional<std::filesystem::path> resolve_cell_file(const Config& config) {
+  if (!config.has("cell_file")) return std::nullopt;
   const std::filesystem::path path(config.get<std::string>("cell_file"));
-  std::filesystem::path resolved = path;
-  if (path.is_relative()) {
-    const std::filesystem::path next_to_config = std::filesystem::path(config.file()).parent_path() / path;
-    const std::filesystem::path in_source = std::filesystem::path(RIGGER_SOURCE_DIR) / path;
-    resolved = next_to_config;  // the documented place, named in the error when nothing is found
-    if (!std::filesystem::exists(next_to_config)) {
-      if (std::filesystem::exists(path))
-        resolved = path;
-      else if (std::filesystem::exists(in_source))
-        resolved = in_source;
-    }
+  if (!path.is_relative()) return path;
+  const std::filesystem::path next_to_config = std::filesystem::path(config.file()).parent_path() / path;
+  const std::filesystem::path in_source = std::filesystem::path(RIGGER_SOURCE_DIR) / path;
+  if (!std::filesystem::exists(next_to_config)) {
+    if (std::filesystem::exists(path)) return path;
+    if (std::filesystem::exists(in_source)) return in_source;
   }
+  return next_to_config;  // the documented place, named in the error when nothing is found
+}
+
+// The robot base's pose in the world: entity `robot_id` of the configured cell file, else identity.
+Eigen::Isometry3d read_pose_world_base(const Config& config, const std::string& robot_id) {
+  const auto path = resolve_cell_file(config);
+  if (!path) return Eigen::Isometry3d::Identity();
   try {
-    return entity_pose_from_cell_file(resolved.string(), robot_id);
+    return entity_pose_from_cell_file(path->string(), robot_id);
   } catch (const ConfigError& e) {
+    throw ConfigError(config.file(), config.pointer() + "/cell_file", e.what());
+  }
+}
+
+// With crane.rope_offset_gain_per_s > 0: the rope_object's rope attachment from the cell file.
+std::optional<RopeAttachment> read_rope_attachment(const Config& config, double gain_per_s, const std::string& object,
+                                                   Seconds max_age) {
+  if (gain_per_s <= 0.0) return std::nullopt;
+  const auto path = resolve_cell_file(config);
+  const std::string key = config.pointer() + "/crane/rope_offset_gain_per_s";
+  if (!path)
+    throw ConfigError(config.file(), key,
+                      "a measured rope offset needs cell_file (the rope attachment of '" + object + "'); set 0 or "
+                      "give the cell file");
+  try {
+    const cell::CellFile cell = cell::load_cell_file(*path);
+    const cell::CellEntity& entity = cell.require(object, "rope_object, for the measured rope offset");
+    if (!entity.features.rope_attachment)
+      throw ConfigError(config.file(), config.pointer() + "/rope_object",
+                        "object '" + object + "' has no rope_attachment feature in " + path->string());
+    return RopeAttachment{object, *entity.features.rope_attachment, max_age};
+  } catch (const cell::CellFileError& e) {
     throw ConfigError(config.file(), config.pointer() + "/cell_file", e.what());
   }
 }
@@ -71,7 +95,11 @@ AdmittanceNode::AdmittanceNode(dds::ServiceContext& ctx)
       robot_id_(ctx.config.get<std::string>("robot_id", "robot")),
       crane_state_timeout_(ctx.config.get_in_range("crane_state_timeout_s", 0.5, 0.05, 5.0)),
       commander_grace_(ctx.config.get_in_range("commander_grace_s", 2.0, 0.1, 10.0)),
+      rope_object_(ctx.config.get<std::string>("rope_object", "load")),
+      rope_offset_max_age_(ctx.config.get_in_range("rope_offset_max_age_s", 0.2, 0.02, 2.0)),
       config_(load_control_config(ctx.config)),
+      rope_attachment_(read_rope_attachment(ctx.config, config_.crane.rope_offset_gain_per_s, rope_object_,
+                                            rope_offset_max_age_)),
       robot_(config_.robot),
       crane_(config_.crane),
       wrenches_(ctx.participant, kWrenchTopic, dds::qos::sensor_stream()),
@@ -149,7 +177,8 @@ void AdmittanceNode::on_tracker_pose() {
 
 void AdmittanceNode::on_crane_state() {
   crane_states_.take([this](const rigger_crane_CraneState& c, const dds_sample_info_t&) {
-    crane_state_ = CraneSample{c.fault, c.link_ok, dds::to_string(c.fault_text), dds::EventLoop::Clock::now()};
+    crane_state_ = CraneSample{c.fault, c.link_ok, dds::to_string(c.fault_text), dds::EventLoop::Clock::now(),
+                               Eigen::Vector3d(c.position_m[0], c.position_m[1], c.position_m[2])};
   });
   check_crane();
 }
@@ -411,6 +440,7 @@ void AdmittanceNode::crane_step() {
   input.force_on_robot_world_n = R_world_base * robot_output_.wrench_base.force_n;
   input.force_age = orientation_base_sensor_ ? age_of(wrench_stamp_) : Seconds(std::numeric_limits<double>::infinity());
   input.robot_velocity_world_mps = R_world_base * robot_twist_base_.linear_mps;
+  input.rope_offset_world_m = rope_offset_world();
   crane_output_ = crane_.step(dt, input);
   if (crane_output_.status.state != CraneState::kDisabled) {
     publish_crane(crane_output_.velocity_world_mps);
@@ -419,6 +449,19 @@ void AdmittanceNode::crane_step() {
     crane_published_ = false;
   }
   publish_state();
+}
+
+std::optional<Eigen::Vector3d> AdmittanceNode::rope_offset_world() const {
+  if (!rope_attachment_ || !crane_state_) return std::nullopt;
+  if (dds::EventLoop::Clock::now() - crane_state_->received > crane_state_timeout_) return std::nullopt;
+  const auto it = tracked_.find(rope_attachment_->object);
+  if (it == tracked_.end() || !it->second.tracked || !(it->second.quality > 0.0) ||
+      age_of(it->second.stamp) > rope_attachment_->max_age)
+    return std::nullopt;
+  const Eigen::Vector3d attachment = (it->second.pose_world * rope_attachment_->pose_object_attachment).translation();
+  Eigen::Vector3d offset = attachment - crane_state_->position_m;  // crane frame = world (see the header)
+  offset.z() = 0.0;  // the law uses the horizontal part
+  return offset;
 }
 
 void AdmittanceNode::publish_twist(const Vector6d& twist_base) {

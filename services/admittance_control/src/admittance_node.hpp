@@ -61,10 +61,23 @@ inline constexpr const char* kFaultServoRequestInvalid = "SERVO_REQUEST_INVALID"
 ///       in ROBOT_AND_CRANE is a CRANE_FAULT
 ///   "commander_grace_s": number in [0.1, 10], default 2 — a command's source must be seen alive on
 ///       rigger/system/service_state within this time, else COMMANDER_LOST
+///   "rope_object": string, default "load" — with crane.rope_offset_gain_per_s > 0, the tracked object
+///       whose rope_attachment feature (cell file) gives the measured rope offset: that point
+///       (tracker pose) minus the hook (rigger/crane/state position), horizontal part. Needs
+///       cell_file. Without a tracker pose of it at most rope_offset_max_age_s old (tracking lost,
+///       or the tracker not running continuously) the law gets no offset and runs on the force.
+///   "rope_offset_max_age_s": number in [0.02, 2], default 0.2
 /// Frames: the wrench, the robot state and cmd_twist are in the robot base frame B; tracker poses
 /// and the crane (bridge x, trolley y, hoist z) in the world frame; the crane frame is taken to be
 /// the world frame (true in the simulated cell). The published AdmittanceState is in B.
 /// @throws ConfigError (exit 2).
+/// Where the rope hooks into the load, for the measured rope offset (crane.rope_offset_gain_per_s).
+struct RopeAttachment {
+  std::string object;  ///< tracked object id
+  Eigen::Isometry3d pose_object_attachment = Eigen::Isometry3d::Identity();
+  Seconds max_age{0.2};
+};
+
 class AdmittanceNode : public dds::Node {
  public:
   explicit AdmittanceNode(dds::ServiceContext& ctx);
@@ -91,6 +104,7 @@ class AdmittanceNode : public dds::Node {
     bool link_ok = false;
     std::string fault_text;
     dds::EventLoop::Clock::time_point received{};
+    Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  ///< bridge, trolley, hook height (= world)
   };
 
   void on_wrench();
@@ -105,6 +119,9 @@ class AdmittanceNode : public dds::Node {
   void servo_step();
   void check_commander();
   void check_crane();
+  /// The measured rope offset for the crane law, when rope_attachment_ is set and both the tracked
+  /// object and the crane state are fresh.
+  std::optional<Eigen::Vector3d> rope_offset_world() const;
   /// Mode OFF (both laws ramp to zero) with a node fault latched until the next command.
   void go_off(const std::string& code, const std::string& text);
   /// Why a VISUAL_SERVO command is refused ("" when it is fine); sets servo_ on success.
@@ -123,7 +140,10 @@ class AdmittanceNode : public dds::Node {
   std::string robot_id_;
   Seconds crane_state_timeout_;
   Seconds commander_grace_;
+  std::string rope_object_;
+  Seconds rope_offset_max_age_;
   ControlConfig config_;
+  std::optional<RopeAttachment> rope_attachment_;  // set when crane.rope_offset_gain_per_s > 0
   RobotAdmittance robot_;
   CraneAdmittance crane_;
   AdmittanceMode mode_ = AdmittanceMode::kOff;

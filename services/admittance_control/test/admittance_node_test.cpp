@@ -154,6 +154,7 @@ class AdmittanceNodeTest : public ::testing::Test {
       c.header.stamp = dds::wire_now();
       c.link_ok = crane_link_ok_;
       c.fault = crane_fault_;
+      for (int i = 0; i < 3; ++i) c.position_m[i] = crane_position_[i];
       c.fault_text = const_cast<char*>(crane_fault_ ? "estop" : "");
       crane_state_writer_.write(c);
     });
@@ -176,6 +177,7 @@ class AdmittanceNodeTest : public ::testing::Test {
   dds::EventLoop::TimerId crane_timer_ = 0;
   bool crane_fault_ = false;
   bool crane_link_ok_ = true;
+  Eigen::Vector3d crane_position_ = Eigen::Vector3d::Zero();
   std::unique_ptr<AdmittanceNode> node_;
   std::vector<TwistSample> twist_log_;
   std::vector<CraneSample> crane_log_;
@@ -190,6 +192,14 @@ class AdmittanceNodeTest : public ::testing::Test {
 class AdmittanceNodeCraneTest : public AdmittanceNodeTest {
  protected:
   AdmittanceNodeCraneTest() : AdmittanceNodeTest(R"({"crane": {"selected_axes": [true, true, true]}})") {}
+};
+
+/// The measured rope offset on: the load's rope attachment from the simulated cell's file.
+class AdmittanceNodeRopeTest : public AdmittanceNodeTest {
+ protected:
+  AdmittanceNodeRopeTest()
+      : AdmittanceNodeTest(R"({"cell_file": ")" + std::string(RIGGER_SOURCE_DIR) +
+                           R"(/deploy/cell/simulated_cell.json", "crane": {"rope_offset_gain_per_s": 0.5}})") {}
 };
 
 class AdmittanceNodeCellTest : public AdmittanceNodeTest {
@@ -325,6 +335,57 @@ TEST_F(AdmittanceNodeCraneTest, UpwardPushRaisesTheHookOnTheWire) {
   ASSERT_TRUE(loop_.run_until([&] { return state_log_.size() >= states + 5; }, 5s));
   EXPECT_EQ(twist_log_.size(), twists);
   EXPECT_EQ(crane_log_.size(), cranes);
+}
+
+TEST_F(AdmittanceNodeRopeTest, TrackedRopeOffsetMovesTheCraneOverTheLoadUntilTrackingStops) {
+  // The hook 0.2 m behind the load's rope attachment in x (the attachment is 0.1 m above the load's
+  // centre, which does not count: only the horizontal offset does). No force on the wrist.
+  crane_position_ = Eigen::Vector3d(3.35, 1.75, 2.5);
+  publish_robot_state();
+  start_crane_state();
+  start_wrench_stream(Vector6d::Zero());
+  const auto tracker = start_tracker(Eigen::Isometry3d(Eigen::Translation3d(3.55, 1.75, 1.2)),
+                                     Eigen::Isometry3d(Eigen::Translation3d(5.0, 2.0, 0.9)));
+  command(rigger_admittance_ADMITTANCE_ROBOT_AND_CRANE);
+  // k_delta * delta = 0.5/s * 0.2 m = 0.1 m/s towards the load, reached at the crane's acceleration limit.
+  ASSERT_TRUE(loop_.run_until([&] { return !crane_log_.empty() && crane_log_.back().velocity.x() > 0.09; }, 5s));
+  EXPECT_LT(crane_log_.back().velocity.x(), 0.1 + 1e-9);
+  EXPECT_NEAR(crane_log_.back().velocity.y(), 0.0, 1e-9);
+  // Tracking stops: the offset is no longer measured, and with no force the crane comes to rest
+  // (below 0.1 mm/s: what remains is the law's own decaying state).
+  loop_.cancel(tracker);
+  ASSERT_TRUE(loop_.run_until([&] { return crane_log_.back().velocity.norm() < 1e-4; }, 5s))
+      << crane_log_.back().velocity.transpose();
+}
+
+TEST(AdmittanceNodeConfig, RopeOffsetGainNeedsACellFileAndAnObjectWithARopeAttachment) {
+  rigger::testing::DomainLease lease;
+  dds::ServiceOptions options{"admittance-test", lease.id(), "", "warn"};
+  dds::Participant participant(lease.id());
+  dds::EventLoop loop(participant);
+  dds::ServiceAnnouncer announcer(participant, "admittance-test", "admittance_control");
+  const auto error_of = [&](const std::string& json) {
+    dds::ServiceContext context{options, null_logger(), participant, loop, announcer, Config::parse(json, "ac.json")};
+    try {
+      AdmittanceNode node(context);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string no_cell = error_of(R"({"crane": {"rope_offset_gain_per_s": 0.5}})");
+  EXPECT_NE(no_cell.find("/crane/rope_offset_gain_per_s"), std::string::npos) << no_cell;
+  EXPECT_NE(no_cell.find("needs cell_file"), std::string::npos) << no_cell;
+  const std::string cell = std::string(RIGGER_SOURCE_DIR) + "/deploy/cell/simulated_cell.json";
+  const std::string no_attachment =
+      error_of(R"({"cell_file": ")" + cell + R"(", "rope_object": "target", "crane": {"rope_offset_gain_per_s": 0.5}})");
+  EXPECT_NE(no_attachment.find("/rope_object"), std::string::npos) << no_attachment;
+  EXPECT_NE(no_attachment.find("no rope_attachment"), std::string::npos) << no_attachment;
+  const std::string unknown =
+      error_of(R"({"cell_file": ")" + cell + R"(", "rope_object": "anvil", "crane": {"rope_offset_gain_per_s": 0.5}})");
+  EXPECT_NE(unknown.find("anvil"), std::string::npos) << unknown;
+  // Gain 0 (the default): no cell file needed, and the rope keys are still checked as known keys.
+  EXPECT_EQ(error_of(R"({"rope_object": "load", "rope_offset_max_age_s": 0.5})"), "no error");
 }
 
 TEST_F(AdmittanceNodeTest, VisualServoMovesTheTcpTowardsTheGoalAndReportsTheError) {
