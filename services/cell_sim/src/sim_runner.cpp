@@ -8,6 +8,7 @@
 
 #include "rigger/crane_protocol/modbus_context.hpp"
 #include "rigger/crane_protocol/register_map.hpp"
+#include "rigger/base/text.hpp"
 
 namespace rigger::cell_sim {
 namespace {
@@ -256,7 +257,7 @@ void SimRunner::apply(const SimControlCommand& command, WallTime now) {
       const double force = command.value < 0.0 ? geometry_.gripper.holding_force_n : command.value;
       const sim::CommandResult r = physics_->set_gripper_holding_force(force);
       result.accepted = r.ok();
-      result.message = r.ok() ? "holding force " + std::to_string(force) + " N" : r.message;
+      result.message = r.ok() ? "holding force " + number_text(force) + " N" : r.message;
       break;
     }
     case ControlKind::kSetLoadForce: {

@@ -4,6 +4,7 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/qos.hpp"
+#include "rigger/base/text.hpp"
 
 namespace rigger::skill_executor {
 
@@ -113,7 +114,7 @@ OpId DdsCraneMonitor::check_health(std::chrono::nanoseconds max_age, std::chrono
   p.timer = loop_.after(timeout, [this, id, timeout] {
     auto it = pending_.find(id);
     if (it == pending_.end()) return;
-    const std::string seconds = std::to_string(to_seconds(timeout));
+    const std::string seconds = number_text(to_seconds(timeout));
     finish(id, OpResult::failure(kCraneFault, it->second.link_down.empty()
                                                   ? "no fresh rigger/crane/state within " + seconds +
                                                         " s (crane gateway down?)"
@@ -134,7 +135,7 @@ OpId DdsCraneMonitor::request_external(std::chrono::nanoseconds timeout, OpCallb
   p.done = std::move(done);
   p.timer = loop_.after(timeout, [this, id, timeout] {
     finish(id, OpResult::failure(kCraneFault, "the crane did not grant external control within " +
-                                                  std::to_string(to_seconds(timeout)) + " s"));
+                                                  number_text(to_seconds(timeout)) + " s"));
   });
   pending_.emplace(id, std::move(p));
   const auto& latest = state_.latest();
@@ -158,7 +159,7 @@ OpId DdsCraneMonitor::watch_health(std::chrono::nanoseconds max_silence, OpCallb
   const OpId id = ++next_id_;
   Watch w{max_silence, std::move(on_problem), 0};
   w.timer = loop_.after(max_silence, [this, id, max_silence] {
-    fire_watch(id, "no rigger/crane/state for " + std::to_string(to_seconds(max_silence)) + " s (crane gateway down?)");
+    fire_watch(id, "no rigger/crane/state for " + number_text(to_seconds(max_silence)) + " s (crane gateway down?)");
   });
   watches_.emplace(id, std::move(w));
   // A state received before the watch began that shows a problem counts at once.
@@ -203,7 +204,7 @@ void DdsCraneMonitor::on_state(const CraneSnapshot& s) {
     const auto max_silence = it->second.max_silence;
     it->second.timer = loop_.after(max_silence, [this, id, max_silence] {
       fire_watch(id,
-                 "no rigger/crane/state for " + std::to_string(to_seconds(max_silence)) + " s (crane gateway down?)");
+                 "no rigger/crane/state for " + number_text(to_seconds(max_silence)) + " s (crane gateway down?)");
     });
   }
 }
@@ -349,7 +350,7 @@ OpId DdsAdmittanceController::command(const AdmittanceRequest& request, std::chr
   p.timer = loop_.after(timeout, [this, id, seq, timeout, mode = request.mode] {
     finish(id, OpResult::failure("TIMEOUT", "admittance_control did not confirm command seq " + std::to_string(seq) +
                                                 " (mode " + mode_name(mode) + ") within " +
-                                                std::to_string(to_seconds(timeout)) + " s"));
+                                                number_text(to_seconds(timeout)) + " s"));
   });
   pending_.emplace(id, std::move(p));
   if (commands_.write(c) != DDS_RETCODE_OK) log_->warn("admittance command write failed seq={}", seq);

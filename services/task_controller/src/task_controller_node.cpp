@@ -8,6 +8,7 @@
 #include "rigger/executor/executor_endpoint.hpp"
 #include "rigger/skill/skill_library.hpp"
 #include "rigger/world_client/world_client.hpp"
+#include "rigger/base/text.hpp"
 
 namespace rigger::task_controller {
 namespace {
@@ -145,11 +146,11 @@ class TaskControllerNode::Task : public bt::Port {
       node_.world_->is_localized(object, max_age_s, node_.condition_timeout_,
                                  [answer, object, max_age_s](const world_client::Reply& r) {
                                    const std::string what = "ObjectLocalized(" + object + ", max_age_s " +
-                                                            std::to_string(max_age_s) + ")";
+                                                            number_text(max_age_s) + ")";
                                    if (!r.ok) {
                                      answer(false, r.code, what + ": " + r.message);
                                    } else if (r.localized) {
-                                     answer(true, "", what + ": pose " + std::to_string(r.age_s) + " s old");
+                                     answer(true, "", what + ": pose " + number_text(r.age_s) + " s old");
                                    } else {
                                      answer(false, r.code.empty() ? "NOT_LOCALIZED" : r.code,
                                             what + ": " + (r.message.empty() ? "not localized" : r.message));

@@ -1,4 +1,5 @@
 #include "attach_robot_to_load.hpp"
+#include "rigger/base/text.hpp"
 
 namespace rigger::skill_executor {
 
@@ -219,7 +220,7 @@ void AttachRobotToLoadSkill::await_hold() {
   wait_gripper([](const GripperSnapshot& g) { return g.holding; }, from_seconds(timeout_s),
                [this](const GripperSnapshot&) { transition("verify"); },
                [this, timeout_s] {
-                 fail("GRASP_FAILED", "the magnet did not report holding within " + std::to_string(timeout_s) +
+                 fail("GRASP_FAILED", "the magnet did not report holding within " + number_text(timeout_s) +
                                           " s of reaching the grasp frame");
                });
 }
@@ -244,7 +245,7 @@ void AttachRobotToLoadSkill::confirm() {
       return;
     }
     succeed("the magnet holds " + params().at("object").get<std::string>() + " (verified for " +
-            std::to_string(params().at("verify_s").get<double>()) + " s)");
+            number_text(params().at("verify_s").get<double>()) + " s)");
   });
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "../cell_devices.hpp"
+#include "rigger/base/text.hpp"
 
 namespace rigger::skill_executor {
 
@@ -76,7 +77,7 @@ void GripperSkill::start_overall_timeout(double timeout_s) {
   overall_timer_ = ctx().after(overall_timeout_, [this, timeout_s] {
     overall_timer_ = 0;
     if (finished() || stopping()) return;
-    fail("TIMEOUT", "not done within timeout_s = " + std::to_string(timeout_s) + " s (in state " + state() + ")");
+    fail("TIMEOUT", "not done within timeout_s = " + number_text(timeout_s) + " s (in state " + state() + ")");
   });
 }
 

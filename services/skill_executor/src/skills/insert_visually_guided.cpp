@@ -4,6 +4,7 @@
 
 #include "../pose_param.hpp"
 #include "collaborative.hpp"
+#include "rigger/base/text.hpp"
 
 namespace rigger::skill_executor {
 
@@ -298,7 +299,7 @@ void InsertVisuallyGuidedSkill::servo() {
     track([tracker, w] { tracker->cancel(w); });
     const std::string name = names[i];
     rearm(lost_timer_[i], from_seconds(lost_s), [this, name, lost_s] {
-      fail("TRACKING_LOST", "no good tracker pose of " + name + " for " + std::to_string(lost_s) + " s");
+      fail("TRACKING_LOST", "no good tracker pose of " + name + " for " + number_text(lost_s) + " s");
     });
   }
   const double timeout_s = params().at("timeout_s").get<double>();
@@ -314,7 +315,7 @@ void InsertVisuallyGuidedSkill::on_pose(int index, const TrackedObjectSample& s)
   const double lost_s = params().at("tracking_lost_s").get<double>();
   const std::string name = index == 0 ? object_ : target_;
   rearm(lost_timer_[index], from_seconds(lost_s), [this, name, lost_s] {
-    fail("TRACKING_LOST", "no good tracker pose of " + name + " for " + std::to_string(lost_s) + " s");
+    fail("TRACKING_LOST", "no good tracker pose of " + name + " for " + number_text(lost_s) + " s");
   });
 }
 
@@ -327,7 +328,7 @@ void InsertVisuallyGuidedSkill::on_admittance(const AdmittanceSnapshot& s) {
     if (servo_stop_timer_ == 0) {
       const std::string code = s.fault_code;
       rearm(servo_stop_timer_, from_seconds(lost_s), [this, code, lost_s] {
-        fail("TRACKING_LOST", "the visual servo reported " + code + " for " + std::to_string(lost_s) + " s");
+        fail("TRACKING_LOST", "the visual servo reported " + code + " for " + number_text(lost_s) + " s");
       });
     }
   } else {

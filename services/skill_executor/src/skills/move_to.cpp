@@ -1,4 +1,5 @@
 #include "move_to.hpp"
+#include "rigger/base/text.hpp"
 
 #include <cmath>
 
@@ -12,8 +13,8 @@ std::optional<std::string> plan_cartesian_goal(const PoseParam& goal, double max
   if (!goal.pose.matrix().allFinite()) return "the goal pose has a non-finite value";
   const double reach_m = goal.pose.translation().norm();
   if (reach_m > max_reach_m) {
-    return "the goal is " + std::to_string(reach_m) + " m from the robot base, beyond the reach of " +
-           std::to_string(max_reach_m) + " m";
+    return "the goal is " + number_text(reach_m) + " m from the robot base, beyond the reach of " +
+           number_text(max_reach_m) + " m";
   }
   return std::nullopt;
 }

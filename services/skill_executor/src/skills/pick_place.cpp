@@ -1,6 +1,7 @@
 #include "pick_place.hpp"
 
 #include "../world_resolver.hpp"
+#include "rigger/base/text.hpp"
 
 namespace rigger::skill_executor {
 
@@ -167,7 +168,7 @@ void PickSkill::await_hold() {
                    transition("retreat");
                },
                [this, timeout_s] {
-                 fail("GRASP_FAILED", "the magnet did not report holding within " + std::to_string(timeout_s) + " s");
+                 fail("GRASP_FAILED", "the magnet did not report holding within " + number_text(timeout_s) + " s");
                });
 }
 

@@ -1,4 +1,5 @@
 #include "release.hpp"
+#include "rigger/base/text.hpp"
 
 namespace rigger::skill_executor {
 
@@ -127,7 +128,7 @@ void ReleaseSkill::retreat() {
   ctx().progress(0.6, "retreating");
   move_tool(
       retreat_goal_, speed_scale_for(params().at("retreat_speed_m_per_s").get<double>()), motion_timeout(),
-      [this] { succeed("released and retreated " + std::to_string(params().at("retreat_m").get<double>()) + " m"); });
+      [this] { succeed("released and retreated " + number_text(params().at("retreat_m").get<double>()) + " m"); });
 }
 
 }  // namespace rigger::skill_executor
