@@ -91,7 +91,7 @@ class ControllerTest : public MultiProcessTest {
     journal_queries_ =
         std::make_unique<dds::Writer<rigger_task_JournalQuery>>(p, tc::kJournalQueryTopic, dds::qos::commands());
     statuses_ = std::make_unique<dds::Reader<rigger_task_TaskStatus>>(p, tc::kTaskStatusTopic, dds::qos::state());
-    nodes_ = std::make_unique<dds::Reader<rigger_task_NodeStatus>>(p, tc::kNodeStatusTopic, dds::qos::state());
+    nodes_ = std::make_unique<dds::Reader<rigger_task_NodeStatus>>(p, tc::kNodeStatusTopic, dds::qos::state_changes());
     commands_ =
         std::make_unique<dds::Reader<rigger_skill_SkillCommand>>(p, executor::kCommandTopic, dds::qos::commands());
     events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(p, executor::kEventTopic, dds::qos::events());

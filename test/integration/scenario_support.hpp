@@ -54,7 +54,7 @@ class ScenarioCell {
         sim_(cell),
         recipes_(cell.participant(), "rigger/task/recipe", dds::qos::commands()),
         status_(cell.participant(), "rigger/task/status", dds::qos::state()),
-        nodes_(cell.participant(), "rigger/task/node_status", dds::qos::state()),
+        nodes_(cell.participant(), "rigger/task/node_status", dds::qos::state_changes()),
         truth_(cell.participant(), "rigger/sim/ground_truth", dds::qos::sensor_stream()),
         robot_(cell.participant(), "rigger/robot/state", dds::qos::sensor_stream()),
         gripper_(cell.participant(), "rigger/gripper/state", dds::qos::state()),

@@ -72,7 +72,7 @@ class TaskControllerTest : public MultiProcessTest {
     patient_recipes_ = std::make_unique<dds::Writer<rigger_task_Recipe>>(
         p, tc::kRecipeTopic, dds::qos::commands().reliable(std::chrono::seconds(60)));
     statuses_ = std::make_unique<dds::Reader<rigger_task_TaskStatus>>(p, tc::kTaskStatusTopic, dds::qos::state());
-    nodes_ = std::make_unique<dds::Reader<rigger_task_NodeStatus>>(p, tc::kNodeStatusTopic, dds::qos::state());
+    nodes_ = std::make_unique<dds::Reader<rigger_task_NodeStatus>>(p, tc::kNodeStatusTopic, dds::qos::state_changes());
     commands_ = std::make_unique<dds::Reader<rigger_skill_SkillCommand>>(p, executor::kCommandTopic,
                                                                         dds::qos::commands());
     cell_.loop().on_data(*statuses_, [this] {

@@ -62,6 +62,11 @@ Qos state() {
   q.reliable().keep_last(1).transient_local();
   return q;
 }
+Qos state_changes(int depth) {
+  Qos q;
+  q.reliable().keep_last(depth).transient_local();
+  return q;
+}
 Qos sensor_stream() {
   Qos q;
   q.best_effort().keep_last(1).volatile_durability();

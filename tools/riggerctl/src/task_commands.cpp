@@ -197,7 +197,7 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
   dds::EventLoop loop(participant);
   dds::Writer<rigger_task_Recipe> recipes(participant, tc::kRecipeTopic, dds::qos::commands());
   dds::Reader<rigger_task_TaskStatus> statuses(participant, tc::kTaskStatusTopic, dds::qos::state());
-  dds::Reader<rigger_task_NodeStatus> nodes(participant, tc::kNodeStatusTopic, dds::qos::state());
+  dds::Reader<rigger_task_NodeStatus> nodes(participant, tc::kNodeStatusTopic, dds::qos::state_changes());
 
   // Also wait for the controller's status writers: a state change published before they matched
   // would reach us only as the latest state (state QoS keeps one sample per node), not as a line.
@@ -220,14 +220,28 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
   std::vector<std::pair<std::string, std::string>> errors;
 
   loop.on_data(nodes, [&] {
+    // A take returns samples grouped by node (instance), not in the order they were written: the
+    // controller writes a burst of changes together (a child's result, then its parent's). Shown in
+    // the order of their stamps, they read as they happened.
+    struct Change {
+      std::int64_t stamp_ns;
+      std::string id;
+      NodeLine line;
+      NodeUpdate update;
+    };
+    std::vector<Change> changes;
     nodes.take([&](const rigger_task_NodeStatus& s, const dds_sample_info_t&) {
       if (dds::to_string(s.task_id) != task_id || wire_ns(s.stamp) < sent_ns) return;
-      const std::string id = dds::to_string(s.node_id);
-      tree[id] = to_line(s);
-      const std::string shown = display.update(to_update(s));
-      if (!opt.quiet) std::fputs(shown.c_str(), stdout);
-      std::fflush(stdout);
+      changes.push_back({wire_ns(s.stamp), dds::to_string(s.node_id), to_line(s), to_update(s)});
     });
+    std::stable_sort(changes.begin(), changes.end(),
+                     [](const Change& a, const Change& b) { return a.stamp_ns < b.stamp_ns; });
+    for (auto& c : changes) {
+      tree[c.id] = std::move(c.line);
+      const std::string shown = display.update(c.update);
+      if (!opt.quiet) std::fputs(shown.c_str(), stdout);
+    }
+    std::fflush(stdout);
   });
   loop.on_data(statuses, [&] {
     statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {

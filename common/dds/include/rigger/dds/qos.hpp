@@ -45,6 +45,10 @@ Qos commands();
 Qos events();
 /// Latest state for late joiners: reliable, transient-local, keep-last 1 per instance.
 Qos state();
+/// The reader side of a state() topic for whoever shows or checks every change, not only the latest
+/// (riggerctl run's live tree, tests): keep-last `depth` per instance, so that a burst of changes to
+/// one instance (RUNNING, progress, SUCCESS within a millisecond) is not collapsed to its last.
+Qos state_changes(int depth = 64);
 /// High-rate sensor data where only the newest matters: best effort, keep-last 1, volatile.
 Qos sensor_stream();
 /// Velocity setpoints: reliable, keep-last 1, volatile (the newest command wins; its age is checked on receipt).
