@@ -47,8 +47,8 @@ Eigen::Isometry3d read_pose_world_base(const Config& config, const std::string& 
 }
 
 // With crane.rope_offset_gain_per_s > 0: the rope_object's rope attachment from the cell file.
-std::optional<RopeAttachment> read_rope_attachment(const Config& config, double gain_per_s, const std::string& object,
-                                                   Seconds max_age) {
+std::optional<Eigen::Isometry3d> read_rope_attachment(const Config& config, double gain_per_s,
+                                                      const std::string& object) {
   if (gain_per_s <= 0.0) return std::nullopt;
   const auto path = resolve_cell_file(config);
   const std::string key = config.pointer() + "/crane/rope_offset_gain_per_s";
@@ -62,7 +62,7 @@ std::optional<RopeAttachment> read_rope_attachment(const Config& config, double 
     if (!entity.features.rope_attachment)
       throw ConfigError(config.file(), config.pointer() + "/rope_object",
                         "object '" + object + "' has no rope_attachment feature in " + path->string());
-    return RopeAttachment{object, *entity.features.rope_attachment, max_age};
+    return *entity.features.rope_attachment;
   } catch (const cell::CellFileError& e) {
     throw ConfigError(config.file(), config.pointer() + "/cell_file", e.what());
   }
@@ -98,8 +98,7 @@ AdmittanceNode::AdmittanceNode(dds::ServiceContext& ctx)
       rope_object_(ctx.config.get<std::string>("rope_object", "load")),
       rope_offset_max_age_(ctx.config.get_in_range("rope_offset_max_age_s", 0.2, 0.02, 2.0)),
       config_(load_control_config(ctx.config)),
-      rope_attachment_(read_rope_attachment(ctx.config, config_.crane.rope_offset_gain_per_s, rope_object_,
-                                            rope_offset_max_age_)),
+      pose_rope_attachment_(read_rope_attachment(ctx.config, config_.crane.rope_offset_gain_per_s, rope_object_)),
       robot_(config_.robot),
       crane_(config_.crane),
       wrenches_(ctx.participant, kWrenchTopic, dds::qos::sensor_stream()),
@@ -452,13 +451,13 @@ void AdmittanceNode::crane_step() {
 }
 
 std::optional<Eigen::Vector3d> AdmittanceNode::rope_offset_world() const {
-  if (!rope_attachment_ || !crane_state_) return std::nullopt;
+  if (!pose_rope_attachment_ || !crane_state_) return std::nullopt;
   if (dds::EventLoop::Clock::now() - crane_state_->received > crane_state_timeout_) return std::nullopt;
-  const auto it = tracked_.find(rope_attachment_->object);
+  const auto it = tracked_.find(rope_object_);
   if (it == tracked_.end() || !it->second.tracked || !(it->second.quality > 0.0) ||
-      age_of(it->second.stamp) > rope_attachment_->max_age)
+      age_of(it->second.stamp) > rope_offset_max_age_)
     return std::nullopt;
-  const Eigen::Vector3d attachment = (it->second.pose_world * rope_attachment_->pose_object_attachment).translation();
+  const Eigen::Vector3d attachment = (it->second.pose_world * *pose_rope_attachment_).translation();
   Eigen::Vector3d offset = attachment - crane_state_->position_m;  // crane frame = world (see the header)
   offset.z() = 0.0;  // the law uses the horizontal part
   return offset;

@@ -71,13 +71,6 @@ inline constexpr const char* kFaultServoRequestInvalid = "SERVO_REQUEST_INVALID"
 /// and the crane (bridge x, trolley y, hoist z) in the world frame; the crane frame is taken to be
 /// the world frame (true in the simulated cell). The published AdmittanceState is in B.
 /// @throws ConfigError (exit 2).
-/// Where the rope hooks into the load, for the measured rope offset (crane.rope_offset_gain_per_s).
-struct RopeAttachment {
-  std::string object;  ///< tracked object id
-  Eigen::Isometry3d pose_object_attachment = Eigen::Isometry3d::Identity();
-  Seconds max_age{0.2};
-};
-
 class AdmittanceNode : public dds::Node {
  public:
   explicit AdmittanceNode(dds::ServiceContext& ctx);
@@ -119,7 +112,7 @@ class AdmittanceNode : public dds::Node {
   void servo_step();
   void check_commander();
   void check_crane();
-  /// The measured rope offset for the crane law, when rope_attachment_ is set and both the tracked
+  /// The measured rope offset for the crane law, when pose_rope_attachment_ is set and both the tracked
   /// object and the crane state are fresh.
   std::optional<Eigen::Vector3d> rope_offset_world() const;
   /// Mode OFF (both laws ramp to zero) with a node fault latched until the next command.
@@ -143,7 +136,8 @@ class AdmittanceNode : public dds::Node {
   std::string rope_object_;
   Seconds rope_offset_max_age_;
   ControlConfig config_;
-  std::optional<RopeAttachment> rope_attachment_;  // set when crane.rope_offset_gain_per_s > 0
+  // Where the rope hooks into rope_object_, in its frame; set when crane.rope_offset_gain_per_s > 0.
+  std::optional<Eigen::Isometry3d> pose_rope_attachment_;
   RobotAdmittance robot_;
   CraneAdmittance crane_;
   AdmittanceMode mode_ = AdmittanceMode::kOff;
