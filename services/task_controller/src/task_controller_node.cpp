@@ -355,13 +355,18 @@ TaskControllerNode::~TaskControllerNode() {
 }
 
 void TaskControllerNode::journal(const JournalRecord& record) {
-  if (journal_backlog_.empty() && status_backlog_.empty()) ctx_.loop.post([this] { flush_side_effects(); });
+  post_flush_if_idle();
   journal_backlog_.push_back(record);
 }
 
 void TaskControllerNode::queue_node_status(NodeStatusRow row) {
-  if (journal_backlog_.empty() && status_backlog_.empty()) ctx_.loop.post([this] { flush_side_effects(); });
+  post_flush_if_idle();
   status_backlog_.push_back(std::move(row));
+}
+
+void TaskControllerNode::post_flush_if_idle() {
+  // The first queued item posts the flush; later ones ride along with it.
+  if (journal_backlog_.empty() && status_backlog_.empty()) ctx_.loop.post([this] { flush_side_effects(); });
 }
 
 void TaskControllerNode::flush_side_effects() {

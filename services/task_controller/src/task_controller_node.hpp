@@ -120,6 +120,7 @@ class TaskControllerNode : public dds::Node {
   struct NodeStatusRow;
   /// Queues a node status sample, like journal().
   void queue_node_status(NodeStatusRow row);
+  void post_flush_if_idle();
   void forget_task(const std::string& task_id);
 
   dds::ServiceContext& ctx_;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "rigger/base/text.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/event_loop.hpp"
@@ -39,11 +40,9 @@ std::string describe(const SimRequest& r) {
     case rigger_sim_SIM_PLC_LINK: return "plc-link " + r.switch_state;
     case rigger_sim_SIM_ESTOP: return "estop " + r.switch_state;
     case rigger_sim_SIM_SET_HOLDING_FORCE: return "holding-force " + r.holding_force;
-    case rigger_sim_SIM_SET_LOAD_FORCE: {
-      char text[128];
-      std::snprintf(text, sizeof text, "load-force %g %g %g N", r.force_n[0], r.force_n[1], r.force_n[2]);
-      return text;
-    }
+    case rigger_sim_SIM_SET_LOAD_FORCE:
+      return "load-force " + number_text(r.force_n[0]) + " " + number_text(r.force_n[1]) + " " +
+             number_text(r.force_n[2]) + " N";
     default: return "reset";
   }
 }

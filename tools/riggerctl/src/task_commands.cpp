@@ -358,20 +358,29 @@ JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std
   return answer;
 }
 
-int journal_query(const CommonOptions& common, const std::string& task_id, double timeout_s) {
-  dds::Participant participant(common.domain);
-  JournalTopics topics(participant);
-  dds::EventLoop loop(participant);
-  const JournalAnswer answer = ask_journal(topics, loop, task_id, timeout_s);
+/// When `answer` is unusable: prints why — no controller answered, or the controller's reason headed
+/// by `refusal` ("" for the reason alone) — and returns the exit code; 0 when it is usable.
+int journal_failure(const JournalAnswer& answer, const CommonOptions& common, double timeout_s,
+                    const std::string& refusal) {
   if (!answer.answered) {
     std::fprintf(stderr, "riggerctl: no task controller on domain %u answered within %.1f s\n", common.domain,
                  timeout_s);
     return kExitNoController;
   }
-  if (!answer.ok) {
+  if (answer.ok) return 0;
+  if (refusal.empty())
     std::fprintf(stderr, "riggerctl: %s\n", answer.message.c_str());
-    return kExitFailed;
-  }
+  else
+    std::fprintf(stderr, "riggerctl: %s (%s)\n", refusal.c_str(), answer.message.c_str());
+  return kExitFailed;
+}
+
+int journal_query(const CommonOptions& common, const std::string& task_id, double timeout_s) {
+  dds::Participant participant(common.domain);
+  JournalTopics topics(participant);
+  dds::EventLoop loop(participant);
+  const JournalAnswer answer = ask_journal(topics, loop, task_id, timeout_s);
+  if (const int failed = journal_failure(answer, common, timeout_s, "")) return failed;
   if (task_id.empty()) std::printf("%-32s %-12s %s\n", "TASK", "STATE", "SUBMITTED (UTC)");
   for (const auto& e : answer.lines) {
     if (task_id.empty())
@@ -394,15 +403,8 @@ int show_tree(const CommonOptions& common, const std::string& task_id, double ti
   // wait_for_historical_data does not wait for transient-local data). The journal says which nodes
   // ever changed state, i.e. which statuses to wait for.
   const JournalAnswer journal = ask_journal(topics, loop, task_id, timeout_s);
-  if (!journal.answered) {
-    std::fprintf(stderr, "riggerctl: no task controller on domain %u answered within %.1f s\n", common.domain,
-                 timeout_s);
-    return kExitNoController;
-  }
-  if (!journal.ok) {
-    std::fprintf(stderr, "riggerctl: no node status for task %s (%s)\n", task_id.c_str(), journal.message.c_str());
-    return kExitFailed;
-  }
+  if (const int failed = journal_failure(journal, common, timeout_s, "no node status for task " + task_id))
+    return failed;
   std::set<std::string> expected;
   for (const auto& l : journal.lines)
     if (l.kind == "NODE" && !l.node_id.empty()) expected.insert(l.node_id);
@@ -506,15 +508,7 @@ int cancel_task(const CommonOptions& common, const std::string& task_id, const s
   // The journal knows whether the task exists and whether it already ended (its last line is the
   // TASK result): the controller ignores commands for such tasks, so there is nothing to wait for.
   const JournalAnswer journal = ask_journal(topics, loop, task_id, timeout_s);
-  if (!journal.answered) {
-    std::fprintf(stderr, "riggerctl: no task controller on domain %u answered within %.1f s\n", common.domain,
-                 timeout_s);
-    return kExitNoController;
-  }
-  if (!journal.ok) {
-    std::fprintf(stderr, "riggerctl: no task %s (%s)\n", task_id.c_str(), journal.message.c_str());
-    return kExitFailed;
-  }
+  if (const int failed = journal_failure(journal, common, timeout_s, "no task " + task_id)) return failed;
   for (const auto& l : journal.lines) {
     if (l.kind != "TASK") continue;
     std::printf("task %s had already ended: %s\n", task_id.c_str(), l.code.c_str());
