@@ -24,6 +24,7 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/operator_ui/prompt.hpp"
 #include "rigger/testing/cell.hpp"
 #include "task_controller_node.hpp"
 
@@ -198,14 +199,7 @@ class ControllerTest : public MultiProcessTest {
     ASSERT_EQ(task_commands_->write(c), DDS_RETCODE_OK);
   }
   void answer(const std::string& prompt_id, const std::string& choice) {
-    rigger_operator_ui_OperatorResponse r{};
-    const std::string op = "test-operator", comment;
-    r.prompt_id = dds::wire_string(prompt_id);
-    r.answer = dds::wire_string(choice);
-    r.operator_id = dds::wire_string(op);
-    r.comment = dds::wire_string(comment);
-    r.stamp = dds::wire_now();
-    ASSERT_EQ(responses_->write(r), DDS_RETCODE_OK);
+    ASSERT_EQ(operator_ui::write_response(*responses_, prompt_id, choice, "test-operator", ""), DDS_RETCODE_OK);
   }
   /// The journal's timeline of `task_id` as the controller answers it now (empty on no answer).
   std::vector<JournalLine> journal(const std::string& task_id) {

@@ -7,6 +7,7 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/operator_ui/prompt.hpp"
 #include "rigger/testing/cell.hpp"
 #include "rigger/world_client/world_client.hpp"
 #include "skill_command_support.hpp"
@@ -98,14 +99,7 @@ class SkillsCellTest : public MultiProcessTest {
     poses_->write(out);
   }
   void respond(const std::string& prompt_id, const std::string& answer) {
-    rigger_operator_ui_OperatorResponse r{};
-    const std::string who = "test-operator", empty;
-    r.prompt_id = dds::wire_string(prompt_id);
-    r.answer = dds::wire_string(answer);
-    r.operator_id = dds::wire_string(who);
-    r.comment = dds::wire_string(empty);
-    r.stamp = dds::wire_now();
-    responses_->write(r);
+    operator_ui::write_response(*responses_, prompt_id, answer, "test-operator", "");
   }
   void start(const std::string& executor, const std::string& node, const std::string& skill,
              const nlohmann::json& params) {

@@ -19,4 +19,15 @@ Prompt to_domain(const rigger_operator_ui_OperatorPrompt& wire) {
   return p;
 }
 
+dds_return_t write_response(dds::Writer<rigger_operator_ui_OperatorResponse>& responses, const std::string& prompt_id,
+                            const std::string& answer, const std::string& operator_id, const std::string& comment) {
+  rigger_operator_ui_OperatorResponse r{};
+  r.prompt_id = dds::wire_string(prompt_id);
+  r.answer = dds::wire_string(answer);
+  r.operator_id = dds::wire_string(operator_id);
+  r.comment = dds::wire_string(comment);
+  r.stamp = dds::wire_now();
+  return responses.write(r);
+}
+
 }  // namespace rigger::operator_ui

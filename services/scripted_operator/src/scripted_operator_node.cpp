@@ -89,13 +89,8 @@ void ScriptedOperatorNode::answer(const std::string& prompt_id) {
   const Pending p = it->second;
   pending_.erase(it);
   done_.insert(prompt_id);
-  rigger_operator_ui_OperatorResponse r{};
-  r.prompt_id = dds::wire_string(prompt_id);
-  r.answer = dds::wire_string(p.answer);
-  r.operator_id = dds::wire_string(operator_id_);
-  r.comment = dds::wire_string(p.rule->comment);
-  r.stamp = dds::wire_now();
-  if (const auto rc = responses_.write(r); rc != DDS_RETCODE_OK) {
+  if (const auto rc = operator_ui::write_response(responses_, prompt_id, p.answer, operator_id_, p.rule->comment);
+      rc != DDS_RETCODE_OK) {
     ctx_.log->error("response write failed id={} rc={}", prompt_id, dds_strretcode(rc));
     return;
   }

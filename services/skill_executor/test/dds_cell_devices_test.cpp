@@ -8,6 +8,7 @@
 #include "dds_cell_devices.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/qos.hpp"
+#include "rigger/operator_ui/prompt.hpp"
 #include "rigger/testing/domain.hpp"
 #include "skill_executor_node.hpp"
 #include "skills/localize.hpp"
@@ -134,14 +135,7 @@ TEST_F(DdsCellDevicesTest, ScrewPromptsOverDdsAndWithdrawsEachPromptAfterItsAnsw
   };
   std::vector<Seen> seen;
   const auto respond = [&](const std::string& prompt_id, const std::string& answer) {
-    rigger_operator_ui_OperatorResponse r{};
-    const std::string who = "test-operator";
-    r.prompt_id = dds::wire_string(prompt_id);
-    r.answer = dds::wire_string(answer);
-    r.operator_id = dds::wire_string(who);
-    r.comment = dds::wire_string(std::string());
-    r.stamp = dds::wire_now();
-    responses.write(r);
+    operator_ui::write_response(responses, prompt_id, answer, "test-operator", "");
   };
   loop_.on_data(prompts, [&] {
     prompts.take([&](const rigger_operator_ui_OperatorPrompt& p, const dds_sample_info_t& info) {

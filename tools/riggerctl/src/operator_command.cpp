@@ -155,13 +155,7 @@ class ResponseWriter {
 
   /// Writes the answer; returns whether DDS accepted it.
   bool write(const std::string& prompt_id, const std::string& answer) {
-    rigger_operator_ui_OperatorResponse r{};
-    r.prompt_id = dds::wire_string(prompt_id);
-    r.answer = dds::wire_string(answer);
-    r.operator_id = dds::wire_string(operator_id_);
-    r.comment = dds::wire_string(comment_);
-    r.stamp = dds::wire_now();
-    const auto rc = writer_.write(r);
+    const auto rc = operator_ui::write_response(writer_, prompt_id, answer, operator_id_, comment_);
     if (rc != DDS_RETCODE_OK) std::fprintf(stderr, "riggerctl: writing the answer failed: %s\n", dds_strretcode(rc));
     return rc == DDS_RETCODE_OK;
   }

@@ -1,11 +1,13 @@
 #pragma once
 /// @file
-/// The operator's side of rigger/operator/prompt and rigger/operator/response (idl/operator_ui.idl):
-/// topic names and a prompt in domain form (std::string, std::vector), converted from the wire once.
+/// The operator's side of rigger/operator/prompt and rigger/operator/response (idl/operator.idl):
+/// topic names, a prompt in domain form (std::string, std::vector) converted from the wire once, and
+/// the answer written back.
 
 #include <string>
 #include <vector>
 
+#include "rigger/dds/pubsub.hpp"
 #include "rigger/idl/operator.h"
 
 namespace rigger::operator_ui {
@@ -28,5 +30,10 @@ struct Prompt {
 };
 
 Prompt to_domain(const rigger_operator_ui_OperatorPrompt& wire);
+
+/// Writes `operator_id`'s `answer` to prompt `prompt_id` (stamped now) on `responses`, a writer of
+/// kResponseTopic; returns the DDS return code.
+dds_return_t write_response(dds::Writer<rigger_operator_ui_OperatorResponse>& responses, const std::string& prompt_id,
+                            const std::string& answer, const std::string& operator_id, const std::string& comment);
 
 }  // namespace rigger::operator_ui
