@@ -297,14 +297,10 @@ TEST_F(CellSimProcessTest, RiggerctlSimInjectsFaultsAndSaysWhenThereIsNoSimulato
   // Runs riggerctl on the test's domain to its end, the test's loop running meanwhile.
   int runs = 0;
   const auto riggerctl = [&](const std::vector<std::string>& args) {
-    std::vector<std::string> all = {"--domain", std::to_string(cell_.domain_id())};
-    all.insert(all.end(), args.begin(), args.end());
-    auto* loop = &cell_.loop();
-    ChildProcess p("riggerctl", all, {{"CYCLONEDDS_URI", default_dds_config_uri()}},
-                   cell_.log_dir() + "/riggerctl-" + std::to_string(++runs) + ".log", [loop] { loop->post([] {}); });
-    cell_.wait_until([&] { return !p.running(); }, 30s);
-    const auto status = p.wait(1s);
-    return std::make_pair(status && status->exited ? status->code : -1, p.log());
+    auto p = start_riggerctl(cell_, "riggerctl-" + std::to_string(++runs), args);
+    cell_.wait_until([&] { return !p->running(); }, 30s);
+    const auto status = p->wait(1s);
+    return std::make_pair(status && status->exited ? status->code : -1, p->log());
   };
   const auto none = riggerctl({"sim", "--timeout", "1", "reset"});
   EXPECT_EQ(none.first, 3) << none.second;

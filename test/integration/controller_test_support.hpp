@@ -288,14 +288,7 @@ class ControllerTest : public MultiProcessTest {
   /// Starts `riggerctl --domain <ours> args...`; its output goes to <log dir>/<name>.log. It is not one
   /// of the cell's services (an exit code of 1 can be the expected outcome).
   ChildProcess& start_ctl(const std::string& name, const std::vector<std::string>& args) {
-    std::vector<std::string> all = {"--domain", std::to_string(cell_.domain_id())};
-    all.insert(all.end(), args.begin(), args.end());
-    auto* loop = &cell_.loop();
-    ctl_[name] = std::make_unique<ChildProcess>(
-        "riggerctl", all,
-        std::map<std::string, std::string>{{"CYCLONEDDS_URI", default_dds_config_uri()},
-                                           {"RIGGER_DOMAIN", std::to_string(cell_.domain_id())}},
-        cell_.log_dir() + "/" + name + ".log", [loop] { loop->post([] {}); });
+    ctl_[name] = start_riggerctl(cell_, name, args);
     return *ctl_[name];
   }
   /// Waits (running the test's loop, so its readers keep up) until riggerctl `name` ended.

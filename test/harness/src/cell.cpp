@@ -140,4 +140,15 @@ void MultiProcessTest::TearDown() {
   if (HasFailure()) std::cerr << "===== logs of the cell's processes (domain " << cell_.domain_id() << ")\n" << cell_.logs();
 }
 
+std::unique_ptr<ChildProcess> start_riggerctl(Cell& cell, const std::string& name, const std::vector<std::string>& args) {
+  std::vector<std::string> all = {"--domain", std::to_string(cell.domain_id())};
+  all.insert(all.end(), args.begin(), args.end());
+  dds::EventLoop* loop = &cell.loop();
+  return std::make_unique<ChildProcess>(
+      "riggerctl", all,
+      std::map<std::string, std::string>{{"CYCLONEDDS_URI", default_dds_config_uri()},
+                                         {"RIGGER_DOMAIN", std::to_string(cell.domain_id())}},
+      cell.log_dir() + "/" + name + ".log", [loop] { loop->post([] {}); });
+}
+
 }  // namespace rigger::testing

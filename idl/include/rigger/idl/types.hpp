@@ -6,6 +6,7 @@
 #include <dds/dds.h>
 
 #include <rigger/idl/admittance.h>
+#include <rigger/idl/cad.h>
 #include <rigger/idl/crane.h>
 #include <rigger/idl/geometry.h>
 #include <rigger/idl/operator.h>
@@ -71,6 +72,8 @@ RIGGER_IDL_TYPE(rigger_operator_ui_OperatorResponse)
 RIGGER_IDL_TYPE(rigger_sim_SimControl)
 RIGGER_IDL_TYPE(rigger_sim_SimEvent)
 RIGGER_IDL_TYPE(rigger_sim_SimStatus)
+RIGGER_IDL_TYPE(rigger_cad_CadRequest)
+RIGGER_IDL_TYPE(rigger_cad_CadReply)
 
 #undef RIGGER_IDL_TYPE
 

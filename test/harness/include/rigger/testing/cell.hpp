@@ -72,6 +72,11 @@ class Cell {
   std::map<std::string, ExitStatus> ended_;
 };
 
+/// Starts `riggerctl --domain <the cell's> args...` as a client, not one of the cell's services (any exit
+/// code may be the expected one): its output goes to <log dir>/<name>.log, and its end wakes the cell's
+/// loop, so `cell.wait_until([&] { return !p->running(); }, …)` returns at once.
+std::unique_ptr<ChildProcess> start_riggerctl(Cell& cell, const std::string& name, const std::vector<std::string>& args);
+
 /// GoogleTest fixture owning a Cell: stops every process in TearDown, expects clean exits, and prints
 /// the logs of all processes when the test failed.
 class MultiProcessTest : public ::testing::Test {
