@@ -183,6 +183,26 @@ TEST_F(RiggerctlTest, StatusTreeSkillsAndLogDescribeWhatRan) {
   EXPECT_TRUE(contains(no_log.output, "no such task in the journal")) << no_log.output;
 }
 
+// Each riggerctl is a new participant that asks once: before the fix, a reply written while the
+// controller's reply writer had not yet matched the new reader reached nobody, and `log`/`tree` exited 3
+// now and then against an idle controller. Every one of these queries must be answered.
+TEST_F(RiggerctlTest, EveryJournalQueryOfAFreshClientIsAnswered) {
+  start_cell();
+  ASSERT_EQ(ctl("run-ok", {"run", recipe_file("first", two_step("first")), "--quiet"}).code(), 0);
+  constexpr int kQueries = 120;
+  int unanswered = 0;
+  for (int i = 0; i < kQueries; ++i) {
+    const bool tree = i % 2 == 0;
+    const CtlResult r = ctl("q-" + std::to_string(i), {tree ? "tree" : "log", "first", "--timeout", "5"});
+    if (r.code() != 0) {
+      ++unanswered;
+      ADD_FAILURE() << "query " << i << " (" << (tree ? "tree" : "log") << ") exited " << r.code() << ":\n"
+                    << r.output;
+    }
+  }
+  std::printf("  %d of %d journal queries from fresh riggerctl processes answered\n", kQueries - unanswered, kQueries);
+}
+
 TEST_F(RiggerctlTest, CancelStopsARunningTaskAndRunReportsCanceled) {
   start_cell({{"root/0", {{"mode", "run"}, {"stop_delay_s", 0.2}}}});  // runs until shut down
   start_ctl("run-cancel", {"run", recipe_file("ctl-cancel", two_step("ctl-cancel"))});

@@ -3,10 +3,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <set>
 #include <stdexcept>
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/service_state.hpp"
+#include "rigger/skill/skill_description.hpp"
 
 namespace rigger::executor {
 namespace {
@@ -39,22 +41,28 @@ const char* to_string(EventKind kind) {
 }
 
 ExecutorEndpoint::ExecutorEndpoint(const dds::Participant& participant, dds::EventLoop& loop, Logger log,
-                                   std::string executor_id, nlohmann::json library, Handlers handlers)
+                                   std::string executor_id, nlohmann::json library, Handlers handlers,
+                                   Options options)
     : loop_(loop),
       log_(std::move(log)),
       executor_id_(std::move(executor_id)),
       library_(std::move(library)),
       handlers_(std::move(handlers)),
+      options_(options),
       host_(host_name()),
       announcements_(participant, kAnnouncementTopic, dds::qos::announcements()),
       events_(participant, kEventTopic, dds::qos::events()),
       commands_(participant, kCommandTopic, dds::qos::commands()) {
   if (!library_.is_object() || !library_.contains("skills") || !library_["skills"].is_array())
     throw std::invalid_argument("executor " + executor_id_ + ": the skill library needs a \"skills\" array");
-  for (const auto& s : library_["skills"])
-    if (s.is_object() && s.contains("name") && s["name"].is_string()) skill_names_.push_back(s["name"]);
+  for (const auto& s : library_["skills"]) {
+    if (!s.is_object() || !s.contains("name") || !s["name"].is_string()) continue;
+    skill_names_.push_back(s["name"]);
+    descriptions_[s["name"]] = s;
+  }
   library_text_ = library_.dump();
   loop_.on_data(commands_, [this] { on_commands(); });
+  loop_.on_status(commands_.handle(), DDS_LIVELINESS_CHANGED_STATUS, [this] { on_commander_liveliness(); });
   // See ServiceAnnouncer::reannounce(): a reader that expired our lease sees us again on a new sample.
   refresh_timer_ = loop_.every(dds::kServiceRefreshPeriod, [this] { announce(); });
   loop_.on_status(announcements_.handle(), DDS_LIVELINESS_LOST_STATUS, [this] { announce(); });
@@ -63,10 +71,12 @@ ExecutorEndpoint::ExecutorEndpoint(const dds::Participant& participant, dds::Eve
 
 ExecutorEndpoint::~ExecutorEndpoint() {
   loop_.cancel(refresh_timer_);
+  for (const auto& w : waiting_) loop_.cancel(w.deadline);
   rigger_skill_ExecutorAnnouncement key{};
+  const std::string empty;
   key.executor_id = dds::wire_string(executor_id_);
   key.host = dds::wire_string(host_);
-  key.library_json = dds::wire_string("");
+  key.library_json = dds::wire_string(empty);
   announcements_.unregister(key);
 }
 
@@ -84,12 +94,48 @@ void ExecutorEndpoint::announce() {
 
 std::vector<LeafRun> ExecutorEndpoint::active_runs() const {
   std::vector<LeafRun> out;
-  for (const auto& [key, seq] : active_) out.push_back({key.first, key.second, seq});
+  for (const auto& [key, run] : active_) out.push_back({key.first, key.second, run.start_seq});
   return out;
+}
+
+std::vector<std::string> ExecutorEndpoint::resources_of(const std::string& skill, const nlohmann::json& params) const {
+  const auto it = descriptions_.find(skill);
+  if (it == descriptions_.end() || !it->second.contains("resources")) return {};
+  // A library entry that is not a full description (tests' minimal libraries) claims nothing.
+  auto parsed = skill::parse_description(it->second);
+  if (!parsed.ok()) return {};
+  return skill::resolve_resources(*parsed.value, params);
 }
 
 void ExecutorEndpoint::on_commands() {
   commands_.take([this](const rigger_skill_SkillCommand& cmd, const dds_sample_info_t& info) { handle(cmd, info); });
+}
+
+void ExecutorEndpoint::on_commander_liveliness() {
+  dds_liveliness_changed_status_t st{};
+  if (dds_get_liveliness_changed_status(commands_.handle(), &st) != DDS_RETCODE_OK) return;
+  if (st.alive_count_change >= 0 && st.not_alive_count_change <= 0) return;  // a writer appeared
+  // A command writer was lost. With every writer gone, every run lost its commander; otherwise the
+  // status names the last one that changed.
+  const bool all_lost = st.alive_count == 0;
+  for (auto& [key, run] : active_) {
+    if (run.stopping || (!all_lost && run.commander != st.last_publication_handle)) continue;
+    run.stopping = true;
+    log_->warn("shutdown task={} node={} reason=CONTROLLER_LOST (the command writer's liveliness was lost)",
+               key.first, key.second);
+    if (handlers_.on_shutdown)
+      handlers_.on_shutdown({{key.first, key.second, run.start_seq}, "CONTROLLER_LOST: the task controller was lost"});
+  }
+  // Waiting STARTs of a lost controller start nothing.
+  for (auto it = waiting_.begin(); it != waiting_.end();) {
+    if (all_lost || it->commander == st.last_publication_handle) {
+      loop_.cancel(it->deadline);
+      refuse(it->run, "CONTROLLER_LOST", "the task controller was lost before " + it->skill + " could start");
+      it = waiting_.erase(it);
+    } else {
+      ++it;
+    }
+  }
 }
 
 void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sample_info_t& info) {
@@ -104,51 +150,151 @@ void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sa
   const auto key = std::make_pair(task, node);
 
   if (cmd.kind == rigger_skill_SKILL_SHUTDOWN) {
+    // A START of this node still waiting here never ran: it is stopped at once.
+    for (auto w = waiting_.begin(); w != waiting_.end(); ++w) {
+      if (w->run.task_id != task || w->run.node_id != node) continue;
+      loop_.cancel(w->deadline);
+      const LeafRun run = w->run;
+      waiting_.erase(w);
+      write_event(run, EventKind::kStopped, "NOT_STARTED", "stopped before it started on executor " + executor_id_, -1.0);
+      return;
+    }
     auto it = active_.find(key);
     if (it == active_.end()) {
       // Not running here (already ended, or never started): acknowledge at once.
-      const LeafRun run{task, node, 0};
-      active_[key] = 0;
-      report(run, EventKind::kStopped, "NOT_RUNNING", "no such run on executor " + executor_id_);
+      write_event({task, node, 0}, EventKind::kStopped, "NOT_RUNNING", "no such run on executor " + executor_id_, -1.0);
       return;
     }
     log_->info("shutdown task={} node={} reason={}", task, node, dds::to_string(cmd.reason));
-    if (handlers_.on_shutdown) handlers_.on_shutdown({{task, node, it->second}, dds::to_string(cmd.reason)});
+    it->second.stopping = true;
+    if (handlers_.on_shutdown) handlers_.on_shutdown({{task, node, it->second.start_seq}, dds::to_string(cmd.reason)});
     return;
   }
 
-  if (active_.count(key)) {
-    log_->warn("start dropped reason=already_running task={} node={} seq={}", task, node, cmd.seq);
-    return;
-  }
-  const LeafRun run{task, node, cmd.seq};
-  active_[key] = cmd.seq;
-  const std::string skill = dds::to_string(cmd.skill);
-  nlohmann::json params;
+  Start start{{task, node, cmd.seq}, dds::to_string(cmd.skill), nlohmann::json::object(), {}, info.publication_handle, 0};
   try {
     const std::string text = dds::to_string(cmd.params_json);
-    params = text.empty() ? nlohmann::json::object() : nlohmann::json::parse(text);
-    if (!params.is_object()) throw std::invalid_argument("params must be a JSON object");
+    if (!text.empty()) start.params = nlohmann::json::parse(text);
+    if (!start.params.is_object()) throw std::invalid_argument("params must be a JSON object");
   } catch (const std::exception& e) {
-    report(run, EventKind::kFailure, "BAD_PARAMS", std::string("params of ") + skill + " unreadable: " + e.what());
+    refuse(start.run, "BAD_PARAMS", "params of " + start.skill + " unreadable: " + e.what());
     return;
   }
-  if (std::find(skill_names_.begin(), skill_names_.end(), skill) == skill_names_.end()) {
-    report(run, EventKind::kFailure, "UNKNOWN_SKILL", "executor " + executor_id_ + " does not offer " + skill);
+  if (std::find(skill_names_.begin(), skill_names_.end(), start.skill) == skill_names_.end()) {
+    refuse(start.run, "UNKNOWN_SKILL", "executor " + executor_id_ + " does not offer " + start.skill);
     return;
   }
-  log_->info("start task={} node={} skill={} seq={}", task, node, skill, cmd.seq);
-  if (handlers_.on_start) handlers_.on_start({run, skill, std::move(params)});
+  start.resources = resources_of(start.skill, start.params);
+  handle_start(std::move(start));
+}
+
+std::string ExecutorEndpoint::blocked(const Start& start, bool& wait) const {
+  wait = true;
+  std::string why;
+  for (const auto& [key, run] : active_) {
+    std::string clash;
+    if (key.first == start.run.task_id && key.second == start.run.node_id) {
+      clash = "its previous run";
+    } else {
+      for (const auto& r : start.resources)
+        if (std::find(run.resources.begin(), run.resources.end(), r) != run.resources.end()) {
+          clash = "resource '" + r + "', held by " + run.skill + " (task " + key.first + ", node " + key.second + ")";
+          break;
+        }
+    }
+    if (clash.empty()) continue;
+    wait = wait && run.stopping;
+    if (!why.empty()) why += "; ";
+    why += clash + (run.stopping ? " still stopping" : " running");
+  }
+  return why;
+}
+
+void ExecutorEndpoint::handle_start(Start start) {
+  bool wait = false;
+  const std::string why = blocked(start, wait);
+  if (why.empty()) {
+    dispatch(std::move(start));
+    return;
+  }
+  if (!wait) {
+    refuse_blocked(start, why);
+    return;
+  }
+  log_->info("start waits task={} node={} skill={} seq={} for=\"{}\"", start.run.task_id, start.run.node_id,
+             start.skill, start.run.start_seq, why);
+  const LeafRun run = start.run;
+  start.deadline = loop_.after(options_.start_wait, [this, run] {
+    for (auto w = waiting_.begin(); w != waiting_.end(); ++w) {
+      if (w->run.task_id != run.task_id || w->run.node_id != run.node_id || w->run.start_seq != run.start_seq)
+        continue;
+      bool ignored = false;
+      const std::string still = blocked(*w, ignored);
+      const std::string skill = w->skill;
+      waiting_.erase(w);
+      refuse(run, "STILL_STOPPING",
+             skill + " waited " + std::to_string(options_.start_wait.count()) + " ms on executor " + executor_id_ +
+                 " for " + still);
+      return;
+    }
+  });
+  waiting_.push_back(std::move(start));
+}
+
+void ExecutorEndpoint::start_waiting() {
+  for (auto w = waiting_.begin(); w != waiting_.end();) {
+    bool wait = false;
+    const std::string why = blocked(*w, wait);
+    if (!why.empty() && wait) {
+      ++w;
+      continue;
+    }
+    Start start = std::move(*w);
+    w = waiting_.erase(w);
+    loop_.cancel(start.deadline);
+    if (why.empty()) {
+      dispatch(std::move(start));
+    } else {  // what it waited for has stopped, but a run that started meanwhile holds it now
+      refuse_blocked(start, why);
+    }
+    w = waiting_.begin();  // a dispatch may have claimed resources others wait for: look again from the front
+  }
+}
+
+void ExecutorEndpoint::dispatch(Start start) {
+  active_[{start.run.task_id, start.run.node_id}] =
+      Active{start.run.start_seq, start.skill, start.resources, start.commander, false};
+  log_->info("start task={} node={} skill={} seq={}", start.run.task_id, start.run.node_id, start.skill,
+             start.run.start_seq);
+  if (handlers_.on_start) handlers_.on_start({start.run, start.skill, std::move(start.params)});
+}
+
+void ExecutorEndpoint::refuse_blocked(const Start& start, const std::string& why) {
+  const bool same_node = active_.count({start.run.task_id, start.run.node_id}) > 0;
+  refuse(start.run, same_node ? "ALREADY_RUNNING" : "RESOURCE_BUSY",
+         start.skill + " cannot start on executor " + executor_id_ + ": " + why);
+}
+
+void ExecutorEndpoint::refuse(const LeafRun& run, const std::string& code, const std::string& message) {
+  write_event(run, EventKind::kFailure, code, message, -1.0);
 }
 
 bool ExecutorEndpoint::report(const LeafRun& run, EventKind kind, const std::string& code, const std::string& message,
                               double progress) {
   const auto key = std::make_pair(run.task_id, run.node_id);
   auto it = active_.find(key);
-  if (it == active_.end() || it->second != run.start_seq) {
+  if (it == active_.end() || it->second.start_seq != run.start_seq) {
     log_->warn("report dropped reason=run_not_active task={} node={} kind={}", run.task_id, run.node_id, to_string(kind));
     return false;
   }
+  if (kind != EventKind::kProgress) active_.erase(it);
+  const bool written = write_event(run, kind, code, message, progress);
+  if (kind != EventKind::kProgress && !waiting_.empty()) loop_.post([this] { start_waiting(); });
+  return written;
+}
+
+bool ExecutorEndpoint::write_event(const LeafRun& run, EventKind kind, const std::string& code,
+                                   const std::string& message, double progress) {
   rigger_skill_SkillEvent ev{};
   ev.executor_id = dds::wire_string(executor_id_);
   ev.task_id = dds::wire_string(run.task_id);
@@ -160,7 +306,6 @@ bool ExecutorEndpoint::report(const LeafRun& run, EventKind kind, const std::str
   ev.seq = ++event_seq_;
   ev.command_seq = run.start_seq;
   ev.stamp = dds::wire_now();
-  if (kind != EventKind::kProgress) active_.erase(it);
   const auto rc = events_.write(ev);
   if (rc != DDS_RETCODE_OK) {
     log_->error("event write failed task={} node={} kind={} rc={}", run.task_id, run.node_id, to_string(kind), rc);

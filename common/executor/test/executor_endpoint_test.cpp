@@ -20,11 +20,20 @@ struct Event {
 class ExecutorEndpointTest : public ::testing::Test {
  protected:
   ExecutorEndpointTest() {
-    library_ = {{"library_version", 1}, {"skills", {{{"name", "Wait"}}, {{"name", "Grasp"}}}}};
+    library_ = {{"library_version", 1},
+                {"skills",
+                 {{{"name", "Wait"}},
+                  {{"name", "Grasp"}},
+                  {{"name", "MoveArm"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"robot"}}},
+                  {{"name", "Weld"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"robot"}}},
+                  {{"name", "Look"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"camera"}}}}}};
+    ExecutorEndpoint::Options options;
+    options.start_wait = 300ms;
     endpoint_ = std::make_unique<ExecutorEndpoint>(
         participant_, loop_, null_logger(), "exec-1", library_,
         ExecutorEndpoint::Handlers{[this](const StartRequest& r) { starts_.push_back(r); },
-                                   [this](const ShutdownRequest& r) { shutdowns_.push_back(r); }});
+                                   [this](const ShutdownRequest& r) { shutdowns_.push_back(r); }},
+        options);
     loop_.on_data(events_, [this] {
       events_.take([this](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
         received_.push_back({dds::to_string(e.node_id), dds::to_string(e.code), dds::to_string(e.message), e.kind,
@@ -36,6 +45,11 @@ class ExecutorEndpointTest : public ::testing::Test {
 
   void send(const std::string& executor, const std::string& node, rigger_skill_SkillCommandKind kind, std::uint64_t seq,
             const std::string& skill = "Wait", const std::string& params = "{}") {
+    send_with(commands_, executor, node, kind, seq, skill, params);
+  }
+  void send_with(const dds::Writer<rigger_skill_SkillCommand>& writer, const std::string& executor,
+                 const std::string& node, rigger_skill_SkillCommandKind kind, std::uint64_t seq,
+                 const std::string& skill = "Wait", const std::string& params = "{}") {
     rigger_skill_SkillCommand c{};
     const std::string task = "t1", reason = "test";
     c.executor_id = dds::wire_string(executor);
@@ -46,7 +60,7 @@ class ExecutorEndpointTest : public ::testing::Test {
     c.params_json = dds::wire_string(params);
     c.reason = dds::wire_string(reason);
     c.seq = seq;
-    ASSERT_EQ(commands_.write(c), DDS_RETCODE_OK);
+    ASSERT_EQ(writer.write(c), DDS_RETCODE_OK);
   }
 
   testing::DomainLease domain_;
@@ -135,7 +149,98 @@ TEST_F(ExecutorEndpointTest, AnnouncesItsLibrary) {
   });
   ASSERT_TRUE(loop_.run_until([&] { return !library.empty(); }, 5s));
   EXPECT_EQ(nlohmann::json::parse(library), library_);
-  EXPECT_EQ(skills, (std::vector<std::string>{"Wait", "Grasp"}));
+  EXPECT_EQ(skills, (std::vector<std::string>{"Wait", "Grasp", "MoveArm", "Weld", "Look"}));
+}
+
+TEST_F(ExecutorEndpointTest, StartOnAResourceARunningSkillHoldsIsRefusedNamingTheHolder) {
+  send("exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");
+  send("exec-1", "weld", rigger_skill_SKILL_START, 2, "Weld");
+  send("exec-1", "look", rigger_skill_SKILL_START, 3, "Look");  // another resource: runs alongside
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 1 && starts_.size() == 2; }, 5s));
+  EXPECT_EQ(starts_[0].run.node_id, "move");
+  EXPECT_EQ(starts_[1].run.node_id, "look");
+  EXPECT_EQ(received_[0].node, "weld");
+  EXPECT_EQ(received_[0].kind, rigger_skill_SKILL_EVENT_FAILURE);
+  EXPECT_EQ(received_[0].kind_code, "RESOURCE_BUSY");
+  EXPECT_EQ(received_[0].command_seq, 2u);
+  EXPECT_NE(received_[0].message.find("resource 'robot', held by MoveArm (task t1, node move)"), std::string::npos)
+      << received_[0].message;
+  // The refused START never ran: the holder's run is untouched and ends normally.
+  EXPECT_TRUE(endpoint_->report(starts_[0].run, EventKind::kSuccess));
+}
+
+TEST_F(ExecutorEndpointTest, StartOfANodeThatRunsAndWasNotStoppedFailsAlreadyRunning) {
+  send("exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");
+  send("exec-1", "move", rigger_skill_SKILL_START, 2, "MoveArm");
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 1; }, 5s));
+  EXPECT_EQ(starts_.size(), 1u);
+  EXPECT_EQ(received_[0].kind_code, "ALREADY_RUNNING");
+  EXPECT_EQ(received_[0].command_seq, 2u);
+}
+
+// Retry after an escalated stop: the executor is still stopping the first run when the second START
+// comes. The START waits and runs once the stop completes; it is never dropped.
+TEST_F(ExecutorEndpointTest, StartWaitsForTheStopOfThePreviousRunThenRuns) {
+  send("exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");
+  send("exec-1", "move", rigger_skill_SKILL_SHUTDOWN, 2, "MoveArm");
+  ASSERT_TRUE(loop_.run_until([&] { return shutdowns_.size() == 1; }, 5s));
+  send("exec-1", "move", rigger_skill_SKILL_START, 3, "MoveArm");
+  send("exec-1", "weld", rigger_skill_SKILL_START, 4, "Weld");  // same resource, also waits
+  loop_.run_until([] { return false; }, 100ms);
+  ASSERT_EQ(starts_.size(), 1u) << "a START ran while the previous run still held the robot";
+  EXPECT_TRUE(received_.empty());
+  EXPECT_TRUE(endpoint_->report(shutdowns_[0].run, EventKind::kStopped));
+  ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 2; }, 5s));
+  EXPECT_EQ(starts_[1].run.node_id, "move");
+  EXPECT_EQ(starts_[1].run.start_seq, 3u);
+  // The second run holds the robot now and was not asked to stop: Weld is refused, naming it.
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 2; }, 5s));
+  EXPECT_EQ(received_[1].node, "weld");
+  EXPECT_EQ(received_[1].kind_code, "RESOURCE_BUSY");
+}
+
+TEST_F(ExecutorEndpointTest, AWaitingStartFailsWhenTheStopNeverCompletes) {
+  send("exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");
+  send("exec-1", "move", rigger_skill_SKILL_SHUTDOWN, 2, "MoveArm");
+  send("exec-1", "move", rigger_skill_SKILL_START, 3, "MoveArm");
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 1; }, 5s));
+  EXPECT_EQ(starts_.size(), 1u);
+  EXPECT_EQ(received_[0].kind, rigger_skill_SKILL_EVENT_FAILURE);
+  EXPECT_EQ(received_[0].kind_code, "STILL_STOPPING");
+  EXPECT_EQ(received_[0].command_seq, 3u);
+  EXPECT_NE(received_[0].message.find("its previous run still stopping"), std::string::npos) << received_[0].message;
+}
+
+TEST_F(ExecutorEndpointTest, AShutdownOfAWaitingStartStopsItBeforeItRuns) {
+  send("exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");
+  send("exec-1", "move", rigger_skill_SKILL_SHUTDOWN, 2, "MoveArm");
+  send("exec-1", "move", rigger_skill_SKILL_START, 3, "MoveArm");
+  send("exec-1", "move", rigger_skill_SKILL_SHUTDOWN, 4, "MoveArm");
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 1; }, 5s));
+  EXPECT_EQ(received_[0].kind, rigger_skill_SKILL_EVENT_STOPPED);
+  EXPECT_EQ(received_[0].kind_code, "NOT_STARTED");
+  EXPECT_EQ(received_[0].command_seq, 3u);
+  EXPECT_TRUE(endpoint_->report(shutdowns_.at(0).run, EventKind::kStopped));
+  loop_.run_until([] { return false; }, 100ms);
+  EXPECT_EQ(starts_.size(), 1u);
+}
+
+// A controller that stops asserting its liveliness (killed or hung) loses its runs: each is shut down.
+TEST_F(ExecutorEndpointTest, RunsOfALostControllerAreShutDown) {
+  dds::Qos leased = dds::qos::commands();
+  leased.manual_liveliness(200ms);
+  dds::Participant controller(domain_.id());
+  dds::Writer<rigger_skill_SkillCommand> controller_commands(controller, kCommandTopic, leased);
+  ASSERT_TRUE(controller_commands.wait_for_readers(1, 5s));
+  send("exec-1", "look", rigger_skill_SKILL_START, 1, "Look");  // the test's own (unleased) writer
+  send_with(controller_commands, "exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");
+  ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 2; }, 5s));
+  // Nobody asserts the controller's liveliness: its lease runs out 200 ms after its last write.
+  ASSERT_TRUE(loop_.run_until([&] { return !shutdowns_.empty(); }, 5s));
+  loop_.run_until([] { return false; }, 100ms);
+  ASSERT_EQ(shutdowns_.size(), 1u) << "only the lost controller's run is shut down";
+  EXPECT_EQ(shutdowns_[0].run.node_id, "move");
+  EXPECT_NE(shutdowns_[0].reason.find("CONTROLLER_LOST"), std::string::npos);
 }
 
 TEST(ExecutorEndpointSetup, RejectsALibraryWithoutSkills) {

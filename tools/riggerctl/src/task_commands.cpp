@@ -1,4 +1,4 @@
-// riggerctl's task commands: validate (offline), run, status, tree, skills, cancel, log.
+// riggerctl's task commands: validate (offline), run, status, tree, skills, cancel, pause, resume, log.
 #include <unistd.h>
 
 #include <algorithm>
@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -336,7 +337,7 @@ JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std
   const std::uint64_t request_id = 1;
   loop.on_data(replies, [&] {
     replies.take([&](const rigger_task_JournalReply& rep, const dds_sample_info_t&) {
-      if (dds::to_string(rep.client_id) != client || rep.request_id != request_id) return;
+      if (answer.answered || dds::to_string(rep.client_id) != client || rep.request_id != request_id) return;
       answer.answered = true;
       answer.ok = rep.ok;
       answer.message = dds::to_string(rep.message);
@@ -352,8 +353,14 @@ JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std
   q.request_id = request_id;
   q.task_id = dds::wire_string(task_id);
   q.max_entries = 1000;
+  // Matching is not symmetric: our reply reader can see the controller's reply writer before that
+  // writer has seen our reader, and a reply written in that window reaches nobody (replies are
+  // volatile). So the query is sent again, with the same id, until an answer comes; the controller
+  // answers each copy, and copies after the first answer are ignored here.
   queries.write(q);
+  const auto resend = loop.every(std::chrono::milliseconds(500), [&] { queries.write(q); });
   loop.run_until([&] { return answer.answered; }, from_seconds(timeout_s));
+  loop.cancel(resend);
   loop.on_data(replies, [&replies] { replies.take([](const rigger_task_JournalReply&, const dds_sample_info_t&) {}); });
   return answer;
 }
@@ -493,9 +500,13 @@ int show_skills(const CommonOptions& common, double timeout_s) {
   if (shown.empty()) std::printf("no live executor\n");
   return 0;
 }
-// --- cancel ---
+// --- cancel, pause, resume ---
 
-int cancel_task(const CommonOptions& common, const std::string& task_id, const std::string& reason, double timeout_s) {
+/// Sends CANCEL, PAUSE or RESUME for `task_id` and waits for the controller's acknowledgement on
+/// rigger/task/status: the task's end for CANCEL, PAUSED for PAUSE, RUNNING for RESUME (or the task's
+/// end, whichever comes first). Exit 0 when the wanted state was reached.
+int task_command(const CommonOptions& common, const std::string& task_id, rigger_task_TaskCommandKind kind,
+                 const std::string& reason, double timeout_s) {
   dds::Participant participant(common.domain);
   dds::Writer<rigger_task_TaskCommand> commands(participant, tc::kTaskCommandTopic, dds::qos::commands());
   dds::Reader<rigger_task_TaskStatus> statuses(participant, tc::kTaskStatusTopic, dds::qos::state());
@@ -512,32 +523,55 @@ int cancel_task(const CommonOptions& common, const std::string& task_id, const s
   for (const auto& l : journal.lines) {
     if (l.kind != "TASK") continue;
     std::printf("task %s had already ended: %s\n", task_id.c_str(), l.code.c_str());
-    return l.code == "CANCELED" ? 0 : kExitFailed;
+    return kind == rigger_task_TASK_CANCEL && l.code == "CANCELED" ? 0 : kExitFailed;
   }
-  bool done = false;
-  int state = -1;
+  const int wanted = kind == rigger_task_TASK_CANCEL  ? rigger_task_TASK_CANCELED
+                     : kind == rigger_task_TASK_PAUSE ? rigger_task_TASK_PAUSED
+                                                      : rigger_task_TASK_RUNNING;
+  bool sent = false, done = false;
+  int state = -1, before = -1;
   loop.on_data(statuses, [&] {
     statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
-      if (dds::to_string(s.task_id) != task_id || !task_terminal(s.state)) return;
-      done = true;
-      state = s.state;
+      if (dds::to_string(s.task_id) != task_id) return;
+      if (!sent) before = s.state;
+      if (task_terminal(s.state) || (sent && s.state == wanted)) {
+        done = true;
+        state = s.state;
+      }
     });
   });
+  // The task's current state (transient-local) first, so that a state from before the command is
+  // not taken for its acknowledgement.
+  loop.run_until([&] { return before >= 0; }, std::chrono::milliseconds(1000));
+  if (done) {
+    std::printf("task %s had already ended: %s
+", task_id.c_str(), task_state_name(state));
+    return state == wanted ? 0 : kExitFailed;
+  }
+  if (before == wanted) {
+    std::printf("task %s is %s already\n", task_id.c_str(), task_state_name(before));
+    return 0;
+  }
   rigger_task_TaskCommand c{};
   const std::string issuer = "riggerctl";
   c.task_id = dds::wire_string(task_id);
-  c.kind = rigger_task_TASK_CANCEL;
+  c.kind = kind;
   c.reason = dds::wire_string(reason);
   c.issuer = dds::wire_string(issuer);
   c.seq = 1;
   c.stamp = dds::wire_now();
+  sent = true;
   commands.write(c);
   if (!loop.run_until([&] { return done; }, from_seconds(timeout_s))) {
-    std::fprintf(stderr, "riggerctl: task %s did not end within %.1f s\n", task_id.c_str(), timeout_s);
+    std::fprintf(stderr, "riggerctl: task %s was not %s within %.1f s\n", task_id.c_str(), task_state_name(wanted),
+                 timeout_s);
     return kExitFailed;
   }
   std::printf("task %s %s\n", task_id.c_str(), task_state_name(state));
-  return state == rigger_task_TASK_CANCELED ? 0 : kExitFailed;
+  if (kind == rigger_task_TASK_PAUSE && state == wanted)
+    std::printf("no new leaf starts until `riggerctl resume %s`; leaves already running go on to their end\n",
+                task_id.c_str());
+  return state == wanted ? 0 : kExitFailed;
 }
 
 }  // namespace
@@ -594,9 +628,26 @@ void add_task_commands(CLI::App& app, const CommonOptions& common, int& exit_cod
     cmd->add_option("--reason", *reason, "why (journalled)");
     cmd->add_option("--timeout", *timeout, "seconds to wait for the task to end");
     cmd->callback([task, reason, timeout, &common, &exit_code] {
-      exit_code = cancel_task(common, *task, *reason, *timeout);
+      exit_code = task_command(common, *task, rigger_task_TASK_CANCEL, *reason, *timeout);
     });
   }
+  for (const auto& [verb, kind, help] :
+       {std::tuple<const char*, rigger_task_TaskCommandKind, const char*>{
+            "pause", rigger_task_TASK_PAUSE, "Pause a running task (no new leaf starts) and wait until it is PAUSED."},
+        {"resume", rigger_task_TASK_RESUME, "Resume a paused task and wait until it is RUNNING again."}}) {
+    auto* cmd = app.add_subcommand(verb, help);
+    auto task = std::make_shared<std::string>();
+    auto reason = std::make_shared<std::string>(std::string(verb) + "d from riggerctl");
+    auto timeout = std::make_shared<double>(10.0);
+    cmd->add_option("TASK", *task, "task id")->required();
+    cmd->add_option("--reason", *reason, "why (journalled)");
+    cmd->add_option("--timeout", *timeout, "seconds to wait for the acknowledgement");
+    const auto k = kind;
+    cmd->callback([task, reason, timeout, k, &common, &exit_code] {
+      exit_code = task_command(common, *task, k, *reason, *timeout);
+    });
+  }
+
 }
 
 }  // namespace rigger::ctl

@@ -8,14 +8,26 @@
 ///  - commands for other executors are ignored; a command whose seq is not newer than the last one from
 ///    the same controller is a duplicate or stale and is dropped (logged);
 ///  - START with unparsable params → FAILURE `BAD_PARAMS`; for a skill not in the library →
-///    FAILURE `UNKNOWN_SKILL`; for a node that already runs here → dropped (logged);
+///    FAILURE `UNKNOWN_SKILL`;
+///  - every START is answered, never dropped: a START whose node or resources (the skill
+///    description's `resources`, "$param" resolved) are held by a run that is being stopped waits
+///    until that run has stopped, then starts (or, after Options::start_wait, fails
+///    `STILL_STOPPING`); one whose node runs here and was not asked to stop fails `ALREADY_RUNNING`;
+///    one whose resources a running (not stopping) skill holds fails `RESOURCE_BUSY`, naming the
+///    holder;
+///  - the controller's liveliness is watched through its command writer's lease (the controller
+///    offers MANUAL_BY_PARTICIPANT liveliness on rigger/skill/command): when the writer that started
+///    a run is lost (killed, hung, or gone), that run is shut down (reason `CONTROLLER_LOST`) so no
+///    motion is left without a supervisor;
 ///  - SHUTDOWN for a node that does not run here → STOPPED `NOT_RUNNING` at once (it ended, or never
 ///    started), so the controller never waits for a stop timeout because of a race;
 ///  - every event carries a per-executor seq and the seq of the START it belongs to (`start_seq`);
 ///    after SUCCESS, FAILURE or STOPPED the run is over and further reports for it are dropped.
 /// All callbacks run on the service's event loop thread.
 
+#include <chrono>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <map>
 #include <string>
@@ -60,11 +72,19 @@ class ExecutorEndpoint {
     std::function<void(const StartRequest&)> on_start;
     std::function<void(const ShutdownRequest&)> on_shutdown;
   };
+  struct Options {
+    /// How long a START waits for the run that holds its node or resources to finish stopping.
+    std::chrono::milliseconds start_wait{10000};
+  };
 
   /// `library` is a skill-library document { "library_version": 1, "skills": [ {"name": …}, … ] }.
   /// @throws DdsError, std::invalid_argument when the library has no skills array.
   ExecutorEndpoint(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string executor_id,
-                   nlohmann::json library, Handlers handlers);
+                   nlohmann::json library, Handlers handlers, Options options);
+  ExecutorEndpoint(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string executor_id,
+                   nlohmann::json library, Handlers handlers)
+      : ExecutorEndpoint(participant, loop, std::move(log), std::move(executor_id), std::move(library),
+                         std::move(handlers), Options{}) {}
   ~ExecutorEndpoint();
   ExecutorEndpoint(const ExecutorEndpoint&) = delete;
   ExecutorEndpoint& operator=(const ExecutorEndpoint&) = delete;
@@ -81,8 +101,40 @@ class ExecutorEndpoint {
   void announce();
 
  private:
+  using RunKey = std::pair<std::string, std::string>;  // (task, node)
+  /// A run active here: started and not yet ended by SUCCESS, FAILURE or STOPPED.
+  struct Active {
+    std::uint64_t start_seq = 0;
+    std::string skill;
+    std::vector<std::string> resources;
+    dds_instance_handle_t commander = 0;  ///< the command writer that started it
+    bool stopping = false;                ///< a SHUTDOWN reached it (from the controller or from here)
+  };
+  /// A START decoded and checked, waiting for the runs that hold its node or resources to stop.
+  struct Start {
+    LeafRun run;
+    std::string skill;
+    nlohmann::json params;
+    std::vector<std::string> resources;
+    dds_instance_handle_t commander = 0;
+    dds::EventLoop::TimerId deadline = 0;
+  };
+
   void on_commands();
+  void on_commander_liveliness();
   void handle(const rigger_skill_SkillCommand& cmd, const dds_sample_info_t& info);
+  void handle_start(Start start);
+  /// Why `start` cannot run now ("" : it can); `wait` is set when every holder is being stopped.
+  std::string blocked(const Start& start, bool& wait) const;
+  void dispatch(Start start);
+  void start_waiting();
+  /// Refuses a START that runs held by a run not being stopped: ALREADY_RUNNING or RESOURCE_BUSY.
+  void refuse_blocked(const Start& start, const std::string& why);
+  /// Ends a START that never ran here with FAILURE `code` (the run was never active).
+  void refuse(const LeafRun& run, const std::string& code, const std::string& message);
+  bool write_event(const LeafRun& run, EventKind kind, const std::string& code, const std::string& message,
+                   double progress);
+  std::vector<std::string> resources_of(const std::string& skill, const nlohmann::json& params) const;
 
   dds::EventLoop& loop_;
   Logger log_;
@@ -90,13 +142,16 @@ class ExecutorEndpoint {
   nlohmann::json library_;
   std::string library_text_;
   std::vector<std::string> skill_names_;
+  std::map<std::string, nlohmann::json> descriptions_;  // skill name -> its description in the library
   Handlers handlers_;
+  Options options_;
   std::string host_;
   dds::Writer<rigger_skill_ExecutorAnnouncement> announcements_;
   dds::Writer<rigger_skill_SkillEvent> events_;
   dds::Reader<rigger_skill_SkillCommand> commands_;
   std::map<dds_instance_handle_t, std::uint64_t> last_seq_by_writer_;
-  std::map<std::pair<std::string, std::string>, std::uint64_t> active_;  // (task, node) -> start seq
+  std::map<RunKey, Active> active_;
+  std::deque<Start> waiting_;
   std::uint64_t event_seq_ = 0;
   dds::EventLoop::TimerId refresh_timer_ = 0;
 };
