@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "cell_sim_test_support.hpp"
+#include "rigger/safety/safe_stop.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -74,6 +75,14 @@ class CellSimProcessTest : public MultiProcessTest {
 
   const RobotView& robot() const { return robot_states_.back(); }
 
+  /// Runs riggerctl on the test's domain to its end, the test's loop running meanwhile: (exit code, output).
+  std::pair<int, std::string> run_riggerctl(const std::string& name, const std::vector<std::string>& args) {
+    auto p = start_riggerctl(cell_, name, args);
+    cell_.wait_until([&] { return !p->running(); }, 30s);
+    const auto status = p->wait(1s);
+    return {status && status->exited ? status->code : -1, p->log()};
+  }
+
   std::unique_ptr<SimChannel> sim_;
   std::unique_ptr<dds::Reader<rigger_robot_RobotState>> robot_;
   std::unique_ptr<dds::Writer<rigger_sensing_TwistCommand>> twist_;
@@ -115,6 +124,44 @@ TEST_F(CellSimProcessTest, TwistStreamMovesTheToolStaleCommandsAreIgnoredAndStop
   // A fresh one after them is taken.
   twist_velocity_ = Eigen::Vector3d(0.0, 0.0, -0.05);
   EXPECT_TRUE(cell_.wait_until([&] { return robot().tool_position_m.z() < stopped_at.z() - 0.01; }, 5s));
+  twist_velocity_.reset();
+}
+
+// The robot driver's side of the software safe stop (rigger/safety/stop): the arm stops at once while
+// the twist stream goes on, stays still, and moves again only after the reset.
+TEST_F(CellSimProcessTest, SafeStopOfTheRobotStopsTheArmUntilItsReset) {
+  // Before any device listens, riggerctl estop says that nothing was stopped (exit 3).
+  const auto none = run_riggerctl("estop-none", {"estop", "--timeout", "1"});
+  EXPECT_EQ(none.first, 3) << none.second;
+  EXPECT_NE(none.second.find("nothing was stopped"), std::string::npos) << none.second;
+  start();
+  safety::SafeStopWriter stops(cell_.participant());
+  ASSERT_TRUE(twist_->wait_for_readers(1, 5s));
+  ASSERT_TRUE(stops.writer().wait_for_readers(1, 5s));
+  ASSERT_TRUE(cell_.wait_until([&] { return !robot_states_.empty(); }, 5s));
+  twist_velocity_ = Eigen::Vector3d(0.0, 0.0, 0.05);
+  ASSERT_TRUE(cell_.wait_until([&] { return robot().tool_velocity_mps.z() > 0.04; }, 5s));
+
+  const WallTime stop_at = std::chrono::system_clock::now();
+  ASSERT_EQ(stops.command("robot", true, "integration-test", "stop the arm"), DDS_RETCODE_OK);
+  ASSERT_TRUE(
+      cell_.wait_until([&] { return robot().stamp > stop_at && robot().tool_velocity_mps.norm() < 1e-3; }, 2s))
+      << "the arm still moves at " << robot().tool_velocity_mps.norm() << " m/s";
+  const double still_after_ms = ms_between(stop_at, robot().stamp);
+  std::cout << "safe stop: tool below 1 mm/s " << still_after_ms << " ms after the stop was written\n";
+  EXPECT_LT(still_after_ms, 200.0);
+  // The stream goes on for 1 s: nothing of it is applied.
+  const Eigen::Vector3d held = robot().tool_position_m;
+  const WallTime watch_from = std::chrono::system_clock::now();
+  cell_.wait_until([] { return false; }, 1s);
+  ASSERT_GT(robot().stamp, watch_from);
+  EXPECT_LT((robot().tool_position_m - held).norm(), 1e-3) << "the arm moved while stopped";
+
+  // The reset, from the command line: the next fresh commands move it again.
+  const auto reset = run_riggerctl("estop-reset", {"estop", "--reset", "robot"});
+  EXPECT_EQ(reset.first, 0) << reset.second;
+  EXPECT_NE(reset.second.find("safe stop reset: robot (1 device acknowledged"), std::string::npos) << reset.second;
+  EXPECT_TRUE(cell_.wait_until([&] { return robot().tool_position_m.z() > held.z() + 0.01; }, 5s));
   twist_velocity_.reset();
 }
 
@@ -294,13 +341,9 @@ TEST_F(CellSimProcessTest, FaultInjectionIsAcknowledgedAndBadControlsRefused) {
 
 // `riggerctl sim`, the newcomer's way to break the simulated cell on purpose (docs/getting-started.md).
 TEST_F(CellSimProcessTest, RiggerctlSimInjectsFaultsAndSaysWhenThereIsNoSimulator) {
-  // Runs riggerctl on the test's domain to its end, the test's loop running meanwhile.
   int runs = 0;
   const auto riggerctl = [&](const std::vector<std::string>& args) {
-    auto p = start_riggerctl(cell_, "riggerctl-" + std::to_string(++runs), args);
-    cell_.wait_until([&] { return !p->running(); }, 30s);
-    const auto status = p->wait(1s);
-    return std::make_pair(status && status->exited ? status->code : -1, p->log());
+    return run_riggerctl("riggerctl-" + std::to_string(++runs), args);
   };
   const auto none = riggerctl({"sim", "--timeout", "1", "reset"});
   EXPECT_EQ(none.first, 3) << none.second;

@@ -10,7 +10,7 @@ if(TARGET task_controller AND TARGET scripted_executor)
   # PAUSE/RESUME, CANCEL, OperatorDecision, stop-timeout escalation.
   rigger_add_test(rigger_controller_lifecycle_test
     SOURCES controller_lifecycle_test.cpp
-    DEPS rigger_test_harness rigger_task_controller_core rigger_operator_ui LABEL integration TIMEOUT 120)
+    DEPS rigger_test_harness rigger_task_controller_core rigger_operator_ui rigger_safety LABEL integration TIMEOUT 120)
   add_dependencies(rigger_controller_lifecycle_test task_controller scripted_executor)
 endif()
 if(TARGET task_controller AND TARGET world_model AND TARGET rigger_world_client)

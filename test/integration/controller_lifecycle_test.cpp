@@ -1,11 +1,13 @@
 // The task lifecycle through the controller as a real process, against scripted executors:
 // PAUSE/RESUME (docs/behavior-tree.md rule 7), CANCEL (rule 8), OperatorDecision over
 // rigger/operator/prompt|response, and the stop-timeout escalation (rule 3).
+#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "controller_test_support.hpp"
+#include "rigger/safety/safe_stop.hpp"
 
 namespace rigger::testing::controller {
 namespace {
@@ -229,6 +231,44 @@ TEST_F(LifecycleTest, ASkillThatNeverAnswersStoppedIsEscalatedAfterItsStopTimeou
         l.message.find("camera") != std::string::npos)
       escalation = true;
   EXPECT_TRUE(escalation);
+}
+
+// The same escalation for a skill that holds devices: the controller commands the safe stop of the
+// robot and the gripper it held (rigger/safety/stop), which the devices obey (tested in physics in
+// safe_stop_cell_test), and journals what it commanded.
+TEST_F(LifecycleTest, AnEscalatedStopCommandsTheSafeStopOfTheDevicesTheLeafHeld) {
+  start_controller();
+  start_scripted("exec", {"Release", "YankMonitor"},
+                 {{"root/0", {{"mode", "run"}, {"never_stop", true}}},
+                  {"root/1", {{"mode", "fail"}, {"delay_s", 0.2}, {"code", "YANK_DETECTED"}}}});
+  wait_ready({"tc", "exec"});
+  std::map<std::string, safety::StopState> stops;
+  safety::SafeStopListener devices(cell_.participant(), cell_.loop(), safety::stoppable_resources(),
+                                   [&](const std::string& r, const safety::StopState& st) { stops[r] = st; });
+  const json root = {{"type", "Parallel"},
+                     {"success_threshold", 1},
+                     {"failure_threshold", 1},
+                     {"stop_timeout_s", 0.5},
+                     {"children",
+                      {{{"type", "Skill"}, {"name", "let go"}, {"skill", "Release"}, {"params", json::object()}},
+                       {{"type", "Monitor"}, {"monitor", "YankMonitor"}, {"params", {{"max_yank_n_per_s", 400}}}}}}};
+  submit("hung-robot", recipe("hung-robot", root));
+  ASSERT_TRUE(wait_finished("hung-robot"));
+  ASSERT_TRUE(cell_.wait_until([&] { return stops.size() == 2; }, 10s)) << "safe stops seen: " << stops.size();
+  for (const char* resource : {"robot", "gripper"}) {
+    ASSERT_TRUE(stops.count(resource)) << resource;
+    EXPECT_TRUE(stops[resource].active);
+    EXPECT_EQ(stops[resource].source, "tc");
+    EXPECT_NE(stops[resource].reason.find("node root/0"), std::string::npos) << stops[resource].reason;
+    EXPECT_NE(stops[resource].reason.find("did not acknowledge SHUTDOWN"), std::string::npos)
+        << stops[resource].reason;
+  }
+  EXPECT_FALSE(stops.count("crane")) << "the leaf did not hold the crane";
+  bool journalled = false;
+  for (const auto& l : journal("hung-robot"))
+    journalled = journalled || (l.kind == "ESCALATION" &&
+                                l.message.find("safe stop commanded for [robot,gripper]") != std::string::npos);
+  EXPECT_TRUE(journalled);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "cell_sim_test_support.hpp"
+#include "rigger/safety/safe_stop.hpp"
 #include "rigger/crane_protocol/register_map.hpp"
 
 namespace rigger::testing {
@@ -296,6 +297,40 @@ TEST_F(CraneGatewayTest, EmergencyStopHoldsTheCraneUntilReset) {
   // Reset: the fault clears, the grant returns and the running stream moves the crane again.
   send_control(rigger_crane_CRANE_RESET);
   EXPECT_TRUE(wait_moving(0, 0.1, 5s)) << crane_.back().fault_text;
+  velocity_.reset();
+}
+
+// A software safe stop of the crane (rigger/safety/stop): the gateway zeroes its setpoint at once,
+// refuses the velocity stream while the stop is in force (the crane stays still), says so in its state,
+// and follows fresh commands again after the reset.
+TEST_F(CraneGatewayTest, SafeStopHoldsTheCraneUntilItsReset) {
+  start();
+  safety::SafeStopWriter stops(cell_.participant());
+  ASSERT_TRUE(stops.writer().wait_for_readers(1, 5s));
+  take_control();
+  velocity_ = Eigen::Vector3d(0.1, 0.0, 0.0);
+  ASSERT_TRUE(wait_moving(0, 0.09));
+
+  const WallTime stop_at = std::chrono::system_clock::now();
+  ASSERT_EQ(stops.command("crane", true, "integration-test", "stop the crane"), DDS_RETCODE_OK);
+  ASSERT_TRUE(cell_.wait_until([&] { return std::abs(sim_->latest().crane_velocity_mps.x()) < 0.001; }, 3s))
+      << "the crane still moves at " << sim_->latest().crane_velocity_mps.x() << " m/s";
+  const int zero = first_status_after(stop_at, [](const SimStatusView& v) { return v.plc_setpoint_mps.norm() == 0.0; });
+  ASSERT_GE(zero, 0);
+  const int still = first_status_after(stop_at, [](const SimStatusView& v) { return std::abs(v.crane_velocity_mps.x()) < 0.001; });
+  std::cout << "safe stop: PLC setpoint zero after " << ms_between(stop_at, sim_->history()[zero].stamp)
+            << " ms, crane below 1 mm/s after " << ms_between(stop_at, sim_->history()[still].stamp) << " ms\n";
+  EXPECT_LT(ms_between(stop_at, sim_->history()[zero].stamp), 200.0) << "the setpoint outlived the stop";
+  ASSERT_TRUE(cell_.wait_until([&] { return crane_.back().fault; }, 2s));
+  EXPECT_EQ(crane_.back().fault_text.rfind("SAFE_STOP: integration-test: stop the crane", 0), 0u)
+      << crane_.back().fault_text;
+  // The stream goes on for 1 s: none of it is applied.
+  const Eigen::Vector3d held = sim_->latest().crane_position_m;
+  cell_.wait_until([] { return false; }, 1s);
+  EXPECT_LT((sim_->latest().crane_position_m - held).norm(), 0.002) << "the crane moved while stopped";
+
+  ASSERT_EQ(stops.command("crane", false, "integration-test", "reset"), DDS_RETCODE_OK);
+  EXPECT_TRUE(wait_moving(0, 0.05)) << "fresh commands after the reset did not move the crane";
   velocity_.reset();
 }
 

@@ -3,6 +3,9 @@
 // three skill executors, task_controller and the scripted operator. See scenario_support.hpp.
 //
 // Each test prints what it measured (durations, final errors); the figures are reported in the issue.
+#include <fstream>
+#include <iterator>
+
 #include "scenario_support.hpp"
 
 namespace rigger::testing::scenario {
@@ -12,6 +15,21 @@ constexpr auto kTaskTimeout = std::chrono::minutes(4);
 
 class ScenarioTest : public MultiProcessTest {
  protected:
+  /// After `who` was killed at `kill_time`: robot and crane come to rest, then stay still for 2 s with
+  /// the load held. Prints the figures; returns the seconds from the kill to rest.
+  double expect_still_after_kill(ScenarioCell& s, Clock::time_point kill_time, const std::string& who) {
+    const auto after = s.motion_after_stop(200);
+    const double rest_s = std::chrono::duration<double>(after.rest_at - kill_time).count();
+    std::printf("  %s killed; robot and crane at rest (checked) within %.2f s of the kill; then over 2 s: tool "
+                "%.2f mm, crane %.1f mm/s at most\n",
+                who.c_str(), rest_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
+    EXPECT_TRUE(after.at_rest) << "robot or crane still moving 5 s after " << who << " died";
+    EXPECT_LT(after.max_tool_m, 0.002) << "the robot kept moving without " << who;
+    EXPECT_LT(after.max_crane_mps, 0.005) << "the crane kept moving without " << who;
+    EXPECT_TRUE(s.gripper_holding()) << "the load must stay held";
+    return rest_s;
+  }
+
   void print_report(const ScenarioCell& s, const std::string& title) {
     std::printf("--- %s: task %s after %.1f s\n%s", title.c_str(), s.task_code().empty() ? "ended" : s.task_code().c_str(),
                 s.task_seconds(), s.durations().c_str());
@@ -167,15 +185,25 @@ TEST_F(ScenarioTest, ExecutorKilledDuringInsertionStopsTheMotion) {
   ASSERT_TRUE(s.wait_task_end(60s)) << s.task_summary();
   print_report(s, "executor killed");
   EXPECT_EQ(s.task_state(), rigger_task_TASK_FAILED);
-  const auto after = s.motion_after_stop(200);
-  const double rest_s = std::chrono::duration<double>(after.rest_at - kill_time).count();
-  std::printf("  EXECUTOR_LOST; robot and crane at rest (checked) within %.2f s of the kill; then over 2 s: tool "
-              "%.2f mm, crane %.1f mm/s at most\n",
-              rest_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
-  EXPECT_TRUE(after.at_rest) << "robot or crane still moving 5 s after the executor died";
-  EXPECT_LT(after.max_tool_m, 0.002) << "the robot kept moving without its executor";
-  EXPECT_LT(after.max_crane_mps, 0.005) << "the crane kept moving without its executor";
-  EXPECT_TRUE(s.gripper_holding());
+  expect_still_after_kill(s, kill_time, "the executor");
+}
+
+// The task controller is SIGKILLed during the insertion: nobody supervises the skills any more. The
+// robot executor sees the controller's command-writer lease expire and shuts the insertion down
+// (CONTROLLER_LOST), so robot and crane stop and stay still with the load held.
+TEST_F(ScenarioTest, ControllerKilledDuringInsertionStopsTheMotion) {
+  expect_clean_exit_ = false;  // one process is killed on purpose
+  ScenarioCell s(cell_);
+  ASSERT_TRUE(s.ready()) << "not every service came up";
+  ASSERT_TRUE(run_until_insertion_moves(this, cell_, s, 0.05)) << s.task_summary();
+  const auto kill_time = Clock::now();
+  ASSERT_TRUE(cell_.stop("task_controller", SIGKILL, 5s).has_value());
+  const double rest_s = expect_still_after_kill(s, kill_time, "the task controller");
+  // Without supervision the insertion would go on servoing for several seconds more.
+  EXPECT_LT(rest_s, 2.5) << "the motion outlived its controller";
+  std::ifstream log(cell_.log_dir() + "/robot-skills.log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("reason=CONTROLLER_LOST"), std::string::npos) << "the executor did not say why it stopped";
 }
 
 }  // namespace

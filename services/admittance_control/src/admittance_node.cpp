@@ -110,7 +110,13 @@ AdmittanceNode::AdmittanceNode(dds::ServiceContext& ctx)
       directory_(ctx.participant),
       cmd_twist_(ctx.participant, kCmdTwistTopic, dds::qos::setpoints()),
       crane_cmd_(ctx.participant, kCraneCmdTopic, dds::qos::setpoints()),
-      state_(ctx.participant, kStateTopic, dds::qos::state()) {
+      state_(ctx.participant, kStateTopic, dds::qos::state()),
+      // A safe stop of anything this node moves turns it OFF (robot and crane ramp to zero) and keeps it
+      // OFF until the reset: commands to turn it on are refused meanwhile.
+      safe_stop_(ctx.participant, ctx.loop, {"robot", "crane", "admittance"},
+                 [this](const std::string& resource, const safety::StopState& s) {
+                   if (s.active) go_off(kFaultSafeStop, resource + " stopped by " + s.source + ": " + s.reason);
+                 }) {
   ctx.loop.on_data(wrenches_, [this] { on_wrench(); });
   ctx.loop.on_data(robot_states_, [this] { on_robot_state(); });
   ctx.loop.on_data(commands_, [this] { on_command(); });
@@ -344,6 +350,10 @@ void AdmittanceNode::on_command() {
       std::array<bool, 6> axes{};
       for (std::size_t i = 0; i < 6; ++i) axes[i] = c.axes._buffer[i];
       robot_.set_selected_axes(axes);
+    }
+    if (mode != AdmittanceMode::kOff && safe_stop_.active()) {
+      ctx_.log->warn("command refused seq={} source={}: safe stop in force: {}", c.seq, source, safe_stop_.describe());
+      return;
     }
     last_command_seq_ = c.seq;
     node_fault_.clear();  // any accepted command acknowledges a latched node fault

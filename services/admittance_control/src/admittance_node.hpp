@@ -17,6 +17,7 @@
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/dds/service_state.hpp"
+#include "rigger/safety/safe_stop.hpp"
 #include "robot_admittance.hpp"
 #include "visual_servo.hpp"
 
@@ -38,6 +39,8 @@ inline constexpr const char* kCraneStateTopic = "rigger/crane/state";
 inline constexpr const char* kFaultNoRobotState = "ROBOT_STATE_MISSING";
 /// The commanding process (AdmittanceCommand.source) was lost: mode OFF, latched until the next command.
 inline constexpr const char* kFaultCommanderLost = "COMMANDER_LOST";
+/// A safe stop of the robot, the crane or the admittance controller is in force (rigger/safety/stop).
+inline constexpr const char* kFaultSafeStop = "SAFE_STOP";
 /// rigger/crane/state reported a fault or link down, or went silent, in ROBOT_AND_CRANE: mode OFF
 /// (robot and crane ramp to zero), latched until the next command.
 inline constexpr const char* kFaultCraneFault = "CRANE_FAULT";
@@ -194,6 +197,7 @@ class AdmittanceNode : public dds::Node {
   dds::Writer<rigger_sensing_TwistCommand> cmd_twist_;
   dds::Writer<rigger_crane_CraneVelocityCommand> crane_cmd_;
   dds::Writer<rigger_admittance_AdmittanceState> state_;
+  safety::SafeStopListener safe_stop_;
 };
 
 }  // namespace rigger::control

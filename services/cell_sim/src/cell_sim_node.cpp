@@ -173,6 +173,26 @@ CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_li
   ctx.loop.on_data(motion_, [this] { on_motion(); });
   ctx.loop.on_data(gripper_, [this] { on_gripper(); });
   ctx.loop.on_data(sim_control_, [this] { on_sim_control(); });
+  safe_stop_ = std::make_unique<safety::SafeStopListener>(
+      ctx.participant, ctx.loop, std::vector<std::string>{"robot", "gripper"},
+      [this](const std::string& resource, const safety::StopState& s) {
+        if (!s.active) {
+          ctx_.log->warn("safe stop reset {} by={} reason=\"{}\"", resource, s.source, s.reason);
+          return;
+        }
+        ctx_.log->error("SAFE_STOP {} by={} reason=\"{}\"", resource, s.source, s.reason);
+        if (resource != "robot") return;
+        // Zero twist and a stop of any point-to-point motion, at once; the gate forgets the stream so
+        // nothing sent before the stop applies after its reset.
+        twist_gate_.reset();
+        TwistCommand zero;
+        zero.expires = std::chrono::system_clock::now() + std::chrono::milliseconds(100);
+        runner_->submit(zero);
+        MotionCommand stop;
+        stop.motion_id = "safe-stop";
+        stop.kind = MotionKind::kStop;
+        runner_->submit(stop);
+      });
   runner_->start();
   ctx.log->info("cell_sim started cell_file={} plc={}:{} real_time_factor={} camera={}", config_.cell_file.string(),
                 config_.plc.server.address, runner_->plc_port(), config_.real_time_factor,
@@ -204,6 +224,8 @@ void CellSimNode::on_twist() {
       refusal = "frame '" + frame + "' is not the base frame '" + kBaseFrame + "'";
     } else if (!twist.allFinite()) {
       refusal = "twist not finite";
+    } else if (safe_stop_->active()) {
+      refusal = "safe stop in force: " + safe_stop_->describe();
     } else {
       const GateVerdict verdict = twist_gate_.offer(dds::to_domain(c.header.stamp), c.seq, c.timeout_s, now);
       if (verdict == GateVerdict::kAccepted) {
@@ -239,6 +261,10 @@ void CellSimNode::on_motion() {
     command.motion_id = dds::to_string(c.motion_id);
     if (command.motion_id.empty()) {
       refuse_motion(command.motion_id, "INVALID", "motion_id is empty");
+      return;
+    }
+    if (safe_stop_->active() && c.kind != rigger_robot_MOTION_STOP) {
+      refuse_motion(command.motion_id, "SAFE_STOP", "safe stop in force: " + safe_stop_->describe());
       return;
     }
     const auto age = now - dds::to_domain(c.header.stamp);
@@ -299,6 +325,11 @@ void CellSimNode::on_motion() {
 
 void CellSimNode::on_gripper() {
   gripper_.take([this](const rigger_robot_GripperCommand& c, const dds_sample_info_t&) {
+    if (safe_stop_->active()) {
+      ctx_.log->warn("gripper command refused energize={} seq={} source={}: safe stop in force: {}", c.energize, c.seq,
+                     dds::to_string(c.source), safe_stop_->describe());
+      return;
+    }
     ctx_.log->info("gripper command energize={} seq={} source={}", c.energize, c.seq, dds::to_string(c.source));
     runner_->submit(GripperCommand{c.energize, c.seq});
   });

@@ -19,6 +19,7 @@
 #include "command_gate.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
+#include "rigger/safety/safe_stop.hpp"
 #include "sim_runner.hpp"
 
 namespace rigger::cell_sim {
@@ -99,6 +100,9 @@ class CellSimNode : public dds::Node, private SimOutputs {
   dds::Reader<rigger_robot_MotionCommand> motion_;
   dds::Reader<rigger_robot_GripperCommand> gripper_;
   dds::Reader<rigger_sim_SimControl> sim_control_;
+  /// The robot driver's side of the safe stop: "robot" stops the arm and refuses motion, "gripper"
+  /// refuses gripper commands (the magnet keeps its state: a load is never dropped).
+  std::unique_ptr<safety::SafeStopListener> safe_stop_;
 
   // Destroyed before the writers they publish through: first the runner (physics thread), then the camera.
   std::unique_ptr<CameraWorker> camera_;

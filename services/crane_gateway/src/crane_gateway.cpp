@@ -87,6 +87,12 @@ void CraneGateway::set_control(const ControlRequest& control) {
   logic_.set_control(control);
 }
 
+void CraneGateway::set_safe_stop(bool active, const std::string& reason) {
+  const WallTime now = clocks_.wall();
+  const std::lock_guard<std::mutex> lock(mutex_);
+  logic_.set_safe_stop(active, reason, now);
+}
+
 void CraneGateway::request_reset() {
   const std::lock_guard<std::mutex> lock(mutex_);
   logic_.request_reset();

@@ -93,6 +93,8 @@ class CraneGateway {
   void set_control(const ControlRequest& control);
   /// Pulses the PLC's reset bit (clears latched faults once their cause is gone).
   void request_reset();
+  /// See GatewayLogic::set_safe_stop().
+  void set_safe_stop(bool active, const std::string& reason);
 
   /// One Modbus cycle. Never throws; blocks at most about two response timeouts.
   CycleReport cycle();

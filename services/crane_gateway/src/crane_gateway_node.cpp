@@ -84,8 +84,10 @@ CraneStateReport summarize(const GatewayState& state) {
   CraneStateReport r;
   r.link_ok = state.link_up;
   const bool plc_fault = state.link_up && state.plc && state.plc->flags.fault;
-  r.fault = state.fault != GatewayFault::kNone || plc_fault;
-  if (state.fault != GatewayFault::kNone) {
+  r.fault = state.fault != GatewayFault::kNone || plc_fault || state.safe_stop;
+  if (state.safe_stop) {
+    r.fault_text = "SAFE_STOP: " + state.safe_stop_reason;
+  } else if (state.fault != GatewayFault::kNone) {
     r.fault_text = std::string(fault_name(state.fault)) + ": " + state.fault_reason;
   } else if (plc_fault) {
     r.fault_text = std::string(crane::fault_code_name(state.plc->fault_code));
@@ -115,6 +117,18 @@ CraneGatewayNode::CraneGatewayNode(dds::ServiceContext& ctx, const CommandLine& 
       gateway_(config_) {
   ctx.loop.on_data(commands_, [this] { on_command(); });
   ctx.loop.on_data(control_, [this] { on_control(); });
+  // A safe stop of the crane zeroes the setpoint from the next cycle on and refuses every velocity
+  // command until its reset (docs/safety.md).
+  safe_stop_ = std::make_unique<safety::SafeStopListener>(
+      ctx.participant, ctx.loop, std::vector<std::string>{"crane"},
+      [this](const std::string&, const safety::StopState& s) {
+        gateway_.set_safe_stop(s.active, s.source + ": " + s.reason);
+        if (s.active)
+          ctx_.log->error("SAFE_STOP crane by={} reason=\"{}\": setpoint zero, velocity commands refused until reset",
+                          s.source, s.reason);
+        else
+          ctx_.log->warn("safe stop reset crane by={} reason=\"{}\"", s.source, s.reason);
+      });
   thread_ = std::thread([this] { work(); });
   ctx.log->info("crane gateway started plc={}:{} unit_id={} cycle_ms={} command_timeout_ms={}", config_.plc_host,
                 config_.plc_port, config_.unit_id, config_.cycle_period.count(),

@@ -16,16 +16,19 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "crane_gateway.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
+#include "rigger/safety/safe_stop.hpp"
 
 namespace rigger::crane_gateway {
 
@@ -74,6 +77,7 @@ class CraneGatewayNode : public dds::Node {
   dds::Reader<rigger_crane_CraneVelocityCommand> commands_;
   dds::Reader<rigger_crane_CraneControl> control_;
   CraneGateway gateway_;
+  std::unique_ptr<safety::SafeStopListener> safe_stop_;
 
   // event loop thread
   ControlRequest control_request_;

@@ -36,7 +36,7 @@ GatewayLogic::GatewayLogic(GatewayLogicConfig config)
 }
 
 CommandVerdict GatewayLogic::submit(const VelocityCommand& command, WallTime now) {
-  const CommandVerdict verdict = filter_.offer(command, now);
+  const CommandVerdict verdict = state_.safe_stop ? CommandVerdict::kSafeStop : filter_.offer(command, now);
   if (verdict != CommandVerdict::kAccepted) {
     ++state_.rejected_commands;
   }
@@ -46,6 +46,12 @@ CommandVerdict GatewayLogic::submit(const VelocityCommand& command, WallTime now
 void GatewayLogic::set_control(const ControlRequest& control) { state_.control = control; }
 
 void GatewayLogic::request_reset() { reset_cycles_left_ = config_.reset_pulse_cycles; }
+
+void GatewayLogic::set_safe_stop(bool active, const std::string& reason, WallTime now) {
+  filter_.reset(now);
+  state_.safe_stop = active;
+  state_.safe_stop_reason = active ? reason : "";
+}
 
 void GatewayLogic::set_fault(GatewayFault fault, std::string reason) {
   state_.fault = fault;

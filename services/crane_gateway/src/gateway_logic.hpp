@@ -76,6 +76,10 @@ struct GatewayState {
   std::uint64_t implausible_states = 0;  ///< status blocks rejected
   std::uint64_t rejected_commands = 0;   ///< velocity commands not accepted
   std::uint64_t clamped_setpoints = 0;   ///< setpoints limited to the max speed
+  /// A software safe stop of the crane is in force: setpoints are zero and commands refused until
+  /// it is reset. Its reason ("" when none).
+  bool safe_stop = false;
+  std::string safe_stop_reason;
 };
 
 /// The gateway's logic: command freshness, the grant, heartbeats in both directions, reset
@@ -91,6 +95,10 @@ class GatewayLogic {
   void set_control(const ControlRequest& control);
   /// Pulses the reset bit for reset_pulse_cycles written cycles.
   void request_reset();
+  /// A safe stop (active) forgets the current command at once, so the next command block carries a
+  /// zero setpoint, and refuses every command (kSafeStop) until it is reset (active = false); only
+  /// commands stamped after the reset count then.
+  void set_safe_stop(bool active, const std::string& reason, WallTime now);
 
   /// A connection is up and the PLC's limits block was read. Returns the reason if the PLC's
   /// map version or limits do not match ours (then the caller must drop the connection and

@@ -18,6 +18,8 @@ std::string_view verdict_name(CommandVerdict verdict) {
       return "before_reconnect";
     case CommandVerdict::kNotFinite:
       return "not_finite";
+    case CommandVerdict::kSafeStop:
+      return "safe_stop";
   }
   return "unknown";
 }

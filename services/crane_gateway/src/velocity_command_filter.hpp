@@ -29,6 +29,7 @@ enum class CommandVerdict {
   kNotNewer,         ///< sequence number not above the current command's
   kBeforeReconnect,  ///< stamped before the link to the PLC came (back) up
   kNotFinite,        ///< NaN or infinite velocity
+  kSafeStop,         ///< a safe stop of the crane is in force (rigger/safety/stop), until its reset
 };
 
 /// "accepted", "stale", …

@@ -139,6 +139,24 @@ TEST_F(Connected, ZeroOnceTheCommandIsOlderThanItsTimeout) {
   EXPECT_TRUE(cycle(5ms + timeout + 1ns).velocity_mps.isZero());
 }
 
+TEST_F(Connected, ASafeStopZeroesAtOnceAndRefusesCommandsUntilItsReset) {
+  ASSERT_EQ(logic.submit(velocity(0.3, kWall0 + 5ms, 1), kWall0 + 5ms), CommandVerdict::kAccepted);
+  EXPECT_DOUBLE_EQ(cycle(10ms).velocity_mps.x(), 0.3);
+  logic.set_safe_stop(true, "riggerctl: estop", kWall0 + 12ms);
+  // The command is still fresh, but the next block carries zero.
+  EXPECT_TRUE(cycle(15ms).velocity_mps.isZero());
+  EXPECT_TRUE(logic.state().safe_stop);
+  EXPECT_EQ(logic.state().safe_stop_reason, "riggerctl: estop");
+  EXPECT_EQ(logic.submit(velocity(0.3, kWall0 + 20ms, 2), kWall0 + 20ms), CommandVerdict::kSafeStop);
+  EXPECT_TRUE(cycle(25ms).velocity_mps.isZero());
+  // After the reset, a command stamped before it is not replayed; a fresh one moves the crane.
+  logic.set_safe_stop(false, "", kWall0 + 30ms);
+  EXPECT_FALSE(logic.state().safe_stop);
+  EXPECT_EQ(logic.submit(velocity(0.3, kWall0 + 28ms, 3), kWall0 + 31ms), CommandVerdict::kBeforeReconnect);
+  ASSERT_EQ(logic.submit(velocity(0.2, kWall0 + 32ms, 4), kWall0 + 32ms), CommandVerdict::kAccepted);
+  EXPECT_DOUBLE_EQ(cycle(35ms).velocity_mps.x(), 0.2);
+}
+
 TEST_F(Connected, ClampsToTheMaxSpeed) {
   VelocityCommand fast = velocity(3.0, kWall0 + 1ms, 1);
   fast.velocity_mps.z() = -3.0;

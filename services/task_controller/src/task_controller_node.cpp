@@ -199,11 +199,22 @@ class TaskControllerNode::Task : public bt::Port {
   }
 
   void escalate_safe_stop(const bt::NodeSpec& spec, const std::string& why) override {
-    std::string resources;
-    for (const auto& r : spec.resources) resources += (resources.empty() ? "" : ",") + r;
-    // There is no safe-stop topic for devices yet; the escalation is logged and journalled.
-    node_.ctx_.log->error("safe stop escalated task={} node={} resources=[{}] why={}", id_, spec.id, resources, why);
-    node_.journal({wall_now_s(), id_, spec.id, "ESCALATION", "SAFE_STOP", "resources [" + resources + "]: " + why});
+    // The devices of every resource the leaf held that a safe stop can name stop and stay stopped
+    // until a person resets them (riggerctl estop --reset RESOURCE); the others are logged.
+    std::string resources, stopped;
+    const auto& stoppable = safety::stoppable_resources();
+    for (const auto& r : spec.resources) {
+      resources += (resources.empty() ? "" : ",") + r;
+      if (std::find(stoppable.begin(), stoppable.end(), r) == stoppable.end()) continue;
+      const std::string reason = "task " + id_ + ", node " + spec.id + ": " + why;
+      if (node_.safe_stops_.command(r, true, node_.ctx_.options.id, reason) != DDS_RETCODE_OK)
+        node_.ctx_.log->error("safe stop write failed resource={} task={} node={}", r, id_, spec.id);
+      stopped += (stopped.empty() ? "" : ",") + r;
+    }
+    node_.ctx_.log->error("safe stop escalated task={} node={} resources=[{}] stopped=[{}] why={}", id_, spec.id,
+                          resources, stopped, why);
+    node_.journal({wall_now_s(), id_, spec.id, "ESCALATION", "SAFE_STOP",
+                   "resources [" + resources + "], safe stop commanded for [" + stopped + "]: " + why});
   }
 
   void node_changed(const bt::NodeSpec& spec, const bt::NodeStatus& status) override {
@@ -302,13 +313,27 @@ class TaskControllerNode::Task : public bt::Port {
   std::map<std::string, std::pair<std::string, bt::Activation>> prompts_;
 };
 
+namespace {
+/// The skill-command writer's QoS: commands() with MANUAL_BY_PARTICIPANT liveliness, asserted by
+/// run_service's loop every kDefaultLease / 3.
+dds::Qos supervised_commands(std::chrono::milliseconds lease) {
+  dds::Qos q = dds::qos::commands();
+  q.manual_liveliness(lease);
+  return q;
+}
+}  // namespace
+
 TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
     : ctx_(ctx),
       journal_(ctx.config.get<std::string>("journal_path", "task_controller_journal.sqlite"),
                ctx.config.get_enum("journal_sync", "normal", {"normal", "full"}) == "full" ? JournalSync::kFull
                                                                                        : JournalSync::kNormal),
       announcements_(ctx.participant, executor::kAnnouncementTopic, dds::qos::state()),
-      commands_(ctx.participant, executor::kCommandTopic, dds::qos::commands()),
+      // Executors watch this writer's liveliness: a controller that dies or hangs has its running skills
+      // shut down by their executors within the lease (no orphaned motion).
+      commands_(ctx.participant, executor::kCommandTopic,
+                supervised_commands(std::chrono::milliseconds(
+                    ctx.config.get_in_range<unsigned>("command_lease_ms", 300U, 200U, 10000U)))),
       events_(ctx.participant, executor::kEventTopic, dds::qos::events()),
       recipes_(ctx.participant, kRecipeTopic, dds::qos::commands()),
       task_commands_(ctx.participant, kTaskCommandTopic, dds::qos::commands()),
@@ -317,7 +342,8 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
       journal_queries_(ctx.participant, kJournalQueryTopic, dds::qos::commands()),
       journal_replies_(ctx.participant, kJournalReplyTopic, dds::qos::events()),
       prompts_(ctx.participant, kOperatorPromptTopic, dds::qos::state()),
-      responses_(ctx.participant, kOperatorResponseTopic, dds::qos::state()) {
+      responses_(ctx.participant, kOperatorResponseTopic, dds::qos::state()),
+      safe_stops_(ctx.participant) {
   validator_options_.default_stop_timeout =
       bt::Seconds(ctx.config.get_in_range<double>("default_stop_timeout_s", 5.0, 0.01, 600.0));
   validator_options_.limits.max_bytes =

@@ -26,6 +26,8 @@
 ///   "default_stop_timeout_s": number in [0.01, 600], default 5
 ///   "max_recipe_bytes": integer in [1024, 67108864 (kMaxRecipeBytesCeiling)], default 4194304
 ///   "max_recipe_depth": integer in [8, 1024], default 128
+///   "command_lease_ms": integer in [200, 10000], default 300: the liveliness lease offered on
+///                       rigger/skill/command; executors shut down the runs of a controller that lost it
 ///   "executor_wait_s": number in [0, 600], default 2: a recipe naming a skill no live executor offers
 ///                      waits this long for one to appear (re-validated on every new announcement)
 ///                      before it is rejected
@@ -48,6 +50,7 @@
 #include "recipe/recipe_validator.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
+#include "rigger/safety/safe_stop.hpp"
 
 namespace rigger::world_client {
 class WorldClient;
@@ -137,6 +140,7 @@ class TaskControllerNode : public dds::Node {
   dds::Writer<rigger_task_JournalReply> journal_replies_;
   dds::Writer<rigger_operator_ui_OperatorPrompt> prompts_;
   dds::Reader<rigger_operator_ui_OperatorResponse> responses_;
+  safety::SafeStopWriter safe_stops_;
 
   std::map<std::string, Executor> executors_;
   std::map<std::string, std::unique_ptr<Task>> tasks_;

@@ -35,4 +35,9 @@ void add_jog_command(CLI::App& app, const CommonOptions& common, int& exit_code)
 /// codes: 0 done; 1 refused or unanswered; 2 usage; 3 no simulator on the domain.
 void add_sim_command(CLI::App& app, const CommonOptions& common, int& exit_code);
 
+/// `estop [RESOURCE...] [--reset] [--reason TEXT]`: the software safe stop (rigger/safety/stop) of the
+/// robot, crane, gripper and admittance controller (default: all), latched until `--reset`. Exit
+/// codes: 0 acknowledged by the devices; 1 write failed or not acknowledged; 2 usage; 3 no device.
+void add_estop_command(CLI::App& app, const CommonOptions& common, int& exit_code);
+
 }  // namespace rigger::ctl

@@ -11,6 +11,7 @@
 #include <rigger/idl/geometry.h>
 #include <rigger/idl/operator.h>
 #include <rigger/idl/robot.h>
+#include <rigger/idl/safety.h>
 #include <rigger/idl/sensing.h>
 #include <rigger/idl/sim.h>
 #include <rigger/idl/skill.h>
@@ -74,6 +75,7 @@ RIGGER_IDL_TYPE(rigger_sim_SimEvent)
 RIGGER_IDL_TYPE(rigger_sim_SimStatus)
 RIGGER_IDL_TYPE(rigger_cad_CadRequest)
 RIGGER_IDL_TYPE(rigger_cad_CadReply)
+RIGGER_IDL_TYPE(rigger_safety_SafeStop)
 
 #undef RIGGER_IDL_TYPE
 

@@ -147,6 +147,10 @@ EventResult Engine::on_leaf_event(std::string_view node_id, const LeafEvent& eve
         }
         break;
       case LeafEventKind::kFailure:
+        if (event.code == codes::kSafeStopFailed) {  // it failed and could not bring its devices to rest
+          escalated_.push_back(node.id);
+          port_.escalate_safe_stop(node, with_detail("its safe stop failed", event.message));
+        }
         finish(i, NodeState::kFailure, event.code.empty() ? codes::kFailed : event.code, event.message, node.id);
         break;
       case LeafEventKind::kStopped:
@@ -158,6 +162,12 @@ EventResult Engine::on_leaf_event(std::string_view node_id, const LeafEvent& eve
   } else if (st.state == NodeState::kStopping) {
     if (event.kind == LeafEventKind::kStopped) {
       finish(i, NodeState::kStopped, "", with_detail("stopped", event.message), "");
+    } else if (event.kind == LeafEventKind::kFailure && event.code == codes::kSafeStopFailed) {
+      // The skill says its safe stop failed: its devices may still move. The supervisor stops them.
+      const std::string why = with_detail("its safe stop failed", event.message) + "; safe stop of its resources escalated";
+      escalated_.push_back(node.id);
+      port_.escalate_safe_stop(node, why);
+      finish(i, NodeState::kStopped, codes::kSafeStopFailed, why, "");
     } else {
       // The leaf finished before it saw the SHUTDOWN: it is no longer acting, which is all the
       // shutdown asked for. Its result no longer matters to the parent, which already decided.

@@ -55,6 +55,8 @@ inline constexpr const char* kFailed = "FAILED";                   ///< default 
 inline constexpr const char* kInverted = "INVERTED";               ///< an Inverter turned its child's success into failure
 inline constexpr const char* kCanceled = "CANCELED";               ///< the task was canceled
 inline constexpr const char* kExecutorLost = "EXECUTOR_LOST";      ///< the leaf's executor lost liveliness
+/// A skill's own safe stop failed (its FAILURE code): the engine escalates to a safe stop of its resources.
+inline constexpr const char* kSafeStopFailed = "SAFE_STOP_FAILED";
 }  // namespace codes
 
 /// Status of one node, reported through Port::node_changed() and Engine::status().
