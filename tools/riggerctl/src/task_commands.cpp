@@ -544,8 +544,7 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
   // not taken for its acknowledgement.
   loop.run_until([&] { return before >= 0; }, std::chrono::milliseconds(1000));
   if (done) {
-    std::printf("task %s had already ended: %s
-", task_id.c_str(), task_state_name(state));
+    std::printf("task %s had already ended: %s\n", task_id.c_str(), task_state_name(state));
     return state == wanted ? 0 : kExitFailed;
   }
   if (before == wanted) {
@@ -638,13 +637,13 @@ void add_task_commands(CLI::App& app, const CommonOptions& common, int& exit_cod
     auto* cmd = app.add_subcommand(verb, help);
     auto task = std::make_shared<std::string>();
     auto reason = std::make_shared<std::string>(std::string(verb) + "d from riggerctl");
-    auto timeout = std::make_shared<double>(10.0);
+    auto wait_s = std::make_shared<double>(10.0);
     cmd->add_option("TASK", *task, "task id")->required();
     cmd->add_option("--reason", *reason, "why (journalled)");
-    cmd->add_option("--timeout", *timeout, "seconds to wait for the acknowledgement");
+    cmd->add_option("--timeout", *wait_s, "seconds to wait for the acknowledgement");
     const auto k = kind;
-    cmd->callback([task, reason, timeout, k, &common, &exit_code] {
-      exit_code = task_command(common, *task, k, *reason, *timeout);
+    cmd->callback([task, reason, wait_s, k, &common, &exit_code] {
+      exit_code = task_command(common, *task, k, *reason, *wait_s);
     });
   }
 
