@@ -237,7 +237,7 @@ void ConsoleNode::plot_tick() {
     return;  // nothing new: no row (an idle cell costs nothing)
   }
   fresh_ = false;
-  json row;
+  nlohmann::ordered_json row;  // "t" stays the first key
   row["t"] = std::round(now * 1000.0) / 1000.0;  // first key: /api/plots reads it without parsing
   if (force_count_ > 0) {
     const Eigen::Vector3d f = force_sum_ / force_count_;

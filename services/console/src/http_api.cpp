@@ -24,6 +24,12 @@ void send_error(httplib::Response& res, int status, const std::string& error, co
   res.set_content(json{{"error", error}, {"where", where}}.dump(), "application/json");
 }
 
+/// `body[key]` when it is a string, else "".
+std::string text_field(const json& body, const char* key) {
+  const auto it = body.find(key);
+  return it != body.end() && it->is_string() ? it->get<std::string>() : "";
+}
+
 void send_json(httplib::Response& res, const json& body, int status = 200) {
   res.status = status;
   res.set_content(body.dump(), "application/json");
@@ -315,7 +321,7 @@ void HttpApi::routes() {
     if (!user) return;
     auto b = body(req, res);
     if (!b) return;
-    const std::string id = b->value("confirmation_id", "");
+    const std::string id = text_field(*b, "confirmation_id");
     Pending p;
     {
       std::lock_guard lock(pending_mutex_);
@@ -353,7 +359,7 @@ void HttpApi::routes() {
       if (!b) return;
       const std::string task_id = req.matches[1];
       if (state_.task(task_id).is_null()) return send_error(res, 404, "no task " + task_id + " known", req.path);
-      std::string reason = b->value("reason", "");
+      std::string reason = text_field(*b, "reason");
       const std::string wire_kind = kind == "stop" ? "cancel" : kind;
       reason = (kind == "stop" ? "STOP" : kind) + std::string(" by ") + user->name + " at the console" +
                (reason.empty() ? "" : ": " + reason);
@@ -383,7 +389,7 @@ void HttpApi::routes() {
     const auto& options = prompt["options"];
     if (std::find(options.begin(), options.end(), answer) == options.end())
       return send_error(res, 400, "\"" + answer + "\" is not one of the options " + options.dump(), req.path + "#/answer");
-    const auto r = backend_.answer_prompt(prompt_id, answer, user->name, b->value("comment", ""));
+    const auto r = backend_.answer_prompt(prompt_id, answer, user->name, text_field(*b, "comment"));
     audit(*user, "answer " + answer, prompt_id, r.ok ? "sent" : "failed: " + r.message);
     if (!r.ok) return send_error(res, 503, r.message, req.path);
     send_json(res, {{"done", "answer"}, {"prompt_id", prompt_id}, {"answer", answer}});

@@ -21,12 +21,12 @@ export function operatorPage(main, me) {
   let viewReady = null;
   const say = (text, bad = false) => { notice.textContent = text; notice.className = bad ? 'error' : ''; };
 
-  async function ensureView() {
+  async function ensureView(entity = 'target') {
     if (!viewReady) {
       viewReady = import('./view3d.js').then(async ({ TargetView }) => {
         view = new TargetView(viewBox);
         window.rigger.view3d = view.state;
-        try { await view.load('target'); } catch (e) { view.state.error = e.message; say(`3D view: ${e.message}`, true); }
+        try { await view.load(entity); } catch (e) { view.state.error = e.message; say(`3D view: ${e.message}`, true); }
       });
     }
     return viewReady;
@@ -87,7 +87,8 @@ export function operatorPage(main, me) {
     if (p.kind === 'screw' || d.hole) {
       badge.append(el('div', {}, `${step ? `Step ${step[1]} of ${step[2]} · ` : ''}hole ${d.hole_ref || d.hole}`),
         el('div', {}, `${d.screw_type || ''} · ${d.torque_nm ?? '?'} N·m`));
-      await ensureView();
+      // The hole's part: "target/h1" names entity "target".
+      await ensureView((d.hole_ref || '').includes('/') ? d.hole_ref.split('/')[0] : 'target');
       if (view) view.highlight(d.hole);
     }
   }

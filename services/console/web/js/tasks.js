@@ -8,7 +8,7 @@ const TERMINAL = new Set(['SUCCEEDED', 'FAILED', 'CANCELED', 'REJECTED']);
 export function tasksPage(main, me) {
   const selected = new Set();
   const trees = new Map();
-  const list = el('div', { class: 'tasklist', role: 'list' });
+  const list = el('ul', { class: 'tasklist', 'aria-label': 'Tasks' });
   const treesBox = el('div', {});
   const running = el('ul', { class: 'running', 'aria-label': 'Running nodes' });
   const notice = el('p', { role: 'status', 'aria-live': 'polite' });
@@ -64,9 +64,9 @@ export function tasksPage(main, me) {
     const ids = new Set([...store.tasks.keys(), ...history.keys()]);
     const rows = [...ids].map((id) => ({ id, t: store.tasks.get(id) }))
       .sort((a, b) => (b.t?.submitted || 0) - (a.t?.submitted || 0));
-    list.replaceChildren(...rows.map(({ id, t }) => el('button', { role: 'listitem', 'aria-pressed': selected.has(id) ? 'true' : 'false', 'data-task': id,
+    list.replaceChildren(...rows.map(({ id, t }) => el('li', {}, el('button', { 'aria-pressed': selected.has(id) ? 'true' : 'false', 'data-task': id,
       onclick: () => { if (selected.has(id)) selected.delete(id); else selected.add(id); draw(); } },
-    el('span', {}, id, el('br'), el('small', { class: 'muted' }, t ? fmtTime(t.submitted) : 'journal')), stateBadge(taskState(id)))));
+    el('span', {}, id, el('br'), el('small', { class: 'muted' }, t ? fmtTime(t.submitted) : 'journal')), stateBadge(taskState(id))))));
   }
   function drawRunning() {
     const items = [];
