@@ -24,12 +24,17 @@ bool browser_tools_present() {
 
 class ConsoleBrowserTest : public MultiProcessTest {};
 
+// Long enough for a dialog click in a loaded headless chromium (2.7 s seen), short enough to wait out.
+constexpr double kConfirmTimeoutS = 5.0;
+
 TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusalsMoveNothing) {
   if (!browser_tools_present())
     GTEST_SKIP() << "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)";
   ScenarioCell scenario(cell_, {}, /*scripted_operator=*/false);
   ASSERT_TRUE(scenario.ready()) << "the cell did not come up";
-  scenario.watch("crane_insert");
+  std::ifstream recipe_file(repo_file("recipes/crane_insert.json"));
+  const std::string task_id = nlohmann::json::parse(recipe_file).at("task_id");
+  scenario.watch(task_id);
 
   const std::string dir = cell_.log_dir();
   const auto users = console::make_users(dir + "/console-users.json", {{"ada", console::Role::kProgrammer},
@@ -40,7 +45,7 @@ TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusa
     std::ofstream(dir + "/console.json") << nlohmann::json{{"port", port},
                                                            {"users_file", dir + "/console-users.json"},
                                                            {"audit_log", dir + "/console-audit.log"},
-                                                           {"confirm_timeout_s", 1.0}}
+                                                           {"confirm_timeout_s", kConfirmTimeoutS}}
                                                 .dump(2);
   }
   cell_.start("console", "console", {"--config", dir + "/console.json"});
@@ -56,6 +61,7 @@ TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusa
                         {"RECIPE", repo_file("recipes/crane_insert.json")},
                         {"ARTIFACTS", dir},
                         {"RESULT", result_file},
+                        {"CONFIRM_TIMEOUT_S", std::to_string(kConfirmTimeoutS)},
                         {"NODE_PATH", repo_file("services/console/web/node_modules")}},
                        dir + "/browser.log", [&] { cell_.loop().post([&] { browser_done = true; }); });
   const bool ended = cell_.wait_until([&] { return browser_done; }, std::chrono::minutes(7));

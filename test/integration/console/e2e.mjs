@@ -36,7 +36,7 @@ let r = await call('/api/recipes', { method: 'POST', body: recipe });
 check(r.status === 401 && r.json?.error && r.json.where === '/api/recipes', `unauthenticated publish -> 401 ${JSON.stringify(r.json)}`);
 r = await call('/api/recipes', { token: tokens.operator, method: 'POST', body: recipe });
 check(r.status === 403 && /programmer/.test(r.json?.error), `operator publish -> 403 ${JSON.stringify(r.json)}`);
-r = await call('/api/recipes', { token: tokens.programmer, method: 'POST', body: '{"task_id": ' });
+r = await call('/api/recipes', { token: tokens.programmer, method: 'POST', body: '{"task_id": 5' });
 check(r.status === 400 && /1:14/.test(r.json?.error), `malformed body -> 400 with its position ${JSON.stringify(r.json)}`);
 r = await call('/api/recipes', { token: tokens.programmer, method: 'POST', body: JSON.stringify({ task_id: 'big', pad: 'x'.repeat(5 * 1024 * 1024) }) });
 check(r.status === 413 && r.json?.error, `oversized body -> 413 ${JSON.stringify(r.json)}`);
@@ -45,8 +45,8 @@ check(r.status === 202 && r.json?.confirmation_id, 'publish selected -> 202 with
 const stale = r.json.confirmation_id;
 r = await call('/api/confirm', { token: tokens.operator, method: 'POST', body: { confirmation_id: stale } });
 check(r.status === 409, `another user's confirmation -> 409 ${JSON.stringify(r.json)}`);
-// The console was started with confirm_timeout_s = 1: this wait is the expiry under test.
-await new Promise((ok) => setTimeout(ok, 1500));
+// The console was started with confirm_timeout_s = CONFIRM_TIMEOUT_S: this wait is the expiry under test.
+await new Promise((ok) => setTimeout(ok, 1000 * Number(env('CONFIRM_TIMEOUT_S')) + 500));
 r = await call('/api/confirm', { token: tokens.programmer, method: 'POST', body: { confirmation_id: stale } });
 check(r.status === 409 && /expired/.test(r.json?.error), `stale confirmation -> 409 ${JSON.stringify(r.json)}`);
 r = await call('/api/state', { token: tokens.viewer });
@@ -60,6 +60,7 @@ const context = await chromium.launchPersistentContext(profile, {
   args: ['--no-sandbox', '--disable-gpu', '--no-first-run', '--disable-background-networking', '--disable-component-update',
     '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
 });
+context.setDefaultTimeout(60000);
 const logPage = (name, page) => {
   page.on('pageerror', (e) => console.log(`[${name}] page error: ${e.message}`));
   page.on('console', (m) => { if (m.type() === 'error') console.log(`[${name}] console: ${m.text()}`); });
@@ -68,37 +69,39 @@ try {
   const prog = await context.newPage();
   logPage('programmer', prog);
   await prog.goto(`${URL_}/?token=${tokens.programmer}#/tasks`);
-  await prog.waitForFunction(() => window.rigger?.ready === true);
+  await prog.waitForFunction(() => window.rigger?.ready === true, null, { timeout: 60000 });
   check(!(await prog.url()).includes('token='), 'the login link\'s token leaves the address bar');
 
   const op = await context.newPage();
   logPage('operator', op);
   await op.goto(`${URL_}/?token=${tokens.operator}#/operator`);
-  await op.waitForFunction(() => window.rigger?.ready === true);
+  await op.waitForFunction(() => window.rigger?.ready === true, null, { timeout: 60000 });
 
   // Publish from the Tasks page: select, then confirm in the dialog.
+  await prog.bringToFront();
   await prog.click('summary:has-text("Publish a recipe")');
   await prog.fill('#recipe-text', recipeText);
   await prog.click('button:has-text("Publish…")');
   await prog.waitForSelector('dialog[open]');
   await prog.click('#confirm-yes');
-  await prog.waitForFunction((t) => document.body.innerText.includes(`Published ${t}`), TASK);
+  await prog.waitForFunction((t) => document.body.innerText.includes(`Published ${t}`), TASK, { timeout: 60000 });
   console.log('ok: published from the Tasks page');
 
   // The operator station: four screw prompts, answered by clicks.
+  await op.bringToFront();
   let screws = 0;
   const seen = new Set();
   while (true) {
-    const handle = await op.waitForFunction((answered) => {
+    const handle = await op.waitForFunction(([task, answered]) => {
       const s = window.rigger.store;
-      const t = s.tasks.get('crane_insert');
+      const t = s.tasks.get(task);
       if (t && ['SUCCEEDED', 'FAILED', 'CANCELED', 'REJECTED'].includes(t.state)) return { end: t.state };
       const o = window.rigger.operator;
       if (!o || !o.prompt_id || answered.includes(o.prompt_id)) return false;
       const v = window.rigger.view3d;
       if (o.hole && (!v || v.highlighted !== o.hole)) return false;  // the 3D view has not caught up yet
       return { prompt: o.prompt_id, hole: o.hole, view: v ? { ...v } : null, text: document.querySelector('.prompt').innerText };
-    }, [...seen], { timeout: 240000, polling: 200 });
+    }, [TASK, [...seen]], { timeout: 240000, polling: 200 });
     const p = await handle.jsonValue();
     if (p.end) { check(p.end === 'SUCCEEDED', `task ended ${p.end}`); break; }
     seen.add(p.prompt);
@@ -125,7 +128,9 @@ try {
   }
   result.screws_answered = screws;
 
-  // The Tasks page: the task's state and every node's final state on screen.
+  // The Tasks page: the task's state and every node's final state on screen. (A background tab gets
+  // no animation frames, so the page in front is the one looked at.)
+  await prog.bringToFront();
   await prog.waitForFunction((t) => {
     const sec = document.querySelector(`section[data-task="${t}"]`);
     return sec && sec.querySelector('.toolbar .state')?.textContent.includes('SUCCEEDED');

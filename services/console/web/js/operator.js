@@ -80,9 +80,9 @@ export function operatorPage(main, me) {
     const buttons = (p.options || []).map((o) => el('button', {
       class: `big ${o === 'done' ? 'primary' : o === 'failed' || o === 'abort' ? 'danger' : 'secondary'}`,
       'data-answer': o, disabled: !canAnswer, onclick: () => answer(p, o) }, o.charAt(0).toUpperCase() + o.slice(1)));
-    panel.replaceChildren(el('h2', { id: 'prompt-title' }, p.title), el('p', {}, p.text), facts,
+    panel.replaceChildren(...[el('h2', { id: 'prompt-title' }, p.title), el('p', {}, p.text), facts,
       canAnswer ? null : el('p', { class: 'muted' }, `You are logged in as a ${me.role}: answering needs an operator.`),
-      el('div', { class: 'answers' }, ...buttons));
+      el('div', { class: 'answers' }, ...buttons)].filter(Boolean));
     badge.innerHTML = '';
     if (p.kind === 'screw' || d.hole) {
       badge.append(el('div', {}, `${step ? `Step ${step[1]} of ${step[2]} · ` : ''}hole ${d.hole_ref || d.hole}`),

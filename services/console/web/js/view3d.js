@@ -123,7 +123,7 @@ export class TargetView {
       }
     });
     const look = target || new THREE.Vector3(0, 0, 0);
-    const dist = target ? 0.55 : 1.2;
+    const dist = target ? 0.8 : 1.4;
     this.camera.position.copy(look).add(new THREE.Vector3(0.35 * dist, -0.8 * dist, 0.75 * dist));
     this.controls.target.copy(look);
     this.controls.update();
