@@ -4,8 +4,6 @@
 // ddsperf's ping/pong round trip).
 //
 //   build/bench/bench_console_sse [--trials 1000] [--rate 200]
-#include <httplib.h>
-
 #include <atomic>
 #include <cstdio>
 #include <fstream>
@@ -21,6 +19,9 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/testing/cell.hpp"
+
+// Last: its system headers define macros that break Eigen's (pulled in above).
+#include <httplib.h>
 
 int main(int argc, char** argv) {
   using namespace std::chrono_literals;
@@ -68,12 +69,12 @@ int main(int argc, char** argv) {
   });
   cell.wait_until([&] { return streaming.load(); }, 1s);  // the first keep-alive comes later: just a head start
   for (int i = 0; i < trials; ++i) {
-    const std::string id = "bench-" + std::to_string(i);
+    const std::string id = "bench-" + std::to_string(i), task = "bench", parent = "", type = "Skill";
     rigger_task_NodeStatus s{};
-    s.task_id = dds::wire_string("bench");
+    s.task_id = dds::wire_string(task);
     s.node_id = dds::wire_string(id);
-    s.parent_id = dds::wire_string("");
-    s.node_type = dds::wire_string("Skill");
+    s.parent_id = dds::wire_string(parent);
+    s.node_type = dds::wire_string(type);
     s.name = dds::wire_string(id);
     s.state = rigger_task_NODE_RUNNING;
     s.stamp = dds::wire_now();

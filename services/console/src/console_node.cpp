@@ -261,7 +261,7 @@ void ConsoleNode::plot_tick() {
     row["servo_rad"] = round4(servo_error_rad_);
   }
   last_tick_s_ = now;
-  plots_.append("plot", row.dump());
+  plots_.append("plot", row.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
 }
 
 // --- the HTTP side's requests, run on the loop ---

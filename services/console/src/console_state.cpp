@@ -5,19 +5,21 @@ namespace rigger::console {
 using nlohmann::json;
 
 namespace {
+// Strings from DDS are not checked for UTF-8: replace what is not, rather than throw in the loop.
+std::string line(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
 std::string text(const json& j, const char* key) { return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : ""; }
 }  // namespace
 
 void ConsoleState::update_task(const json& task) {
   std::lock_guard lock(mutex_);
   tasks_[text(task, "task_id")] = task;
-  log_.append("task", task.dump());
+  log_.append("task", line(task));
 }
 
 void ConsoleState::update_node(const json& node) {
   std::lock_guard lock(mutex_);
   nodes_[text(node, "task_id")][text(node, "node_id")] = node;
-  log_.append("node", node.dump());
+  log_.append("node", line(node));
 }
 
 void ConsoleState::update_prompt(const json& prompt) {
@@ -27,7 +29,7 @@ void ConsoleState::update_prompt(const json& prompt) {
     prompts_[id] = prompt;
   else
     prompts_.erase(id);
-  log_.append("prompt", prompt.dump());
+  log_.append("prompt", line(prompt));
 }
 
 void ConsoleState::update_executor(const json& executor) {
@@ -37,7 +39,7 @@ void ConsoleState::update_executor(const json& executor) {
     executors_[id] = executor;
   else
     executors_.erase(id);
-  log_.append("executor", executor.dump());
+  log_.append("executor", line(executor));
 }
 
 json ConsoleState::snapshot(const std::string& task_id) const {

@@ -19,9 +19,12 @@ namespace {
 constexpr std::size_t kMaxEventsPerWrite = 512;
 constexpr std::chrono::milliseconds kKeepAlive{15000};
 
+// Strings from DDS or from requests are not checked for UTF-8: replace what is not, never throw.
+std::string to_text(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
 void send_error(httplib::Response& res, int status, const std::string& error, const std::string& where) {
   res.status = status;
-  res.set_content(json{{"error", error}, {"where", where}}.dump(), "application/json");
+  res.set_content(to_text(json{{"error", error}, {"where", where}}), "application/json");
 }
 
 /// `body[key]` when it is a string, else "".
@@ -32,7 +35,7 @@ std::string text_field(const json& body, const char* key) {
 
 void send_json(httplib::Response& res, const json& body, int status = 200) {
   res.status = status;
-  res.set_content(body.dump(), "application/json");
+  res.set_content(to_text(body), "application/json");
 }
 
 std::string bearer(const httplib::Request& req) {
@@ -133,9 +136,8 @@ void HttpApi::audit(const User& user, const std::string& action, const std::stri
   if (config_.audit_log.empty()) return;
   std::lock_guard lock(audit_mutex_);
   std::ofstream out(config_.audit_log, std::ios::app);
-  out << json{{"time", utc_now()}, {"user", user.name}, {"role", role_name(user.role)}, {"action", action},
-              {"target", target}, {"result", result}}
-             .dump()
+  out << to_text(json{{"time", utc_now()}, {"user", user.name}, {"role", role_name(user.role)}, {"action", action},
+                      {"target", target}, {"result", result}})
       << "\n";
 }
 
@@ -388,7 +390,7 @@ void HttpApi::routes() {
     }
     const auto& options = prompt["options"];
     if (std::find(options.begin(), options.end(), answer) == options.end())
-      return send_error(res, 400, "\"" + answer + "\" is not one of the options " + options.dump(), req.path + "#/answer");
+      return send_error(res, 400, "\"" + answer + "\" is not one of the options " + to_text(options), req.path + "#/answer");
     const auto r = backend_.answer_prompt(prompt_id, answer, user->name, text_field(*b, "comment"));
     audit(*user, "answer " + answer, prompt_id, r.ok ? "sent" : "failed: " + r.message);
     if (!r.ok) return send_error(res, 503, r.message, req.path);

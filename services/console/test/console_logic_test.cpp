@@ -102,5 +102,14 @@ TEST(ConsoleState, SnapshotSeqIsItsLastEventAndInactivePromptsLeave) {
   EXPECT_EQ(state.snapshot("other")["nodes"].size(), 0U);
 }
 
+TEST(ConsoleState, AStringThatIsNotUtf8IsReplacedNotThrown) {
+  EventLog log(10, "1");
+  ConsoleState state(log);
+  EXPECT_NO_THROW(state.update_node({{"task_id", "t"}, {"node_id", "n"}, {"message", std::string("bad \xff byte")}}));
+  const auto batch = log.wait_after(0, 10, 0ms);
+  ASSERT_EQ(batch.events.size(), 1U);
+  EXPECT_NE(batch.events[0].data.find("bad \xef\xbf\xbd byte"), std::string::npos) << batch.events[0].data;
+}
+
 }  // namespace
 }  // namespace rigger::console

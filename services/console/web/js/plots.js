@@ -4,7 +4,7 @@ import uPlot from 'uplot';
 import { api, token, el, fmtTime } from './api.js';
 
 const CHARTS = [
-  { title: 'Force', series: [['f', '|F| (N)', '#0b5cad'], ['yank', 'yank (N/s)', '#a4161a']] },
+  { title: 'Force and yank', series: [['f', '|F| (N)', '#0b5cad'], ['yank', 'yank (N/s)', '#a4161a', 'yank']] },
   { title: 'Velocity', series: [['crane_v', 'crane speed (m/s)', '#7a4b00'], ['robot_v', 'robot tool speed (m/s)', '#146c2e']] },
   { title: 'Servo error', series: [['servo_m', 'servo error (m)', '#5b2a86']] },
 ];
@@ -32,8 +32,9 @@ export function plotsPage(main, _me, args) {
       box.append(div);
       return new uPlot({ title: c.title, width, height: 200, cursor: { sync: { key: sync.key } },
         scales: { x: { time: true } },
-        series: [{}, ...c.series.map(([, label, stroke]) => ({ label, stroke, width: 1.5, spanGaps: true }))],
-        axes: [{}, { size: 60 }] }, data(c), div);
+        series: [{}, ...c.series.map(([, label, stroke, scale]) => ({ label, stroke, width: 1.5, spanGaps: true, scale: scale || 'y' }))],
+        axes: [{}, { size: 60, scale: 'y' }, ...(c.series.some((x) => x[3]) ? [{ size: 60, scale: 'yank', side: 1, grid: { show: false } }] : [])] },
+      data(c), div);
     });
   }
   function data(c) {
