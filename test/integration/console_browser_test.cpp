@@ -64,6 +64,22 @@ TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusa
                         {"CONFIRM_TIMEOUT_S", std::to_string(kConfirmTimeoutS)},
                         {"NODE_PATH", repo_file("services/console/web/node_modules")}},
                        dir + "/browser.log", [&] { cell_.loop().post([&] { browser_done = true; }); });
+  // Mid-task (the insertion running, the browser watching), the console is restarted on the same port:
+  // the pages' event streams reconnect to a console of another run, get a reset and reload the state.
+  const auto node_running = [&](const std::string& name) {
+    const NodeView* n = scenario.node(name);
+    return n != nullptr && n->state == rigger_task_NODE_RUNNING;
+  };
+  ASSERT_TRUE(cell_.wait_until([&] { return browser_done || node_running("insert visually guided"); }, std::chrono::minutes(4)))
+      << "the insertion did not start\n" << browser.log();
+  bool restarted = false;
+  if (!browser_done) {
+    const auto stopped = cell_.stop("console", SIGINT, 10s);
+    ASSERT_TRUE(stopped && stopped->ok()) << "the console did not stop cleanly";
+    cell_.start("console-restarted", "console", {"--id", "console-restarted", "--config", dir + "/console.json"});
+    ASSERT_TRUE(cell_.wait_ready({"console-restarted"}, 20s));
+    restarted = true;
+  }
   const bool ended = cell_.wait_until([&] { return browser_done; }, std::chrono::minutes(7));
   const std::string browser_log = browser.log();
   ASSERT_TRUE(ended) << "the browser script did not end within 7 min\n" << browser_log;
@@ -85,6 +101,10 @@ TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusa
     EXPECT_EQ(page_tree.at(id).get<std::string>(), ScenarioCell::state_name(n.state)) << "node " << id;
   }
   EXPECT_EQ(result.at("screws_answered").get<int>(), 4);
+  if (restarted) {
+    EXPECT_GE(result.at("resets").at("programmer").get<int>(), 1) << "the Tasks page did not see the restart";
+    EXPECT_GE(result.at("resets").at("operator").get<int>(), 1) << "the operator station did not see the restart";
+  }
   EXPECT_EQ(result.at("replay_tree"), page_tree) << "the replay's last step differs from the live tree";
   EXPECT_TRUE(std::filesystem::exists(dir + "/operator-station-hole-1.png"));
   // Every action was journaled with who did it: the console's audit log names the users.

@@ -127,6 +127,7 @@ try {
     console.log(`answered ${p.prompt}`);
   }
   result.screws_answered = screws;
+  result.resets = { programmer: await prog.evaluate(() => window.rigger.store.resets), operator: await op.evaluate(() => window.rigger.store.resets) };
 
   // The Tasks page: the task's state and every node's final state on screen. (A background tab gets
   // no animation frames, so the page in front is the one looked at.)

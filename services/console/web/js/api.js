@@ -41,6 +41,7 @@ class Store {
     this.lastId = '';
     this.connected = false;
     this.transitions = 0;  // node events applied (tests read it)
+    this.resets = 0;  // reloads after the console restarted
   }
   on(fn) { this.listeners.add(fn); return () => this.listeners.delete(fn); }
   emit(type, data) { for (const fn of this.listeners) fn(type, data); }
@@ -86,6 +87,7 @@ class Store {
     }
     // The console restarted (or we fell too far behind): its state is the truth again.
     es.addEventListener('reset', async () => {
+      this.resets++;
       const again = await api('/api/state');
       this.load(again);
     });
