@@ -91,6 +91,7 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
       client_id_(ctx.options.id + "-" + std::to_string(::getpid())) {
   auto& config = ctx.config;
   HttpConfig http;
+  http.config_file = ctx.options.config_path;
   http.address = config.get<std::string>("address", http.address);
   http.port = config.get_in_range<int>("port", http.port, 0, 65535);
   http.web_dir = config.get<std::string>("web_dir", default_web_dir());

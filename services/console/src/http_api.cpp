@@ -96,7 +96,7 @@ void HttpApi::start() {
   if (tls()) {
     auto ssl = std::make_unique<httplib::SSLServer>(config_.tls_cert.c_str(), config_.tls_key.c_str());
     if (!ssl->is_valid())
-      throw ConfigError("", "/tls_cert", "cannot use the TLS certificate " + config_.tls_cert + " with key " + config_.tls_key);
+      throw ConfigError(config_.config_file, "/tls_cert", "cannot use the TLS certificate " + config_.tls_cert + " with key " + config_.tls_key);
     server_ = std::move(ssl);
   } else {
     server_ = std::make_unique<httplib::Server>();
@@ -110,14 +110,14 @@ void HttpApi::start() {
   server_->set_file_extension_and_mimetype_mapping("glb", "model/gltf-binary");
   routes();
   if (!server_->set_mount_point("/", config_.web_dir))
-    throw ConfigError("", "/web_dir", "no folder " + config_.web_dir + " to serve the pages from");
+    throw ConfigError(config_.config_file, "/web_dir", "no folder " + config_.web_dir + " to serve the pages from");
   if (config_.port == 0) {
     port_ = server_->bind_to_any_port(config_.address);
   } else {
     port_ = server_->bind_to_port(config_.address, config_.port) ? config_.port : -1;
   }
   if (port_ <= 0)
-    throw ConfigError("", "/port",
+    throw ConfigError(config_.config_file, "/port",
                       "cannot listen on " + config_.address + ":" + std::to_string(config_.port) + " (in use, or not an address of this host)");
   thread_ = std::thread([this] { server_->listen_after_bind(); });
   log_->info("listening address={} port={} tls={} web={}", config_.address, port_, tls(), config_.web_dir);

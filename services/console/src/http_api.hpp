@@ -68,6 +68,7 @@ struct HttpConfig {
   std::chrono::milliseconds confirm_timeout{5000};
   std::string audit_log;              ///< JSON lines of every action; empty: log only
   int threads = 32;                   ///< HTTP worker threads (every open SSE stream holds one)
+  std::string config_file;            ///< named in configuration errors
 };
 
 /// The HTTP server. start() binds and serves on its own thread; stop() ends it and every stream.
