@@ -33,7 +33,7 @@ export function replayPage(main, _me, args) {
     for (let i = 0; i < k; i++) states.set(steps[i].node_id, steps[i]);
     for (const [id, it] of page.tree.items) {
       const s = states.get(id);
-      page.tree.update({ ...it.data, state: s ? s.code : 'IDLE', message: s ? s.message : '', code: '', progress: -1,
+      page.tree.update({ ...it.data, state: s ? s.code : 'IDLE', message: s ? s.message : '', code: '', progress: -1, executor: s ? it.data.executor : '',
         started: 0, finished: 0 });
     }
     page.tree.flush();
