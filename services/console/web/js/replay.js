@@ -31,9 +31,10 @@ export function replayPage(main, _me, args) {
   function show(k) {
     const states = new Map();
     for (let i = 0; i < k; i++) states.set(steps[i].node_id, steps[i]);
-    for (const [id, it] of page.tree.items) {
+    for (const id of page.tree.items.keys()) {
       const s = states.get(id);
-      page.tree.update({ ...it.data, state: s ? s.code : 'IDLE', message: s ? s.message : '', code: '', progress: -1, executor: s ? it.data.executor : '',
+      const base = page.base.get(id) || { node_id: id };
+      page.tree.update({ ...base, state: s ? s.code : 'IDLE', message: s ? s.message : '', code: '', progress: -1, executor: s ? base.executor : '',
         started: 0, finished: 0 });
     }
     page.tree.flush();
@@ -55,6 +56,7 @@ export function replayPage(main, _me, args) {
       tree.setAll([...ids].map((id) => ({ ...(known.get(id) || { node_id: id, type: '', name: '' }),
         parent_id: known.get(id)?.parent_id ?? (id.includes('/') ? id.substring(0, id.lastIndexOf('/')) : ''), state: 'IDLE' })));
       page.task = taskId; page.tree = tree; page.length = steps.length;
+      page.base = new Map([...tree.items].map(([id, it]) => [id, it.data]));
       treeBox.replaceChildren(el('h2', {}, taskId), tree.root);
       slider.max = String(steps.length);
       slider.disabled = false; play.disabled = false;
