@@ -255,8 +255,8 @@ int run(const CommonOptions& common, JogOptions opt) {
   const bool have_reader = publisher.writer().wait_for_readers(
       1, from_seconds(input == Input::kScript ? opt.wait_s : std::min(opt.wait_s, 1.0)));
   if (!have_reader && input == Input::kScript) {
-    std::fprintf(stderr, "riggerctl jog: no reader of %s on domain %u after %.1f s (is admittance_control running?)\n",
-                 kJoystickTopic, common.domain, opt.wait_s);
+    std::fprintf(stderr, "riggerctl jog: no reader of %s on %s after %.1f s (is admittance_control running?)\n",
+                 kJoystickTopic, dds::describe_domain(common.domain).c_str(), opt.wait_s);
     signals.stop();
     return 1;
   }

@@ -222,8 +222,8 @@ int run_answers(const CommonOptions& common, const OperatorOptions& opt) {
       else if (board.withdrawn(prompt_id))
         std::fprintf(stderr, "riggerctl: prompt '%s' was withdrawn\n", prompt_id.c_str());
       else
-        std::fprintf(stderr, "riggerctl: no pending prompt '%s' on domain %u after %.1f s\n", prompt_id.c_str(),
-                     common.domain, timeout_s);
+        std::fprintf(stderr, "riggerctl: no pending prompt '%s' on %s after %.1f s\n", prompt_id.c_str(),
+                     dds::describe_domain(common.domain).c_str(), timeout_s);
       exit_code = 1;
       continue;
     }

@@ -82,8 +82,8 @@ int run(const CommonOptions& common, const SimRequest& request) {
       dds::wait_for_status(
           events.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return events.matched_writers() > 0; }, timeout);
   if (!matched) {
-    std::fprintf(stderr, "riggerctl: no simulated cell on domain %u (waited %.1f s); sim works with cell_sim only\n",
-                 common.domain, request.timeout_s);
+    std::fprintf(stderr, "riggerctl: no simulated cell on %s (waited %.1f s); sim works with cell_sim only\n",
+                 dds::describe_domain(common.domain).c_str(), request.timeout_s);
     return kExitNoSimulator;
   }
   const std::string source = "riggerctl-" + std::to_string(::getpid());

@@ -207,7 +207,8 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
         from_seconds(opt.match_timeout_s));
   };
   if (!recipes.wait_for_readers(1, from_seconds(opt.match_timeout_s)) || !matched(statuses) || !matched(nodes)) {
-    std::fprintf(stderr, "riggerctl: no task controller on domain %u (waited %.1f s)\n", common.domain,
+    std::fprintf(stderr, "riggerctl: no task controller on %s (waited %.1f s)\n",
+                 dds::describe_domain(common.domain).c_str(),
                  opt.match_timeout_s);
     return kExitNoController;
   }
@@ -363,7 +364,8 @@ JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std
 int journal_failure(const JournalAnswer& answer, const CommonOptions& common, double timeout_s,
                     const std::string& refusal) {
   if (!answer.answered) {
-    std::fprintf(stderr, "riggerctl: no task controller on domain %u answered within %.1f s\n", common.domain,
+    std::fprintf(stderr, "riggerctl: no task controller on %s answered within %.1f s\n",
+                 dds::describe_domain(common.domain).c_str(),
                  timeout_s);
     return kExitNoController;
   }
@@ -473,7 +475,7 @@ int show_skills(const CommonOptions& common, double timeout_s) {
   dds::EventLoop loop(participant);
   if (!dds::wait_for_status(ann.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return ann.matched_writers() > 0; },
                        from_seconds(timeout_s))) {
-    std::fprintf(stderr, "riggerctl: no executor on domain %u\n", common.domain);
+    std::fprintf(stderr, "riggerctl: no executor on %s\n", dds::describe_domain(common.domain).c_str());
     return kExitFailed;
   }
   // The announcements are transient-local but arrive after the match; each executor has one writer, so
@@ -502,7 +504,7 @@ int cancel_task(const CommonOptions& common, const std::string& task_id, const s
   JournalTopics topics(participant);
   dds::EventLoop loop(participant);
   if (!commands.wait_for_readers(1, from_seconds(timeout_s))) {
-    std::fprintf(stderr, "riggerctl: no task controller on domain %u\n", common.domain);
+    std::fprintf(stderr, "riggerctl: no task controller on %s\n", dds::describe_domain(common.domain).c_str());
     return kExitNoController;
   }
   // The journal knows whether the task exists and whether it already ended (its last line is the
