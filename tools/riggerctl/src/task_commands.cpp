@@ -17,14 +17,16 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "run_display.hpp"
 #include "recipe/recipe_validator.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/protocol/skill.hpp"
+#include "rigger/protocol/task.hpp"
 #include "rigger/skill/skill_library.hpp"
+#include "run_display.hpp"
 #include "task_controller_node.hpp"
 
 namespace rigger::ctl {
@@ -35,7 +37,6 @@ using Clock = std::chrono::steady_clock;
 
 constexpr int kExitFailed = 1;
 constexpr int kExitNoController = 3;
-
 
 const char* task_state_name(int s) {
   switch (s) {
@@ -195,9 +196,9 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
 
   dds::Participant participant(common.domain);
   dds::EventLoop loop(participant);
-  dds::Writer<rigger_task_Recipe> recipes(participant, tc::kRecipeTopic, dds::qos::commands());
-  dds::Reader<rigger_task_TaskStatus> statuses(participant, tc::kTaskStatusTopic, dds::qos::state());
-  dds::Reader<rigger_task_NodeStatus> nodes(participant, tc::kNodeStatusTopic, dds::qos::state_changes());
+  dds::Writer<rigger_task_Recipe> recipes(participant, protocol::task::kRecipe);
+  dds::Reader<rigger_task_TaskStatus> statuses(participant, protocol::task::kStatus);
+  dds::Reader<rigger_task_NodeStatus> nodes(participant, protocol::task::kNodeStatus, dds::qos::state_changes());
 
   // Also wait for the controller's status writers: a state change published before they matched
   // would reach us only as the latest state (state QoS keeps one sample per node), not as a line.
@@ -208,8 +209,7 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
   };
   if (!recipes.wait_for_readers(1, from_seconds(opt.match_timeout_s)) || !matched(statuses) || !matched(nodes)) {
     std::fprintf(stderr, "riggerctl: no task controller on %s (waited %.1f s)\n",
-                 dds::describe_domain(common.domain).c_str(),
-                 opt.match_timeout_s);
+                 dds::describe_domain(common.domain).c_str(), opt.match_timeout_s);
     return kExitNoController;
   }
   const std::int64_t sent_ns = to_unix_ns(std::chrono::system_clock::now());
@@ -317,8 +317,8 @@ struct JournalAnswer {
 /// The journal's query writer and reply reader; declare it before the EventLoop that asks through it.
 struct JournalTopics {
   explicit JournalTopics(dds::Participant& participant)
-      : queries(participant, tc::kJournalQueryTopic, dds::qos::commands()),
-        replies(participant, tc::kJournalReplyTopic, dds::qos::events()) {}
+      : queries(participant, protocol::task::kJournalQuery.name, dds::qos::commands()),
+        replies(participant, protocol::task::kJournalReply.name, dds::qos::events()) {}
   dds::Writer<rigger_task_JournalQuery> queries;
   dds::Reader<rigger_task_JournalReply> replies;
 };
@@ -365,8 +365,7 @@ int journal_failure(const JournalAnswer& answer, const CommonOptions& common, do
                     const std::string& refusal) {
   if (!answer.answered) {
     std::fprintf(stderr, "riggerctl: no task controller on %s answered within %.1f s\n",
-                 dds::describe_domain(common.domain).c_str(),
-                 timeout_s);
+                 dds::describe_domain(common.domain).c_str(), timeout_s);
     return kExitNoController;
   }
   if (answer.ok) return 0;
@@ -398,7 +397,7 @@ int journal_query(const CommonOptions& common, const std::string& task_id, doubl
 
 int show_tree(const CommonOptions& common, const std::string& task_id, double timeout_s) {
   dds::Participant participant(common.domain);
-  dds::Reader<rigger_task_NodeStatus> nodes(participant, tc::kNodeStatusTopic, dds::qos::state());
+  dds::Reader<rigger_task_NodeStatus> nodes(participant, protocol::task::kNodeStatus);
   JournalTopics topics(participant);
   dds::EventLoop loop(participant);
   // Node status is transient-local, but it arrives some time after the reader matched (Cyclone's
@@ -471,7 +470,7 @@ std::string describe_executor(const rigger_skill_ExecutorAnnouncement& a) {
 
 int show_skills(const CommonOptions& common, double timeout_s) {
   dds::Participant participant(common.domain);
-  dds::Reader<rigger_skill_ExecutorAnnouncement> ann(participant, executor::kAnnouncementTopic, dds::qos::state());
+  dds::Reader<rigger_skill_ExecutorAnnouncement> ann(participant, protocol::skill::kExecutors, dds::qos::state());
   dds::EventLoop loop(participant);
   if (!dds::wait_for_status(ann.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return ann.matched_writers() > 0; },
                        from_seconds(timeout_s))) {
@@ -499,8 +498,8 @@ int show_skills(const CommonOptions& common, double timeout_s) {
 
 int cancel_task(const CommonOptions& common, const std::string& task_id, const std::string& reason, double timeout_s) {
   dds::Participant participant(common.domain);
-  dds::Writer<rigger_task_TaskCommand> commands(participant, tc::kTaskCommandTopic, dds::qos::commands());
-  dds::Reader<rigger_task_TaskStatus> statuses(participant, tc::kTaskStatusTopic, dds::qos::state());
+  dds::Writer<rigger_task_TaskCommand> commands(participant, protocol::task::kCommand);
+  dds::Reader<rigger_task_TaskStatus> statuses(participant, protocol::task::kStatus);
   JournalTopics topics(participant);
   dds::EventLoop loop(participant);
   if (!commands.wait_for_readers(1, from_seconds(timeout_s))) {

@@ -1,0 +1,40 @@
+#pragma once
+/// @file
+/// The topics of skill executors (idl/skill.idl), each declared once.
+
+#include <rigger/idl/types.hpp>
+
+#include "rigger/protocol/topic.hpp"
+
+namespace rigger::protocol::skill {
+
+/// task_controller → skill_executor, monitor_host.
+inline constexpr Topic<rigger_skill_SkillCommand> kCommand{"rigger/skill/command",
+                                                           QosProfile::kCommands,
+                                                           "executor_id",
+                                                           "task_controller",
+                                                           "skill_executor, monitor_host",
+                                                           "(START with params JSON / SHUTDOWN with reason, seq)",
+                                                           ""};
+
+/// skill_executor, monitor_host → task_controller.
+inline constexpr Topic<rigger_skill_SkillEvent> kEvent{
+    "rigger/skill/event",
+    QosProfile::kEvents,
+    "executor_id",
+    "skill_executor, monitor_host",
+    "task_controller",
+    "(SUCCESS, FAILURE, STOPPED, PROGRESS; code, message, seq, command_seq)",
+    ""};
+
+/// skill_executor, monitor_host → task_controller, riggerctl.
+inline constexpr Topic<rigger_skill_ExecutorAnnouncement> kExecutors{
+    "rigger/skill/executors",
+    QosProfile::kAnnouncements,
+    "executor_id",
+    "skill_executor, monitor_host",
+    "task_controller, riggerctl",
+    "(skills offered with their descriptions as a skill-library JSON document)",
+    "readers use state(): they request no liveliness lease and see every announcer"};
+
+}  // namespace rigger::protocol::skill
