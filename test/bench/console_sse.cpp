@@ -18,6 +18,7 @@
 #include "bench_util.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/task.hpp"
 #include "rigger/testing/cell.hpp"
 
 // Last: its system headers define macros that break Eigen's (pulled in above).
@@ -41,7 +42,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "the console did not become ready\n%s", cell.logs().c_str());
     return 1;
   }
-  dds::Writer<rigger_task_NodeStatus> nodes(cell.participant(), "rigger/task/node_status", dds::qos::state_changes());
+  dds::Writer<rigger_task_NodeStatus> nodes(cell.participant(), protocol::task::kNodeStatus, dds::qos::state_changes());
   if (!nodes.wait_for_readers(1, 10s)) {
     std::fprintf(stderr, "the console's node-status reader did not match\n");
     return 1;

@@ -22,6 +22,10 @@
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/qos.hpp"
 #include "rigger/idl/types.hpp"
+#include "rigger/protocol/crane.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/sim.hpp"
+#include "rigger/protocol/task.hpp"
 #include "rigger/testing/cell.hpp"
 
 namespace rigger::testing::scenario {
@@ -54,13 +58,13 @@ class ScenarioCell {
       : cell_(cell),
         scripted_operator_(scripted_operator),
         sim_(cell),
-        recipes_(cell.participant(), "rigger/task/recipe", dds::qos::commands()),
-        status_(cell.participant(), "rigger/task/status", dds::qos::state()),
-        nodes_(cell.participant(), "rigger/task/node_status", dds::qos::state_changes()),
-        truth_(cell.participant(), "rigger/sim/ground_truth", dds::qos::sensor_stream()),
-        robot_(cell.participant(), "rigger/robot/state", dds::qos::sensor_stream()),
-        gripper_(cell.participant(), "rigger/gripper/state", dds::qos::state()),
-        crane_(cell.participant(), "rigger/crane/state", dds::qos::state()) {
+        recipes_(cell.participant(), protocol::task::kRecipe.name, dds::qos::commands()),
+        status_(cell.participant(), protocol::task::kStatus.name, dds::qos::state()),
+        nodes_(cell.participant(), protocol::task::kNodeStatus.name, dds::qos::state_changes()),
+        truth_(cell.participant(), protocol::sim::kGroundTruth),
+        robot_(cell.participant(), protocol::robot::kState),
+        gripper_(cell.participant(), protocol::robot::kGripperState),
+        crane_(cell.participant(), protocol::crane::kState) {
     cell.loop().on_data(crane_, [this] {
       crane_.take([this](const rigger_crane_CraneState& c, const dds_sample_info_t&) {
         crane_ready_ = c.link_ok && c.ready && !c.fault;

@@ -23,19 +23,16 @@
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/idl/types.hpp"
+#include "rigger/protocol/admittance.hpp"
+#include "rigger/protocol/cad.hpp"
+#include "rigger/protocol/crane.hpp"
+#include "rigger/protocol/operator.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/skill.hpp"
+#include "rigger/protocol/task.hpp"
 #include "rigger/world_client/world_client.hpp"
 
 namespace rigger::console {
-
-inline constexpr const char* kRecipeTopic = "rigger/task/recipe";
-inline constexpr const char* kTaskCommandTopic = "rigger/task/command";
-inline constexpr const char* kTaskStatusTopic = "rigger/task/status";
-inline constexpr const char* kNodeStatusTopic = "rigger/task/node_status";
-inline constexpr const char* kJournalQueryTopic = "rigger/task/journal_query";
-inline constexpr const char* kJournalReplyTopic = "rigger/task/journal_reply";
-inline constexpr const char* kExecutorTopic = "rigger/skill/executors";
-inline constexpr const char* kCadRequestTopic = "rigger/cad/request";
-inline constexpr const char* kCadReplyTopic = "rigger/cad/reply";
 
 class ConsoleNode : public dds::Node, public Backend {
  public:
