@@ -11,6 +11,7 @@
 #include "bench_util.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/system.hpp"
 #include "rigger/testing/cell.hpp"
 
 namespace {
@@ -50,8 +51,9 @@ int main(int argc, char** argv) {
 
   auto& participant = cell.participant();
   auto& loop = cell.loop();
-  rigger::dds::Writer<rigger_system_EchoSample> requests(participant, "rigger/echo/request", echo_qos());
-  rigger::dds::Reader<rigger_system_EchoSample> replies(participant, "rigger/echo/reply", echo_qos());
+  rigger::dds::Writer<rigger_system_EchoSample> requests(participant, rigger::protocol::system::kEchoRequest,
+                                                         echo_qos());
+  rigger::dds::Reader<rigger_system_EchoSample> replies(participant, rigger::protocol::system::kEchoReply, echo_qos());
   if (!requests.wait_for_readers(1, 5s)) {
     std::fprintf(stderr, "echo's request reader did not match\n");
     return 1;

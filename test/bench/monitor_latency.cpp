@@ -12,11 +12,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../integration/skill_command_support.hpp"
 #include "bench_util.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/skill.hpp"
 #include "rigger/testing/cell.hpp"
-#include "../integration/skill_command_support.hpp"
 
 namespace {
 
@@ -46,9 +48,9 @@ int main(int argc, char** argv) {
   namespace dds = rigger::dds;
   auto& p = cell.participant();
   auto& loop = cell.loop();
-  dds::Writer<rigger_skill_SkillCommand> commands(p, "rigger/skill/command", dds::qos::commands());
-  dds::Reader<rigger_skill_SkillEvent> events(p, "rigger/skill/event", dds::qos::events());
-  dds::Writer<rigger_sensing_WrenchStamped> wrench(p, "rigger/robot/wrench", dds::qos::sensor_stream());
+  dds::Writer<rigger_skill_SkillCommand> commands(p, rigger::protocol::skill::kCommand);
+  dds::Reader<rigger_skill_SkillEvent> events(p, rigger::protocol::skill::kEvent);
+  dds::Writer<rigger_sensing_WrenchStamped> wrench(p, rigger::protocol::robot::kWrench);
   if (!commands.wait_for_readers(1, 10s) || !wrench.wait_for_readers(1, 10s)) {
     std::fprintf(stderr, "monitor_host not matched\n");
     return 1;

@@ -11,6 +11,9 @@
 #include <gtest/gtest.h>
 
 #include "cell_sim_test_support.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/sim.hpp"
+#include "rigger/protocol/vision.hpp"
 #include "rigger/safety/safe_stop.hpp"
 
 namespace rigger::testing {
@@ -31,8 +34,7 @@ class CellSimProcessTest : public MultiProcessTest {
  protected:
   void SetUp() override {
     sim_ = std::make_unique<SimChannel>(cell_);
-    robot_ = std::make_unique<dds::Reader<rigger_robot_RobotState>>(cell_.participant(), "rigger/robot/state",
-                                                                    dds::qos::sensor_stream());
+    robot_ = std::make_unique<dds::Reader<rigger_robot_RobotState>>(cell_.participant(), protocol::robot::kState);
     cell_.loop().on_data(*robot_, [this] {
       robot_->take([this](const rigger_robot_RobotState& s, const dds_sample_info_t&) {
         RobotView v;
@@ -45,8 +47,8 @@ class CellSimProcessTest : public MultiProcessTest {
         robot_states_.push_back(v);
       });
     });
-    twist_ = std::make_unique<dds::Writer<rigger_sensing_TwistCommand>>(cell_.participant(), "rigger/robot/cmd_twist",
-                                                                        dds::qos::setpoints());
+    twist_ =
+        std::make_unique<dds::Writer<rigger_sensing_TwistCommand>>(cell_.participant(), protocol::robot::kCmdTwist);
     cell_.loop().every(10ms, [this] {
       if (twist_velocity_) send_twist(*twist_velocity_, std::chrono::system_clock::now());
     });
@@ -172,7 +174,7 @@ TEST_F(CellSimProcessTest, WrenchStreamsAtLeast500Hz) {
   // stream, not how fast this test takes it.
   dds::Qos deep;
   deep.best_effort().keep_last(4000).volatile_durability();
-  dds::Reader<rigger_sensing_WrenchStamped> wrench(cell_.participant(), "rigger/robot/wrench", deep);
+  dds::Reader<rigger_sensing_WrenchStamped> wrench(cell_.participant(), protocol::robot::kWrench, deep);
   std::vector<WallTime> stamps;
   std::string frame;
   cell_.loop().on_data(wrench, [&] {
@@ -212,10 +214,9 @@ TEST_F(CellSimProcessTest, WrenchStreamsAtLeast500Hz) {
 
 TEST_F(CellSimProcessTest, CameraPublishesImagesInfoAndGroundTruth) {
   start();
-  dds::Reader<rigger_vision_Image> image(cell_.participant(), "rigger/camera/image", dds::qos::sensor_stream());
-  dds::Reader<rigger_vision_CameraInfo> info(cell_.participant(), "rigger/camera/info", dds::qos::state());
-  dds::Reader<rigger_vision_TrackedPose> truth(cell_.participant(), "rigger/sim/ground_truth",
-                                               dds::qos::sensor_stream());
+  dds::Reader<rigger_vision_Image> image(cell_.participant(), protocol::vision::kCameraImage);
+  dds::Reader<rigger_vision_CameraInfo> info(cell_.participant(), protocol::vision::kCameraInfo);
+  dds::Reader<rigger_vision_TrackedPose> truth(cell_.participant(), protocol::sim::kGroundTruth);
   int images = 0;
   std::uint32_t width = 0, height = 0, step = 0, bytes = 0;
   std::string encoding;
@@ -267,10 +268,10 @@ TEST_F(CellSimProcessTest, CameraPublishesImagesInfoAndGroundTruth) {
 
 TEST_F(CellSimProcessTest, MotionAndGripperCommandsAreReported) {
   start();
-  dds::Writer<rigger_robot_MotionCommand> motion(cell_.participant(), "rigger/robot/cmd_motion", dds::qos::commands());
-  dds::Reader<rigger_robot_MotionStatus> status(cell_.participant(), "rigger/robot/motion_status", dds::qos::events());
-  dds::Writer<rigger_robot_GripperCommand> gripper(cell_.participant(), "rigger/gripper/cmd", dds::qos::commands());
-  dds::Reader<rigger_robot_GripperState> gripper_state(cell_.participant(), "rigger/gripper/state", dds::qos::state());
+  dds::Writer<rigger_robot_MotionCommand> motion(cell_.participant(), protocol::robot::kCmdMotion);
+  dds::Reader<rigger_robot_MotionStatus> status(cell_.participant(), protocol::robot::kMotionStatus);
+  dds::Writer<rigger_robot_GripperCommand> gripper(cell_.participant(), protocol::robot::kGripperCmd);
+  dds::Reader<rigger_robot_GripperState> gripper_state(cell_.participant(), protocol::robot::kGripperState);
   std::map<std::string, std::vector<std::pair<rigger_robot_MotionState, std::string>>> motions;
   cell_.loop().on_data(status, [&] {
     status.take([&](const rigger_robot_MotionStatus& s, const dds_sample_info_t&) {

@@ -20,6 +20,7 @@
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/sim.hpp"
 #include "rigger/testing/cell.hpp"
 
 namespace rigger::testing {
@@ -71,9 +72,9 @@ struct SimStatusView {
 class SimChannel {
  public:
   explicit SimChannel(Cell& cell)
-      : status_(cell.participant(), "rigger/sim/status", dds::qos::sensor_stream()),
-        events_(cell.participant(), "rigger/sim/event", dds::qos::events()),
-        control_(cell.participant(), "rigger/sim/control", dds::qos::commands()),
+      : status_(cell.participant(), protocol::sim::kStatus.name, dds::qos::sensor_stream()),
+        events_(cell.participant(), protocol::sim::kEvent.name, dds::qos::events()),
+        control_(cell.participant(), protocol::sim::kControl),
         cell_(cell) {
     cell.loop().on_data(status_, [this] {
       status_.take([this](const rigger_sim_SimStatus& s, const dds_sample_info_t&) {

@@ -24,6 +24,11 @@
 #include "cell_sim_test_support.hpp"
 #include "control_config.hpp"
 #include "rigger/dds/service_state.hpp"
+#include "rigger/protocol/admittance.hpp"
+#include "rigger/protocol/crane.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/sim.hpp"
+#include "rigger/protocol/vision.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -74,31 +79,22 @@ class ClosedLoopTest : public MultiProcessTest {
   void SetUp() override {
     sim_ = std::make_unique<SimChannel>(cell_);
     auto& p = cell_.participant();
-    truth_reader_ = std::make_unique<dds::Reader<rigger_vision_TrackedPose>>(p, "rigger/sim/ground_truth",
-                                                                             dds::qos::sensor_stream());
-    tracker_reader_ =
-        std::make_unique<dds::Reader<rigger_vision_TrackedPose>>(p, "rigger/tracker/pose", dds::qos::sensor_stream());
-    robot_reader_ =
-        std::make_unique<dds::Reader<rigger_robot_RobotState>>(p, "rigger/robot/state", dds::qos::sensor_stream());
-    wrench_reader_ = std::make_unique<dds::Reader<rigger_sensing_WrenchStamped>>(p, "rigger/robot/wrench",
-                                                                                 dds::qos::sensor_stream());
-    motion_status_reader_ =
-        std::make_unique<dds::Reader<rigger_robot_MotionStatus>>(p, "rigger/robot/motion_status", dds::qos::events());
-    gripper_reader_ =
-        std::make_unique<dds::Reader<rigger_robot_GripperState>>(p, "rigger/gripper/state", dds::qos::state());
-    crane_reader_ = std::make_unique<dds::Reader<rigger_crane_CraneState>>(p, "rigger/crane/state", dds::qos::state());
-    admittance_reader_ = std::make_unique<dds::Reader<rigger_admittance_AdmittanceState>>(p, "rigger/admittance/state",
-                                                                                          dds::qos::state());
-    motion_writer_ =
-        std::make_unique<dds::Writer<rigger_robot_MotionCommand>>(p, "rigger/robot/cmd_motion", dds::qos::commands());
-    gripper_writer_ =
-        std::make_unique<dds::Writer<rigger_robot_GripperCommand>>(p, "rigger/gripper/cmd", dds::qos::commands());
-    crane_control_writer_ =
-        std::make_unique<dds::Writer<rigger_crane_CraneControl>>(p, "rigger/crane/control", dds::qos::commands());
+    truth_reader_ = std::make_unique<dds::Reader<rigger_vision_TrackedPose>>(p, protocol::sim::kGroundTruth);
+    tracker_reader_ = std::make_unique<dds::Reader<rigger_vision_TrackedPose>>(p, protocol::vision::kTrackerPose);
+    robot_reader_ = std::make_unique<dds::Reader<rigger_robot_RobotState>>(p, protocol::robot::kState);
+    wrench_reader_ = std::make_unique<dds::Reader<rigger_sensing_WrenchStamped>>(p, protocol::robot::kWrench);
+    motion_status_reader_ = std::make_unique<dds::Reader<rigger_robot_MotionStatus>>(p, protocol::robot::kMotionStatus);
+    gripper_reader_ = std::make_unique<dds::Reader<rigger_robot_GripperState>>(p, protocol::robot::kGripperState);
+    crane_reader_ = std::make_unique<dds::Reader<rigger_crane_CraneState>>(p, protocol::crane::kState);
+    admittance_reader_ =
+        std::make_unique<dds::Reader<rigger_admittance_AdmittanceState>>(p, protocol::admittance::kState);
+    motion_writer_ = std::make_unique<dds::Writer<rigger_robot_MotionCommand>>(p, protocol::robot::kCmdMotion);
+    gripper_writer_ = std::make_unique<dds::Writer<rigger_robot_GripperCommand>>(p, protocol::robot::kGripperCmd);
+    crane_control_writer_ = std::make_unique<dds::Writer<rigger_crane_CraneControl>>(p, protocol::crane::kControl);
     tracker_command_writer_ =
-        std::make_unique<dds::Writer<rigger_vision_TrackerCommand>>(p, "rigger/tracker/command", dds::qos::commands());
-    admittance_writer_ = std::make_unique<dds::Writer<rigger_admittance_AdmittanceCommand>>(
-        p, "rigger/admittance/command", dds::qos::commands());
+        std::make_unique<dds::Writer<rigger_vision_TrackerCommand>>(p, protocol::vision::kTrackerCommand);
+    admittance_writer_ =
+        std::make_unique<dds::Writer<rigger_admittance_AdmittanceCommand>>(p, protocol::admittance::kCommand);
     // The test is the skill here: it announces itself, and its commands name it as their source.
     commander_ = std::make_unique<dds::ServiceAnnouncer>(p, kCommanderId, "integration_test");
     commander_->announce(dds::ServiceStatus::kReady);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "controller_test_support.hpp"
+#include "rigger/protocol/robot.hpp"
 
 namespace rigger::testing::controller {
 namespace {
@@ -14,8 +15,8 @@ class ControllerMonitorTest : public ControllerTest {
  protected:
   void SetUp() override {
     ControllerTest::SetUp();
-    wrench_ = std::make_unique<dds::Writer<rigger_sensing_WrenchStamped>>(cell_.participant(), "rigger/robot/wrench",
-                                                                          dds::qos::sensor_stream());
+    wrench_ =
+        std::make_unique<dds::Writer<rigger_sensing_WrenchStamped>>(cell_.participant(), protocol::robot::kWrench);
     start_controller();
     // The skill runs until shut down and takes 0.2 s to stop (a robot braking).
     start_scripted("exec", {"Localize"}, json::object(), {{"Localize", {{"mode", "run"}, {"stop_delay_s", 0.2}}}});

@@ -25,6 +25,9 @@
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
 #include "rigger/operator_ui/prompt.hpp"
+#include "rigger/protocol/operator.hpp"
+#include "rigger/protocol/skill.hpp"
+#include "rigger/protocol/task.hpp"
 #include "rigger/testing/cell.hpp"
 #include "task_controller_node.hpp"
 
@@ -84,22 +87,18 @@ class ControllerTest : public MultiProcessTest {
  protected:
   void SetUp() override {
     auto& p = cell_.participant();
-    recipes_ = std::make_unique<dds::Writer<rigger_task_Recipe>>(p, tc::kRecipeTopic, dds::qos::commands());
-    task_commands_ =
-        std::make_unique<dds::Writer<rigger_task_TaskCommand>>(p, tc::kTaskCommandTopic, dds::qos::commands());
-    responses_ = std::make_unique<dds::Writer<rigger_operator_ui_OperatorResponse>>(p, tc::kOperatorResponseTopic,
-                                                                                    dds::qos::state());
-    journal_queries_ =
-        std::make_unique<dds::Writer<rigger_task_JournalQuery>>(p, tc::kJournalQueryTopic, dds::qos::commands());
-    statuses_ = std::make_unique<dds::Reader<rigger_task_TaskStatus>>(p, tc::kTaskStatusTopic, dds::qos::state());
-    nodes_ = std::make_unique<dds::Reader<rigger_task_NodeStatus>>(p, tc::kNodeStatusTopic, dds::qos::state_changes());
-    commands_ =
-        std::make_unique<dds::Reader<rigger_skill_SkillCommand>>(p, executor::kCommandTopic, dds::qos::commands());
-    events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(p, executor::kEventTopic, dds::qos::events());
-    prompts_ = std::make_unique<dds::Reader<rigger_operator_ui_OperatorPrompt>>(p, tc::kOperatorPromptTopic,
-                                                                                dds::qos::state());
-    journal_replies_ =
-        std::make_unique<dds::Reader<rigger_task_JournalReply>>(p, tc::kJournalReplyTopic, dds::qos::events());
+    recipes_ = std::make_unique<dds::Writer<rigger_task_Recipe>>(p, protocol::task::kRecipe);
+    task_commands_ = std::make_unique<dds::Writer<rigger_task_TaskCommand>>(p, protocol::task::kCommand);
+    responses_ =
+        std::make_unique<dds::Writer<rigger_operator_ui_OperatorResponse>>(p, protocol::operator_ui::kResponse);
+    journal_queries_ = std::make_unique<dds::Writer<rigger_task_JournalQuery>>(p, protocol::task::kJournalQuery);
+    statuses_ = std::make_unique<dds::Reader<rigger_task_TaskStatus>>(p, protocol::task::kStatus);
+    nodes_ = std::make_unique<dds::Reader<rigger_task_NodeStatus>>(p, protocol::task::kNodeStatus,
+                                                                   dds::qos::state_changes());
+    commands_ = std::make_unique<dds::Reader<rigger_skill_SkillCommand>>(p, protocol::skill::kCommand);
+    events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(p, protocol::skill::kEvent);
+    prompts_ = std::make_unique<dds::Reader<rigger_operator_ui_OperatorPrompt>>(p, protocol::operator_ui::kPrompt);
+    journal_replies_ = std::make_unique<dds::Reader<rigger_task_JournalReply>>(p, protocol::task::kJournalReply);
     auto& loop = cell_.loop();
     loop.on_data(*statuses_, [this] {
       statuses_->take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {

@@ -13,6 +13,7 @@
 #include "cell_sim_test_support.hpp"
 #include "rigger/safety/safe_stop.hpp"
 #include "rigger/crane_protocol/register_map.hpp"
+#include "rigger/protocol/crane.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -37,8 +38,7 @@ class CraneGatewayTest : public MultiProcessTest {
   void SetUp() override {
     port_ = free_tcp_port();
     sim_ = std::make_unique<SimChannel>(cell_);
-    state_ = std::make_unique<dds::Reader<rigger_crane_CraneState>>(cell_.participant(), "rigger/crane/state",
-                                                                    dds::qos::state());
+    state_ = std::make_unique<dds::Reader<rigger_crane_CraneState>>(cell_.participant(), protocol::crane::kState);
     cell_.loop().on_data(*state_, [this] {
       state_->take([this](const rigger_crane_CraneState& s, const dds_sample_info_t&) {
         CraneView v;
@@ -54,10 +54,9 @@ class CraneGatewayTest : public MultiProcessTest {
         crane_.push_back(v);
       });
     });
-    commands_ = std::make_unique<dds::Writer<rigger_crane_CraneVelocityCommand>>(
-        cell_.participant(), "rigger/crane/cmd_velocity", dds::qos::setpoints());
-    control_ = std::make_unique<dds::Writer<rigger_crane_CraneControl>>(cell_.participant(), "rigger/crane/control",
-                                                                        dds::qos::commands());
+    commands_ = std::make_unique<dds::Writer<rigger_crane_CraneVelocityCommand>>(cell_.participant(),
+                                                                                 protocol::crane::kCmdVelocity);
+    control_ = std::make_unique<dds::Writer<rigger_crane_CraneControl>>(cell_.participant(), protocol::crane::kControl);
     // The velocity stream, as the admittance controller sends it: 50 Hz, fresh stamps, growing seq.
     cell_.loop().every(20ms, [this] {
       if (velocity_) send_velocity(*velocity_, 0.1);

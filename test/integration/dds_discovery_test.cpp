@@ -10,6 +10,7 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/system.hpp"
 #include "rigger/testing/cell.hpp"
 
 namespace rigger::testing {
@@ -21,8 +22,7 @@ using Clock = std::chrono::steady_clock;
 class DdsDiscoveryTest : public MultiProcessTest {
  protected:
   void SetUp() override {
-    views_ = std::make_unique<dds::Reader<rigger_system_PeerView>>(cell_.participant(), "rigger/system/peer_view",
-                                                                  dds::qos::state());
+    views_ = std::make_unique<dds::Reader<rigger_system_PeerView>>(cell_.participant(), protocol::system::kPeerView);
     cell_.loop().on_data(*views_, [this] {
       views_->take([this](const rigger_system_PeerView& v, const dds_sample_info_t&) {
         auto peers = dds::to_string_vector(v.alive_peers);

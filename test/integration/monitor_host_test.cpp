@@ -8,6 +8,8 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/skill.hpp"
 #include "rigger/testing/cell.hpp"
 #include "skill_command_support.hpp"
 
@@ -27,12 +29,11 @@ struct Event {
 class MonitorHostTest : public MultiProcessTest {
  protected:
   void SetUp() override {
-    commands_ = std::make_unique<dds::Writer<rigger_skill_SkillCommand>>(cell_.participant(), "rigger/skill/command",
-                                                                        dds::qos::commands());
-    events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(cell_.participant(), "rigger/skill/event",
-                                                                    dds::qos::events());
-    wrench_ = std::make_unique<dds::Writer<rigger_sensing_WrenchStamped>>(cell_.participant(), "rigger/robot/wrench",
-                                                                         dds::qos::sensor_stream());
+    commands_ =
+        std::make_unique<dds::Writer<rigger_skill_SkillCommand>>(cell_.participant(), protocol::skill::kCommand);
+    events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(cell_.participant(), protocol::skill::kEvent);
+    wrench_ =
+        std::make_unique<dds::Writer<rigger_sensing_WrenchStamped>>(cell_.participant(), protocol::robot::kWrench);
     cell_.loop().on_data(*events_, [this] {
       events_->take([this](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
         events_by_node_[dds::to_string(e.node_id)].push_back(

@@ -10,6 +10,8 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/operator.hpp"
+#include "rigger/protocol/task.hpp"
 #include "rigger/testing/cell.hpp"
 #include "task_controller_node.hpp"
 
@@ -30,10 +32,10 @@ class OperatorTaskTest : public MultiProcessTest {
 
 TEST_F(OperatorTaskTest, ShippedScriptedOperatorAnswersTheControllersDecision) {
   auto& p = cell_.participant();
-  dds::Writer<rigger_task_Recipe> recipes(p, tc::kRecipeTopic, dds::qos::commands());
-  dds::Reader<rigger_task_TaskStatus> statuses(p, tc::kTaskStatusTopic, dds::qos::state());
-  dds::Reader<rigger_operator_ui_OperatorPrompt> prompts(p, tc::kOperatorPromptTopic, dds::qos::state());
-  dds::Reader<rigger_operator_ui_OperatorResponse> responses(p, tc::kOperatorResponseTopic, dds::qos::state());
+  dds::Writer<rigger_task_Recipe> recipes(p, protocol::task::kRecipe);
+  dds::Reader<rigger_task_TaskStatus> statuses(p, protocol::task::kStatus);
+  dds::Reader<rigger_operator_ui_OperatorPrompt> prompts(p, protocol::operator_ui::kPrompt);
+  dds::Reader<rigger_operator_ui_OperatorResponse> responses(p, protocol::operator_ui::kResponse);
   int final_state = -1;
   std::string final_code;
   std::vector<std::string> prompt_kinds;

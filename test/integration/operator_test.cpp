@@ -22,16 +22,13 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/operator.hpp"
 #include "rigger/testing/cell.hpp"
 
 namespace rigger::testing {
 namespace {
 
 using namespace std::chrono_literals;
-
-constexpr const char* kPromptTopic = "rigger/operator/prompt";
-constexpr const char* kResponseTopic = "rigger/operator/response";
-constexpr const char* kJoystickTopic = "rigger/operator/joystick";
 
 struct SeenResponse {
   std::string answer;
@@ -51,10 +48,10 @@ class OperatorTest : public MultiProcessTest {
  protected:
   void SetUp() override {
     auto& p = cell_.participant();
-    prompts_ = std::make_unique<dds::Writer<rigger_operator_ui_OperatorPrompt>>(p, kPromptTopic, dds::qos::state());
+    prompts_ = std::make_unique<dds::Writer<rigger_operator_ui_OperatorPrompt>>(p, protocol::operator_ui::kPrompt);
     responses_ =
-        std::make_unique<dds::Reader<rigger_operator_ui_OperatorResponse>>(p, kResponseTopic, dds::qos::state());
-    twists_ = std::make_unique<dds::Reader<rigger_sensing_TwistCommand>>(p, kJoystickTopic, dds::qos::setpoints());
+        std::make_unique<dds::Reader<rigger_operator_ui_OperatorResponse>>(p, protocol::operator_ui::kResponse);
+    twists_ = std::make_unique<dds::Reader<rigger_sensing_TwistCommand>>(p, protocol::operator_ui::kJoystick);
     cell_.loop().on_data(*responses_, [this] {
       responses_->take([this](const rigger_operator_ui_OperatorResponse& r, const dds_sample_info_t&) {
         responses_seen_[dds::to_string(r.prompt_id)].push_back(

@@ -16,3 +16,12 @@ if(_scenario_ready)
     LABEL integration TIMEOUT 420 RUN_SERIAL)
   add_dependencies(rigger_scenario_test ${_scenario_services})
 endif()
+# docs/getting-started.md step 2 as written, without CYCLONEDDS_URI (issue 12): rigger-compose up, then
+# riggerctl services/skills/run by hand.
+if(_scenario_ready AND TARGET riggerctl AND TARGET rigger-compose)
+  rigger_add_test(rigger_getting_started_test
+    SOURCES getting_started_test.cpp
+    DEPS rigger_test_harness
+    LABEL integration TIMEOUT 420 RUN_SERIAL)
+  add_dependencies(rigger_getting_started_test ${_scenario_services} riggerctl rigger-compose)
+endif()

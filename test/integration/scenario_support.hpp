@@ -22,6 +22,10 @@
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/qos.hpp"
 #include "rigger/idl/types.hpp"
+#include "rigger/protocol/crane.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/sim.hpp"
+#include "rigger/protocol/task.hpp"
 #include "rigger/testing/cell.hpp"
 
 namespace rigger::testing::scenario {
@@ -48,17 +52,19 @@ inline double seconds_of(const rigger_geometry_Time& t) { return t.sec + 1e-9 * 
 class ScenarioCell {
  public:
   /// `operator_rules`: extra --rule arguments for the scripted operator (first match wins, before its
-  /// configured rules).
-  explicit ScenarioCell(Cell& cell, std::vector<std::string> operator_rules = {})
+  /// configured rules). `scripted_operator` false: no scripted operator runs (a person, or a browser
+  /// test, answers the prompts).
+  explicit ScenarioCell(Cell& cell, std::vector<std::string> operator_rules = {}, bool scripted_operator = true)
       : cell_(cell),
+        scripted_operator_(scripted_operator),
         sim_(cell),
-        recipes_(cell.participant(), "rigger/task/recipe", dds::qos::commands()),
-        status_(cell.participant(), "rigger/task/status", dds::qos::state()),
-        nodes_(cell.participant(), "rigger/task/node_status", dds::qos::state_changes()),
-        truth_(cell.participant(), "rigger/sim/ground_truth", dds::qos::sensor_stream()),
-        robot_(cell.participant(), "rigger/robot/state", dds::qos::sensor_stream()),
-        gripper_(cell.participant(), "rigger/gripper/state", dds::qos::state()),
-        crane_(cell.participant(), "rigger/crane/state", dds::qos::state()) {
+        recipes_(cell.participant(), protocol::task::kRecipe.name, dds::qos::commands()),
+        status_(cell.participant(), protocol::task::kStatus.name, dds::qos::state()),
+        nodes_(cell.participant(), protocol::task::kNodeStatus.name, dds::qos::state_changes()),
+        truth_(cell.participant(), protocol::sim::kGroundTruth),
+        robot_(cell.participant(), protocol::robot::kState),
+        gripper_(cell.participant(), protocol::robot::kGripperState),
+        crane_(cell.participant(), protocol::crane::kState) {
     cell.loop().on_data(crane_, [this] {
       crane_.take([this](const rigger_crane_CraneState& c, const dds_sample_info_t&) {
         crane_ready_ = c.link_ok && c.ready && !c.fault;
@@ -118,6 +124,12 @@ class ScenarioCell {
   }
 
   SimChannel& sim() { return sim_; }
+
+  /// Follows task `task_id` submitted by someone else (submit() follows its own).
+  void watch(const std::string& task_id) {
+    task_id_ = task_id;
+    submitted_ = Clock::now();
+  }
 
   /// Submits `recipe_file` (repository-relative); returns false when no controller reads recipes.
   bool submit(const std::string& recipe_file) {
@@ -312,11 +324,14 @@ class ScenarioCell {
       args.push_back("--rule");
       args.push_back(std::move(r));
     }
-    cell_.start("scripted_operator", "scripted_operator", args);
-    ready_ = cell_.wait_ready({"cell_sim", "crane_gateway", "world_model", "vision_tracker", "admittance_control",
-                               "monitors", "robot-skills", "perception-skills", "operator-skills",
-                               "task_controller", "scripted_operator"},
-                              60s);
+    std::vector<std::string> ready = {"cell_sim",        "crane_gateway",     "world_model",     "vision_tracker",
+                                      "admittance_control", "monitors",       "robot-skills",    "perception-skills",
+                                      "operator-skills",  "task_controller"};
+    if (scripted_operator_) {
+      cell_.start("scripted_operator", "scripted_operator", args);
+      ready.push_back("scripted_operator");
+    }
+    ready_ = cell_.wait_ready(ready, 60s);
     // READY means every process is up; the cell is ready once the gateway also holds its Modbus link to
     // the PLC (started together, the gateway may try before the emulator listens and back off).
     ready_ = ready_ && cell_.wait_until([&] { return crane_ready_; }, 30s);
@@ -327,6 +342,7 @@ class ScenarioCell {
 
  private:
   Cell& cell_;
+  bool scripted_operator_ = true;
   SimChannel sim_;
   dds::Writer<rigger_task_Recipe> recipes_;
   dds::Reader<rigger_task_TaskStatus> status_;

@@ -8,6 +8,8 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/skill.hpp"
 #include "rigger/testing/cell.hpp"
 #include "skill_command_support.hpp"
 
@@ -33,11 +35,11 @@ class SkillExecutorMoveToTest : public MultiProcessTest {
  protected:
   void SetUp() override {
     auto& p = cell_.participant();
-    commands_ = std::make_unique<dds::Writer<rigger_skill_SkillCommand>>(p, "rigger/skill/command", dds::qos::commands());
-    events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(p, "rigger/skill/event", dds::qos::events());
-    motions_ = std::make_unique<dds::Reader<rigger_robot_MotionCommand>>(p, "rigger/robot/cmd_motion", dds::qos::commands());
-    status_ = std::make_unique<dds::Writer<rigger_robot_MotionStatus>>(p, "rigger/robot/motion_status", dds::qos::events());
-    state_ = std::make_unique<dds::Writer<rigger_robot_RobotState>>(p, "rigger/robot/state", dds::qos::sensor_stream());
+    commands_ = std::make_unique<dds::Writer<rigger_skill_SkillCommand>>(p, protocol::skill::kCommand);
+    events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(p, protocol::skill::kEvent);
+    motions_ = std::make_unique<dds::Reader<rigger_robot_MotionCommand>>(p, protocol::robot::kCmdMotion);
+    status_ = std::make_unique<dds::Writer<rigger_robot_MotionStatus>>(p, protocol::robot::kMotionStatus);
+    state_ = std::make_unique<dds::Writer<rigger_robot_RobotState>>(p, protocol::robot::kState);
     cell_.loop().on_data(*events_, [this] {
       events_->take([this](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
         events_seen_.push_back({e.kind, dds::to_string(e.code), dds::to_string(e.message)});

@@ -8,6 +8,9 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/operator_ui/prompt.hpp"
+#include "rigger/protocol/operator.hpp"
+#include "rigger/protocol/skill.hpp"
+#include "rigger/protocol/vision.hpp"
 #include "rigger/testing/cell.hpp"
 #include "rigger/world_client/world_client.hpp"
 #include "skill_command_support.hpp"
@@ -36,17 +39,14 @@ class SkillsCellTest : public MultiProcessTest {
  protected:
   void SetUp() override {
     auto& p = cell_.participant();
-    commands_ =
-        std::make_unique<dds::Writer<rigger_skill_SkillCommand>>(p, "rigger/skill/command", dds::qos::commands());
-    events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(p, "rigger/skill/event", dds::qos::events());
+    commands_ = std::make_unique<dds::Writer<rigger_skill_SkillCommand>>(p, protocol::skill::kCommand);
+    events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(p, protocol::skill::kEvent);
     tracker_commands_ =
-        std::make_unique<dds::Reader<rigger_vision_TrackerCommand>>(p, "rigger/tracker/command", dds::qos::commands());
-    poses_ =
-        std::make_unique<dds::Writer<rigger_vision_TrackedPose>>(p, "rigger/tracker/pose", dds::qos::sensor_stream());
-    prompts_ = std::make_unique<dds::Reader<rigger_operator_ui_OperatorPrompt>>(p, "rigger/operator/prompt",
-                                                                                dds::qos::state());
-    responses_ = std::make_unique<dds::Writer<rigger_operator_ui_OperatorResponse>>(p, "rigger/operator/response",
-                                                                                    dds::qos::state());
+        std::make_unique<dds::Reader<rigger_vision_TrackerCommand>>(p, protocol::vision::kTrackerCommand);
+    poses_ = std::make_unique<dds::Writer<rigger_vision_TrackedPose>>(p, protocol::vision::kTrackerPose);
+    prompts_ = std::make_unique<dds::Reader<rigger_operator_ui_OperatorPrompt>>(p, protocol::operator_ui::kPrompt);
+    responses_ =
+        std::make_unique<dds::Writer<rigger_operator_ui_OperatorResponse>>(p, protocol::operator_ui::kResponse);
     cell_.loop().on_data(*events_, [this] {
       events_->take([this](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
         events_seen_.push_back({dds::to_string(e.executor_id), dds::to_string(e.node_id), e.kind,

@@ -16,6 +16,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cell_sim_test_support.hpp"
+#include "rigger/protocol/crane.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/sim.hpp"
+#include "rigger/protocol/skill.hpp"
 #include "rigger/world_client/world_client.hpp"
 #include "skill_command_support.hpp"
 
@@ -46,13 +50,11 @@ class SkillsRobotTest : public MultiProcessTest {
   void SetUp() override {
     auto& p = cell_.participant();
     sim_ = std::make_unique<SimChannel>(cell_);
-    commands_ =
-        std::make_unique<dds::Writer<rigger_skill_SkillCommand>>(p, "rigger/skill/command", dds::qos::commands());
-    events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(p, "rigger/skill/event", dds::qos::events());
-    robot_ = std::make_unique<dds::Reader<rigger_robot_RobotState>>(p, "rigger/robot/state", dds::qos::sensor_stream());
-    gripper_ = std::make_unique<dds::Reader<rigger_robot_GripperState>>(p, "rigger/gripper/state", dds::qos::state());
-    truth_ = std::make_unique<dds::Reader<rigger_vision_TrackedPose>>(p, "rigger/sim/ground_truth",
-                                                                      dds::qos::sensor_stream());
+    commands_ = std::make_unique<dds::Writer<rigger_skill_SkillCommand>>(p, protocol::skill::kCommand);
+    events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(p, protocol::skill::kEvent);
+    robot_ = std::make_unique<dds::Reader<rigger_robot_RobotState>>(p, protocol::robot::kState);
+    gripper_ = std::make_unique<dds::Reader<rigger_robot_GripperState>>(p, protocol::robot::kGripperState);
+    truth_ = std::make_unique<dds::Reader<rigger_vision_TrackedPose>>(p, protocol::sim::kGroundTruth);
     cell_.loop().on_data(*events_, [this] {
       events_->take([this](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
         events_seen_.push_back({e.kind, dds::to_string(e.node_id), dds::to_string(e.code), dds::to_string(e.message),
@@ -265,7 +267,7 @@ class SkillsRobotCraneTest : public SkillsRobotTest {
 };
 
 TEST_F(SkillsRobotCraneTest, AttachChecksTheCraneAndReleaseRefusesWhileTheCraneReportsAFault) {
-  dds::Reader<rigger_crane_CraneState> crane(cell_.participant(), "rigger/crane/state", dds::qos::state());
+  dds::Reader<rigger_crane_CraneState> crane(cell_.participant(), protocol::crane::kState);
   std::optional<bool> link_ok;
   cell_.loop().on_data(crane, [&] {
     crane.take([&](const rigger_crane_CraneState& c, const dds_sample_info_t&) { link_ok = c.link_ok; });

@@ -14,6 +14,8 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/protocol/skill.hpp"
+#include "rigger/protocol/task.hpp"
 #include "rigger/testing/cell.hpp"
 #include "task_controller_node.hpp"
 
@@ -67,14 +69,14 @@ class TaskControllerTest : public MultiProcessTest {
  protected:
   void SetUp() override {
     auto& p = cell_.participant();
-    recipes_ = std::make_unique<dds::Writer<rigger_task_Recipe>>(p, tc::kRecipeTopic, dds::qos::commands());
+    recipes_ = std::make_unique<dds::Writer<rigger_task_Recipe>>(p, protocol::task::kRecipe);
     // A writer that waits long enough for a 100 MB sample to go out (commands() gives up after 100 ms).
     patient_recipes_ = std::make_unique<dds::Writer<rigger_task_Recipe>>(
-        p, tc::kRecipeTopic, dds::qos::commands().reliable(std::chrono::seconds(60)));
-    statuses_ = std::make_unique<dds::Reader<rigger_task_TaskStatus>>(p, tc::kTaskStatusTopic, dds::qos::state());
-    nodes_ = std::make_unique<dds::Reader<rigger_task_NodeStatus>>(p, tc::kNodeStatusTopic, dds::qos::state_changes());
-    commands_ = std::make_unique<dds::Reader<rigger_skill_SkillCommand>>(p, executor::kCommandTopic,
-                                                                        dds::qos::commands());
+        p, protocol::task::kRecipe, dds::qos::commands().reliable(std::chrono::seconds(60)));
+    statuses_ = std::make_unique<dds::Reader<rigger_task_TaskStatus>>(p, protocol::task::kStatus);
+    nodes_ = std::make_unique<dds::Reader<rigger_task_NodeStatus>>(p, protocol::task::kNodeStatus,
+                                                                   dds::qos::state_changes());
+    commands_ = std::make_unique<dds::Reader<rigger_skill_SkillCommand>>(p, protocol::skill::kCommand);
     cell_.loop().on_data(*statuses_, [this] {
       statuses_->take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
         SeenStatus seen{static_cast<int>(s.state), dds::to_string(s.code), dds::to_string(s.message),

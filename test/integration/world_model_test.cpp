@@ -11,6 +11,8 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/vision.hpp"
+#include "rigger/protocol/world.hpp"
 #include "rigger/testing/cell.hpp"
 #include "rigger/world_client/world_client.hpp"
 
@@ -120,9 +122,8 @@ TEST_F(WorldModelTest, RejectedUpdatesSayWhyAndChangeNothing) {
   EXPECT_FALSE(unknown.message.empty());
 
   // A non-unit quaternion cannot come out of an Isometry3d: send the raw sample.
-  dds::Writer<rigger_world_EntityUpdate> raw(cell_.participant(), world_client::kUpdateTopic, dds::qos::commands());
-  dds::Reader<rigger_world_UpdateResult> results(cell_.participant(), world_client::kUpdateResultTopic,
-                                                 dds::qos::events());
+  dds::Writer<rigger_world_EntityUpdate> raw(cell_.participant(), protocol::world::kUpdate);
+  dds::Reader<rigger_world_UpdateResult> results(cell_.participant(), protocol::world::kUpdateResult);
   ASSERT_TRUE(raw.wait_for_readers(1, 5s));
   ASSERT_TRUE(cell_.wait_until([&] { return results.matched_writers() > 0; }, 5s));
   std::map<std::uint64_t, std::string> codes;
@@ -162,7 +163,7 @@ TEST_F(WorldModelTest, RejectedUpdatesSayWhyAndChangeNothing) {
 
 TEST_F(WorldModelTest, LateJoinerSeesEveryEntityAtOnceAndTheChangeStreamSaysWhoChangedWhat) {
   start_world("wm-a");
-  dds::Reader<rigger_world_EntityChange> changes(cell_.participant(), world_client::kChangeTopic, dds::qos::events());
+  dds::Reader<rigger_world_EntityChange> changes(cell_.participant(), protocol::world::kChange);
   ASSERT_TRUE(cell_.wait_until([&] { return changes.matched_writers() > 0; }, 5s));
   ASSERT_TRUE(update_load(load_pose(), std::chrono::system_clock::now()).ok);
   std::vector<std::string> change_lines;
@@ -179,7 +180,7 @@ TEST_F(WorldModelTest, LateJoinerSeesEveryEntityAtOnceAndTheChangeStreamSaysWhoC
   // Joins after all of that: must get the whole world from the durable history.
   const Reply list = call([&](WorldClient::Callback cb) { client_->list(3s, cb); });
   ASSERT_TRUE(list.ok);
-  dds::Reader<rigger_world_EntityState> late(cell_.participant(), world_client::kEntityTopic, dds::qos::state());
+  dds::Reader<rigger_world_EntityState> late(cell_.participant(), protocol::world::kEntity);
   std::map<std::string, rigger_world_EntityState> seen;
   std::map<std::string, std::string> parents;
   cell_.loop().on_data(late, [&] {
@@ -201,7 +202,7 @@ TEST_F(WorldModelTest, LateJoinerSeesEveryEntityAtOnceAndTheChangeStreamSaysWhoC
 
 TEST_F(WorldModelTest, TrackerPosesLocalizeAndALostObjectIsNoLongerLocalized) {
   start_world("wm-a");
-  dds::Writer<rigger_vision_TrackedPose> tracker(cell_.participant(), "rigger/tracker/pose", dds::qos::sensor_stream());
+  dds::Writer<rigger_vision_TrackedPose> tracker(cell_.participant(), protocol::vision::kTrackerPose);
   ASSERT_TRUE(tracker.wait_for_readers(1, 5s));
   const std::string object = "load", frame = "world";
   rigger_vision_TrackedPose p{};

@@ -82,6 +82,24 @@ Qos announcements(std::chrono::milliseconds lease) {
   q.manual_liveliness(lease);
   return q;
 }
+Qos of(protocol::QosProfile profile) {
+  switch (profile) {
+    case protocol::QosProfile::kCommands:
+      return commands();
+    case protocol::QosProfile::kEvents:
+      return events();
+    case protocol::QosProfile::kState:
+      return state();
+    case protocol::QosProfile::kAnnouncements:
+      return announcements();
+    case protocol::QosProfile::kSensorStream:
+      return sensor_stream();
+    case protocol::QosProfile::kSetpoints:
+      return setpoints();
+  }
+  return commands();
+}
+
 }  // namespace qos
 
 }  // namespace rigger::dds

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/system.hpp"
 
 namespace rigger::dds {
 namespace {
@@ -50,7 +51,7 @@ ServiceAnnouncer::ServiceAnnouncer(const Participant& participant, std::string s
     : service_id_(std::move(service_id)),
       kind_(std::move(kind)),
       host_(host_name()),
-      writer_(participant, kServiceStateTopic, qos::announcements(lease)) {}
+      writer_(participant, protocol::system::kServiceState.name, qos::announcements(lease)) {}
 
 ServiceAnnouncer::~ServiceAnnouncer() {
   rigger_system_ServiceState key{};
@@ -78,7 +79,7 @@ dds_return_t ServiceAnnouncer::announce(ServiceStatus status, const std::string&
 }
 
 ServiceDirectory::ServiceDirectory(const Participant& participant)
-    : reader_(participant, kServiceStateTopic, qos::state()) {}
+    : reader_(participant, protocol::system::kServiceState.name, qos::state()) {}
 
 bool ServiceDirectory::update() {
   bool changed = false;

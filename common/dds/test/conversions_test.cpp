@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <type_traits>
+#include <utility>
+
 namespace rigger::dds {
 namespace {
 
@@ -66,6 +69,30 @@ TEST(Conversions, StringsAndSequences) {
   rigger_sensing_JointState js{};
   wire_sequence(js.position, values);
   EXPECT_EQ(to_vector<double>(js.position), values);
+}
+
+}  // namespace
+}  // namespace rigger::dds
+
+namespace rigger::dds {
+namespace {
+
+template <typename Arg, typename = void>
+struct CanBorrow : std::false_type {};
+template <typename Arg>
+struct CanBorrow<Arg, std::void_t<decltype(wire_string(std::declval<Arg>()))>> : std::true_type {};
+
+// wire_string() returns a pointer into its argument: a temporary would dangle before the write.
+static_assert(CanBorrow<const std::string&>::value, "a named string can be borrowed");
+static_assert(CanBorrow<const char (&)[1]>::value, "a literal lives forever");
+static_assert(!CanBorrow<std::string>::value, "a temporary std::string must not be borrowed");
+static_assert(!CanBorrow<const char*>::value, "a pointer would be copied into a temporary std::string");
+
+TEST(Conversions, WireStringBorrowsLiteralAndNamedString) {
+  const std::string named = "abc";
+  EXPECT_EQ(wire_string(named), named.c_str());
+  const char* empty = wire_string("");
+  EXPECT_STREQ(empty, "");
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/service_state.hpp"
+#include "rigger/protocol/skill.hpp"
 #include "rigger/skill/skill_description.hpp"
 
 namespace rigger::executor {
@@ -50,9 +51,9 @@ ExecutorEndpoint::ExecutorEndpoint(const dds::Participant& participant, dds::Eve
       handlers_(std::move(handlers)),
       options_(options),
       host_(host_name()),
-      announcements_(participant, kAnnouncementTopic, dds::qos::announcements()),
-      events_(participant, kEventTopic, dds::qos::events()),
-      commands_(participant, kCommandTopic, dds::qos::commands()) {
+      announcements_(participant, protocol::skill::kExecutors),
+      events_(participant, protocol::skill::kEvent),
+      commands_(participant, protocol::skill::kCommand) {
   if (!library_.is_object() || !library_.contains("skills") || !library_["skills"].is_array())
     throw std::invalid_argument("executor " + executor_id_ + ": the skill library needs a \"skills\" array");
   for (const auto& s : library_["skills"]) {

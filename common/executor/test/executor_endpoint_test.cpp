@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/skill.hpp"
 #include "rigger/testing/domain.hpp"
 
 namespace rigger::executor {
@@ -66,8 +67,8 @@ class ExecutorEndpointTest : public ::testing::Test {
   testing::DomainLease domain_;
   dds::Participant participant_{domain_.id()};
   dds::EventLoop loop_{participant_};
-  dds::Writer<rigger_skill_SkillCommand> commands_{participant_, kCommandTopic, dds::qos::commands()};
-  dds::Reader<rigger_skill_SkillEvent> events_{participant_, kEventTopic, dds::qos::events()};
+  dds::Writer<rigger_skill_SkillCommand> commands_{participant_, protocol::skill::kCommand};
+  dds::Reader<rigger_skill_SkillEvent> events_{participant_, protocol::skill::kEvent};
   nlohmann::json library_;
   std::unique_ptr<ExecutorEndpoint> endpoint_;
   std::vector<StartRequest> starts_;
@@ -138,7 +139,7 @@ TEST_F(ExecutorEndpointTest, ShutdownOfAnUnknownLeafIsAcknowledgedAtOnce) {
 }
 
 TEST_F(ExecutorEndpointTest, AnnouncesItsLibrary) {
-  dds::Reader<rigger_skill_ExecutorAnnouncement> reader(participant_, kAnnouncementTopic, dds::qos::state());
+  dds::Reader<rigger_skill_ExecutorAnnouncement> reader(participant_, protocol::skill::kExecutors, dds::qos::state());
   std::string library;
   std::vector<std::string> skills;
   loop_.on_data(reader, [&] {

@@ -16,7 +16,7 @@ SafeStopListener::SafeStopListener(const dds::Participant& participant, dds::Eve
                                    std::vector<std::string> resources, Handler on_change)
     : resources_(std::move(resources)),
       on_change_(std::move(on_change)),
-      reader_(participant, kSafeStopTopic, dds::qos::state_changes()) {
+      reader_(participant, protocol::safety::kStop, dds::qos::state_changes()) {
   loop.on_data(reader_, [this] { on_data(); });
 }
 
@@ -48,7 +48,7 @@ std::string SafeStopListener::describe() const {
 }
 
 SafeStopWriter::SafeStopWriter(const dds::Participant& participant)
-    : writer_(participant, kSafeStopTopic, dds::qos::state()) {}
+    : writer_(participant, protocol::safety::kStop) {}
 
 dds_return_t SafeStopWriter::command(const std::string& resource, bool active, const std::string& source,
                                      const std::string& reason) const {

@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/world.hpp"
 
 namespace rigger::world_client {
 
@@ -10,10 +11,10 @@ WorldClient::WorldClient(const dds::Participant& participant, dds::EventLoop& lo
     : loop_(loop),
       log_(std::move(log)),
       client_id_(std::move(client_id)),
-      queries_(participant, kQueryTopic, dds::qos::commands()),
-      replies_(participant, kReplyTopic, dds::qos::events()),
-      updates_(participant, kUpdateTopic, dds::qos::commands()),
-      update_results_(participant, kUpdateResultTopic, dds::qos::events()) {
+      queries_(participant, protocol::world::kQuery),
+      replies_(participant, protocol::world::kReply),
+      updates_(participant, protocol::world::kUpdate),
+      update_results_(participant, protocol::world::kUpdateResult) {
   loop_.on_data(replies_, [this] { on_replies(); });
   loop_.on_data(update_results_, [this] { on_update_results(); });
 }

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/world.hpp"
 #include "rigger/testing/domain.hpp"
 
 namespace rigger::world_client {
@@ -73,10 +74,10 @@ class WorldClientTest : public ::testing::Test {
   testing::DomainLease domain_;
   dds::Participant participant_{domain_.id()};
   dds::EventLoop loop_{participant_};
-  dds::Reader<rigger_world_WorldQuery> queries_{participant_, kQueryTopic, dds::qos::commands()};
-  dds::Writer<rigger_world_WorldReply> replies_{participant_, kReplyTopic, dds::qos::events()};
-  dds::Reader<rigger_world_EntityUpdate> updates_{participant_, kUpdateTopic, dds::qos::commands()};
-  dds::Writer<rigger_world_UpdateResult> update_results_{participant_, kUpdateResultTopic, dds::qos::events()};
+  dds::Reader<rigger_world_WorldQuery> queries_{participant_, protocol::world::kQuery};
+  dds::Writer<rigger_world_WorldReply> replies_{participant_, protocol::world::kReply};
+  dds::Reader<rigger_world_EntityUpdate> updates_{participant_, protocol::world::kUpdate};
+  dds::Writer<rigger_world_UpdateResult> update_results_{participant_, protocol::world::kUpdateResult};
   std::unique_ptr<WorldClient> client_;
   std::vector<SeenQuery> seen_queries_;
   std::vector<SeenUpdate> seen_updates_;

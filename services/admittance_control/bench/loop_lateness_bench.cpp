@@ -24,6 +24,8 @@
 
 #include "admittance_node.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/admittance.hpp"
+#include "rigger/protocol/robot.hpp"
 #include "rigger/testing/domain.hpp"
 
 namespace rigger::control {
@@ -55,8 +57,8 @@ timespec to_timespec(std::chrono::nanoseconds t) {
 // A wrench every 1 ms and a robot state every 10 ms until `stop` (absolute-deadline sleeps).
 void feed(std::uint32_t domain, const std::atomic<bool>& stop) {
   dds::Participant participant(domain);
-  dds::Writer<rigger_sensing_WrenchStamped> wrench(participant, kWrenchTopic, dds::qos::sensor_stream());
-  dds::Writer<rigger_robot_RobotState> state(participant, kRobotStateTopic, dds::qos::sensor_stream());
+  dds::Writer<rigger_sensing_WrenchStamped> wrench(participant, protocol::robot::kWrench);
+  dds::Writer<rigger_robot_RobotState> state(participant, protocol::robot::kState);
   timespec next{};
   clock_gettime(CLOCK_MONOTONIC, &next);
   for (std::uint64_t k = 0; !stop.load(); ++k) {
@@ -93,7 +95,7 @@ class NodeLoop {
         announcer_(participant_, options_.id, "admittance_control"),
         context_{options_, null_logger(), participant_, loop_, announcer_, Config::parse("{}", "bench")},
         node_(context_),
-        commands_(participant_, kCommandTopic, dds::qos::commands()) {
+        commands_(participant_, protocol::admittance::kCommand) {
     loop_.every(kPeriod, [this] {
       const auto now = Clock::now();
       // The first wake-up of a slice is the one due while the bare loop had the thread: not counted.

@@ -29,6 +29,9 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/plc/kinematic_crane_axes.hpp"
 #include "rigger/plc/plc_emulator.hpp"
+#include "rigger/protocol/admittance.hpp"
+#include "rigger/protocol/crane.hpp"
+#include "rigger/protocol/robot.hpp"
 #include "rigger/testing/domain.hpp"
 #include "rigger/testing/process.hpp"
 
@@ -93,10 +96,10 @@ int run(int trials) {
   NodeThread node(lease.id(), source_dir + "/deploy/config/admittance_control.json");
 
   dds::Participant participant(lease.id());
-  dds::Writer<rigger_sensing_WrenchStamped> wrench(participant, kWrenchTopic, dds::qos::sensor_stream());
-  dds::Writer<rigger_robot_RobotState> robot_state(participant, kRobotStateTopic, dds::qos::sensor_stream());
-  dds::Writer<rigger_admittance_AdmittanceCommand> commands(participant, kCommandTopic, dds::qos::commands());
-  dds::Writer<rigger_crane_CraneControl> crane_control(participant, "rigger/crane/control", dds::qos::commands());
+  dds::Writer<rigger_sensing_WrenchStamped> wrench(participant, protocol::robot::kWrench);
+  dds::Writer<rigger_robot_RobotState> robot_state(participant, protocol::robot::kState);
+  dds::Writer<rigger_admittance_AdmittanceCommand> commands(participant, protocol::admittance::kCommand);
+  dds::Writer<rigger_crane_CraneControl> crane_control(participant, protocol::crane::kControl);
 
   // The wrench stream: 1 kHz, force x from `force_x`; the stamp of the first sample of a step is kept.
   std::atomic<double> force_x{0.0};

@@ -7,6 +7,11 @@
 
 #include "rigger/cell_config/cell_file.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/admittance.hpp"
+#include "rigger/protocol/crane.hpp"
+#include "rigger/protocol/operator.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/vision.hpp"
 
 namespace rigger::control {
 
@@ -101,16 +106,16 @@ AdmittanceNode::AdmittanceNode(dds::ServiceContext& ctx)
       pose_rope_attachment_(read_rope_attachment(ctx.config, config_.crane.rope_offset_gain_per_s, rope_object_)),
       robot_(config_.robot),
       crane_(config_.crane),
-      wrenches_(ctx.participant, kWrenchTopic, dds::qos::sensor_stream()),
-      robot_states_(ctx.participant, kRobotStateTopic, dds::qos::sensor_stream()),
-      commands_(ctx.participant, kCommandTopic, dds::qos::commands()),
-      joystick_(ctx.participant, kJoystickTopic, dds::qos::setpoints()),
-      tracker_poses_(ctx.participant, kTrackerPoseTopic, dds::qos::sensor_stream()),
-      crane_states_(ctx.participant, kCraneStateTopic, dds::qos::state()),
+      wrenches_(ctx.participant, protocol::robot::kWrench),
+      robot_states_(ctx.participant, protocol::robot::kState),
+      commands_(ctx.participant, protocol::admittance::kCommand),
+      joystick_(ctx.participant, protocol::operator_ui::kJoystick),
+      tracker_poses_(ctx.participant, protocol::vision::kTrackerPose),
+      crane_states_(ctx.participant, protocol::crane::kState),
       directory_(ctx.participant),
-      cmd_twist_(ctx.participant, kCmdTwistTopic, dds::qos::setpoints()),
-      crane_cmd_(ctx.participant, kCraneCmdTopic, dds::qos::setpoints()),
-      state_(ctx.participant, kStateTopic, dds::qos::state()),
+      cmd_twist_(ctx.participant, protocol::robot::kCmdTwist),
+      crane_cmd_(ctx.participant, protocol::crane::kCmdVelocity),
+      state_(ctx.participant, protocol::admittance::kState),
       // A safe stop of anything this node moves turns it OFF (robot and crane ramp to zero) and keeps it
       // OFF until the reset: commands to turn it on are refused meanwhile.
       safe_stop_(ctx.participant, ctx.loop, {"robot", "crane", "admittance"},
@@ -244,9 +249,10 @@ void AdmittanceNode::check_commander() {
 void AdmittanceNode::check_crane() {
   if (mode_ != AdmittanceMode::kRobotAndCrane) return;
   if (crane_state_ && !crane_state_->link_ok) {
-    go_off(kFaultCraneFault, "rigger/crane/state: link down (" + crane_state_->fault_text + ")");
+    go_off(kFaultCraneFault,
+           std::string(protocol::crane::kState.name) + ": link down (" + crane_state_->fault_text + ")");
   } else if (crane_state_ && crane_state_->fault) {
-    go_off(kFaultCraneFault, "rigger/crane/state: fault (" + crane_state_->fault_text + ")");
+    go_off(kFaultCraneFault, std::string(protocol::crane::kState.name) + ": fault (" + crane_state_->fault_text + ")");
   } else {
     const auto now = dds::EventLoop::Clock::now();
     const auto since = crane_state_ ? std::max(crane_state_->received, mode_since_) : mode_since_;

@@ -23,17 +23,6 @@
 
 namespace rigger::control {
 
-inline constexpr const char* kWrenchTopic = "rigger/robot/wrench";
-inline constexpr const char* kRobotStateTopic = "rigger/robot/state";
-inline constexpr const char* kCommandTopic = "rigger/admittance/command";
-inline constexpr const char* kJoystickTopic = "rigger/operator/joystick";
-inline constexpr const char* kTrackerPoseTopic = "rigger/tracker/pose";
-inline constexpr const char* kCmdTwistTopic = "rigger/robot/cmd_twist";
-inline constexpr const char* kCraneCmdTopic = "rigger/crane/cmd_velocity";
-inline constexpr const char* kStateTopic = "rigger/admittance/state";
-
-inline constexpr const char* kCraneStateTopic = "rigger/crane/state";
-
 /// Fault codes of the node itself (the laws' codes are theirs, e.g. WRENCH_STALE, FORCE_STALE).
 /// No robot state received yet, so the sensor's orientation is unknown and the output is zero.
 inline constexpr const char* kFaultNoRobotState = "ROBOT_STATE_MISSING";

@@ -9,6 +9,10 @@
 
 #include "admittance_node.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/admittance.hpp"
+#include "rigger/protocol/crane.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/vision.hpp"
 #include "rigger/testing/domain.hpp"
 
 namespace rigger::control {
@@ -23,14 +27,14 @@ class AdmittanceNodeTest : public ::testing::Test {
         loop_(participant_),
         announcer_(participant_, "admittance-test", "admittance_control"),
         context_{options_, null_logger(), participant_, loop_, announcer_, Config::parse(config_json, "test")},
-        wrench_writer_(participant_, kWrenchTopic, dds::qos::sensor_stream()),
-        robot_state_writer_(participant_, kRobotStateTopic, dds::qos::sensor_stream()),
-        command_writer_(participant_, kCommandTopic, dds::qos::commands()),
-        twists_(participant_, kCmdTwistTopic, dds::qos::setpoints()),
-        crane_cmds_(participant_, kCraneCmdTopic, dds::qos::setpoints()),
-        states_(participant_, kStateTopic, dds::qos::state()),
-        tracker_writer_(participant_, kTrackerPoseTopic, dds::qos::sensor_stream()),
-        crane_state_writer_(participant_, kCraneStateTopic, dds::qos::state()) {
+        wrench_writer_(participant_, protocol::robot::kWrench),
+        robot_state_writer_(participant_, protocol::robot::kState),
+        command_writer_(participant_, protocol::admittance::kCommand),
+        twists_(participant_, protocol::robot::kCmdTwist),
+        crane_cmds_(participant_, protocol::crane::kCmdVelocity),
+        states_(participant_, protocol::admittance::kState),
+        tracker_writer_(participant_, protocol::vision::kTrackerPose),
+        crane_state_writer_(participant_, protocol::crane::kState) {
     announcer_.announce(dds::ServiceStatus::kReady);  // the commands' source ("admittance-test") is alive
     // As run_service does: the announcements' liveliness is asserted from the loop (MANUAL_BY_PARTICIPANT).
     loop_.every(dds::kDefaultLease / 3, [this] { participant_.assert_liveliness(); });

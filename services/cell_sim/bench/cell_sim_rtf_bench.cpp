@@ -27,6 +27,9 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/sim.hpp"
+#include "rigger/protocol/vision.hpp"
 #include "rigger/sim/cell_physics.hpp"
 #include "rigger/testing/cell.hpp"
 
@@ -90,15 +93,15 @@ int main(int argc, char** argv) {
   const double bare_before = bare_mj_step_real_time_factor(seconds / 2);
 
   rigger::testing::Cell cell;
-  Counter<rigger_sensing_WrenchStamped> wrench(cell, "rigger/robot/wrench", q::sensor_stream());
-  Counter<rigger_robot_RobotState> robot(cell, "rigger/robot/state", q::sensor_stream());
-  Counter<rigger_robot_GripperState> gripper(cell, "rigger/gripper/state", q::state());
-  Counter<rigger_vision_Image> image(cell, "rigger/camera/image", q::sensor_stream());
-  Counter<rigger_vision_CameraInfo> info(cell, "rigger/camera/info", q::state());
-  Counter<rigger_vision_TrackedPose> truth(cell, "rigger/sim/ground_truth", q::sensor_stream());
-  Counter<rigger_robot_MotionStatus> motion(cell, "rigger/robot/motion_status", q::events());
-  Counter<rigger_sim_SimEvent> events(cell, "rigger/sim/event", q::events());
-  rigger::dds::Reader<rigger_sim_SimStatus> status(cell.participant(), "rigger/sim/status", q::sensor_stream());
+  Counter<rigger_sensing_WrenchStamped> wrench(cell, rigger::protocol::robot::kWrench.name, q::sensor_stream());
+  Counter<rigger_robot_RobotState> robot(cell, rigger::protocol::robot::kState.name, q::sensor_stream());
+  Counter<rigger_robot_GripperState> gripper(cell, rigger::protocol::robot::kGripperState.name, q::state());
+  Counter<rigger_vision_Image> image(cell, rigger::protocol::vision::kCameraImage.name, q::sensor_stream());
+  Counter<rigger_vision_CameraInfo> info(cell, rigger::protocol::vision::kCameraInfo.name, q::state());
+  Counter<rigger_vision_TrackedPose> truth(cell, rigger::protocol::sim::kGroundTruth.name, q::sensor_stream());
+  Counter<rigger_robot_MotionStatus> motion(cell, rigger::protocol::robot::kMotionStatus.name, q::events());
+  Counter<rigger_sim_SimEvent> events(cell, rigger::protocol::sim::kEvent.name, q::events());
+  rigger::dds::Reader<rigger_sim_SimStatus> status(cell.participant(), rigger::protocol::sim::kStatus);
   struct Point {
     Clock::time_point wall;
     double sim_s;

@@ -4,6 +4,9 @@
 #include <vector>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/sim.hpp"
+#include "rigger/protocol/vision.hpp"
 #include "rigger/sim/camera_scene.hpp"
 #include "rigger/sim/cell_geometry.hpp"
 
@@ -112,19 +115,19 @@ CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_li
     : ctx_(ctx),
       config_(read_cell_sim_config(ctx.config)),
       twist_gate_(config_.max_command_future, config_.max_twist_timeout),
-      wrench_(ctx.participant, kWrenchTopic, written_by_physics(dds::qos::sensor_stream())),
-      robot_state_(ctx.participant, kRobotStateTopic, written_by_physics(dds::qos::sensor_stream())),
-      motion_status_(ctx.participant, kMotionStatusTopic, dds::qos::events()),
-      gripper_state_(ctx.participant, kGripperStateTopic, dds::qos::state()),
-      image_(ctx.participant, kImageTopic, dds::qos::sensor_stream()),
-      camera_info_(ctx.participant, kCameraInfoTopic, dds::qos::state()),
-      ground_truth_(ctx.participant, kGroundTruthTopic, dds::qos::sensor_stream()),
-      sim_event_(ctx.participant, kSimEventTopic, dds::qos::events()),
-      sim_status_(ctx.participant, kSimStatusTopic, dds::qos::sensor_stream()),
-      twist_(ctx.participant, kTwistTopic, dds::qos::setpoints()),
-      motion_(ctx.participant, kMotionTopic, dds::qos::commands()),
-      gripper_(ctx.participant, kGripperCommandTopic, dds::qos::commands()),
-      sim_control_(ctx.participant, kSimControlTopic, dds::qos::commands()) {
+      wrench_(ctx.participant, protocol::robot::kWrench, written_by_physics(dds::qos::sensor_stream())),
+      robot_state_(ctx.participant, protocol::robot::kState, written_by_physics(dds::qos::sensor_stream())),
+      motion_status_(ctx.participant, protocol::robot::kMotionStatus),
+      gripper_state_(ctx.participant, protocol::robot::kGripperState),
+      image_(ctx.participant, protocol::vision::kCameraImage),
+      camera_info_(ctx.participant, protocol::vision::kCameraInfo),
+      ground_truth_(ctx.participant, protocol::sim::kGroundTruth),
+      sim_event_(ctx.participant, protocol::sim::kEvent),
+      sim_status_(ctx.participant, protocol::sim::kStatus),
+      twist_(ctx.participant, protocol::robot::kCmdTwist.name, dds::qos::setpoints()),
+      motion_(ctx.participant, protocol::robot::kCmdMotion.name, dds::qos::commands()),
+      gripper_(ctx.participant, protocol::robot::kGripperCmd),
+      sim_control_(ctx.participant, protocol::sim::kControl) {
   if (command_line.plc_port) config_.plc.server.port = *command_line.plc_port;
   if (command_line.real_time_factor) {
     config_.real_time_factor = *command_line.real_time_factor;

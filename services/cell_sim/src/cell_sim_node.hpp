@@ -24,20 +24,6 @@
 
 namespace rigger::cell_sim {
 
-inline constexpr const char* kWrenchTopic = "rigger/robot/wrench";
-inline constexpr const char* kRobotStateTopic = "rigger/robot/state";
-inline constexpr const char* kTwistTopic = "rigger/robot/cmd_twist";
-inline constexpr const char* kMotionTopic = "rigger/robot/cmd_motion";
-inline constexpr const char* kMotionStatusTopic = "rigger/robot/motion_status";
-inline constexpr const char* kGripperCommandTopic = "rigger/gripper/cmd";
-inline constexpr const char* kGripperStateTopic = "rigger/gripper/state";
-inline constexpr const char* kImageTopic = "rigger/camera/image";
-inline constexpr const char* kCameraInfoTopic = "rigger/camera/info";
-inline constexpr const char* kGroundTruthTopic = "rigger/sim/ground_truth";
-inline constexpr const char* kSimControlTopic = "rigger/sim/control";
-inline constexpr const char* kSimEventTopic = "rigger/sim/event";
-inline constexpr const char* kSimStatusTopic = "rigger/sim/status";
-
 /// Frame ids on the wire: the robot's base is the cell entity "robot"; the wrist sensor reports in
 /// the tool frame (magnet face centre, flange axes); ground truth is in the world frame.
 inline constexpr const char* kBaseFrame = "robot";

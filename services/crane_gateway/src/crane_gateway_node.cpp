@@ -5,6 +5,7 @@
 
 #include "rigger/crane_protocol/crane_config.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/crane.hpp"
 
 namespace rigger::crane_gateway {
 namespace {
@@ -111,9 +112,9 @@ CraneGatewayNode::CraneGatewayNode(dds::ServiceContext& ctx, const CommandLine& 
         ctx.config.finish();
         return c;
       }()),
-      state_(ctx.participant, kStateTopic, state_qos()),
-      commands_(ctx.participant, kCommandTopic, dds::qos::setpoints()),
-      control_(ctx.participant, kControlTopic, dds::qos::commands()),
+      state_(ctx.participant, protocol::crane::kState.name, state_qos()),
+      commands_(ctx.participant, protocol::crane::kCmdVelocity),
+      control_(ctx.participant, protocol::crane::kControl),
       gateway_(config_) {
   ctx.loop.on_data(commands_, [this] { on_command(); });
   ctx.loop.on_data(control_, [this] { on_control(); });

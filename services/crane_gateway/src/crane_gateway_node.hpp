@@ -32,10 +32,6 @@
 
 namespace rigger::crane_gateway {
 
-inline constexpr const char* kStateTopic = "rigger/crane/state";
-inline constexpr const char* kCommandTopic = "rigger/crane/cmd_velocity";
-inline constexpr const char* kControlTopic = "rigger/crane/control";
-
 /// Command-line overrides of the configuration (tests point the gateway at their PLC emulator).
 struct CommandLine {
   std::optional<std::string> plc_host;

@@ -1,6 +1,7 @@
 #include "echo_node.hpp"
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/system.hpp"
 
 namespace rigger::echo {
 
@@ -14,10 +15,10 @@ EchoNode::EchoNode(dds::ServiceContext& ctx)
     : ctx_(ctx),
       max_payload_bytes_(ctx.config.get_in_range<unsigned>("max_payload_bytes", 1u << 20, 0u, 1u << 24)),
       publish_peer_view_(ctx.config.get<bool>("publish_peer_view", true)),
-      requests_(ctx.participant, kRequestTopic, echo_qos()),
-      replies_(ctx.participant, kReplyTopic, echo_qos()),
+      requests_(ctx.participant, protocol::system::kEchoRequest, echo_qos()),
+      replies_(ctx.participant, protocol::system::kEchoReply, echo_qos()),
       directory_(ctx.participant),
-      peer_view_(ctx.participant, kPeerViewTopic, dds::qos::state()) {
+      peer_view_(ctx.participant, protocol::system::kPeerView) {
   ctx.config.finish();
   ctx.loop.on_data(requests_, [this] { on_request(); });
   if (publish_peer_view_) {

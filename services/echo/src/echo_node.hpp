@@ -8,10 +8,6 @@
 
 namespace rigger::echo {
 
-inline constexpr const char* kRequestTopic = "rigger/echo/request";
-inline constexpr const char* kReplyTopic = "rigger/echo/reply";
-inline constexpr const char* kPeerViewTopic = "rigger/system/peer_view";
-
 /// QoS of the echo topics: reliable keep-last 1, as ddsperf's ping/pong, so the two compare fairly.
 dds::Qos echo_qos();
 

@@ -5,6 +5,7 @@
 
 #include "monitor_registry.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/robot.hpp"
 
 namespace rigger::monitor {
 
@@ -13,7 +14,8 @@ using executor::EventKind;
 MonitorHostNode::MonitorHostNode(dds::ServiceContext& ctx)
     : ctx_(ctx),
       max_monitors_(ctx.config.get_in_range<unsigned>("max_monitors", 10000u, 1u, 100000u)),
-      wrench_(ctx.participant, ctx.config.get<std::string>("wrench_topic", kWrenchTopic), dds::qos::sensor_stream()) {
+      wrench_(ctx.participant, ctx.config.get<std::string>("wrench_topic", protocol::robot::kWrench.name),
+              dds::qos::sensor_stream()) {
   const std::string executor_id = ctx.config.get<std::string>("executor_id", ctx.options.id);
   ctx.config.finish();
   ctx.loop.on_data(wrench_, [this] { on_wrench(); });

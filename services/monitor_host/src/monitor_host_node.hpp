@@ -10,7 +10,7 @@
 /// Configuration keys (all optional):
 ///   "executor_id": string, default the service id — the id the controller addresses
 ///   "max_monitors": integer in [1, 100000], default 10000 — STARTs beyond it fail with CAPACITY
-///   "wrench_topic": string, default "rigger/robot/wrench"
+///   "wrench_topic": string, default the topic of protocol::robot::kWrench
 
 #include <chrono>
 #include <cstdint>
@@ -24,10 +24,9 @@
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/protocol/robot.hpp"
 
 namespace rigger::monitor {
-
-inline constexpr const char* kWrenchTopic = "rigger/robot/wrench";
 
 class MonitorHostNode : public dds::Node {
  public:

@@ -4,13 +4,14 @@
 
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/operator.hpp"
 
 namespace rigger::scripted_operator {
 ScriptedOperatorNode::ScriptedOperatorNode(dds::ServiceContext& ctx, const std::vector<std::string>& rule_arguments)
     : ctx_(ctx),
-      prompts_(ctx.participant, kPromptTopic, dds::qos::state()),
-      responses_in_(ctx.participant, kResponseTopic, dds::qos::state()),
-      responses_(ctx.participant, kResponseTopic, dds::qos::state()) {
+      prompts_(ctx.participant, protocol::operator_ui::kPrompt),
+      responses_in_(ctx.participant, protocol::operator_ui::kResponse),
+      responses_(ctx.participant, protocol::operator_ui::kResponse) {
   for (const auto& text : rule_arguments) rules_.push_back(parse_rule_argument(text));
   for (auto& rule : parse_rules(ctx.config)) rules_.push_back(std::move(rule));
   operator_id_ = ctx.config.get<std::string>("operator_id", "scripted");

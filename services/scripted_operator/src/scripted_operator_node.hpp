@@ -23,9 +23,6 @@
 
 namespace rigger::scripted_operator {
 
-using operator_ui::kPromptTopic;
-using operator_ui::kResponseTopic;
-
 class ScriptedOperatorNode : public dds::Node {
  public:
   /// @param rule_arguments the --rule texts, in order. @throws ConfigError for a bad rule (exit 2).

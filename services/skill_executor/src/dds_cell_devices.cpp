@@ -2,9 +2,13 @@
 
 #include <algorithm>
 
+#include "rigger/base/text.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/qos.hpp"
-#include "rigger/base/text.hpp"
+#include "rigger/protocol/admittance.hpp"
+#include "rigger/protocol/crane.hpp"
+#include "rigger/protocol/operator.hpp"
+#include "rigger/protocol/vision.hpp"
 
 namespace rigger::skill_executor {
 
@@ -93,8 +97,8 @@ DdsCraneMonitor::DdsCraneMonitor(const dds::Participant& participant, dds::Event
     : loop_(loop),
       log_(std::move(log)),
       source_(std::move(source)),
-      control_(participant, kCraneControlTopic, dds::qos::commands()),
-      state_(participant, loop, kCraneStateTopic, dds::qos::state(),
+      control_(participant, protocol::crane::kControl),
+      state_(participant, loop, protocol::crane::kState.name, dds::qos::state(),
              [](const rigger_crane_CraneState& s) { return to_snapshot(s); }),
       seq_(initial_seq()) {
   state_.subscribe([this](const CraneSnapshot& s) { on_state(s); });
@@ -266,8 +270,8 @@ DdsVisionTracker::DdsVisionTracker(const dds::Participant& participant, dds::Eve
                                    std::string source)
     : log_(std::move(log)),
       source_(std::move(source)),
-      commands_(participant, kTrackerCommandTopic, dds::qos::commands()),
-      poses_(participant, loop, kTrackerPoseTopic, dds::qos::sensor_stream(),
+      commands_(participant, protocol::vision::kTrackerCommand.name, dds::qos::commands()),
+      poses_(participant, loop, protocol::vision::kTrackerPose.name, dds::qos::sensor_stream(),
              [](const rigger_vision_TrackedPose& s) { return to_sample(s); }),
       seq_(initial_seq()) {}
 
@@ -322,8 +326,8 @@ DdsAdmittanceController::DdsAdmittanceController(const dds::Participant& partici
     : loop_(loop),
       log_(std::move(log)),
       source_(std::move(source)),
-      commands_(participant, kAdmittanceCommandTopic, dds::qos::commands()),
-      state_(participant, loop, kAdmittanceStateTopic, dds::qos::state(),
+      commands_(participant, protocol::admittance::kCommand.name, dds::qos::commands()),
+      state_(participant, loop, protocol::admittance::kState.name, dds::qos::state(),
              [](const rigger_admittance_AdmittanceState& s) { return to_snapshot(s); }),
       seq_(initial_seq()) {
   state_subscription_ = state_.subscribe([this](const AdmittanceSnapshot& s) { on_state(s); });
@@ -418,8 +422,8 @@ DdsOperatorPanel::DdsOperatorPanel(const dds::Participant& participant, dds::Eve
     : loop_(loop),
       log_(std::move(log)),
       source_(std::move(source)),
-      prompts_(participant, kOperatorPromptTopic, dds::qos::state()),
-      responses_(participant, kOperatorResponseTopic, dds::qos::state()),
+      prompts_(participant, protocol::operator_ui::kPrompt),
+      responses_(participant, protocol::operator_ui::kResponse),
       seq_(initial_seq()) {
   loop_.on_data(responses_, [this] { on_responses(); });
 }

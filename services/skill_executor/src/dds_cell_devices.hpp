@@ -27,15 +27,6 @@
 
 namespace rigger::skill_executor {
 
-inline constexpr const char* kCraneStateTopic = "rigger/crane/state";
-inline constexpr const char* kCraneControlTopic = "rigger/crane/control";
-inline constexpr const char* kTrackerCommandTopic = "rigger/tracker/command";
-inline constexpr const char* kTrackerPoseTopic = "rigger/tracker/pose";
-inline constexpr const char* kAdmittanceCommandTopic = "rigger/admittance/command";
-inline constexpr const char* kAdmittanceStateTopic = "rigger/admittance/state";
-inline constexpr const char* kOperatorPromptTopic = "rigger/operator/prompt";
-inline constexpr const char* kOperatorResponseTopic = "rigger/operator/response";
-
 /// Conversions from the wire (exposed for tests).
 CraneSnapshot to_snapshot(const rigger_crane_CraneState& s);
 TrackedObjectSample to_sample(const rigger_vision_TrackedPose& s);

@@ -1,6 +1,7 @@
 #include "dds_devices.hpp"
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/robot.hpp"
 
 namespace rigger::skill_executor {
 
@@ -26,9 +27,9 @@ DdsRobot::DdsRobot(const dds::Participant& participant, dds::EventLoop& loop, Lo
     : loop_(loop),
       log_(std::move(log)),
       source_(std::move(source)),
-      commands_(participant, kMotionCommandTopic, dds::qos::commands()),
-      status_(participant, kMotionStatusTopic, dds::qos::events()),
-      state_(participant, loop, kRobotStateTopic, dds::qos::sensor_stream(), to_snapshot),
+      commands_(participant, protocol::robot::kCmdMotion.name, dds::qos::commands()),
+      status_(participant, protocol::robot::kMotionStatus),
+      state_(participant, loop, protocol::robot::kState.name, dds::qos::sensor_stream(), to_snapshot),
       seq_(initial_seq()) {
   loop_.on_data(status_, [this] { on_status(); });
 }
@@ -147,8 +148,8 @@ void DdsRobot::cancel(OpId id) {
 DdsGripper::DdsGripper(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source)
     : log_(std::move(log)),
       source_(std::move(source)),
-      commands_(participant, kGripperCommandTopic, dds::qos::commands()),
-      state_(participant, loop, kGripperStateTopic, dds::qos::state(),
+      commands_(participant, protocol::robot::kGripperCmd.name, dds::qos::commands()),
+      state_(participant, loop, protocol::robot::kGripperState.name, dds::qos::state(),
              [](const rigger_robot_GripperState& s) {
                GripperSnapshot g;
                g.stamp = dds::to_domain(s.header.stamp);

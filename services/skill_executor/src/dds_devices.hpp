@@ -20,12 +20,6 @@
 
 namespace rigger::skill_executor {
 
-inline constexpr const char* kMotionCommandTopic = "rigger/robot/cmd_motion";
-inline constexpr const char* kMotionStatusTopic = "rigger/robot/motion_status";
-inline constexpr const char* kRobotStateTopic = "rigger/robot/state";
-inline constexpr const char* kGripperCommandTopic = "rigger/gripper/cmd";
-inline constexpr const char* kGripperStateTopic = "rigger/gripper/state";
-
 class DdsRobot final : public RobotMotion {
  public:
   /// `source` names the commands' sender (the executor id) and prefixes motion ids.

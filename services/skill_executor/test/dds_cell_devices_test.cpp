@@ -9,6 +9,11 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/qos.hpp"
 #include "rigger/operator_ui/prompt.hpp"
+#include "rigger/protocol/admittance.hpp"
+#include "rigger/protocol/crane.hpp"
+#include "rigger/protocol/operator.hpp"
+#include "rigger/protocol/vision.hpp"
+#include "rigger/protocol/world.hpp"
 #include "rigger/testing/domain.hpp"
 #include "skill_executor_node.hpp"
 #include "skills/localize.hpp"
@@ -43,8 +48,8 @@ TEST_F(DdsCellDevicesTest, LocalizeTracksOnceAndWaitsForTheWorldModelsAcceptance
   DdsWorldAccess world(client);
 
   // The test as vision tracker: answers each TRACK_ONCE with one pose, the first of low quality.
-  dds::Reader<rigger_vision_TrackerCommand> commands(participant_, kTrackerCommandTopic, dds::qos::commands());
-  dds::Writer<rigger_vision_TrackedPose> poses(participant_, kTrackerPoseTopic, dds::qos::sensor_stream());
+  dds::Reader<rigger_vision_TrackerCommand> commands(participant_, protocol::vision::kTrackerCommand);
+  dds::Writer<rigger_vision_TrackedPose> poses(participant_, protocol::vision::kTrackerPose);
   std::vector<std::tuple<std::string, std::string, rigger_vision_TrackerCommandKind>> received;
   std::optional<WallTime> good_stamp;
   loop_.on_data(commands, [&] {
@@ -66,8 +71,8 @@ TEST_F(DdsCellDevicesTest, LocalizeTracksOnceAndWaitsForTheWorldModelsAcceptance
     });
   });
   // The test as world model: accepts every update.
-  dds::Reader<rigger_world_EntityUpdate> updates(participant_, world_client::kUpdateTopic, dds::qos::commands());
-  dds::Writer<rigger_world_UpdateResult> results(participant_, world_client::kUpdateResultTopic, dds::qos::events());
+  dds::Reader<rigger_world_EntityUpdate> updates(participant_, protocol::world::kUpdate);
+  dds::Writer<rigger_world_UpdateResult> results(participant_, protocol::world::kUpdateResult);
   std::vector<rigger_world_EntityUpdate> applied;
   std::vector<std::string> update_entities, update_parents;
   loop_.on_data(updates, [&] {
@@ -82,7 +87,7 @@ TEST_F(DdsCellDevicesTest, LocalizeTracksOnceAndWaitsForTheWorldModelsAcceptance
       r.entity_id = u.entity_id;
       r.accepted = true;
       r.code = dds::wire_string(code);
-      r.reason = dds::wire_string(std::string());
+      r.reason = dds::wire_string("");
       results.write(r);
     });
   });
@@ -125,8 +130,8 @@ TEST_F(DdsCellDevicesTest, ScrewPromptsOverDdsAndWithdrawsEachPromptAfterItsAnsw
   testing::FakeWorldAccess world;
   testing::FakeResolver resolver;
   // The test as operator UI: answers "maybe" (not an option: ignored), then "done".
-  dds::Reader<rigger_operator_ui_OperatorPrompt> prompts(participant_, kOperatorPromptTopic, dds::qos::state());
-  dds::Writer<rigger_operator_ui_OperatorResponse> responses(participant_, kOperatorResponseTopic, dds::qos::state());
+  dds::Reader<rigger_operator_ui_OperatorPrompt> prompts(participant_, protocol::operator_ui::kPrompt);
+  dds::Writer<rigger_operator_ui_OperatorResponse> responses(participant_, protocol::operator_ui::kResponse);
   struct Seen {
     std::string prompt_id, kind;
     bool active;
@@ -189,7 +194,7 @@ TEST_F(DdsCellDevicesTest, ScrewPromptsOverDdsAndWithdrawsEachPromptAfterItsAnsw
 }
 
 TEST_F(DdsCellDevicesTest, AnUnansweredPromptTimesOutAndIsWithdrawnOnDestruction) {
-  dds::Reader<rigger_operator_ui_OperatorPrompt> prompts(participant_, kOperatorPromptTopic, dds::qos::state());
+  dds::Reader<rigger_operator_ui_OperatorPrompt> prompts(participant_, protocol::operator_ui::kPrompt);
   std::vector<bool> active;
   loop_.on_data(prompts, [&] {
     prompts.take([&](const rigger_operator_ui_OperatorPrompt& p, const dds_sample_info_t& info) {
@@ -216,14 +221,14 @@ rigger_crane_CraneState crane_state(bool healthy, WallTime stamp = std::chrono::
   s.link_ok = true;
   s.ready = healthy;
   s.estop = !healthy;
-  s.fault_text = dds::wire_string(std::string());
+  s.fault_text = dds::wire_string("");
   return s;
 }
 
 TEST_F(DdsCellDevicesTest, CraneMonitorChecksFreshStatesWatchesAndRequestsExternalControl) {
   DdsCraneMonitor crane(participant_, loop_, null_logger(), "robot-skills");
-  dds::Writer<rigger_crane_CraneState> state(participant_, kCraneStateTopic, dds::qos::state());
-  dds::Reader<rigger_crane_CraneControl> control(participant_, kCraneControlTopic, dds::qos::commands());
+  dds::Writer<rigger_crane_CraneState> state(participant_, protocol::crane::kState);
+  dds::Reader<rigger_crane_CraneControl> control(participant_, protocol::crane::kControl);
   std::vector<rigger_crane_CraneControlKind> controls;
   loop_.on_data(control, [&] {
     control.take([&](const rigger_crane_CraneControl& c, const dds_sample_info_t&) { controls.push_back(c.kind); });
@@ -272,7 +277,7 @@ TEST_F(DdsCellDevicesTest, CraneMonitorChecksFreshStatesWatchesAndRequestsExtern
 
 TEST_F(DdsCellDevicesTest, CraneHealthCheckWaitsForThePlcLinkUpToItsTimeout) {
   DdsCraneMonitor crane(participant_, loop_, null_logger(), "robot-skills");
-  dds::Writer<rigger_crane_CraneState> state(participant_, kCraneStateTopic, dds::qos::state());
+  dds::Writer<rigger_crane_CraneState> state(participant_, protocol::crane::kState);
   ASSERT_TRUE(state.wait_for_readers(1, 5s));
   auto no_link = crane_state(true);
   no_link.link_ok = false;
@@ -297,9 +302,8 @@ TEST_F(DdsCellDevicesTest, CraneHealthCheckWaitsForThePlcLinkUpToItsTimeout) {
 
 TEST_F(DdsCellDevicesTest, AdmittanceCommandsAreConfirmedByTheStatesSeqAndOffWaitsForRest) {
   DdsAdmittanceController admittance(participant_, loop_, null_logger(), "robot-skills");
-  dds::Reader<rigger_admittance_AdmittanceCommand> commands(participant_, kAdmittanceCommandTopic,
-                                                            dds::qos::commands());
-  dds::Writer<rigger_admittance_AdmittanceState> state(participant_, kAdmittanceStateTopic, dds::qos::state());
+  dds::Reader<rigger_admittance_AdmittanceCommand> commands(participant_, protocol::admittance::kCommand);
+  dds::Writer<rigger_admittance_AdmittanceState> state(participant_, protocol::admittance::kState);
   struct Received {
     std::uint64_t seq;
     rigger_admittance_AdmittanceMode mode;
@@ -322,8 +326,8 @@ TEST_F(DdsCellDevicesTest, AdmittanceCommandsAreConfirmedByTheStatesSeqAndOffWai
     s.header.stamp = dds::wire_now();
     s.mode = mode;
     s.reference = reference;
-    s.fault_code = dds::wire_string(std::string());
-    s.fault_text = dds::wire_string(std::string());
+    s.fault_code = dds::wire_string("");
+    s.fault_text = dds::wire_string("");
     s.robot_twist.linear.x = twist;
     s.last_command_seq = seq;
     state.write(s);

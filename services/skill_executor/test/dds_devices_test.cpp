@@ -4,6 +4,7 @@
 
 #include "dds_devices.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/robot.hpp"
 #include "rigger/testing/domain.hpp"
 #include "world_resolver.hpp"
 
@@ -21,8 +22,8 @@ class DdsDevicesTest : public ::testing::Test {
 
 TEST_F(DdsDevicesTest, GripperConfirmsOnlyTheStateOfItsOwnCommand) {
   DdsGripper gripper(participant_, loop_, null_logger(), "exec");
-  dds::Reader<rigger_robot_GripperCommand> cmds(participant_, kGripperCommandTopic, dds::qos::commands());
-  dds::Writer<rigger_robot_GripperState> state(participant_, kGripperStateTopic, dds::qos::state());
+  dds::Reader<rigger_robot_GripperCommand> cmds(participant_, protocol::robot::kGripperCmd);
+  dds::Writer<rigger_robot_GripperState> state(participant_, protocol::robot::kGripperState);
   std::vector<rigger_robot_GripperCommand> received;
   loop_.on_data(cmds, [&] { cmds.take([&](const rigger_robot_GripperCommand& c, const dds_sample_info_t&) { received.push_back(c); }); });
   std::optional<OpResult> result;
@@ -52,7 +53,7 @@ TEST_F(DdsDevicesTest, GripperTimesOutWithoutAnAnswer) {
 
 TEST_F(DdsDevicesTest, GripperWaitStateEndsOnTheFirstMatchingSampleOrTimesOut) {
   DdsGripper gripper(participant_, loop_, null_logger(), "exec");
-  dds::Writer<rigger_robot_GripperState> state(participant_, kGripperStateTopic, dds::qos::state());
+  dds::Writer<rigger_robot_GripperState> state(participant_, protocol::robot::kGripperState);
   ASSERT_TRUE(state.wait_for_readers(1, 5s));
   std::optional<std::optional<GripperSnapshot>> holding, timed_out;
   gripper.wait_state([](const GripperSnapshot& g) { return g.holding; }, 5s,
@@ -79,8 +80,8 @@ TEST_F(DdsDevicesTest, GripperWaitStateEndsOnTheFirstMatchingSampleOrTimesOut) {
 
 TEST_F(DdsDevicesTest, RobotMoveEndsOnItsOwnMotionIdAndATimeoutStopsIt) {
   DdsRobot robot(participant_, loop_, null_logger(), "exec");
-  dds::Reader<rigger_robot_MotionCommand> cmds(participant_, kMotionCommandTopic, dds::qos::commands());
-  dds::Writer<rigger_robot_MotionStatus> status(participant_, kMotionStatusTopic, dds::qos::events());
+  dds::Reader<rigger_robot_MotionCommand> cmds(participant_, protocol::robot::kCmdMotion);
+  dds::Writer<rigger_robot_MotionStatus> status(participant_, protocol::robot::kMotionStatus);
   std::vector<std::pair<std::string, rigger_robot_MotionKind>> received;
   loop_.on_data(cmds, [&] {
     cmds.take([&](const rigger_robot_MotionCommand& c, const dds_sample_info_t&) {
@@ -110,7 +111,7 @@ TEST_F(DdsDevicesTest, RobotMoveEndsOnItsOwnMotionIdAndATimeoutStopsIt) {
 
 TEST_F(DdsDevicesTest, NextStateWaitsForAFreshSample) {
   DdsRobot robot(participant_, loop_, null_logger(), "exec");
-  dds::Writer<rigger_robot_RobotState> state(participant_, kRobotStateTopic, dds::qos::sensor_stream());
+  dds::Writer<rigger_robot_RobotState> state(participant_, protocol::robot::kState);
   ASSERT_TRUE(state.wait_for_readers(1, 5s));
   std::optional<std::optional<RobotSnapshot>> got;
   robot.next_state(5s, [&](std::optional<RobotSnapshot> s) { got = s; });

@@ -31,6 +31,8 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/protocol/skill.hpp"
+#include "rigger/protocol/task.hpp"
 #include "rigger/testing/cell.hpp"
 #include "task_controller_node.hpp"
 
@@ -70,11 +72,11 @@ std::int64_t wire_ns(const rigger_geometry_Time& t) {
 
 struct Observer {
   explicit Observer(rigger::testing::Cell& cell)
-      : recipes(cell.participant(), tc::kRecipeTopic, dds::qos::commands()),
-        task_commands(cell.participant(), tc::kTaskCommandTopic, dds::qos::commands()),
-        statuses(cell.participant(), tc::kTaskStatusTopic, dds::qos::state()),
-        commands(cell.participant(), rigger::executor::kCommandTopic, dds::qos::commands()),
-        events(cell.participant(), rigger::executor::kEventTopic, dds::qos::events()) {}
+      : recipes(cell.participant(), rigger::protocol::task::kRecipe),
+        task_commands(cell.participant(), rigger::protocol::task::kCommand),
+        statuses(cell.participant(), rigger::protocol::task::kStatus),
+        commands(cell.participant(), rigger::protocol::skill::kCommand),
+        events(cell.participant(), rigger::protocol::skill::kEvent) {}
 
   void submit(const std::string& task_id, const json& recipe) {
     rigger_task_Recipe r{};

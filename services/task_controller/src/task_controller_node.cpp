@@ -4,11 +4,14 @@
 #include <chrono>
 
 #include "recipe/conditions.hpp"
+#include "rigger/base/text.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/protocol/operator.hpp"
+#include "rigger/protocol/skill.hpp"
+#include "rigger/protocol/task.hpp"
 #include "rigger/skill/skill_library.hpp"
 #include "rigger/world_client/world_client.hpp"
-#include "rigger/base/text.hpp"
 
 namespace rigger::task_controller {
 namespace {
@@ -328,21 +331,21 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
       journal_(ctx.config.get<std::string>("journal_path", "task_controller_journal.sqlite"),
                ctx.config.get_enum("journal_sync", "normal", {"normal", "full"}) == "full" ? JournalSync::kFull
                                                                                        : JournalSync::kNormal),
-      announcements_(ctx.participant, executor::kAnnouncementTopic, dds::qos::state()),
+      announcements_(ctx.participant, protocol::skill::kExecutors, dds::qos::state()),
       // Executors watch this writer's liveliness: a controller that dies or hangs has its running skills
       // shut down by their executors within the lease (no orphaned motion).
-      commands_(ctx.participant, executor::kCommandTopic,
+      commands_(ctx.participant, protocol::skill::kCommand,
                 supervised_commands(std::chrono::milliseconds(
                     ctx.config.get_in_range<unsigned>("command_lease_ms", 300U, 200U, 10000U)))),
-      events_(ctx.participant, executor::kEventTopic, dds::qos::events()),
-      recipes_(ctx.participant, kRecipeTopic, dds::qos::commands()),
-      task_commands_(ctx.participant, kTaskCommandTopic, dds::qos::commands()),
-      task_status_(ctx.participant, kTaskStatusTopic, dds::qos::state()),
-      node_status_(ctx.participant, kNodeStatusTopic, dds::qos::state()),
-      journal_queries_(ctx.participant, kJournalQueryTopic, dds::qos::commands()),
-      journal_replies_(ctx.participant, kJournalReplyTopic, dds::qos::events()),
-      prompts_(ctx.participant, kOperatorPromptTopic, dds::qos::state()),
-      responses_(ctx.participant, kOperatorResponseTopic, dds::qos::state()),
+      events_(ctx.participant, protocol::skill::kEvent),
+      recipes_(ctx.participant, protocol::task::kRecipe),
+      task_commands_(ctx.participant, protocol::task::kCommand),
+      task_status_(ctx.participant, protocol::task::kStatus),
+      node_status_(ctx.participant, protocol::task::kNodeStatus),
+      journal_queries_(ctx.participant, protocol::task::kJournalQuery),
+      journal_replies_(ctx.participant, protocol::task::kJournalReply),
+      prompts_(ctx.participant, protocol::operator_ui::kPrompt.name, dds::qos::state()),
+      responses_(ctx.participant, protocol::operator_ui::kResponse),
       safe_stops_(ctx.participant) {
   validator_options_.default_stop_timeout =
       bt::Seconds(ctx.config.get_in_range<double>("default_stop_timeout_s", 5.0, 0.01, 600.0));

@@ -58,17 +58,9 @@ class WorldClient;
 
 namespace rigger::task_controller {
 
-inline constexpr const char* kRecipeTopic = "rigger/task/recipe";
 /// The largest max_recipe_bytes a controller can be configured with: a bigger recipe is refused by
 /// every controller (riggerctl run says so before publishing it).
 inline constexpr unsigned kMaxRecipeBytesCeiling = 64U * 1024U * 1024U;
-inline constexpr const char* kTaskCommandTopic = "rigger/task/command";
-inline constexpr const char* kTaskStatusTopic = "rigger/task/status";
-inline constexpr const char* kNodeStatusTopic = "rigger/task/node_status";
-inline constexpr const char* kJournalQueryTopic = "rigger/task/journal_query";
-inline constexpr const char* kJournalReplyTopic = "rigger/task/journal_reply";
-inline constexpr const char* kOperatorPromptTopic = "rigger/operator/prompt";
-inline constexpr const char* kOperatorResponseTopic = "rigger/operator/response";
 
 /// Codes the controller adds to the engine's.
 namespace codes {

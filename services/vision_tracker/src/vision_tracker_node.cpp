@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/vision.hpp"
 
 namespace rigger::vision {
 
@@ -55,9 +56,9 @@ VisionTrackerNode::VisionTrackerNode(dds::ServiceContext& ctx)
       tracker_(make_tracker(ctx.config)),
       schedule_(object_ids(tracker_.config()), ctx.config.get_in_range("once_min_quality", 0.5, 0.0, 1.0)),
       once_timeout_(from_seconds(ctx.config.get_in_range("once_timeout_s", 2.0, 0.05, 60.0))),
-      images_(ctx.participant, kImageTopic, dds::qos::sensor_stream()),
-      commands_(ctx.participant, kCommandTopic, dds::qos::commands()),
-      poses_(ctx.participant, kPoseTopic, dds::qos::sensor_stream()) {
+      images_(ctx.participant, protocol::vision::kCameraImage),
+      commands_(ctx.participant, protocol::vision::kTrackerCommand),
+      poses_(ctx.participant, protocol::vision::kTrackerPose) {
   const bool continuous = ctx.config.get_enum("start_mode", "idle", {"idle", "continuous"}) == "continuous";
   if (continuous) schedule_.track_continuous("");
   ctx.config.finish();

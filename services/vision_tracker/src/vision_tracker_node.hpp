@@ -14,10 +14,6 @@
 
 namespace rigger::vision {
 
-inline constexpr const char* kImageTopic = "rigger/camera/image";
-inline constexpr const char* kPoseTopic = "rigger/tracker/pose";
-inline constexpr const char* kCommandTopic = "rigger/tracker/command";
-
 /// Configuration keys (all optional):
 ///   "cell_file": string, default "deploy/cell/simulated_cell.json" — absolute, relative to the working
 ///                directory, or else relative to the repository root (RIGGER_SOURCE_DIR)

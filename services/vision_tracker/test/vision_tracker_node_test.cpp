@@ -10,6 +10,7 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/service.hpp"
+#include "rigger/protocol/vision.hpp"
 #include "rigger/testing/domain.hpp"
 #include "sim_support.hpp"
 #include "vision_tracker_node.hpp"
@@ -27,9 +28,9 @@ class VisionTrackerNodeTest : public ::testing::Test {
         announcer_(participant_, "vision_tracker-test", "vision_tracker"),
         scene_(sim::load_camera_scene(testing::deployed_cell_json_path())),
         renderer_(scene_, testing::render_settings(2.0)),
-        images_(participant_, kImageTopic, dds::qos::sensor_stream()),
-        commands_(participant_, kCommandTopic, dds::qos::commands()),
-        poses_(participant_, kPoseTopic, dds::qos::sensor_stream()) {
+        images_(participant_, protocol::vision::kCameraImage),
+        commands_(participant_, protocol::vision::kTrackerCommand),
+        poses_(participant_, protocol::vision::kTrackerPose) {
     loop_.on_data(poses_, [this] {
       poses_.take([this](const rigger_vision_TrackedPose& p, const dds_sample_info_t&) {
         Received r;

@@ -3,6 +3,8 @@
 #include <filesystem>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/vision.hpp"
+#include "rigger/protocol/world.hpp"
 #include "world_cell_config.hpp"
 #include "world_json.hpp"
 
@@ -73,17 +75,17 @@ WorldModelNode::WorldModelNode(dds::ServiceContext& ctx, const WorldModelSetting
     : ctx_(ctx),
       store_(load_store(settings, ctx.config, ctx.log)),
       db_(open_database(settings, store_, ctx.log)),
-      entities_(ctx.participant, kEntityTopic, dds::qos::state()),
-      changes_(ctx.participant, kChangeTopic, dds::qos::events()),
-      update_results_(ctx.participant, kUpdateResultTopic, dds::qos::events()),
-      replies_(ctx.participant, kReplyTopic, dds::qos::events()),
-      updates_(ctx.participant, kUpdateTopic, dds::qos::commands()),
-      queries_(ctx.participant, kQueryTopic, dds::qos::commands()) {
+      entities_(ctx.participant, protocol::world::kEntity.name, dds::qos::state()),
+      changes_(ctx.participant, protocol::world::kChange),
+      update_results_(ctx.participant, protocol::world::kUpdateResult),
+      replies_(ctx.participant, protocol::world::kReply),
+      updates_(ctx.participant, protocol::world::kUpdate),
+      queries_(ctx.participant, protocol::world::kQuery) {
   for (const auto& [id, entity] : store_.entities()) publish_entity(entity);
   ctx.loop.on_data(updates_, [this] { on_updates(); });
   ctx.loop.on_data(queries_, [this] { on_queries(); });
   if (settings.follow_tracker) {
-    tracker_poses_.emplace(ctx.participant, kTrackerPoseTopic, dds::qos::sensor_stream());
+    tracker_poses_.emplace(ctx.participant, protocol::vision::kTrackerPose.name, dds::qos::sensor_stream());
     ctx.loop.on_data(*tracker_poses_, [this] { on_tracker_poses(); });
   }
   ctx.log->info("world model ready entities={} revision={}", store_.entities().size(), store_.revision());

@@ -21,14 +21,6 @@
 
 namespace rigger::world {
 
-inline constexpr const char* kEntityTopic = "rigger/world/entity";
-inline constexpr const char* kUpdateTopic = "rigger/world/update";
-inline constexpr const char* kUpdateResultTopic = "rigger/world/update_result";
-inline constexpr const char* kChangeTopic = "rigger/world/change";
-inline constexpr const char* kQueryTopic = "rigger/world/query";
-inline constexpr const char* kReplyTopic = "rigger/world/reply";
-inline constexpr const char* kTrackerPoseTopic = "rigger/tracker/pose";
-
 /// The default cell configuration, relative to the repository root.
 inline constexpr const char* kDefaultCellConfig = "deploy/cell/simulated_cell.json";
 /// The default database file.

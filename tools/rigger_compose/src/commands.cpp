@@ -539,9 +539,53 @@ int restart(const GlobalOptions& g, const std::string& service) {
 
 // -------------------------------------------------------------------------------------------- demo
 
-int demo(const GlobalOptions& g, const std::string& recipe_arg) {
+/// Writes fresh users for the compose file's console (its configuration's users_file) with `console
+/// make-users` and prints their login links; nothing when the file has no console or it is not built.
+void console_logins(const ComposeFile& file) {
+  const ServiceDef* console = file.find("console");
+  if (!console || access(console->binary.c_str(), X_OK) != 0) return;
+  std::string address = "127.0.0.1", users = "/var/tmp/rigger/console-users.json";
+  int port = 8080;
+  if (!console->config.empty()) {
+    std::ifstream in(console->config);
+    const auto c = nlohmann::json::parse(in, nullptr, false);
+    if (c.is_object()) {
+      address = c.value("address", address);
+      port = c.value("port", port);
+      users = c.value("users_file", users);
+    }
+  }
+  const std::string url = "http://" + address + ":" + std::to_string(port);
+  std::printf("rigger-compose demo: the console at %s/ — log in with one of these links (new tokens each demo):\n",
+              url.c_str());
+  std::fflush(stdout);
+  SpawnRequest req;
+  req.path = console->binary;
+  req.args = {"make-users", "--file", users, "--user", "operator:operator", "--user", "programmer:programmer",
+              "--user", "viewer:viewer", "--url", url};
+  try {
+    const int pid = spawn_process(req);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rigger-compose demo: cannot run console make-users: %s\n", e.what());
+  }
+}
+
+int demo(const GlobalOptions& g, const std::string& recipe_arg, const std::string& operator_mode) {
   const ComposeFile file = load(g);
-  const int up_code = up(g, {});
+  if (operator_mode != "scripted" && operator_mode != "browser")
+    fail("--operator " + operator_mode + ": expected scripted or browser", kExitUsage);
+  console_logins(file);
+  // --operator browser: everything but the scripted operator, so a person answers at the console.
+  std::vector<std::string> services;
+  if (operator_mode == "browser") {
+    for (const auto& s : file.services)
+      if (s.name != "scripted_operator") services.push_back(s.name);
+    std::printf("rigger-compose demo: no scripted operator: answer the screw prompts at the console's Operator station\n");
+  }
+  const int up_code = up(g, services);
   if (up_code != kExitOk) return up_code;
 
   const std::string riggerctl = file.bin_dir + "/riggerctl";
@@ -716,7 +760,10 @@ int run_cli(int argc, char** argv) {
   auto demo_recipe = std::make_shared<std::string>("recipes/crane_insert.json");
   demo_cmd->add_option("--recipe", *demo_recipe,
                        "Recipe, relative to the repository root (default recipes/crane_insert.json)");
-  demo_cmd->callback([&] { action = [&] { return demo(g, *demo_recipe); }; });
+  auto demo_operator = std::make_shared<std::string>("scripted");
+  demo_cmd->add_option("--operator", *demo_operator,
+                       "Who answers the operator prompts: scripted (default) or browser (a person at the console)");
+  demo_cmd->callback([&] { action = [&] { return demo(g, *demo_recipe, *demo_operator); }; });
 
   app.add_subcommand("config", "Validate the compose file and show it resolved, in start order")->callback([&] {
     action = [&] { return config(g); };

@@ -5,6 +5,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "rigger/dds/configuration.hpp"
+
 namespace rigger::ctl {
 
 /// Options shared by every command.

@@ -53,7 +53,7 @@ int run(const CommonOptions& common, EstopRequest request) {
     std::fprintf(stderr,
                  "riggerctl estop: no device listens on %s on domain %u within %.1f s: nothing was %s "
                  "(the hardware e-stops are the safety function: use them)\n",
-                 safety::kSafeStopTopic, common.domain, request.timeout_s, request.reset ? "reset" : "stopped");
+                 protocol::safety::kStop.name, common.domain, request.timeout_s, request.reset ? "reset" : "stopped");
     return kExitNoDevice;
   }
   for (const auto& r : request.resources) {

@@ -30,11 +30,11 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/operator.hpp"
 
 namespace rigger::ctl {
 namespace {
 
-constexpr const char* kJoystickTopic = "rigger/operator/joystick";
 constexpr const char* kDefaultDevice = "/dev/input/js0";
 constexpr double kMaxLinearMps = 0.25;  // admittance_control's default robot velocity limit
 constexpr double kMaxAngularRadps = 0.5;
@@ -55,7 +55,6 @@ struct JogOptions {
 };
 
 using Clock = std::chrono::steady_clock;
-
 
 /// Turns SIGINT, SIGTERM and SIGHUP into a call on the event loop (a sigwait thread, as run_service
 /// does). Construct before the participant so that Cyclone's threads inherit the blocked mask.
@@ -160,7 +159,7 @@ class RawTerminal {
 class TwistPublisher {
  public:
   TwistPublisher(dds::Participant& participant, const JogOptions& opt)
-      : writer_(participant, kJoystickTopic, dds::qos::setpoints()),
+      : writer_(participant, protocol::operator_ui::kJoystick.name, dds::qos::setpoints()),
         frame_(opt.frame),
         source_(opt.source),
         timeout_s_(opt.timeout_s) {}
@@ -255,14 +254,14 @@ int run(const CommonOptions& common, JogOptions opt) {
   const bool have_reader = publisher.writer().wait_for_readers(
       1, from_seconds(input == Input::kScript ? opt.wait_s : std::min(opt.wait_s, 1.0)));
   if (!have_reader && input == Input::kScript) {
-    std::fprintf(stderr, "riggerctl jog: no reader of %s on domain %u after %.1f s (is admittance_control running?)\n",
-                 kJoystickTopic, common.domain, opt.wait_s);
+    std::fprintf(stderr, "riggerctl jog: no reader of %s on %s after %.1f s (is admittance_control running?)\n",
+                 protocol::operator_ui::kJoystick.name, dds::describe_domain(common.domain).c_str(), opt.wait_s);
     signals.stop();
     return 1;
   }
   if (!have_reader)
     std::fprintf(stderr, "riggerctl jog: no reader of %s yet (is admittance_control running?); publishing anyway\n",
-                 kJoystickTopic);
+                 protocol::operator_ui::kJoystick.name);
 
   jog::Twist held{};               // keyboard: the twist of the last key; device: from the sticks
   Clock::time_point held_until{};  // keyboard: a key holds its twist this long (terminal auto-repeat renews it)

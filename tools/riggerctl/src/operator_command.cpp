@@ -24,12 +24,10 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/operator.hpp"
 
 namespace rigger::ctl {
 namespace {
-
-using operator_ui::kPromptTopic;
-using operator_ui::kResponseTopic;
 
 struct OperatorOptions {
   bool list = false;
@@ -38,7 +36,6 @@ struct OperatorOptions {
   std::string operator_id;
   std::string comment;
 };
-
 
 std::string default_operator_id() {
   const char* user = std::getenv("USER");
@@ -64,8 +61,8 @@ class PromptBoard {
   };
 
   explicit PromptBoard(dds::Participant& participant)
-      : prompts_(participant, kPromptTopic, dds::qos::state()),
-        responses_(participant, kResponseTopic, dds::qos::state()) {}
+      : prompts_(participant, protocol::operator_ui::kPrompt),
+        responses_(participant, protocol::operator_ui::kResponse) {}
 
   template <typename OnEvent>
   void attach(dds::EventLoop& loop, OnEvent on_event) {
@@ -149,7 +146,7 @@ class PromptBoard {
 class ResponseWriter {
  public:
   ResponseWriter(dds::Participant& participant, std::string operator_id, std::string comment)
-      : writer_(participant, kResponseTopic, dds::qos::state()),
+      : writer_(participant, protocol::operator_ui::kResponse),
         operator_id_(std::move(operator_id)),
         comment_(std::move(comment)) {}
 
@@ -222,8 +219,8 @@ int run_answers(const CommonOptions& common, const OperatorOptions& opt) {
       else if (board.withdrawn(prompt_id))
         std::fprintf(stderr, "riggerctl: prompt '%s' was withdrawn\n", prompt_id.c_str());
       else
-        std::fprintf(stderr, "riggerctl: no pending prompt '%s' on domain %u after %.1f s\n", prompt_id.c_str(),
-                     common.domain, timeout_s);
+        std::fprintf(stderr, "riggerctl: no pending prompt '%s' on %s after %.1f s\n", prompt_id.c_str(),
+                     dds::describe_domain(common.domain).c_str(), timeout_s);
       exit_code = 1;
       continue;
     }

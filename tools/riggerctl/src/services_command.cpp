@@ -44,7 +44,8 @@ int run(const CommonOptions& common, const ServicesOptions& opt) {
   if (!opt.wait_lost.empty()) {
     const bool seen = loop.run_until([&] { return dir.is_ready(opt.wait_lost); }, timeout);
     if (!seen) {
-      std::fprintf(stderr, "riggerctl: service '%s' is not ready on domain %u\n", opt.wait_lost.c_str(), common.domain);
+      std::fprintf(stderr, "riggerctl: service '%s' is not ready on %s\n", opt.wait_lost.c_str(),
+                   dds::describe_domain(common.domain).c_str());
       return 1;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -70,6 +71,8 @@ int run(const CommonOptions& common, const ServicesOptions& opt) {
   // Plain listing: transient-local announcements arrive right after discovery; give it a moment.
   loop.run_until([] { return false; }, std::chrono::milliseconds(1500));
   print_table(dir);
+  if (dir.services().empty())
+    std::fprintf(stderr, "riggerctl: no service on %s\n", dds::describe_domain(common.domain).c_str());
   return 0;
 }
 

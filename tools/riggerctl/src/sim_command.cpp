@@ -16,13 +16,12 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/sim.hpp"
 
 namespace rigger::ctl {
 namespace {
 
 // cell_sim's fault-injection topics (services/cell_sim/src/cell_sim_node.hpp).
-constexpr const char* kSimControlTopic = "rigger/sim/control";
-constexpr const char* kSimEventTopic = "rigger/sim/event";
 constexpr int kExitRefused = 1;
 constexpr int kExitNoSimulator = 3;
 
@@ -73,8 +72,8 @@ int run(const CommonOptions& common, const SimRequest& request) {
 
   dds::Participant participant(common.domain);
   dds::EventLoop loop(participant);
-  dds::Writer<rigger_sim_SimControl> controls(participant, kSimControlTopic, dds::qos::commands());
-  dds::Reader<rigger_sim_SimEvent> events(participant, kSimEventTopic, dds::qos::events());
+  dds::Writer<rigger_sim_SimControl> controls(participant, protocol::sim::kControl);
+  dds::Reader<rigger_sim_SimEvent> events(participant, protocol::sim::kEvent);
   const auto timeout = from_seconds(request.timeout_s);
   // The answer comes on the events topic: wait until the simulator reads ours and writes to us.
   const bool matched =
@@ -82,8 +81,8 @@ int run(const CommonOptions& common, const SimRequest& request) {
       dds::wait_for_status(
           events.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return events.matched_writers() > 0; }, timeout);
   if (!matched) {
-    std::fprintf(stderr, "riggerctl: no simulated cell on domain %u (waited %.1f s); sim works with cell_sim only\n",
-                 common.domain, request.timeout_s);
+    std::fprintf(stderr, "riggerctl: no simulated cell on %s (waited %.1f s); sim works with cell_sim only\n",
+                 dds::describe_domain(common.domain).c_str(), request.timeout_s);
     return kExitNoSimulator;
   }
   const std::string source = "riggerctl-" + std::to_string(::getpid());

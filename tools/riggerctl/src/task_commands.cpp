@@ -18,14 +18,16 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "run_display.hpp"
 #include "recipe/recipe_validator.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/protocol/skill.hpp"
+#include "rigger/protocol/task.hpp"
 #include "rigger/skill/skill_library.hpp"
+#include "run_display.hpp"
 #include "task_controller_node.hpp"
 
 namespace rigger::ctl {
@@ -36,7 +38,6 @@ using Clock = std::chrono::steady_clock;
 
 constexpr int kExitFailed = 1;
 constexpr int kExitNoController = 3;
-
 
 const char* task_state_name(int s) {
   switch (s) {
@@ -196,9 +197,9 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
 
   dds::Participant participant(common.domain);
   dds::EventLoop loop(participant);
-  dds::Writer<rigger_task_Recipe> recipes(participant, tc::kRecipeTopic, dds::qos::commands());
-  dds::Reader<rigger_task_TaskStatus> statuses(participant, tc::kTaskStatusTopic, dds::qos::state());
-  dds::Reader<rigger_task_NodeStatus> nodes(participant, tc::kNodeStatusTopic, dds::qos::state_changes());
+  dds::Writer<rigger_task_Recipe> recipes(participant, protocol::task::kRecipe);
+  dds::Reader<rigger_task_TaskStatus> statuses(participant, protocol::task::kStatus);
+  dds::Reader<rigger_task_NodeStatus> nodes(participant, protocol::task::kNodeStatus, dds::qos::state_changes());
 
   // Also wait for the controller's status writers: a state change published before they matched
   // would reach us only as the latest state (state QoS keeps one sample per node), not as a line.
@@ -208,8 +209,8 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
         from_seconds(opt.match_timeout_s));
   };
   if (!recipes.wait_for_readers(1, from_seconds(opt.match_timeout_s)) || !matched(statuses) || !matched(nodes)) {
-    std::fprintf(stderr, "riggerctl: no task controller on domain %u (waited %.1f s)\n", common.domain,
-                 opt.match_timeout_s);
+    std::fprintf(stderr, "riggerctl: no task controller on %s (waited %.1f s)\n",
+                 dds::describe_domain(common.domain).c_str(), opt.match_timeout_s);
     return kExitNoController;
   }
   const std::int64_t sent_ns = to_unix_ns(std::chrono::system_clock::now());
@@ -317,8 +318,8 @@ struct JournalAnswer {
 /// The journal's query writer and reply reader; declare it before the EventLoop that asks through it.
 struct JournalTopics {
   explicit JournalTopics(dds::Participant& participant)
-      : queries(participant, tc::kJournalQueryTopic, dds::qos::commands()),
-        replies(participant, tc::kJournalReplyTopic, dds::qos::events()) {}
+      : queries(participant, protocol::task::kJournalQuery.name, dds::qos::commands()),
+        replies(participant, protocol::task::kJournalReply.name, dds::qos::events()) {}
   dds::Writer<rigger_task_JournalQuery> queries;
   dds::Reader<rigger_task_JournalReply> replies;
 };
@@ -370,8 +371,8 @@ JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std
 int journal_failure(const JournalAnswer& answer, const CommonOptions& common, double timeout_s,
                     const std::string& refusal) {
   if (!answer.answered) {
-    std::fprintf(stderr, "riggerctl: no task controller on domain %u answered within %.1f s\n", common.domain,
-                 timeout_s);
+    std::fprintf(stderr, "riggerctl: no task controller on %s answered within %.1f s\n",
+                 dds::describe_domain(common.domain).c_str(), timeout_s);
     return kExitNoController;
   }
   if (answer.ok) return 0;
@@ -403,7 +404,7 @@ int journal_query(const CommonOptions& common, const std::string& task_id, doubl
 
 int show_tree(const CommonOptions& common, const std::string& task_id, double timeout_s) {
   dds::Participant participant(common.domain);
-  dds::Reader<rigger_task_NodeStatus> nodes(participant, tc::kNodeStatusTopic, dds::qos::state());
+  dds::Reader<rigger_task_NodeStatus> nodes(participant, protocol::task::kNodeStatus);
   JournalTopics topics(participant);
   dds::EventLoop loop(participant);
   // Node status is transient-local, but it arrives some time after the reader matched (Cyclone's
@@ -476,11 +477,11 @@ std::string describe_executor(const rigger_skill_ExecutorAnnouncement& a) {
 
 int show_skills(const CommonOptions& common, double timeout_s) {
   dds::Participant participant(common.domain);
-  dds::Reader<rigger_skill_ExecutorAnnouncement> ann(participant, executor::kAnnouncementTopic, dds::qos::state());
+  dds::Reader<rigger_skill_ExecutorAnnouncement> ann(participant, protocol::skill::kExecutors, dds::qos::state());
   dds::EventLoop loop(participant);
   if (!dds::wait_for_status(ann.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return ann.matched_writers() > 0; },
                        from_seconds(timeout_s))) {
-    std::fprintf(stderr, "riggerctl: no executor on domain %u\n", common.domain);
+    std::fprintf(stderr, "riggerctl: no executor on %s\n", dds::describe_domain(common.domain).c_str());
     return kExitFailed;
   }
   // The announcements are transient-local but arrive after the match; each executor has one writer, so
@@ -508,12 +509,12 @@ int show_skills(const CommonOptions& common, double timeout_s) {
 int task_command(const CommonOptions& common, const std::string& task_id, rigger_task_TaskCommandKind kind,
                  const std::string& reason, double timeout_s) {
   dds::Participant participant(common.domain);
-  dds::Writer<rigger_task_TaskCommand> commands(participant, tc::kTaskCommandTopic, dds::qos::commands());
-  dds::Reader<rigger_task_TaskStatus> statuses(participant, tc::kTaskStatusTopic, dds::qos::state());
+  dds::Writer<rigger_task_TaskCommand> commands(participant, protocol::task::kCommand);
+  dds::Reader<rigger_task_TaskStatus> statuses(participant, protocol::task::kStatus);
   JournalTopics topics(participant);
   dds::EventLoop loop(participant);
   if (!commands.wait_for_readers(1, from_seconds(timeout_s))) {
-    std::fprintf(stderr, "riggerctl: no task controller on domain %u\n", common.domain);
+    std::fprintf(stderr, "riggerctl: no task controller on %s\n", dds::describe_domain(common.domain).c_str());
     return kExitNoController;
   }
   // The journal knows whether the task exists and whether it already ended (its last line is the

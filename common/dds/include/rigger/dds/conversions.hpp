@@ -6,6 +6,7 @@
 /// Strings and sequences written into a wire struct borrow the caller's storage: the struct is valid
 /// while the std::string / std::vector it points into lives and is not modified (write it, then drop it).
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -49,8 +50,17 @@ void covariance_to_wire(const Eigen::Matrix<double, 6, 6>& cov, double (&out)[36
 // --- strings and sequences
 /// A std::string from a possibly-null wire string.
 inline std::string to_string(const char* s) { return s ? std::string(s) : std::string(); }
-/// Borrows `s` for a wire struct's string field (Cyclone does not write through it).
+/// Borrows `s` for a wire struct's string field (Cyclone does not write through it): `s` must outlive
+/// the write.
 inline char* wire_string(const std::string& s) { return const_cast<char*>(s.c_str()); }
+/// A temporary would be destroyed before the sample is written: refused at compile time. Name the
+/// string, or pass a literal.
+char* wire_string(const std::string&& s) = delete;
+/// A string literal lives as long as the program: safe to borrow.
+template <std::size_t N>
+char* wire_string(const char (&literal)[N]) {
+  return const_cast<char*>(literal);
+}
 
 /// Borrows `values` for a wire sequence field (`dds_sequence_*`), which must not release it.
 template <typename Seq, typename V>
@@ -75,6 +85,9 @@ void wire_string_sequence(Seq& seq, const std::vector<std::string>& strings, std
   for (const auto& s : strings) storage.push_back(wire_string(s));
   wire_sequence(seq, storage);
 }
+/// A temporary vector would be destroyed before the sample is written: refused at compile time.
+template <typename Seq>
+void wire_string_sequence(Seq& seq, const std::vector<std::string>&& strings, std::vector<char*>& storage) = delete;
 template <typename Seq>
 std::vector<std::string> to_string_vector(const Seq& seq) {
   std::vector<std::string> out;

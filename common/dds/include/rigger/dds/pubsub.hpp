@@ -49,6 +49,12 @@ class Writer {
         topic_(make_topic<T>(participant, name)),
         writer_(dds_create_writer(participant.handle(), topic_.handle(), qos.get(), nullptr),
                 ("create writer " + name).c_str()) {}
+  /// A writer of the descriptor's topic with its QoS profile (rigger/protocol/<area>.hpp).
+  Writer(const Participant& participant, const protocol::Topic<T>& topic)
+      : Writer(participant, topic.name, qos::of(topic.qos)) {}
+  /// A writer of the descriptor's topic with another QoS (e.g. a longer liveliness lease).
+  Writer(const Participant& participant, const protocol::Topic<T>& topic, const Qos& qos)
+      : Writer(participant, topic.name, qos) {}
 
   /// Publishes `sample`; returns DDS_RETCODE_OK or the error. Never throws.
   dds_return_t write(const T& sample) const noexcept { return dds_write(writer_.handle(), &sample); }
@@ -86,6 +92,12 @@ class Reader {
         topic_(make_topic<T>(participant, name)),
         reader_(dds_create_reader(participant.handle(), topic_.handle(), qos.get(), nullptr),
                 ("create reader " + name).c_str()) {}
+  /// A reader of the descriptor's topic with its QoS profile (rigger/protocol/<area>.hpp).
+  Reader(const Participant& participant, const protocol::Topic<T>& topic)
+      : Reader(participant, topic.name, qos::of(topic.qos)) {}
+  /// A reader of the descriptor's topic with another QoS, e.g. qos::state_changes() on a state() topic.
+  Reader(const Participant& participant, const protocol::Topic<T>& topic, const Qos& qos)
+      : Reader(participant, topic.name, qos) {}
 
   /// Takes every available sample: `on_sample(const T&, const dds_sample_info_t&)` for each valid one.
   /// Instance-state notifications (disposed, no writers) are skipped. Returns the number taken or a

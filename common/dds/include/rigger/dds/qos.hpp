@@ -6,6 +6,8 @@
 
 #include <dds/dds.h>
 
+#include "rigger/protocol/topic.hpp"
+
 namespace rigger::dds {
 
 /// Move-only owner of a dds_qos_t.
@@ -55,6 +57,8 @@ Qos sensor_stream();
 Qos setpoints();
 /// Liveliness-monitored announcements: state() plus MANUAL_BY_PARTICIPANT liveliness with `lease`.
 Qos announcements(std::chrono::milliseconds lease = kDefaultLease);
+/// The profile a topic descriptor names (announcements with the default lease).
+Qos of(protocol::QosProfile profile);
 }  // namespace qos
 
 }  // namespace rigger::dds

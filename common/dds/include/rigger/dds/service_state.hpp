@@ -13,8 +13,6 @@
 
 namespace rigger::dds {
 
-inline constexpr const char* kServiceStateTopic = "rigger/system/service_state";
-
 /// How often a service re-announces its state (see ServiceAnnouncer::reannounce()).
 inline constexpr std::chrono::milliseconds kServiceRefreshPeriod{1000};
 

@@ -42,10 +42,6 @@
 
 namespace rigger::executor {
 
-inline constexpr const char* kCommandTopic = "rigger/skill/command";
-inline constexpr const char* kEventTopic = "rigger/skill/event";
-inline constexpr const char* kAnnouncementTopic = "rigger/skill/executors";
-
 /// One run of a leaf. The START's seq tells a re-run of the same node (Retry, Repeat) from the last one.
 struct LeafRun {
   std::string task_id;

@@ -9,11 +9,9 @@
 
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/idl/operator.h"
+#include "rigger/protocol/operator.hpp"
 
 namespace rigger::operator_ui {
-
-inline constexpr const char* kPromptTopic = "rigger/operator/prompt";
-inline constexpr const char* kResponseTopic = "rigger/operator/response";
 
 /// A prompt as the operator sees it: the domain form of OperatorPrompt.
 struct Prompt {
@@ -32,7 +30,7 @@ struct Prompt {
 Prompt to_domain(const rigger_operator_ui_OperatorPrompt& wire);
 
 /// Writes `operator_id`'s `answer` to prompt `prompt_id` (stamped now) on `responses`, a writer of
-/// kResponseTopic; returns the DDS return code.
+/// protocol::operator_ui::kResponse; returns the DDS return code.
 dds_return_t write_response(dds::Writer<rigger_operator_ui_OperatorResponse>& responses, const std::string& prompt_id,
                             const std::string& answer, const std::string& operator_id, const std::string& comment);
 

@@ -18,10 +18,9 @@
 
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/safety.hpp"
 
 namespace rigger::safety {
-
-inline constexpr const char* kSafeStopTopic = "rigger/safety/stop";
 
 /// The resources a safe stop can name.
 const std::vector<std::string>& stoppable_resources();

@@ -27,13 +27,6 @@
 
 namespace rigger::world_client {
 
-inline constexpr const char* kQueryTopic = "rigger/world/query";
-inline constexpr const char* kReplyTopic = "rigger/world/reply";
-inline constexpr const char* kUpdateTopic = "rigger/world/update";
-inline constexpr const char* kUpdateResultTopic = "rigger/world/update_result";
-inline constexpr const char* kEntityTopic = "rigger/world/entity";
-inline constexpr const char* kChangeTopic = "rigger/world/change";
-
 /// Code of a reply synthesised by the client: no world model answered in time (or none is matched).
 inline constexpr const char* kUnreachable = "WORLD_UNREACHABLE";
 /// Code of a reply synthesised by the client: the world model's result_json did not parse.

@@ -1,0 +1,43 @@
+#pragma once
+/// @file
+/// The topics of skill executors (idl/skill.idl), each declared once.
+
+#include <rigger/idl/types.hpp>
+
+#include "rigger/protocol/topic.hpp"
+
+namespace rigger::protocol::skill {
+
+/// task_controller → skill_executor, monitor_host.
+inline constexpr Topic<rigger_skill_SkillCommand> kCommand{"rigger/skill/command",
+                                                           QosProfile::kCommands,
+                                                           "executor_id",
+                                                           "task_controller",
+                                                           "skill_executor, monitor_host",
+                                                           "(START with params JSON / SHUTDOWN with reason, seq)",
+                                                           "the controller's writer adds MANUAL_BY_PARTICIPANT "
+                                                           "liveliness (command_lease_ms, 300 ms): executors shut "
+                                                           "down the runs of a controller that lost it "
+                                                           "([safety.md](safety.md))"};
+
+/// skill_executor, monitor_host → task_controller.
+inline constexpr Topic<rigger_skill_SkillEvent> kEvent{
+    "rigger/skill/event",
+    QosProfile::kEvents,
+    "executor_id",
+    "skill_executor, monitor_host",
+    "task_controller",
+    "(SUCCESS, FAILURE, STOPPED, PROGRESS; code, message, seq, command_seq)",
+    ""};
+
+/// skill_executor, monitor_host → task_controller, riggerctl.
+inline constexpr Topic<rigger_skill_ExecutorAnnouncement> kExecutors{
+    "rigger/skill/executors",
+    QosProfile::kAnnouncements,
+    "executor_id",
+    "skill_executor, monitor_host",
+    "task_controller, riggerctl",
+    "(skills offered with their descriptions as a skill-library JSON document)",
+    "readers use state(): they request no liveliness lease and see every announcer"};
+
+}  // namespace rigger::protocol::skill

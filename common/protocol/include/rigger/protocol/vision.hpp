@@ -1,0 +1,38 @@
+#pragma once
+/// @file
+/// The topics of camera and tracker (idl/vision.idl), each declared once.
+
+#include <rigger/idl/types.hpp>
+
+#include "rigger/protocol/topic.hpp"
+
+namespace rigger::protocol::vision {
+
+/// camera driver / cell_sim → vision_tracker.
+inline constexpr Topic<rigger_vision_Image> kCameraImage{
+    "rigger/camera/image", QosProfile::kSensorStream,     "", "camera driver / cell_sim",
+    "vision_tracker",      "(sensor_msgs layout, mono8)", ""};
+
+/// camera driver / cell_sim → vision_tracker.
+inline constexpr Topic<rigger_vision_CameraInfo> kCameraInfo{
+    "rigger/camera/info", QosProfile::kState, "", "camera driver / cell_sim", "vision_tracker", "", ""};
+
+/// vision_tracker → world_model, admittance_control.
+inline constexpr Topic<rigger_vision_TrackedPose> kTrackerPose{"rigger/tracker/pose",
+                                                               QosProfile::kSensorStream,
+                                                               "object_id",
+                                                               "vision_tracker",
+                                                               "world_model, admittance_control",
+                                                               "(pose with covariance, quality, tracked, image stamp)",
+                                                               ""};
+
+/// skills → vision_tracker.
+inline constexpr Topic<rigger_vision_TrackerCommand> kTrackerCommand{"rigger/tracker/command",
+                                                                     QosProfile::kCommands,
+                                                                     "",
+                                                                     "skills",
+                                                                     "vision_tracker",
+                                                                     "(TRACK_ONCE, TRACK_CONTINUOUS, STOP)",
+                                                                     ""};
+
+}  // namespace rigger::protocol::vision

@@ -1,0 +1,66 @@
+#pragma once
+/// @file
+/// The topics of world model (idl/world.idl), each declared once.
+
+#include <rigger/idl/types.hpp>
+
+#include "rigger/protocol/topic.hpp"
+
+namespace rigger::protocol::world {
+
+/// world_model → all.
+inline constexpr Topic<rigger_world_EntityState> kEntity{
+    "rigger/world/entity",
+    QosProfile::kState,
+    "entity_id",
+    "world_model",
+    "all",
+    "(kind, parent frame, has_pose, pose with covariance, quality, localized, stale, stamp, source, features, "
+    "attributes, revision)",
+    ""};
+
+/// skills, vision_tracker → world_model.
+inline constexpr Topic<rigger_world_EntityUpdate> kUpdate{
+    "rigger/world/update",
+    QosProfile::kCommands,
+    "source",
+    "skills, vision_tracker",
+    "world_model",
+    "(entity, optional re-parent, has_pose/has_covariance/has_quality/has_localized flags, stamp, attributes merge "
+    "patch; seq correlates the result)",
+    ""};
+
+/// world_model → the updater.
+inline constexpr Topic<rigger_world_UpdateResult> kUpdateResult{
+    "rigger/world/update_result",
+    QosProfile::kEvents,
+    "source",
+    "world_model",
+    "the updater",
+    "(accepted, code, reason, revision; source + seq of the update)",
+    ""};
+
+/// world_model → journals, UIs.
+inline constexpr Topic<rigger_world_EntityChange> kChange{
+    "rigger/world/change", QosProfile::kEvents, "entity_id", "world_model", "journals, UIs", "(who changed what)", ""};
+
+/// task_controller, skills → world_model.
+inline constexpr Topic<rigger_world_WorldQuery> kQuery{
+    "rigger/world/query",
+    QosProfile::kCommands,
+    "client_id",
+    "task_controller, skills",
+    "world_model",
+    "(POSE of A — or of its feature_id — in B, IS_LOCALIZED with max age, FEATURES, ENTITY, LIST; request id)",
+    ""};
+
+/// world_model → the querier.
+inline constexpr Topic<rigger_world_WorldReply> kReply{"rigger/world/reply",
+                                                       QosProfile::kEvents,
+                                                       "client_id",
+                                                       "world_model",
+                                                       "the querier",
+                                                       "(ok or code + message; pose, localized, age, JSON result)",
+                                                       ""};
+
+}  // namespace rigger::protocol::world

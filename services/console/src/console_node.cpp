@@ -1,0 +1,412 @@
+#include "console_node.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "rigger/dds/conversions.hpp"
+
+#include "rigger/operator_ui/prompt.hpp"
+
+namespace rigger::console {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr std::size_t kEventCapacity = 200000;
+constexpr std::size_t kPlotCapacity = 36000;  // 30 min at 20 Hz
+
+double seconds(const rigger_geometry_Time& t) { return static_cast<double>(t.sec) + 1e-9 * t.nanosec; }
+
+double wall_now_s() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+const char* task_state_name(int s) {
+  switch (s) {
+    case rigger_task_TASK_ACCEPTED: return "ACCEPTED";
+    case rigger_task_TASK_REJECTED: return "REJECTED";
+    case rigger_task_TASK_RUNNING: return "RUNNING";
+    case rigger_task_TASK_PAUSED: return "PAUSED";
+    case rigger_task_TASK_SUCCEEDED: return "SUCCEEDED";
+    case rigger_task_TASK_FAILED: return "FAILED";
+    case rigger_task_TASK_CANCELED: return "CANCELED";
+    default: return "UNKNOWN";
+  }
+}
+
+const char* node_state_name(int s) {
+  switch (s) {
+    case rigger_task_NODE_IDLE: return "IDLE";
+    case rigger_task_NODE_RUNNING: return "RUNNING";
+    case rigger_task_NODE_STOPPING: return "STOPPING";
+    case rigger_task_NODE_SUCCESS: return "SUCCESS";
+    case rigger_task_NODE_FAILURE: return "FAILURE";
+    case rigger_task_NODE_STOPPED: return "STOPPED";
+    default: return "UNKNOWN";
+  }
+}
+
+std::string epoch_now() {
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch());
+  return std::to_string(ms.count());
+}
+
+std::string default_web_dir() {
+#ifdef RIGGER_CONSOLE_WEB_DIR
+  return RIGGER_CONSOLE_WEB_DIR;
+#else
+  return "web";
+#endif
+}
+
+// A plot value with 4 significant decimals keeps the rows short.
+double round4(double v) { return std::round(v * 1e4) / 1e4; }
+
+}  // namespace
+
+ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
+    : ctx_(ctx),
+      events_(kEventCapacity, epoch_now()),
+      plots_(kPlotCapacity, events_.epoch()),
+      state_(events_),
+      task_status_(ctx.participant, protocol::task::kStatus),
+      node_status_(ctx.participant, protocol::task::kNodeStatus, dds::qos::state_changes()),
+      executors_(ctx.participant, protocol::skill::kExecutors, dds::qos::state()),
+      prompts_(ctx.participant, protocol::operator_ui::kPrompt),
+      wrench_(ctx.participant, protocol::robot::kWrench),
+      crane_(ctx.participant, protocol::crane::kState),
+      robot_(ctx.participant, protocol::robot::kState),
+      admittance_(ctx.participant, protocol::admittance::kState),
+      recipes_(ctx.participant, protocol::task::kRecipe),
+      task_commands_(ctx.participant, protocol::task::kCommand),
+      responses_(ctx.participant, protocol::operator_ui::kResponse),
+      journal_queries_(ctx.participant, protocol::task::kJournalQuery),
+      journal_replies_(ctx.participant, protocol::task::kJournalReply),
+      cad_requests_(ctx.participant, protocol::cad::kRequest),
+      cad_replies_(ctx.participant, protocol::cad::kReply),
+      client_id_(ctx.options.id + "-" + std::to_string(::getpid())) {
+  auto& config = ctx.config;
+  HttpConfig http;
+  http.config_file = ctx.options.config_path;
+  http.address = config.get<std::string>("address", http.address);
+  http.port = config.get_in_range<int>("port", http.port, 0, 65535);
+  http.web_dir = config.get<std::string>("web_dir", default_web_dir());
+  http.audit_log = config.get<std::string>("audit_log", "/var/tmp/rigger/console-audit.log");
+  http.tls_cert = config.get<std::string>("tls_cert", "");
+  http.tls_key = config.get<std::string>("tls_key", "");
+  http.confirm_timeout = std::chrono::milliseconds(
+      static_cast<long>(1000.0 * config.get_in_range<double>("confirm_timeout_s", 5.0, 0.5, 120.0)));
+  http.max_body_bytes = static_cast<std::size_t>(
+      config.get_in_range<double>("max_body_bytes", 4.0 * 1024 * 1024, 1024.0, 100.0 * 1024 * 1024));
+  const std::string users_file = config.get<std::string>("users_file", "/var/tmp/rigger/console-users.json");
+  const double plot_rate_hz = config.get_in_range<double>("plot_rate_hz", 20.0, 1.0, 100.0);
+  query_timeout_ = std::chrono::milliseconds(
+      static_cast<long>(1000.0 * config.get_in_range<double>("query_timeout_s", 3.0, 0.1, 60.0)));
+  config.finish();
+  if (http.tls_cert.empty() != http.tls_key.empty())
+    throw ConfigError(ctx.options.config_path, "/tls_key", "give both tls_cert and tls_key, or neither");
+  if (!http.audit_log.empty()) {
+    const auto slash = http.audit_log.rfind('/');
+    if (slash != std::string::npos && slash > 0) std::filesystem::create_directories(http.audit_log.substr(0, slash));
+  }
+  Users users = Users::load(users_file);
+
+  world_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log, client_id_ + "-world");
+  ctx.loop.on_data(task_status_, [this] { on_task_status(); });
+  ctx.loop.on_data(node_status_, [this] { on_node_status(); });
+  ctx.loop.on_data(executors_, [this] { on_executors(); });
+  ctx.loop.on_data(prompts_, [this] { on_prompts(); });
+  ctx.loop.on_data(journal_replies_, [this] { on_journal_replies(); });
+  ctx.loop.on_data(cad_replies_, [this] { on_cad_replies(); });
+  ctx.loop.on_data(wrench_, [this] {
+    wrench_.take([this](const rigger_sensing_WrenchStamped& w, const dds_sample_info_t&) {
+      force_sum_ += dds::to_domain(w.wrench.force);
+      ++force_count_;
+      fresh_ = true;
+    });
+  });
+  ctx.loop.on_data(crane_, [this] {
+    crane_.take([this](const rigger_crane_CraneState& c, const dds_sample_info_t&) {
+      crane_velocity_ = Eigen::Vector3d(c.velocity_mps[0], c.velocity_mps[1], c.velocity_mps[2]);
+      have_crane_ = fresh_ = true;
+    });
+  });
+  ctx.loop.on_data(robot_, [this] {
+    robot_.take([this](const rigger_robot_RobotState& r, const dds_sample_info_t&) {
+      robot_velocity_ = dds::to_domain(r.tool_twist.linear);
+      have_robot_ = fresh_ = true;
+    });
+  });
+  ctx.loop.on_data(admittance_, [this] {
+    admittance_.take([this](const rigger_admittance_AdmittanceState& a, const dds_sample_info_t&) {
+      servo_error_m_ = a.servo_error_m;
+      servo_error_rad_ = a.servo_error_rad;
+      have_admittance_ = fresh_ = true;
+    });
+  });
+  ctx.loop.every(std::chrono::nanoseconds(static_cast<long>(1e9 / plot_rate_hz)), [this] { plot_tick(); });
+
+  http_ = std::make_unique<HttpApi>(std::move(http), std::move(users), state_, events_, plots_, *this, ctx.log);
+  http_->start();
+  // The address for people and launchers (rigger-compose prints it with a login link).
+  std::printf("console: listening on %s://%s:%d/\n", http_->tls() ? "https" : "http",
+              config.get<std::string>("address", "127.0.0.1").c_str(), http_->port());
+  std::fflush(stdout);
+}
+
+ConsoleNode::~ConsoleNode() {
+  http_->stop();  // before the readers and the loop's handlers go away
+}
+
+// --- reading ---
+
+void ConsoleNode::on_task_status() {
+  task_status_.take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
+    json errors = json::array();
+    for (uint32_t i = 0; i < s.errors._length; ++i)
+      errors.push_back({{"pointer", dds::to_string(s.errors._buffer[i].pointer)},
+                        {"message", dds::to_string(s.errors._buffer[i].message)}});
+    state_.update_task({{"task_id", dds::to_string(s.task_id)},
+                        {"state", task_state_name(s.state)},
+                        {"code", dds::to_string(s.code)},
+                        {"message", dds::to_string(s.message)},
+                        {"failed_node", dds::to_string(s.failed_node)},
+                        {"errors", errors},
+                        {"submitted", seconds(s.submitted)},
+                        {"stamp", seconds(s.stamp)}});
+  });
+}
+
+void ConsoleNode::on_node_status() {
+  // A take groups samples by instance (node); the controller writes a burst (a child, then its parent)
+  // together. In stamp order they read as they happened (as riggerctl run shows them).
+  std::vector<std::pair<double, json>> changes;
+  node_status_.take([&](const rigger_task_NodeStatus& s, const dds_sample_info_t&) {
+    changes.emplace_back(seconds(s.stamp), json{{"task_id", dds::to_string(s.task_id)},
+                                                {"node_id", dds::to_string(s.node_id)},
+                                                {"parent_id", dds::to_string(s.parent_id)},
+                                                {"type", dds::to_string(s.node_type)},
+                                                {"name", dds::to_string(s.name)},
+                                                {"state", node_state_name(s.state)},
+                                                {"code", dds::to_string(s.code)},
+                                                {"message", dds::to_string(s.message)},
+                                                {"progress", s.progress},
+                                                {"progress_text", dds::to_string(s.progress_text)},
+                                                {"executor", dds::to_string(s.executor_id)},
+                                                {"started", seconds(s.started)},
+                                                {"finished", seconds(s.finished)},
+                                                {"stamp", seconds(s.stamp)}});
+  });
+  std::stable_sort(changes.begin(), changes.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [stamp, node] : changes) state_.update_node(node);
+}
+
+void ConsoleNode::on_prompts() {
+  prompts_.take([this](const rigger_operator_ui_OperatorPrompt& w, const dds_sample_info_t&) {
+    const operator_ui::Prompt p = operator_ui::to_domain(w);
+    json details = json::parse(p.details_json.empty() ? "{}" : p.details_json, nullptr, false);
+    if (details.is_discarded()) details = json::object();
+    state_.update_prompt({{"prompt_id", p.prompt_id}, {"task_id", p.task_id}, {"node_id", p.node_id},
+                          {"kind", p.kind}, {"title", p.title}, {"text", p.text}, {"options", p.options},
+                          {"details", details}, {"timeout_s", p.timeout_s}, {"active", p.active},
+                          {"stamp", seconds(w.stamp)}});
+  });
+}
+
+void ConsoleNode::on_executors() {
+  executors_.take(
+      [this](const rigger_skill_ExecutorAnnouncement& a, const dds_sample_info_t&) {
+        json skills = json::array();
+        for (uint32_t i = 0; i < a.skills._length; ++i) skills.push_back(dds::to_string(a.skills._buffer[i]));
+        state_.update_executor({{"executor_id", dds::to_string(a.executor_id)}, {"host", dds::to_string(a.host)},
+                                {"pid", a.pid}, {"skills", skills}, {"alive", true}});
+      },
+      [this](const rigger_skill_ExecutorAnnouncement& key, const dds_sample_info_t& info) {
+        if (info.instance_state != DDS_IST_ALIVE)
+          state_.update_executor({{"executor_id", dds::to_string(key.executor_id)}, {"alive", false}});
+      });
+}
+
+void ConsoleNode::plot_tick() {
+  const double now = wall_now_s();
+  if (!fresh_) {
+    last_tick_s_ = now;
+    return;  // nothing new: no row (an idle cell costs nothing)
+  }
+  fresh_ = false;
+  nlohmann::ordered_json row;  // "t" stays the first key
+  row["t"] = std::round(now * 1000.0) / 1000.0;  // first key: /api/plots reads it without parsing
+  if (force_count_ > 0) {
+    const Eigen::Vector3d f = force_sum_ / force_count_;
+    const double norm = f.norm();
+    row["fx"] = round4(f.x());
+    row["fy"] = round4(f.y());
+    row["fz"] = round4(f.z());
+    row["f"] = round4(norm);
+    if (last_force_norm_ >= 0.0 && now > last_tick_s_) row["yank"] = round4((norm - last_force_norm_) / (now - last_tick_s_));
+    last_force_norm_ = norm;
+    force_sum_.setZero();
+    force_count_ = 0;
+  }
+  if (have_crane_) {
+    row["crane_v"] = round4(crane_velocity_.norm());
+    row["crane_vz"] = round4(crane_velocity_.z());
+  }
+  if (have_robot_) row["robot_v"] = round4(robot_velocity_.norm());
+  if (have_admittance_) {
+    row["servo_m"] = round4(servo_error_m_);
+    row["servo_rad"] = round4(servo_error_rad_);
+  }
+  last_tick_s_ = now;
+  plots_.append("plot", row.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
+}
+
+// --- the HTTP side's requests, run on the loop ---
+
+ActionResult ConsoleNode::on_loop(std::function<void(std::shared_ptr<std::promise<ActionResult>>)> work) {
+  auto promise = std::make_shared<std::promise<ActionResult>>();
+  auto answer = promise->get_future();
+  ctx_.loop.post([promise, work = std::move(work)] { work(promise); });
+  if (answer.wait_for(query_timeout_ + std::chrono::seconds(2)) != std::future_status::ready)
+    return {false, "the console's DDS loop did not answer in time", {}};
+  return answer.get();
+}
+
+ActionResult ConsoleNode::publish_recipe(const std::string& task_id, const std::string& recipe_json,
+                                         const std::string& submitter) {
+  return on_loop([=](auto promise) {
+    if (recipes_.matched_readers() == 0) {
+      promise->set_value({false, "no task controller reads recipes on this domain; nothing was sent", {}});
+      return;
+    }
+    rigger_task_Recipe r{};
+    r.task_id = dds::wire_string(task_id);
+    r.recipe_json = dds::wire_string(recipe_json);
+    r.submitter = dds::wire_string(submitter);
+    r.stamp = dds::wire_now();
+    const dds_return_t rc = recipes_.write(r);
+    promise->set_value({rc == DDS_RETCODE_OK, rc == DDS_RETCODE_OK ? "" : std::string("publishing failed: ") + dds_strretcode(rc), {}});
+  });
+}
+
+ActionResult ConsoleNode::task_command(const std::string& task_id, const std::string& kind, const std::string& reason,
+                                       const std::string& issuer) {
+  return on_loop([=](auto promise) {
+    if (task_commands_.matched_readers() == 0) {
+      promise->set_value({false, "no task controller reads task commands on this domain; nothing was sent", {}});
+      return;
+    }
+    rigger_task_TaskCommand c{};
+    c.task_id = dds::wire_string(task_id);
+    c.kind = kind == "pause" ? rigger_task_TASK_PAUSE : kind == "resume" ? rigger_task_TASK_RESUME : rigger_task_TASK_CANCEL;
+    c.reason = dds::wire_string(reason);
+    c.issuer = dds::wire_string(issuer);
+    c.seq = command_seq_++;
+    c.stamp = dds::wire_now();
+    const dds_return_t rc = task_commands_.write(c);
+    promise->set_value({rc == DDS_RETCODE_OK, rc == DDS_RETCODE_OK ? "" : std::string("sending failed: ") + dds_strretcode(rc), {}});
+  });
+}
+
+ActionResult ConsoleNode::answer_prompt(const std::string& prompt_id, const std::string& answer,
+                                        const std::string& operator_id, const std::string& comment) {
+  return on_loop([=](auto promise) {
+    const dds_return_t rc = operator_ui::write_response(responses_, prompt_id, answer, operator_id, comment);
+    promise->set_value({rc == DDS_RETCODE_OK, rc == DDS_RETCODE_OK ? "" : std::string("sending failed: ") + dds_strretcode(rc), {}});
+  });
+}
+
+ActionResult ConsoleNode::journal(const std::string& task_id) {
+  return on_loop([=](auto promise) {
+    if (journal_queries_.matched_readers() == 0) {
+      promise->set_value({false, "no task controller answers journal queries on this domain", {}});
+      return;
+    }
+    const std::uint64_t id = next_request_++;
+    rigger_task_JournalQuery q{};
+    q.client_id = dds::wire_string(client_id_);
+    q.request_id = id;
+    q.task_id = dds::wire_string(task_id);
+    q.max_entries = 100000;
+    journal_queries_.write(q);
+    const auto timer = ctx_.loop.after(query_timeout_, [this, id] {
+      auto it = journal_pending_.find(id);
+      if (it == journal_pending_.end()) return;
+      it->second.promise->set_value({false, "the task controller did not answer the journal query in time", {}});
+      journal_pending_.erase(it);
+    });
+    journal_pending_[id] = {promise, timer};
+  });
+}
+
+void ConsoleNode::on_journal_replies() {
+  journal_replies_.take([this](const rigger_task_JournalReply& rep, const dds_sample_info_t&) {
+    if (dds::to_string(rep.client_id) != client_id_) return;
+    auto it = journal_pending_.find(rep.request_id);
+    if (it == journal_pending_.end()) return;
+    json entries = json::array();
+    for (uint32_t i = 0; i < rep.entries._length; ++i) {
+      const auto& e = rep.entries._buffer[i];
+      entries.push_back({{"stamp", seconds(e.stamp)}, {"node_id", dds::to_string(e.node_id)},
+                         {"kind", dds::to_string(e.kind)}, {"code", dds::to_string(e.code)},
+                         {"message", dds::to_string(e.message)}});
+    }
+    ctx_.loop.cancel(it->second.timer);
+    it->second.promise->set_value({rep.ok, dds::to_string(rep.message), std::move(entries)});
+    journal_pending_.erase(it);
+  });
+}
+
+ActionResult ConsoleNode::world_entity(const std::string& id) {
+  return on_loop([=](auto promise) {
+    world_->entity(id, query_timeout_, [promise](const world_client::Reply& r) {
+      promise->set_value({r.ok, r.ok ? "" : r.code + ": " + r.message, r.result});
+    });
+  });
+}
+
+ActionResult ConsoleNode::cad_glb(const std::string& model) {
+  return on_loop([=](auto promise) {
+    if (cad_requests_.matched_readers() == 0) {
+      promise->set_value({false, "no CAD service on this domain", {}});
+      return;
+    }
+    const std::uint64_t id = next_request_++;
+    rigger_cad_CadRequest q{};
+    q.client_id = dds::wire_string(client_id_);
+    q.request_id = id;
+    q.kind = rigger_cad_CAD_TESSELLATION;
+    q.model = dds::wire_string(model);
+    q.args_json = dds::wire_string("{}");
+    cad_requests_.write(q);
+    const auto timer = ctx_.loop.after(query_timeout_, [this, id] {
+      auto it = cad_pending_.find(id);
+      if (it == cad_pending_.end()) return;
+      it->second.promise->set_value({false, "the CAD service did not answer in time", {}});
+      cad_pending_.erase(it);
+    });
+    cad_pending_[id] = {promise, timer};
+  });
+}
+
+void ConsoleNode::on_cad_replies() {
+  cad_replies_.take([this](const rigger_cad_CadReply& rep, const dds_sample_info_t&) {
+    if (dds::to_string(rep.client_id) != client_id_) return;
+    auto it = cad_pending_.find(rep.request_id);
+    if (it == cad_pending_.end()) return;
+    ctx_.loop.cancel(it->second.timer);
+    if (!rep.ok) {
+      it->second.promise->set_value({false, dds::to_string(rep.code) + ": " + dds::to_string(rep.message), {}});
+    } else {
+      std::string glb(reinterpret_cast<const char*>(rep.data._buffer), rep.data._length);
+      it->second.promise->set_value({true, "", json{{"glb", std::move(glb)}}});
+    }
+    cad_pending_.erase(it);
+  });
+}
+
+}  // namespace rigger::console

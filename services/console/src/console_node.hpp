@@ -1,0 +1,114 @@
+#pragma once
+/// @file
+/// The console's DDS node: reads task and node status, executor announcements, operator prompts and
+/// the sensor streams for plots; asks the controller's journal, the world model and the CAD service;
+/// writes recipes, task commands and operator responses on the same topics riggerctl uses. Its HTTP
+/// side (HttpApi) runs on its own threads and reaches DDS only through the Backend below, which posts
+/// each request to this node's event loop and waits for the loop's answer.
+///
+/// Configuration (all optional): address ("127.0.0.1"), port (8080; 0 = any free port), users_file,
+/// web_dir, audit_log, tls_cert + tls_key, confirm_timeout_s (5), max_body_bytes (4 MiB), plot_rate_hz
+/// (20), query_timeout_s (3).
+#include <cstdint>
+#include <future>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "console_state.hpp"
+#include "event_log.hpp"
+#include "http_api.hpp"
+#include "rigger/dds/pubsub.hpp"
+#include "rigger/dds/service.hpp"
+#include "rigger/idl/types.hpp"
+#include "rigger/protocol/admittance.hpp"
+#include "rigger/protocol/cad.hpp"
+#include "rigger/protocol/crane.hpp"
+#include "rigger/protocol/operator.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/skill.hpp"
+#include "rigger/protocol/task.hpp"
+#include "rigger/world_client/world_client.hpp"
+
+namespace rigger::console {
+
+class ConsoleNode : public dds::Node, public Backend {
+ public:
+  /// @throws ConfigError (bad configuration, users file, port in use), DdsError.
+  explicit ConsoleNode(dds::ServiceContext& ctx);
+  ~ConsoleNode() override;
+
+  int port() const { return http_->port(); }
+
+  // Backend (any thread but the loop's).
+  ActionResult publish_recipe(const std::string& task_id, const std::string& recipe_json,
+                              const std::string& submitter) override;
+  ActionResult task_command(const std::string& task_id, const std::string& kind, const std::string& reason,
+                            const std::string& issuer) override;
+  ActionResult answer_prompt(const std::string& prompt_id, const std::string& answer, const std::string& operator_id,
+                             const std::string& comment) override;
+  ActionResult journal(const std::string& task_id) override;
+  ActionResult world_entity(const std::string& id) override;
+  ActionResult cad_glb(const std::string& model) override;
+
+ private:
+  /// Runs `work` on the loop; it must eventually set the promise it is given. Waits up to the query
+  /// timeout (plus margin) for it.
+  ActionResult on_loop(std::function<void(std::shared_ptr<std::promise<ActionResult>>)> work);
+  void on_node_status();
+  void on_task_status();
+  void on_prompts();
+  void on_executors();
+  void on_journal_replies();
+  void on_cad_replies();
+  void plot_tick();
+
+  dds::ServiceContext& ctx_;
+  std::chrono::milliseconds query_timeout_{3000};
+  EventLog events_;
+  EventLog plots_;
+  ConsoleState state_;
+
+  dds::Reader<rigger_task_TaskStatus> task_status_;
+  dds::Reader<rigger_task_NodeStatus> node_status_;
+  dds::Reader<rigger_skill_ExecutorAnnouncement> executors_;
+  dds::Reader<rigger_operator_ui_OperatorPrompt> prompts_;
+  dds::Reader<rigger_sensing_WrenchStamped> wrench_;
+  dds::Reader<rigger_crane_CraneState> crane_;
+  dds::Reader<rigger_robot_RobotState> robot_;
+  dds::Reader<rigger_admittance_AdmittanceState> admittance_;
+  dds::Writer<rigger_task_Recipe> recipes_;
+  dds::Writer<rigger_task_TaskCommand> task_commands_;
+  dds::Writer<rigger_operator_ui_OperatorResponse> responses_;
+  dds::Writer<rigger_task_JournalQuery> journal_queries_;
+  dds::Reader<rigger_task_JournalReply> journal_replies_;
+  dds::Writer<rigger_cad_CadRequest> cad_requests_;
+  dds::Reader<rigger_cad_CadReply> cad_replies_;
+  std::unique_ptr<world_client::WorldClient> world_;
+
+  std::string client_id_;
+  std::uint64_t next_request_ = 1;
+  std::uint64_t command_seq_ = 1;
+  struct PendingQuery {
+    std::shared_ptr<std::promise<ActionResult>> promise;
+    dds::EventLoop::TimerId timer = 0;
+  };
+  std::map<std::uint64_t, PendingQuery> journal_pending_;
+  std::map<std::uint64_t, PendingQuery> cad_pending_;
+
+  // Plots: the latest sample of each stream, decimated by plot_tick().
+  Eigen::Vector3d force_sum_ = Eigen::Vector3d::Zero();
+  int force_count_ = 0;
+  double last_force_norm_ = -1.0;
+  double last_tick_s_ = 0.0;
+  Eigen::Vector3d crane_velocity_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d robot_velocity_ = Eigen::Vector3d::Zero();
+  double servo_error_m_ = 0.0, servo_error_rad_ = 0.0;
+  bool have_crane_ = false, have_robot_ = false, have_admittance_ = false, fresh_ = false;
+
+  std::unique_ptr<HttpApi> http_;  // last: its threads stop first
+};
+
+}  // namespace rigger::console

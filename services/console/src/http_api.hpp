@@ -1,0 +1,117 @@
+#pragma once
+/// @file
+/// The console's HTTP side (cpp-httplib): authentication, roles, two-step confirmation, bounded
+/// request bodies, the REST routes, the Server-Sent Event streams and the static pages. It never
+/// touches a DDS object: reads come from ConsoleState and the plot EventLog, and everything that needs
+/// DDS goes through a Backend, which the node implements by posting work to its event loop and waiting
+/// for the answer.
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "auth.hpp"
+#include "console_state.hpp"
+#include "event_log.hpp"
+#include "rigger/base/logging.hpp"
+
+namespace httplib {
+class Server;
+}
+
+namespace rigger::console {
+
+/// The outcome of a DDS action.
+struct ActionResult {
+  bool ok = false;
+  std::string message;  ///< why not, when !ok
+  nlohmann::json data;  ///< a query's answer
+};
+
+/// What the HTTP side asks of the DDS side. Every call blocks the calling HTTP thread (never the loop)
+/// until the loop answered or a timeout passed. Thread-safe.
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  /// Publishes a recipe on rigger/task/recipe with `submitter` as its submitter.
+  virtual ActionResult publish_recipe(const std::string& task_id, const std::string& recipe_json,
+                                      const std::string& submitter) = 0;
+  /// Writes a task command; `kind` is "cancel", "pause" or "resume".
+  virtual ActionResult task_command(const std::string& task_id, const std::string& kind, const std::string& reason,
+                                    const std::string& issuer) = 0;
+  /// Writes an operator response.
+  virtual ActionResult answer_prompt(const std::string& prompt_id, const std::string& answer,
+                                     const std::string& operator_id, const std::string& comment) = 0;
+  /// The journal of `task_id` ("" : the task list) through the controller's query topics:
+  /// data = [{"stamp", "node_id", "kind", "code", "message"}, ...].
+  virtual ActionResult journal(const std::string& task_id) = 0;
+  /// The world model's description of entity `id` (data = the entity JSON).
+  virtual ActionResult world_entity(const std::string& id) = 0;
+  /// The CAD service's tessellation of `model` as GLB bytes (data = {"glb": <binary string>}).
+  virtual ActionResult cad_glb(const std::string& model) = 0;
+};
+
+struct HttpConfig {
+  std::string address = "127.0.0.1";
+  int port = 8080;
+  std::string web_dir;                ///< the static pages (index.html, *.js) and node_modules/
+  std::string tls_cert, tls_key;      ///< both set: HTTPS
+  std::size_t max_body_bytes = 4U * 1024U * 1024U;
+  std::chrono::milliseconds confirm_timeout{5000};
+  std::string audit_log;              ///< JSON lines of every action; empty: log only
+  int threads = 32;                   ///< HTTP worker threads (every open SSE stream holds one)
+  std::string config_file;            ///< named in configuration errors
+};
+
+/// The HTTP server. start() binds and serves on its own thread; stop() ends it and every stream.
+class HttpApi {
+ public:
+  HttpApi(HttpConfig config, Users users, ConsoleState& state, EventLog& events, EventLog& plots, Backend& backend,
+          Logger log);
+  ~HttpApi();
+  HttpApi(const HttpApi&) = delete;
+  HttpApi& operator=(const HttpApi&) = delete;
+
+  /// Binds the address and port (port 0: any free one) and serves. @throws ConfigError when it cannot.
+  void start();
+  void stop();
+  /// The bound port (after start()).
+  int port() const { return port_; }
+  bool tls() const { return !config_.tls_cert.empty(); }
+
+ private:
+  struct Pending {
+    std::string user;
+    std::string kind;  ///< "publish" or "resume"
+    std::string task_id;
+    std::string payload;  ///< the recipe text for publish
+    std::chrono::steady_clock::time_point deadline;
+  };
+  void routes();
+  void audit(const User& user, const std::string& action, const std::string& target, const std::string& result);
+  std::string new_confirmation(Pending p);
+
+  HttpConfig config_;
+  Users users_;
+  ConsoleState& state_;
+  EventLog& events_;
+  EventLog& plots_;
+  Backend& backend_;
+  Logger log_;
+  std::unique_ptr<httplib::Server> server_;
+  std::thread thread_;
+  int port_ = 0;
+  std::mutex audit_mutex_;
+  std::mutex pending_mutex_;
+  std::map<std::string, Pending> pending_;
+};
+
+}  // namespace rigger::console

@@ -1,0 +1,211 @@
+// The console's HTTP side over real loopback HTTP (cpp-httplib's client), with a recording Backend in
+// place of DDS: who may do what, the two-step confirmation, bounded bodies, and the event stream's
+// resume from Last-Event-ID.
+#include <httplib.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <thread>
+#include <mutex>
+
+#include <gtest/gtest.h>
+
+#include "http_api.hpp"
+#include "rigger/base/logging.hpp"
+
+namespace rigger::console {
+namespace {
+
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+/// Records what the HTTP side asked for; answers ok.
+class RecordingBackend : public Backend {
+ public:
+  ActionResult publish_recipe(const std::string& task_id, const std::string&, const std::string& submitter) override {
+    return record("publish " + task_id + " by " + submitter);
+  }
+  ActionResult task_command(const std::string& task_id, const std::string& kind, const std::string&,
+                            const std::string& issuer) override {
+    return record(kind + " " + task_id + " by " + issuer);
+  }
+  ActionResult answer_prompt(const std::string& prompt_id, const std::string& answer, const std::string& who,
+                             const std::string&) override {
+    return record("answer " + prompt_id + " " + answer + " by " + who);
+  }
+  ActionResult journal(const std::string&) override { return {true, "", json::array()}; }
+  ActionResult world_entity(const std::string&) override { return {false, "no world model", {}}; }
+  ActionResult cad_glb(const std::string&) override { return {false, "no CAD service on this domain", {}}; }
+  std::vector<std::string> actions() {
+    std::lock_guard lock(mutex_);
+    return actions_;
+  }
+
+ private:
+  ActionResult record(std::string what) {
+    std::lock_guard lock(mutex_);
+    actions_.push_back(std::move(what));
+    return {true, "", {}};
+  }
+  std::mutex mutex_;
+  std::vector<std::string> actions_;
+};
+
+class HttpApiTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = ::testing::TempDir() + "/console-http-" + std::to_string(::getpid());
+    created_ = make_users(dir_ + "/users.json", {{"ada", Role::kProgrammer}, {"olu", Role::kOperator}, {"vic", Role::kViewer}});
+    std::filesystem::create_directories(dir_ + "/web");
+    HttpConfig config;
+    config.port = 0;
+    config.web_dir = dir_ + "/web";
+    config.audit_log = dir_ + "/audit.log";
+    config.confirm_timeout = 300ms;
+    config.max_body_bytes = 64 * 1024;
+    api_ = std::make_unique<HttpApi>(config, Users::load(dir_ + "/users.json"), state_, events_, plots_, backend_,
+                                     null_logger());
+    api_->start();
+    client_ = std::make_unique<httplib::Client>("127.0.0.1", api_->port());
+  }
+  void TearDown() override {
+    api_->stop();
+    std::filesystem::remove_all(dir_);
+  }
+  httplib::Headers as(int user) const { return {{"Authorization", "Bearer " + created_[user].token}}; }
+  httplib::Result post(const std::string& path, const std::string& body, int user = -1) {
+    return user < 0 ? client_->Post(path.c_str(), body, "application/json")
+                    : client_->Post(path.c_str(), as(user), body, "application/json");
+  }
+  static json body(const httplib::Result& r) { return json::parse(r->body); }
+
+  std::string dir_;
+  std::vector<CreatedUser> created_;
+  EventLog events_{1000, "42"};
+  EventLog plots_{100, "42"};
+  ConsoleState state_{events_};
+  RecordingBackend backend_;
+  std::unique_ptr<HttpApi> api_;
+  std::unique_ptr<httplib::Client> client_;
+};
+
+constexpr int kAda = 0, kOlu = 1, kVic = 2;
+
+TEST_F(HttpApiTest, EveryRequestNeedsAKnownTokenAndTheRightRole) {
+  auto r = client_->Get("/api/me");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 401);
+  EXPECT_EQ(body(r)["where"], "/api/me");
+  r = client_->Get("/api/me", {{"Authorization", "Bearer nope"}});
+  EXPECT_EQ(r->status, 401);
+  r = client_->Get("/api/me", as(kVic));
+  EXPECT_EQ(r->status, 200);
+  EXPECT_EQ(body(r)["role"], "viewer");
+  r = post("/api/recipes", R"({"task_id": "t"})");
+  EXPECT_EQ(r->status, 401);
+  r = post("/api/recipes", R"({"task_id": "t"})", kOlu);
+  EXPECT_EQ(r->status, 403);
+  EXPECT_NE(body(r)["error"].get<std::string>().find("programmer"), std::string::npos);
+  state_.update_prompt({{"prompt_id", "p1"}, {"active", true}, {"options", {"done", "failed"}}});
+  r = post("/api/prompts/p1/answer", R"({"answer": "done"})", kVic);
+  EXPECT_EQ(r->status, 403);
+  r = post("/api/prompts/p1/answer", R"({"answer": "maybe"})", kOlu);
+  EXPECT_EQ(r->status, 400);
+  r = post("/api/prompts/p2/answer", R"({"answer": "done"})", kOlu);
+  EXPECT_EQ(r->status, 409);
+  EXPECT_TRUE(backend_.actions().empty()) << "a refused request reached DDS";
+  r = post("/api/prompts/p1/answer", R"({"answer": "done", "comment": 5})", kOlu);
+  EXPECT_EQ(r->status, 200);
+  EXPECT_EQ(backend_.actions(), std::vector<std::string>{"answer p1 done by olu"});
+}
+
+TEST_F(HttpApiTest, PublishIsSelectThenConfirmInTimeByTheSameUser) {
+  auto r = post("/api/recipes", R"({"task_id": "t1", "tree": {}})", kAda);
+  ASSERT_EQ(r->status, 202);
+  const std::string id = body(r)["confirmation_id"];
+  EXPECT_TRUE(backend_.actions().empty()) << "selecting must not publish";
+  r = post("/api/confirm", json{{"confirmation_id", id}}.dump(), kOlu);
+  EXPECT_EQ(r->status, 409) << "another user's selection";
+  r = post("/api/confirm", json{{"confirmation_id", id}}.dump(), kAda);
+  EXPECT_EQ(r->status, 200);
+  r = post("/api/confirm", json{{"confirmation_id", id}}.dump(), kAda);
+  EXPECT_EQ(r->status, 409) << "a confirmation is used once";
+  EXPECT_EQ(backend_.actions(), std::vector<std::string>{"publish t1 by console:ada"});
+
+  r = post("/api/recipes", R"({"task_id": "t2"})", kAda);
+  const std::string late = body(r)["confirmation_id"];
+  std::this_thread::sleep_for(400ms);  // past confirm_timeout (300 ms): the expiry is what is tested
+  r = post("/api/confirm", json{{"confirmation_id", late}}.dump(), kAda);
+  EXPECT_EQ(r->status, 409);
+  EXPECT_NE(body(r)["error"].get<std::string>().find("expired"), std::string::npos);
+  EXPECT_EQ(backend_.actions().size(), 1U) << "nothing more was published";
+}
+
+TEST_F(HttpApiTest, MalformedAndOversizedBodiesAreRefusedBeforeParsing) {
+  auto r = post("/api/recipes", R"({"task_id": 5)", kAda);
+  EXPECT_EQ(r->status, 400);
+  EXPECT_NE(body(r)["error"].get<std::string>().find("1:14"), std::string::npos) << r->body;
+  r = post("/api/recipes", std::string(200, '[') + std::string(200, ']'), kAda);
+  EXPECT_EQ(r->status, 400) << "nesting deeper than the bound";
+  r = post("/api/recipes", R"([1, 2])", kAda);
+  EXPECT_EQ(r->status, 400);
+  r = post("/api/recipes", R"({"tree": {}})", kAda);
+  EXPECT_EQ(r->status, 400);
+  EXPECT_EQ(body(r)["where"], "/api/recipes#/task_id");
+  r = post("/api/recipes", json{{"task_id", "big"}, {"pad", std::string(100 * 1024, 'x')}}.dump(), kAda);
+  EXPECT_EQ(r->status, 413);
+  EXPECT_TRUE(body(r).contains("error"));
+  EXPECT_TRUE(backend_.actions().empty());
+}
+
+TEST_F(HttpApiTest, TheEventStreamResumesAfterLastEventIdAndResetsForAnotherRun) {
+  state_.update_node({{"task_id", "t"}, {"node_id", "root"}, {"state", "RUNNING"}});  // 42:1
+  state_.update_node({{"task_id", "t"}, {"node_id", "root/0"}, {"state", "RUNNING"}});  // 42:2
+  state_.update_node({{"task_id", "t"}, {"node_id", "root/0"}, {"state", "SUCCESS"}});  // 42:3
+  const auto read_stream = [&](const std::string& last_id, const std::string& until) {
+    std::string got;
+    auto headers = as(kVic);
+    headers.emplace("Last-Event-ID", last_id);
+    client_->Get("/api/events", headers, [&](const char* data, std::size_t n) {
+      got.append(data, n);
+      return got.find(until) == std::string::npos;
+    });
+    return got;
+  };
+  const std::string resumed = read_stream("42:1", "id: 42:3");
+  EXPECT_EQ(resumed.find("id: 42:1\n"), std::string::npos) << "an event the client had is sent again";
+  EXPECT_NE(resumed.find("id: 42:2\nevent: node\ndata: {"), std::string::npos) << resumed;
+  EXPECT_LT(resumed.find("id: 42:2"), resumed.find("id: 42:3"));
+  const std::string other_run = read_stream("41:7", "event: reset");
+  EXPECT_NE(other_run.find("event: reset"), std::string::npos) << other_run;
+  // The query token is accepted for the stream only.
+  std::string got;
+  auto r = client_->Get(("/api/events?last_event_id=42:2&token=" + created_[kVic].token).c_str(),
+                        [&](const char* data, std::size_t n) {
+                          got.append(data, n);
+                          return got.find("id: 42:3") == std::string::npos;
+                        });
+  EXPECT_NE(got.find("id: 42:3"), std::string::npos);
+  r = client_->Get(("/api/state?token=" + created_[kVic].token).c_str());
+  EXPECT_EQ(r->status, 401);
+}
+
+TEST_F(HttpApiTest, EveryActionIsInTheAuditLogWithItsUser) {
+  state_.update_task({{"task_id", "t"}, {"state", "RUNNING"}});
+  ASSERT_EQ(post("/api/tasks/t/stop", "{}", kOlu)->status, 200);
+  ASSERT_EQ(post("/api/tasks/t/cancel", "{}", kOlu)->status, 403);
+  EXPECT_EQ(post("/api/tasks/nope/pause", "{}", kOlu)->status, 404);
+  EXPECT_EQ(backend_.actions(), std::vector<std::string>{"cancel t by console:olu"});
+  std::ifstream in(dir_ + "/audit.log");
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  const json entry = json::parse(line);
+  EXPECT_EQ(entry["user"], "olu");
+  EXPECT_EQ(entry["action"], "stop");
+  EXPECT_EQ(entry["target"], "t");
+}
+
+}  // namespace
+}  // namespace rigger::console

@@ -1,0 +1,77 @@
+// Replay: a finished task's timeline from the controller's journal, stepped with a slider and drawn by
+// the same tree renderer as the live page.
+import { api, store, el, fmtTime, stateBadge } from './api.js';
+import { TreeView } from './tree.js';
+
+export function replayPage(main, _me, args) {
+  const picker = el('select', { 'aria-label': 'Task to replay', onchange: () => open(picker.value) });
+  const slider = el('input', { type: 'range', min: '0', max: '0', value: '0', 'aria-label': 'Position in the timeline', disabled: true });
+  const clock = el('span', { class: 'muted', 'aria-live': 'off' });
+  const event = el('p', { class: 'muted' });
+  const treeBox = el('div', {});
+  const notice = el('p', { role: 'status' });
+  const play = el('button', { onclick: () => toggle(), disabled: true }, '▶ Play');
+  main.replaceChildren(el('h1', {}, 'Replay'), el('section', { class: 'panel replay' },
+    el('div', { class: 'toolbar' }, el('label', {}, 'Task ', picker), play, clock), slider, event, notice), el('section', { class: 'panel' }, treeBox));
+  const page = { task: '', position: 0, length: 0, tree: null };
+  window.rigger.replay = page;
+  let steps = [];
+  let timer = null;
+
+  function toggle() {
+    if (timer) { clearInterval(timer); timer = null; play.textContent = '▶ Play'; return; }
+    play.textContent = '❚❚ Pause';
+    timer = setInterval(() => {
+      if (+slider.value >= steps.length) return toggle();
+      slider.value = String(+slider.value + 1);
+      show(+slider.value);
+    }, 150);
+  }
+
+  function show(k) {
+    const states = new Map();
+    for (let i = 0; i < k; i++) states.set(steps[i].node_id, steps[i]);
+    for (const id of page.tree.items.keys()) {
+      const s = states.get(id);
+      const base = page.base.get(id) || { node_id: id };
+      page.tree.update({ ...base, state: s ? s.code : 'IDLE', message: s ? s.message : '', code: '', progress: -1, executor: s ? base.executor : '',
+        started: 0, finished: 0 });
+    }
+    page.tree.flush();
+    page.position = k;
+    const cur = steps[k - 1];
+    clock.textContent = cur ? `${fmtTime(cur.stamp)} · step ${k} of ${steps.length}` : `start · ${steps.length} steps`;
+    event.replaceChildren(...(cur ? [`${cur.node_id} → `, stateBadge(cur.code), cur.message ? ` ${cur.message}` : ''] : []));
+  }
+
+  async function open(taskId) {
+    if (!taskId) return;
+    notice.textContent = '';
+    try {
+      const r = await api(`/api/journal?task=${encodeURIComponent(taskId)}`);
+      steps = r.entries.filter((e) => e.kind === 'NODE').sort((a, b) => a.stamp - b.stamp);
+      const known = store.nodes.get(taskId) || new Map();
+      const tree = new TreeView(taskId);
+      const ids = new Set([...known.keys(), ...steps.map((s) => s.node_id)]);
+      tree.setAll([...ids].map((id) => ({ ...(known.get(id) || { node_id: id, type: '', name: '' }),
+        parent_id: known.get(id)?.parent_id ?? (id.includes('/') ? id.substring(0, id.lastIndexOf('/')) : ''), state: 'IDLE' })));
+      page.task = taskId; page.tree = tree; page.length = steps.length;
+      page.base = new Map([...tree.items].map(([id, it]) => [id, it.data]));
+      treeBox.replaceChildren(el('h2', {}, taskId), tree.root);
+      slider.max = String(steps.length);
+      slider.disabled = false; play.disabled = false;
+      slider.value = String(steps.length);
+      slider.oninput = () => show(+slider.value);
+      show(steps.length);
+    } catch (e) { notice.textContent = `Journal of ${taskId}: ${e.message}`; notice.className = 'error'; }
+  }
+
+  api('/api/journal').then((r) => {
+    const done = r.entries.filter((e) => ['SUCCEEDED', 'FAILED', 'CANCELED', 'REJECTED'].includes(e.code));
+    picker.replaceChildren(el('option', { value: '' }, 'choose a finished task'),
+      ...done.map((e) => el('option', { value: e.node_id }, `${e.node_id} (${e.code}, ${fmtTime(e.stamp)})`)));
+    const want = args[0] ? decodeURIComponent(args[0]) : '';
+    if (want) { picker.value = want; open(want); }
+  }).catch((e) => { notice.textContent = `Journal: ${e.message}`; notice.className = 'error'; });
+  return () => { if (timer) clearInterval(timer); };
+}

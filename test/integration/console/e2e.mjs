@@ -1,0 +1,172 @@
+// The console's browser test (run by console_browser_test.cpp, which starts the cell and the console):
+// headless Debian chromium through playwright-core, never a downloaded browser. Every check is on what
+// the pages show or what the console answered; any failed check ends the script with exit code 1.
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { pathToFileURL } from 'node:url';
+
+const env = (k) => { if (!process.env[k]) throw new Error(`${k} is not set`); return process.env[k]; };
+const URL_ = env('CONSOLE_URL');
+const ART = env('ARTIFACTS');
+const MODULES = env('NODE_PATH');
+const { chromium } = await import(pathToFileURL(path.join(MODULES, 'playwright-core/index.mjs')).href);
+const tokens = { programmer: env('TOKEN_PROGRAMMER'), operator: env('TOKEN_OPERATOR'), viewer: env('TOKEN_VIEWER') };
+const recipeText = fs.readFileSync(env('RECIPE'), 'utf8');
+const recipe = JSON.parse(recipeText);
+const TASK = recipe.task_id;
+const result = {};
+
+function check(cond, what) {
+  if (!cond) throw new Error(`check failed: ${what}`);
+  console.log(`ok: ${what}`);
+}
+async function call(pathname, { token, method = 'GET', body } = {}) {
+  const headers = {};
+  if (token) headers.Authorization = `Bearer ${token}`;
+  if (body !== undefined) headers['Content-Type'] = 'application/json';
+  const res = await fetch(URL_ + pathname, { method, headers, body: typeof body === 'string' ? body : JSON.stringify(body) });
+  let json = null;
+  try { json = await res.json(); } catch { /* not JSON */ }
+  return { status: res.status, json };
+}
+
+// --- refused requests: nothing may reach the controller ---
+let r = await call('/api/recipes', { method: 'POST', body: recipe });
+check(r.status === 401 && r.json?.error && r.json.where === '/api/recipes', `unauthenticated publish -> 401 ${JSON.stringify(r.json)}`);
+r = await call('/api/recipes', { token: tokens.operator, method: 'POST', body: recipe });
+check(r.status === 403 && /programmer/.test(r.json?.error), `operator publish -> 403 ${JSON.stringify(r.json)}`);
+r = await call('/api/recipes', { token: tokens.programmer, method: 'POST', body: '{"task_id": 5' });
+check(r.status === 400 && /1:14/.test(r.json?.error), `malformed body -> 400 with its position ${JSON.stringify(r.json)}`);
+r = await call('/api/recipes', { token: tokens.programmer, method: 'POST', body: JSON.stringify({ task_id: 'big', pad: 'x'.repeat(5 * 1024 * 1024) }) });
+check(r.status === 413 && r.json?.error, `oversized body -> 413 ${JSON.stringify(r.json)}`);
+r = await call('/api/recipes', { token: tokens.programmer, method: 'POST', body: recipe });
+check(r.status === 202 && r.json?.confirmation_id, 'publish selected -> 202 with a confirmation id');
+const stale = r.json.confirmation_id;
+r = await call('/api/confirm', { token: tokens.operator, method: 'POST', body: { confirmation_id: stale } });
+check(r.status === 409, `another user's confirmation -> 409 ${JSON.stringify(r.json)}`);
+// The console was started with confirm_timeout_s = CONFIRM_TIMEOUT_S: this wait is the expiry under test.
+await new Promise((ok) => setTimeout(ok, 1000 * Number(env('CONFIRM_TIMEOUT_S')) + 500));
+r = await call('/api/confirm', { token: tokens.programmer, method: 'POST', body: { confirmation_id: stale } });
+check(r.status === 409 && /expired/.test(r.json?.error), `stale confirmation -> 409 ${JSON.stringify(r.json)}`);
+r = await call('/api/state', { token: tokens.viewer });
+result.tasks_after_refusals = r.json.tasks;
+check(r.json.tasks.length === 0, 'no task after the refused requests');
+
+// --- the browser ---
+const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'rigger-chromium-'));
+const context = await chromium.launchPersistentContext(profile, {
+  executablePath: '/usr/bin/chromium', headless: true, viewport: { width: 1400, height: 900 },
+  args: ['--no-sandbox', '--disable-gpu', '--no-first-run', '--disable-background-networking', '--disable-component-update',
+    '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+});
+context.setDefaultTimeout(60000);
+const logPage = (name, page) => {
+  page.on('pageerror', (e) => console.log(`[${name}] page error: ${e.message}`));
+  page.on('console', (m) => { if (m.type() === 'error') console.log(`[${name}] console: ${m.text()}`); });
+};
+try {
+  const prog = await context.newPage();
+  logPage('programmer', prog);
+  await prog.goto(`${URL_}/?token=${tokens.programmer}#/tasks`);
+  await prog.waitForFunction(() => window.rigger?.ready === true, null, { timeout: 60000 });
+  check(!(await prog.url()).includes('token='), 'the login link\'s token leaves the address bar');
+
+  const op = await context.newPage();
+  logPage('operator', op);
+  await op.goto(`${URL_}/?token=${tokens.operator}#/operator`);
+  await op.waitForFunction(() => window.rigger?.ready === true, null, { timeout: 60000 });
+
+  // Publish from the Tasks page: select, then confirm in the dialog.
+  await prog.bringToFront();
+  await prog.click('summary:has-text("Publish a recipe")');
+  await prog.fill('#recipe-text', recipeText);
+  await prog.click('button:has-text("Publish…")');
+  await prog.waitForSelector('dialog[open]');
+  await prog.click('#confirm-yes');
+  await prog.waitForFunction((t) => document.body.innerText.includes(`Published ${t}`), TASK, { timeout: 60000 });
+  console.log('ok: published from the Tasks page');
+
+  // The operator station: four screw prompts, answered by clicks.
+  await op.bringToFront();
+  let screws = 0;
+  const seen = new Set();
+  while (true) {
+    const handle = await op.waitForFunction(([task, answered]) => {
+      const s = window.rigger.store;
+      const t = s.tasks.get(task);
+      if (t && ['SUCCEEDED', 'FAILED', 'CANCELED', 'REJECTED'].includes(t.state)) return { end: t.state };
+      const o = window.rigger.operator;
+      if (!o || !o.prompt_id || answered.includes(o.prompt_id)) return false;
+      const v = window.rigger.view3d;
+      if (o.hole && (!v || v.highlighted !== o.hole)) return false;  // the 3D view has not caught up yet
+      return { prompt: o.prompt_id, hole: o.hole, view: v ? { ...v } : null, text: document.querySelector('.prompt').innerText };
+    }, [TASK, [...seen]], { timeout: 240000, polling: 200 });
+    const p = await handle.jsonValue();
+    if (p.end) { check(p.end === 'SUCCEEDED', `task ended ${p.end}`); break; }
+    seen.add(p.prompt);
+    if (p.hole) {
+      screws++;
+      check(p.view.highlighted === p.hole && p.view.holes.includes(p.hole), `3D view highlights hole ${p.hole} (${p.view.source} geometry, number ${p.view.number})`);
+      check(p.text.includes(`${screws} of 4`) && /M12x40/.test(p.text) && /60 N·m/.test(p.text), `prompt shows step ${screws} of 4, screw type and torque`);
+      if (screws === 1) {
+        const v = await call(`/api/prompts/${encodeURIComponent(p.prompt)}/answer`, { token: tokens.viewer, method: 'POST', body: { answer: 'done' } });
+        check(v.status === 403, `viewer answering a prompt -> 403 ${JSON.stringify(v.json)}`);
+        const st = await call('/api/state', { token: tokens.viewer });
+        check(st.json.prompts.some((x) => x.prompt_id === p.prompt), 'the prompt is still open after the viewer\'s refused answer');
+        await op.screenshot({ path: path.join(ART, 'operator-station-hole-1.png') });
+        await op.addScriptTag({ path: path.join(MODULES, 'axe-core/axe.min.js') });
+        const axe = await op.evaluate(async () => (await window.axe.run(document)).violations.map((x) => `${x.id}: ${x.help} (${x.nodes.length})`));
+        check(axe.length === 0, `axe-core: no violations on the operator station ${JSON.stringify(axe)}`);
+      }
+    }
+    await op.click('button[data-answer="done"]');
+    await op.waitForSelector('dialog[open]');
+    await op.click('#confirm-yes');
+    await op.waitForFunction((id) => window.rigger.operator.answered.some((a) => a.prompt_id === id), p.prompt);
+    console.log(`answered ${p.prompt}`);
+  }
+  result.screws_answered = screws;
+  result.resets = { programmer: await prog.evaluate(() => window.rigger.store.resets), operator: await op.evaluate(() => window.rigger.store.resets) };
+
+  // The Tasks page: the task's state and every node's final state on screen. (A background tab gets
+  // no animation frames, so the page in front is the one looked at.)
+  await prog.bringToFront();
+  await prog.waitForFunction((t) => {
+    const sec = document.querySelector(`section[data-task="${t}"]`);
+    return sec && sec.querySelector('.toolbar .state')?.textContent.includes('SUCCEEDED');
+  }, TASK, { timeout: 30000 });
+  const pageTree = await prog.evaluate((t) => {
+    const tree = window.rigger.tasksPage.trees.get(t);
+    tree.flush();
+    const out = {};
+    for (const li of document.querySelectorAll(`section[data-task="${t}"] li[data-node]`)) out[li.dataset.node] = li.querySelector('.row').dataset.state;
+    return { dom: out, model: tree.states() };
+  }, TASK);
+  check(JSON.stringify(pageTree.dom) === JSON.stringify(pageTree.model), 'every node row on screen shows the state the page holds');
+  const st = await call(`/api/state?task=${TASK}`, { token: tokens.viewer });
+  const apiTree = Object.fromEntries(st.json.nodes[TASK].map((n) => [n.node_id, n.state]));
+  check(Object.keys(apiTree).every((id) => pageTree.dom[id] === apiTree[id]), `the page shows all ${Object.keys(apiTree).length} nodes in their final state`);
+  result.page_tree = pageTree.dom;
+  await prog.screenshot({ path: path.join(ART, 'tasks.png'), fullPage: true });
+
+  // Replay of the finished task.
+  await prog.goto(`${URL_}/#/replay/${TASK}`);
+  await prog.waitForFunction(() => window.rigger?.replay?.length > 0 && window.rigger.replay.position === window.rigger.replay.length, null, { timeout: 20000 });
+  result.replay_tree = await prog.evaluate(() => { window.rigger.replay.tree.flush(); return window.rigger.replay.tree.states(); });
+  const steps = await prog.evaluate(() => window.rigger.replay.length);
+  await prog.locator('input[type=range]').fill(String(Math.floor(steps / 2)));
+  const middle = await prog.evaluate(() => { window.rigger.replay.tree.flush(); return window.rigger.replay.tree.states(); });
+  check(JSON.stringify(middle) !== JSON.stringify(result.replay_tree), `the replay's slider shows an earlier state (step ${Math.floor(steps / 2)} of ${steps})`);
+  await prog.screenshot({ path: path.join(ART, 'replay.png'), fullPage: true });
+
+  // Plots of the finished task.
+  await prog.goto(`${URL_}/#/plots/${TASK}`);
+  await prog.waitForFunction(() => window.rigger?.plots?.rows > 0, null, { timeout: 20000 });
+  await prog.screenshot({ path: path.join(ART, 'plots.png'), fullPage: true });
+  console.log('ok: plots of the finished task');
+} finally {
+  fs.writeFileSync(env('RESULT'), JSON.stringify(result, null, 2));
+  await context.close();
+  fs.rmSync(profile, { recursive: true, force: true });
+}
