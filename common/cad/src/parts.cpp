@@ -90,12 +90,19 @@ TopoDS_Shape boss_part() {
   return cut_holes(fuse.Shape(), boss_part_holes());
 }
 
-std::vector<DrilledHole> cell_load_holes() { return four_holes(0.10, 0.013, 0.20, true); }
+std::vector<DrilledHole> cell_load_holes(const Eigen::Vector3d& size_m) {
+  return four_holes(size_m.z() / 2, 0.013, size_m.z(), true);
+}
 
-TopoDS_Shape cell_load() { return drilled_box({-0.20, -0.15, -0.10}, {0.20, 0.15, 0.10}, cell_load_holes()); }
+TopoDS_Shape cell_load(const Eigen::Vector3d& size_m) {
+  return drilled_box(-size_m / 2, size_m / 2, cell_load_holes(size_m));
+}
 
 std::vector<DrilledHole> cell_target_holes() { return four_holes(0.0, 0.0102, 0.030, false); }
 
-TopoDS_Shape cell_target() { return drilled_box({-0.25, -0.20, -0.95}, {0.25, 0.20, 0.0}, cell_target_holes()); }
+TopoDS_Shape cell_target(const Eigen::Vector3d& size_m) {
+  const Eigen::Vector3d half(size_m.x() / 2, size_m.y() / 2, 0.0);
+  return drilled_box(-half - Eigen::Vector3d(0, 0, size_m.z()), half, cell_target_holes());
+}
 
 }  // namespace rigger::cad::parts

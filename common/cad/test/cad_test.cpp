@@ -114,8 +114,9 @@ TEST_F(CadTest, BossIsNotAHole) {
 }
 
 TEST_F(CadTest, CellPartsHaveTheirScrewHoles) {
-  expect_holes(classify(round_trip(parts::cell_load(), "load")), parts::cell_load_holes());
-  expect_holes(classify(round_trip(parts::cell_target(), "target")), parts::cell_target_holes());
+  const Eigen::Vector3d load_size(0.40, 0.30, 0.20), target_size(0.50, 0.40, 0.95);
+  expect_holes(classify(round_trip(parts::cell_load(load_size), "load")), parts::cell_load_holes(load_size));
+  expect_holes(classify(round_trip(parts::cell_target(target_size), "target")), parts::cell_target_holes());
 }
 
 TEST_F(CadTest, ScrewStepFromOcctSamples) {
@@ -352,7 +353,7 @@ TEST_F(CadTest, FramesFromEdgesFaceAndHole) {
 }
 
 TEST_F(CadTest, TessellationIsGlbInMetresWithOnePrimitivePerFace) {
-  const Model model = round_trip(parts::cell_load(), "load");
+  const Model model = round_trip(parts::cell_load({0.40, 0.30, 0.20}), "load");
   const Features features = classify(model);
   const Tessellation mesh = tessellate(model);
   ASSERT_GT(mesh.glb.size(), 20u);

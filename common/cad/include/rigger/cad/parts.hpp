@@ -35,14 +35,16 @@ TopoDS_Shape block();
 std::vector<DrilledHole> boss_part_holes();
 TopoDS_Shape boss_part();
 
-/// The simulated cell's load: 0.40 x 0.30 x 0.20 m box about its centre with four 13 mm through holes
-/// (M12 clearance) at (±0.15, ±0.10), in the order h1 (-,-), h2 (+,-), h3 (+,+), h4 (-,+).
-std::vector<DrilledHole> cell_load_holes();
-TopoDS_Shape cell_load();
+/// The simulated cell's load: a box of `size_m` (the cell file's, 0.40 x 0.30 x 0.20 m) about its centre
+/// with four 13 mm through holes (M12 clearance) at (±0.15, ±0.10), in the order h1 (-,-), h2 (+,-),
+/// h3 (+,+), h4 (-,+).
+std::vector<DrilledHole> cell_load_holes(const Eigen::Vector3d& size_m);
+TopoDS_Shape cell_load(const Eigen::Vector3d& size_m);
 
-/// The simulated cell's target: 0.50 x 0.40 x 0.95 m with its frame at the centre of the top face, four
-/// blind 10.2 mm holes (M12 tap drill) 30 mm deep at (±0.15, ±0.10): h1..h4 as for the load.
+/// The simulated cell's target: a box of `size_m` (0.50 x 0.40 x 0.95 m) with its frame at the centre of
+/// the top face, four blind 10.2 mm holes (M12 tap drill) 30 mm deep at (±0.15, ±0.10): h1..h4 as for
+/// the load.
 std::vector<DrilledHole> cell_target_holes();
-TopoDS_Shape cell_target();
+TopoDS_Shape cell_target(const Eigen::Vector3d& size_m);
 
 }  // namespace rigger::cad::parts
