@@ -9,6 +9,7 @@
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
 #include <GProp_GProps.hxx>
+#include <OSD_Parallel.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
@@ -228,18 +229,24 @@ Features classify(const Model& model) {
   TopTools_IndexedDataMapOfShapeListOfShape face_solids;
   TopExp::MapShapesAndUniqueAncestors(shape, TopAbs_FACE, TopAbs_SOLID, face_solids);
 
-  features.faces.reserve(static_cast<std::size_t>(faces.Extent()));
+  // Faces and edges are measured independently of each other (the integrals of B-spline faces are most
+  // of the time): in parallel, each into its own slot. OCCT's evaluators are per call, the B-rep is
+  // only read.
+  features.faces.resize(static_cast<std::size_t>(faces.Extent()));
+  features.edges.resize(static_cast<std::size_t>(edges.Extent()));
+  OSD_Parallel::For(0, faces.Extent() + edges.Extent(), [&](int k) {
+    if (k < faces.Extent()) {
+      features.faces[static_cast<std::size_t>(k)] = face_info(TopoDS::Face(faces(k + 1)), k);
+    } else {
+      const int e = k - faces.Extent();
+      features.edges[static_cast<std::size_t>(e)] = edge_info(TopoDS::Edge(edges(e + 1)), e);
+    }
+  });
   for (int i = 1; i <= faces.Extent(); ++i) {
-    FaceInfo info = face_info(TopoDS::Face(faces(i)), i - 1);
     const int at = face_solids.FindIndex(faces(i));
     if (at > 0 && !face_solids(at).IsEmpty()) {
-      info.solid = solids.FindIndex(face_solids(at).First()) - 1;
+      features.faces[static_cast<std::size_t>(i - 1)].solid = solids.FindIndex(face_solids(at).First()) - 1;
     }
-    features.faces.push_back(std::move(info));
-  }
-  features.edges.reserve(static_cast<std::size_t>(edges.Extent()));
-  for (int i = 1; i <= edges.Extent(); ++i) {
-    features.edges.push_back(edge_info(TopoDS::Edge(edges(i)), i - 1));
   }
   features.vertices.reserve(static_cast<std::size_t>(vertices.Extent()));
   for (int i = 1; i <= vertices.Extent(); ++i) {

@@ -1,5 +1,6 @@
 #include "step_io.hpp"
 
+#include <BRepBuilderAPI_Transform.hxx>
 #include <BRep_Builder.hxx>
 #include <BinTools.hxx>
 #include <IFSelect_ReturnStatus.hxx>
@@ -25,6 +26,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <new>
 #include <sstream>
@@ -141,7 +143,8 @@ StepContent read_step_in_process(std::string_view bytes, const std::string& sour
     }
     Handle(TDocStd_Document) document;
     XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", document);
-    XCAFDoc_DocumentTool::SetLengthUnit(document, 1.0);  // metres: the reader converts the file's unit
+    // The transfer runs in the document's default unit (millimetres): asking OCCT for metres makes its
+    // shape healing three times slower (its tolerances are tuned for millimetres). Scaled after.
     if (!reader.Transfer(document)) {
       throw CadError(ErrorCode::kNotStep, "STEP input " + source + " holds no product OCCT can transfer");
     }
@@ -165,7 +168,16 @@ StepContent read_step_in_process(std::string_view bytes, const std::string& sour
       }
       content.shape_m = compound;
     }
+    double unit_m = 0.001;
+    if (!XCAFDoc_DocumentTool::GetLengthUnit(document, unit_m) || !(unit_m > 0)) {
+      unit_m = 0.001;
+    }
     XCAFApp_Application::GetApplication()->Close(document);
+    if (!content.shape_m.IsNull() && std::abs(unit_m - 1.0) > 1e-12) {
+      gp_Trsf scale;
+      scale.SetScale(gp_Pnt(0, 0, 0), unit_m);
+      content.shape_m = BRepBuilderAPI_Transform(content.shape_m, scale, true).Shape();
+    }
     if (content.shape_m.IsNull() || !TopExp_Explorer(content.shape_m, TopAbs_FACE).More()) {
       throw CadError(ErrorCode::kNoGeometry, "STEP input " + source + " holds no face (no geometry)");
     }
