@@ -238,6 +238,20 @@ TEST_F(CadTest, ReaderChildIsBoundedInTimeAndMemory) {
   EXPECT_EQ(classify(read_step_file(kOcctSamples / "linkrods.step")).faces.size(), 37u);
 }
 
+// A STEP file on which OCCT 7.6's reader dereferences a null pointer (StepShape_FaceBound::Bound, found by
+// rigger_cad_step_fuzz): the reader child dies, the caller gets CAD_READER_CRASHED and goes on.
+TEST_F(CadTest, OcctCrashInTheReaderIsContained) {
+  const fs::path hostile = fs::path(RIGGER_SOURCE_DIR) / "common/cad/test/data/occt_segv_face_bound.step";
+  try {
+    read_step_file(hostile);
+    FAIL() << "the hostile file was read";
+  } catch (const CadError& error) {
+    EXPECT_EQ(error.code(), ErrorCode::kCrashed) << error.what();
+    EXPECT_NE(std::string(error.what()).find("signal 11"), std::string::npos) << error.what();
+  }
+  EXPECT_EQ(classify(read_step_file(kOcctSamples / "screw.step")).faces.size(), 10u);
+}
+
 TEST_F(CadTest, InProcessAndIsolatedReadsAgree) {
   ReadLimits in_process;
   in_process.isolate = false;
