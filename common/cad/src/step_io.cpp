@@ -9,6 +9,7 @@
 #include <STEPCAFControl_Writer.hxx>
 #include <STEPControl_Reader.hxx>
 #include <Standard_Failure.hxx>
+#include <Standard_OutOfMemory.hxx>
 #include <TCollection_AsciiString.hxx>
 #include <TDF_LabelSequence.hxx>
 #include <TDataStd_Name.hxx>
@@ -182,6 +183,9 @@ StepContent read_step_in_process(std::string_view bytes, const std::string& sour
       throw CadError(ErrorCode::kNoGeometry, "STEP input " + source + " holds no face (no geometry)");
     }
     return content;
+  } catch (const Standard_OutOfMemory&) {
+    throw CadError(ErrorCode::kCrashed, "reading STEP input " + source + " needed more than " +
+                                            std::to_string(limits.max_memory_bytes >> 20) + " MiB of memory");
   } catch (const Standard_Failure& failure) {
     throw CadError(ErrorCode::kNotStep, "OCCT failed on STEP input " + source + ": " +
                                             failure.DynamicType()->Name() + " " + failure.GetMessageString());
