@@ -43,3 +43,16 @@ if(NOT TARGET CLI11::CLI11)
   add_library(CLI11::CLI11 INTERFACE IMPORTED)
   target_include_directories(CLI11::CLI11 INTERFACE ${CLI11_INCLUDE_DIR})
 endif()
+
+# OpenCascade 7.6 (Debian libocct-*-dev) for common/cad. Debian's OpenCASCADEConfig.cmake refers to the
+# Draw libraries, which are not packaged: link the TK libraries by name instead.
+find_path(OCCT_INCLUDE_DIR Standard.hxx PATH_SUFFIXES opencascade REQUIRED)
+if(NOT TARGET rigger_occt)
+  add_library(rigger_occt INTERFACE)
+  target_include_directories(rigger_occt SYSTEM INTERFACE ${OCCT_INCLUDE_DIR})
+  target_link_libraries(rigger_occt INTERFACE
+    TKXDESTEP TKSTEP TKSTEPAttr TKSTEP209 TKSTEPBase TKXSBase TKRWMesh TKBinXCAF TKXCAF TKVCAF TKV3d
+    TKService TKCAF TKLCAF TKCDF TKMesh TKShHealing TKBO TKPrim TKTopAlgo TKGeomAlgo TKBRep TKGeomBase
+    TKG3d TKG2d TKMath TKernel)
+endif()
+find_package(OpenSSL REQUIRED COMPONENTS Crypto)

@@ -260,7 +260,7 @@ class EntityParser {
   }
 
   ObjectModel parse_model(const json& value, const std::string& pointer) const {
-    check_.object(value, pointer, {"shape", "size_m", "mass_kg", "frame", "static"});
+    check_.object(value, pointer, {"shape", "size_m", "mass_kg", "frame", "static", "step"});
     ObjectModel model;
     model.shape = check_.string(check_.require(value, pointer, "shape", "\"box\""), pointer + "/shape");
     if (model.shape != "box") check_.fail(pointer + "/shape", "\"box\"", describe_json(value.at("shape")));
@@ -274,6 +274,10 @@ class EntityParser {
     if (const json* frame = Checker::find(value, "frame")) model.frame = check_.string(*frame, pointer + "/frame");
     if (const json* is_static = Checker::find(value, "static"))
       model.is_static = check_.boolean(*is_static, pointer + "/static");
+    if (const json* step = Checker::find(value, "step")) {
+      model.step = check_.string(*step, pointer + "/step");
+      if (model.step.empty()) check_.fail(pointer + "/step", "a STEP file path", "an empty string");
+    }
     return model;
   }
 

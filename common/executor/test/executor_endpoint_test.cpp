@@ -231,7 +231,7 @@ TEST_F(ExecutorEndpointTest, RunsOfALostControllerAreShutDown) {
   dds::Qos leased = dds::qos::commands();
   leased.manual_liveliness(200ms);
   dds::Participant controller(domain_.id());
-  dds::Writer<rigger_skill_SkillCommand> controller_commands(controller, kCommandTopic, leased);
+  dds::Writer<rigger_skill_SkillCommand> controller_commands(controller, protocol::skill::kCommand, leased);
   ASSERT_TRUE(controller_commands.wait_for_readers(1, 5s));
   send("exec-1", "look", rigger_skill_SKILL_START, 1, "Look");  // the test's own (unleased) writer
   send_with(controller_commands, "exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");

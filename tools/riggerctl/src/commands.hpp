@@ -41,5 +41,9 @@ void add_sim_command(CLI::App& app, const CommonOptions& common, int& exit_code)
 /// robot, crane, gripper and admittance controller (default: all), latched until `--reset`. Exit
 /// codes: 0 acknowledged by the devices; 1 write failed or not acknowledged; 2 usage; 3 no device.
 void add_estop_command(CLI::App& app, const CommonOptions& common, int& exit_code);
+/// `cad inspect FILE [--json [--entities]]`, `cad frame FILE (--point X,Y,Z --edges E1,E2 | --face F
+/// --point X,Y,Z | --hole H) [--json]`: offline STEP inspection (docs/cad.md). Exit codes: 0 ok; 1 the
+/// file cannot be read or the picks make no frame (the CAD_* code is printed); 2 usage.
+void add_cad_command(CLI::App& app, int& exit_code);
 
 }  // namespace rigger::ctl

@@ -91,6 +91,9 @@ struct ObjectModel {
   std::optional<double> mass_kg;                     ///< > 0 when given
   std::string frame;                                 ///< where the entity frame sits on the model, in words
   bool is_static = false;                            ///< fixed to the floor (a target fixture)
+  /// The object's STEP model ("step"), relative to the cell file's folder; empty when none. Its frame is
+  /// the entity frame (docs/cad.md).
+  std::string step;
 };
 
 /// Pinhole camera intrinsics (OpenCV model), pixels. Pixel (0, 0) is the centre of the top-left pixel.

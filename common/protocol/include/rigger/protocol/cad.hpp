@@ -8,23 +8,23 @@
 
 namespace rigger::protocol::cad {
 
-/// riggerctl, console, planner → rigger_cad.
+/// riggerctl, console, planner → cad.
 inline constexpr Topic<rigger_cad_CadRequest> kRequest{
     "rigger/cad/request",
     QosProfile::kCommands,
     "client_id",
     "riggerctl, console, planner",
-    "rigger_cad",
+    "cad",
     "(kind: LOAD, FEATURES, TESSELLATION, FRAME, DERIVE; model as `object:<id>`, `sha256:<hex>` or a path; args JSON; "
     "request id)",
     ""};
 
-/// rigger_cad → its clients.
+/// cad → its clients.
 inline constexpr Topic<rigger_cad_CadReply> kReply{
     "rigger/cad/reply",
     QosProfile::kEvents,
     "client_id",
-    "rigger_cad",
+    "cad",
     "its clients",
     "(ok, code, message, model sha256, result JSON, GLB bytes for a tessellation)",
     ""};

@@ -1,0 +1,32 @@
+#pragma once
+/// @file
+/// The cad process's DDS node: answers rigger/cad/request (commands QoS) on rigger/cad/reply (events
+/// QoS) with the request's client_id and request_id. The work (CadService) runs on the loop thread; STEP
+/// files are read in a child process, so a hostile file never ends this process.
+
+#include "cad_service.hpp"
+#include "rigger/dds/pubsub.hpp"
+#include "rigger/dds/service.hpp"
+#include "rigger/protocol/cad.hpp"
+
+namespace rigger::cad_service {
+
+/// Settings from the --config file: "cell_config" (default deploy/cell/simulated_cell.json, relative to
+/// the repository), "allowed_dirs" (array of folders a request may name files in), "max_file_mib",
+/// "read_timeout_s", "max_models". @throws ConfigError.
+CadServiceSettings read_settings(const Config& config);
+
+class CadNode : public dds::Node {
+ public:
+  CadNode(dds::ServiceContext& ctx, CadServiceSettings settings);
+
+ private:
+  void on_requests();
+
+  dds::ServiceContext& ctx_;
+  CadService service_;
+  dds::Writer<rigger_cad_CadReply> replies_;
+  dds::Reader<rigger_cad_CadRequest> requests_;
+};
+
+}  // namespace rigger::cad_service

@@ -1,0 +1,258 @@
+#include "cad_service.hpp"
+
+#include "rigger/cad/cad_json.hpp"
+#include "rigger/cad/frames.hpp"
+#include "rigger/cell_config/cell_file.hpp"
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+namespace rigger::cad_service {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// A request error that is not the CAD library's: bad arguments, unknown model, forbidden path.
+struct RequestError {
+  std::string code;
+  std::string message;
+};
+
+json parse_args(const std::string& text) {
+  if (text.empty()) {
+    return json::object();
+  }
+  json args = json::parse(text, nullptr, false);
+  if (args.is_discarded() || !args.is_object()) {
+    throw RequestError{"CAD_BAD_REQUEST", "args_json is not a JSON object"};
+  }
+  return args;
+}
+
+Eigen::Vector3d point_arg(const json& args, const char* key) {
+  const auto it = args.find(key);
+  if (it == args.end() || !it->is_array() || it->size() != 3 || !(*it)[0].is_number() || !(*it)[1].is_number() ||
+      !(*it)[2].is_number()) {
+    throw RequestError{"CAD_BAD_REQUEST", std::string("args_json.") + key + " must be [x, y, z] in metres"};
+  }
+  return {(*it)[0].get<double>(), (*it)[1].get<double>(), (*it)[2].get<double>()};
+}
+
+// An index given as a number, or a reference object (resolved against the model: stale references are
+// refused with CAD_STALE_REFERENCE).
+int entity_arg(const cad::Features& features, const json& value, cad::EntityKind kind, const std::string& what) {
+  if (value.is_number_integer()) {
+    return value.get<int>();
+  }
+  if (value.is_object()) {
+    const cad::Reference ref = cad::reference_from_json(value);
+    if (ref.kind != kind) {
+      throw RequestError{"CAD_BAD_REQUEST", what + " must reference a " + std::string(cad::to_string(kind))};
+    }
+    return cad::resolve(features, ref);
+  }
+  throw RequestError{"CAD_BAD_REQUEST", what + " must be an index or a reference object"};
+}
+
+int int_arg(const json& args, const char* key) {
+  const auto it = args.find(key);
+  if (it == args.end() || !it->is_number_integer()) {
+    throw RequestError{"CAD_BAD_REQUEST", std::string("args_json.") + key + " must be an integer"};
+  }
+  return it->get<int>();
+}
+
+bool inside(const fs::path& path, const fs::path& dir) {
+  std::error_code error;
+  const fs::path file = fs::weakly_canonical(path, error);
+  const fs::path root = fs::weakly_canonical(dir, error);
+  const auto mismatch = std::mismatch(root.begin(), root.end(), file.begin(), file.end());
+  return mismatch.first == root.end();
+}
+
+}  // namespace
+
+CadService::CadService(CadServiceSettings settings) : settings_(std::move(settings)) {
+  const cell::CellFile cell = cell::load_cell_file(settings_.cell_file);
+  const fs::path folder = settings_.cell_file.parent_path();
+  for (const auto& entity : cell.entities) {
+    if (!entity.model || entity.model->step.empty()) {
+      continue;
+    }
+    const fs::path path = folder / entity.model->step;
+    settings_.allowed_dirs.push_back(path.parent_path());
+    try {
+      Entry& entry = add(cad::read_step_file(path, settings_.limits), true);
+      objects_[entity.id] = entry.model.sha256();
+      object_status_[entity.id] = "ok " + entry.model.sha256();
+    } catch (const cad::CadError& error) {
+      object_errors_[entity.id] = std::string(cad::to_string(error.code())) + "\t" + error.what();
+      object_status_[entity.id] = object_errors_[entity.id];
+    }
+  }
+}
+
+CadService::Entry& CadService::add(cad::Model model, bool pinned) {
+  const std::string sha = model.sha256();
+  auto it = models_.find(sha);
+  if (it != models_.end()) {
+    return it->second;
+  }
+  cad::Features features = cad::classify(model);
+  it = models_.emplace(sha, Entry{std::move(model), std::move(features), std::nullopt}).first;
+  if (!pinned) {
+    unpinned_.push_back(sha);
+    while (unpinned_.size() > settings_.max_models) {
+      models_.erase(unpinned_.front());
+      unpinned_.erase(unpinned_.begin());
+    }
+  }
+  return models_.at(sha);
+}
+
+CadService::Entry& CadService::find_model(const std::string& spec) {
+  if (spec.rfind("object:", 0) == 0) {
+    const std::string id = spec.substr(7);
+    if (const auto error = object_errors_.find(id); error != object_errors_.end()) {
+      const auto tab = error->second.find('\t');
+      throw RequestError{error->second.substr(0, tab), "the STEP model of object '" + id + "' could not be read: " +
+                                                           error->second.substr(tab + 1)};
+    }
+    const auto it = objects_.find(id);
+    if (it == objects_.end()) {
+      throw RequestError{"CAD_UNKNOWN_MODEL", "the cell file names no STEP model for object '" + id + "'"};
+    }
+    return models_.at(it->second);
+  }
+  if (spec.rfind("sha256:", 0) == 0) {
+    const auto it = models_.find(spec.substr(7));
+    if (it == models_.end()) {
+      throw RequestError{"CAD_UNKNOWN_MODEL", "no model with " + spec + " is loaded (load it first)"};
+    }
+    return it->second;
+  }
+  if (spec.empty()) {
+    throw RequestError{"CAD_BAD_REQUEST", "model is empty: expected object:<id>, sha256:<hex> or a file path"};
+  }
+  const fs::path path(spec);
+  const bool allowed = path.is_absolute() && std::any_of(settings_.allowed_dirs.begin(), settings_.allowed_dirs.end(),
+                                                         [&](const fs::path& dir) { return inside(path, dir); });
+  if (!allowed) {
+    throw RequestError{"CAD_FORBIDDEN_PATH", "the service may not read " + spec +
+                                                 " (an absolute path inside an allowed folder is required)"};
+  }
+  return add(cad::read_step_file(path, settings_.limits), false);
+}
+
+CadAnswer CadService::answer(const CadQuery& query) {
+  CadAnswer answer;
+  try {
+    Entry* entry = nullptr;
+    if (query.kind == QueryKind::kLoad && !query.content.empty()) {
+      entry = &add(cad::read_step_bytes(query.content, "content", settings_.limits), false);
+    } else {
+      entry = &find_model(query.model);
+    }
+    answer.model_sha256 = entry->model.sha256();
+    switch (query.kind) {
+      case QueryKind::kLoad: {
+        json result = cad::features_json(entry->features, false);
+        result["product"] = cad::to_json(entry->model.product());
+        result["source"] = entry->model.source();
+        answer.result_json = result.dump();
+        break;
+      }
+      case QueryKind::kFeatures: answer.result_json = cad::features_json(entry->features, true).dump(); break;
+      case QueryKind::kTessellation:
+        if (!entry->mesh) {
+          entry->mesh = cad::tessellate(entry->model);
+        }
+        answer.data = entry->mesh->glb;
+        answer.result_json = cad::tessellation_json(entry->features, *entry->mesh).dump();
+        break;
+      case QueryKind::kFrame: {
+        CadAnswer framed = frame(*entry, query.args_json);
+        answer.result_json = std::move(framed.result_json);
+        break;
+      }
+      case QueryKind::kDerive: {
+        CadAnswer derived = derive(*entry, query.args_json);
+        answer.result_json = std::move(derived.result_json);
+        break;
+      }
+    }
+    answer.ok = true;
+    answer.code = "OK";
+  } catch (const RequestError& error) {
+    answer.code = error.code;
+    answer.message = error.message;
+  } catch (const cad::CadError& error) {
+    answer.code = std::string(cad::to_string(error.code()));
+    answer.message = error.what();
+  } catch (const std::exception& error) {
+    answer.code = "CAD_INTERNAL";
+    answer.message = std::string("unexpected error: ") + error.what();
+  }
+  return answer;
+}
+
+CadAnswer CadService::frame(Entry& entry, const std::string& args_json) const {
+  const json args = parse_args(args_json);
+  const std::string rule = args.value("rule", "");
+  Eigen::Isometry3d pose;
+  if (rule == "edges") {
+    const auto edges = args.find("edges");
+    if (edges == args.end() || !edges->is_array() || edges->size() != 2) {
+      throw RequestError{"CAD_BAD_REQUEST", "rule \"edges\" needs args_json.edges: [E1, E2]"};
+    }
+    pose = cad::frame_from_edges(entry.features, point_arg(args, "point_m"),
+                                 entity_arg(entry.features, (*edges)[0], cad::EntityKind::kEdge, "edges[0]"),
+                                 entity_arg(entry.features, (*edges)[1], cad::EntityKind::kEdge, "edges[1]"));
+  } else if (rule == "face") {
+    if (!args.contains("face")) {
+      throw RequestError{"CAD_BAD_REQUEST", "rule \"face\" needs args_json.face"};
+    }
+    pose = cad::frame_from_face(entry.model, entry.features,
+                                entity_arg(entry.features, args["face"], cad::EntityKind::kFace, "face"),
+                                point_arg(args, "point_m"));
+  } else if (rule == "hole") {
+    pose = cad::frame_from_hole(entry.features, int_arg(args, "hole"));
+  } else {
+    throw RequestError{"CAD_BAD_REQUEST", "args_json.rule must be \"edges\", \"face\" or \"hole\", not \"" + rule + "\""};
+  }
+  CadAnswer answer;
+  answer.result_json = json{{"rule", rule}, {"frame", cad::to_json(pose)}}.dump();
+  return answer;
+}
+
+CadAnswer CadService::derive(Entry& entry, const std::string& args_json) const {
+  const json args = parse_args(args_json);
+  const std::string parameter = args.value("parameter", "");
+  json result{{"parameter", parameter}};
+  if (parameter == "screw_list") {
+    // Every hole with a frame at its entry (z out of the hole), in the model's frame.
+    result["screws"] = json::array();
+    for (const auto& hole : entry.features.holes) {
+      result["screws"].push_back({{"hole", hole.index},
+                                  {"diameter_m", hole.diameter_m},
+                                  {"depth_m", hole.depth_m},
+                                  {"through", hole.through},
+                                  {"pose", cad::to_json(cad::frame_from_hole(entry.features, hole.index))}});
+    }
+  } else if (parameter == "grasp_pose") {
+    // The tool's z goes into the picked face: the face frame turned about its x axis.
+    const int face = entity_arg(entry.features, args.value("face", json()), cad::EntityKind::kFace, "face");
+    Eigen::Isometry3d pose = cad::frame_from_face(entry.model, entry.features, face, point_arg(args, "point_m"));
+    pose.linear() = pose.linear() * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    result["pose"] = cad::to_json(pose);
+  } else {
+    throw RequestError{"CAD_BAD_REQUEST",
+                       "args_json.parameter must be \"screw_list\" or \"grasp_pose\", not \"" + parameter + "\""};
+  }
+  CadAnswer answer;
+  answer.result_json = result.dump();
+  return answer;
+}
+
+}  // namespace rigger::cad_service

@@ -1,0 +1,106 @@
+// The CAD service's answers on the real cell file and its STEP models, and on bad and hostile requests.
+
+#include "cad_service.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+namespace rigger::cad_service {
+namespace {
+
+using nlohmann::json;
+
+CadServiceSettings settings() {
+  CadServiceSettings s;
+  s.cell_file = RIGGER_SOURCE_DIR "/deploy/cell/simulated_cell.json";
+  s.allowed_dirs = {"/usr/share/opencascade/data/step"};
+  return s;
+}
+
+CadAnswer ask(CadService& service, QueryKind kind, const std::string& model, const std::string& args = "",
+              const std::string& content = "") {
+  return service.answer(CadQuery{kind, model, content, args});
+}
+
+TEST(CadService, ObjectModelsFromTheCellFile) {
+  CadService service(settings());
+  EXPECT_EQ(service.object_status().size(), 2u);
+  const CadAnswer load = ask(service, QueryKind::kLoad, "object:load");
+  ASSERT_TRUE(load.ok) << load.message;
+  EXPECT_EQ(json::parse(load.result_json)["product"]["name"], "load");
+  const CadAnswer features = ask(service, QueryKind::kFeatures, "object:target");
+  ASSERT_TRUE(features.ok) << features.message;
+  const json f = json::parse(features.result_json);
+  EXPECT_EQ(f["holes"].size(), 4u);
+  EXPECT_EQ(f["faces"].size(), f["counts"]["faces"].get<std::size_t>());
+  // The same model by its sha256.
+  EXPECT_TRUE(ask(service, QueryKind::kFeatures, "sha256:" + features.model_sha256).ok);
+}
+
+TEST(CadService, TessellationOfTheTarget) {
+  CadService service(settings());
+  const CadAnswer mesh = ask(service, QueryKind::kTessellation, "object:target");
+  ASSERT_TRUE(mesh.ok) << mesh.message;
+  ASSERT_GT(mesh.data.size(), 100u);
+  EXPECT_EQ(std::string(mesh.data.begin(), mesh.data.begin() + 4), "glTF");
+  const json parts = json::parse(mesh.result_json)["parts"];
+  EXPECT_EQ(parts.size(), 14u);  // one per face of the target
+  EXPECT_EQ(parts[0]["ref"]["kind"], "face");
+}
+
+TEST(CadService, FramesAndDerivedParameters) {
+  CadService service(settings());
+  CadAnswer hole = ask(service, QueryKind::kFrame, "object:target", R"({"rule": "hole", "hole": 0})");
+  ASSERT_TRUE(hole.ok) << hole.message;
+  EXPECT_NEAR(json::parse(hole.result_json)["frame"]["position_m"][0].get<double>(), -0.15, 1e-9);
+  const CadAnswer screws = ask(service, QueryKind::kDerive, "object:target", R"({"parameter": "screw_list"})");
+  ASSERT_TRUE(screws.ok) << screws.message;
+  EXPECT_EQ(json::parse(screws.result_json)["screws"].size(), 4u);
+  // A reference whose signature no longer matches is refused as stale, not silently used.
+  const json features = json::parse(ask(service, QueryKind::kFeatures, "object:load").result_json);
+  json face = {{"kind", "face"}, {"index", 0}, {"model_sha256", features["model_sha256"]},
+               {"signature", features["faces"][0]["signature"]}};
+  face["signature"]["centroid_m"][0] = face["signature"]["centroid_m"][0].get<double>() + 0.01;
+  const json point = features["faces"][0]["signature"]["centroid_m"];
+  CadAnswer stale = ask(service, QueryKind::kFrame, "object:load", json{{"rule", "face"}, {"face", face}, {"point_m", point}}.dump());
+  EXPECT_FALSE(stale.ok);
+  EXPECT_EQ(stale.code, "CAD_STALE_REFERENCE") << stale.message;
+  face["signature"] = features["faces"][0]["signature"];
+  CadAnswer fresh = ask(service, QueryKind::kFrame, "object:load", json{{"rule", "face"}, {"face", face}, {"point_m", point}}.dump());
+  EXPECT_TRUE(fresh.ok) << fresh.message;
+}
+
+TEST(CadService, BadRequestsAreAnsweredWithACode) {
+  CadService service(settings());
+  EXPECT_EQ(ask(service, QueryKind::kFeatures, "object:crane").code, "CAD_UNKNOWN_MODEL");
+  EXPECT_EQ(ask(service, QueryKind::kFeatures, "sha256:0000").code, "CAD_UNKNOWN_MODEL");
+  EXPECT_EQ(ask(service, QueryKind::kFeatures, "/etc/passwd").code, "CAD_FORBIDDEN_PATH");
+  EXPECT_EQ(ask(service, QueryKind::kFeatures, "/usr/share/opencascade/data/step/../../../../../etc/passwd").code,
+            "CAD_FORBIDDEN_PATH");
+  EXPECT_EQ(ask(service, QueryKind::kFeatures, "").code, "CAD_BAD_REQUEST");
+  EXPECT_EQ(ask(service, QueryKind::kFrame, "object:target", "{not json").code, "CAD_BAD_REQUEST");
+  EXPECT_EQ(ask(service, QueryKind::kFrame, "object:target", R"({"rule": "magic"})").code, "CAD_BAD_REQUEST");
+  EXPECT_EQ(ask(service, QueryKind::kFrame, "object:target", R"({"rule": "hole", "hole": 9})").code, "CAD_BAD_REFERENCE");
+  EXPECT_EQ(ask(service, QueryKind::kFrame, "object:target", R"({"rule": "edges", "point_m": [0,0,0], "edges": [0, 0]})").code,
+            "CAD_NOT_A_FRAME");
+  EXPECT_EQ(ask(service, QueryKind::kDerive, "object:target", R"({"parameter": "x"})").code, "CAD_BAD_REQUEST");
+}
+
+TEST(CadService, HostileContentIsRefusedAndTheServiceGoesOn) {
+  CadService service(settings());
+  EXPECT_EQ(ask(service, QueryKind::kLoad, "", "", std::string("\x00\x01junk", 6)).code, "CAD_NOT_STEP");
+  std::ifstream in("/usr/share/opencascade/data/step/screw.step", std::ios::binary);
+  const std::string screw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const CadAnswer truncated = ask(service, QueryKind::kLoad, "", "", screw.substr(0, screw.size() / 3));
+  EXPECT_FALSE(truncated.ok);
+  EXPECT_FALSE(truncated.message.empty());
+  const CadAnswer whole = ask(service, QueryKind::kLoad, "", "", screw);
+  ASSERT_TRUE(whole.ok) << whole.message;
+  EXPECT_TRUE(ask(service, QueryKind::kFeatures, "sha256:" + whole.model_sha256).ok);
+  EXPECT_TRUE(ask(service, QueryKind::kFeatures, "/usr/share/opencascade/data/step/screw.step").ok);
+}
+
+}  // namespace
+}  // namespace rigger::cad_service

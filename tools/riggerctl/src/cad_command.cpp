@@ -1,0 +1,164 @@
+// `riggerctl cad inspect|frame FILE`: reads a STEP file with rigger's CAD library (in a child process,
+// bounded) and prints its product tree and features, or the frame a pick rule makes. Offline: no DDS.
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "rigger/base/text.hpp"
+#include "rigger/cad/cad_json.hpp"
+#include "rigger/cad/frames.hpp"
+
+namespace rigger::ctl {
+namespace {
+
+constexpr int kExitCadError = 1;
+constexpr int kExitUsage = 2;
+
+struct CadArgs {
+  std::string file;
+  bool json = false;
+  bool entities = false;
+  std::string point;
+  std::string edges;
+  int face = -1;
+  int hole = -1;
+};
+
+std::string vec_text(const Eigen::Vector3d& v) {
+  return "(" + number_text(v.x()) + ", " + number_text(v.y()) + ", " + number_text(v.z()) + ")";
+}
+
+void print_tree(const cad::ProductNode& node, int depth) {
+  std::printf("%*s%s%s\n", 2 * depth, "", node.name.empty() ? "(unnamed)" : node.name.c_str(),
+              node.assembly ? " [assembly]" : "");
+  for (const auto& child : node.children) {
+    print_tree(child, depth + 1);
+  }
+}
+
+bool parse_numbers(const std::string& text, std::size_t count, std::vector<double>& out) {
+  out.clear();
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    try {
+      out.push_back(std::stod(item, &used));
+    } catch (const std::exception&) {
+      return false;
+    }
+    if (used != item.size()) {
+      return false;
+    }
+  }
+  return out.size() == count;
+}
+
+int inspect(const CadArgs& args) {
+  const cad::Model model = cad::read_step_file(args.file);
+  const cad::Features features = cad::classify(model);
+  if (args.json) {
+    nlohmann::json json = cad::features_json(features, args.entities);
+    json["file"] = args.file;
+    json["product"] = cad::to_json(model.product());
+    std::cout << json.dump(2) << "\n";
+    return 0;
+  }
+  std::printf("%s\nsha256 %s\n\nproduct tree:\n", args.file.c_str(), model.sha256().c_str());
+  print_tree(model.product(), 1);
+  const auto counts = cad::features_json(features, false)["counts"];
+  std::printf("\nfeatures:\n");
+  for (const auto& [kind, count] : counts.items()) {
+    std::printf("  %-18s %s\n", kind.c_str(), count.dump().c_str());
+  }
+  if (!features.holes.empty()) {
+    std::printf("\nholes (m):\n");
+  }
+  for (const auto& hole : features.holes) {
+    std::printf("  hole %d: diameter %s, depth %s, %s, entry %s, axis %s, faces", hole.index,
+                number_text(hole.diameter_m).c_str(), number_text(hole.depth_m).c_str(),
+                hole.through ? "through" : "blind", vec_text(hole.entry_m).c_str(), vec_text(hole.axis).c_str());
+    for (int face : hole.faces) {
+      std::printf(" %d", face);
+    }
+    std::printf("\n");
+  }
+  return 0;
+}
+
+int frame(const CadArgs& args) {
+  const int rules = (!args.edges.empty() ? 1 : 0) + (args.face >= 0 ? 1 : 0) + (args.hole >= 0 ? 1 : 0);
+  if (rules != 1) {
+    std::fprintf(stderr, "riggerctl: cad frame: give exactly one of --edges E1,E2 (with --point), --face F (with --point), --hole H\n");
+    return kExitUsage;
+  }
+  std::vector<double> point;
+  if ((!args.edges.empty() || args.face >= 0) && !parse_numbers(args.point, 3, point)) {
+    std::fprintf(stderr, "riggerctl: cad frame: --point must be x,y,z in metres, got \"%s\"\n", args.point.c_str());
+    return kExitUsage;
+  }
+  std::vector<double> edges;
+  if (!args.edges.empty() && !parse_numbers(args.edges, 2, edges)) {
+    std::fprintf(stderr, "riggerctl: cad frame: --edges must be two edge indices E1,E2, got \"%s\"\n", args.edges.c_str());
+    return kExitUsage;
+  }
+  const cad::Model model = cad::read_step_file(args.file);
+  const cad::Features features = cad::classify(model);
+  Eigen::Isometry3d pose;
+  std::string rule;
+  if (!edges.empty()) {
+    pose = cad::frame_from_edges(features, {point[0], point[1], point[2]}, static_cast<int>(edges[0]), static_cast<int>(edges[1]));
+    rule = "point and edges " + args.edges;
+  } else if (args.face >= 0) {
+    pose = cad::frame_from_face(model, features, args.face, {point[0], point[1], point[2]});
+    rule = "face " + std::to_string(args.face);
+  } else {
+    pose = cad::frame_from_hole(features, args.hole);
+    rule = "hole " + std::to_string(args.hole);
+  }
+  if (args.json) {
+    nlohmann::json json{{"file", args.file}, {"model_sha256", model.sha256()}, {"rule", rule}, {"frame", cad::to_json(pose)}};
+    std::cout << json.dump(2) << "\n";
+    return 0;
+  }
+  std::printf("frame from %s of %s (model frame, m):\n  origin %s\n  x %s\n  y %s\n  z %s\n", rule.c_str(),
+              args.file.c_str(), vec_text(pose.translation()).c_str(), vec_text(pose.linear().col(0)).c_str(),
+              vec_text(pose.linear().col(1)).c_str(), vec_text(pose.linear().col(2)).c_str());
+  return 0;
+}
+
+int guarded(int (*command)(const CadArgs&), const CadArgs& args) {
+  try {
+    return command(args);
+  } catch (const cad::CadError& error) {
+    std::fprintf(stderr, "riggerctl: cad: %s: %s\n", std::string(cad::to_string(error.code())).c_str(), error.what());
+    return kExitCadError;
+  }
+}
+
+}  // namespace
+
+void add_cad_command(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<CadArgs>();
+  auto* cad = app.add_subcommand("cad", "Read a STEP file: its product tree, features and frames from picks (offline)");
+  cad->require_subcommand(1);
+  auto* inspect_cmd = cad->add_subcommand("inspect", "Product tree, feature counts and every hole (axis, diameter, entry, depth)");
+  inspect_cmd->add_option("file", args->file, "STEP file")->required();
+  inspect_cmd->add_flag("--json", args->json, "One JSON document (docs/cad.md)");
+  inspect_cmd->add_flag("--entities", args->entities, "With --json: every face, edge and vertex with its reference signature");
+  inspect_cmd->callback([args, &exit_code] { exit_code = guarded(inspect, *args); });
+  auto* frame_cmd = cad->add_subcommand("frame", "A frame from picks: --point + --edges (the paper's rule), --face + --point, or --hole");
+  frame_cmd->add_option("file", args->file, "STEP file")->required();
+  frame_cmd->add_option("--point", args->point, "x,y,z in metres, in the model's frame");
+  frame_cmd->add_option("--edges", args->edges, "E1,E2: edge indices (x along E1, y along E2)");
+  frame_cmd->add_option("--face", args->face, "face index (z along its outward normal at --point)");
+  frame_cmd->add_option("--hole", args->hole, "hole index (z along its axis, origin at its entry)");
+  frame_cmd->add_flag("--json", args->json, "One JSON document");
+  frame_cmd->callback([args, &exit_code] { exit_code = guarded(frame, *args); });
+}
+
+}  // namespace rigger::ctl
