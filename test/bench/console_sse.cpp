@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "the console did not become ready\n%s", cell.logs().c_str());
     return 1;
   }
-  dds::Writer<rigger_task_NodeStatus> nodes(cell.participant(), protocol::task::kNodeStatus, dds::qos::state_changes());
+  dds::Writer<rigger_task_NodeStatus> nodes(cell.participant(), rigger::protocol::task::kNodeStatus, dds::qos::state_changes());
   if (!nodes.wait_for_readers(1, 10s)) {
     std::fprintf(stderr, "the console's node-status reader did not match\n");
     return 1;
