@@ -238,20 +238,25 @@ TEST_F(LifecycleTest, ASkillThatNeverAnswersStoppedIsEscalatedAfterItsStopTimeou
 // safe_stop_cell_test), and journals what it commanded.
 TEST_F(LifecycleTest, AnEscalatedStopCommandsTheSafeStopOfTheDevicesTheLeafHeld) {
   start_controller();
-  start_scripted("exec", {"Release", "YankMonitor"},
-                 {{"root/0", {{"mode", "run"}, {"never_stop", true}}},
-                  {"root/1", {{"mode", "fail"}, {"delay_s", 0.2}, {"code", "YANK_DETECTED"}}}});
+  start_scripted("exec", {"Localize", "Pick", "YankMonitor"},
+                 {{"root/0", {{"mode", "succeed"}, {"delay_s", 0.05}}},
+                  {"root/1/0", {{"mode", "run"}, {"never_stop", true}}},
+                  {"root/1/1", {{"mode", "fail"}, {"delay_s", 0.2}, {"code", "YANK_DETECTED"}}}});
   wait_ready({"tc", "exec"});
   std::map<std::string, safety::StopState> stops;
   safety::SafeStopListener devices(cell_.participant(), cell_.loop(), safety::stoppable_resources(),
                                    [&](const std::string& r, const safety::StopState& st) { stops[r] = st; });
-  const json root = {{"type", "Parallel"},
+  const json grab = {{"type", "Parallel"},
                      {"success_threshold", 1},
                      {"failure_threshold", 1},
                      {"stop_timeout_s", 0.5},
                      {"children",
-                      {{{"type", "Skill"}, {"name", "let go"}, {"skill", "Release"}, {"params", json::object()}},
+                      {{{"type", "Skill"},
+                        {"name", "grab"},
+                        {"skill", "Pick"},
+                        {"params", {{"object", "load"}, {"grasp", "load/grasp_top"}}}},
                        {{"type", "Monitor"}, {"monitor", "YankMonitor"}, {"params", {{"max_yank_n_per_s", 400}}}}}}};
+  const json root = {{"type", "Sequence"}, {"children", {skill("find", "load"), grab}}};
   submit("hung-robot", recipe("hung-robot", root));
   ASSERT_TRUE(wait_finished("hung-robot"));
   ASSERT_TRUE(cell_.wait_until([&] { return stops.size() == 2; }, 10s)) << "safe stops seen: " << stops.size();
@@ -259,11 +264,12 @@ TEST_F(LifecycleTest, AnEscalatedStopCommandsTheSafeStopOfTheDevicesTheLeafHeld)
     ASSERT_TRUE(stops.count(resource)) << resource;
     EXPECT_TRUE(stops[resource].active);
     EXPECT_EQ(stops[resource].source, "tc");
-    EXPECT_NE(stops[resource].reason.find("node root/0"), std::string::npos) << stops[resource].reason;
+    EXPECT_NE(stops[resource].reason.find("node root/1/0"), std::string::npos) << stops[resource].reason;
     EXPECT_NE(stops[resource].reason.find("did not acknowledge SHUTDOWN"), std::string::npos)
         << stops[resource].reason;
   }
   EXPECT_FALSE(stops.count("crane")) << "the leaf did not hold the crane";
+  EXPECT_FALSE(stops.count("admittance")) << "the leaf did not hold the admittance controller";
   bool journalled = false;
   for (const auto& l : journal("hung-robot"))
     journalled = journalled || (l.kind == "ESCALATION" &&

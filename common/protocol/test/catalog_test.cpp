@@ -35,7 +35,7 @@ TEST(Catalog, EveryTopicOnceWithItsType) {
     EXPECT_FALSE(t.writers.empty()) << t.name;
     EXPECT_FALSE(t.readers.empty()) << t.name;
   }
-  EXPECT_EQ(names.size(), 44u);
+  EXPECT_EQ(names.size(), 45u);
   ASSERT_NE(find_topic("rigger/operator/prompt"), nullptr);
   EXPECT_EQ(find_topic("rigger/operator/prompt")->idl_type, "rigger::operator_ui::OperatorPrompt");
   EXPECT_EQ(find_topic("rigger/robot/wrench")->idl_type, "rigger::sensing::WrenchStamped");
