@@ -94,6 +94,31 @@ TEST(EngineShutdown, StopTimeoutEscalatesSafeStopAndCountsAsStopped) {
   EXPECT_LT(h.port.position("escalate root/0"), h.port.position("state root FAILURE"));
 }
 
+// The skill says its own safe stop failed while it was being stopped: its devices may still move, so the
+// engine escalates at once instead of filing the FAILURE as FINISHED_WHILE_STOPPING.
+TEST(EngineShutdown, AFailedSafeStopWhileStoppingIsEscalated) {
+  Harness h(paper_parallel());
+  h.engine->start();
+  h.fail("root/1", "YANK");
+  EXPECT_EQ(h.state("root/0"), NodeState::kStopping);
+  h.fail("root/0", codes::kSafeStopFailed);
+  EXPECT_EQ(h.port.escalations(), std::vector<std::string>{"root/0"});
+  EXPECT_EQ(h.state("root/0"), NodeState::kStopped);
+  EXPECT_EQ(h.status("root/0").code, codes::kSafeStopFailed);
+  ASSERT_TRUE(h.port.result());
+  EXPECT_EQ(h.port.result()->escalated, std::vector<std::string>{"root/0"});
+}
+
+// Any other FAILURE while stopping raced the SHUTDOWN: no escalation.
+TEST(EngineShutdown, AnOrdinaryFailureWhileStoppingIsNotEscalated) {
+  Harness h(paper_parallel());
+  h.engine->start();
+  h.fail("root/1", "YANK");
+  h.fail("root/0", "GRIP_LOST");
+  EXPECT_TRUE(h.port.escalations().empty());
+  EXPECT_EQ(h.status("root/0").code, codes::kFinishedWhileStopping);
+}
+
 TEST(EngineShutdown, StoppedAfterStopTimeoutIsRejectedAsLate) {
   Harness h(paper_parallel());
   h.engine->start();
