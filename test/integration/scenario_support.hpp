@@ -26,6 +26,7 @@
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/sim.hpp"
 #include "rigger/protocol/task.hpp"
+#include "rigger/protocol/task_names.hpp"
 #include "rigger/testing/cell.hpp"
 
 namespace rigger::testing::scenario {
@@ -255,17 +256,7 @@ class ScenarioCell {
     return out;
   }
 
-  static const char* state_name(int s) {
-    switch (s) {
-      case rigger_task_NODE_IDLE: return "IDLE";
-      case rigger_task_NODE_RUNNING: return "RUNNING";
-      case rigger_task_NODE_STOPPING: return "STOPPING";
-      case rigger_task_NODE_SUCCESS: return "SUCCESS";
-      case rigger_task_NODE_FAILURE: return "FAILURE";
-      case rigger_task_NODE_STOPPED: return "STOPPED";
-      default: return "?";
-    }
-  }
+  static const char* state_name(int s) { return protocol::task::node_state_name(s); }
 
  private:
   static Eigen::Isometry3d insertion_offset() {

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/task_names.hpp"
 
 #include "rigger/operator_ui/prompt.hpp"
 
@@ -16,6 +17,9 @@ using nlohmann::json;
 
 namespace {
 
+using protocol::task::node_state_name;
+using protocol::task::task_state_name;
+
 constexpr std::size_t kEventCapacity = 200000;
 constexpr std::size_t kPlotCapacity = 36000;  // 30 min at 20 Hz
 
@@ -23,31 +27,6 @@ double seconds(const rigger_geometry_Time& t) { return static_cast<double>(t.sec
 
 double wall_now_s() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
-
-const char* task_state_name(int s) {
-  switch (s) {
-    case rigger_task_TASK_ACCEPTED: return "ACCEPTED";
-    case rigger_task_TASK_REJECTED: return "REJECTED";
-    case rigger_task_TASK_RUNNING: return "RUNNING";
-    case rigger_task_TASK_PAUSED: return "PAUSED";
-    case rigger_task_TASK_SUCCEEDED: return "SUCCEEDED";
-    case rigger_task_TASK_FAILED: return "FAILED";
-    case rigger_task_TASK_CANCELED: return "CANCELED";
-    default: return "UNKNOWN";
-  }
-}
-
-const char* node_state_name(int s) {
-  switch (s) {
-    case rigger_task_NODE_IDLE: return "IDLE";
-    case rigger_task_NODE_RUNNING: return "RUNNING";
-    case rigger_task_NODE_STOPPING: return "STOPPING";
-    case rigger_task_NODE_SUCCESS: return "SUCCESS";
-    case rigger_task_NODE_FAILURE: return "FAILURE";
-    case rigger_task_NODE_STOPPED: return "STOPPED";
-    default: return "UNKNOWN";
-  }
 }
 
 std::string epoch_now() {

@@ -21,6 +21,7 @@
 #include "recipe/recipe_validator.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/task_names.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
@@ -33,40 +34,18 @@
 namespace rigger::ctl {
 namespace {
 
+using protocol::task::node_state_name;
+using protocol::task::task_state_name;
+
 namespace tc = rigger::task_controller;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kExitFailed = 1;
 constexpr int kExitNoController = 3;
 
-const char* task_state_name(int s) {
-  switch (s) {
-    case rigger_task_TASK_ACCEPTED: return "ACCEPTED";
-    case rigger_task_TASK_REJECTED: return "REJECTED";
-    case rigger_task_TASK_RUNNING: return "RUNNING";
-    case rigger_task_TASK_PAUSED: return "PAUSED";
-    case rigger_task_TASK_SUCCEEDED: return "SUCCEEDED";
-    case rigger_task_TASK_FAILED: return "FAILED";
-    case rigger_task_TASK_CANCELED: return "CANCELED";
-    default: return "?";
-  }
-}
-
 bool task_terminal(int s) {
   return s == rigger_task_TASK_REJECTED || s == rigger_task_TASK_SUCCEEDED || s == rigger_task_TASK_FAILED ||
          s == rigger_task_TASK_CANCELED;
-}
-
-const char* node_state_name(int s) {
-  switch (s) {
-    case rigger_task_NODE_IDLE: return "IDLE";
-    case rigger_task_NODE_RUNNING: return "RUNNING";
-    case rigger_task_NODE_STOPPING: return "STOPPING";
-    case rigger_task_NODE_SUCCESS: return "SUCCESS";
-    case rigger_task_NODE_FAILURE: return "FAILURE";
-    case rigger_task_NODE_STOPPED: return "STOPPED";
-    default: return "?";
-  }
 }
 
 std::int64_t wire_ns(const rigger_geometry_Time& t) { return static_cast<std::int64_t>(t.sec) * 1000000000LL + t.nanosec; }
