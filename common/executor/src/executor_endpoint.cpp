@@ -9,7 +9,6 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/service_state.hpp"
 #include "rigger/protocol/skill.hpp"
-#include "rigger/skill/skill_description.hpp"
 
 namespace rigger::executor {
 namespace {
@@ -59,7 +58,7 @@ ExecutorEndpoint::ExecutorEndpoint(const dds::Participant& participant, dds::Eve
   for (const auto& s : library_["skills"]) {
     if (!s.is_object() || !s.contains("name") || !s["name"].is_string()) continue;
     skill_names_.push_back(s["name"]);
-    descriptions_[s["name"]] = s;
+    if (auto parsed = skill::parse_description(s); parsed.ok()) descriptions_.emplace(s["name"], *parsed.value);
   }
   library_text_ = library_.dump();
   loop_.on_data(commands_, [this] { on_commands(); });
@@ -101,11 +100,7 @@ std::vector<LeafRun> ExecutorEndpoint::active_runs() const {
 
 std::vector<std::string> ExecutorEndpoint::resources_of(const std::string& skill, const nlohmann::json& params) const {
   const auto it = descriptions_.find(skill);
-  if (it == descriptions_.end() || !it->second.contains("resources")) return {};
-  // A library entry that is not a full description (tests' minimal libraries) claims nothing.
-  auto parsed = skill::parse_description(it->second);
-  if (!parsed.ok()) return {};
-  return skill::resolve_resources(*parsed.value, params);
+  return it == descriptions_.end() ? std::vector<std::string>{} : skill::resolve_resources(it->second, params);
 }
 
 void ExecutorEndpoint::on_commands() {

@@ -39,6 +39,7 @@
 #include "rigger/base/logging.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/skill/skill_description.hpp"
 
 namespace rigger::executor {
 
@@ -138,7 +139,9 @@ class ExecutorEndpoint {
   nlohmann::json library_;
   std::string library_text_;
   std::vector<std::string> skill_names_;
-  std::map<std::string, nlohmann::json> descriptions_;  // skill name -> its description in the library
+  /// The library's full descriptions, parsed once: what a START claims (entries that are not full
+  /// descriptions, as in tests' minimal libraries, claim nothing).
+  std::map<std::string, skill::SkillDescription> descriptions_;
   Handlers handlers_;
   Options options_;
   std::string host_;
