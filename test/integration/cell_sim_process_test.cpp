@@ -288,6 +288,9 @@ TEST_F(CellSimProcessTest, MotionAndGripperCommandsAreReported) {
   });
   ASSERT_TRUE(motion.wait_for_readers(1, 5s));
   ASSERT_TRUE(gripper.wait_for_readers(1, 5s));
+  // The replies are volatile: cell_sim's status writers must have met our readers before we command.
+  ASSERT_TRUE(status.wait_for_writers(1, 5s));
+  ASSERT_TRUE(gripper_state.wait_for_writers(1, 5s));
   const auto send_motion = [&](const char* id, rigger_robot_MotionKind kind, std::vector<double> joints,
                                WallTime stamp = std::chrono::system_clock::now()) {
     rigger_robot_MotionCommand c{};

@@ -230,6 +230,7 @@ class ClosedLoopTest : public MultiProcessTest {
   /// A Cartesian motion of the tool to `pose_world_tool` (sent in the robot's base frame); waits for its end.
   void move_tool(const std::string& id, const Eigen::Isometry3d& pose_world_tool, double speed, bool must_succeed) {
     ASSERT_TRUE(motion_writer_->wait_for_readers(1, 5s));
+    ASSERT_TRUE(motion_status_reader_->wait_for_writers(1, 5s));  // the replies are volatile
     rigger_robot_MotionCommand c{};
     c.header.stamp = dds::wire_now();
     c.header.frame_id = const_cast<char*>("robot");

@@ -45,6 +45,7 @@ class MonitorHostTest : public MultiProcessTest {
     ASSERT_TRUE(cell_.wait_ready({kHost}, 10s));
     ASSERT_TRUE(commands_->wait_for_readers(1, 10s));
     ASSERT_TRUE(wrench_->wait_for_readers(1, 10s));
+    ASSERT_TRUE(events_->wait_for_writers(1, 10s));  // the host's replies are volatile
   }
 
   void TearDown() override {

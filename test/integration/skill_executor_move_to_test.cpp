@@ -61,6 +61,7 @@ class SkillExecutorMoveToTest : public MultiProcessTest {
     ASSERT_TRUE(cell_.wait_ready({kExecutor}, 10s));
     ASSERT_TRUE(commands_->wait_for_readers(1, 10s));
     ASSERT_TRUE(status_->wait_for_readers(1, 10s));
+    ASSERT_TRUE(events_->wait_for_writers(1, 10s));  // the executor's replies are volatile
   }
   void TearDown() override {
     cell_.loop().cancel(state_timer_);

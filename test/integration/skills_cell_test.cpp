@@ -77,6 +77,7 @@ class SkillsCellTest : public MultiProcessTest {
       cell_.start(id, "skill_executor", {"--id", id, "--config", repo(std::string("deploy/config/") + id + ".json")});
     ASSERT_TRUE(cell_.wait_ready({"world_model", "perception-skills", "operator-skills"}, 30s)) << cell_.logs();
     ASSERT_TRUE(commands_->wait_for_readers(2, 10s));
+    ASSERT_TRUE(events_->wait_for_writers(2, 10s));  // the executors' replies are volatile
     ASSERT_TRUE(poses_->wait_for_readers(1, 10s));
     ASSERT_TRUE(responses_->wait_for_readers(1, 10s));
     world_ = std::make_unique<world_client::WorldClient>(p, cell_.loop(), null_logger(), "skills-cell-test");

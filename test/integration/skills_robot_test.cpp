@@ -98,6 +98,7 @@ class SkillsRobotTest : public MultiProcessTest {
     if (with_crane()) services.push_back("crane_gateway");
     ASSERT_TRUE(cell_.wait_ready(services, 30s)) << cell_.logs();
     ASSERT_TRUE(commands_->wait_for_readers(1, 10s));
+    ASSERT_TRUE(events_->wait_for_writers(1, 10s));  // the executor's replies are volatile
 
     // Localize the load at its true pose, as the Localize skill would.
     world_ = std::make_unique<world_client::WorldClient>(p, cell_.loop(), null_logger(), "skills-robot-test");

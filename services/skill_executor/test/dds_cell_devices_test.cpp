@@ -33,8 +33,7 @@ class DdsCellDevicesTest : public ::testing::Test {
 
   template <typename R>
   static bool wait_matched(const R& reader) {
-    return dds::wait_for_status(
-        reader.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return reader.matched_writers() > 0; }, 5s);
+    return reader.wait_for_writers(1, 5s);
   }
   /// Runs the loop until `run` ended (or 10 s).
   bool run_to_end(const std::optional<SkillResult>& result) {

@@ -78,8 +78,7 @@ int run(const CommonOptions& common, const SimRequest& request) {
   // The answer comes on the events topic: wait until the simulator reads ours and writes to us.
   const bool matched =
       controls.wait_for_readers(1, timeout) &&
-      dds::wait_for_status(
-          events.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return events.matched_writers() > 0; }, timeout);
+      events.wait_for_writers(1, timeout);
   if (!matched) {
     std::fprintf(stderr, "riggerctl: no simulated cell on %s (waited %.1f s); sim works with cell_sim only\n",
                  dds::describe_domain(common.domain).c_str(), request.timeout_s);

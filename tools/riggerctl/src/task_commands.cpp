@@ -183,9 +183,7 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
   // Also wait for the controller's status writers: a state change published before they matched
   // would reach us only as the latest state (state QoS keeps one sample per node), not as a line.
   const auto matched = [&](auto& reader) {
-    return dds::wait_for_status(
-        reader.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return reader.matched_writers() > 0; },
-        from_seconds(opt.match_timeout_s));
+    return reader.wait_for_writers(1, from_seconds(opt.match_timeout_s));
   };
   if (!recipes.wait_for_readers(1, from_seconds(opt.match_timeout_s)) || !matched(statuses) || !matched(nodes)) {
     std::fprintf(stderr, "riggerctl: no task controller on %s (waited %.1f s)\n",
@@ -309,9 +307,7 @@ JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std
   auto& queries = topics.queries;
   auto& replies = topics.replies;
   if (!queries.wait_for_readers(1, from_seconds(timeout_s)) ||
-      !dds::wait_for_status(
-          replies.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return replies.matched_writers() > 0; },
-          from_seconds(timeout_s)))
+      !replies.wait_for_writers(1, from_seconds(timeout_s)))
     return answer;
   const std::string client = "riggerctl-" + std::to_string(::getpid());
   const std::uint64_t request_id = 1;
@@ -458,8 +454,7 @@ int show_skills(const CommonOptions& common, double timeout_s) {
   dds::Participant participant(common.domain);
   dds::Reader<rigger_skill_ExecutorAnnouncement> ann(participant, protocol::skill::kExecutors, dds::qos::state());
   dds::EventLoop loop(participant);
-  if (!dds::wait_for_status(ann.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return ann.matched_writers() > 0; },
-                       from_seconds(timeout_s))) {
+  if (!ann.wait_for_writers(1, from_seconds(timeout_s))) {
     std::fprintf(stderr, "riggerctl: no executor on %s\n", dds::describe_domain(common.domain).c_str());
     return kExitFailed;
   }

@@ -134,6 +134,11 @@ class Reader {
     dds_get_subscription_matched_status(reader_.handle(), &st);
     return st.current_count;
   }
+  /// Blocks until at least `count` writers match or `timeout` passes (a waitset on the reader's
+  /// status, no polling). Returns whether they matched. Matching is not symmetric in time: a writer
+  /// of ours may see a service's reader before that service's writers see our reader, so a test that
+  /// sends a command and expects every reply waits for both. For tools and setup, not for loops.
+  bool wait_for_writers(uint32_t count, std::chrono::nanoseconds timeout) const;
 
   dds_entity_t handle() const { return reader_.handle(); }
   const std::string& topic_name() const { return topic_name_; }
@@ -152,6 +157,12 @@ template <typename T>
 bool Writer<T>::wait_for_readers(uint32_t count, std::chrono::nanoseconds timeout) const {
   return wait_for_status(writer_.handle(), DDS_PUBLICATION_MATCHED_STATUS,
                          [&] { return matched_readers() >= count; }, timeout);
+}
+
+template <typename T>
+bool Reader<T>::wait_for_writers(uint32_t count, std::chrono::nanoseconds timeout) const {
+  return wait_for_status(reader_.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS,
+                         [&] { return matched_writers() >= count; }, timeout);
 }
 
 }  // namespace rigger::dds
