@@ -240,11 +240,16 @@ AdmittanceOutput RobotAdmittance::step(Seconds dt, const WrenchSample& wrench,
                                        const Eigen::Quaterniond& orientation_base_sensor,
                                        const ReferenceInput& reference) {
   const double h = dt.count();
-  if (!std::isfinite(h) || h <= 0.0 || h > config_.max_time_step.count())
-    return fault_output(AdmittanceFault::kTimeStepInvalid, false);
+  const bool step_valid = std::isfinite(h) && h > 0.0 && h <= config_.max_time_step.count();
+  // OFF commands nothing: a late loop iteration (a busy machine) must not turn into a zero twist that
+  // preempts the robot's own point-to-point motion. A ramp to zero still in progress goes on at the
+  // longest valid step.
+  if (mode_ == AdmittanceMode::kOff) {
+    if (step_valid) gains_.advance(dt);
+    return stopping_output(step_valid ? h : config_.max_time_step.count());
+  }
+  if (!step_valid) return fault_output(AdmittanceFault::kTimeStepInvalid, false);
   const Eigen::Matrix<double, 6, 3>& gains = gains_.advance(dt);
-
-  if (mode_ == AdmittanceMode::kOff) return stopping_output(h);
   if (latched_fault_ != AdmittanceFault::kNone) return fault_output(latched_fault_, true);
 
   // Input checks. Invalid numbers are a broken producer and latch; never read them as "no force".

@@ -374,6 +374,17 @@ TEST(InvalidInput, BadOrientationReferenceAndTimeStepAreFaults) {
   EXPECT_EQ(law.step(kDt, sample(axis_value(0, 10.0)), kUpright, {}).status.state, AdmittanceState::kActive);
 }
 
+// OFF commands nothing, whatever the loop's timing: a late iteration on a busy machine once turned into
+// a zero twist that preempted the robot's own point-to-point motion (seen on a three-host cell).
+TEST(RobotAdmittance, OffStaysOffOnALateOrInvalidStep) {
+  RobotAdmittance law(bare_config());
+  for (double dt : {0.051, 0.5, 0.0, -0.002, kNaN}) {
+    const AdmittanceOutput out = law.step(Seconds(dt), sample(axis_value(0, 10.0)), kUpright, {});
+    EXPECT_EQ(out.status.state, AdmittanceState::kOff) << dt;
+    EXPECT_EQ(out.status.fault, AdmittanceFault::kNone) << dt;
+  }
+}
+
 TEST(ToolWeight, CompensationMatchesHandComputedWrenchWithTheToolRotated) {
   // Tool 2 kg, centre of mass (0.01, 0.02, 0.05) m in the sensor frame, sensor turned 90 deg about
   // base x: sensor y points up, so gravity (0, 0, -19.62) N reads (0, -19.62, 0) in the sensor frame

@@ -189,6 +189,7 @@ CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_li
         // nothing sent before the stop applies after its reset.
         twist_gate_.reset();
         TwistCommand zero;
+        zero.source = "safe stop";
         zero.expires = std::chrono::system_clock::now() + std::chrono::milliseconds(100);
         runner_->submit(zero);
         MotionCommand stop;
@@ -237,6 +238,7 @@ void CellSimNode::on_twist() {
         command.twist_base.angular_rad_per_s = twist.tail<3>();
         command.expires = *twist_gate_.expiry();
         command.seq = c.seq;
+        command.source = dds::to_string(c.source);
         runner_->submit(command);
         return;
       }

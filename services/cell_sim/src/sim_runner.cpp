@@ -191,7 +191,11 @@ void SimRunner::apply(const TwistCommand& command, WallTime now) {
     }
     return;
   }
-  if (motion_ && !motion_->stop) end_motion(MotionPhase::kAborted, "PREEMPTED", "preempted by a twist command", now);
+  if (motion_ && !motion_->stop)
+    end_motion(MotionPhase::kAborted, "PREEMPTED",
+               "preempted by a twist command" + (command.source.empty() ? std::string() : " from " + command.source) +
+                   " (seq " + std::to_string(command.seq) + ")",
+               now);
   const sim::CommandResult result = physics_->set_tool_twist(command.twist_base);
   if (!result.ok()) {
     if (throttle(last_refusal_log_, std::chrono::seconds(2))) {

@@ -35,6 +35,7 @@ struct TwistCommand {
   sim::Twist twist_base;
   WallTime expires{};
   std::uint64_t seq = 0;
+  std::string source;  ///< the writer's id (the TwistCommand's `source`), for the logs
 };
 
 enum class MotionKind { kJoint, kCartesian, kStop };
