@@ -10,6 +10,8 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -62,9 +64,14 @@ ComposeFile load(const GlobalOptions& g) {
 }
 
 std::string host_option(const GlobalOptions& g) {
-  if (!g.host.empty()) return g.host;
   const char* env = std::getenv("RIGGER_HOST");
-  return env ? env : "";
+  const std::string host = !g.host.empty() ? g.host : env ? env : "";
+  // It names a lock file and is matched against `host:`: a host name, nothing else.
+  const bool valid = host.size() <= 253 && std::all_of(host.begin(), host.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' || c == '_';
+  });
+  if (!valid) fail("--host / $RIGGER_HOST '" + host + "' is not a host name (letters, digits, '-', '.', '_')", kExitUsage);
+  return host;
 }
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
@@ -172,7 +179,7 @@ int up(const GlobalOptions& g, const std::vector<std::string>& services) {
     for (const auto& p : problems) text += (text.empty() ? "" : "\nrigger-compose: ") + p;
     fail(text + "\nrigger-compose: nothing started");
   }
-  if (const auto holder = DomainLock::holder(file.domain)) {
+  if (const auto holder = DomainLock::holder(file.domain, host_option(g))) {
     fail("a supervisor already runs for DDS domain " + std::to_string(file.domain) + " (pid " +
          std::to_string(holder->pid) + ", log dir " + holder->log_dir +
          "): `rigger-compose down` first, or `restart SERVICE`");
@@ -268,7 +275,7 @@ std::chrono::milliseconds total_stop_time(const ComposeFile& file) {
 
 int down(const GlobalOptions& g) {
   const ComposeFile file = load(g);
-  const auto holder = DomainLock::holder(file.domain);
+  const auto holder = DomainLock::holder(file.domain, host_option(g));
   if (!holder) {
     if (stop_orphans(file, file.log_dir) > 0) {
       std::printf("rigger-compose: stopped the services its dead supervisor had left running\n");
@@ -320,7 +327,7 @@ std::string dds_state(const dds::ServiceDirectory& dir, const std::string& id, i
 
 int ps(const GlobalOptions& g, bool json, double timeout_s) {
   const ComposeFile file = load(g);
-  const auto holder = DomainLock::holder(file.domain);
+  const auto holder = DomainLock::holder(file.domain, host_option(g));
   std::optional<SupervisorStatus> status;
   if (holder) status = read_status_file(LogLayout(holder->log_dir).status_file());
 
@@ -489,7 +496,7 @@ int restart(const GlobalOptions& g, const std::string& service) {
   if (!def) fail("no service named '" + service + "' in " + file.path, kExitUsage);
   if (!is_local_host(def->host, this_host_names(host_option(g))))
     fail("service " + service + " runs on host " + def->host + ": run `rigger-compose restart " + service + "` there");
-  const auto holder = DomainLock::holder(file.domain);
+  const auto holder = DomainLock::holder(file.domain, host_option(g));
   if (!holder) fail("no supervisor runs for DDS domain " + std::to_string(file.domain) + ": `rigger-compose up` first");
   const LogLayout layout(holder->log_dir);
   const auto status = read_status_file(layout.status_file());
@@ -706,6 +713,7 @@ int supervise(const GlobalOptions& g, const std::vector<std::string>& services, 
   SupervisorOptions options;
   options.services = services;
   options.this_host_names = this_host_names(host_option(g));
+  options.host = host_option(g);
   options.notify_fd = notify_fd;
   return run_supervisor(file, options, log);
 }

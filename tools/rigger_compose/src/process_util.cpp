@@ -43,20 +43,21 @@ void make_dirs(const std::string& path) {
   }
 }
 
-DomainLock::DomainLock(std::uint32_t domain) : domain_(domain) {}
+DomainLock::DomainLock(std::uint32_t domain, std::string host) : domain_(domain), host_(std::move(host)) {}
 
 DomainLock::~DomainLock() {
   if (fd_ >= 0) close(fd_);
 }
 
-std::string DomainLock::path(std::uint32_t domain) {
-  return std::string(kLockDir) + "/domain-" + std::to_string(domain) + ".lock";
+std::string DomainLock::path(std::uint32_t domain, const std::string& host) {
+  // Host names are [A-Za-z0-9.-] (compose_file checks them); anything else would not reach here.
+  return std::string(kLockDir) + "/domain-" + std::to_string(domain) + (host.empty() ? "" : "@" + host) + ".lock";
 }
 
 bool DomainLock::try_lock(const std::string& log_dir) {
   make_dirs(kLockDir);
-  const int fd = open(path(domain_).c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0666);
-  if (fd < 0) throw std::runtime_error("cannot open " + path(domain_) + ": " + errno_text(errno));
+  const int fd = open(path(domain_, host_).c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0666);
+  if (fd < 0) throw std::runtime_error("cannot open " + path(domain_, host_) + ": " + errno_text(errno));
   if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
     close(fd);
     return false;
@@ -64,14 +65,14 @@ bool DomainLock::try_lock(const std::string& log_dir) {
   const std::string content = std::to_string(getpid()) + " " + log_dir + "\n";
   if (ftruncate(fd, 0) != 0 || pwrite(fd, content.data(), content.size(), 0) != static_cast<ssize_t>(content.size())) {
     close(fd);
-    throw std::runtime_error("cannot write " + path(domain_) + ": " + errno_text(errno));
+    throw std::runtime_error("cannot write " + path(domain_, host_) + ": " + errno_text(errno));
   }
   fd_ = fd;
   return true;
 }
 
-std::optional<LockHolder> DomainLock::holder(std::uint32_t domain) {
-  const int fd = open(path(domain).c_str(), O_RDONLY | O_CLOEXEC);
+std::optional<LockHolder> DomainLock::holder(std::uint32_t domain, const std::string& host) {
+  const int fd = open(path(domain, host).c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return std::nullopt;  // never created: nobody holds it
   // A shared lock is granted only when nobody holds the exclusive one.
   if (flock(fd, LOCK_SH | LOCK_NB) == 0) {

@@ -163,10 +163,10 @@ class SupervisorProcess {
     } catch (const std::exception& e) {
       return fail_early(e.what(), 1);
     }
-    DomainLock lock(file_.domain);
+    DomainLock lock(file_.domain, options_.host);
     try {
       if (!lock.try_lock(layout_.log_dir)) {
-        const auto holder = DomainLock::holder(file_.domain);
+        const auto holder = DomainLock::holder(file_.domain, options_.host);
         return fail_early(
             "a supervisor already runs for DDS domain " + std::to_string(file_.domain) +
                 (holder ? " (pid " + std::to_string(holder->pid) + ", log dir " + holder->log_dir + ")" : "") +

@@ -32,11 +32,14 @@ struct LockHolder {
   std::string log_dir;
 };
 
-/// One supervisor per DDS domain on a machine: an flock on /tmp/rigger-compose/domain-<d>.lock, held
-/// for the supervisor's life and released by the kernel when it dies, however it dies.
+/// One supervisor per DDS domain and host: an flock on /tmp/rigger-compose/domain-<d>.lock (or
+/// domain-<d>@<host>.lock when the host's name was given with --host or $RIGGER_HOST: several hosts
+/// that share one file system, such as network namespaces on one machine, each run their own), held for
+/// the supervisor's life and released by the kernel when it dies, however it dies.
 class DomainLock {
  public:
-  explicit DomainLock(std::uint32_t domain);
+  /// `host`: the explicit host name, or empty for the machine itself.
+  explicit DomainLock(std::uint32_t domain, std::string host = {});
   ~DomainLock();
   DomainLock(const DomainLock&) = delete;
   DomainLock& operator=(const DomainLock&) = delete;
@@ -45,11 +48,12 @@ class DomainLock {
   /// @throws std::runtime_error when the lock file cannot be opened.
   bool try_lock(const std::string& log_dir);
   /// The current holder, or nullopt when nobody holds the lock.
-  static std::optional<LockHolder> holder(std::uint32_t domain);
-  static std::string path(std::uint32_t domain);
+  static std::optional<LockHolder> holder(std::uint32_t domain, const std::string& host = {});
+  static std::string path(std::uint32_t domain, const std::string& host = {});
 
  private:
   std::uint32_t domain_;
+  std::string host_;
   int fd_ = -1;
 };
 

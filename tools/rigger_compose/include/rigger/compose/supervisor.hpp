@@ -19,6 +19,7 @@ namespace rigger::compose {
 struct SupervisorOptions {
   std::vector<std::string> services;         ///< `up` arguments; empty: every service of this host
   std::vector<std::string> this_host_names;  ///< see this_host_names()
+  std::string host;                          ///< the explicit host name (--host, $RIGGER_HOST) or empty
   /// Where progress goes for the `up` command waiting on it: lines "I text", "W text", "E text",
   /// then "OK" once every service is READY (the descriptor is then closed). -1: none.
   int notify_fd = -1;
