@@ -9,6 +9,7 @@
 #include <chrono>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,6 +57,17 @@ class ScenarioCell {
   /// configured rules). `scripted_operator` false: no scripted operator runs (a person, or a browser
   /// test, answers the prompts).
   explicit ScenarioCell(Cell& cell, std::vector<std::string> operator_rules = {}, bool scripted_operator = true)
+      : ScenarioCell(cell, std::move(operator_rules), scripted_operator, {}) {}
+
+  /// Observes a cell whose services someone else started (e.g. rigger-compose on several hosts):
+  /// ready() once the services with these ids are READY on DDS and the crane gateway holds its PLC link.
+  static std::unique_ptr<ScenarioCell> started_elsewhere(Cell& cell, std::vector<std::string> service_ids) {
+    return std::unique_ptr<ScenarioCell>(new ScenarioCell(cell, {}, false, std::move(service_ids)));
+  }
+
+ private:
+  ScenarioCell(Cell& cell, std::vector<std::string> operator_rules, bool scripted_operator,
+               std::vector<std::string> started_elsewhere)
       : cell_(cell),
         scripted_operator_(scripted_operator),
         sim_(cell),
@@ -121,8 +133,14 @@ class ScenarioCell {
         if (s.holding) ever_held_ = true;
       });
     });
-    start_services(std::move(operator_rules));
+    if (started_elsewhere.empty()) {
+      start_services(std::move(operator_rules));
+    } else {
+      ready_ = cell_.wait_ready(started_elsewhere, 180s) && cell_.wait_until([&] { return crane_ready_; }, 30s);
+    }
   }
+
+ public:
 
   SimChannel& sim() { return sim_; }
 

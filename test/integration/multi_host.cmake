@@ -1,0 +1,17 @@
+# The cell over three hosts (issue 17): network namespaces made by deploy/lab-hosts, rigger-compose on
+# each, the scenario and a link cut. Needs root; real time physics: alone.
+set(_multi_host_targets cell_sim crane_gateway world_model cad vision_tracker admittance_control monitor_host
+    skill_executor task_controller scripted_operator console riggerctl rigger-compose)
+set(_multi_host_ready TRUE)
+foreach(t IN LISTS _multi_host_targets)
+  if(NOT TARGET ${t})
+    set(_multi_host_ready FALSE)
+  endif()
+endforeach()
+if(_multi_host_ready)
+  rigger_add_test(rigger_multi_host_test
+    SOURCES multi_host_test.cpp
+    DEPS rigger_test_harness Eigen3::Eigen nlohmann_json::nlohmann_json
+    LABEL integration TIMEOUT 600 RUN_SERIAL)
+  add_dependencies(rigger_multi_host_test ${_multi_host_targets})
+endif()
