@@ -59,7 +59,8 @@ Part safe_stop_listener() { return {{}, names(safety::kStop)}; }
 // The task views of the user tools: submit, command, follow, read the journal.
 Part task_client() {
   return {names(task::kRecipe, task::kCommand, task::kJournalQuery, operator_ui::kResponse),
-          names(task::kStatus, task::kNodeStatus, task::kJournalReply, skill::kExecutors, operator_ui::kPrompt)};
+          names(task::kStatus, task::kNodeStatus, task::kJournalReply, skill::kExecutors, operator_ui::kPrompt,
+                operator_ui::kResponse)};
 }
 // The skill executor's device proxies (services/skill_executor/src/dds_*devices.cpp), each switched on by
 // the executor's configuration (deploy/config/*-skills.json).
@@ -121,11 +122,12 @@ std::vector<Grant> build() {
                             operator_ui::kPrompt, safety::kStop),
                       names(task::kRecipe, task::kCommand, task::kJournalQuery, skill::kEvent, skill::kExecutors,
                             operator_ui::kResponse)}}));
+  // It reads the responses too: a prompt answered elsewhere (console, riggerctl) is not answered again.
   t.push_back(grant("scripted_operator", "the scripted operator (demo and tests)",
-                    {service(), {names(operator_ui::kResponse), names(operator_ui::kPrompt)}}));
+                    {service(), {names(operator_ui::kResponse), names(operator_ui::kPrompt, operator_ui::kResponse)}}));
   // The user tools.
   t.push_back(grant("console", "the web console: its users act through this one identity",
-                    {service(), task_client(),
+                    {service(), task_client(), world_client(),
                      {names(cad::kRequest),
                       names(cad::kReply, robot::kState, robot::kWrench, crane::kState, admittance::kState)}}));
   t.push_back(grant("riggerctl", "riggerctl, the operator's command line (run, cancel, operator, jog, estop, sim); "
