@@ -9,15 +9,12 @@
 #include <vector>
 
 #include "bench_util.hpp"
-#include "rigger/dds/conversions.hpp"
-#include "rigger/dds/pubsub.hpp"
-#include "rigger/protocol/system.hpp"
+#include "echo_rtt.hpp"
 #include "rigger/testing/cell.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
-using Clock = std::chrono::steady_clock;
 
 struct Options {
   int rate_hz = 1000;
@@ -31,13 +28,6 @@ Options parse(int argc, char** argv) {
           int_option(argc, argv, "--seconds", 10)};
 }
 
-// Same QoS as the echo service and as ddsperf's ping/pong: reliable, keep-last 1.
-rigger::dds::Qos echo_qos() {
-  rigger::dds::Qos q;
-  q.reliable().keep_last(1).volatile_durability();
-  return q;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -49,40 +39,11 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  auto& participant = cell.participant();
-  auto& loop = cell.loop();
-  rigger::dds::Writer<rigger_system_EchoSample> requests(participant, rigger::protocol::system::kEchoRequest,
-                                                         echo_qos());
-  rigger::dds::Reader<rigger_system_EchoSample> replies(participant, rigger::protocol::system::kEchoReply, echo_qos());
-  if (!requests.wait_for_readers(1, 5s)) {
+  const std::vector<double> rtt_us = rigger::bench::measure_echo_rtt(cell, {opt.rate_hz, opt.size, opt.seconds});
+  if (rtt_us.empty()) {
     std::fprintf(stderr, "echo's request reader did not match\n");
     return 1;
   }
-
-  const std::string client = "bench";
-  std::vector<std::uint8_t> payload(static_cast<size_t>(opt.size), 0xAB);
-  std::vector<double> rtt_us;
-  rtt_us.reserve(static_cast<size_t>(opt.rate_hz * opt.seconds));
-  std::uint64_t seq = 0;
-  const auto warmup_end = Clock::now() + 1s;  // excluded, as the first ddsperf second is
-  const auto end = warmup_end + std::chrono::seconds(opt.seconds);
-  loop.on_data(replies, [&] {
-    const auto now = Clock::now();
-    replies.take([&](const rigger_system_EchoSample& s, const dds_sample_info_t&) {
-      if (now < warmup_end) return;
-      const auto sent = Clock::time_point(std::chrono::nanoseconds(s.sent_ns));
-      rtt_us.push_back(std::chrono::duration<double, std::micro>(now - sent).count());
-    });
-  });
-  loop.every(std::chrono::nanoseconds(1'000'000'000 / opt.rate_hz), [&] {
-    rigger_system_EchoSample req{};
-    req.client_id = rigger::dds::wire_string(client);
-    req.seq = ++seq;
-    req.sent_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
-    rigger::dds::wire_sequence(req.payload, payload);
-    requests.write(req);
-  });
-  loop.run_until([&] { return Clock::now() >= end; }, end - Clock::now() + 1s);
   cell.stop_all();
 
   using rigger::bench::percentile;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "controller_test_support.hpp"
+#include "two_step_recipe.hpp"
 
 namespace rigger::testing::controller {
 namespace {
@@ -17,19 +18,6 @@ bool contains(const std::string& text, const std::string& part) {
 /// Position of `part` in `text` (npos when absent), for order checks.
 std::size_t at(const std::string& text, const std::string& part) {
   return text.find(part);
-}
-
-/// Sequence "find both": Localize(load) then Localize(target).
-json two_step(const std::string& task_id) {
-  return {
-      {"recipe_version", 1},
-      {"task_id", task_id},
-      {"root",
-       {{"type", "Sequence"},
-        {"name", "find both"},
-        {"children",
-         {{{"type", "Skill"}, {"name", "find load"}, {"skill", "Localize"}, {"params", {{"object", "load"}}}},
-          {{"type", "Skill"}, {"name", "find target"}, {"skill", "Localize"}, {"params", {{"object", "target"}}}}}}}}};
 }
 
 class RiggerctlTest : public ControllerTest {

@@ -27,6 +27,7 @@
 #include "rigger/base/logging.hpp"
 #include "rigger/compose/compose_file.hpp"
 #include "rigger/compose/process_util.hpp"
+#include "rigger/compose/security.hpp"
 #include "rigger/compose/start_order.hpp"
 #include "rigger/compose/status_file.hpp"
 #include "rigger/compose/supervision.hpp"
@@ -47,6 +48,7 @@ struct GlobalOptions {
   std::string file = "deploy/compose.yaml";
   std::optional<std::uint32_t> domain;
   std::string host;
+  bool secure = false;  ///< --secure: DDS Security (security.hpp)
 };
 
 // Raised by commands for a clear message and an exit code; caught once in run_cli.
@@ -60,7 +62,15 @@ struct CommandError {
 ComposeFile load(const GlobalOptions& g) {
   ParseOptions opt;
   opt.domain = g.domain;
-  return load_compose(g.file, opt);
+  ComposeFile file = load_compose(g.file, opt);
+  if (g.secure) {
+    try {
+      apply_security(file, default_security_dir());
+    } catch (const std::runtime_error& e) {
+      fail(e.what(), kExitUsage);
+    }
+  }
+  return file;
 }
 
 std::string host_option(const GlobalOptions& g) {
@@ -204,6 +214,7 @@ int up(const GlobalOptions& g, const std::vector<std::string>& services) {
   req.args = {"--file", file.path};
   if (g.domain) req.args.insert(req.args.end(), {"--domain", std::to_string(*g.domain)});
   if (!host_option(g).empty()) req.args.insert(req.args.end(), {"--host", host_option(g)});
+  if (g.secure) req.args.push_back("--secure");
   req.args.insert(req.args.end(), {"supervise", "--notify-fd", "3"});
   req.args.insert(req.args.end(), services.begin(), services.end());
   req.log_path = layout.supervisor_log();
@@ -624,6 +635,7 @@ int demo(const GlobalOptions& g, const std::string& recipe_arg, const std::strin
     req.args = {"--domain", std::to_string(file.domain), "run", recipe, "--task-id", task_id};
     req.env["RIGGER_DOMAIN"] = std::to_string(file.domain);
     if (!file.dds_config.empty()) req.env["CYCLONEDDS_URI"] = file.dds_uri();
+    if (g.secure) req.env["RIGGER_IDENTITY"] = kRiggerctlIdentity;
     // Ctrl-C goes to riggerctl (same terminal process group), which cancels the task; we then still
     // bring the cell down.
     struct sigaction ignore {
@@ -730,6 +742,10 @@ int run_cli(int argc, char** argv) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_option("--domain", g.domain, "DDS domain id, overriding dds.domain")->check(CLI::Range(0, 232));
   app.add_option("--host", g.host, "This host's name for `host:` placement (default $RIGGER_HOST, the host name)");
+  app.add_flag("--secure", g.secure,
+               "DDS Security: the services, rigger-compose and demo's riggerctl join with their identities from "
+               "$RIGGER_SECURITY_DIR (default /var/tmp/rigger/security; deploy/security/make-pki makes it) "
+               "over deploy/cyclonedds-secure.xml (docs/security.md)");
 
   int code = kExitOk;
   std::function<int()> action;

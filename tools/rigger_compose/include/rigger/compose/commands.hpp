@@ -10,6 +10,9 @@
 ///   rigger-compose … demo [--recipe R]                                up, riggerctl run R, down
 ///   rigger-compose … config                                           validate and show the resolved file
 ///
+/// `--secure` (before or after the command, e.g. `up --secure`, `demo --secure`, `ps --secure`): DDS
+/// Security, the PKI of deploy/security/make-pki (security.hpp, docs/security.md).
+///
 /// Exit codes: 0 success; 1 failure (a service did not come up, nothing to stop…); 2 bad command line
 /// or compose file.
 

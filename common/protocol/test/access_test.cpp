@@ -1,0 +1,84 @@
+#include "rigger/protocol/access.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "rigger/protocol/catalog.hpp"
+#include "rigger/protocol/crane.hpp"
+#include "rigger/protocol/operator.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/skill.hpp"
+#include "rigger/protocol/task.hpp"
+
+namespace rigger::protocol {
+namespace {
+
+bool has(const std::vector<std::string>& v, const std::string& name) {
+  return std::find(v.begin(), v.end(), name) != v.end();
+}
+
+std::set<std::string> writers_of(const char* topic) {
+  std::set<std::string> ids;
+  for (const auto& g : access_table())
+    if (has(g.publish, topic)) ids.insert(g.identity);
+  return ids;
+}
+
+TEST(AccessTable, EveryGrantNamesCatalogTopicsOnly) {
+  std::set<std::string> identities;
+  for (const auto& g : access_table()) {
+    EXPECT_TRUE(identities.insert(g.identity).second) << "identity twice: " << g.identity;
+    EXPECT_FALSE(g.description.empty()) << g.identity;
+    for (const auto* list : {&g.publish, &g.subscribe})
+      for (const auto& t : *list) EXPECT_NE(find_topic(t), nullptr) << g.identity << ": not a topic: " << t;
+  }
+  EXPECT_NE(find_grant("task_controller"), nullptr);
+  EXPECT_EQ(find_grant("nobody"), nullptr);
+}
+
+TEST(AccessTable, EveryTopicHasAWriterAndAReader) {
+  for (const auto& t : catalog()) {
+    bool written = false, read = false;
+    for (const auto& g : access_table()) {
+      written = written || has(g.publish, t.name);
+      read = read || has(g.subscribe, t.name);
+    }
+    EXPECT_TRUE(written) << t.name << ": no identity may write it (add it to common/protocol/src/access.cpp)";
+    EXPECT_TRUE(read) << t.name << ": no identity may read it";
+  }
+}
+
+// The rules of issue 17: who may move things and who may start or stop a task.
+TEST(AccessTable, OnlyTheUserToolsCommandTasks) {
+  const std::set<std::string> tools{"console", "riggerctl"};
+  EXPECT_EQ(writers_of(task::kRecipe.name), tools);
+  EXPECT_EQ(writers_of(task::kCommand.name), tools);
+  EXPECT_EQ(writers_of(operator_ui::kResponse.name),
+            (std::set<std::string>{"console", "riggerctl", "scripted_operator"}));
+}
+
+TEST(AccessTable, OnlyAdmittanceAndSkillsCommandTheRobotAndTheCrane) {
+  EXPECT_EQ(writers_of(crane::kCmdVelocity.name), std::set<std::string>{"admittance_control"});
+  EXPECT_EQ(writers_of(robot::kCmdTwist.name), std::set<std::string>{"admittance_control"});
+  EXPECT_EQ(writers_of(robot::kCmdMotion.name), std::set<std::string>{"robot-skills"});
+  EXPECT_EQ(writers_of(crane::kControl.name), (std::set<std::string>{"admittance_control", "robot-skills"}));
+  EXPECT_EQ(writers_of(skill::kCommand.name), std::set<std::string>{"task_controller"});
+}
+
+TEST(AccessTable, ObserverWritesNothingButItsAnnouncement) {
+  const auto* observer = find_grant("observer");
+  ASSERT_NE(observer, nullptr);
+  EXPECT_EQ(observer->publish.size(), 1u);
+  EXPECT_EQ(observer->subscribe.size(), catalog().size());
+}
+
+TEST(AccessTable, LinesForMakePki) {
+  const auto lines = access_table_lines();
+  EXPECT_NE(lines.find(std::string("task_controller subscribe ") + task::kRecipe.name + "\n"), std::string::npos);
+  EXPECT_EQ(lines.find(std::string("vision_tracker publish ") + task::kRecipe.name), std::string::npos);
+}
+
+}  // namespace
+}  // namespace rigger::protocol

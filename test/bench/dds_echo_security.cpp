@@ -1,0 +1,94 @@
+// The echo round trip of rigger's typed layer with DDS Security off and on, in the same run (issue 17):
+// the same echo service, rate and payload, first on deploy/cyclonedds.xml, then on
+// deploy/cyclonedds-secure.xml with a PKI made for the run by deploy/security/make-pki (identities
+// "bench" and "echo"; the echo topics fall under the governance's "signed" class: every submessage
+// carries a MAC, nothing is encrypted). Prints both and the ratio on/off.
+//
+//   build/bench/bench_dds_echo_security [--rate 1000] [--size 64] [--seconds 10]
+#include <signal.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "bench_util.hpp"
+#include "echo_rtt.hpp"
+#include "rigger/testing/cell.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+
+struct Figures {
+  double p50 = 0, p90 = 0, p99 = 0;
+  std::size_t count = 0;
+};
+
+// One phase: a fresh Cell (its participant reads CYCLONEDDS_URI now), echo started with `echo_env`.
+bool phase(const rigger::bench::EchoRun& run, const std::map<std::string, std::string>& echo_env, Figures& out) {
+  rigger::testing::Cell cell;
+  std::map<std::string, std::string> env = echo_env;
+  env["RIGGER_DOMAIN"] = std::to_string(cell.domain_id());
+  rigger::testing::ChildProcess echo("echo",
+                                     {"--id", "echo", "--log-level", "warn", "--domain", std::to_string(cell.domain_id())},
+                                     env, cell.log_dir() + "/echo.log");
+  if (!cell.wait_ready({"echo"}, 20s)) {
+    std::fprintf(stderr, "echo did not become ready\n%s\n", echo.log().c_str());
+    return false;
+  }
+  const auto rtt = rigger::bench::measure_echo_rtt(cell, run);
+  echo.signal(SIGINT);
+  echo.wait(5s);
+  if (rtt.empty()) {
+    std::fprintf(stderr, "echo's endpoints did not match\n%s\n", echo.log().c_str());
+    return false;
+  }
+  using rigger::bench::percentile;
+  out = {percentile(rtt, 0.50), percentile(rtt, 0.90), percentile(rtt, 0.99), rtt.size()};
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using rigger::bench::int_option;
+  const rigger::bench::EchoRun run{int_option(argc, argv, "--rate", 1000), int_option(argc, argv, "--size", 64),
+                                   int_option(argc, argv, "--seconds", 10)};
+  char dir_template[] = "/tmp/rigger-bench-pki-XXXXXX";
+  if (!mkdtemp(dir_template)) {
+    std::perror("mkdtemp");
+    return 1;
+  }
+  const std::string pki = std::string(dir_template) + "/pki";
+  const std::string make = std::string(RIGGER_SOURCE_DIR) + "/deploy/security/make-pki --catalog " + RIGGER_BINARY_DIR +
+                           "/bin/rigger-topic-catalog " + pki + " >/dev/null";
+  if (std::system(make.c_str()) != 0) {
+    std::fprintf(stderr, "%s failed\n", make.c_str());
+    return 1;
+  }
+  const std::string plain = rigger::testing::default_dds_config_uri();
+  const std::string secure = std::string("file://") + RIGGER_SOURCE_DIR + "/deploy/cyclonedds-secure.xml";
+
+  Figures off, on;
+  setenv("CYCLONEDDS_URI", plain.c_str(), 1);
+  if (!phase(run, {{"CYCLONEDDS_URI", plain}}, off)) return 1;
+  setenv("CYCLONEDDS_URI", secure.c_str(), 1);
+  setenv("RIGGER_SECURITY_DIR", pki.c_str(), 1);
+  setenv("RIGGER_IDENTITY", "bench", 1);
+  if (!phase(run, {{"CYCLONEDDS_URI", secure}, {"RIGGER_SECURITY_DIR", pki}, {"RIGGER_IDENTITY", "echo"}}, on))
+    return 1;
+  std::system(("rm -rf " + std::string(dir_template)).c_str());
+
+  std::printf("DDS round trip through the echo service, %d B payload at %d Hz for %d s each, loopback\n", run.size,
+              run.rate_hz, run.seconds);
+  std::printf("%-44s %10s %10s %10s %8s\n", "", "p50 us", "p90 us", "p99 us", "samples");
+  std::printf("%-44s %10.1f %10.1f %10.1f %8zu\n", "security off (deploy/cyclonedds.xml)", off.p50, off.p90, off.p99,
+              off.count);
+  std::printf("%-44s %10.1f %10.1f %10.1f %8zu\n", "security on (deploy/cyclonedds-secure.xml)", on.p50, on.p90,
+              on.p99, on.count);
+  std::printf("ratio on/off: p50 %.2f  p90 %.2f  p99 %.2f\n", on.p50 / off.p50, on.p90 / off.p90, on.p99 / off.p99);
+  return 0;
+}

@@ -1,0 +1,11 @@
+# DDS Security (issue 17, docs/security.md): a PKI made by deploy/security/make-pki, a secured cell
+# brought up by `rigger-compose up --secure`, intruders (rigger_security_probe) and a permitted riggerctl.
+if(TARGET task_controller AND TARGET scripted_executor AND TARGET riggerctl AND TARGET rigger-compose
+   AND TARGET rigger-topic-catalog)
+  rigger_add_executable(rigger_security_probe SOURCES security/security_probe.cpp DEPS rigger_dds)
+  rigger_add_test(rigger_security_test
+    SOURCES security/security_test.cpp
+    DEPS rigger_test_harness nlohmann_json::nlohmann_json LABEL integration TIMEOUT 180)
+  add_dependencies(rigger_security_test task_controller scripted_executor riggerctl rigger-compose
+    rigger-topic-catalog rigger_security_probe)
+endif()
