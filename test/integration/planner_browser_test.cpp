@@ -9,6 +9,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
+
+#include <nlohmann/json.hpp>
 
 #include "auth.hpp"
 #include "cell_sim_test_support.hpp"
