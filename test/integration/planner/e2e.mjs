@@ -143,6 +143,24 @@ try {
   await select('/root/children/1');
   await page.waitForFunction(() => document.querySelectorAll('#planner-screws tr').length === 5, null, { timeout: 20000 });
   console.log('ok: the reopened recipe has its screw binding back');
+  // A binding whose reference no longer matches the model (as after an edit of the STEP file) is flagged
+  // on its node when the recipe is opened, and the recipe is not valid; the good file clears it again.
+  const tampered = JSON.parse(exported);
+  tampered.root.children[1].bindings.holes.screws[2].ref.signature.radius_m += 0.001;
+  const tamperedPath = path.join(ART, 'planned-screws-stale.json');
+  fs.writeFileSync(tamperedPath, JSON.stringify(tampered));
+  let checked = await page.evaluate(() => window.rigger.planner.state.bindingsChecked || 0);
+  await page.setInputFiles('#planner-open', tamperedPath);
+  await page.waitForFunction((n) => window.rigger.planner.state.bindingsChecked > n && window.rigger.planner.state.validation, checked, { timeout: 20000 });
+  const stale = await page.evaluate(() => window.rigger.planner.state.errors.filter((e) => /stale/.test(e.message)));
+  check(stale.length === 1 && stale[0].pointer === '/root/children/1/bindings/holes' && /CAD_STALE_REFERENCE/.test(stale[0].message),
+    `the changed reference is flagged as a stale binding on the Screw ${JSON.stringify(stale)}`);
+  check(await page.locator('button.pnode.invalid[data-pointer="/root/children/1"]').count() === 1, 'the Screw node is flagged');
+  checked = await page.evaluate(() => window.rigger.planner.state.bindingsChecked);
+  await page.setInputFiles('#planner-open', exportedPath);
+  await page.waitForFunction((n) => window.rigger.planner.state.bindingsChecked > n, checked, { timeout: 20000 });
+  await page.waitForSelector('#planner-valid', { timeout: 20000 });
+  console.log('ok: the good file opens valid again');
 
   // --- publish: select, confirm ---
   await page.click('#planner-publish');

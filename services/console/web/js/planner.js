@@ -41,6 +41,7 @@ export function plannerPage(main, me) {
     validation: null,
     validations: 0,
     exported: '',
+    staleBindings: [],  // bindings of an opened recipe that no longer match the CAD model
   };
   const treeBox = el('div', { class: 'ptree', role: 'tree', 'aria-label': 'Behaviour tree' });
   const formBox = el('div', { class: 'pform' });
@@ -203,7 +204,7 @@ export function plannerPage(main, me) {
       return say(`Validation failed: ${e.message}`, true);
     }
     if (seq !== state.validations) return state.validation;  // a newer edit is being validated
-    r.errors = [...r.errors, ...bindingErrors()];
+    r.errors = [...r.errors, ...bindingErrors(), ...state.staleBindings];
     r.ok = r.ok && r.errors.length === 0;
     state.validation = r;
     state.errors = r.errors;
@@ -366,6 +367,7 @@ export function plannerPage(main, me) {
     try {
       const r = await api('/api/planner/screws', { method: 'POST', body: { model: `object:${entity}`, holes: holes.map((p) => p.ref) } });
       node.bindings = node.bindings || {};
+      state.staleBindings = state.staleBindings.filter((e) => !e.pointer.startsWith(`${state.selected}/bindings/`));
       node.bindings.holes = {
         rule: 'screw_list', model: r.model, model_sha256: r.model_sha256,
         screws: r.screws.map((s) => ({ ...s, world_screw_type: s.screw_type, world_torque_nm: s.torque_nm })),
@@ -427,11 +429,35 @@ export function plannerPage(main, me) {
       taskId.value = doc.task_id || '';
       assumptions.value = (doc.assumptions || []).join(' ');
       state.selected = doc.root ? '/root' : '';
+      state.staleBindings = [];
       changed();
       say(`Opened ${doc.task_id}.`);
+      checkBindings();
     } catch (e) {
       say(`Not a recipe: ${e.message}`, true);
     }
+  }
+  /// Asks the CAD service again for every binding of an opened recipe: a reference that no longer
+  /// resolves (CAD_STALE_REFERENCE), another model or a screw that moved flags the binding, never used.
+  async function checkBindings() {
+    const stale = [];
+    for (const [ptr, node] of allNodes()) {
+      const b = node.bindings?.holes;
+      if (!b) continue;
+      const where = `${ptr}/bindings/holes`;
+      try {
+        const r = await api('/api/planner/screws', { method: 'POST', body: { model: b.model, holes: b.screws.map((x) => x.ref) } });
+        const moved = r.screws.filter((x, i) => x.feature !== b.screws[i]?.feature
+          || JSON.stringify(x.pose.position_m) !== JSON.stringify(b.screws[i]?.pose.position_m)).map((x) => x.feature);
+        if (r.model_sha256 !== b.model_sha256) stale.push({ pointer: where, message: `stale binding: ${b.model} is now model ${r.model_sha256.slice(0, 12)}…, the recipe was made on ${b.model_sha256.slice(0, 12)}…; pick the holes again` });
+        else if (moved.length) stale.push({ pointer: where, message: `stale binding: ${moved.join(', ')} moved; pick the holes again` });
+      } catch (e) {
+        stale.push({ pointer: where, message: `stale binding: ${e.message}; pick the holes again` });
+      }
+    }
+    state.staleBindings = stale;
+    await validate();
+    state.bindingsChecked = (state.bindingsChecked || 0) + 1;
   }
   async function publish() {
     const v = await validate();
