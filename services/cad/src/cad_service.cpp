@@ -231,10 +231,45 @@ CadAnswer CadService::derive(Entry& entry, const std::string& args_json) const {
   const std::string parameter = args.value("parameter", "");
   json result{{"parameter", parameter}};
   if (parameter == "screw_list") {
-    // Every hole with a frame at its entry (z out of the hole), in the model's frame.
+    // A frame at each hole's entry (z out of the hole), in the model's frame: every hole, or the picked
+    // ones in the order picked. A hole is picked by its index or by a reference to one of its faces
+    // (resolved: a stale reference is refused). Each screw carries the reference of the hole's first
+    // face, which a planner keeps to find the hole again.
+    std::vector<int> picked;
+    const auto holes = args.find("holes");
+    if (holes == args.end()) {
+      for (const auto& hole : entry.features.holes) picked.push_back(hole.index);
+    } else {
+      if (!holes->is_array() || holes->empty() || holes->size() > 1000) {
+        throw RequestError{"CAD_BAD_REQUEST", "args_json.holes must be a non-empty array (at most 1000) of hole indices or face references"};
+      }
+      for (std::size_t i = 0; i < holes->size(); ++i) {
+        const json& h = (*holes)[i];
+        const std::string what = "holes[" + std::to_string(i) + "]";
+        if (h.is_number_integer()) {
+          const int index = h.get<int>();
+          if (index < 0 || index >= static_cast<int>(entry.features.holes.size())) {
+            throw RequestError{"CAD_BAD_REFERENCE", what + ": no hole " + std::to_string(index) + " (the model has " +
+                                                        std::to_string(entry.features.holes.size()) + ")"};
+          }
+          picked.push_back(index);
+          continue;
+        }
+        const int face = entity_arg(entry.features, h, cad::EntityKind::kFace, what);
+        const auto owner = std::find_if(entry.features.holes.begin(), entry.features.holes.end(), [face](const cad::Hole& hole) {
+          return std::find(hole.faces.begin(), hole.faces.end(), face) != hole.faces.end();
+        });
+        if (owner == entry.features.holes.end()) {
+          throw RequestError{"CAD_BAD_REFERENCE", what + ": face " + std::to_string(face) + " is not a face of a hole"};
+        }
+        picked.push_back(owner->index);
+      }
+    }
     result["screws"] = json::array();
-    for (const auto& hole : entry.features.holes) {
+    for (const int index : picked) {
+      const cad::Hole& hole = entry.features.holes.at(static_cast<std::size_t>(index));
       result["screws"].push_back({{"hole", hole.index},
+                                  {"ref", cad::to_json(entry.features.reference(cad::EntityKind::kFace, hole.faces.front()))},
                                   {"diameter_m", hole.diameter_m},
                                   {"depth_m", hole.depth_m},
                                   {"through", hole.through},

@@ -72,6 +72,45 @@ TEST(CadService, FramesAndDerivedParameters) {
   EXPECT_TRUE(fresh.ok) << fresh.message;
 }
 
+TEST(CadService, ScrewListOfPickedHolesInThePickedOrder) {
+  CadService service(settings());
+  const json features = json::parse(ask(service, QueryKind::kFeatures, "object:target").result_json);
+  ASSERT_EQ(features["holes"].size(), 4u);
+  // Hole 2 by a reference to its face, then hole 0 by index: the screws come in that order, each with
+  // its face reference and the same frame as the hole rule gives.
+  const int face2 = features["holes"][2]["faces"][0];
+  const json ref2 = {{"model_sha256", features["model_sha256"]}, {"kind", "face"}, {"index", face2},
+                     {"signature", features["faces"][face2]["signature"]}};
+  const CadAnswer picked = ask(service, QueryKind::kDerive, "object:target",
+                               json{{"parameter", "screw_list"}, {"holes", json::array({ref2, 0})}}.dump());
+  ASSERT_TRUE(picked.ok) << picked.message;
+  const json screws = json::parse(picked.result_json)["screws"];
+  ASSERT_EQ(screws.size(), 2u);
+  EXPECT_EQ(screws[0]["hole"], 2);
+  EXPECT_EQ(screws[1]["hole"], 0);
+  EXPECT_EQ(screws[0]["ref"], ref2);
+  EXPECT_EQ(screws[0]["pose"]["position_m"], features["holes"][2]["entry_m"]);
+  const json frame0 = json::parse(ask(service, QueryKind::kFrame, "object:target", R"({"rule": "hole", "hole": 0})").result_json);
+  EXPECT_EQ(screws[1]["pose"], frame0["frame"]);
+
+  // Bad picks say which one and why.
+  const CadAnswer out_of_range = ask(service, QueryKind::kDerive, "object:target", R"({"parameter": "screw_list", "holes": [0, 9]})");
+  EXPECT_EQ(out_of_range.code, "CAD_BAD_REFERENCE");
+  EXPECT_NE(out_of_range.message.find("holes[1]: no hole 9"), std::string::npos) << out_of_range.message;
+  int plane = -1;
+  for (const auto& f : features["faces"])
+    if (f["signature"]["type"] == "plane") plane = f["index"];
+  ASSERT_GE(plane, 0);
+  const json plane_ref = {{"model_sha256", features["model_sha256"]}, {"kind", "face"}, {"index", plane},
+                          {"signature", features["faces"][plane]["signature"]}};
+  const CadAnswer plane_face = ask(service, QueryKind::kDerive, "object:target",
+                                   json{{"parameter", "screw_list"}, {"holes", json::array({plane_ref})}}.dump());
+  EXPECT_EQ(plane_face.code, "CAD_BAD_REFERENCE");
+  EXPECT_NE(plane_face.message.find("is not a face of a hole"), std::string::npos) << plane_face.message;
+  EXPECT_EQ(ask(service, QueryKind::kDerive, "object:target", R"({"parameter": "screw_list", "holes": []})").code,
+            "CAD_BAD_REQUEST");
+}
+
 TEST(CadService, BadRequestsAreAnsweredWithACode) {
   CadService service(settings());
   EXPECT_EQ(ask(service, QueryKind::kFeatures, "object:crane").code, "CAD_UNKNOWN_MODEL");

@@ -129,7 +129,7 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
   });
   ctx.loop.every(std::chrono::nanoseconds(static_cast<long>(1e9 / plot_rate_hz)), [this] { plot_tick(); });
 
-  http_ = std::make_unique<HttpApi>(std::move(http), std::move(users), state_, events_, plots_, *this, ctx.log);
+  http_ = std::make_unique<HttpApi>(std::move(http), std::move(users), state_, events_, plots_, *this, skills_, ctx.log);
   http_->start();
   // The address for people and launchers (rigger-compose prints it with a login link).
   std::printf("console: listening on %s://%s:%d/\n", http_->tls() ? "https" : "http",
@@ -203,10 +203,13 @@ void ConsoleNode::on_executors() {
         for (uint32_t i = 0; i < a.skills._length; ++i) skills.push_back(dds::to_string(a.skills._buffer[i]));
         state_.update_executor({{"executor_id", dds::to_string(a.executor_id)}, {"host", dds::to_string(a.host)},
                                 {"pid", a.pid}, {"skills", skills}, {"alive", true}});
+        skills_.update(dds::to_string(a.executor_id), true, dds::to_string(a.library_json));
       },
       [this](const rigger_skill_ExecutorAnnouncement& key, const dds_sample_info_t& info) {
-        if (info.instance_state != DDS_IST_ALIVE)
+        if (info.instance_state != DDS_IST_ALIVE) {
           state_.update_executor({{"executor_id", dds::to_string(key.executor_id)}, {"alive", false}});
+          skills_.update(dds::to_string(key.executor_id), false, "");
+        }
       });
 }
 
@@ -348,8 +351,14 @@ ActionResult ConsoleNode::world_entity(const std::string& id) {
   });
 }
 
-ActionResult ConsoleNode::cad_glb(const std::string& model) {
-  return on_loop([=](auto promise) {
+ActionResult ConsoleNode::cad(const std::string& kind, const std::string& model, const std::string& args_json) {
+  static const std::map<std::string, rigger_cad_CadRequestKind> kinds = {{"features", rigger_cad_CAD_FEATURES},
+                                                                         {"tessellation", rigger_cad_CAD_TESSELLATION},
+                                                                         {"frame", rigger_cad_CAD_FRAME},
+                                                                         {"derive", rigger_cad_CAD_DERIVE}};
+  const auto k = kinds.find(kind);
+  if (k == kinds.end()) return {false, "no CAD request kind " + kind, {}};
+  return on_loop([=, wire_kind = k->second](auto promise) {
     if (cad_requests_.matched_readers() == 0) {
       promise->set_value({false, "no CAD service on this domain", {}});
       return;
@@ -358,9 +367,9 @@ ActionResult ConsoleNode::cad_glb(const std::string& model) {
     rigger_cad_CadRequest q{};
     q.client_id = dds::wire_string(client_id_);
     q.request_id = id;
-    q.kind = rigger_cad_CAD_TESSELLATION;
+    q.kind = wire_kind;
     q.model = dds::wire_string(model);
-    q.args_json = dds::wire_string("{}");
+    q.args_json = dds::wire_string(args_json);
     cad_requests_.write(q);
     const auto timer = ctx_.loop.after(query_timeout_, [this, id] {
       auto it = cad_pending_.find(id);
@@ -381,8 +390,11 @@ void ConsoleNode::on_cad_replies() {
     if (!rep.ok) {
       it->second.promise->set_value({false, dds::to_string(rep.code) + ": " + dds::to_string(rep.message), {}});
     } else {
-      std::string glb(reinterpret_cast<const char*>(rep.data._buffer), rep.data._length);
-      it->second.promise->set_value({true, "", json{{"glb", std::move(glb)}}});
+      std::string data(reinterpret_cast<const char*>(rep.data._buffer), rep.data._length);
+      json result = json::parse(dds::to_string(rep.result_json), nullptr, false);
+      if (result.is_discarded()) result = json::object();
+      it->second.promise->set_value(
+          {true, "", json{{"model_sha256", dds::to_string(rep.model_sha256)}, {"result", std::move(result)}, {"data", std::move(data)}}});
     }
     cad_pending_.erase(it);
   });

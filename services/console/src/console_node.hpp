@@ -51,7 +51,7 @@ class ConsoleNode : public dds::Node, public Backend {
                              const std::string& comment) override;
   ActionResult journal(const std::string& task_id) override;
   ActionResult world_entity(const std::string& id) override;
-  ActionResult cad_glb(const std::string& model) override;
+  ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) override;
 
  private:
   /// Runs `work` on the loop; it must eventually set the promise it is given. Waits up to the query
@@ -70,6 +70,7 @@ class ConsoleNode : public dds::Node, public Backend {
   EventLog events_;
   EventLog plots_;
   ConsoleState state_;
+  SkillCatalog skills_;
 
   dds::Reader<rigger_task_TaskStatus> task_status_;
   dds::Reader<rigger_task_NodeStatus> node_status_;

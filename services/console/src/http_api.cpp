@@ -81,13 +81,14 @@ std::string sse_frames(const EventLog& log, const EventBatch& batch) {
 }  // namespace
 
 HttpApi::HttpApi(HttpConfig config, Users users, ConsoleState& state, EventLog& events, EventLog& plots,
-                 Backend& backend, Logger log)
+                 Backend& backend, SkillCatalog& skills, Logger log)
     : config_(std::move(config)),
       users_(std::move(users)),
       state_(state),
       events_(events),
       plots_(plots),
       backend_(backend),
+      skills_(skills),
       log_(std::move(log)) {}
 
 HttpApi::~HttpApi() { stop(); }
@@ -290,9 +291,57 @@ void HttpApi::routes() {
   s.Get("/api/cad/model.glb", [=](const httplib::Request& req, httplib::Response& res) {
     if (!who(req, res, Role::kViewer)) return;
     const std::string model = req.has_param("model") ? req.get_param_value("model") : "object:target";
-    const auto r = backend_.cad_glb(model);
+    const auto r = backend_.cad("tessellation", model, "{}");
     if (!r.ok) return send_error(res, 503, r.message, req.path);
-    res.set_content(r.data.at("glb").get_ref<const std::string&>(), "model/gltf-binary");
+    res.set_content(r.data.at("data").get_ref<const std::string&>(), "model/gltf-binary");
+  });
+  // The planner's reads: the model's features (holes, faces with signatures) and which GLB primitive is
+  // which face (the tessellation's "parts").
+  const auto cad_read = [=](const char* kind, const char* what) {
+    return [=](const httplib::Request& req, httplib::Response& res) {
+      if (!who(req, res, Role::kViewer)) return;
+      const std::string model = req.has_param("model") ? req.get_param_value("model") : "object:target";
+      const auto r = backend_.cad(kind, model, "{}");
+      if (!r.ok) return send_error(res, 503, std::string("the ") + what + " of " + model + ": " + r.message, req.path);
+      json out = r.data.value("result", json::object());
+      out["model"] = model;
+      send_json(res, out);
+    };
+  };
+  s.Get("/api/cad/features", cad_read("features", "features"));
+  s.Get("/api/cad/parts", cad_read("tessellation", "tessellation parts"));
+  s.Get("/api/skills", [=](const httplib::Request& req, httplib::Response& res) {
+    if (who(req, res, Role::kViewer)) send_json(res, skills_.to_json());
+  });
+
+  // --- the planner ---
+  // Validation by the controller's own validator against the live library; the answer is 200 either way
+  // (ok and errors by JSON pointer), 400 only for a body that is not a recipe at all.
+  s.Post("/api/planner/validate", [=](const httplib::Request& req, httplib::Response& res) {
+    if (!who(req, res, Role::kProgrammer)) return;
+    send_json(res, validate_recipe(skills_.library(), req.body));
+  });
+  // The screw list of picked holes: derived by the CAD service, matched to the world model's screw holes.
+  s.Post("/api/planner/screws", [=](const httplib::Request& req, httplib::Response& res) {
+    if (!who(req, res, Role::kProgrammer)) return;
+    auto b = body(req, res);
+    if (!b) return;
+    try {
+      const ScrewRequest request = parse_screw_request(*b);
+      const auto derived =
+          backend_.cad("derive", request.model, json{{"parameter", "screw_list"}, {"holes", request.holes}}.dump());
+      if (!derived.ok) {
+        // A refusal of the picks (stale, not a hole) is the request's fault; no answer is the cell's.
+        const bool refused = derived.message.rfind("CAD_", 0) == 0;
+        return send_error(res, refused ? 400 : 503, "the CAD service: " + derived.message, req.path + (refused ? "#/holes" : ""));
+      }
+      const auto entity = backend_.world_entity(request.entity);
+      if (!entity.ok) return send_error(res, 503, "the world model: " + entity.message, req.path);
+      send_json(res, screws_with_features(request, derived.data.value("model_sha256", ""),
+                                          derived.data.value("result", json::object()), entity.data));
+    } catch (const PlannerError& e) {
+      send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
+    }
   });
 
   // --- commands ---

@@ -21,6 +21,7 @@
 #include "auth.hpp"
 #include "console_state.hpp"
 #include "event_log.hpp"
+#include "planner.hpp"
 #include "rigger/base/logging.hpp"
 
 namespace httplib {
@@ -55,8 +56,10 @@ class Backend {
   virtual ActionResult journal(const std::string& task_id) = 0;
   /// The world model's description of entity `id` (data = the entity JSON).
   virtual ActionResult world_entity(const std::string& id) = 0;
-  /// The CAD service's tessellation of `model` as GLB bytes (data = {"glb": <binary string>}).
-  virtual ActionResult cad_glb(const std::string& model) = 0;
+  /// Asks the CAD service (docs/cad.md): `kind` is "features", "tessellation", "frame" or "derive";
+  /// data = {"model_sha256", "result": <result_json parsed>, "data": <binary string, the GLB>}; a refusal
+  /// is !ok with message "CODE: why".
+  virtual ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) = 0;
 };
 
 struct HttpConfig {
@@ -75,7 +78,7 @@ struct HttpConfig {
 class HttpApi {
  public:
   HttpApi(HttpConfig config, Users users, ConsoleState& state, EventLog& events, EventLog& plots, Backend& backend,
-          Logger log);
+          SkillCatalog& skills, Logger log);
   ~HttpApi();
   HttpApi(const HttpApi&) = delete;
   HttpApi& operator=(const HttpApi&) = delete;
@@ -105,6 +108,7 @@ class HttpApi {
   EventLog& events_;
   EventLog& plots_;
   Backend& backend_;
+  SkillCatalog& skills_;
   Logger log_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;

@@ -36,8 +36,19 @@ class RecordingBackend : public Backend {
     return record("answer " + prompt_id + " " + answer + " by " + who);
   }
   ActionResult journal(const std::string&) override { return {true, "", json::array()}; }
-  ActionResult world_entity(const std::string&) override { return {false, "no world model", {}}; }
-  ActionResult cad_glb(const std::string&) override { return {false, "no CAD service on this domain", {}}; }
+  ActionResult world_entity(const std::string&) override { return world_answer_; }
+  ActionResult world_answer_{false, "no world model", {}};
+  ActionResult cad(const std::string& kind, const std::string& model, const std::string& args) override {
+    std::lock_guard lock(mutex_);
+    cad_requests_.push_back(kind + " " + model + " " + args);
+    return cad_answer_;
+  }
+  std::vector<std::string> cad_requests() {
+    std::lock_guard lock(mutex_);
+    return cad_requests_;
+  }
+  ActionResult cad_answer_{false, "no CAD service on this domain", {}};
+  std::vector<std::string> cad_requests_;
   std::vector<std::string> actions() {
     std::lock_guard lock(mutex_);
     return actions_;
@@ -66,7 +77,7 @@ class HttpApiTest : public ::testing::Test {
     config.confirm_timeout = 300ms;
     config.max_body_bytes = 64 * 1024;
     api_ = std::make_unique<HttpApi>(config, Users::load(dir_ + "/users.json"), state_, events_, plots_, backend_,
-                                     null_logger());
+                                     skills_, null_logger());
     api_->start();
     client_ = std::make_unique<httplib::Client>("127.0.0.1", api_->port());
   }
@@ -87,6 +98,7 @@ class HttpApiTest : public ::testing::Test {
   EventLog plots_{100, "42"};
   ConsoleState state_{events_};
   RecordingBackend backend_;
+  SkillCatalog skills_;
   std::unique_ptr<HttpApi> api_;
   std::unique_ptr<httplib::Client> client_;
 };
@@ -205,6 +217,57 @@ TEST_F(HttpApiTest, EveryActionIsInTheAuditLogWithItsUser) {
   EXPECT_EQ(entry["user"], "olu");
   EXPECT_EQ(entry["action"], "stop");
   EXPECT_EQ(entry["target"], "t");
+}
+
+TEST_F(HttpApiTest, PlannerValidationIsTheControllersAndOnlyForProgrammers) {
+  auto r = post("/api/planner/validate", R"({"recipe_version": 1, "task_id": "t", "root": {"type": "Skill", "skill": "Localize"}})", kOlu);
+  EXPECT_EQ(r->status, 403);
+  r = post("/api/planner/validate", R"({"recipe_version": 1, "task_id": "t", "root": {"type": "Skill", "skill": "Localize"}})", kAda);
+  ASSERT_EQ(r->status, 200);
+  // No executor announced a library: the controller's validator says the skill is unknown, by pointer.
+  EXPECT_FALSE(body(r)["ok"].get<bool>());
+  EXPECT_EQ(body(r)["errors"][0]["pointer"], "/root/skill") << r->body;
+  EXPECT_TRUE(body(r).contains("canonical"));
+  r = post("/api/planner/validate", R"({"task_id": )", kAda);
+  ASSERT_EQ(r->status, 200);
+  EXPECT_FALSE(body(r)["ok"].get<bool>());
+  EXPECT_FALSE(body(r).contains("canonical"));
+  r = client_->Get("/api/skills", as(kVic));
+  ASSERT_EQ(r->status, 200);
+  EXPECT_TRUE(body(r)["executors"].empty());
+}
+
+TEST_F(HttpApiTest, PlannerScrewsAskTheCadServiceAndTheWorldModelAndRefuseBadPicks) {
+  auto r = post("/api/planner/screws", R"({"model": "object:target", "holes": [0]})", kVic);
+  EXPECT_EQ(r->status, 403);
+  r = post("/api/planner/screws", R"({"model": "object:target", "holes": "all"})", kAda);
+  EXPECT_EQ(r->status, 400);
+  EXPECT_EQ(body(r)["where"], "/api/planner/screws#/holes") << r->body;
+  EXPECT_TRUE(backend_.cad_requests().empty()) << "a malformed request reached the CAD service";
+  // No CAD service: 503, saying so.
+  r = post("/api/planner/screws", R"({"model": "object:target", "holes": [0]})", kAda);
+  EXPECT_EQ(r->status, 503);
+  EXPECT_NE(body(r)["error"].get<std::string>().find("no CAD service"), std::string::npos) << r->body;
+  // The CAD service refuses the pick (stale reference): 400 on the holes.
+  backend_.cad_answer_ = {false, "CAD_STALE_REFERENCE: face 6 is now a plane", {}};
+  r = post("/api/planner/screws", R"({"model": "object:target", "holes": [0]})", kAda);
+  EXPECT_EQ(r->status, 400);
+  EXPECT_EQ(body(r)["where"], "/api/planner/screws#/holes");
+  // Both answer: the derived screw with the world model's feature.
+  backend_.cad_answer_ = {true, "", json{{"model_sha256", "f00d"},
+                                       {"result", {{"screws", {{{"hole", 0}, {"pose", {{"position_m", {-0.15, -0.1, 0.0}}}}}}}}}}};
+  backend_.world_answer_ = {true, "", json{{"features", {{"screw_holes", {{{"id", "h1"}, {"position_m", {-0.15, -0.1, 0.0}}, {"torque_nm", 60}}}}}}}};
+  r = post("/api/planner/screws", R"({"model": "object:target", "holes": [0]})", kAda);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(body(r)["model_sha256"], "f00d");
+  EXPECT_EQ(body(r)["screws"][0]["feature"], "target/h1");
+  ASSERT_FALSE(backend_.cad_requests().empty());
+  EXPECT_EQ(backend_.cad_requests().back(), R"(derive object:target {"holes":[0],"parameter":"screw_list"})");
+  // A hole the world model does not know.
+  backend_.world_answer_ = {true, "", json{{"features", {{"screw_holes", json::array()}}}}};
+  r = post("/api/planner/screws", R"({"model": "object:target", "holes": [0]})", kAda);
+  EXPECT_EQ(r->status, 400);
+  EXPECT_EQ(body(r)["where"], "/api/planner/screws#/holes/0") << r->body;
 }
 
 }  // namespace

@@ -1,11 +1,12 @@
-// The console's pages behind one hash router: #/tasks, #/replay[/task], #/plots[/task], #/operator.
+// The console's pages behind one hash router: #/tasks, #/replay[/task], #/plots[/task], #/operator, #/planner.
 import { api, store, token, el } from './api.js';
 import { tasksPage } from './tasks.js';
 import { replayPage } from './replay.js';
 import { plotsPage } from './plots.js';
 import { operatorPage } from './operator.js';
+import { plannerPage } from './planner.js';
 
-const pages = { tasks: tasksPage, replay: replayPage, plots: plotsPage, operator: operatorPage };
+const pages = { tasks: tasksPage, replay: replayPage, plots: plotsPage, operator: operatorPage, planner: plannerPage };
 const main = document.getElementById('page');
 let leave = null;
 

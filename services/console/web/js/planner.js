@@ -1,0 +1,499 @@
+// The planner (programmer role): build a task's behaviour tree from the live skill library, fill the
+// parameters from forms generated from the skill descriptions, bind the Screw skill's holes to holes
+// picked on the CAD model (the CAD service derives the screw list; the binding is kept in the recipe),
+// validate with the task controller's own validator (errors on their node and field, by JSON pointer),
+// export canonical JSON and publish (two steps). See docs/console.md, "Planner".
+import { api, el, confirmDialog } from './api.js';
+import { PartsView } from './planner_view.js';
+
+const CONTROL = ['Sequence', 'Parallel', 'Fallback'];
+const ENTITIES = ['target', 'load'];
+
+/// The node's children as [pointer suffix, node] (children, a decorator's child, a decision's options).
+function childrenOf(node) {
+  if (Array.isArray(node.children)) return node.children.map((c, i) => [`/children/${i}`, c]);
+  if (node.child) return [['/child', node.child]];
+  if (Array.isArray(node.options)) return node.options.map((o, i) => [`/options/${i}/child`, o.child]).filter(([, c]) => c);
+  return [];
+}
+function nodeAt(doc, pointer) {
+  let v = doc;
+  for (const k of pointer.split('/').slice(1)) v = v?.[k];
+  return v;
+}
+function parentOf(pointer) {
+  const m = pointer.match(/^(.*)\/children\/(\d+)$/);
+  return m ? { parent: m[1], index: Number(m[2]) } : null;
+}
+function leafName(node) { return node.skill || node.monitor || node.condition || ''; }
+
+export function plannerPage(main, me) {
+  if (me.role !== 'programmer') {
+    main.replaceChildren(el('h1', {}, 'Planner'), el('p', { class: 'error' }, `The planner is for programmers; you are a ${me.role}.`));
+    return () => {};
+  }
+  const state = {
+    doc: { recipe_version: 1, task_id: 'planned-task', root: null },
+    selected: '',
+    picks: [],
+    library: [],
+    errors: [],
+    validation: null,
+    validations: 0,
+    exported: '',
+    staleBindings: [],  // bindings of an opened recipe that no longer match the CAD model
+  };
+  const treeBox = el('div', { class: 'ptree', role: 'tree', 'aria-label': 'Behaviour tree' });
+  const formBox = el('div', { class: 'pform' });
+  const picksList = el('ol', { class: 'picks', 'aria-label': 'Picked faces and holes' });
+  const holesList = el('ul', { class: 'picks', 'aria-label': 'Holes of the models' });
+  const errorsBox = el('div', { class: 'perrors', role: 'status', 'aria-live': 'polite' });
+  const notice = el('p', { role: 'status', 'aria-live': 'polite' });
+  const say = (text, bad = false) => { notice.textContent = text; notice.className = bad ? 'error' : ''; };
+  const addSelect = el('select', { id: 'planner-add-kind', 'aria-label': 'Node to add' });
+  const taskId = el('input', { type: 'text', id: 'planner-task-id', 'aria-label': 'Task id', value: state.doc.task_id,
+    oninput: () => { state.doc.task_id = taskId.value; changed(false); } });
+  const assumptions = el('input', { type: 'text', id: 'planner-assumptions', 'aria-label': 'Assumptions', placeholder: 'facts that hold at the start, e.g. hooked(crane,load)',
+    oninput: () => {
+      const list = assumptions.value.split(/[\s;]+/).filter(Boolean);
+      if (list.length) state.doc.assumptions = list; else delete state.doc.assumptions;
+      changed(false);
+    } });
+  const openFile = el('input', { type: 'file', id: 'planner-open', accept: '.json,application/json', 'aria-label': 'Open a recipe',
+    onchange: async () => { if (openFile.files[0]) open(await openFile.files[0].text()); } });
+  const viewBox = el('div', { class: 'pview' });
+
+  main.replaceChildren(el('h1', {}, 'Planner'),
+    el('div', { class: 'toolbar' },
+      el('label', {}, 'Task id ', taskId), el('label', {}, 'Assumptions ', assumptions),
+      el('button', { id: 'planner-validate', onclick: () => validate() }, 'Validate'),
+      el('button', { id: 'planner-export', onclick: () => exportRecipe() }, 'Export JSON'),
+      el('button', { id: 'planner-publish', class: 'primary', onclick: () => publish() }, 'Publish…'),
+      el('label', {}, 'Open ', openFile)),
+    notice,
+    el('div', { class: 'planner' },
+      el('section', { class: 'panel', 'aria-labelledby': 'pv' }, el('h2', { id: 'pv' }, 'Parts'),
+        el('div', { class: 'toolbar' }, ...ENTITIES.map((e) => el('button', { onclick: () => view.frame(e) }, `View ${e}`)),
+          el('button', { id: 'planner-clear-picks', onclick: () => { state.picks = []; renderPicks(); } }, 'Clear picks')),
+        viewBox,
+        el('h2', {}, 'Picked'), picksList,
+        el('details', {}, el('summary', {}, 'Holes of the models (click to pick)'), holesList)),
+      el('section', { class: 'panel', 'aria-labelledby': 'pt' }, el('h2', { id: 'pt' }, 'Tree'),
+        el('div', { class: 'toolbar' }, addSelect,
+          el('button', { id: 'planner-add', onclick: () => add(addSelect.value) }, 'Add'),
+          el('button', { id: 'planner-up', onclick: () => move(-1) }, 'Up'),
+          el('button', { id: 'planner-down', onclick: () => move(1) }, 'Down'),
+          el('button', { id: 'planner-delete', class: 'danger', onclick: () => remove() }, 'Delete')),
+        treeBox, el('h2', {}, 'Validation'), errorsBox),
+      el('section', { class: 'panel', 'aria-labelledby': 'pf' }, el('h2', { id: 'pf' }, 'Node'), formBox)));
+
+  const view = new PartsView(viewBox, (pick) => {
+    const key = (p) => `${p.entity}:${p.kind}:${p.kind === 'hole' ? p.hole : p.face}`;
+    const i = state.picks.findIndex((p) => key(p) === key(pick));
+    if (i >= 0) state.picks.splice(i, 1); else state.picks.push(pick);
+    renderPicks();
+  });
+
+  // --- the library ---
+  const describe = (name) => state.library.find((s) => s.name === name);
+  async function loadLibrary() {
+    const lib = await api('/api/skills');
+    state.library = lib.skills;
+    addSelect.replaceChildren(
+      el('optgroup', { label: 'Control' }, ...CONTROL.map((c) => el('option', { value: `control:${c}` }, c))),
+      ...['skill', 'monitor', 'condition'].map((kind) => el('optgroup', { label: `${kind[0].toUpperCase()}${kind.slice(1)}s` },
+        ...lib.skills.filter((s) => s.kind === kind).map((s) => el('option', { value: `${kind}:${s.name}`, title: s.description || '' }, s.name)))));
+    if (lib.problems?.length) say(`Skill library: ${lib.problems.join('; ')}`, true);
+  }
+
+  // --- editing ---
+  function newNode(value) {
+    const [kind, name] = value.split(':');
+    if (kind === 'control') {
+      const n = { type: name, children: [] };
+      if (name === 'Parallel') { n.success_threshold = 1; n.failure_threshold = 1; }
+      return n;
+    }
+    const type = kind === 'skill' ? 'Skill' : kind === 'monitor' ? 'Monitor' : 'Condition';
+    return { type, [kind]: name, params: {} };
+  }
+  function add(value) {
+    if (!value) return;
+    const node = newNode(value);
+    if (!state.doc.root) {
+      state.doc.root = node;
+      state.selected = '/root';
+    } else {
+      // Into the selected control node (at its end), else after the selected node in its parent.
+      const sel = nodeAt(state.doc, state.selected || '/root');
+      if (sel && Array.isArray(sel.children)) {
+        sel.children.push(node);
+        state.selected = `${state.selected || '/root'}/children/${sel.children.length - 1}`;
+      } else {
+        const p = parentOf(state.selected);
+        if (!p) return say('Select a Sequence, Parallel or Fallback to add into (the root is a leaf).', true);
+        nodeAt(state.doc, p.parent).children.splice(p.index + 1, 0, node);
+        state.selected = `${p.parent}/children/${p.index + 1}`;
+      }
+    }
+    changed();
+  }
+  function move(delta) {
+    const p = parentOf(state.selected);
+    if (!p) return;
+    const list = nodeAt(state.doc, p.parent).children;
+    const j = p.index + delta;
+    if (j < 0 || j >= list.length) return;
+    [list[p.index], list[j]] = [list[j], list[p.index]];
+    state.selected = `${p.parent}/children/${j}`;
+    changed();
+  }
+  function remove() {
+    if (!state.selected) return;
+    if (state.selected === '/root') {
+      state.doc.root = null;
+      state.selected = '';
+    } else {
+      const p = parentOf(state.selected);
+      if (!p) return say('Only nodes in a Sequence, Parallel or Fallback can be deleted here.', true);
+      nodeAt(state.doc, p.parent).children.splice(p.index, 1);
+      state.selected = p.parent;
+    }
+    changed();
+  }
+
+  // --- validation, by the controller's validator through the console ---
+  let timer = null;
+  function changed(redrawForm = true) {
+    renderTree();
+    if (redrawForm) renderForm();
+    clearTimeout(timer);
+    timer = setTimeout(() => validate(), 250);
+  }
+  function recipe() {
+    const doc = structuredClone(state.doc);
+    if (!doc.root) delete doc.root;
+    return doc;
+  }
+  function bindingErrors() {
+    // The Screw skill takes one torque (and type) for every hole, or each hole's from the world model.
+    const out = [];
+    const walk = (node, ptr) => {
+      const b = node.bindings?.holes;
+      if (b) {
+        for (const f of ['torque_nm', 'screw_type']) {
+          const vals = b.screws.map((s) => s[f]);
+          const fromWorld = b.screws.every((s) => s[f] === s[`world_${f}`]);
+          if (!fromWorld && new Set(vals).size > 1) {
+            out.push({ pointer: `${ptr}/bindings/holes`, message: `the Screw skill takes one ${f} for every hole, or each hole's from the world model; these differ: ${vals.join(', ')}` });
+          }
+        }
+      }
+      for (const [suffix, c] of childrenOf(node)) walk(c, ptr + suffix);
+    };
+    if (state.doc.root) walk(state.doc.root, '/root');
+    return out;
+  }
+  async function validate() {
+    clearTimeout(timer);
+    const seq = ++state.validations;
+    let r;
+    try {
+      r = await api('/api/planner/validate', { method: 'POST', body: recipe() });
+    } catch (e) {
+      return say(`Validation failed: ${e.message}`, true);
+    }
+    if (seq !== state.validations) return state.validation;  // a newer edit is being validated
+    r.errors = [...r.errors, ...bindingErrors(), ...state.staleBindings];
+    r.ok = r.ok && r.errors.length === 0;
+    state.validation = r;
+    state.errors = r.errors;
+    renderTree();
+    renderErrors();
+    markFields();
+    return r;
+  }
+  function errorsAt(nodePtr) {
+    // The errors whose pointer is this node's own (not a descendant's): field = the rest.
+    const pointers = allNodes().map(([p]) => p);
+    return state.errors.filter((e) => {
+      const owner = pointers.filter((p) => e.pointer === p || e.pointer.startsWith(`${p}/`)).sort((a, b) => b.length - a.length)[0];
+      return owner === nodePtr;  // recipe-level errors (task_id, assumptions) are in the list only
+    });
+  }
+  function allNodes() {
+    const out = [];
+    const walk = (node, ptr) => { out.push([ptr, node]); for (const [s, c] of childrenOf(node)) walk(c, ptr + s); };
+    if (state.doc.root) walk(state.doc.root, '/root');
+    return out;
+  }
+
+  // --- rendering ---
+  function renderTree() {
+    const row = (node, ptr) => {
+      const errs = errorsAt(ptr);
+      const label = `${node.type}${leafName(node) ? ` ${leafName(node)}` : ''}${node.type === 'Parallel' ? ` (M=${node.success_threshold}, K=${node.failure_threshold})` : ''}`;
+      const li = el('li', { role: 'treeitem', 'data-pointer': ptr, 'aria-selected': String(ptr === state.selected) },
+        el('button', { class: `pnode${ptr === state.selected ? ' selected' : ''}${errs.length ? ' invalid' : ''}`, 'data-pointer': ptr,
+          onclick: () => { state.selected = ptr; renderTree(); renderForm(); } },
+        el('span', { class: 'ptype' }, label), node.name ? el('span', { class: 'pname' }, ` “${node.name}”`) : null,
+        errs.length ? el('span', { class: 'perr-count', title: errs.map((e) => e.message).join('\n') }, ` ⚠ ${errs.length}`) : null));
+      const kids = childrenOf(node);
+      if (kids.length) li.append(el('ul', { role: 'group' }, ...kids.map(([s, c]) => row(c, ptr + s))));
+      return li;
+    };
+    treeBox.replaceChildren(state.doc.root ? el('ul', {}, row(state.doc.root, '/root'))
+      : el('p', { class: 'muted' }, 'Empty: choose a node and press Add.'));
+  }
+  function renderErrors() {
+    const v = state.validation;
+    if (!v) return errorsBox.replaceChildren();
+    errorsBox.replaceChildren(v.ok ? el('p', { class: 'ok', id: 'planner-valid' }, '✔ valid: the controller would accept this recipe')
+      : el('ul', { id: 'planner-errors' }, ...v.errors.map((e) => el('li', { class: 'error' },
+        el('button', { class: 'link-button', onclick: () => selectPointer(e.pointer) }, e.pointer || '(recipe)'), ` ${e.message}`))));
+  }
+  function selectPointer(pointer) {
+    const owner = allNodes().map(([p]) => p).filter((p) => pointer === p || pointer.startsWith(`${p}/`)).sort((a, b) => b.length - a.length)[0];
+    if (owner) { state.selected = owner; renderTree(); renderForm(); }
+  }
+  function markFields() {
+    for (const f of formBox.querySelectorAll('[data-field]')) {
+      const msg = f.closest('.field')?.querySelector('.field-error');
+      const errs = errorsAt(state.selected).filter((e) => e.pointer === `${state.selected}/${f.dataset.field}`
+        || e.pointer.startsWith(`${state.selected}/${f.dataset.field}/`));
+      f.setAttribute('aria-invalid', String(errs.length > 0));
+      if (msg) msg.textContent = errs.map((e) => e.message).join('; ');
+    }
+    const nodeErrs = formBox.querySelector('.node-errors');
+    if (nodeErrs) {
+      const fields = [...formBox.querySelectorAll('[data-field]')].map((f) => `${state.selected}/${f.dataset.field}`);
+      nodeErrs.textContent = errorsAt(state.selected).filter((e) => !fields.some((p) => e.pointer === p || e.pointer.startsWith(`${p}/`)))
+        .map((e) => `${e.pointer}: ${e.message}`).join('\n');
+    }
+  }
+  function field(label, input, unit = '', help = '') {
+    return el('div', { class: 'field' }, el('label', {}, label, input, unit ? el('span', { class: 'unit' }, ` ${unit}`) : null),
+      help ? el('div', { class: 'muted small' }, help) : null, el('div', { class: 'field-error error' }));
+  }
+  function renderForm() {
+    const node = state.selected ? nodeAt(state.doc, state.selected) : null;
+    if (!node) return formBox.replaceChildren(el('p', { class: 'muted' }, 'Select a node.'));
+    const parts = [el('p', {}, el('strong', {}, node.type), leafName(node) ? ` ${leafName(node)}` : '', el('code', { class: 'muted' }, ` ${state.selected}`))];
+    const name = el('input', { type: 'text', 'data-field': 'name', value: node.name || '',
+      oninput: () => { if (name.value) node.name = name.value; else delete node.name; changed(false); } });
+    parts.push(field('Name ', name));
+    if (node.type === 'Parallel') {
+      for (const [key, label] of [['success_threshold', 'Successes needed (M) '], ['failure_threshold', 'Failures that fail it (K) ']]) {
+        const input = el('input', { type: 'number', min: '1', step: '1', 'data-field': key, value: node[key],
+          oninput: () => { node[key] = Number(input.value); changed(false); } });
+        parts.push(field(label, input));
+      }
+    }
+    const d = describe(leafName(node));
+    if (leafName(node) && !d) parts.push(el('p', { class: 'error' }, `${leafName(node)} is not in the live skill library (no executor announces it).`));
+    if (d) {
+      parts.push(el('p', { class: 'muted' }, d.description || ''));
+      if (d.resources?.length) parts.push(el('p', { class: 'muted small' }, `resources: ${d.resources.join(', ')}`));
+      node.params = node.params || {};
+      for (const p of d.params) parts.push(paramField(node, p));
+    }
+    parts.push(el('pre', { class: 'node-errors error' }));
+    formBox.replaceChildren(...parts);
+    markFields();
+  }
+  function paramField(node, p) {
+    const key = `params/${p.name}`;
+    const set = (v) => { if (v === undefined) delete node.params[p.name]; else node.params[p.name] = v; changed(false); };
+    const cur = node.params[p.name];
+    const range = p.min !== undefined || p.max !== undefined ? `[${p.min ?? '−∞'}, ${p.max ?? '∞'}]` : '';
+    const req = p.default === undefined;
+    const help = `${p.type}${range ? ` in ${range}` : ''}${req ? ', required' : `, default ${JSON.stringify(p.default)}`}. ${p.description || ''}`;
+    const label = `${p.name}${req ? ' *' : ''} `;
+    let input;
+    if (p.type === 'number' || p.type === 'integer') {
+      input = el('input', { type: 'number', step: p.type === 'integer' ? '1' : 'any', min: p.min, max: p.max, value: typeof cur === 'number' ? cur : '',
+        placeholder: p.default !== undefined ? String(p.default) : '', oninput: () => set(input.value === '' ? undefined : Number(input.value)) });
+    } else if (p.type === 'boolean' || p.type === 'enum') {
+      const values = p.type === 'boolean' ? [true, false] : p.values;
+      input = el('select', { onchange: () => set(input.value === '' ? undefined : JSON.parse(input.value)) },
+        el('option', { value: '' }, p.default !== undefined ? `(default ${JSON.stringify(p.default)})` : '(choose)'),
+        ...values.map((v) => el('option', { value: JSON.stringify(v), selected: cur === v }, String(v))));
+    } else if (p.type === 'string_list') {
+      input = el('input', { type: 'text', value: Array.isArray(cur) ? cur.join(', ') : '', placeholder: 'comma-separated',
+        oninput: () => set(input.value.trim() === '' ? undefined : input.value.split(',').map((s) => s.trim()).filter(Boolean)) });
+    } else if (p.type === 'pose') {
+      input = el('textarea', { rows: '2', placeholder: '{"position_m": [x, y, z], "rpy_deg": [r, p, y], "frame": "world"}',
+        oninput: () => { try { set(input.value.trim() === '' ? undefined : JSON.parse(input.value)); } catch { /* the validator says why */ } } });
+      input.value = cur ? JSON.stringify(cur) : '';
+    } else {
+      input = el('input', { type: 'text', value: typeof cur === 'string' ? cur : '', placeholder: p.default !== undefined ? String(p.default) : '',
+        oninput: () => set(input.value === '' ? undefined : input.value) });
+    }
+    input.dataset.field = key;
+    input.id = `param-${p.name}`;
+    const f = field(label, input, p.unit || '', help);
+    if (node.skill === 'Screw' && p.name === 'holes') f.append(screwBinding(node));
+    return f;
+  }
+
+  // --- the Screw skill's holes from picked holes ---
+  function screwBinding(node) {
+    const b = node.bindings?.holes;
+    const box = el('div', { class: 'binding' });
+    const holes = state.picks.filter((p) => p.kind === 'hole');
+    box.append(el('button', { id: 'planner-bind-holes', disabled: holes.length === 0, onclick: () => bindHoles(node) },
+      `Use the ${holes.length} picked hole${holes.length === 1 ? '' : 's'}`));
+    if (!b) return box;
+    box.append(el('p', { class: 'muted small' }, `Bound to ${b.model} (sha256 ${b.model_sha256.slice(0, 12)}…), derived by the CAD service:`));
+    const table = el('table', { id: 'planner-screws' }, el('tr', {}, el('th', {}, '#'), el('th', {}, 'feature'), el('th', {}, 'CAD hole (face, signature)'),
+      el('th', {}, 'entry (m)'), el('th', {}, 'screw type'), el('th', {}, 'torque (Nm)')));
+    b.screws.forEach((s, i) => {
+      const type = el('input', { type: 'text', value: s.screw_type, 'aria-label': `screw type of hole ${i + 1}`, 'data-screw': i,
+        oninput: () => { s.screw_type = type.value; applyScrews(node); } });
+      const torque = el('input', { type: 'number', min: '0', step: 'any', value: s.torque_nm, 'aria-label': `torque of hole ${i + 1}`,
+        oninput: () => { s.torque_nm = Number(torque.value); applyScrews(node); } });
+      table.append(el('tr', {}, el('td', {}, String(i + 1)), el('td', {}, s.feature),
+        el('td', { title: JSON.stringify(s.ref.signature) }, `${s.hole} (face ${s.ref.index}, ${s.ref.signature.type} r ${(s.ref.signature.radius_m * 1000).toFixed(2)} mm)`),
+        el('td', {}, s.pose.position_m.map((v) => v.toFixed(4)).join(', ')), el('td', {}, type), el('td', {}, torque)));
+    });
+    box.append(table);
+    return box;
+  }
+  async function bindHoles(node) {
+    const holes = state.picks.filter((p) => p.kind === 'hole');
+    const entities = new Set(holes.map((p) => p.entity));
+    if (entities.size !== 1) return say('Pick the holes on one part.', true);
+    const entity = [...entities][0];
+    try {
+      const r = await api('/api/planner/screws', { method: 'POST', body: { model: `object:${entity}`, holes: holes.map((p) => p.ref) } });
+      node.bindings = node.bindings || {};
+      state.staleBindings = state.staleBindings.filter((e) => !e.pointer.startsWith(`${state.selected}/bindings/`));
+      node.bindings.holes = {
+        rule: 'screw_list', model: r.model, model_sha256: r.model_sha256,
+        screws: r.screws.map((s) => ({ ...s, world_screw_type: s.screw_type, world_torque_nm: s.torque_nm })),
+      };
+      applyScrews(node);
+      renderForm();
+      say(`Screw list derived from ${r.screws.length} picked holes.`);
+    } catch (e) {
+      say(`The screw list could not be derived: ${e.message}`, true);
+    }
+  }
+  function applyScrews(node) {
+    const b = node.bindings.holes;
+    node.params = node.params || {};
+    node.params.holes = b.screws.map((s) => s.feature);
+    for (const f of ['torque_nm', 'screw_type']) {
+      const vals = new Set(b.screws.map((s) => s[f]));
+      const fromWorld = b.screws.every((s) => s[f] === s[`world_${f}`]);
+      if (fromWorld) delete node.params[f];  // the skill takes each hole's value from the world model
+      else if (vals.size === 1) node.params[f] = [...vals][0];
+      else delete node.params[f];  // flagged by bindingErrors()
+    }
+    changed(false);
+    const holesInput = formBox.querySelector('[data-field="params/holes"]');
+    if (holesInput) holesInput.value = node.params.holes.join(', ');
+  }
+
+  // --- picks ---
+  function renderPicks() {
+    view.setPicked(state.picks);
+    picksList.replaceChildren(...state.picks.map((p, i) => el('li', { 'data-kind': p.kind },
+      `${p.entity} · ${p.kind === 'hole' ? `hole ${p.hole} (Ø ${(p.diameter_m * 1000).toFixed(1)} mm)` : `face ${p.face}`} · `,
+      el('code', {}, `ref ${p.ref.kind} ${p.ref.index} of ${p.ref.model_sha256.slice(0, 8)}…`), ' ',
+      el('code', { class: 'sig' }, JSON.stringify(p.ref.signature)), ' ',
+      el('button', { 'aria-label': `unpick ${i + 1}`, onclick: () => { state.picks.splice(i, 1); renderPicks(); } }, '✕'))));
+    if (state.selected) renderForm();
+  }
+  function renderHoles() {
+    holesList.replaceChildren(...[...view.parts].flatMap(([entity, part]) => part.features.holes.map((h) =>
+      el('li', {}, el('button', { 'data-hole': `${entity}:${h.index}`, onclick: () => view.onPick(view.describe(entity, h.faces[0], h)) },
+        `${entity} hole ${h.index}: Ø ${(h.diameter_m * 1000).toFixed(1)} mm, ${(h.depth_m * 1000).toFixed(1)} mm${h.through ? ' through' : ''}`)))));
+  }
+
+  // --- export, open, publish ---
+  async function exportRecipe() {
+    const v = await validate();
+    if (!v?.canonical) return say('Nothing to export.', true);
+    state.exported = v.canonical;
+    const a = el('a', { href: URL.createObjectURL(new Blob([v.canonical], { type: 'application/json' })), download: `${state.doc.task_id || 'recipe'}.json` });
+    document.body.append(a);
+    a.click();
+    a.remove();
+    say(v.ok ? 'Exported (valid).' : `Exported with ${v.errors.length} error(s): the controller would refuse it.`, !v.ok);
+  }
+  function open(text) {
+    try {
+      const doc = JSON.parse(text);
+      state.doc = doc;
+      taskId.value = doc.task_id || '';
+      assumptions.value = (doc.assumptions || []).join(' ');
+      state.selected = doc.root ? '/root' : '';
+      state.staleBindings = [];
+      changed();
+      say(`Opened ${doc.task_id}.`);
+      checkBindings();
+    } catch (e) {
+      say(`Not a recipe: ${e.message}`, true);
+    }
+  }
+  /// Asks the CAD service again for every binding of an opened recipe: a reference that no longer
+  /// resolves (CAD_STALE_REFERENCE), another model or a screw that moved flags the binding, never used.
+  async function checkBindings() {
+    const stale = [];
+    for (const [ptr, node] of allNodes()) {
+      const b = node.bindings?.holes;
+      if (!b) continue;
+      const where = `${ptr}/bindings/holes`;
+      try {
+        const r = await api('/api/planner/screws', { method: 'POST', body: { model: b.model, holes: b.screws.map((x) => x.ref) } });
+        const moved = r.screws.filter((x, i) => x.feature !== b.screws[i]?.feature
+          || JSON.stringify(x.pose.position_m) !== JSON.stringify(b.screws[i]?.pose.position_m)).map((x) => x.feature);
+        if (r.model_sha256 !== b.model_sha256) stale.push({ pointer: where, message: `stale binding: ${b.model} is now model ${r.model_sha256.slice(0, 12)}…, the recipe was made on ${b.model_sha256.slice(0, 12)}…; pick the holes again` });
+        else if (moved.length) stale.push({ pointer: where, message: `stale binding: ${moved.join(', ')} moved; pick the holes again` });
+      } catch (e) {
+        stale.push({ pointer: where, message: `stale binding: ${e.message}; pick the holes again` });
+      }
+    }
+    state.staleBindings = stale;
+    await validate();
+    state.bindingsChecked = (state.bindingsChecked || 0) + 1;
+  }
+  async function publish() {
+    const v = await validate();
+    if (!v?.ok) return say(`Not published: ${v ? v.errors.length : 'no'} validation error(s); fix them first.`, true);
+    try {
+      const sel = await api('/api/recipes', { method: 'POST', body: JSON.parse(v.canonical) });
+      if (!(await confirmDialog('Publish the recipe?', `Publish ${state.doc.task_id}: the task starts and the robot and the crane move.`, 'Publish'))) return say('Publish not confirmed.');
+      await api('/api/confirm', { method: 'POST', body: { confirmation_id: sel.confirmation_id } });
+      say(`Published ${state.doc.task_id}; follow it on the Tasks page.`);
+      state.published = state.doc.task_id;
+    } catch (e) {
+      say(`Publishing failed: ${e.message}`, true);
+    }
+  }
+
+  // Test hook: state, and screen positions of model points (to click holes like a person would).
+  window.rigger.planner = {
+    state, view,
+    screenOf: (entity, point) => view.screenOf(entity, point),
+    holes: (entity) => view.parts.get(entity)?.features.holes || [],
+  };
+
+  renderTree();
+  renderForm();
+  (async () => {
+    try {
+      await loadLibrary();
+    } catch (e) {
+      say(`No skill library: ${e.message}`, true);
+    }
+    const loaded = await Promise.allSettled(ENTITIES.map((e) => view.load(e)));
+    const failed = loaded.map((r, i) => r.status === 'rejected' ? `${ENTITIES[i]}: ${r.reason.message}` : null).filter(Boolean);
+    if (failed.length) say(`Parts not shown (${failed.join('; ')})`, true);
+    view.frame('target');
+    renderHoles();
+    window.rigger.planner.ready = true;
+  })();
+  return () => { clearTimeout(timer); delete window.rigger.planner; };
+}

@@ -1,0 +1,190 @@
+// The planner's 3D view: the cell's parts (load, target) placed where the world model has them, each
+// drawn from its STEP model's tessellation (one mesh part per B-rep face, so a picked triangle is a
+// face with its stable reference). Faces and holes are picked by clicking; hovering highlights what a
+// click would pick. A hole is picked by clicking one of its faces or its opening (the ray through the
+// entry disk). No geometry is derived here: positions come from the CAD service (features, derived
+// parameters); this only draws and maps a click to a reference.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { api } from './api.js';
+
+const PART = 0x7d8fa8, HOVER = 0x4fa3ff, PICKED = 0xff9f1c;
+
+export class PartsView {
+  constructor(container, onPick) {
+    this.container = container;
+    this.onPick = onPick;
+    this.parts = new Map();  // entity -> { group, meshes: [{mesh, face}], features, parts, sha256 }
+    this.picked = new Set();  // "entity:face" keys drawn as picked
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(1);
+    container.append(this.renderer.domElement);
+    this.renderer.domElement.setAttribute('aria-label', '3D view of the cell\'s parts: click a face or a hole to pick it');
+    this.renderer.domElement.setAttribute('role', 'img');
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color(0x0f1720);
+    this.camera = new THREE.PerspectiveCamera(40, 1, 0.01, 50);
+    this.camera.up.set(0, 0, 1);
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x334455, 2.0));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.5);
+    sun.position.set(1, -1.5, 2);
+    this.scene.add(sun);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.addEventListener('change', () => this.render());
+    this.raycaster = new THREE.Raycaster();
+    this.hovered = null;
+    const canvas = this.renderer.domElement;
+    let down = null;
+    canvas.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
+    canvas.addEventListener('pointermove', (e) => this.hover(e));
+    canvas.addEventListener('pointerleave', () => this.hover(null));
+    canvas.addEventListener('click', (e) => {
+      // A drag orbits; only a click that did not move picks.
+      if (down && Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
+      const pick = this.pickAt(e.clientX, e.clientY);
+      if (pick) this.onPick(pick);
+    });
+    new ResizeObserver(() => this.resize()).observe(container);
+    this.resize();
+  }
+
+  resize() {
+    const w = this.container.clientWidth || 600, h = this.container.clientHeight || 420;
+    this.renderer.setSize(w, h, false);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.render();
+  }
+  render() { this.renderer.render(this.scene, this.camera); }
+
+  /// Loads `entity` (a cell object): pose from the world model, tessellation, parts and features from CAD.
+  async load(entity) {
+    const model = `object:${entity}`;
+    const q = `model=${encodeURIComponent(model)}`;
+    const [world, glb, parts, features] = await Promise.all([
+      api(`/api/world/entity/${encodeURIComponent(entity)}`),
+      api(`/api/cad/model.glb?${q}`, { raw: true }).then((r) => r.arrayBuffer()),
+      api(`/api/cad/parts?${q}`),
+      api(`/api/cad/features?${q}`),
+    ]);
+    const gltf = await new GLTFLoader().parseAsync(glb, '');
+    const group = new THREE.Group();
+    const pose = world.pose || world.world_pose || {};
+    const p = pose.position_m || [0, 0, 0], rpy = pose.rpy_deg || [0, 0, 0];
+    group.position.set(p[0], p[1], p[2]);
+    // R = Rz(yaw) Ry(pitch) Rx(roll), as the cell file says.
+    group.rotation.set(THREE.MathUtils.degToRad(rpy[0]), THREE.MathUtils.degToRad(rpy[1]), THREE.MathUtils.degToRad(rpy[2]), 'ZYX');
+    group.add(gltf.scene);
+    const faceOfPrimitive = new Map(parts.parts.map((x) => [x.primitive, x]));
+    const meshes = [];
+    gltf.scene.traverse((o) => {
+      if (!o.isMesh) return;
+      const a = gltf.parser.associations.get(o);
+      const part = a && faceOfPrimitive.get(a.primitives);
+      if (!part) return;
+      o.material = new THREE.MeshStandardMaterial({ color: PART, roughness: 0.7, metalness: 0.1, side: THREE.DoubleSide });
+      o.userData = { entity, face: part.face, ref: part.ref };
+      meshes.push({ mesh: o, face: part.face });
+    });
+    this.scene.add(group);
+    group.updateMatrixWorld(true);
+    this.parts.set(entity, { group, meshes, features, parts: parts.parts, sha256: features.model_sha256, world });
+    this.render();
+    return this.parts.get(entity);
+  }
+
+  /// Puts the camera above `entity`, looking down at its top.
+  frame(entity) {
+    const part = this.parts.get(entity);
+    if (!part) return;
+    const box = new THREE.Box3().setFromObject(part.group);
+    const c = box.getCenter(new THREE.Vector3());
+    const size = box.getSize(new THREE.Vector3()).length();
+    const look = new THREE.Vector3(c.x, c.y, box.max.z);
+    this.camera.position.copy(look).add(new THREE.Vector3(0.25 * size, 0.55 * size, 0.9 * size));
+    this.controls.target.copy(look);
+    this.controls.update();
+    this.render();
+  }
+
+  /// The hole of `entity` whose faces include `face`, or null.
+  holeOfFace(entity, face) {
+    const part = this.parts.get(entity);
+    return part?.features.holes.find((h) => h.faces.includes(face)) || null;
+  }
+
+  /// What a click at client coordinates (x, y) picks: {entity, kind: "face"|"hole", face, hole?, ref}.
+  pickAt(x, y) {
+    const r = this.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((x - r.left) / r.width) * 2 - 1, -((y - r.top) / r.height) * 2 + 1);
+    this.raycaster.setFromCamera(ndc, this.camera);
+    const ray = this.raycaster.ray;
+    const meshes = [...this.parts.values()].flatMap((p) => p.meshes.map((m) => m.mesh));
+    const hit = this.raycaster.intersectObjects(meshes, false)[0] || null;
+    // The opening of a hole: the ray crosses its entry disk before it hits anything else.
+    let best = null;
+    for (const [entity, part] of this.parts) {
+      for (const h of part.features.holes) {
+        const entry = new THREE.Vector3(...h.entry_m).applyMatrix4(part.group.matrixWorld);
+        const axis = new THREE.Vector3(...h.axis).transformDirection(part.group.matrixWorld);
+        const t = ray.intersectPlane(new THREE.Plane().setFromNormalAndCoplanarPoint(axis, entry), new THREE.Vector3());
+        if (!t) continue;
+        const d = ray.origin.distanceTo(t);
+        if (t.distanceTo(entry) <= h.diameter_m / 2 && (!hit || d <= hit.distance + 1e-4) && (!best || d < best.d)) best = { d, entity, hole: h };
+      }
+    }
+    if (best) return this.describe(best.entity, best.hole.faces[0], best.hole);
+    if (!hit) return null;
+    const { entity, face } = hit.object.userData;
+    return this.describe(entity, face, this.holeOfFace(entity, face));
+  }
+
+  describe(entity, face, hole) {
+    const part = this.parts.get(entity);
+    // A face without triangles has no part: its reference from the features then.
+    const ref = part.parts.find((x) => x.face === face)?.ref || { model_sha256: part.sha256, kind: 'face', index: face,
+      signature: part.features.faces?.find((f) => f.index === face)?.signature || {} };
+    return hole ? { entity, kind: 'hole', face, hole: hole.index, ref, diameter_m: hole.diameter_m, entry_m: hole.entry_m }
+      : { entity, kind: 'face', face, ref };
+  }
+
+  hover(e) {
+    const pick = e ? this.pickAt(e.clientX, e.clientY) : null;
+    const key = pick ? `${pick.entity}:${pick.kind}:${pick.kind === 'hole' ? pick.hole : pick.face}` : null;
+    if (key === this.hovered) return;
+    this.hovered = key;
+    this.hoveredPick = pick;
+    this.paint();
+  }
+
+  /// Marks the picks (list of picks as from pickAt) and the hovered one.
+  setPicked(picks) {
+    this.picked = new Set();
+    for (const p of picks) for (const f of this.facesOf(p)) this.picked.add(`${p.entity}:${f}`);
+    this.paint();
+  }
+  facesOf(p) {
+    if (p.kind !== 'hole') return [p.face];
+    return this.parts.get(p.entity)?.features.holes[p.hole]?.faces || [p.face];
+  }
+  paint() {
+    const hovered = new Set(this.hoveredPick ? this.facesOf(this.hoveredPick).map((f) => `${this.hoveredPick.entity}:${f}`) : []);
+    for (const [entity, part] of this.parts) {
+      for (const { mesh, face } of part.meshes) {
+        const key = `${entity}:${face}`;
+        mesh.material.color.setHex(hovered.has(key) ? HOVER : this.picked.has(key) ? PICKED : PART);
+        mesh.material.emissive.setHex(hovered.has(key) ? 0x103050 : 0x000000);
+      }
+    }
+    this.render();
+  }
+
+  /// Client (page) coordinates of a point given in `entity`'s model frame (for tests and labels).
+  screenOf(entity, point) {
+    const part = this.parts.get(entity);
+    const v = new THREE.Vector3(...point).applyMatrix4(part.group.matrixWorld).project(this.camera);
+    const r = this.renderer.domElement.getBoundingClientRect();
+    return { x: r.left + (v.x + 1) / 2 * r.width, y: r.top + (1 - v.y) / 2 * r.height };
+  }
+}
