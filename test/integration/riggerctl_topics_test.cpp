@@ -150,6 +150,9 @@ TEST_F(RiggerctlTopicsTest, EchoHzReportsTheRate) {
 
 TEST_F(RiggerctlTopicsTest, TopicsListsTheGatewayAsWriterOfTheCraneState) {
   start_cell();
+  // A writer of a topic outside the catalog, from this test's participant (which announces no service).
+  const dds::Writer<rigger_crane_CraneState> stray(cell_.participant(), "rigger_test/not_in_catalog",
+                                                   dds::qos::state());
   const CtlResult r = ctl("topics", {"topics", "--json", "--timeout", "2"});
   ASSERT_EQ(r.code(), 0) << r.output;
   const auto docs = json_lines(r.output);
@@ -166,6 +169,15 @@ TEST_F(RiggerctlTopicsTest, TopicsListsTheGatewayAsWriterOfTheCraneState) {
   EXPECT_EQ((*crane)["type"], "rigger::crane::CraneState");
   EXPECT_EQ((*crane)["qos"], "state");
   EXPECT_EQ((*crane)["writers"], json::array({"crane_gateway"})) << crane->dump();
+  const json* extra = nullptr;
+  for (const auto& t : topics)
+    if (t["name"] == "rigger_test/not_in_catalog") extra = &t;
+  ASSERT_NE(extra, nullptr) << r.output;
+  EXPECT_EQ((*extra)["in_catalog"], false);
+  EXPECT_TRUE((*extra)["qos"].is_null());
+  EXPECT_EQ((*extra)["type"], "rigger::crane::CraneState");
+  ASSERT_EQ((*extra)["writers"].size(), 1u) << extra->dump();
+  EXPECT_EQ((*extra)["writers"][0].get<std::string>().rfind("participant ", 0), 0u) << extra->dump();
 
   // The table names it too.
   const CtlResult table = ctl("topics-table", {"topics", "--timeout", "2"});
@@ -175,6 +187,7 @@ TEST_F(RiggerctlTopicsTest, TopicsListsTheGatewayAsWriterOfTheCraneState) {
   while (std::getline(in, line))
     if (line.rfind(std::string(protocol::crane::kState.name) + " ", 0) == 0) crane_line = line;
   EXPECT_NE(crane_line.find("writers: crane_gateway"), std::string::npos) << table.output;
+  EXPECT_NE(table.output.find("(not in the catalog)"), std::string::npos) << table.output;
 }
 
 TEST_F(RiggerctlTopicsTest, UnknownTopicAndMissingWriterAreClearErrors) {
