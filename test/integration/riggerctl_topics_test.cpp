@@ -58,7 +58,8 @@ class RiggerctlTopicsTest : public MultiProcessTest {
     ASSERT_TRUE(cell_.wait_ready({"crane_gateway"}, 20s));
   }
 
-  CtlResult ctl(const std::string& name, const std::vector<std::string>& args, std::chrono::milliseconds timeout = 30s) {
+  CtlResult ctl(const std::string& name, const std::vector<std::string>& args,
+                std::chrono::milliseconds timeout = 30s) {
     auto p = start_riggerctl(cell_, name, args);
     cell_.wait_until([&] { return !p->running(); }, timeout);
     CtlResult r;
@@ -90,9 +91,11 @@ TEST_F(RiggerctlTopicsTest, EchoPrintsJsonLinesWithTheIdlFieldNames) {
   }
   // Five distinct states in order, not one repeated.
   const auto stamp_ns = [](const json& s) {
-    return s["header"]["stamp"]["sec"].get<std::int64_t>() * 1000000000 + s["header"]["stamp"]["nanosec"].get<std::int64_t>();
+    return s["header"]["stamp"]["sec"].get<std::int64_t>() * 1000000000 +
+           s["header"]["stamp"]["nanosec"].get<std::int64_t>();
   };
-  for (std::size_t i = 1; i < states.size(); ++i) EXPECT_GT(stamp_ns(states[i]), stamp_ns(states[i - 1])) << crane.output;
+  for (std::size_t i = 1; i < states.size(); ++i)
+    EXPECT_GT(stamp_ns(states[i]), stamp_ns(states[i - 1])) << crane.output;
 
   // Best effort: the simulated wrist F/T stream.
   const CtlResult wrench = ctl("echo-wrench", {"echo", protocol::robot::kWrench.name, "--count", "5", "--json"});
@@ -106,12 +109,13 @@ TEST_F(RiggerctlTopicsTest, EchoPrintsJsonLinesWithTheIdlFieldNames) {
   }
 
   // Transient-local state: the gripper's last state, written before this reader existed.
-  const CtlResult gripper = ctl("echo-gripper", {"echo", protocol::robot::kGripperState.name, "--count", "1", "--json"});
+  const CtlResult gripper =
+      ctl("echo-gripper", {"echo", protocol::robot::kGripperState.name, "--count", "1", "--json"});
   ASSERT_EQ(gripper.code(), 0) << gripper.output;
   const auto grips = json_lines(gripper.output);
   ASSERT_EQ(grips.size(), 1u) << gripper.output;
-  EXPECT_EQ(keys(grips[0]),
-            (std::vector<std::string>{"header", "energized", "contact", "holding", "holding_force_n", "last_command_seq"}));
+  EXPECT_EQ(keys(grips[0]), (std::vector<std::string>{"header", "energized", "contact", "holding", "holding_force_n",
+                                                      "last_command_seq"}));
 
   // Announcements (transient-local, liveliness-monitored): both services' READY. Each service also
   // re-announces every second, so the samples are collected for a while rather than counted.
@@ -200,8 +204,7 @@ TEST_F(RiggerctlTopicsTest, UnknownTopicAndMissingWriterAreClearErrors) {
   const CtlResult none = ctl("no-writer", {"echo", protocol::crane::kState.name, "--timeout", "0.5"});
   EXPECT_EQ(none.code(), 1) << none.output;
   EXPECT_NE(none.output.find("no writer of rigger/crane/state"), std::string::npos) << none.output;
-  EXPECT_NE(none.output.find("domain " + std::to_string(cell_.domain_id()) + " (DDS configuration "),
-            std::string::npos)
+  EXPECT_NE(none.output.find("domain " + std::to_string(cell_.domain_id()) + " (DDS configuration "), std::string::npos)
       << none.output;
 }
 

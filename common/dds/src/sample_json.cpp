@@ -21,8 +21,20 @@ namespace rigger::dds {
 // ---------------------------------------------------------------------------------------------------
 // The compiled type: what the walk over a sample needs, built once from the ops and the type objects.
 
-enum class Kind { kBool, kSigned, kUnsigned, kFloat, kEnum, kBitmask, kString, kBoundedString, kStruct, kUnion,
-                  kSequence, kArray };
+enum class Kind {
+  kBool,
+  kSigned,
+  kUnsigned,
+  kFloat,
+  kEnum,
+  kBitmask,
+  kString,
+  kBoundedString,
+  kStruct,
+  kUnion,
+  kSequence,
+  kArray
+};
 
 using NodePtr = std::shared_ptr<const TypeNode>;
 
@@ -45,10 +57,10 @@ struct TypeNode {
   std::uint32_t count = 0;   // array length
   std::uint32_t stride = 0;  // sequence/array element size in memory
   bool optional_string = false;
-  std::vector<Member> members;                 // struct
-  std::map<std::int64_t, std::string> names;   // enum
-  NodePtr element;                             // sequence/array
-  NodePtr discriminator;                       // union
+  std::vector<Member> members;                // struct
+  std::map<std::int64_t, std::string> names;  // enum
+  NodePtr element;                            // sequence/array
+  NodePtr discriminator;                      // union
   std::uint32_t discriminator_offset = 0;
   std::vector<UnionCase> cases;
 };
@@ -163,7 +175,7 @@ class Compiler {
     auto node = std::make_shared<TypeNode>();
     node->kind = Kind::kStruct;
     std::size_t pc = 0;
-    if (DDS_OP(ops[pc]) == DDS_OP_DLC) ++pc;                  // @appendable: same memory layout
+    if (DDS_OP(ops[pc]) == DDS_OP_DLC) ++pc;  // @appendable: same memory layout
     if (DDS_OP(ops[pc]) == DDS_OP_PLC) fail(name, "@mutable types are not supported");
     std::uint32_t index = 0;
     while (DDS_OP(ops[pc]) != DDS_OP_RTS) {
@@ -459,7 +471,7 @@ class Walker {
         break;
       case Kind::kSigned:
         v.type = Value::Type::kNumber;
-        v.text = t.size == 1 ? number(load<std::int8_t>(p))
+        v.text = t.size == 1   ? number(load<std::int8_t>(p))
                  : t.size == 2 ? number(load<std::int16_t>(p))
                  : t.size == 4 ? number(load<std::int32_t>(p))
                                : number(load<std::int64_t>(p));
@@ -481,7 +493,7 @@ class Walker {
         break;
       }
       case Kind::kEnum: {
-        const auto raw = static_cast<std::int64_t>(t.size == 1 ? load<std::uint8_t>(p)
+        const auto raw = static_cast<std::int64_t>(t.size == 1   ? load<std::uint8_t>(p)
                                                    : t.size == 2 ? load<std::uint16_t>(p)
                                                                  : load<std::uint32_t>(p));
         const auto it = t.names.find(raw);
@@ -536,14 +548,14 @@ class Walker {
 
  private:
   static std::uint64_t unsigned_at(const char* p, std::uint32_t size) {
-    return size == 1 ? load<std::uint8_t>(p)
+    return size == 1   ? load<std::uint8_t>(p)
            : size == 2 ? load<std::uint16_t>(p)
            : size == 4 ? load<std::uint32_t>(p)
                        : load<std::uint64_t>(p);
   }
   static std::int64_t discriminator(const TypeNode& t, const char* p) {
     if (t.kind == Kind::kSigned)
-      return t.size == 1 ? load<std::int8_t>(p)
+      return t.size == 1   ? load<std::int8_t>(p)
              : t.size == 2 ? load<std::int16_t>(p)
              : t.size == 4 ? load<std::int32_t>(p)
                            : load<std::int64_t>(p);
@@ -663,7 +675,9 @@ void json(std::string& out, const Value& v) {
   }
 }
 
-bool is_scalar(const Value& v) { return v.type != Value::Type::kObject && v.type != Value::Type::kArray; }
+bool is_scalar(const Value& v) {
+  return v.type != Value::Type::kObject && v.type != Value::Type::kArray;
+}
 
 // Text: a scalar as it reads ("nan" for a non-finite float, strings quoted only when empty).
 std::string scalar_text(const Value& v) {

@@ -67,10 +67,10 @@ TEST(SampleJson, CraneStateHasTheIdlFieldNamesInOrderAndItsValues) {
   const SampleFormat format(rigger_crane_CraneState_desc);
   EXPECT_EQ(format.type_name(), "rigger::crane::CraneState");
   const json j = parsed(format, &s);
-  EXPECT_EQ(keys(j), (std::vector<std::string>{"header", "mode", "position_m", "velocity_mps", "load_mass_kg",
-                                               "link_ok", "ready", "enabled", "external_control", "moving", "fault",
-                                               "estop", "overload", "status_word", "fault_code", "fault_text",
-                                               "plc_heartbeat", "last_command_seq"}));
+  EXPECT_EQ(keys(j),
+            (std::vector<std::string>{"header", "mode", "position_m", "velocity_mps", "load_mass_kg", "link_ok",
+                                      "ready", "enabled", "external_control", "moving", "fault", "estop", "overload",
+                                      "status_word", "fault_code", "fault_text", "plc_heartbeat", "last_command_seq"}));
   EXPECT_EQ(j["header"]["stamp"]["sec"], -12);
   EXPECT_EQ(j["header"]["stamp"]["nanosec"], 4000000000u);
   EXPECT_EQ(j["header"]["frame_id"], "crane");
@@ -282,8 +282,8 @@ TEST(SampleJson, EveryCatalogTopicFormats) {
 
 TEST(SampleJson, DescriptorWithoutTypeInformationIsRefused) {
   const dds_topic_descriptor_t& d = rigger_crane_CraneState_desc;
-  const dds_topic_descriptor_t bare{d.m_size,  d.m_align, 0u, d.m_nkeys, d.m_typename, d.m_keys, d.m_nops,
-                                    d.m_ops,   d.m_meta,  {},  {},         0u};
+  const dds_topic_descriptor_t bare{d.m_size, d.m_align, 0u,       d.m_nkeys, d.m_typename, d.m_keys,
+                                    d.m_nops, d.m_ops,   d.m_meta, {},        {},           0u};
   try {
     SampleFormat format(bare);
     FAIL() << "expected std::invalid_argument";

@@ -39,7 +39,9 @@ std::string guid_text(const dds_guid_t& g) {
   return std::string(buf, 24);
 }
 
-bool same_participant(const dds_guid_t& a, const dds_guid_t& b) { return std::equal(a.v, a.v + 12, b.v); }
+bool same_participant(const dds_guid_t& a, const dds_guid_t& b) {
+  return std::equal(a.v, a.v + 12, b.v);
+}
 
 // One endpoint seen on the wire.
 struct Endpoint {
@@ -249,8 +251,8 @@ class RateWindow {
       std::snprintf(buf, sizeof buf, R"({"rate_hz":%.6g,"min_s":%.6g,"max_s":%.6g,"std_dev_s":%.6g,"window":%zu})",
                     rate, *lo, *hi, sd, gaps.size());
     else
-      std::snprintf(buf, sizeof buf, "average rate: %.3f Hz  min %.4f s  max %.4f s  std dev %.5f s  window %zu",
-                    rate, *lo, *hi, sd, gaps.size());
+      std::snprintf(buf, sizeof buf, "average rate: %.3f Hz  min %.4f s  max %.4f s  std dev %.5f s  window %zu", rate,
+                    *lo, *hi, sd, gaps.size());
     out = buf;
     return true;
   }
@@ -283,8 +285,9 @@ int run_echo(const CommonOptions& common, const EchoOptions& opt) {
     dds_get_subscription_matched_status(reader.handle(), &st);
     return st.current_count;
   };
-  if (!dds::wait_for_status(reader.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return matched_writers() > 0; },
-                            from_seconds(opt.timeout_s))) {
+  if (!dds::wait_for_status(
+          reader.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return matched_writers() > 0; },
+          from_seconds(opt.timeout_s))) {
     std::fprintf(stderr, "riggerctl echo: no writer of %s (%s, %s QoS) on %s within %.1f s\n", topic->name.c_str(),
                  topic->idl_type.c_str(), protocol::to_string(topic->qos), dds::describe_domain(common.domain).c_str(),
                  opt.timeout_s);
@@ -331,8 +334,9 @@ int run_echo(const CommonOptions& common, const EchoOptions& opt) {
     });
   }
   const auto forever = std::chrono::hours(24 * 365);
-  const auto limit = opt.duration_s > 0 ? std::chrono::duration_cast<std::chrono::nanoseconds>(from_seconds(opt.duration_s))
-                                        : std::chrono::duration_cast<std::chrono::nanoseconds>(forever);
+  const auto limit = opt.duration_s > 0
+                         ? std::chrono::duration_cast<std::chrono::nanoseconds>(from_seconds(opt.duration_s))
+                         : std::chrono::duration_cast<std::chrono::nanoseconds>(forever);
   loop.run_until([&] { return opt.count && received >= opt.count; }, limit);
   if (opt.hz && rate.report(opt.json, line) && opt.count) std::printf("%s\n", line.c_str());
   return 0;
@@ -343,8 +347,9 @@ int run_echo(const CommonOptions& common, const EchoOptions& opt) {
 void add_topic_commands(CLI::App& app, const CommonOptions& common, int& exit_code) {
   auto topics = std::make_shared<TopicsOptions>();
   auto* list = app.add_subcommand("topics", "List every topic with its type, QoS and the live writers/readers");
-  list->add_flag("--json", topics->json, "One JSON document: {domain, topics: [{name, type, qos, in_catalog, "
-                                         "writers, readers}]}");
+  list->add_flag("--json", topics->json,
+                 "One JSON document: {domain, topics: [{name, type, qos, in_catalog, "
+                 "writers, readers}]}");
   list->add_option("--timeout", topics->timeout_s, "Seconds to listen for discovery (default 1)")
       ->check(CLI::Range(0.0, 60.0));
   list->callback([&common, &exit_code, topics] { exit_code = run_topics(common, *topics); });
@@ -354,7 +359,8 @@ void add_topic_commands(CLI::App& app, const CommonOptions& common, int& exit_co
   cmd->add_option("TOPIC", echo->topic, "e.g. rigger/crane/state")->required();
   cmd->add_option("--count", echo->count, "Exit after N samples (default: until interrupted)")
       ->check(CLI::Range(std::size_t{1}, kMaxCount));
-  cmd->add_option("--timeout", echo->timeout_s, "Seconds to wait for a writer (default 5)")->check(CLI::Range(0.0, 3600.0));
+  cmd->add_option("--timeout", echo->timeout_s, "Seconds to wait for a writer (default 5)")
+      ->check(CLI::Range(0.0, 3600.0));
   cmd->add_option("--duration", echo->duration_s, "Exit after S seconds (default: no limit)")
       ->check(CLI::Range(0.0, 31536000.0));
   cmd->add_flag("--json", echo->json, "One JSON object per sample and line (field names as in the IDL)");

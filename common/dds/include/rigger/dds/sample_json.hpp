@@ -32,8 +32,9 @@ namespace rigger::dds {
 struct FormatLimits {
   std::size_t max_elements = 64;   ///< elements shown per sequence/array
   std::size_t max_string = 1024;   ///< bytes shown per string
-  std::size_t max_output = 65536;  ///< bytes per sample; past this the sample's text ends in "…" (JSON: cut
-                                   ///< at a value, with "truncated": true added at the top level)
+  std::size_t max_output = 65536;  ///< about this many bytes per sample: past it the remaining sequences show
+                                   ///< only their length and strings are cut; JSON then gets "truncated": true
+                                   ///< at the top level, the text form a closing "… (cut at N bytes)" line
 };
 
 struct TypeNode;  // the compiled type, private to sample_json.cpp
