@@ -41,6 +41,12 @@ void add_sim_command(CLI::App& app, const CommonOptions& common, int& exit_code)
 /// robot, crane, gripper and admittance controller (default: all), latched until `--reset`. Exit
 /// codes: 0 acknowledged by the devices; 1 write failed or not acknowledged; 2 usage; 3 no device.
 void add_estop_command(CLI::App& app, const CommonOptions& common, int& exit_code);
+/// `topics [--json] [--timeout S]`: every topic of the catalog with its type, QoS profile and the live
+/// writers/readers (by service where known), plus topics seen on the wire outside the catalog.
+/// `echo TOPIC [--count N] [--timeout S] [--duration S] [--json] [--hz]`: prints a topic's samples (or
+/// their rate). Exit codes: 0 ok; 1 no writer within --timeout; 2 usage or unknown topic.
+void add_topic_commands(CLI::App& app, const CommonOptions& common, int& exit_code);
+
 /// `cad inspect FILE [--json [--entities]]`, `cad frame FILE (--point X,Y,Z --edges E1,E2 | --face F
 /// --point X,Y,Z | --hole H) [--json]`: offline STEP inspection (docs/cad.md). Exit codes: 0 ok; 1 the
 /// file cannot be read or the picks make no frame (the CAD_* code is printed); 2 usage.
