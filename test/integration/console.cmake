@@ -12,7 +12,7 @@ endforeach()
 if(_console_ready)
   rigger_add_test(rigger_console_browser_test
     SOURCES console_browser_test.cpp
-    DEPS rigger_test_harness rigger_console_core Eigen3::Eigen nlohmann_json::nlohmann_json
+    DEPS rigger_test_harness rigger_console_core rigger_cell_cad Eigen3::Eigen nlohmann_json::nlohmann_json
     LABEL integration TIMEOUT 600 RUN_SERIAL)
   target_include_directories(rigger_console_browser_test PRIVATE ${PROJECT_SOURCE_DIR}/services/console/src)
   add_dependencies(rigger_console_browser_test ${_console_services})
