@@ -23,6 +23,7 @@
 
 #include "cell_sim_test_support.hpp"
 #include "control_config.hpp"
+#include "rigger/cell_config/cell_cad.hpp"
 #include "rigger/dds/service_state.hpp"
 #include "rigger/protocol/admittance.hpp"
 #include "rigger/protocol/crane.hpp"
@@ -161,8 +162,8 @@ class ClosedLoopTest : public MultiProcessTest {
 
     const std::string cell_file = repo_file("deploy/cell/simulated_cell.json");
     pose_world_base_ = control::entity_pose_from_cell_file(cell_file, "robot");
-    std::ifstream in(cell_file);
-    cell_json_ = nlohmann::json::parse(in);
+    // The load's features as every process gets them: derived from the STEP models (rigger_cell_cad).
+    cell_file_ = cell::load_cell_file_with_cad(cell_file);
   }
 
   void TearDown() override {
@@ -171,20 +172,19 @@ class ClosedLoopTest : public MultiProcessTest {
     MultiProcessTest::TearDown();
   }
 
-  /// The load's feature `id` (an approach waypoint or a grasp frame) from the cell file, in the load's frame.
-  Eigen::Isometry3d load_feature(const std::string& list, const std::string& id) const {
-    for (const auto& entity : cell_json_.at("entities")) {
-      if (entity.at("id") != "load") continue;
-      for (const auto& feature : entity.at("features").at(list))
-        if (feature.at("id") == id) return control::pose_from_config_json(feature.at("pose"), "cell", "/" + id);
-    }
-    throw std::runtime_error("no load feature " + id);
+  /// The load's feature `id` (an approach waypoint or a grasp frame), in the load's frame.
+  Eigen::Isometry3d load_feature(const std::string& id) const {
+    const auto pose = load_features().find_pose(id);
+    if (!pose) throw std::runtime_error("no load feature " + id);
+    return *pose;
   }
 
-  nlohmann::json load_features() const {
-    for (const auto& entity : cell_json_.at("entities"))
-      if (entity.at("id") == "load") return entity.at("features");
-    throw std::runtime_error("no load in the cell file");
+  const cell::CadFeatures& load_features() const { return cell_file_.require("load", "the closed loop").features; }
+
+  /// The load's pose in the target's frame when inserted (its insertion feature).
+  Eigen::Isometry3d insertion_offset() const {
+    if (!load_features().insertion) throw std::runtime_error("the load has no insertion feature");
+    return load_features().insertion->pose_target_entity;
   }
 
   /// cell_sim, crane_gateway, vision_tracker and admittance_control with their shipped configurations.
@@ -256,7 +256,7 @@ class ClosedLoopTest : public MultiProcessTest {
   /// The robot grips the load on its side (cell file features pre_grasp and grasp_side).
   void attach() {
     const Eigen::Isometry3d pose_world_load = truth_.at("load");
-    move_tool("pre_grasp", pose_world_load * load_feature("approach_waypoints", "pre_grasp"), 0.5, true);
+    move_tool("pre_grasp", pose_world_load * load_feature("pre_grasp"), 0.5, true);
     rigger_robot_GripperCommand g{};
     g.header.stamp = dds::wire_now();
     g.seq = 1;
@@ -265,7 +265,7 @@ class ClosedLoopTest : public MultiProcessTest {
     ASSERT_TRUE(gripper_writer_->wait_for_readers(1, 5s));
     gripper_writer_->write(g);
     // The load may have swung a little meanwhile: the grasp is computed from where it is now.
-    move_tool("grasp", truth_.at("load") * load_feature("grasp_frames", "grasp_side"), 0.2, false);
+    move_tool("grasp", truth_.at("load") * load_feature("grasp_side"), 0.2, false);
     ASSERT_TRUE(cell_.wait_until([&] { return gripper_holding_; }, 10s)) << "the magnet does not hold the load";
   }
 
@@ -294,8 +294,7 @@ class ClosedLoopTest : public MultiProcessTest {
 
   /// The rope attachment's horizontal offset from the hook (ground truth; the crane frame is the world's).
   Eigen::Vector3d rope_offset_truth() const {
-    const Eigen::Isometry3d attachment =
-        control::pose_from_config_json(load_features().at("rope_attachment"), "cell", "/rope_attachment");
+    const Eigen::Isometry3d attachment = load_feature("rope_attachment");
     Eigen::Vector3d offset = (truth_.at("load") * attachment).translation() - crane_.position_m;
     offset.z() = 0.0;
     return offset;
@@ -327,7 +326,7 @@ class ClosedLoopTest : public MultiProcessTest {
   std::unique_ptr<dds::ServiceAnnouncer> commander_;
 
   Eigen::Isometry3d pose_world_base_ = Eigen::Isometry3d::Identity();
-  nlohmann::json cell_json_;
+  cell::CellFile cell_file_;
   std::map<std::string, Eigen::Isometry3d> truth_;
   std::map<std::string, Eigen::Isometry3d> tracked_;
   RobotView robot_;
@@ -441,7 +440,7 @@ TEST_F(ClosedLoopTest, VisualServoInsertsTheLoadOntoTheTarget) {
   take_crane();
   attach();
   start_tracking();
-  const Eigen::Isometry3d insertion = control::insertion_offset_from_features(load_features(), "cell file");
+  const Eigen::Isometry3d insertion = insertion_offset();
   const auto truth_error = [&] { return pose_error(truth_.at("load"), truth_.at("target") * insertion); };
   const auto [start_m, start_rad] = truth_error();
   std::cout << "servo start: " << 1000.0 * start_m << " mm, " << start_rad * kRadToDeg << " deg from the goal\n";
@@ -498,7 +497,7 @@ TEST_F(ClosedLoopTest, LostCommanderStopsTheInsertion) {
   take_crane();
   attach();
   start_tracking();
-  const Eigen::Isometry3d insertion = control::insertion_offset_from_features(load_features(), "cell file");
+  const Eigen::Isometry3d insertion = insertion_offset();
   command(rigger_admittance_ADMITTANCE_ROBOT_AND_CRANE, rigger_admittance_REFERENCE_VISUAL_SERVO, insertion);
   ASSERT_TRUE(cell_.wait_until([&] { return tcp_velocity_world().norm() > 0.03; }, 20s)) << "the servo does not move";
   // The commander leaves: its announcement is unregistered (a SIGKILLed process is seen the same way
@@ -524,7 +523,7 @@ TEST_F(ClosedLoopTest, KilledCommanderStopsTheInsertion) {
   take_crane();
   attach();
   start_tracking();
-  const Eigen::Isometry3d insertion = control::insertion_offset_from_features(load_features(), "cell file");
+  const Eigen::Isometry3d insertion = insertion_offset();
   command(rigger_admittance_ADMITTANCE_ROBOT_AND_CRANE, rigger_admittance_REFERENCE_VISUAL_SERVO, insertion, executor);
   ASSERT_EQ(admittance_.mode, rigger_admittance_ADMITTANCE_ROBOT_AND_CRANE) << admittance_.fault_text;
   ASSERT_TRUE(cell_.wait_until([&] { return tcp_velocity_world().norm() > 0.05; }, 20s)) << "the servo does not move";

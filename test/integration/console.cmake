@@ -9,7 +9,7 @@ function(rigger_console_browser_test name source)
   endforeach()
   rigger_add_test(${name}
     SOURCES ${source}
-    DEPS rigger_test_harness rigger_console_core Eigen3::Eigen nlohmann_json::nlohmann_json
+    DEPS rigger_test_harness rigger_console_core rigger_cell_cad Eigen3::Eigen nlohmann_json::nlohmann_json
     LABEL integration TIMEOUT 600 RUN_SERIAL)
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/services/console/src)
   add_dependencies(${name} ${ARGN})

@@ -11,7 +11,7 @@ endforeach()
 if(_multi_host_ready)
   rigger_add_test(rigger_multi_host_test
     SOURCES multi_host_test.cpp
-    DEPS rigger_test_harness Eigen3::Eigen nlohmann_json::nlohmann_json
+    DEPS rigger_test_harness rigger_cell_cad Eigen3::Eigen nlohmann_json::nlohmann_json
     LABEL integration TIMEOUT 600 RUN_SERIAL)
   add_dependencies(rigger_multi_host_test ${_multi_host_targets})
 endif()

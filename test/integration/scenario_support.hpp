@@ -16,6 +16,8 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+
+#include "rigger/cell_config/cell_cad.hpp"
 #include <nlohmann/json.hpp>
 
 #include "cell_sim_test_support.hpp"
@@ -277,24 +279,12 @@ class ScenarioCell {
   static const char* state_name(int s) { return protocol::task::node_state_name(s); }
 
  private:
+  // The load's insertion as every process gets it: derived from the STEP models (rigger_cell_cad).
   static Eigen::Isometry3d insertion_offset() {
-    std::ifstream in(repo_file("deploy/cell/simulated_cell.json"));
-    const nlohmann::json cell = nlohmann::json::parse(in);
-    for (const auto& e : cell.at("entities")) {
-      if (e.at("id") != "load") continue;
-      const auto& p = e.at("features").at("insertion").at("pose_in_target");
-      const auto& t = p.at("position_m");
-      const auto& r = p.at("rpy_deg");
-      const double k = M_PI / 180.0;
-      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-      pose.translation() = Eigen::Vector3d(t[0].get<double>(), t[1].get<double>(), t[2].get<double>());
-      pose.linear() = (Eigen::AngleAxisd(r[2].get<double>() * k, Eigen::Vector3d::UnitZ()) *
-                       Eigen::AngleAxisd(r[1].get<double>() * k, Eigen::Vector3d::UnitY()) *
-                       Eigen::AngleAxisd(r[0].get<double>() * k, Eigen::Vector3d::UnitX()))
-                          .toRotationMatrix();
-      return pose;
-    }
-    throw std::runtime_error("the cell file has no load with an insertion feature");
+    const cell::CellFile cell = cell::load_cell_file_with_cad(repo_file("deploy/cell/simulated_cell.json"));
+    const auto& insertion = cell.require("load", "the scenario's insertion error").features.insertion;
+    if (!insertion) throw std::runtime_error("the cell file has no load with an insertion feature");
+    return insertion->pose_target_entity;
   }
 
   /// deploy/config/<name>.json with `patch` merged in, written to the log folder (relative paths in the

@@ -4,6 +4,8 @@
 #include <signal.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <optional>
 
@@ -227,6 +229,62 @@ TEST_F(WorldModelTest, TrackerPosesLocalizeAndALostObjectIsNoLongerLocalized) {
   p.quality = 0.0;
   ASSERT_TRUE(ask_until([&] { return publish() && localized("load", 5.0).code == "NOT_LOCALIZED"; }));
   EXPECT_TRUE(entity("load").pose.isApprox(load_pose(), 1e-9));  // the last pose is kept
+}
+
+// The world model derives the cell's CAD features (grasp frames, screw holes, insertion) from the STEP
+// models at start-up and answers them as numbers, the same the cell file used to carry by hand.
+TEST_F(WorldModelTest, AnswersTheCadFeaturesDerivedFromTheStepModels) {
+  start_world("wm-a");
+  const Reply target = call([&](WorldClient::Callback cb) { client_->features("target", 3s, cb); });
+  ASSERT_TRUE(target.ok) << target.code << ": " << target.message;
+  const auto& holes = target.result.at("screw_holes");
+  ASSERT_EQ(holes.size(), 4u);
+  EXPECT_EQ(holes[0]["id"], "h1");
+  EXPECT_EQ(holes[0]["screw_type"], "M12x40");
+  const auto h1 = holes[0]["pose"]["position_m"].get<std::vector<double>>();
+  EXPECT_NEAR(h1.at(0), -0.15, 1e-6);
+  EXPECT_NEAR(h1.at(1), -0.10, 1e-6);
+  EXPECT_NEAR(h1.at(2), 0.0, 1e-6);
+  const Reply load = call([&](WorldClient::Callback cb) { client_->features("load", 3s, cb); });
+  ASSERT_TRUE(load.ok) << load.code << ": " << load.message;
+  const auto grasp = load.result.at("grasp_frames").at(0);
+  EXPECT_EQ(grasp["id"], "grasp_side");
+  EXPECT_NEAR(grasp["pose"]["position_m"][0].get<double>(), -0.20, 1e-6);
+  EXPECT_NEAR(grasp["pose"]["rpy_deg"][1].get<double>(), 90.0, 1e-4);
+  EXPECT_NEAR(load.result.at("insertion").at("pose_in_target").at("position_m")[2].get<double>(), 0.10, 1e-6);
+}
+
+// A cell file whose reference no longer matches its STEP model (here: a signature 1 mm off, as after an
+// edit of the model) stops the world model at start-up, saying which object, feature and key.
+TEST_F(WorldModelTest, AStaleCadReferenceStopsTheStartWithAClearError) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(cell_.log_dir()) / "stale_cell";
+  fs::create_directories(dir / "models");
+  const fs::path shipped = fs::path(RIGGER_SOURCE_DIR) / "deploy/cell";
+  for (const char* name : {"load.step", "target.step"}) fs::copy_file(shipped / "models" / name, dir / "models" / name);
+  nlohmann::json cell;
+  {
+    std::ifstream in(shipped / "simulated_cell.json");
+    cell = nlohmann::json::parse(in);
+  }
+  bool edited = false;
+  for (auto& entity : cell["entities"]) {
+    if (entity["id"] != "target") continue;
+    entity["features"]["screw_holes"][0]["cad"]["hole"]["signature"]["centroid_m"][0] = -0.151;
+    edited = true;
+  }
+  ASSERT_TRUE(edited);
+  std::ofstream(dir / "cell.json") << cell.dump(2);
+
+  expect_clean_exit_ = false;  // it must not start
+  cell_.start("wm-stale", "world_model", {"--id", "wm-stale", "--cell", (dir / "cell.json").string()});
+  const auto status = cell_.process("wm-stale").wait(30s);
+  ASSERT_TRUE(status.has_value()) << "the world model started on a stale reference\n" << cell_.logs();
+  EXPECT_FALSE(status->ok()) << status->describe();
+  const std::string log = cell_.process("wm-stale").log();
+  EXPECT_NE(log.find("CAD_STALE_REFERENCE"), std::string::npos) << log;
+  EXPECT_NE(log.find("/features/screw_holes/0/cad/hole"), std::string::npos) << log;
+  EXPECT_NE(log.find("feature \"h1\" of \"target\""), std::string::npos) << log;
 }
 
 }  // namespace

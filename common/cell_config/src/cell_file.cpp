@@ -216,7 +216,8 @@ class EntityParser {
     }
     if (const json* features = Checker::find(value, "features")) {
       if (entity.kind == EntityKind::kFrame) check_.fail(pointer + "/features", "no features on a frame", "features");
-      entity.features = parse_features(*features, pointer + "/features");
+      const bool has_step = entity.model && !entity.model->step.empty();
+      entity.features = parse_features(*features, pointer + "/features", has_step);
     }
     return entity;
   }
@@ -281,7 +282,8 @@ class EntityParser {
     return model;
   }
 
-  CadFeatures parse_features(const json& value, const std::string& pointer) {
+  CadFeatures parse_features(const json& value, const std::string& pointer, bool has_step) {
+    has_step_ = has_step;
     check_.object(value, pointer,
                   {"rope_attachment", "grasp_frames", "approach_waypoints", "markers", "insertion", "screw_holes"});
     CadFeatures features;
@@ -303,14 +305,16 @@ class EntityParser {
       features.markers = parse_markers(*markers, pointer + "/markers");
     }
     if (const json* insertion = Checker::find(value, "insertion")) {
-      check_.object(*insertion, pointer + "/insertion", {"target", "pose_in_target"});
+      const std::string insertion_pointer = pointer + "/insertion";
+      check_.object(*insertion, insertion_pointer, {"target", "pose_in_target", "cad"});
       Insertion result;
-      result.target =
-          check_.identifier(check_.require(*insertion, pointer + "/insertion", "target", "the target entity id"),
-                            pointer + "/insertion/target");
-      result.pose_target_entity =
-          check_.pose(check_.require(*insertion, pointer + "/insertion", "pose_in_target", "a pose"),
-                      pointer + "/insertion/pose_in_target");
+      result.target = check_.identifier(check_.require(*insertion, insertion_pointer, "target", "the target entity id"),
+                                        insertion_pointer + "/target");
+      if (const json* rule = pose_or_cad(*insertion, insertion_pointer, "pose_in_target")) {
+        result.cad = parse_cad_rule(*rule, insertion_pointer + "/cad", {CadRuleKind::kMateFaces});
+      } else {
+        result.pose_target_entity = check_.pose(insertion->at("pose_in_target"), insertion_pointer + "/pose_in_target");
+      }
       features.insertion = result;
     }
     return features;
@@ -327,16 +331,129 @@ class EntityParser {
     return value;
   }
 
+  // A feature gives its pose either as numbers (`pose_key`) or as a rule over the STEP model ("cad"):
+  // exactly one of them. Returns the "cad" value, or nullptr when the numbers are given.
+  const json* pose_or_cad(const json& value, const std::string& pointer, std::string_view pose_key) const {
+    const json* pose = Checker::find(value, pose_key);
+    const json* rule = Checker::find(value, "cad");
+    const std::string expected =
+        "either \"" + std::string(pose_key) + "\" (numbers) or \"cad\" (a rule over the STEP model)";
+    if (pose == nullptr && rule == nullptr) check_.fail(join_pointer(pointer, pose_key), expected, "neither");
+    if (pose != nullptr && rule != nullptr) check_.fail(pointer + "/cad", expected, "both");
+    if (rule != nullptr && !has_step_) {
+      check_.fail(pointer + "/cad", "a CAD rule only on an object whose model names a STEP file (model.step)",
+                  "an object without one");
+    }
+    return rule;
+  }
+
+  CadReference parse_reference(const json& value, const std::string& pointer,
+                               std::initializer_list<std::string_view> kinds) const {
+    check_.object(value, pointer, {"kind", "index", "signature"});
+    CadReference ref;
+    ref.pointer = pointer;
+    std::string kind_names;
+    for (const auto kind : kinds) kind_names += (kind_names.empty() ? "\"" : " or \"") + std::string(kind) + "\"";
+    ref.kind = check_.string(check_.require(value, pointer, "kind", kind_names), pointer + "/kind");
+    if (std::find(kinds.begin(), kinds.end(), ref.kind) == kinds.end()) {
+      check_.fail(pointer + "/kind", kind_names, describe_json(value.at("kind")));
+    }
+    ref.index = static_cast<int>(check_.integer(
+        check_.require(value, pointer, "index", "the " + ref.kind + "'s index in the model (from 0)"),
+        pointer + "/index", 0, 1'000'000));
+    const std::string sig_pointer = pointer + "/signature";
+    const json& signature = check_.require(value, pointer, "signature",
+                                           "the " + ref.kind + "'s signature (riggerctl cad inspect --json --entities)");
+    check_.object(signature, sig_pointer, {"type", "centroid_m", "direction", "radius_m"});
+    ref.type = check_.string(check_.require(signature, sig_pointer, "type", "a signature type such as \"plane\""),
+                             sig_pointer + "/type");
+    ref.centroid_m = check_.vector3(check_.require(signature, sig_pointer, "centroid_m", "[x, y, z] in metres"),
+                                    sig_pointer + "/centroid_m");
+    ref.direction = check_.vector3(check_.require(signature, sig_pointer, "direction", "a direction [x, y, z]"),
+                                   sig_pointer + "/direction");
+    ref.radius_m = check_.number(check_.require(signature, sig_pointer, "radius_m", "a radius in metres (0: none)"),
+                                 sig_pointer + "/radius_m");
+    return ref;
+  }
+
+  CadRule parse_cad_rule(const json& value, const std::string& pointer,
+                         std::initializer_list<CadRuleKind> allowed) const {
+    check_.object(value, pointer,
+                  {"rule", "face", "hole", "z", "x_edge", "x_reversed", "standoff_m", "target_face"});
+    std::string rule_names;
+    for (const CadRuleKind kind : allowed) {
+      const char* name = kind == CadRuleKind::kFace ? "face" : kind == CadRuleKind::kHole ? "hole" : "mate_faces";
+      rule_names += (rule_names.empty() ? "\"" : " or \"") + std::string(name) + "\"";
+    }
+    const json& rule_value = check_.require(value, pointer, "rule", rule_names);
+    const auto kind = cad_rule_from_string(check_.string(rule_value, pointer + "/rule"));
+    if (!kind || std::find(allowed.begin(), allowed.end(), *kind) == allowed.end()) {
+      check_.fail(pointer + "/rule", rule_names + " here", describe_json(rule_value));
+    }
+    CadRule rule;
+    rule.rule = *kind;
+    rule.pointer = pointer;
+    // Keys that belong to another rule are refused: a rule must not carry settings it ignores.
+    const auto only_for = [&](std::string_view key, CadRuleKind owner, const char* owner_name) {
+      if (Checker::find(value, key) != nullptr && rule.rule != owner) {
+        check_.fail(join_pointer(pointer, key), "\"" + std::string(key) + "\" only in a \"" + owner_name + "\" rule",
+                    describe_json(rule_value));
+      }
+    };
+    only_for("hole", CadRuleKind::kHole, "hole");
+    for (const auto key : {"face", "z", "x_edge", "x_reversed", "standoff_m"}) {
+      if (rule.rule == CadRuleKind::kMateFaces && std::string_view(key) == "face") continue;
+      only_for(key, CadRuleKind::kFace, "face");
+    }
+    only_for("target_face", CadRuleKind::kMateFaces, "mate_faces");
+    switch (rule.rule) {
+      case CadRuleKind::kHole:
+        rule.face = parse_reference(check_.require(value, pointer, "hole", "a cylindrical face of the hole"),
+                                    pointer + "/hole", {"face"});
+        break;
+      case CadRuleKind::kFace:
+        rule.face = parse_reference(check_.require(value, pointer, "face", "a face reference"), pointer + "/face",
+                                    {"face"});
+        if (const json* z = Checker::find(value, "z")) {
+          const std::string z_text = check_.string(*z, pointer + "/z");
+          if (z_text != "out" && z_text != "into") check_.fail(pointer + "/z", "\"out\" or \"into\"", describe_json(*z));
+          rule.z_into = z_text == "into";
+        }
+        if (const json* edge = Checker::find(value, "x_edge")) {
+          rule.x_edge = parse_reference(*edge, pointer + "/x_edge", {"edge"});
+        }
+        if (const json* reversed = Checker::find(value, "x_reversed")) {
+          if (!rule.x_edge) check_.fail(pointer + "/x_reversed", "x_reversed only with an x_edge", "no x_edge");
+          rule.x_reversed = check_.boolean(*reversed, pointer + "/x_reversed");
+        }
+        if (const json* standoff = Checker::find(value, "standoff_m")) {
+          rule.standoff_m = check_.number(*standoff, pointer + "/standoff_m");
+        }
+        break;
+      case CadRuleKind::kMateFaces:
+        rule.face = parse_reference(check_.require(value, pointer, "face", "this object's mating face"),
+                                    pointer + "/face", {"face"});
+        rule.target_face = parse_reference(
+            check_.require(value, pointer, "target_face", "the target's mating face (in the target's STEP model)"),
+            pointer + "/target_face", {"face"});
+        break;
+    }
+    return rule;
+  }
+
   std::vector<NamedPose> parse_named_poses(const json& value, const std::string& pointer) {
     std::vector<NamedPose> result;
     for (std::size_t i = 0; i < array(value, pointer).size(); ++i) {
       const std::string item_pointer = pointer + "/" + std::to_string(i);
-      check_.object(value[i], item_pointer, {"id", "pose"});
+      check_.object(value[i], item_pointer, {"id", "pose", "cad"});
       NamedPose named;
       named.id = check_.identifier(check_.require(value[i], item_pointer, "id", "a feature id"), item_pointer + "/id");
       claim_feature_id(named.id, item_pointer + "/id");
-      named.pose_entity_feature =
-          check_.pose(check_.require(value[i], item_pointer, "pose", "a pose"), item_pointer + "/pose");
+      if (const json* rule = pose_or_cad(value[i], item_pointer, "pose")) {
+        named.cad = parse_cad_rule(*rule, item_pointer + "/cad", {CadRuleKind::kFace, CadRuleKind::kHole});
+      } else {
+        named.pose_entity_feature = check_.pose(value[i].at("pose"), item_pointer + "/pose");
+      }
       result.push_back(named);
     }
     return result;
@@ -346,12 +463,15 @@ class EntityParser {
     std::vector<ScrewHole> result;
     for (std::size_t i = 0; i < array(value, pointer).size(); ++i) {
       const std::string item_pointer = pointer + "/" + std::to_string(i);
-      check_.object(value[i], item_pointer, {"id", "pose", "screw_type", "torque_nm"});
+      check_.object(value[i], item_pointer, {"id", "pose", "cad", "screw_type", "torque_nm"});
       ScrewHole hole;
       hole.id = check_.identifier(check_.require(value[i], item_pointer, "id", "a feature id"), item_pointer + "/id");
       claim_feature_id(hole.id, item_pointer + "/id");
-      hole.pose_entity_hole =
-          check_.pose(check_.require(value[i], item_pointer, "pose", "a pose"), item_pointer + "/pose");
+      if (const json* rule = pose_or_cad(value[i], item_pointer, "pose")) {
+        hole.cad = parse_cad_rule(*rule, item_pointer + "/cad", {CadRuleKind::kHole});
+      } else {
+        hole.pose_entity_hole = check_.pose(value[i].at("pose"), item_pointer + "/pose");
+      }
       hole.screw_type =
           check_.string(check_.require(value[i], item_pointer, "screw_type", "a screw type such as \"M12x40\""),
                         item_pointer + "/screw_type");
@@ -395,6 +515,7 @@ class EntityParser {
 
   const Checker& check_;
   std::map<std::string, std::string> feature_ids_;  // id -> pointer of its first use
+  bool has_step_ = false;                           // the entity being parsed has a STEP model
 };
 
 // The parse callback bounds nesting depth while parsing (DESIGN 6) and rejects duplicate object keys,
@@ -491,6 +612,17 @@ Eigen::Isometry3d CellFile::pose_root_entity(std::string_view id) const {
 
 void CellFile::fail(const std::string& pointer, const std::string& expected, const std::string& got) const {
   throw CellFileError(source, pointer, expected, got);
+}
+
+void CellFile::require_cad_derived(std::string_view reader) const {
+  for (const CellEntity& entity : entities) {
+    if (const CadRule* rule = entity.features.pending_cad()) {
+      fail(rule->pointer,
+           "features derived from the STEP models before " + std::string(reader) +
+               " uses them (cell::load_cell_file_with_cad)",
+           "a CAD rule of \"" + entity.id + "\" not derived");
+    }
+  }
 }
 
 AttributeReader::AttributeReader(const CellFile& file, const CellEntity& entity) : file_(file), entity_(entity) {}
@@ -603,6 +735,12 @@ CellFile cell_file_from_json(const json& document, const std::string& source) {
       if (index_of.count(target) == 0 || target == entity.id) {
         check.fail(pointer + "/features/insertion/target", "the id of another entity of this cell",
                    "\"" + target + "\"");
+      }
+      const CellEntity& target_entity = file.entities[index_of.at(target)];
+      if (entity.features.insertion->cad && (!target_entity.model || target_entity.model->step.empty())) {
+        check.fail(pointer + "/features/insertion/cad/target_face",
+                   "an insertion target whose model names a STEP file (model.step)",
+                   "\"" + target + "\" without one");
       }
     }
     if (entity.features.markers) {

@@ -55,6 +55,27 @@ std::optional<MarkerDictionary> marker_dictionary(std::string_view name) {
   return it->second;
 }
 
+std::optional<CadRuleKind> cad_rule_from_string(std::string_view text) {
+  if (text == "face") return CadRuleKind::kFace;
+  if (text == "hole") return CadRuleKind::kHole;
+  if (text == "mate_faces") return CadRuleKind::kMateFaces;
+  return std::nullopt;
+}
+
+const CadRule* CadFeatures::pending_cad() const {
+  const auto pending = [](const std::optional<CadRule>& rule) { return rule && !rule->derived; };
+  for (const auto& list : {&grasp_frames, &approach_waypoints}) {
+    for (const NamedPose& named : *list) {
+      if (pending(named.cad)) return &*named.cad;
+    }
+  }
+  for (const ScrewHole& hole : screw_holes) {
+    if (pending(hole.cad)) return &*hole.cad;
+  }
+  if (insertion && pending(insertion->cad)) return &*insertion->cad;
+  return nullptr;
+}
+
 bool CadFeatures::empty() const {
   return !rope_attachment && grasp_frames.empty() && approach_waypoints.empty() && screw_holes.empty() && !markers &&
          !insertion;

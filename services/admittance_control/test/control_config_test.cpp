@@ -1,4 +1,5 @@
 #include "control_config.hpp"
+#include "rigger/cell_config/cell_cad.hpp"
 
 #include <fstream>
 #include <string>
@@ -95,15 +96,19 @@ TEST(ControlConfig, ErrorsNameThePointerAndWhatWasExpected) {
   }
 }
 
-TEST(InsertionOffset, IsReadFromTheCellsLoadFeatures) {
-  std::ifstream in(kSource + "/deploy/cell/simulated_cell.json");
-  ASSERT_TRUE(in) << "the cell file is missing";
-  const nlohmann::json cell = nlohmann::json::parse(in);
-  nlohmann::json features;
-  for (const auto& entity : cell.at("entities"))
-    if (entity.at("id") == "load") features = entity.at("features");
-  const Eigen::Isometry3d offset = insertion_offset_from_features(features, "simulated_cell.json");
-  EXPECT_NEAR((offset.translation() - Eigen::Vector3d(0.0, 0.0, 0.10)).norm(), 0.0, 1e-12);
+TEST(InsertionOffset, IsReadFromTheLoadFeaturesAsTheWorldModelAnswersThem) {
+  // The world model derives the load's insertion from the STEP models and answers it in the cell file's
+  // features form; the shipped cell's is 0.10 m above the target's frame, unrotated.
+  const cell::CellFile cell = cell::load_cell_file_with_cad(kSource + "/deploy/cell/simulated_cell.json");
+  const Eigen::Isometry3d derived = cell.require("load", "the test").features.insertion.value().pose_target_entity;
+  EXPECT_NEAR((derived.translation() - Eigen::Vector3d(0.0, 0.0, 0.10)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((derived.linear() - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-9);
+  const Eigen::Vector3d t = derived.translation();
+  const nlohmann::json features = {
+      {"insertion",
+       {{"target", "target"}, {"pose_in_target", {{"position_m", {t.x(), t.y(), t.z()}}, {"rpy_deg", {0, 0, 0}}}}}}};
+  const Eigen::Isometry3d offset = insertion_offset_from_features(features, "features of load");
+  EXPECT_NEAR((offset.translation() - derived.translation()).norm(), 0.0, 1e-12);
   EXPECT_NEAR((offset.linear() - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-12);
 }
 

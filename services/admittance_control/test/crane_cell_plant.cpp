@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "control_config.hpp"
+#include "rigger/cell_config/cell_cad.hpp"
 
 namespace rigger::control::test {
 namespace {
@@ -39,10 +40,12 @@ CraneCellPlantConfig simulated_cell_plant_config(double load_yaw_deg) {
   c.pose_world_load.linear() =
       Eigen::AngleAxisd(load_yaw_deg * kPi / 180.0, Eigen::Vector3d::UnitZ()) * c.pose_world_load.linear();
   c.pose_world_target = pose_from_config_json(target.at("pose"), path, "/target/pose");
-  c.pose_load_tcp = pose_from_config_json(load.at("features").at("grasp_frames").at(0).at("pose"), path, "/grasp");
-  c.rope_attachment_load_m =
-      pose_from_config_json(load.at("features").at("rope_attachment"), path, "/rope_attachment").translation();
-  c.pose_target_load_insertion = insertion_offset_from_features(load.at("features"), path);
+  // The load's features as the world model serves them: derived from the STEP models (rigger_cell_cad).
+  const cell::CellFile derived = cell::load_cell_file_with_cad(path);
+  const cell::CadFeatures& features = derived.require("load", "the plant").features;
+  c.pose_load_tcp = features.grasp_frames.at(0).pose_entity_feature;
+  c.rope_attachment_load_m = features.rope_attachment.value().translation();
+  c.pose_target_load_insertion = features.insertion.value().pose_target_entity;
   const auto accel = crane.at("attributes").at("max_accel_mps2").get<std::vector<double>>();
   c.crane_max_acceleration_mps2 = Eigen::Vector3d(accel.at(0), accel.at(1), accel.at(2));
   return c;

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "rigger/cell_config/cell_cad.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/vision.hpp"
 #include "rigger/protocol/world.hpp"
@@ -23,8 +24,12 @@ rigger_world_EntityKind to_wire(EntityKind kind) {
 WorldStore load_store(const WorldModelSettings& settings, const Config& config, const Logger& log) {
   const std::string path = resolve_repo_path(settings.cell_config);
   try {
-    const CellConfig cell = load_cell_config(path);
-    log->info("cell loaded file={} entities={}", path, cell.entities.size());
+    // The CAD features given by rules over the objects' STEP models are derived here, once, before the
+    // store answers: a reference into a changed model stops the start (docs/cad.md).
+    cell::CadDerivation cad;
+    const CellConfig cell = cell::load_cell_file_with_cad(path, &cad);
+    log->info("cell loaded file={} entities={} cad_models={} cad_features={} cad_read_s={:.3f} cad_derive_s={:.3f}",
+              path, cell.entities.size(), cad.models, cad.features, cad.read_seconds, cad.derive_seconds);
     return WorldStore::from_config(cell, std::chrono::system_clock::now());
   } catch (const CellConfigError& e) {
     throw ConfigError(config.file(), "/cell_config", e.what());

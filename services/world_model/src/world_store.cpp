@@ -122,6 +122,7 @@ std::string ChangeRecord::what() const {
 }
 
 WorldStore WorldStore::from_config(const CellConfig& config, Stamp loaded_at) {
+  config.require_cad_derived("the world model");
   WorldStore store;
   const std::string source = "config:" + config.source;
   for (const cell::CellEntity& configured : config.entities) {

@@ -1,10 +1,11 @@
 // The committed STEP files of the cell's parts (deploy/cell/models) are current: regenerated from the
 // cell file they have the same geometry (STEP bytes carry a timestamp, so geometry is compared), and
-// their screw holes h1..h4 are where the cell file says.
+// the cell file's screw holes h1..h4, derived from them, are their holes.
 
 #include "cell_parts.hpp"
 
 #include "rigger/cad/features.hpp"
+#include "rigger/cell_config/cell_cad.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -35,8 +36,10 @@ TEST(CellParts, CommittedStepFilesAreCurrent) {
   fs::remove_all(dir);
 }
 
-TEST(CellParts, ScrewHolesOfTheTargetAreWhereTheCellFileSays) {
-  const auto cell = cell::load_cell_file(kSource / "deploy/cell/simulated_cell.json");
+TEST(CellParts, ScrewHolesOfTheTargetAreHolesOfItsModel) {
+  // The cell file names the holes by reference (rigger_cell_cad derives their frames); each derived
+  // frame is the entry and axis of exactly one hole of the committed model.
+  const auto cell = cell::load_cell_file_with_cad(kSource / "deploy/cell/simulated_cell.json");
   const Features target = classify(read_step_file(kSource / "deploy/cell/models/target.step"));
   const auto& holes = cell.find("target")->features.screw_holes;
   ASSERT_EQ(holes.size(), 4u);

@@ -1,5 +1,7 @@
 #include "rigger/sim/cell_geometry.hpp"
 
+#include "rigger/cell_config/cell_cad.hpp"
+
 namespace rigger::sim {
 namespace {
 
@@ -98,6 +100,7 @@ std::optional<Eigen::Isometry3d> CellGeometry::grasp_frame(const std::string& id
 }
 
 CellGeometry cell_geometry_from(const CellFile& file) {
+  file.require_cad_derived("the physics");
   CellGeometry cell;
   cell.source = file.source;
   cell.crane = parse_crane(file);
@@ -108,13 +111,18 @@ CellGeometry cell_geometry_from(const CellFile& file) {
   return cell;
 }
 
-CellGeometry parse_cell_geometry(const std::string& json_text, const std::string& source) {
-  return cell::rethrow_as<CellGeometryError>(
-      [&] { return cell_geometry_from(cell::parse_cell_file(json_text, source)); });
+CellGeometry parse_cell_geometry(const std::string& json_text, const std::string& source,
+                                 const std::filesystem::path& model_dir) {
+  return cell::rethrow_as<CellGeometryError>([&] {
+    cell::CellFile file = cell::parse_cell_file(json_text, source);
+    const std::filesystem::path parent = std::filesystem::path(source).parent_path();
+    cell::derive_cad_features(file, !model_dir.empty() ? model_dir : parent.empty() ? "." : parent);
+    return cell_geometry_from(file);
+  });
 }
 
 CellGeometry load_cell_geometry(const std::filesystem::path& path) {
-  return cell::rethrow_as<CellGeometryError>([&] { return cell_geometry_from(cell::load_cell_file(path)); });
+  return cell::rethrow_as<CellGeometryError>([&] { return cell_geometry_from(cell::load_cell_file_with_cad(path)); });
 }
 
 }  // namespace rigger::sim

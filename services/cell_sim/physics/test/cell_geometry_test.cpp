@@ -33,7 +33,8 @@ std::string shared_cell_with(const std::string& from, const std::string& to) {
 
 std::string parse_error(const std::string& text) {
   try {
-    parse_cell_geometry(text, "cell.json");
+    // The cell's STEP models (for its CAD rules) are those next to the shared cell file.
+    parse_cell_geometry(text, "cell.json", std::filesystem::path(RIGGER_CELL_JSON).parent_path());
   } catch (const CellGeometryError& error) {
     return error.what();
   }
@@ -87,8 +88,10 @@ TEST(CellGeometry, ErrorsNameFileAndJsonPointer) {
               HasSubstr("rail_height_m"));
   EXPECT_THAT(parse_error(shared_cell_with(R"("max_accel_mps2": [0.5, 0.5, 0.3])", R"("max_accel_mps2": [0.5, 0.5])")),
               HasSubstr("/entities/1/attributes/max_accel_mps2: expected an array of 3 numbers > 0"));
+  // The insertion is derived from the target's STEP model: another target must have one.
   EXPECT_THAT(parse_error(shared_cell_with(R"("insertion": { "target": "target")", R"("insertion": { "target": "robot")")),
-              HasSubstr("/entities/5/features/insertion/target: expected \"target\" (the modelled fixture)"));
+              HasSubstr("/entities/5/features/insertion/cad/target_face: expected an insertion target whose model "
+                        "names a STEP file"));
 }
 
 TEST(CellGeometry, NeedsTheModelledEntities) {

@@ -78,6 +78,9 @@ struct CellFile {
   /// The entity's pose in the root frame of its tree: its pose composed with its parents' (an entity
   /// without a pose sits at its parent's origin). @throws CellFileError for an unknown id.
   Eigen::Isometry3d pose_root_entity(std::string_view id) const;
+  /// @throws CellFileError naming the first CAD rule (features.*.cad) whose pose has not been derived
+  ///   from its STEP model yet (cell::derive_cad_features), for `reader` that needs the poses.
+  void require_cad_derived(std::string_view reader) const;
   /// Throws CellFileError(source, pointer, expected, got).
   [[noreturn]] void fail(const std::string& pointer, const std::string& expected, const std::string& got = {}) const;
 };

@@ -24,10 +24,50 @@ std::string_view to_string(EntityKind kind);
 /// Parses "object", "device" or "frame"; std::nullopt for anything else.
 std::optional<EntityKind> entity_kind_from_string(std::string_view text);
 
+/// A face, edge or vertex of an object's STEP model, named as docs/cad.md's references are: its kind,
+/// its index (OCCT's TopExp::MapShapes order) and its geometric signature, which must still match the
+/// model (an edited model is detected, not silently used). No sha256: regenerating a STEP file changes
+/// its bytes (the header's timestamp) but not its geometry.
+struct CadReference {
+  std::string kind;  ///< "face", "edge" or "vertex"
+  int index = -1;
+  std::string type;  ///< signature type: "plane", "cylinder", "line", ...
+  Eigen::Vector3d centroid_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+  double radius_m = 0.0;
+  std::string pointer;  ///< where it is in the cell file (errors name it)
+};
+
+/// How a feature's pose follows from an object's STEP model (docs/world-model.md, "CAD rules").
+enum class CadRuleKind {
+  kFace,       ///< origin at a face's centroid, z along its normal (out or into), x along an edge
+  kHole,       ///< origin at a hole's entry, z along its axis out of the hole
+  kMateFaces,  ///< insertion: this object's face against the target's face, normals opposite
+};
+
+/// "face", "hole", "mate_faces"; std::nullopt for anything else.
+std::optional<CadRuleKind> cad_rule_from_string(std::string_view text);
+
+/// A feature defined by a rule over the STEP model instead of by numbers. The pose it stands for is
+/// filled in by cell::derive_cad_features (rigger_cell_cad), which sets `derived`.
+struct CadRule {
+  CadRuleKind rule = CadRuleKind::kFace;
+  /// kFace: the face; kHole: one cylindrical face of the hole; kMateFaces: this object's face.
+  CadReference face;
+  bool z_into = false;                 ///< kFace: z against the outward normal (a tool approaching)
+  std::optional<CadReference> x_edge;  ///< kFace: x along this straight edge (else the model's x projected)
+  bool x_reversed = false;             ///< kFace: x against the edge's direction
+  double standoff_m = 0.0;             ///< kFace: origin moved this far out along the outward normal
+  std::optional<CadReference> target_face;  ///< kMateFaces: the face of the insertion target's model
+  std::string pointer;                      ///< the "cad" object's JSON pointer
+  bool derived = false;                     ///< the pose has been derived from the model
+};
+
 /// A named pose feature of an entity (grasp frame, approach waypoint), in the entity's own frame.
 struct NamedPose {
   std::string id;
   Eigen::Isometry3d pose_entity_feature = Eigen::Isometry3d::Identity();
+  std::optional<CadRule> cad;  ///< set when the pose comes from the STEP model
 };
 
 /// A screw hole: where (in the entity's frame, z along the screw axis), which screw and how tight.
@@ -36,6 +76,7 @@ struct ScrewHole {
   Eigen::Isometry3d pose_entity_hole = Eigen::Isometry3d::Identity();
   std::string screw_type;  ///< e.g. "M12x40"
   double torque_nm = 0.0;  ///< tightening torque, N m, > 0
+  std::optional<CadRule> cad;  ///< set when the pose comes from a hole of the STEP model
 };
 
 /// One square fiducial marker of a layout. Marker frame (OpenCV ArUco convention): origin at the marker
@@ -65,6 +106,7 @@ std::optional<MarkerDictionary> marker_dictionary(std::string_view name);
 struct Insertion {
   std::string target;  ///< id of the target entity
   Eigen::Isometry3d pose_target_entity = Eigen::Isometry3d::Identity();
+  std::optional<CadRule> cad;  ///< set when the pose comes from mating faces of the two STEP models
 };
 
 /// CAD features of an entity. Feature ids (grasp frames, approach waypoints, screw holes and
@@ -79,6 +121,8 @@ struct CadFeatures {
 
   /// True when no feature is defined.
   bool empty() const;
+  /// The first CAD rule whose pose has not been derived yet (its pointer in the cell file), or nullptr.
+  const CadRule* pending_cad() const;
   /// The pose (in the entity's frame) of the named grasp frame, approach waypoint, screw hole or
   /// "rope_attachment"; std::nullopt when there is no such feature.
   std::optional<Eigen::Isometry3d> find_pose(std::string_view feature_id) const;

@@ -81,8 +81,10 @@ struct CellGeometry {
 /// Reads and checks a cell JSON file.  Throws CellGeometryError (file, JSON pointer, expectation).
 CellGeometry load_cell_geometry(const std::filesystem::path& path);
 
-/// Parses cell JSON text; `source` names it in error messages.  Throws CellGeometryError.
-CellGeometry parse_cell_geometry(const std::string& json_text, const std::string& source);
+/// Parses cell JSON text; `source` names it in error messages. The CAD rules' STEP models (model.step)
+/// are read relative to `model_dir` (empty: the folder of `source`).  Throws CellGeometryError.
+CellGeometry parse_cell_geometry(const std::string& json_text, const std::string& source,
+                                 const std::filesystem::path& model_dir = {});
 
 /// The physics' part of a validated cell file: entities "crane", "robot", "gripper", "load" and "target"
 /// with the attributes, model and features the physics needs.  Throws cell::CellFileError.
