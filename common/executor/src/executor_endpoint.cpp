@@ -114,13 +114,18 @@ void ExecutorEndpoint::on_commander_liveliness() {
   // A command writer was lost. With every writer gone, every run lost its commander; otherwise the
   // status names the last one that changed.
   const bool all_lost = st.alive_count == 0;
+  // Chosen first, shut down after: a skill that stops at once reports its end from inside on_shutdown,
+  // which erases its run from active_ (iterating active_ meanwhile crashed the executor).
+  std::vector<LeafRun> lost;
   for (auto& [key, run] : active_) {
     if (run.stopping || (!all_lost && run.commander != st.last_publication_handle)) continue;
     run.stopping = true;
+    lost.push_back({key.first, key.second, run.start_seq});
+  }
+  for (const LeafRun& run : lost) {
     log_->warn("shutdown task={} node={} reason=CONTROLLER_LOST (the command writer's liveliness was lost)",
-               key.first, key.second);
-    if (handlers_.on_shutdown)
-      handlers_.on_shutdown({{key.first, key.second, run.start_seq}, "CONTROLLER_LOST: the task controller was lost"});
+               run.task_id, run.node_id);
+    if (handlers_.on_shutdown) handlers_.on_shutdown({run, "CONTROLLER_LOST: the task controller was lost"});
   }
   // Waiting STARTs of a lost controller start nothing.
   for (auto it = waiting_.begin(); it != waiting_.end();) {

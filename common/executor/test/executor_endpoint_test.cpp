@@ -33,7 +33,11 @@ class ExecutorEndpointTest : public ::testing::Test {
     endpoint_ = std::make_unique<ExecutorEndpoint>(
         participant_, loop_, null_logger(), "exec-1", library_,
         ExecutorEndpoint::Handlers{[this](const StartRequest& r) { starts_.push_back(r); },
-                                   [this](const ShutdownRequest& r) { shutdowns_.push_back(r); }},
+                                   [this](const ShutdownRequest& r) {
+                                     shutdowns_.push_back(r);
+                                     // A skill with nothing to stop ends inside the shutdown call.
+                                     if (stop_at_once_) endpoint_->report(r.run, EventKind::kStopped);
+                                   }},
         options);
     loop_.on_data(events_, [this] {
       events_.take([this](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
@@ -73,6 +77,7 @@ class ExecutorEndpointTest : public ::testing::Test {
   std::unique_ptr<ExecutorEndpoint> endpoint_;
   std::vector<StartRequest> starts_;
   std::vector<ShutdownRequest> shutdowns_;
+  bool stop_at_once_ = false;
   std::vector<Event> received_;
 };
 
@@ -242,6 +247,25 @@ TEST_F(ExecutorEndpointTest, RunsOfALostControllerAreShutDown) {
   ASSERT_EQ(shutdowns_.size(), 1u) << "only the lost controller's run is shut down";
   EXPECT_EQ(shutdowns_[0].run.node_id, "move");
   EXPECT_NE(shutdowns_[0].reason.find("CONTROLLER_LOST"), std::string::npos);
+}
+
+// Skills that stop at once, inside the shutdown call, end their runs while the lost controller's runs are
+// still being shut down (this crashed an executor once: the loop walked the runs it was erasing).
+TEST_F(ExecutorEndpointTest, RunsThatStopAtOnceWhenTheirControllerIsLostEndCleanly) {
+  stop_at_once_ = true;
+  dds::Qos leased = dds::qos::commands();
+  leased.manual_liveliness(200ms);
+  dds::Participant controller(domain_.id());
+  dds::Writer<rigger_skill_SkillCommand> controller_commands(controller, protocol::skill::kCommand, leased);
+  ASSERT_TRUE(controller_commands.wait_for_readers(1, 5s));
+  ASSERT_TRUE(events_.wait_for_writers(1, 5s));
+  send_with(controller_commands, "exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");
+  send_with(controller_commands, "exec-1", "look", rigger_skill_SKILL_START, 2, "Look");
+  ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 2; }, 5s));
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 2; }, 5s));
+  EXPECT_EQ(shutdowns_.size(), 2u);
+  for (const auto& e : received_) EXPECT_EQ(e.kind, rigger_skill_SKILL_EVENT_STOPPED) << e.node;
+  EXPECT_TRUE(endpoint_->active_runs().empty());
 }
 
 TEST(ExecutorEndpointSetup, RejectsALibraryWithoutSkills) {
