@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "recipe/conditions.hpp"
+#include "rigger/recipe/conditions.hpp"
 #include "rigger/base/text.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
@@ -350,7 +350,7 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
   validator_options_.default_stop_timeout =
       bt::Seconds(ctx.config.get_in_range<double>("default_stop_timeout_s", 5.0, 0.01, 600.0));
   validator_options_.limits.max_bytes =
-      ctx.config.get_in_range<unsigned>("max_recipe_bytes", 4U * 1024U * 1024U, 1024U, kMaxRecipeBytesCeiling);
+      ctx.config.get_in_range<unsigned>("max_recipe_bytes", 4U * 1024U * 1024U, 1024U, static_cast<unsigned>(recipe::kMaxRecipeBytesCeiling));
   validator_options_.limits.max_depth = ctx.config.get_in_range<unsigned>("max_recipe_depth", 128U, 8U, 1024U);
   executor_wait_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
       std::chrono::duration<double>(ctx.config.get_in_range<double>("executor_wait_s", 2.0, 0.0, 600.0)));

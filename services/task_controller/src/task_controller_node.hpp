@@ -24,7 +24,7 @@
 ///   "journal_sync": "normal" (default: no fsync per commit; survives controller crashes and restarts) or
 ///                   "full" (an fsync per commit; also survives a power cut). See journal.hpp.
 ///   "default_stop_timeout_s": number in [0.01, 600], default 5
-///   "max_recipe_bytes": integer in [1024, 67108864 (kMaxRecipeBytesCeiling)], default 4194304
+///   "max_recipe_bytes": integer in [1024, 67108864 (recipe::kMaxRecipeBytesCeiling)], default 4194304
 ///   "max_recipe_depth": integer in [8, 1024], default 128
 ///   "command_lease_ms": integer in [200, 10000], default 300: the liveliness lease offered on
 ///                       rigger/skill/command; executors shut down the runs of a controller that lost it
@@ -45,9 +45,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/engine.hpp"
+#include "rigger/bt/engine.hpp"
 #include "journal.hpp"
-#include "recipe/recipe_validator.hpp"
+#include "rigger/recipe/recipe_validator.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/safety/safe_stop.hpp"
@@ -57,10 +57,6 @@ class WorldClient;
 }
 
 namespace rigger::task_controller {
-
-/// The largest max_recipe_bytes a controller can be configured with: a bigger recipe is refused by
-/// every controller (riggerctl run says so before publishing it).
-inline constexpr unsigned kMaxRecipeBytesCeiling = 64U * 1024U * 1024U;
 
 /// Codes the controller adds to the engine's.
 namespace codes {

@@ -1,4 +1,4 @@
-#include "engine/tree_builder.hpp"
+#include "rigger/bt/tree_builder.hpp"
 
 namespace rigger::bt::build {
 namespace {

@@ -1,4 +1,4 @@
-#include "engine/port.hpp"
+#include "rigger/bt/port.hpp"
 
 namespace rigger::bt {
 

@@ -1,4 +1,4 @@
-#include "engine/tree_spec.hpp"
+#include "rigger/bt/tree_spec.hpp"
 
 #include <array>
 #include <unordered_set>

@@ -22,7 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/tree_spec.hpp"
+#include "rigger/bt/tree_spec.hpp"
 #include "rigger/skill/bounded_json.hpp"
 #include "rigger/skill/model_error.hpp"
 #include "rigger/skill/predicate.hpp"
@@ -36,6 +36,10 @@ using Error = skill::ModelError;
 
 /// Version of the recipe format this code reads.
 inline constexpr int kRecipeVersion = 1;
+
+/// The largest Limits::max_bytes a controller can be configured with ("max_recipe_bytes"): a bigger
+/// recipe is refused by every controller (riggerctl run says so before publishing it).
+inline constexpr std::size_t kMaxRecipeBytesCeiling = 64U * 1024U * 1024U;
 
 /// Bounds on untrusted recipes.
 struct Limits {

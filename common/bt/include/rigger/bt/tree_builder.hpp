@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/tree_spec.hpp"
+#include "rigger/bt/tree_spec.hpp"
 
 namespace rigger::bt::build {
 

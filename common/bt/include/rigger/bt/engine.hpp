@@ -26,8 +26,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "engine/port.hpp"
-#include "engine/tree_spec.hpp"
+#include "rigger/bt/port.hpp"
+#include "rigger/bt/tree_spec.hpp"
 
 namespace rigger::bt {
 

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/tree_builder.hpp"
+#include "rigger/bt/tree_builder.hpp"
 
 namespace rigger::testing {
 

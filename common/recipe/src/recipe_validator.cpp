@@ -1,11 +1,11 @@
-#include "recipe/recipe_validator.hpp"
+#include "rigger/recipe/recipe_validator.hpp"
 
 #include <algorithm>
 #include <set>
 #include <utility>
 
-#include "recipe/recipe_schema.hpp"
-#include "recipe/tree_checks.hpp"
+#include "rigger/recipe/recipe_schema.hpp"
+#include "tree_checks.hpp"
 #include "rigger/skill/bounded_json.hpp"
 
 namespace rigger::recipe {

@@ -10,7 +10,7 @@
 #include <valijson/validation_results.hpp>
 #include <valijson/validator.hpp>
 
-#include "recipe/recipe_schema.hpp"
+#include "rigger/recipe/recipe_schema.hpp"
 #include "rigger/skill/bounded_json.hpp"
 #include "rigger/skill/json_text.hpp"
 

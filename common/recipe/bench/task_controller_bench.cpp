@@ -8,10 +8,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "engine/engine.hpp"
-#include "engine/tree_builder.hpp"
-#include "recipe/recipe_schema.hpp"
-#include "recipe/recipe_validator.hpp"
+#include "rigger/bt/engine.hpp"
+#include "rigger/bt/tree_builder.hpp"
+#include "rigger/recipe/recipe_schema.hpp"
+#include "rigger/recipe/recipe_validator.hpp"
 #include "rigger/skill/bounded_json.hpp"
 #include "../test/scale_recipes.hpp"
 

@@ -1,4 +1,4 @@
-#include "engine/engine.hpp"
+#include "rigger/bt/engine.hpp"
 
 #include <cmath>
 #include <cstdio>

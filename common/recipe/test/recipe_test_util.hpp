@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "recipe/recipe_validator.hpp"
+#include "rigger/recipe/recipe_validator.hpp"
 
 namespace rigger::recipe::testing {
 

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/tree_spec.hpp"
+#include "rigger/bt/tree_spec.hpp"
 
 namespace rigger::bt {
 

@@ -1,4 +1,4 @@
-#include "conditions.hpp"
+#include "rigger/recipe/conditions.hpp"
 
 namespace rigger::recipe {
 

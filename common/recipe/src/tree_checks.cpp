@@ -1,4 +1,4 @@
-#include "recipe/tree_checks.hpp"
+#include "tree_checks.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/engine.hpp"
+#include "rigger/bt/engine.hpp"
 #include "fake_port.hpp"
 #include "recipe_test_util.hpp"
 

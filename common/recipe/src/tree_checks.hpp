@@ -6,8 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/tree_spec.hpp"
-#include "recipe/recipe_validator.hpp"
+#include "rigger/bt/tree_spec.hpp"
+#include "rigger/recipe/recipe_validator.hpp"
 #include "rigger/skill/predicate.hpp"
 #include "rigger/skill/skill_library.hpp"
 

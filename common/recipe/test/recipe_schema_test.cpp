@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "recipe/recipe_schema.hpp"
+#include "rigger/recipe/recipe_schema.hpp"
 #include "recipe_test_util.hpp"
 
 namespace rigger::recipe {

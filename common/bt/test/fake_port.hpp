@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/engine.hpp"
-#include "engine/tree_builder.hpp"
+#include "rigger/bt/engine.hpp"
+#include "rigger/bt/tree_builder.hpp"
 
 namespace rigger::bt::testing {
 
