@@ -81,12 +81,19 @@ ValidationResult RecipeValidator::validate_parsed(const skill::JsonParseResult& 
   if (!parsed.ok()) {
     ValidationResult result;
     result.errors.push_back(parse_error(*parsed.error));
+    result.codes.push_back(ErrorCode::kInvalid);
     return result;
   }
   return validate_document(parsed.value);
 }
 
 ValidationResult RecipeValidator::validate_document(const Json& document) const {
+  ValidationResult result = check_document(document);
+  result.codes.resize(result.errors.size(), ErrorCode::kInvalid);  // every error not coded is kInvalid
+  return result;
+}
+
+ValidationResult RecipeValidator::check_document(const Json& document) const {
   ValidationResult result;
   auto& errors = result.errors;
   if (depth_of(document, options_.limits.max_depth) > options_.limits.max_depth) {
@@ -120,7 +127,7 @@ ValidationResult RecipeValidator::validate_document(const Json& document) const 
       document.contains("stop_timeout_s") ? bt::Seconds(document["stop_timeout_s"].get<double>())
                                           : options_.default_stop_timeout;
 
-  detail::BuiltTree built = detail::build_tree(document["root"], library_, options_.limits, stop_timeout, errors);
+  detail::BuiltTree built = detail::build_tree(document["root"], library_, options_.limits, stop_timeout, errors, result.codes);
   if (!built.complete) {
     return result;
   }
@@ -150,6 +157,13 @@ ValidationResult RecipeValidator::validate_document(const Json& document) const 
   recipe.tree = std::move(built.tree);
   result.recipe = std::move(recipe);
   return result;
+}
+
+bool only_unknown_leaves(const ValidationResult& result) {
+  return !result.errors.empty() && result.codes.size() == result.errors.size() &&
+         std::all_of(result.codes.begin(), result.codes.end(), [](ErrorCode c) {
+           return c == ErrorCode::kUnknownSkill || c == ErrorCode::kUnknownMonitor;
+         });
 }
 
 std::string format_errors(const std::vector<Error>& errors) {

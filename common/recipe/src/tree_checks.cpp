@@ -52,8 +52,9 @@ std::string describe_leaf(const bt::NodeSpec& node) {
 
 class Builder {
  public:
-  Builder(const skill::SkillLibrary& library, const Limits& limits, std::vector<Error>& errors, BuiltTree& out)
-      : library_(library), limits_(limits), errors_(errors), out_(out) {}
+  Builder(const skill::SkillLibrary& library, const Limits& limits, std::vector<Error>& errors,
+          std::vector<ErrorCode>& codes, BuiltTree& out)
+      : library_(library), limits_(limits), errors_(errors), codes_(codes), out_(out) {}
 
   std::optional<NodeIndex> add(const Json& j, const std::string& pointer, const std::string& id, bt::Seconds stop,
                                std::size_t depth) {
@@ -157,6 +158,10 @@ class Builder {
     n.params = params;
     const skill::SkillDescription* description = library_.find(n.leaf);
     if (description == nullptr) {
+      codes_.resize(errors_.size(), ErrorCode::kInvalid);
+      codes_.push_back(expected == skill::SkillKind::kSkill     ? ErrorCode::kUnknownSkill
+                       : expected == skill::SkillKind::kMonitor ? ErrorCode::kUnknownMonitor
+                                                                : ErrorCode::kUnknownCondition);
       errors_.push_back({n.pointer + "/" + field, unknown_name_message(field, n.leaf, expected)});
       out_.leaves_resolved = false;
       return;
@@ -216,6 +221,7 @@ class Builder {
   const skill::SkillLibrary& library_;
   const Limits& limits_;
   std::vector<Error>& errors_;
+  std::vector<ErrorCode>& codes_;  ///< as long as errors_ after each unknown name (padded with kInvalid)
   BuiltTree& out_;
 };
 
@@ -453,9 +459,9 @@ class FactFlow {
 }  // namespace
 
 BuiltTree build_tree(const Json& root, const skill::SkillLibrary& library, const Limits& limits,
-                     bt::Seconds default_stop_timeout, std::vector<Error>& errors) {
+                     bt::Seconds default_stop_timeout, std::vector<Error>& errors, std::vector<ErrorCode>& codes) {
   BuiltTree out;
-  Builder builder(library, limits, errors, out);
+  Builder builder(library, limits, errors, codes, out);
   if (const auto index = builder.add(root, "/root", "root", default_stop_timeout, 1)) {
     out.tree.root = *index;
   }

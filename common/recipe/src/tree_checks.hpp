@@ -28,9 +28,10 @@ struct BuiltTree {
 };
 
 /// Builds the tree from the schema-valid `root` object at JSON pointer "/root". Records unknown
-/// names, wrong kinds, parameter errors, duplicate option labels and limit violations.
+/// names, wrong kinds, parameter errors, duplicate option labels and limit violations; `codes` gets
+/// the kind of each error it adds (and kInvalid for those before, so that it is as long as `errors`).
 BuiltTree build_tree(const nlohmann::json& root, const skill::SkillLibrary& library, const Limits& limits,
-                     bt::Seconds default_stop_timeout, std::vector<Error>& errors);
+                     bt::Seconds default_stop_timeout, std::vector<Error>& errors, std::vector<ErrorCode>& codes);
 
 /// Parallel thresholds feasible under typed counting; no Sequence/Retry/Repeat child (and not
 /// the root) that can never succeed. Reports the cause, not its consequences up the tree.

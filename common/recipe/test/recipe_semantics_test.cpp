@@ -133,6 +133,38 @@ TEST(RecipeSemantics, UnknownSkillSuggestsAndListsKnownOnes) {
   EXPECT_NE(r.errors[0].message.find("unknown skill \"Localise\" (did you mean \"Localize\"?)"), std::string::npos)
       << r.errors[0].message;
   EXPECT_NE(r.errors[0].message.find("AttachRobotToLoad, CollaborativeMoveLoad"), std::string::npos);
+  EXPECT_EQ(r.codes, std::vector<ErrorCode>{ErrorCode::kUnknownSkill});  // the controller waits for an executor on this code
+}
+
+TEST(RecipeSemantics, UnknownNamesCarryTheirCodeOtherErrorsDoNot) {
+  // A monitor never succeeds, so one at the root also makes the recipe one that can never succeed.
+  const auto m = validate(R"({"type": "Parallel", "success_threshold": 1, "failure_threshold": 1, "children": [)" + std::string(kLocalizeLoad) +
+                          R"(, {"type": "Monitor", "monitor": "Nope"}]})");
+  ASSERT_EQ(m.errors.size(), 1U) << dump(m);
+  EXPECT_EQ(m.codes, std::vector<ErrorCode>{ErrorCode::kUnknownMonitor}) << dump(m);
+  const auto c = validate(R"({"type": "Condition", "condition": "Nope"})");
+  ASSERT_EQ(c.errors.size(), 1U) << dump(c);
+  EXPECT_EQ(c.codes, std::vector<ErrorCode>{ErrorCode::kUnknownCondition});
+  // A known skill of the wrong kind, or a schema error, is wrong as written.
+  const auto k = validate(R"({"type": "Skill", "skill": "YankMonitor"})");
+  ASSERT_EQ(k.errors.size(), 1U) << dump(k);
+  EXPECT_EQ(k.codes, std::vector<ErrorCode>{ErrorCode::kInvalid});
+  EXPECT_FALSE(only_unknown_leaves(k));
+  const auto s = validate(R"({"type": "Skil", "skill": "Localize"})");
+  ASSERT_FALSE(s.errors.empty());
+  ASSERT_EQ(s.codes.size(), s.errors.size());
+  for (const auto code : s.codes) EXPECT_EQ(code, ErrorCode::kInvalid);
+  EXPECT_FALSE(only_unknown_leaves(c)) << "a condition comes from no executor";
+  EXPECT_TRUE(only_unknown_leaves(m));
+  // Mixed: an unknown skill next to a parameter error is not only unknown leaves; codes stay aligned.
+  const auto mixed = validate(R"({"type": "Sequence", "children": [{"type": "Skill", "skill": "Nope"},
+      {"type": "Skill", "skill": "Localize", "params": {"object": "load", "min_quality": "high"}}]})");
+  ASSERT_EQ(mixed.errors.size(), 2U) << dump(mixed);
+  ASSERT_EQ(mixed.codes.size(), 2U);
+  EXPECT_EQ(mixed.errors[0].pointer, "/root/children/0/skill");
+  EXPECT_EQ(mixed.codes[0], ErrorCode::kUnknownSkill);
+  EXPECT_EQ(mixed.codes[1], ErrorCode::kInvalid);
+  EXPECT_FALSE(only_unknown_leaves(mixed));
 }
 
 TEST(RecipeSemantics, WrongKindSaysWhatToWrite) {

@@ -30,9 +30,17 @@
 
 namespace rigger::recipe {
 
-/// One problem in a recipe: JSON pointer ("" = the whole document) and message saying what was
-/// expected. Shared with the skill model.
+/// One problem in a recipe: JSON pointer ("" = the whole document), message saying what was
+/// expected, and its kind (ErrorCode). Shared with the skill model.
 using Error = skill::ModelError;
+
+/// What kind of problem an Error is, for code that acts on the kind (never on the message text).
+enum class ErrorCode {
+  kInvalid,           ///< the recipe is wrong as written (every error not listed below)
+  kUnknownSkill,      ///< names a skill the library does not have (yet: an executor may announce it)
+  kUnknownMonitor,    ///< names a monitor the library does not have (likewise)
+  kUnknownCondition,  ///< names a condition the library does not have
+};
 
 /// Version of the recipe format this code reads.
 inline constexpr int kRecipeVersion = 1;
@@ -74,6 +82,7 @@ struct ValidatedRecipe {
 struct ValidationResult {
   std::optional<ValidatedRecipe> recipe;  ///< set exactly when `errors` is empty
   std::vector<Error> errors;
+  std::vector<ErrorCode> codes;  ///< codes[i] is the kind of errors[i] (same length)
   bool ok() const { return recipe.has_value(); }
 };
 
@@ -96,11 +105,15 @@ class RecipeValidator {
  private:
   skill::JsonLimits json_limits() const;
   ValidationResult validate_parsed(const skill::JsonParseResult& parsed) const;
+  ValidationResult check_document(const nlohmann::json& document) const;  ///< validate_document without codes padding
 
   skill::SkillLibrary library_;
   ValidatorOptions options_;
   std::vector<skill::Fact> initial_facts_;
 };
+
+/// Whether there are errors and every one names a skill or monitor the library does not have.
+bool only_unknown_leaves(const ValidationResult& result);
 
 /// "pointer: message" per line, for riggerctl and logs.
 std::string format_errors(const std::vector<Error>& errors);
