@@ -8,8 +8,8 @@
 
 // The task controller's validator: the only place the console includes it (the library moves to
 // common/recipe; this include follows it).
-#include "recipe/conditions.hpp"
-#include "recipe/recipe_validator.hpp"
+#include "rigger/recipe/conditions.hpp"
+#include "rigger/recipe/recipe_validator.hpp"
 
 namespace rigger::console {
 

@@ -1,6 +1,12 @@
 #pragma once
 /// @file
 /// The task controller's DDS node: a thin layer between the topics and the pure engine/validator.
+/// It wires one unit per job (each in its own file, the logic in each unit-tested without DDS):
+///  - executor_directory: the live executors and their skills (which executor runs a leaf);
+///  - recipe_admission: run, wait for an executor, or reject with a typed RejectCode;
+///  - controller_endpoint: the controller's half of the skill protocol (ExecutorEndpoint's mirror);
+///  - operator_decisions: prompt ids and answers; journal_server: journal queries;
+///  - task_port: one running task, the engine's bt::Port; status_publisher: task and node status.
 ///
 ///  - rigger/skill/executors (liveliness-monitored): live executors and the skills they offer; their
 ///    libraries merged form the skill library recipes are validated against. An executor whose
@@ -24,7 +30,7 @@
 ///   "journal_sync": "normal" (default: no fsync per commit; survives controller crashes and restarts) or
 ///                   "full" (an fsync per commit; also survives a power cut). See journal.hpp.
 ///   "default_stop_timeout_s": number in [0.01, 600], default 5
-///   "max_recipe_bytes": integer in [1024, 67108864 (kMaxRecipeBytesCeiling)], default 4194304
+///   "max_recipe_bytes": integer in [1024, 67108864 (recipe::kMaxRecipeBytesCeiling)], default 4194304
 ///   "max_recipe_depth": integer in [8, 1024], default 128
 ///   "command_lease_ms": integer in [200, 10000], default 300: the liveliness lease offered on
 ///                       rigger/skill/command; executors shut down the runs of a controller that lost it
@@ -36,21 +42,24 @@
 /// library recipes are validated against (no executor needs to announce it); an unreachable world model
 /// fails the Condition with WORLD_UNREACHABLE, an unknown condition with UNKNOWN_CONDITION.
 
-#include <cstdint>
+#include <chrono>
 #include <map>
 #include <memory>
-#include <set>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "engine/engine.hpp"
+#include "controller_endpoint.hpp"
+#include "executor_directory.hpp"
 #include "journal.hpp"
-#include "recipe/recipe_validator.hpp"
+#include "journal_server.hpp"
+#include "operator_decisions.hpp"
+#include "recipe_admission.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
+#include "rigger/recipe/recipe_validator.hpp"
 #include "rigger/safety/safe_stop.hpp"
+#include "status_publisher.hpp"
+#include "task_port.hpp"
 
 namespace rigger::world_client {
 class WorldClient;
@@ -58,34 +67,29 @@ class WorldClient;
 
 namespace rigger::task_controller {
 
-/// The largest max_recipe_bytes a controller can be configured with: a bigger recipe is refused by
-/// every controller (riggerctl run says so before publishing it).
-inline constexpr unsigned kMaxRecipeBytesCeiling = 64U * 1024U * 1024U;
-
-/// Codes the controller adds to the engine's.
-namespace codes {
-inline constexpr const char* kInvalidRecipe = "INVALID_RECIPE";
-inline constexpr const char* kDuplicateTask = "DUPLICATE_TASK";
-inline constexpr const char* kResourceConflict = "RESOURCE_CONFLICT";
-inline constexpr const char* kInterrupted = "INTERRUPTED";
-inline constexpr const char* kJournalError = "JOURNAL_ERROR";
-inline constexpr const char* kWorldUnreachable = "WORLD_UNREACHABLE";
-inline constexpr const char* kNoExecutor = "NO_EXECUTOR";
-}  // namespace codes
-
-class TaskControllerNode : public dds::Node {
+class TaskControllerNode : public dds::Node, private TaskHost {
  public:
   /// @throws ConfigError, JournalError, DdsError.
   explicit TaskControllerNode(dds::ServiceContext& ctx);
   ~TaskControllerNode() override;
 
  private:
-  struct Executor {
-    bool alive = false;
-    nlohmann::json library;
-    std::set<std::string> skills;
-  };
-  class Task;
+  // --- TaskHost ---
+  dds::EventLoop& loop() override { return ctx_.loop; }
+  const Logger& log() const override { return ctx_.log; }
+  Task* find_task(const std::string& id) override;
+  std::string pick_executor(const std::string& skill, const std::string& pinned) const override {
+    return executors_.pick(skill, pinned);
+  }
+  ControllerEndpoint& endpoint() override { return endpoint_; }
+  PromptWriter& prompts() override { return prompts_; }
+  void journal(const JournalRecord& record) override;
+  void node_status(NodeStatusRow row) override;
+  void is_localized(const std::string& object, double max_age_s,
+                    std::function<void(const world_client::Reply&)> answer) override;
+  bool safe_stop(const std::string& resource, const std::string& reason) override;
+  void task_finished(const std::string& id, int state, const std::string& journal_state, const bt::TaskResult& result,
+                     const std::string& message) override;
 
   void on_announcements();
   void executor_lost(const std::string& executor_id);
@@ -96,25 +100,13 @@ class TaskControllerNode : public dds::Node {
   void on_events();
   void on_task_commands();
   void on_operator_responses();
-  void on_journal_queries();
   void report_interrupted();
-
-  skill::SkillLibrary live_library() const;
-  /// The live executor that runs `skill` (pinned one when `pinned` is set), or "".
-  std::string pick_executor(const std::string& skill, const std::string& pinned) const;
-  void publish_task(const std::string& task_id, int state, const std::string& code, const std::string& message,
-                    const std::string& failed_node, const std::vector<recipe::Error>& errors = {});
-  void reject(const std::string& task_id, const std::string& code, const std::string& message,
+  void reject(const std::string& task_id, RejectCode code, const std::string& message,
               const std::vector<recipe::Error>& errors = {});
-  /// Queues a journal row; see flush_side_effects().
-  void journal(const JournalRecord& record);
   /// Writes the queued node statuses and journal rows (one transaction). A handler sends its commands
   /// (START, SHUTDOWN) first; this runs once it returned, on the loop's next turn (posted by the first
   /// queued item), and before anything that reads the journal or writes a task row.
   void flush_side_effects();
-  struct NodeStatusRow;
-  /// Queues a node status sample, like journal().
-  void queue_node_status(NodeStatusRow row);
   void post_flush_if_idle();
   void forget_task(const std::string& task_id);
 
@@ -122,19 +114,16 @@ class TaskControllerNode : public dds::Node {
   recipe::ValidatorOptions validator_options_;
   Journal journal_;
   dds::Reader<rigger_skill_ExecutorAnnouncement> announcements_;
-  dds::Writer<rigger_skill_SkillCommand> commands_;
-  dds::Reader<rigger_skill_SkillEvent> events_;
+  ControllerEndpoint endpoint_;
   dds::Reader<rigger_task_Recipe> recipes_;
   dds::Reader<rigger_task_TaskCommand> task_commands_;
-  dds::Writer<rigger_task_TaskStatus> task_status_;
-  dds::Writer<rigger_task_NodeStatus> node_status_;
-  dds::Reader<rigger_task_JournalQuery> journal_queries_;
-  dds::Writer<rigger_task_JournalReply> journal_replies_;
-  dds::Writer<rigger_operator_ui_OperatorPrompt> prompts_;
+  StatusPublisher status_;
+  JournalServer journal_server_;
+  PromptWriter prompts_;
   dds::Reader<rigger_operator_ui_OperatorResponse> responses_;
   safety::SafeStopWriter safe_stops_;
 
-  std::map<std::string, Executor> executors_;
+  ExecutorDirectory executors_;
   std::map<std::string, std::unique_ptr<Task>> tasks_;
   struct Pending {
     std::string text;
@@ -142,18 +131,8 @@ class TaskControllerNode : public dds::Node {
   };
   std::map<std::string, Pending> pending_;  ///< recipes waiting for an executor, by task id
   std::chrono::nanoseconds executor_wait_{};
-  std::map<dds_instance_handle_t, std::uint64_t> last_event_seq_;  ///< per executor writer
   std::unique_ptr<world_client::WorldClient> world_;  ///< Condition nodes query the world model through it
   std::chrono::milliseconds condition_timeout_{1000};
-  std::uint64_t command_seq_ = 0;
-
-  /// A NodeStatus sample's contents, owned until flush_side_effects() writes it.
-  struct NodeStatusRow {
-    std::string task_id, node_id, parent_id, node_type, name, code, message, executor_id;
-    rigger_task_NodeState state{};
-    double progress = -1.0;
-    rigger_geometry_Time started{}, finished{}, stamp{};
-  };
   std::vector<NodeStatusRow> status_backlog_;
   std::vector<JournalRecord> journal_backlog_;
 };

@@ -18,7 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "recipe/recipe_validator.hpp"
+#include "rigger/recipe/recipe_validator.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/task_names.hpp"
@@ -29,7 +29,6 @@
 #include "rigger/protocol/task.hpp"
 #include "rigger/skill/skill_library.hpp"
 #include "run_display.hpp"
-#include "task_controller_node.hpp"
 
 namespace rigger::ctl {
 namespace {
@@ -37,7 +36,6 @@ namespace {
 using protocol::task::node_state_name;
 using protocol::task::task_state_name;
 
-namespace tc = rigger::task_controller;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kExitFailed = 1;
@@ -152,12 +150,12 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
     std::fprintf(stderr, "riggerctl: %s\n", error.c_str());
     return 2;
   }
-  if (text.size() > tc::kMaxRecipeBytesCeiling) {
+  if (text.size() > recipe::kMaxRecipeBytesCeiling) {
     std::fprintf(stderr,
                  "riggerctl: %s: %.1f MB is more than any task controller accepts (max_recipe_bytes is at most "
-                 "%u MB, 4 MB by default); nothing was sent\n",
+                 "%zu MB, 4 MB by default); nothing was sent\n",
                  opt.file.c_str(), static_cast<double>(text.size()) / (1024.0 * 1024.0),
-                 tc::kMaxRecipeBytesCeiling / (1024U * 1024U));
+                 recipe::kMaxRecipeBytesCeiling / (1024U * 1024U));
     return kExitFailed;
   }
   std::string task_id = opt.task_id;

@@ -3,7 +3,7 @@
 #include <sstream>
 
 #include "monitor_registry.hpp"
-#include "recipe/conditions.hpp"
+#include "rigger/recipe/conditions.hpp"
 #include "skill_registry.hpp"
 
 namespace rigger::catalog {

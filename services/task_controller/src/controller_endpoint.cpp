@@ -1,0 +1,87 @@
+#include "controller_endpoint.hpp"
+
+#include "rigger/dds/conversions.hpp"
+#include "rigger/dds/qos.hpp"
+
+namespace rigger::task_controller {
+namespace {
+
+/// The skill-command writer's QoS: commands() with MANUAL_BY_PARTICIPANT liveliness, asserted by
+/// run_service's loop every kDefaultLease / 3.
+dds::Qos supervised_commands(std::chrono::milliseconds lease) {
+  dds::Qos q = dds::qos::commands();
+  q.manual_liveliness(lease);
+  return q;
+}
+
+}  // namespace
+
+bool EventOrder::accept(std::uint64_t writer, std::uint64_t seq, std::uint64_t* last) {
+  auto& l = last_[writer];
+  if (last) *last = l;
+  if (seq <= l) return false;
+  l = seq;
+  return true;
+}
+
+RunMatch match_run(const LeafRun* run, const std::string& executor_id, std::uint64_t command_seq) {
+  if (run == nullptr || run->executor_id != executor_id) return RunMatch::kUnknown;
+  return command_seq == run->start_seq ? RunMatch::kCurrent : RunMatch::kStale;
+}
+
+bt::LeafEvent to_leaf_event(const rigger_skill_SkillEvent& e) {
+  bt::LeafEvent ev;
+  ev.code = dds::to_string(e.code);
+  ev.message = dds::to_string(e.message);
+  switch (e.kind) {
+    case rigger_skill_SKILL_EVENT_SUCCESS: ev.kind = bt::LeafEventKind::kSuccess; break;
+    case rigger_skill_SKILL_EVENT_FAILURE: ev.kind = bt::LeafEventKind::kFailure; break;
+    case rigger_skill_SKILL_EVENT_STOPPED: ev.kind = bt::LeafEventKind::kStopped; break;
+    default:
+      ev.kind = bt::LeafEventKind::kProgress;
+      if (e.progress >= 0.0 && e.progress <= 1.0) ev.progress = e.progress;
+      break;
+  }
+  return ev;
+}
+
+ControllerEndpoint::ControllerEndpoint(const dds::Participant& participant, std::chrono::milliseconds lease)
+    : commands_(participant, protocol::skill::kCommand, supervised_commands(lease)),
+      events_(participant, protocol::skill::kEvent) {}
+
+bool ControllerEndpoint::send(rigger_skill_SkillCommandKind kind, const std::string& task_id,
+                              const bt::NodeSpec& spec, const LeafRun& run, const std::string& params,
+                              const std::string& reason) {
+  rigger_skill_SkillCommand c{};
+  c.executor_id = dds::wire_string(run.executor_id);
+  c.task_id = dds::wire_string(task_id);
+  c.node_id = dds::wire_string(spec.id);
+  c.skill = dds::wire_string(spec.leaf);
+  c.kind = kind;
+  c.params_json = dds::wire_string(params);
+  c.reason = dds::wire_string(reason);
+  c.seq = run.start_seq;
+  c.stamp = dds::wire_now();
+  return commands_.write(c) == DDS_RETCODE_OK;
+}
+
+void ControllerEndpoint::take(const std::function<void(const ReceivedEvent&)>& on_event,
+                              const std::function<void(const ReceivedEvent&, std::uint64_t last)>& on_out_of_order) {
+  events_.take([&](const rigger_skill_SkillEvent& e, const dds_sample_info_t& info) {
+    ReceivedEvent r;
+    r.task_id = dds::to_string(e.task_id);
+    r.node_id = dds::to_string(e.node_id);
+    r.executor_id = dds::to_string(e.executor_id);
+    r.seq = e.seq;
+    r.command_seq = e.command_seq;
+    std::uint64_t last = 0;
+    if (!order_.accept(info.publication_handle, e.seq, &last)) {
+      on_out_of_order(r, last);
+      return;
+    }
+    r.event = to_leaf_event(e);
+    on_event(r);
+  });
+}
+
+}  // namespace rigger::task_controller

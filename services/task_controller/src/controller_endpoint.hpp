@@ -1,0 +1,87 @@
+#pragma once
+/// @file
+/// The controller's half of the skill protocol, the mirror of rigger::executor::ExecutorEndpoint:
+/// START/SHUTDOWN go out on rigger/skill/command with an increasing seq, under a liveliness lease the
+/// executors watch (a controller that dies or hangs has its running skills shut down); events come in
+/// on rigger/skill/event and must be newer than the last one from the same executor writer (EventOrder)
+/// and echo the seq of the START of the run they report on (match_run). Events that break a rule are
+/// rejected (logged and journalled by the node), never acted on.
+/// EventOrder, match_run and to_leaf_event are pure logic; ControllerEndpoint owns the DDS entities.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+
+#include "rigger/bt/port.hpp"
+#include "rigger/bt/tree_spec.hpp"
+#include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/skill.hpp"
+
+namespace rigger::task_controller {
+
+/// The controller's record of one START it sent.
+struct LeafRun {
+  std::string executor_id;
+  std::uint64_t start_seq = 0;  ///< the START's seq; the run's events echo it as command_seq
+  bt::Activation activation = 0;
+};
+
+/// Per-writer ordering of events: each executor numbers its events; a seq not above the last one seen
+/// from the same writer is a duplicate or out of order.
+class EventOrder {
+ public:
+  /// Whether `seq` is newer than the last accepted from `writer` (then it becomes the last). `last`
+  /// receives the last seq before this call.
+  bool accept(std::uint64_t writer, std::uint64_t seq, std::uint64_t* last = nullptr);
+
+ private:
+  std::map<std::uint64_t, std::uint64_t> last_;
+};
+
+/// How an event relates to the run the controller knows for its node.
+enum class RunMatch {
+  kCurrent,  ///< from the run's executor and for its current START
+  kUnknown,  ///< no run for the node, or another executor's
+  kStale,    ///< for an earlier START of the node
+};
+RunMatch match_run(const LeafRun* run, const std::string& executor_id, std::uint64_t command_seq);
+
+/// A SkillEvent that passed the ordering check.
+struct ReceivedEvent {
+  std::string task_id, node_id, executor_id;
+  std::uint64_t seq = 0, command_seq = 0;
+  bt::LeafEvent event;  ///< activation not set: the node takes it from its LeafRun
+};
+
+/// The wire event as the engine's (kind, code, message; progress only when in [0, 1]).
+bt::LeafEvent to_leaf_event(const rigger_skill_SkillEvent& e);
+
+class ControllerEndpoint {
+ public:
+  /// `lease`: the liveliness lease offered on the command writer (MANUAL_BY_PARTICIPANT, asserted by
+  /// run_service's loop). @throws DdsError.
+  ControllerEndpoint(const dds::Participant& participant, std::chrono::milliseconds lease);
+
+  /// The next command seq (every START and SHUTDOWN takes one).
+  std::uint64_t next_seq() { return ++command_seq_; }
+  /// Sends START (params: the leaf's JSON) or SHUTDOWN of `spec` under `run`. Returns false when the
+  /// write failed.
+  bool send(rigger_skill_SkillCommandKind kind, const std::string& task_id, const bt::NodeSpec& spec,
+            const LeafRun& run, const std::string& params, const std::string& reason);
+
+  /// Takes every event: in-order ones to `on_event`, others to `on_out_of_order` (with the last seq).
+  void take(const std::function<void(const ReceivedEvent&)>& on_event,
+            const std::function<void(const ReceivedEvent&, std::uint64_t last)>& on_out_of_order);
+
+  const dds::Reader<rigger_skill_SkillEvent>& events() const { return events_; }
+
+ private:
+  dds::Writer<rigger_skill_SkillCommand> commands_;
+  dds::Reader<rigger_skill_SkillEvent> events_;
+  EventOrder order_;
+  std::uint64_t command_seq_ = 0;
+};
+
+}  // namespace rigger::task_controller

@@ -1,0 +1,311 @@
+#include "task_port.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "rigger/base/text.hpp"
+#include "rigger/dds/conversions.hpp"
+#include "rigger/safety/safe_stop.hpp"
+
+namespace rigger::task_controller {
+namespace {
+
+using bt::NodeState;
+
+rigger_task_NodeState to_wire(NodeState s) {
+  switch (s) {
+    case NodeState::kIdle: return rigger_task_NODE_IDLE;
+    case NodeState::kRunning: return rigger_task_NODE_RUNNING;
+    case NodeState::kStopping: return rigger_task_NODE_STOPPING;
+    case NodeState::kSuccess: return rigger_task_NODE_SUCCESS;
+    case NodeState::kFailure: return rigger_task_NODE_FAILURE;
+    case NodeState::kStopped: return rigger_task_NODE_STOPPED;
+  }
+  return rigger_task_NODE_IDLE;
+}
+
+/// A steady-clock instant as wall time (engine timestamps are steady; the wire carries wall time).
+rigger_geometry_Time wall_of(bt::TimePoint t) {
+  const auto age = bt::Clock::now() - t;
+  return dds::to_wire(std::chrono::system_clock::now() -
+                      std::chrono::duration_cast<std::chrono::system_clock::duration>(age));
+}
+
+std::string parent_of(const std::string& id) {
+  const auto slash = id.rfind('/');
+  return slash == std::string::npos ? std::string() : id.substr(0, slash);
+}
+
+}  // namespace
+
+Task::Task(TaskHost& host, recipe::ValidatedRecipe recipe, std::string id)
+    : host_(host), id_(std::move(id)), resources_(recipe.resources) {
+  engine_ = std::make_unique<bt::Engine>(std::move(recipe.tree), *this);
+}
+
+Task::~Task() {
+  for (const auto& [engine_timer, loop_timer] : timers_) host_.loop().cancel(loop_timer);
+}
+
+void Task::defer(std::function<void(Task&)> fn) {
+  TaskHost* host = &host_;
+  std::string id = id_;
+  host_.loop().post([host, id, fn = std::move(fn)] {
+    if (Task* t = host->find_task(id)) fn(*t);
+  });
+}
+
+void Task::log_result(const char* what, const std::string& node_id, const bt::EventResult& r) {
+  if (r.acted_on()) return;
+  host_.log()->warn("{} rejected task={} node={} status={} reason={}", what, id_, node_id, bt::to_string(r.status),
+                    r.reason);
+  host_.journal({wall_now_s(), id_, node_id, "REJECTED_EVENT", std::string(bt::to_string(r.status)), r.reason});
+}
+
+// --- what arrives for the task ---
+
+void Task::on_event(const ReceivedEvent& e) {
+  auto run_it = runs_.find(e.node_id);
+  const LeafRun* run = run_it == runs_.end() ? nullptr : &run_it->second;
+  switch (match_run(run, e.executor_id, e.command_seq)) {
+    case RunMatch::kUnknown:
+      host_.log()->warn("event rejected (unknown node or executor) executor={} task={} node={}", e.executor_id, id_,
+                        e.node_id);
+      host_.journal({wall_now_s(), id_, e.node_id, "REJECTED_EVENT", "UNKNOWN", "from " + e.executor_id});
+      return;
+    case RunMatch::kStale:
+      host_.log()->warn("event rejected (stale) executor={} task={} node={} command_seq={} current={}", e.executor_id,
+                        id_, e.node_id, e.command_seq, run->start_seq);
+      host_.journal({wall_now_s(), id_, e.node_id, "REJECTED_EVENT", "STALE",
+                     "command_seq " + std::to_string(e.command_seq) + " is not the current START " +
+                         std::to_string(run->start_seq)});
+      return;
+    case RunMatch::kCurrent: break;
+  }
+  bt::LeafEvent ev = e.event;
+  ev.activation = run->activation;
+  if (ev.kind != bt::LeafEventKind::kProgress)
+    host_.journal({wall_now_s(), id_, e.node_id, "EVENT", std::string(bt::to_string(ev.kind)),
+                   ev.code.empty() ? ev.message : ev.code + ": " + ev.message});
+  log_result("event", e.node_id, engine_->on_leaf_event(e.node_id, ev));
+}
+
+void Task::executor_lost(const std::string& executor_id) {
+  std::vector<std::pair<std::string, bt::Activation>> hit;
+  for (const auto& [node_id, run] : runs_)
+    if (run.executor_id == executor_id) hit.emplace_back(node_id, run.activation);
+  for (const auto& [node_id, activation] : hit) {
+    auto index = engine_->find(node_id);
+    if (!index) continue;
+    const auto& st = engine_->status(*index);
+    if (st.activation != activation || (st.state != NodeState::kRunning && st.state != NodeState::kStopping))
+      continue;
+    log_result("executor lost", node_id,
+               engine_->on_leaf_lost(node_id, activation, "executor " + executor_id + " lost liveliness"));
+    if (done()) break;
+  }
+}
+
+int Task::command(rigger_task_TaskCommandKind kind, const std::string& reason) {
+  bt::EventResult r;
+  const char* what = "cancel";
+  int publish = -1;
+  if (kind == rigger_task_TASK_CANCEL) {
+    host_.journal({wall_now_s(), id_, "", "COMMAND", "CANCEL", reason});
+    r = engine_->cancel(reason);
+  } else if (kind == rigger_task_TASK_PAUSE) {
+    what = "pause";
+    host_.journal({wall_now_s(), id_, "", "COMMAND", "PAUSE", reason});
+    r = engine_->pause();
+    if (r.acted_on()) publish = rigger_task_TASK_PAUSED;
+  } else {
+    what = "resume";
+    host_.journal({wall_now_s(), id_, "", "COMMAND", "RESUME", reason});
+    r = engine_->resume();
+    if (r.acted_on()) publish = rigger_task_TASK_RUNNING;
+  }
+  log_result(what, "", r);
+  return publish;
+}
+
+void Task::answer(const PromptId& id, const std::string& answer, const std::string& by) {
+  const std::string prompt_id = id.str();
+  auto p = prompts_.find(prompt_id);
+  if (p == prompts_.end()) return;
+  const auto [node_id, activation] = p->second;
+  auto index = engine_->find(node_id);
+  if (!index) return;
+  const auto& spec = engine_->spec().nodes[*index];
+  const auto choice = option_index(spec.options, answer);
+  if (!choice) {
+    const std::string expected = quoted_options(spec.options);
+    host_.log()->warn("operator answer not an option prompt={} answer={} expected={}", prompt_id, answer, expected);
+    host_.journal({wall_now_s(), id_, node_id, "REJECTED_EVENT", "NOT_AN_OPTION",
+                   "answer \"" + answer + "\" by " + by + ": expected one of " + expected});
+    return;
+  }
+  prompts_.erase(p);
+  host_.journal({wall_now_s(), id_, node_id, "OPERATOR", "ANSWER", answer + " by " + by});
+  // The question is settled: withdraw it so that no operator UI keeps showing it.
+  host_.prompts().write(id, spec, false);
+  log_result("operator decision", node_id, engine_->on_operator_decision(node_id, activation, *choice));
+}
+
+// --- bt::Port ---
+
+void Task::start_leaf(const bt::NodeSpec& spec, bt::Activation activation) {
+  const std::string executor_id = host_.pick_executor(spec.leaf, spec.executor);
+  if (executor_id.empty()) {
+    const std::string why =
+        "no live executor offers " + spec.leaf + (spec.executor.empty() ? std::string() : " as " + spec.executor);
+    host_.journal({wall_now_s(), id_, spec.id, "COMMAND", codes::kNoExecutor, why});
+    std::string node_id = spec.id;
+    defer([node_id, activation, why](Task& t) {
+      t.log_result("executor lost", node_id, t.engine().on_leaf_lost(node_id, activation, why));
+    });
+    return;
+  }
+  LeafRun run{executor_id, host_.endpoint().next_seq(), activation};
+  runs_[spec.id] = run;
+  const std::string params = spec.params.dump();
+  host_.journal({wall_now_s(), id_, spec.id, "COMMAND", "START",
+                 spec.leaf + " on " + executor_id + " seq " + std::to_string(run.start_seq) + " " + params});
+  if (!host_.endpoint().send(rigger_skill_SKILL_START, id_, spec, run, params, ""))
+    host_.log()->error("skill command write failed task={} node={}", id_, spec.id);
+}
+
+void Task::shutdown_leaf(const bt::NodeSpec& spec, bt::Activation activation, const std::string& reason) {
+  auto it = runs_.find(spec.id);
+  if (it == runs_.end() || it->second.activation != activation) return;  // never sent: nothing to stop
+  LeafRun shutdown = it->second;
+  shutdown.start_seq = host_.endpoint().next_seq();
+  host_.journal({wall_now_s(), id_, spec.id, "COMMAND", "SHUTDOWN", reason});
+  if (!host_.endpoint().send(rigger_skill_SKILL_SHUTDOWN, id_, spec, shutdown, "{}", reason))
+    host_.log()->error("skill command write failed task={} node={}", id_, spec.id);
+}
+
+void Task::evaluate_condition(const bt::NodeSpec& spec, bt::Activation activation) {
+  TaskHost* host = &host_;
+  const std::string task_id = id_, node_id = spec.id, leaf = spec.leaf;
+  // The answer always arrives on a later loop turn (WorldClient never calls back inside the call).
+  auto answer = [host, task_id, node_id, activation](bool holds, const std::string& code, const std::string& message) {
+    Task* t = host->find_task(task_id);
+    if (t == nullptr) return;
+    t->log_result("condition", node_id, t->engine().on_condition_result(node_id, activation, holds, code, message));
+  };
+  if (leaf == "ObjectLocalized") {
+    const std::string object = spec.params.value("object", std::string());
+    const double max_age_s = spec.params.value("max_age_s", 5.0);
+    host_.is_localized(object, max_age_s, [answer, object, max_age_s](const world_client::Reply& r) {
+      const std::string what = "ObjectLocalized(" + object + ", max_age_s " + number_text(max_age_s) + ")";
+      if (!r.ok) {
+        answer(false, r.code, what + ": " + r.message);
+      } else if (r.localized) {
+        answer(true, "", what + ": pose " + number_text(r.age_s) + " s old");
+      } else {
+        answer(false, r.code.empty() ? "NOT_LOCALIZED" : r.code,
+               what + ": " + (r.message.empty() ? "not localized" : r.message));
+      }
+    });
+    return;
+  }
+  defer([node_id, leaf, activation](Task& t) {
+    t.log_result("condition", node_id,
+                 t.engine().on_condition_result(node_id, activation, false, "UNKNOWN_CONDITION",
+                                                "the controller cannot evaluate condition " + leaf));
+  });
+}
+
+void Task::ask_operator(const bt::NodeSpec& spec, bt::Activation activation) {
+  const PromptId prompt{id_, spec.id, activation};
+  prompts_[prompt.str()] = {spec.id, activation};
+  host_.prompts().write(prompt, spec, true);
+  host_.journal({wall_now_s(), id_, spec.id, "OPERATOR", "ASK", spec.prompt});
+}
+
+void Task::withdraw_operator_request(const bt::NodeSpec& spec, bt::Activation activation) {
+  const PromptId prompt{id_, spec.id, activation};
+  prompts_.erase(prompt.str());
+  host_.prompts().write(prompt, spec, false);
+}
+
+void Task::schedule(bt::TimerId id, bt::TimePoint deadline) {
+  const auto delay = std::max(bt::Clock::duration::zero(), deadline - bt::Clock::now());
+  TaskHost* host = &host_;
+  std::string task_id = id_;
+  timers_[id] = host_.loop().after(std::chrono::duration_cast<std::chrono::nanoseconds>(delay), [host, task_id, id] {
+    Task* t = host->find_task(task_id);
+    if (t == nullptr) return;
+    t->timers_.erase(id);
+    t->engine().on_timer(id);
+  });
+}
+
+void Task::cancel_timer(bt::TimerId id) {
+  auto it = timers_.find(id);
+  if (it == timers_.end()) return;
+  host_.loop().cancel(it->second);
+  timers_.erase(it);
+}
+
+void Task::escalate_safe_stop(const bt::NodeSpec& spec, const std::string& why) {
+  // The devices of every resource the leaf held that a safe stop can name stop and stay stopped
+  // until a person resets them (riggerctl estop --reset RESOURCE); the others are logged.
+  std::string resources, stopped;
+  const auto& stoppable = safety::stoppable_resources();
+  for (const auto& r : spec.resources) {
+    resources += (resources.empty() ? "" : ",") + r;
+    if (std::find(stoppable.begin(), stoppable.end(), r) == stoppable.end()) continue;
+    if (!host_.safe_stop(r, "task " + id_ + ", node " + spec.id + ": " + why))
+      host_.log()->error("safe stop write failed resource={} task={} node={}", r, id_, spec.id);
+    stopped += (stopped.empty() ? "" : ",") + r;
+  }
+  host_.log()->error("safe stop escalated task={} node={} resources=[{}] stopped=[{}] why={}", id_, spec.id, resources,
+                     stopped, why);
+  host_.journal({wall_now_s(), id_, spec.id, "ESCALATION", "SAFE_STOP",
+                 "resources [" + resources + "], safe stop commanded for [" + stopped + "]: " + why});
+}
+
+void Task::node_changed(const bt::NodeSpec& spec, const bt::NodeStatus& status) {
+  NodeStatusRow row;
+  auto run = runs_.find(spec.id);
+  row.task_id = id_;
+  row.node_id = spec.id;
+  row.parent_id = parent_of(spec.id);
+  row.node_type = bt::to_string(spec.kind);
+  row.name = spec.name.empty() ? spec.leaf : spec.name;
+  row.state = to_wire(status.state);
+  row.code = status.code;
+  row.message = status.message;
+  row.progress = status.progress.value_or(-1.0);
+  row.executor_id = run != runs_.end() ? run->second.executor_id : std::string();
+  if (status.started_at) row.started = wall_of(*status.started_at);
+  if (status.finished_at) row.finished = wall_of(*status.finished_at);
+  row.stamp = dds::wire_now();
+  host_.node_status(std::move(row));
+  if (status.state != NodeState::kRunning || !status.progress)  // progress lines are not worth a row each
+    host_.journal({wall_now_s(), id_, spec.id, "NODE", std::string(bt::to_string(status.state)),
+                   status.code.empty() ? status.message : status.code + ": " + status.message});
+}
+
+void Task::finished(const bt::TaskResult& result) {
+  int state = rigger_task_TASK_FAILED;
+  std::string journal_state = "FAILED";
+  if (result.outcome == bt::TaskOutcome::kSucceeded) {
+    state = rigger_task_TASK_SUCCEEDED;
+    journal_state = "SUCCEEDED";
+  } else if (result.outcome == bt::TaskOutcome::kCanceled) {
+    state = rigger_task_TASK_CANCELED;
+    journal_state = "CANCELED";
+  }
+  // The result lists every escalated safe stop (docs/behavior-tree.md rule 3).
+  std::string message = result.message;
+  if (!result.escalated.empty()) {
+    std::string nodes;
+    for (const auto& n : result.escalated) nodes += (nodes.empty() ? "" : ", ") + n;
+    message += (message.empty() ? "" : "; ") + std::string("safe stop escalated: ") + nodes;
+  }
+  host_.task_finished(id_, state, journal_state, result, message);
+}
+
+}  // namespace rigger::task_controller

@@ -1,0 +1,116 @@
+#pragma once
+/// @file
+/// One running task: its bt::Engine and the bt::Port through which the engine acts — START/SHUTDOWN to
+/// executors, conditions through the world model, operator prompts, timers on the event loop, safe-stop
+/// escalation, node status and journal rows. Also routes what arrives for the task (executor events,
+/// task commands, operator answers, a lost executor) into the engine. What it needs from the controller
+/// is the TaskHost interface (the node implements it).
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "controller_endpoint.hpp"
+#include "journal.hpp"
+#include "operator_decisions.hpp"
+#include "rigger/base/logging.hpp"
+#include "rigger/bt/engine.hpp"
+#include "rigger/dds/event_loop.hpp"
+#include "rigger/protocol/task.hpp"
+#include "rigger/recipe/recipe_validator.hpp"
+#include "rigger/world_client/world_client.hpp"
+#include "status_publisher.hpp"
+
+namespace rigger::task_controller {
+
+/// Codes the controller adds to the engine's (RejectCode, recipe_admission.hpp, has the admission ones).
+namespace codes {
+inline constexpr const char* kInterrupted = "INTERRUPTED";
+inline constexpr const char* kNoExecutor = "NO_EXECUTOR";
+}  // namespace codes
+
+class Task;
+
+/// What a task needs from its controller.
+class TaskHost {
+ public:
+  virtual ~TaskHost() = default;
+  virtual dds::EventLoop& loop() = 0;
+  virtual const Logger& log() const = 0;
+  /// The running task `id`, or nullptr (it ended and was forgotten).
+  virtual Task* find_task(const std::string& id) = 0;
+  /// The live executor for `skill` (ExecutorDirectory::pick).
+  virtual std::string pick_executor(const std::string& skill, const std::string& pinned) const = 0;
+  virtual ControllerEndpoint& endpoint() = 0;
+  virtual PromptWriter& prompts() = 0;
+  /// Queues a journal row / node status sample; they are written right after the current handler.
+  virtual void journal(const JournalRecord& record) = 0;
+  virtual void node_status(NodeStatusRow row) = 0;
+  /// Asks the world model whether `object` is localized (the answer comes on a later loop turn).
+  virtual void is_localized(const std::string& object, double max_age_s,
+                            std::function<void(const world_client::Reply&)> answer) = 0;
+  /// Commands a safe stop of `resource`; false when the write failed.
+  virtual bool safe_stop(const std::string& resource, const std::string& reason) = 0;
+  /// The task ended: record and publish its result (`state`: the wire TaskState, `journal_state` the
+  /// journal's), then forget it on a later turn.
+  virtual void task_finished(const std::string& id, int state, const std::string& journal_state,
+                             const bt::TaskResult& result, const std::string& message) = 0;
+};
+
+class Task : public bt::Port {
+ public:
+  /// @throws bt::SpecError when the engine refuses the tree.
+  Task(TaskHost& host, recipe::ValidatedRecipe recipe, std::string id);
+  ~Task() override;
+
+  const std::string& id() const { return id_; }
+  bt::Engine& engine() { return *engine_; }
+  const std::vector<std::string>& resources() const { return resources_; }
+  bool done() const { return engine_->result().has_value(); }
+
+  /// Logs and journals an engine result that was not acted on.
+  void log_result(const char* what, const std::string& node_id, const bt::EventResult& r);
+
+  /// An in-order executor event for this task (ControllerEndpoint::take).
+  void on_event(const ReceivedEvent& e);
+  /// Executor `executor_id` lost liveliness: its running leaves fail.
+  void executor_lost(const std::string& executor_id);
+  /// CANCEL / PAUSE / RESUME (rigger/task/command). Returns the TaskState to publish with `reason`
+  /// (PAUSED, RUNNING), or -1 for none.
+  int command(rigger_task_TaskCommandKind kind, const std::string& reason);
+  /// An answer to prompt `id` (of this task) by `by`.
+  void answer(const PromptId& id, const std::string& answer, const std::string& by);
+  /// Whether prompt `id` is open (asked, not answered nor withdrawn).
+  bool prompt_open(const PromptId& id) const { return prompts_.count(id.str()) != 0; }
+
+  // --- bt::Port ---
+  bt::TimePoint now() override { return bt::Clock::now(); }
+  void start_leaf(const bt::NodeSpec& spec, bt::Activation activation) override;
+  void shutdown_leaf(const bt::NodeSpec& spec, bt::Activation activation, const std::string& reason) override;
+  void evaluate_condition(const bt::NodeSpec& spec, bt::Activation activation) override;
+  void ask_operator(const bt::NodeSpec& spec, bt::Activation activation) override;
+  void withdraw_operator_request(const bt::NodeSpec& spec, bt::Activation activation) override;
+  void schedule(bt::TimerId id, bt::TimePoint deadline) override;
+  void cancel_timer(bt::TimerId id) override;
+  void escalate_safe_stop(const bt::NodeSpec& spec, const std::string& why) override;
+  void node_changed(const bt::NodeSpec& spec, const bt::NodeStatus& status) override;
+  void finished(const bt::TaskResult& result) override;
+
+ private:
+  /// Runs `fn` on the engine later (outside any Port callback), if the task still exists then.
+  void defer(std::function<void(Task&)> fn);
+
+  TaskHost& host_;
+  std::string id_;
+  std::vector<std::string> resources_;
+  std::unique_ptr<bt::Engine> engine_;
+  std::map<std::string, LeafRun> runs_;  ///< by node id: the last START sent
+  std::map<bt::TimerId, dds::EventLoop::TimerId> timers_;
+  std::map<std::string, std::pair<std::string, bt::Activation>> prompts_;  ///< open prompt id → (node, activation)
+};
+
+}  // namespace rigger::task_controller

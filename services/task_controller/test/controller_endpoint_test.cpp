@@ -1,0 +1,63 @@
+// The controller's half of the skill protocol, its pure rules: event order per writer, run matching,
+// the wire event as the engine's.
+
+#include "controller_endpoint.hpp"
+
+#include <gtest/gtest.h>
+
+namespace rigger::task_controller {
+namespace {
+
+TEST(EventOrder, AcceptsOnlyNewerSeqsPerWriter) {
+  EventOrder order;
+  std::uint64_t last = 99;
+  EXPECT_TRUE(order.accept(1, 1, &last));
+  EXPECT_EQ(last, 0U);
+  EXPECT_TRUE(order.accept(1, 5, &last));
+  EXPECT_EQ(last, 1U);
+  EXPECT_FALSE(order.accept(1, 5, &last)) << "duplicate";
+  EXPECT_EQ(last, 5U);
+  EXPECT_FALSE(order.accept(1, 3, &last)) << "out of order";
+  EXPECT_EQ(last, 5U) << "a rejected seq does not move the last one";
+  EXPECT_TRUE(order.accept(2, 1)) << "another writer counts on its own";
+  EXPECT_FALSE(order.accept(1, 0)) << "seq 0 is never newer";
+}
+
+TEST(MatchRun, TellsCurrentUnknownAndStale) {
+  const LeafRun run{"exec-a", 7, 2};
+  EXPECT_EQ(match_run(&run, "exec-a", 7), RunMatch::kCurrent);
+  EXPECT_EQ(match_run(&run, "exec-a", 6), RunMatch::kStale);
+  EXPECT_EQ(match_run(&run, "exec-a", 8), RunMatch::kStale);
+  EXPECT_EQ(match_run(&run, "exec-b", 7), RunMatch::kUnknown);
+  EXPECT_EQ(match_run(nullptr, "exec-a", 7), RunMatch::kUnknown);
+}
+
+TEST(ToLeafEvent, MapsKindsAndKeepsOnlyValidProgress) {
+  rigger_skill_SkillEvent e{};
+  char code[] = "YANK_DETECTED";
+  char message[] = "yank 900 N/s";
+  e.code = code;
+  e.message = message;
+  e.kind = rigger_skill_SKILL_EVENT_FAILURE;
+  auto ev = to_leaf_event(e);
+  EXPECT_EQ(ev.kind, bt::LeafEventKind::kFailure);
+  EXPECT_EQ(ev.code, "YANK_DETECTED");
+  EXPECT_EQ(ev.message, "yank 900 N/s");
+  e.kind = rigger_skill_SKILL_EVENT_SUCCESS;
+  EXPECT_EQ(to_leaf_event(e).kind, bt::LeafEventKind::kSuccess);
+  e.kind = rigger_skill_SKILL_EVENT_STOPPED;
+  EXPECT_EQ(to_leaf_event(e).kind, bt::LeafEventKind::kStopped);
+  e.kind = rigger_skill_SKILL_EVENT_PROGRESS;
+  e.progress = 0.5;
+  ev = to_leaf_event(e);
+  EXPECT_EQ(ev.kind, bt::LeafEventKind::kProgress);
+  ASSERT_TRUE(ev.progress);
+  EXPECT_DOUBLE_EQ(*ev.progress, 0.5);
+  e.progress = 1.5;
+  EXPECT_FALSE(to_leaf_event(e).progress);
+  e.progress = -1.0;
+  EXPECT_FALSE(to_leaf_event(e).progress);
+}
+
+}  // namespace
+}  // namespace rigger::task_controller

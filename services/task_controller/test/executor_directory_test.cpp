@@ -1,0 +1,88 @@
+// ExecutorDirectory: which executor runs a leaf, liveliness, and the library recipes are checked against.
+
+#include "executor_directory.hpp"
+
+#include <gtest/gtest.h>
+
+#include "unit_test_util.hpp"
+
+namespace rigger::task_controller {
+namespace {
+
+using testing::library_with;
+
+TEST(ExecutorDirectory, PicksTheFirstLiveExecutorOfferingTheSkill) {
+  ExecutorDirectory d;
+  d.announce("b-exec", true, library_with({"Pick"}).dump(), {"Pick"});
+  d.announce("a-exec", true, library_with({"Pick", "Localize"}).dump(), {"Pick", "Localize"});
+  EXPECT_EQ(d.pick("Pick", ""), "a-exec");  // by id
+  EXPECT_EQ(d.pick("Localize", ""), "a-exec");
+  EXPECT_EQ(d.pick("Place", ""), "");
+  d.gone("a-exec");
+  EXPECT_EQ(d.pick("Pick", ""), "b-exec");
+  EXPECT_EQ(d.pick("Localize", ""), "");
+}
+
+TEST(ExecutorDirectory, APinnedExecutorIsTheOnlyChoice) {
+  ExecutorDirectory d;
+  d.announce("a-exec", true, library_with({"Pick"}).dump(), {"Pick"});
+  d.announce("b-exec", true, library_with({"Pick"}).dump(), {"Pick"});
+  EXPECT_EQ(d.pick("Pick", "b-exec"), "b-exec");
+  EXPECT_EQ(d.pick("Pick", "c-exec"), "") << "an unknown pinned executor is no executor";
+  EXPECT_EQ(d.pick("Place", "b-exec"), "") << "the pinned executor does not offer the skill";
+  d.announce("b-exec", false, library_with({"Pick"}).dump(), {"Pick"});
+  EXPECT_EQ(d.pick("Pick", "b-exec"), "") << "a dead pinned executor is not replaced by another";
+}
+
+TEST(ExecutorDirectory, ReportsUpLostAndGoneOnce) {
+  ExecutorDirectory d;
+  auto c = d.announce("x", true, "{}", {});
+  EXPECT_TRUE(c.alive);
+  EXPECT_TRUE(c.came_up);
+  EXPECT_FALSE(c.lost);
+  c = d.announce("x", true, "{}", {});
+  EXPECT_FALSE(c.came_up) << "a repeated announcement is not a new executor";
+  EXPECT_TRUE(d.alive("x"));
+  EXPECT_TRUE(d.gone("x"));
+  EXPECT_FALSE(d.gone("x")) << "lost once";
+  EXPECT_FALSE(d.gone("never-seen"));
+  c = d.announce("x", false, "{}", {});
+  EXPECT_FALSE(c.lost) << "it was already lost";
+  d.announce("y", true, "{}", {});
+  c = d.announce("y", false, "{}", {});
+  EXPECT_TRUE(c.lost);
+  EXPECT_FALSE(d.alive("y"));
+}
+
+TEST(ExecutorDirectory, LiveLibraryMergesLiveExecutorsAndTheControllersConditions) {
+  ExecutorDirectory d;
+  d.announce("a", true, library_with({"Pick"}).dump(), {"Pick"});
+  d.announce("b", true, library_with({"Localize"}).dump(), {"Localize"});
+  d.announce("dead", true, library_with({"Place"}).dump(), {"Place"});
+  d.gone("dead");
+  std::vector<std::string> problems;
+  const auto library = d.live_library(&problems);
+  EXPECT_TRUE(problems.empty());
+  EXPECT_NE(library.find("Pick"), nullptr);
+  EXPECT_NE(library.find("Localize"), nullptr);
+  EXPECT_EQ(library.find("Place"), nullptr) << "a dead executor's skills are not offered";
+  EXPECT_NE(library.find("ObjectLocalized"), nullptr) << "the controller answers this condition itself";
+}
+
+TEST(ExecutorDirectory, AnUnreadableOrInvalidLibraryIsReportedAndSkipped) {
+  ExecutorDirectory d;
+  const auto c = d.announce("bad-json", true, "{not json", {"Pick"});
+  EXPECT_FALSE(c.library_error.empty());
+  d.announce("bad-library", true, R"({"library_version": 1, "skills": [{"name": 3}]})", {"Pick"});
+  d.announce("good", true, library_with({"Localize"}).dump(), {"Localize"});
+  std::vector<std::string> problems;
+  const auto library = d.live_library(&problems);
+  ASSERT_EQ(problems.size(), 1U);
+  EXPECT_NE(problems[0].find("executor library invalid executor=bad-library"), std::string::npos) << problems[0];
+  EXPECT_NE(library.find("Localize"), nullptr);
+  EXPECT_EQ(library.find("Pick"), nullptr);
+  EXPECT_EQ(d.pick("Pick", ""), "bad-json") << "what an executor offers is its skills list, not its library";
+}
+
+}  // namespace
+}  // namespace rigger::task_controller
