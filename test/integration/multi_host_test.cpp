@@ -242,39 +242,27 @@ TEST_F(MultiHostTest, SkillsHostCutDuringInsertionStopsTheCellAndItRecovers) {
   const auto ps = on("skills", "ps", compose() + " ps", 30s);
   EXPECT_EQ(ps.output.find("LOST"), std::string::npos) << ps.output;
 
-  // The operator looks, resets the stops the controller wrote, lets the robot let go of the load (a
-  // one-skill recipe: Release), waits until the load hangs still on the rope, and runs the task again.
+  // The operator looks, resets the stops the controller wrote, and runs the rest of the task: the robot
+  // still holds the load over the target, so a recipe of the remaining steps (localize both again, the
+  // insertion with its fallback, the screws, the release) made from the shipped one, with the attachment
+  // as an assumption. (Resuming from the journal instead is issue #13's open part.)
   const auto reset = on("controller", "reset", riggerctl() + " estop --reset", 30s);
   ASSERT_TRUE(reset.status.ok()) << reset.output;
-  const std::string release_id = task_id("release");
-  const std::string release_file = cell_->log_dir() + "/release.json";
-  std::ofstream(release_file) << nlohmann::json{
-      {"recipe_version", 1},
-      {"task_id", release_id},
-      {"description", "let go of the load after a stop"},
-      {"root", {{"type", "Skill"}, {"skill", "Release"}, {"name", "release and retreat"}, {"params", nlohmann::json::object()}}}};
-  const auto released = on("controller", "release", riggerctl() + " run " + release_file, 120s);
-  ASSERT_TRUE(released.status.ok()) << released.output;
-  std::optional<Eigen::Isometry3d> still_at;
-  auto still_since = Clock::now();
-  const bool settled = cell_->wait_until(
-      [&] {
-        const auto now = s->truth("load");
-        if (!now) return false;
-        // Swinging less than 10 mm either way of one point for 3 s (the attach refuses a load whose grasp
-        // frame moved more than 30 mm since it was localized).
-        if (!still_at || (now->translation() - still_at->translation()).norm() > 0.010) {
-          still_at = now;
-          still_since = Clock::now();
-          return false;
-        }
-        return Clock::now() - still_since > 3s;
-      },
-      120s);
-  ASSERT_TRUE(settled) << "the load still swings on the rope 120 s after the release";
+  std::ifstream shipped(RIGGER_SOURCE_DIR "/recipes/crane_insert.json");
+  const nlohmann::json full = nlohmann::json::parse(shipped);
+  const nlohmann::json& steps = full.at("root").at("children");
+  nlohmann::json rest = full;
+  rest["description"] = "the rest of the crane insertion, after a stop with the load held";
+  rest["assumptions"].push_back("attached(robot,load)");
+  rest["root"]["children"] = nlohmann::json::array({steps.at(0), steps.at(1).at("child").at("children").at(0)});
+  for (std::size_t i = 2; i < steps.size(); ++i) rest["root"]["children"].push_back(steps.at(i));
+  ASSERT_EQ(rest["root"]["children"][1].value("skill", ""), "Localize");
   const std::string second = task_id("again");
+  rest["task_id"] = second;
+  const std::string rest_file = cell_->log_dir() + "/rest_of_the_task.json";
+  std::ofstream(rest_file) << rest.dump(2);
   s->watch(second);
-  const auto again = on("controller", "run-again", riggerctl() + " run recipes/crane_insert.json --task-id " + second, 300s);
+  const auto again = on("controller", "run-again", riggerctl() + " run " + rest_file, 300s);
   std::printf("--- the second run:\n%s\n", again.output.c_str());
   EXPECT_TRUE(again.status.ok()) << again.output;
   ASSERT_TRUE(s->wait_task_end(30s)) << s->task_summary();

@@ -149,6 +149,11 @@ class ScenarioCell {
   /// Follows task `task_id` submitted by someone else (submit() follows its own).
   void watch(const std::string& task_id) {
     task_id_ = task_id;
+    task_state_ = -1;  // nothing seen of this one yet (a task watched before may have ended)
+    task_code_.clear();
+    task_message_.clear();
+    failed_node_.clear();
+    task_errors_.clear();
     submitted_ = Clock::now();
   }
 

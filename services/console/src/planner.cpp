@@ -9,6 +9,7 @@
 // The task controller's validator: the only place the console includes it (the library moves to
 // common/recipe; this include follows it).
 #include "rigger/recipe/conditions.hpp"
+#include "rigger/recipe/live_library.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
 
 namespace rigger::console {
@@ -16,11 +17,6 @@ namespace rigger::console {
 using nlohmann::json;
 
 namespace {
-
-const skill::SkillLibrary& controller_conditions() {
-  static const skill::SkillLibrary library = skill::SkillLibrary::from_json(recipe::controller_conditions_json());
-  return library;
-}
 
 bool is_point(const json& p) {
   return p.is_array() && p.size() == 3 && p[0].is_number() && p[1].is_number() && p[2].is_number();
@@ -34,30 +30,14 @@ void SkillCatalog::update(const std::string& executor_id, bool alive, const std:
     libraries_.erase(executor_id);
     return;
   }
-  json parsed = json::parse(library_json, nullptr, false);
-  libraries_[executor_id] = parsed.is_discarded() ? json() : std::move(parsed);
+  libraries_[executor_id] = recipe::parse_announced_library(library_json);
 }
 
 skill::SkillLibrary SkillCatalog::merged(std::vector<std::string>* problems) const {
-  // As the task controller does (TaskControllerNode::live_library): every live executor's library, then
-  // the controller's own conditions unless an executor announces one of them too.
-  skill::SkillLibrary library;
-  for (const auto& [id, doc] : libraries_) {
-    if (doc.is_null()) {
-      if (problems) problems->push_back("executor " + id + " announced a library that is not JSON");
-      continue;
-    }
-    auto parsed = skill::SkillLibrary::parse(doc);
-    if (!parsed.value) {
-      if (problems) problems->push_back("executor " + id + " announced an invalid library (" + std::to_string(parsed.errors.size()) + " errors)");
-      continue;
-    }
-    for (const auto& e : library.merge(*parsed.value))
-      if (problems) problems->push_back("executor " + id + " conflicts at " + e.pointer + ": " + e.message);
-  }
-  for (const auto& [name, description] : controller_conditions().descriptions())
-    if (library.find(name) == nullptr) library.add(description);
-  return library;
+  // Exactly what the task controller validates against (common/recipe).
+  std::vector<recipe::AnnouncedLibrary> announced;
+  for (const auto& [id, doc] : libraries_) announced.push_back({id, &doc});
+  return recipe::live_library(announced, problems);
 }
 
 skill::SkillLibrary SkillCatalog::library() const {

@@ -1,17 +1,8 @@
 #include "executor_directory.hpp"
 
-#include "rigger/recipe/conditions.hpp"
+#include "rigger/recipe/live_library.hpp"
 
 namespace rigger::task_controller {
-namespace {
-
-/// The conditions the controller answers itself (through the world model), as a skill library.
-const skill::SkillLibrary& controller_conditions() {
-  static const skill::SkillLibrary library = skill::SkillLibrary::from_json(recipe::controller_conditions_json());
-  return library;
-}
-
-}  // namespace
 
 ExecutorDirectory::Change ExecutorDirectory::announce(const std::string& id, bool alive,
                                                       const std::string& library_json,
@@ -22,12 +13,8 @@ ExecutorDirectory::Change ExecutorDirectory::announce(const std::string& id, boo
   change.came_up = alive && !ex.alive;
   change.lost = ex.alive && !alive;
   ex.alive = alive;
-  try {
-    ex.library = nlohmann::json::parse(library_json);
-  } catch (const std::exception& e) {
-    change.library_error = e.what();
-    ex.library = nlohmann::json();
-  }
+  // Text from another process: parsed with bounds (empty: no library announced).
+  ex.library = library_json.empty() ? nlohmann::json() : recipe::parse_announced_library(library_json, &change.library_error);
   ex.skills = std::set<std::string>(skills.begin(), skills.end());
   return change;
 }
@@ -51,22 +38,10 @@ std::string ExecutorDirectory::pick(const std::string& skill, const std::string&
 }
 
 skill::SkillLibrary ExecutorDirectory::live_library(std::vector<std::string>* problems) const {
-  skill::SkillLibrary library;
-  for (const auto& [id, ex] : executors_) {
-    if (!ex.alive || ex.library.is_null()) continue;
-    auto parsed = skill::SkillLibrary::parse(ex.library);
-    if (!parsed.value) {
-      if (problems)
-        problems->push_back("executor library invalid executor=" + id + " errors=" +
-                            std::to_string(parsed.errors.size()));
-      continue;
-    }
-    for (const auto& e : library.merge(*parsed.value))
-      if (problems) problems->push_back("executor library conflict executor=" + id + " at " + e.pointer + ": " + e.message);
-  }
-  for (const auto& [name, description] : controller_conditions().descriptions())
-    if (library.find(name) == nullptr) library.add(description);
-  return library;
+  std::vector<recipe::AnnouncedLibrary> announced;
+  for (const auto& [id, ex] : executors_)
+    if (ex.alive && !ex.library.is_null()) announced.push_back({id, &ex.library});
+  return recipe::live_library(announced, problems);
 }
 
 bool ExecutorDirectory::alive(const std::string& id) const {

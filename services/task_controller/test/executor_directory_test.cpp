@@ -69,6 +69,18 @@ TEST(ExecutorDirectory, LiveLibraryMergesLiveExecutorsAndTheControllersCondition
   EXPECT_NE(library.find("ObjectLocalized"), nullptr) << "the controller answers this condition itself";
 }
 
+// Announcements come from other processes: their bounds are enforced while parsing.
+TEST(ExecutorDirectory, AnOversizedOrTooDeepAnnouncementIsRefusedWhileParsing) {
+  ExecutorDirectory d;
+  const auto deep = d.announce("deep", true, std::string(100000, '[') + std::string(100000, ']'), {"Pick"});
+  EXPECT_NE(deep.library_error.find("nesting deeper"), std::string::npos) << deep.library_error;
+  const auto big = d.announce("big", true, "\"" + std::string(2U * 1024U * 1024U, 'x') + "\"", {"Pick"});
+  EXPECT_FALSE(big.library_error.empty());
+  std::vector<std::string> problems;
+  d.live_library(&problems);
+  EXPECT_TRUE(problems.empty()) << "refused announcements offer no library at all";
+}
+
 TEST(ExecutorDirectory, AnUnreadableOrInvalidLibraryIsReportedAndSkipped) {
   ExecutorDirectory d;
   const auto c = d.announce("bad-json", true, "{not json", {"Pick"});
