@@ -79,7 +79,7 @@ function(rigger_add_service name)
   rigger_add_executable(${name} SOURCES src/main.cpp DEPS rigger_${name}_core)
 endfunction()
 
-# rigger_add_test(NAME SOURCES ... DEPS ... LABEL unit|dds|integration [TIMEOUT s] [RUN_SERIAL])
+# rigger_add_test(NAME SOURCES ... DEPS ... LABEL unit|dds|integration|lab [TIMEOUT s] [RUN_SERIAL]) (lab: on demand, not test/run)
 # One GoogleTest binary; each test case becomes a ctest test with the label and a timeout.
 # RUN_SERIAL: for tests that assert a deadline (e.g. discovery within 3 s) and must not share the
 # machine's two cores with the rest of the suite.

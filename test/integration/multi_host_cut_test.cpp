@@ -1,0 +1,93 @@
+// A host's link cut during the insertion (issue 17), on the lab of multi_host_support.hpp. Label `lab`:
+// not in test/run (`ctest -L lab` runs it): on a quiet 2-core machine it failed 4 runs of 7 on timing
+// alone (a 102 ms gap in the 500 Hz wrench stream against the yank monitor's 100 ms, Modbus replies
+// inside the devices host timing out), with 13 services and three supervisors on two cores.
+#include "multi_host_support.hpp"
+
+namespace rigger::testing::scenario {
+namespace {
+
+// The skills host's cable is pulled while the load is being inserted: the controller loses the executors
+// and stops the leaf's devices; robot and crane come to rest; the task fails with EXECUTOR_LOST. Cable
+// back in: the services are seen again without a restart, nothing sent before the cut moves anything, and
+// after the operator resets the stops a second run succeeds.
+TEST_F(MultiHostTest, SkillsHostCutDuringInsertionStopsTheCellAndItRecovers) {
+  ASSERT_TRUE(up_all());
+  auto s = ScenarioCell::started_elsewhere(*cell_, kServices);
+  ASSERT_TRUE(s->ready());
+
+  const std::string first = task_id("cut");
+  s->watch(first);
+  auto run = start_on("controller", "run-cut", riggerctl() + " run recipes/crane_insert.json --task-id " + first);
+  ASSERT_TRUE(s->wait_node("insert visually guided", rigger_task_NODE_RUNNING, 180s)) << s->task_summary();
+  const auto start = s->truth("load");
+  ASSERT_TRUE(start.has_value());
+  ASSERT_TRUE(cell_->wait_until(
+      [&] {
+        const auto now = s->truth("load");
+        return task_terminal(s->task_state()) || (now && (now->translation() - start->translation()).norm() > 0.05);
+      },
+      120s));
+  ASSERT_FALSE(task_terminal(s->task_state())) << s->task_summary();
+
+  const auto cut_at = Clock::now();
+  ASSERT_TRUE(lab("cut", {"skills"}).status.ok());
+  const auto after = s->motion_after_stop(200);
+  const double rest_s = std::chrono::duration<double>(after.rest_at - cut_at).count();
+  std::printf("  skills host cut: robot and crane at rest within %.2f s; then over 2 s: tool %.2f mm, crane %.1f mm/s\n",
+              rest_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
+  EXPECT_TRUE(after.at_rest) << "robot or crane still moving 5 s after the cut";
+  EXPECT_LT(after.max_tool_m, 0.002);
+  EXPECT_LT(after.max_crane_mps, 0.005);
+  EXPECT_TRUE(s->gripper_holding()) << "the load must stay held";
+  ASSERT_TRUE(s->wait_task_end(30s)) << s->task_summary();
+  EXPECT_EQ(s->task_state(), rigger_task_TASK_FAILED);
+  EXPECT_EQ(s->task_code(), "EXECUTOR_LOST") << s->task_summary();
+  const auto ended = finish(*run, "riggerctl run (cut)", 30s);
+  EXPECT_FALSE(ended.status.ok()) << ended.output;
+  std::printf("--- riggerctl run during the cut:\n%s\n", ended.output.c_str());
+
+  // Cable back in: every service READY again on DDS, with no restart; whatever the skills host had queued
+  // before the cut must not move the stopped devices.
+  ASSERT_TRUE(lab("restore", {"skills"}).status.ok());
+  const auto restored_at = Clock::now();
+  ASSERT_TRUE(cell_->wait_ready(kServices, 30s)) << "the cell did not come back after the link returned";
+  std::printf("  link restored: every service READY again after %.2f s\n",
+              std::chrono::duration<double>(Clock::now() - restored_at).count());
+  const auto still = s->motion_after_stop(200);
+  EXPECT_TRUE(still.at_rest);
+  EXPECT_LT(still.max_tool_m, 0.002) << "a command from before the cut moved the robot";
+  EXPECT_LT(still.max_crane_mps, 0.005) << "a command from before the cut moved the crane";
+
+  const auto ps = on("skills", "ps", compose() + " ps", 30s);
+  EXPECT_EQ(ps.output.find("LOST"), std::string::npos) << ps.output;
+
+  // The operator looks, resets the stops the controller wrote, and runs the rest of the task: the robot
+  // still holds the load over the target, so a recipe of the remaining steps (localize both again, the
+  // insertion with its fallback, the screws, the release) made from the shipped one, with the attachment
+  // as an assumption. (Resuming from the journal instead is issue #13's open part.)
+  const auto reset = on("controller", "reset", riggerctl() + " estop --reset", 30s);
+  ASSERT_TRUE(reset.status.ok()) << reset.output;
+  std::ifstream shipped(RIGGER_SOURCE_DIR "/recipes/crane_insert.json");
+  const nlohmann::json full = nlohmann::json::parse(shipped);
+  const nlohmann::json& steps = full.at("root").at("children");
+  nlohmann::json rest = full;
+  rest["description"] = "the rest of the crane insertion, after a stop with the load held";
+  rest["assumptions"].push_back("attached(robot,load)");
+  rest["root"]["children"] = nlohmann::json::array({steps.at(0), steps.at(1).at("child").at("children").at(0)});
+  for (std::size_t i = 2; i < steps.size(); ++i) rest["root"]["children"].push_back(steps.at(i));
+  ASSERT_EQ(rest["root"]["children"][1].value("skill", ""), "Localize");
+  const std::string second = task_id("again");
+  rest["task_id"] = second;
+  const std::string rest_file = cell_->log_dir() + "/rest_of_the_task.json";
+  std::ofstream(rest_file) << rest.dump(2);
+  s->watch(second);
+  const auto again = on("controller", "run-again", riggerctl() + " run " + rest_file, 300s);
+  std::printf("--- the second run:\n%s\n", again.output.c_str());
+  EXPECT_TRUE(again.status.ok()) << again.output;
+  ASSERT_TRUE(s->wait_task_end(30s)) << s->task_summary();
+  EXPECT_EQ(s->task_state(), rigger_task_TASK_SUCCEEDED) << s->task_summary();
+}
+
+}  // namespace
+}  // namespace rigger::testing::scenario
