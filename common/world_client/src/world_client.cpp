@@ -20,7 +20,10 @@ WorldClient::WorldClient(const dds::Participant& participant, dds::EventLoop& lo
 }
 
 WorldClient::~WorldClient() {
-  for (auto& [id, p] : pending_) loop_.cancel(p.timer);
+  for (auto& [id, p] : pending_) {
+    loop_.cancel(p.timer);
+    loop_.cancel(p.retry);
+  }
 }
 
 bool WorldClient::connected() const { return queries_.matched_readers() > 0 && replies_.matched_writers() > 0; }
@@ -82,6 +85,7 @@ void WorldClient::cancel(std::uint64_t request_id) {
   auto it = pending_.find(request_id);
   if (it == pending_.end()) return;
   loop_.cancel(it->second.timer);
+  loop_.cancel(it->second.retry);
   pending_.erase(it);
 }
 
@@ -90,7 +94,11 @@ std::uint64_t WorldClient::track(std::chrono::milliseconds timeout, Callback cb)
   Pending p;
   p.callback = std::move(cb);
   p.timer = loop_.after(timeout, [this, id, timeout] {
-    fail_soon(id, "no reply from the world model within " + std::to_string(timeout.count()) + " ms");
+    const auto it = pending_.find(id);
+    const bool sent = it == pending_.end() || it->second.sent;
+    fail_soon(id, sent ? "no reply from the world model within " + std::to_string(timeout.count()) + " ms"
+                       : "no world model is matched on rigger/world/query within " + std::to_string(timeout.count()) +
+                             " ms");
   });
   pending_.emplace(id, std::move(p));
   return id;
@@ -100,11 +108,24 @@ std::uint64_t WorldClient::send_query(int kind, const std::string& entity, const
                                       const std::string& feature, double max_age_s, std::chrono::milliseconds timeout,
                                       Callback cb) {
   const std::uint64_t id = track(timeout, std::move(cb));
+  write_query(id, kind, entity, frame, feature, max_age_s);
+  return id;
+}
+
+void WorldClient::write_query(std::uint64_t id, int kind, const std::string& entity, const std::string& frame,
+                              const std::string& feature, double max_age_s) {
+  auto it = pending_.find(id);
+  if (it == pending_.end()) return;  // timed out or cancelled while waiting
+  it->second.retry = 0;
   if (!connected()) {
-    // Answer on the next loop turn, never inside the call: callers may hold state the callback changes.
-    loop_.post([this, id] { fail_soon(id, "no world model is matched on rigger/world/query"); });
-    return id;
+    // Discovery may be a round behind a world model that has just started (or a client that has): wait
+    // for the match within the request's own timeout, which then says no world model was matched.
+    it->second.retry = loop_.after(std::chrono::milliseconds(20), [this, id, kind, entity, frame, feature, max_age_s] {
+      write_query(id, kind, entity, frame, feature, max_age_s);
+    });
+    return;
   }
+  it->second.sent = true;
   rigger_world_WorldQuery q{};
   q.client_id = dds::wire_string(client_id_);
   q.request_id = id;
@@ -118,7 +139,6 @@ std::uint64_t WorldClient::send_query(int kind, const std::string& entity, const
     log_->warn("world query write failed request_id={} rc={}", id, rc);
     loop_.post([this, id, rc] { fail_soon(id, "writing the query failed: " + std::string(dds_strretcode(rc))); });
   }
-  return id;
 }
 
 std::uint64_t WorldClient::send_update(rigger_world_EntityUpdate& update, bool matched, std::chrono::milliseconds timeout,
@@ -150,6 +170,7 @@ void WorldClient::finish(std::uint64_t request_id, const Reply& reply) {
   auto it = pending_.find(request_id);
   if (it == pending_.end()) return;  // cancelled, timed out, or a duplicate answer
   loop_.cancel(it->second.timer);
+  loop_.cancel(it->second.retry);
   Callback cb = std::move(it->second.callback);
   pending_.erase(it);  // before the callback: it may issue or cancel requests
   if (cb) cb(reply);

@@ -4,8 +4,9 @@
 /// `rigger/world/reply`, pose updates on `rigger/world/update` answered on `rigger/world/update_result`.
 /// Every request carries a correlation id (client_id + request_id); every request ends with exactly
 /// one callback: the world model's answer, or ok=false with code "WORLD_UNREACHABLE" after the
-/// timeout (or at once, on the next loop turn, when no world model is matched). Timeouts are timers
-/// on the owner's EventLoop; nothing polls.
+/// timeout. A query made before a world model is matched waits for the match within that timeout
+/// (discovery may be a round behind a service that has just started; checked every 20 ms on the
+/// owner's EventLoop) and then says no world model was matched; updates still fail at once when none is.
 ///
 /// Thread safety: none. Construct, call and destroy on the owner's EventLoop thread (or before run());
 /// callbacks run on that thread, never inside a call. The client must be destroyed before its loop.
@@ -97,6 +98,8 @@ class WorldClient {
   struct Pending {
     Callback callback;
     dds::EventLoop::TimerId timer = 0;
+    dds::EventLoop::TimerId retry = 0;  ///< waiting for a world model to match (0: none)
+    bool sent = false;
   };
 
   std::uint64_t send_query(int kind, const std::string& entity, const std::string& frame, const std::string& feature,
@@ -104,6 +107,8 @@ class WorldClient {
   std::uint64_t send_update(rigger_world_EntityUpdate& update, bool matched, std::chrono::milliseconds timeout,
                             Callback cb);
   std::uint64_t track(std::chrono::milliseconds timeout, Callback cb);
+  void write_query(std::uint64_t id, int kind, const std::string& entity, const std::string& frame,
+                   const std::string& feature, double max_age_s);
   void fail_soon(std::uint64_t request_id, const std::string& why);
   void finish(std::uint64_t request_id, const Reply& reply);
   void on_replies();
