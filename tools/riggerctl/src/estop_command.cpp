@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "quiet_matching.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/safety/safe_stop.hpp"
 
@@ -59,18 +60,10 @@ int run(const CommonOptions& common, EstopRequest request) {
   }
   // The first device matched; the others may be a discovery round behind (another host, a tool just
   // started). The samples are latched but live only as long as this writer, so a device matched later
-  // than our exit would never see them: wait until no new device has matched for kSettle.
-  constexpr auto kSettle = std::chrono::milliseconds(600);
-  const auto deadline = std::chrono::steady_clock::now() + from_seconds(request.timeout_s);
-  for (auto seen = stops.writer().matched_readers();;) {
-    const auto now = std::chrono::steady_clock::now();
-    if (now >= deadline) break;
-    const auto window = std::min<std::chrono::nanoseconds>(kSettle, deadline - now);
-    if (!dds::wait_for_status(stops.writer().handle(), DDS_PUBLICATION_MATCHED_STATUS,
-                              [&] { return stops.writer().matched_readers() != seen; }, window))
-      break;  // quiet for the whole window
-    seen = stops.writer().matched_readers();
-  }
+  // than our exit would never see them: wait until no new device has matched for 0.6 s.
+  wait_for_quiet_matching(stops.writer().handle(), DDS_PUBLICATION_MATCHED_STATUS,
+                               [&] { return stops.writer().matched_readers(); }, std::chrono::milliseconds(600),
+                               from_seconds(request.timeout_s));
   for (const auto& r : request.resources) {
     if (const auto rc = stops.command(r, !request.reset, source, reason); rc != DDS_RETCODE_OK) {
       std::fprintf(stderr, "riggerctl estop: writing the %s of %s failed (DDS return code %d)\n",

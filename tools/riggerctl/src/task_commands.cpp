@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "quiet_matching.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
@@ -456,6 +457,9 @@ int show_skills(const CommonOptions& common, double timeout_s) {
     std::fprintf(stderr, "riggerctl: no executor on %s\n", dds::describe_domain(common.domain).c_str());
     return kExitFailed;
   }
+  // Executors on other hosts, or started just before, may be a discovery round behind the first.
+  wait_for_quiet_matching(ann.handle(), DDS_SUBSCRIPTION_MATCHED_STATUS, [&] { return ann.matched_writers(); },
+                               std::chrono::milliseconds(600), from_seconds(timeout_s));
   // The announcements are transient-local but arrive after the match; each executor has one writer, so
   // wait until every matched writer's announcement is here.
   std::map<dds_instance_handle_t, std::string> by_writer;  // publication handle → printed text
