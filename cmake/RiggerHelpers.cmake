@@ -141,3 +141,15 @@ function(rigger_add_fuzzer name)
   add_test(NAME ${name} COMMAND ${name} -max_total_time=${ARG_SECONDS} -rss_limit_mb=2048 ${corpus_args})
   set_tests_properties(${name} PROPERTIES LABELS fuzz TIMEOUT ${ARG_SECONDS}0)
 endfunction()
+
+# rigger_targets_exist(VAR target...): VAR is TRUE when every target is configured (RIGGER_ONLY may leave
+# some out), for tests that start several services.
+function(rigger_targets_exist var)
+  foreach(t IN LISTS ARGN)
+    if(NOT TARGET ${t})
+      set(${var} FALSE PARENT_SCOPE)
+      return()
+    endif()
+  endforeach()
+  set(${var} TRUE PARENT_SCOPE)
+endfunction()

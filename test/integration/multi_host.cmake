@@ -2,12 +2,7 @@
 # each, the scenario and a link cut. Needs root; real time physics: alone.
 set(_multi_host_targets cell_sim crane_gateway world_model cad vision_tracker admittance_control monitor_host
     skill_executor task_controller scripted_operator console riggerctl rigger-compose)
-set(_multi_host_ready TRUE)
-foreach(t IN LISTS _multi_host_targets)
-  if(NOT TARGET ${t})
-    set(_multi_host_ready FALSE)
-  endif()
-endforeach()
+rigger_targets_exist(_multi_host_ready ${_multi_host_targets})
 if(_multi_host_ready)
   rigger_add_test(rigger_multi_host_test
     SOURCES multi_host_test.cpp

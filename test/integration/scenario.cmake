@@ -3,12 +3,7 @@
 # camera and the tracker need the machine's cores to keep real time.
 set(_scenario_services cell_sim crane_gateway world_model vision_tracker admittance_control monitor_host
     skill_executor task_controller scripted_operator)
-set(_scenario_ready TRUE)
-foreach(t IN LISTS _scenario_services)
-  if(NOT TARGET ${t})
-    set(_scenario_ready FALSE)
-  endif()
-endforeach()
+rigger_targets_exist(_scenario_ready ${_scenario_services})
 if(_scenario_ready)
   rigger_add_test(rigger_scenario_test
     SOURCES scenario_test.cpp
