@@ -52,6 +52,15 @@ class GettingStartedTest : public MultiProcessTest {
     return {st.value_or(ExitStatus{}), p.log()};
   }
 
+  /// The last lines of every service's log in rigger-compose's log folder (the harness does not see it).
+  std::string compose_logs() {
+    const auto r = sh("compose-logs",
+                      "for f in /tmp/rigger-compose/" + std::to_string(cell_.domain_id()) +
+                          "/*.log; do echo \"===== $f\"; tail -n 25 \"$f\"; done",
+                      30s);
+    return "\n" + r.output;
+  }
+
   static std::string build_dir() { return bin_dir() + "/.."; }
   static std::string riggerctl() { return bin_dir() + "/riggerctl"; }
 
@@ -61,7 +70,7 @@ class GettingStartedTest : public MultiProcessTest {
 TEST_F(GettingStartedTest, Step2WithoutCycloneddsUri) {
   auto r = sh("up", "deploy/rigger-compose up", 240s);
   up_ = true;
-  ASSERT_TRUE(r.status.ok()) << r.output;
+  ASSERT_TRUE(r.status.ok()) << r.output << compose_logs();
 
   r = sh("services", riggerctl() + " services", 30s);
   ASSERT_TRUE(r.status.ok()) << r.output;
