@@ -9,9 +9,13 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/service_state.hpp"
 #include "rigger/protocol/skill.hpp"
+#include "rigger/skill/bounded_json.hpp"
 
 namespace rigger::executor {
 namespace {
+
+/// A START's parameters: one skill's values (poses, a screw list), far below a recipe's 4 MiB.
+constexpr skill::JsonLimits kParamsLimits{256U * 1024U, 32};
 
 rigger_skill_SkillEventKind to_wire(EventKind k) {
   switch (k) {
@@ -173,12 +177,18 @@ void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sa
   }
 
   Start start{{task, node, cmd.seq}, dds::to_string(cmd.skill), nlohmann::json::object(), {}, info.publication_handle, 0};
-  try {
-    const std::string text = dds::to_string(cmd.params_json);
-    if (!text.empty()) start.params = nlohmann::json::parse(text);
-    if (!start.params.is_object()) throw std::invalid_argument("params must be a JSON object");
-  } catch (const std::exception& e) {
-    refuse(start.run, "BAD_PARAMS", "params of " + start.skill + " unreadable: " + e.what());
+  if (cmd.params_json != nullptr && cmd.params_json[0] != '\0') {
+    // Parameters come from another process: bounded while parsed (size first, then depth, UTF-8, keys).
+    auto parsed = skill::parse_json_bounded(cmd.params_json, kParamsLimits);
+    if (!parsed.ok()) {
+      refuse(start.run, "BAD_PARAMS", "params of " + start.skill + " unreadable: " + parsed.error->to_string());
+      return;
+    }
+    start.params = std::move(parsed.value);
+  }
+  if (!start.params.is_object()) {
+    refuse(start.run, "BAD_PARAMS", "params of " + start.skill + " must be a JSON object, got " +
+                                        std::string(start.params.type_name()));
     return;
   }
   if (std::find(skill_names_.begin(), skill_names_.end(), start.skill) == skill_names_.end()) {

@@ -119,9 +119,25 @@ TEST_F(ExecutorEndpointTest, BadParamsAndUnknownSkillFailWithCodes) {
   ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 3; }, 5s));
   EXPECT_TRUE(starts_.empty());
   EXPECT_EQ(received_[0].kind_code, "BAD_PARAMS");
+  EXPECT_NE(received_[0].message.find("params of Wait unreadable: 1:2:"), std::string::npos) << received_[0].message;
   EXPECT_EQ(received_[1].kind_code, "BAD_PARAMS");
+  EXPECT_NE(received_[1].message.find("must be a JSON object, got array"), std::string::npos) << received_[1].message;
   EXPECT_EQ(received_[2].kind_code, "UNKNOWN_SKILL");
   for (const auto& e : received_) EXPECT_EQ(e.kind, rigger_skill_SKILL_EVENT_FAILURE);
+}
+
+// Parameters from another process are bounded while parsed: too deep or too large is refused, with where.
+TEST_F(ExecutorEndpointTest, ParamsTooDeepOrTooLargeAreRefusedWhileParsed) {
+  send("exec-1", "deep", rigger_skill_SKILL_START, 1, "Wait", "{\"a\":" + std::string(100000, '[') + "}");
+  send("exec-1", "big", rigger_skill_SKILL_START, 2, "Wait",
+       "{\"s\":\"" + std::string(300 * 1024, 'x') + "\"}");
+  send("exec-1", "dup", rigger_skill_SKILL_START, 3, "Wait", "{\"t\":1,\"t\":2}");
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 3; }, 5s));
+  EXPECT_TRUE(starts_.empty());
+  for (const auto& e : received_) EXPECT_EQ(e.kind_code, "BAD_PARAMS") << e.node;
+  EXPECT_NE(received_[0].message.find("deeper than 32 levels"), std::string::npos) << received_[0].message;
+  EXPECT_NE(received_[1].message.find("262144"), std::string::npos) << received_[1].message;
+  EXPECT_NE(received_[2].message.find("duplicate key \"t\""), std::string::npos) << received_[2].message;
 }
 
 TEST_F(ExecutorEndpointTest, ShutdownOfARunningLeafReachesTheHandler) {
