@@ -344,6 +344,28 @@ void HttpApi::routes() {
     }
   });
 
+  // A pose parameter from picks: the CAD service's frame rule, as a pose in the part's frame.
+  s.Post("/api/planner/frame", [=](const httplib::Request& req, httplib::Response& res) {
+    if (!who(req, res, Role::kProgrammer)) return;
+    auto b = body(req, res);
+    if (!b) return;
+    try {
+      const FrameRequest request = parse_frame_request(*b);
+      const auto framed = backend_.cad("frame", request.model, request.args.dump());
+      if (!framed.ok) {
+        // Picks that make no frame (not perpendicular, off the face, stale) are the request's fault.
+        const bool refused = framed.message.rfind("CAD_", 0) == 0;
+        return send_error(res, refused ? 400 : 503, "the CAD service: " + framed.message, req.path);
+      }
+      const json result = framed.data.value("result", json::object());
+      send_json(res, {{"model", request.model}, {"model_sha256", framed.data.value("model_sha256", "")},
+                      {"args", request.args}, {"frame", result.value("frame", json())},
+                      {"pose", pose_from_cad_frame(result, request.entity)}});
+    } catch (const PlannerError& e) {
+      send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
+    }
+  });
+
   // --- commands ---
   s.Post("/api/recipes", [=](const httplib::Request& req, httplib::Response& res) {
     auto user = who(req, res, Role::kProgrammer);

@@ -1,5 +1,6 @@
 #include "planner.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -20,6 +21,23 @@ namespace {
 
 bool is_point(const json& p) {
   return p.is_array() && p.size() == 3 && p[0].is_number() && p[1].is_number() && p[2].is_number();
+}
+
+/// "object:<entity>" from body["model"]; returns the entity. `what` says what the entity must have.
+std::string object_model(const json& body, std::string& model, const char* what) {
+  const auto it = body.find("model");
+  if (it == body.end() || !it->is_string())
+    throw PlannerError{"/model", "expected the model as \"object:<entity id>\", e.g. \"object:target\""};
+  model = it->get<std::string>();
+  const std::string prefix = "object:";
+  if (model.compare(0, prefix.size(), prefix) != 0 || model.size() == prefix.size() || model.size() > 200)
+    throw PlannerError{"/model", std::string("expected \"object:<entity id>\" (") + what + "), not \"" +
+                                     model.substr(0, 200) + "\""};
+  return model.substr(prefix.size());
+}
+
+bool is_reference(const json& v) {
+  return (v.is_number_integer() && v.get<long long>() >= 0) || (v.is_object() && v.contains("kind") && v.contains("index"));
 }
 
 }  // namespace
@@ -84,21 +102,13 @@ json validate_recipe(const skill::SkillLibrary& library, std::string_view text) 
 
 ScrewRequest parse_screw_request(const json& body) {
   ScrewRequest r;
-  const auto model = body.find("model");
-  if (model == body.end() || !model->is_string())
-    throw PlannerError{"/model", "expected the model as \"object:<entity id>\", e.g. \"object:target\""};
-  r.model = model->get<std::string>();
-  const std::string prefix = "object:";
-  if (r.model.compare(0, prefix.size(), prefix) != 0 || r.model.size() == prefix.size() || r.model.size() > 200)
-    throw PlannerError{"/model", "expected \"object:<entity id>\" (a cell object whose screw holes the world model "
-                                 "knows), not \"" + r.model.substr(0, 200) + "\""};
-  r.entity = r.model.substr(prefix.size());
+  r.entity = object_model(body, r.model, "a cell object whose screw holes the world model knows");
   const auto holes = body.find("holes");
   if (holes == body.end() || !holes->is_array() || holes->empty() || holes->size() > 32)
     throw PlannerError{"/holes", "expected 1 to 32 picked holes (hole indices or face references)"};
   for (std::size_t i = 0; i < holes->size(); ++i) {
     const json& h = (*holes)[i];
-    if (!(h.is_number_integer() && h.get<long long>() >= 0) && !(h.is_object() && h.contains("kind") && h.contains("index")))
+    if (!is_reference(h))
       throw PlannerError{"/holes/" + std::to_string(i),
                          "expected a hole index (integer ≥ 0) or a face reference {\"model_sha256\", \"kind\", \"index\", \"signature\"}"};
   }
@@ -153,6 +163,73 @@ json screws_with_features(const ScrewRequest& request, const std::string& model_
     out.push_back(std::move(screw));
   }
   return {{"model", request.model}, {"model_sha256", model_sha256}, {"entity", request.entity}, {"screws", out}};
+}
+
+FrameRequest parse_frame_request(const json& body) {
+  FrameRequest r;
+  r.entity = object_model(body, r.model, "a cell object with a STEP model");
+  const auto rule = body.find("rule");
+  if (rule == body.end() || !rule->is_string())
+    throw PlannerError{"/rule", "expected the frame rule: \"edges\" (a point and two perpendicular edges), \"face\" or \"hole\""};
+  const std::string name = *rule;
+  const auto point = [&] {
+    const auto p = body.find("point_m");
+    if (p == body.end() || !is_point(*p))
+      throw PlannerError{"/point_m", "expected the picked point as [x, y, z] in metres, in the model's frame"};
+    return *p;
+  };
+  const auto reference = [&](const char* key, const json& v, const std::string& pointer) {
+    if (!is_reference(v))
+      throw PlannerError{pointer, std::string("expected the ") + key +
+                                      " as an index (integer ≥ 0) or a reference {\"model_sha256\", \"kind\", \"index\", \"signature\"}"};
+    return v;
+  };
+  if (name == "edges") {
+    const auto edges = body.find("edges");
+    if (edges == body.end() || !edges->is_array() || edges->size() != 2)
+      throw PlannerError{"/edges", "expected two picked edges: x along the first, y along the second"};
+    r.args = {{"rule", name}, {"point_m", point()},
+              {"edges", {reference("edge", (*edges)[0], "/edges/0"), reference("edge", (*edges)[1], "/edges/1")}}};
+  } else if (name == "face") {
+    const auto face = body.find("face");
+    if (face == body.end()) throw PlannerError{"/face", "expected the picked face"};
+    r.args = {{"rule", name}, {"face", reference("face", *face, "/face")}, {"point_m", point()}};
+  } else if (name == "hole") {
+    const auto hole = body.find("hole");
+    if (hole == body.end() || !hole->is_number_integer() || hole->get<long long>() < 0)
+      throw PlannerError{"/hole", "expected the hole's index in the model's features (integer ≥ 0)"};
+    r.args = {{"rule", name}, {"hole", *hole}};
+  } else {
+    throw PlannerError{"/rule", "unknown frame rule \"" + name.substr(0, 40) + "\": expected \"edges\", \"face\" or \"hole\""};
+  }
+  return r;
+}
+
+json pose_from_cad_frame(const json& cad_result, const std::string& entity) {
+  const json frame = cad_result.value("frame", json());
+  const json position = frame.is_object() ? frame.value("position_m", json()) : json();
+  const json rotation = frame.is_object() ? frame.value("rotation", json()) : json();
+  bool ok = is_point(position) && rotation.is_array() && rotation.size() == 3;
+  for (std::size_t i = 0; ok && i < 3; ++i) ok = is_point(rotation[i]);
+  if (!ok) throw PlannerError{"", "the CAD service's answer holds no frame (position_m and a 3x3 rotation)"};
+  const auto R = [&](int i, int j) { return rotation[i][j].get<double>(); };
+  constexpr double kDeg = 180.0 / 3.14159265358979323846;
+  // R = Rz(yaw) Ry(pitch) Rx(roll): R20 = -sin(pitch); away from ±90° roll and yaw follow.
+  const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
+  double roll = 0.0, yaw = 0.0;
+  if (std::abs(R(2, 0)) < 1.0 - 1e-12) {
+    roll = std::atan2(R(2, 1), R(2, 2));
+    yaw = std::atan2(R(1, 0), R(0, 0));
+  } else {
+    yaw = std::atan2(-R(0, 1), R(1, 1));  // gimbal lock: only roll ∓ yaw is defined; roll = 0
+  }
+  // Whole-micro-degree and nanometre rounding keeps 1e-17 noise (and -0) out of the recipe text; dividing
+  // the rounded integer by the scale gives the double nearest the decimal (0.3, not 0.30000000000000004).
+  const auto tidy = [](double v, double scale) { const double r = std::round(v * scale) / scale; return r == 0.0 ? 0.0 : r; };
+  json p = json::array(), rpy = json::array();
+  for (int i = 0; i < 3; ++i) p.push_back(tidy(position[i].get<double>(), 1e9));
+  for (double a : {roll, pitch, yaw}) rpy.push_back(tidy(a * kDeg, 1e6));
+  return {{"position_m", p}, {"rpy_deg", rpy}, {"frame", entity}};
 }
 
 }  // namespace rigger::console

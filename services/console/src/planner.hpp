@@ -70,4 +70,23 @@ nlohmann::json screws_with_features(const ScrewRequest& request, const std::stri
                                     const nlohmann::json& cad_result, const nlohmann::json& world_entity,
                                     double tolerance_m = 1e-3);
 
+/// POST /api/planner/frame: a pose parameter from picks, by one of the CAD service's frame rules:
+/// {"model": "object:<entity>", "rule": "edges", "point_m": [x, y, z], "edges": [E1, E2]} (the paper's
+/// point and two perpendicular edges), {"rule": "face", "face": F, "point_m": [...]} or
+/// {"rule": "hole", "hole": H}; an edge or face is an index or a reference object, a point is in the
+/// model's frame (metres).
+struct FrameRequest {
+  std::string model;   ///< "object:target"
+  std::string entity;  ///< "target"
+  nlohmann::json args;  ///< CAD_FRAME args_json: only the rule's own fields
+};
+/// @throws PlannerError naming the field.
+FrameRequest parse_frame_request(const nlohmann::json& body);
+
+/// The pose parameter of a CAD frame (CAD_FRAME `result`: {"frame": {"position_m", "rotation"}}), in
+/// the entity's frame (its STEP model's frame): {"position_m", "rpy_deg", "frame": entity}, with
+/// R = Rz(yaw) Ry(pitch) Rx(roll) as everywhere in rigger (at pitch ±90° roll is 0).
+/// @throws PlannerError when the answer holds no frame.
+nlohmann::json pose_from_cad_frame(const nlohmann::json& cad_result, const std::string& entity);
+
 }  // namespace rigger::console

@@ -1,5 +1,6 @@
 // The planner's logic without HTTP or DDS: the live skill library from announcements, validation by the
 // controller's validator with canonical export, and the screw list matched to the world model's holes.
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -157,6 +158,54 @@ TEST(PlannerScrews, EachDerivedHoleIsTheWorldModelsScrewHoleAtItsEntry) {
   } catch (const PlannerError& e) {
     EXPECT_NE(e.message.find("it has none"), std::string::npos) << e.message;
   }
+}
+
+TEST(PlannerFrames, BadRequestsNameTheField) {
+  const auto refused = [](const json& body) -> PlannerError {
+    try {
+      parse_frame_request(body);
+    } catch (const PlannerError& e) {
+      return e;
+    }
+    ADD_FAILURE() << "accepted " << body.dump();
+    return {};
+  };
+  const json pt = {0.01, 0.02, 0.03};
+  EXPECT_EQ(refused({{"rule", "hole"}, {"hole", 0}}).pointer, "/model");
+  EXPECT_EQ(refused({{"model", "object:target"}}).pointer, "/rule");
+  EXPECT_EQ(refused({{"model", "object:target"}, {"rule", "sphere"}}).pointer, "/rule");
+  EXPECT_EQ(refused({{"model", "object:target"}, {"rule", "edges"}, {"point_m", pt}, {"edges", {4}}}).pointer, "/edges");
+  EXPECT_EQ(refused({{"model", "object:target"}, {"rule", "edges"}, {"point_m", pt}, {"edges", {4, "e7"}}}).pointer,
+            "/edges/1");
+  EXPECT_EQ(refused({{"model", "object:target"}, {"rule", "edges"}, {"point_m", {1, 2}}, {"edges", {4, 7}}}).pointer,
+            "/point_m");
+  EXPECT_EQ(refused({{"model", "object:target"}, {"rule", "face"}, {"point_m", pt}}).pointer, "/face");
+  EXPECT_EQ(refused({{"model", "object:target"}, {"rule", "hole"}, {"hole", -1}}).pointer, "/hole");
+  // Only the rule's own fields go to the CAD service.
+  const FrameRequest ok = parse_frame_request(
+      {{"model", "object:load"}, {"rule", "face"}, {"face", {{"kind", "face"}, {"index", 5}}}, {"point_m", pt}, {"hole", 2}});
+  EXPECT_EQ(ok.entity, "load");
+  EXPECT_EQ(ok.args, json({{"rule", "face"}, {"face", {{"kind", "face"}, {"index", 5}}}, {"point_m", pt}}));
+}
+
+TEST(PlannerFrames, ACadFrameBecomesAPoseInThePartsFrameWithTheCellsRollPitchYaw) {
+  const auto pose = [](const json& rotation) {
+    return pose_from_cad_frame({{"frame", {{"position_m", {0.1, -0.2, 0.3}}, {"rotation", rotation}}}}, "target");
+  };
+  const json identity = pose({{1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
+  EXPECT_EQ(identity, json({{"position_m", {0.1, -0.2, 0.3}}, {"rpy_deg", {0.0, 0.0, 0.0}}, {"frame", "target"}}));
+  // Rz(90°) Rx(180°): x → y, y → x, z → -z (a tool pointing down into a face, turned a quarter).
+  const json turned = pose({{0, 1, 0}, {1, 0, 0}, {0, 0, -1}});
+  EXPECT_NEAR(std::abs(turned["rpy_deg"][0].get<double>()), 180.0, 1e-6);
+  EXPECT_NEAR(turned["rpy_deg"][1].get<double>(), 0.0, 1e-6);
+  EXPECT_NEAR(turned["rpy_deg"][2].get<double>(), 90.0, 1e-6);
+  // Pitch 90° (x along -z): gimbal lock, roll is 0 and the yaw carries the rest.
+  const json down = pose({{0, 0, 1}, {0, 1, 0}, {-1, 0, 0}});
+  EXPECT_NEAR(down["rpy_deg"][1].get<double>(), 90.0, 1e-6);
+  EXPECT_EQ(down["rpy_deg"][0].get<double>(), 0.0);
+  EXPECT_NEAR(down["rpy_deg"][2].get<double>(), 0.0, 1e-6);
+  EXPECT_THROW(pose_from_cad_frame({{"rule", "hole"}}, "target"), PlannerError);
+  EXPECT_THROW(pose({{1, 0, 0}, {0, 1, 0}}), PlannerError);
 }
 
 }  // namespace
