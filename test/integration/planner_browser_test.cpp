@@ -62,7 +62,7 @@ TEST_F(PlannerBrowserTest, TreeBuiltByClicksScrewsFromPickedHolesValidatedExport
   cell_.start("skills", "scripted_executor",
               {"--id", "skills", "--config",
                write_config("skills", {{"library_file", library},
-                                       {"skills", {"Localize", "AttachRobotToLoad", "InsertVisuallyGuided", "Screw", "Release"}},
+                                       {"skills", {"Localize", "AttachRobotToLoad", "InsertVisuallyGuided", "Screw", "Release", "Place"}},
                                        {"default", {{"mode", "succeed"}, {"delay_s", 0.2}}}})});
   cell_.start("monitors", "scripted_executor",
               {"--id", "monitors", "--config",

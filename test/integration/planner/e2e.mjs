@@ -139,7 +139,14 @@ try {
   const screws = doc.root.children[1].bindings.holes.screws;
   check(screws.every((s, i) => JSON.stringify(s.pose.position_m) === JSON.stringify(features.holes[i].entry_m)),
     'the exported screw positions are the CAD service\'s hole entries');
-  await page.setInputFiles('#planner-open', exportedPath);
+  // Opening a recipe re-checks its bindings with the CAD service; each open waits for its own check, so
+  // that one still in flight is not taken for the next one's.
+  const openChecked = async (file) => {
+    const n = await page.evaluate(() => window.rigger.planner.state.bindingsChecked || 0);
+    await page.setInputFiles('#planner-open', file);
+    await page.waitForFunction((k) => window.rigger.planner.state.bindingsChecked > k && window.rigger.planner.state.validation, n, { timeout: 20000 });
+  };
+  await openChecked(exportedPath);
   await select('/root/children/1');
   await page.waitForFunction(() => document.querySelectorAll('#planner-screws tr').length === 5, null, { timeout: 20000 });
   console.log('ok: the reopened recipe has its screw binding back');
@@ -149,16 +156,12 @@ try {
   tampered.root.children[1].bindings.holes.screws[2].ref.signature.radius_m += 0.001;
   const tamperedPath = path.join(ART, 'planned-screws-stale.json');
   fs.writeFileSync(tamperedPath, JSON.stringify(tampered));
-  let checked = await page.evaluate(() => window.rigger.planner.state.bindingsChecked || 0);
-  await page.setInputFiles('#planner-open', tamperedPath);
-  await page.waitForFunction((n) => window.rigger.planner.state.bindingsChecked > n && window.rigger.planner.state.validation, checked, { timeout: 20000 });
+  await openChecked(tamperedPath);
   const stale = await page.evaluate(() => window.rigger.planner.state.errors.filter((e) => /stale/.test(e.message)));
   check(stale.length === 1 && stale[0].pointer === '/root/children/1/bindings/holes' && /CAD_STALE_REFERENCE/.test(stale[0].message),
     `the changed reference is flagged as a stale binding on the Screw ${JSON.stringify(stale)}`);
   check(await page.locator('button.pnode.invalid[data-pointer="/root/children/1"]').count() === 1, 'the Screw node is flagged');
-  checked = await page.evaluate(() => window.rigger.planner.state.bindingsChecked);
-  await page.setInputFiles('#planner-open', exportedPath);
-  await page.waitForFunction((n) => window.rigger.planner.state.bindingsChecked > n, checked, { timeout: 20000 });
+  await openChecked(exportedPath);
   await page.waitForSelector('#planner-valid', { timeout: 20000 });
   console.log('ok: the good file opens valid again');
 
@@ -169,6 +172,121 @@ try {
   await page.waitForFunction(() => document.body.innerText.includes('Published planned-screws'), null, { timeout: 60000 });
   console.log('ok: published from the planner');
   await page.screenshot({ path: path.join(ART, 'planner.png'), fullPage: true });
+
+  // --- editing: copy/paste by keys, undo/redo, wrap in a decorator, an operator decision ---
+  const docText = () => page.evaluate(() => JSON.stringify(window.rigger.planner.state.doc));
+  const kids = () => page.evaluate(() => window.rigger.planner.state.doc.root.children.length);
+  const before = await docText();
+  await select('/root/children/1');
+  await page.keyboard.press('Control+c');
+  await select('/root');
+  await page.keyboard.press('Control+v');
+  check(await kids() === 3, 'Ctrl+C on the Screw, Ctrl+V on the root: a third child');
+  const pasted = await page.evaluate(() => window.rigger.planner.state.doc.root.children[2]);
+  check(pasted.skill === 'Screw' && JSON.stringify(pasted.params.holes) === JSON.stringify(params) && pasted.bindings?.holes?.screws?.length === 4,
+    'the pasted Screw has the copied holes and binding');
+  await page.keyboard.press('Control+z');
+  check(await docText() === before, 'Ctrl+Z: the tree before the paste');
+  await page.keyboard.press('Control+y');
+  check(await kids() === 3, 'Ctrl+Y: the paste again');
+  await select('/root/children/2');
+  await page.selectOption('#planner-wrap-kind', 'Retry');
+  await page.click('#planner-wrap');
+  check(await page.locator('button.pnode[data-pointer="/root/children/2"]').innerText().then((t) => t.includes('Retry') && t.includes('max_attempts=2')),
+    'Wrap: the pasted Screw is in a Retry (2 attempts)');
+  check(await page.locator('button.pnode[data-pointer="/root/children/2/child"]').innerText().then((t) => t.includes('Screw')), 'the Screw is the Retry\'s child');
+  await select('/root/children/2');
+  await page.fill('[data-field="max_attempts"]', '1001');
+  await page.waitForFunction(() => document.querySelector('[data-field="max_attempts"]')?.getAttribute('aria-invalid') === 'true', null, { timeout: 20000 });
+  const retryError = await page.locator('[data-field="max_attempts"]').locator('xpath=ancestor::div[contains(@class,"field")]').locator('.field-error').innerText();
+  check(/max_attempts|1000/.test(retryError), `1001 attempts flagged on the Retry's field by the controller's validator: ${retryError}`);
+  result.retry_error = retryError;
+  await page.fill('[data-field="max_attempts"]', '3');
+  await page.waitForFunction(() => document.querySelector('[data-field="max_attempts"]')?.getAttribute('aria-invalid') === 'false', null, { timeout: 20000 });
+  console.log('ok: 3 attempts accepted');
+  await select('/root');
+  await addNode('decision:OperatorDecision');
+  await page.waitForFunction(() => document.querySelector('button.pnode[data-pointer="/root/children/3"]')?.classList.contains('invalid'), null, { timeout: 20000 });
+  console.log('ok: an OperatorDecision without options is flagged');
+  await page.fill('[data-field="prompt"]', 'Localize the target again?');
+  await addNode('skill:Localize');
+  check(await page.evaluate(() => window.rigger.planner.state.selected) === '/root/children/3/options/0/child', 'Add on the decision made its first option');
+  await page.fill('#param-object', 'target');
+  check(await page.locator('li[data-pointer="/root/children/3/options/0/child"]').innerText().then((t) => t.includes('“option 1” →')), 'the option\'s label is shown on its node');
+  const post = await page.locator('[data-conditions="postconditions"]').innerText();
+  check(post.includes('localized(target)'), `the Localize form shows its postcondition with the parameter bound: ${post}`);
+  await page.waitForFunction(() => !document.querySelector('button.pnode[data-pointer="/root/children/3"]')?.classList.contains('invalid'), null, { timeout: 20000 });
+  console.log('ok: the decision with one option validates');
+  // --- a pose from a point and two perpendicular edges (the paper's rule), picked in the 3D view ---
+  const near = (a, b, tol = 1e-9) => a.every((v, i) => Math.abs(v - b[i]) <= tol);
+  const lines = features.edges.filter((e) => e.signature?.type === 'line');
+  const zTop = Math.max(...features.vertices.map((v) => v.point_m[2]));
+  const top = lines.filter((e) => Math.abs(e.start_m[2] - zTop) < 1e-9 && Math.abs(e.end_m[2] - zTop) < 1e-9);
+  const dir = (e) => { const d = e.end_m.map((v, i) => v - e.start_m[i]); const n = Math.hypot(...d); return d.map((v) => v / n); };
+  const mid = (e) => e.start_m.map((v, i) => (v + e.end_m[i]) / 2);
+  // What a click there would pick, as the view sees it (the load hangs above the target and hides some
+  // edges from this camera): a user picks a corner whose edges they can see, and so does the test.
+  const pickedAt = (point) => page.evaluate((pt) => {
+    const q = window.rigger.planner.screenOf('target', pt);
+    const p = window.rigger.planner.view.pickAt(q.x, q.y);
+    return p && { kind: p.kind, vertex: p.vertex, edge: p.edge };
+  }, point);
+  let corner = null, corners = 0;
+  for (const v of features.vertices.filter((x) => Math.abs(x.point_m[2] - zTop) < 1e-9)) {
+    const at = top.filter((e) => near(e.start_m, v.point_m) || near(e.end_m, v.point_m));
+    if (at.length !== 2 || Math.abs(dir(at[0]).reduce((acc, x, i) => acc + x * dir(at[1])[i], 0)) >= 1e-9) continue;
+    corners += 1;
+    const seen = [await pickedAt(v.point_m), await pickedAt(mid(at[0])), await pickedAt(mid(at[1]))];
+    if (seen[0]?.vertex === v.index && seen[1]?.edge === at[0].index && seen[2]?.edge === at[1].index) { corner = { v, edges: at }; break; }
+  }
+  check(corner !== null, `the target's top face has a corner with two perpendicular straight edges in view (${corners} corners)`);
+  await select('/root');
+  await addNode('skill:Place');
+  const placePtr = await page.evaluate(() => window.rigger.planner.state.selected);
+  await page.click('#planner-clear-picks');
+  await page.evaluate(() => window.scrollTo(0, 0));
+  const clickModel = async (point) => { const q = await page.evaluate((pt) => window.rigger.planner.screenOf('target', pt), point); await page.mouse.click(q.x, q.y); };
+  await clickModel(corner.v.point_m);
+  await clickModel(mid(corner.edges[0]));
+  await clickModel(mid(corner.edges[1]));
+  const framePicks = await page.evaluate(() => window.rigger.planner.state.picks.map((p) => ({ kind: p.kind, vertex: p.vertex, edge: p.edge })));
+  check(JSON.stringify(framePicks) === JSON.stringify([{ kind: 'vertex', vertex: corner.v.index }, { kind: 'edge', edge: corner.edges[0].index }, { kind: 'edge', edge: corner.edges[1].index }]),
+    `a vertex and two edges picked in the 3D view ${JSON.stringify(framePicks)}`);
+  await select(placePtr);
+  await page.click('#planner-frame-pose');
+  await page.waitForSelector('[data-frame-binding="pose"]', { timeout: 20000 });
+  // The binding's own validation starts after this (edits are validated 250 ms after the last one).
+  const validatedBefore = await page.evaluate(() => window.rigger.planner.state.validations);
+  const placed = await page.evaluate((ptr) => { let v = window.rigger.planner.state.doc; for (const k of ptr.split('/').slice(1)) v = v[k]; return v; }, placePtr);
+  const [r0, p0, y0] = placed.params.pose.rpy_deg.map((a) => a * Math.PI / 180);
+  const xAxis = [Math.cos(y0) * Math.cos(p0), Math.sin(y0) * Math.cos(p0), -Math.sin(p0)];
+  check(placed.params.pose.frame === 'target' && near(placed.params.pose.position_m, corner.v.point_m, 1e-8) && near(xAxis, dir(corner.edges[0]), 1e-6)
+    && placed.bindings.pose.rule === 'edges' && placed.bindings.pose.model_sha256 === features.model_sha256,
+    `Place's pose is the frame at the corner, x along the first edge, in the target's frame ${JSON.stringify(placed.params.pose)} (r ${r0})`);
+  await page.waitForFunction((n) => (window.rigger.planner.state.validated || 0) > n, validatedBefore, { timeout: 20000 });
+  const poseErrors = await page.evaluate((ptr) => window.rigger.planner.state.errors.filter((e) => e.pointer.startsWith(`${ptr}/params/pose`)), placePtr);
+  check(poseErrors.length === 0, `the controller's validator accepts the picked pose ${JSON.stringify(poseErrors)}`);
+  result.frame_from_edges = { corner: corner.v.point_m, edges: corner.edges.map((e) => e.index), pose: placed.params.pose };
+  await page.screenshot({ path: path.join(ART, 'planner-frame.png'), fullPage: true });
+  // A frame binding whose edge no longer matches the model is flagged when the recipe is opened.
+  const withFrame = await page.evaluate(() => window.rigger.planner.state.doc);
+  let node = withFrame;
+  for (const k of placePtr.split('/').slice(1)) node = node[k];
+  node.bindings.pose.args.edges[0].signature.centroid_m[0] += 0.01;  // as if the part had been edited
+  const staleFramePath = path.join(ART, 'planned-frame-stale.json');
+  fs.writeFileSync(staleFramePath, JSON.stringify(withFrame));
+  await openChecked(staleFramePath);
+  const staleFrame = await page.evaluate(() => window.rigger.planner.state.errors.filter((e) => /stale binding/.test(e.message)));
+  check(staleFrame.length === 1 && staleFrame[0].pointer === `${placePtr}/bindings/pose`, `the changed edge is flagged on Place's pose binding ${JSON.stringify(staleFrame)}`);
+  const after = await docText();
+  let undos = 0;
+  while ((await docText()) !== before && undos < 30) { await page.click('#planner-undo'); undos += 1; }
+  check(await docText() === before, `Undo (${undos} clicks) brings back the published tree`);
+  let redos = 0;
+  while (!(await page.locator('#planner-redo').isDisabled()) && redos < 30) { await page.click('#planner-redo'); redos += 1; }
+  check(redos === undos && await docText() === after, `Redo (${redos} clicks) brings back every edit`);
+  result.undo_steps = undos;
+  await page.screenshot({ path: path.join(ART, 'planner-editing.png'), fullPage: true });
 } finally {
   fs.writeFileSync(env('RESULT'), JSON.stringify(result, null, 2));
   await context.close();

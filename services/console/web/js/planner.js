@@ -1,12 +1,41 @@
-// The planner (programmer role): build a task's behaviour tree from the live skill library, fill the
-// parameters from forms generated from the skill descriptions, bind the Screw skill's holes to holes
-// picked on the CAD model (the CAD service derives the screw list; the binding is kept in the recipe),
-// validate with the task controller's own validator (errors on their node and field, by JSON pointer),
-// export canonical JSON and publish (two steps). See docs/console.md, "Planner".
+// The planner (programmer role): build a task's behaviour tree from the live skill library (control
+// nodes, decorators, operator decisions; wrap, copy/cut/paste, undo/redo, keys), fill the parameters
+// from forms generated from the skill descriptions (with their pre- and postconditions), bind the Screw
+// skill's holes to holes picked on the CAD model (the CAD service derives the screw list; the binding
+// is kept in the recipe), validate with the task controller's own validator (errors on their node and
+// field, by JSON pointer), export canonical JSON and publish (two steps). See docs/console.md, "Planner".
 import { api, el, confirmDialog } from './api.js';
-import { PartsView } from './planner_view.js';
+import { PartsView, pickKey } from './planner_view.js';
 
 const CONTROL = ['Sequence', 'Parallel', 'Fallback'];
+// Decorators hold one child; their own field (docs/recipes.md), with the default a new one gets.
+const DECORATORS = {
+  Retry: { field: 'max_attempts', label: 'Attempts, the first run included ', init: 2, min: 1, max: 1000, step: '1' },
+  Repeat: { field: 'repetitions', label: 'Successes needed ', init: 2, min: 1, max: 1000000, step: '1' },
+  Timeout: { field: 'duration_s', label: 'Deadline ', unit: 's', init: 60, min: 0.001, max: 86400, step: 'any' },
+  Inverter: null,
+  ForceSuccess: null,
+};
+const HISTORY_LIMIT = 200;
+const FRAME_RULES = ['edges', 'face', 'hole'];
+
+/// The CAD frame rule the picks make, as the request's fields, or {error} saying what to pick.
+function frameFromPicks(picks) {
+  const of = (kind) => picks.filter((p) => p.kind === kind);
+  const [edges, faces, holes, vertices] = ['edge', 'face', 'hole', 'vertex'].map(of);
+  if (!picks.length) return { error: 'pick a point (a vertex or a face) and two perpendicular edges, or a face, or a hole' };
+  const entities = new Set(picks.map((p) => p.entity));
+  if (entities.size !== 1) return { error: `the picks are on ${[...entities].join(' and ')}: pick on one part` };
+  const model = `object:${picks[0].entity}`;
+  if (edges.length === 2 && vertices.length + faces.length === 1 && picks.length === 3) {
+    const point = vertices[0] || faces[0];
+    return { model, rule: 'edges', point_m: point.point_m, edges: edges.map((e) => e.ref),
+      summary: `a point (${point.kind} ${point.kind === 'vertex' ? point.vertex : point.face}) and edges ${edges[0].edge}, ${edges[1].edge}` };
+  }
+  if (holes.length === 1 && picks.length === 1) return { model, rule: 'hole', hole: holes[0].hole, summary: `hole ${holes[0].hole}` };
+  if (faces.length === 1 && picks.length === 1) return { model, rule: 'face', face: faces[0].ref, point_m: faces[0].point_m, summary: `face ${faces[0].face} at the picked point` };
+  return { error: `${picks.length} picks (${picks.map((p) => p.kind).join(', ')}): pick a point (a vertex or a face) and two perpendicular edges, or one face, or one hole` };
+}
 const ENTITIES = ['target', 'load'];
 
 /// The node's children as [pointer suffix, node] (children, a decorator's child, a decision's options).
@@ -21,9 +50,24 @@ function nodeAt(doc, pointer) {
   for (const k of pointer.split('/').slice(1)) v = v?.[k];
   return v;
 }
+/// Where a node sits: in a list (a control node's children, a decision's options: `list` says which)
+/// at `index`, or as a decorator's only child (`list` null). null for the root.
 function parentOf(pointer) {
-  const m = pointer.match(/^(.*)\/children\/(\d+)$/);
-  return m ? { parent: m[1], index: Number(m[2]) } : null;
+  let m = pointer.match(/^(.*)\/children\/(\d+)$/);
+  if (m) return { parent: m[1], list: 'children', index: Number(m[2]) };
+  m = pointer.match(/^(.*)\/options\/(\d+)\/child$/);
+  if (m) return { parent: m[1], list: 'options', index: Number(m[2]) };
+  m = pointer.match(/^(.*)\/child$/);
+  return m ? { parent: m[1], list: null, index: 0 } : null;
+}
+function pointerIn(parent, list, index) { return list === 'options' ? `${parent}/options/${index}/child` : `${parent}/children/${index}`; }
+function isDecorator(node) { return node && Object.prototype.hasOwnProperty.call(DECORATORS, node.type); }
+/// Substitutes a leaf's parameters (or their defaults) into a pre/postcondition: "attached(robot,$object)".
+function bindCondition(text, node, description) {
+  return text.replace(/\$([A-Za-z_][A-Za-z0-9_]*)/g, (whole, name) => {
+    const v = node.params?.[name] ?? description.params.find((p) => p.name === name)?.default;
+    return v === undefined ? whole : String(v);
+  });
 }
 function leafName(node) { return node.skill || node.monitor || node.condition || ''; }
 
@@ -59,6 +103,8 @@ export function plannerPage(main, me) {
       if (list.length) state.doc.assumptions = list; else delete state.doc.assumptions;
       changed(false);
     } });
+  const wrapSelect = el('select', { id: 'planner-wrap-kind', 'aria-label': 'Wrap the selected node in' },
+    ...[...Object.keys(DECORATORS), 'Sequence', 'Fallback', 'OperatorDecision'].map((t) => el('option', { value: t }, t)));
   const openFile = el('input', { type: 'file', id: 'planner-open', accept: '.json,application/json', 'aria-label': 'Open a recipe',
     onchange: async () => { if (openFile.files[0]) open(await openFile.files[0].text()); } });
   const viewBox = el('div', { class: 'pview' });
@@ -81,15 +127,22 @@ export function plannerPage(main, me) {
       el('section', { class: 'panel', 'aria-labelledby': 'pt' }, el('h2', { id: 'pt' }, 'Tree'),
         el('div', { class: 'toolbar' }, addSelect,
           el('button', { id: 'planner-add', onclick: () => add(addSelect.value) }, 'Add'),
-          el('button', { id: 'planner-up', onclick: () => move(-1) }, 'Up'),
-          el('button', { id: 'planner-down', onclick: () => move(1) }, 'Down'),
-          el('button', { id: 'planner-delete', class: 'danger', onclick: () => remove() }, 'Delete')),
+          el('button', { id: 'planner-up', title: 'Alt+↑', onclick: () => move(-1) }, 'Up'),
+          el('button', { id: 'planner-down', title: 'Alt+↓', onclick: () => move(1) }, 'Down'),
+          el('button', { id: 'planner-delete', class: 'danger', title: 'Delete', onclick: () => remove() }, 'Delete')),
+        el('div', { class: 'toolbar' }, wrapSelect,
+          el('button', { id: 'planner-wrap', onclick: () => wrap(wrapSelect.value) }, 'Wrap'),
+          el('button', { id: 'planner-undo', title: 'Ctrl+Z', onclick: () => undo() }, 'Undo'),
+          el('button', { id: 'planner-redo', title: 'Ctrl+Shift+Z or Ctrl+Y', onclick: () => redo() }, 'Redo'),
+          el('button', { id: 'planner-copy', title: 'Ctrl+C', onclick: () => copy() }, 'Copy'),
+          el('button', { id: 'planner-cut', title: 'Ctrl+X', onclick: () => cut() }, 'Cut'),
+          el('button', { id: 'planner-paste', title: 'Ctrl+V', onclick: () => paste() }, 'Paste')),
+        el('p', { class: 'muted small' }, 'Keys on the tree: ↑/↓ select, Alt+↑/↓ move, Delete, Ctrl+Z/Ctrl+Y, Ctrl+C/X/V.'),
         treeBox, el('h2', {}, 'Validation'), errorsBox),
       el('section', { class: 'panel', 'aria-labelledby': 'pf' }, el('h2', { id: 'pf' }, 'Node'), formBox)));
 
   const view = new PartsView(viewBox, (pick) => {
-    const key = (p) => `${p.entity}:${p.kind}:${p.kind === 'hole' ? p.hole : p.face}`;
-    const i = state.picks.findIndex((p) => key(p) === key(pick));
+    const i = state.picks.findIndex((p) => pickKey(p) === pickKey(pick));
     if (i >= 0) state.picks.splice(i, 1); else state.picks.push(pick);
     renderPicks();
   });
@@ -101,6 +154,8 @@ export function plannerPage(main, me) {
     state.library = lib.skills;
     addSelect.replaceChildren(
       el('optgroup', { label: 'Control' }, ...CONTROL.map((c) => el('option', { value: `control:${c}` }, c))),
+      el('optgroup', { label: 'Decorators' }, ...Object.keys(DECORATORS).map((c) => el('option', { value: `decorator:${c}` }, c))),
+      el('optgroup', { label: 'Operator' }, el('option', { value: 'decision:OperatorDecision' }, 'OperatorDecision')),
       ...['skill', 'monitor', 'condition'].map((kind) => el('optgroup', { label: `${kind[0].toUpperCase()}${kind.slice(1)}s` },
         ...lib.skills.filter((s) => s.kind === kind).map((s) => el('option', { value: `${kind}:${s.name}`, title: s.description || '' }, s.name)))));
     if (lib.problems?.length) say(`Skill library: ${lib.problems.join('; ')}`, true);
@@ -114,61 +169,203 @@ export function plannerPage(main, me) {
       if (name === 'Parallel') { n.success_threshold = 1; n.failure_threshold = 1; }
       return n;
     }
+    if (kind === 'decorator') {
+      const d = DECORATORS[name];
+      return d ? { type: name, [d.field]: d.init } : { type: name };
+    }
+    if (kind === 'decision') return { type: 'OperatorDecision', prompt: 'How to go on?', options: [] };
     const type = kind === 'skill' ? 'Skill' : kind === 'monitor' ? 'Monitor' : 'Condition';
     return { type, [kind]: name, params: {} };
   }
   function add(value) {
     if (!value) return;
-    const node = newNode(value);
+    insert(newNode(value));
+  }
+  /// Puts `node` into the selected control node (at its end), as the selected decorator's child, as a
+  /// new option of the selected OperatorDecision, or else after the selected node in its list.
+  function insert(node) {
+    settle();
     if (!state.doc.root) {
       state.doc.root = node;
       state.selected = '/root';
+      return changed();
+    }
+    const at = state.selected || '/root';
+    const sel = nodeAt(state.doc, at);
+    if (sel && Array.isArray(sel.children)) {
+      sel.children.push(node);
+      state.selected = `${at}/children/${sel.children.length - 1}`;
+    } else if (isDecorator(sel) && !sel.child) {
+      sel.child = node;
+      state.selected = `${at}/child`;
+    } else if (sel?.type === 'OperatorDecision') {
+      sel.options = sel.options || [];
+      sel.options.push({ label: `option ${sel.options.length + 1}`, child: node });
+      state.selected = `${at}/options/${sel.options.length - 1}/child`;
     } else {
-      // Into the selected control node (at its end), else after the selected node in its parent.
-      const sel = nodeAt(state.doc, state.selected || '/root');
-      if (sel && Array.isArray(sel.children)) {
-        sel.children.push(node);
-        state.selected = `${state.selected || '/root'}/children/${sel.children.length - 1}`;
-      } else {
-        const p = parentOf(state.selected);
-        if (!p) return say('Select a Sequence, Parallel or Fallback to add into (the root is a leaf).', true);
-        nodeAt(state.doc, p.parent).children.splice(p.index + 1, 0, node);
-        state.selected = `${p.parent}/children/${p.index + 1}`;
+      const p = parentOf(at);
+      if (!p || !p.list) {
+        return say(isDecorator(sel) ? `The ${sel.type} has its child: select that child to add after it, or Wrap it.`
+          : 'Select a Sequence, Parallel, Fallback, decorator or OperatorDecision to add into (the root is a leaf).', true);
       }
+      const parent = nodeAt(state.doc, p.parent);
+      if (p.list === 'options') parent.options.splice(p.index + 1, 0, { label: `option ${parent.options.length + 1}`, child: node });
+      else parent.children.splice(p.index + 1, 0, node);
+      state.selected = pointerIn(p.parent, p.list, p.index + 1);
     }
     changed();
   }
+  /// Replaces the selected node by `type` holding it (a decorator's child, a control node's first
+  /// child, a decision's first option).
+  function wrap(type) {
+    if (!state.selected) return say('Select the node to wrap.', true);
+    settle();
+    const inner = nodeAt(state.doc, state.selected);
+    const outer = DECORATORS[type] !== undefined ? newNode(`decorator:${type}`)
+      : type === 'OperatorDecision' ? newNode('decision:OperatorDecision') : newNode(`control:${type}`);
+    if (isDecorator(outer)) outer.child = inner;
+    else if (outer.type === 'OperatorDecision') outer.options.push({ label: 'option 1', child: inner });
+    else outer.children.push(inner);
+    replaceAt(state.selected, outer);
+    changed();
+  }
+  function replaceAt(pointer, node) {
+    if (pointer === '/root') { state.doc.root = node; return; }
+    const p = parentOf(pointer);
+    const parent = nodeAt(state.doc, p.parent);
+    if (p.list === 'options') parent.options[p.index].child = node;
+    else if (p.list === 'children') parent.children[p.index] = node;
+    else parent.child = node;
+  }
   function move(delta) {
     const p = parentOf(state.selected);
-    if (!p) return;
-    const list = nodeAt(state.doc, p.parent).children;
+    if (!p || !p.list) return;
+    settle();
+    const list = nodeAt(state.doc, p.parent)[p.list];
     const j = p.index + delta;
     if (j < 0 || j >= list.length) return;
     [list[p.index], list[j]] = [list[j], list[p.index]];
-    state.selected = `${p.parent}/children/${j}`;
+    state.selected = pointerIn(p.parent, p.list, j);
     changed();
   }
   function remove() {
     if (!state.selected) return;
+    settle();
     if (state.selected === '/root') {
       state.doc.root = null;
       state.selected = '';
     } else {
       const p = parentOf(state.selected);
-      if (!p) return say('Only nodes in a Sequence, Parallel or Fallback can be deleted here.', true);
-      nodeAt(state.doc, p.parent).children.splice(p.index, 1);
+      const parent = nodeAt(state.doc, p.parent);
+      if (p.list) parent[p.list].splice(p.index, 1);  // a decision's option goes with its child
+      else delete parent.child;
       state.selected = p.parent;
     }
     changed();
   }
 
+  // --- copy, cut, paste (a subtree, kept in the page and offered to the system clipboard as text) ---
+  let clipboard = null;
+  function copy() {
+    const node = state.selected && nodeAt(state.doc, state.selected);
+    if (!node) return say('Select the node to copy.', true);
+    clipboard = structuredClone(node);
+    navigator.clipboard?.writeText(JSON.stringify(node, null, 2)).catch(() => { /* the page's copy is enough */ });
+    say(`Copied ${node.type}${leafName(node) ? ` ${leafName(node)}` : ''}.`);
+    return true;
+  }
+  function cut() { if (copy()) remove(); }
+  function paste() {
+    if (!clipboard) return say('Nothing copied yet.', true);
+    insert(structuredClone(clipboard));
+  }
+
+  // --- undo, redo: whole-document snapshots; typing in one field is one step ---
+  const history = { past: [], future: [], current: '' };
+  const snapshot = () => JSON.stringify({ doc: state.doc, selected: state.selected });
+  let recordTimer = null;
+  function record() {
+    clearTimeout(recordTimer);
+    recordTimer = null;
+    const now = snapshot();
+    if (now === history.current) return;
+    history.past.push(history.current);
+    if (history.past.length > HISTORY_LIMIT) history.past.shift();
+    history.current = now;
+    history.future = [];
+    renderHistory();
+  }
+  /// A field edit still waiting for its quiet time becomes its own step before a structural edit.
+  function settle() { if (recordTimer) record(); }
+  function travel(from, to) {
+    settle();
+    if (!from.length) return;
+    to.push(history.current);
+    history.current = from.pop();
+    const { doc, selected } = JSON.parse(history.current);
+    state.doc = doc;
+    state.selected = selected;
+    taskId.value = doc.task_id || '';
+    assumptions.value = (doc.assumptions || []).join(' ');
+    changed(true, false);
+  }
+  function undo() { travel(history.past, history.future); }
+  function redo() { travel(history.future, history.past); }
+  function renderHistory() {
+    document.getElementById('planner-undo').disabled = history.past.length === 0;
+    document.getElementById('planner-redo').disabled = history.future.length === 0;
+  }
+
+  // --- keys, when the focus is not in a text field ---
+  function selectSibling(delta) {
+    const pointers = allNodes().map(([p]) => p);
+    const i = pointers.indexOf(state.selected);
+    const j = Math.min(pointers.length - 1, Math.max(0, i + delta));
+    if (pointers[j]) { state.selected = pointers[j]; renderTree(); renderForm(); focusSelected(); }
+  }
+  function focusSelected() { treeBox.querySelector(`button.pnode[data-pointer="${state.selected}"]`)?.focus(); }
+  function onKey(e) {
+    const t = e.target;
+    if (t instanceof HTMLInputElement || t instanceof HTMLTextAreaElement || t instanceof HTMLSelectElement || t?.isContentEditable) return;
+    if (document.querySelector('dialog[open]')) return;
+    const mod = e.ctrlKey || e.metaKey;
+    const k = e.key.toLowerCase();
+    if (mod && (k === 'c' || k === 'x') && window.getSelection()?.toString()) return;  // copying the page's text
+    let done = true;
+    if (mod && k === 'z' && !e.shiftKey) undo();
+    else if (mod && (k === 'y' || (k === 'z' && e.shiftKey))) redo();
+    else if (mod && k === 'c') copy();
+    else if (mod && k === 'x') cut();
+    else if (mod && k === 'v') paste();
+    else if (!mod && e.key === 'Delete' && state.selected) remove();
+    else if (e.altKey && e.key === 'ArrowUp') move(-1);
+    else if (e.altKey && e.key === 'ArrowDown') move(1);
+    else if (!mod && !e.altKey && e.key === 'ArrowUp') selectSibling(-1);
+    else if (!mod && !e.altKey && e.key === 'ArrowDown') selectSibling(1);
+    else done = false;
+    if (done) { e.preventDefault(); focusSelected(); }
+  }
+  document.addEventListener('keydown', onKey);
+
   // --- validation, by the controller's validator through the console ---
   let timer = null;
-  function changed(redrawForm = true) {
+  /// After every edit: redraw, validate (after 250 ms), and make it an undo step — at once for a
+  /// structural edit (redrawForm), after 600 ms of quiet for typing in a field.
+  function changed(redrawForm = true, remember = true) {
     renderTree();
     if (redrawForm) renderForm();
+    else refreshConditions();
     clearTimeout(timer);
     timer = setTimeout(() => validate(), 250);
+    if (!remember) {
+      history.current = snapshot();
+      renderHistory();
+    } else if (redrawForm) {
+      record();
+    } else {
+      clearTimeout(recordTimer);
+      recordTimer = setTimeout(record, 600);
+    }
   }
   function recipe() {
     const doc = structuredClone(state.doc);
@@ -207,6 +404,7 @@ export function plannerPage(main, me) {
     r.errors = [...r.errors, ...bindingErrors(), ...state.staleBindings];
     r.ok = r.ok && r.errors.length === 0;
     state.validation = r;
+    state.validated = seq;
     state.errors = r.errors;
     renderTree();
     renderErrors();
@@ -232,14 +430,27 @@ export function plannerPage(main, me) {
   function renderTree() {
     const row = (node, ptr) => {
       const errs = errorsAt(ptr);
-      const label = `${node.type}${leafName(node) ? ` ${leafName(node)}` : ''}${node.type === 'Parallel' ? ` (M=${node.success_threshold}, K=${node.failure_threshold})` : ''}`;
+      const d = DECORATORS[node.type];
+      const extra = node.type === 'Parallel' ? ` (M=${node.success_threshold}, K=${node.failure_threshold})`
+        : d ? ` (${d.field}=${node[d.field]})` : '';
+      const label = `${node.type}${leafName(node) ? ` ${leafName(node)}` : ''}${extra}`;
       const li = el('li', { role: 'treeitem', 'data-pointer': ptr, 'aria-selected': String(ptr === state.selected) },
         el('button', { class: `pnode${ptr === state.selected ? ' selected' : ''}${errs.length ? ' invalid' : ''}`, 'data-pointer': ptr,
           onclick: () => { state.selected = ptr; renderTree(); renderForm(); } },
         el('span', { class: 'ptype' }, label), node.name ? el('span', { class: 'pname' }, ` “${node.name}”`) : null,
         errs.length ? el('span', { class: 'perr-count', title: errs.map((e) => e.message).join('\n') }, ` ⚠ ${errs.length}`) : null));
       const kids = childrenOf(node);
-      if (kids.length) li.append(el('ul', { role: 'group' }, ...kids.map(([s, c]) => row(c, ptr + s))));
+      if (kids.length) {
+        li.append(el('ul', { role: 'group' }, ...kids.map(([s, c]) => {
+          const item = row(c, ptr + s);
+          const opt = s.match(/^\/options\/(\d+)\/child$/);
+          if (opt) item.prepend(el('span', { class: 'muted small' }, `“${node.options[Number(opt[1])].label}” → `));
+          return item;
+        })));
+      }
+      if ((isDecorator(node) && !node.child) || (node.type === 'OperatorDecision' && !node.options?.length)) {
+        li.append(el('ul', { role: 'group' }, el('li', { class: 'muted small' }, '(empty: select it and Add its child)')));
+      }
       return li;
     };
     treeBox.replaceChildren(state.doc.root ? el('ul', {}, row(state.doc.root, '/root'))
@@ -275,6 +486,13 @@ export function plannerPage(main, me) {
     return el('div', { class: 'field' }, el('label', {}, label, input, unit ? el('span', { class: 'unit' }, ` ${unit}`) : null),
       help ? el('div', { class: 'muted small' }, help) : null, el('div', { class: 'field-error error' }));
   }
+  /// The selected node's pre/postconditions again with its parameters as typed (the form keeps focus).
+  function refreshConditions() {
+    const node = state.selected ? nodeAt(state.doc, state.selected) : null;
+    const d = node && describe(leafName(node));
+    if (!d) return;
+    for (const c of formBox.querySelectorAll('code[data-condition]')) c.textContent = `${bindCondition(c.dataset.condition, node, d)} `;
+  }
   function renderForm() {
     const node = state.selected ? nodeAt(state.doc, state.selected) : null;
     if (!node) return formBox.replaceChildren(el('p', { class: 'muted' }, 'Select a node.'));
@@ -289,11 +507,33 @@ export function plannerPage(main, me) {
         parts.push(field(label, input));
       }
     }
+    const dec = DECORATORS[node.type];
+    if (dec) {
+      const input = el('input', { type: 'number', min: String(dec.min), max: String(dec.max), step: dec.step, 'data-field': dec.field, value: node[dec.field],
+        oninput: () => { node[dec.field] = Number(input.value); changed(false); } });
+      parts.push(field(dec.label, input, dec.unit || '', `${dec.field} in [${dec.min}, ${dec.max}]`));
+    }
+    if (node.type === 'OperatorDecision') {
+      const prompt = el('input', { type: 'text', 'data-field': 'prompt', value: node.prompt || '',
+        oninput: () => { node.prompt = prompt.value; changed(false); } });
+      parts.push(field('Question to the operator ', prompt));
+      (node.options || []).forEach((o, i) => {
+        const label = el('input', { type: 'text', 'data-field': `options/${i}/label`, value: o.label || '',
+          oninput: () => { o.label = label.value; changed(false); } });
+        parts.push(field(`Option ${i + 1} `, label, '', 'the answer the operator picks; select the option\'s node to edit it'));
+      });
+    }
     const d = describe(leafName(node));
     if (leafName(node) && !d) parts.push(el('p', { class: 'error' }, `${leafName(node)} is not in the live skill library (no executor announces it).`));
     if (d) {
       parts.push(el('p', { class: 'muted' }, d.description || ''));
-      if (d.resources?.length) parts.push(el('p', { class: 'muted small' }, `resources: ${d.resources.join(', ')}`));
+      if (d.resources?.length) parts.push(el('p', { class: 'muted small' }, `resources: ${d.resources.map((r) => bindCondition(r, node, d)).join(', ')}`));
+      for (const [key, title] of [['preconditions', 'needs'], ['postconditions', 'then holds']]) {
+        if (d[key]?.length) {
+          parts.push(el('p', { class: 'small conditions', 'data-conditions': key }, el('span', { class: 'muted' }, `${title}: `),
+            ...d[key].map((c) => el('code', { title: c, 'data-condition': c }, `${bindCondition(c, node, d)} `))));
+        }
+      }
       node.params = node.params || {};
       for (const p of d.params) parts.push(paramField(node, p));
     }
@@ -333,7 +573,41 @@ export function plannerPage(main, me) {
     input.id = `param-${p.name}`;
     const f = field(label, input, p.unit || '', help);
     if (node.skill === 'Screw' && p.name === 'holes') f.append(screwBinding(node));
+    if (p.type === 'pose') f.append(frameBinding(node, p.name));
     return f;
+  }
+
+  // --- a pose parameter from picks: the CAD service's frame rules (the paper's point and two edges) ---
+  function frameBinding(node, name) {
+    const want = frameFromPicks(state.picks);
+    const box = el('div', { class: 'binding' });
+    box.append(el('button', { id: `planner-frame-${name}`, disabled: Boolean(want.error), title: want.error || '',
+      onclick: () => bindFrame(node, name) }, want.error ? 'Frame from picks' : `Frame from ${want.summary}`));
+    if (want.error) box.append(el('span', { class: 'muted small' }, ` ${want.error}`));
+    const b = node.bindings?.[name];
+    if (b && FRAME_RULES.includes(b.rule)) {
+      box.append(el('p', { class: 'muted small', 'data-frame-binding': name },
+        `Bound by the ${b.rule} rule to ${b.model} (sha256 ${b.model_sha256.slice(0, 12)}…): origin ${b.pose.position_m.map((v) => v.toFixed(4)).join(', ')} m, `
+        + `rpy ${b.pose.rpy_deg.map((v) => v.toFixed(2)).join(', ')}° in frame ${b.pose.frame}`));
+    }
+    return box;
+  }
+  async function bindFrame(node, name) {
+    const { error, summary, ...request } = frameFromPicks(state.picks);
+    if (error) return say(error, true);
+    try {
+      const r = await api('/api/planner/frame', { method: 'POST', body: request });
+      settle();
+      node.params = node.params || {};
+      node.params[name] = r.pose;
+      node.bindings = node.bindings || {};
+      node.bindings[name] = { rule: r.args.rule, model: r.model, model_sha256: r.model_sha256, args: r.args, pose: r.pose };
+      state.staleBindings = state.staleBindings.filter((e) => e.pointer !== `${state.selected}/bindings/${name}`);
+      changed();
+      say(`${name} is the frame of ${summary} on ${r.model}.`);
+    } catch (e) {
+      say(`No frame from these picks: ${e.message}`, true);
+    }
   }
 
   // --- the Screw skill's holes from picked holes ---
@@ -398,8 +672,13 @@ export function plannerPage(main, me) {
   // --- picks ---
   function renderPicks() {
     view.setPicked(state.picks);
+    const what = (p) => ({
+      hole: () => `hole ${p.hole} (Ø ${(p.diameter_m * 1000).toFixed(1)} mm)`,
+      edge: () => `edge ${p.edge} (${(Math.hypot(...p.end_m.map((v, k) => v - p.start_m[k])) * 1000).toFixed(1)} mm)`,
+      vertex: () => `vertex ${p.vertex} (${p.point_m.map((v) => (v * 1000).toFixed(1)).join(', ')} mm)`,
+    }[p.kind] || (() => `face ${p.face}`))();
     picksList.replaceChildren(...state.picks.map((p, i) => el('li', { 'data-kind': p.kind },
-      `${p.entity} · ${p.kind === 'hole' ? `hole ${p.hole} (Ø ${(p.diameter_m * 1000).toFixed(1)} mm)` : `face ${p.face}`} · `,
+      `${p.entity} · ${what(p)} · `,
       el('code', {}, `ref ${p.ref.kind} ${p.ref.index} of ${p.ref.model_sha256.slice(0, 8)}…`), ' ',
       el('code', { class: 'sig' }, JSON.stringify(p.ref.signature)), ' ',
       el('button', { 'aria-label': `unpick ${i + 1}`, onclick: () => { state.picks.splice(i, 1); renderPicks(); } }, '✕'))));
@@ -425,12 +704,13 @@ export function plannerPage(main, me) {
   function open(text) {
     try {
       const doc = JSON.parse(text);
+      settle();
       state.doc = doc;
       taskId.value = doc.task_id || '';
       assumptions.value = (doc.assumptions || []).join(' ');
       state.selected = doc.root ? '/root' : '';
       state.staleBindings = [];
-      changed();
+      changed();  // opening is one undo step: Undo brings the tree before it back
       say(`Opened ${doc.task_id}.`);
       checkBindings();
     } catch (e) {
@@ -439,11 +719,25 @@ export function plannerPage(main, me) {
   }
   /// Asks the CAD service again for every binding of an opened recipe: a reference that no longer
   /// resolves (CAD_STALE_REFERENCE), another model or a screw that moved flags the binding, never used.
+  /// A check still in flight when another recipe is opened is superseded: only the newest one reports.
+  let bindingsGeneration = 0;
   async function checkBindings() {
+    const generation = ++bindingsGeneration;
     const stale = [];
     for (const [ptr, node] of allNodes()) {
+      for (const [name, fb] of Object.entries(node.bindings || {})) {
+        if (!FRAME_RULES.includes(fb.rule)) continue;
+        const where = `${ptr}/bindings/${name}`;
+        try {
+          const r = await api('/api/planner/frame', { method: 'POST', body: { model: fb.model, ...fb.args } });
+          if (r.model_sha256 !== fb.model_sha256) stale.push({ pointer: where, message: `stale binding: ${fb.model} is now model ${r.model_sha256.slice(0, 12)}…, the recipe was made on ${fb.model_sha256.slice(0, 12)}…; pick again` });
+          else if (JSON.stringify(r.pose) !== JSON.stringify(fb.pose)) stale.push({ pointer: where, message: `stale binding: the ${fb.rule} frame is now ${JSON.stringify(r.pose)}; pick again` });
+        } catch (e) {
+          stale.push({ pointer: where, message: `stale binding: ${e.message}; pick again` });
+        }
+      }
       const b = node.bindings?.holes;
-      if (!b) continue;
+      if (!b || b.rule !== 'screw_list') continue;
       const where = `${ptr}/bindings/holes`;
       try {
         const r = await api('/api/planner/screws', { method: 'POST', body: { model: b.model, holes: b.screws.map((x) => x.ref) } });
@@ -455,8 +749,10 @@ export function plannerPage(main, me) {
         stale.push({ pointer: where, message: `stale binding: ${e.message}; pick the holes again` });
       }
     }
+    if (generation !== bindingsGeneration) return;
     state.staleBindings = stale;
     await validate();
+    if (generation !== bindingsGeneration) return;
     state.bindingsChecked = (state.bindingsChecked || 0) + 1;
   }
   async function publish() {
@@ -475,13 +771,15 @@ export function plannerPage(main, me) {
 
   // Test hook: state, and screen positions of model points (to click holes like a person would).
   window.rigger.planner = {
-    state, view,
+    state, view, history,
     screenOf: (entity, point) => view.screenOf(entity, point),
     holes: (entity) => view.parts.get(entity)?.features.holes || [],
   };
 
+  history.current = snapshot();
   renderTree();
   renderForm();
+  renderHistory();
   (async () => {
     try {
       await loadLibrary();
@@ -495,5 +793,5 @@ export function plannerPage(main, me) {
     renderHoles();
     window.rigger.planner.ready = true;
   })();
-  return () => { clearTimeout(timer); delete window.rigger.planner; };
+  return () => { clearTimeout(timer); clearTimeout(recordTimer); document.removeEventListener('keydown', onKey); delete window.rigger.planner; };
 }

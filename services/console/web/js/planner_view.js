@@ -1,15 +1,42 @@
 // The planner's 3D view: the cell's parts (load, target) placed where the world model has them, each
 // drawn from its STEP model's tessellation (one mesh part per B-rep face, so a picked triangle is a
-// face with its stable reference). Faces and holes are picked by clicking; hovering highlights what a
-// click would pick. A hole is picked by clicking one of its faces or its opening (the ray through the
-// entry disk). No geometry is derived here: positions come from the CAD service (features, derived
+// face with its stable reference). Faces, holes, straight edges and vertices are picked by clicking;
+// hovering highlights what a click would pick. A vertex or an edge is picked within a few pixels of it
+// (when no face is in front of it), a hole by clicking one of its faces or its opening (the ray through
+// the entry disk). No geometry is derived here: positions come from the CAD service (features, derived
 // parameters); this only draws and maps a click to a reference.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { api } from './api.js';
 
-const PART = 0x7d8fa8, HOVER = 0x4fa3ff, PICKED = 0xff9f1c;
+const PART = 0x7d8fa8, HOVER = 0x4fa3ff, PICKED = 0xff9f1c, EDGE = 0x1b2530;
+const EDGE_PX = 6, VERTEX_PX = 8;  // how near (screen pixels) a click must be to pick an edge or a vertex
+const OCCLUSION_M = 0.002;  // an edge or vertex this far behind the face hit is still on that face
+
+/// One key per pickable thing: "target:hole:2", "target:edge:7", "load:face:5", "target:vertex:0".
+export function pickKey(p) {
+  const index = { hole: p.hole, edge: p.edge, vertex: p.vertex }[p.kind] ?? p.face;
+  return `${p.entity}:${p.kind}:${index}`;
+}
+
+/// A cylinder's seam: a straight edge along a hole's or full cylinder's axis at its radius. It bounds
+/// no face (the cylinder meets itself there), and seen along the axis it sits at the hole's opening.
+function isSeam(edge, features) {
+  const axes = [
+    ...(features.holes || []).map((h) => ({ point: h.entry_m, dir: h.axis, r: h.diameter_m / 2 })),
+    ...(features.faces || []).filter((f) => f.signature?.type === 'cylinder')
+      .map((f) => ({ point: f.signature.centroid_m, dir: f.signature.direction, r: f.signature.radius_m })),
+  ];
+  const d = new THREE.Vector3(...edge.end_m).sub(new THREE.Vector3(...edge.start_m)).normalize();
+  return axes.some(({ point, dir, r }) => {
+    if (!point || !dir) return false;
+    const axis = new THREE.Vector3(...dir).normalize();
+    if (d.clone().cross(axis).length() > 1e-6) return false;
+    const off = new THREE.Vector3(...edge.start_m).sub(new THREE.Vector3(...point));
+    return Math.abs(off.sub(axis.multiplyScalar(off.dot(axis))).length() - r) < 1e-5;
+  });
+}
 
 export class PartsView {
   constructor(container, onPick) {
@@ -78,6 +105,25 @@ export class PartsView {
     group.add(gltf.scene);
     const faceOfPrimitive = new Map(parts.parts.map((x) => [x.primitive, x]));
     const meshes = [];
+    // The straight edges (the paper's frame rule uses two of them) and the vertices, in the model frame.
+    const edges = [], vertices = [];
+    for (const e of features.edges || []) {
+      if (e.signature?.type !== 'line' || !e.start_m || !e.end_m || isSeam(e, features)) continue;
+      const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(...e.start_m), new THREE.Vector3(...e.end_m)]),
+        new THREE.LineBasicMaterial({ color: EDGE }));
+      group.add(line);
+      edges.push({ edge: e, line });
+    }
+    // Only corners of straight edges: a hole's rim has a seam vertex next to the hole's opening.
+    const corner = (pt) => edges.some(({ edge }) => [edge.start_m, edge.end_m].some((q) => Math.hypot(q[0] - pt[0], q[1] - pt[1], q[2] - pt[2]) < 1e-7));
+    for (const v of features.vertices || []) {
+      if (!v.point_m || !corner(v.point_m)) continue;
+      const dot = new THREE.Mesh(new THREE.SphereGeometry(0.0025, 8, 6), new THREE.MeshBasicMaterial({ color: EDGE }));
+      dot.position.set(...v.point_m);
+      dot.visible = false;  // drawn when hovered or picked
+      group.add(dot);
+      vertices.push({ vertex: v, dot });
+    }
     gltf.scene.traverse((o) => {
       if (!o.isMesh) return;
       const a = gltf.parser.associations.get(o);
@@ -89,7 +135,7 @@ export class PartsView {
     });
     this.scene.add(group);
     group.updateMatrixWorld(true);
-    this.parts.set(entity, { group, meshes, features, parts: parts.parts, sha256: features.model_sha256, world });
+    this.parts.set(entity, { group, meshes, edges, vertices, features, parts: parts.parts, sha256: features.model_sha256, world });
     this.render();
     return this.parts.get(entity);
   }
@@ -114,7 +160,8 @@ export class PartsView {
     return part?.features.holes.find((h) => h.faces.includes(face)) || null;
   }
 
-  /// What a click at client coordinates (x, y) picks: {entity, kind: "face"|"hole", face, hole?, ref}.
+  /// What a click at client coordinates (x, y) picks: {entity, kind: "vertex"|"edge"|"face"|"hole",
+  /// ref, …}: a vertex or straight edge within a few pixels, else a hole, else a face (with the point hit).
   pickAt(x, y) {
     const r = this.renderer.domElement.getBoundingClientRect();
     const ndc = new THREE.Vector2(((x - r.left) / r.width) * 2 - 1, -((y - r.top) / r.height) * 2 + 1);
@@ -122,6 +169,8 @@ export class PartsView {
     const ray = this.raycaster.ray;
     const meshes = [...this.parts.values()].flatMap((p) => p.meshes.map((m) => m.mesh));
     const hit = this.raycaster.intersectObjects(meshes, false)[0] || null;
+    const fine = this.pickFine(x, y, hit);
+    if (fine) return fine;
     // The opening of a hole: the ray crosses its entry disk before it hits anything else.
     let best = null;
     for (const [entity, part] of this.parts) {
@@ -137,7 +186,53 @@ export class PartsView {
     if (best) return this.describe(best.entity, best.hole.faces[0], best.hole);
     if (!hit) return null;
     const { entity, face } = hit.object.userData;
-    return this.describe(entity, face, this.holeOfFace(entity, face));
+    const pick = this.describe(entity, face, this.holeOfFace(entity, face));
+    if (pick.kind === 'face') {
+      const local = hit.point.clone().applyMatrix4(this.parts.get(entity).group.matrixWorld.clone().invert());
+      pick.point_m = [local.x, local.y, local.z];
+    }
+    return pick;
+  }
+
+  /// The vertex (within VERTEX_PX) or straight edge (within EDGE_PX) nearest the click on the screen,
+  /// unless a face hit lies in front of it. pickAt has set the raycaster for (x, y).
+  pickFine(x, y, hit) {
+    const visible = (world) => !hit || this.camera.position.distanceTo(world) <= hit.distance + OCCLUSION_M;
+    const screen = (world) => {
+      const v = world.clone().project(this.camera);
+      const r = this.renderer.domElement.getBoundingClientRect();
+      return new THREE.Vector2(r.left + (v.x + 1) / 2 * r.width, r.top + (1 - v.y) / 2 * r.height);
+    };
+    const click = new THREE.Vector2(x, y);
+    let best = null;
+    for (const [entity, part] of this.parts) {
+      const m = part.group.matrixWorld;
+      for (const { vertex } of part.vertices) {
+        const w = new THREE.Vector3(...vertex.point_m).applyMatrix4(m);
+        const d = screen(w).distanceTo(click);
+        if (d <= VERTEX_PX && visible(w) && (!best || best.kind !== 'vertex' || d < best.d)) best = { d, kind: 'vertex', entity, vertex };
+      }
+      if (best?.kind === 'vertex') continue;
+      for (const { edge } of part.edges) {
+        const a = new THREE.Vector3(...edge.start_m).applyMatrix4(m), b = new THREE.Vector3(...edge.end_m).applyMatrix4(m);
+        // The edge's point nearest the click's ray, in 3D (a lerp on the screen is not the same point
+        // under perspective, and its depth would be off by centimetres on an oblique edge).
+        const onEdge = new THREE.Vector3();
+        this.raycaster.ray.distanceSqToSegment(a, b, undefined, onEdge);
+        const d = screen(onEdge).distanceTo(click);
+        if (d <= EDGE_PX && visible(onEdge) && (!best || d < best.d)) best = { d, kind: 'edge', entity, edge };
+      }
+    }
+    if (!best) return null;
+    const part = this.parts.get(best.entity);
+    if (best.kind === 'vertex') {
+      const v = best.vertex;
+      return { entity: best.entity, kind: 'vertex', vertex: v.index, point_m: v.point_m,
+        ref: { model_sha256: part.sha256, kind: 'vertex', index: v.index, signature: v.signature || { type: 'vertex', point_m: v.point_m } } };
+    }
+    const e = best.edge;
+    return { entity: best.entity, kind: 'edge', edge: e.index, start_m: e.start_m, end_m: e.end_m,
+      ref: { model_sha256: part.sha256, kind: 'edge', index: e.index, signature: e.signature } };
   }
 
   describe(entity, face, hole) {
@@ -151,7 +246,7 @@ export class PartsView {
 
   hover(e) {
     const pick = e ? this.pickAt(e.clientX, e.clientY) : null;
-    const key = pick ? `${pick.entity}:${pick.kind}:${pick.kind === 'hole' ? pick.hole : pick.face}` : null;
+    const key = pick ? pickKey(pick) : null;
     if (key === this.hovered) return;
     this.hovered = key;
     this.hoveredPick = pick;
@@ -161,10 +256,12 @@ export class PartsView {
   /// Marks the picks (list of picks as from pickAt) and the hovered one.
   setPicked(picks) {
     this.picked = new Set();
+    this.pickedFine = new Set(picks.filter((p) => p.kind === 'edge' || p.kind === 'vertex').map(pickKey));
     for (const p of picks) for (const f of this.facesOf(p)) this.picked.add(`${p.entity}:${f}`);
     this.paint();
   }
   facesOf(p) {
+    if (p.kind === 'edge' || p.kind === 'vertex') return [];
     if (p.kind !== 'hole') return [p.face];
     return this.parts.get(p.entity)?.features.holes[p.hole]?.faces || [p.face];
   }
@@ -175,6 +272,16 @@ export class PartsView {
         const key = `${entity}:${face}`;
         mesh.material.color.setHex(hovered.has(key) ? HOVER : this.picked.has(key) ? PICKED : PART);
         mesh.material.emissive.setHex(hovered.has(key) ? 0x103050 : 0x000000);
+      }
+      const fine = (kind, index) => {
+        const key = `${entity}:${kind}:${index}`;
+        return key === this.hovered ? HOVER : this.pickedFine?.has(key) ? PICKED : null;
+      };
+      for (const { edge, line } of part.edges) line.material.color.setHex(fine('edge', edge.index) ?? EDGE);
+      for (const { vertex, dot } of part.vertices) {
+        const c = fine('vertex', vertex.index);
+        dot.visible = c !== null;
+        if (c !== null) dot.material.color.setHex(c);
       }
     }
     this.render();
