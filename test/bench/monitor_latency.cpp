@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
 
   loop.on_data(events, [&] {
     events.take([&](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
+      if (e.kind == rigger_skill_SKILL_EVENT_ACCEPTED) return;  // the host's answer to the START
       if (dds::to_string(e.node_id) != node || phase != Phase::kStepped) {
         ++wrong;  // fired before the step, or a stale event
         return;

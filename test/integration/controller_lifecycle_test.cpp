@@ -233,6 +233,81 @@ TEST_F(LifecycleTest, ASkillThatNeverAnswersStoppedIsEscalatedAfterItsStopTimeou
   EXPECT_TRUE(escalation);
 }
 
+// Every START gets an answer (issue 13): a real executor answers ACCEPTED before its skill's first
+// event. An executor that announces a skill but never answers (a lost sample, a wedged executor whose
+// lease is still asserted) must not leave the task RUNNING forever: after start_answer_timeout_s the
+// controller fails the leaf START_UNANSWERED, sends a SHUTDOWN after the START, and the task goes on.
+TEST_F(LifecycleTest, AStartNobodyAnswersFailsItsLeafInsteadOfHangingTheTask) {
+  start_controller({{"start_answer_timeout_s", 0.5}});
+  start_scripted("exec", {"Localize"}, {{"root/1", {{"mode", "succeed"}, {"delay_s", 0.1}}}});
+  wait_ready({"tc", "exec"});
+  // "mute" offers Deaf (exec's description of Localize, renamed: admission then waits until the
+  // controller knows mute), asserts its lease, and answers nothing.
+  auto& p = cell_.participant();
+  dds::Reader<rigger_skill_ExecutorAnnouncement> announced(p, protocol::skill::kExecutors);
+  json library;
+  ASSERT_TRUE(cell_.wait_until(
+      [&] {
+        announced.take([&](const rigger_skill_ExecutorAnnouncement& a, const dds_sample_info_t& info) {
+          if (info.valid_data && dds::to_string(a.executor_id) == "exec")
+            library = json::parse(dds::to_string(a.library_json));
+        });
+        return !library.is_null();
+      },
+      10s));
+  json deaf;
+  for (const auto& d : library.at("skills"))
+    if (d.value("name", "") == "Localize") deaf = d;
+  ASSERT_FALSE(deaf.is_null()) << library.dump();
+  deaf["name"] = "Deaf";
+  const std::string deaf_library = json{{"library_version", 1}, {"skills", {deaf}}}.dump();
+  dds::Writer<rigger_skill_ExecutorAnnouncement> mute(p, protocol::skill::kExecutors);
+  const auto lease = cell_.loop().every(dds::kDefaultLease / 3, [&p] { p.assert_liveliness(); });
+  rigger_skill_ExecutorAnnouncement a{};
+  const std::string id = "mute", host = "test";
+  const std::vector<std::string> skills = {"Deaf"};
+  std::vector<char*> names;
+  a.executor_id = dds::wire_string(id);
+  a.host = dds::wire_string(host);
+  a.pid = 0;
+  dds::wire_string_sequence(a.skills, skills, names);
+  a.library_json = dds::wire_string(deaf_library);
+  a.stamp = dds::wire_now();
+  ASSERT_EQ(mute.write(a), DDS_RETCODE_OK);
+
+  json unanswered = skill("deaf", "load");
+  unanswered["skill"] = "Deaf";
+  submit("deaf", recipe("deaf", {{"type", "Fallback"}, {"children", {unanswered, skill("heard", "target")}}}));
+  ASSERT_TRUE(wait_finished("deaf")) << cell_.logs();
+  cell_.loop().cancel(lease);
+  EXPECT_EQ(last("deaf").state, rigger_task_TASK_SUCCEEDED) << last("deaf").message;
+
+  const CommandSeen* start = command_at("deaf", "root/0", rigger_skill_SKILL_START);
+  ASSERT_NE(start, nullptr);
+  EXPECT_EQ(start->executor, "mute");
+  const NodeSeen* failed = node_at("deaf", "root/0", rigger_task_NODE_FAILURE);
+  ASSERT_NE(failed, nullptr);
+  EXPECT_EQ(failed->code, "START_UNANSWERED");
+  EXPECT_NE(failed->message.find("got no answer from mute within 0.5 s"), std::string::npos) << failed->message;
+  EXPECT_GE(failed->at - start->at, 400ms) << "failed before the answer timeout";
+  // The SHUTDOWN follows the START, so a START delivered late is stopped at once.
+  const CommandSeen* shutdown = command_at("deaf", "root/0", rigger_skill_SKILL_SHUTDOWN);
+  ASSERT_NE(shutdown, nullptr);
+  EXPECT_GT(shutdown->seq, start->seq);
+  // exec answered its START before its skill's SUCCESS.
+  const EventSeen* accepted = event_at("deaf", "root/1", rigger_skill_SKILL_EVENT_ACCEPTED);
+  const EventSeen* success = event_at("deaf", "root/1", rigger_skill_SKILL_EVENT_SUCCESS);
+  ASSERT_NE(accepted, nullptr);
+  ASSERT_NE(success, nullptr);
+  EXPECT_LE(accepted->at, success->at);
+  bool journaled = false;
+  for (const auto& l : journal("deaf"))
+    if (l.node == "root/0" && l.kind == "EVENT" && l.code == "FAILURE" &&
+        l.message.rfind("START_UNANSWERED", 0) == 0)
+      journaled = true;
+  EXPECT_TRUE(journaled);
+}
+
 // The same escalation for a skill that holds devices: the controller commands the safe stop of the
 // robot and the gripper it held (rigger/safety/stop), which the devices obey (tested in physics in
 // safe_stop_cell_test), and journals what it commanded.

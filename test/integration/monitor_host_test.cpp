@@ -36,6 +36,7 @@ class MonitorHostTest : public MultiProcessTest {
         std::make_unique<dds::Writer<rigger_sensing_WrenchStamped>>(cell_.participant(), protocol::robot::kWrench);
     cell_.loop().on_data(*events_, [this] {
       events_->take([this](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
+        if (e.kind == rigger_skill_SKILL_EVENT_ACCEPTED) return;  // the host's answer to a START, not the monitor's
         events_by_node_[dds::to_string(e.node_id)].push_back(
             {dds::to_string(e.node_id), dds::to_string(e.code), dds::to_string(e.message), e.kind, e.command_seq});
         ++event_count_;

@@ -8,6 +8,12 @@
 
 namespace rigger::testing {
 
+/// Whether a SkillEvent kind ends a run (SUCCESS, FAILURE, STOPPED), unlike ACCEPTED and PROGRESS.
+inline bool ends_run(int kind) {
+  return kind == rigger_skill_SKILL_EVENT_SUCCESS || kind == rigger_skill_SKILL_EVENT_FAILURE ||
+         kind == rigger_skill_SKILL_EVENT_STOPPED;
+}
+
 struct SkillCommandFields {
   std::string executor_id, task_id, node_id, skill;
   rigger_skill_SkillCommandKind kind = rigger_skill_SKILL_START;

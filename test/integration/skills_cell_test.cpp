@@ -111,7 +111,7 @@ class SkillsCellTest : public MultiProcessTest {
   const Event* final_event(const std::string& node, std::chrono::milliseconds timeout = 15s) {
     auto find = [&]() -> const Event* {
       for (const auto& e : events_seen_)
-        if (e.node == node && e.kind != rigger_skill_SKILL_EVENT_PROGRESS) return &e;
+        if (e.node == node && ends_run(e.kind)) return &e;
       return nullptr;
     };
     cell_.wait_until([&] { return find() != nullptr; }, timeout);

@@ -119,11 +119,11 @@ class SkillsRobotTest : public MultiProcessTest {
     ASSERT_EQ(write_skill_command(*commands_, {kExecutor, "t1", node, skill, kind, params.dump(), "test", ++seq_}),
               DDS_RETCODE_OK);
   }
-  /// The first non-PROGRESS event of `node`, waiting up to `timeout`.
+  /// The event that ended `node`'s run (SUCCESS, FAILURE, STOPPED), waiting up to `timeout`.
   const Event* final_event(const std::string& node, std::chrono::milliseconds timeout) {
     auto find = [&]() -> const Event* {
       for (const auto& e : events_seen_)
-        if (e.node == node && e.kind != rigger_skill_SKILL_EVENT_PROGRESS) return &e;
+        if (e.node == node && ends_run(e.kind)) return &e;
       return nullptr;
     };
     cell_.wait_until([&] { return find() != nullptr; }, timeout);

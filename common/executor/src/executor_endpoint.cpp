@@ -23,6 +23,7 @@ rigger_skill_SkillEventKind to_wire(EventKind k) {
     case EventKind::kFailure: return rigger_skill_SKILL_EVENT_FAILURE;
     case EventKind::kStopped: return rigger_skill_SKILL_EVENT_STOPPED;
     case EventKind::kProgress: return rigger_skill_SKILL_EVENT_PROGRESS;
+    case EventKind::kAccepted: return rigger_skill_SKILL_EVENT_ACCEPTED;
   }
   return rigger_skill_SKILL_EVENT_FAILURE;
 }
@@ -40,6 +41,7 @@ const char* to_string(EventKind kind) {
     case EventKind::kFailure: return "FAILURE";
     case EventKind::kStopped: return "STOPPED";
     case EventKind::kProgress: return "PROGRESS";
+    case EventKind::kAccepted: return "ACCEPTED";
   }
   return "?";
 }
@@ -235,6 +237,8 @@ void ExecutorEndpoint::handle_start(Start start) {
   log_->info("start waits task={} node={} skill={} seq={} for=\"{}\"", start.run.task_id, start.run.node_id,
              start.skill, start.run.start_seq, why);
   const LeafRun run = start.run;
+  write_event(run, EventKind::kAccepted, "WAITING", start.skill + " waits on executor " + executor_id_ + " for " + why,
+              -1.0);
   start.deadline = loop_.after(options_.start_wait, [this, run] {
     for (auto w = waiting_.begin(); w != waiting_.end(); ++w) {
       if (w->run.task_id != run.task_id || w->run.node_id != run.node_id || w->run.start_seq != run.start_seq)
@@ -277,6 +281,7 @@ void ExecutorEndpoint::dispatch(Start start) {
       Active{start.run.start_seq, start.skill, start.resources, start.commander, false};
   log_->info("start task={} node={} skill={} seq={}", start.run.task_id, start.run.node_id, start.skill,
              start.run.start_seq);
+  write_event(start.run, EventKind::kAccepted, "", start.skill + " runs on executor " + executor_id_, -1.0);
   if (handlers_.on_start) handlers_.on_start({start.run, start.skill, std::move(start.params)});
 }
 
@@ -292,6 +297,10 @@ void ExecutorEndpoint::refuse(const LeafRun& run, const std::string& code, const
 
 bool ExecutorEndpoint::report(const LeafRun& run, EventKind kind, const std::string& code, const std::string& message,
                               double progress) {
+  if (kind == EventKind::kAccepted) {
+    log_->warn("report dropped reason=accepted_is_the_endpoints task={} node={}", run.task_id, run.node_id);
+    return false;
+  }
   const auto key = std::make_pair(run.task_id, run.node_id);
   auto it = active_.find(key);
   if (it == active_.end() || it->second.start_seq != run.start_seq) {

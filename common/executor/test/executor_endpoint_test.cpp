@@ -41,8 +41,10 @@ class ExecutorEndpointTest : public ::testing::Test {
         options);
     loop_.on_data(events_, [this] {
       events_.take([this](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
-        received_.push_back({dds::to_string(e.node_id), dds::to_string(e.code), dds::to_string(e.message), e.kind,
-                             e.seq, e.command_seq});
+        // The answers to STARTs apart, so that the skills' own events keep their indices.
+        auto& into = e.kind == rigger_skill_SKILL_EVENT_ACCEPTED ? accepted_ : received_;
+        into.push_back({dds::to_string(e.node_id), dds::to_string(e.code), dds::to_string(e.message), e.kind, e.seq,
+                        e.command_seq});
       });
     });
     EXPECT_TRUE(commands_.wait_for_readers(1, 5s));
@@ -79,6 +81,7 @@ class ExecutorEndpointTest : public ::testing::Test {
   std::vector<ShutdownRequest> shutdowns_;
   bool stop_at_once_ = false;
   std::vector<Event> received_;
+  std::vector<Event> accepted_;  ///< ACCEPTED events
 };
 
 TEST_F(ExecutorEndpointTest, StartThenSuccessCarriesTheStartSeq) {
@@ -94,6 +97,13 @@ TEST_F(ExecutorEndpointTest, StartThenSuccessCarriesTheStartSeq) {
   EXPECT_EQ(received_[1].kind, rigger_skill_SKILL_EVENT_SUCCESS);
   EXPECT_EQ(received_[1].command_seq, 7u);
   EXPECT_LT(received_[0].seq, received_[1].seq);
+  // The endpoint answered the START itself, before the skill's first event.
+  ASSERT_EQ(accepted_.size(), 1u);
+  EXPECT_EQ(accepted_[0].command_seq, 7u);
+  EXPECT_EQ(accepted_[0].kind_code, "");
+  EXPECT_LT(accepted_[0].seq, received_[0].seq);
+  // A skill cannot send the endpoint's answer.
+  EXPECT_FALSE(endpoint_->report(starts_[0].run, EventKind::kAccepted));
   // The run is over: a late report is dropped, not sent.
   EXPECT_FALSE(endpoint_->report(starts_[0].run, EventKind::kFailure, "LATE"));
   EXPECT_TRUE(endpoint_->active_runs().empty());
@@ -119,7 +129,7 @@ TEST_F(ExecutorEndpointTest, BadParamsAndUnknownSkillFailWithCodes) {
   ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 3; }, 5s));
   EXPECT_TRUE(starts_.empty());
   EXPECT_EQ(received_[0].kind_code, "BAD_PARAMS");
-  EXPECT_NE(received_[0].message.find("params of Wait unreadable: 1:2:"), std::string::npos) << received_[0].message;
+  EXPECT_NE(received_[0].message.find("params of Wait unreadable: 1:3:"), std::string::npos) << received_[0].message;
   EXPECT_EQ(received_[1].kind_code, "BAD_PARAMS");
   EXPECT_NE(received_[1].message.find("must be a JSON object, got array"), std::string::npos) << received_[1].message;
   EXPECT_EQ(received_[2].kind_code, "UNKNOWN_SKILL");
@@ -219,6 +229,13 @@ TEST_F(ExecutorEndpointTest, StartWaitsForTheStopOfThePreviousRunThenRuns) {
   ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 2; }, 5s));
   EXPECT_EQ(received_[1].node, "weld");
   EXPECT_EQ(received_[1].kind_code, "RESOURCE_BUSY");
+  // Each waiting START was answered at once (WAITING, naming what it waits for), and the one that ran
+  // again when it ran, before weld's refusal (one writer: in order).
+  std::vector<std::string> answers;
+  for (const auto& a : accepted_) answers.push_back(a.node + "#" + std::to_string(a.command_seq) + ":" + a.kind_code);
+  EXPECT_EQ(answers, (std::vector<std::string>{"move#1:", "move#3:WAITING", "weld#4:WAITING", "move#3:"}));
+  EXPECT_NE(accepted_.at(1).message.find("its previous run still stopping"), std::string::npos)
+      << accepted_.at(1).message;
 }
 
 TEST_F(ExecutorEndpointTest, AWaitingStartFailsWhenTheStopNeverCompletes) {

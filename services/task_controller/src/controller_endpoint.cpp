@@ -37,6 +37,7 @@ bt::LeafEvent to_leaf_event(const rigger_skill_SkillEvent& e) {
     case rigger_skill_SKILL_EVENT_SUCCESS: ev.kind = bt::LeafEventKind::kSuccess; break;
     case rigger_skill_SKILL_EVENT_FAILURE: ev.kind = bt::LeafEventKind::kFailure; break;
     case rigger_skill_SKILL_EVENT_STOPPED: ev.kind = bt::LeafEventKind::kStopped; break;
+    case rigger_skill_SKILL_EVENT_ACCEPTED: ev.kind = bt::LeafEventKind::kProgress; break;
     default:
       ev.kind = bt::LeafEventKind::kProgress;
       if (e.progress >= 0.0 && e.progress <= 1.0) ev.progress = e.progress;
@@ -80,6 +81,7 @@ void ControllerEndpoint::take(const std::function<void(const ReceivedEvent&)>& o
       return;
     }
     r.event = to_leaf_event(e);
+    r.accepted = e.kind == rigger_skill_SKILL_EVENT_ACCEPTED;
     on_event(r);
   });
 }

@@ -53,9 +53,13 @@ struct ReceivedEvent {
   std::string task_id, node_id, executor_id;
   std::uint64_t seq = 0, command_seq = 0;
   bt::LeafEvent event;  ///< activation not set: the node takes it from its LeafRun
+  /// The executor's answer to the START (ACCEPTED, code WAITING or empty): for the controller, not the
+  /// engine (`event` then holds only code and message).
+  bool accepted = false;
 };
 
-/// The wire event as the engine's (kind, code, message; progress only when in [0, 1]).
+/// The wire event as the engine's (kind, code, message; progress only when in [0, 1]). ACCEPTED, which
+/// is not the engine's, comes out as PROGRESS without a fraction.
 bt::LeafEvent to_leaf_event(const rigger_skill_SkillEvent& e);
 
 class ControllerEndpoint {

@@ -37,6 +37,8 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
       std::chrono::duration<double>(ctx.config.get_in_range<double>("executor_wait_s", 2.0, 0.0, 600.0)));
   condition_timeout_ =
       std::chrono::milliseconds(ctx.config.get_in_range<unsigned>("condition_timeout_ms", 1000U, 10U, 60000U));
+  start_answer_timeout_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
+      std::chrono::duration<double>(ctx.config.get_in_range<double>("start_answer_timeout_s", 5.0, 0.05, 600.0)));
   ctx.config.finish();
   world_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log,
                                                        "task_controller-" + ctx.options.id);

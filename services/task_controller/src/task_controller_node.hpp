@@ -37,6 +37,9 @@
 ///   "executor_wait_s": number in [0, 600], default 2: a recipe naming a skill no live executor offers
 ///                      waits this long for one to appear (re-validated on every new announcement)
 ///                      before it is rejected
+///   "start_answer_timeout_s": number in [0.05, 600], default 5: an executor answers every START at once
+///                      (ACCEPTED, or FAILURE with a code); a START without an answer in this time fails
+///                      its leaf with START_UNANSWERED (and the controller sends a SHUTDOWN after it)
 ///
 /// Conditions: ObjectLocalized is answered by the world model (WorldClient) and is always part of the
 /// library recipes are validated against (no executor needs to announce it); an unreachable world model
@@ -87,6 +90,7 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   void node_status(NodeStatusRow row) override;
   void is_localized(const std::string& object, double max_age_s,
                     std::function<void(const world_client::Reply&)> answer) override;
+  std::chrono::nanoseconds start_answer_timeout() const override { return start_answer_timeout_; }
   bool safe_stop(const std::string& resource, const std::string& reason) override;
   void task_finished(const std::string& id, int state, const std::string& journal_state, const bt::TaskResult& result,
                      const std::string& message) override;
@@ -131,6 +135,7 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   };
   std::map<std::string, Pending> pending_;  ///< recipes waiting for an executor, by task id
   std::chrono::nanoseconds executor_wait_{};
+  std::chrono::nanoseconds start_answer_timeout_{};
   std::unique_ptr<world_client::WorldClient> world_;  ///< Condition nodes query the world model through it
   std::chrono::milliseconds condition_timeout_{1000};
   std::vector<NodeStatusRow> status_backlog_;

@@ -45,6 +45,7 @@ Task::Task(TaskHost& host, recipe::ValidatedRecipe recipe, std::string id)
 
 Task::~Task() {
   for (const auto& [engine_timer, loop_timer] : timers_) host_.loop().cancel(loop_timer);
+  for (const auto& [node_id, loop_timer] : unanswered_) host_.loop().cancel(loop_timer);
 }
 
 void Task::defer(std::function<void(Task&)> fn) {
@@ -81,6 +82,17 @@ void Task::on_event(const ReceivedEvent& e) {
                          std::to_string(run->start_seq)});
       return;
     case RunMatch::kCurrent: break;
+  }
+  // Any event of the current run answers its START.
+  if (auto u = unanswered_.find(e.node_id); u != unanswered_.end()) {
+    host_.loop().cancel(u->second);
+    unanswered_.erase(u);
+  }
+  if (e.accepted) {
+    // Running needs no row (its events follow); a START that waits does: it explains the delay.
+    if (!e.event.code.empty())
+      host_.journal({wall_now_s(), id_, e.node_id, "EVENT", "ACCEPTED", e.event.code + ": " + e.event.message});
+    return;
   }
   bt::LeafEvent ev = e.event;
   ev.activation = run->activation;
@@ -172,6 +184,44 @@ void Task::start_leaf(const bt::NodeSpec& spec, bt::Activation activation) {
                  spec.leaf + " on " + executor_id + " seq " + std::to_string(run.start_seq) + " " + params});
   if (!host_.endpoint().send(rigger_skill_SKILL_START, id_, spec, run, params, ""))
     host_.log()->error("skill command write failed task={} node={}", id_, spec.id);
+  TaskHost* host = &host_;
+  const std::string task_id = id_, node_id = spec.id;
+  const std::uint64_t seq = run.start_seq;
+  if (auto u = unanswered_.find(node_id); u != unanswered_.end()) host_.loop().cancel(u->second);
+  unanswered_[node_id] = host_.loop().after(host_.start_answer_timeout(), [host, task_id, node_id, seq] {
+    if (Task* t = host->find_task(task_id)) t->start_unanswered(node_id, seq);
+  });
+}
+
+void Task::start_unanswered(const std::string& node_id, std::uint64_t start_seq) {
+  auto u = unanswered_.find(node_id);
+  auto run = runs_.find(node_id);
+  if (u == unanswered_.end() || run == runs_.end() || run->second.start_seq != start_seq) return;
+  unanswered_.erase(u);
+  auto index = engine_->find(node_id);
+  if (!index) return;
+  const auto& st = engine_->status(*index);
+  // A leaf the engine already stops is covered by its stop timeout.
+  if (st.activation != run->second.activation || st.state != NodeState::kRunning) return;
+  const auto& spec = engine_->spec().nodes[*index];
+  const double waited_s = std::chrono::duration<double>(host_.start_answer_timeout()).count();
+  const std::string why = "START of " + spec.leaf + " (seq " + std::to_string(start_seq) + ") got no answer from " +
+                          run->second.executor_id + " within " + number_text(waited_s) + " s";
+  host_.log()->error("start unanswered task={} node={} executor={} seq={}", id_, node_id, run->second.executor_id,
+                     start_seq);
+  // Should the START arrive late after all, the executor stops that run again at once.
+  LeafRun shutdown = run->second;
+  shutdown.start_seq = host_.endpoint().next_seq();
+  host_.journal({wall_now_s(), id_, node_id, "COMMAND", "SHUTDOWN", codes::kStartUnanswered});
+  if (!host_.endpoint().send(rigger_skill_SKILL_SHUTDOWN, id_, spec, shutdown, "{}", codes::kStartUnanswered))
+    host_.log()->error("skill command write failed task={} node={}", id_, node_id);
+  bt::LeafEvent failure;
+  failure.kind = bt::LeafEventKind::kFailure;
+  failure.activation = run->second.activation;
+  failure.code = codes::kStartUnanswered;
+  failure.message = why;
+  host_.journal({wall_now_s(), id_, node_id, "EVENT", "FAILURE", failure.code + ": " + why});
+  log_result("start unanswered", node_id, engine_->on_leaf_event(node_id, failure));
 }
 
 void Task::shutdown_leaf(const bt::NodeSpec& spec, bt::Activation activation, const std::string& reason) {

@@ -6,6 +6,7 @@
 /// task commands, operator answers, a lost executor) into the engine. What it needs from the controller
 /// is the TaskHost interface (the node implements it).
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -31,6 +32,8 @@ namespace rigger::task_controller {
 namespace codes {
 inline constexpr const char* kInterrupted = "INTERRUPTED";
 inline constexpr const char* kNoExecutor = "NO_EXECUTOR";
+/// The executor did not answer a START (ACCEPTED or FAILURE) within start_answer_timeout_s.
+inline constexpr const char* kStartUnanswered = "START_UNANSWERED";
 }  // namespace codes
 
 class Task;
@@ -53,6 +56,8 @@ class TaskHost {
   /// Asks the world model whether `object` is localized (the answer comes on a later loop turn).
   virtual void is_localized(const std::string& object, double max_age_s,
                             std::function<void(const world_client::Reply&)> answer) = 0;
+  /// How long an executor has to answer a START before the leaf fails START_UNANSWERED.
+  virtual std::chrono::nanoseconds start_answer_timeout() const = 0;
   /// Commands a safe stop of `resource`; false when the write failed.
   virtual bool safe_stop(const std::string& resource, const std::string& reason) = 0;
   /// The task ended: record and publish its result (`state`: the wire TaskState, `journal_state` the
@@ -103,12 +108,15 @@ class Task : public bt::Port {
  private:
   /// Runs `fn` on the engine later (outside any Port callback), if the task still exists then.
   void defer(std::function<void(Task&)> fn);
+  /// The answer timer of `node_id`'s START fired: fails the leaf if that START is still unanswered.
+  void start_unanswered(const std::string& node_id, std::uint64_t start_seq);
 
   TaskHost& host_;
   std::string id_;
   std::vector<std::string> resources_;
   std::unique_ptr<bt::Engine> engine_;
   std::map<std::string, LeafRun> runs_;  ///< by node id: the last START sent
+  std::map<std::string, dds::EventLoop::TimerId> unanswered_;  ///< by node id: STARTs not answered yet
   std::map<bt::TimerId, dds::EventLoop::TimerId> timers_;
   std::map<std::string, std::pair<std::string, bt::Activation>> prompts_;  ///< open prompt id → (node, activation)
 };

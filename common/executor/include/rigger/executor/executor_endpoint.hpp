@@ -9,7 +9,8 @@
 ///    the same controller is a duplicate or stale and is dropped (logged);
 ///  - START with unparsable params → FAILURE `BAD_PARAMS`; for a skill not in the library →
 ///    FAILURE `UNKNOWN_SKILL`;
-///  - every START is answered, never dropped: a START whose node or resources (the skill
+///  - every START is answered, never dropped: ACCEPTED when it runs (just before the skill's start
+///    handler), ACCEPTED `WAITING` when it first waits, or FAILURE with a code; a START whose node or resources (the skill
 ///    description's `resources`, "$param" resolved) are held by a run that is being stopped waits
 ///    until that run has stopped, then starts (or, after Options::start_wait, fails
 ///    `STILL_STOPPING`); one whose node runs here and was not asked to stop fails `ALREADY_RUNNING`;
@@ -50,7 +51,8 @@ struct LeafRun {
   std::uint64_t start_seq = 0;
 };
 
-enum class EventKind { kSuccess, kFailure, kStopped, kProgress };
+/// kAccepted is the endpoint's own answer to a START; skills report the others.
+enum class EventKind { kSuccess, kFailure, kStopped, kProgress, kAccepted };
 
 struct StartRequest {
   LeafRun run;
@@ -86,7 +88,8 @@ class ExecutorEndpoint {
   ExecutorEndpoint(const ExecutorEndpoint&) = delete;
   ExecutorEndpoint& operator=(const ExecutorEndpoint&) = delete;
 
-  /// Reports an event of a run that is active here. Returns false (and logs) when the run is not active.
+  /// Reports an event of a run that is active here. Returns false (and logs) when the run is not active,
+  /// or for kAccepted (the endpoint answers STARTs itself).
   /// `progress` in [0, 1], or negative when unknown.
   bool report(const LeafRun& run, EventKind kind, const std::string& code = "", const std::string& message = "",
               double progress = -1.0);

@@ -27,7 +27,8 @@ inline constexpr Topic<rigger_skill_SkillEvent> kEvent{
     "executor_id",
     "skill_executor, monitor_host",
     "task_controller",
-    "(SUCCESS, FAILURE, STOPPED, PROGRESS; code, message, seq, command_seq)",
+    "(ACCEPTED: the answer to a START, code WAITING when it waits; SUCCESS, FAILURE, STOPPED, PROGRESS; "
+    "code, message, seq, command_seq)",
     ""};
 
 /// skill_executor, monitor_host → task_controller, riggerctl.
