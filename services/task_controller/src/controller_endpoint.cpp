@@ -62,7 +62,9 @@ bool ControllerEndpoint::send(rigger_skill_SkillCommandKind kind, const std::str
   c.reason = dds::wire_string(reason);
   c.seq = run.start_seq;
   c.stamp = dds::wire_now();
-  return commands_.write(c) == DDS_RETCODE_OK;
+  const bool written = commands_.write(c) == DDS_RETCODE_OK;
+  if (trace_) trace_->command_written();
+  return written;
 }
 
 void ControllerEndpoint::take(const std::function<void(const ReceivedEvent&)>& on_event,
@@ -74,6 +76,7 @@ void ControllerEndpoint::take(const std::function<void(const ReceivedEvent&)>& o
     r.executor_id = dds::to_string(e.executor_id);
     r.seq = e.seq;
     r.command_seq = e.command_seq;
+    r.stamp_wall_ns = static_cast<std::int64_t>(e.stamp.sec) * 1000000000LL + e.stamp.nanosec;
     std::uint64_t last = 0;
     if (!order_.accept(info.publication_handle, e.seq, &last)) {
       on_out_of_order(r, last);
