@@ -11,7 +11,7 @@
 //     the same run with ddsperf's waitset and with its listener triggering.
 //     Where the time goes, per stage, from the controller's own stage trace (its stage_trace_path, a file
 //     it writes when it stops; steady-clock instants of one host): FAILURE written → controller woke
-//     (DDS, wall clocks) → SHUTDOWN written (take + engine up to the write) → engine done → journal rows
+//     (DDS, wall clocks) → SHUTDOWN handed to DDS (take, engine) → written → engine done → journal rows
 //     and node statuses flushed; then SHUTDOWN written → received here (DDS, wall clocks).
 //  2. Idle CPU: CPU seconds per wall second (/proc/PID/stat utime+stime) of the controller with no
 //     task, with 1 running leaf and with 100 running leaves (1 skill + 99 monitors in a Parallel),
@@ -144,7 +144,8 @@ struct Reaction {
   // Per trial, one stage each (the controller's stage trace; they add up to shutdown_received_us but
   // for the clock reads between them):
   std::vector<double> to_woke_us;         ///< FAILURE written → controller's handler woke (DDS, 1 hop)
-  std::vector<double> to_command_us;      ///< woke → SHUTDOWN written (take, engine until the write)
+  std::vector<double> to_writing_us;      ///< woke → SHUTDOWN handed to DDS (take, engine until the write)
+  std::vector<double> writing_us;         ///< the SHUTDOWN's write call
   std::vector<double> to_engine_us;       ///< SHUTDOWN written → engine returned
   std::vector<double> to_flushed_us;      ///< engine returned → journal rows and node statuses written
   std::vector<double> command_to_seen_us;  ///< SHUTDOWN stamped → received here (DDS, 1 hop)
@@ -261,7 +262,8 @@ Reaction measure_reaction(const std::string& journal_sync, int trials, int perio
     if (it == traced.end() || it->second.command_ns == 0 || it->second.flushed_ns == 0) continue;
     const auto& r = it->second;
     out.to_woke_us.push_back(us(r.stamp_wall_ns, r.woke_wall_ns));
-    out.to_command_us.push_back(us(r.woke_ns, r.command_ns));
+    out.to_writing_us.push_back(us(r.woke_ns, r.writing_ns));
+    out.writing_us.push_back(us(r.writing_ns, r.command_ns));
     out.to_engine_us.push_back(us(r.command_ns, r.engine_ns));
     out.to_flushed_us.push_back(us(r.engine_ns, r.flushed_ns));
   }
@@ -406,10 +408,11 @@ int main(int argc, char** argv) {
   const auto stages = [](const char* label, const Reaction& r) {
     std::printf("Per stage, journal %s (controller's stage trace, %zu trials):\n", label, r.to_woke_us.size());
     print_row("  1 FAILURE written -> controller woke (DDS, 1 hop)", r.to_woke_us);
-    print_row("  2 woke -> SHUTDOWN written (take, engine to the write)", r.to_command_us);
-    print_row("  3 SHUTDOWN written -> engine done", r.to_engine_us);
-    print_row("  4 engine done -> journal rows + node status flushed", r.to_flushed_us);
-    print_row("  5 SHUTDOWN written -> received here (DDS, 1 hop)", r.command_to_seen_us);
+    print_row("  2 woke -> SHUTDOWN handed to DDS (take, engine)", r.to_writing_us);
+    print_row("  3 SHUTDOWN write call (dds_write returns)", r.writing_us);
+    print_row("  4 SHUTDOWN written -> engine done", r.to_engine_us);
+    print_row("  5 engine done -> journal rows + node status flushed", r.to_flushed_us);
+    print_row("  6 SHUTDOWN stamped -> received here (DDS, 1 hop)", r.command_to_seen_us);
   };
   stages("normal", normal);
   stages("sync full", full);

@@ -62,6 +62,7 @@ bool ControllerEndpoint::send(rigger_skill_SkillCommandKind kind, const std::str
   c.reason = dds::wire_string(reason);
   c.seq = run.start_seq;
   c.stamp = dds::wire_now();
+  if (trace_) trace_->command_writing();
   const bool written = commands_.write(c) == DDS_RETCODE_OK;
   if (trace_) trace_->command_written();
   return written;

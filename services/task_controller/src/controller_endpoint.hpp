@@ -78,7 +78,7 @@ class ControllerEndpoint {
             const std::function<void(const ReceivedEvent&, std::uint64_t last)>& on_out_of_order);
 
   const dds::Reader<rigger_skill_SkillEvent>& events() const { return events_; }
-  /// Tells `trace` (nullptr: nobody) of every command written.
+  /// Tells `trace` (nullptr: nobody) of every command write, before and after it.
   void trace(StageTrace* trace) { trace_ = trace; }
 
  private:

@@ -27,7 +27,11 @@ void StageTrace::woke() {
 void StageTrace::begin(const std::string& executor_id, const std::string& kind, std::int64_t stamp_wall_ns) {
   open_ = records_.size() < capacity_;
   if (!open_) return;
-  records_.push_back({executor_id, kind, stamp_wall_ns, woke_wall_ns_, woke_ns_, 0, 0, 0});
+  records_.push_back({executor_id, kind, stamp_wall_ns, woke_wall_ns_, woke_ns_, 0, 0, 0, 0});
+}
+
+void StageTrace::command_writing() {
+  if (open_ && records_.back().writing_ns == 0) records_.back().writing_ns = ns_of(Clock::now());
 }
 
 void StageTrace::command_written() {
@@ -48,10 +52,10 @@ void StageTrace::flushed() {
 
 bool StageTrace::write(const std::string& path) const {
   std::ofstream out(path);
-  out << "executor\tkind\tstamp_wall_ns\twoke_wall_ns\twoke_ns\tcommand_ns\tengine_ns\tflushed_ns\n";
+  out << "executor\tkind\tstamp_wall_ns\twoke_wall_ns\twoke_ns\twriting_ns\tcommand_ns\tengine_ns\tflushed_ns\n";
   for (const auto& r : records_)
     out << r.executor_id << '\t' << r.kind << '\t' << r.stamp_wall_ns << '\t' << r.woke_wall_ns << '\t' << r.woke_ns
-        << '\t' << r.command_ns << '\t' << r.engine_ns << '\t' << r.flushed_ns << '\n';
+        << '\t' << r.writing_ns << '\t' << r.command_ns << '\t' << r.engine_ns << '\t' << r.flushed_ns << '\n';
   out.flush();
   return static_cast<bool>(out);
 }
@@ -65,7 +69,8 @@ std::vector<StageRecord> StageTrace::read(const std::string& path) {
     std::istringstream fields(line);
     StageRecord r;
     if (std::getline(fields, r.executor_id, '\t') && std::getline(fields, r.kind, '\t') &&
-        fields >> r.stamp_wall_ns >> r.woke_wall_ns >> r.woke_ns >> r.command_ns >> r.engine_ns >> r.flushed_ns)
+        fields >> r.stamp_wall_ns >> r.woke_wall_ns >> r.woke_ns >> r.writing_ns >> r.command_ns >> r.engine_ns >>
+            r.flushed_ns)
       out.push_back(std::move(r));
   }
   return out;

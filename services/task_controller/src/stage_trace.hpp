@@ -24,7 +24,8 @@ struct StageRecord {
   std::int64_t stamp_wall_ns = 0;  ///< the event's stamp (its writer's wall clock)
   std::int64_t woke_wall_ns = 0;   ///< the handler woke (this process's wall clock)
   std::int64_t woke_ns = 0;        ///< the handler woke: the event was received from DDS
-  std::int64_t command_ns = 0;     ///< the first command it caused was written
+  std::int64_t writing_ns = 0;     ///< the first command it caused was handed to DDS
+  std::int64_t command_ns = 0;     ///< that write returned
   std::int64_t engine_ns = 0;      ///< the engine returned
   std::int64_t flushed_ns = 0;     ///< its journal rows and node statuses were written
 };
@@ -40,7 +41,8 @@ class StageTrace {
   void woke();
   /// An event taken in this wake enters the engine.
   void begin(const std::string& executor_id, const std::string& kind, std::int64_t stamp_wall_ns);
-  /// A command was written (only the first after begin() counts).
+  /// A command is about to be written / was written (only the first after begin() counts).
+  void command_writing();
   void command_written();
   /// The engine returned for the event of the last begin().
   void engine_done();

@@ -15,6 +15,7 @@ TEST(StageTrace, RecordsEachStageOnceInOrder) {
   StageTrace t;
   t.woke();
   t.begin("monitors", "FAILURE", 42);
+  t.command_writing();
   t.command_written();
   const auto first = t.records().back().command_ns;
   t.command_written();  // a second command of the same event does not move the first
@@ -30,7 +31,8 @@ TEST(StageTrace, RecordsEachStageOnceInOrder) {
   EXPECT_EQ(a.stamp_wall_ns, 42);
   EXPECT_GT(a.woke_ns, 0);
   EXPECT_EQ(a.command_ns, first);
-  EXPECT_LE(a.woke_ns, a.command_ns);
+  EXPECT_LE(a.woke_ns, a.writing_ns);
+  EXPECT_LE(a.writing_ns, a.command_ns);
   EXPECT_LE(a.command_ns, a.engine_ns);
   EXPECT_LE(a.engine_ns, a.flushed_ns);
   const auto& b = t.records()[1];
@@ -71,6 +73,7 @@ TEST(StageTrace, ReadsBackWhatItWrote) {
   StageTrace t;
   t.woke();
   t.begin("monitors", "FAILURE", 1700000000123456789LL);
+  t.command_writing();
   t.command_written();
   t.engine_done();
   t.flushed();
@@ -86,6 +89,7 @@ TEST(StageTrace, ReadsBackWhatItWrote) {
   EXPECT_EQ(b.stamp_wall_ns, a.stamp_wall_ns);
   EXPECT_EQ(b.woke_wall_ns, a.woke_wall_ns);
   EXPECT_EQ(b.woke_ns, a.woke_ns);
+  EXPECT_EQ(b.writing_ns, a.writing_ns);
   EXPECT_EQ(b.command_ns, a.command_ns);
   EXPECT_EQ(b.engine_ns, a.engine_ns);
   EXPECT_EQ(b.flushed_ns, a.flushed_ns);
