@@ -7,7 +7,7 @@ namespace rigger::task_controller {
 namespace {
 
 /// The skill-command writer's QoS: commands() with MANUAL_BY_PARTICIPANT liveliness, asserted by
-/// run_service's loop every kDefaultLease / 3.
+/// run_service's loop every third of the shortest lease offered (the node offers this one).
 dds::Qos supervised_commands(std::chrono::milliseconds lease) {
   dds::Qos q = dds::qos::commands();
   q.manual_liveliness(lease);

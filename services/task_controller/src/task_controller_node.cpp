@@ -10,6 +10,17 @@
 #include "rigger/world_client/world_client.hpp"
 
 namespace rigger::task_controller {
+namespace {
+
+/// The command writer's liveliness lease (command_lease_ms), offered to run_service, which asserts the
+/// participant's liveliness every third of it when it is the shortest (a 200 ms lease needs 67 ms).
+std::chrono::milliseconds command_lease(dds::ServiceContext& ctx) {
+  const std::chrono::milliseconds lease(ctx.config.get_in_range<unsigned>("command_lease_ms", 300U, 200U, 10000U));
+  ctx.offer_liveliness_lease(lease);
+  return lease;
+}
+
+}  // namespace
 
 TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
     : ctx_(ctx),
@@ -19,8 +30,7 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
       announcements_(ctx.participant, protocol::skill::kExecutors, dds::qos::state()),
       // Executors watch the command writer's liveliness: a controller that dies or hangs has its running
       // skills shut down by their executors within the lease (no orphaned motion).
-      endpoint_(ctx.participant, std::chrono::milliseconds(
-                                     ctx.config.get_in_range<unsigned>("command_lease_ms", 300U, 200U, 10000U))),
+      endpoint_(ctx.participant, command_lease(ctx)),
       recipes_(ctx.participant, protocol::task::kRecipe),
       task_commands_(ctx.participant, protocol::task::kCommand),
       status_(ctx.participant),
