@@ -17,7 +17,9 @@ std::int64_t wall_ns() {
 
 }  // namespace
 
-StageTrace::StageTrace(std::size_t capacity) : capacity_(capacity) { records_.reserve(capacity); }
+StageTrace::StageTrace(std::size_t capacity) : capacity_(capacity) {
+  records_.reserve(capacity);
+}
 
 void StageTrace::woke() {
   woke_ns_ = ns_of(Clock::now());

@@ -20,7 +20,7 @@ namespace rigger::task_controller {
 /// happen (no command caused; not flushed before the node ended).
 struct StageRecord {
   std::string executor_id;
-  std::string kind;               ///< SUCCESS, FAILURE, STOPPED, PROGRESS
+  std::string kind;                ///< SUCCESS, FAILURE, STOPPED, PROGRESS
   std::int64_t stamp_wall_ns = 0;  ///< the event's stamp (its writer's wall clock)
   std::int64_t woke_wall_ns = 0;   ///< the handler woke (this process's wall clock)
   std::int64_t woke_ns = 0;        ///< the handler woke: the event was received from DDS
