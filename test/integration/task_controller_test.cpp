@@ -3,12 +3,17 @@
 // commands the executors receive, the node status and the task status; it never sleeps.
 #include <signal.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <sqlite3.h>
+
 #include <nlohmann/json.hpp>
 
 #include "rigger/dds/conversions.hpp"
@@ -41,6 +46,7 @@ struct SeenCommand {
   std::string executor, task, node;
   int kind = 0;
   Clock::time_point at;
+  std::uint64_t seq = 0;
 };
 
 bool terminal(int s) {
@@ -96,7 +102,7 @@ class TaskControllerTest : public MultiProcessTest {
     cell_.loop().on_data(*commands_, [this] {
       commands_->take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
         commands_seen_.push_back({dds::to_string(c.executor_id), dds::to_string(c.task_id), dds::to_string(c.node_id),
-                                  static_cast<int>(c.kind), Clock::now()});
+                                  static_cast<int>(c.kind), Clock::now(), c.seq});
       });
     });
     journal_path_ = cell_.log_dir() + "/journal.sqlite";
@@ -161,6 +167,30 @@ class TaskControllerTest : public MultiProcessTest {
     for (const auto& n : it->second)
       if (n.state == state) return &n;
     return nullptr;
+  }
+  /// One row of the journal's timeline table, read straight from the file (the ids are not in the API).
+  struct JournalRow {
+    long long id = 0;
+    std::string task, kind, code, message;
+  };
+  std::vector<JournalRow> journal_rows() const {
+    std::vector<JournalRow> rows;
+    sqlite3* db = nullptr;
+    if (sqlite3_open_v2(journal_path_.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+      sqlite3_stmt* st = nullptr;
+      if (sqlite3_prepare_v2(db, "SELECT id, task_id, kind, code, message FROM records ORDER BY id;", -1, &st,
+                             nullptr) == SQLITE_OK) {
+        const auto text = [st](int col) {
+          const auto* t = sqlite3_column_text(st, col);
+          return t ? std::string(reinterpret_cast<const char*>(t)) : std::string();
+        };
+        while (sqlite3_step(st) == SQLITE_ROW)
+          rows.push_back({sqlite3_column_int64(st, 0), text(1), text(2), text(3), text(4)});
+      }
+      sqlite3_finalize(st);
+    }
+    sqlite3_close(db);
+    return rows;
   }
   std::size_t count_commands(const std::string& task_id, int kind) const {
     std::size_t n = 0;
@@ -310,6 +340,74 @@ TEST_F(TaskControllerTest, RestartedControllerReportsTheTaskInterruptedAndStarts
   EXPECT_EQ(s.code, "INTERRUPTED");
   ASSERT_TRUE(cell_.wait_ready({"tc-2"}, 20s));
   EXPECT_EQ(commands_seen_.size(), commands_before);
+}
+
+TEST_F(TaskControllerTest, ControllerKilledInABurstLeavesAJournalThatIsAPrefixOfWhatHappened) {
+  expect_clean_exit_ = false;
+  // The skill succeeds at once: Repeat(Localize) becomes a burst of SUCCESS -> START, one run at a time,
+  // each SUCCESS handled in one handler whose rows (EVENT, NODE..., COMMAND START) go out in one group.
+  start_all({{"root/0", {{"mode", "succeed"}, {"delay_s", 0}}}}, nlohmann::json::object());
+  const nlohmann::json recipe = {
+      {"recipe_version", 1},
+      {"task_id", "burst"},
+      {"root",
+       {{"type", "Repeat"},
+        {"repetitions", 1000000},
+        {"child", {{"type", "Skill"}, {"skill", "Localize"}, {"params", {{"object", "load"}}}}}}}};
+  submit("burst", recipe.dump());
+  ASSERT_TRUE(cell_.wait_until([&] { return count_commands("burst", rigger_skill_SKILL_START) >= 300; }, 30s));
+  ASSERT_TRUE(cell_.stop("tc", SIGKILL, 5s).has_value());  // by its pid, in the middle of the burst
+  EXPECT_FALSE(finished("burst"));
+  status_.erase("burst");
+  cell_.start("tc-2", "task_controller",
+              {"--id", "tc-2", "--config", write_config("tc-2", {{"journal_path", journal_path_}})});
+  ASSERT_TRUE(cell_.wait_until([&] { return finished("burst"); }, 20s));
+  EXPECT_EQ(last("burst").state, rigger_task_TASK_FAILED);
+  EXPECT_EQ(last("burst").code, "INTERRUPTED");
+  ASSERT_TRUE(cell_.wait_ready({"tc-2"}, 20s));
+
+  // What happened: every START the killed controller wrote (reliable, keep-all: all of them arrive).
+  std::vector<std::uint64_t> sent;
+  for (const auto& c : commands_seen_)
+    if (c.task == "burst" && c.kind == rigger_skill_SKILL_START) sent.push_back(c.seq);
+  std::sort(sent.begin(), sent.end());
+  for (std::size_t i = 0; i < sent.size(); ++i) ASSERT_EQ(sent[i], i + 1) << "the controller skipped a seq";
+
+  // What the journal kept: rows numbered without a gap, the STARTs a prefix of those sent, and between
+  // two STARTs the SUCCESS that caused the second (a row lost before a durable one would show here).
+  const auto rows = journal_rows();
+  ASSERT_FALSE(rows.empty());
+  std::vector<std::uint64_t> journalled;
+  std::size_t events_since_start = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& r = rows[i];
+    ASSERT_EQ(r.id, static_cast<long long>(i + 1)) << "gap in the journal's row ids";
+    EXPECT_EQ(r.task, "burst");
+    if (r.kind == "EVENT") {
+      EXPECT_EQ(r.code, "SUCCESS");
+      ++events_since_start;
+    }
+    if (r.kind != "COMMAND") continue;
+    ASSERT_EQ(r.code, "START") << r.message;
+    const auto at = r.message.find(" seq ");
+    ASSERT_NE(at, std::string::npos) << r.message;
+    journalled.push_back(std::stoull(r.message.substr(at + 5)));
+    EXPECT_EQ(events_since_start, journalled.size() == 1 ? 0U : 1U) << "before START seq " << journalled.back();
+    events_since_start = 0;
+  }
+  // The last group's EVENT row would have come with the START it caused.
+  EXPECT_EQ(events_since_start, 0U);
+  ASSERT_FALSE(journalled.empty());
+  for (std::size_t i = 0; i < journalled.size(); ++i) ASSERT_EQ(journalled[i], i + 1) << "gap in the STARTs journalled";
+  EXPECT_LE(journalled.size(), sent.size()) << "the journal holds a START that was never sent";
+  // Commands go out before their rows: the kill may take the last handler's group, and the one before
+  // it when the next event's handler ran before that group's flush; never more.
+  EXPECT_LE(sent.size() - journalled.size(), 2U) << journalled.size() << " of " << sent.size() << " STARTs journalled";
+  std::cout << "killed after " << sent.size() << " STARTs; journal: " << rows.size() << " rows, "
+            << journalled.size() << " STARTs\n";
+
+  // The restarted controller started nothing.
+  EXPECT_EQ(count_commands("burst", rigger_skill_SKILL_START), sent.size());
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <pthread.h>
 #include <signal.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <iostream>
 #include <thread>
@@ -93,12 +95,6 @@ int run_service(int argc, char** argv, const ServiceSpec& spec) {
     ServiceAnnouncer announcer(participant, options.id, spec.kind);
     announcer.announce(ServiceStatus::kStarting);
     signals.start(loop, log);
-    // Assert liveliness from the work loop: if the loop hangs, the lease runs out and others see it.
-    loop.every(kDefaultLease / 3, [&participant] { participant.assert_liveliness(); });
-    // A reader starved of CPU may expire a lease before it processed the liveliness messages that were
-    // queued for it; the instance then stays NOT_ALIVE until a new sample. Re-announcing once a second
-    // heals such a false loss within a second, for the price of one small sample a second.
-    loop.every(kServiceRefreshPeriod, [&announcer] { announcer.reannounce(); });
     loop.on_status(announcer.writer_handle(), DDS_LIVELINESS_LOST_STATUS, [&] {
       log->warn("liveliness lost: the work loop stalled longer than the lease; announcing again");
       announcer.reannounce();
@@ -106,6 +102,19 @@ int run_service(int argc, char** argv, const ServiceSpec& spec) {
 
     ServiceContext ctx{options, log, participant, loop, announcer, config};
     std::unique_ptr<Node> node = spec.make_node(ctx);
+    // The loop's own periodic work on one timer, so that an idle service wakes for nothing else of its
+    // own. Liveliness is asserted from the work loop (if the loop hangs, the lease runs out and others
+    // see it) every third of the shortest lease offered: two assertions' margin on a loaded machine, and
+    // no more often. Every kServiceRefreshPeriod of ticks it re-announces: a reader starved of CPU may
+    // expire a lease before it processed the liveliness messages queued for it, and the instance then
+    // stays NOT_ALIVE until a new sample; one small sample a second heals such a false loss.
+    const auto period = ctx.liveliness_lease / 3;
+    const auto ticks_per_refresh = std::max<std::chrono::milliseconds::rep>(1, kServiceRefreshPeriod / period);
+    std::chrono::milliseconds::rep ticks = 0;
+    loop.every(period, [&participant, &announcer, &ticks, ticks_per_refresh] {
+      participant.assert_liveliness();
+      if (++ticks % ticks_per_refresh == 0) announcer.reannounce();
+    });
     announcer.announce(ServiceStatus::kReady);
     log->info("ready service={} kind={} domain={} pid={}", options.id, spec.kind, options.domain, getpid());
     loop.run();

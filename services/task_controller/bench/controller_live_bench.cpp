@@ -9,20 +9,29 @@
 //     executor's STOPPED stamp bounds its own receipt from above. One host, one clock.
 //     Next to ddsperf ping/pong one-way latency (half its round trip) at the same rate, measured in
 //     the same run with ddsperf's waitset and with its listener triggering.
+//     Where the time goes, per stage, from the controller's own stage trace (its stage_trace_path, a file
+//     it writes when it stops; steady-clock instants of one host): FAILURE written → controller woke
+//     (DDS, wall clocks) → SHUTDOWN handed to DDS (take, engine) → written → engine done → journal rows
+//     and node statuses flushed; then SHUTDOWN written → received here (DDS, wall clocks).
 //  2. Idle CPU: CPU seconds per wall second (/proc/PID/stat utime+stime) of the controller with no
 //     task, with 1 running leaf and with 100 running leaves (1 skill + 99 monitors in a Parallel),
 //     each over --idle-seconds (default 60, the "60 s skill"), next to an idle ddsperf
 //     participant (ddsperf pong, nobody pinging) and an idle echo service over the same windows.
+//     Wake-ups per wall second of the controller over the same windows: its work loop's thread (the
+//     main thread: one voluntary context switch per waitset wait that blocks) and all its threads
+//     (Cyclone's included), from voluntary_ctxt_switches in /proc/PID/task/TID/status.
 //
 //   build/bench/task_controller_live_bench [--trials 1000] [--period-ms 10] [--idle-seconds 60]
 //                                          [--ddsperf-seconds 10]
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -64,6 +73,26 @@ double cpu_seconds(pid_t pid) {
     if (i == 15) stime = std::stoul(field);
   }
   return static_cast<double>(utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
+}
+
+/// voluntary_ctxt_switches of thread `tid` of `pid`, or -1 when /proc cannot be read.
+long long voluntary_switches(pid_t pid, const std::string& tid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/task/" + tid + "/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("voluntary_ctxt_switches:", 0) == 0) return std::stoll(line.substr(line.find(':') + 1));
+  return -1;
+}
+
+/// Voluntary context switches of `pid`'s main thread (its work loop) and of all its threads.
+std::pair<long long, long long> wake_ups(pid_t pid) {
+  long long all = 0;
+  std::error_code ignored;  // a process gone reads as no threads
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task", ignored)) {
+    const long long n = voluntary_switches(pid, entry.path().filename().string());
+    if (n > 0) all += n;
+  }
+  return {voluntary_switches(pid, std::to_string(pid)), all};
 }
 
 std::int64_t wire_ns(const rigger_geometry_Time& t) {
@@ -112,6 +141,14 @@ struct Reaction {
   std::vector<double> shutdown_written_us;   ///< the controller's SHUTDOWN stamp (1 hop + handling)
   std::vector<double> shutdown_received_us;  ///< this process receiving that SHUTDOWN (2 hops + handling)
   std::vector<double> stopped_written_us;    ///< the skill executor's STOPPED stamp (bounds its receipt)
+  // Per trial, one stage each (the controller's stage trace; they add up to shutdown_received_us but
+  // for the clock reads between them):
+  std::vector<double> to_woke_us;         ///< FAILURE written → controller's handler woke (DDS, 1 hop)
+  std::vector<double> to_writing_us;      ///< woke → SHUTDOWN handed to DDS (take, engine until the write)
+  std::vector<double> writing_us;         ///< the SHUTDOWN's write call
+  std::vector<double> to_engine_us;       ///< SHUTDOWN written → engine returned
+  std::vector<double> to_flushed_us;      ///< engine returned → journal rows and node statuses written
+  std::vector<double> command_to_seen_us;  ///< SHUTDOWN stamped → received here (DDS, 1 hop)
   double trials_per_s = 0;
   bool ok = false;
 };
@@ -129,10 +166,13 @@ Reaction measure_reaction(const std::string& journal_sync, int trials, int perio
   Reaction out;
   rigger::testing::Cell cell;
   const std::string dir = cell.log_dir();
+  const std::string trace_path = dir + "/stages-" + journal_sync + ".tsv";
   cell.start("tc", "task_controller",
              {"--id", "tc", "--log-level", "warn", "--config",
-              write_file(dir + "/tc.json",
-                         json{{"journal_path", dir + "/journal-" + journal_sync + ".sqlite"}, {"journal_sync", journal_sync}}.dump())});
+              write_file(dir + "/tc.json", json{{"journal_path", dir + "/journal-" + journal_sync + ".sqlite"},
+                                                {"journal_sync", journal_sync},
+                                                {"stage_trace_path", trace_path}}
+                                               .dump())});
   cell.start("skills", "scripted_executor",
              {"--id", "skills", "--log-level", "warn", "--config",
               write_file(dir + "/skills.json", json{{"skills", {"Localize"}}, {"default", {{"mode", "run"}}}}.dump())});
@@ -209,7 +249,26 @@ Reaction measure_reaction(const std::string& journal_sync, int trials, int perio
     out.shutdown_written_us.push_back(static_cast<double>(shutdown_stamp_ns[i] - failure_ns[i]) / 1000.0);
     out.shutdown_received_us.push_back(static_cast<double>(shutdown_seen_ns[i] - failure_ns[i]) / 1000.0);
     out.stopped_written_us.push_back(static_cast<double>(stopped_ns[i] - failure_ns[i]) / 1000.0);
+    out.command_to_seen_us.push_back(static_cast<double>(shutdown_seen_ns[i] - shutdown_stamp_ns[i]) / 1000.0);
   }
+  // The controller wrote its trace when it stopped (stop_all waited for it). A trial's FAILURE is the
+  // record with its stamp.
+  std::map<std::int64_t, tc::StageRecord> traced;
+  for (auto& r : tc::StageTrace::read(trace_path))
+    if (r.executor_id == "monitors" && r.kind == "FAILURE") traced.emplace(r.stamp_wall_ns, std::move(r));
+  const auto us = [](std::int64_t from, std::int64_t to) { return static_cast<double>(to - from) / 1000.0; };
+  for (std::size_t i = 0; i < n; ++i) {
+    auto it = traced.find(failure_ns[i]);
+    if (it == traced.end() || it->second.command_ns == 0 || it->second.flushed_ns == 0) continue;
+    const auto& r = it->second;
+    out.to_woke_us.push_back(us(r.stamp_wall_ns, r.woke_wall_ns));
+    out.to_writing_us.push_back(us(r.woke_ns, r.writing_ns));
+    out.writing_us.push_back(us(r.writing_ns, r.command_ns));
+    out.to_engine_us.push_back(us(r.command_ns, r.engine_ns));
+    out.to_flushed_us.push_back(us(r.engine_ns, r.flushed_ns));
+  }
+  if (out.to_woke_us.size() != n)
+    std::fprintf(stderr, "stage trace: %zu of %zu trials traced (%s)\n", out.to_woke_us.size(), n, trace_path.c_str());
   out.ok = true;
   return out;
 }
@@ -220,10 +279,12 @@ void print_row(const char* label, const std::vector<double>& v) {
               v.size());
 }
 
-/// CPU seconds per wall second of each pid over `seconds` (the loop runs meanwhile, handling nothing).
+/// CPU seconds per wall second of each pid over `seconds` (the loop runs meanwhile, handling nothing),
+/// then the first pid's wake-ups per wall second: its main thread's, all its threads'.
 std::vector<double> cpu_share(rigger::testing::Cell& cell, const std::vector<pid_t>& pids, int seconds) {
   std::vector<double> before;
   for (pid_t p : pids) before.push_back(cpu_seconds(p));
+  const auto wakes_before = wake_ups(pids[0]);
   const auto t0 = Clock::now();
   bool over = false;
   const auto timer = cell.loop().after(std::chrono::seconds(seconds), [&] { over = true; });
@@ -232,6 +293,9 @@ std::vector<double> cpu_share(rigger::testing::Cell& cell, const std::vector<pid
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
   std::vector<double> share;
   for (std::size_t i = 0; i < pids.size(); ++i) share.push_back((cpu_seconds(pids[i]) - before[i]) / wall);
+  const auto wakes_after = wake_ups(pids[0]);
+  share.push_back(static_cast<double>(wakes_after.first - wakes_before.first) / wall);
+  share.push_back(static_cast<double>(wakes_after.second - wakes_before.second) / wall);
   return share;
 }
 
@@ -270,10 +334,11 @@ int measure_idle(int seconds) {
   });
   const std::vector<pid_t> pids = {tcp.pid(), ddsperf.pid(), echo.pid(), exec.pid()};
   std::printf("\nIdle CPU (CPU s per wall s, /proc/PID/stat utime+stime over %d s each)\n", seconds);
-  std::printf("%-20s %10s %10s %8s %10s %10s\n", "", "controller", "ddsperf", "ratio", "echo", "scripted");
+  std::printf("%-20s %10s %10s %8s %10s %10s %14s %14s\n", "", "controller", "ddsperf", "ratio", "echo", "scripted",
+              "tc loop wk/s", "tc all wk/s");
   auto row = [&](const char* label, const std::vector<double>& s) {
-    std::printf("%-20s %10.4f %10.4f %7.2fx %10.4f %10.4f\n", label, s[0], s[1], s[0] / std::max(1e-9, s[1]), s[2],
-                s[3]);
+    std::printf("%-20s %10.4f %10.4f %7.2fx %10.4f %10.4f %14.1f %14.1f\n", label, s[0], s[1],
+                s[0] / std::max(1e-9, s[1]), s[2], s[3], s[4], s[5]);
   };
   row("no task", cpu_share(cell, pids, seconds));
 
@@ -340,6 +405,17 @@ int main(int argc, char** argv) {
   print_row("  SHUTDOWN written by the controller (1 hop + handling)", normal.shutdown_written_us);
   print_row("  STOPPED written by the skill executor (bounds its receipt)", normal.stopped_written_us);
   print_row("SHUTDOWN received, journal_sync full", full.shutdown_received_us);
+  const auto stages = [](const char* label, const Reaction& r) {
+    std::printf("Per stage, journal %s (controller's stage trace, %zu trials):\n", label, r.to_woke_us.size());
+    print_row("  1 FAILURE written -> controller woke (DDS, 1 hop)", r.to_woke_us);
+    print_row("  2 woke -> SHUTDOWN handed to DDS (take, engine)", r.to_writing_us);
+    print_row("  3 SHUTDOWN write call (dds_write returns)", r.writing_us);
+    print_row("  4 SHUTDOWN written -> engine done", r.to_engine_us);
+    print_row("  5 engine done -> journal rows + node status flushed", r.to_flushed_us);
+    print_row("  6 SHUTDOWN stamped -> received here (DDS, 1 hop)", r.command_to_seen_us);
+  };
+  stages("normal", normal);
+  stages("sync full", full);
   const auto ref_row = [](const char* label, const rigger::bench::DdsperfLatency& r) {
     std::printf("%-62s %9.1f %9.1f %9.1f %7llu\n", label, r.p50_us / 2, r.p90_us / 2, r.p99_us / 2,
                 static_cast<unsigned long long>(r.count));

@@ -7,7 +7,7 @@ namespace rigger::task_controller {
 namespace {
 
 /// The skill-command writer's QoS: commands() with MANUAL_BY_PARTICIPANT liveliness, asserted by
-/// run_service's loop every kDefaultLease / 3.
+/// run_service's loop every third of the shortest lease offered (the node offers this one).
 dds::Qos supervised_commands(std::chrono::milliseconds lease) {
   dds::Qos q = dds::qos::commands();
   q.manual_liveliness(lease);
@@ -63,7 +63,10 @@ bool ControllerEndpoint::send(rigger_skill_SkillCommandKind kind, const std::str
   c.reason = dds::wire_string(reason);
   c.seq = run.start_seq;
   c.stamp = dds::wire_now();
-  return commands_.write(c) == DDS_RETCODE_OK;
+  if (trace_) trace_->command_writing();
+  const bool written = commands_.write(c) == DDS_RETCODE_OK;
+  if (trace_) trace_->command_written();
+  return written;
 }
 
 void ControllerEndpoint::take(const std::function<void(const ReceivedEvent&)>& on_event,
@@ -75,6 +78,7 @@ void ControllerEndpoint::take(const std::function<void(const ReceivedEvent&)>& o
     r.executor_id = dds::to_string(e.executor_id);
     r.seq = e.seq;
     r.command_seq = e.command_seq;
+    r.stamp_wall_ns = static_cast<std::int64_t>(e.stamp.sec) * 1000000000LL + e.stamp.nanosec;
     std::uint64_t last = 0;
     if (!order_.accept(info.publication_handle, e.seq, &last)) {
       on_out_of_order(r, last);

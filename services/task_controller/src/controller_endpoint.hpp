@@ -18,6 +18,7 @@
 #include "rigger/bt/tree_spec.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/protocol/skill.hpp"
+#include "stage_trace.hpp"
 
 namespace rigger::task_controller {
 
@@ -52,6 +53,7 @@ RunMatch match_run(const LeafRun* run, const std::string& executor_id, std::uint
 struct ReceivedEvent {
   std::string task_id, node_id, executor_id;
   std::uint64_t seq = 0, command_seq = 0;
+  std::int64_t stamp_wall_ns = 0;  ///< the event's stamp (its writer's wall clock)
   bt::LeafEvent event;  ///< activation not set: the node takes it from its LeafRun
   /// The executor's answer to the START (ACCEPTED, code WAITING or empty): for the controller, not the
   /// engine (`event` then holds only code and message).
@@ -80,12 +82,15 @@ class ControllerEndpoint {
             const std::function<void(const ReceivedEvent&, std::uint64_t last)>& on_out_of_order);
 
   const dds::Reader<rigger_skill_SkillEvent>& events() const { return events_; }
+  /// Tells `trace` (nullptr: nobody) of every command write, before and after it.
+  void trace(StageTrace* trace) { trace_ = trace; }
 
  private:
   dds::Writer<rigger_skill_SkillCommand> commands_;
   dds::Reader<rigger_skill_SkillEvent> events_;
   EventOrder order_;
   std::uint64_t command_seq_ = 0;
+  StageTrace* trace_ = nullptr;
 };
 
 }  // namespace rigger::task_controller

@@ -14,7 +14,11 @@ ExecutorDirectory::Change ExecutorDirectory::announce(const std::string& id, boo
   change.lost = ex.alive && !alive;
   ex.alive = alive;
   // Text from another process: parsed with bounds (empty: no library announced).
-  ex.library = library_json.empty() ? nlohmann::json() : recipe::parse_announced_library(library_json, &change.library_error);
+  if (library_json != ex.library_text) {
+    ex.library_text = library_json;
+    ex.library =
+        library_json.empty() ? nlohmann::json() : recipe::parse_announced_library(library_json, &change.library_error);
+  }
   ex.skills = std::set<std::string>(skills.begin(), skills.end());
   return change;
 }

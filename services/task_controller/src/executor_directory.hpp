@@ -25,7 +25,9 @@ class ExecutorDirectory {
     std::string library_error;  ///< its library_json could not be parsed (it then offers no description)
   };
 
-  /// An announcement sample of executor `id`; `alive`: its instance is ALIVE.
+  /// An announcement sample of executor `id`; `alive`: its instance is ALIVE. The library is parsed
+  /// when its text differs from the last one announced (executors re-announce every second, mostly
+  /// unchanged), so library_error is reported once per text.
   Change announce(const std::string& id, bool alive, const std::string& library_json,
                   const std::vector<std::string>& skills);
   /// The instance of `id` is no longer alive (disposed, or its writer lost liveliness). Returns whether
@@ -46,7 +48,8 @@ class ExecutorDirectory {
  private:
   struct Executor {
     bool alive = false;
-    nlohmann::json library;  ///< null when unreadable
+    std::string library_text;  ///< as announced; `library` is its parse
+    nlohmann::json library;    ///< null when unreadable
     std::set<std::string> skills;
   };
   std::map<std::string, Executor> executors_;

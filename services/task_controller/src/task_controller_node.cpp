@@ -10,6 +10,17 @@
 #include "rigger/world_client/world_client.hpp"
 
 namespace rigger::task_controller {
+namespace {
+
+/// The command writer's liveliness lease (command_lease_ms), offered to run_service, which asserts the
+/// participant's liveliness every third of it when it is the shortest (a 200 ms lease needs 67 ms).
+std::chrono::milliseconds command_lease(dds::ServiceContext& ctx) {
+  const std::chrono::milliseconds lease(ctx.config.get_in_range<unsigned>("command_lease_ms", 300U, 200U, 10000U));
+  ctx.offer_liveliness_lease(lease);
+  return lease;
+}
+
+}  // namespace
 
 TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
     : ctx_(ctx),
@@ -19,8 +30,7 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
       announcements_(ctx.participant, protocol::skill::kExecutors, dds::qos::state()),
       // Executors watch the command writer's liveliness: a controller that dies or hangs has its running
       // skills shut down by their executors within the lease (no orphaned motion).
-      endpoint_(ctx.participant, std::chrono::milliseconds(
-                                     ctx.config.get_in_range<unsigned>("command_lease_ms", 300U, 200U, 10000U))),
+      endpoint_(ctx.participant, command_lease(ctx)),
       recipes_(ctx.participant, protocol::task::kRecipe),
       task_commands_(ctx.participant, protocol::task::kCommand),
       status_(ctx.participant),
@@ -39,7 +49,12 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
       std::chrono::milliseconds(ctx.config.get_in_range<unsigned>("condition_timeout_ms", 1000U, 10U, 60000U));
   start_answer_timeout_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
       std::chrono::duration<double>(ctx.config.get_in_range<double>("start_answer_timeout_s", 5.0, 0.05, 600.0)));
+  trace_path_ = ctx.config.get<std::string>("stage_trace_path", "");
   ctx.config.finish();
+  if (!trace_path_.empty()) {
+    trace_ = std::make_unique<StageTrace>();
+    endpoint_.trace(trace_.get());
+  }
   world_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log,
                                                        "task_controller-" + ctx.options.id);
 
@@ -67,6 +82,7 @@ TaskControllerNode::~TaskControllerNode() {
   tasks_.clear();
   for (auto& [id, p] : pending_) ctx_.loop.cancel(p.timer);
   flush_side_effects();
+  if (trace_ && !trace_->write(trace_path_)) ctx_.log->error("stage trace not written path={}", trace_path_);
 }
 
 // --- TaskHost ---
@@ -116,11 +132,11 @@ void TaskControllerNode::flush_side_effects() {
   for (const auto& row : status_backlog_)
     if (!status_.node(row)) ctx_.log->error("node status write failed task={} node={}", row.task_id, row.node_id);
   status_backlog_.clear();
-  if (journal_backlog_.empty()) return;
-  if (!journal_.add_records(journal_backlog_))
+  if (!journal_backlog_.empty() && !journal_.add_records(journal_backlog_))
     ctx_.log->error("journal write failed: {} rows lost, first task={} kind={}: {}", journal_backlog_.size(),
                     journal_backlog_.front().task_id, journal_backlog_.front().kind, journal_.last_error());
   journal_backlog_.clear();
+  if (trace_) trace_->flushed();
 }
 
 void TaskControllerNode::report_interrupted() {
@@ -261,15 +277,18 @@ void TaskControllerNode::forget_task(const std::string& task_id) {
 // --- executor events, task commands, operator answers ---
 
 void TaskControllerNode::on_events() {
+  if (trace_) trace_->woke();
   endpoint_.take(
       [this](const ReceivedEvent& e) {
+        if (trace_) trace_->begin(e.executor_id, std::string(bt::to_string(e.event.kind)), e.stamp_wall_ns);
         Task* task = find_task(e.task_id);
         if (task == nullptr) {
           ctx_.log->warn("event rejected (unknown task) executor={} task={} node={}", e.executor_id, e.task_id,
                          e.node_id);
-          return;
+        } else {
+          task->on_event(e);
         }
-        task->on_event(e);
+        if (trace_) trace_->engine_done();
       },
       [this](const ReceivedEvent& e, std::uint64_t last) {
         ctx_.log->warn("event rejected (duplicate or out of order) executor={} task={} node={} seq={} last={}",

@@ -34,6 +34,9 @@
 ///   "max_recipe_depth": integer in [8, 1024], default 128
 ///   "command_lease_ms": integer in [200, 10000], default 300: the liveliness lease offered on
 ///                       rigger/skill/command; executors shut down the runs of a controller that lost it
+///   "stage_trace_path": string, default "" (off): record when each executor event was received, its first
+///                       command written, the engine done and its side effects flushed (StageTrace), and
+///                       write the records to this file when the controller stops (for the live bench)
 ///   "executor_wait_s": number in [0, 600], default 2: a recipe naming a skill no live executor offers
 ///                      waits this long for one to appear (re-validated on every new announcement)
 ///                      before it is rejected
@@ -57,6 +60,7 @@
 #include "journal_server.hpp"
 #include "operator_decisions.hpp"
 #include "recipe_admission.hpp"
+#include "stage_trace.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
@@ -140,6 +144,8 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   std::chrono::milliseconds condition_timeout_{1000};
   std::vector<NodeStatusRow> status_backlog_;
   std::vector<JournalRecord> journal_backlog_;
+  std::unique_ptr<StageTrace> trace_;  ///< nullptr unless stage_trace_path is set
+  std::string trace_path_;
 };
 
 }  // namespace rigger::task_controller

@@ -41,6 +41,11 @@ std::string parent_of(const std::string& id) {
 Task::Task(TaskHost& host, recipe::ValidatedRecipe recipe, std::string id)
     : host_(host), id_(std::move(id)), resources_(recipe.resources) {
   engine_ = std::make_unique<bt::Engine>(std::move(recipe.tree), *this);
+  // A START's parameters never change while the task runs: serialise them here, off the reaction path.
+  const auto& nodes = engine_->spec().nodes;
+  params_text_.reserve(nodes.size());
+  for (const auto& node : nodes)
+    params_text_.push_back(bt::is_remote_leaf(node.kind) ? node.params.dump() : std::string());
 }
 
 Task::~Task() {
@@ -54,6 +59,12 @@ void Task::defer(std::function<void(Task&)> fn) {
   host_.loop().post([host, id, fn = std::move(fn)] {
     if (Task* t = host->find_task(id)) fn(*t);
   });
+}
+
+const std::string& Task::params_text(const bt::NodeSpec& spec) const {
+  // The engine hands out references into its own spec; the index follows from the address.
+  const auto& nodes = engine_->spec().nodes;
+  return params_text_[static_cast<std::size_t>(&spec - nodes.data())];
 }
 
 void Task::log_result(const char* what, const std::string& node_id, const bt::EventResult& r) {
@@ -179,7 +190,7 @@ void Task::start_leaf(const bt::NodeSpec& spec, bt::Activation activation) {
   }
   LeafRun run{executor_id, host_.endpoint().next_seq(), activation};
   runs_[spec.id] = run;
-  const std::string params = spec.params.dump();
+  const std::string& params = params_text(spec);
   host_.journal({wall_now_s(), id_, spec.id, "COMMAND", "START",
                  spec.leaf + " on " + executor_id + " seq " + std::to_string(run.start_seq) + " " + params});
   if (!host_.endpoint().send(rigger_skill_SKILL_START, id_, spec, run, params, ""))

@@ -110,12 +110,16 @@ class Task : public bt::Port {
   void defer(std::function<void(Task&)> fn);
   /// The answer timer of `node_id`'s START fired: fails the leaf if that START is still unanswered.
   void start_unanswered(const std::string& node_id, std::uint64_t start_seq);
+  /// The START parameters of `spec` (one of the engine's nodes) as JSON text, serialised when the task
+  /// was built.
+  const std::string& params_text(const bt::NodeSpec& spec) const;
 
   TaskHost& host_;
   std::string id_;
   std::vector<std::string> resources_;
   std::unique_ptr<bt::Engine> engine_;
-  std::map<std::string, LeafRun> runs_;  ///< by node id: the last START sent
+  std::vector<std::string> params_text_;  ///< indexed like engine_->spec().nodes; "" for non-leaves
+  std::map<std::string, LeafRun> runs_;   ///< by node id: the last START sent
   std::map<std::string, dds::EventLoop::TimerId> unanswered_;  ///< by node id: STARTs not answered yet
   std::map<bt::TimerId, dds::EventLoop::TimerId> timers_;
   std::map<std::string, std::pair<std::string, bt::Activation>> prompts_;  ///< open prompt id → (node, activation)

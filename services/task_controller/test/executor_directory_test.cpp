@@ -96,5 +96,21 @@ TEST(ExecutorDirectory, AnUnreadableOrInvalidLibraryIsReportedAndSkipped) {
   EXPECT_EQ(d.pick("Pick", ""), "bad-json") << "what an executor offers is its skills list, not its library";
 }
 
+TEST(ExecutorDirectory, AnUnchangedReannouncementKeepsTheParsedLibraryAndAChangedOneReplacesIt) {
+  ExecutorDirectory d;
+  EXPECT_FALSE(d.announce("bad", true, "{not json", {"Pick"}).library_error.empty());
+  EXPECT_TRUE(d.announce("bad", true, "{not json", {"Pick"}).library_error.empty()) << "reported once per text";
+  const std::string localize = library_with({"Localize"}).dump();
+  d.announce("ex", true, localize, {"Localize"});
+  d.announce("ex", true, localize, {"Localize"});
+  EXPECT_NE(d.live_library().find("Localize"), nullptr);
+  d.announce("ex", true, library_with({"Pick"}).dump(), {"Pick"});
+  const auto library = d.live_library();
+  EXPECT_EQ(library.find("Localize"), nullptr);
+  EXPECT_NE(library.find("Pick"), nullptr);
+  d.announce("ex", true, "", {"Pick"});
+  EXPECT_EQ(d.live_library().find("Pick"), nullptr) << "an empty text announces no library";
+}
+
 }  // namespace
 }  // namespace rigger::task_controller

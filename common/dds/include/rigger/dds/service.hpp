@@ -11,10 +11,13 @@
 /// creates the participant and the event loop, announces STARTING, builds the node, announces READY,
 /// runs the loop until SIGINT/SIGTERM, announces STOPPING and destroys the node (whose destructor
 /// brings its devices to a safe state). It asserts the participant's liveliness from the loop, so a
-/// hung loop is seen by others within the lease.
+/// hung loop is seen by others within the lease: every third of the shortest lease the participant's
+/// writers offer (ServiceContext::offer_liveliness_lease), and no more often.
 ///
 /// Exit codes: 0 clean stop; 1 runtime failure; 2 bad command line or configuration.
 
+#include <algorithm>
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -26,6 +29,7 @@
 #include "rigger/base/logging.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/participant.hpp"
+#include "rigger/dds/qos.hpp"
 #include "rigger/dds/service_state.hpp"
 
 namespace rigger::dds {
@@ -55,6 +59,15 @@ struct ServiceContext {
   EventLoop& loop;
   ServiceAnnouncer& announcer;
   Config config;  ///< the --config file (or empty); the node calls config.finish() after reading it
+  /// The shortest MANUAL_BY_PARTICIPANT liveliness lease this participant's writers offer: the service
+  /// announcer's (kDefaultLease) unless the node offers a shorter one.
+  std::chrono::milliseconds liveliness_lease = kDefaultLease;
+
+  /// A writer of the node offers `lease` (MANUAL_BY_PARTICIPANT): run_service asserts the participant's
+  /// liveliness every third of the shortest lease offered. Call while the node is built.
+  void offer_liveliness_lease(std::chrono::milliseconds lease) {
+    liveliness_lease = std::min(liveliness_lease, lease);
+  }
 };
 
 struct ServiceSpec {
