@@ -113,7 +113,7 @@ function foxgloveBytes(type, value, { utf8Fix = false } = {}) {
   }
 }
 
-// XTypes 1.3 (7.6.3.1.2) lets a writer pad the serialized data to a multiple of 4 bytes and say how
+// DDS-XTypes 1.3 lets a writer pad the serialized data to a multiple of 4 bytes and say how
 // many padding bytes there are in the two low bits of the encapsulation options; Cyclone DDS 0.10 does,
 // foxglove does not. Readers (ROS 2's too) skip them. The expected buffer is foxglove's with that
 // padding added, so the comparison still covers every byte Cyclone sends, header included.
