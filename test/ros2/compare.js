@@ -12,6 +12,7 @@
 "use strict";
 
 const { execFileSync } = require("child_process");
+const fs = require("fs");
 const path = require("path");
 
 function loadPackages() {
@@ -213,6 +214,10 @@ function main() {
   if (!tool) {
     console.error("usage: compare.js <path to ros2_cdr_samples>");
     process.exit(2);
+  }
+  if (!fs.existsSync(tool)) {
+    console.error(`rigger_ros2_wire_test: ${tool} does not exist; build the target ros2_cdr_samples first`);
+    process.exit(1);
   }
   const out = execFileSync(path.resolve(tool), { maxBuffer: 1 << 30, encoding: "utf8" });
   const cases = JSON.parse(out, revive).cases.map((c) => ({ ...c, cyclone: Uint8Array.from(Buffer.from(c.cdr, "hex")) }));
