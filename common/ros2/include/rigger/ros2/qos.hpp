@@ -8,12 +8,13 @@
 
 namespace rigger::ros2::qos {
 
-/// rmw_qos_profile_sensor_data: best effort, keep-last 5, volatile. Sensor drivers and broadcasters
-/// (camera images, force-torque sensor broadcaster) publish with it.
+/// rmw_qos_profile_sensor_data (rclcpp::SensorDataQoS()): best effort, keep-last 5, volatile. What sensor
+/// drivers that favour the newest sample (camera images, many force-torque drivers) publish with.
 dds::Qos sensor_data();
 
-/// rmw_qos_profile_default: reliable, keep-last 10, volatile. What a ROS 2 node gets when it names
-/// only a depth, e.g. joint_state_broadcaster and MoveIt Servo's command topics.
+/// rmw_qos_profile_default: reliable, keep-last 10, volatile. What a ROS 2 node gets from
+/// create_publisher(topic, 10), the common case for states and commands. Which profile a given driver
+/// uses varies by driver and version: the bridge's cell configuration names it per topic.
 dds::Qos reliable_default();
 
 }  // namespace rigger::ros2::qos
