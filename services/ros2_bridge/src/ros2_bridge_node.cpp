@@ -45,11 +45,12 @@ Ros2BridgeNode::~Ros2BridgeNode() {
   ctx_.log->info("bridge stopped wrench_forwarded={} twist_forwarded={}", wrench_forwarded_, twist_forwarded_);
 }
 
-void Ros2BridgeNode::refuse(const std::string& stream, std::string_view reason, const std::string& detail) {
+void Ros2BridgeNode::count(std::string_view event, const std::string& stream, std::string_view reason,
+                           const std::string& detail) {
   const std::string key = stream + " " + std::string(reason);
   auto it = refusals_.try_emplace(key, config_.refusal_log_interval).first;
   if (it->second.count(std::chrono::steady_clock::now())) {
-    ctx_.log->warn("dropped {} reason={} count={} total={} {}", stream, reason, it->second.batch(),
+    ctx_.log->warn("{} {} reason={} count={} total={} {}", event, stream, reason, it->second.batch(),
                    it->second.total(), detail);
   }
 }
@@ -62,12 +63,12 @@ void Ros2BridgeNode::on_ros2_wrench() {
     const WallTime now = std::chrono::system_clock::now();
     const AgeVerdict age = check_age(stamp, now, cfg.age);
     if (age != AgeVerdict::kFresh) {
-      refuse("wrench", age_verdict_name(age),
+      count("dropped", "wrench", age_verdict_name(age),
              fmt::format("age_s={:.3f} max_age_s={}", to_seconds(now - stamp), to_seconds(cfg.age.max_age)));
       return;
     }
     if (!all_finite(dds::to_domain(out.wrench))) {
-      refuse("wrench", "not_finite", "");
+      count("dropped", "wrench", "not_finite", "");
       return;
     }
     if (!cfg.frame_id.empty()) out.header.frame_id = dds::wire_string(cfg.frame_id);
@@ -82,7 +83,7 @@ void Ros2BridgeNode::on_rigger_twist() {
     const WallTime now = std::chrono::system_clock::now();
     const AgeVerdict age = check_age(stamp, now, cfg.age);
     if (age != AgeVerdict::kFresh) {
-      refuse("twist_command", age_verdict_name(age),
+      count("dropped", "twist_command", age_verdict_name(age),
              fmt::format("seq={} source={} age_s={:.3f} max_age_s={}", in.seq, dds::to_string(in.source),
                          to_seconds(now - stamp), to_seconds(cfg.age.max_age)));
       return;
@@ -90,7 +91,7 @@ void Ros2BridgeNode::on_rigger_twist() {
     const Vector6d requested = dds::to_domain(in.twist);
     const LimitedTwist limited = limit_twist(requested, cfg.limits);
     if (!limited.send()) {
-      refuse("twist_command", twist_verdict_name(limited.verdict),
+      count("dropped", "twist_command", twist_verdict_name(limited.verdict),
              fmt::format("seq={} source={} linear_mps={:.3f} angular_radps={:.3f} max_linear_mps={} "
                          "max_angular_radps={}",
                          in.seq, dds::to_string(in.source), requested.head<3>().norm(), requested.tail<3>().norm(),
@@ -98,8 +99,8 @@ void Ros2BridgeNode::on_rigger_twist() {
       return;
     }
     if (limited.verdict == TwistVerdict::kClamped) {
-      refuse("twist_command", "clamped",
-             fmt::format("(sent, scaled down) seq={} source={} linear_mps={:.3f} angular_radps={:.3f}", in.seq,
+      count("clamped", "twist_command", "over_limit",
+             fmt::format("seq={} source={} linear_mps={:.3f} angular_radps={:.3f}", in.seq,
                          dds::to_string(in.source), requested.head<3>().norm(), requested.tail<3>().norm()));
     }
     rigger_geometry_Header header = in.header;

@@ -35,8 +35,8 @@ class Ros2BridgeNode : public dds::Node {
   void on_ros2_wrench();
   void on_rigger_twist();
   void send_zero_twist(const char* why);
-  /// Counts a drop on `stream` for `reason` and logs it when its counter allows.
-  void refuse(const std::string& stream, std::string_view reason, const std::string& detail);
+  /// Counts an `event` ("dropped", "clamped") on `stream` for `reason` and logs it when its counter allows.
+  void count(std::string_view event, const std::string& stream, std::string_view reason, const std::string& detail);
 
   dds::ServiceContext& ctx_;
   BridgeConfig config_;
