@@ -40,7 +40,9 @@ constexpr const char* kBridgeConfig = R"({
                     "frame_id": "base_link", "max_hold_s": 1.0}
 })";
 
-std::int64_t stamp_ns(std::int64_t sec, std::uint32_t nanosec) { return sec * 1'000'000'000 + nanosec; }
+std::int64_t stamp_ns(std::int64_t sec, std::uint32_t nanosec) {
+  return sec * 1'000'000'000 + nanosec;
+}
 
 class Ros2BridgeLiveTest : public MultiProcessTest {
  protected:
@@ -52,9 +54,8 @@ class Ros2BridgeLiveTest : public MultiProcessTest {
     // Cyclone leaves out every QoS at its default: so no reliable Cyclone writer would be seen. Cyclone's
     // Compatibility/ExplicitlyPublishQosSetToDefault puts them all on the wire (docs/ros2.md).
     cell_.start("ros2_bridge", "ros2_bridge", {"--id", "ros2_bridge", "--config", path}, true,
-                {{"CYCLONEDDS_URI", default_dds_config_uri() +
-                                        ",<Compatibility><ExplicitlyPublishQosSetToDefault>true"
-                                        "</ExplicitlyPublishQosSetToDefault></Compatibility>"}});
+                {{"CYCLONEDDS_URI", default_dds_config_uri() + ",<Compatibility><ExplicitlyPublishQosSetToDefault>true"
+                                                               "</ExplicitlyPublishQosSetToDefault></Compatibility>"}});
     ASSERT_TRUE(cell_.wait_ready({"ros2_bridge"}, 20s));
   }
 };
@@ -65,10 +66,10 @@ TEST_F(Ros2BridgeLiveTest, TwistReachesAStandaloneRos2Subscriber) {
   dds::Writer<rigger_sensing_TwistCommand> commands(cell_.participant(), protocol::robot::kCmdTwist);
   ASSERT_TRUE(commands.wait_for_readers(1, 10s));
 
-  auto& subscriber = cell_.start("live_subscriber", RIGGER_NODE,
-                                 {RIGGER_SOURCE_DIR "/test/ros2/live_subscriber.js", "--topic",
-                                  "/servo_node/delta_twist_cmds", "--type", "geometry_msgs/msg/TwistStamped",
-                                  "--count", "100", "--reliability", "reliable", "--timeout-s", "60"});
+  auto& subscriber = cell_.start(
+      "live_subscriber", RIGGER_NODE,
+      {RIGGER_SOURCE_DIR "/test/ros2/live_subscriber.js", "--topic", "/servo_node/delta_twist_cmds", "--type",
+       "geometry_msgs/msg/TwistStamped", "--count", "100", "--reliability", "reliable", "--timeout-s", "60"});
 
   // What was sent, by stamp: the twist the subscriber must see, or none (refused).
   std::map<std::int64_t, std::optional<dds::Vector6d>> sent;
@@ -144,9 +145,8 @@ TEST_F(Ros2BridgeLiveTest, TwistReachesAStandaloneRos2Subscriber) {
   // The bridge forwards 8 of every 10 commands sent at 100 Hz: 80 Hz. Under load, well above 40.
   ASSERT_FALSE(done.is_null());
   EXPECT_GT(done["rate_hz"].get<double>(), 40.0) << done.dump();
-  std::cout << "received=" << done["received"] << " matched=" << matched << " clamped=" << clamped
-            << " zero=" << zero << " seconds=" << done["seconds"] << " rate_hz=" << done["rate_hz"]
-            << " commands_sent=" << seq << "\n";
+  std::cout << "received=" << done["received"] << " matched=" << matched << " clamped=" << clamped << " zero=" << zero
+            << " seconds=" << done["seconds"] << " rate_hz=" << done["rate_hz"] << " commands_sent=" << seq << "\n";
 }
 
 TEST_F(Ros2BridgeLiveTest, WrenchFromARos2DriverArrivesConverted) {

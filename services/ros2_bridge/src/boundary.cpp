@@ -6,10 +6,14 @@ namespace rigger::ros2_bridge {
 
 std::string_view age_verdict_name(AgeVerdict verdict) {
   switch (verdict) {
-    case AgeVerdict::kFresh: return "fresh";
-    case AgeVerdict::kStale: return "stale";
-    case AgeVerdict::kFromTheFuture: return "from_the_future";
-    case AgeVerdict::kUnstamped: return "unstamped";
+    case AgeVerdict::kFresh:
+      return "fresh";
+    case AgeVerdict::kStale:
+      return "stale";
+    case AgeVerdict::kFromTheFuture:
+      return "from_the_future";
+    case AgeVerdict::kUnstamped:
+      return "unstamped";
   }
   return "unknown";
 }
@@ -23,15 +27,21 @@ AgeVerdict check_age(WallTime stamp, WallTime now, const AgeLimits& limits) {
 
 std::string_view twist_verdict_name(TwistVerdict verdict) {
   switch (verdict) {
-    case TwistVerdict::kWithin: return "within";
-    case TwistVerdict::kClamped: return "clamped";
-    case TwistVerdict::kOverLimit: return "over_limit";
-    case TwistVerdict::kNotFinite: return "not_finite";
+    case TwistVerdict::kWithin:
+      return "within";
+    case TwistVerdict::kClamped:
+      return "clamped";
+    case TwistVerdict::kOverLimit:
+      return "over_limit";
+    case TwistVerdict::kNotFinite:
+      return "not_finite";
   }
   return "unknown";
 }
 
-bool all_finite(const Vector6d& v) { return v.allFinite(); }
+bool all_finite(const Vector6d& v) {
+  return v.allFinite();
+}
 
 LimitedTwist limit_twist(const Vector6d& twist, const TwistLimits& limits) {
   if (!all_finite(twist)) return {TwistVerdict::kNotFinite, Vector6d::Zero()};

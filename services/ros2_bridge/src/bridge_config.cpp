@@ -19,8 +19,7 @@ void read_stream(const Config& c, const std::string& ros_namespace, Ros2Qos qos,
   } catch (const ros2::NameError& e) {
     c.fail("topic", e.what());
   }
-  const std::string qos_name =
-      c.get_enum("qos", std::string(ros2_qos_name(qos)), {"sensor_data", "reliable_default"});
+  const std::string qos_name = c.get_enum("qos", std::string(ros2_qos_name(qos)), {"sensor_data", "reliable_default"});
   out.qos = qos_name == "sensor_data" ? Ros2Qos::kSensorData : Ros2Qos::kReliableDefault;
   out.age.max_age = seconds_in_range(c, "max_age_s", max_age_s, 0.001, 10.0);
   out.age.max_future_skew = seconds_in_range(c, "max_future_skew_s", 0.05, 0.0, 10.0);

@@ -64,7 +64,7 @@ void Ros2BridgeNode::on_ros2_wrench() {
     const AgeVerdict age = check_age(stamp, now, cfg.age);
     if (age != AgeVerdict::kFresh) {
       count("dropped", "wrench", age_verdict_name(age),
-             fmt::format("age_s={:.3f} max_age_s={}", to_seconds(now - stamp), to_seconds(cfg.age.max_age)));
+            fmt::format("age_s={:.3f} max_age_s={}", to_seconds(now - stamp), to_seconds(cfg.age.max_age)));
       return;
     }
     if (!all_finite(dds::to_domain(out.wrench))) {
@@ -84,24 +84,24 @@ void Ros2BridgeNode::on_rigger_twist() {
     const AgeVerdict age = check_age(stamp, now, cfg.age);
     if (age != AgeVerdict::kFresh) {
       count("dropped", "twist_command", age_verdict_name(age),
-             fmt::format("seq={} source={} age_s={:.3f} max_age_s={}", in.seq, dds::to_string(in.source),
-                         to_seconds(now - stamp), to_seconds(cfg.age.max_age)));
+            fmt::format("seq={} source={} age_s={:.3f} max_age_s={}", in.seq, dds::to_string(in.source),
+                        to_seconds(now - stamp), to_seconds(cfg.age.max_age)));
       return;
     }
     const Vector6d requested = dds::to_domain(in.twist);
     const LimitedTwist limited = limit_twist(requested, cfg.limits);
     if (!limited.send()) {
       count("dropped", "twist_command", twist_verdict_name(limited.verdict),
-             fmt::format("seq={} source={} linear_mps={:.3f} angular_radps={:.3f} max_linear_mps={} "
-                         "max_angular_radps={}",
-                         in.seq, dds::to_string(in.source), requested.head<3>().norm(), requested.tail<3>().norm(),
-                         cfg.limits.max_linear_mps, cfg.limits.max_angular_radps));
+            fmt::format("seq={} source={} linear_mps={:.3f} angular_radps={:.3f} max_linear_mps={} "
+                        "max_angular_radps={}",
+                        in.seq, dds::to_string(in.source), requested.head<3>().norm(), requested.tail<3>().norm(),
+                        cfg.limits.max_linear_mps, cfg.limits.max_angular_radps));
       return;
     }
     if (limited.verdict == TwistVerdict::kClamped) {
       count("clamped", "twist_command", "over_limit",
-             fmt::format("seq={} source={} linear_mps={:.3f} angular_radps={:.3f}", in.seq,
-                         dds::to_string(in.source), requested.head<3>().norm(), requested.tail<3>().norm()));
+            fmt::format("seq={} source={} linear_mps={:.3f} angular_radps={:.3f}", in.seq, dds::to_string(in.source),
+                        requested.head<3>().norm(), requested.tail<3>().norm()));
     }
     rigger_geometry_Header header = in.header;
     if (!cfg.frame_id.empty()) header.frame_id = dds::wire_string(cfg.frame_id);

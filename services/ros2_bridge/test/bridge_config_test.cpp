@@ -69,8 +69,7 @@ TEST(BridgeConfig, ErrorsNameTheKey) {
               AllOf(HasSubstr("/wrench/topic"), HasSubstr("/ft sensor/wrench")));
   EXPECT_THAT(error_of(R"({"wrench": {"topic": "~/wrench"}})"), HasSubstr("/wrench/topic"));
   EXPECT_THAT(error_of(R"({"wrench": {}})"), HasSubstr("/wrench/topic"));
-  EXPECT_THAT(error_of(R"({"twist_command": {"topic": "/c", "qos": "best_effort"}})"),
-              HasSubstr("/twist_command/qos"));
+  EXPECT_THAT(error_of(R"({"twist_command": {"topic": "/c", "qos": "best_effort"}})"), HasSubstr("/twist_command/qos"));
   EXPECT_THAT(error_of(R"({"twist_command": {"topic": "/c", "over_limit": "ignore"}})"),
               HasSubstr("/twist_command/over_limit"));
   EXPECT_THAT(error_of(R"({"twist_command": {"topic": "/c", "max_linear_mps": -1}})"),

@@ -33,6 +33,6 @@ geometry_msgs_msg_dds__WrenchStamped_ to_ros2(const rigger_sensing_WrenchStamped
 
 /// A TwistStamped (MoveIt Servo's Cartesian command) of `twist` in `header`'s frame. Borrows frame_id.
 geometry_msgs_msg_dds__TwistStamped_ to_ros2_twist_stamped(const rigger_geometry_Header& header,
-                                                            const rigger_geometry_Twist& twist);
+                                                           const rigger_geometry_Twist& twist);
 
 }  // namespace rigger::ros2
