@@ -46,7 +46,7 @@ Cell::~Cell() {
 }
 
 ChildProcess& Cell::start(const std::string& name, const std::string& binary, std::vector<std::string> args,
-                          bool add_domain) {
+                          bool add_domain, const std::map<std::string, std::string>& extra_env) {
   if (processes_.count(name)) throw std::invalid_argument("process name already used: " + name);
   if (add_domain) {
     args.push_back("--domain");
@@ -54,6 +54,7 @@ ChildProcess& Cell::start(const std::string& name, const std::string& binary, st
   }
   std::map<std::string, std::string> env{{"RIGGER_DOMAIN", std::to_string(domain_.id())},
                                          {"CYCLONEDDS_URI", default_dds_config_uri()}};
+  for (const auto& [key, value] : extra_env) env[key] = value;
   auto* loop = loop_.get();
   auto p = std::make_unique<ChildProcess>(binary, args, env, log_dir_ + "/" + name + ".log",
                                           [loop] { loop->post([] {}); });  // wake waiters on exit

@@ -22,7 +22,8 @@
 
 namespace rigger::idl {
 
-/// Maps a generated struct to its topic descriptor. Specialised below for every topic type.
+/// Maps a generated struct to its topic descriptor. Specialised below for every topic type; other IDL
+/// libraries register theirs with the same macro (rigger/ros2/types.hpp).
 template <typename T>
 struct TypeSupport;
 
@@ -77,6 +78,5 @@ RIGGER_IDL_TYPE(rigger_cad_CadRequest)
 RIGGER_IDL_TYPE(rigger_cad_CadReply)
 RIGGER_IDL_TYPE(rigger_safety_SafeStop)
 
-#undef RIGGER_IDL_TYPE
 
 }  // namespace rigger::idl

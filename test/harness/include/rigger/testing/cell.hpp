@@ -43,9 +43,10 @@ class Cell {
   const std::string& log_dir() const { return log_dir_; }
 
   /// Starts `binary` (a name in the build's bin/ or a path) as process `name` with `--domain <id>`
-  /// appended unless `add_domain` is false.
+  /// appended unless `add_domain` is false. `env` adds to (or replaces) the variables the cell sets:
+  /// RIGGER_DOMAIN and CYCLONEDDS_URI.
   ChildProcess& start(const std::string& name, const std::string& binary, std::vector<std::string> args = {},
-                      bool add_domain = true);
+                      bool add_domain = true, const std::map<std::string, std::string>& env = {});
   ChildProcess& process(const std::string& name);
   bool has(const std::string& name) const { return processes_.count(name) > 0; }
 

@@ -1,0 +1,96 @@
+#pragma once
+/// @file
+/// What the ROS 2 bridge lets through its boundary (DESIGN §6 applied to ROS 2 drivers): samples no
+/// older than a configured age, twist commands within the cell's speed limits, and how often a refusal
+/// may be logged. Pure: no DDS, no wire types, time is passed in. Not thread-safe.
+
+#include <chrono>
+#include <cstdint>
+#include <string_view>
+
+#include <Eigen/Core>
+
+#include "rigger/base/time.hpp"
+
+namespace rigger::ros2_bridge {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;  ///< (linear x y z, angular x y z) or (force; torque)
+
+/// Whether a sample's stamp is fresh enough to cross the bridge.
+enum class AgeVerdict {
+  kFresh,
+  kStale,          ///< older than the maximum age
+  kFromTheFuture,  ///< stamped further ahead of our clock than the allowed skew
+  kUnstamped,      ///< stamp 0: the sender did not stamp it, so its age is unknown
+};
+/// "fresh", "stale", "from_the_future", "unstamped".
+std::string_view age_verdict_name(AgeVerdict verdict);
+
+/// Age limits of one bridged stream. Stamps are wall clock (ROS 2 drivers stamp with the system clock
+/// unless use_sim_time is set; rigger stamps with the wall clock).
+struct AgeLimits {
+  std::chrono::nanoseconds max_age{std::chrono::milliseconds(100)};
+  std::chrono::nanoseconds max_future_skew{std::chrono::milliseconds(50)};
+};
+
+/// The verdict on a sample stamped `stamp` and received at `now`.
+AgeVerdict check_age(WallTime stamp, WallTime now, const AgeLimits& limits);
+
+/// What to do with a twist above the limits.
+enum class OverLimit {
+  kClamp,   ///< scale the linear (angular) part down to the limit, keeping its direction
+  kRefuse,  ///< drop the command (MoveIt Servo then stops on its own command timeout)
+};
+
+/// Speed limits of twist commands leaving rigger for a ROS 2 driver.
+struct TwistLimits {
+  double max_linear_mps = 0.25;    ///< on the norm of the linear part
+  double max_angular_radps = 0.5;  ///< on the norm of the angular part
+  OverLimit over_limit = OverLimit::kClamp;
+};
+
+enum class TwistVerdict {
+  kWithin,
+  kClamped,    ///< above a limit, scaled down (OverLimit::kClamp)
+  kOverLimit,  ///< above a limit, refused (OverLimit::kRefuse)
+  kNotFinite,  ///< NaN or infinite: always refused
+};
+/// "within", "clamped", "over_limit", "not_finite".
+std::string_view twist_verdict_name(TwistVerdict verdict);
+
+struct LimitedTwist {
+  TwistVerdict verdict = TwistVerdict::kWithin;
+  Vector6d twist = Vector6d::Zero();  ///< what to send: the input, clamped, or zero when refused
+  /// Whether `twist` may be sent.
+  bool send() const { return verdict == TwistVerdict::kWithin || verdict == TwistVerdict::kClamped; }
+};
+
+/// Applies `limits` to `twist` (m/s, rad/s). A clamp scales the linear and the angular part separately
+/// by their norms, so the direction of each is kept.
+LimitedTwist limit_twist(const Vector6d& twist, const TwistLimits& limits);
+
+/// Whether a wrench (or any 6-vector) holds only finite numbers.
+bool all_finite(const Vector6d& v);
+
+/// Counts refusals and says when one may be logged: at most once per `interval`, reporting how many
+/// were refused since the last log line.
+class RefusalCounter {
+ public:
+  explicit RefusalCounter(std::chrono::nanoseconds interval) : interval_(interval) {}
+  /// Counts one refusal at `now`; returns true when it should be logged now.
+  bool count(SteadyTime now);
+  /// Refusals since the bridge started.
+  std::uint64_t total() const { return total_; }
+  /// When count() returned true: the refusals since the previous log line, this one included.
+  std::uint64_t batch() const { return batch_; }
+
+ private:
+  std::chrono::nanoseconds interval_;
+  std::uint64_t total_ = 0;
+  std::uint64_t pending_ = 0;
+  std::uint64_t batch_ = 0;
+  bool logged_ = false;
+  SteadyTime last_log_{};
+};
+
+}  // namespace rigger::ros2_bridge

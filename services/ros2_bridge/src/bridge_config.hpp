@@ -1,0 +1,54 @@
+#pragma once
+/// @file
+/// The ROS 2 bridge's cell configuration (deploy/config/ros2_bridge.json, docs/ros2.md): which ROS 2
+/// topics of the robot's driver stand for which rigger topics, with which QoS, and the age checks and
+/// limits applied at the boundary. Every stream is optional; at least one must be configured.
+
+#include <chrono>
+#include <optional>
+#include <string>
+
+#include "boundary.hpp"
+#include "rigger/base/config.hpp"
+
+namespace rigger::ros2_bridge {
+
+/// The ROS 2 QoS profiles a bridged topic may use (rigger/ros2/qos.hpp).
+enum class Ros2Qos { kSensorData, kReliableDefault };
+/// "sensor_data", "reliable_default".
+std::string_view ros2_qos_name(Ros2Qos qos);
+
+/// What every bridged stream has: the ROS 2 topic, its QoS, the age check, and a frame override.
+struct Stream {
+  std::string ros_topic;  ///< fully qualified ROS 2 name, e.g. "/force_torque_sensor_broadcaster/wrench"
+  std::string dds_topic;  ///< its DDS name, "rt/force_torque_sensor_broadcaster/wrench"
+  Ros2Qos qos = Ros2Qos::kSensorData;
+  AgeLimits age;
+  std::string frame_id;  ///< replaces the header.frame_id of the samples crossing when not empty
+};
+
+/// A ROS 2 driver's WrenchStamped (e.g. ros2_controllers' force_torque_sensor_broadcaster) → rigger's
+/// robot wrench topic. Defaults: sensor_data, max age 50 ms.
+struct WrenchStream : Stream {};
+
+/// rigger's twist command → a ROS 2 TwistStamped (e.g. MoveIt Servo's delta_twist_cmds).
+/// Defaults: reliable_default, max age 100 ms.
+struct TwistStream : Stream {
+  TwistLimits limits;
+  /// Longest a command is held before the bridge sends one zero twist (the command's own timeout_s,
+  /// capped by this).
+  std::chrono::nanoseconds max_hold{std::chrono::milliseconds(200)};
+};
+
+struct BridgeConfig {
+  std::string ros_namespace = "/";  ///< resolves relative ROS 2 topic names
+  std::optional<WrenchStream> wrench;
+  std::optional<TwistStream> twist;
+  std::chrono::nanoseconds refusal_log_interval{std::chrono::seconds(1)};
+};
+
+/// Reads the bridge's configuration. Does not call finish(). @throws ConfigError naming the key (e.g.
+/// "/wrench/topic: '/ft sensor' is not a valid ROS 2 topic name: …").
+BridgeConfig read_bridge_config(const Config& config);
+
+}  // namespace rigger::ros2_bridge

@@ -1,0 +1,129 @@
+#include "ros2_bridge_node.hpp"
+
+#include <algorithm>
+
+#include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/robot.hpp"
+#include "rigger/ros2/conversions.hpp"
+#include "rigger/ros2/qos.hpp"
+
+namespace rigger::ros2_bridge {
+namespace {
+
+dds::Qos qos_of(Ros2Qos qos) {
+  return qos == Ros2Qos::kSensorData ? ros2::qos::sensor_data() : ros2::qos::reliable_default();
+}
+
+}  // namespace
+
+Ros2BridgeNode::Ros2BridgeNode(dds::ServiceContext& ctx) : ctx_(ctx), config_(read_bridge_config(ctx.config)) {
+  ctx.config.finish();
+  if (config_.wrench) {
+    const WrenchStream& w = *config_.wrench;
+    rigger_wrench_.emplace(ctx.participant, protocol::robot::kWrench);
+    ros2_wrench_.emplace(ctx.participant, w.dds_topic, qos_of(w.qos));
+    ctx.loop.on_data(*ros2_wrench_, [this] { on_ros2_wrench(); });
+    ctx.log->info("bridging wrench from={} dds_topic={} qos={} to={} max_age_s={}", w.ros_topic, w.dds_topic,
+                  ros2_qos_name(w.qos), protocol::robot::kWrench.name, to_seconds(w.age.max_age));
+  }
+  if (config_.twist) {
+    const TwistStream& t = *config_.twist;
+    ros2_twist_.emplace(ctx.participant, t.dds_topic, qos_of(t.qos));
+    rigger_twist_.emplace(ctx.participant, protocol::robot::kCmdTwist);
+    ctx.loop.on_data(*rigger_twist_, [this] { on_rigger_twist(); });
+    ctx.log->info(
+        "bridging twist_command from={} to={} dds_topic={} qos={} max_age_s={} max_linear_mps={} "
+        "max_angular_radps={} over_limit={}",
+        protocol::robot::kCmdTwist.name, t.ros_topic, t.dds_topic, ros2_qos_name(t.qos), to_seconds(t.age.max_age),
+        t.limits.max_linear_mps, t.limits.max_angular_radps,
+        t.limits.over_limit == OverLimit::kClamp ? "clamp" : "refuse");
+  }
+}
+
+Ros2BridgeNode::~Ros2BridgeNode() {
+  if (hold_timer_) send_zero_twist("bridge stopping");
+  ctx_.log->info("bridge stopped wrench_forwarded={} twist_forwarded={}", wrench_forwarded_, twist_forwarded_);
+}
+
+void Ros2BridgeNode::count(std::string_view event, const std::string& stream, std::string_view reason,
+                           const std::string& detail) {
+  const std::string key = stream + " " + std::string(reason);
+  auto it = refusals_.try_emplace(key, config_.refusal_log_interval).first;
+  if (it->second.count(std::chrono::steady_clock::now())) {
+    ctx_.log->warn("{} {} reason={} count={} total={} {}", event, stream, reason, it->second.batch(),
+                   it->second.total(), detail);
+  }
+}
+
+void Ros2BridgeNode::on_ros2_wrench() {
+  const WrenchStream& cfg = *config_.wrench;
+  ros2_wrench_->take([&](const geometry_msgs_msg_dds__WrenchStamped_& in, const dds_sample_info_t&) {
+    rigger_sensing_WrenchStamped out = ros2::to_rigger(in);
+    const WallTime stamp = dds::to_domain(out.header.stamp);
+    const WallTime now = std::chrono::system_clock::now();
+    const AgeVerdict age = check_age(stamp, now, cfg.age);
+    if (age != AgeVerdict::kFresh) {
+      count("dropped", "wrench", age_verdict_name(age),
+            fmt::format("age_s={:.3f} max_age_s={}", to_seconds(now - stamp), to_seconds(cfg.age.max_age)));
+      return;
+    }
+    if (!all_finite(dds::to_domain(out.wrench))) {
+      count("dropped", "wrench", "not_finite", "");
+      return;
+    }
+    if (!cfg.frame_id.empty()) out.header.frame_id = dds::wire_string(cfg.frame_id);
+    if (rigger_wrench_->write(out) == DDS_RETCODE_OK) ++wrench_forwarded_;
+  });
+}
+
+void Ros2BridgeNode::on_rigger_twist() {
+  const TwistStream& cfg = *config_.twist;
+  rigger_twist_->take([&](const rigger_sensing_TwistCommand& in, const dds_sample_info_t&) {
+    const WallTime stamp = dds::to_domain(in.header.stamp);
+    const WallTime now = std::chrono::system_clock::now();
+    const AgeVerdict age = check_age(stamp, now, cfg.age);
+    if (age != AgeVerdict::kFresh) {
+      count("dropped", "twist_command", age_verdict_name(age),
+            fmt::format("seq={} source={} age_s={:.3f} max_age_s={}", in.seq, dds::to_string(in.source),
+                        to_seconds(now - stamp), to_seconds(cfg.age.max_age)));
+      return;
+    }
+    const Vector6d requested = dds::to_domain(in.twist);
+    const LimitedTwist limited = limit_twist(requested, cfg.limits);
+    if (!limited.send()) {
+      count("dropped", "twist_command", twist_verdict_name(limited.verdict),
+            fmt::format("seq={} source={} linear_mps={:.3f} angular_radps={:.3f} max_linear_mps={} "
+                        "max_angular_radps={}",
+                        in.seq, dds::to_string(in.source), requested.head<3>().norm(), requested.tail<3>().norm(),
+                        cfg.limits.max_linear_mps, cfg.limits.max_angular_radps));
+      return;
+    }
+    if (limited.verdict == TwistVerdict::kClamped) {
+      count("clamped", "twist_command", "over_limit",
+            fmt::format("seq={} source={} linear_mps={:.3f} angular_radps={:.3f}", in.seq, dds::to_string(in.source),
+                        requested.head<3>().norm(), requested.tail<3>().norm()));
+    }
+    rigger_geometry_Header header = in.header;
+    if (!cfg.frame_id.empty()) header.frame_id = dds::wire_string(cfg.frame_id);
+    const rigger_geometry_Twist twist = dds::to_wire_twist(limited.twist);
+    if (ros2_twist_->write(ros2::to_ros2_twist_stamped(header, twist)) != DDS_RETCODE_OK) return;
+    ++twist_forwarded_;
+    zero_frame_id_ = dds::to_string(header.frame_id);
+    // Hold the command for its own timeout (capped), then stop the driver explicitly.
+    const auto hold = in.timeout_s > 0.0 ? std::min(from_seconds(in.timeout_s), cfg.max_hold) : cfg.max_hold;
+    if (hold_timer_) ctx_.loop.cancel(*hold_timer_);
+    hold_timer_ = ctx_.loop.after(hold, [this] {
+      hold_timer_.reset();
+      send_zero_twist("command timeout");
+    });
+  });
+}
+
+void Ros2BridgeNode::send_zero_twist(const char* why) {
+  rigger_geometry_Header header{dds::wire_now(), dds::wire_string(zero_frame_id_)};
+  const rigger_geometry_Twist zero = dds::to_wire_twist(Vector6d::Zero());
+  const dds_return_t rc = ros2_twist_->write(ros2::to_ros2_twist_stamped(header, zero));
+  ctx_.log->info("zero twist sent reason=\"{}\" rc={}", why, rc);
+}
+
+}  // namespace rigger::ros2_bridge

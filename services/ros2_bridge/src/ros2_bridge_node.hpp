@@ -1,0 +1,55 @@
+#pragma once
+/// @file
+/// The ROS 2 bridge's DDS plumbing (docs/ros2.md): a ROS 2 robot driver's topics on one side, rigger's
+/// robot interface (rigger/protocol/robot.hpp) on the other, the boundary's checks (boundary.hpp) in
+/// between. Streams, each optional in the configuration:
+///   - wrench: the driver's geometry_msgs/WrenchStamped (rt/<topic>) → rigger/robot/wrench; stale,
+///     future-stamped, unstamped and non-finite samples are dropped.
+///   - twist_command: rigger/robot/cmd_twist → the driver's geometry_msgs/TwistStamped (MoveIt Servo);
+///     stale commands are dropped, fast ones clamped or refused, and one zero twist is sent when the
+///     last command's timeout passes without a newer one.
+/// Drops are counted and logged at most once per refusal_log_interval_s per stream and reason.
+/// Everything runs on the service's event loop.
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "boundary.hpp"
+#include "bridge_config.hpp"
+#include "rigger/dds/pubsub.hpp"
+#include "rigger/dds/service.hpp"
+#include "rigger/ros2/types.hpp"
+
+namespace rigger::ros2_bridge {
+
+class Ros2BridgeNode : public dds::Node {
+ public:
+  /// @throws ConfigError, DdsError.
+  explicit Ros2BridgeNode(dds::ServiceContext& ctx);
+  /// Sends a zero twist if a command is still held, so the driver does not wait for its own timeout.
+  ~Ros2BridgeNode() override;
+
+ private:
+  void on_ros2_wrench();
+  void on_rigger_twist();
+  void send_zero_twist(const char* why);
+  /// Counts an `event` ("dropped", "clamped") on `stream` for `reason` and logs it when its counter allows.
+  void count(std::string_view event, const std::string& stream, std::string_view reason, const std::string& detail);
+
+  dds::ServiceContext& ctx_;
+  BridgeConfig config_;
+  std::optional<dds::Reader<geometry_msgs_msg_dds__WrenchStamped_>> ros2_wrench_;
+  std::optional<dds::Writer<rigger_sensing_WrenchStamped>> rigger_wrench_;
+  std::optional<dds::Reader<rigger_sensing_TwistCommand>> rigger_twist_;
+  std::optional<dds::Writer<geometry_msgs_msg_dds__TwistStamped_>> ros2_twist_;
+
+  std::map<std::string, RefusalCounter> refusals_;  // "<stream> <reason>"
+  std::uint64_t wrench_forwarded_ = 0;
+  std::uint64_t twist_forwarded_ = 0;
+  std::optional<dds::EventLoop::TimerId> hold_timer_;  // set while a forwarded command is held
+  std::string zero_frame_id_;                          // frame of the last forwarded command
+};
+
+}  // namespace rigger::ros2_bridge

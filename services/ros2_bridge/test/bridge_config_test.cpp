@@ -1,0 +1,86 @@
+#include "bridge_config.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace rigger::ros2_bridge {
+namespace {
+
+using namespace std::chrono_literals;
+using ::testing::HasSubstr;
+
+BridgeConfig read(const std::string& text) {
+  const Config c = Config::parse(text, "ros2_bridge.json");
+  BridgeConfig out = read_bridge_config(c);
+  c.finish();
+  return out;
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    read(text);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(BridgeConfig, RosControlWithServo) {
+  const auto c = read(R"({
+    "ros_namespace": "/arm",
+    "wrench": {"topic": "/force_torque_sensor_broadcaster/wrench", "max_age_s": 0.02},
+    "twist_command": {"topic": "servo_node/delta_twist_cmds", "max_linear_mps": 0.1, "max_angular_radps": 0.2,
+                      "over_limit": "refuse", "frame_id": "base_link"}
+  })");
+  ASSERT_TRUE(c.wrench);
+  EXPECT_EQ(c.wrench->ros_topic, "/force_torque_sensor_broadcaster/wrench");  // absolute: namespace ignored
+  EXPECT_EQ(c.wrench->dds_topic, "rt/force_torque_sensor_broadcaster/wrench");
+  EXPECT_EQ(c.wrench->qos, Ros2Qos::kSensorData);
+  EXPECT_EQ(c.wrench->age.max_age, 20ms);
+  ASSERT_TRUE(c.twist);
+  EXPECT_EQ(c.twist->ros_topic, "/arm/servo_node/delta_twist_cmds");
+  EXPECT_EQ(c.twist->dds_topic, "rt/arm/servo_node/delta_twist_cmds");
+  EXPECT_EQ(c.twist->qos, Ros2Qos::kReliableDefault);
+  EXPECT_EQ(c.twist->age.max_age, 100ms);
+  EXPECT_EQ(c.twist->limits.max_linear_mps, 0.1);
+  EXPECT_EQ(c.twist->limits.over_limit, OverLimit::kRefuse);
+  EXPECT_EQ(c.twist->frame_id, "base_link");
+}
+
+TEST(BridgeConfig, TheShippedConfigurationLoads) {
+  const Config c = Config::load(std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json");
+  const BridgeConfig b = read_bridge_config(c);
+  c.finish();
+  ASSERT_TRUE(b.wrench && b.twist);
+  EXPECT_EQ(b.wrench->dds_topic, "rt/force_torque_sensor_broadcaster/wrench");
+  EXPECT_EQ(b.twist->dds_topic, "rt/servo_node/delta_twist_cmds");
+}
+
+TEST(BridgeConfig, QosIsChosenPerTopic) {
+  const auto c = read(R"({"wrench": {"topic": "/wrench", "qos": "reliable_default"},
+                          "twist_command": {"topic": "/cmd", "qos": "sensor_data"}})");
+  EXPECT_EQ(c.wrench->qos, Ros2Qos::kReliableDefault);
+  EXPECT_EQ(c.twist->qos, Ros2Qos::kSensorData);
+  EXPECT_FALSE(read(R"({"wrench": {"topic": "/wrench"}})").twist);
+}
+
+TEST(BridgeConfig, ErrorsNameTheKey) {
+  EXPECT_THAT(error_of(R"({"wrench": {"topic": "/ft sensor/wrench"}})"),
+              AllOf(HasSubstr("/wrench/topic"), HasSubstr("/ft sensor/wrench")));
+  EXPECT_THAT(error_of(R"({"wrench": {"topic": "~/wrench"}})"), HasSubstr("/wrench/topic"));
+  EXPECT_THAT(error_of(R"({"wrench": {}})"), HasSubstr("/wrench/topic"));
+  EXPECT_THAT(error_of(R"({"twist_command": {"topic": "/c", "qos": "best_effort"}})"), HasSubstr("/twist_command/qos"));
+  EXPECT_THAT(error_of(R"({"twist_command": {"topic": "/c", "over_limit": "ignore"}})"),
+              HasSubstr("/twist_command/over_limit"));
+  EXPECT_THAT(error_of(R"({"twist_command": {"topic": "/c", "max_linear_mps": -1}})"),
+              HasSubstr("/twist_command/max_linear_mps"));
+  EXPECT_THAT(error_of(R"({"wrench": {"topic": "/w", "max_age_s": 0}})"), HasSubstr("/wrench/max_age_s"));
+  EXPECT_THAT(error_of(R"({"ros_namespace": "arm", "wrench": {"topic": "w"}})"), HasSubstr("/ros_namespace"));
+  EXPECT_THAT(error_of(R"({"wrench": {"topic": "/w", "max_agee_s": 1}})"), HasSubstr("max_agee_s"));
+  EXPECT_THAT(error_of(R"({"joint_states": {"topic": "/joint_states"}})"), HasSubstr("no stream"));
+  EXPECT_THAT(error_of(R"({"wrench": {"topic": "/x"}, "twist_command": {"topic": "x"}})"),
+              HasSubstr("/twist_command/topic"));
+}
+
+}  // namespace
+}  // namespace rigger::ros2_bridge
