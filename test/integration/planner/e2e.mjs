@@ -84,6 +84,16 @@ try {
   await page.click('#planner-down');
   check(await page.locator('button.pnode[data-pointer="/root/children/1"]').innerText().then((t) => t.includes('Screw')), 'Down moved it back');
 
+  // --- the tree's resources, from the skill descriptions: the camera by Localize, the operator by Screw ---
+  const claims = await page.$$eval('#planner-resources tr[data-resource]', (rows) => rows.map((r) =>
+    `${r.dataset.resource}:${[...r.querySelectorAll('button[data-pointer]')].map((b) => b.dataset.pointer).join(',')}`));
+  check(JSON.stringify(claims) === JSON.stringify(['camera:/root/children/0/children/0', 'operator:/root/children/1']),
+    `the resources view lists each device with the leaves that claim it: ${claims}`);
+  await page.click('#planner-resources tr[data-resource="operator"] button');
+  check(await page.locator('button.pnode.selected').getAttribute('data-pointer') === '/root/children/1',
+    'clicking a claim selects its leaf');
+  result.resources = claims;
+
   // --- a bad threshold, shown on its node and field by the controller's validator ---
   await select('/root/children/0');
   await page.fill('[data-field="success_threshold"]', '2');

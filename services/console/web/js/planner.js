@@ -92,6 +92,7 @@ export function plannerPage(main, me) {
   const picksList = el('ol', { class: 'picks', 'aria-label': 'Picked faces and holes' });
   const holesList = el('ul', { class: 'picks', 'aria-label': 'Holes of the models' });
   const errorsBox = el('div', { class: 'perrors', role: 'status', 'aria-live': 'polite' });
+  const resourcesBox = el('div', { id: 'planner-resources' });
   const notice = el('p', { role: 'status', 'aria-live': 'polite' });
   const say = (text, bad = false) => { notice.textContent = text; notice.className = bad ? 'error' : ''; };
   const addSelect = el('select', { id: 'planner-add-kind', 'aria-label': 'Node to add' });
@@ -138,7 +139,7 @@ export function plannerPage(main, me) {
           el('button', { id: 'planner-cut', title: 'Ctrl+X', onclick: () => cut() }, 'Cut'),
           el('button', { id: 'planner-paste', title: 'Ctrl+V', onclick: () => paste() }, 'Paste')),
         el('p', { class: 'muted small' }, 'Keys on the tree: ↑/↓ select, Alt+↑/↓ move, Delete, Ctrl+Z/Ctrl+Y, Ctrl+C/X/V.'),
-        treeBox, el('h2', {}, 'Validation'), errorsBox),
+        treeBox, el('h2', {}, 'Validation'), errorsBox, el('h2', {}, 'Resources'), resourcesBox),
       el('section', { class: 'panel', 'aria-labelledby': 'pf' }, el('h2', { id: 'pf' }, 'Node'), formBox)));
 
   const view = new PartsView(viewBox, (pick) => {
@@ -455,6 +456,28 @@ export function plannerPage(main, me) {
     };
     treeBox.replaceChildren(state.doc.root ? el('ul', {}, row(state.doc.root, '/root'))
       : el('p', { class: 'muted' }, 'Empty: choose a node and press Add.'));
+    renderResources();
+  }
+  /// The tree's devices: each resource and the leaves that claim it (their descriptions' resources,
+  /// parameters substituted, as the controller's validator reads them); a click selects the leaf.
+  /// Whether two claims may overlap is the validator's to say (a conflict is an error on its node).
+  function renderResources() {
+    const held = new Map();
+    for (const [ptr, node] of allNodes()) {
+      const d = (node.type === 'Skill' || node.type === 'Monitor') && describe(leafName(node));
+      for (const r of (d && d.resources) || []) {
+        const name = bindCondition(r, node, d);
+        if (!held.has(name)) held.set(name, []);
+        held.get(name).push([ptr, node]);
+      }
+    }
+    if (!held.size) return resourcesBox.replaceChildren(el('p', { class: 'muted small' }, 'No leaf claims a device yet.'));
+    resourcesBox.replaceChildren(el('table', { class: 'small', 'aria-label': 'Resources the tree claims' },
+      el('thead', {}, el('tr', {}, el('th', { scope: 'col' }, 'Resource'), el('th', { scope: 'col' }, 'Claimed by'))),
+      el('tbody', {}, ...[...held].sort(([a], [b]) => a.localeCompare(b)).map(([name, nodes]) =>
+        el('tr', { 'data-resource': name }, el('th', { scope: 'row' }, name),
+          el('td', {}, ...nodes.map(([ptr, node]) => el('button', { class: 'link-button', 'data-pointer': ptr,
+            onclick: () => selectPointer(ptr) }, `${leafName(node)}${node.name ? ` “${node.name}”` : ''}`))))))));
   }
   function renderErrors() {
     const v = state.validation;
@@ -783,6 +806,7 @@ export function plannerPage(main, me) {
   (async () => {
     try {
       await loadLibrary();
+      renderResources();  // the descriptions say what each leaf claims
     } catch (e) {
       say(`No skill library: ${e.message}`, true);
     }
