@@ -19,12 +19,21 @@ namespace {
 constexpr std::size_t kMaxEventsPerWrite = 512;
 constexpr std::chrono::milliseconds kKeepAlive{15000};
 
+// Content types chosen so that cpp-httplib does not compress: 0.11 compresses with brotli at quality 11
+// whenever the browser accepts br (every browser does) and the type is in its exact list (text/*,
+// application/json, application/javascript): that cost 1.8 s of CPU per page load for three.js and
+// 0.5 s per validation of a 1,000-node tree (bench_planner_tree); gzip would be 36 ms, but the library
+// prefers br and gives no way to choose. The console serves a LAN, where the bytes cost less than that:
+// JSON and JavaScript go uncompressed (three.js, 1.3 MB, in 2 ms on loopback). See docs/console.md.
+constexpr const char* kJson = "application/json; charset=utf-8";
+constexpr const char* kJavaScript = "application/javascript; charset=utf-8";
+
 // Strings from DDS or from requests are not checked for UTF-8: replace what is not, never throw.
 std::string to_text(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
 
 void send_error(httplib::Response& res, int status, const std::string& error, const std::string& where) {
   res.status = status;
-  res.set_content(to_text(json{{"error", error}, {"where", where}}), "application/json");
+  res.set_content(to_text(json{{"error", error}, {"where", where}}), kJson);
 }
 
 /// `body[key]` when it is a string, else "".
@@ -35,7 +44,7 @@ std::string text_field(const json& body, const char* key) {
 
 void send_json(httplib::Response& res, const json& body, int status = 200) {
   res.status = status;
-  res.set_content(to_text(body), "application/json");
+  res.set_content(to_text(body), kJson);
 }
 
 std::string bearer(const httplib::Request& req) {
@@ -106,8 +115,11 @@ void HttpApi::start() {
   server_->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
   server_->set_payload_max_length(config_.max_body_bytes);
   server_->set_keep_alive_timeout(30);
-  server_->set_file_extension_and_mimetype_mapping("mjs", "text/javascript");
-  server_->set_file_extension_and_mimetype_mapping("js", "text/javascript");
+  // A response's headers and body are two writes: without TCP_NODELAY the body waits for the client's
+  // delayed ACK of the headers (40 ms on Linux), on every small answer.
+  server_->set_tcp_nodelay(true);
+  server_->set_file_extension_and_mimetype_mapping("mjs", kJavaScript);
+  server_->set_file_extension_and_mimetype_mapping("js", kJavaScript);
   server_->set_file_extension_and_mimetype_mapping("glb", "model/gltf-binary");
   routes();
   if (!server_->set_mount_point("/", config_.web_dir))
@@ -273,7 +285,7 @@ void HttpApi::routes() {
       first = false;
     }
     out += "]";
-    res.set_content(out, "application/json");
+    res.set_content(out, kJson);
   });
   s.Get("/api/journal", [=](const httplib::Request& req, httplib::Response& res) {
     if (!who(req, res, Role::kViewer)) return;
