@@ -412,14 +412,26 @@ export function plannerPage(main, me) {
     markFields();
     return r;
   }
-  function errorsAt(nodePtr) {
-    // The errors whose pointer is this node's own (not a descendant's): field = the rest.
-    const pointers = allNodes().map(([p]) => p);
-    return state.errors.filter((e) => {
-      const owner = pointers.filter((p) => e.pointer === p || e.pointer.startsWith(`${p}/`)).sort((a, b) => b.length - a.length)[0];
-      return owner === nodePtr;  // recipe-level errors (task_id, assumptions) are in the list only
-    });
+  /// The node that owns `pointer`: the longest node pointer it starts with (undefined for the recipe's
+  /// own fields). Walks up the pointer, so it costs its depth, not the tree's size.
+  function ownerOf(pointer, nodes) {
+    for (let p = pointer; p; p = p.slice(0, Math.max(0, p.lastIndexOf('/')))) if (nodes.has(p)) return p;
+    return undefined;
   }
+  /// The errors by the node that owns them (not a descendant's: a field is the rest of the pointer).
+  /// Recipe-level errors (task_id, assumptions) are in the list only.
+  function errorsByNode() {
+    const nodes = new Set(allNodes().map(([p]) => p));
+    const out = new Map();
+    for (const e of state.errors) {
+      const owner = ownerOf(e.pointer, nodes);
+      if (owner === undefined) continue;
+      if (!out.has(owner)) out.set(owner, []);
+      out.get(owner).push(e);
+    }
+    return out;
+  }
+  function errorsAt(nodePtr) { return errorsByNode().get(nodePtr) || []; }
   function allNodes() {
     const out = [];
     const walk = (node, ptr) => { out.push([ptr, node]); for (const [s, c] of childrenOf(node)) walk(c, ptr + s); };
@@ -429,8 +441,9 @@ export function plannerPage(main, me) {
 
   // --- rendering ---
   function renderTree() {
+    const byNode = errorsByNode();
     const row = (node, ptr) => {
-      const errs = errorsAt(ptr);
+      const errs = byNode.get(ptr) || [];
       const d = DECORATORS[node.type];
       const extra = node.type === 'Parallel' ? ` (M=${node.success_threshold}, K=${node.failure_threshold})`
         : d ? ` (${d.field}=${node[d.field]})` : '';
@@ -487,7 +500,7 @@ export function plannerPage(main, me) {
         el('button', { class: 'link-button', onclick: () => selectPointer(e.pointer) }, e.pointer || '(recipe)'), ` ${e.message}`))));
   }
   function selectPointer(pointer) {
-    const owner = allNodes().map(([p]) => p).filter((p) => pointer === p || pointer.startsWith(`${p}/`)).sort((a, b) => b.length - a.length)[0];
+    const owner = ownerOf(pointer, new Set(allNodes().map(([p]) => p)));
     if (owner) { state.selected = owner; renderTree(); renderForm(); }
   }
   function markFields() {
@@ -794,7 +807,7 @@ export function plannerPage(main, me) {
 
   // Test hook: state, and screen positions of model points (to click holes like a person would).
   window.rigger.planner = {
-    state, view, history,
+    state, view, history, validate,
     screenOf: (entity, point) => view.screenOf(entity, point),
     holes: (entity) => view.parts.get(entity)?.features.holes || [],
   };

@@ -1,0 +1,68 @@
+// The planner's responsiveness with a large tree (issue 16): scripted executors announcing the real
+// skill library and the console on a private DDS domain, and headless Debian chromium (playwright-core)
+// opening generated trees of 10 (the reference) and 1,000 nodes in the planner and timing an edit's
+// redraw and the tree's validation in the page (test/bench/planner/tree.mjs prints the figures).
+//
+//   build/bench/bench_planner_tree [--trials 30] [--nodes 1000]
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "../integration/cell_sim_test_support.hpp"
+#include "auth.hpp"
+#include "bench_util.hpp"
+#include "rigger/testing/cell.hpp"
+#include "rigger/testing/process.hpp"
+
+int main(int argc, char** argv) {
+  using namespace std::chrono_literals;
+  using nlohmann::json;
+  const int trials = rigger::bench::int_option(argc, argv, "--trials", 30);
+  const int nodes = rigger::bench::int_option(argc, argv, "--nodes", 1000);
+  const std::string repo = RIGGER_SOURCE_DIR;
+  const std::string modules = repo + "/services/console/web/node_modules";
+  if (!std::ifstream("/usr/bin/chromium") || !std::ifstream(modules + "/playwright-core/index.mjs")) {
+    std::fprintf(stderr, "needs /usr/bin/chromium and %s (deploy/setup runs npm ci)\n", modules.c_str());
+    return 2;
+  }
+
+  rigger::testing::Cell cell;
+  const std::string dir = cell.log_dir();
+  auto config = [&](const std::string& name, const json& j) {
+    const std::string path = dir + "/" + name + ".json";
+    std::ofstream(path) << j.dump(2);
+    return path;
+  };
+  const std::string library = repo + "/recipes/examples/skill_library.json";
+  cell.start("skills", "scripted_executor",
+             {"--id", "skills", "--log-level", "warn", "--config",
+              config("skills", {{"library_file", library}, {"skills", {"Localize"}}})});
+  const auto users = rigger::console::make_users(dir + "/users.json", {{"ada", rigger::console::Role::kProgrammer}});
+  const std::uint16_t port = rigger::testing::free_tcp_port();
+  cell.start("console", "console",
+             {"--id", "console", "--log-level", "warn", "--config",
+              config("console", {{"port", port}, {"users_file", dir + "/users.json"}, {"audit_log", ""}})});
+  if (!cell.wait_ready({"skills", "console"}, 60s)) {
+    std::fprintf(stderr, "the services did not become ready\n%s", cell.logs().c_str());
+    return 1;
+  }
+  bool done = false;
+  rigger::testing::ChildProcess browser(
+      "/usr/bin/node", {repo + "/test/bench/planner/tree.mjs"},
+      {{"CONSOLE_URL", "http://127.0.0.1:" + std::to_string(port)},
+       {"TOKEN_PROGRAMMER", users[0].token},
+       {"TRIALS", std::to_string(trials)},
+       {"SIZES", "10," + std::to_string(nodes)},
+       {"NODE_PATH", modules}},
+      dir + "/browser.log", [&] { cell.loop().post([&] { done = true; }); });
+  const bool ended = cell.wait_until([&] { return done; }, std::chrono::minutes(15));
+  const auto exit = browser.wait(5s);
+  std::printf("%s", browser.log().c_str());
+  if (!ended || !exit || !exit->ok()) {
+    std::fprintf(stderr, "the browser script failed (log above)\n");
+    return 1;
+  }
+  return 0;
+}
