@@ -352,6 +352,45 @@ TEST_F(LifecycleTest, AnEscalatedStopCommandsTheSafeStopOfTheDevicesTheLeafHeld)
   EXPECT_TRUE(journalled);
 }
 
+// Every PROGRESS event is journaled, up to journal_progress_per_run per run; one row at the run's end
+// counts the others, so the history is complete without a chatty skill filling the journal.
+TEST_F(LifecycleTest, ProgressEventsAreJournaledUpToTheBoundPerRun) {
+  start_controller({{"journal_progress_per_run", 5}});
+  start_scripted("exec", {"Localize"},
+                 {{"root/0", {{"mode", "succeed"}, {"delay_s", 0.3}, {"progress_steps", 30}}},
+                  {"root/1", {{"mode", "succeed"}, {"delay_s", 0.1}, {"progress_steps", 3}}}});
+  wait_ready({"tc", "exec"});
+  submit("chatty",
+         recipe("chatty", {{"type", "Sequence"}, {"children", {skill("first", "load"), skill("second", "target")}}}));
+  ASSERT_TRUE(wait_finished("chatty"));
+  EXPECT_EQ(last("chatty").state, rigger_task_TASK_SUCCEEDED) << last("chatty").message;
+  std::size_t sent = 0;
+  for (const auto& e : events_seen_)
+    if (e.task == "chatty" && e.node == "root/0" && e.kind == rigger_skill_SKILL_EVENT_PROGRESS) ++sent;
+  ASSERT_EQ(sent, 30U);
+  std::map<std::string, std::vector<JournalLine>> progress;  // by node: PROGRESS and PROGRESS_LEFT_OUT rows
+  std::vector<std::string> order;                            // root/0's EVENT rows, in order
+  for (const auto& l : journal("chatty")) {
+    if (l.kind != "EVENT") continue;
+    if (l.code == "PROGRESS" || l.code == "PROGRESS_LEFT_OUT") progress[l.node].push_back(l);
+    if (l.node == "root/0") order.push_back(l.code);
+  }
+  ASSERT_EQ(progress["root/0"].size(), 6U);
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(progress["root/0"][i].code, "PROGRESS");
+    EXPECT_NE(progress["root/0"][i].message.find("scripted progress"), std::string::npos)
+        << progress["root/0"][i].message;
+  }
+  EXPECT_EQ(progress["root/0"][0].message.rfind("0.032", 0), 0U) << "the fraction, 1/31: " << progress["root/0"][0].message;
+  EXPECT_EQ(progress["root/0"][5].code, "PROGRESS_LEFT_OUT");
+  EXPECT_EQ(progress["root/0"][5].message, "25 more PROGRESS events of this run not journaled (journal_progress_per_run 5)");
+  EXPECT_EQ(order, (std::vector<std::string>{"PROGRESS", "PROGRESS", "PROGRESS", "PROGRESS", "PROGRESS",
+                                             "PROGRESS_LEFT_OUT", "SUCCESS"}));
+  // Under the bound: every one, and no count.
+  ASSERT_EQ(progress["root/1"].size(), 3U);
+  for (const auto& l : progress["root/1"]) EXPECT_EQ(l.code, "PROGRESS");
+}
+
 // A (re)started controller learns from the executors' announcements which runs are still running or
 // stopping and starts nothing on their resources until they are free (issue 13). The controller is
 // SIGKILLed while a skill runs whose stop takes `stop_delay_s`: the executor shuts that run down

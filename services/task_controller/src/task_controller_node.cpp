@@ -52,6 +52,7 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
       std::chrono::duration<double>(ctx.config.get_in_range<double>("start_answer_timeout_s", 5.0, 0.05, 600.0)));
   busy_wait_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
       std::chrono::duration<double>(ctx.config.get_in_range<double>("busy_wait_s", 10.0, 0.0, 600.0)));
+  progress_rows_per_run_ = ctx.config.get_in_range<unsigned>("journal_progress_per_run", 20U, 0U, 100000U);
   trace_path_ = ctx.config.get<std::string>("stage_trace_path", "");
   ctx.config.finish();
   if (!trace_path_.empty()) {

@@ -108,9 +108,13 @@ void Task::on_event(const ReceivedEvent& e) {
   }
   bt::LeafEvent ev = e.event;
   ev.activation = run->activation;
-  if (ev.kind != bt::LeafEventKind::kProgress)
+  if (ev.kind == bt::LeafEventKind::kProgress) {
+    journal_progress(e.node_id, ev);
+  } else {
+    end_progress(e.node_id);
     host_.journal({wall_now_s(), id_, e.node_id, "EVENT", std::string(bt::to_string(ev.kind)),
                    ev.code.empty() ? ev.message : ev.code + ": " + ev.message});
+  }
   log_result("event", e.node_id, engine_->on_leaf_event(e.node_id, ev));
 }
 
@@ -124,6 +128,7 @@ void Task::executor_lost(const std::string& executor_id) {
     const auto& st = engine_->status(*index);
     if (st.activation != activation || (st.state != NodeState::kRunning && st.state != NodeState::kStopping))
       continue;
+    end_progress(node_id);
     log_result("executor lost", node_id,
                engine_->on_leaf_lost(node_id, activation, "executor " + executor_id + " lost liveliness"));
     if (done()) break;
@@ -251,6 +256,7 @@ void Task::send_start(const bt::NodeSpec& spec, bt::Activation activation) {
     });
     return;
   }
+  end_progress(spec.id);  // a run whose end never came (its stop timed out) before this one
   LeafRun run{executor_id, host_.endpoint().next_seq(), activation};
   runs_[spec.id] = run;
   const std::string& params = params_text(spec);
@@ -294,6 +300,7 @@ void Task::start_unanswered(const std::string& node_id, std::uint64_t start_seq)
   failure.activation = run->second.activation;
   failure.code = codes::kStartUnanswered;
   failure.message = why;
+  end_progress(node_id);
   host_.journal({wall_now_s(), id_, node_id, "EVENT", "FAILURE", failure.code + ": " + why});
   log_result("start unanswered", node_id, engine_->on_leaf_event(node_id, failure));
 }
@@ -430,6 +437,10 @@ void Task::node_changed(const bt::NodeSpec& spec, const bt::NodeStatus& status) 
 }
 
 void Task::finished(const bt::TaskResult& result) {
+  // Runs whose end never came (their stop timed out) still count what they left out.
+  std::vector<std::string> counted;
+  for (const auto& [node_id, rows] : progress_rows_) counted.push_back(node_id);
+  for (const auto& node_id : counted) end_progress(node_id);
   int state = rigger_task_TASK_FAILED;
   std::string journal_state = "FAILED";
   if (result.outcome == bt::TaskOutcome::kSucceeded) {
@@ -447,6 +458,29 @@ void Task::finished(const bt::TaskResult& result) {
     message += (message.empty() ? "" : "; ") + std::string("safe stop escalated: ") + nodes;
   }
   host_.task_finished(id_, state, journal_state, result, message);
+}
+
+void Task::journal_progress(const std::string& node_id, const bt::LeafEvent& event) {
+  auto& rows = progress_rows_[node_id];
+  if (rows.journaled >= host_.progress_rows_per_run()) {
+    ++rows.left_out;
+    return;
+  }
+  ++rows.journaled;
+  std::string text = event.progress ? number_text(*event.progress) : std::string();
+  if (!event.message.empty()) text += (text.empty() ? "" : ": ") + event.message;
+  host_.journal({wall_now_s(), id_, node_id, "EVENT", "PROGRESS", text});
+}
+
+void Task::end_progress(const std::string& node_id) {
+  auto it = progress_rows_.find(node_id);
+  if (it == progress_rows_.end()) return;
+  const unsigned left_out = it->second.left_out;
+  progress_rows_.erase(it);
+  if (left_out == 0) return;
+  host_.journal({wall_now_s(), id_, node_id, "EVENT", codes::kProgressLeftOut,
+                 std::to_string(left_out) + " more PROGRESS events of this run not journaled (journal_progress_per_run " +
+                     std::to_string(host_.progress_rows_per_run()) + ")"});
 }
 
 }  // namespace rigger::task_controller
