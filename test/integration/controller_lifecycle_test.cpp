@@ -381,9 +381,11 @@ TEST_F(LifecycleTest, ProgressEventsAreJournaledUpToTheBoundPerRun) {
     EXPECT_NE(progress["root/0"][i].message.find("scripted progress"), std::string::npos)
         << progress["root/0"][i].message;
   }
-  EXPECT_EQ(progress["root/0"][0].message.rfind("0.032", 0), 0U) << "the fraction, 1/31: " << progress["root/0"][0].message;
+  EXPECT_EQ(progress["root/0"][0].message.rfind("0.032", 0), 0U)
+      << "the fraction, 1/31: " << progress["root/0"][0].message;
   EXPECT_EQ(progress["root/0"][5].code, "PROGRESS_LEFT_OUT");
-  EXPECT_EQ(progress["root/0"][5].message, "25 more PROGRESS events of this run not journaled (journal_progress_per_run 5)");
+  EXPECT_EQ(progress["root/0"][5].message,
+            "25 more PROGRESS events of this run not journaled (journal_progress_per_run 5)");
   EXPECT_EQ(order, (std::vector<std::string>{"PROGRESS", "PROGRESS", "PROGRESS", "PROGRESS", "PROGRESS",
                                              "PROGRESS_LEFT_OUT", "SUCCESS"}));
   // Under the bound: every one, and no count.
@@ -436,8 +438,8 @@ TEST_F(RestartTest, ARestartedControllerStartsALeafOnlyOnceTheKilledControllersR
   ASSERT_NE(stopped, nullptr);
   ASSERT_NE(start, nullptr);
   EXPECT_EQ(start->executor, "exec");
-  EXPECT_GE(start->written, stopped->written) << "START sent " << (stopped->written - start->written) / 1000000
-                                              << " ms before the old run's STOPPED";
+  EXPECT_GE(start->written, stopped->written)
+      << "START sent " << (stopped->written - start->written) / 1000000 << " ms before the old run's STOPPED";
   EXPECT_EQ(count_commands("new", rigger_skill_SKILL_START), 1U);
   EXPECT_EQ(event_at("new", "root/0", rigger_skill_SKILL_EVENT_FAILURE), nullptr) << "refused (RESOURCE_BUSY?)";
   const EventSeen* accepted = event_at("new", "root/0", rigger_skill_SKILL_EVENT_ACCEPTED);

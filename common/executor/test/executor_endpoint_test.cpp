@@ -191,7 +191,8 @@ TEST_F(ExecutorEndpointTest, AnnouncesTheRunsItHoldsAtOnceWhenTheyChange) {
   dds::Reader<rigger_skill_ExecutorAnnouncement> reader(participant_, protocol::skill::kExecutors, dds::qos::state());
   std::vector<std::vector<AnnouncedRun>> seen;
   loop_.on_data(reader, [&] {
-    reader.take([&](const rigger_skill_ExecutorAnnouncement& a, const dds_sample_info_t&) { seen.push_back(runs_of(a)); });
+    reader.take(
+        [&](const rigger_skill_ExecutorAnnouncement& a, const dds_sample_info_t&) { seen.push_back(runs_of(a)); });
   });
   ASSERT_TRUE(loop_.run_until([&] { return !seen.empty(); }, 5s));
   EXPECT_TRUE(seen.back().empty());

@@ -111,8 +111,7 @@ void TaskControllerNode::is_localized(const std::string& object, double max_age_
   world_->is_localized(object, max_age_s, condition_timeout_, std::move(answer));
 }
 
-std::string TaskControllerNode::holder_of(const std::vector<std::string>& resources,
-                                          const std::string& task_id) const {
+std::string TaskControllerNode::holder_of(const std::vector<std::string>& resources, const std::string& task_id) const {
   const auto holder = executors_.holder(resources, task_id);
   return holder ? holder->describe() : std::string();
 }

@@ -479,7 +479,8 @@ void Task::end_progress(const std::string& node_id) {
   progress_rows_.erase(it);
   if (left_out == 0) return;
   host_.journal({wall_now_s(), id_, node_id, "EVENT", codes::kProgressLeftOut,
-                 std::to_string(left_out) + " more PROGRESS events of this run not journaled (journal_progress_per_run " +
+                 std::to_string(left_out) +
+                     " more PROGRESS events of this run not journaled (journal_progress_per_run " +
                      std::to_string(host_.progress_rows_per_run()) + ")"});
 }
 

@@ -159,8 +159,8 @@ class Task : public bt::Port {
   std::vector<std::string> params_text_;  ///< indexed like engine_->spec().nodes; "" for non-leaves
   std::map<std::string, LeafRun> runs_;   ///< by node id: the last START sent
   std::map<std::string, dds::EventLoop::TimerId> unanswered_;  ///< by node id: STARTs not answered yet
-  std::map<std::string, Held> held_;                            ///< by node id: STARTs not sent yet
-  std::map<std::string, ProgressRows> progress_rows_;           ///< by node id, for its current run
+  std::map<std::string, Held> held_;                           ///< by node id: STARTs not sent yet
+  std::map<std::string, ProgressRows> progress_rows_;          ///< by node id, for its current run
   std::map<bt::TimerId, dds::EventLoop::TimerId> timers_;
   std::map<std::string, std::pair<std::string, bt::Activation>> prompts_;  ///< open prompt id → (node, activation)
 };

@@ -22,6 +22,8 @@ inline bool operator==(const AnnouncedRun& a, const AnnouncedRun& b) {
   return a.task_id == b.task_id && a.node_id == b.node_id && a.skill == b.skill && a.resources == b.resources &&
          a.stopping == b.stopping;
 }
-inline bool operator!=(const AnnouncedRun& a, const AnnouncedRun& b) { return !(a == b); }
+inline bool operator!=(const AnnouncedRun& a, const AnnouncedRun& b) {
+  return !(a == b);
+}
 
 }  // namespace rigger::executor
