@@ -476,5 +476,29 @@ TEST_F(RestartTest, AStartHeldLongerThanBusyWaitFailsItsLeafNamingTheHolder) {
   EXPECT_EQ(last("after").state, rigger_task_TASK_SUCCEEDED) << last("after").code << " " << last("after").message;
 }
 
+TEST_F(RestartTest, ACancelWhileTheStartIsHeldStopsTheLeafWithoutSendingIt) {
+  restart_while_the_old_run_stops(5.0, json::object());
+  submit("cancel", one_leaf("cancel"));
+  ASSERT_TRUE(cell_.wait_until([&] { return has_line(journal("cancel"), "root/0", "COMMAND", "START_WAITS"); }, 10s));
+  command("cancel", rigger_task_TASK_CANCEL, "changed my mind");
+  ASSERT_TRUE(wait_finished("cancel"));
+  EXPECT_EQ(last("cancel").state, rigger_task_TASK_CANCELED);
+  const NodeSeen* stopped = node_at("cancel", "root/0", rigger_task_NODE_STOPPED);
+  ASSERT_NE(stopped, nullptr);
+  EXPECT_TRUE(stopped->code.empty()) << "a clean stop: " << stopped->code;
+  EXPECT_NE(stopped->message.find("was never started: it waited for resource 'camera', held by Localize (task old"),
+            std::string::npos)
+      << stopped->message;
+  bool journaled = false;
+  for (const auto& l : journal("cancel"))
+    journaled = journaled || (l.node == "root/0" && l.kind == "EVENT" && l.code == "STOPPED" &&
+                              l.message.rfind("NOT_STARTED: ", 0) == 0);
+  EXPECT_TRUE(journaled);
+  EXPECT_EQ(event_at("old", "root", rigger_skill_SKILL_EVENT_STOPPED), nullptr)
+      << "canceled at once, not after the old run's stop";
+  EXPECT_EQ(count_commands("cancel", rigger_skill_SKILL_START), 0U);
+  EXPECT_EQ(count_commands("cancel", rigger_skill_SKILL_SHUTDOWN), 0U) << "nothing was sent, so nothing to stop";
+}
+
 }  // namespace
 }  // namespace rigger::testing::controller
