@@ -352,5 +352,153 @@ TEST_F(LifecycleTest, AnEscalatedStopCommandsTheSafeStopOfTheDevicesTheLeafHeld)
   EXPECT_TRUE(journalled);
 }
 
+// Every PROGRESS event is journaled, up to journal_progress_per_run per run; one row at the run's end
+// counts the others, so the history is complete without a chatty skill filling the journal.
+TEST_F(LifecycleTest, ProgressEventsAreJournaledUpToTheBoundPerRun) {
+  start_controller({{"journal_progress_per_run", 5}});
+  start_scripted("exec", {"Localize"},
+                 {{"root/0", {{"mode", "succeed"}, {"delay_s", 0.3}, {"progress_steps", 30}}},
+                  {"root/1", {{"mode", "succeed"}, {"delay_s", 0.1}, {"progress_steps", 3}}}});
+  wait_ready({"tc", "exec"});
+  submit("chatty",
+         recipe("chatty", {{"type", "Sequence"}, {"children", {skill("first", "load"), skill("second", "target")}}}));
+  ASSERT_TRUE(wait_finished("chatty"));
+  EXPECT_EQ(last("chatty").state, rigger_task_TASK_SUCCEEDED) << last("chatty").message;
+  std::size_t sent = 0;
+  for (const auto& e : events_seen_)
+    if (e.task == "chatty" && e.node == "root/0" && e.kind == rigger_skill_SKILL_EVENT_PROGRESS) ++sent;
+  ASSERT_EQ(sent, 30U);
+  std::map<std::string, std::vector<JournalLine>> progress;  // by node: PROGRESS and PROGRESS_LEFT_OUT rows
+  std::vector<std::string> order;                            // root/0's EVENT rows, in order
+  for (const auto& l : journal("chatty")) {
+    if (l.kind != "EVENT") continue;
+    if (l.code == "PROGRESS" || l.code == "PROGRESS_LEFT_OUT") progress[l.node].push_back(l);
+    if (l.node == "root/0") order.push_back(l.code);
+  }
+  ASSERT_EQ(progress["root/0"].size(), 6U);
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(progress["root/0"][i].code, "PROGRESS");
+    EXPECT_NE(progress["root/0"][i].message.find("scripted progress"), std::string::npos)
+        << progress["root/0"][i].message;
+  }
+  EXPECT_EQ(progress["root/0"][0].message.rfind("0.032", 0), 0U)
+      << "the fraction, 1/31: " << progress["root/0"][0].message;
+  EXPECT_EQ(progress["root/0"][5].code, "PROGRESS_LEFT_OUT");
+  EXPECT_EQ(progress["root/0"][5].message,
+            "25 more PROGRESS events of this run not journaled (journal_progress_per_run 5)");
+  EXPECT_EQ(order, (std::vector<std::string>{"PROGRESS", "PROGRESS", "PROGRESS", "PROGRESS", "PROGRESS",
+                                             "PROGRESS_LEFT_OUT", "SUCCESS"}));
+  // Under the bound: every one, and no count.
+  ASSERT_EQ(progress["root/1"].size(), 3U);
+  for (const auto& l : progress["root/1"]) EXPECT_EQ(l.code, "PROGRESS");
+}
+
+// A (re)started controller learns from the executors' announcements which runs are still running or
+// stopping and starts nothing on their resources until they are free (issue 13). The controller is
+// SIGKILLed while a skill runs whose stop takes `stop_delay_s`: the executor shuts that run down
+// (CONTROLLER_LOST) and stops it while a second controller, on the same journal, takes a new task.
+class RestartTest : public LifecycleTest {
+ protected:
+  /// Runs task "old" (Localize, camera) until the executor answered its START, kills the controller
+  /// "tc" by its pid and starts "tc-2" with `extra`; returns once tc-2 reads recipes. Node root/0
+  /// (the new tasks' leaf) succeeds after 0.1 s.
+  void restart_while_the_old_run_stops(double stop_delay_s, const json& extra) {
+    expect_clean_exit_ = false;  // tc is killed
+    start_controller();
+    start_scripted("exec", {"Localize"},
+                   {{"root", {{"mode", "run"}, {"stop_delay_s", stop_delay_s}}},
+                    {"root/0", {{"mode", "succeed"}, {"delay_s", 0.1}}}});
+    wait_ready({"tc", "exec"});
+    submit("old", recipe("old", skill("find", "load")));
+    ASSERT_TRUE(cell_.wait_until([&] { return event_at("old", "root", rigger_skill_SKILL_EVENT_ACCEPTED); }, 20s));
+    // Wake the loop when the killed controller's recipe reader is gone: a recipe written before tc-2's
+    // reader matched would be lost (commands QoS is volatile).
+    cell_.loop().on_status(recipes_->handle(), DDS_PUBLICATION_MATCHED_STATUS, [] {});
+    ASSERT_TRUE(cell_.stop("tc", SIGKILL, 5s).has_value());
+    ASSERT_TRUE(cell_.wait_until([&] { return recipes_->matched_readers() == 0; }, 10s));
+    start_controller(extra, "tc-2");
+    wait_ready({"tc-2"});
+    ASSERT_EQ(event_at("old", "root", rigger_skill_SKILL_EVENT_STOPPED), nullptr)
+        << "the old run stopped before the new task could be submitted: stop_delay_s too short for this machine";
+  }
+  static json one_leaf(const std::string& task_id) {
+    return recipe(task_id, {{"type", "Sequence"}, {"children", {skill("find again", "target")}}});
+  }
+};
+
+TEST_F(RestartTest, ARestartedControllerStartsALeafOnlyOnceTheKilledControllersRunHasStopped) {
+  restart_while_the_old_run_stops(6.0, json::object());
+  submit("new", one_leaf("new"));
+  ASSERT_TRUE(wait_finished("new", 30s));
+  EXPECT_EQ(last("new").state, rigger_task_TASK_SUCCEEDED) << last("new").code << " " << last("new").message;
+  // The START went out after the executor wrote the old run's STOPPED (one host: the writers' clocks
+  // are one), so the executor never had to wait for, or refuse, it.
+  const EventSeen* stopped = event_at("old", "root", rigger_skill_SKILL_EVENT_STOPPED);
+  const CommandSeen* start = command_at("new", "root/0", rigger_skill_SKILL_START);
+  ASSERT_NE(stopped, nullptr);
+  ASSERT_NE(start, nullptr);
+  EXPECT_EQ(start->executor, "exec");
+  EXPECT_GE(start->written, stopped->written)
+      << "START sent " << (stopped->written - start->written) / 1000000 << " ms before the old run's STOPPED";
+  EXPECT_EQ(count_commands("new", rigger_skill_SKILL_START), 1U);
+  EXPECT_EQ(event_at("new", "root/0", rigger_skill_SKILL_EVENT_FAILURE), nullptr) << "refused (RESOURCE_BUSY?)";
+  const EventSeen* accepted = event_at("new", "root/0", rigger_skill_SKILL_EVENT_ACCEPTED);
+  ASSERT_NE(accepted, nullptr);
+  EXPECT_EQ(accepted->code, "") << "the executor had to wait: " << accepted->message;
+  // The journal says why the START waited, naming the holder.
+  bool waited = false;
+  for (const auto& l : journal("new"))
+    waited = waited || (l.node == "root/0" && l.kind == "COMMAND" && l.code == "START_WAITS" &&
+                        l.message.find("held by Localize (task old, node root) on executor exec") != std::string::npos);
+  EXPECT_TRUE(waited);
+  ASSERT_TRUE(wait_finished("old"));
+  EXPECT_EQ(last("old").code, "INTERRUPTED");
+}
+
+TEST_F(RestartTest, AStartHeldLongerThanBusyWaitFailsItsLeafNamingTheHolder) {
+  restart_while_the_old_run_stops(5.0, {{"busy_wait_s", 0.5}});
+  submit("held", one_leaf("held"));
+  ASSERT_TRUE(wait_finished("held", 20s));
+  EXPECT_EQ(last("held").state, rigger_task_TASK_FAILED);
+  EXPECT_EQ(last("held").code, "RESOURCE_HELD");
+  EXPECT_EQ(last("held").failed_node, "root/0");
+  const NodeSeen* failed = node_at("held", "root/0", rigger_task_NODE_FAILURE);
+  ASSERT_NE(failed, nullptr);
+  EXPECT_NE(failed->message.find("resource 'camera', held by Localize (task old, node root) on executor exec"),
+            std::string::npos)
+      << failed->message;
+  EXPECT_NE(failed->message.find("for 0.5 s"), std::string::npos) << failed->message;
+  EXPECT_EQ(count_commands("held", rigger_skill_SKILL_START), 0U) << "a held START is never sent";
+  // Once the old run has stopped, the camera is free again.
+  ASSERT_TRUE(cell_.wait_until([&] { return event_at("old", "root", rigger_skill_SKILL_EVENT_STOPPED); }, 20s));
+  submit("after", one_leaf("after"));
+  ASSERT_TRUE(wait_finished("after", 20s));
+  EXPECT_EQ(last("after").state, rigger_task_TASK_SUCCEEDED) << last("after").code << " " << last("after").message;
+}
+
+TEST_F(RestartTest, ACancelWhileTheStartIsHeldStopsTheLeafWithoutSendingIt) {
+  restart_while_the_old_run_stops(5.0, json::object());
+  submit("cancel", one_leaf("cancel"));
+  ASSERT_TRUE(cell_.wait_until([&] { return has_line(journal("cancel"), "root/0", "COMMAND", "START_WAITS"); }, 10s));
+  command("cancel", rigger_task_TASK_CANCEL, "changed my mind");
+  ASSERT_TRUE(wait_finished("cancel"));
+  EXPECT_EQ(last("cancel").state, rigger_task_TASK_CANCELED);
+  const NodeSeen* stopped = node_at("cancel", "root/0", rigger_task_NODE_STOPPED);
+  ASSERT_NE(stopped, nullptr);
+  EXPECT_TRUE(stopped->code.empty()) << "a clean stop: " << stopped->code;
+  EXPECT_NE(stopped->message.find("was never started: it waited for resource 'camera', held by Localize (task old"),
+            std::string::npos)
+      << stopped->message;
+  bool journaled = false;
+  for (const auto& l : journal("cancel"))
+    journaled = journaled || (l.node == "root/0" && l.kind == "EVENT" && l.code == "STOPPED" &&
+                              l.message.rfind("NOT_STARTED: ", 0) == 0);
+  EXPECT_TRUE(journaled);
+  EXPECT_EQ(event_at("old", "root", rigger_skill_SKILL_EVENT_STOPPED), nullptr)
+      << "canceled at once, not after the old run's stop";
+  EXPECT_EQ(count_commands("cancel", rigger_skill_SKILL_START), 0U);
+  EXPECT_EQ(count_commands("cancel", rigger_skill_SKILL_SHUTDOWN), 0U) << "nothing was sent, so nothing to stop";
+}
+
 }  // namespace
 }  // namespace rigger::testing::controller

@@ -53,6 +53,7 @@ struct CommandSeen {
   int kind = 0;
   std::uint64_t seq = 0;
   Clock::time_point at;
+  dds_time_t written = 0;  ///< the writer's source timestamp (wall clock; one host: comparable across writers)
 };
 struct EventSeen {
   std::string executor, task, node;
@@ -60,6 +61,8 @@ struct EventSeen {
   std::string code;
   std::uint64_t command_seq = 0;
   Clock::time_point at;
+  dds_time_t written = 0;  ///< the writer's source timestamp
+  std::string message;
 };
 struct PromptSeen {
   std::string prompt_id, task, node, text;
@@ -114,15 +117,16 @@ class ControllerTest : public MultiProcessTest {
       });
     });
     loop.on_data(*commands_, [this] {
-      commands_->take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
+      commands_->take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t& info) {
         commands_seen_.push_back({dds::to_string(c.executor_id), dds::to_string(c.task_id), dds::to_string(c.node_id),
-                                  static_cast<int>(c.kind), c.seq, Clock::now()});
+                                  static_cast<int>(c.kind), c.seq, Clock::now(), info.source_timestamp});
       });
     });
     loop.on_data(*events_, [this] {
-      events_->take([this](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
+      events_->take([this](const rigger_skill_SkillEvent& e, const dds_sample_info_t& info) {
         events_seen_.push_back({dds::to_string(e.executor_id), dds::to_string(e.task_id), dds::to_string(e.node_id),
-                                static_cast<int>(e.kind), dds::to_string(e.code), e.command_seq, Clock::now()});
+                                static_cast<int>(e.kind), dds::to_string(e.code), e.command_seq, Clock::now(),
+                                info.source_timestamp, dds::to_string(e.message)});
       });
     });
     loop.on_data(*prompts_, [this] {
@@ -155,11 +159,12 @@ class ControllerTest : public MultiProcessTest {
     return write_file(name + ".json", config.dump(2));
   }
 
-  /// The controller "tc" with a journal in the log folder; `extra` adds configuration keys.
-  void start_controller(const json& extra = json::object()) {
+  /// The controller `id` (default "tc") with a journal in the log folder (the same for every id, so a
+  /// controller started after another one was killed is its restart); `extra` adds configuration keys.
+  void start_controller(const json& extra = json::object(), const std::string& id = "tc") {
     json cfg = {{"journal_path", cell_.log_dir() + "/journal.sqlite"}, {"executor_wait_s", 0.3}};
     cfg.update(extra);
-    cell_.start("tc", "task_controller", {"--id", "tc", "--config", write_config("tc", cfg)});
+    cell_.start(id, "task_controller", {"--id", id, "--config", write_config(id, cfg)});
   }
   /// A scripted executor `id` offering `skills`; `nodes` scripts behaviours per node id, `behaviours`
   /// per skill name (see services/scripted_executor/src/behaviour.hpp).

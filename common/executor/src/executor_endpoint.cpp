@@ -95,12 +95,21 @@ void ExecutorEndpoint::announce() {
   dds::wire_string_sequence(a.skills, skill_names_, names);
   a.library_json = dds::wire_string(library_text_);
   a.stamp = dds::wire_now();
+  const std::vector<AnnouncedRun> runs = announced_runs();
+  WireRuns storage;
+  wire_runs(a, runs, storage);
   if (announcements_.write(a) != DDS_RETCODE_OK) log_->warn("announcement write failed executor={}", executor_id_);
 }
 
 std::vector<LeafRun> ExecutorEndpoint::active_runs() const {
   std::vector<LeafRun> out;
   for (const auto& [key, run] : active_) out.push_back({key.first, key.second, run.start_seq});
+  return out;
+}
+
+std::vector<AnnouncedRun> ExecutorEndpoint::announced_runs() const {
+  std::vector<AnnouncedRun> out;
+  for (const auto& [key, run] : active_) out.push_back({key.first, key.second, run.skill, run.resources, run.stopping});
   return out;
 }
 
@@ -128,6 +137,7 @@ void ExecutorEndpoint::on_commander_liveliness() {
     run.stopping = true;
     lost.push_back({key.first, key.second, run.start_seq});
   }
+  if (!lost.empty()) announce();
   for (const LeafRun& run : lost) {
     log_->warn("shutdown task={} node={} reason=CONTROLLER_LOST (the command writer's liveliness was lost)",
                run.task_id, run.node_id);
@@ -173,7 +183,9 @@ void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sa
       return;
     }
     log_->info("shutdown task={} node={} reason={}", task, node, dds::to_string(cmd.reason));
+    const bool was_stopping = it->second.stopping;
     it->second.stopping = true;
+    if (!was_stopping) announce();
     if (handlers_.on_shutdown) handlers_.on_shutdown({{task, node, it->second.start_seq}, dds::to_string(cmd.reason)});
     return;
   }
@@ -282,6 +294,7 @@ void ExecutorEndpoint::dispatch(Start start) {
   log_->info("start task={} node={} skill={} seq={}", start.run.task_id, start.run.node_id, start.skill,
              start.run.start_seq);
   write_event(start.run, EventKind::kAccepted, "", start.skill + " runs on executor " + executor_id_, -1.0);
+  announce();
   if (handlers_.on_start) handlers_.on_start({start.run, start.skill, std::move(start.params)});
 }
 
@@ -309,6 +322,8 @@ bool ExecutorEndpoint::report(const LeafRun& run, EventKind kind, const std::str
   }
   if (kind != EventKind::kProgress) active_.erase(it);
   const bool written = write_event(run, kind, code, message, progress);
+  // After the event: whoever reads an announcement without the run has the run's end written before it.
+  if (kind != EventKind::kProgress) announce();
   if (kind != EventKind::kProgress && !waiting_.empty()) loop_.post([this] { start_waiting(); });
   return written;
 }
@@ -335,6 +350,32 @@ bool ExecutorEndpoint::write_event(const LeafRun& run, EventKind kind, const std
     log_->info("event task={} node={} kind={} code={} message=\"{}\"", run.task_id, run.node_id, to_string(kind), code,
                message);
   return true;
+}
+
+void wire_runs(rigger_skill_ExecutorAnnouncement& announcement, const std::vector<AnnouncedRun>& runs,
+               WireRuns& storage) {
+  storage.runs.assign(runs.size(), rigger_skill_ExecutorRun{});
+  storage.resources.assign(runs.size(), {});
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    auto& w = storage.runs[i];
+    w.task_id = dds::wire_string(runs[i].task_id);
+    w.node_id = dds::wire_string(runs[i].node_id);
+    w.skill = dds::wire_string(runs[i].skill);
+    dds::wire_string_sequence(w.resources, runs[i].resources, storage.resources[i]);
+    w.stopping = runs[i].stopping;
+  }
+  dds::wire_sequence(announcement.runs, storage.runs);
+}
+
+std::vector<AnnouncedRun> runs_of(const rigger_skill_ExecutorAnnouncement& announcement) {
+  std::vector<AnnouncedRun> out;
+  out.reserve(announcement.runs._length);
+  for (std::uint32_t i = 0; i < announcement.runs._length; ++i) {
+    const auto& w = announcement.runs._buffer[i];
+    out.push_back({dds::to_string(w.task_id), dds::to_string(w.node_id), dds::to_string(w.skill),
+                   dds::to_string_vector(w.resources), w.stopping});
+  }
+  return out;
 }
 
 }  // namespace rigger::executor

@@ -184,6 +184,54 @@ TEST_F(ExecutorEndpointTest, AnnouncesItsLibrary) {
   EXPECT_EQ(skills, (std::vector<std::string>{"Wait", "Grasp", "MoveArm", "Weld", "Look"}));
 }
 
+// The runs held here are announced (a restarted controller learns from them what is still running or
+// stopping), again at once whenever they change, and each announcement written after the event that
+// changed them.
+TEST_F(ExecutorEndpointTest, AnnouncesTheRunsItHoldsAtOnceWhenTheyChange) {
+  dds::Reader<rigger_skill_ExecutorAnnouncement> reader(participant_, protocol::skill::kExecutors, dds::qos::state());
+  std::vector<std::vector<AnnouncedRun>> seen;
+  loop_.on_data(reader, [&] {
+    reader.take(
+        [&](const rigger_skill_ExecutorAnnouncement& a, const dds_sample_info_t&) { seen.push_back(runs_of(a)); });
+  });
+  ASSERT_TRUE(loop_.run_until([&] { return !seen.empty(); }, 5s));
+  EXPECT_TRUE(seen.back().empty());
+  const AnnouncedRun move{"t1", "move", "MoveArm", {"robot"}, false};
+  const AnnouncedRun look{"t1", "look", "Look", {"camera"}, false};
+  AnnouncedRun move_stopping = move;
+  move_stopping.stopping = true;
+  // Long before the once-a-second re-announcement: each change is announced by itself.
+  const auto changed = [&](const std::vector<AnnouncedRun>& runs) {
+    return loop_.run_until([&] { return !seen.empty() && seen.back() == runs; }, 500ms);
+  };
+  send("exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");
+  ASSERT_TRUE(changed({move}));
+  send("exec-1", "look", rigger_skill_SKILL_START, 2, "Look");
+  ASSERT_TRUE(changed({look, move}));
+  send("exec-1", "move", rigger_skill_SKILL_SHUTDOWN, 3);
+  ASSERT_TRUE(changed({look, move_stopping}));
+  EXPECT_EQ(endpoint_->announced_runs(), (std::vector<AnnouncedRun>{look, move_stopping}));
+  ASSERT_EQ(shutdowns_.size(), 1u);
+  EXPECT_TRUE(endpoint_->report(shutdowns_[0].run, EventKind::kStopped));
+  ASSERT_TRUE(changed({look}));
+  // The STOPPED was written before the announcement without its run (one participant: in order).
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 1; }, 5s));
+  EXPECT_EQ(received_[0].kind, rigger_skill_SKILL_EVENT_STOPPED);
+  EXPECT_TRUE(endpoint_->report(starts_[1].run, EventKind::kSuccess));
+  ASSERT_TRUE(changed({}));
+}
+
+TEST(ExecutorRunWire, RoundTrips) {
+  const std::vector<AnnouncedRun> runs = {{"t1", "root/0", "MoveArm", {"robot", "gripper"}, true},
+                                          {"t2", "root", "Look", {}, false}};
+  rigger_skill_ExecutorAnnouncement a{};
+  WireRuns storage;
+  wire_runs(a, runs, storage);
+  EXPECT_EQ(runs_of(a), runs);
+  rigger_skill_ExecutorAnnouncement none{};
+  EXPECT_TRUE(runs_of(none).empty());
+}
+
 TEST_F(ExecutorEndpointTest, StartOnAResourceARunningSkillHoldsIsRefusedNamingTheHolder) {
   send("exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");
   send("exec-1", "weld", rigger_skill_SKILL_START, 2, "Weld");

@@ -1,12 +1,16 @@
 #include "executor_directory.hpp"
 
+#include <algorithm>
+#include <utility>
+
 #include "rigger/recipe/live_library.hpp"
 
 namespace rigger::task_controller {
 
 ExecutorDirectory::Change ExecutorDirectory::announce(const std::string& id, bool alive,
                                                       const std::string& library_json,
-                                                      const std::vector<std::string>& skills) {
+                                                      const std::vector<std::string>& skills,
+                                                      std::vector<executor::AnnouncedRun> runs) {
   Change change;
   auto& ex = executors_[id];
   change.alive = alive;
@@ -20,6 +24,8 @@ ExecutorDirectory::Change ExecutorDirectory::announce(const std::string& id, boo
         library_json.empty() ? nlohmann::json() : recipe::parse_announced_library(library_json, &change.library_error);
   }
   ex.skills = std::set<std::string>(skills.begin(), skills.end());
+  change.runs_changed = runs != ex.runs;
+  ex.runs = std::move(runs);
   return change;
 }
 
@@ -51,6 +57,24 @@ skill::SkillLibrary ExecutorDirectory::live_library(std::vector<std::string>* pr
 bool ExecutorDirectory::alive(const std::string& id) const {
   auto it = executors_.find(id);
   return it != executors_.end() && it->second.alive;
+}
+
+std::optional<ExecutorDirectory::Holder> ExecutorDirectory::holder(const std::vector<std::string>& resources,
+                                                                   const std::string& task_id) const {
+  for (const auto& [id, ex] : executors_) {
+    if (!ex.alive) continue;  // a lost executor's runs are its leaves' EXECUTOR_LOST, not a hold
+    for (const auto& run : ex.runs) {
+      if (run.task_id == task_id) continue;
+      for (const auto& r : resources)
+        if (std::find(run.resources.begin(), run.resources.end(), r) != run.resources.end()) return Holder{id, r, run};
+    }
+  }
+  return std::nullopt;
+}
+
+std::string ExecutorDirectory::Holder::describe() const {
+  return "resource '" + resource + "', held by " + run.skill + " (task " + run.task_id + ", node " + run.node_id +
+         ") on executor " + executor_id + (run.stopping ? ", stopping" : ", running");
 }
 
 }  // namespace rigger::task_controller

@@ -1,16 +1,20 @@
 #pragma once
 /// @file
 /// The task controller's executor directory: the live executors (rigger/skill/executors, liveliness-
-/// monitored) and the skills each offers. Pure logic: the node feeds it the announcements it takes;
-/// recipes are validated against live_library() and each leaf is started on pick().
+/// monitored), the skills each offers and the runs each holds. Pure logic: the node feeds it the
+/// announcements it takes; recipes are validated against live_library(), each leaf is started on
+/// pick(), and not before holder() says that no run of another task holds its resources (a restarted
+/// controller learns so which runs of its predecessor the executors still run or stop).
 
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "rigger/executor/announced_run.hpp"
 #include "rigger/skill/skill_library.hpp"
 
 namespace rigger::task_controller {
@@ -23,13 +27,22 @@ class ExecutorDirectory {
     bool came_up = false;       ///< it was not alive before
     bool lost = false;          ///< it was alive and no longer is
     std::string library_error;  ///< its library_json could not be parsed (it then offers no description)
+    bool runs_changed = false;  ///< the runs it holds differ from those it announced before
+  };
+  /// A run that holds a resource a START needs.
+  struct Holder {
+    std::string executor_id;
+    std::string resource;  ///< the first resource of the START that the run holds
+    executor::AnnouncedRun run;
+    /// "resource 'robot', held by Pick (task t1, node root/0) on executor exec, stopping"
+    std::string describe() const;
   };
 
   /// An announcement sample of executor `id`; `alive`: its instance is ALIVE. The library is parsed
   /// when its text differs from the last one announced (executors re-announce every second, mostly
-  /// unchanged), so library_error is reported once per text.
+  /// unchanged), so library_error is reported once per text. `runs` replace the runs it held.
   Change announce(const std::string& id, bool alive, const std::string& library_json,
-                  const std::vector<std::string>& skills);
+                  const std::vector<std::string>& skills, std::vector<executor::AnnouncedRun> runs = {});
   /// The instance of `id` is no longer alive (disposed, or its writer lost liveliness). Returns whether
   /// it was alive until now (lost now).
   bool gone(const std::string& id);
@@ -45,12 +58,19 @@ class ExecutorDirectory {
 
   bool alive(const std::string& id) const;
 
+  /// The first run (by executor id, then as announced) on a live executor that holds one of
+  /// `resources` and belongs to another task than `task_id` (a run of an earlier controller, or of a
+  /// task that ended while its leaf still stopped); nullopt when they are free. Runs of `task_id`
+  /// itself are the executors' to order (a Retry's START waits there for the previous run's stop).
+  std::optional<Holder> holder(const std::vector<std::string>& resources, const std::string& task_id) const;
+
  private:
   struct Executor {
     bool alive = false;
     std::string library_text;  ///< as announced; `library` is its parse
     nlohmann::json library;    ///< null when unreadable
     std::set<std::string> skills;
+    std::vector<executor::AnnouncedRun> runs;  ///< as last announced
   };
   std::map<std::string, Executor> executors_;
 };

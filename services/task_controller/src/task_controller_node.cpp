@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/executor/executor_endpoint.hpp"
 #include "rigger/protocol/operator.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
@@ -49,6 +50,9 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
       std::chrono::milliseconds(ctx.config.get_in_range<unsigned>("condition_timeout_ms", 1000U, 10U, 60000U));
   start_answer_timeout_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
       std::chrono::duration<double>(ctx.config.get_in_range<double>("start_answer_timeout_s", 5.0, 0.05, 600.0)));
+  busy_wait_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
+      std::chrono::duration<double>(ctx.config.get_in_range<double>("busy_wait_s", 10.0, 0.0, 600.0)));
+  progress_rows_per_run_ = ctx.config.get_in_range<unsigned>("journal_progress_per_run", 20U, 0U, 100000U);
   trace_path_ = ctx.config.get<std::string>("stage_trace_path", "");
   ctx.config.finish();
   if (!trace_path_.empty()) {
@@ -107,6 +111,11 @@ void TaskControllerNode::is_localized(const std::string& object, double max_age_
   world_->is_localized(object, max_age_s, condition_timeout_, std::move(answer));
 }
 
+std::string TaskControllerNode::holder_of(const std::vector<std::string>& resources, const std::string& task_id) const {
+  const auto holder = executors_.holder(resources, task_id);
+  return holder ? holder->describe() : std::string();
+}
+
 bool TaskControllerNode::safe_stop(const std::string& resource, const std::string& reason) {
   return safe_stops_.command(resource, true, ctx_.options.id, reason) == DDS_RETCODE_OK;
 }
@@ -157,8 +166,9 @@ void TaskControllerNode::on_announcements() {
   announcements_.take(
       [&](const rigger_skill_ExecutorAnnouncement& a, const dds_sample_info_t& info) {
         const std::string id = dds::to_string(a.executor_id);
-        const auto change = executors_.announce(id, info.instance_state == DDS_IST_ALIVE,
-                                                dds::to_string(a.library_json), dds::to_string_vector(a.skills));
+        const auto change =
+            executors_.announce(id, info.instance_state == DDS_IST_ALIVE, dds::to_string(a.library_json),
+                                dds::to_string_vector(a.skills), executor::runs_of(a));
         if (change.lost) lost.push_back(id);
         if (change.came_up) ctx_.log->info("executor up executor={}", id);
         if (!change.library_error.empty())
@@ -172,6 +182,12 @@ void TaskControllerNode::on_announcements() {
       });
   for (const auto& id : lost) executor_lost(id);
   if (appeared) retry_pending();
+  // Held STARTs go as soon as an announcement shows their resources free.
+  std::vector<std::string> holding;
+  for (const auto& [id, task] : tasks_)
+    if (task->holds_starts()) holding.push_back(id);
+  for (const auto& id : holding)
+    if (Task* task = find_task(id)) task->start_held();
 }
 
 void TaskControllerNode::retry_pending() {

@@ -43,6 +43,12 @@
 ///   "start_answer_timeout_s": number in [0.05, 600], default 5: an executor answers every START at once
 ///                      (ACCEPTED, or FAILURE with a code); a START without an answer in this time fails
 ///                      its leaf with START_UNANSWERED (and the controller sends a SHUTDOWN after it)
+///   "busy_wait_s": number in [0, 600], default 10: a START whose resources a run of another task holds
+///                      (as the executors announce their runs: a killed controller's, still stopping) is
+///                      held until they are free, re-checked on every announcement; after this long the
+///                      leaf fails RESOURCE_HELD, naming the holder
+///   "journal_progress_per_run": integer in [0, 100000], default 20: the first PROGRESS events of each
+///                      run are journaled; at the run's end one row (PROGRESS_LEFT_OUT) counts the others
 ///
 /// Conditions: ObjectLocalized is answered by the world model (WorldClient) and is always part of the
 /// library recipes are validated against (no executor needs to announce it); an unreachable world model
@@ -88,6 +94,9 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   std::string pick_executor(const std::string& skill, const std::string& pinned) const override {
     return executors_.pick(skill, pinned);
   }
+  std::string holder_of(const std::vector<std::string>& resources, const std::string& task_id) const override;
+  std::chrono::nanoseconds busy_wait() const override { return busy_wait_; }
+  unsigned progress_rows_per_run() const override { return progress_rows_per_run_; }
   ControllerEndpoint& endpoint() override { return endpoint_; }
   PromptWriter& prompts() override { return prompts_; }
   void journal(const JournalRecord& record) override;
@@ -140,6 +149,8 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   std::map<std::string, Pending> pending_;  ///< recipes waiting for an executor, by task id
   std::chrono::nanoseconds executor_wait_{};
   std::chrono::nanoseconds start_answer_timeout_{};
+  std::chrono::nanoseconds busy_wait_{};
+  unsigned progress_rows_per_run_ = 20;
   std::unique_ptr<world_client::WorldClient> world_;  ///< Condition nodes query the world model through it
   std::chrono::milliseconds condition_timeout_{1000};
   std::vector<NodeStatusRow> status_backlog_;

@@ -51,6 +51,7 @@ Task::Task(TaskHost& host, recipe::ValidatedRecipe recipe, std::string id)
 Task::~Task() {
   for (const auto& [engine_timer, loop_timer] : timers_) host_.loop().cancel(loop_timer);
   for (const auto& [node_id, loop_timer] : unanswered_) host_.loop().cancel(loop_timer);
+  for (const auto& [node_id, held] : held_) host_.loop().cancel(held.deadline);
 }
 
 void Task::defer(std::function<void(Task&)> fn) {
@@ -107,9 +108,13 @@ void Task::on_event(const ReceivedEvent& e) {
   }
   bt::LeafEvent ev = e.event;
   ev.activation = run->activation;
-  if (ev.kind != bt::LeafEventKind::kProgress)
+  if (ev.kind == bt::LeafEventKind::kProgress) {
+    journal_progress(e.node_id, ev);
+  } else {
+    end_progress(e.node_id);
     host_.journal({wall_now_s(), id_, e.node_id, "EVENT", std::string(bt::to_string(ev.kind)),
                    ev.code.empty() ? ev.message : ev.code + ": " + ev.message});
+  }
   log_result("event", e.node_id, engine_->on_leaf_event(e.node_id, ev));
 }
 
@@ -123,6 +128,7 @@ void Task::executor_lost(const std::string& executor_id) {
     const auto& st = engine_->status(*index);
     if (st.activation != activation || (st.state != NodeState::kRunning && st.state != NodeState::kStopping))
       continue;
+    end_progress(node_id);
     log_result("executor lost", node_id,
                engine_->on_leaf_lost(node_id, activation, "executor " + executor_id + " lost liveliness"));
     if (done()) break;
@@ -177,6 +183,68 @@ void Task::answer(const PromptId& id, const std::string& answer, const std::stri
 // --- bt::Port ---
 
 void Task::start_leaf(const bt::NodeSpec& spec, bt::Activation activation) {
+  // A run of another task (a killed controller's, still stopping) may hold a resource of the leaf: the
+  // START waits for the announcement that frees it, instead of being refused RESOURCE_BUSY.
+  const std::string holder = host_.holder_of(spec.resources, id_);
+  if (holder.empty() || host_.pick_executor(spec.leaf, spec.executor).empty()) {
+    send_start(spec, activation);
+    return;
+  }
+  const double wait_s = std::chrono::duration<double>(host_.busy_wait()).count();
+  host_.log()->info("start waits task={} node={} skill={} for=\"{}\"", id_, spec.id, spec.leaf, holder);
+  host_.journal({wall_now_s(), id_, spec.id, "COMMAND", codes::kStartWaits,
+                 spec.leaf + " waits (at most " + number_text(wait_s) + " s) for " + holder});
+  TaskHost* host = &host_;
+  const std::string task_id = id_, node_id = spec.id;
+  const auto deadline = host_.loop().after(host_.busy_wait(), [host, task_id, node_id, activation] {
+    if (Task* t = host->find_task(task_id)) t->held_too_long(node_id, activation);
+  });
+  held_[spec.id] = Held{activation, deadline, holder};
+}
+
+void Task::start_held() {
+  std::vector<std::string> node_ids;
+  for (const auto& [node_id, held] : held_) node_ids.push_back(node_id);
+  for (const auto& node_id : node_ids) {
+    auto h = held_.find(node_id);
+    auto index = engine_->find(node_id);
+    if (h == held_.end() || !index) continue;
+    const auto& spec = engine_->spec().nodes[*index];
+    const std::string holder = host_.holder_of(spec.resources, id_);
+    if (!holder.empty()) {
+      h->second.holder = holder;  // perhaps another run now: the failure names the last one
+      continue;
+    }
+    const bt::Activation activation = h->second.activation;
+    host_.loop().cancel(h->second.deadline);
+    held_.erase(h);
+    send_start(spec, activation);
+  }
+}
+
+void Task::held_too_long(const std::string& node_id, bt::Activation activation) {
+  auto h = held_.find(node_id);
+  auto index = engine_->find(node_id);
+  if (h == held_.end() || h->second.activation != activation || !index) return;
+  const auto& spec = engine_->spec().nodes[*index];
+  const std::string holder = host_.holder_of(spec.resources, id_);
+  held_.erase(h);
+  if (holder.empty()) {  // freed by the announcement just taken
+    send_start(spec, activation);
+    return;
+  }
+  const double waited_s = std::chrono::duration<double>(host_.busy_wait()).count();
+  bt::LeafEvent failure;
+  failure.kind = bt::LeafEventKind::kFailure;
+  failure.activation = activation;
+  failure.code = codes::kResourceHeld;
+  failure.message = spec.leaf + " not started: " + holder + " for " + number_text(waited_s) + " s (busy_wait_s)";
+  host_.log()->error("start held too long task={} node={} holder=\"{}\"", id_, node_id, holder);
+  host_.journal({wall_now_s(), id_, node_id, "EVENT", "FAILURE", failure.code + ": " + failure.message});
+  log_result("resource held", node_id, engine_->on_leaf_event(node_id, failure));
+}
+
+void Task::send_start(const bt::NodeSpec& spec, bt::Activation activation) {
   const std::string executor_id = host_.pick_executor(spec.leaf, spec.executor);
   if (executor_id.empty()) {
     const std::string why =
@@ -188,6 +256,7 @@ void Task::start_leaf(const bt::NodeSpec& spec, bt::Activation activation) {
     });
     return;
   }
+  end_progress(spec.id);  // a run whose end never came (its stop timed out) before this one
   LeafRun run{executor_id, host_.endpoint().next_seq(), activation};
   runs_[spec.id] = run;
   const std::string& params = params_text(spec);
@@ -231,11 +300,29 @@ void Task::start_unanswered(const std::string& node_id, std::uint64_t start_seq)
   failure.activation = run->second.activation;
   failure.code = codes::kStartUnanswered;
   failure.message = why;
+  end_progress(node_id);
   host_.journal({wall_now_s(), id_, node_id, "EVENT", "FAILURE", failure.code + ": " + why});
   log_result("start unanswered", node_id, engine_->on_leaf_event(node_id, failure));
 }
 
 void Task::shutdown_leaf(const bt::NodeSpec& spec, bt::Activation activation, const std::string& reason) {
+  if (auto h = held_.find(spec.id); h != held_.end() && h->second.activation == activation) {
+    // Never sent: nothing runs, so the leaf is stopped at once (on a later turn: this is a Port call).
+    host_.loop().cancel(h->second.deadline);
+    const std::string why = spec.leaf + " was never started: it waited for " + h->second.holder + " (" + reason + ")";
+    held_.erase(h);
+    const std::string node_id = spec.id;
+    defer([node_id, activation, why](Task& t) {
+      bt::LeafEvent stopped;
+      stopped.kind = bt::LeafEventKind::kStopped;
+      stopped.activation = activation;
+      stopped.code = codes::kNotStarted;
+      stopped.message = why;
+      t.host_.journal({wall_now_s(), t.id_, node_id, "EVENT", "STOPPED", stopped.code + ": " + why});
+      t.log_result("held start stopped", node_id, t.engine().on_leaf_event(node_id, stopped));
+    });
+    return;
+  }
   auto it = runs_.find(spec.id);
   if (it == runs_.end() || it->second.activation != activation) return;  // never sent: nothing to stop
   LeafRun shutdown = it->second;
@@ -350,6 +437,10 @@ void Task::node_changed(const bt::NodeSpec& spec, const bt::NodeStatus& status) 
 }
 
 void Task::finished(const bt::TaskResult& result) {
+  // Runs whose end never came (their stop timed out) still count what they left out.
+  std::vector<std::string> counted;
+  for (const auto& [node_id, rows] : progress_rows_) counted.push_back(node_id);
+  for (const auto& node_id : counted) end_progress(node_id);
   int state = rigger_task_TASK_FAILED;
   std::string journal_state = "FAILED";
   if (result.outcome == bt::TaskOutcome::kSucceeded) {
@@ -367,6 +458,30 @@ void Task::finished(const bt::TaskResult& result) {
     message += (message.empty() ? "" : "; ") + std::string("safe stop escalated: ") + nodes;
   }
   host_.task_finished(id_, state, journal_state, result, message);
+}
+
+void Task::journal_progress(const std::string& node_id, const bt::LeafEvent& event) {
+  auto& rows = progress_rows_[node_id];
+  if (rows.journaled >= host_.progress_rows_per_run()) {
+    ++rows.left_out;
+    return;
+  }
+  ++rows.journaled;
+  std::string text = event.progress ? number_text(*event.progress) : std::string();
+  if (!event.message.empty()) text += (text.empty() ? "" : ": ") + event.message;
+  host_.journal({wall_now_s(), id_, node_id, "EVENT", "PROGRESS", text});
+}
+
+void Task::end_progress(const std::string& node_id) {
+  auto it = progress_rows_.find(node_id);
+  if (it == progress_rows_.end()) return;
+  const unsigned left_out = it->second.left_out;
+  progress_rows_.erase(it);
+  if (left_out == 0) return;
+  host_.journal({wall_now_s(), id_, node_id, "EVENT", codes::kProgressLeftOut,
+                 std::to_string(left_out) +
+                     " more PROGRESS events of this run not journaled (journal_progress_per_run " +
+                     std::to_string(host_.progress_rows_per_run()) + ")"});
 }
 
 }  // namespace rigger::task_controller

@@ -34,6 +34,14 @@ inline constexpr const char* kInterrupted = "INTERRUPTED";
 inline constexpr const char* kNoExecutor = "NO_EXECUTOR";
 /// The executor did not answer a START (ACCEPTED or FAILURE) within start_answer_timeout_s.
 inline constexpr const char* kStartUnanswered = "START_UNANSWERED";
+/// A run of another task (or of an earlier controller) held a resource of the leaf for busy_wait_s.
+inline constexpr const char* kResourceHeld = "RESOURCE_HELD";
+/// Journal code of a START held back while another task's run holds a resource of the leaf.
+inline constexpr const char* kStartWaits = "START_WAITS";
+/// A held START whose leaf was shut down before it could be sent.
+inline constexpr const char* kNotStarted = "NOT_STARTED";
+/// Journal code of the row that counts a run's PROGRESS events beyond journal_progress_per_run.
+inline constexpr const char* kProgressLeftOut = "PROGRESS_LEFT_OUT";
 }  // namespace codes
 
 class Task;
@@ -48,6 +56,13 @@ class TaskHost {
   virtual Task* find_task(const std::string& id) = 0;
   /// The live executor for `skill` (ExecutorDirectory::pick).
   virtual std::string pick_executor(const std::string& skill, const std::string& pinned) const = 0;
+  /// Which run of another task than `task_id` holds one of `resources`, as the executors announced it
+  /// (ExecutorDirectory::Holder::describe), or "" when they are free.
+  virtual std::string holder_of(const std::vector<std::string>& resources, const std::string& task_id) const = 0;
+  /// How long a START waits for its resources to be freed before the leaf fails RESOURCE_HELD.
+  virtual std::chrono::nanoseconds busy_wait() const = 0;
+  /// How many PROGRESS events of one run are journaled (the rest are counted in one row at its end).
+  virtual unsigned progress_rows_per_run() const = 0;
   virtual ControllerEndpoint& endpoint() = 0;
   virtual PromptWriter& prompts() = 0;
   /// Queues a journal row / node status sample; they are written right after the current handler.
@@ -84,6 +99,9 @@ class Task : public bt::Port {
   void on_event(const ReceivedEvent& e);
   /// Executor `executor_id` lost liveliness: its running leaves fail.
   void executor_lost(const std::string& executor_id);
+  /// Sends the held STARTs whose resources are free now (the node calls it after every announcement).
+  void start_held();
+  bool holds_starts() const { return !held_.empty(); }
   /// CANCEL / PAUSE / RESUME (rigger/task/command). Returns the TaskState to publish with `reason`
   /// (PAUSED, RUNNING), or -1 for none.
   int command(rigger_task_TaskCommandKind kind, const std::string& reason);
@@ -108,8 +126,28 @@ class Task : public bt::Port {
  private:
   /// Runs `fn` on the engine later (outside any Port callback), if the task still exists then.
   void defer(std::function<void(Task&)> fn);
+  /// A START held back while runs of another task hold a resource of the leaf (`holder` says which).
+  struct Held {
+    bt::Activation activation = 0;
+    dds::EventLoop::TimerId deadline = 0;  ///< busy_wait: then the leaf fails RESOURCE_HELD
+    std::string holder;
+  };
+  /// PROGRESS events of a node's current run: the first ones journaled, the others counted.
+  struct ProgressRows {
+    unsigned journaled = 0;
+    unsigned left_out = 0;
+  };
+
+  /// Picks the executor and sends the START (NO_EXECUTOR when none is live), arming the answer timer.
+  void send_start(const bt::NodeSpec& spec, bt::Activation activation);
+  /// The START of `node_id` waited busy_wait: sent if its resources are free now, else the leaf fails.
+  void held_too_long(const std::string& node_id, bt::Activation activation);
   /// The answer timer of `node_id`'s START fired: fails the leaf if that START is still unanswered.
   void start_unanswered(const std::string& node_id, std::uint64_t start_seq);
+  /// Journals a PROGRESS event of `node_id`'s current run, or counts it beyond the bound.
+  void journal_progress(const std::string& node_id, const bt::LeafEvent& event);
+  /// The current run of `node_id` ended (or is abandoned): journals how many PROGRESS rows were left out.
+  void end_progress(const std::string& node_id);
   /// The START parameters of `spec` (one of the engine's nodes) as JSON text, serialised when the task
   /// was built.
   const std::string& params_text(const bt::NodeSpec& spec) const;
@@ -121,6 +159,8 @@ class Task : public bt::Port {
   std::vector<std::string> params_text_;  ///< indexed like engine_->spec().nodes; "" for non-leaves
   std::map<std::string, LeafRun> runs_;   ///< by node id: the last START sent
   std::map<std::string, dds::EventLoop::TimerId> unanswered_;  ///< by node id: STARTs not answered yet
+  std::map<std::string, Held> held_;                           ///< by node id: STARTs not sent yet
+  std::map<std::string, ProgressRows> progress_rows_;          ///< by node id, for its current run
   std::map<bt::TimerId, dds::EventLoop::TimerId> timers_;
   std::map<std::string, std::pair<std::string, bt::Activation>> prompts_;  ///< open prompt id → (node, activation)
 };

@@ -112,5 +112,45 @@ TEST(ExecutorDirectory, AnUnchangedReannouncementKeepsTheParsedLibraryAndAChange
   EXPECT_EQ(d.live_library().find("Pick"), nullptr) << "an empty text announces no library";
 }
 
+// A restarted controller learns from the announcements which runs of its predecessor still hold
+// resources, and starts nothing on them until they are free.
+TEST(ExecutorDirectory, ARunOfAnotherTaskHoldsItsResourcesUntilItIsAnnouncedEnded) {
+  using executor::AnnouncedRun;
+  ExecutorDirectory d;
+  const std::string lib = library_with({"Pick", "Localize"}).dump();
+  const AnnouncedRun old_pick{"old", "root/0", "Pick", {"robot", "gripper"}, true};
+  auto c = d.announce("a", true, lib, {"Pick", "Localize"}, {old_pick});
+  EXPECT_TRUE(c.runs_changed);
+  d.announce("b", true, lib, {"Pick"}, {{"new", "root/1", "Localize", {"camera"}, false}});
+
+  auto h = d.holder({"gripper", "robot"}, "new");
+  ASSERT_TRUE(h.has_value());
+  EXPECT_EQ(h->executor_id, "a");
+  EXPECT_EQ(h->resource, "gripper") << "the START's first resource the run holds";
+  EXPECT_EQ(h->run, old_pick);
+  EXPECT_EQ(h->describe(), "resource 'gripper', held by Pick (task old, node root/0) on executor a, stopping");
+  EXPECT_FALSE(d.holder({"camera"}, "new").has_value()) << "a task's own runs are the executor's to order";
+  EXPECT_FALSE(d.holder({"crane"}, "new").has_value()) << "nobody holds the crane";
+  EXPECT_TRUE(d.holder({"camera"}, "other").has_value());
+  EXPECT_FALSE(d.holder({}, "new").has_value()) << "a leaf that claims nothing is never held";
+
+  c = d.announce("a", true, lib, {"Pick", "Localize"}, {old_pick});
+  EXPECT_FALSE(c.runs_changed) << "a re-announcement of the same runs changes nothing";
+  c = d.announce("a", true, lib, {"Pick", "Localize"}, {});
+  EXPECT_TRUE(c.runs_changed);
+  EXPECT_FALSE(d.holder({"robot"}, "new").has_value()) << "the run ended: its resources are free";
+}
+
+TEST(ExecutorDirectory, ALostExecutorHoldsNothing) {
+  ExecutorDirectory d;
+  d.announce("a", true, library_with({"Pick"}).dump(), {"Pick"}, {{"old", "root", "Pick", {"robot"}, false}});
+  ASSERT_TRUE(d.holder({"robot"}, "new").has_value());
+  EXPECT_EQ(d.holder({"robot"}, "new")->describe(),
+            "resource 'robot', held by Pick (task old, node root) on executor a, running");
+  d.gone("a");
+  EXPECT_FALSE(d.holder({"robot"}, "new").has_value())
+      << "its runs are lost with it (their leaves fail EXECUTOR_LOST, the safe stop is escalated)";
+}
+
 }  // namespace
 }  // namespace rigger::task_controller

@@ -23,7 +23,10 @@
 ///  - SHUTDOWN for a node that does not run here → STOPPED `NOT_RUNNING` at once (it ended, or never
 ///    started), so the controller never waits for a stop timeout because of a race;
 ///  - every event carries a per-executor seq and the seq of the START it belongs to (`start_seq`);
-///    after SUCCESS, FAILURE or STOPPED the run is over and further reports for it are dropped.
+///    after SUCCESS, FAILURE or STOPPED the run is over and further reports for it are dropped;
+///  - the announcement lists the runs active here (task, node, skill, resources, stopping) and is
+///    written again at once when that set changes (a run starts, is asked to stop, or ends), after the
+///    event that changed it: a controller that reads an announcement without a run has seen its end.
 /// All callbacks run on the service's event loop thread.
 
 #include <chrono>
@@ -40,6 +43,7 @@
 #include "rigger/base/logging.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/executor/announced_run.hpp"
 #include "rigger/skill/skill_description.hpp"
 
 namespace rigger::executor {
@@ -97,7 +101,10 @@ class ExecutorEndpoint {
   const std::string& executor_id() const { return executor_id_; }
   /// Runs active here now.
   std::vector<LeafRun> active_runs() const;
-  /// Publishes the announcement again (done every second and when the writer lost liveliness).
+  /// The same runs as they are announced, in (task, node) order.
+  std::vector<AnnouncedRun> announced_runs() const;
+  /// Publishes the announcement again (done every second, when the writer lost liveliness, and when
+  /// the runs active here changed).
   void announce();
 
  private:
@@ -159,5 +166,19 @@ class ExecutorEndpoint {
 };
 
 const char* to_string(EventKind kind);
+
+/// Storage that the runs of a written announcement borrow (see rigger/dds/conversions.hpp).
+struct WireRuns {
+  std::vector<rigger_skill_ExecutorRun> runs;
+  std::vector<std::vector<char*>> resources;
+};
+/// Points `announcement.runs` at `runs`, through `storage`: both must outlive the write.
+void wire_runs(rigger_skill_ExecutorAnnouncement& announcement, const std::vector<AnnouncedRun>& runs,
+               WireRuns& storage);
+/// A temporary vector would be destroyed before the sample is written: refused at compile time.
+void wire_runs(rigger_skill_ExecutorAnnouncement& announcement, const std::vector<AnnouncedRun>&& runs,
+               WireRuns& storage) = delete;
+/// The runs an announcement lists.
+std::vector<AnnouncedRun> runs_of(const rigger_skill_ExecutorAnnouncement& announcement);
 
 }  // namespace rigger::executor

@@ -38,7 +38,8 @@ inline constexpr Topic<rigger_skill_ExecutorAnnouncement> kExecutors{
     "executor_id",
     "skill_executor, monitor_host",
     "task_controller, riggerctl",
-    "(skills offered with their descriptions as a skill-library JSON document)",
+    "(skills offered with their descriptions as a skill-library JSON document; the runs it holds: task, "
+    "node, skill, resources, stopping, re-announced at once when they change)",
     "readers use state(): they request no liveliness lease and see every announcer"};
 
 }  // namespace rigger::protocol::skill
