@@ -130,7 +130,9 @@ class ViewBuffer : public std::streambuf {
     if ((which & std::ios_base::in) == 0) {
       return pos_type(off_type(-1));
     }
-    const off_type base = way == std::ios_base::beg ? 0 : way == std::ios_base::cur ? gptr() - eback() : egptr() - eback();
+    const off_type base = way == std::ios_base::beg   ? 0
+                          : way == std::ios_base::cur ? gptr() - eback()
+                                                      : egptr() - eback();
     const off_type at = base + offset;
     if (at < 0 || at > egptr() - eback()) {
       return pos_type(off_type(-1));
