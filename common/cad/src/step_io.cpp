@@ -20,6 +20,7 @@
 #include <XCAFDoc_DocumentTool.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
 
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/resource.h>
@@ -29,8 +30,10 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <istream>
 #include <new>
-#include <sstream>
+#include <ostream>
+#include <streambuf>
 
 namespace rigger::cad::detail {
 namespace {
@@ -113,6 +116,57 @@ ProductNode get_node(std::string_view& in) {
   return node;
 }
 
+// Streams over bytes already in memory, so that neither the STEP input (up to max_bytes) nor the B-rep
+// coming back is copied into a string stream first.
+class ViewBuffer : public std::streambuf {
+ public:
+  explicit ViewBuffer(std::string_view bytes) {
+    char* begin = const_cast<char*>(bytes.data());  // only ever read: no put area
+    setg(begin, begin, begin + bytes.size());
+  }
+
+ protected:
+  pos_type seekoff(off_type offset, std::ios_base::seekdir way, std::ios_base::openmode which) override {
+    if ((which & std::ios_base::in) == 0) {
+      return pos_type(off_type(-1));
+    }
+    const off_type base = way == std::ios_base::beg   ? 0
+                          : way == std::ios_base::cur ? gptr() - eback()
+                                                      : egptr() - eback();
+    const off_type at = base + offset;
+    if (at < 0 || at > egptr() - eback()) {
+      return pos_type(off_type(-1));
+    }
+    setg(eback(), eback() + at, egptr());
+    return pos_type(at);
+  }
+  pos_type seekpos(pos_type position, std::ios_base::openmode which) override {
+    return seekoff(off_type(position), std::ios_base::beg, which);
+  }
+};
+
+// An output stream buffer that appends to a string: the child writes the B-rep behind the header of its
+// answer without an intermediate copy.
+class AppendBuffer : public std::streambuf {
+ public:
+  explicit AppendBuffer(std::string& out) : out_(out) {}
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      out_ += traits_type::to_char_type(c);
+    }
+    return traits_type::not_eof(c);
+  }
+  std::streamsize xsputn(const char* data, std::streamsize count) override {
+    out_.append(data, static_cast<std::size_t>(count));
+    return count;
+  }
+
+ private:
+  std::string& out_;
+};
+
 void write_all(int fd, std::string_view data) {
   while (!data.empty()) {
     const auto written = ::write(fd, data.data(), data.size());
@@ -138,7 +192,8 @@ StepContent read_step_in_process(std::string_view bytes, const std::string& sour
     reader.SetGDTMode(false);
     reader.SetMatMode(false);
     reader.SetViewMode(false);
-    std::istringstream in{std::string(bytes)};
+    ViewBuffer buffer(bytes);
+    std::istream in(&buffer);
     if (reader.ChangeReader().ReadStream(source.c_str(), in) != IFSelect_RetDone) {
       throw CadError(ErrorCode::kNotStep, "STEP input " + source + " could not be parsed (syntax errors or truncated)");
     }
@@ -197,6 +252,11 @@ StepContent read_step_isolated(std::string_view bytes, const std::string& source
   if (::pipe(fds) != 0) {
     throw CadError(ErrorCode::kCrashed, std::string("cannot start the STEP reader: pipe: ") + std::strerror(errno));
   }
+#ifdef F_SETPIPE_SZ
+  // A pipe as large as Linux allows unprivileged (1 MiB): the child writes a B-rep of that size at once
+  // instead of waiting for the parent every 64 KiB. Best effort.
+  ::fcntl(fds[1], F_SETPIPE_SZ, 1 << 20);
+#endif
   const pid_t pid = ::fork();
   if (pid < 0) {
     ::close(fds[0]);
@@ -212,14 +272,14 @@ StepContent read_step_isolated(std::string_view bytes, const std::string& source
     std::string message;
     try {
       const StepContent content = read_step_in_process(bytes, source, limits);
-      std::ostringstream shape;
-      BinTools::Write(content.shape_m, shape);
       message = "O";
       std::string tree;
       put_node(tree, content.product);
       put_u32(message, static_cast<std::uint32_t>(tree.size()));
       message += tree;
-      message += shape.str();
+      AppendBuffer shape(message);
+      std::ostream out(&shape);
+      BinTools::Write(content.shape_m, out);
     } catch (const CadError& error) {
       message = "E";
       put_u32(message, static_cast<std::uint32_t>(error.code()));
@@ -242,7 +302,7 @@ StepContent read_step_isolated(std::string_view bytes, const std::string& source
   std::string answer;
   const auto deadline = std::chrono::steady_clock::now() + limits.timeout;
   bool timed_out = false;
-  char buffer[65536];
+  constexpr std::size_t kChunk = 1 << 20;
   for (;;) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0) {
@@ -257,14 +317,16 @@ StepContent read_step_isolated(std::string_view bytes, const std::string& source
     if (ready <= 0) {
       continue;
     }
-    const auto got = ::read(fds[0], buffer, sizeof buffer);
+    const std::size_t size = answer.size();
+    answer.resize(size + kChunk);  // read straight into the answer
+    const auto got = ::read(fds[0], answer.data() + size, kChunk);
+    answer.resize(size + static_cast<std::size_t>(std::max<ssize_t>(got, 0)));
     if (got < 0 && errno == EINTR) {
       continue;
     }
     if (got <= 0) {
       break;
     }
-    answer.append(buffer, static_cast<std::size_t>(got));
   }
   ::close(fds[0]);
   if (timed_out) {
@@ -299,7 +361,8 @@ StepContent read_step_isolated(std::string_view bytes, const std::string& source
     in.remove_prefix(std::min<std::size_t>(tree_size, in.size()));
     StepContent content;
     content.product = get_node(tree);
-    std::istringstream shape{std::string(in)};
+    ViewBuffer buffer(in);
+    std::istream shape(&buffer);
     BinTools::Read(content.shape_m, shape);
     return content;
   } catch (const CadError&) {
