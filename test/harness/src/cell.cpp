@@ -5,7 +5,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
+#include <mutex>
+#include <set>
 #include <sstream>
 
 namespace rigger::testing {
@@ -29,10 +32,23 @@ void make_dirs(const std::string& path) {
   }
 }
 
+/// Empties `dir` the first time this process uses it: a folder of that name left by an earlier run
+/// (a test of the same name whose process had the same pid, as after a reboot) would otherwise show
+/// that run's logs to this one. Cells of one test in one process share the folder, as before.
+void claim_log_dir(const std::string& dir) {
+  static std::mutex mutex;
+  static std::set<std::string> claimed;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (!claimed.insert(dir).second) return;
+  std::error_code ignored;
+  std::filesystem::remove_all(dir, ignored);
+}
+
 }  // namespace
 
 Cell::Cell() {
   log_dir_ = std::string(RIGGER_BINARY_DIR) + "/test-logs/" + current_test_name() + "-" + std::to_string(getpid());
+  claim_log_dir(log_dir_);
   make_dirs(log_dir_);
   participant_ = std::make_unique<dds::Participant>(domain_.id());
   loop_ = std::make_unique<dds::EventLoop>(*participant_);
