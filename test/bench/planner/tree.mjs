@@ -63,8 +63,10 @@ try {
     await page.setInputFiles('#planner-open', { name: `tree-${n}.json`, mimeType: 'application/json', buffer: Buffer.from(JSON.stringify(doc)) });
     await page.waitForFunction((id) => window.rigger.planner.state.doc.task_id === id, doc.task_id);
     const shown = await page.$$eval('.ptree button.pnode', (bs) => bs.length);
-    const ok = await page.evaluate(async () => (await window.rigger.planner.validate()).ok);
-    if (!ok || shown < n) throw new Error(`the ${n}-node tree: ${shown} nodes drawn, valid ${ok}`);
+    // Opening validates (250 ms after): wait for that answer, the latest one asked for.
+    await page.waitForFunction(() => { const st = window.rigger.planner.state; return st.validation && st.validated === st.validations; });
+    const v = await page.evaluate(() => window.rigger.planner.state.validation);
+    if (!v?.ok || shown < n) throw new Error(`the ${n}-node tree: ${shown} nodes drawn, validation ${JSON.stringify(v?.errors?.slice(0, 3))}`);
     const times = await page.evaluate(async (trials) => {
       const p = window.rigger.planner;
       const frames = () => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)));

@@ -353,7 +353,10 @@ export function plannerPage(main, me) {
   /// After every edit: redraw, validate (after 250 ms), and make it an undo step — at once for a
   /// structural edit (redrawForm), after 600 ms of quiet for typing in a field.
   function changed(redrawForm = true, remember = true) {
-    renderTree();
+    // Typing in a field changes the selected node only (an option's label shows on its child's row).
+    const own = !redrawForm && state.selected && nodeAt(state.doc, state.selected)?.type !== 'OperatorDecision';
+    if (own && renderNode(state.selected)) renderResources();
+    else renderTree();
     if (redrawForm) renderForm();
     else refreshConditions();
     clearTimeout(timer);
@@ -406,8 +409,14 @@ export function plannerPage(main, me) {
     r.ok = r.ok && r.errors.length === 0;
     state.validation = r;
     state.validated = seq;
+    // Only the nodes whose errors came or went are redrawn.
+    const before = errorsByNode();
     state.errors = r.errors;
-    renderTree();
+    const after = errorsByNode();
+    const same = (a = [], b = []) => a.length === b.length && a.every((e, i) => e.pointer === b[i].pointer && e.message === b[i].message);
+    for (const ptr of new Set([...before.keys(), ...after.keys()])) {
+      if (!same(before.get(ptr), after.get(ptr))) renderNode(ptr, after);
+    }
     renderErrors();
     markFields();
     return r;
@@ -440,19 +449,31 @@ export function plannerPage(main, me) {
   }
 
   // --- rendering ---
+  /// A node's button in the tree: its type, leaf and fields, name, and the count of its own errors.
+  function nodeButton(node, ptr, errs) {
+    const d = DECORATORS[node.type];
+    const extra = node.type === 'Parallel' ? ` (M=${node.success_threshold}, K=${node.failure_threshold})`
+      : d ? ` (${d.field}=${node[d.field]})` : '';
+    const label = `${node.type}${leafName(node) ? ` ${leafName(node)}` : ''}${extra}`;
+    return el('button', { class: `pnode${ptr === state.selected ? ' selected' : ''}${errs.length ? ' invalid' : ''}`, 'data-pointer': ptr,
+      onclick: () => { state.selected = ptr; renderTree(); renderForm(); } },
+    el('span', { class: 'ptype' }, label), node.name ? el('span', { class: 'pname' }, ` “${node.name}”`) : null,
+    errs.length ? el('span', { class: 'perr-count', title: errs.map((e) => e.message).join('\n') }, ` ⚠ ${errs.length}`) : null);
+  }
+  /// Redraws one node's button, not its subtree (an edit of its fields, its errors after a validation):
+  /// a 1,000-node tree is not rebuilt for a keystroke. False when the node is not drawn.
+  function renderNode(ptr, byNode = errorsByNode()) {
+    const old = treeBox.querySelector(`button.pnode[data-pointer="${CSS.escape(ptr)}"]`);
+    const node = nodeAt(state.doc, ptr);
+    if (!old || !node) return false;
+    old.replaceWith(nodeButton(node, ptr, byNode.get(ptr) || []));
+    return true;
+  }
   function renderTree() {
     const byNode = errorsByNode();
     const row = (node, ptr) => {
-      const errs = byNode.get(ptr) || [];
-      const d = DECORATORS[node.type];
-      const extra = node.type === 'Parallel' ? ` (M=${node.success_threshold}, K=${node.failure_threshold})`
-        : d ? ` (${d.field}=${node[d.field]})` : '';
-      const label = `${node.type}${leafName(node) ? ` ${leafName(node)}` : ''}${extra}`;
       const li = el('li', { role: 'treeitem', 'data-pointer': ptr, 'aria-selected': String(ptr === state.selected) },
-        el('button', { class: `pnode${ptr === state.selected ? ' selected' : ''}${errs.length ? ' invalid' : ''}`, 'data-pointer': ptr,
-          onclick: () => { state.selected = ptr; renderTree(); renderForm(); } },
-        el('span', { class: 'ptype' }, label), node.name ? el('span', { class: 'pname' }, ` “${node.name}”`) : null,
-        errs.length ? el('span', { class: 'perr-count', title: errs.map((e) => e.message).join('\n') }, ` ⚠ ${errs.length}`) : null));
+        nodeButton(node, ptr, byNode.get(ptr) || []));
       const kids = childrenOf(node);
       if (kids.length) {
         li.append(el('ul', { role: 'group' }, ...kids.map(([s, c]) => {
