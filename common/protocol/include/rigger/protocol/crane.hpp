@@ -18,22 +18,22 @@ inline constexpr Topic<rigger_crane_CraneState> kState{
     "(positions, velocities, load, mode, status bits, fault, PLC heartbeat, link)",
     ""};
 
-/// admittance_control, skills → crane_gateway.
+/// admittance_control → crane_gateway.
 inline constexpr Topic<rigger_crane_CraneVelocityCommand> kCmdVelocity{
     "rigger/crane/cmd_velocity",
     QosProfile::kSetpoints,
     "",
-    "admittance_control, skills",
+    "admittance_control",
     "crane_gateway",
     "(bridge, trolley, hoist m/s; stamp, seq, timeout)",
     ""};
 
-/// skills, riggerctl → crane_gateway.
+/// skills → crane_gateway.
 inline constexpr Topic<rigger_crane_CraneControl> kControl{
     "rigger/crane/control",
     QosProfile::kCommands,
     "",
-    "skills, riggerctl",
+    "skills",
     "crane_gateway",
     "(ENABLE, DISABLE, RESET, REQUEST_EXTERNAL, RELEASE_EXTERNAL)",
     ""};

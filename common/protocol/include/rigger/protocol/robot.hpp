@@ -8,11 +8,11 @@
 
 namespace rigger::protocol::robot {
 
-/// robot driver / cell_sim → admittance_control, monitor_host.
+/// robot driver / cell_sim / ros2_bridge → admittance_control, monitor_host.
 inline constexpr Topic<rigger_sensing_WrenchStamped> kWrench{"rigger/robot/wrench",
                                                              QosProfile::kSensorStream,
                                                              "",
-                                                             "robot driver / cell_sim",
+                                                             "robot driver / cell_sim / ros2_bridge",
                                                              "admittance_control, monitor_host",
                                                              "(wrist F/T, sensor frame) ≥ 500 Hz",
                                                              ""};
@@ -26,12 +26,12 @@ inline constexpr Topic<rigger_robot_RobotState> kState{"rigger/robot/state",
                                                        "(joints, flange and tool pose in base frame, tool twist, mode)",
                                                        ""};
 
-/// admittance_control → robot driver / cell_sim.
+/// admittance_control → robot driver / cell_sim / ros2_bridge.
 inline constexpr Topic<rigger_sensing_TwistCommand> kCmdTwist{"rigger/robot/cmd_twist",
                                                               QosProfile::kSetpoints,
                                                               "",
                                                               "admittance_control",
-                                                              "robot driver / cell_sim",
+                                                              "robot driver / cell_sim / ros2_bridge",
                                                               "(tool twist in base frame, stamp, seq, timeout)",
                                                               ""};
 

@@ -13,9 +13,15 @@ inline constexpr Topic<rigger_vision_Image> kCameraImage{
     "rigger/camera/image", QosProfile::kSensorStream,     "", "camera driver / cell_sim",
     "vision_tracker",      "(sensor_msgs layout, mono8)", ""};
 
-/// camera driver / cell_sim → vision_tracker.
+/// camera driver / cell_sim → nothing in rigger: the tracker takes the intrinsics from the cell file.
 inline constexpr Topic<rigger_vision_CameraInfo> kCameraInfo{
-    "rigger/camera/info", QosProfile::kState, "", "camera driver / cell_sim", "vision_tracker", "", ""};
+    "rigger/camera/info",
+    QosProfile::kState,
+    "",
+    "camera driver / cell_sim",
+    "none (vision_tracker takes the intrinsics from the cell file)",
+    "",
+    ""};
 
 /// vision_tracker → world_model, admittance_control.
 inline constexpr Topic<rigger_vision_TrackedPose> kTrackerPose{"rigger/tracker/pose",
