@@ -101,8 +101,9 @@ TEST(TrackerConfigFromCell, TakesTheCameraAndEveryMarkerLayout) {
   EXPECT_EQ(config.objects[1].markers[1].id, 11);
   EXPECT_DOUBLE_EQ(config.objects[1].markers[1].size_m, 0.10);
   EXPECT_EQ(config.objects[2].object_id, "part");
-  ASSERT_EQ(config.objects[2].markers.size(), 1u);
+  ASSERT_EQ(config.objects[2].markers.size(), 2u);
   EXPECT_EQ(config.objects[2].markers[0].id, 20);
+  EXPECT_EQ(config.objects[2].markers[1].id, 21);
   EXPECT_NO_THROW(validate(config));
 }
 

@@ -159,11 +159,8 @@ TEST_F(VisionTrackerNodeTest, PublishesTheRenderedObjectsPosesWithTheImageStamp)
     const double error_rad = testing::rotation_error_rad(r.pose, t.pose_world_object);
     std::printf("%s: translation error %.3f mm, rotation error %.3f deg\n", t.object_id.c_str(), error_m * 1e3,
                 error_rad * 180.0 / M_PI);
-    // The part of Pick and Place shows one 8 cm marker from ~2.3 m (the load and the target two each, closer):
-    // its single-image pose is coarser (measured 2.8 mm, 0.41 deg).
-    const bool part = t.object_id == "part";
-    EXPECT_LT(error_m, part ? 0.005 : 0.002) << t.object_id;
-    EXPECT_LT(error_rad, (part ? 1.0 : 0.5) * M_PI / 180.0) << t.object_id;
+    EXPECT_LT(error_m, 0.002) << t.object_id;
+    EXPECT_LT(error_rad, 0.5 * M_PI / 180.0) << t.object_id;
   }
 }
 

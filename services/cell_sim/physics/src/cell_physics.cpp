@@ -343,9 +343,11 @@ void CellPhysics::Impl::control_arm(double dt_s) {
 }
 
 // The magnet's spring-damper for the body it holds. Its forces are applied explicitly (xfrc_applied), and an
-// explicit spring-damper on a light body is stable at the step only while c·dt/m and k·dt²/m stay small: the
-// gains are capped for the body's mass and smallest principal inertia (c ≤ 0.5 m/dt, k ≤ 0.25 m/dt²). The
-// 40 kg load is far below the caps (it keeps the configured gains); a 3 kg part's rotational ones are capped.
+// explicit spring-damper on a light body is stable at the step only while c·dt/m and k·dt²/m stay small (the
+// arm's servo on the other side makes it worse: held 1.5 mm across the air gap, a 3 kg part oscillated against
+// the tool at half the step rate with c·dt/m = 0.5): the gains are capped for the body's mass and smallest
+// principal inertia (c ≤ 0.1 m/dt, k ≤ 0.25 m/dt²). The 40 kg load is far below the caps (it keeps the
+// configured gains); a 3 kg part's damping is capped.
 MagnetSpring CellPhysics::Impl::magnet_spring_for(int body) const {
   MagnetSpring params = options.magnet_spring;
   if (body < 0) return params;
@@ -353,9 +355,9 @@ MagnetSpring CellPhysics::Impl::magnet_spring_for(int body) const {
   const double inertia = std::min({model->body_inertia[3 * body], model->body_inertia[3 * body + 1],
                                    model->body_inertia[3 * body + 2]});
   const double dt = timestep_s;
-  params.damping_n_s_per_m = std::min(params.damping_n_s_per_m, 0.5 * mass / dt);
+  params.damping_n_s_per_m = std::min(params.damping_n_s_per_m, 0.1 * mass / dt);
   params.stiffness_n_per_m = std::min(params.stiffness_n_per_m, 0.25 * mass / (dt * dt));
-  params.rotational_damping_nm_s_per_rad = std::min(params.rotational_damping_nm_s_per_rad, 0.5 * inertia / dt);
+  params.rotational_damping_nm_s_per_rad = std::min(params.rotational_damping_nm_s_per_rad, 0.1 * inertia / dt);
   params.rotational_stiffness_nm_per_rad =
       std::min(params.rotational_stiffness_nm_per_rad, 0.25 * inertia / (dt * dt));
   return params;

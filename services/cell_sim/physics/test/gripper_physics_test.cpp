@@ -199,7 +199,7 @@ TEST(GripperPhysics, HoldingForceFaultInjectionRejectsNonsense) {
 
 // The small part: it rests on its table; the magnet picks it from the top as the Pick skill does (above
 // it, straight down, grip, straight up), carries it (3 kg: a tenth of the magnet's capacity) and Place
-// sets it down 0.24 m away on the table (down to 2 mm above its resting height, release, up): it lands
+// sets it down 0.23 m away on the table (down to 2 mm above its resting height, release, up): it lands
 // within a millimetre of there, level.
 TEST(GripperPhysics, PicksThePartFromItsTableAndPlacesItElsewhere) {
   CellPhysics physics(reachable_cell());
@@ -231,12 +231,14 @@ TEST(GripperPhysics, PicksThePartFromItsTableAndPlacesItElsewhere) {
     EXPECT_EQ(physics.gripper_state().holding, energize);
     move(tool_over(world_part, 0.10), 0.1);
   };
-  down_switch_up(part_start, 0.0, true);
+  // 1.5 mm above the face, as a localization error may leave the grasp: the magnet grips across the gap and
+  // holds the part there (with the spring's full damping it oscillated against the arm and let go).
+  down_switch_up(part_start, 0.0015, true);
   EXPECT_GT(physics.pose_world_part()->translation().z(), part_start.translation().z() + 0.09) << "not lifted";
   EXPECT_LT(physics.gripper_state().utilisation, 0.2);
 
   Eigen::Isometry3d goal = part_start;  // turned as it was
-  goal.translation() = part->pose_world_fixture.translation() + Eigen::Vector3d(-0.05, -0.08, 0.5 * part->size_m.z());
+  goal.translation() = part->pose_world_fixture.translation() + Eigen::Vector3d(-0.05, -0.06, 0.5 * part->size_m.z());
   down_switch_up(goal, 0.002, false);
   physics.step(1s);
   const Eigen::Isometry3d end = *physics.pose_world_part();
