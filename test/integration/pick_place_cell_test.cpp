@@ -98,10 +98,11 @@ TEST_F(PickPlaceCellTest, PickAndPlaceRecipeMovesThePartInPhysics) {
   const double error_m = (end.translation() - goal.translation()).norm();
   const double error_rad = Eigen::AngleAxisd(goal.linear() * end.linear().transpose()).angle();
   const Eigen::Vector3d d = end.translation() - goal.translation();
-  std::printf("  part moved %.1f mm; final pose vs the place goal (ground truth): %.2f mm (x %.2f, y %.2f, z %.2f), "
-              "%.2f deg\n",
-              (end.translation() - start.translation()).norm() * 1000.0, error_m * 1000.0, d.x() * 1000.0,
-              d.y() * 1000.0, d.z() * 1000.0, error_rad * 180.0 / M_PI);
+  std::printf(
+      "  part moved %.1f mm; final pose vs the place goal (ground truth): %.2f mm (x %.2f, y %.2f, z %.2f), "
+      "%.2f deg\n",
+      (end.translation() - start.translation()).norm() * 1000.0, error_m * 1000.0, d.x() * 1000.0, d.y() * 1000.0,
+      d.z() * 1000.0, error_rad * 180.0 / M_PI);
   EXPECT_LT(error_m, 0.005) << "the part is not where the recipe places it";
   EXPECT_LT(error_rad, 2.0 * M_PI / 180.0);
   for (const char* name : {"localize part", "pick part", "place part"}) {

@@ -101,7 +101,7 @@ class CellCopy {
 TEST(CellCad, DerivedFeaturesOfTheShippedCellAreTheOldHandTypedNumbers) {
   CadDerivation stats;
   const CellFile cell = load_cell_file_with_cad(kShippedCell, &stats);
-  EXPECT_EQ(stats.models, 4);     // load, target, part, part_fixture
+  EXPECT_EQ(stats.models, 4);    // load, target, part, part_fixture
   EXPECT_EQ(stats.features, 9);  // grasp_side, pre_grasp, h1..h4, insertion, grasp_top, place_top
   EXPECT_NO_THROW(cell.require_cad_derived("this test"));
   for (const OldPose& old : kOldPoses) {

@@ -382,8 +382,8 @@ void SimRunner::publish_due(WallTime now) {
     last_gripper_published_valid_ = true;
   }
   if (steps_ % truth_every_ == 0) {
-    outputs_.publish_ground_truth({physics_->pose_world_load(), physics_->pose_world_target(), physics_->pose_world_part()},
-                                  now);
+    outputs_.publish_ground_truth(
+        {physics_->pose_world_load(), physics_->pose_world_target(), physics_->pose_world_part()}, now);
   }
   if (camera_ && steps_ % camera_every_ == 0) {
     CameraSnapshot snapshot{{{"load", physics_->pose_world_load()}, {"target", physics_->pose_world_target()}}, now};

@@ -95,7 +95,7 @@ TEST(TrackerConfigFromCell, TakesTheCameraAndEveryMarkerLayout) {
   EXPECT_DOUBLE_EQ(config.camera.fx_px, 1000.0);
   EXPECT_TRUE(config.pose_world_camera.translation().isApprox(Eigen::Vector3d(5.1, 2.0, 1.6)));
   EXPECT_EQ(config.detector.dictionary, 0);  // DICT_4X4_50
-  ASSERT_EQ(config.objects.size(), 3u);  // load, target, and the part Pick and Place move (its table has none)
+  ASSERT_EQ(config.objects.size(), 3u);      // load, target, and the part Pick and Place move (its table has none)
   EXPECT_EQ(config.objects[0].object_id, "load");
   ASSERT_EQ(config.objects[1].markers.size(), 2u);
   EXPECT_EQ(config.objects[1].markers[1].id, 11);

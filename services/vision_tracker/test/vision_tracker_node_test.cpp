@@ -98,9 +98,10 @@ class VisionTrackerNodeTest : public ::testing::Test {
     std::vector<sim::ObjectPose> poses = testing::random_visible_poses(renderer_, scene_, rng);
     poses.erase(std::remove_if(poses.begin(), poses.end(),
                                [&](const sim::ObjectPose& p) {
-                                 return std::none_of(scene_.objects.begin(), scene_.objects.end(), [&](const sim::BoxObject& o) {
-                                   return o.id == p.object_id && !o.markers.empty();
-                                 });
+                                 return std::none_of(scene_.objects.begin(), scene_.objects.end(),
+                                                     [&](const sim::BoxObject& o) {
+                                                       return o.id == p.object_id && !o.markers.empty();
+                                                     });
                                }),
                 poses.end());
     return poses;

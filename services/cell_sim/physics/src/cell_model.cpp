@@ -227,7 +227,8 @@ std::vector<mjtNum> apply_cell_geometry(mjModel& model, const CellModelIndex& in
   {
     Eigen::Isometry3d pose_world_fixture = Eigen::Isometry3d::Identity();
     pose_world_fixture.translation() = kPartParkingWorldM;
-    Eigen::Vector3d part_size(2.0 * model.geom_size[3 * index.part_geom], 2.0 * model.geom_size[3 * index.part_geom + 1],
+    Eigen::Vector3d part_size(2.0 * model.geom_size[3 * index.part_geom],
+                              2.0 * model.geom_size[3 * index.part_geom + 1],
                               2.0 * model.geom_size[3 * index.part_geom + 2]);
     double part_mass = model.body_mass[index.part_body];
     Eigen::Vector3d fixture_size(2.0 * model.geom_size[3 * index.part_fixture_geom],
@@ -241,7 +242,8 @@ std::vector<mjtNum> apply_cell_geometry(mjModel& model, const CellModelIndex& in
       fixture_size = cell.part->fixture_size_m;
     } else {
       pose_world_fixture.translation().z() = fixture_size.z();
-      pose_world_part.translation() = kPartParkingWorldM + Eigen::Vector3d(0.0, 0.0, fixture_size.z() + 0.5 * part_size.z());
+      pose_world_part.translation() =
+          kPartParkingWorldM + Eigen::Vector3d(0.0, 0.0, fixture_size.z() + 0.5 * part_size.z());
     }
     set_body_pose(model, index.part_fixture_body, pose_world_fixture);
     set_box_geom(model, index.part_fixture_geom, fixture_size, Eigen::Vector3d(0.0, 0.0, -0.5 * fixture_size.z()));
@@ -309,7 +311,8 @@ std::vector<mjtNum> apply_cell_geometry(mjModel& model, const CellModelIndex& in
   // A free joint's qpos is the body's world position and orientation.
   const std::size_t part_address = static_cast<std::size_t>(index.part_free.qpos);
   const Eigen::Quaterniond part_rotation(pose_world_part.linear());
-  for (std::size_t i = 0; i < 3; ++i) qpos[part_address + i] = pose_world_part.translation()[static_cast<Eigen::Index>(i)];
+  for (std::size_t i = 0; i < 3; ++i)
+    qpos[part_address + i] = pose_world_part.translation()[static_cast<Eigen::Index>(i)];
   qpos[part_address + 3] = part_rotation.w();
   qpos[part_address + 4] = part_rotation.x();
   qpos[part_address + 5] = part_rotation.y();

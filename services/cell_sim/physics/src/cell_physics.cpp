@@ -352,14 +352,13 @@ MagnetSpring CellPhysics::Impl::magnet_spring_for(int body) const {
   MagnetSpring params = options.magnet_spring;
   if (body < 0) return params;
   const double mass = model->body_mass[body];
-  const double inertia = std::min({model->body_inertia[3 * body], model->body_inertia[3 * body + 1],
-                                   model->body_inertia[3 * body + 2]});
+  const double inertia =
+      std::min({model->body_inertia[3 * body], model->body_inertia[3 * body + 1], model->body_inertia[3 * body + 2]});
   const double dt = timestep_s;
   params.damping_n_s_per_m = std::min(params.damping_n_s_per_m, 0.1 * mass / dt);
   params.stiffness_n_per_m = std::min(params.stiffness_n_per_m, 0.25 * mass / (dt * dt));
   params.rotational_damping_nm_s_per_rad = std::min(params.rotational_damping_nm_s_per_rad, 0.1 * inertia / dt);
-  params.rotational_stiffness_nm_per_rad =
-      std::min(params.rotational_stiffness_nm_per_rad, 0.25 * inertia / (dt * dt));
+  params.rotational_stiffness_nm_per_rad = std::min(params.rotational_stiffness_nm_per_rad, 0.25 * inertia / (dt * dt));
   return params;
 }
 
