@@ -248,7 +248,7 @@ TEST_F(CellSimProcessTest, CameraPublishesImagesInfoAndGroundTruth) {
       truths[dds::to_string(p.object_id)] = dds::to_domain(p.pose.pose).translation();
     });
   });
-  ASSERT_TRUE(cell_.wait_until([&] { return images > 0 && k && truths.size() == 2; }, 10s));
+  ASSERT_TRUE(cell_.wait_until([&] { return images > 0 && k && truths.size() == 3; }, 10s));  // load, target, part
   const int first = images;
   cell_.wait_until([] { return false; }, 1s);
   std::cout << "camera: " << images - first << " images in 1 s, " << width << "x" << height << " " << encoding << "\n";
@@ -264,6 +264,8 @@ TEST_F(CellSimProcessTest, CameraPublishesImagesInfoAndGroundTruth) {
   // The target stands where the cell file puts it; the load hangs near its configured pose.
   EXPECT_LT((truths["target"] - Eigen::Vector3d(3.55, 2.25, 0.95)).norm(), 1e-6);
   EXPECT_LT((truths["load"] - Eigen::Vector3d(3.55, 1.75, 1.20)).norm(), 0.05);
+  // The part of Pick and Place rests on its table (settling into the contact: well under a millimetre).
+  EXPECT_LT((truths["part"] - Eigen::Vector3d(3.05, 1.55, 0.66)).norm(), 0.001);
 }
 
 TEST_F(CellSimProcessTest, MotionAndGripperCommandsAreReported) {

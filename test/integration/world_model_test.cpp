@@ -261,7 +261,8 @@ TEST_F(WorldModelTest, AStaleCadReferenceStopsTheStartWithAClearError) {
   const fs::path dir = fs::path(cell_.log_dir()) / "stale_cell";
   fs::create_directories(dir / "models");
   const fs::path shipped = fs::path(RIGGER_SOURCE_DIR) / "deploy/cell";
-  for (const char* name : {"load.step", "target.step"}) fs::copy_file(shipped / "models" / name, dir / "models" / name);
+  for (const char* name : {"load.step", "target.step", "part.step", "part_fixture.step"})
+    fs::copy_file(shipped / "models" / name, dir / "models" / name);
   nlohmann::json cell;
   {
     std::ifstream in(shipped / "simulated_cell.json");

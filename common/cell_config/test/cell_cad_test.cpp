@@ -68,7 +68,7 @@ class CellCopy {
                                                  ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
     fs::remove_all(dir_);
     fs::create_directories(dir_ / "models");
-    for (const char* name : {"load.step", "target.step"}) {
+    for (const char* name : {"load.step", "target.step", "part.step", "part_fixture.step"}) {
       fs::copy_file(kSource / "deploy/cell/models" / name, dir_ / "models" / name);
     }
     cell = read_json(kShippedCell);
@@ -101,8 +101,8 @@ class CellCopy {
 TEST(CellCad, DerivedFeaturesOfTheShippedCellAreTheOldHandTypedNumbers) {
   CadDerivation stats;
   const CellFile cell = load_cell_file_with_cad(kShippedCell, &stats);
-  EXPECT_EQ(stats.models, 2);
-  EXPECT_EQ(stats.features, 7);  // grasp_side, pre_grasp, h1..h4, insertion
+  EXPECT_EQ(stats.models, 4);    // load, target, part, part_fixture
+  EXPECT_EQ(stats.features, 9);  // grasp_side, pre_grasp, h1..h4, insertion, grasp_top, place_top
   EXPECT_NO_THROW(cell.require_cad_derived("this test"));
   for (const OldPose& old : kOldPoses) {
     const auto pose = cell.find(old.entity)->features.find_pose(old.feature);

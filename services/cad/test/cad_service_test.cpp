@@ -26,7 +26,7 @@ CadAnswer ask(CadService& service, QueryKind kind, const std::string& model, con
 
 TEST(CadService, ObjectModelsFromTheCellFile) {
   CadService service(settings());
-  EXPECT_EQ(service.object_status().size(), 2u);
+  EXPECT_EQ(service.object_status().size(), 4u);  // load, target, part, part_fixture
   const CadAnswer load = ask(service, QueryKind::kLoad, "object:load");
   ASSERT_TRUE(load.ok) << load.message;
   EXPECT_EQ(json::parse(load.result_json)["product"]["name"], "load");

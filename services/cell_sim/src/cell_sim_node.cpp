@@ -432,6 +432,7 @@ void CellSimNode::publish_ground_truth(const GroundTruth& truth, WallTime stamp)
   };
   publish("load", truth.pose_world_load);
   publish("target", truth.pose_world_target);
+  if (truth.pose_world_part) publish("part", *truth.pose_world_part);
 }
 
 void CellSimNode::publish_status(const StatusReport& s, WallTime stamp) {

@@ -382,10 +382,16 @@ void SimRunner::publish_due(WallTime now) {
     last_gripper_published_valid_ = true;
   }
   if (steps_ % truth_every_ == 0) {
-    outputs_.publish_ground_truth({physics_->pose_world_load(), physics_->pose_world_target()}, now);
+    outputs_.publish_ground_truth(
+        {physics_->pose_world_load(), physics_->pose_world_target(), physics_->pose_world_part()}, now);
   }
   if (camera_ && steps_ % camera_every_ == 0) {
-    camera_->offer({{{"load", physics_->pose_world_load()}, {"target", physics_->pose_world_target()}}, now});
+    CameraSnapshot snapshot{{{"load", physics_->pose_world_load()}, {"target", physics_->pose_world_target()}}, now};
+    if (const auto part = physics_->pose_world_part()) {
+      snapshot.poses.push_back({"part", *part});
+      snapshot.poses.push_back({"part_fixture", *physics_->pose_world_part_fixture()});
+    }
+    camera_->offer(std::move(snapshot));
   }
   if (steps_ % status_every_ == 0) {
     update_measured_rate(SteadyClock::now());

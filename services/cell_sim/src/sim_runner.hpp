@@ -97,6 +97,8 @@ struct MotionReport {
 struct GroundTruth {
   Eigen::Isometry3d pose_world_load = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d pose_world_target = Eigen::Isometry3d::Identity();
+  /// The small part Pick and Place move (box centre); absent when the cell has none.
+  std::optional<Eigen::Isometry3d> pose_world_part;
 };
 
 /// The simulator's health, its PLC's registers and the crane's true state. Crane vectors in the

@@ -52,6 +52,9 @@ class TrackerAccuracyTest : public ::testing::Test {
       const FrameResult result = tracker.process(image, Stamp(std::chrono::seconds(1)));
       EXPECT_EQ(result.status, FrameStatus::kOk);
       for (const sim::ObjectPose& pose : truth) {
+        // The acceptance is the crane scenario's objects (issue 6); the small part of Pick and Place and
+        // its table are in the picture, at their configured poses, but not measured here.
+        if (pose.object_id != "load" && pose.object_id != "target") continue;
         const auto track = std::find_if(result.objects.begin(), result.objects.end(),
                                         [&](const ObjectTrack& t) { return t.object_id == pose.object_id; });
         EXPECT_NE(track, result.objects.end());

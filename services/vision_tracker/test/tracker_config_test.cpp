@@ -95,11 +95,15 @@ TEST(TrackerConfigFromCell, TakesTheCameraAndEveryMarkerLayout) {
   EXPECT_DOUBLE_EQ(config.camera.fx_px, 1000.0);
   EXPECT_TRUE(config.pose_world_camera.translation().isApprox(Eigen::Vector3d(5.1, 2.0, 1.6)));
   EXPECT_EQ(config.detector.dictionary, 0);  // DICT_4X4_50
-  ASSERT_EQ(config.objects.size(), 2u);
+  ASSERT_EQ(config.objects.size(), 3u);      // load, target, and the part Pick and Place move (its table has none)
   EXPECT_EQ(config.objects[0].object_id, "load");
   ASSERT_EQ(config.objects[1].markers.size(), 2u);
   EXPECT_EQ(config.objects[1].markers[1].id, 11);
   EXPECT_DOUBLE_EQ(config.objects[1].markers[1].size_m, 0.10);
+  EXPECT_EQ(config.objects[2].object_id, "part");
+  ASSERT_EQ(config.objects[2].markers.size(), 2u);
+  EXPECT_EQ(config.objects[2].markers[0].id, 20);
+  EXPECT_EQ(config.objects[2].markers[1].id, 21);
   EXPECT_NO_THROW(validate(config));
 }
 

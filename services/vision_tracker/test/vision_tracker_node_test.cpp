@@ -92,9 +92,19 @@ class VisionTrackerNodeTest : public ::testing::Test {
     ASSERT_EQ(images_.write(msg), DDS_RETCODE_OK);
   }
 
+  /// The objects with markers (what the tracker reports), all in view; the part's table has none.
   std::vector<sim::ObjectPose> visible_poses() {
     std::mt19937 rng(3);
-    return testing::random_visible_poses(renderer_, scene_, rng);
+    std::vector<sim::ObjectPose> poses = testing::random_visible_poses(renderer_, scene_, rng);
+    poses.erase(std::remove_if(poses.begin(), poses.end(),
+                               [&](const sim::ObjectPose& p) {
+                                 return std::none_of(scene_.objects.begin(), scene_.objects.end(),
+                                                     [&](const sim::BoxObject& o) {
+                                                       return o.id == p.object_id && !o.markers.empty();
+                                                     });
+                               }),
+                poses.end());
+    return poses;
   }
 
   cv::Mat render(const std::vector<sim::ObjectPose>& poses) {
@@ -204,7 +214,9 @@ TEST_F(VisionTrackerNodeTest, IdleProcessesNothingAndTrackOnceForAllPublishesEac
   command(rigger_vision_TRACK_ONCE);
   const WallTime t1 = next_stamp();
   send(image, t1);
-  const std::size_t objects = scene_.objects.size();
+  // Every object with markers (the part's table has none).
+  const std::size_t objects = static_cast<std::size_t>(std::count_if(
+      scene_.objects.begin(), scene_.objects.end(), [](const sim::BoxObject& o) { return !o.markers.empty(); }));
   ASSERT_TRUE(loop_.run_until([&] { return received_.size() == objects; }, 5s));
   EXPECT_EQ(node_->images_processed(), 1u);
   EXPECT_FALSE(node_->schedule().any_active()) << "every object had its pose: idle again";

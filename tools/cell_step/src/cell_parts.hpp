@@ -12,14 +12,14 @@
 namespace rigger::cad {
 
 struct CellPart {
-  std::string object;     ///< entity id in the cell file ("load", "target")
+  std::string object;     ///< entity id in the cell file ("load", "target", "part", "part_fixture")
   std::string file_name;  ///< "load.step"
   TopoDS_Shape shape_m;
-  std::vector<parts::DrilledHole> holes;  ///< h1..h4
+  std::vector<parts::DrilledHole> holes;  ///< h1..h4 (none for the part and its fixture)
 };
 
-/// The load and the target with their box sizes from `cell`. Throws std::runtime_error when the cell
-/// file has no such object or its model is not a box.
+/// The load and the target with their box sizes from `cell`, and the part and its fixture when the cell
+/// has them. Throws std::runtime_error when the cell file has no load or target or a model is not a box.
 std::vector<CellPart> cell_parts(const cell::CellFile& cell);
 
 /// Writes every part as `<dir>/<file_name>`.

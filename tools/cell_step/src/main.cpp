@@ -1,4 +1,5 @@
-// rigger_cell_step [CELL_FILE [OUT_DIR]]: writes the simulated cell's load.step and target.step.
+// rigger_cell_step [CELL_FILE [OUT_DIR]]: writes the simulated cell's load.step and target.step (and
+// part.step, part_fixture.step when the cell has them).
 // Defaults: deploy/cell/simulated_cell.json and deploy/cell/models of the source tree.
 
 #include "cell_parts.hpp"

@@ -88,6 +88,21 @@ TargetGeometry parse_target(const CellFile& file) {
   return {file.pose_root_entity(entity.id), require_model(file, entity).size_m};
 }
 
+std::optional<PartGeometry> parse_part(const CellFile& file) {
+  const CellEntity* entity = file.find("part");
+  if (entity == nullptr) return std::nullopt;
+  PartGeometry part;
+  part.pose_world_part = file.pose_root_entity(entity->id);
+  const cell::ObjectModel& model = require_model(file, *entity);
+  part.size_m = model.size_m;
+  if (!model.mass_kg) file.fail(entity->pointer + "/model/mass_kg", "the part's mass in kg", "nothing (missing key)");
+  part.mass_kg = *model.mass_kg;
+  const CellEntity& fixture = file.require("part_fixture", "the table the part sits on");
+  part.pose_world_fixture = file.pose_root_entity(fixture.id);
+  part.fixture_size_m = require_model(file, fixture).size_m;
+  return part;
+}
+
 }  // namespace
 
 std::optional<Eigen::Isometry3d> CellGeometry::grasp_frame(const std::string& id) const {
@@ -108,6 +123,7 @@ CellGeometry cell_geometry_from(const CellFile& file) {
   cell.gripper = parse_gripper(file);
   cell.load = parse_load(file);
   cell.target = parse_target(file);
+  cell.part = parse_part(file);
   return cell;
 }
 

@@ -17,6 +17,9 @@ constexpr std::array<const char*, kArmJointCount> kArmActuatorNames = {
 // Room kept between the geometry's axis ranges and the hard end stops (m).
 constexpr double kEndStopOvertravelM = 0.05;
 
+// Where the part and its table stand when the cell has no part: far outside the cell (world m).
+const Eigen::Vector3d kPartParkingWorldM(-50.0, -50.0, 0.0);
+
 class Lookup {
  public:
   Lookup(const mjModel& model, const std::filesystem::path& path) : model_(model), path_(path) {}
@@ -109,6 +112,8 @@ CellModelIndex index_model(const mjModel& model, const std::filesystem::path& pa
   index.target_body = lookup.id(mjOBJ_BODY, "target", "body");
   index.robot_base_body = lookup.id(mjOBJ_BODY, "robot_base", "body");
   index.gripper_body = lookup.id(mjOBJ_BODY, "gripper", "body");
+  index.part_body = lookup.id(mjOBJ_BODY, "part", "body");
+  index.part_fixture_body = lookup.id(mjOBJ_BODY, "part_fixture", "body");
 
   index.bridge = lookup.joint("crane_bridge_x", mjJNT_SLIDE);
   index.trolley = lookup.joint("crane_trolley_y", mjJNT_SLIDE);
@@ -116,6 +121,7 @@ CellModelIndex index_model(const mjModel& model, const std::filesystem::path& pa
   index.sway_y = lookup.joint("crane_sway_y", mjJNT_HINGE);
   index.rope_length = lookup.joint("crane_rope_length", mjJNT_SLIDE);
   index.load_swivel = lookup.joint("load_swivel", mjJNT_BALL);
+  index.part_free = lookup.joint("part_free", mjJNT_FREE);
   for (int j = 0; j < kArmJointCount; ++j) {
     index.arm[static_cast<std::size_t>(j)] =
         lookup.joint(kArmJointNames[static_cast<std::size_t>(j)], mjJNT_HINGE);
@@ -132,8 +138,10 @@ CellModelIndex index_model(const mjModel& model, const std::filesystem::path& pa
   index.pedestal_geom = lookup.id(mjOBJ_GEOM, "robot_pedestal", "geom");
   index.gripper_face_geom = lookup.id(mjOBJ_GEOM, "gripper_face", "geom");
   index.gripper_housing_geom = lookup.id(mjOBJ_GEOM, "gripper_housing", "geom");
-  for (const int geom :
-       {index.load_geom, index.target_geom, index.pedestal_geom, index.gripper_face_geom}) {
+  index.part_geom = lookup.id(mjOBJ_GEOM, "part_box", "geom");
+  index.part_fixture_geom = lookup.id(mjOBJ_GEOM, "part_fixture_box", "geom");
+  for (const int geom : {index.load_geom, index.target_geom, index.pedestal_geom, index.gripper_face_geom,
+                         index.part_geom, index.part_fixture_geom}) {
     if (model.geom_type[geom] != mjGEOM_BOX) {
       throw PhysicsModelError(path.string() + ": geom '" + mj_id2name(&model, mjOBJ_GEOM, geom) +
                               "' must be a box");
@@ -213,6 +221,43 @@ std::vector<mjtNum> apply_cell_geometry(mjModel& model, const CellModelIndex& in
   set_box_geom(model, index.target_geom, cell.target.size_m,
                Eigen::Vector3d(0.0, 0.0, -0.5 * cell.target.size_m.z()));
 
+  // Part: box size, mass and inertia about its centre; its table: frame = top-face centre, box below it.
+  // Without a part in the cell both stand far away (a free body needs somewhere to rest).
+  Eigen::Isometry3d pose_world_part = Eigen::Isometry3d::Identity();
+  {
+    Eigen::Isometry3d pose_world_fixture = Eigen::Isometry3d::Identity();
+    pose_world_fixture.translation() = kPartParkingWorldM;
+    Eigen::Vector3d part_size(2.0 * model.geom_size[3 * index.part_geom],
+                              2.0 * model.geom_size[3 * index.part_geom + 1],
+                              2.0 * model.geom_size[3 * index.part_geom + 2]);
+    double part_mass = model.body_mass[index.part_body];
+    Eigen::Vector3d fixture_size(2.0 * model.geom_size[3 * index.part_fixture_geom],
+                                 2.0 * model.geom_size[3 * index.part_fixture_geom + 1],
+                                 2.0 * model.geom_size[3 * index.part_fixture_geom + 2]);
+    if (cell.part) {
+      pose_world_fixture = cell.part->pose_world_fixture;
+      pose_world_part = cell.part->pose_world_part;
+      part_size = cell.part->size_m;
+      part_mass = cell.part->mass_kg;
+      fixture_size = cell.part->fixture_size_m;
+    } else {
+      pose_world_fixture.translation().z() = fixture_size.z();
+      pose_world_part.translation() =
+          kPartParkingWorldM + Eigen::Vector3d(0.0, 0.0, fixture_size.z() + 0.5 * part_size.z());
+    }
+    set_body_pose(model, index.part_fixture_body, pose_world_fixture);
+    set_box_geom(model, index.part_fixture_geom, fixture_size, Eigen::Vector3d(0.0, 0.0, -0.5 * fixture_size.z()));
+    set_box_geom(model, index.part_geom, part_size, Eigen::Vector3d::Zero());
+    const Eigen::Vector3d part_sq = part_size.cwiseProduct(part_size);
+    model.body_mass[index.part_body] = part_mass;
+    model.body_inertia[3 * index.part_body + 0] = part_mass / 12.0 * (part_sq.y() + part_sq.z());
+    model.body_inertia[3 * index.part_body + 1] = part_mass / 12.0 * (part_sq.x() + part_sq.z());
+    model.body_inertia[3 * index.part_body + 2] = part_mass / 12.0 * (part_sq.x() + part_sq.y());
+    for (int i = 0; i < 3; ++i) model.body_ipos[3 * index.part_body + i] = 0.0;
+    model.body_iquat[4 * index.part_body + 0] = 1.0;
+    for (int i = 1; i < 4; ++i) model.body_iquat[4 * index.part_body + i] = 0.0;
+  }
+
   // Robot base on a pedestal reaching down to the floor.
   set_body_pose(model, index.robot_base_body, cell.robot.pose_world_base);
   const double base_height = std::max(0.002, cell.robot.pose_world_base.translation().z());
@@ -263,6 +308,15 @@ std::vector<mjtNum> apply_cell_geometry(mjModel& model, const CellModelIndex& in
     qpos[static_cast<std::size_t>(index.arm[static_cast<std::size_t>(j)].qpos)] =
         initial_arm_rad[j];
   }
+  // A free joint's qpos is the body's world position and orientation.
+  const std::size_t part_address = static_cast<std::size_t>(index.part_free.qpos);
+  const Eigen::Quaterniond part_rotation(pose_world_part.linear());
+  for (std::size_t i = 0; i < 3; ++i)
+    qpos[part_address + i] = pose_world_part.translation()[static_cast<Eigen::Index>(i)];
+  qpos[part_address + 3] = part_rotation.w();
+  qpos[part_address + 4] = part_rotation.x();
+  qpos[part_address + 5] = part_rotation.y();
+  qpos[part_address + 6] = part_rotation.z();
 
   // Masses, inertias and poses changed: recompute subtree masses, dof_M0, inverse weights...
   DataPtr scratch(mj_makeData(&model));

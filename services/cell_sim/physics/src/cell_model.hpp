@@ -39,6 +39,8 @@ struct CellModelIndex {
   int target_body = -1;
   int robot_base_body = -1;
   int gripper_body = -1;
+  int part_body = -1;
+  int part_fixture_body = -1;
 
   JointAddress bridge;
   JointAddress trolley;
@@ -46,6 +48,7 @@ struct CellModelIndex {
   JointAddress sway_y;
   JointAddress rope_length;
   JointAddress load_swivel;
+  JointAddress part_free;
   std::array<JointAddress, kArmJointCount> arm{};
 
   int bridge_actuator = -1;
@@ -58,6 +61,8 @@ struct CellModelIndex {
   int pedestal_geom = -1;
   int gripper_face_geom = -1;
   int gripper_housing_geom = -1;
+  int part_geom = -1;
+  int part_fixture_geom = -1;
 
   int flange_site = -1;
   int tool_site = -1;
@@ -77,7 +82,8 @@ CellModelIndex index_model(const mjModel& model, const std::filesystem::path& pa
 
 /// Writes the cell geometry into the model (poses, sizes, masses, ranges), then recomputes
 /// MuJoCo's derived constants.  Returns the initial qpos: the crane above the load's rope
-/// attachment, the load hanging at its JSON pose, the arm at `initial_arm_rad`.  (qpos0 stays
+/// attachment, the load hanging at its JSON pose, the part resting at its JSON pose (or, without a part
+/// in the cell, on its fixture far from everything), the arm at `initial_arm_rad`.  (qpos0 stays
 /// the model's reference configuration: MuJoCo measures hinge and slide joints from it.)
 /// Throws CellGeometryError when the geometry does not fit the crane (e.g. the load hangs outside
 /// the bridge's range).

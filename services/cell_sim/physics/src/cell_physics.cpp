@@ -98,7 +98,8 @@ struct CellPhysics::Impl {
   void control_arm(double dt_s);
   void control_gripper(double dt_s);
   void record_wrench();
-  bool aligned_face_contact() const;
+  int aligned_face_contact() const;
+  MagnetSpring magnet_spring_for(int body) const;
   JointVector joint_positions() const;
   JointVector joint_velocities() const;
   Eigen::Isometry3d site_pose_world(int site) const;
@@ -141,6 +142,7 @@ struct CellPhysics::Impl {
   MagnetCapacity capacity;
   bool holding = false;
   bool face_in_contact = false;
+  int held_body = -1;  // the load's or the part's body while holding
   double utilisation = 0.0;
   Eigen::Vector3d anchor_load = Eigen::Vector3d::Zero();  // load frame
   Eigen::Matrix3d rotation_tool_load = Eigen::Matrix3d::Identity();
@@ -340,25 +342,50 @@ void CellPhysics::Impl::control_arm(double dt_s) {
   }
 }
 
-bool CellPhysics::Impl::aligned_face_contact() const {
+// The magnet's spring-damper for the body it holds. Its forces are applied explicitly (xfrc_applied), and an
+// explicit spring-damper on a light body is stable at the step only while c·dt/m and k·dt²/m stay small (the
+// arm's servo on the other side makes it worse: held 1.5 mm across the air gap, a 3 kg part oscillated against
+// the tool at half the step rate with c·dt/m = 0.5): the gains are capped for the body's mass and smallest
+// principal inertia (c ≤ 0.1 m/dt, k ≤ 0.25 m/dt²). The 40 kg load is far below the caps (it keeps the
+// configured gains); a 3 kg part's damping is capped.
+MagnetSpring CellPhysics::Impl::magnet_spring_for(int body) const {
+  MagnetSpring params = options.magnet_spring;
+  if (body < 0) return params;
+  const double mass = model->body_mass[body];
+  const double inertia =
+      std::min({model->body_inertia[3 * body], model->body_inertia[3 * body + 1], model->body_inertia[3 * body + 2]});
+  const double dt = timestep_s;
+  params.damping_n_s_per_m = std::min(params.damping_n_s_per_m, 0.1 * mass / dt);
+  params.stiffness_n_per_m = std::min(params.stiffness_n_per_m, 0.25 * mass / (dt * dt));
+  params.rotational_damping_nm_s_per_rad = std::min(params.rotational_damping_nm_s_per_rad, 0.1 * inertia / dt);
+  params.rotational_stiffness_nm_per_rad = std::min(params.rotational_stiffness_nm_per_rad, 0.25 * inertia / (dt * dt));
+  return params;
+}
+
+// The body (the load's or the part's) whose box the magnet face touches flat, or -1.
+int CellPhysics::Impl::aligned_face_contact() const {
   const Eigen::Vector3d tool_z = site_pose_world(index.tool_site).linear().col(2);
   const double min_cosine = std::cos(options.magnet_spring.max_contact_angle_rad);
   for (int i = 0; i < data->ncon; ++i) {
     const mjContact& contact = data->contact[i];
-    const bool pair =
-        (contact.geom1 == index.gripper_face_geom && contact.geom2 == index.load_geom) ||
-        (contact.geom2 == index.gripper_face_geom && contact.geom1 == index.load_geom);
-    if (pair && std::abs(tool_z.dot(vec3(contact.frame))) >= min_cosine) {
-      return true;
+    int other = -1;
+    if (contact.geom1 == index.gripper_face_geom) other = contact.geom2;
+    if (contact.geom2 == index.gripper_face_geom) other = contact.geom1;
+    if ((other == index.load_geom || other == index.part_geom) &&
+        std::abs(tool_z.dot(vec3(contact.frame))) >= min_cosine) {
+      return model->geom_bodyid[other];
     }
   }
-  return false;
+  return -1;
 }
 
 void CellPhysics::Impl::control_gripper(double dt_s) {
-  face_in_contact = aligned_face_contact();
+  const int touched_body = aligned_face_contact();
+  face_in_contact = touched_body >= 0;
   const Eigen::Isometry3d tool = site_pose_world(index.tool_site);
-  const Eigen::Isometry3d load = body_pose_world(index.load_body);
+  // What the magnet holds (or is about to grip): the load or the part.
+  const int grip_body = holding ? held_body : touched_body;
+  const Eigen::Isometry3d load = grip_body >= 0 ? body_pose_world(grip_body) : Eigen::Isometry3d::Identity();
 
   // The magnet as a stiff spring-damper between the face centre and the load point that touched
   // it, holding the relative orientation of the moment of grasp.
@@ -366,13 +393,13 @@ void CellPhysics::Impl::control_gripper(double dt_s) {
   Eigen::Vector3d torque_on_load = Eigen::Vector3d::Zero();
   Eigen::Vector3d load_point = tool.translation();
   const auto spring = [&]() {
-    const MagnetSpring& params = options.magnet_spring;
+    const MagnetSpring params = magnet_spring_for(grip_body);
     load_point = load * anchor_load;
     Eigen::Vector3d load_velocity;
     Eigen::Vector3d load_angular;
     Eigen::Vector3d gripper_velocity;
     Eigen::Vector3d gripper_angular;
-    body_point_velocity(*model, *data, index.load_body, load_point, load_velocity, load_angular);
+    body_point_velocity(*model, *data, grip_body, load_point, load_velocity, load_angular);
     body_point_velocity(*model, *data, index.gripper_body, tool.translation(), gripper_velocity,
                         gripper_angular);
     force_on_load = -params.stiffness_n_per_m * (load_point - tool.translation()) -
@@ -393,12 +420,14 @@ void CellPhysics::Impl::control_gripper(double dt_s) {
   switch (magnet.update(face_in_contact, current_utilisation, dt_s)) {
     case GripAction::Attach:
       holding = true;
+      held_body = grip_body;
       anchor_load = load.inverse() * tool.translation();
       rotation_tool_load = tool.linear().transpose() * load.linear();
       spring();
       break;
     case GripAction::Release:
       holding = false;
+      held_body = -1;
       break;
     case GripAction::None:
       break;
@@ -406,7 +435,7 @@ void CellPhysics::Impl::control_gripper(double dt_s) {
   utilisation = holding ? magnet.filtered_utilisation() : 0.0;
   if (holding) {
     // Equal and opposite, at the same point, so momentum is conserved.
-    add_wrench_at(*data, index.load_body, force_on_load, torque_on_load, load_point);
+    add_wrench_at(*data, held_body, force_on_load, torque_on_load, load_point);
     add_wrench_at(*data, index.gripper_body, -force_on_load, -torque_on_load, load_point);
   }
 }
@@ -608,6 +637,16 @@ Twist CellPhysics::twist_world_load() const {
   twist.angular_rad_per_s = vec3(velocity);
   twist.linear_mps = vec3(velocity + 3);
   return twist;
+}
+
+std::optional<Eigen::Isometry3d> CellPhysics::pose_world_part() const {
+  if (!impl_->cell.part) return std::nullopt;
+  return impl_->body_pose_world(impl_->index.part_body);
+}
+
+std::optional<Eigen::Isometry3d> CellPhysics::pose_world_part_fixture() const {
+  if (!impl_->cell.part) return std::nullopt;
+  return impl_->body_pose_world(impl_->index.part_fixture_body);
 }
 
 Eigen::Isometry3d CellPhysics::pose_world_target() const {

@@ -66,6 +66,16 @@ struct TargetGeometry {
   Eigen::Vector3d size_m = Eigen::Vector3d::Zero();
 };
 
+/// The small part the robot picks and places on its own (entity "part", a free box within the robot's
+/// payload) and the table it sits on (entity "part_fixture", static, frame at its top-face centre).
+struct PartGeometry {
+  Eigen::Isometry3d pose_world_part = Eigen::Isometry3d::Identity();  ///< box centre
+  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();                   ///< full edge lengths
+  double mass_kg = 0.0;
+  Eigen::Isometry3d pose_world_fixture = Eigen::Isometry3d::Identity();  ///< top-face centre
+  Eigen::Vector3d fixture_size_m = Eigen::Vector3d::Zero();
+};
+
 struct CellGeometry {
   std::string source;  ///< file it came from, for messages
   CraneGeometry crane;
@@ -73,6 +83,8 @@ struct CellGeometry {
   GripperGeometry gripper;
   LoadGeometry load;
   TargetGeometry target;
+  /// Absent when the cell has no entity "part" (then the model keeps its part out of the way).
+  std::optional<PartGeometry> part;
 
   /// The grasp frame with this id, or nullopt.
   [[nodiscard]] std::optional<Eigen::Isometry3d> grasp_frame(const std::string& id) const;
@@ -87,7 +99,8 @@ CellGeometry parse_cell_geometry(const std::string& json_text, const std::string
                                  const std::filesystem::path& model_dir = {});
 
 /// The physics' part of a validated cell file: entities "crane", "robot", "gripper", "load" and "target"
-/// with the attributes, model and features the physics needs.  Throws cell::CellFileError.
+/// with the attributes, model and features the physics needs, and optionally "part" (a box with a mass)
+/// with its "part_fixture" (a box).  Throws cell::CellFileError.
 CellGeometry cell_geometry_from(const cell::CellFile& file);
 
 }  // namespace rigger::sim

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "rigger/sim/cell_geometry.hpp"
@@ -165,6 +166,9 @@ class CellPhysics {
   [[nodiscard]] Eigen::Isometry3d pose_world_load() const;
   [[nodiscard]] Twist twist_world_load() const;
   [[nodiscard]] Eigen::Isometry3d pose_world_target() const;
+  /// The part's box centre and its table's top-face centre; nullopt when the cell has no part.
+  [[nodiscard]] std::optional<Eigen::Isometry3d> pose_world_part() const;
+  [[nodiscard]] std::optional<Eigen::Isometry3d> pose_world_part_fixture() const;
   [[nodiscard]] Eigen::Isometry3d pose_world_robot_base() const;
   [[nodiscard]] const CellGeometry& geometry() const;
 
