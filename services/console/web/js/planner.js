@@ -193,6 +193,7 @@ export function plannerPage(main, me) {
     }
     const at = state.selected || '/root';
     const sel = nodeAt(state.doc, at);
+    let scope = at;  // the old and the new selection are both in it
     if (sel && Array.isArray(sel.children)) {
       sel.children.push(node);
       state.selected = `${at}/children/${sel.children.length - 1}`;
@@ -213,8 +214,9 @@ export function plannerPage(main, me) {
       if (p.list === 'options') parent.options.splice(p.index + 1, 0, { label: `option ${parent.options.length + 1}`, child: node });
       else parent.children.splice(p.index + 1, 0, node);
       state.selected = pointerIn(p.parent, p.list, p.index + 1);
+      scope = p.parent;
     }
-    changed();
+    changed(true, true, scope);
   }
   /// Replaces the selected node by `type` holding it (a decorator's child, a control node's first
   /// child, a decision's first option).
@@ -352,10 +354,11 @@ export function plannerPage(main, me) {
   let timer = null;
   /// After every edit: redraw, validate (after 250 ms), and make it an undo step — at once for a
   /// structural edit (redrawForm), after 600 ms of quiet for typing in a field.
-  function changed(redrawForm = true, remember = true) {
+  /// `scope`: the subtree a structural edit stayed inside (and the selection with it), redrawn alone.
+  function changed(redrawForm = true, remember = true, scope = '') {
     // Typing in a field changes the selected node only (an option's label shows on its child's row).
     const own = !redrawForm && state.selected && nodeAt(state.doc, state.selected)?.type !== 'OperatorDecision';
-    if (own && renderNode(state.selected)) renderResources();
+    if ((own && renderNode(state.selected)) || (scope && renderSubtree(scope))) renderResources();
     else renderTree();
     if (redrawForm) renderForm();
     else refreshConditions();
@@ -469,26 +472,36 @@ export function plannerPage(main, me) {
     old.replaceWith(nodeButton(node, ptr, byNode.get(ptr) || []));
     return true;
   }
+  /// A node's row with its subtree.
+  function treeRow(node, ptr, byNode) {
+    const li = el('li', { role: 'treeitem', 'data-pointer': ptr, 'aria-selected': String(ptr === state.selected) },
+      nodeButton(node, ptr, byNode.get(ptr) || []));
+    const kids = childrenOf(node);
+    if (kids.length) {
+      li.append(el('ul', { role: 'group' }, ...kids.map(([s, c]) => {
+        const item = treeRow(c, ptr + s, byNode);
+        const opt = s.match(/^\/options\/(\d+)\/child$/);
+        if (opt) item.prepend(el('span', { class: 'muted small' }, `“${node.options[Number(opt[1])].label}” → `));
+        return item;
+      })));
+    }
+    if ((isDecorator(node) && !node.child) || (node.type === 'OperatorDecision' && !node.options?.length)) {
+      li.append(el('ul', { role: 'group' }, el('li', { class: 'muted small' }, '(empty: select it and Add its child)')));
+    }
+    return li;
+  }
+  /// Redraws the subtree at `ptr` only (a structural edit inside it): false when it is not drawn, or is
+  /// an option's child (whose row carries the option's label, drawn by the decision).
+  function renderSubtree(ptr) {
+    const li = treeBox.querySelector(`li[data-pointer="${CSS.escape(ptr)}"]`);
+    const node = nodeAt(state.doc, ptr);
+    if (!li || !node || /\/options\/\d+\/child$/.test(ptr)) return false;
+    li.replaceWith(treeRow(node, ptr, errorsByNode()));
+    return true;
+  }
   function renderTree() {
     const byNode = errorsByNode();
-    const row = (node, ptr) => {
-      const li = el('li', { role: 'treeitem', 'data-pointer': ptr, 'aria-selected': String(ptr === state.selected) },
-        nodeButton(node, ptr, byNode.get(ptr) || []));
-      const kids = childrenOf(node);
-      if (kids.length) {
-        li.append(el('ul', { role: 'group' }, ...kids.map(([s, c]) => {
-          const item = row(c, ptr + s);
-          const opt = s.match(/^\/options\/(\d+)\/child$/);
-          if (opt) item.prepend(el('span', { class: 'muted small' }, `“${node.options[Number(opt[1])].label}” → `));
-          return item;
-        })));
-      }
-      if ((isDecorator(node) && !node.child) || (node.type === 'OperatorDecision' && !node.options?.length)) {
-        li.append(el('ul', { role: 'group' }, el('li', { class: 'muted small' }, '(empty: select it and Add its child)')));
-      }
-      return li;
-    };
-    treeBox.replaceChildren(state.doc.root ? el('ul', {}, row(state.doc.root, '/root'))
+    treeBox.replaceChildren(state.doc.root ? el('ul', {}, treeRow(state.doc.root, '/root', byNode))
       : el('p', { class: 'muted' }, 'Empty: choose a node and press Add.'));
     renderResources();
   }
