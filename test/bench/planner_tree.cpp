@@ -1,7 +1,8 @@
 // The planner's responsiveness with a large tree (issue 16): scripted executors announcing the real
-// skill library and the console on a private DDS domain, and headless Debian chromium (playwright-core)
-// opening generated trees of 10 (the reference) and 1,000 nodes in the planner and timing an edit's
-// redraw and the tree's validation in the page (test/bench/planner/tree.mjs prints the figures).
+// skill library, the world model, the CAD service and the console on a private DDS domain, and headless
+// Debian chromium (playwright-core) opening generated trees of 10 (the reference) and 1,000 nodes in the
+// planner and timing an edit's redraw and the tree's validation in the page, and the derivation of a
+// screw list from the target's 4 holes through the console (test/bench/planner/tree.mjs prints them).
 //
 //   build/bench/bench_planner_tree [--trials 30] [--nodes 1000]
 #include <cstdio>
@@ -36,6 +37,13 @@ int main(int argc, char** argv) {
     return path;
   };
   const std::string library = repo + "/recipes/examples/skill_library.json";
+  const std::string cell_file = repo + "/deploy/cell/simulated_cell.json";
+  cell.start("world_model", "world_model",
+             {"--id", "world_model", "--log-level", "warn", "--config",
+              config("world_model", {{"cell_config", cell_file}}), "--db", dir + "/world_model.sqlite"});
+  cell.start("cad", "cad",
+             {"--id", "cad", "--log-level", "warn", "--config",
+              config("cad", {{"cell_config", cell_file}, {"allowed_dirs", {repo + "/deploy/cell/models"}}})});
   cell.start("skills", "scripted_executor",
              {"--id", "skills", "--log-level", "warn", "--config",
               config("skills", {{"library_file", library}, {"skills", {"Localize"}}})});
@@ -44,7 +52,7 @@ int main(int argc, char** argv) {
   cell.start("console", "console",
              {"--id", "console", "--log-level", "warn", "--config",
               config("console", {{"port", port}, {"users_file", dir + "/users.json"}, {"audit_log", ""}})});
-  if (!cell.wait_ready({"skills", "console"}, 60s)) {
+  if (!cell.wait_ready({"world_model", "cad", "skills", "console"}, 60s)) {
     std::fprintf(stderr, "the services did not become ready\n%s", cell.logs().c_str());
     return 1;
   }
