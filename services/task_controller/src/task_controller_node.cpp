@@ -21,6 +21,13 @@ std::chrono::milliseconds command_lease(dds::ServiceContext& ctx) {
   return lease;
 }
 
+/// A duration key in seconds, in [lo, hi].
+std::chrono::nanoseconds seconds_in_range(const Config& config, const std::string& key, double fallback, double lo,
+                                          double hi) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+      std::chrono::duration<double>(config.get_in_range<double>(key, fallback, lo, hi)));
+}
+
 }  // namespace
 
 TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
@@ -44,14 +51,11 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
   validator_options_.limits.max_bytes = ctx.config.get_in_range<unsigned>(
       "max_recipe_bytes", 4U * 1024U * 1024U, 1024U, static_cast<unsigned>(recipe::kMaxRecipeBytesCeiling));
   validator_options_.limits.max_depth = ctx.config.get_in_range<unsigned>("max_recipe_depth", 128U, 8U, 1024U);
-  executor_wait_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
-      std::chrono::duration<double>(ctx.config.get_in_range<double>("executor_wait_s", 2.0, 0.0, 600.0)));
+  executor_wait_ = seconds_in_range(ctx.config, "executor_wait_s", 2.0, 0.0, 600.0);
   condition_timeout_ =
       std::chrono::milliseconds(ctx.config.get_in_range<unsigned>("condition_timeout_ms", 1000U, 10U, 60000U));
-  start_answer_timeout_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
-      std::chrono::duration<double>(ctx.config.get_in_range<double>("start_answer_timeout_s", 5.0, 0.05, 600.0)));
-  busy_wait_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
-      std::chrono::duration<double>(ctx.config.get_in_range<double>("busy_wait_s", 10.0, 0.0, 600.0)));
+  start_answer_timeout_ = seconds_in_range(ctx.config, "start_answer_timeout_s", 5.0, 0.05, 600.0);
+  busy_wait_ = seconds_in_range(ctx.config, "busy_wait_s", 10.0, 0.0, 600.0);
   progress_rows_per_run_ = ctx.config.get_in_range<unsigned>("journal_progress_per_run", 20U, 0U, 100000U);
   trace_path_ = ctx.config.get<std::string>("stage_trace_path", "");
   ctx.config.finish();

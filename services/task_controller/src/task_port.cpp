@@ -234,14 +234,10 @@ void Task::held_too_long(const std::string& node_id, bt::Activation activation) 
     return;
   }
   const double waited_s = std::chrono::duration<double>(host_.busy_wait()).count();
-  bt::LeafEvent failure;
-  failure.kind = bt::LeafEventKind::kFailure;
-  failure.activation = activation;
-  failure.code = codes::kResourceHeld;
-  failure.message = spec.leaf + " not started: " + holder + " for " + number_text(waited_s) + " s (busy_wait_s)";
   host_.log()->error("start held too long task={} node={} holder=\"{}\"", id_, node_id, holder);
-  host_.journal({wall_now_s(), id_, node_id, "EVENT", "FAILURE", failure.code + ": " + failure.message});
-  log_result("resource held", node_id, engine_->on_leaf_event(node_id, failure));
+  own_event(node_id, bt::LeafEventKind::kFailure, activation, codes::kResourceHeld,
+            spec.leaf + " not started: " + holder + " for " + number_text(waited_s) + " s (busy_wait_s)",
+            "resource held");
 }
 
 void Task::send_start(const bt::NodeSpec& spec, bt::Activation activation) {
@@ -290,19 +286,10 @@ void Task::start_unanswered(const std::string& node_id, std::uint64_t start_seq)
   host_.log()->error("start unanswered task={} node={} executor={} seq={}", id_, node_id, run->second.executor_id,
                      start_seq);
   // Should the START arrive late after all, the executor stops that run again at once.
-  LeafRun shutdown = run->second;
-  shutdown.start_seq = host_.endpoint().next_seq();
-  host_.journal({wall_now_s(), id_, node_id, "COMMAND", "SHUTDOWN", codes::kStartUnanswered});
-  if (!host_.endpoint().send(rigger_skill_SKILL_SHUTDOWN, id_, spec, shutdown, "{}", codes::kStartUnanswered))
-    host_.log()->error("skill command write failed task={} node={}", id_, node_id);
-  bt::LeafEvent failure;
-  failure.kind = bt::LeafEventKind::kFailure;
-  failure.activation = run->second.activation;
-  failure.code = codes::kStartUnanswered;
-  failure.message = why;
+  send_shutdown(spec, run->second, codes::kStartUnanswered);
   end_progress(node_id);
-  host_.journal({wall_now_s(), id_, node_id, "EVENT", "FAILURE", failure.code + ": " + why});
-  log_result("start unanswered", node_id, engine_->on_leaf_event(node_id, failure));
+  own_event(node_id, bt::LeafEventKind::kFailure, run->second.activation, codes::kStartUnanswered, why,
+            "start unanswered");
 }
 
 void Task::shutdown_leaf(const bt::NodeSpec& spec, bt::Activation activation, const std::string& reason) {
@@ -313,23 +300,32 @@ void Task::shutdown_leaf(const bt::NodeSpec& spec, bt::Activation activation, co
     held_.erase(h);
     const std::string node_id = spec.id;
     defer([node_id, activation, why](Task& t) {
-      bt::LeafEvent stopped;
-      stopped.kind = bt::LeafEventKind::kStopped;
-      stopped.activation = activation;
-      stopped.code = codes::kNotStarted;
-      stopped.message = why;
-      t.host_.journal({wall_now_s(), t.id_, node_id, "EVENT", "STOPPED", stopped.code + ": " + why});
-      t.log_result("held start stopped", node_id, t.engine().on_leaf_event(node_id, stopped));
+      t.own_event(node_id, bt::LeafEventKind::kStopped, activation, codes::kNotStarted, why, "held start stopped");
     });
     return;
   }
   auto it = runs_.find(spec.id);
   if (it == runs_.end() || it->second.activation != activation) return;  // never sent: nothing to stop
-  LeafRun shutdown = it->second;
+  send_shutdown(spec, it->second, reason);
+}
+
+void Task::send_shutdown(const bt::NodeSpec& spec, const LeafRun& run, const std::string& reason) {
+  LeafRun shutdown = run;
   shutdown.start_seq = host_.endpoint().next_seq();
   host_.journal({wall_now_s(), id_, spec.id, "COMMAND", "SHUTDOWN", reason});
   if (!host_.endpoint().send(rigger_skill_SKILL_SHUTDOWN, id_, spec, shutdown, "{}", reason))
     host_.log()->error("skill command write failed task={} node={}", id_, spec.id);
+}
+
+void Task::own_event(const std::string& node_id, bt::LeafEventKind kind, bt::Activation activation,
+                     const std::string& code, const std::string& message, const char* what) {
+  bt::LeafEvent event;
+  event.kind = kind;
+  event.activation = activation;
+  event.code = code;
+  event.message = message;
+  host_.journal({wall_now_s(), id_, node_id, "EVENT", std::string(bt::to_string(kind)), code + ": " + message});
+  log_result(what, node_id, engine_->on_leaf_event(node_id, event));
 }
 
 void Task::evaluate_condition(const bt::NodeSpec& spec, bt::Activation activation) {

@@ -138,6 +138,12 @@ class Task : public bt::Port {
     unsigned left_out = 0;
   };
 
+  /// Sends SHUTDOWN of `run` (with a new seq) and journals it.
+  void send_shutdown(const bt::NodeSpec& spec, const LeafRun& run, const std::string& reason);
+  /// An event the controller decides for a leaf itself (no executor sent it): journaled as one, then
+  /// given to the engine; `what` names it in the log if the engine does not act on it.
+  void own_event(const std::string& node_id, bt::LeafEventKind kind, bt::Activation activation,
+                 const std::string& code, const std::string& message, const char* what);
   /// Picks the executor and sends the START (NO_EXECUTOR when none is live), arming the answer timer.
   void send_start(const bt::NodeSpec& spec, bt::Activation activation);
   /// The START of `node_id` waited busy_wait: sent if its resources are free now, else the leaf fails.
