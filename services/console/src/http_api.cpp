@@ -42,6 +42,15 @@ std::string text_field(const json& body, const char* key) {
   return it != body.end() && it->is_string() ? it->get<std::string>() : "";
 }
 
+/// The CAD service did not answer a planner request: a refusal of the picks (a CAD_ code: stale, not a
+/// hole, not perpendicular, off the face) is the request's fault (400, at `picks` in the body); no
+/// answer is the cell's (503).
+void send_cad_refusal(httplib::Response& res, const httplib::Request& req, const std::string& message,
+                      const std::string& picks) {
+  const bool refused = message.rfind("CAD_", 0) == 0;
+  send_error(res, refused ? 400 : 503, "the CAD service: " + message, req.path + (refused ? picks : ""));
+}
+
 void send_json(httplib::Response& res, const json& body, int status = 200) {
   res.status = status;
   res.set_content(to_text(body), kJson);
@@ -346,11 +355,7 @@ void HttpApi::routes() {
       const ScrewRequest request = parse_screw_request(*b);
       const auto derived =
           backend_.cad("derive", request.model, json{{"parameter", "screw_list"}, {"holes", request.holes}}.dump());
-      if (!derived.ok) {
-        // A refusal of the picks (stale, not a hole) is the request's fault; no answer is the cell's.
-        const bool refused = derived.message.rfind("CAD_", 0) == 0;
-        return send_error(res, refused ? 400 : 503, "the CAD service: " + derived.message, req.path + (refused ? "#/holes" : ""));
-      }
+      if (!derived.ok) return send_cad_refusal(res, req, derived.message, "#/holes");
       const auto entity = backend_.world_entity(request.entity);
       if (!entity.ok) return send_error(res, 503, "the world model: " + entity.message, req.path);
       send_json(res, screws_with_features(request, derived.data.value("model_sha256", ""),
@@ -368,11 +373,7 @@ void HttpApi::routes() {
     try {
       const FrameRequest request = parse_frame_request(*b);
       const auto framed = backend_.cad("frame", request.model, request.args.dump());
-      if (!framed.ok) {
-        // Picks that make no frame (not perpendicular, off the face, stale) are the request's fault.
-        const bool refused = framed.message.rfind("CAD_", 0) == 0;
-        return send_error(res, refused ? 400 : 503, "the CAD service: " + framed.message, req.path);
-      }
+      if (!framed.ok) return send_cad_refusal(res, req, framed.message, "");
       const json result = framed.data.value("result", json::object());
       send_json(res, {{"model", request.model}, {"model_sha256", framed.data.value("model_sha256", "")},
                       {"args", request.args}, {"frame", result.value("frame", json())},

@@ -538,9 +538,10 @@ export function plannerPage(main, me) {
     if (owner) { state.selected = owner; renderTree(); renderForm(); }
   }
   function markFields() {
+    const own = errorsAt(state.selected);  // one walk of the tree for all the fields
     for (const f of formBox.querySelectorAll('[data-field]')) {
       const msg = f.closest('.field')?.querySelector('.field-error');
-      const errs = errorsAt(state.selected).filter((e) => e.pointer === `${state.selected}/${f.dataset.field}`
+      const errs = own.filter((e) => e.pointer === `${state.selected}/${f.dataset.field}`
         || e.pointer.startsWith(`${state.selected}/${f.dataset.field}/`));
       f.setAttribute('aria-invalid', String(errs.length > 0));
       if (msg) msg.textContent = errs.map((e) => e.message).join('; ');
@@ -548,7 +549,7 @@ export function plannerPage(main, me) {
     const nodeErrs = formBox.querySelector('.node-errors');
     if (nodeErrs) {
       const fields = [...formBox.querySelectorAll('[data-field]')].map((f) => `${state.selected}/${f.dataset.field}`);
-      nodeErrs.textContent = errorsAt(state.selected).filter((e) => !fields.some((p) => e.pointer === p || e.pointer.startsWith(`${p}/`)))
+      nodeErrs.textContent = own.filter((e) => !fields.some((p) => e.pointer === p || e.pointer.startsWith(`${p}/`)))
         .map((e) => `${e.pointer}: ${e.message}`).join('\n');
     }
   }
