@@ -37,6 +37,23 @@ function recipeOf(n) {
   return { recipe_version: 1, task_id: `tree-${n}`, root };
 }
 const quantile = (xs, q) => { const s = [...xs].sort((a, b) => a - b); return s[Math.min(s.length - 1, Math.floor(q * s.length))]; };
+const ms = (x) => x.toFixed(1).padStart(8);
+const header = (column) => console.log(`${'figure (ms)'.padEnd(52)} ${column.padStart(6)} ${'p50'.padStart(8)} ${'p90'.padStart(8)} ${'max'.padStart(8)}`);
+const figure = (label, column, xs, note = '') =>
+  console.log(`${label.padEnd(52)} ${String(column).padStart(6)} ${ms(quantile(xs, 0.5))} ${ms(quantile(xs, 0.9))} ${ms(Math.max(...xs))}${note}`);
+/// `TRIALS` durations (ms) of the request `send()` makes; `check(status, body)` throws on a wrong answer.
+async function timed(send, check = () => {}) {
+  const out = [];
+  for (let i = 0; i < TRIALS; ++i) {
+    const t = performance.now();
+    const res = await send();
+    check(res.status, await res.json());
+    out.push(performance.now() - t);
+  }
+  return out;
+}
+const asked = (pathname, body) => fetch(`${URL_}${pathname}`, body === undefined ? { headers: { Authorization: `Bearer ${TOKEN}` } }
+  : { method: 'POST', body, headers: { Authorization: `Bearer ${TOKEN}`, 'Content-Type': 'application/json' } });
 
 for (const deadline = Date.now() + 60000; ;) {
   const res = await fetch(`${URL_}/api/skills`, { headers: { Authorization: `Bearer ${TOKEN}` } });
@@ -49,26 +66,15 @@ for (const deadline = Date.now() + 60000; ;) {
 // The screw list from the target's 4 picked holes through the console (the CAD service derives it, the
 // world model adds each hole's screw type and torque): issue 16's target is 50 ms.
 {
-  const screws = [];
-  for (let i = 0; i < TRIALS; ++i) {
-    const t = performance.now();
-    const res = await fetch(`${URL_}/api/planner/screws`, { method: 'POST', body: JSON.stringify({ model: 'object:target', holes: [0, 1, 2, 3] }),
-      headers: { Authorization: `Bearer ${TOKEN}`, 'Content-Type': 'application/json' } });
-    const body = await res.json();
-    if (res.status !== 200 || body.screws?.length !== 4) throw new Error(`screw list: ${res.status} ${JSON.stringify(body).slice(0, 300)}`);
-    screws.push(performance.now() - t);
-  }
+  const screws = await timed(() => asked('/api/planner/screws', JSON.stringify({ model: 'object:target', holes: [0, 1, 2, 3] })),
+    (status, body) => {
+      if (status !== 200 || body.screws?.length !== 4) throw new Error(`screw list: ${status} ${JSON.stringify(body).slice(0, 300)}`);
+    });
   // The reference: the console's smallest authenticated answer (GET /api/me), the HTTP floor.
-  const floor = [];
-  for (let i = 0; i < TRIALS; ++i) {
-    const t = performance.now();
-    const res = await fetch(`${URL_}/api/me`, { headers: { Authorization: `Bearer ${TOKEN}` } });
-    await res.json();
-    floor.push(performance.now() - t);
-  }
-  console.log(`${'figure (ms)'.padEnd(52)} ${'holes'.padStart(6)} ${'p50'.padStart(8)} ${'p90'.padStart(8)} ${'max'.padStart(8)}`);
-  console.log(`${'screw list from picked holes (POST /api/planner/screws)'.padEnd(52)} ${'4'.padStart(6)} ${quantile(screws, 0.5).toFixed(1).padStart(8)} ${quantile(screws, 0.9).toFixed(1).padStart(8)} ${Math.max(...screws).toFixed(1).padStart(8)}   target < 50 ms`);
-  console.log(`${'reference: GET /api/me'.padEnd(52)} ${''.padStart(6)} ${quantile(floor, 0.5).toFixed(1).padStart(8)} ${quantile(floor, 0.9).toFixed(1).padStart(8)} ${Math.max(...floor).toFixed(1).padStart(8)}`);
+  const floor = await timed(() => asked('/api/me'));
+  header('holes');
+  figure('screw list from picked holes (POST /api/planner/screws)', 4, screws, '   target < 50 ms');
+  figure('reference: GET /api/me', '', floor);
 }
 
 const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'rigger-chromium-'));
@@ -82,7 +88,7 @@ try {
   const page = await context.newPage();
   await page.goto(`${URL_}/?token=${TOKEN}#/planner`);
   await page.waitForFunction(() => window.rigger?.ready === true && window.rigger.planner?.ready === true, null, { timeout: 90000 });
-  console.log(`${'figure (ms)'.padEnd(52)} ${'nodes'.padStart(6)} ${'p50'.padStart(8)} ${'p90'.padStart(8)} ${'max'.padStart(8)}`);
+  header('nodes');
   for (const n of SIZES) {
     const doc = recipeOf(n);
     await page.setInputFiles('#planner-open', { name: `tree-${n}.json`, mimeType: 'application/json', buffer: Buffer.from(JSON.stringify(doc)) });
@@ -143,23 +149,17 @@ try {
       return { typed, added, validated, fetched };
     }, TRIALS);
     // The same validation as a bare HTTP request from here: the console's (and the validator's) share.
-    times.request = [];
-    for (let i = 0; i < TRIALS; ++i) {
-      const t = performance.now();
-      const res = await fetch(`${URL_}/api/planner/validate`, { method: 'POST', body: JSON.stringify(doc),
-        headers: { Authorization: `Bearer ${TOKEN}`, 'Content-Type': 'application/json' } });
-      if (!(await res.json()).ok) throw new Error(`the ${n}-node tree is not valid`);
-      times.request.push(performance.now() - t);
-    }
+    times.request = await timed(() => asked('/api/planner/validate', JSON.stringify(doc)), (status, body) => {
+      if (!body.ok) throw new Error(`the ${n}-node tree is not valid`);
+    });
     for (const [key, label] of [['request', 'POST /api/planner/validate alone (from node)'],
       ['fetched', 'POST /api/planner/validate alone (from the page)'], ['typed', 'typed edit -> redrawn, laid out'], ['added', 'structural edit (Add) -> redrawn, laid out'],
       ['validated', "validation by the controller's validator -> marked"]]) {
-      const xs = times[key];
-      console.log(`${label.padEnd(52)} ${String(n).padStart(6)} ${quantile(xs, 0.5).toFixed(1).padStart(8)} ${quantile(xs, 0.9).toFixed(1).padStart(8)} ${Math.max(...xs).toFixed(1).padStart(8)}`);
+      figure(label, n, times[key]);
     }
     for (const [key, label] of [['typed', 'typed edit + validation (p50 sum)'], ['added', 'structural edit + validation (p50 sum)']]) {
       const sum = quantile(times[key], 0.5) + quantile(times.validated, 0.5);
-      console.log(`${label.padEnd(52)} ${String(n).padStart(6)} ${sum.toFixed(1).padStart(8)}   target < 100 ms`);
+      console.log(`${label.padEnd(52)} ${String(n).padStart(6)} ${ms(sum)}   target < 100 ms`);
     }
   }
 } catch (e) {
