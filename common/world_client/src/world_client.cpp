@@ -1,5 +1,6 @@
 #include "rigger/world_client/world_client.hpp"
 
+#include <memory>
 #include <utility>
 
 #include "rigger/dds/conversions.hpp"
@@ -58,27 +59,23 @@ std::uint64_t WorldClient::list(std::chrono::milliseconds timeout, Callback cb) 
 std::uint64_t WorldClient::update_pose(const std::string& entity, const std::string& parent_frame,
                                        const Eigen::Isometry3d& pose, WallTime stamp, double quality, bool localized,
                                        std::chrono::milliseconds timeout, Callback cb) {
-  rigger_world_EntityUpdate u{};
-  u.entity_id = dds::wire_string(entity);
-  u.parent_frame = dds::wire_string(parent_frame);
-  u.has_pose = true;
-  u.pose.pose = dds::to_wire(pose);
-  u.has_quality = quality >= 0.0;
-  u.quality = u.has_quality ? quality : 0.0;
-  u.has_localized = true;
+  UpdateFields u;
+  u.entity = entity;
+  u.parent_frame = parent_frame;
+  u.pose = pose;
+  u.quality = quality;
   u.localized = localized;
-  u.stamp = dds::to_wire(stamp);
-  return send_update(u, updates_.matched_readers() > 0, timeout, std::move(cb));
+  u.stamp = stamp;
+  return send_update(std::move(u), timeout, std::move(cb));
 }
 
 std::uint64_t WorldClient::set_localized(const std::string& entity, bool localized, WallTime stamp,
                                          std::chrono::milliseconds timeout, Callback cb) {
-  rigger_world_EntityUpdate u{};
-  u.entity_id = dds::wire_string(entity);
-  u.has_localized = true;
+  UpdateFields u;
+  u.entity = entity;
   u.localized = localized;
-  u.stamp = dds::to_wire(stamp);
-  return send_update(u, updates_.matched_readers() > 0, timeout, std::move(cb));
+  u.stamp = stamp;
+  return send_update(std::move(u), timeout, std::move(cb));
 }
 
 void WorldClient::cancel(std::uint64_t request_id) {
@@ -89,16 +86,16 @@ void WorldClient::cancel(std::uint64_t request_id) {
   pending_.erase(it);
 }
 
-std::uint64_t WorldClient::track(std::chrono::milliseconds timeout, Callback cb) {
+std::uint64_t WorldClient::track(std::chrono::milliseconds timeout, const char* topic, Callback cb) {
   const std::uint64_t id = next_request_id_++;
   Pending p;
   p.callback = std::move(cb);
-  p.timer = loop_.after(timeout, [this, id, timeout] {
+  p.timer = loop_.after(timeout, [this, id, timeout, topic] {
     const auto it = pending_.find(id);
     const bool sent = it == pending_.end() || it->second.sent;
     fail_soon(id, sent ? "no reply from the world model within " + std::to_string(timeout.count()) + " ms"
-                       : "no world model is matched on rigger/world/query within " + std::to_string(timeout.count()) +
-                             " ms");
+                       : std::string("no world model is matched on ") + topic + " within " +
+                             std::to_string(timeout.count()) + " ms");
   });
   pending_.emplace(id, std::move(p));
   return id;
@@ -107,7 +104,7 @@ std::uint64_t WorldClient::track(std::chrono::milliseconds timeout, Callback cb)
 std::uint64_t WorldClient::send_query(int kind, const std::string& entity, const std::string& frame,
                                       const std::string& feature, double max_age_s, std::chrono::milliseconds timeout,
                                       Callback cb) {
-  const std::uint64_t id = track(timeout, std::move(cb));
+  const std::uint64_t id = track(timeout, protocol::world::kQuery.name, std::move(cb));
   write_query(id, kind, entity, frame, feature, max_age_s);
   return id;
 }
@@ -141,21 +138,40 @@ void WorldClient::write_query(std::uint64_t id, int kind, const std::string& ent
   }
 }
 
-std::uint64_t WorldClient::send_update(rigger_world_EntityUpdate& update, bool matched, std::chrono::milliseconds timeout,
-                                       Callback cb) {
-  const std::uint64_t id = track(timeout, std::move(cb));
-  if (!matched || update_results_.matched_writers() == 0) {
-    loop_.post([this, id] { fail_soon(id, "no world model is matched on rigger/world/update"); });
-    return id;
+std::uint64_t WorldClient::send_update(UpdateFields update, std::chrono::milliseconds timeout, Callback cb) {
+  const std::uint64_t id = track(timeout, protocol::world::kUpdate.name, std::move(cb));
+  write_update(id, std::make_shared<const UpdateFields>(std::move(update)));
+  return id;
+}
+
+void WorldClient::write_update(std::uint64_t id, std::shared_ptr<const UpdateFields> fields) {
+  auto it = pending_.find(id);
+  if (it == pending_.end()) return;  // timed out or cancelled while waiting
+  it->second.retry = 0;
+  if (updates_.matched_readers() == 0 || update_results_.matched_writers() == 0) {
+    // As for queries: wait for the match within the request's own timeout.
+    it->second.retry = loop_.after(std::chrono::milliseconds(20), [this, id, fields] { write_update(id, fields); });
+    return;
   }
-  update.source = dds::wire_string(client_id_);
-  update.seq = id;
-  const dds_return_t rc = updates_.write(update);
+  it->second.sent = true;
+  const UpdateFields& f = *fields;
+  rigger_world_EntityUpdate u{};
+  u.source = dds::wire_string(client_id_);
+  u.seq = id;
+  u.entity_id = dds::wire_string(f.entity);
+  u.parent_frame = dds::wire_string(f.parent_frame);
+  u.has_pose = f.pose.has_value();
+  if (f.pose) u.pose.pose = dds::to_wire(*f.pose);
+  u.has_quality = f.quality >= 0.0;
+  u.quality = u.has_quality ? f.quality : 0.0;
+  u.has_localized = true;
+  u.localized = f.localized;
+  u.stamp = dds::to_wire(f.stamp);
+  const dds_return_t rc = updates_.write(u);
   if (rc != DDS_RETCODE_OK) {
     log_->warn("world update write failed request_id={} rc={}", id, rc);
     loop_.post([this, id, rc] { fail_soon(id, "writing the update failed: " + std::string(dds_strretcode(rc))); });
   }
-  return id;
 }
 
 void WorldClient::fail_soon(std::uint64_t request_id, const std::string& why) {

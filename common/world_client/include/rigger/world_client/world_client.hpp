@@ -4,9 +4,9 @@
 /// `rigger/world/reply`, pose updates on `rigger/world/update` answered on `rigger/world/update_result`.
 /// Every request carries a correlation id (client_id + request_id); every request ends with exactly
 /// one callback: the world model's answer, or ok=false with code "WORLD_UNREACHABLE" after the
-/// timeout. A query made before a world model is matched waits for the match within that timeout
+/// timeout. A request made before a world model is matched waits for the match within that timeout
 /// (discovery may be a round behind a service that has just started; checked every 20 ms on the
-/// owner's EventLoop) and then says no world model was matched; updates still fail at once when none is.
+/// owner's EventLoop) and then says no world model was matched on its topic.
 ///
 /// Thread safety: none. Construct, call and destroy on the owner's EventLoop thread (or before run());
 /// callbacks run on that thread, never inside a call. The client must be destroyed before its loop.
@@ -15,6 +15,8 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -104,9 +106,18 @@ class WorldClient {
 
   std::uint64_t send_query(int kind, const std::string& entity, const std::string& frame, const std::string& feature,
                            double max_age_s, std::chrono::milliseconds timeout, Callback cb);
-  std::uint64_t send_update(rigger_world_EntityUpdate& update, bool matched, std::chrono::milliseconds timeout,
-                            Callback cb);
-  std::uint64_t track(std::chrono::milliseconds timeout, Callback cb);
+  /// An update's fields, kept until a world model is matched (the wire sample borrows its strings).
+  struct UpdateFields {
+    std::string entity, parent_frame;
+    std::optional<Eigen::Isometry3d> pose;  ///< none: set_localized
+    double quality = -1.0;                  ///< negative: not given
+    bool localized = false;
+    WallTime stamp{};
+  };
+
+  std::uint64_t send_update(UpdateFields update, std::chrono::milliseconds timeout, Callback cb);
+  void write_update(std::uint64_t id, std::shared_ptr<const UpdateFields> fields);
+  std::uint64_t track(std::chrono::milliseconds timeout, const char* topic, Callback cb);
   void write_query(std::uint64_t id, int kind, const std::string& entity, const std::string& frame,
                    const std::string& feature, double max_age_s);
   void fail_soon(std::uint64_t request_id, const std::string& why);
