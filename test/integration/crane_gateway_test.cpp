@@ -299,6 +299,43 @@ TEST_F(CraneGatewayTest, EmergencyStopHoldsTheCraneUntilReset) {
   velocity_.reset();
 }
 
+// `riggerctl crane reset`, the production way to acknowledge a latched PLC fault: with no gateway it says
+// so; while the fault's cause is there (the e-stop still pressed) it says the fault stays and exits 1; once
+// the cause is gone it clears the fault, and the gateway's log names who reset it.
+TEST_F(CraneGatewayTest, RiggerctlCraneResetClearsALatchedFaultOnlyOnceItsCauseIsGone) {
+  const auto ctl = [&](const std::string& name, const std::vector<std::string>& args) {
+    auto p = start_riggerctl(cell_, name, args);
+    EXPECT_TRUE(cell_.wait_until([&] { return !p->running(); }, 20s)) << name << " did not end";
+    const auto status = p->wait(1s);
+    return std::make_pair(status && status->exited ? status->code : -1, p->log());
+  };
+  const auto alone = ctl("reset-no-gateway", {"crane", "reset", "--timeout", "0.5"});
+  EXPECT_EQ(alone.first, 3) << alone.second;
+  EXPECT_NE(alone.second.find("no crane gateway"), std::string::npos) << alone.second;
+
+  start();
+  take_control();
+  const auto pressed = sim_->send(rigger_sim_SIM_ESTOP, true);
+  ASSERT_TRUE(pressed && pressed->first);
+  ASSERT_TRUE(cell_.wait_until([&] { return crane_.back().estop && crane_.back().fault; }, 2s));
+  const auto refused = ctl("reset-while-pressed", {"crane", "reset", "--timeout", "1.5"});
+  EXPECT_EQ(refused.first, 1) << refused.second;
+  EXPECT_NE(refused.second.find("still reports fault"), std::string::npos) << refused.second;
+  EXPECT_NE(refused.second.find("e-stop latched"), std::string::npos) << refused.second;
+  EXPECT_TRUE(crane_.back().fault);
+
+  const auto released = sim_->send(rigger_sim_SIM_ESTOP, false);
+  ASSERT_TRUE(released && released->first);
+  EXPECT_TRUE(crane_.back().fault) << "the PLC latches the fault until a reset";
+  const auto reset = ctl("reset", {"crane", "reset"});
+  EXPECT_EQ(reset.first, 0) << reset.second;
+  EXPECT_NE(reset.second.find("crane reset by riggerctl:"), std::string::npos) << reset.second;
+  EXPECT_NE(reset.second.find("no fault (was: fault"), std::string::npos) << reset.second;
+  ASSERT_TRUE(cell_.wait_until([&] { return !crane_.back().fault; }, 2s)) << crane_.back().fault_text;
+  const std::string gateway_log = cell_.process("crane_gateway").log();
+  EXPECT_NE(gateway_log.find("crane control kind=reset seq=1 source=riggerctl:"), std::string::npos) << gateway_log;
+}
+
 // A software safe stop of the crane (rigger/safety/stop): the gateway zeroes its setpoint at once,
 // refuses the velocity stream while the stop is in force (the crane stays still), says so in its state,
 // and follows fresh commands again after the reset.

@@ -107,6 +107,10 @@ std::vector<Grant> build() {
                      {names(admittance::kState, robot::kCmdTwist, crane::kCmdVelocity, crane::kControl),
                       names(admittance::kCommand, robot::kWrench, robot::kState, operator_ui::kJoystick,
                             vision::kTrackerPose, crane::kState)}}));
+  // A real robot's driver behind ROS 2 (services/ros2_bridge): the bridge's own ROS 2 topics (rt/…) depend on
+  // the cell's configuration and are granted from deploy/security/ros2.grants (make-pki --extra).
+  t.push_back(grant("ros2_bridge", "the ROS 2 bridge: a ROS 2 driver's wrench in, rigger's twist out to MoveIt Servo",
+                    {service(), {names(robot::kWrench), names(robot::kCmdTwist)}}));
   t.push_back(grant("monitor_host", "the monitors (timer, force, yank)",
                     {service(), executor(), {{}, names(robot::kWrench)}}));
   t.push_back(grant("robot-skills", "the robot's skill executor (deploy/config/robot-skills.json)",
@@ -130,10 +134,10 @@ std::vector<Grant> build() {
                     {service(), task_client(), world_client(),
                      {names(cad::kRequest),
                       names(cad::kReply, robot::kState, robot::kWrench, crane::kState, admittance::kState)}}));
-  t.push_back(grant("riggerctl", "riggerctl, the operator's command line (run, cancel, operator, jog, estop, sim); "
-                                 "reads every topic (riggerctl echo)",
+  t.push_back(grant("riggerctl", "riggerctl, the operator's command line (run, cancel, operator, jog, estop, crane "
+                                 "reset, sim); reads every topic (riggerctl echo)",
                     {service(), task_client(),
-                     {names(operator_ui::kJoystick, safety::kStop, sim::kControl), every_topic()}}));
+                     {names(operator_ui::kJoystick, safety::kStop, crane::kControl, sim::kControl), every_topic()}}));
   t.push_back(grant("rigger-compose", "the supervisor and rigger-compose ps/restart: service states only",
                     {service()}));
   // Tests, benchmarks, recorders.

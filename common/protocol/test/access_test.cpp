@@ -10,6 +10,7 @@
 #include "rigger/protocol/operator.hpp"
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/skill.hpp"
+#include "rigger/protocol/system.hpp"
 #include "rigger/protocol/task.hpp"
 
 namespace rigger::protocol {
@@ -63,8 +64,19 @@ TEST(AccessTable, OnlyAdmittanceAndSkillsCommandTheRobotAndTheCrane) {
   EXPECT_EQ(writers_of(crane::kCmdVelocity.name), std::set<std::string>{"admittance_control"});
   EXPECT_EQ(writers_of(robot::kCmdTwist.name), std::set<std::string>{"admittance_control"});
   EXPECT_EQ(writers_of(robot::kCmdMotion.name), std::set<std::string>{"robot-skills"});
-  EXPECT_EQ(writers_of(crane::kControl.name), (std::set<std::string>{"admittance_control", "robot-skills"}));
+  // riggerctl only for `crane reset`, which acknowledges a latched PLC fault and moves nothing.
+  EXPECT_EQ(writers_of(crane::kControl.name),
+            (std::set<std::string>{"admittance_control", "robot-skills", "riggerctl"}));
   EXPECT_EQ(writers_of(skill::kCommand.name), std::set<std::string>{"task_controller"});
+}
+
+// A real robot behind the ROS 2 bridge: the bridge is the robot's wrench source and the reader of the
+// twist stream, nothing else of rigger's; its rt/ topics come from the cell (deploy/security/ros2.grants).
+TEST(AccessTable, TheRos2BridgeCarriesOnlyTheWrenchInAndTheTwistOut) {
+  const auto* bridge = find_grant("ros2_bridge");
+  ASSERT_NE(bridge, nullptr);
+  EXPECT_EQ(bridge->publish, (std::vector<std::string>{robot::kWrench.name, system::kServiceState.name}));
+  EXPECT_EQ(bridge->subscribe, (std::vector<std::string>{robot::kCmdTwist.name, system::kServiceState.name}));
 }
 
 TEST(AccessTable, ObserverWritesNothingButItsAnnouncement) {

@@ -1,5 +1,9 @@
 #include "bridge_config.hpp"
 
+#include <fstream>
+#include <set>
+#include <string>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -54,6 +58,25 @@ TEST(BridgeConfig, TheShippedConfigurationLoads) {
   ASSERT_TRUE(b.wrench && b.twist);
   EXPECT_EQ(b.wrench->dds_topic, "rt/force_torque_sensor_broadcaster/wrench");
   EXPECT_EQ(b.twist->dds_topic, "rt/servo_node/delta_twist_cmds");
+}
+
+// deploy/security/ros2.grants (make-pki --extra) grants the shipped configuration's ROS 2 topics: the bridge
+// reads the wrench and writes the twist, the driver the other way round. A renamed topic in one file and
+// not the other would leave a secured bridge unmatched.
+TEST(BridgeConfig, TheShippedSecurityGrantsNameTheShippedTopics) {
+  const Config c = Config::load(std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json");
+  const BridgeConfig b = read_bridge_config(c);
+  c.finish();
+  ASSERT_TRUE(b.wrench && b.twist);
+  std::ifstream in(std::string(RIGGER_SOURCE_DIR) + "/deploy/security/ros2.grants");
+  ASSERT_TRUE(in) << "deploy/security/ros2.grants";
+  std::set<std::string> grants;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty() && line[0] != '#') grants.insert(line);
+  EXPECT_EQ(grants, (std::set<std::string>{"ros2_bridge subscribe " + b.wrench->dds_topic,
+                                           "ros2_bridge publish " + b.twist->dds_topic,
+                                           "ros2_driver publish " + b.wrench->dds_topic,
+                                           "ros2_driver subscribe " + b.twist->dds_topic}));
 }
 
 TEST(BridgeConfig, QosIsChosenPerTopic) {

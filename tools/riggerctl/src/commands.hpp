@@ -41,6 +41,10 @@ void add_sim_command(CLI::App& app, const CommonOptions& common, int& exit_code)
 /// robot, crane, gripper and admittance controller (default: all), latched until `--reset`. Exit
 /// codes: 0 acknowledged by the devices; 1 write failed or not acknowledged; 2 usage; 3 no device.
 void add_estop_command(CLI::App& app, const CommonOptions& common, int& exit_code);
+/// `crane reset [--timeout S]`: CRANE_RESET to the crane gateway (acknowledges a latched PLC fault) and
+/// waits until the crane reports no fault. Exit codes: 0 cleared; 1 still faulted (the cause is still
+/// there); 2 usage; 3 no crane gateway.
+void add_crane_command(CLI::App& app, const CommonOptions& common, int& exit_code);
 /// `topics [--json] [--timeout S]`: every topic of the catalog with its type, QoS profile and the live
 /// writers/readers (by service where known), plus topics seen on the wire outside the catalog.
 /// `echo TOPIC [--count N] [--timeout S] [--duration S] [--json] [--hz]`: prints a topic's samples (or

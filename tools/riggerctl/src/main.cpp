@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   rigger::ctl::add_jog_command(app, common, exit_code);
   rigger::ctl::add_sim_command(app, common, exit_code);
   rigger::ctl::add_estop_command(app, common, exit_code);
+  rigger::ctl::add_crane_command(app, common, exit_code);
   rigger::ctl::add_topic_commands(app, common, exit_code);
   rigger::ctl::add_cad_command(app, exit_code);
   try {
