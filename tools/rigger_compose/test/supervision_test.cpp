@@ -5,6 +5,7 @@
 #include <signal.h>
 
 #include <deque>
+#include <filesystem>
 
 namespace rigger::compose {
 namespace {
@@ -429,6 +430,11 @@ TEST(MakePlanTest, ThreeHostExampleSplitsTheCell) {
       if (e.local) ++started[e.def->name];
   EXPECT_EQ(started.size(), file.services.size());
   for (const auto& [name, count] : started) EXPECT_EQ(count, 1) << name;
+  // Every configuration it names is in the repository (the real PLC's is a template next to it).
+  for (const auto& s : file.services) {
+    if (s.config.empty()) continue;
+    EXPECT_TRUE(std::filesystem::is_regular_file(s.config)) << s.name << ": " << s.config;
+  }
 }
 
 }  // namespace
