@@ -264,11 +264,9 @@ MarkerDetector::MarkerDetector(const DetectorSettings& settings, const CameraInt
   parameters_->cornerRefinementMinAccuracy = 0.05;
   camera_matrix_ =
       (cv::Mat_<double>(3, 3) << camera_.fx_px, 0, camera_.cx_px, 0, camera_.fy_px, camera_.cy_px, 0, 0, 1);
-  distortion_ = cv::Mat(1, 5, CV_64F);
-  for (int k = 0; k < 5; ++k) {
-    distortion_.at<double>(k) = camera_.distortion[k];
-    distorted_ = distorted_ || camera_.distortion[k] != 0.0;
-  }
+  // Any of OpenCV's counts (4, 5, 8, 12, 14; validated with the configuration); none: an ideal pinhole.
+  distortion_ = cv::Mat(camera_.distortion, true).reshape(1, 1);
+  for (const double d : camera_.distortion) distorted_ = distorted_ || d != 0.0;
 }
 
 void MarkerDetector::detect_region(const cv::Mat& gray, const cv::Rect& region, double min_marker_side_px,

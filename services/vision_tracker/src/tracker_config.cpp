@@ -30,7 +30,10 @@ void validate(const TrackerConfig& config) {
   require(std::isfinite(camera.fx_px) && camera.fx_px > 0.0, "camera.fx_px", "a positive focal length");
   require(std::isfinite(camera.fy_px) && camera.fy_px > 0.0, "camera.fy_px", "a positive focal length");
   require(std::isfinite(camera.cx_px) && std::isfinite(camera.cy_px), "camera.cx_px/cy_px", "finite values");
-  for (std::size_t k = 0; k < camera.distortion.size(); ++k) {
+  const std::size_t n = camera.distortion.size();
+  require(n == 0 || n == 4 || n == 5 || n == 8 || n == 12 || n == 14, "camera.distortion",
+          "none, or 4, 5, 8, 12 or 14 coefficients (OpenCV's order), not " + std::to_string(n));
+  for (std::size_t k = 0; k < n; ++k) {
     require(std::isfinite(camera.distortion[k]), "camera.distortion[" + std::to_string(k) + "]", "a finite value");
   }
   require(config.pose_world_camera.translation().allFinite() && is_rotation(config.pose_world_camera.linear()),
@@ -100,12 +103,7 @@ TrackerConfig tracker_config_from_cell(const cell::CellFile& file, const std::st
   const cell::CameraIntrinsics& intrinsics = *camera.camera;
   TrackerConfig config;
   config.camera = {intrinsics.width_px, intrinsics.height_px, intrinsics.fx, intrinsics.fy, intrinsics.cx,
-                   intrinsics.cy, {}};
-  if (intrinsics.distortion.size() > config.camera.distortion.size()) {
-    file.fail(camera.pointer + "/camera/distortion", "4 or 5 numbers (k1 k2 p1 p2 [k3], plumb_bob)",
-              std::to_string(intrinsics.distortion.size()) + " numbers");
-  }
-  std::copy(intrinsics.distortion.begin(), intrinsics.distortion.end(), config.camera.distortion.begin());
+                   intrinsics.cy, intrinsics.distortion};
   config.pose_world_camera = file.pose_root_entity(camera_id);
 
   std::string dictionary;

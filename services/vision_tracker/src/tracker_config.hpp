@@ -25,7 +25,8 @@ class TrackerConfigError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-/// Pinhole camera with plumb_bob distortion (k1 k2 p1 p2 k3), as sensor_msgs/CameraInfo.
+/// Pinhole camera with OpenCV's lens distortion: none, or 4, 5, 8, 12 or 14 coefficients
+/// (k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4 [tx ty]]]]): plumb_bob is 5, the rational model 8.
 /// Pixel (0, 0) is the centre of the top-left pixel; optical frame z forward, x right, y down.
 struct CameraIntrinsics {
   int width_px = 0;
@@ -34,7 +35,7 @@ struct CameraIntrinsics {
   double fy_px = 0.0;
   double cx_px = 0.0;
   double cy_px = 0.0;
-  std::array<double, 5> distortion{};
+  std::vector<double> distortion;  ///< empty: an ideal pinhole
 };
 
 /// One square marker of an object's layout. Marker frame as OpenCV ArUco: origin at the centre,
@@ -129,7 +130,7 @@ void validate(const TrackerConfig& config);
 
 /// The camera `camera_id` (intrinsics, pose in the root frame) and every object with markers of a
 /// validated cell file; tuning keeps its defaults. Throws cell::CellFileError naming the file and the
-/// JSON pointer (no such camera, no intrinsics, distortion beyond k3, layouts in different dictionaries).
+/// JSON pointer (no such camera, no intrinsics, layouts in different dictionaries).
 TrackerConfig tracker_config_from_cell(const cell::CellFile& file, const std::string& camera_id);
 
 }  // namespace rigger::vision

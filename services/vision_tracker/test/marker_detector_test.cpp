@@ -155,29 +155,34 @@ TEST_F(MarkerDetectorTest, AnIdSeenTwiceIsDropped) {
   EXPECT_EQ(found[1].id, 11);
 }
 
+// The corners come out as cv::undistortPoints puts them, for plumb_bob (5 coefficients) and for the
+// rational model (8: k4..k6 in the denominator), the two models camera calibrations give.
 TEST_F(MarkerDetectorTest, LensDistortionIsTakenOutOfTheCorners) {
   const cv::Mat image = render(0.0, poses_);
   MarkerDetector pinhole(config_.detector, config_.camera);
-  CameraIntrinsics distorted = config_.camera;
-  distorted.distortion = {-0.25, 0.05, 0.001, -0.001, 0.0};
-  MarkerDetector with_distortion(config_.detector, distorted);
   const std::vector<DetectedMarker> raw = pinhole.detect(image, {}, 24.0);
-  const std::vector<DetectedMarker> corrected = with_distortion.detect(image, {}, 24.0);
-  ASSERT_EQ(raw.size(), corrected.size());
-  const cv::Mat k = (cv::Mat_<double>(3, 3) << 1000, 0, 640, 0, 1000, 360, 0, 0, 1);
-  for (std::size_t m = 0; m < raw.size(); ++m) {
-    std::vector<cv::Point2f> points;
-    for (const Eigen::Vector2d& c : raw[m].corners_px) {
-      points.emplace_back(static_cast<float>(c.x()), static_cast<float>(c.y()));
-    }
-    std::vector<cv::Point2f> expected;
-    cv::undistortPoints(points, expected, k,
-                        std::vector<double>(distorted.distortion.begin(), distorted.distortion.end()), cv::noArray(),
-                        k);
-    for (int c = 0; c < 4; ++c) {
-      const Eigen::Vector2d e(expected[c].x, expected[c].y);
-      EXPECT_GT((raw[m].corners_px[c] - e).norm(), 0.05) << "the distortion must matter for the test";
-      EXPECT_LT((corrected[m].corners_px[c] - e).norm(), 0.05) << "marker " << raw[m].id << " corner " << c;
+  ASSERT_FALSE(raw.empty());
+  for (const std::vector<double>& model : {std::vector<double>{-0.25, 0.05, 0.001, -0.001, 0.0},
+                                           std::vector<double>{-0.1, 0.01, 0.001, -0.001, 0.0, 0.15, 0.0, 0.0}}) {
+    CameraIntrinsics distorted = config_.camera;
+    distorted.distortion = model;
+    MarkerDetector with_distortion(config_.detector, distorted);
+    const std::vector<DetectedMarker> corrected = with_distortion.detect(image, {}, 24.0);
+    ASSERT_EQ(raw.size(), corrected.size()) << model.size() << " coefficients";
+    const cv::Mat k = (cv::Mat_<double>(3, 3) << 1000, 0, 640, 0, 1000, 360, 0, 0, 1);
+    for (std::size_t m = 0; m < raw.size(); ++m) {
+      std::vector<cv::Point2f> points;
+      for (const Eigen::Vector2d& c : raw[m].corners_px) {
+        points.emplace_back(static_cast<float>(c.x()), static_cast<float>(c.y()));
+      }
+      std::vector<cv::Point2f> expected;
+      cv::undistortPoints(points, expected, k, model, cv::noArray(), k);
+      for (int c = 0; c < 4; ++c) {
+        const Eigen::Vector2d e(expected[c].x, expected[c].y);
+        EXPECT_GT((raw[m].corners_px[c] - e).norm(), 0.05) << "the distortion must matter for the test";
+        EXPECT_LT((corrected[m].corners_px[c] - e).norm(), 0.05)
+            << model.size() << " coefficients, marker " << raw[m].id << " corner " << c;
+      }
     }
   }
 }

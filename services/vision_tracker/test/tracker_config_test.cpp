@@ -44,7 +44,10 @@ TEST(TrackerConfig, NamesTheBadCameraField) {
   EXPECT_THAT(error_of([](TrackerConfig& c) { c.camera.fy_px = -1.0; }),
               HasSubstr("camera.fy_px: expected a positive"));
   EXPECT_THAT(error_of([](TrackerConfig& c) { c.camera.cx_px = std::nan(""); }), HasSubstr("camera.cx_px"));
-  EXPECT_THAT(error_of([](TrackerConfig& c) { c.camera.distortion[2] = INFINITY; }), HasSubstr("camera.distortion[2]"));
+  EXPECT_THAT(error_of([](TrackerConfig& c) { c.camera.distortion = {0.0, 0.0, INFINITY, 0.0, 0.0}; }),
+              HasSubstr("camera.distortion[2]"));
+  EXPECT_THAT(error_of([](TrackerConfig& c) { c.camera.distortion = std::vector<double>(6, 0.0); }),
+              HasSubstr("camera.distortion: expected none, or 4, 5, 8, 12 or 14 coefficients (OpenCV's order), not 6"));
   EXPECT_THAT(error_of([](TrackerConfig& c) { c.pose_world_camera.linear() *= 2.0; }), HasSubstr("pose_world_camera"));
 }
 
@@ -114,9 +117,21 @@ TEST(TrackerConfigFromCell, NamesWhatItCannotUse) {
   cell["entities"][6]["features"]["markers"]["dictionary"] = "DICT_5X5_50";
   EXPECT_THAT(cell_error_of(cell), HasSubstr("/entities/6/features/markers/dictionary: expected the dictionary of "
                                              "every other layout (DICT_4X4_50)"));
-  cell = deployed_cell();
-  cell["entities"][4]["camera"]["distortion"] = nlohmann::json::array({0, 0, 0, 0, 0, 0, 0, 0});
-  EXPECT_THAT(cell_error_of(cell), HasSubstr("/entities/4/camera/distortion: expected 4 or 5 numbers"));
+}
+
+// Every count the cell file accepts (OpenCV's) reaches the detector: a calibration with the rational model
+// (8 coefficients) or the thin-prism and tilt terms (12, 14) is used as it is, not refused.
+TEST(TrackerConfigFromCell, TakesEveryDistortionModelTheCellFileAccepts) {
+  for (const std::size_t n : {4u, 5u, 8u, 12u, 14u}) {
+    nlohmann::json cell = deployed_cell();
+    std::vector<double> d(n, 0.0);
+    d[0] = -0.1;
+    d[n - 1] = 0.001 * static_cast<double>(n);
+    cell["entities"][4]["camera"]["distortion"] = d;
+    const TrackerConfig config = tracker_config_from_cell(cell::cell_file_from_json(cell, "cell.json"), "camera");
+    EXPECT_EQ(config.camera.distortion, d) << n;
+    EXPECT_NO_THROW(validate(config)) << n;
+  }
 }
 
 }  // namespace
