@@ -17,6 +17,13 @@ if(_scenario_ready)
     DEPS rigger_test_harness rigger_cell_cad Eigen3::Eigen nlohmann_json::nlohmann_json
     LABEL integration TIMEOUT 420 RUN_SERIAL)
   add_dependencies(rigger_pick_place_cell_test ${_scenario_services})
+  # CollaborativeMoveLoad in physics (issue 18): recipes/examples/guide_by_joystick.json with the joystick
+  # driven by `riggerctl jog --script` (about a minute).
+  rigger_add_test(rigger_guide_cell_test
+    SOURCES guide_cell_test.cpp
+    DEPS rigger_test_harness rigger_cell_cad Eigen3::Eigen nlohmann_json::nlohmann_json
+    LABEL integration TIMEOUT 420 RUN_SERIAL)
+  add_dependencies(rigger_guide_cell_test ${_scenario_services} riggerctl)
 endif()
 # docs/getting-started.md step 2 as written, without CYCLONEDDS_URI (issue 12): rigger-compose up, then
 # riggerctl services/skills/run by hand.

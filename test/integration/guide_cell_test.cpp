@@ -1,0 +1,64 @@
+// CollaborativeMoveLoad in physics (issue 18): recipes/examples/guide_by_joystick.json on every real process
+// of the cell. The robot localizes the load and attaches itself to it; then the operator's joystick
+// (`riggerctl jog --script`, the real tool, publishing rigger/operator/joystick) drives admittance control of
+// robot and crane, and the scripted operator answers the skill's 'done' prompt afterwards. The test asserts
+// from the physics' ground truth (rigger/sim/ground_truth) that the crane-carried load went where the
+// joystick pushed it, and that it stayed there once the joystick let go.
+#include <cmath>
+
+#include "scenario_support.hpp"
+
+namespace rigger::testing::scenario {
+namespace {
+
+constexpr auto kTaskTimeout = std::chrono::minutes(4);
+constexpr double kJogSpeedMps = 0.05;
+constexpr double kJogSeconds = 4.0;
+
+class GuideCellTest : public MultiProcessTest {};
+
+TEST_F(GuideCellTest, TheLoadFollowsTheOperatorsJoystickThroughRobotAndCrane) {
+  // The 'done' comes 12 s after the prompt: long after the jog script (3 s still, 4 s moving) has ended.
+  ScenarioCell s(cell_, {"confirm:object=load:done@12"});
+  ASSERT_TRUE(s.ready()) << "not every service came up";
+  const cell::CellFile cell = cell::load_cell_file(repo_file("deploy/cell/simulated_cell.json"));
+  // The joystick's frame is the robot base frame (riggerctl jog): +x there, in the world.
+  const Eigen::Vector3d pushed = cell.pose_root_entity("robot").linear().col(0);
+
+  ASSERT_TRUE(s.submit("recipes/examples/guide_by_joystick.json"));
+  ASSERT_TRUE(s.wait_node("guide load", rigger_task_NODE_RUNNING, kTaskTimeout)) << s.task_summary();
+  ASSERT_NE(s.node("guide load"), nullptr) << "the task ended before the guided move: " << s.task_summary();
+  ASSERT_EQ(s.node("guide load")->state, rigger_task_NODE_RUNNING) << s.task_summary();
+  const Eigen::Vector3d before = s.truth("load")->translation();
+  // Still for 3 s (the skill takes the crane and engages admittance meanwhile), then +x for 4 s, then zero.
+  auto jog = start_riggerctl(cell_, "jog",
+                             {"jog", "--script", "stop:3s,x+" + std::to_string(kJogSpeedMps) + ":" +
+                                                     std::to_string(kJogSeconds) + "s"});
+  ASSERT_TRUE(cell_.wait_until([&] { return !jog->running(); }, 30s)) << "the jog script did not end";
+  const auto jog_status = jog->wait(1s);
+  ASSERT_TRUE(jog_status && jog_status->exited && jog_status->code == 0) << jog->log();
+  const Eigen::Vector3d after_jog = s.truth("load")->translation();
+
+  ASSERT_TRUE(s.wait_node("guide load", rigger_task_NODE_SUCCESS, 30s)) << s.task_summary();
+  const Eigen::Vector3d at_done = s.truth("load")->translation();
+  ASSERT_TRUE(s.wait_task_end(kTaskTimeout)) << "the task did not end in time: " << s.task_summary();
+  std::printf("--- guide by joystick: task %s after %.1f s\n%s", s.task_code().c_str(), s.task_seconds(),
+              s.durations().c_str());
+  ASSERT_EQ(s.task_state(), rigger_task_TASK_SUCCEEDED) << s.task_summary();
+
+  const Eigen::Vector3d moved = after_jog - before;
+  const double along = moved.dot(pushed);
+  const double across = (moved - along * pushed).norm();
+  const double drift = (at_done - after_jog).norm();
+  std::printf("  load moved %.1f mm along the joystick's +x (commanded %.0f mm), %.1f mm across it; %.1f mm "
+              "between the jog's end and 'done'\n",
+              along * 1000.0, kJogSpeedMps * kJogSeconds * 1000.0, across * 1000.0, drift * 1000.0);
+  EXPECT_GT(along, 0.5 * kJogSpeedMps * kJogSeconds) << "the load did not follow the joystick";
+  EXPECT_LT(along, 1.5 * kJogSpeedMps * kJogSeconds) << "the load went further than the joystick said";
+  EXPECT_LT(across, 0.3 * along) << "the load went sideways";
+  EXPECT_LT(drift, 0.02) << "the load kept moving after the joystick let go";
+  EXPECT_FALSE(s.gripper_energized()) << "the robot should have let go";
+}
+
+}  // namespace
+}  // namespace rigger::testing::scenario
