@@ -131,6 +131,43 @@ bool run_until_insertion_moves(ScenarioTest* /*unused*/, Cell& cell, ScenarioCel
          !task_terminal(s.task_state());
 }
 
+// The recovery branch run to success: a 200 N push on the load during the insertion trips the force
+// monitor; the Fallback backs the load off the target, the operator decides "retry" (the scripted operator's
+// answer to a decision), the second insertion succeeds with the push gone, and the task ends as the nominal
+// one does: screwed on within 5 mm and 1 degree, the robot let go.
+TEST_F(ScenarioTest, ForceDuringInsertionBacksOffAndTheOperatorsRetrySucceeds) {
+  ScenarioCell s(cell_, {"decision:retry@0.5"});
+  ASSERT_TRUE(s.ready()) << "not every service came up";
+  ASSERT_TRUE(run_until_insertion_moves(this, cell_, s, 0.05)) << s.task_summary();
+  ASSERT_TRUE(s.sim()
+                  .send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, Eigen::Vector3d(200.0, 0.0, 0.0))
+                  .value_or(std::make_pair(false, ""))
+                  .first);
+  ASSERT_TRUE(s.wait_node("force monitor", rigger_task_NODE_FAILURE, 20s)) << s.task_summary();
+  ASSERT_TRUE(s.sim().send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, Eigen::Vector3d::Zero())
+                  .value_or(std::make_pair(false, ""))
+                  .first);
+  ASSERT_TRUE(s.wait_task_end(kTaskTimeout)) << s.task_summary();
+  print_report(s, "force during insertion, back off, operator retries");
+  ASSERT_EQ(s.task_state(), rigger_task_TASK_SUCCEEDED) << s.task_summary();
+  for (const char* name : {"back off", "operator decides", "insert visually guided (again)", "release and retreat"}) {
+    const NodeView* n = s.node(name);
+    ASSERT_NE(n, nullptr) << name << " never ran";
+    EXPECT_EQ(n->state, rigger_task_NODE_SUCCESS) << name << ": " << n->code << " " << n->message;
+  }
+  // The monitor failed the first Parallel; the insertion itself was shut down, not failed.
+  EXPECT_EQ(s.node("force monitor")->state, rigger_task_NODE_FAILURE);
+  EXPECT_EQ(s.node("force monitor")->code, "FORCE_LIMIT");
+  EXPECT_EQ(s.node("insert visually guided")->state, rigger_task_NODE_STOPPED);
+  const auto error = s.insertion_error_at_start("release and retreat");
+  ASSERT_TRUE(error.has_value());
+  std::printf("  load vs insertion pose when screwed on (before the release): %.1f mm, %.2f deg\n",
+              error->first * 1000.0, error->second * 180.0 / M_PI);
+  EXPECT_LT(error->first, 0.005);
+  EXPECT_LT(error->second, 1.0 * M_PI / 180.0);
+  EXPECT_FALSE(s.gripper_energized());
+}
+
 // The PLC link is cut during the insertion: the crane stops, the task fails with CRANE_FAULT (the
 // recovery branch refuses to move a load whose crane is down), and nothing moves afterwards.
 TEST_F(ScenarioTest, PlcLinkCutDuringInsertionFailsWithCraneFault) {
