@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "scenario_support.hpp"
+#include "world_query_support.hpp"
 
 namespace rigger::testing::scenario {
 namespace {
@@ -58,6 +59,10 @@ TEST_F(GuideCellTest, TheLoadFollowsTheOperatorsJoystickThroughRobotAndCrane) {
   EXPECT_LT(across, 0.3 * along) << "the load went sideways";
   EXPECT_LT(drift, 0.02) << "the load kept moving after the joystick let go";
   EXPECT_FALSE(s.gripper_energized()) << "the robot should have let go";
+  // The load moved where no camera saw it: CollaborativeMoveLoad told the world model.
+  const auto localized = world_localized(cell_, "load");
+  ASSERT_TRUE(localized.has_value()) << "the world model did not answer";
+  EXPECT_FALSE(*localized) << "the world model still says the load is where it was localized";
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "scenario_support.hpp"
+#include "world_query_support.hpp"
 
 namespace rigger::testing::scenario {
 namespace {
@@ -110,6 +111,10 @@ TEST_F(PickPlaceCellTest, PickAndPlaceRecipeMovesThePartInPhysics) {
     ASSERT_NE(n, nullptr) << name;
     EXPECT_EQ(n->state, rigger_task_NODE_SUCCESS) << name;
   }
+  // The world model no longer claims the pose the part was picked at: Place told it the part moved.
+  const auto localized = world_localized(cell_, "part");
+  ASSERT_TRUE(localized.has_value()) << "the world model did not answer";
+  EXPECT_FALSE(*localized) << "the world model still says the part is localized where it was picked";
 }
 
 }  // namespace

@@ -14,14 +14,14 @@ if(_scenario_ready)
   # the part's final true pose checked against the recipe's place pose (about a minute).
   rigger_add_test(rigger_pick_place_cell_test
     SOURCES pick_place_cell_test.cpp
-    DEPS rigger_test_harness rigger_cell_cad Eigen3::Eigen nlohmann_json::nlohmann_json
+    DEPS rigger_test_harness rigger_cell_cad rigger_world_client Eigen3::Eigen nlohmann_json::nlohmann_json
     LABEL integration TIMEOUT 420 RUN_SERIAL)
   add_dependencies(rigger_pick_place_cell_test ${_scenario_services})
   # CollaborativeMoveLoad in physics (issue 18): recipes/examples/guide_by_joystick.json with the joystick
   # driven by `riggerctl jog --script` (about a minute).
   rigger_add_test(rigger_guide_cell_test
     SOURCES guide_cell_test.cpp
-    DEPS rigger_test_harness rigger_cell_cad Eigen3::Eigen nlohmann_json::nlohmann_json
+    DEPS rigger_test_harness rigger_cell_cad rigger_world_client Eigen3::Eigen nlohmann_json::nlohmann_json
     LABEL integration TIMEOUT 420 RUN_SERIAL)
   add_dependencies(rigger_guide_cell_test ${_scenario_services} riggerctl)
 endif()

@@ -185,6 +185,10 @@ class WorldAccess {
   /// `stamp`); ok once the world model accepted it, else its rejection code or WORLD_UNREACHABLE.
   virtual OpId update_pose(const std::string& entity, const std::string& parent_frame, const Eigen::Isometry3d& pose,
                            WallTime stamp, double quality, std::chrono::nanoseconds timeout, OpCallback done) = 0;
+  /// Says that `entity` is no longer localized (moved where no sensor saw it; its pose is kept, marked
+  /// unknown); ok once the world model accepted it.
+  virtual OpId mark_unlocalized(const std::string& entity, WallTime stamp, std::chrono::nanoseconds timeout,
+                                OpCallback done) = 0;
   virtual void cancel(OpId id) = 0;
 };
 

@@ -509,6 +509,20 @@ void DdsOperatorPanel::on_responses() {
 
 // ---------------------------------------------------------------------------------------------------
 
+namespace {
+
+/// An update's answer as an OpResult: ok with the world model's code, or its rejection code.
+world_client::WorldClient::Callback update_answer(OpCallback done) {
+  return [done = std::move(done)](const world_client::Reply& reply) {
+    if (reply.ok)
+      done(OpResult::success(reply.code));
+    else
+      done(OpResult::failure(reply.code.empty() ? world_client::kUnreachable : reply.code, reply.message));
+  };
+}
+
+}  // namespace
+
 OpId DdsWorldAccess::features(const std::string& entity, std::chrono::nanoseconds timeout,
                               std::function<void(const OpResult&, const nlohmann::json&)> done) {
   return client_.features(entity, to_ms(timeout), [done = std::move(done)](const world_client::Reply& reply) {
@@ -524,14 +538,13 @@ OpId DdsWorldAccess::features(const std::string& entity, std::chrono::nanosecond
 OpId DdsWorldAccess::update_pose(const std::string& entity, const std::string& parent_frame,
                                  const Eigen::Isometry3d& pose, WallTime stamp, double quality,
                                  std::chrono::nanoseconds timeout, OpCallback done) {
-  return client_.update_pose(
-      entity, parent_frame, pose, stamp, quality, true, to_ms(timeout),
-      [done = std::move(done)](const world_client::Reply& reply) {
-        if (reply.ok)
-          done(OpResult::success(reply.code));
-        else
-          done(OpResult::failure(reply.code.empty() ? world_client::kUnreachable : reply.code, reply.message));
-      });
+  return client_.update_pose(entity, parent_frame, pose, stamp, quality, true, to_ms(timeout),
+                             update_answer(std::move(done)));
+}
+
+OpId DdsWorldAccess::mark_unlocalized(const std::string& entity, WallTime stamp, std::chrono::nanoseconds timeout,
+                                      OpCallback done) {
+  return client_.set_localized(entity, false, stamp, to_ms(timeout), update_answer(std::move(done)));
 }
 
 }  // namespace rigger::skill_executor

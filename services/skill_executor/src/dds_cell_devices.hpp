@@ -195,6 +195,8 @@ class DdsWorldAccess final : public WorldAccess {
                 std::function<void(const OpResult&, const nlohmann::json&)> done) override;
   OpId update_pose(const std::string& entity, const std::string& parent_frame, const Eigen::Isometry3d& pose,
                    WallTime stamp, double quality, std::chrono::nanoseconds timeout, OpCallback done) override;
+  OpId mark_unlocalized(const std::string& entity, WallTime stamp, std::chrono::nanoseconds timeout,
+                        OpCallback done) override;
   void cancel(OpId id) override { client_.cancel(id); }
 
  private:

@@ -1,5 +1,7 @@
 #include "skill.hpp"
 
+#include "cell_devices.hpp"
+
 #include <stdexcept>
 
 namespace rigger::skill_executor {
@@ -103,6 +105,24 @@ void Skill::after(std::chrono::nanoseconds delay, std::function<void()> handler)
 void Skill::succeed(const std::string& message) {
   if (finished_ || stopping_) return;
   finish({SkillResult::Kind::kSuccess, "", message});
+}
+
+void Skill::succeed_unlocalizing(const std::string& object, const std::string& message) {
+  WorldAccess* world = ctx().devices().world_access;
+  if (world == nullptr) {
+    succeed(message);
+    return;
+  }
+  ctx().progress(0.98, "telling the world model that " + object + " moved unobserved");
+  const OpId id = world->mark_unlocalized(
+      object, std::chrono::system_clock::now(), kWorldUpdateTimeout, guard([this, object, message](const OpResult& r) {
+        if (r.ok)
+          succeed(message + "; " + object + " no longer localized");
+        else
+          fail("WORLD_UPDATE_FAILED", message + ", but the world model could not be told that " + object +
+                                          " moved (it still holds the old pose): " + r.code + ": " + r.message);
+      }));
+  track([world, id] { world->cancel(id); });
 }
 
 void Skill::fail(const std::string& code, const std::string& message) {

@@ -101,6 +101,12 @@ class Skill {
   void transition(const std::string& name);
   void succeed(const std::string& message = "");
   void fail(const std::string& code, const std::string& message);
+  /// For a skill that moved `object` where no sensor saw it (Place, CollaborativeMoveLoad): tells the
+  /// world model that `object` is no longer localized (its last pose stays, marked unknown, so that nothing
+  /// picks it where it was), then succeeds with `message`. Fails WORLD_UPDATE_FAILED naming what happened
+  /// when the world model cannot be told. An executor without a world model succeeds at once.
+  void succeed_unlocalizing(const std::string& object, const std::string& message);
+  static constexpr std::chrono::seconds kWorldUpdateTimeout{2};
 
   /// Wraps a callback so that it runs only while the state that created it is still current (and the
   /// run has not ended or begun stopping): late events of an abandoned state are dropped.

@@ -203,6 +203,7 @@ class FakeWorldAccess final : public WorldAccess {
     WallTime stamp;
     double quality;
     OpCallback done;
+    bool localized = true;  ///< false: a mark_unlocalized (no pose)
   };
   OpId features(const std::string& entity, std::chrono::nanoseconds,
                 std::function<void(const OpResult&, const nlohmann::json&)> done) override {
@@ -212,6 +213,11 @@ class FakeWorldAccess final : public WorldAccess {
   OpId update_pose(const std::string& entity, const std::string& parent_frame, const Eigen::Isometry3d& pose,
                    WallTime stamp, double quality, std::chrono::nanoseconds, OpCallback done) override {
     updates_[++next_] = {entity, parent_frame, pose, stamp, quality, std::move(done)};
+    return next_;
+  }
+  OpId mark_unlocalized(const std::string& entity, WallTime stamp, std::chrono::nanoseconds,
+                        OpCallback done) override {
+    updates_[++next_] = {entity, "", Eigen::Isometry3d::Identity(), stamp, -1.0, std::move(done), false};
     return next_;
   }
   void cancel(OpId id) override { feature_requests_.erase(id) || updates_.erase(id); }

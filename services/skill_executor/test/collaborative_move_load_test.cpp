@@ -59,10 +59,18 @@ TEST_F(CollaborativeMoveLoadTest, TheOperatorsDoneEndsItWithAdmittanceOff) {
   EXPECT_EQ(h.admittance.pending()->mode, AdmittanceModeRequest::kOff);
   EXPECT_FALSE(h.result) << "not before OFF is confirmed";
   ASSERT_TRUE(h.admittance.complete(OpResult::success()));
+  // The load moved where no camera saw it: the world model is told before the run succeeds.
+  EXPECT_FALSE(h.result) << "not before the world model knows the load moved";
+  const auto* update = h.world.pending_update();
+  ASSERT_NE(update, nullptr);
+  EXPECT_EQ(update->entity, "load");
+  EXPECT_FALSE(update->localized);
+  ASSERT_TRUE(h.world.answer_update(OpResult::success("ACCEPTED")));
   ASSERT_TRUE(h.succeeded());
   EXPECT_EQ(h.timers.pending(), 0u);
 }
 
+// (A world model that cannot be told the load moved fails the run: nothing may use the old pose.)
 TEST_F(CollaborativeMoveLoadTest, ADurationEndsItWithoutAnAnswer) {
   params_["duration_s"] = 20.0;
   CellRunHarness h(type_, params_);
@@ -72,7 +80,10 @@ TEST_F(CollaborativeMoveLoadTest, ADurationEndsItWithoutAnAnswer) {
   h.timers.advance(1s);
   EXPECT_EQ(h.state(), "disengage");
   ASSERT_TRUE(h.admittance.complete(OpResult::success()));
-  EXPECT_TRUE(h.succeeded());
+  ASSERT_TRUE(h.world.answer_update(OpResult::failure("WORLD_UNREACHABLE", "no reply within 2000 ms")));
+  // As every failure: admittance OFF confirmed first (it already is).
+  ASSERT_TRUE(h.admittance.complete(OpResult::success()));
+  EXPECT_TRUE(h.failed_with("WORLD_UPDATE_FAILED"));
 }
 
 TEST_F(CollaborativeMoveLoadTest, NoAnswerWithinMaxDurationIsTimeoutAfterAdmittanceOff) {

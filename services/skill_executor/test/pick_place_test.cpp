@@ -228,6 +228,36 @@ TEST_F(PlaceTest, ApproachesDescendsReleasesAndRetreats) {
   EXPECT_EQ(h.robot.moves, 3);
 }
 
+// After the release and the retreat the world model is told that the part is no longer localized (it still
+// holds the pose the part was picked at), and only then does Place succeed; a world model that cannot be
+// told fails the run with WORLD_UPDATE_FAILED naming the part, so that nothing picks it where it was.
+TEST_F(PlaceTest, ThePlacedObjectIsNoLongerLocalizedInTheWorldModel) {
+  for (const bool told : {true, false}) {
+    testing::FakeWorldAccess world;
+    GripperRunHarness h(type_, place_params(), [&](Devices& d) { d.world_access = &world; });
+    start(h);
+    drive_to(h, "retreat", true);
+    ASSERT_TRUE(h.robot.complete(Kind::kMove, OpResult::success()));
+    ASSERT_FALSE(h.result) << "Place ended before the world model was told: " << h.describe_result();
+    const auto* update = world.pending_update();
+    ASSERT_NE(update, nullptr);
+    EXPECT_EQ(update->entity, "part");
+    EXPECT_FALSE(update->localized);
+    ASSERT_TRUE(world.answer_update(told ? OpResult::success("ACCEPTED")
+                                         : OpResult::failure("WORLD_UNREACHABLE", "no reply within 2000 ms")));
+    if (told) {
+      EXPECT_TRUE(h.succeeded()) << h.describe_result();
+      EXPECT_NE(h.result->message.find("part no longer localized"), std::string::npos) << h.result->message;
+    } else {
+      // As every failure: the robot's stop confirmed first (it already stands still).
+      ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));
+      EXPECT_TRUE(h.failed_with("WORLD_UPDATE_FAILED")) << h.describe_result();
+      EXPECT_NE(h.result->message.find("placed part, but the world model could not be told"), std::string::npos)
+          << h.result->message;
+    }
+  }
+}
+
 TEST_F(PlaceTest, APoseRelativeToAFeatureIsResolvedInTheRobotFrame) {
   GripperRunHarness h(
       type_,

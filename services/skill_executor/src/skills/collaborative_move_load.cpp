@@ -14,7 +14,8 @@ const skill::SkillDescription& CollaborativeMoveLoadSkill::describe() {
     d.description =
         "The operator guides the crane-carried load held by the robot with the joystick: admittance "
         "control of robot and crane (ROBOT_AND_CRANE, reference JOYSTICK) until the operator answers "
-        "'done' (or duration_s passed); then admittance OFF.";
+        "'done' (or duration_s passed); then admittance OFF, and the world model is told the object is no "
+        "longer localized.";
     d.params = {
         ParamSpec{"object",
                   ParamType::kString,
@@ -200,7 +201,9 @@ void CollaborativeMoveLoadSkill::disengage() {
   const OpId id =
       admittance->command(off, kAdmittanceStopTimeout, guard([this](const OpResult& r) {
                             if (r.ok)
-                              succeed("the operator moved the load; admittance OFF, robot and crane at rest");
+                              succeed_unlocalizing(params().at("object").get<std::string>(),
+                                                   "the operator moved the load; admittance OFF, robot and crane "
+                                                   "at rest");
                             else
                               fail("ADMITTANCE_FAULT", "admittance OFF not confirmed: " + r.code + ": " + r.message);
                           }));

@@ -198,7 +198,8 @@ const skill::SkillDescription& PlaceSkill::describe() {
     d.kind = skill::SkillKind::kSkill;
     d.description =
         "Places a held object: approach pose, straight descent to the place pose, release and confirm, "
-        "straight retreat.";
+        "straight retreat; then the world model is told the object is no longer localized (Localize it again "
+        "before anything needs its pose).";
     d.params = {
         object_param("The object placed (claimed while the skill runs)."),
         ParamSpec{"pose",
@@ -220,7 +221,7 @@ const skill::SkillDescription& PlaceSkill::describe() {
     d.resources = {"robot", "gripper", "$object"};
     d.preconditions = {*skill::parse_predicate("attached(robot,$object)")};
     d.postconditions = {*skill::parse_predicate("!attached(robot,$object)"),
-                        *skill::parse_predicate("placed($object)")};
+                        *skill::parse_predicate("placed($object)"), *skill::parse_predicate("!localized($object)")};
     return d;
   }();
   return kDescription;
@@ -301,7 +302,7 @@ void PlaceSkill::confirm_released() {
   wait_gripper([](const GripperSnapshot& g) { return !g.energized && !g.holding; }, kGripperTimeout,
                [this](const GripperSnapshot&) {
                  if (params().at("retreat_m").get<double>() <= 0.0)
-                   succeed("placed (no retreat)");
+                   succeed_unlocalizing(params().at("object").get<std::string>(), "placed (no retreat)");
                  else
                    transition("retreat");
                },
@@ -312,7 +313,10 @@ void PlaceSkill::retreat() {
   ctx().progress(0.8, "retreating");
   move_tool(along_tool_z(place_, -params().at("retreat_m").get<double>()),
             speed_scale_for(params().at("approach_speed_m_per_s").get<double>()), motion_timeout(),
-            [this] { succeed("placed " + params().at("object").get<std::string>()); });
+            [this] {
+              const std::string object = params().at("object").get<std::string>();
+              succeed_unlocalizing(object, "placed " + object);
+            });
 }
 
 }  // namespace rigger::skill_executor
