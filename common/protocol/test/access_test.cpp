@@ -9,6 +9,7 @@
 #include "rigger/protocol/crane.hpp"
 #include "rigger/protocol/operator.hpp"
 #include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/safety.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/system.hpp"
 #include "rigger/protocol/task.hpp"
@@ -71,12 +72,13 @@ TEST(AccessTable, OnlyAdmittanceAndSkillsCommandTheRobotAndTheCrane) {
 }
 
 // A real robot behind the ROS 2 bridge: the bridge is the robot's wrench source and the reader of the
-// twist stream, nothing else of rigger's; its rt/ topics come from the cell (deploy/security/ros2.grants).
+// twist stream (and the robot's safe stop, which it obeys), nothing else of rigger's; its rt/ topics come from the cell (deploy/security/ros2.grants).
 TEST(AccessTable, TheRos2BridgeCarriesOnlyTheWrenchInAndTheTwistOut) {
   const auto* bridge = find_grant("ros2_bridge");
   ASSERT_NE(bridge, nullptr);
   EXPECT_EQ(bridge->publish, (std::vector<std::string>{robot::kWrench.name, system::kServiceState.name}));
-  EXPECT_EQ(bridge->subscribe, (std::vector<std::string>{robot::kCmdTwist.name, system::kServiceState.name}));
+  EXPECT_EQ(bridge->subscribe, (std::vector<std::string>{robot::kCmdTwist.name, safety::kStop.name,
+                                                         system::kServiceState.name}));
 }
 
 TEST(AccessTable, ObserverWritesNothingButItsAnnouncement) {

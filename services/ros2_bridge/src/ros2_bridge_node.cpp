@@ -31,6 +31,9 @@ Ros2BridgeNode::Ros2BridgeNode(dds::ServiceContext& ctx) : ctx_(ctx), config_(re
     ros2_twist_.emplace(ctx.participant, t.dds_topic, qos_of(t.qos));
     rigger_twist_.emplace(ctx.participant, protocol::robot::kCmdTwist);
     ctx.loop.on_data(*rigger_twist_, [this] { on_rigger_twist(); });
+    // The bridge is the robot's motion input as far as rigger can reach: it obeys the robot's safe stop.
+    safe_stop_.emplace(ctx.participant, ctx.loop, std::vector<std::string>{"robot"},
+                       [this](const std::string&, const safety::StopState& stop) { on_safe_stop(stop); });
     ctx.log->info(
         "bridging twist_command from={} to={} dds_topic={} qos={} max_age_s={} max_linear_mps={} "
         "max_angular_radps={} over_limit={}",
@@ -79,6 +82,11 @@ void Ros2BridgeNode::on_ros2_wrench() {
 void Ros2BridgeNode::on_rigger_twist() {
   const TwistStream& cfg = *config_.twist;
   rigger_twist_->take([&](const rigger_sensing_TwistCommand& in, const dds_sample_info_t&) {
+    if (safe_stop_->active()) {
+      count("dropped", "twist_command", "safe_stop",
+            fmt::format("seq={} source={} stop=\"{}\"", in.seq, dds::to_string(in.source), safe_stop_->describe()));
+      return;
+    }
     const WallTime stamp = dds::to_domain(in.header.stamp);
     const WallTime now = std::chrono::system_clock::now();
     const AgeVerdict age = check_age(stamp, now, cfg.age);
@@ -119,7 +127,20 @@ void Ros2BridgeNode::on_rigger_twist() {
   });
 }
 
-void Ros2BridgeNode::send_zero_twist(const char* why) {
+void Ros2BridgeNode::on_safe_stop(const safety::StopState& stop) {
+  if (!stop.active) {
+    ctx_.log->warn("safe stop reset robot by={} reason=\"{}\": twist commands forwarded again", stop.source,
+                   stop.reason);
+    return;
+  }
+  ctx_.log->error("SAFE_STOP robot by={} reason=\"{}\": zero twist sent, twist commands dropped until reset",
+                  stop.source, stop.reason);
+  if (hold_timer_) ctx_.loop.cancel(*hold_timer_);
+  hold_timer_.reset();
+  send_zero_twist("safe stop by " + stop.source);
+}
+
+void Ros2BridgeNode::send_zero_twist(const std::string& why) {
   rigger_geometry_Header header{dds::wire_now(), dds::wire_string(zero_frame_id_)};
   const rigger_geometry_Twist zero = dds::to_wire_twist(Vector6d::Zero());
   const dds_return_t rc = ros2_twist_->write(ros2::to_ros2_twist_stamped(header, zero));

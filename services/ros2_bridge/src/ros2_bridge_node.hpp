@@ -7,7 +7,8 @@
 ///     future-stamped, unstamped and non-finite samples are dropped.
 ///   - twist_command: rigger/robot/cmd_twist → the driver's geometry_msgs/TwistStamped (MoveIt Servo);
 ///     stale commands are dropped, fast ones clamped or refused, and one zero twist is sent when the
-///     last command's timeout passes without a newer one.
+///     last command's timeout passes without a newer one. A safe stop of the robot (rigger/safety/stop)
+///     sends a zero twist at once and drops every command until its reset.
 /// Drops are counted and logged at most once per refusal_log_interval_s per stream and reason.
 /// Everything runs on the service's event loop.
 
@@ -21,6 +22,7 @@
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/ros2/types.hpp"
+#include "rigger/safety/safe_stop.hpp"
 
 namespace rigger::ros2_bridge {
 
@@ -34,7 +36,8 @@ class Ros2BridgeNode : public dds::Node {
  private:
   void on_ros2_wrench();
   void on_rigger_twist();
-  void send_zero_twist(const char* why);
+  void send_zero_twist(const std::string& why);
+  void on_safe_stop(const safety::StopState& stop);
   /// Counts an `event` ("dropped", "clamped") on `stream` for `reason` and logs it when its counter allows.
   void count(std::string_view event, const std::string& stream, std::string_view reason, const std::string& detail);
 
@@ -44,6 +47,7 @@ class Ros2BridgeNode : public dds::Node {
   std::optional<dds::Writer<rigger_sensing_WrenchStamped>> rigger_wrench_;
   std::optional<dds::Reader<rigger_sensing_TwistCommand>> rigger_twist_;
   std::optional<dds::Writer<geometry_msgs_msg_dds__TwistStamped_>> ros2_twist_;
+  std::optional<safety::SafeStopListener> safe_stop_;  // the robot's, with the twist stream
 
   std::map<std::string, RefusalCounter> refusals_;  // "<stream> <reason>"
   std::uint64_t wrench_forwarded_ = 0;
