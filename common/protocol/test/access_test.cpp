@@ -13,6 +13,7 @@
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/system.hpp"
 #include "rigger/protocol/task.hpp"
+#include "rigger/protocol/vision.hpp"
 
 namespace rigger::protocol {
 namespace {
@@ -71,12 +72,13 @@ TEST(AccessTable, OnlyAdmittanceAndSkillsCommandTheRobotAndTheCrane) {
   EXPECT_EQ(writers_of(skill::kCommand.name), std::set<std::string>{"task_controller"});
 }
 
-// A real robot behind the ROS 2 bridge: the bridge is the robot's wrench source and the reader of the
+// A real robot behind the ROS 2 bridge: the bridge is the robot's wrench and image source and the reader of the
 // twist stream (and the robot's safe stop, which it obeys), nothing else of rigger's; its rt/ topics come from the cell (deploy/security/ros2.grants).
-TEST(AccessTable, TheRos2BridgeCarriesOnlyTheWrenchInAndTheTwistOut) {
+TEST(AccessTable, TheRos2BridgeCarriesOnlyTheWrenchAndImagesInAndTheTwistOut) {
   const auto* bridge = find_grant("ros2_bridge");
   ASSERT_NE(bridge, nullptr);
-  EXPECT_EQ(bridge->publish, (std::vector<std::string>{robot::kWrench.name, system::kServiceState.name}));
+  EXPECT_EQ(bridge->publish,
+            (std::vector<std::string>{vision::kCameraImage.name, robot::kWrench.name, system::kServiceState.name}));
   EXPECT_EQ(bridge->subscribe, (std::vector<std::string>{robot::kCmdTwist.name, safety::kStop.name,
                                                          system::kServiceState.name}));
 }

@@ -1,5 +1,7 @@
 #include "boundary.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 
 namespace rigger::ros2_bridge {
@@ -53,6 +55,51 @@ LimitedTwist limit_twist(const Vector6d& twist, const TwistLimits& limits) {
   if (linear > limits.max_linear_mps) out.head<3>() *= limits.max_linear_mps / linear;
   if (angular > limits.max_angular_radps) out.tail<3>() *= limits.max_angular_radps / angular;
   return {TwistVerdict::kClamped, out};
+}
+
+std::string_view image_verdict_name(ImageVerdict verdict) {
+  switch (verdict) {
+    case ImageVerdict::kOk: return "ok";
+    case ImageVerdict::kEncoding: return "encoding";
+    case ImageVerdict::kSize: return "size";
+    case ImageVerdict::kLayout: return "layout";
+  }
+  return "unknown";
+}
+
+ImageVerdict to_mono8(std::string_view encoding, std::uint32_t width, std::uint32_t height, std::uint32_t step,
+                      const std::uint8_t* data, std::size_t size, std::vector<std::uint8_t>& out) {
+  // Bytes per pixel and where red and blue are (green is always 1).
+  int channels = 0, red = 0, blue = 0;
+  if (encoding == "mono8") {
+    channels = 1;
+  } else if (encoding == "rgb8" || encoding == "rgba8") {
+    channels = encoding == "rgb8" ? 3 : 4;
+    blue = 2;
+  } else if (encoding == "bgr8" || encoding == "bgra8") {
+    channels = encoding == "bgr8" ? 3 : 4;
+    red = 2;
+  } else {
+    return ImageVerdict::kEncoding;
+  }
+  if (width == 0 || height == 0 || width > kMaxImageSide || height > kMaxImageSide) return ImageVerdict::kSize;
+  const std::size_t row_bytes = std::size_t{width} * static_cast<std::size_t>(channels);
+  if (step < row_bytes || size != std::size_t{step} * height || (size > 0 && data == nullptr)) return ImageVerdict::kLayout;
+  out.resize(std::size_t{width} * height);
+  for (std::uint32_t y = 0; y < height; ++y) {
+    const std::uint8_t* row = data + std::size_t{y} * step;
+    std::uint8_t* grey = out.data() + std::size_t{y} * width;
+    if (channels == 1) {
+      std::copy(row, row + width, grey);
+      continue;
+    }
+    for (std::uint32_t x = 0; x < width; ++x) {
+      const std::uint8_t* p = row + std::size_t{x} * static_cast<std::size_t>(channels);
+      // Integer BT.601 luma: (299 R + 587 G + 114 B + 500) / 1000.
+      grey[x] = static_cast<std::uint8_t>((299u * p[red] + 587u * p[1] + 114u * p[blue] + 500u) / 1000u);
+    }
+  }
+  return ImageVerdict::kOk;
 }
 
 bool RefusalCounter::count(SteadyTime now) {

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdint>
 #include <string_view>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -71,6 +72,24 @@ LimitedTwist limit_twist(const Vector6d& twist, const TwistLimits& limits);
 
 /// Whether a wrench (or any 6-vector) holds only finite numbers.
 bool all_finite(const Vector6d& v);
+
+/// Why a camera image cannot cross (kOk when it can).
+enum class ImageVerdict {
+  kOk,
+  kEncoding,  ///< not one of mono8, rgb8, bgr8, rgba8, bgra8
+  kSize,      ///< width or height 0 or above kMaxImageSide
+  kLayout,    ///< step below width × bytes per pixel, or data other than step × height bytes
+};
+/// "ok", "encoding", "size", "layout".
+std::string_view image_verdict_name(ImageVerdict verdict);
+inline constexpr std::uint32_t kMaxImageSide = 16384;
+
+/// A ROS 2 camera image (sensor_msgs/Image fields) as rigger's tracker takes it: 8-bit grey, rows tight
+/// (step = width). mono8 crosses as it is; rgb8, bgr8, rgba8 and bgra8 become grey with the BT.601 luma
+/// weights (0.299 R + 0.587 G + 0.114 B, rounded); anything else is refused. `out` is resized to
+/// width × height on kOk and left alone otherwise.
+ImageVerdict to_mono8(std::string_view encoding, std::uint32_t width, std::uint32_t height, std::uint32_t step,
+                      const std::uint8_t* data, std::size_t size, std::vector<std::uint8_t>& out);
 
 /// Counts refusals and says when one may be logged: at most once per `interval`, reporting how many
 /// were refused since the last log line.

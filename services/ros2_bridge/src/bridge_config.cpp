@@ -59,12 +59,24 @@ BridgeConfig read_bridge_config(const Config& config) {
     t.max_hold = seconds_in_range(c, "max_hold_s", 0.2, 0.001, 10.0);
     out.twist = t;
   }
-  if (!out.wrench && !out.twist) {
-    config.fail("", "configures no stream: give \"wrench\" and/or \"twist_command\" (docs/ros2.md)");
+  if (config.has("image")) {
+    ImageStream i;
+    read_stream(config.child("image"), out.ros_namespace, Ros2Qos::kSensorData, 0.2, i);
+    out.image = i;
   }
-  if (out.wrench && out.twist && out.wrench->dds_topic == out.twist->dds_topic) {
-    config.child("twist_command").fail("topic", "is the wrench topic too (" + out.wrench->ros_topic + ")");
+  if (!out.wrench && !out.twist && !out.image) {
+    config.fail("", "configures no stream: give \"wrench\", \"twist_command\" and/or \"image\" (docs/ros2.md)");
   }
+  // Each stream on a topic of its own (a DDS topic has one type).
+  const std::pair<const char*, const Stream*> streams[] = {
+      {"wrench", out.wrench ? &*out.wrench : nullptr},
+      {"twist_command", out.twist ? &*out.twist : nullptr},
+      {"image", out.image ? &*out.image : nullptr}};
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (streams[i].second && streams[j].second && streams[i].second->dds_topic == streams[j].second->dds_topic)
+        config.child(streams[i].first)
+            .fail("topic", std::string("is the ") + streams[j].first + " topic too (" + streams[j].second->ros_topic + ")");
   return out;
 }
 

@@ -40,10 +40,15 @@ struct TwistStream : Stream {
   std::chrono::nanoseconds max_hold{std::chrono::milliseconds(200)};
 };
 
+/// A ROS 2 camera driver's sensor_msgs/Image → rigger/camera/image as 8-bit grey (boundary.hpp to_mono8).
+/// Defaults: sensor_data, max age 200 ms.
+struct ImageStream : Stream {};
+
 struct BridgeConfig {
   std::string ros_namespace = "/";  ///< resolves relative ROS 2 topic names
   std::optional<WrenchStream> wrench;
   std::optional<TwistStream> twist;
+  std::optional<ImageStream> image;
   std::chrono::nanoseconds refusal_log_interval{std::chrono::seconds(1)};
 };
 

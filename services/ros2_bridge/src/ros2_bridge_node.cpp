@@ -4,6 +4,7 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/robot.hpp"
+#include "rigger/protocol/vision.hpp"
 #include "rigger/ros2/conversions.hpp"
 #include "rigger/ros2/qos.hpp"
 
@@ -18,6 +19,14 @@ dds::Qos qos_of(Ros2Qos qos) {
 
 Ros2BridgeNode::Ros2BridgeNode(dds::ServiceContext& ctx) : ctx_(ctx), config_(read_bridge_config(ctx.config)) {
   ctx.config.finish();
+  if (config_.image) {
+    const ImageStream& i = *config_.image;
+    rigger_image_.emplace(ctx.participant, protocol::vision::kCameraImage);
+    ros2_image_.emplace(ctx.participant, i.dds_topic, qos_of(i.qos));
+    ctx.loop.on_data(*ros2_image_, [this] { on_ros2_image(); });
+    ctx.log->info("bridging image from={} dds_topic={} qos={} to={} as mono8 max_age_s={}", i.ros_topic, i.dds_topic,
+                  ros2_qos_name(i.qos), protocol::vision::kCameraImage.name, to_seconds(i.age.max_age));
+  }
   if (config_.wrench) {
     const WrenchStream& w = *config_.wrench;
     rigger_wrench_.emplace(ctx.participant, protocol::robot::kWrench);
@@ -43,9 +52,46 @@ Ros2BridgeNode::Ros2BridgeNode(dds::ServiceContext& ctx) : ctx_(ctx), config_(re
   }
 }
 
+void Ros2BridgeNode::on_ros2_image() {
+  const ImageStream& cfg = *config_.image;
+  ros2_image_->take([&](const sensor_msgs_msg_dds__Image_& in, const dds_sample_info_t&) {
+    const rigger_geometry_Header header = ros2::to_rigger(in.header_);
+    const WallTime stamp = dds::to_domain(header.stamp);
+    const WallTime now = std::chrono::system_clock::now();
+    const AgeVerdict age = check_age(stamp, now, cfg.age);
+    if (age != AgeVerdict::kFresh) {
+      count("dropped", "image", age_verdict_name(age),
+            fmt::format("age_s={:.3f} max_age_s={}", to_seconds(now - stamp), to_seconds(cfg.age.max_age)));
+      return;
+    }
+    const std::string encoding = in.encoding_ == nullptr ? "" : in.encoding_;
+    const ImageVerdict verdict =
+        to_mono8(encoding, in.width_, in.height_, in.step_, in.data_._buffer, in.data_._length, grey_);
+    if (verdict != ImageVerdict::kOk) {
+      count("dropped", "image", image_verdict_name(verdict),
+            fmt::format("encoding={} width={} height={} step={} bytes={}", encoding, in.width_, in.height_, in.step_,
+                        in.data_._length));
+      return;
+    }
+    rigger_vision_Image out{};
+    out.header = header;
+    if (!cfg.frame_id.empty()) out.header.frame_id = dds::wire_string(cfg.frame_id);
+    out.width = in.width_;
+    out.height = in.height_;
+    out.encoding = const_cast<char*>("mono8");
+    out.step = in.width_;
+    out.data._buffer = grey_.data();
+    out.data._length = static_cast<std::uint32_t>(grey_.size());
+    out.data._maximum = out.data._length;
+    out.data._release = false;
+    if (rigger_image_->write(out) == DDS_RETCODE_OK) ++image_forwarded_;
+  });
+}
+
 Ros2BridgeNode::~Ros2BridgeNode() {
   if (hold_timer_) send_zero_twist("bridge stopping");
-  ctx_.log->info("bridge stopped wrench_forwarded={} twist_forwarded={}", wrench_forwarded_, twist_forwarded_);
+  ctx_.log->info("bridge stopped wrench_forwarded={} twist_forwarded={} image_forwarded={}", wrench_forwarded_,
+                 twist_forwarded_, image_forwarded_);
 }
 
 void Ros2BridgeNode::count(std::string_view event, const std::string& stream, std::string_view reason,

@@ -9,6 +9,9 @@
 ///     stale commands are dropped, fast ones clamped or refused, and one zero twist is sent when the
 ///     last command's timeout passes without a newer one. A safe stop of the robot (rigger/safety/stop)
 ///     sends a zero twist at once and drops every command until its reset.
+///   - image: a camera driver's sensor_msgs/Image (rt/<topic>) → rigger/camera/image as mono8 (colour
+///     converted to grey, rows tight); stale, future-stamped and malformed images and other encodings
+///     are dropped.
 /// Drops are counted and logged at most once per refusal_log_interval_s per stream and reason.
 /// Everything runs on the service's event loop.
 
@@ -16,6 +19,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "boundary.hpp"
 #include "bridge_config.hpp"
@@ -36,6 +40,7 @@ class Ros2BridgeNode : public dds::Node {
  private:
   void on_ros2_wrench();
   void on_rigger_twist();
+  void on_ros2_image();
   void send_zero_twist(const std::string& why);
   void on_safe_stop(const safety::StopState& stop);
   /// Counts an `event` ("dropped", "clamped") on `stream` for `reason` and logs it when its counter allows.
@@ -48,6 +53,10 @@ class Ros2BridgeNode : public dds::Node {
   std::optional<dds::Reader<rigger_sensing_TwistCommand>> rigger_twist_;
   std::optional<dds::Writer<geometry_msgs_msg_dds__TwistStamped_>> ros2_twist_;
   std::optional<safety::SafeStopListener> safe_stop_;  // the robot's, with the twist stream
+  std::optional<dds::Reader<sensor_msgs_msg_dds__Image_>> ros2_image_;
+  std::optional<dds::Writer<rigger_vision_Image>> rigger_image_;
+  std::vector<std::uint8_t> grey_;  // the image being forwarded (its rows tight)
+  std::uint64_t image_forwarded_ = 0;
 
   std::map<std::string, RefusalCounter> refusals_;  // "<stream> <reason>"
   std::uint64_t wrench_forwarded_ = 0;

@@ -92,3 +92,39 @@ TEST(RefusalCounter, LogsTheFirstThenAtMostOncePerInterval) {
 
 }  // namespace
 }  // namespace rigger::ros2_bridge
+
+namespace rigger::ros2_bridge {
+namespace {
+
+// mono8 crosses as it is, its row padding dropped; colour becomes BT.601 grey whichever the channel order.
+TEST(ToMono8, GreyPassesColourBecomesLumaRowsComeOutTight) {
+  std::vector<std::uint8_t> out;
+  // 3 × 2 mono8 with a step of 4 (one padding byte per row).
+  const std::vector<std::uint8_t> mono = {1, 2, 3, 99, 4, 5, 6, 99};
+  ASSERT_EQ(to_mono8("mono8", 3, 2, 4, mono.data(), mono.size(), out), ImageVerdict::kOk);
+  EXPECT_EQ(out, (std::vector<std::uint8_t>{1, 2, 3, 4, 5, 6}));
+  // Pure red, green, blue and white, as rgb8 and as bgra8.
+  const std::vector<std::uint8_t> rgb = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
+  ASSERT_EQ(to_mono8("rgb8", 4, 1, 12, rgb.data(), rgb.size(), out), ImageVerdict::kOk);
+  EXPECT_EQ(out, (std::vector<std::uint8_t>{76, 150, 29, 255}));
+  const std::vector<std::uint8_t> bgra = {0, 0, 255, 7, 0, 255, 0, 7, 255, 0, 0, 7, 255, 255, 255, 7};
+  ASSERT_EQ(to_mono8("bgra8", 4, 1, 16, bgra.data(), bgra.size(), out), ImageVerdict::kOk);
+  EXPECT_EQ(out, (std::vector<std::uint8_t>{76, 150, 29, 255}));
+}
+
+TEST(ToMono8, WhatCannotBeReadIsRefusedAndLeavesTheOutputAlone) {
+  std::vector<std::uint8_t> out = {42};
+  const std::vector<std::uint8_t> data(12, 0);
+  EXPECT_EQ(to_mono8("16UC1", 2, 2, 4, data.data(), 8, out), ImageVerdict::kEncoding);
+  EXPECT_EQ(to_mono8("bayer_rggb8", 2, 2, 2, data.data(), 4, out), ImageVerdict::kEncoding);
+  EXPECT_EQ(to_mono8("mono8", 0, 2, 2, data.data(), 0, out), ImageVerdict::kSize);
+  EXPECT_EQ(to_mono8("mono8", kMaxImageSide + 1, 1, kMaxImageSide + 1, data.data(), 12, out), ImageVerdict::kSize);
+  EXPECT_EQ(to_mono8("rgb8", 2, 2, 5, data.data(), 10, out), ImageVerdict::kLayout);   // step < 2 × 3
+  EXPECT_EQ(to_mono8("mono8", 2, 2, 2, data.data(), 3, out), ImageVerdict::kLayout);   // 3 bytes, not 4
+  EXPECT_EQ(to_mono8("mono8", 2, 2, 2, data.data(), 12, out), ImageVerdict::kLayout);  // 12, not 4
+  EXPECT_EQ(out, std::vector<std::uint8_t>{42});
+  EXPECT_EQ(image_verdict_name(ImageVerdict::kLayout), "layout");
+}
+
+}  // namespace
+}  // namespace rigger::ros2_bridge

@@ -55,9 +55,23 @@ TEST(BridgeConfig, TheShippedConfigurationLoads) {
   const Config c = Config::load(std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json");
   const BridgeConfig b = read_bridge_config(c);
   c.finish();
-  ASSERT_TRUE(b.wrench && b.twist);
+  ASSERT_TRUE(b.wrench && b.twist && b.image);
   EXPECT_EQ(b.wrench->dds_topic, "rt/force_torque_sensor_broadcaster/wrench");
   EXPECT_EQ(b.twist->dds_topic, "rt/servo_node/delta_twist_cmds");
+  EXPECT_EQ(b.image->dds_topic, "rt/camera/image_raw");
+  EXPECT_EQ(b.image->qos, Ros2Qos::kSensorData);
+  EXPECT_EQ(b.image->age.max_age, 200ms);
+}
+
+// A camera alone is a bridge; one stream per topic.
+TEST(BridgeConfig, AnImageStreamAloneAndOneTopicPerStream) {
+  const auto c = read(R"({"image": {"topic": "camera/image_raw"}})");
+  ASSERT_TRUE(c.image);
+  EXPECT_FALSE(c.wrench || c.twist);
+  EXPECT_EQ(c.image->dds_topic, "rt/camera/image_raw");
+  EXPECT_EQ(c.image->age.max_age, 200ms);  // the default
+  EXPECT_THAT(error_of(R"({"wrench": {"topic": "/x"}, "image": {"topic": "/x"}})"),
+              HasSubstr("/image/topic: is the wrench topic too (/x)"));
 }
 
 // deploy/security/ros2.grants (make-pki --extra) grants the shipped configuration's ROS 2 topics: the bridge
@@ -73,10 +87,13 @@ TEST(BridgeConfig, TheShippedSecurityGrantsNameTheShippedTopics) {
   std::set<std::string> grants;
   for (std::string line; std::getline(in, line);)
     if (!line.empty() && line[0] != '#') grants.insert(line);
+  ASSERT_TRUE(b.image);
   EXPECT_EQ(grants, (std::set<std::string>{"ros2_bridge subscribe " + b.wrench->dds_topic,
                                            "ros2_bridge publish " + b.twist->dds_topic,
+                                           "ros2_bridge subscribe " + b.image->dds_topic,
                                            "ros2_driver publish " + b.wrench->dds_topic,
-                                           "ros2_driver subscribe " + b.twist->dds_topic}));
+                                           "ros2_driver subscribe " + b.twist->dds_topic,
+                                           "ros2_driver publish " + b.image->dds_topic}));
 }
 
 TEST(BridgeConfig, QosIsChosenPerTopic) {
