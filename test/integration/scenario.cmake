@@ -10,6 +10,9 @@ if(_scenario_ready)
     DEPS rigger_test_harness rigger_cell_cad Eigen3::Eigen nlohmann_json::nlohmann_json
     LABEL integration TIMEOUT 420 RUN_SERIAL)
   add_dependencies(rigger_scenario_test ${_scenario_services})
+  if(TARGET ros2_bridge)
+    add_dependencies(rigger_scenario_test ros2_bridge)  # the variant behind the ROS 2 bridge
+  endif()
   # Pick and Place in physics (issue 18): recipes/examples/pick_and_place.json on the same processes,
   # the part's final true pose checked against the recipe's place pose (about a minute).
   rigger_add_test(rigger_pick_place_cell_test

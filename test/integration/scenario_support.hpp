@@ -67,11 +67,19 @@ class ScenarioCell {
     return std::unique_ptr<ScenarioCell>(new ScenarioCell(cell, {}, false, std::move(service_ids)));
   }
 
+  /// The robot and the camera behind the ROS 2 bridge: cell_sim plays their ROS 2 drivers (its
+  /// ros2_driver configuration: rt/ topics, ROS 2 types and QoS) and ros2_bridge, with the shipped
+  /// deploy/config/ros2_bridge.json, carries the wrench, the twist and the images to and from rigger.
+  static std::unique_ptr<ScenarioCell> behind_ros2_bridge(Cell& cell) {
+    return std::unique_ptr<ScenarioCell>(new ScenarioCell(cell, {}, true, {}, true));
+  }
+
  private:
   ScenarioCell(Cell& cell, std::vector<std::string> operator_rules, bool scripted_operator,
-               std::vector<std::string> started_elsewhere)
+               std::vector<std::string> started_elsewhere, bool behind_ros2_bridge = false)
       : cell_(cell),
         scripted_operator_(scripted_operator),
+        behind_ros2_bridge_(behind_ros2_bridge),
         sim_(cell),
         recipes_(cell.participant(), protocol::task::kRecipe.name, dds::qos::commands()),
         status_(cell.participant(), protocol::task::kStatus.name, dds::qos::state()),
@@ -312,7 +320,13 @@ class ScenarioCell {
   void start_services(std::vector<std::string> operator_rules) {
     const std::string port = std::to_string(free_tcp_port());
     const std::string dir = cell_.log_dir();
-    cell_.start("cell_sim", "cell_sim", {"--config", config("cell_sim"), "--plc-port", port});
+    if (behind_ros2_bridge_) {
+      cell_.start("cell_sim", "cell_sim",
+                  {"--config", config("cell_sim", {{"ros2_driver", nlohmann::json::object()}}), "--plc-port", port});
+      cell_.start("ros2_bridge", "ros2_bridge", {"--config", repo_file("deploy/config/ros2_bridge.json")});
+    } else {
+      cell_.start("cell_sim", "cell_sim", {"--config", config("cell_sim"), "--plc-port", port});
+    }
     cell_.start("crane_gateway", "crane_gateway", {"--config", config("crane_gateway"), "--plc-port", port});
     cell_.start("world_model", "world_model",
                 {"--config", config("world_model"), "--db", dir + "/world_model.sqlite"});
@@ -335,6 +349,7 @@ class ScenarioCell {
       cell_.start("scripted_operator", "scripted_operator", args);
       ready.push_back("scripted_operator");
     }
+    if (behind_ros2_bridge_) ready.push_back("ros2_bridge");
     ready_ = cell_.wait_ready(ready, 60s);
     // READY means every process is up; the cell is ready once the gateway also holds its Modbus link to
     // the PLC (started together, the gateway may try before the emulator listens and back off).
@@ -347,6 +362,7 @@ class ScenarioCell {
  private:
   Cell& cell_;
   bool scripted_operator_ = true;
+  bool behind_ros2_bridge_ = false;
   SimChannel sim_;
   dds::Writer<rigger_task_Recipe> recipes_;
   dds::Reader<rigger_task_TaskStatus> status_;

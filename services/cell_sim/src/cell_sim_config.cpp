@@ -1,5 +1,7 @@
 #include "cell_sim_config.hpp"
 
+#include "rigger/ros2/names.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -96,6 +98,23 @@ std::uint64_t steps_per_period(double rate_hz, std::chrono::nanoseconds timestep
   return steps < 1.0 ? 1 : static_cast<std::uint64_t>(std::llround(steps));
 }
 
+CellSimConfig::Ros2Driver read_ros2_driver(const Config& c) {
+  CellSimConfig::Ros2Driver out;
+  const auto dds_name = [&](const char* key, const char* fallback) {
+    try {
+      return ros2::dds_topic_name(c.get<std::string>(key, fallback), "/");
+    } catch (const ros2::NameError& e) {
+      c.fail(key, e.what());
+    }
+  };
+  out.wrench_dds_topic = dds_name("wrench_topic", "/force_torque_sensor_broadcaster/wrench");
+  out.twist_dds_topic = dds_name("twist_topic", "/servo_node/delta_twist_cmds");
+  out.image_dds_topic = dds_name("image_topic", "/camera/image_raw");
+  out.base_frame = c.get<std::string>("base_frame", out.base_frame);
+  out.twist_timeout = get_ms(c, "twist_timeout_ms", out.twist_timeout, 1, 10000);
+  return out;
+}
+
 CellSimConfig read_cell_sim_config(const Config& config) {
   CellSimConfig out;
   out.cell_file =
@@ -115,6 +134,7 @@ CellSimConfig read_cell_sim_config(const Config& config) {
   read_robot(config.child_or_empty("robot"), out);
   read_plc(config.child_or_empty("plc"), out);
   read_camera(config.child_or_empty("camera"), out);
+  if (config.has("ros2_driver")) out.ros2_driver = read_ros2_driver(config.child("ros2_driver"));
 
   try {
     out.plc.program.limits = crane::load_crane_limits(out.cell_file.string(), out.crane_id);

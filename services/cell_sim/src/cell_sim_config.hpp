@@ -69,6 +69,18 @@ struct CellSimConfig {
   std::optional<double> camera_noise_stddev;
   double camera_blur_sigma_px = 0.0;
 
+  // --- ROS 2 drivers (optional): the simulated robot's wrench and twist input and the camera's images on a
+  // ROS 2 driver's topics (rt/…, ROS 2 types and QoS) instead of rigger's, for running the cell behind
+  // services/ros2_bridge. Robot state, motions and the gripper stay on rigger's topics.
+  struct Ros2Driver {
+    std::string wrench_dds_topic;  ///< geometry_msgs/WrenchStamped written (sensor_data)
+    std::string twist_dds_topic;   ///< geometry_msgs/TwistStamped read (reliable, as MoveIt Servo)
+    std::string image_dds_topic;   ///< sensor_msgs/Image mono8 written (sensor_data)
+    std::string base_frame = "base_link";  ///< the twist's frame_id that means the robot base
+    std::chrono::milliseconds twist_timeout{100};  ///< how long one TwistStamped drives (Servo's command timeout)
+  };
+  std::optional<Ros2Driver> ros2_driver;
+
   // --- tests and benchmarks
   double ground_truth_rate_hz = 50.0;
   double status_rate_hz = 100.0;

@@ -7,6 +7,8 @@
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/sim.hpp"
 #include "rigger/protocol/vision.hpp"
+#include "rigger/ros2/conversions.hpp"
+#include "rigger/ros2/qos.hpp"
 #include "rigger/sim/camera_scene.hpp"
 #include "rigger/sim/cell_geometry.hpp"
 
@@ -115,16 +117,13 @@ CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_li
     : ctx_(ctx),
       config_(read_cell_sim_config(ctx.config)),
       twist_gate_(config_.max_command_future, config_.max_twist_timeout),
-      wrench_(ctx.participant, protocol::robot::kWrench, written_by_physics(dds::qos::sensor_stream())),
       robot_state_(ctx.participant, protocol::robot::kState, written_by_physics(dds::qos::sensor_stream())),
       motion_status_(ctx.participant, protocol::robot::kMotionStatus),
       gripper_state_(ctx.participant, protocol::robot::kGripperState),
-      image_(ctx.participant, protocol::vision::kCameraImage),
       camera_info_(ctx.participant, protocol::vision::kCameraInfo),
       ground_truth_(ctx.participant, protocol::sim::kGroundTruth),
       sim_event_(ctx.participant, protocol::sim::kEvent),
       sim_status_(ctx.participant, protocol::sim::kStatus),
-      twist_(ctx.participant, protocol::robot::kCmdTwist.name, dds::qos::setpoints()),
       motion_(ctx.participant, protocol::robot::kCmdMotion.name, dds::qos::commands()),
       gripper_(ctx.participant, protocol::robot::kGripperCmd),
       sim_control_(ctx.participant, protocol::sim::kControl) {
@@ -136,6 +135,18 @@ CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_li
     }
   }
   ctx.config.finish();
+  if (config_.ros2_driver) {
+    const CellSimConfig::Ros2Driver& r = *config_.ros2_driver;
+    ros2_wrench_.emplace(ctx.participant, r.wrench_dds_topic, written_by_physics(ros2::qos::sensor_data()));
+    ros2_image_.emplace(ctx.participant, r.image_dds_topic, ros2::qos::sensor_data());
+    ros2_twist_.emplace(ctx.participant, r.twist_dds_topic, ros2::qos::reliable_default());
+    ctx.log->info("robot and camera as ROS 2 drivers: wrench={} twist={} image={} base_frame={}", r.wrench_dds_topic,
+                  r.twist_dds_topic, r.image_dds_topic, r.base_frame);
+  } else {
+    wrench_.emplace(ctx.participant, protocol::robot::kWrench, written_by_physics(dds::qos::sensor_stream()));
+    image_.emplace(ctx.participant, protocol::vision::kCameraImage);
+    twist_.emplace(ctx.participant, protocol::robot::kCmdTwist.name, dds::qos::setpoints());
+  }
 
   sim::CellGeometry geometry;
   try {
@@ -172,7 +183,8 @@ CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_li
     runner_->set_camera(camera_.get(), config_.camera_rate_hz.value_or(scene->camera.rate_hz));
   }
 
-  ctx.loop.on_data(twist_, [this] { on_twist(); });
+  if (twist_) ctx.loop.on_data(*twist_, [this] { on_twist(); });
+  if (ros2_twist_) ctx.loop.on_data(*ros2_twist_, [this] { on_ros2_twist(); });
   ctx.loop.on_data(motion_, [this] { on_motion(); });
   ctx.loop.on_data(gripper_, [this] { on_gripper(); });
   ctx.loop.on_data(sim_control_, [this] { on_sim_control(); });
@@ -219,7 +231,27 @@ bool CellSimNode::log_allowed(SteadyClock::time_point& last) {
 // ---- commands -------------------------------------------------------------------------------
 
 void CellSimNode::on_twist() {
-  twist_.take([this](const rigger_sensing_TwistCommand& c, const dds_sample_info_t&) {
+  twist_->take([this](const rigger_sensing_TwistCommand& c, const dds_sample_info_t&) { take_twist(c); });
+}
+
+// MoveIt Servo's input as the simulated driver reads it: a TwistStamped in the base frame drives for
+// twist_timeout (it carries no sequence number or timeout of its own).
+void CellSimNode::on_ros2_twist() {
+  const CellSimConfig::Ros2Driver& r = *config_.ros2_driver;
+  ros2_twist_->take([&](const geometry_msgs_msg_dds__TwistStamped_& in, const dds_sample_info_t&) {
+    rigger_sensing_TwistCommand c{};
+    c.header = ros2::to_rigger(in.header_);
+    if (dds::to_string(c.header.frame_id) == r.base_frame) c.header.frame_id = const_cast<char*>(kBaseFrame);
+    c.seq = ++ros2_twist_seq_;
+    c.twist = ros2::to_rigger(in.twist_);
+    c.timeout_s = to_seconds(r.twist_timeout);
+    c.source = const_cast<char*>("ros2");
+    take_twist(c);
+  });
+}
+
+void CellSimNode::take_twist(const rigger_sensing_TwistCommand& c) {
+  {
     const WallTime now = std::chrono::system_clock::now();
     const std::string frame = dds::to_string(c.header.frame_id);
     const dds::Vector6d twist = dds::to_domain(c.twist);
@@ -249,7 +281,7 @@ void CellSimNode::on_twist() {
       ctx_.log->warn("twist command ignored seq={} source={} reason={} refused_total={}", c.seq,
                      dds::to_string(c.source), refusal, twists_refused_);
     }
-  });
+  }
 }
 
 void CellSimNode::refuse_motion(const std::string& motion_id, const std::string& code, const std::string& message) {
@@ -373,7 +405,10 @@ void CellSimNode::publish_wrench(const sim::Wrench& wrench_tool, WallTime stamp)
   w.header.stamp = dds::to_wire(stamp);
   w.header.frame_id = const_cast<char*>(kToolFrame);
   w.wrench = dds::to_wire_wrench(six(wrench_tool.force_n, wrench_tool.torque_nm));
-  wrench_.write(w);
+  if (ros2_wrench_)
+    ros2_wrench_->write(ros2::to_ros2(w));
+  else
+    wrench_->write(w);
 }
 
 void CellSimNode::publish_robot_state(const RobotReport& report, WallTime stamp) {
@@ -493,7 +528,22 @@ void CellSimNode::publish_image(const cv::Mat& image_mono8, WallTime stamp) {
   w.data._length = static_cast<std::uint32_t>(image_mono8.total());
   w.data._maximum = w.data._length;
   w.data._release = false;
-  image_.write(w);
+  if (!ros2_image_) {
+    image_->write(w);
+    return;
+  }
+  sensor_msgs_msg_dds__Image_ r{};
+  r.header_ = ros2::to_ros2(w.header);
+  r.height_ = w.height;
+  r.width_ = w.width;
+  r.encoding_ = w.encoding;
+  r.is_bigendian_ = 0;
+  r.step_ = w.step;
+  r.data_._buffer = w.data._buffer;
+  r.data_._length = w.data._length;
+  r.data_._maximum = w.data._maximum;
+  r.data_._release = false;
+  ros2_image_->write(r);
 }
 
 void CellSimNode::publish_camera_info(const sim::CameraModel& camera) {

@@ -19,6 +19,7 @@
 #include "command_gate.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
+#include "rigger/ros2/types.hpp"
 #include "rigger/safety/safe_stop.hpp"
 #include "sim_runner.hpp"
 
@@ -59,6 +60,9 @@ class CellSimNode : public dds::Node, private SimOutputs {
 
   // event loop thread
   void on_twist();
+  void on_ros2_twist();
+  /// A twist command from either side (rigger's topic, or a ROS 2 TwistStamped made into one).
+  void take_twist(const rigger_sensing_TwistCommand& c);
   void on_motion();
   void on_gripper();
   void on_sim_control();
@@ -73,16 +77,21 @@ class CellSimNode : public dds::Node, private SimOutputs {
   std::chrono::steady_clock::time_point last_twist_log_{};
   std::chrono::steady_clock::time_point last_motion_log_{};
 
-  dds::Writer<rigger_sensing_WrenchStamped> wrench_;
+  // rigger's robot and camera topics, or (config ros2_driver) a ROS 2 driver's: one of each pair is open.
+  std::optional<dds::Writer<rigger_sensing_WrenchStamped>> wrench_;
+  std::optional<dds::Writer<geometry_msgs_msg_dds__WrenchStamped_>> ros2_wrench_;
+  std::optional<dds::Writer<rigger_vision_Image>> image_;
+  std::optional<dds::Writer<sensor_msgs_msg_dds__Image_>> ros2_image_;
+  std::optional<dds::Reader<rigger_sensing_TwistCommand>> twist_;
+  std::optional<dds::Reader<geometry_msgs_msg_dds__TwistStamped_>> ros2_twist_;
+  std::uint64_t ros2_twist_seq_ = 0;
   dds::Writer<rigger_robot_RobotState> robot_state_;
   dds::Writer<rigger_robot_MotionStatus> motion_status_;
   dds::Writer<rigger_robot_GripperState> gripper_state_;
-  dds::Writer<rigger_vision_Image> image_;
   dds::Writer<rigger_vision_CameraInfo> camera_info_;
   dds::Writer<rigger_vision_TrackedPose> ground_truth_;
   dds::Writer<rigger_sim_SimEvent> sim_event_;
   dds::Writer<rigger_sim_SimStatus> sim_status_;
-  dds::Reader<rigger_sensing_TwistCommand> twist_;
   dds::Reader<rigger_robot_MotionCommand> motion_;
   dds::Reader<rigger_robot_GripperCommand> gripper_;
   dds::Reader<rigger_sim_SimControl> sim_control_;

@@ -97,6 +97,24 @@ TEST(CellSimConfig, BadValuesNameTheKeyAndTheExpectation) {
   EXPECT_NE(error_of(R"({"robot": {"wrench_rate": 500}})").find("unknown key"), std::string::npos);
 }
 
+// Behind the ROS 2 bridge: the drivers' topics default to ros2_control's broadcaster, MoveIt Servo and a
+// camera driver; a name ROS 2 refuses is an error at its key.
+TEST(CellSimConfig, Ros2DriverTopicsDefaultToTheUsualDriversAndAreCheckedByRos2Rules) {
+  EXPECT_FALSE(read_cell_sim_config(Config::empty()).ros2_driver.has_value());
+  const Config config = Config::parse(R"({"ros2_driver": {"image_topic": "/cam/image", "twist_timeout_ms": 50}})",
+                                      "test.json");
+  const CellSimConfig c = read_cell_sim_config(config);
+  config.finish();
+  ASSERT_TRUE(c.ros2_driver.has_value());
+  EXPECT_EQ(c.ros2_driver->wrench_dds_topic, "rt/force_torque_sensor_broadcaster/wrench");
+  EXPECT_EQ(c.ros2_driver->twist_dds_topic, "rt/servo_node/delta_twist_cmds");
+  EXPECT_EQ(c.ros2_driver->image_dds_topic, "rt/cam/image");
+  EXPECT_EQ(c.ros2_driver->base_frame, "base_link");
+  EXPECT_EQ(c.ros2_driver->twist_timeout, 50ms);
+  EXPECT_NE(error_of(R"({"ros2_driver": {"wrench_topic": "/ft sensor"}})").find("/ros2_driver/wrench_topic"),
+            std::string::npos);
+}
+
 TEST(CellSimConfig, AMissingCellFileIsAConfigurationError) {
   const std::string error = error_of(R"({"cell_file": "/nonexistent/cell.json"})");
   EXPECT_NE(error.find("/cell_file"), std::string::npos) << error;
