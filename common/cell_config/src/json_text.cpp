@@ -2,24 +2,14 @@
 
 #include <cmath>
 
+#include "rigger/base/bounded_json.hpp"
+
 namespace rigger::cell {
 namespace {
 constexpr std::size_t kMaxDescribedChars = 60;
 }  // namespace
 
-std::string join_pointer(const std::string& base, std::string_view key) {
-  std::string result = base + "/";
-  for (const char c : key) {
-    if (c == '~') {
-      result += "~0";
-    } else if (c == '/') {
-      result += "~1";
-    } else {
-      result += c;
-    }
-  }
-  return result;
-}
+std::string join_pointer(const std::string& base, std::string_view key) { return base + "/" + escape_pointer_token(key); }
 
 std::string describe_json(const nlohmann::json& value) {
   std::string text = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);

@@ -9,13 +9,13 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/service_state.hpp"
 #include "rigger/protocol/skill.hpp"
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 namespace rigger::executor {
 namespace {
 
 /// A START's parameters: one skill's values (poses, a screw list), far below a recipe's 4 MiB.
-constexpr skill::JsonLimits kParamsLimits{256U * 1024U, 32};
+constexpr rigger::JsonLimits kParamsLimits{256U * 1024U, 32};
 
 rigger_skill_SkillEventKind to_wire(EventKind k) {
   switch (k) {
@@ -193,7 +193,7 @@ void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sa
   Start start{{task, node, cmd.seq}, dds::to_string(cmd.skill), nlohmann::json::object(), {}, info.publication_handle, 0};
   if (cmd.params_json != nullptr && cmd.params_json[0] != '\0') {
     // Parameters come from another process: bounded while parsed (size first, then depth, UTF-8, keys).
-    auto parsed = skill::parse_json_bounded(cmd.params_json, kParamsLimits);
+    auto parsed = rigger::parse_json_bounded(cmd.params_json, kParamsLimits);
     if (!parsed.ok()) {
       refuse(start.run, "BAD_PARAMS", "params of " + start.skill + " unreadable: " + parsed.error->to_string());
       return;

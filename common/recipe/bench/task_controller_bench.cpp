@@ -14,7 +14,7 @@
 #include "rigger/bt/tree_builder.hpp"
 #include "rigger/recipe/recipe_schema.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 #include "../test/scale_recipes.hpp"
 
 namespace {
@@ -65,7 +65,7 @@ BENCHMARK(BM_ValidateAndBuild10kNodes)->Unit(benchmark::kMillisecond);
 void BM_Stage_Parse10kNodes(benchmark::State& state) {
   const std::string text = big_recipe(1111).dump();
   for (auto _ : state) {
-    benchmark::DoNotOptimize(skill::parse_json_bounded(text));
+    benchmark::DoNotOptimize(rigger::parse_json_bounded(text));
   }
 }
 BENCHMARK(BM_Stage_Parse10kNodes)->Unit(benchmark::kMillisecond);

@@ -1,7 +1,7 @@
 #include "rigger/recipe/live_library.hpp"
 
 #include "rigger/recipe/conditions.hpp"
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 namespace rigger::recipe {
 namespace {
@@ -12,12 +12,12 @@ const skill::SkillLibrary& controller_conditions() {
 }
 
 // An executor's library: a few hundred skills at most, each a small document.
-constexpr skill::JsonLimits kAnnouncementLimits{1024U * 1024U, 32};
+constexpr rigger::JsonLimits kAnnouncementLimits{1024U * 1024U, 32};
 
 }  // namespace
 
 nlohmann::json parse_announced_library(std::string_view text, std::string* error) {
-  auto parsed = skill::parse_json_bounded(text, kAnnouncementLimits);
+  auto parsed = rigger::parse_json_bounded(text, kAnnouncementLimits);
   if (!parsed.ok()) {
     if (error) *error = parsed.error->to_string();
     return nullptr;

@@ -6,7 +6,7 @@
 
 #include "rigger/recipe/recipe_schema.hpp"
 #include "tree_checks.hpp"
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 namespace rigger::recipe {
 namespace {
@@ -44,7 +44,7 @@ std::optional<skill::Fact> canonical_fact(const std::string& text) {
 }
 
 // The pointer goes into the Error's own field; the message carries the file and position.
-Error parse_error(const skill::JsonParseError& e) {
+Error parse_error(const rigger::JsonParseError& e) {
   std::string where = e.source.empty() ? "" : e.source + ": ";
   where += "line " + std::to_string(e.line) + ", column " + std::to_string(e.column) + ": ";
   return {e.pointer, where + e.message};
@@ -63,21 +63,21 @@ RecipeValidator::RecipeValidator(skill::SkillLibrary library, ValidatorOptions o
 }
 
 ValidationResult RecipeValidator::validate_text(std::string_view text) const {
-  return validate_parsed(skill::parse_json_bounded(text, json_limits()));
+  return validate_parsed(rigger::parse_json_bounded(text, json_limits()));
 }
 
 ValidationResult RecipeValidator::validate_file(const std::filesystem::path& path) const {
-  return validate_parsed(skill::parse_json_file_bounded(path, json_limits()));
+  return validate_parsed(rigger::parse_json_file_bounded(path, json_limits()));
 }
 
-skill::JsonLimits RecipeValidator::json_limits() const {
-  skill::JsonLimits limits;
+rigger::JsonLimits RecipeValidator::json_limits() const {
+  rigger::JsonLimits limits;
   limits.max_bytes = options_.limits.max_bytes;
   limits.max_depth = options_.limits.max_depth;
   return limits;
 }
 
-ValidationResult RecipeValidator::validate_parsed(const skill::JsonParseResult& parsed) const {
+ValidationResult RecipeValidator::validate_parsed(const rigger::JsonParseResult& parsed) const {
   if (!parsed.ok()) {
     ValidationResult result;
     result.errors.push_back(parse_error(*parsed.error));

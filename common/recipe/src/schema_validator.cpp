@@ -11,7 +11,7 @@
 #include <valijson/validator.hpp>
 
 #include "rigger/recipe/recipe_schema.hpp"
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/skill/json_text.hpp"
 
 namespace rigger::recipe {
@@ -45,7 +45,7 @@ std::vector<std::string> tokens_of(const std::vector<std::string>& context) {
 std::string pointer_of(const std::vector<std::string>& tokens) {
   std::string out;
   for (const auto& t : tokens) {
-    out += "/" + skill::escape_pointer_token(t);
+    out += "/" + rigger::escape_pointer_token(t);
   }
   return out;
 }

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/skill/json_text.hpp"
 #include "rigger/skill/model_error.hpp"
 

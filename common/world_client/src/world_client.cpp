@@ -3,6 +3,7 @@
 #include <memory>
 #include <utility>
 
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/world.hpp"
 
@@ -208,11 +209,14 @@ void WorldClient::on_replies() {
     }
     const std::string text = dds::to_string(w.result_json);
     if (!text.empty()) {
-      r.result = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-      if (r.result.is_discarded()) {
+      // From another process: parsed with bounds (an entity list or a feature set, not megabytes).
+      JsonParseResult parsed = parse_json_bounded(text, {4U * 1024U * 1024U, 64});
+      if (parsed.ok()) {
+        r.result = std::move(parsed.value);
+      } else {
         r = Reply{};
         r.code = kBadReply;
-        r.message = "the world model's result_json is not JSON";
+        r.message = "the world model's result_json is not acceptable JSON: " + parsed.error->to_string();
       }
     }
     done.emplace_back(w.request_id, std::move(r));

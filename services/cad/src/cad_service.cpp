@@ -1,5 +1,6 @@
 #include "cad_service.hpp"
 
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/cad/cad_json.hpp"
 #include "rigger/cad/frames.hpp"
 #include "rigger/cell_config/cell_file.hpp"
@@ -23,11 +24,11 @@ json parse_args(const std::string& text) {
   if (text.empty()) {
     return json::object();
   }
-  json args = json::parse(text, nullptr, false);
-  if (args.is_discarded() || !args.is_object()) {
-    throw RequestError{"CAD_BAD_REQUEST", "args_json is not a JSON object"};
-  }
-  return args;
+  // From another process: parsed with bounds (64 KiB, depth 16; picks are flat).
+  JsonParseResult parsed = parse_json_bounded(text, {64U * 1024U, 16});
+  if (!parsed.ok()) throw RequestError{"CAD_BAD_REQUEST", "args_json: " + parsed.error->to_string()};
+  if (!parsed.value.is_object()) throw RequestError{"CAD_BAD_REQUEST", "args_json is not a JSON object"};
+  return std::move(parsed.value);
 }
 
 Eigen::Vector3d point_arg(const json& args, const char* key) {

@@ -125,6 +125,13 @@ TEST(CadService, BadRequestsAreAnsweredWithACode) {
   EXPECT_EQ(ask(service, QueryKind::kFrame, "object:target", R"({"rule": "edges", "point_m": [0,0,0], "edges": [0, 0]})").code,
             "CAD_NOT_A_FRAME");
   EXPECT_EQ(ask(service, QueryKind::kDerive, "object:target", R"({"parameter": "x"})").code, "CAD_BAD_REQUEST");
+  // args_json comes from another process: bounded while parsed, the refusal says where.
+  const CadAnswer deep = ask(service, QueryKind::kFrame, "object:target", std::string(1000, '['));
+  EXPECT_EQ(deep.code, "CAD_BAD_REQUEST");
+  EXPECT_NE(deep.message.find("args_json: 1:17:"), std::string::npos) << deep.message;
+  const CadAnswer twice = ask(service, QueryKind::kFrame, "object:target", R"({"rule": "hole", "rule": "edges"})");
+  EXPECT_EQ(twice.code, "CAD_BAD_REQUEST");
+  EXPECT_NE(twice.message.find("duplicate"), std::string::npos) << twice.message;
 }
 
 TEST(CadService, HostileContentIsRefusedAndTheServiceGoesOn) {

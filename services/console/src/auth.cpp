@@ -11,7 +11,7 @@
 #include <openssl/rand.h>
 
 #include "rigger/base/config.hpp"
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 namespace rigger::console {
 
@@ -75,10 +75,10 @@ std::string random_hex(std::size_t bytes) {
 }
 
 Users Users::parse(std::string_view text, const std::string& source) {
-  skill::JsonLimits limits;
+  rigger::JsonLimits limits;
   limits.max_bytes = 1024U * 1024U;
   limits.max_depth = 8;
-  const auto parsed = skill::parse_json_bounded(text, limits);
+  const auto parsed = rigger::parse_json_bounded(text, limits);
   if (!parsed.ok()) throw ConfigError(source, parsed.error->pointer, parsed.error->to_string());
   const auto& doc = parsed.value;
   if (!doc.is_object() || !doc.contains("users") || !doc["users"].is_array())

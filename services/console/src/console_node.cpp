@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/task_names.hpp"
 
@@ -187,8 +188,8 @@ void ConsoleNode::on_node_status() {
 void ConsoleNode::on_prompts() {
   prompts_.take([this](const rigger_operator_ui_OperatorPrompt& w, const dds_sample_info_t&) {
     const operator_ui::Prompt p = operator_ui::to_domain(w);
-    json details = json::parse(p.details_json.empty() ? "{}" : p.details_json, nullptr, false);
-    if (details.is_discarded()) details = json::object();
+    JsonParseResult parsed = parse_json_bounded(p.details_json.empty() ? "{}" : p.details_json, {64U * 1024U, 16});
+    json details = parsed.ok() && parsed.value.is_object() ? std::move(parsed.value) : json::object();
     state_.update_prompt({{"prompt_id", p.prompt_id}, {"task_id", p.task_id}, {"node_id", p.node_id},
                           {"kind", p.kind}, {"title", p.title}, {"text", p.text}, {"options", p.options},
                           {"details", details}, {"timeout_s", p.timeout_s}, {"active", p.active},
@@ -391,8 +392,8 @@ void ConsoleNode::on_cad_replies() {
       it->second.promise->set_value({false, dds::to_string(rep.code) + ": " + dds::to_string(rep.message), {}});
     } else {
       std::string data(reinterpret_cast<const char*>(rep.data._buffer), rep.data._length);
-      json result = json::parse(dds::to_string(rep.result_json), nullptr, false);
-      if (result.is_discarded()) result = json::object();
+      JsonParseResult parsed = parse_json_bounded(dds::to_string(rep.result_json), {16U * 1024U * 1024U, 64});
+      json result = parsed.ok() ? std::move(parsed.value) : json::object();
       it->second.promise->set_value(
           {true, "", json{{"model_sha256", dds::to_string(rep.model_sha256)}, {"result", std::move(result)}, {"data", std::move(data)}}});
     }

@@ -7,7 +7,7 @@
 #include <httplib.h>
 
 #include "rigger/base/config.hpp"
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 namespace rigger::console {
 
@@ -206,10 +206,10 @@ void HttpApi::routes() {
   // The request body as a JSON object, parsed within bounds; sends 400 and returns nullopt otherwise.
   const auto body = [this](const httplib::Request& req, httplib::Response& res) -> std::optional<json> {
     if (req.body.empty()) return json::object();
-    skill::JsonLimits limits;
+    rigger::JsonLimits limits;
     limits.max_bytes = config_.max_body_bytes;
     limits.max_depth = 64;
-    auto parsed = skill::parse_json_bounded(req.body, limits);
+    auto parsed = rigger::parse_json_bounded(req.body, limits);
     if (!parsed.ok()) {
       send_error(res, 400, "the body is not acceptable JSON: " + parsed.error->to_string(), req.path);
       return std::nullopt;

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 // The task controller's validator: the only place the console includes it (the library moves to
 // common/recipe; this include follows it).
@@ -92,10 +92,10 @@ json validate_recipe(const skill::SkillLibrary& library, std::string_view text) 
   json out = {{"ok", result.ok()}, {"errors", errors}};
   // The canonical text of whatever parses (with the validator's own bounds), valid or not: the page
   // exports it either way and says whether it validated.
-  skill::JsonLimits limits;
+  rigger::JsonLimits limits;
   limits.max_bytes = validator.options().limits.max_bytes;
   limits.max_depth = validator.options().limits.max_depth;
-  const auto parsed = skill::parse_json_bounded(text, limits);
+  const auto parsed = rigger::parse_json_bounded(text, limits);
   if (parsed.ok()) out["canonical"] = canonical_json(parsed.value);
   return out;
 }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "rigger/base/bounded_json.hpp"
 #include "world_json.hpp"
 
 namespace rigger::world {
@@ -26,23 +27,6 @@ std::string quote_id(const std::string& s) {
 std::optional<DecodeError> check_id(const std::string& field, const std::string& value) {
   if (is_valid_identifier(value)) return std::nullopt;
   return error("BAD_ID", field + " " + quote_id(value) + ": expected 1 to 64 characters from [A-Za-z0-9_.-]");
-}
-
-struct TooDeep {};
-
-// Bounds nesting while parsing (DESIGN 6), so deep input is refused before it is built.
-std::optional<json> parse_bounded(const std::string& s) {
-  try {
-    json parsed = json::parse(s, [](int depth, json::parse_event_t, json&) {
-      if (depth > kMaxAttributeDepth) throw TooDeep{};
-      return true;
-    });
-    return parsed;
-  } catch (const TooDeep&) {
-    return std::nullopt;
-  } catch (const json::exception&) {
-    return std::nullopt;
-  }
 }
 
 }  // namespace
@@ -106,13 +90,15 @@ Decoded<EntityUpdate> decode_update(const rigger_world_EntityUpdate& wire) {
       return error("BAD_ATTRIBUTES", "attributes_json: expected at most " + std::to_string(kMaxAttributesJsonBytes) +
                                          " bytes, got " + std::to_string(attributes.size()));
     }
-    auto patch = parse_bounded(attributes);
-    if (!patch) {
+    // Nesting bounded while parsing (DESIGN 6), so deep input is refused before it is built; the store
+    // then checks the exact depth of the values it keeps (world_store.cpp).
+    JsonParseResult patch = parse_json_bounded(attributes, {kMaxAttributesJsonBytes, kMaxAttributeDepth + 1});
+    if (!patch.ok()) {
       return error("BAD_ATTRIBUTES", "attributes_json: expected a JSON object nested at most " +
-                                         std::to_string(kMaxAttributeDepth) + " levels");
+                                         std::to_string(kMaxAttributeDepth) + " levels: " + patch.error->to_string());
     }
-    if (!patch->is_object()) return error("BAD_ATTRIBUTES", "attributes_json: expected a JSON object");
-    u.attributes_patch = std::move(*patch);
+    if (!patch.value.is_object()) return error("BAD_ATTRIBUTES", "attributes_json: expected a JSON object");
+    u.attributes_patch = std::move(patch.value);
   }
   return u;
 }

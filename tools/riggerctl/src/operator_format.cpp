@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rigger/base/bounded_json.hpp"
+
 namespace rigger::ctl {
 namespace {
 
@@ -46,7 +48,8 @@ std::string format_prompt(const PromptView& p, std::size_t position, std::size_t
   out += ")\n";
   if (!p.title.empty()) out += "   " + p.title + "\n";
   if (!p.text.empty()) out += "   " + p.text + "\n";
-  const auto details = nlohmann::json::parse(p.details_json, nullptr, /*allow_exceptions=*/false);
+  const JsonParseResult parsed = parse_json_bounded(p.details_json, {64U * 1024U, 16});  // from a skill: bounded
+  const nlohmann::json details = parsed.ok() ? parsed.value : nlohmann::json::object();
   if (details.is_object() && !details.empty()) {
     for (const auto& [key, value] : details.items()) {
       out += "     " + key + ": " + detail_text(value);

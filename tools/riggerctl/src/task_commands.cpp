@@ -19,6 +19,7 @@
 
 #include "commands.hpp"
 #include "quiet_matching.hpp"
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
@@ -433,8 +434,9 @@ std::string describe_executor(const rigger_skill_ExecutorAnnouncement& a) {
   std::snprintf(line, sizeof line, "%s (pid %d on %s)\n", dds::to_string(a.executor_id).c_str(), a.pid,
                 dds::to_string(a.host).c_str());
   out += line;
-  auto lib = nlohmann::json::parse(dds::to_string(a.library_json), nullptr, false);
-  if (lib.is_discarded() || !lib.contains("skills")) return out;
+  JsonParseResult parsed = parse_json_bounded(dds::to_string(a.library_json));  // from an executor: bounded
+  if (!parsed.ok() || !parsed.value.is_object() || !parsed.value.contains("skills")) return out;
+  const nlohmann::json& lib = parsed.value;
   for (const auto& d : lib["skills"]) {
     std::string params;
     if (d.contains("params"))

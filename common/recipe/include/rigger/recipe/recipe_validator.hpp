@@ -3,7 +3,7 @@
 ///
 /// Stages, each reporting every error it finds with a JSON pointer and what was expected:
 ///  1. bounded parsing: size checked before parsing, nesting depth checked while parsing,
-///     invalid UTF-8 and duplicate keys refused (rigger/skill/bounded_json.hpp);
+///     invalid UTF-8 and duplicate keys refused (rigger/base/bounded_json.hpp);
 ///  2. JSON Schema (recipes/schema/recipe.schema.json, draft-07, compiled into the binary);
 ///  3. semantics against a skill library: skills/monitors/conditions known and of the right
 ///     kind, parameters typed, ranged and unit-checked with defaults filled in, Parallel
@@ -23,7 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rigger/bt/tree_spec.hpp"
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/skill/model_error.hpp"
 #include "rigger/skill/predicate.hpp"
 #include "rigger/skill/skill_library.hpp"
@@ -103,8 +103,8 @@ class RecipeValidator {
   const ValidatorOptions& options() const { return options_; }
 
  private:
-  skill::JsonLimits json_limits() const;
-  ValidationResult validate_parsed(const skill::JsonParseResult& parsed) const;
+  rigger::JsonLimits json_limits() const;
+  ValidationResult validate_parsed(const rigger::JsonParseResult& parsed) const;
   ValidationResult check_document(const nlohmann::json& document) const;  ///< validate_document without codes padding
 
   skill::SkillLibrary library_;

@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/skill/model_error.hpp"
 #include "rigger/skill/skill_description.hpp"
 

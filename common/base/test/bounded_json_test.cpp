@@ -1,4 +1,4 @@
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 #include <chrono>
 #include <filesystem>
@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-namespace rigger::skill {
+namespace rigger {
 namespace {
 
 TEST(BoundedJson, ParsesOrdinaryDocument) {
@@ -154,4 +154,4 @@ TEST(BoundedJson, FileErrorsNameTheFile) {
 }
 
 }  // namespace
-}  // namespace rigger::skill
+}  // namespace rigger

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace rigger::skill {
+namespace rigger {
 
 /// Bounds applied while parsing.
 struct JsonLimits {
@@ -58,4 +58,4 @@ JsonParseResult parse_json_file_bounded(const std::filesystem::path& path, const
 /// Escapes one JSON pointer reference token ("~" → "~0", "/" → "~1").
 std::string escape_pointer_token(std::string_view token);
 
-}  // namespace rigger::skill
+}  // namespace rigger

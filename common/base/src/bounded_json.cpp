@@ -1,4 +1,4 @@
-#include "rigger/skill/bounded_json.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 #include <fstream>
 #include <sstream>
@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-namespace rigger::skill {
+namespace rigger {
 namespace {
 
 using Json = nlohmann::json;
@@ -318,4 +318,4 @@ JsonParseResult parse_json_file_bounded(const std::filesystem::path& path, const
   return result;
 }
 
-}  // namespace rigger::skill
+}  // namespace rigger
