@@ -7,6 +7,7 @@
 // them as mono8 with the driver's stamp, and a stale image does not cross.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <optional>
 
 #include "rigger/dds/conversions.hpp"
@@ -122,27 +123,36 @@ TEST(Ros2BridgeImageTest, ARos2CameraImageArrivesAsGreyWithItsStampAndAStaleOneD
     img.data_._release = false;
     return camera.write(img);
   };
-  // A stale one first (1 s old, the shipped limit is 0.2 s), then a fresh one: only the fresh one crosses.
-  ASSERT_EQ(send(std::chrono::system_clock::now() - 1s), DDS_RETCODE_OK);
-  const auto fresh = std::chrono::system_clock::now();
-  ASSERT_EQ(send(fresh), DDS_RETCODE_OK);
-  ASSERT_TRUE(cell.wait_until([&] { return !got.empty(); }, 5s)) << cell.logs();
-  // Had the stale one crossed, it would have come first (one writer's samples arrive in order).
+  // Best effort, as cameras publish: until discovery has settled on both sides a sample may be lost, so the
+  // driver keeps publishing, every 50 ms a stale image (1 s old, the shipped limit is 0.2 s) and a fresh one.
+  // Only fresh ones may cross; the bridge's log must show it dropped stale ones.
+  std::vector<rigger_geometry_Time> fresh_stamps;
+  cell.loop().every(50ms, [&] {
+    send(std::chrono::system_clock::now() - 1s);
+    const auto now = std::chrono::system_clock::now();
+    fresh_stamps.push_back(dds::to_wire(now));
+    send(now);
+  });
+  const auto bridge_dropped_stale = [&] {
+    return cell.process("ros2_bridge").log().find("dropped image reason=stale") != std::string::npos;
+  };
+  ASSERT_TRUE(cell.wait_until([&] { return got.size() >= 3 && bridge_dropped_stale(); }, 10s)) << cell.logs();
+  for (const Got& g : got) {
+    const bool sent_fresh = std::any_of(fresh_stamps.begin(), fresh_stamps.end(), [&](const rigger_geometry_Time& t) {
+      return t.sec == g.stamp.sec && t.nanosec == g.stamp.nanosec;
+    });
+    EXPECT_TRUE(sent_fresh) << "an image crossed that was not one of the fresh ones (the stale ones are 1 s old)";
+  }
   const Got& g = got[0];
   EXPECT_EQ(g.encoding, "mono8");
   EXPECT_EQ(g.width, w);
   EXPECT_EQ(g.height, h);
   EXPECT_EQ(g.step, w);
   ASSERT_EQ(g.data.size(), std::size_t{w} * h);
-  const rigger_geometry_Time sent = dds::to_wire(fresh);
-  EXPECT_EQ(g.stamp.sec, sent.sec) << "the stale image crossed";
-  EXPECT_EQ(g.stamp.nanosec, sent.nanosec) << "the stale image crossed";
   for (const auto& [x, y] : {std::pair<std::uint32_t, std::uint32_t>{0, 0}, {10, 20}, {63, 47}}) {
     const unsigned expected = (299u * 4 * x + 587u * 5 * y + 114u * 100 + 500u) / 1000u;
     EXPECT_EQ(g.data[std::size_t{y} * w + x], expected) << "pixel " << x << "," << y;
   }
-  EXPECT_NE(cell.process("ros2_bridge").log().find("dropped image reason=stale"), std::string::npos)
-      << cell.process("ros2_bridge").log();
   cell.stop_all();
 }
 
