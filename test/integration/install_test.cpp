@@ -104,6 +104,7 @@ TEST_F(InstallTest, MovedInstallationRunsTheDemoWithoutSourceOrBuildTree) {
   ASSERT_TRUE(r.status.ok()) << r.output;
   EXPECT_NE(r.output.find("root     " + prefix() + "/share/rigger\n"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("bin_dir  " + prefix() + "/bin\n"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("(not built)"), std::string::npos) << "a service binary was not installed:\n" << r.output;
 
   cell_may_run_ = true;
   const auto t1 = std::chrono::steady_clock::now();
