@@ -10,6 +10,8 @@
 #include <stdlib.h>
 
 #include <chrono>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -92,9 +94,9 @@ TEST_F(InstallTest, MovedInstallationRunsTheDemoWithoutSourceOrBuildTree) {
   std::stringstream html;
   html << index.rdbuf();
   const std::string text = html.str();
+  const std::regex module_path(R"re("(/node_modules/[^"]+)")re");
   int named = 0;
-  for (std::sregex_iterator it(text.begin(), text.end(), std::regex(R"re("(/node_modules/[^"]+)")re")), end; it != end;
-       ++it, ++named) {
+  for (std::sregex_iterator it(text.begin(), text.end(), module_path), end; it != end; ++it, ++named) {
     EXPECT_TRUE(fs::exists(prefix() + "/share/rigger/web" + (*it)[1].str())) << (*it)[1].str() << " not installed";
   }
   EXPECT_GE(named, 3) << text;
