@@ -30,7 +30,7 @@ namespace fs = std::filesystem;
 
 std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
-class InstallTest : public ShellTest {
+class RelocatableInstallTest : public ShellTest {
  protected:
   void SetUp() override {
     char pattern[] = "/tmp/rigger-install-test-XXXXXX";
@@ -68,7 +68,7 @@ class InstallTest : public ShellTest {
   bool cell_may_run_ = false;
 };
 
-TEST_F(InstallTest, MovedInstallationRunsTheDemoWithoutSourceOrBuildTree) {
+TEST_F(RelocatableInstallTest, MovedInstallationRunsTheDemoWithoutSourceOrBuildTree) {
   if (!bash("probe", "exec unshare --mount true", 10s).status.ok())
     GTEST_SKIP() << "unshare --mount is not permitted here (needs root): the source and build trees cannot be hidden";
 

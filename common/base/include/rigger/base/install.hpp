@@ -9,7 +9,8 @@
 ///   <prefix>/share/rigger/             the data folder, data_dir(): cyclonedds.xml; deploy/ (compose
 ///                                      files, configurations, the cell and its STEP models), recipes/,
 ///                                      test/data/ (the scripted executor's skill library) at the same
-///                                      relative paths as in the repository; web/ (the console's pages)
+///                                      relative paths as in the repository; web/ (the console's pages);
+///                                      cell_sim/cell.xml (the MuJoCo model)
 ///
 /// Finding a file (find_data_path; config_path for a file named by a configuration key):
 ///   - an absolute path is used as it is;
