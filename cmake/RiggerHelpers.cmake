@@ -62,13 +62,26 @@ function(rigger_add_library name)
   target_link_libraries(${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
 endfunction()
 
-# rigger_add_executable(NAME SOURCES ... [DEPS ...]): a binary placed in <build>/bin.
+# Where installed data goes (<prefix>/share/rigger), the same folder the build tree stages it in:
+# rigger/base/install.hpp's data_dir().
+set(RIGGER_DATA_DESTINATION share/rigger)
+
+# rigger_add_executable(NAME SOURCES ... [DEPS ...] [BENCH | NOT_INSTALLED]): a program placed in
+# <build>/bin and installed into <prefix>/bin (`cmake --install`), like every service and user tool.
+# BENCH: a benchmark, placed in <build>/bench and not installed. NOT_INSTALLED: a test helper in bin/.
 function(rigger_add_executable name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "BENCH;NOT_INSTALLED" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   rigger_target_defaults(${name})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS})
+  if(ARG_BENCH)
+    set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench)
+    return()
+  endif()
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
+  if(NOT ARG_NOT_INSTALLED)
+    install(TARGETS ${name} RUNTIME DESTINATION bin)
+  endif()
 endfunction()
 
 # rigger_add_service(NAME CORE_SOURCES ... [DEPS ...]):

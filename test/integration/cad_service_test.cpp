@@ -30,7 +30,10 @@ class CadServiceTest : public MultiProcessTest {
  protected:
   void SetUp() override {
     const std::string config = cell_.log_dir() + "/cad.json";
-    std::ofstream(config) << R"({"allowed_dirs": ["/usr/share/opencascade/data/step", "common/cad/test/data"]})";
+    // The test's models are the source tree's fixtures: named absolutely (a service finds relative paths
+    // beside its configuration or in the installation, never in the source tree).
+    std::ofstream(config) << R"({"allowed_dirs": ["/usr/share/opencascade/data/step", ")" RIGGER_SOURCE_DIR
+                             R"(/common/cad/test/data"]})";
     cell_.start("cad", "cad", {"--id", "cad", "--config", config});
     ASSERT_TRUE(cell_.wait_ready({"cad"}, 30s)) << cell_.logs();
     requests_.emplace(cell_.participant(), "rigger/cad/request", dds::qos::commands());

@@ -6,8 +6,6 @@
 // does not meet a cell someone else runs), riggerctl is the build's bin/, wherever the build is, and the
 // run takes a fresh --task-id (the journal refuses a task id it has seen, and it outlives the test).
 // Like the demo it uses the compose file's PLC port (1502): RUN_SERIAL.
-#include <signal.h>
-
 #include <chrono>
 #include <ctime>
 #include <string>
@@ -15,50 +13,28 @@
 
 #include <gtest/gtest.h>
 
-#include "rigger/testing/cell.hpp"
+#include "shell_support.hpp"
 
 namespace rigger::testing {
 namespace {
 
 using namespace std::chrono_literals;
 
-struct ShellResult {
-  ExitStatus status;
-  std::string output;
-};
-
-class GettingStartedTest : public MultiProcessTest {
+class GettingStartedTest : public ShellTest {
  protected:
   void TearDown() override {
     if (up_) {
       const auto r = sh("down", "deploy/rigger-compose down", 60s);
       EXPECT_TRUE(r.status.ok()) << r.output;
     }
-    MultiProcessTest::TearDown();
+    ShellTest::TearDown();
   }
 
   /// Runs `command` with bash in the source tree, with CYCLONEDDS_URI removed from its environment.
   ShellResult sh(const std::string& name, const std::string& command, std::chrono::milliseconds timeout) {
-    const std::string script =
-        "cd '" RIGGER_SOURCE_DIR "' && exec env -u CYCLONEDDS_URI RIGGER_DOMAIN=" + std::to_string(cell_.domain_id()) +
-        " RIGGER_BUILD_DIR='" + build_dir() + "' " + command;
-    ChildProcess p("/bin/bash", {"-c", script}, {}, cell_.log_dir() + "/" + name + ".out");
-    auto st = p.wait(timeout);
-    if (!st) {
-      p.signal(SIGKILL);
-      st = p.wait(5s);
-      ADD_FAILURE() << command << " did not finish within " << timeout.count() << " ms\n" << p.log();
-    }
-    return {st.value_or(ExitStatus{}), p.log()};
-  }
-
-  /// The last lines of every service's log in rigger-compose's log folder (the harness does not see it).
-  std::string compose_logs() {
-    const auto r = sh("compose-logs",
-                      "for f in /tmp/rigger-compose/" + std::to_string(cell_.domain_id()) +
-                          "/*.log; do echo \"===== $f\"; tail -n 25 \"$f\"; done",
-                      30s);
-    return "\n" + r.output;
+    return bash(name, "cd '" RIGGER_SOURCE_DIR "' && exec " + plain_env() + " RIGGER_BUILD_DIR='" + build_dir() + "' " +
+                          command,
+                timeout);
   }
 
   static std::string build_dir() { return bin_dir() + "/.."; }

@@ -37,3 +37,13 @@ if(_scenario_ready AND TARGET riggerctl AND TARGET rigger-compose)
     LABEL integration TIMEOUT 420 RUN_SERIAL)
   add_dependencies(rigger_getting_started_test ${_scenario_services} riggerctl rigger-compose)
 endif()
+# `cmake --install` into a temporary prefix, moved, then `rigger-compose demo` from it with the source and
+# build trees hidden (issue 12). It installs what the last full build made (test/run runs after one).
+if(_scenario_ready AND TARGET riggerctl AND TARGET rigger-compose AND TARGET cad AND TARGET console)
+  rigger_add_test(rigger_install_test
+    SOURCES install_test.cpp
+    DEPS rigger_test_harness
+    LABEL integration TIMEOUT 600 RUN_SERIAL)
+  target_compile_definitions(rigger_install_test PRIVATE RIGGER_CMAKE_COMMAND="${CMAKE_COMMAND}")
+  add_dependencies(rigger_install_test ${_scenario_services} riggerctl rigger-compose cad console)
+endif()

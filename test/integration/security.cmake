@@ -2,7 +2,7 @@
 # brought up by `rigger-compose up --secure`, intruders (rigger_security_probe) and a permitted riggerctl.
 if(TARGET task_controller AND TARGET scripted_executor AND TARGET riggerctl AND TARGET rigger-compose
    AND TARGET rigger-topic-catalog)
-  rigger_add_executable(rigger_security_probe SOURCES security/security_probe.cpp DEPS rigger_dds)
+  rigger_add_executable(rigger_security_probe SOURCES security/security_probe.cpp DEPS rigger_dds NOT_INSTALLED)
   rigger_add_test(rigger_security_test
     SOURCES security/security_test.cpp
     DEPS rigger_test_harness nlohmann_json::nlohmann_json LABEL integration TIMEOUT 180)

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "rigger/base/install.hpp"
 #include "rigger/cell_config/cell_file.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/admittance.hpp"
@@ -25,19 +26,10 @@ double read_crane_timeout(const Config& config) {
   return config.get_in_range("crane_timeout_s", 0.2, 0.02, 2.0);
 }
 
-// The configured cell file: a relative path is taken from the configuration file's folder, then the
-// working directory, then the repository (development runs from a build directory).
+// The configured cell file (optional), found by the rule of rigger/base/install.hpp.
 std::optional<std::filesystem::path> resolve_cell_file(const Config& config) {
   if (!config.has("cell_file")) return std::nullopt;
-  const std::filesystem::path path(config.get<std::string>("cell_file"));
-  if (!path.is_relative()) return path;
-  const std::filesystem::path next_to_config = std::filesystem::path(config.file()).parent_path() / path;
-  const std::filesystem::path in_source = std::filesystem::path(RIGGER_SOURCE_DIR) / path;
-  if (!std::filesystem::exists(next_to_config)) {
-    if (std::filesystem::exists(path)) return path;
-    if (std::filesystem::exists(in_source)) return in_source;
-  }
-  return next_to_config;  // the documented place, named in the error when nothing is found
+  return config_path(config, "cell_file");
 }
 
 // The robot base's pose in the world: entity `robot_id` of the configured cell file, else identity.

@@ -44,7 +44,7 @@ inline constexpr const char* kFaultServoRequestInvalid = "SERVO_REQUEST_INVALID"
 /// robot.rate_hz and crane.rate_hz) and these (optional):
 ///   "twist_timeout_s": number in [0.002, 1], default 0.05 — timeout_s of each cmd_twist
 ///   "crane_timeout_s": number in [0.02, 2], default 0.2 — timeout_s of each crane cmd_velocity
-///   "cell_file": path of the cell file (relative paths: to the configuration file's folder), default
+///   "cell_file": path of the cell file (found by the rule of rigger/base/install.hpp), default
 ///       none. The robot base's pose in the world is the pose of entity `robot_id` in it; without a
 ///       cell file the base is taken to be the world frame.
 ///   "robot_id": string, default "robot" — the robot's entity in the cell file, and the frame id of

@@ -1,24 +1,18 @@
 #include "cad_node.hpp"
 
+#include "rigger/base/install.hpp"
 #include "rigger/dds/conversions.hpp"
 
 #include <chrono>
 
 namespace rigger::cad_service {
-namespace {
-
-std::filesystem::path repo_path(const std::string& path) {
-  const std::filesystem::path p(path);
-  return p.is_absolute() ? p : std::filesystem::path(RIGGER_SOURCE_DIR) / p;
-}
-
-}  // namespace
-
 CadServiceSettings read_settings(const Config& config) {
   CadServiceSettings settings;
-  settings.cell_file = repo_path(config.get<std::string>("cell_config", "deploy/cell/simulated_cell.json"));
+  settings.cell_file = config_path(config, "cell_config", kDefaultCellFile);
+  // An allowed folder that does not exist allows nothing (the shipped list names OpenCascade's samples,
+  // which not every machine has): kept, not refused.
   for (const auto& dir : config.get<std::vector<std::string>>("allowed_dirs", {})) {
-    settings.allowed_dirs.push_back(repo_path(dir));
+    settings.allowed_dirs.push_back(find_data_path(dir, config_file_of(config)).path);
   }
   settings.limits.max_bytes =
       static_cast<std::uintmax_t>(config.get_in_range<double>("max_file_mib", 64.0, 0.001, 1024.0) * (1 << 20));

@@ -11,9 +11,9 @@
 
 namespace rigger::cad_service {
 
-/// Settings from the --config file: "cell_config" (default deploy/cell/simulated_cell.json, relative to
-/// the repository), "allowed_dirs" (array of folders a request may name files in), "max_file_mib",
-/// "read_timeout_s", "max_models". @throws ConfigError.
+/// Settings from the --config file: "cell_config" (default deploy/cell/simulated_cell.json),
+/// "allowed_dirs" (array of folders a request may name files in), both found by the rule of
+/// rigger/base/install.hpp; "max_file_mib", "read_timeout_s", "max_models". @throws ConfigError.
 CadServiceSettings read_settings(const Config& config);
 
 class CadNode : public dds::Node {

@@ -5,22 +5,13 @@
 #include <cmath>
 #include <limits>
 
+#include "rigger/base/install.hpp"
 #include "rigger/crane_protocol/crane_config.hpp"
 
 namespace rigger::cell_sim {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Paths in a configuration file are relative to that file, so that the shipped configuration works
-// from any working directory; without a file they are relative to the working directory.
-fs::path resolve_path(const Config& config, const std::string& value) {
-  const fs::path path(value);
-  if (path.is_absolute()) return path;
-  const fs::path file(config.file());
-  if (fs::exists(file)) return file.parent_path() / path;
-  return path;
-}
 
 std::chrono::milliseconds get_ms(const Config& config, const std::string& key, std::chrono::milliseconds fallback,
                                  int lo, int hi) {
@@ -89,9 +80,7 @@ void read_camera(const Config& camera, CellSimConfig& out) {
 
 }  // namespace
 
-fs::path default_cell_file() {
-  return fs::path(RIGGER_SOURCE_DIR) / "deploy" / "cell" / "simulated_cell.json";
-}
+fs::path default_cell_file() { return find_data_path(kDefaultCellFile).path; }
 
 std::uint64_t steps_per_period(double rate_hz, std::chrono::nanoseconds timestep) {
   const double steps = 1.0 / (rate_hz * std::chrono::duration<double>(timestep).count());
@@ -117,10 +106,9 @@ CellSimConfig::Ros2Driver read_ros2_driver(const Config& c) {
 
 CellSimConfig read_cell_sim_config(const Config& config) {
   CellSimConfig out;
-  out.cell_file =
-      config.has("cell_file") ? resolve_path(config, config.get<std::string>("cell_file")) : default_cell_file();
+  out.cell_file = config_path(config, "cell_file", kDefaultCellFile);
   if (config.has("model_file")) {
-    out.model_file = resolve_path(config, config.get<std::string>("model_file"));
+    out.model_file = config_path(config, "model_file");
     out.physics.model_path = out.model_file;
   }
   out.real_time_factor = config.get_in_range("real_time_factor", out.real_time_factor, 0.0, 1000.0);

@@ -86,12 +86,13 @@ struct CellSimConfig {
   double status_rate_hz = 100.0;
 };
 
-/// Reads every key of `config` (see docs/cell-sim.md); relative paths are taken relative to the
-/// configuration file's folder. Does not call finish(). Loads the cell file's crane limits.
+/// Reads every key of `config` (see docs/cell-sim.md); paths are found by the rule of
+/// rigger/base/install.hpp (beside the configuration file, then in the data folder). Does not call finish(). Loads the cell file's crane limits.
 /// @throws ConfigError naming the file, the key and what was expected.
 CellSimConfig read_cell_sim_config(const Config& config);
 
-/// The cell file used without a configuration: the repository's deploy/cell/simulated_cell.json.
+/// The cell file used without a configuration: deploy/cell/simulated_cell.json in the installation's
+/// data folder (rigger/base/install.hpp).
 std::filesystem::path default_cell_file();
 
 /// Steps of `timestep` between two publications at `rate_hz` (at least 1).

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "rigger/base/bounded_json.hpp"
+#include "rigger/base/install.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/task_names.hpp"
 
@@ -33,14 +34,6 @@ double wall_now_s() {
 std::string epoch_now() {
   const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch());
   return std::to_string(ms.count());
-}
-
-std::string default_web_dir() {
-#ifdef RIGGER_CONSOLE_WEB_DIR
-  return RIGGER_CONSOLE_WEB_DIR;
-#else
-  return "web";
-#endif
 }
 
 // A plot value with 4 significant decimals keeps the rows short.
@@ -74,7 +67,7 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
   http.config_file = ctx.options.config_path;
   http.address = config.get<std::string>("address", http.address);
   http.port = config.get_in_range<int>("port", http.port, 0, 65535);
-  http.web_dir = config.get<std::string>("web_dir", default_web_dir());
+  http.web_dir = config_path(config, "web_dir", "web").string();  // the data folder's web/ (install.hpp)
   http.audit_log = config.get<std::string>("audit_log", "/var/tmp/rigger/console-audit.log");
   http.tls_cert = config.get<std::string>("tls_cert", "");
   http.tls_key = config.get<std::string>("tls_key", "");

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "rigger/base/install.hpp"
 #include "rigger/crane_protocol/crane_config.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/crane.hpp"
@@ -12,14 +13,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using SteadyClock = std::chrono::steady_clock;
-
-// Paths in a configuration file are relative to that file (the shipped one works from any folder).
-fs::path resolve_path(const Config& config, const std::string& value) {
-  const fs::path path(value);
-  if (path.is_absolute()) return path;
-  const fs::path file(config.file());
-  return fs::exists(file) ? file.parent_path() / path : path;
-}
 
 std::chrono::milliseconds get_ms(const Config& config, const std::string& key, int fallback, int lo, int hi) {
   return std::chrono::milliseconds(config.get_in_range<int>(key, fallback, lo, hi));
@@ -42,9 +35,7 @@ void CommandLine::add_to(CLI::App& app) {
 
 CraneGatewayConfig read_gateway_config(const Config& config) {
   CraneGatewayConfig out;
-  const fs::path cell_file = config.has("cell_file")
-                                 ? resolve_path(config, config.get<std::string>("cell_file"))
-                                 : fs::path(RIGGER_SOURCE_DIR) / "deploy" / "cell" / "simulated_cell.json";
+  const fs::path cell_file = config_path(config, "cell_file", kDefaultCellFile);
   const std::string crane_id = config.get<std::string>("crane_id", "crane");
   try {
     out.logic.plausibility.limits = crane::load_crane_limits(cell_file.string(), crane_id);

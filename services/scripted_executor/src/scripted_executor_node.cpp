@@ -9,16 +9,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rigger/base/install.hpp"
 #include "rigger/base/time.hpp"
 
 namespace rigger::scripted {
 namespace {
 
-
 nlohmann::json load_library(const Config& config) {
-  const std::string name = config.get<std::string>("library_file", "test/data/scripted_skill_library.json");
-  std::filesystem::path path(name);
-  if (path.is_relative() && !std::filesystem::exists(path)) path = std::filesystem::path(RIGGER_SOURCE_DIR) / name;
+  const std::filesystem::path path = config_path(config, "library_file", "test/data/scripted_skill_library.json");
   std::ifstream in(path);
   if (!in) config.fail("library_file", "cannot open " + path.string());
   try {

@@ -4,8 +4,9 @@
 /// Behaviour (behaviour.hpp) for every START.
 ///
 /// Configuration keys:
-///   "library_file": string, path of a skill-library file (relative paths: to the working directory,
-///                   then to the source tree's root); default test/data/scripted_skill_library.json
+///   "library_file": string, path of a skill-library file, found by the rule of rigger/base/install.hpp
+///                   (beside this configuration, then in the data folder); default
+///                   test/data/scripted_skill_library.json in the data folder
 ///   "skills":       array of names to announce (default: every description in the library)
 ///   "default":      behaviour for skills (monitors default to {"mode": "run"})
 ///   "behaviours":   object: skill name → behaviour (overrides "default")

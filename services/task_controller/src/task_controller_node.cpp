@@ -13,32 +13,23 @@
 namespace rigger::task_controller {
 namespace {
 
-/// The command writer's liveliness lease (command_lease_ms), offered to run_service, which asserts the
-/// participant's liveliness every third of it when it is the shortest (a 200 ms lease needs 67 ms).
-std::chrono::milliseconds command_lease(dds::ServiceContext& ctx) {
-  const std::chrono::milliseconds lease(ctx.config.get_in_range<unsigned>("command_lease_ms", 300U, 200U, 10000U));
+/// Offers the command writer's liveliness lease to run_service, which asserts the participant's
+/// liveliness every third of it when it is the shortest (a 200 ms lease needs 67 ms).
+std::chrono::milliseconds offered(dds::ServiceContext& ctx, std::chrono::milliseconds lease) {
   ctx.offer_liveliness_lease(lease);
   return lease;
-}
-
-/// A duration key in seconds, in [lo, hi].
-std::chrono::nanoseconds seconds_in_range(const Config& config, const std::string& key, double fallback, double lo,
-                                          double hi) {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-      std::chrono::duration<double>(config.get_in_range<double>(key, fallback, lo, hi)));
 }
 
 }  // namespace
 
 TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
     : ctx_(ctx),
-      journal_(ctx.config.get<std::string>("journal_path", "task_controller_journal.sqlite"),
-               ctx.config.get_enum("journal_sync", "normal", {"normal", "full"}) == "full" ? JournalSync::kFull
-                                                                                       : JournalSync::kNormal),
+      settings_(read_settings(ctx.config)),
+      journal_(settings_.journal_path, settings_.journal_sync),
       announcements_(ctx.participant, protocol::skill::kExecutors, dds::qos::state()),
       // Executors watch the command writer's liveliness: a controller that dies or hangs has its running
       // skills shut down by their executors within the lease (no orphaned motion).
-      endpoint_(ctx.participant, command_lease(ctx)),
+      endpoint_(ctx.participant, offered(ctx, settings_.command_lease)),
       recipes_(ctx.participant, protocol::task::kRecipe),
       task_commands_(ctx.participant, protocol::task::kCommand),
       status_(ctx.participant),
@@ -46,20 +37,7 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
       prompts_(ctx.participant),
       responses_(ctx.participant, protocol::operator_ui::kResponse),
       safe_stops_(ctx.participant) {
-  validator_options_.default_stop_timeout =
-      bt::Seconds(ctx.config.get_in_range<double>("default_stop_timeout_s", 5.0, 0.01, 600.0));
-  validator_options_.limits.max_bytes = ctx.config.get_in_range<unsigned>(
-      "max_recipe_bytes", 4U * 1024U * 1024U, 1024U, static_cast<unsigned>(recipe::kMaxRecipeBytesCeiling));
-  validator_options_.limits.max_depth = ctx.config.get_in_range<unsigned>("max_recipe_depth", 128U, 8U, 1024U);
-  executor_wait_ = seconds_in_range(ctx.config, "executor_wait_s", 2.0, 0.0, 600.0);
-  condition_timeout_ =
-      std::chrono::milliseconds(ctx.config.get_in_range<unsigned>("condition_timeout_ms", 1000U, 10U, 60000U));
-  start_answer_timeout_ = seconds_in_range(ctx.config, "start_answer_timeout_s", 5.0, 0.05, 600.0);
-  busy_wait_ = seconds_in_range(ctx.config, "busy_wait_s", 10.0, 0.0, 600.0);
-  progress_rows_per_run_ = ctx.config.get_in_range<unsigned>("journal_progress_per_run", 20U, 0U, 100000U);
-  trace_path_ = ctx.config.get<std::string>("stage_trace_path", "");
-  ctx.config.finish();
-  if (!trace_path_.empty()) {
+  if (!settings_.stage_trace_path.empty()) {
     trace_ = std::make_unique<StageTrace>();
     endpoint_.trace(trace_.get());
   }
@@ -90,7 +68,8 @@ TaskControllerNode::~TaskControllerNode() {
   tasks_.clear();
   for (auto& [id, p] : pending_) ctx_.loop.cancel(p.timer);
   flush_side_effects();
-  if (trace_ && !trace_->write(trace_path_)) ctx_.log->error("stage trace not written path={}", trace_path_);
+  if (trace_ && !trace_->write(settings_.stage_trace_path))
+    ctx_.log->error("stage trace not written path={}", settings_.stage_trace_path);
 }
 
 // --- TaskHost ---
@@ -112,7 +91,7 @@ void TaskControllerNode::node_status(NodeStatusRow row) {
 
 void TaskControllerNode::is_localized(const std::string& object, double max_age_s,
                                       std::function<void(const world_client::Reply&)> answer) {
-  world_->is_localized(object, max_age_s, condition_timeout_, std::move(answer));
+  world_->is_localized(object, max_age_s, settings_.condition_timeout, std::move(answer));
 }
 
 std::string TaskControllerNode::holder_of(const std::vector<std::string>& resources, const std::string& task_id) const {
@@ -242,11 +221,11 @@ void TaskControllerNode::handle_recipe(const std::string& task_id, const std::st
   request.task_id = task_id;
   request.text = text;
   request.id_used = tasks_.count(task_id) || pending_.count(task_id) || (!task_id.empty() && journal_.has_task(task_id));
-  request.may_wait = may_wait && executor_wait_.count() > 0;
+  request.may_wait = may_wait && settings_.executor_wait.count() > 0;
   for (const auto& [id, task] : tasks_)
     if (!task->done()) request.running.push_back({id, &task->resources()});
   std::vector<std::string> problems;
-  const recipe::RecipeValidator validator(executors_.live_library(&problems), validator_options_);
+  const recipe::RecipeValidator validator(executors_.live_library(&problems), settings_.validator);
   for (const auto& p : problems) ctx_.log->warn("{}", p);
   Admission admission = admit(request, validator);
   if (admission.outcome == Admission::Outcome::kWait) {
@@ -254,7 +233,7 @@ void TaskControllerNode::handle_recipe(const std::string& task_id, const std::st
     auto& p = pending_[task_id];
     p.text = text;
     ctx_.log->info("recipe waits for executors task={} first={}", task_id, admission.message);
-    p.timer = ctx_.loop.after(executor_wait_, [this, task_id] {
+    p.timer = ctx_.loop.after(settings_.executor_wait, [this, task_id] {
       auto it = pending_.find(task_id);
       if (it == pending_.end()) return;
       const std::string pending_text = it->second.text;

@@ -6,7 +6,8 @@
 ///  - recipe_admission: run, wait for an executor, or reject with a typed RejectCode;
 ///  - controller_endpoint: the controller's half of the skill protocol (ExecutorEndpoint's mirror);
 ///  - operator_decisions: prompt ids and answers; journal_server: journal queries;
-///  - task_port: one running task, the engine's bt::Port; status_publisher: task and node status.
+///  - task_port: one running task, the engine's bt::Port; status_publisher: task and node status;
+///  - controller_settings: the configuration keys, read before anything is built.
 ///
 ///  - rigger/skill/executors (liveliness-monitored): live executors and the skills they offer; their
 ///    libraries merged form the skill library recipes are validated against. An executor whose
@@ -25,31 +26,6 @@
 /// controller killed in between loses those rows, never a task: the recipe row was written before the
 /// first START, so a restarted controller reports the task INTERRUPTED.
 ///
-/// Configuration keys (all optional):
-///   "journal_path": string, default "task_controller_journal.sqlite"
-///   "journal_sync": "normal" (default: no fsync per commit; survives controller crashes and restarts) or
-///                   "full" (an fsync per commit; also survives a power cut). See journal.hpp.
-///   "default_stop_timeout_s": number in [0.01, 600], default 5
-///   "max_recipe_bytes": integer in [1024, 67108864 (recipe::kMaxRecipeBytesCeiling)], default 4194304
-///   "max_recipe_depth": integer in [8, 1024], default 128
-///   "command_lease_ms": integer in [200, 10000], default 300: the liveliness lease offered on
-///                       rigger/skill/command; executors shut down the runs of a controller that lost it
-///   "stage_trace_path": string, default "" (off): record when each executor event was received, its first
-///                       command written, the engine done and its side effects flushed (StageTrace), and
-///                       write the records to this file when the controller stops (for the live bench)
-///   "executor_wait_s": number in [0, 600], default 2: a recipe naming a skill no live executor offers
-///                      waits this long for one to appear (re-validated on every new announcement)
-///                      before it is rejected
-///   "start_answer_timeout_s": number in [0.05, 600], default 5: an executor answers every START at once
-///                      (ACCEPTED, or FAILURE with a code); a START without an answer in this time fails
-///                      its leaf with START_UNANSWERED (and the controller sends a SHUTDOWN after it)
-///   "busy_wait_s": number in [0, 600], default 10: a START whose resources a run of another task holds
-///                      (as the executors announce their runs: a killed controller's, still stopping) is
-///                      held until they are free, re-checked on every announcement; after this long the
-///                      leaf fails RESOURCE_HELD, naming the holder
-///   "journal_progress_per_run": integer in [0, 100000], default 20: the first PROGRESS events of each
-///                      run are journaled; at the run's end one row (PROGRESS_LEFT_OUT) counts the others
-///
 /// Conditions: ObjectLocalized is answered by the world model (WorldClient) and is always part of the
 /// library recipes are validated against (no executor needs to announce it); an unreachable world model
 /// fails the Condition with WORLD_UNREACHABLE, an unknown condition with UNKNOWN_CONDITION.
@@ -61,6 +37,7 @@
 #include <vector>
 
 #include "controller_endpoint.hpp"
+#include "controller_settings.hpp"
 #include "executor_directory.hpp"
 #include "journal.hpp"
 #include "journal_server.hpp"
@@ -95,15 +72,15 @@ class TaskControllerNode : public dds::Node, private TaskHost {
     return executors_.pick(skill, pinned);
   }
   std::string holder_of(const std::vector<std::string>& resources, const std::string& task_id) const override;
-  std::chrono::nanoseconds busy_wait() const override { return busy_wait_; }
-  unsigned progress_rows_per_run() const override { return progress_rows_per_run_; }
+  std::chrono::nanoseconds busy_wait() const override { return settings_.busy_wait; }
+  unsigned progress_rows_per_run() const override { return settings_.progress_rows_per_run; }
   ControllerEndpoint& endpoint() override { return endpoint_; }
   PromptWriter& prompts() override { return prompts_; }
   void journal(const JournalRecord& record) override;
   void node_status(NodeStatusRow row) override;
   void is_localized(const std::string& object, double max_age_s,
                     std::function<void(const world_client::Reply&)> answer) override;
-  std::chrono::nanoseconds start_answer_timeout() const override { return start_answer_timeout_; }
+  std::chrono::nanoseconds start_answer_timeout() const override { return settings_.start_answer_timeout; }
   bool safe_stop(const std::string& resource, const std::string& reason) override;
   void task_finished(const std::string& id, int state, const std::string& journal_state, const bt::TaskResult& result,
                      const std::string& message) override;
@@ -128,7 +105,7 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   void forget_task(const std::string& task_id);
 
   dds::ServiceContext& ctx_;
-  recipe::ValidatorOptions validator_options_;
+  const ControllerSettings settings_;  ///< read first: the members below are built from it
   Journal journal_;
   dds::Reader<rigger_skill_ExecutorAnnouncement> announcements_;
   ControllerEndpoint endpoint_;
@@ -147,16 +124,10 @@ class TaskControllerNode : public dds::Node, private TaskHost {
     dds::EventLoop::TimerId timer = 0;
   };
   std::map<std::string, Pending> pending_;  ///< recipes waiting for an executor, by task id
-  std::chrono::nanoseconds executor_wait_{};
-  std::chrono::nanoseconds start_answer_timeout_{};
-  std::chrono::nanoseconds busy_wait_{};
-  unsigned progress_rows_per_run_ = 20;
   std::unique_ptr<world_client::WorldClient> world_;  ///< Condition nodes query the world model through it
-  std::chrono::milliseconds condition_timeout_{1000};
   std::vector<NodeStatusRow> status_backlog_;
   std::vector<JournalRecord> journal_backlog_;
   std::unique_ptr<StageTrace> trace_;  ///< nullptr unless stage_trace_path is set
-  std::string trace_path_;
 };
 
 }  // namespace rigger::task_controller

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "rigger/base/install.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/vision.hpp"
 
@@ -9,21 +10,12 @@ namespace rigger::vision {
 
 namespace {
 
-// A relative cell path is tried from the working directory first (a deployment), then from the
-// repository root (tests and development runs from a build directory).
-std::filesystem::path resolve_cell_file(const std::string& path) {
-  const std::filesystem::path p(path);
-  if (p.is_absolute() || std::filesystem::exists(p)) return p;
-  const std::filesystem::path in_source = std::filesystem::path(RIGGER_SOURCE_DIR) / p;
-  return std::filesystem::exists(in_source) ? in_source : p;
-}
-
 Tracker make_tracker(const Config& config) {
-  const std::string cell_file = config.get<std::string>("cell_file", "deploy/cell/simulated_cell.json");
+  const std::filesystem::path cell_file = config_path(config, "cell_file", kDefaultCellFile);
   const std::string camera_id = config.get<std::string>("camera_id", "camera");
   const double lost_after_s = config.get_in_range("lost_after_s", 0.5, 0.01, 10.0);
   try {
-    TrackerConfig tracker_config = tracker_config_from_cell(cell::load_cell_file(resolve_cell_file(cell_file)), camera_id);
+    TrackerConfig tracker_config = tracker_config_from_cell(cell::load_cell_file(cell_file), camera_id);
     tracker_config.lost_after = from_seconds(lost_after_s);
     return Tracker(std::move(tracker_config));
   } catch (const std::exception& e) {

@@ -15,8 +15,8 @@
 namespace rigger::vision {
 
 /// Configuration keys (all optional):
-///   "cell_file": string, default "deploy/cell/simulated_cell.json" — absolute, relative to the working
-///                directory, or else relative to the repository root (RIGGER_SOURCE_DIR)
+///   "cell_file": string, default "deploy/cell/simulated_cell.json" — found by the rule of
+///                rigger/base/install.hpp (beside this configuration, then in the data folder)
 ///   "camera_id": string, default "camera" — the cell entity holding the camera block
 ///   "frame_id": string, default "world" — frame of the published poses
 ///   "start_mode": "idle" | "continuous", default "idle" — for every object

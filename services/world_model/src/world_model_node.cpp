@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "rigger/base/install.hpp"
 #include "rigger/cell_config/cell_cad.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/vision.hpp"
@@ -22,7 +23,7 @@ rigger_world_EntityKind to_wire(EntityKind kind) {
 }
 
 WorldStore load_store(const WorldModelSettings& settings, const Config& config, const Logger& log) {
-  const std::string path = resolve_repo_path(settings.cell_config);
+  const std::string& path = settings.cell_config;
   try {
     // The CAD features given by rules over the objects' STEP models are derived here, once, before the
     // store answers: a reference into a changed model stops the start (docs/cad.md).
@@ -59,16 +60,9 @@ std::optional<WorldDatabase> open_database(const WorldModelSettings& settings, W
 
 }  // namespace
 
-std::string resolve_repo_path(const std::string& path) {
-  const std::filesystem::path p(path);
-  if (p.is_absolute()) return path;
-  return (std::filesystem::path(RIGGER_SOURCE_DIR) / p).string();
-}
-
 WorldModelSettings read_settings(const Config& config) {
   WorldModelSettings s;
-  s.cell_config = config.get<std::string>("cell_config", s.cell_config);
-  if (s.cell_config.empty()) config.fail("cell_config", "expected a file path, got an empty string");
+  s.cell_config = config_path(config, "cell_config", kDefaultCellFile).string();
   s.database = config.get<std::string>("database", s.database);
   s.max_change_log_rows = config.get_in_range<unsigned>("max_change_log_rows", 100000u, 100u, 10000000u);
   s.follow_tracker = config.get<bool>("follow_tracker", s.follow_tracker);

@@ -21,15 +21,14 @@
 
 namespace rigger::world {
 
-/// The default cell configuration, relative to the repository root.
-inline constexpr const char* kDefaultCellConfig = "deploy/cell/simulated_cell.json";
 /// The default database file.
 inline constexpr const char* kDefaultDatabase = "/tmp/rigger/world_model.sqlite";
 
 /// Settings of the node, from the --config file (keys below) and the command line (which wins).
 struct WorldModelSettings {
-  /// "cell_config": the cell file; a relative path is resolved against the repository root.
-  std::string cell_config = kDefaultCellConfig;
+  /// "cell_config": the cell file, found by the rule of rigger/base/install.hpp (default
+  /// kDefaultCellFile in the data folder); --cell on the command line is taken as it is given.
+  std::string cell_config;
   /// "database": the SQLite file (its folder is created); "" keeps no state across restarts.
   std::string database = kDefaultDatabase;
   /// "max_change_log_rows": integer in [100, 10000000], default 100000.
@@ -40,9 +39,6 @@ struct WorldModelSettings {
 
 /// Reads the settings from `config` (and calls config.finish()). @throws ConfigError.
 WorldModelSettings read_settings(const Config& config);
-
-/// Resolves a relative cell-configuration path against the repository root.
-std::string resolve_repo_path(const std::string& path);
 
 /// The world model node (see the file comment). Loop thread only.
 class WorldModelNode : public dds::Node {

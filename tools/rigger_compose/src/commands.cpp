@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "rigger/base/install.hpp"
 #include "rigger/base/logging.hpp"
 #include "rigger/compose/compose_file.hpp"
 #include "rigger/compose/process_util.hpp"
@@ -45,7 +46,7 @@ constexpr int kExitUsage = 2;
 constexpr auto kSupervisorExitMargin = std::chrono::seconds(10);
 
 struct GlobalOptions {
-  std::string file = "deploy/compose.yaml";
+  std::string file;  ///< empty: the installation's deploy/compose.yaml (rigger/base/install.hpp)
   std::optional<std::uint32_t> domain;
   std::string host;
   bool secure = false;  ///< --secure: DDS Security (security.hpp)
@@ -62,7 +63,10 @@ struct CommandError {
 ComposeFile load(const GlobalOptions& g) {
   ParseOptions opt;
   opt.domain = g.domain;
-  ComposeFile file = load_compose(g.file, opt);
+  // Without a bin_dir in the file, the services are the ones beside this rigger-compose (build/bin or
+  // <prefix>/bin): an installed tree runs its own binaries wherever it was moved.
+  opt.default_bin_dir = executable_path().parent_path().string();
+  ComposeFile file = load_compose(g.file.empty() ? find_data_path("deploy/compose.yaml").path.string() : g.file, opt);
   if (g.secure) {
     try {
       apply_security(file, default_security_dir());
@@ -738,7 +742,8 @@ int run_cli(int argc, char** argv) {
   app.require_subcommand(1);
   app.fallthrough();
   GlobalOptions g;
-  app.add_option("-f,--file", g.file, "Compose file (default deploy/compose.yaml)")
+  app.add_option("-f,--file", g.file,
+                 "Compose file (default: deploy/compose.yaml of the installation, <prefix>/share/rigger)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_option("--domain", g.domain, "DDS domain id, overriding dds.domain")->check(CLI::Range(0, 232));
   app.add_option("--host", g.host, "This host's name for `host:` placement (default $RIGGER_HOST, the host name)");

@@ -89,7 +89,8 @@ class Parser {
     if (out.domain > kMaxDomain)
       fail(YAML::Node(), "dds.domain", "domain " + std::to_string(out.domain) + " is not in [0, 232]");
 
-    out.bin_dir = resolve(out.root, root["bin_dir"] ? string_at(root["bin_dir"], "bin_dir") : std::string("build/bin"));
+    if (root["bin_dir"]) out.bin_dir = resolve(out.root, string_at(root["bin_dir"], "bin_dir"));
+    else out.bin_dir = options_.default_bin_dir.empty() ? resolve(out.root, "build/bin") : options_.default_bin_dir;
     out.log_dir = root["log_dir"] ? resolve(out.root, string_at(root["log_dir"], "log_dir"))
                                   : "/tmp/rigger-compose/" + std::to_string(out.domain);
 

@@ -99,6 +99,17 @@ TEST(ComposeFileTest, DefaultsForAMinimalService) {
   EXPECT_TRUE(s.depends_on.empty());
 }
 
+// rigger-compose passes its own folder: a file without bin_dir runs the binaries installed beside it.
+TEST(ComposeFileTest, BinDirDefaultsToTheGivenFolder) {
+  ParseOptions opt = with_env({});
+  opt.default_bin_dir = "/opt/rigger/bin";
+  const auto f = parse("services:\n  a: {binary: echo}\n", opt);
+  EXPECT_EQ(f.bin_dir, "/opt/rigger/bin");
+  EXPECT_EQ(f.services[0].binary, "/opt/rigger/bin/echo");
+  const auto g = parse("bin_dir: out/bin\nservices:\n  a: {binary: echo}\n", opt);  // the file wins
+  EXPECT_EQ(g.bin_dir, "/repo/out/bin");
+}
+
 TEST(ComposeFileTest, RootBinDirAndLogDirAreConfigurable) {
   const auto f = parse("root: /abs/cell\nbin_dir: out/bin\nlog_dir: logs\nservices:\n  a: {binary: echo}\n");
   EXPECT_EQ(f.root, "/abs/cell");

@@ -21,6 +21,7 @@
 #include "quiet_matching.hpp"
 #include "rigger/base/bounded_json.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
+#include "rigger/base/install.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/task_names.hpp"
@@ -558,9 +559,11 @@ void add_task_commands(CLI::App& app, const CommonOptions& common, int& exit_cod
   {
     auto* cmd = app.add_subcommand("validate", "Validate a recipe offline against a skill-library file (exit 0/1).");
     auto file = std::make_shared<std::string>();
-    auto library = std::make_shared<std::string>(std::string(RIGGER_SOURCE_DIR) + "/recipes/examples/skill_library.json");
+    auto library =
+        std::make_shared<std::string>(find_data_path("recipes/examples/skill_library.json").path.string());
     cmd->add_option("FILE", *file, "recipe file")->required();
-    cmd->add_option("--library", *library, "skill-library file (default: recipes/examples/skill_library.json)");
+    cmd->add_option("--library", *library,
+                    "skill-library file (default: recipes/examples/skill_library.json of the installation)");
     cmd->callback([file, library, &exit_code] { exit_code = validate(*file, *library); });
   }
   {

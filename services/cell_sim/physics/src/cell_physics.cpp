@@ -8,13 +8,10 @@
 
 #include "arm_controller.hpp"
 #include "arm_kinematics.hpp"
+#include "rigger/base/install.hpp"
 #include "cell_model.hpp"
 #include "rigger/sim/iiwa14.hpp"
 #include "rigger/sim/pose_math.hpp"
-
-#ifndef RIGGER_CELL_SIM_PHYSICS_MODEL_DIR
-#error "RIGGER_CELL_SIM_PHYSICS_MODEL_DIR must name the folder holding cell.xml"
-#endif
 
 namespace rigger::sim {
 namespace {
@@ -81,9 +78,7 @@ ArmLimits make_arm_limits(double margin_rad) {
 
 }  // namespace
 
-std::filesystem::path default_model_path() {
-  return std::filesystem::path(RIGGER_CELL_SIM_PHYSICS_MODEL_DIR) / "cell.xml";
-}
+std::filesystem::path default_model_path() { return find_data_path("cell_sim/cell.xml").path; }
 
 JointVector ready_joint_positions() {
   // A2 + A4 (about -y) + A6 add up to 90 deg: the flange points along +x, tool x down.

@@ -81,6 +81,9 @@ std::optional<std::string> process_env(const std::string& name);
 
 struct ParseOptions {
   std::optional<std::uint32_t> domain;  ///< overrides dds.domain (and the default log_dir with it)
+  /// bin_dir when the file sets none (absolute); empty: <root>/build/bin. rigger-compose gives its own
+  /// folder: the services are built and installed beside it.
+  std::string default_bin_dir;
   EnvLookup env = process_env;
 };
 

@@ -27,7 +27,8 @@ class PhysicsModelError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The MJCF written for rigger (models/cell.xml in this folder's source tree).
+/// The MJCF written for rigger (models/cell.xml of this folder), installed as cell_sim/cell.xml in the
+/// data folder (rigger/base/install.hpp), where this looks for it.
 std::filesystem::path default_model_path();
 
 /// The arm's start pose: elbow up, the tool pointing along the base's +x with tool x down, at about

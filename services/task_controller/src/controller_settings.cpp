@@ -1,0 +1,37 @@
+#include "controller_settings.hpp"
+
+namespace rigger::task_controller {
+namespace {
+
+/// A duration key in seconds, in [lo, hi].
+std::chrono::nanoseconds seconds_in_range(const Config& config, const std::string& key, double fallback, double lo,
+                                          double hi) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+      std::chrono::duration<double>(config.get_in_range<double>(key, fallback, lo, hi)));
+}
+
+}  // namespace
+
+ControllerSettings read_settings(const Config& config) {
+  ControllerSettings s;
+  s.journal_path = config.get<std::string>("journal_path", s.journal_path);
+  s.journal_sync =
+      config.get_enum("journal_sync", "normal", {"normal", "full"}) == "full" ? JournalSync::kFull : JournalSync::kNormal;
+  s.command_lease = std::chrono::milliseconds(config.get_in_range<unsigned>("command_lease_ms", 300U, 200U, 10000U));
+  s.validator.default_stop_timeout =
+      bt::Seconds(config.get_in_range<double>("default_stop_timeout_s", 5.0, 0.01, 600.0));
+  s.validator.limits.max_bytes = config.get_in_range<unsigned>(
+      "max_recipe_bytes", 4U * 1024U * 1024U, 1024U, static_cast<unsigned>(recipe::kMaxRecipeBytesCeiling));
+  s.validator.limits.max_depth = config.get_in_range<unsigned>("max_recipe_depth", 128U, 8U, 1024U);
+  s.executor_wait = seconds_in_range(config, "executor_wait_s", 2.0, 0.0, 600.0);
+  s.condition_timeout =
+      std::chrono::milliseconds(config.get_in_range<unsigned>("condition_timeout_ms", 1000U, 10U, 60000U));
+  s.start_answer_timeout = seconds_in_range(config, "start_answer_timeout_s", 5.0, 0.05, 600.0);
+  s.busy_wait = seconds_in_range(config, "busy_wait_s", 10.0, 0.0, 600.0);
+  s.progress_rows_per_run = config.get_in_range<unsigned>("journal_progress_per_run", 20U, 0U, 100000U);
+  s.stage_trace_path = config.get<std::string>("stage_trace_path", "");
+  config.finish();
+  return s;
+}
+
+}  // namespace rigger::task_controller
