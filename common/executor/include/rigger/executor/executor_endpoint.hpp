@@ -94,7 +94,7 @@ class ExecutorEndpoint {
     std::function<void(const StartRequest&)> on_start;
     std::function<void(const ShutdownRequest&)> on_shutdown;
     /// PAUSE / RESUME of a run whose skill is pausable; empty: this executor pauses nothing.
-    std::function<PauseAnswer(const PauseRequest&)> on_pause;
+    std::function<PauseAnswer(const PauseRequest&)> on_pause = {};
   };
   struct Options {
     /// How long a START waits for the run that holds its node or resources to finish stopping.
