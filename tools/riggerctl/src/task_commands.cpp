@@ -507,6 +507,30 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
                                                       : rigger_task_TASK_RUNNING;
   bool sent = false, done = false;
   int state = -1, before = -1;
+  // PAUSE / RESUME: what each leaf did. The controller sends PAUSE (RESUME) to the running leaves before
+  // it acknowledges; each executor answers PAUSED (RESUMED) with a code when the leaf runs on.
+  const bool leaves = kind != rigger_task_TASK_CANCEL;
+  const auto leaf_command = kind == rigger_task_TASK_PAUSE ? rigger_skill_SKILL_PAUSE : rigger_skill_SKILL_RESUME;
+  const auto leaf_answer = kind == rigger_task_TASK_PAUSE ? rigger_skill_SKILL_EVENT_PAUSED : rigger_skill_SKILL_EVENT_RESUMED;
+  dds::Reader<rigger_skill_SkillCommand> leaf_commands(participant, protocol::skill::kCommand);
+  dds::Reader<rigger_skill_SkillEvent> leaf_answers(participant, protocol::skill::kEvent);
+  std::map<std::string, std::string> asked, answered;  // by node id: the executor; what it answered
+  if (leaves) {
+    loop.on_data(leaf_commands, [&] {
+      leaf_commands.take([&](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
+        if (sent && c.kind == leaf_command && dds::to_string(c.task_id) == task_id)
+          asked[dds::to_string(c.node_id)] = dds::to_string(c.executor_id);
+      });
+    });
+    loop.on_data(leaf_answers, [&] {
+      leaf_answers.take([&](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
+        if (!sent || e.kind != leaf_answer || dds::to_string(e.task_id) != task_id) return;
+        const std::string code = dds::to_string(e.code);
+        answered[dds::to_string(e.node_id)] = (code.empty() ? "" : code + ": ") + dds::to_string(e.message);
+      });
+    });
+    leaf_commands.wait_for_writers(1, from_seconds(timeout_s));  // the controller's
+  }
   loop.on_data(statuses, [&] {
     statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
       if (dds::to_string(s.task_id) != task_id) return;
@@ -529,7 +553,7 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
     return 0;
   }
   rigger_task_TaskCommand c{};
-  const std::string issuer = "riggerctl";
+  const std::string issuer = riggerctl_source();
   c.task_id = dds::wire_string(task_id);
   c.kind = kind;
   c.reason = dds::wire_string(reason);
@@ -544,8 +568,18 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
     return kExitFailed;
   }
   std::printf("task %s %s\n", task_id.c_str(), task_state_name(state));
+  if (leaves && state == wanted) {
+    // Every leaf that was asked answers at once; one that does not within the timeout is named.
+    loop.run_until([&] { return answered.size() >= asked.size(); }, from_seconds(timeout_s));
+    for (const auto& [node, executor] : asked) {
+      const auto a = answered.find(node);
+      std::printf("  %s on %s: %s\n", node.c_str(), executor.c_str(),
+                  a == answered.end() ? "no answer" : a->second.c_str());
+    }
+  }
   if (kind == rigger_task_TASK_PAUSE && state == wanted)
-    std::printf("no new leaf starts until `riggerctl resume %s`; leaves already running go on to their end\n",
+    std::printf("no new leaf starts until `riggerctl resume %s`; running leaves of pausable skills hold still, "
+                "the others (monitors, operator prompts) run on\n",
                 task_id.c_str());
   return state == wanted ? 0 : kExitFailed;
 }
