@@ -111,7 +111,9 @@ void Skill::after(std::chrono::nanoseconds delay, std::function<void()> handler)
 bool Skill::pause() {
   if (finished_ || stopping_ || paused_) return false;
   paused_ = true;
-  if (!started_ || on_resume_) return true;
+  if (!started_) return true;
+  on_run_paused();
+  if (on_resume_) return true;
   const State& state = states_[current_index_];
   if (!state.on_pause) return true;  // runs on; the next state waits (enter())
   std::size_t resume_index = current_index_;
@@ -130,7 +132,9 @@ bool Skill::pause() {
 bool Skill::resume() {
   if (!paused_) return false;
   paused_ = false;
-  if (finished_ || stopping_ || !started_ || !on_resume_) return true;
+  if (finished_ || stopping_ || !started_) return true;
+  on_run_resumed();
+  if (!on_resume_) return true;
   const std::size_t next = *on_resume_;
   on_resume_.reset();
   ctx_->log()->info("skill resumed: entering state {}", states_[next].name);

@@ -133,6 +133,11 @@ class Skill {
   /// A timer of the current state (cancelled when it is left); the handler is guarded.
   void after(std::chrono::nanoseconds delay, std::function<void()> handler);
 
+  /// Called by pause() and resume() of a started run (before the state is entered again): for what the
+  /// skill keeps across states, e.g. a whole-run timeout that must not run out while paused.
+  virtual void on_run_paused() {}
+  virtual void on_run_resumed() {}
+
   SkillContext& ctx() const { return *ctx_; }
   const nlohmann::json& params() const { return ctx_->params(); }
 
