@@ -122,7 +122,7 @@ TEST_F(PauseCellTest, APauseMidMotionHoldsTheArmStillAndResumeCompletesTheTask) 
   // RESUME through riggerctl, which waits for RUNNING and prints what the leaf answered.
   const CtlResult resumed = ctl("resume", {"resume", "pause"});
   EXPECT_EQ(resumed.code(), 0) << resumed.output;
-  EXPECT_NE(resumed.output.find("root on robot-skills: MoveTo continues in state move"), std::string::npos)
+  EXPECT_NE(resumed.output.find("  root: MoveTo continues in state move"), std::string::npos)
       << resumed.output;
   ASSERT_TRUE(wait_finished("pause", 30s)) << cell_.logs();
   EXPECT_EQ(last("pause").state, rigger_task_TASK_SUCCEEDED) << last("pause").code << ": " << last("pause").message;
