@@ -166,8 +166,7 @@ int Task::command(rigger_task_TaskCommandKind kind, const std::string& reason, c
   } else {
     what = "resume";
     host_.journal({wall_now_s(), id_, "", "COMMAND", "RESUME", by});
-    const bool was_paused = engine_->paused();
-    if (was_paused) pause_leaves(false, reason);
+    if (engine_->paused()) pause_leaves(false, reason);
     r = engine_->resume();
     if (r.acted_on()) publish = rigger_task_TASK_RUNNING;
     // The starts whose resources were freed while paused go out now (the engine's own held-back starts
