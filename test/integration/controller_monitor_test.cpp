@@ -100,5 +100,40 @@ TEST_F(ControllerMonitorTest, AForceAboveTheLimitFailsTheParallelWithTheMonitors
   EXPECT_EQ(command_at("force", "root/1", rigger_skill_SKILL_SHUTDOWN), nullptr);
 }
 
+// Safety while paused (issue 13): PAUSE reaches the monitor too, and monitor_host answers that it keeps
+// monitoring (NOT_PAUSABLE); a force over the limit during the pause still fires it and fails the task,
+// the skill (not pausable here either) being shut down first.
+TEST_F(ControllerMonitorTest, AMonitorKeepsMonitoringWhileTheTaskIsPaused) {
+  force_n_ = 5.0;
+  start_stream();
+  const json recipe = {{"recipe_version", 1},
+                       {"task_id", "paused"},
+                       {"root",
+                        {{"type", "Parallel"},
+                         {"success_threshold", 1},
+                         {"failure_threshold", 1},
+                         {"children",
+                          {{{"type", "Skill"}, {"skill", "Localize"}, {"params", {{"object", "load"}}}},
+                           {{"type", "Monitor"}, {"monitor", "ForceMonitor"}, {"params", {{"max_force_n", 50.0}}}}}}}}};
+  submit("paused", recipe);
+  ASSERT_TRUE(wait_command("paused", "root/1", rigger_skill_SKILL_START));
+  ASSERT_TRUE(cell_.wait_until([&] { return event_at("paused", "root/1", rigger_skill_SKILL_EVENT_ACCEPTED); }, 10s));
+  command("paused", rigger_task_TASK_PAUSE, "hold");
+  ASSERT_TRUE(wait_task("paused", rigger_task_TASK_PAUSED));
+  ASSERT_TRUE(wait_command("paused", "root/1", rigger_skill_SKILL_PAUSE));
+  ASSERT_TRUE(cell_.wait_until([&] { return event_at("paused", "root/1", rigger_skill_SKILL_EVENT_PAUSED); }, 10s));
+  const EventSeen* answer = event_at("paused", "root/1", rigger_skill_SKILL_EVENT_PAUSED);
+  EXPECT_EQ(answer->code, "NOT_PAUSABLE");
+  EXPECT_NE(answer->message.find("keeps monitoring"), std::string::npos) << answer->message;
+
+  force_n_ = 120.0;  // contact while paused
+  ASSERT_TRUE(wait_finished("paused"));
+  EXPECT_EQ(last("paused").state, rigger_task_TASK_FAILED);
+  EXPECT_EQ(last("paused").code, "FORCE_LIMIT") << last("paused").message;
+  EXPECT_EQ(last("paused").failed_node, "root/1");
+  EXPECT_NE(event_at("paused", "root/0", rigger_skill_SKILL_EVENT_STOPPED), nullptr);
+  EXPECT_TRUE(has_line(journal("paused"), "root/1", "EVENT", "NOT_PAUSED"));
+}
+
 }  // namespace
 }  // namespace rigger::testing::controller

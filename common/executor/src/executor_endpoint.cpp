@@ -24,6 +24,8 @@ rigger_skill_SkillEventKind to_wire(EventKind k) {
     case EventKind::kStopped: return rigger_skill_SKILL_EVENT_STOPPED;
     case EventKind::kProgress: return rigger_skill_SKILL_EVENT_PROGRESS;
     case EventKind::kAccepted: return rigger_skill_SKILL_EVENT_ACCEPTED;
+    case EventKind::kPaused: return rigger_skill_SKILL_EVENT_PAUSED;
+    case EventKind::kResumed: return rigger_skill_SKILL_EVENT_RESUMED;
   }
   return rigger_skill_SKILL_EVENT_FAILURE;
 }
@@ -42,6 +44,8 @@ const char* to_string(EventKind kind) {
     case EventKind::kStopped: return "STOPPED";
     case EventKind::kProgress: return "PROGRESS";
     case EventKind::kAccepted: return "ACCEPTED";
+    case EventKind::kPaused: return "PAUSED";
+    case EventKind::kResumed: return "RESUMED";
   }
   return "?";
 }
@@ -190,7 +194,17 @@ void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sa
     return;
   }
 
-  Start start{{task, node, cmd.seq}, dds::to_string(cmd.skill), nlohmann::json::object(), {}, info.publication_handle, 0};
+  if (cmd.kind == rigger_skill_SKILL_PAUSE || cmd.kind == rigger_skill_SKILL_RESUME) {
+    handle_pause(task, node, cmd.kind == rigger_skill_SKILL_PAUSE, dds::to_string(cmd.reason));
+    return;
+  }
+  if (cmd.kind != rigger_skill_SKILL_START) {
+    log_->warn("command dropped reason=unknown_kind kind={} task={} node={}", static_cast<int>(cmd.kind), task, node);
+    return;
+  }
+
+  Start start{{task, node, cmd.seq}, dds::to_string(cmd.skill), nlohmann::json::object(), {}, info.publication_handle, 0,
+              false};
   if (cmd.params_json != nullptr && cmd.params_json[0] != '\0') {
     // Parameters come from another process: bounded while parsed (size first, then depth, UTF-8, keys).
     auto parsed = rigger::parse_json_bounded(cmd.params_json, kParamsLimits);
@@ -211,6 +225,54 @@ void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sa
   }
   start.resources = resources_of(start.skill, start.params);
   handle_start(std::move(start));
+}
+
+void ExecutorEndpoint::handle_pause(const std::string& task, const std::string& node, bool pause,
+                                    const std::string& reason) {
+  const EventKind kind = pause ? EventKind::kPaused : EventKind::kResumed;
+  // A START of the node waiting here is newer than a run of the node still stopping: the PAUSE is its.
+  for (auto& w : waiting_) {
+    if (w.run.task_id != task || w.run.node_id != node) continue;
+    if (std::string why = not_pausable(w.skill); !why.empty()) {
+      write_event(w.run, kind, "NOT_PAUSABLE", why, -1.0);
+      return;
+    }
+    w.paused = pause;
+    write_event(w.run, kind, "", w.skill + (pause ? " will start paused" : " will start running") + " on executor " +
+                                     executor_id_, -1.0);
+    return;
+  }
+  const RunKey key{task, node};
+  auto it = active_.find(key);
+  if (it == active_.end()) {
+    write_event({task, node, 0}, kind, "NOT_RUNNING", "no such run on executor " + executor_id_, -1.0);
+    return;
+  }
+  const LeafRun run{task, node, it->second.start_seq};
+  const PauseAnswer answer = pause_run(key, pause, reason);
+  if (active_.count(key) == 0) return;  // the skill ended inside the call: its end is the answer
+  log_->info("{} task={} node={} code={} reason={}", pause ? "pause" : "resume", task, node, answer.code, reason);
+  write_event(run, kind, answer.code, answer.message, -1.0);
+}
+
+std::string ExecutorEndpoint::not_pausable(const std::string& skill) const {
+  const auto d = descriptions_.find(skill);
+  if (d != descriptions_.end() && d->second.pausable && handlers_.on_pause) return "";
+  const bool monitor = d != descriptions_.end() && d->second.kind == skill::SkillKind::kMonitor;
+  return skill + " cannot pause: it keeps " + (monitor ? "monitoring" : "running");
+}
+
+PauseAnswer ExecutorEndpoint::pause_run(const RunKey& key, bool pause, const std::string& reason) {
+  const Active& a = active_.at(key);
+  const std::string skill = a.skill;  // `a` may be gone after the handler (a skill that ends at once)
+  if (a.stopping) return {"STOPPING", skill + " is being stopped: its safe stop proceeds"};
+  if (std::string why = not_pausable(skill); !why.empty()) return {"NOT_PAUSABLE", why};
+  if (a.paused == pause) return {pause ? "ALREADY_PAUSED" : "NOT_PAUSED", skill + " was " + (pause ? "" : "not ") + "paused"};
+  PauseAnswer answer = handlers_.on_pause({{key.first, key.second, a.start_seq}, pause, reason});
+  auto it = active_.find(key);
+  if (it != active_.end() && answer.code.empty()) it->second.paused = pause;
+  answer.message = skill + " " + answer.message;
+  return answer;
 }
 
 std::string ExecutorEndpoint::blocked(const Start& start, bool& wait) const {
@@ -290,12 +352,20 @@ void ExecutorEndpoint::start_waiting() {
 
 void ExecutorEndpoint::dispatch(Start start) {
   active_[{start.run.task_id, start.run.node_id}] =
-      Active{start.run.start_seq, start.skill, start.resources, start.commander, false};
+      Active{start.run.start_seq, start.skill, start.resources, start.commander, false, false};
   log_->info("start task={} node={} skill={} seq={}", start.run.task_id, start.run.node_id, start.skill,
              start.run.start_seq);
   write_event(start.run, EventKind::kAccepted, "", start.skill + " runs on executor " + executor_id_, -1.0);
   announce();
+  const RunKey key{start.run.task_id, start.run.node_id};
+  const bool paused = start.paused;
   if (handlers_.on_start) handlers_.on_start({start.run, start.skill, std::move(start.params)});
+  // Paused while it waited (already answered): it holds from its start.
+  if (paused && active_.count(key) != 0) {
+    const PauseAnswer answer = pause_run(key, true, "paused while it waited");
+    if (!answer.code.empty()) log_->warn("start paused failed task={} node={} code={} {}", key.first, key.second,
+                                         answer.code, answer.message);
+  }
 }
 
 void ExecutorEndpoint::refuse_blocked(const Start& start, const std::string& why) {
@@ -310,8 +380,9 @@ void ExecutorEndpoint::refuse(const LeafRun& run, const std::string& code, const
 
 bool ExecutorEndpoint::report(const LeafRun& run, EventKind kind, const std::string& code, const std::string& message,
                               double progress) {
-  if (kind == EventKind::kAccepted) {
-    log_->warn("report dropped reason=accepted_is_the_endpoints task={} node={}", run.task_id, run.node_id);
+  if (kind == EventKind::kAccepted || kind == EventKind::kPaused || kind == EventKind::kResumed) {
+    log_->warn("report dropped reason=answers_are_the_endpoints task={} node={} kind={}", run.task_id, run.node_id,
+               to_string(kind));
     return false;
   }
   const auto key = std::make_pair(run.task_id, run.node_id);

@@ -27,7 +27,13 @@ class ExecutorEndpointTest : public ::testing::Test {
                   {{"name", "Grasp"}},
                   {{"name", "MoveArm"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"robot"}}},
                   {{"name", "Weld"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"robot"}}},
-                  {{"name", "Look"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"camera"}}}}}};
+                  {{"name", "Look"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"camera"}}},
+                  {{"name", "Hoist"},
+                   {"kind", "skill"},
+                   {"params", nlohmann::json::array()},
+                   {"resources", {"crane"}},
+                   {"pausable", true}},
+                  {{"name", "Watch"}, {"kind", "monitor"}, {"params", nlohmann::json::array()}}}}};
     ExecutorEndpoint::Options options;
     options.start_wait = 300ms;
     endpoint_ = std::make_unique<ExecutorEndpoint>(
@@ -37,6 +43,10 @@ class ExecutorEndpointTest : public ::testing::Test {
                                      shutdowns_.push_back(r);
                                      // A skill with nothing to stop ends inside the shutdown call.
                                      if (stop_at_once_) endpoint_->report(r.run, EventKind::kStopped);
+                                   },
+                                   [this](const PauseRequest& r) {
+                                     pauses_.push_back(r);
+                                     return PauseAnswer{"", r.pause ? "holds" : "continues"};
                                    }},
         options);
     loop_.on_data(events_, [this] {
@@ -79,6 +89,7 @@ class ExecutorEndpointTest : public ::testing::Test {
   std::unique_ptr<ExecutorEndpoint> endpoint_;
   std::vector<StartRequest> starts_;
   std::vector<ShutdownRequest> shutdowns_;
+  std::vector<PauseRequest> pauses_;
   bool stop_at_once_ = false;
   std::vector<Event> received_;
   std::vector<Event> accepted_;  ///< ACCEPTED events
@@ -181,7 +192,7 @@ TEST_F(ExecutorEndpointTest, AnnouncesItsLibrary) {
   });
   ASSERT_TRUE(loop_.run_until([&] { return !library.empty(); }, 5s));
   EXPECT_EQ(nlohmann::json::parse(library), library_);
-  EXPECT_EQ(skills, (std::vector<std::string>{"Wait", "Grasp", "MoveArm", "Weld", "Look"}));
+  EXPECT_EQ(skills, (std::vector<std::string>{"Wait", "Grasp", "MoveArm", "Weld", "Look", "Hoist", "Watch"}));
 }
 
 // The runs held here are announced (a restarted controller learns from them what is still running or
@@ -355,6 +366,81 @@ TEST(ExecutorEndpointSetup, RejectsALibraryWithoutSkills) {
   dds::EventLoop loop(participant);
   EXPECT_THROW(ExecutorEndpoint(participant, loop, null_logger(), "x", nlohmann::json::object(), {}),
                std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rigger::executor
+
+namespace rigger::executor {
+namespace {
+
+std::string answer_text(const Event& e) {
+  const char* kind = e.kind == rigger_skill_SKILL_EVENT_PAUSED    ? "PAUSED"
+                     : e.kind == rigger_skill_SKILL_EVENT_RESUMED ? "RESUMED"
+                                                                  : "OTHER";
+  return e.node + "#" + std::to_string(e.command_seq) + ":" + kind + ":" + e.kind_code;
+}
+
+// Every PAUSE / RESUME is answered: a pausable skill's run is handed to the skill and holds; a skill
+// that is not pausable keeps running, a monitor keeps monitoring; repeats, unknown nodes and runs being
+// stopped get their own codes. The answers carry the START's seq, like the run's other events.
+TEST_F(ExecutorEndpointTest, PauseAndResumeReachPausableSkillsOnlyAndAreAlwaysAnswered) {
+  send("exec-1", "hoist", rigger_skill_SKILL_START, 1, "Hoist");
+  send("exec-1", "move", rigger_skill_SKILL_START, 2, "MoveArm");
+  send("exec-1", "watch", rigger_skill_SKILL_START, 3, "Watch");
+  ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 3; }, 5s));
+  send("exec-1", "hoist", rigger_skill_SKILL_PAUSE, 4);
+  send("exec-1", "move", rigger_skill_SKILL_PAUSE, 5);
+  send("exec-1", "watch", rigger_skill_SKILL_PAUSE, 6);
+  send("exec-1", "hoist", rigger_skill_SKILL_PAUSE, 7);
+  send("exec-1", "hoist", rigger_skill_SKILL_RESUME, 8);
+  send("exec-1", "ghost", rigger_skill_SKILL_RESUME, 9);
+  send("exec-1", "move", rigger_skill_SKILL_SHUTDOWN, 10);
+  send("exec-1", "move", rigger_skill_SKILL_PAUSE, 11);
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 7; }, 5s));
+  std::vector<std::string> answers;
+  for (const auto& e : received_) answers.push_back(answer_text(e));
+  EXPECT_EQ(answers, (std::vector<std::string>{"hoist#1:PAUSED:", "move#2:PAUSED:NOT_PAUSABLE",
+                                               "watch#3:PAUSED:NOT_PAUSABLE", "hoist#1:PAUSED:ALREADY_PAUSED",
+                                               "hoist#1:RESUMED:", "ghost#0:RESUMED:NOT_RUNNING",
+                                               "move#2:PAUSED:STOPPING"}));
+  EXPECT_NE(received_[1].message.find("MoveArm cannot pause: it keeps running"), std::string::npos)
+      << received_[1].message;
+  EXPECT_NE(received_[2].message.find("Watch cannot pause: it keeps monitoring"), std::string::npos)
+      << received_[2].message;
+  EXPECT_EQ(received_[0].message, "Hoist holds");
+  // The skill saw one PAUSE and one RESUME, of its own run.
+  ASSERT_EQ(pauses_.size(), 2u);
+  EXPECT_TRUE(pauses_[0].pause);
+  EXPECT_FALSE(pauses_[1].pause);
+  EXPECT_EQ(pauses_[0].run.start_seq, 1u);
+  EXPECT_EQ(pauses_[0].reason, "test");
+  // The answers are the endpoint's: a skill cannot send them.
+  EXPECT_FALSE(endpoint_->report(starts_[0].run, EventKind::kPaused));
+  EXPECT_FALSE(endpoint_->report(starts_[0].run, EventKind::kResumed));
+  EXPECT_TRUE(endpoint_->report(starts_[0].run, EventKind::kSuccess));
+}
+
+// A PAUSE of a START that waits here for the stop of the node's previous run is answered at once and
+// taken along: the run starts paused.
+TEST_F(ExecutorEndpointTest, AStartThatWaitedWhilePausedStartsPaused) {
+  send("exec-1", "hoist", rigger_skill_SKILL_START, 1, "Hoist");
+  send("exec-1", "hoist", rigger_skill_SKILL_SHUTDOWN, 2, "Hoist");
+  ASSERT_TRUE(loop_.run_until([&] { return shutdowns_.size() == 1; }, 5s));
+  send("exec-1", "hoist", rigger_skill_SKILL_START, 3, "Hoist");
+  send("exec-1", "hoist", rigger_skill_SKILL_PAUSE, 4);
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 1; }, 5s));
+  EXPECT_EQ(answer_text(received_[0]), "hoist#3:PAUSED:");
+  EXPECT_NE(received_[0].message.find("will start paused"), std::string::npos) << received_[0].message;
+  EXPECT_TRUE(pauses_.empty()) << "nothing runs yet to pause";
+  EXPECT_TRUE(endpoint_->report(shutdowns_[0].run, EventKind::kStopped));
+  ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 2 && pauses_.size() == 1; }, 5s));
+  EXPECT_EQ(pauses_[0].run.start_seq, 3u);
+  EXPECT_TRUE(pauses_[0].pause);
+  // It was paused from its start: the RESUME reaches it.
+  send("exec-1", "hoist", rigger_skill_SKILL_RESUME, 5);
+  ASSERT_TRUE(loop_.run_until([&] { return pauses_.size() == 2; }, 5s));
+  EXPECT_FALSE(pauses_[1].pause);
 }
 
 }  // namespace

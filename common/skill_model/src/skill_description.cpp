@@ -111,7 +111,8 @@ const ParamSpec* SkillDescription::find_param(std::string_view param_name) const
 
 bool operator==(const SkillDescription& a, const SkillDescription& b) {
   return a.name == b.name && a.kind == b.kind && a.description == b.description && a.params == b.params &&
-         a.resources == b.resources && a.preconditions == b.preconditions && a.postconditions == b.postconditions;
+         a.resources == b.resources && a.preconditions == b.preconditions && a.postconditions == b.postconditions &&
+         a.pausable == b.pausable;
 }
 
 Json to_json(const SkillDescription& d) {
@@ -141,6 +142,9 @@ Json to_json(const SkillDescription& d) {
   if (!d.postconditions.empty()) {
     out["postconditions"] = predicates(d.postconditions);
   }
+  if (d.pausable) {
+    out["pausable"] = true;
+  }
   return out;
 }
 
@@ -153,7 +157,8 @@ Parsed<SkillDescription> parse_description(const Json& json, const std::string& 
     return result;
   }
   detail::check_keys(json, pointer,
-                     {"name", "kind", "description", "params", "resources", "preconditions", "postconditions"},
+                     {"name", "kind", "description", "params", "resources", "preconditions", "postconditions",
+                      "pausable"},
                      errors);
   SkillDescription d;
   detail::read_identifier(json, "name", pointer, detail::IdentifierStyle::kPascal, d.name, errors);
@@ -241,6 +246,17 @@ Parsed<SkillDescription> parse_description(const Json& json, const std::string& 
     errors.push_back({pointer + "/postconditions", "monitors have no postconditions: they never succeed"});
   } else {
     parse_predicates(json, "postconditions", pointer, d, /*allow_negation=*/true, d.postconditions, errors);
+  }
+
+  if (json.contains("pausable")) {
+    if (!json["pausable"].is_boolean()) {
+      errors.push_back({pointer + "/pausable", "expected true or false, got " + detail::describe_json(json["pausable"])});
+    } else if (json["pausable"].get<bool>() && d.kind != SkillKind::kSkill) {
+      errors.push_back({pointer + "/pausable", std::string(to_string(d.kind)) +
+                                                   "s are never paused: only skills hold devices to hold still"});
+    } else {
+      d.pausable = json["pausable"].get<bool>();
+    }
   }
 
   if (errors.empty()) {

@@ -151,6 +151,22 @@ TEST(SkillDescription, MonitorsClaimNothingAndHaveNoPostconditions) {
   EXPECT_TRUE(has_error(parse_description(condition).errors, "/resources", "claim no resources"));
 }
 
+// "pausable" is a skill's promise to hold its devices on PAUSE: absent means false, it round-trips, and
+// a monitor (which must keep monitoring) or a wrong type is refused with where.
+TEST(SkillDescription, PausableIsASkillsFlag) {
+  Json j = pick_json();
+  EXPECT_FALSE(description_from_json(j).pausable);
+  EXPECT_FALSE(to_json(description_from_json(j)).contains("pausable"));
+  j["pausable"] = true;
+  const SkillDescription d = description_from_json(j);
+  EXPECT_TRUE(d.pausable);
+  EXPECT_EQ(description_from_json(to_json(d)), d);
+  j["pausable"] = "yes";
+  EXPECT_TRUE(has_error(parse_description(j).errors, "/pausable", "expected true or false"));
+  Json monitor = {{"name", "YankMonitor"}, {"kind", "monitor"}, {"params", Json::array()}, {"pausable", true}};
+  EXPECT_TRUE(has_error(parse_description(monitor).errors, "/pausable", "never paused"));
+}
+
 TEST(SkillDescription, ResourceReferenceMustNameWordParameter) {
   Json j = pick_json();
   j["resources"] = {"$speed_m_per_s"};

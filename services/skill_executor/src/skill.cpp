@@ -49,6 +49,10 @@ void Skill::start(SkillContext& ctx, Finished finished) {
   started_ = true;
   ctx_ = &ctx;
   finished_cb_ = std::move(finished);
+  if (paused_) {  // paused before it started: the first state waits for resume()
+    on_resume_ = 0;
+    return;
+  }
   enter(0);
 }
 
@@ -61,6 +65,10 @@ void Skill::enter(std::size_t index) {
     const std::size_t next = *deferred_;
     deferred_.reset();
     leave_state();
+    if (paused_) {  // the state that ran on while paused has ended: the next one waits for resume()
+      on_resume_ = next;
+      return;
+    }
     current_index_ = next;
     current_ = states_[next].name;
     ctx_->log()->debug("skill state -> {}", current_);
@@ -100,6 +108,40 @@ void Skill::track(std::function<void()> cancel) { pending_cancels_.push_back(std
 void Skill::after(std::chrono::nanoseconds delay, std::function<void()> handler) {
   const auto id = ctx_->after(delay, guard(std::move(handler)));
   track([this, id] { ctx_->cancel_timer(id); });
+}
+
+bool Skill::pause() {
+  if (finished_ || stopping_ || paused_) return false;
+  paused_ = true;
+  if (!started_) return true;
+  on_run_paused();
+  if (on_resume_) return true;
+  const State& state = states_[current_index_];
+  if (!state.on_pause) return true;  // runs on; the next state waits (enter())
+  std::size_t resume_index = current_index_;
+  for (std::size_t i = 0; i < states_.size(); ++i)
+    if (!state.resume_in.empty() && states_[i].name == state.resume_in) resume_index = i;
+  on_resume_ = resume_index;
+  leave_state();  // its timers and operations: nothing runs out, no late event drives it
+  ctx_->log()->info("skill paused in state {}: holding", current_);
+  state.on_pause([this, epoch = epoch_](bool safe, const std::string& message) {
+    if (epoch != epoch_ || finished_ || stopping_) return;  // resumed (or ended) meanwhile
+    if (!safe) fail("HOLD_FAILED", "the pause could not hold the devices in state " + current_ + ": " + message);
+  });
+  return true;
+}
+
+bool Skill::resume() {
+  if (!paused_) return false;
+  paused_ = false;
+  if (finished_ || stopping_ || !started_) return true;
+  on_run_resumed();
+  if (!on_resume_) return true;
+  const std::size_t next = *on_resume_;
+  on_resume_.reset();
+  ctx_->log()->info("skill resumed: entering state {}", states_[next].name);
+  enter(next);
+  return true;
 }
 
 void Skill::succeed(const std::string& message) {

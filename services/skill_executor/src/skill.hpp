@@ -12,6 +12,13 @@
 /// in a state are dropped once the state is left (wrap them in guard()), and the state's timers and
 /// pending operations are cancelled then, so a late motion_status never drives a state it was not for.
 ///
+/// A PAUSE (pause()) of a state with an `on_pause` hold leaves the state (its timers and operations
+/// cancelled: no timeout runs out while paused) and runs the hold, which brings the state's devices to
+/// rest (zero velocity; the magnet stays as it is); resume() enters the state `resume_in` (the state
+/// itself by default) again, from where the devices are, its timeouts counted afresh. A state without a
+/// hold (it commands no motion) runs on while paused, and the state it hands over to is entered only on
+/// resume(). A hold that fails ends the run FAILURE `HOLD_FAILED` (after the state's safe stop).
+/// A SHUTDOWN while paused runs the current state's safe stop as usual.
 /// Thread safety: none; a skill lives on its executor's event loop thread.
 
 #include <chrono>
@@ -67,6 +74,10 @@ class Skill {
     std::string name;
     std::function<void()> on_enter;
     std::function<void(SafeStopDone)> on_shutdown;
+    /// The hold for a pause (see the file comment); empty: the state is not held.
+    std::function<void(SafeStopDone)> on_pause = {};
+    /// The state entered on resume after a hold ("": this one), e.g. the state that engages a mode.
+    std::string resume_in = {};
   };
 
   virtual ~Skill();
@@ -79,6 +90,12 @@ class Skill {
   /// Runs the current state's safe stop; the run then ends STOPPED (or FAILURE SAFE_STOP_FAILED).
   /// Ignored when the run has ended or a safe stop is already under way.
   void shutdown(const std::string& reason);
+  /// Holds the run (see the file comment); before start() it makes start() wait for resume(). Returns
+  /// false when the run has ended, is stopping or is paused already.
+  bool pause();
+  /// Continues a paused run. Returns false when it is not paused.
+  bool resume();
+  bool paused() const { return paused_; }
 
   /// Name of the current state ("" before start; the last state after the end).
   const std::string& state() const { return current_; }
@@ -122,6 +139,11 @@ class Skill {
   /// A timer of the current state (cancelled when it is left); the handler is guarded.
   void after(std::chrono::nanoseconds delay, std::function<void()> handler);
 
+  /// Called by pause() and resume() of a started run (before the state is entered again): for what the
+  /// skill keeps across states, e.g. a whole-run timeout that must not run out while paused.
+  virtual void on_run_paused() {}
+  virtual void on_run_resumed() {}
+
   SkillContext& ctx() const { return *ctx_; }
   const nlohmann::json& params() const { return ctx_->params(); }
 
@@ -142,6 +164,8 @@ class Skill {
   bool stopping_ = false;
   bool in_enter_ = false;
   std::optional<std::size_t> deferred_;  // a transition requested inside on_enter
+  bool paused_ = false;
+  std::optional<std::size_t> on_resume_;  // the state resume() enters (after a hold, or a transition while paused)
 };
 
 /// A safe stop with nothing to do (the state commands no device): done(true) at once.

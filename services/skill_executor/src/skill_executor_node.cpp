@@ -55,7 +55,8 @@ SkillExecutorNode::SkillExecutorNode(dds::ServiceContext& ctx, SkillRegistry reg
   endpoint_ = std::make_unique<executor::ExecutorEndpoint>(
       ctx.participant, ctx.loop, ctx.log, executor_id, registry_.library_json(skills),
       executor::ExecutorEndpoint::Handlers{[this](const executor::StartRequest& r) { on_start(r); },
-                                           [this](const executor::ShutdownRequest& r) { on_shutdown(r); }});
+                                           [this](const executor::ShutdownRequest& r) { on_shutdown(r); },
+                                           [this](const executor::PauseRequest& r) { return on_pause(r); }});
   std::string list;
   for (const auto& s : skills) list += (list.empty() ? "" : ",") + s;
   ctx.log->info("skill executor executor_id={} skills={}", executor_id, list);
@@ -110,6 +111,18 @@ void SkillExecutorNode::on_shutdown(const executor::ShutdownRequest& request) {
   auto it = runs_.find({request.run.task_id, request.run.node_id});
   if (it == runs_.end() || it->second->finished()) return;  // the endpoint answered NOT_RUNNING or the end is reported
   it->second->shutdown(request.reason);
+}
+
+executor::PauseAnswer SkillExecutorNode::on_pause(const executor::PauseRequest& request) {
+  auto it = runs_.find({request.run.task_id, request.run.node_id});
+  if (it == runs_.end() || it->second->finished()) return {"NOT_RUNNING", "the run has ended"};
+  const Skill* skill = it->second->skill();
+  const std::string state = skill ? " in state " + skill->state() : std::string(" before its first state");
+  if (!it->second->pause(request.pause))
+    return {request.pause ? "ALREADY_PAUSED" : "NOT_PAUSED", "the skill did not change" + state};
+  ctx_.log->info("skill {} node={} reason={}{}", request.pause ? "paused" : "resumed", request.run.node_id,
+                 request.reason, state);
+  return {"", request.pause ? "holds still" + state : "continues" + state};
 }
 
 }  // namespace rigger::skill_executor

@@ -63,6 +63,7 @@ class SkillExecutorNode : public dds::Node {
   using RunKey = std::pair<std::string, std::string>;
   void on_start(const executor::StartRequest& request);
   void on_shutdown(const executor::ShutdownRequest& request);
+  executor::PauseAnswer on_pause(const executor::PauseRequest& request);
 
   dds::ServiceContext& ctx_;
   SkillRegistry registry_;

@@ -69,6 +69,7 @@ void SkillRun::resolve_next() {
 
 void SkillRun::start_skill() {
   skill_ = type_.make();
+  if (pause_requested_) skill_->pause();  // paused while its parameters were resolved
   skill_->start(*this, [this](const SkillResult& result) { finish(result); });
 }
 
@@ -85,6 +86,15 @@ void SkillRun::shutdown(const std::string& reason) {
     resolving_ = 0;
   }
   resolve_next();
+}
+
+bool SkillRun::pause(bool hold) {
+  if (finished_) return false;
+  if (skill_) return hold ? skill_->pause() : skill_->resume();
+  // Still resolving parameters (nothing moves): the skill starts paused, or not.
+  if (pause_requested_ == hold) return false;
+  pause_requested_ = hold;
+  return true;
 }
 
 void SkillRun::progress(double fraction, const std::string& message) {

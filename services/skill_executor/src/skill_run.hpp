@@ -54,6 +54,9 @@ class SkillRun final : public SkillContext {
   void start();
   /// Safe stop from wherever the run is; STOPPED once safe.
   void shutdown(const std::string& reason);
+  /// PAUSE (`hold`) or RESUME of the run (Skill::pause / resume; while parameters are resolved, the
+  /// skill starts paused). Returns false when the run has ended, or was already in that state.
+  bool pause(bool hold);
 
   bool finished() const { return finished_; }
   /// The FSM (nullptr until the params are checked and the features resolved).
@@ -87,6 +90,7 @@ class SkillRun final : public SkillContext {
   std::unique_ptr<Skill> skill_;
   bool finished_ = false;
   bool shutdown_requested_ = false;
+  bool pause_requested_ = false;  // a PAUSE before the skill was made
 };
 
 }  // namespace rigger::skill_executor

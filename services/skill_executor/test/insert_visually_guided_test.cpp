@@ -381,3 +381,47 @@ TEST(InsertionGoal, AddsTheStandOffInTheTargetFrame) {
 
 }  // namespace
 }  // namespace rigger::skill_executor
+
+namespace rigger::skill_executor {
+namespace {
+
+using namespace std::chrono_literals;
+using testing::CellRunHarness;
+
+// PAUSE during the servo: admittance OFF (robot and crane at rest, the tracker keeps tracking), no
+// servo timer runs out while paused (TRACKING_LOST, TIMEOUT); RESUME engages the servo again and the
+// insertion settles and succeeds as usual.
+TEST_F(InsertTest, APauseTurnsAdmittanceOffAndResumeEngagesTheServoAgain) {
+  EXPECT_TRUE(InsertVisuallyGuidedSkill::describe().pausable);
+  CellRunHarness h(type_, params_);
+  to_servo(h);
+  const int tracker_stops = h.tracker.count(TrackerRequest::kStop);
+  ASSERT_TRUE(h.run->pause(true));
+  ASSERT_NE(h.admittance.pending(), nullptr);
+  EXPECT_EQ(h.admittance.pending()->mode, AdmittanceModeRequest::kOff);
+  ASSERT_TRUE(h.admittance.complete(OpResult::success()));
+  EXPECT_EQ(h.tracker.count(TrackerRequest::kStop), tracker_stops) << "the tracker was stopped by the pause";
+  h.timers.advance(120s);  // past tracking_lost_s and timeout_s, no poses
+  EXPECT_FALSE(h.result) << h.result->code << ": " << h.result->message;
+  EXPECT_EQ(h.admittance.watches(), 0u) << "the servo state is left while paused";
+
+  ASSERT_TRUE(h.run->pause(false));
+  ASSERT_EQ(h.state(), "engage");
+  ASSERT_NE(h.admittance.pending(), nullptr);
+  EXPECT_EQ(h.admittance.pending()->reference, AdmittanceReference::kVisualServo);
+  ASSERT_TRUE(h.admittance.complete(OpResult::success()));
+  ASSERT_EQ(h.state(), "servo");
+  good_poses(h);
+  h.admittance.publish(servo_state(0.002, 0.01, true));
+  h.timers.advance(400ms);
+  good_poses(h);
+  h.timers.advance(400ms);
+  good_poses(h);
+  h.timers.advance(300ms);
+  ASSERT_EQ(h.state(), "hold");
+  ASSERT_TRUE(h.admittance.complete(OpResult::success()));
+  EXPECT_TRUE(h.succeeded());
+}
+
+}  // namespace
+}  // namespace rigger::skill_executor

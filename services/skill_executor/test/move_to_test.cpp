@@ -191,3 +191,50 @@ TEST(MoveToPlan, RefusesNonFiniteAndFarGoals) {
 
 }  // namespace
 }  // namespace rigger::skill_executor
+
+namespace rigger::skill_executor {
+namespace {
+
+using namespace std::chrono_literals;
+using testing::RunHarness;
+using Kind = testing::FakeRobot::Op::Kind;
+
+// A PAUSE mid-motion stops the arm where it is (the motion forgotten, its timeout with it); RESUME
+// commands the same goal again from there, with timeout_s afresh, and the run ends as usual.
+TEST(MoveToPause, PauseStopsTheArmAndResumeMovesOnToTheSameGoal) {
+  EXPECT_TRUE(MoveToSkill::describe().pausable);
+  SkillType type{MoveToSkill::describe(), [] { return std::make_unique<MoveToSkill>(); }};
+  RunHarness h(type, goal_params(0.5, 0.1, 0.4));
+  h.run->start();
+  ASSERT_NE(h.robot.pending(Kind::kMove), nullptr);
+  EXPECT_TRUE(h.run->pause(true));
+  EXPECT_EQ(h.robot.pending(Kind::kMove), nullptr) << "the motion is still awaited while paused";
+  EXPECT_EQ(h.robot.stops, 1);
+  ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success("at rest")));
+  EXPECT_FALSE(h.result);
+  EXPECT_TRUE(h.run->pause(false));
+  EXPECT_EQ(h.robot.moves, 2);
+  auto* again = h.robot.pending(Kind::kMove);
+  ASSERT_NE(again, nullptr);
+  EXPECT_NEAR(again->goal.pose_frame_tool.translation().x(), 0.5, 1e-12);
+  EXPECT_EQ(again->timeout, 10s);
+  ASSERT_TRUE(h.robot.complete(Kind::kMove, OpResult::success()));
+  ASSERT_TRUE(h.robot.answer_state(at(0.5, 0.1, 0.4)));
+  ASSERT_TRUE(h.result);
+  EXPECT_EQ(h.result->kind, SkillResult::Kind::kSuccess);
+  EXPECT_EQ(h.robot.stops, 1);
+}
+
+TEST(MoveToPause, AnArmThatDoesNotStopFailsTheRunHoldFailed) {
+  SkillType type{MoveToSkill::describe(), [] { return std::make_unique<MoveToSkill>(); }};
+  RunHarness h(type, goal_params());
+  h.run->start();
+  EXPECT_TRUE(h.run->pause(true));
+  ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::failure("TIMEOUT", "still moving")));
+  ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));  // the safe stop after the failure
+  ASSERT_TRUE(h.result);
+  EXPECT_EQ(h.result->code, "HOLD_FAILED");
+}
+
+}  // namespace
+}  // namespace rigger::skill_executor

@@ -72,6 +72,40 @@ class PickTest : public ::testing::Test {
   SkillType type_{PickSkill::describe(), [] { return std::make_unique<PickSkill>(); }};
 };
 
+// PAUSE during the descent: the arm stops, neither the motion's nor the run's timeout_s runs out while
+// paused; RESUME commands the same grasp goal again and the pick completes.
+TEST_F(PickTest, APauseStopsTheDescentAndResumeDescendsToTheSameGrasp) {
+  EXPECT_TRUE(PickSkill::describe().pausable);
+  GripperRunHarness h(type_, pick_params());
+  start(h);
+  drive_to(h, "descend", false);
+  const Eigen::Vector3d goal = h.robot.pending(Kind::kMove)->goal.pose_frame_tool.translation();
+  ASSERT_TRUE(h.run->pause(true));
+  EXPECT_EQ(h.robot.pending(Kind::kMove), nullptr);
+  ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));
+  h.timers.advance(600s);  // far past timeout_s (default 60 s)
+  ASSERT_FALSE(h.result) << h.describe_result();
+  EXPECT_EQ(h.robot.stops, 1) << "a timeout ran out while paused (its safe stop stopped the arm again)";
+  ASSERT_TRUE(h.run->pause(false));
+  ASSERT_EQ(h.state(), "descend");
+  ASSERT_NE(h.robot.pending(Kind::kMove), nullptr);
+  EXPECT_TRUE(h.robot.pending(Kind::kMove)->goal.pose_frame_tool.translation().isApprox(goal));
+  run_to_end(h, false);
+  ASSERT_TRUE(h.result);
+  EXPECT_EQ(h.result->kind, SkillResult::Kind::kSuccess) << h.describe_result();
+  // The run's timeout counts again from the resume.
+  GripperRunHarness late(type_, pick_params());
+  start(late);
+  drive_to(late, "descend", false);
+  ASSERT_TRUE(late.run->pause(true));
+  ASSERT_TRUE(late.robot.complete(Kind::kStop, OpResult::success()));
+  ASSERT_TRUE(late.run->pause(false));
+  late.timers.advance(61s);
+  ASSERT_TRUE(late.robot.complete(Kind::kStop, OpResult::success()));  // the safe stop before the report
+  ASSERT_TRUE(late.result);
+  EXPECT_EQ(late.result->code, "TIMEOUT");
+}
+
 TEST_F(PickTest, ApproachesDescendsGripsAndRetreats) {
   GripperRunHarness h(type_, pick_params());
   start(h);

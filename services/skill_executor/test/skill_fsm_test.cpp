@@ -181,3 +181,122 @@ TEST(SkillStates, EveryStateNeedsAnEnterActionAndASafeStop) {
 
 }  // namespace
 }  // namespace rigger::skill_executor
+
+namespace rigger::skill_executor {
+namespace {
+
+using namespace std::chrono_literals;
+using testing::RunHarness;
+
+// move (a 5 s timeout; ends when the test calls `move_done`; held on pause) → SUCCESS.
+class HoldingSkill final : public Skill {
+ public:
+  static inline std::function<void()> move_done;
+  static inline SafeStopDone hold_done;  // completes the hold of a pause
+  static inline int entered = 0, safe_stops = 0;
+
+  HoldingSkill() {
+    add_state({"move",
+               [this] {
+                 ++entered;
+                 after(5s, [this] { fail("TIMEOUT", "not there in 5 s"); });
+                 move_done = guard([this] { succeed("there"); });
+               },
+               [](SafeStopDone done) {
+                 ++safe_stops;
+                 done(true, "stopped");
+               },
+               [](SafeStopDone done) { hold_done = std::move(done); }});
+  }
+  static SkillType type() {
+    skill::SkillDescription d;
+    d.name = "Holding";
+    d.pausable = true;
+    return {d, [] { return std::make_unique<HoldingSkill>(); }};
+  }
+};
+
+class SkillPauseTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    HoldingSkill::move_done = nullptr;
+    HoldingSkill::hold_done = nullptr;
+    HoldingSkill::entered = 0;
+    HoldingSkill::safe_stops = 0;
+  }
+  SkillType type_ = HoldingSkill::type();
+  RunHarness h_{type_, nlohmann::json::object()};
+};
+
+TEST_F(SkillPauseTest, APauseHoldsTheStateItsTimeoutDoesNotRunOutAndResumeEntersItAgain) {
+  h_.run->start();
+  ASSERT_EQ(HoldingSkill::entered, 1);
+  auto late = HoldingSkill::move_done;
+  EXPECT_TRUE(h_.run->pause(true));
+  EXPECT_FALSE(h_.run->pause(true)) << "paused already";
+  ASSERT_TRUE(HoldingSkill::hold_done) << "the hold was not run";
+  EXPECT_TRUE(h_.run->skill()->paused());
+  late();  // the motion's late event: the state was left, it drives nothing
+  h_.timers.advance(60s);
+  EXPECT_FALSE(h_.result) << "a timeout ran out while paused: " << h_.result->code;
+  HoldingSkill::hold_done(true, "at rest");
+  EXPECT_FALSE(h_.result);
+  EXPECT_TRUE(h_.run->pause(false));
+  EXPECT_FALSE(h_.run->pause(false)) << "not paused any more";
+  EXPECT_EQ(HoldingSkill::entered, 2);
+  h_.timers.advance(4s);
+  EXPECT_FALSE(h_.result) << "the timeout counts afresh from the resume";
+  h_.timers.advance(2s);
+  ASSERT_TRUE(h_.result);
+  EXPECT_EQ(h_.result->code, "TIMEOUT");
+}
+
+TEST_F(SkillPauseTest, ResumedItSucceeds) {
+  h_.run->start();
+  EXPECT_TRUE(h_.run->pause(true));
+  HoldingSkill::hold_done(true, "at rest");
+  EXPECT_TRUE(h_.run->pause(false));
+  HoldingSkill::move_done();
+  ASSERT_TRUE(h_.result);
+  EXPECT_EQ(h_.result->kind, SkillResult::Kind::kSuccess);
+  EXPECT_EQ(HoldingSkill::safe_stops, 0);
+}
+
+TEST_F(SkillPauseTest, AHoldThatFailsEndsTheRunThroughItsSafeStop) {
+  h_.run->start();
+  EXPECT_TRUE(h_.run->pause(true));
+  HoldingSkill::hold_done(false, "the arm did not stop");
+  ASSERT_TRUE(h_.result);
+  EXPECT_EQ(h_.result->kind, SkillResult::Kind::kFailure);
+  EXPECT_EQ(h_.result->code, "HOLD_FAILED");
+  EXPECT_NE(h_.result->message.find("the arm did not stop"), std::string::npos) << h_.result->message;
+  EXPECT_EQ(HoldingSkill::safe_stops, 1);
+}
+
+TEST_F(SkillPauseTest, AShutdownWhilePausedRunsTheSafeStop) {
+  h_.run->start();
+  EXPECT_TRUE(h_.run->pause(true));
+  h_.run->shutdown("canceled");
+  ASSERT_TRUE(h_.result);
+  EXPECT_EQ(h_.result->kind, SkillResult::Kind::kStopped);
+  EXPECT_EQ(HoldingSkill::safe_stops, 1);
+  EXPECT_FALSE(h_.run->pause(false)) << "the run has ended";
+}
+
+// A state without a hold (it commands no motion) runs on while paused; the state it hands over to is
+// entered only on resume.
+TEST_F(SkillFsmTest, AStateWithoutAHoldRunsOnAndTheNextWaitsForTheResume) {
+  h_.run->start();
+  EXPECT_TRUE(h_.run->pause(true));
+  h_.timers.advance(2s);  // wait's 1 s timer fires: it asks for act
+  EXPECT_EQ(ToySkill::entered, (std::vector<std::string>{"wait"}));
+  EXPECT_FALSE(h_.result);
+  EXPECT_TRUE(h_.run->pause(false));
+  EXPECT_EQ(ToySkill::entered, (std::vector<std::string>{"wait", "act"}));
+  ToySkill::act_done(true);
+  ASSERT_TRUE(h_.result);
+  EXPECT_EQ(h_.result->kind, SkillResult::Kind::kSuccess);
+}
+
+}  // namespace
+}  // namespace rigger::skill_executor

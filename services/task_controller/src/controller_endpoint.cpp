@@ -86,6 +86,8 @@ void ControllerEndpoint::take(const std::function<void(const ReceivedEvent&)>& o
     }
     r.event = to_leaf_event(e);
     r.accepted = e.kind == rigger_skill_SKILL_EVENT_ACCEPTED;
+    if (e.kind == rigger_skill_SKILL_EVENT_PAUSED) r.pause_answer = "PAUSED";
+    if (e.kind == rigger_skill_SKILL_EVENT_RESUMED) r.pause_answer = "RESUMED";
     on_event(r);
   });
 }

@@ -58,6 +58,9 @@ struct ReceivedEvent {
   /// The executor's answer to the START (ACCEPTED, code WAITING or empty): for the controller, not the
   /// engine (`event` then holds only code and message).
   bool accepted = false;
+  /// "PAUSED" / "RESUMED": the executor's answer to a PAUSE / RESUME (code and message in `event`), for
+  /// the journal, never the engine; "" otherwise.
+  std::string pause_answer;
 };
 
 /// The wire event as the engine's (kind, code, message; progress only when in [0, 1]). ACCEPTED, which
@@ -70,10 +73,10 @@ class ControllerEndpoint {
   /// run_service's loop). @throws DdsError.
   ControllerEndpoint(const dds::Participant& participant, std::chrono::milliseconds lease);
 
-  /// The next command seq (every START and SHUTDOWN takes one).
+  /// The next command seq (every START, SHUTDOWN, PAUSE and RESUME takes one).
   std::uint64_t next_seq() { return ++command_seq_; }
-  /// Sends START (params: the leaf's JSON) or SHUTDOWN of `spec` under `run`. Returns false when the
-  /// write failed.
+  /// Sends START (params: the leaf's JSON), SHUTDOWN, PAUSE or RESUME of `spec` under `run`. Returns
+  /// false when the write failed.
   bool send(rigger_skill_SkillCommandKind kind, const std::string& task_id, const bt::NodeSpec& spec,
             const LeafRun& run, const std::string& params, const std::string& reason);
 

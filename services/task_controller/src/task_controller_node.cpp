@@ -307,7 +307,7 @@ void TaskControllerNode::on_task_commands() {
       ctx_.log->warn("task command for a task not running task={} kind={}", task_id, static_cast<int>(c.kind));
       return;
     }
-    const int state = task->command(c.kind, reason);
+    const int state = task->command(c.kind, reason, dds::to_string(c.issuer));
     if (state >= 0) status_.task(task_id, state, "", reason, "");
   });
 }

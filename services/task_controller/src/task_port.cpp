@@ -51,7 +51,8 @@ Task::Task(TaskHost& host, recipe::ValidatedRecipe recipe, std::string id)
 Task::~Task() {
   for (const auto& [engine_timer, loop_timer] : timers_) host_.loop().cancel(loop_timer);
   for (const auto& [node_id, loop_timer] : unanswered_) host_.loop().cancel(loop_timer);
-  for (const auto& [node_id, held] : held_) host_.loop().cancel(held.deadline);
+  for (const auto& [node_id, held] : held_)
+    if (held.deadline != 0) host_.loop().cancel(held.deadline);
 }
 
 void Task::defer(std::function<void(Task&)> fn) {
@@ -78,6 +79,15 @@ void Task::log_result(const char* what, const std::string& node_id, const bt::Ev
 // --- what arrives for the task ---
 
 void Task::on_event(const ReceivedEvent& e) {
+  if (!e.pause_answer.empty()) {
+    // What a leaf did with a PAUSE / RESUME: for people (the journal), never for the engine.
+    const std::string& code = e.event.code;
+    host_.log()->info("{} task={} node={} executor={} code={} {}", e.pause_answer, id_, e.node_id, e.executor_id, code,
+                      e.event.message);
+    host_.journal({wall_now_s(), id_, e.node_id, "EVENT", code.empty() ? e.pause_answer : "NOT_" + e.pause_answer,
+                   code.empty() ? e.event.message : code + ": " + e.event.message});
+    return;
+  }
   auto run_it = runs_.find(e.node_id);
   const LeafRun* run = run_it == runs_.end() ? nullptr : &run_it->second;
   switch (match_run(run, e.executor_id, e.command_seq)) {
@@ -135,26 +145,65 @@ void Task::executor_lost(const std::string& executor_id) {
   }
 }
 
-int Task::command(rigger_task_TaskCommandKind kind, const std::string& reason) {
+int Task::command(rigger_task_TaskCommandKind kind, const std::string& reason, const std::string& issuer) {
   bt::EventResult r;
   const char* what = "cancel";
   int publish = -1;
+  // Who did it: the node's default reason already names the issuer ("requested by <issuer>").
+  const std::string who = issuer.empty() ? std::string("an unnamed issuer") : issuer;
+  const std::string by = !issuer.empty() && reason.find(issuer) != std::string::npos ? reason : "by " + who + ": " + reason;
   if (kind == rigger_task_TASK_CANCEL) {
     host_.journal({wall_now_s(), id_, "", "COMMAND", "CANCEL", reason});
     r = engine_->cancel(reason);
   } else if (kind == rigger_task_TASK_PAUSE) {
     what = "pause";
-    host_.journal({wall_now_s(), id_, "", "COMMAND", "PAUSE", reason});
+    host_.journal({wall_now_s(), id_, "", "COMMAND", "PAUSE", by});
     r = engine_->pause();
-    if (r.acted_on()) publish = rigger_task_TASK_PAUSED;
+    if (r.acted_on()) {
+      publish = rigger_task_TASK_PAUSED;
+      pause_leaves(true, reason);
+    }
   } else {
     what = "resume";
-    host_.journal({wall_now_s(), id_, "", "COMMAND", "RESUME", reason});
+    host_.journal({wall_now_s(), id_, "", "COMMAND", "RESUME", by});
+    if (engine_->paused()) pause_leaves(false, reason);
     r = engine_->resume();
     if (r.acted_on()) publish = rigger_task_TASK_RUNNING;
+    // The starts whose resources were freed while paused go out now (the engine's own held-back starts
+    // went out inside resume()).
+    std::vector<std::string> freed;
+    for (const auto& [node_id, held] : held_)
+      if (held.freed) freed.push_back(node_id);
+    for (const auto& node_id : freed) release_held(node_id);
   }
   log_result(what, "", r);
   return publish;
+}
+
+void Task::pause_leaves(bool pause, const std::string& why) {
+  std::vector<std::pair<std::string, bt::Activation>> leaves;
+  if (pause) {
+    for (const auto& [node_id, run] : runs_) leaves.emplace_back(node_id, run.activation);
+  } else {
+    leaves.assign(paused_.begin(), paused_.end());
+    paused_.clear();
+  }
+  const char* command = pause ? "PAUSE" : "RESUME";
+  for (const auto& [node_id, activation] : leaves) {
+    auto index = engine_->find(node_id);
+    auto run = runs_.find(node_id);
+    if (!index || run == runs_.end() || run->second.activation != activation) continue;
+    const auto& st = engine_->status(*index);
+    // A leaf being stopped goes on to its safe stop; one that ended has nothing to hold.
+    if (st.activation != activation || st.state != NodeState::kRunning) continue;
+    const auto& spec = engine_->spec().nodes[*index];
+    LeafRun sent = run->second;
+    sent.start_seq = host_.endpoint().next_seq();
+    host_.journal({wall_now_s(), id_, node_id, "COMMAND", command, spec.leaf + " on " + sent.executor_id + ": " + why});
+    if (!host_.endpoint().send(pause ? rigger_skill_SKILL_PAUSE : rigger_skill_SKILL_RESUME, id_, spec, sent, "{}", why))
+      host_.log()->error("skill command write failed task={} node={} kind={}", id_, node_id, command);
+    if (pause) paused_[node_id] = activation;
+  }
 }
 
 void Task::answer(const PromptId& id, const std::string& answer, const std::string& by) {
@@ -194,12 +243,15 @@ void Task::start_leaf(const bt::NodeSpec& spec, bt::Activation activation) {
   host_.log()->info("start waits task={} node={} skill={} for=\"{}\"", id_, spec.id, spec.leaf, holder);
   host_.journal({wall_now_s(), id_, spec.id, "COMMAND", codes::kStartWaits,
                  spec.leaf + " waits (at most " + number_text(wait_s) + " s) for " + holder});
+  held_[spec.id] = Held{activation, arm_held(spec.id, activation), holder, false};
+}
+
+dds::EventLoop::TimerId Task::arm_held(const std::string& node_id, bt::Activation activation) {
   TaskHost* host = &host_;
-  const std::string task_id = id_, node_id = spec.id;
-  const auto deadline = host_.loop().after(host_.busy_wait(), [host, task_id, node_id, activation] {
+  const std::string task_id = id_;
+  return host_.loop().after(host_.busy_wait(), [host, task_id, node_id, activation] {
     if (Task* t = host->find_task(task_id)) t->held_too_long(node_id, activation);
   });
-  held_[spec.id] = Held{activation, deadline, holder};
 }
 
 void Task::start_held() {
@@ -210,16 +262,45 @@ void Task::start_held() {
     auto index = engine_->find(node_id);
     if (h == held_.end() || !index) continue;
     const auto& spec = engine_->spec().nodes[*index];
+    if (h->second.freed) continue;  // free already; waits for RESUME
     const std::string holder = host_.holder_of(spec.resources, id_);
     if (!holder.empty()) {
       h->second.holder = holder;  // perhaps another run now: the failure names the last one
       continue;
     }
-    const bt::Activation activation = h->second.activation;
-    host_.loop().cancel(h->second.deadline);
-    held_.erase(h);
-    send_start(spec, activation);
+    release_held(node_id);
   }
+}
+
+void Task::release_held(const std::string& node_id) {
+  auto h = held_.find(node_id);
+  auto index = engine_->find(node_id);
+  if (h == held_.end() || !index) return;
+  Held& held = h->second;
+  const auto& spec = engine_->spec().nodes[*index];
+  if (held.deadline != 0) host_.loop().cancel(held.deadline);
+  held.deadline = 0;
+  if (engine_->paused()) {
+    // The engine counts the leaf as started, but a paused task sends nothing that moves: RESUME sends it.
+    if (!held.freed)
+      host_.journal({wall_now_s(), id_, node_id, "COMMAND", codes::kStartWaits,
+                     spec.leaf + ": its resources are free; the task is paused, so it starts on RESUME"});
+    held.freed = true;
+    return;
+  }
+  if (held.freed) {
+    // Freed while paused: another run may have taken a resource since; then it waits again.
+    held.freed = false;
+    const std::string holder = host_.holder_of(spec.resources, id_);
+    if (!holder.empty()) {
+      held.holder = holder;
+      held.deadline = arm_held(node_id, held.activation);
+      return;
+    }
+  }
+  const bt::Activation activation = held.activation;
+  held_.erase(h);
+  send_start(spec, activation);
 }
 
 void Task::held_too_long(const std::string& node_id, bt::Activation activation) {
@@ -228,11 +309,12 @@ void Task::held_too_long(const std::string& node_id, bt::Activation activation) 
   if (h == held_.end() || h->second.activation != activation || !index) return;
   const auto& spec = engine_->spec().nodes[*index];
   const std::string holder = host_.holder_of(spec.resources, id_);
-  held_.erase(h);
   if (holder.empty()) {  // freed by the announcement just taken
-    send_start(spec, activation);
+    h->second.deadline = 0;  // it fired
+    release_held(node_id);
     return;
   }
+  held_.erase(h);
   const double waited_s = std::chrono::duration<double>(host_.busy_wait()).count();
   host_.log()->error("start held too long task={} node={} holder=\"{}\"", id_, node_id, holder);
   own_event(node_id, bt::LeafEventKind::kFailure, activation, codes::kResourceHeld,
@@ -295,7 +377,7 @@ void Task::start_unanswered(const std::string& node_id, std::uint64_t start_seq)
 void Task::shutdown_leaf(const bt::NodeSpec& spec, bt::Activation activation, const std::string& reason) {
   if (auto h = held_.find(spec.id); h != held_.end() && h->second.activation == activation) {
     // Never sent: nothing runs, so the leaf is stopped at once (on a later turn: this is a Port call).
-    host_.loop().cancel(h->second.deadline);
+    if (h->second.deadline != 0) host_.loop().cancel(h->second.deadline);
     const std::string why = spec.leaf + " was never started: it waited for " + h->second.holder + " (" + reason + ")";
     held_.erase(h);
     const std::string node_id = spec.id;

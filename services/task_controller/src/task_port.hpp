@@ -102,9 +102,11 @@ class Task : public bt::Port {
   /// Sends the held STARTs whose resources are free now (the node calls it after every announcement).
   void start_held();
   bool holds_starts() const { return !held_.empty(); }
-  /// CANCEL / PAUSE / RESUME (rigger/task/command). Returns the TaskState to publish with `reason`
-  /// (PAUSED, RUNNING), or -1 for none.
-  int command(rigger_task_TaskCommandKind kind, const std::string& reason);
+  /// CANCEL / PAUSE / RESUME (rigger/task/command) by `issuer`. Returns the TaskState to publish with
+  /// `reason` (PAUSED, RUNNING), or -1 for none. PAUSE also sends PAUSE to every running leaf (each
+  /// answers PAUSED, journaled: held, or not pausable and running on); RESUME sends RESUME to those, then
+  /// the starts held meanwhile go out.
+  int command(rigger_task_TaskCommandKind kind, const std::string& reason, const std::string& issuer);
   /// An answer to prompt `id` (of this task) by `by`.
   void answer(const PromptId& id, const std::string& answer, const std::string& by);
   /// Whether prompt `id` is open (asked, not answered nor withdrawn).
@@ -131,6 +133,8 @@ class Task : public bt::Port {
     bt::Activation activation = 0;
     dds::EventLoop::TimerId deadline = 0;  ///< busy_wait: then the leaf fails RESOURCE_HELD
     std::string holder;
+    /// Its resources were freed while the task was paused: sent on RESUME (deadline then cancelled).
+    bool freed = false;
   };
   /// PROGRESS events of a node's current run: the first ones journaled, the others counted.
   struct ProgressRows {
@@ -138,6 +142,12 @@ class Task : public bt::Port {
     unsigned left_out = 0;
   };
 
+  /// Arms the busy_wait deadline of `node_id`'s held START.
+  dds::EventLoop::TimerId arm_held(const std::string& node_id, bt::Activation activation);
+  /// A held START whose resources are free now: sent, or (task paused) kept until RESUME.
+  void release_held(const std::string& node_id);
+  /// Sends PAUSE (`pause`) or RESUME to every leaf running now (PAUSE) / paused (RESUME).
+  void pause_leaves(bool pause, const std::string& why);
   /// Sends SHUTDOWN of `run` (with a new seq) and journals it.
   void send_shutdown(const bt::NodeSpec& spec, const LeafRun& run, const std::string& reason);
   /// An event the controller decides for a leaf itself (no executor sent it): journaled as one, then
@@ -166,6 +176,7 @@ class Task : public bt::Port {
   std::map<std::string, LeafRun> runs_;   ///< by node id: the last START sent
   std::map<std::string, dds::EventLoop::TimerId> unanswered_;  ///< by node id: STARTs not answered yet
   std::map<std::string, Held> held_;                           ///< by node id: STARTs not sent yet
+  std::map<std::string, bt::Activation> paused_;               ///< by node id: leaves sent PAUSE, not RESUME
   std::map<std::string, ProgressRows> progress_rows_;          ///< by node id, for its current run
   std::map<bt::TimerId, dds::EventLoop::TimerId> timers_;
   std::map<std::string, std::pair<std::string, bt::Activation>> prompts_;  ///< open prompt id → (node, activation)

@@ -3,6 +3,8 @@
 /// riggerctl's commands. Each `add_*` registers a subcommand on the app; the callback it installs
 /// returns the process exit code through `exit_code`.
 
+#include <string>
+
 #include <CLI/CLI.hpp>
 
 #include "rigger/dds/configuration.hpp"
@@ -40,6 +42,10 @@ void add_sim_command(CLI::App& app, const CommonOptions& common, int& exit_code)
 /// `estop [RESOURCE...] [--reset] [--reason TEXT]`: the software safe stop (rigger/safety/stop) of the
 /// robot, crane, gripper and admittance controller (default: all), latched until `--reset`. Exit
 /// codes: 0 acknowledged by the devices; 1 write failed or not acknowledged; 2 usage; 3 no device.
+/// Who a command of this riggerctl is from: "riggerctl:<$USER>" (the uid without $USER), for the
+/// issuer / source fields that the controller journals and the devices log.
+std::string riggerctl_source();
+
 void add_estop_command(CLI::App& app, const CommonOptions& common, int& exit_code);
 /// `crane reset [--timeout S]`: CRANE_RESET to the crane gateway (acknowledges a latched PLC fault) and
 /// waits until the crane reports no fault. Exit codes: 0 cleared; 1 still faulted (the cause is still

@@ -45,8 +45,7 @@ int run(const CommonOptions& common, EstopRequest request) {
       return 2;
     }
   }
-  const char* user = std::getenv("USER");
-  const std::string source = std::string("riggerctl:") + (user != nullptr && *user ? user : std::to_string(getuid()));
+  const std::string source = riggerctl_source();
   const std::string reason = request.reason.empty() ? (request.reset ? "reset" : "estop from riggerctl") : request.reason;
 
   dds::Participant participant(common.domain);
@@ -91,6 +90,11 @@ int run(const CommonOptions& common, EstopRequest request) {
 }
 
 }  // namespace
+
+std::string riggerctl_source() {
+  const char* user = std::getenv("USER");
+  return std::string("riggerctl:") + (user != nullptr && *user ? user : std::to_string(getuid()));
+}
 
 void add_estop_command(CLI::App& app, const CommonOptions& common, int& exit_code) {
   auto* cmd = app.add_subcommand("estop",

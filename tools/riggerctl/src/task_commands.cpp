@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -303,7 +304,10 @@ struct JournalTopics {
 };
 
 /// Asks the controller's journal for `task_id`'s timeline ("" : the task list) and waits for the answer.
-JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std::string& task_id, double timeout_s) {
+/// A second question of the same run takes a new `request_id` (late copies of an earlier answer are
+/// then told apart).
+JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std::string& task_id, double timeout_s,
+                          std::uint64_t request_id = 1) {
   JournalAnswer answer;
   auto& queries = topics.queries;
   auto& replies = topics.replies;
@@ -311,7 +315,6 @@ JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std
       !replies.wait_for_writers(1, from_seconds(timeout_s)))
     return answer;
   const std::string client = "riggerctl-" + std::to_string(::getpid());
-  const std::uint64_t request_id = 1;
   loop.on_data(replies, [&] {
     replies.take([&](const rigger_task_JournalReply& rep, const dds_sample_info_t&) {
       if (answer.answered || dds::to_string(rep.client_id) != client || rep.request_id != request_id) return;
@@ -510,6 +513,21 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
                                                       : rigger_task_TASK_RUNNING;
   bool sent = false, done = false;
   int state = -1, before = -1;
+  // PAUSE / RESUME: what each leaf did. Each executor answers PAUSED (RESUMED), with a code when the
+  // leaf runs on; which leaves were asked, the journal says (below).
+  const bool leaves = kind != rigger_task_TASK_CANCEL;
+  const auto leaf_answer = kind == rigger_task_TASK_PAUSE ? rigger_skill_SKILL_EVENT_PAUSED : rigger_skill_SKILL_EVENT_RESUMED;
+  dds::Reader<rigger_skill_SkillEvent> leaf_answers(participant, protocol::skill::kEvent);
+  std::map<std::string, std::string> answered;  // by node id: what its executor answered
+  if (leaves) {
+    loop.on_data(leaf_answers, [&] {
+      leaf_answers.take([&](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
+        if (!sent || e.kind != leaf_answer || dds::to_string(e.task_id) != task_id) return;
+        const std::string code = dds::to_string(e.code);
+        answered[dds::to_string(e.node_id)] = (code.empty() ? "" : code + ": ") + dds::to_string(e.message);
+      });
+    });
+  }
   loop.on_data(statuses, [&] {
     statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
       if (dds::to_string(s.task_id) != task_id) return;
@@ -532,7 +550,7 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
     return 0;
   }
   rigger_task_TaskCommand c{};
-  const std::string issuer = "riggerctl";
+  const std::string issuer = riggerctl_source();
   c.task_id = dds::wire_string(task_id);
   c.kind = kind;
   c.reason = dds::wire_string(reason);
@@ -547,8 +565,47 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
     return kExitFailed;
   }
   std::printf("task %s %s\n", task_id.c_str(), task_state_name(state));
+  if (leaves && state == wanted) {
+    // The controller journals a COMMAND row per leaf it sends the command to, in the same turn as the
+    // acknowledgement, and each answer as an EVENT row (PAUSED, or NOT_PAUSED with the code). The leaves
+    // asked this time are the rows after the last task-level one. Answers come live on
+    // rigger/skill/event, or from the journal when this reader had not yet matched an executor's writer.
+    const std::string command = kind == rigger_task_TASK_PAUSE ? "PAUSE" : "RESUME";
+    const std::string answer = kind == rigger_task_TASK_PAUSE ? "PAUSED" : "RESUMED";
+    std::vector<std::string> asked;
+    std::uint64_t request = 2;
+    const auto read_journal = [&] {
+      std::map<std::string, std::string> journaled;  // this command's answers only
+      asked.clear();
+      for (const auto& l : ask_journal(topics, loop, task_id, timeout_s, request++).lines) {
+        if (l.kind == "COMMAND" && l.code == command && l.node_id.empty()) {
+          asked.clear();
+          journaled.clear();
+        } else if (l.kind == "COMMAND" && l.code == command) {
+          asked.push_back(l.node_id);
+        } else if (l.kind == "EVENT" && (l.code == answer || l.code == "NOT_" + answer)) {
+          journaled[l.node_id] = l.message;
+        }
+      }
+      answered.insert(journaled.begin(), journaled.end());
+    };
+    const auto all_answered = [&] {
+      return std::all_of(asked.begin(), asked.end(), [&](const std::string& n) { return answered.count(n) > 0; });
+    };
+    const auto deadline = std::chrono::steady_clock::now() + from_seconds(timeout_s);
+    read_journal();
+    while (!all_answered() && std::chrono::steady_clock::now() < deadline) {
+      loop.run_until(all_answered, std::chrono::milliseconds(300));  // woken by a live answer
+      if (!all_answered()) read_journal();
+    }
+    for (const auto& node : asked) {
+      const auto a = answered.find(node);
+      std::printf("  %s: %s\n", node.c_str(), a == answered.end() ? "no answer" : a->second.c_str());
+    }
+  }
   if (kind == rigger_task_TASK_PAUSE && state == wanted)
-    std::printf("no new leaf starts until `riggerctl resume %s`; leaves already running go on to their end\n",
+    std::printf("no new leaf starts until `riggerctl resume %s`; running leaves of pausable skills hold still, "
+                "the others (monitors, operator prompts) run on\n",
                 task_id.c_str());
   return state == wanted ? 0 : kExitFailed;
 }

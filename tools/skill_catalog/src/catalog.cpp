@@ -96,6 +96,9 @@ std::string reference_markdown(const nlohmann::json& library) {
         md << "- preconditions: " << join(s["preconditions"]) << "\n";
       if (!s.value("postconditions", nlohmann::json::array()).empty())
         md << "- postconditions: " << join(s["postconditions"]) << "\n";
+      if (std::string(kind) == "skill")
+        md << (s.value("pausable", false) ? "- pausable: yes (a PAUSE holds its devices still until RESUME)\n"
+                                          : "- pausable: no (it keeps running while its task is paused)\n");
     }
   }
   return md.str();

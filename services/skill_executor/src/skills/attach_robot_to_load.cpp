@@ -101,6 +101,7 @@ const skill::SkillDescription& AttachRobotToLoadSkill::describe() {
         timeout_param(),
     };
     d.resources = {"robot", "gripper", "$object"};
+    d.pausable = true;
     d.preconditions = {*skill::parse_predicate("localized($object)")};
     d.postconditions = {*skill::parse_predicate("attached(robot,$object)")};
     return d;
@@ -113,11 +114,11 @@ AttachRobotToLoadSkill::AttachRobotToLoadSkill() {
   add_state({"check", [this] { check(); }, nothing_to_stop});
   add_state({"resolve", [this] { resolve(); }, nothing_to_stop});
   add_state({"release", [this] { release(); }, nothing_to_stop});
-  add_state({"retreat", [this] { retreat(); }, stop});
-  add_state({"move_approach", [this] { move_approach(); }, stop});
+  add_state({"retreat", [this] { retreat(); }, stop, stop});
+  add_state({"move_approach", [this] { move_approach(); }, stop, stop});
   add_state({"energize", [this] { energize(); }, nothing_to_stop});
   add_state({"re_resolve", [this] { re_resolve(); }, nothing_to_stop});
-  add_state({"approach", [this] { approach(); }, stop});
+  add_state({"approach", [this] { approach(); }, stop, stop});
   add_state({"await_hold", [this] { await_hold(); }, nothing_to_stop});
   add_state({"verify", [this] { verify(); }, nothing_to_stop});
   add_state({"confirm", [this] { confirm(); }, nothing_to_stop});

@@ -55,6 +55,7 @@ const skill::SkillDescription& CollaborativeMoveLoadSkill::describe() {
     d.resources = {"robot", "crane", "operator", "$object"};
     d.preconditions = {*skill::parse_predicate("attached(robot,$object)")};
     d.postconditions = {*skill::parse_predicate("moved($object)"), *skill::parse_predicate("!localized($object)")};
+    d.pausable = true;
     return d;
   }();
   return kDescription;
@@ -64,8 +65,9 @@ CollaborativeMoveLoadSkill::CollaborativeMoveLoadSkill() {
   const auto stop = [this](SafeStopDone done) { safe_stop(done); };
   add_state({"check_crane", [this] { check_crane(); }, nothing_to_stop});
   add_state({"crane_external", [this] { crane_external(); }, nothing_to_stop});
-  add_state({"engage", [this] { engage(); }, stop});
-  add_state({"guide", [this] { guide(); }, stop});
+  // Paused, admittance goes OFF (robot and crane at rest, magnet on); resumed, it is engaged again.
+  add_state({"engage", [this] { engage(); }, stop, stop, "engage"});
+  add_state({"guide", [this] { guide(); }, stop, stop, "engage"});
   add_state({"disengage", [this] { disengage(); }, stop});
 }
 

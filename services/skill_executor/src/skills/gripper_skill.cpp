@@ -73,12 +73,31 @@ bool GripperSkill::require_devices(bool robot, bool gripper, bool world) {
 
 void GripperSkill::start_overall_timeout(double timeout_s) {
   overall_timeout_ = from_seconds(timeout_s);
+  overall_timeout_s_ = timeout_s;
+  arm_overall_timeout();
+}
+
+void GripperSkill::arm_overall_timeout() {
   // Not a state timer: it spans every state. fail() runs the current state's safe stop first.
-  overall_timer_ = ctx().after(overall_timeout_, [this, timeout_s] {
+  overall_timer_ = ctx().after(overall_timeout_, [this] {
     overall_timer_ = 0;
     if (finished() || stopping()) return;
-    fail("TIMEOUT", "not done within timeout_s = " + number_text(timeout_s) + " s (in state " + state() + ")");
+    fail("TIMEOUT",
+         "not done within timeout_s = " + number_text(overall_timeout_s_) + " s (in state " + state() + ")");
   });
+}
+
+void GripperSkill::on_run_paused() {
+  if (overall_timer_ == 0) return;
+  ctx().cancel_timer(overall_timer_);
+  overall_timer_ = 0;
+  overall_held_ = true;
+}
+
+void GripperSkill::on_run_resumed() {
+  if (!overall_held_) return;
+  overall_held_ = false;
+  arm_overall_timeout();
 }
 
 void GripperSkill::check_crane(bool required, std::function<void()> then) {

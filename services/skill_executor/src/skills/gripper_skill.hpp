@@ -67,8 +67,11 @@ class GripperSkill : public Skill {
   /// Fails DEVICE_UNAVAILABLE naming the first missing device; true when all needed are there.
   bool require_devices(bool robot, bool gripper, bool world);
   /// Starts the overall timeout: after `timeout_s` the run fails TIMEOUT from its current state (after
-  /// that state's safe stop). Call once, from the first state.
+  /// that state's safe stop). Call once, from the first state. It does not count while the run is
+  /// paused, and counts afresh from the resume.
   void start_overall_timeout(double timeout_s);
+  void on_run_paused() override;
+  void on_run_resumed() override;
 
   /// When `required`: the crane's health (CraneMonitor::check_health, a crane state at most 1 s old,
   /// waiting up to 2 s); `then` when healthy, else CRANE_FAULT, or DEVICE_UNAVAILABLE without a crane
@@ -103,8 +106,12 @@ class GripperSkill : public Skill {
   std::chrono::nanoseconds motion_timeout() const { return overall_timeout_; }
 
  private:
+  void arm_overall_timeout();
+
   std::uint64_t overall_timer_ = 0;
   std::chrono::nanoseconds overall_timeout_{std::chrono::seconds(60)};
+  double overall_timeout_s_ = 60.0;
+  bool overall_held_ = false;  ///< the overall timer was cancelled by a pause: re-armed on resume
 };
 
 }  // namespace rigger::skill_executor

@@ -134,6 +134,7 @@ const skill::SkillDescription& InsertVisuallyGuidedSkill::describe() {
     d.preconditions = {*skill::parse_predicate("attached(robot,$object)"),
                        *skill::parse_predicate("localized($object)"), *skill::parse_predicate("localized($target)")};
     d.postconditions = {*skill::parse_predicate("inserted($object,$target)")};
+    d.pausable = true;
     return d;
   }();
   return kDescription;
@@ -145,8 +146,13 @@ InsertVisuallyGuidedSkill::InsertVisuallyGuidedSkill() {
   add_state({"lookup", [this] { lookup(); }, nothing_to_stop});
   add_state({"crane_external", [this] { crane_external(); }, nothing_to_stop});
   add_state({"track", [this] { start_tracking(); }, [this](SafeStopDone done) { stop_tracking(done); }});
-  add_state({"engage", [this] { engage(); }, stop});
-  add_state({"servo", [this] { servo(); }, stop});
+  // Paused, admittance goes OFF (robot and crane at rest, magnet on) while the tracker keeps tracking;
+  // resumed, the servo is engaged again from where the load is (timeout_s afresh).
+  const auto hold_still = [this](SafeStopDone done) {
+    admittance_safe_stop(ctx().devices().admittance, nullptr, "", done);
+  };
+  add_state({"engage", [this] { engage(); }, stop, hold_still, "engage"});
+  add_state({"servo", [this] { servo(); }, stop, hold_still, "engage"});
   add_state({"hold", [this] { hold(); }, stop});
 }
 

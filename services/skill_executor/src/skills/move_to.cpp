@@ -41,6 +41,7 @@ const skill::SkillDescription& MoveToSkill::describe() {
                   "Goals farther than this from the robot base are refused by the planner."},
     };
     d.resources = {"robot"};
+    d.pausable = true;
     return d;
   }();
   return kDescription;
@@ -48,7 +49,9 @@ const skill::SkillDescription& MoveToSkill::describe() {
 
 MoveToSkill::MoveToSkill() {
   add_state({"plan", [this] { plan(); }, nothing_to_stop});
-  add_state({"move", [this] { move(); }, [this](SafeStopDone done) { stop_robot(done); }});
+  // Paused, the arm stops where it is; resumed, the motion is planned again from there (timeout_s afresh).
+  const auto stop = [this](SafeStopDone done) { stop_robot(done); };
+  add_state({"move", [this] { move(); }, stop, stop});
   add_state({"verify", [this] { verify(); }, nothing_to_stop});
 }
 

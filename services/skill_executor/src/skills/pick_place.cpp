@@ -91,6 +91,7 @@ const skill::SkillDescription& PickSkill::describe() {
         timeout_param(),
     };
     d.resources = {"robot", "gripper", "$object"};
+    d.pausable = true;
     d.preconditions = {*skill::parse_predicate("localized($object)")};
     d.postconditions = {*skill::parse_predicate("attached(robot,$object)")};
     return d;
@@ -102,11 +103,11 @@ PickSkill::PickSkill() {
   const auto stop = [this](SafeStopDone done) { stop_robot(done); };
   add_state({"check", [this] { check(); }, nothing_to_stop});
   add_state({"resolve", [this] { resolve(); }, nothing_to_stop});
-  add_state({"move_approach", [this] { move_approach(); }, stop});
-  add_state({"descend", [this] { descend(); }, stop});
+  add_state({"move_approach", [this] { move_approach(); }, stop, stop});
+  add_state({"descend", [this] { descend(); }, stop, stop});
   add_state({"grip", [this] { grip(); }, nothing_to_stop});
   add_state({"await_hold", [this] { await_hold(); }, nothing_to_stop});
-  add_state({"retreat", [this] { retreat(); }, stop});
+  add_state({"retreat", [this] { retreat(); }, stop, stop});
   add_state({"verify", [this] { verify(); }, nothing_to_stop});
 }
 
@@ -219,6 +220,7 @@ const skill::SkillDescription& PlaceSkill::describe() {
         timeout_param(),
     };
     d.resources = {"robot", "gripper", "$object"};
+    d.pausable = true;
     d.preconditions = {*skill::parse_predicate("attached(robot,$object)")};
     d.postconditions = {*skill::parse_predicate("!attached(robot,$object)"),
                         *skill::parse_predicate("placed($object)"), *skill::parse_predicate("!localized($object)")};
@@ -231,11 +233,11 @@ PlaceSkill::PlaceSkill() {
   const auto stop = [this](SafeStopDone done) { stop_robot(done); };
   add_state({"check", [this] { check(); }, nothing_to_stop});
   add_state({"resolve", [this] { resolve(); }, nothing_to_stop});
-  add_state({"move_approach", [this] { move_approach(); }, stop});
-  add_state({"descend", [this] { descend(); }, stop});
+  add_state({"move_approach", [this] { move_approach(); }, stop, stop});
+  add_state({"descend", [this] { descend(); }, stop, stop});
   add_state({"release", [this] { release(); }, nothing_to_stop});
   add_state({"confirm_released", [this] { confirm_released(); }, nothing_to_stop});
-  add_state({"retreat", [this] { retreat(); }, stop});
+  add_state({"retreat", [this] { retreat(); }, stop, stop});
 }
 
 void PlaceSkill::check() {

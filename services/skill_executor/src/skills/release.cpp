@@ -64,6 +64,7 @@ const skill::SkillDescription& ReleaseSkill::describe() {
                   "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer."},
     };
     d.resources = {"robot", "gripper", "$object"};
+    d.pausable = true;
     d.postconditions = {*skill::parse_predicate("!attached(robot,$object)")};
     return d;
   }();
@@ -75,7 +76,8 @@ ReleaseSkill::ReleaseSkill() {
   add_state({"release", [this] { release(); }, nothing_to_stop});
   add_state({"confirm_released", [this] { confirm_released(); }, nothing_to_stop});
   add_state({"read_pose", [this] { read_pose(); }, nothing_to_stop});
-  add_state({"retreat", [this] { retreat(); }, [this](SafeStopDone done) { stop_robot(done); }});
+  const auto stop = [this](SafeStopDone done) { stop_robot(done); };
+  add_state({"retreat", [this] { retreat(); }, stop, stop});
 }
 
 void ReleaseSkill::check() {

@@ -22,6 +22,12 @@
 ///    motion is left without a supervisor;
 ///  - SHUTDOWN for a node that does not run here → STOPPED `NOT_RUNNING` at once (it ended, or never
 ///    started), so the controller never waits for a stop timeout because of a race;
+///  - every PAUSE / RESUME is answered at once with PAUSED / RESUMED: code empty when the skill now holds
+///    (continues); `NOT_PAUSABLE` when its description is not `pausable` (or the executor pauses
+///    nothing), and it keeps running; `STOPPING` for a run being stopped (its safe stop proceeds);
+///    `ALREADY_PAUSED` / `NOT_PAUSED` for a repeated command; `NOT_RUNNING` for a node not active here
+///    (command_seq 0). A START still waiting here takes the pause with it: it starts paused. Runs of
+///    skills only pause; monitors keep monitoring;
 ///  - every event carries a per-executor seq and the seq of the START it belongs to (`start_seq`);
 ///    after SUCCESS, FAILURE or STOPPED the run is over and further reports for it are dropped;
 ///  - the announcement lists the runs active here (task, node, skill, resources, stopping) and is
@@ -55,8 +61,9 @@ struct LeafRun {
   std::uint64_t start_seq = 0;
 };
 
-/// kAccepted is the endpoint's own answer to a START; skills report the others.
-enum class EventKind { kSuccess, kFailure, kStopped, kProgress, kAccepted };
+/// kAccepted, kPaused and kResumed are the endpoint's own answers to a START, PAUSE and RESUME; skills
+/// report the others.
+enum class EventKind { kSuccess, kFailure, kStopped, kProgress, kAccepted, kPaused, kResumed };
 
 struct StartRequest {
   LeafRun run;
@@ -69,11 +76,25 @@ struct ShutdownRequest {
   std::string reason;
 };
 
+/// A PAUSE (`pause`) or RESUME of a run of a pausable skill active here.
+struct PauseRequest {
+  LeafRun run;
+  bool pause = true;
+  std::string reason;
+};
+/// The handler's answer: `code` empty when the skill now holds (continues), else why not.
+struct PauseAnswer {
+  std::string code;
+  std::string message;
+};
+
 class ExecutorEndpoint {
  public:
   struct Handlers {
     std::function<void(const StartRequest&)> on_start;
     std::function<void(const ShutdownRequest&)> on_shutdown;
+    /// PAUSE / RESUME of a run whose skill is pausable; empty: this executor pauses nothing.
+    std::function<PauseAnswer(const PauseRequest&)> on_pause = {};
   };
   struct Options {
     /// How long a START waits for the run that holds its node or resources to finish stopping.
@@ -116,6 +137,7 @@ class ExecutorEndpoint {
     std::vector<std::string> resources;
     dds_instance_handle_t commander = 0;  ///< the command writer that started it
     bool stopping = false;                ///< a SHUTDOWN reached it (from the controller or from here)
+    bool paused = false;                  ///< a PAUSE held it and no RESUME came yet
   };
   /// A START decoded and checked, waiting for the runs that hold its node or resources to stop.
   struct Start {
@@ -125,12 +147,19 @@ class ExecutorEndpoint {
     std::vector<std::string> resources;
     dds_instance_handle_t commander = 0;
     dds::EventLoop::TimerId deadline = 0;
+    bool paused = false;  ///< a PAUSE came while it waited: it starts paused
   };
 
   void on_commands();
   void on_commander_liveliness();
   void handle(const rigger_skill_SkillCommand& cmd, const dds_sample_info_t& info);
   void handle_start(Start start);
+  /// PAUSE (`pause`) or RESUME of node (task, node): answers PAUSED / RESUMED (see the file comment).
+  void handle_pause(const std::string& task, const std::string& node, bool pause, const std::string& reason);
+  /// Passes a PAUSE / RESUME of the active run `key` to the skill; its answer, or why it was not passed.
+  PauseAnswer pause_run(const RunKey& key, bool pause, const std::string& reason);
+  /// Why runs of `skill` are not paused here ("": they are: pausable, and a pause handler is set).
+  std::string not_pausable(const std::string& skill) const;
   /// Why `start` cannot run now ("" : it can); `wait` is set when every holder is being stopped.
   std::string blocked(const Start& start, bool& wait) const;
   void dispatch(Start start);

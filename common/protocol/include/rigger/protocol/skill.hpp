@@ -14,7 +14,7 @@ inline constexpr Topic<rigger_skill_SkillCommand> kCommand{"rigger/skill/command
                                                            "executor_id",
                                                            "task_controller",
                                                            "skill_executor, monitor_host",
-                                                           "(START with params JSON / SHUTDOWN with reason, seq)",
+                                                           "(START with params JSON / SHUTDOWN with reason / PAUSE / RESUME, seq)",
                                                            "the controller's writer adds MANUAL_BY_PARTICIPANT "
                                                            "liveliness (command_lease_ms, 300 ms): executors shut "
                                                            "down the runs of a controller that lost it "
@@ -28,6 +28,7 @@ inline constexpr Topic<rigger_skill_SkillEvent> kEvent{
     "skill_executor, monitor_host",
     "task_controller",
     "(ACCEPTED: the answer to a START, code WAITING when it waits; SUCCESS, FAILURE, STOPPED, PROGRESS; "
+    "PAUSED / RESUMED: the answer to a PAUSE / RESUME, code NOT_PAUSABLE when the skill keeps running; "
     "code, message, seq, command_seq)",
     ""};
 

@@ -44,6 +44,9 @@ struct SkillDescription {
   std::vector<Predicate> preconditions;
   /// Facts that hold after it succeeded; "!p(...)" deletes a fact. Monitors have none.
   std::vector<Predicate> postconditions;
+  /// Whether a PAUSE holds the leaf's devices still until RESUME (skills only). A leaf that is not
+  /// pausable keeps running while its task is paused (monitors keep monitoring).
+  bool pausable = false;
 
   /// The parameter declaration named `name`, or nullptr.
   const ParamSpec* find_param(std::string_view param_name) const;
@@ -52,14 +55,14 @@ struct SkillDescription {
 
 /// The JSON form:
 /// {"name", "kind", "description"?, "params": [ParamSpec…], "resources": [...]?,
-///  "preconditions": ["p(...)", …]?, "postconditions": ["p(...)", "!q(...)", …]?}
+///  "preconditions": ["p(...)", …]?, "postconditions": ["p(...)", "!q(...)", …]?, "pausable": true?}
 nlohmann::json to_json(const SkillDescription& description);
 
 /// Parses and checks a description without throwing; `pointer` prefixes error pointers.
 /// Checks: shape and types, name syntax, unique parameter names, coherent parameter
 /// declarations, resources known or "$param" of a string/feature_ref/enum parameter, predicates
 /// parse and reference existing scalar parameters, no "!" in preconditions, monitors and
-/// conditions claim no resources, monitors have no postconditions.
+/// conditions claim no resources, monitors have no postconditions, only skills are pausable.
 Parsed<SkillDescription> parse_description(const nlohmann::json& json, const std::string& pointer = "");
 
 /// Throwing form of parse_description() for setup code. Throws SkillModelError with every error.
