@@ -13,6 +13,9 @@ if(_scenario_ready)
   if(TARGET ros2_bridge)
     add_dependencies(rigger_scenario_test ros2_bridge)  # the variant behind the ROS 2 bridge
   endif()
+  if(TARGET riggerctl)
+    add_dependencies(rigger_scenario_test riggerctl)  # the pause variant pauses and resumes with it
+  endif()
   # Pick and Place in physics (issue 18): recipes/examples/pick_and_place.json on the same processes,
   # the part's final true pose checked against the recipe's place pose (about a minute).
   rigger_add_test(rigger_pick_place_cell_test
