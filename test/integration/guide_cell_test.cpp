@@ -38,6 +38,7 @@ void GuideCellTest::guide(const std::string& recipe, std::vector<std::string> ru
   // The 'done' comes 12 s after the prompt: long after the jog script (3 s still, 4 s moving) has ended.
   rules.insert(rules.begin(), "confirm:object=load:done@12");
   ScenarioCell s(cell_, rules);
+  WorldQuery world(cell_);  // made now: discovered long before its question
   ASSERT_TRUE(s.ready()) << "not every service came up";
   const cell::CellFile cell = cell::load_cell_file(repo_file("deploy/cell/simulated_cell.json"));
   // The joystick's frame is the robot base frame (riggerctl jog): +x there, in the world.
@@ -78,7 +79,7 @@ void GuideCellTest::guide(const std::string& recipe, std::vector<std::string> ru
   EXPECT_LT((at_done - before - along_at_done * pushed).norm(), 0.005) << "the load went sideways";
   EXPECT_EQ(s.gripper_energized(), !releases) << (releases ? "the robot should have let go" : "the load must stay held");
   // The load moved where no camera saw it: CollaborativeMoveLoad told the world model.
-  const auto localized = world_localized(cell_, "load");
+  const auto localized = world.localized("load");
   ASSERT_TRUE(localized.has_value()) << "the world model did not answer";
   EXPECT_FALSE(*localized) << "the world model still says the load is where it was localized";
 }

@@ -70,6 +70,7 @@ class PickPlaceCellTest : public MultiProcessTest {};
 TEST_F(PickPlaceCellTest, PickAndPlaceRecipeMovesThePartInPhysics) {
   const Eigen::Isometry3d goal = place_goal_world_part();
   ScenarioCell s(cell_);
+  WorldQuery world(cell_);  // made now: discovered long before its question
   ASSERT_TRUE(s.ready()) << "not every service came up";
   ASSERT_TRUE(cell_.wait_until([&] { return s.truth("part").has_value(); }, 10s)) << "no ground truth of the part";
   const Eigen::Isometry3d start = *s.truth("part");
@@ -112,7 +113,7 @@ TEST_F(PickPlaceCellTest, PickAndPlaceRecipeMovesThePartInPhysics) {
     EXPECT_EQ(n->state, rigger_task_NODE_SUCCESS) << name;
   }
   // The world model no longer claims the pose the part was picked at: Place told it the part moved.
-  const auto localized = world_localized(cell_, "part");
+  const auto localized = world.localized("part");
   ASSERT_TRUE(localized.has_value()) << "the world model did not answer";
   EXPECT_FALSE(*localized) << "the world model still says the part is localized where it was picked";
 }

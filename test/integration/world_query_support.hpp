@@ -1,7 +1,9 @@
 #pragma once
 /// @file
 /// What the world model says of an entity, asked by a test through a client of its own (the one every
-/// service uses, rigger/world_client), on the test's event loop.
+/// service uses, rigger/world_client), on the test's event loop. Make it when the cell starts: a client
+/// made just before its first question may ask before the world model's reply writer has discovered it,
+/// and a reply written before that match is lost.
 
 #include <chrono>
 #include <optional>
@@ -12,14 +14,22 @@
 
 namespace rigger::testing {
 
-/// Whether the world model holds `entity` as localized (any age); nullopt when it did not answer in 5 s or
-/// does not know the entity.
-inline std::optional<bool> world_localized(Cell& cell, const std::string& entity) {
-  world_client::WorldClient client(cell.participant(), cell.loop(), null_logger(), "test-world-query");
-  std::optional<world_client::Reply> reply;
-  client.is_localized(entity, 0.0, std::chrono::seconds(5), [&](const world_client::Reply& r) { reply = r; });
-  if (!cell.wait_until([&] { return reply.has_value(); }, std::chrono::seconds(6)) || !reply->ok) return std::nullopt;
-  return reply->localized;
-}
+class WorldQuery {
+ public:
+  explicit WorldQuery(Cell& cell) : cell_(cell), client_(cell.participant(), cell.loop(), null_logger(), "test-world-query") {}
+
+  /// Whether the world model holds `entity` as localized (any age); nullopt when it did not answer in 5 s
+  /// or does not know the entity.
+  std::optional<bool> localized(const std::string& entity) {
+    std::optional<world_client::Reply> reply;
+    client_.is_localized(entity, 0.0, std::chrono::seconds(5), [&](const world_client::Reply& r) { reply = r; });
+    if (!cell_.wait_until([&] { return reply.has_value(); }, std::chrono::seconds(6)) || !reply->ok) return std::nullopt;
+    return reply->localized;
+  }
+
+ private:
+  Cell& cell_;
+  world_client::WorldClient client_;
+};
 
 }  // namespace rigger::testing
