@@ -136,7 +136,14 @@ void WorldClient::write_query(std::uint64_t id, int kind, const std::string& ent
   if (rc != DDS_RETCODE_OK) {
     log_->warn("world query write failed request_id={} rc={}", id, rc);
     loop_.post([this, id, rc] { fail_soon(id, "writing the query failed: " + std::string(dds_strretcode(rc))); });
+    return;
   }
+  // We see the world model before it sees us: a reply it writes before its reply writer has discovered this
+  // client is lost (volatile). A query is a read, so it is asked again until answered or timed out; the
+  // first answer wins and later ones find nothing pending.
+  it->second.retry = loop_.after(kQueryResend, [this, id, kind, entity, frame, feature, max_age_s] {
+    write_query(id, kind, entity, frame, feature, max_age_s);
+  });
 }
 
 std::uint64_t WorldClient::send_update(UpdateFields update, std::chrono::milliseconds timeout, Callback cb) {

@@ -185,6 +185,32 @@ TEST_F(WorldClientTest, FeaturePoseNamesTheFeature) {
   EXPECT_EQ(seen_queries_[0].frame, "robot");
 }
 
+// A reply can be lost when the world model writes it before its reply writer has discovered this client:
+// an unanswered query is asked again with the same id, and answered once however many answers come.
+TEST_F(WorldClientTest, AnUnansweredQueryIsAskedAgainAndAnsweredOnce) {
+  int calls = 0;
+  std::optional<Reply> got;
+  const auto id = client_->pose("load", "world", 5s, [&](const Reply& r) {
+    got = r;
+    ++calls;
+  });
+  ASSERT_TRUE(wait_queries(2)) << "the unanswered query was not asked again";
+  EXPECT_EQ(seen_queries_[0].request_id, id);
+  EXPECT_EQ(seen_queries_[1].request_id, id);
+  reply(seen_queries_[1], true, "OK");
+  reply(seen_queries_[0], true, "OK");  // the same answer twice: the second finds nothing pending
+  ASSERT_TRUE(loop_.run_until([&] { return got.has_value(); }, 5s));
+  EXPECT_TRUE(got->ok);
+  // A later query's answer, written after both, comes after both (one writer's samples arrive in order).
+  std::optional<Reply> later;
+  client_->list(5s, [&](const Reply& r) { later = r; });
+  ASSERT_TRUE(loop_.run_until([&] { return seen_queries_.back().request_id != id; }, 5s));
+  reply(seen_queries_.back(), true, "OK", "[]");
+  ASSERT_TRUE(loop_.run_until([&] { return later.has_value(); }, 5s));
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(client_->pending(), 0u);
+}
+
 TEST_F(WorldClientTest, UpdatePoseIsAnsweredByItsUpdateResult) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(0.5, -0.5, 1.0);
