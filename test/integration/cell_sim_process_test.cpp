@@ -77,14 +77,6 @@ class CellSimProcessTest : public MultiProcessTest {
 
   const RobotView& robot() const { return robot_states_.back(); }
 
-  /// Runs riggerctl on the test's domain to its end, the test's loop running meanwhile: (exit code, output).
-  std::pair<int, std::string> run_riggerctl(const std::string& name, const std::vector<std::string>& args) {
-    auto p = start_riggerctl(cell_, name, args);
-    cell_.wait_until([&] { return !p->running(); }, 30s);
-    const auto status = p->wait(1s);
-    return {status && status->exited ? status->code : -1, p->log()};
-  }
-
   std::unique_ptr<SimChannel> sim_;
   std::unique_ptr<dds::Reader<rigger_robot_RobotState>> robot_;
   std::unique_ptr<dds::Writer<rigger_sensing_TwistCommand>> twist_;
@@ -133,9 +125,9 @@ TEST_F(CellSimProcessTest, TwistStreamMovesTheToolStaleCommandsAreIgnoredAndStop
 // the twist stream goes on, stays still, and moves again only after the reset.
 TEST_F(CellSimProcessTest, SafeStopOfTheRobotStopsTheArmUntilItsReset) {
   // Before any device listens, riggerctl estop says that nothing was stopped (exit 3).
-  const auto none = run_riggerctl("estop-none", {"estop", "--timeout", "1"});
-  EXPECT_EQ(none.first, 3) << none.second;
-  EXPECT_NE(none.second.find("nothing was stopped"), std::string::npos) << none.second;
+  const auto none = run_riggerctl(cell_, "estop-none", {"estop", "--timeout", "1"});
+  EXPECT_EQ(none.code(), 3) << none.output;
+  EXPECT_NE(none.output.find("nothing was stopped"), std::string::npos) << none.output;
   start();
   safety::SafeStopWriter stops(cell_.participant());
   ASSERT_TRUE(twist_->wait_for_readers(1, 5s));
@@ -160,9 +152,9 @@ TEST_F(CellSimProcessTest, SafeStopOfTheRobotStopsTheArmUntilItsReset) {
   EXPECT_LT((robot().tool_position_m - held).norm(), 1e-3) << "the arm moved while stopped";
 
   // The reset, from the command line: the next fresh commands move it again.
-  const auto reset = run_riggerctl("estop-reset", {"estop", "--reset", "robot"});
-  EXPECT_EQ(reset.first, 0) << reset.second;
-  EXPECT_NE(reset.second.find("safe stop reset: robot (1 device acknowledged"), std::string::npos) << reset.second;
+  const auto reset = run_riggerctl(cell_, "estop-reset", {"estop", "--reset", "robot"});
+  EXPECT_EQ(reset.code(), 0) << reset.output;
+  EXPECT_NE(reset.output.find("safe stop reset: robot (1 device acknowledged"), std::string::npos) << reset.output;
   EXPECT_TRUE(cell_.wait_until([&] { return robot().tool_position_m.z() > held.z() + 0.01; }, 5s));
   twist_velocity_.reset();
 }
@@ -349,37 +341,37 @@ TEST_F(CellSimProcessTest, FaultInjectionIsAcknowledgedAndBadControlsRefused) {
 TEST_F(CellSimProcessTest, RiggerctlSimInjectsFaultsAndSaysWhenThereIsNoSimulator) {
   int runs = 0;
   const auto riggerctl = [&](const std::vector<std::string>& args) {
-    return run_riggerctl("riggerctl-" + std::to_string(++runs), args);
+    return run_riggerctl(cell_, "riggerctl-" + std::to_string(++runs), args);
   };
   const auto none = riggerctl({"sim", "--timeout", "1", "reset"});
-  EXPECT_EQ(none.first, 3) << none.second;
-  EXPECT_NE(none.second.find("no simulated cell on domain"), std::string::npos) << none.second;
+  EXPECT_EQ(none.code(), 3) << none.output;
+  EXPECT_NE(none.output.find("no simulated cell on domain"), std::string::npos) << none.output;
 
   start();
   ASSERT_TRUE(cell_.wait_until([&] { return sim_->has_status() && sim_->latest().plc_link_up; }, 10s));
   const auto cut = riggerctl({"sim", "plc-link", "off"});
-  EXPECT_EQ(cut.first, 0) << cut.second;
+  EXPECT_EQ(cut.code(), 0) << cut.output;
   EXPECT_TRUE(cell_.wait_until([&] { return !sim_->latest().plc_link_up; }, 5s));
-  EXPECT_EQ(riggerctl({"sim", "plc-link", "on"}).first, 0);
+  EXPECT_EQ(riggerctl({"sim", "plc-link", "on"}).code(), 0);
   EXPECT_TRUE(cell_.wait_until([&] { return sim_->latest().plc_link_up; }, 5s));
 
-  EXPECT_EQ(riggerctl({"sim", "holding-force", "10"}).first, 0);
+  EXPECT_EQ(riggerctl({"sim", "holding-force", "10"}).code(), 0);
   EXPECT_TRUE(cell_.wait_until([&] { return std::abs(sim_->latest().gripper_holding_force_n - 10.0) < 1e-9; }, 5s));
-  EXPECT_EQ(riggerctl({"sim", "load-force", "0", "20", "0"}).first, 0);
+  EXPECT_EQ(riggerctl({"sim", "load-force", "0", "20", "0"}).code(), 0);
   EXPECT_TRUE(cell_.wait_until(
       [&] { return (sim_->latest().load_external_force_n - Eigen::Vector3d(0, 20, 0)).norm() < 1e-9; }, 5s));
 
   // The simulator's refusal and a usage error are told apart, and neither changes anything.
   const auto refused = riggerctl({"sim", "load-force", "0", "nan", "0"});
-  EXPECT_EQ(refused.first, 1) << refused.second;
-  EXPECT_NE(refused.second.find("refused load-force"), std::string::npos) << refused.second;
-  EXPECT_NE(refused.second.find("not finite"), std::string::npos) << refused.second;
+  EXPECT_EQ(refused.code(), 1) << refused.output;
+  EXPECT_NE(refused.output.find("refused load-force"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("not finite"), std::string::npos) << refused.output;
   const auto usage = riggerctl({"sim", "holding-force", "strong"});
-  EXPECT_EQ(usage.first, 2) << usage.second;
-  EXPECT_NE(usage.second.find("expected a force in N"), std::string::npos) << usage.second;
+  EXPECT_EQ(usage.code(), 2) << usage.output;
+  EXPECT_NE(usage.output.find("expected a force in N"), std::string::npos) << usage.output;
   EXPECT_EQ(sim_->latest().load_external_force_n, Eigen::Vector3d(0, 20, 0));
 
-  EXPECT_EQ(riggerctl({"sim", "reset"}).first, 0);
+  EXPECT_EQ(riggerctl({"sim", "reset"}).code(), 0);
   EXPECT_TRUE(cell_.wait_until([&] { return sim_->latest().load_external_force_n.isZero(); }, 5s));
 }
 

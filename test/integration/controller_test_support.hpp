@@ -80,12 +80,6 @@ inline bool task_terminal(int s) {
 }
 
 /// A finished riggerctl run: exit status and everything it printed (stdout and stderr interleaved).
-struct CtlResult {
-  std::optional<ExitStatus> status;
-  std::string output;
-  int code() const { return status && status->exited ? status->code : -1; }
-};
-
 class ControllerTest : public MultiProcessTest {
  protected:
   void SetUp() override {

@@ -303,34 +303,28 @@ TEST_F(CraneGatewayTest, EmergencyStopHoldsTheCraneUntilReset) {
 // so; while the fault's cause is there (the e-stop still pressed) it says the fault stays and exits 1; once
 // the cause is gone it clears the fault, and the gateway's log names who reset it.
 TEST_F(CraneGatewayTest, RiggerctlCraneResetClearsALatchedFaultOnlyOnceItsCauseIsGone) {
-  const auto ctl = [&](const std::string& name, const std::vector<std::string>& args) {
-    auto p = start_riggerctl(cell_, name, args);
-    EXPECT_TRUE(cell_.wait_until([&] { return !p->running(); }, 20s)) << name << " did not end";
-    const auto status = p->wait(1s);
-    return std::make_pair(status && status->exited ? status->code : -1, p->log());
-  };
-  const auto alone = ctl("reset-no-gateway", {"crane", "reset", "--timeout", "0.5"});
-  EXPECT_EQ(alone.first, 3) << alone.second;
-  EXPECT_NE(alone.second.find("no crane gateway"), std::string::npos) << alone.second;
+  const auto alone = run_riggerctl(cell_, "reset-no-gateway", {"crane", "reset", "--timeout", "0.5"});
+  EXPECT_EQ(alone.code(), 3) << alone.output;
+  EXPECT_NE(alone.output.find("no crane gateway"), std::string::npos) << alone.output;
 
   start();
   take_control();
   const auto pressed = sim_->send(rigger_sim_SIM_ESTOP, true);
   ASSERT_TRUE(pressed && pressed->first);
   ASSERT_TRUE(cell_.wait_until([&] { return crane_.back().estop && crane_.back().fault; }, 2s));
-  const auto refused = ctl("reset-while-pressed", {"crane", "reset", "--timeout", "1.5"});
-  EXPECT_EQ(refused.first, 1) << refused.second;
-  EXPECT_NE(refused.second.find("still reports fault"), std::string::npos) << refused.second;
-  EXPECT_NE(refused.second.find("e-stop latched"), std::string::npos) << refused.second;
+  const auto refused = run_riggerctl(cell_, "reset-while-pressed", {"crane", "reset", "--timeout", "1.5"});
+  EXPECT_EQ(refused.code(), 1) << refused.output;
+  EXPECT_NE(refused.output.find("still reports fault"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("e-stop latched"), std::string::npos) << refused.output;
   EXPECT_TRUE(crane_.back().fault);
 
   const auto released = sim_->send(rigger_sim_SIM_ESTOP, false);
   ASSERT_TRUE(released && released->first);
   EXPECT_TRUE(crane_.back().fault) << "the PLC latches the fault until a reset";
-  const auto reset = ctl("reset", {"crane", "reset"});
-  EXPECT_EQ(reset.first, 0) << reset.second;
-  EXPECT_NE(reset.second.find("crane reset by riggerctl:"), std::string::npos) << reset.second;
-  EXPECT_NE(reset.second.find("no fault (was: fault"), std::string::npos) << reset.second;
+  const auto reset = run_riggerctl(cell_, "reset", {"crane", "reset"});
+  EXPECT_EQ(reset.code(), 0) << reset.output;
+  EXPECT_NE(reset.output.find("crane reset by riggerctl:"), std::string::npos) << reset.output;
+  EXPECT_NE(reset.output.find("no fault (was: fault"), std::string::npos) << reset.output;
   ASSERT_TRUE(cell_.wait_until([&] { return !crane_.back().fault; }, 2s)) << crane_.back().fault_text;
   const std::string gateway_log = cell_.process("crane_gateway").log();
   EXPECT_NE(gateway_log.find("crane control kind=reset seq=1 source=riggerctl:"), std::string::npos) << gateway_log;

@@ -38,7 +38,7 @@ void GuideCellTest::guide(const std::string& recipe, std::vector<std::string> ru
   // The 'done' comes 12 s after the prompt: long after the jog script (3 s still, 4 s moving) has ended.
   rules.insert(rules.begin(), "confirm:object=load:done@12");
   ScenarioCell s(cell_, rules);
-  WorldQuery world(cell_);  // made now: discovered long before its question
+  WorldQuery world(cell_);
   ASSERT_TRUE(s.ready()) << "not every service came up";
   const cell::CellFile cell = cell::load_cell_file(repo_file("deploy/cell/simulated_cell.json"));
   // The joystick's frame is the robot base frame (riggerctl jog): +x there, in the world.

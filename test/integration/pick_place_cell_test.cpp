@@ -70,7 +70,7 @@ class PickPlaceCellTest : public MultiProcessTest {};
 TEST_F(PickPlaceCellTest, PickAndPlaceRecipeMovesThePartInPhysics) {
   const Eigen::Isometry3d goal = place_goal_world_part();
   ScenarioCell s(cell_);
-  WorldQuery world(cell_);  // made now: discovered long before its question
+  WorldQuery world(cell_);
   ASSERT_TRUE(s.ready()) << "not every service came up";
   ASSERT_TRUE(cell_.wait_until([&] { return s.truth("part").has_value(); }, 10s)) << "no ground truth of the part";
   const Eigen::Isometry3d start = *s.truth("part");

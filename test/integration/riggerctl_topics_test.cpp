@@ -25,12 +25,6 @@ namespace {
 using namespace std::chrono_literals;
 using json = nlohmann::ordered_json;  // keeps the fields in the order printed
 
-struct CtlResult {
-  std::optional<ExitStatus> status;
-  std::string output;
-  int code() const { return status && status->exited ? status->code : -1; }
-};
-
 /// The lines of `output` that are JSON objects (riggerctl's stdout and stderr share one log file).
 std::vector<json> json_lines(const std::string& output) {
   std::vector<json> out;
@@ -60,13 +54,7 @@ class RiggerctlTopicsTest : public MultiProcessTest {
 
   CtlResult ctl(const std::string& name, const std::vector<std::string>& args,
                 std::chrono::milliseconds timeout = 30s) {
-    auto p = start_riggerctl(cell_, name, args);
-    cell_.wait_until([&] { return !p->running(); }, timeout);
-    CtlResult r;
-    r.status = p->wait(1s);
-    if (!r.status) p->signal(SIGKILL);
-    r.output = p->log();
-    return r;
+    return run_riggerctl(cell_, name, args, timeout);
   }
 };
 

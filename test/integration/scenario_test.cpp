@@ -30,6 +30,23 @@ class ScenarioTest : public MultiProcessTest {
     return rest_s;
   }
 
+  /// Where the load was screwed on: its true pose against the insertion pose when the release started
+  /// (once released it hangs from the rope again). Printed, and within 5 mm and 1 degree.
+  void expect_screwed_on(const ScenarioCell& s) {
+    const auto error = s.insertion_error_at_start("release and retreat");
+    ASSERT_TRUE(error.has_value()) << "the release never started";
+    std::printf("  load vs insertion pose when screwed on (before the release): %.1f mm, %.2f deg\n",
+                error->first * 1000.0, error->second * 180.0 / M_PI);
+    EXPECT_LT(error->first, 0.005) << "the load is not where the insertion puts it";
+    EXPECT_LT(error->second, 1.0 * M_PI / 180.0);
+  }
+
+  /// Pushes the load's centre with a constant force (world frame, N; zero removes it), as `riggerctl sim
+  /// load-force` does; true once the simulator acknowledged it.
+  static bool push_load(ScenarioCell& s, const Eigen::Vector3d& force_n) {
+    return s.sim().send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, force_n).value_or(std::make_pair(false, "")).first;
+  }
+
   void print_report(const ScenarioCell& s, const std::string& title) {
     std::printf("--- %s: task %s after %.1f s\n%s", title.c_str(), s.task_code().empty() ? "ended" : s.task_code().c_str(),
                 s.task_seconds(), s.durations().c_str());
@@ -52,12 +69,7 @@ TEST_F(ScenarioTest, CraneInsertSucceeds) {
   // Where the load ends: screwed on, i.e. as the robot lets go after the operator's screws. (The physics
   // has no screws, so once released the load hangs from the rope again and may drift by the rope's lean:
   // printed, not asserted.)
-  const auto error = s.insertion_error_at_start("release and retreat");
-  ASSERT_TRUE(error.has_value());
-  std::printf("  load vs insertion pose when screwed on (before the release): %.1f mm, %.2f deg\n",
-              error->first * 1000.0, error->second * 180.0 / M_PI);
-  EXPECT_LT(error->first, 0.005) << "the load is not where the insertion puts it";
-  EXPECT_LT(error->second, 1.0 * M_PI / 180.0);
+  expect_screwed_on(s);
   EXPECT_TRUE(s.ever_held());
   EXPECT_FALSE(s.gripper_energized()) << "the robot should have let go at the end";
   // Every skill ran once: no retries, no recovery branch.
@@ -88,14 +100,9 @@ TEST_F(ScenarioTest, SlipFiresTheYankMonitorAndTheAttachIsRetried) {
   // load's 40 kg and the arm's compliance spread it over ~30 ms, ~3,800 N/s through the monitor's 10 Hz
   // filter, above the recipe's 2,000 N/s (an 80 N pull measured 1,006 N/s; the magnet's own grip on
   // contact ~1,000 N/s).
-  ASSERT_TRUE(s.sim()
-                  .send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, Eigen::Vector3d(300.0, 0.0, 0.0))
-                  .value_or(std::make_pair(false, ""))
-                  .first);
+  ASSERT_TRUE(push_load(s, Eigen::Vector3d(300.0, 0.0, 0.0)));
   ASSERT_TRUE(s.wait_node("yank monitor", rigger_task_NODE_FAILURE, 20s)) << s.task_summary();
-  ASSERT_TRUE(s.sim().send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, Eigen::Vector3d::Zero())
-                  .value_or(std::make_pair(false, ""))
-                  .first);
+  ASSERT_TRUE(push_load(s, Eigen::Vector3d::Zero()));
   // The magnet weakened to 10 N: the moments of holding a swinging 40 kg load peel it off.
   ASSERT_TRUE(s.sim().send(rigger_sim_SIM_SET_HOLDING_FORCE, true, 10.0).value_or(std::make_pair(false, "")).first);
   ASSERT_TRUE(cell_.wait_until([&] { return !s.gripper_holding(); }, 10s)) << "the load did not slip";
@@ -141,12 +148,7 @@ TEST_F(ScenarioTest, CraneInsertSucceedsWithTheRobotAndCameraBehindTheRos2Bridge
   ASSERT_TRUE(s->wait_task_end(kTaskTimeout)) << "the task did not end in time: " << s->task_summary();
   print_report(*s, "crane insert behind the ROS 2 bridge");
   ASSERT_EQ(s->task_state(), rigger_task_TASK_SUCCEEDED) << s->task_summary();
-  const auto error = s->insertion_error_at_start("release and retreat");
-  ASSERT_TRUE(error.has_value());
-  std::printf("  load vs insertion pose when screwed on (before the release): %.1f mm, %.2f deg\n",
-              error->first * 1000.0, error->second * 180.0 / M_PI);
-  EXPECT_LT(error->first, 0.005);
-  EXPECT_LT(error->second, 1.0 * M_PI / 180.0);
+  expect_screwed_on(*s);
   // Everything the robot felt and the camera saw came through the bridge: its log counts what it forwarded.
   cell_.stop("ros2_bridge", SIGINT, 10s);
   const std::string log = cell_.process("ros2_bridge").log();
@@ -163,15 +165,9 @@ TEST_F(ScenarioTest, APauseDuringTheInsertionHoldsRobotAndCraneAndResumeComplete
   ScenarioCell s(cell_);
   ASSERT_TRUE(s.ready()) << "not every service came up";
   ASSERT_TRUE(run_until_insertion_moves(this, cell_, s, 0.05)) << s.task_summary();
-  const auto ctl = [&](const std::string& name, const std::vector<std::string>& args) {
-    auto p = start_riggerctl(cell_, name, args);
-    EXPECT_TRUE(cell_.wait_until([&] { return !p->running(); }, 20s)) << name << " did not end";
-    const auto status = p->wait(1s);
-    return std::make_pair(status && status->exited ? status->code : -1, p->log());
-  };
   const auto paused_at = Clock::now();
-  const auto paused = ctl("pause", {"pause", "crane-insert"});
-  ASSERT_EQ(paused.first, 0) << paused.second;
+  const CtlResult paused = run_riggerctl(cell_, "pause", {"pause", "crane-insert"});
+  ASSERT_EQ(paused.code(), 0) << paused.output;
   const auto after = s.motion_after_stop(200);
   const double rest_s = std::chrono::duration<double>(after.rest_at - paused_at).count();
   std::printf("  paused: robot and crane at rest %.2f s after riggerctl pause was started; then over 2 s: tool "
@@ -185,17 +181,12 @@ TEST_F(ScenarioTest, APauseDuringTheInsertionHoldsRobotAndCraneAndResumeComplete
   EXPECT_TRUE(s.gripper_holding()) << "the load must stay held";
   EXPECT_EQ(s.task_state(), rigger_task_TASK_PAUSED) << s.task_summary();
 
-  const auto resumed = ctl("resume", {"resume", "crane-insert"});
-  ASSERT_EQ(resumed.first, 0) << resumed.second;
+  const CtlResult resumed = run_riggerctl(cell_, "resume", {"resume", "crane-insert"});
+  ASSERT_EQ(resumed.code(), 0) << resumed.output;
   ASSERT_TRUE(s.wait_task_end(kTaskTimeout)) << s.task_summary();
   print_report(s, "paused during the insertion, resumed");
   ASSERT_EQ(s.task_state(), rigger_task_TASK_SUCCEEDED) << s.task_summary();
-  const auto error = s.insertion_error_at_start("release and retreat");
-  ASSERT_TRUE(error.has_value());
-  std::printf("  load vs insertion pose when screwed on (before the release): %.1f mm, %.2f deg\n",
-              error->first * 1000.0, error->second * 180.0 / M_PI);
-  EXPECT_LT(error->first, 0.005);
-  EXPECT_LT(error->second, 1.0 * M_PI / 180.0);
+  expect_screwed_on(s);
 }
 
 // The recovery branch run to success: a 200 N push on the load during the insertion trips the force
@@ -206,14 +197,9 @@ TEST_F(ScenarioTest, ForceDuringInsertionBacksOffAndTheOperatorsRetrySucceeds) {
   ScenarioCell s(cell_, {"decision:retry@0.5"});
   ASSERT_TRUE(s.ready()) << "not every service came up";
   ASSERT_TRUE(run_until_insertion_moves(this, cell_, s, 0.05)) << s.task_summary();
-  ASSERT_TRUE(s.sim()
-                  .send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, Eigen::Vector3d(200.0, 0.0, 0.0))
-                  .value_or(std::make_pair(false, ""))
-                  .first);
+  ASSERT_TRUE(push_load(s, Eigen::Vector3d(200.0, 0.0, 0.0)));
   ASSERT_TRUE(s.wait_node("force monitor", rigger_task_NODE_FAILURE, 20s)) << s.task_summary();
-  ASSERT_TRUE(s.sim().send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, Eigen::Vector3d::Zero())
-                  .value_or(std::make_pair(false, ""))
-                  .first);
+  ASSERT_TRUE(push_load(s, Eigen::Vector3d::Zero()));
   ASSERT_TRUE(s.wait_task_end(kTaskTimeout)) << s.task_summary();
   print_report(s, "force during insertion, back off, operator retries");
   ASSERT_EQ(s.task_state(), rigger_task_TASK_SUCCEEDED) << s.task_summary();
@@ -226,12 +212,7 @@ TEST_F(ScenarioTest, ForceDuringInsertionBacksOffAndTheOperatorsRetrySucceeds) {
   EXPECT_EQ(s.node("force monitor")->state, rigger_task_NODE_FAILURE);
   EXPECT_EQ(s.node("force monitor")->code, "FORCE_LIMIT");
   EXPECT_EQ(s.node("insert visually guided")->state, rigger_task_NODE_STOPPED);
-  const auto error = s.insertion_error_at_start("release and retreat");
-  ASSERT_TRUE(error.has_value());
-  std::printf("  load vs insertion pose when screwed on (before the release): %.1f mm, %.2f deg\n",
-              error->first * 1000.0, error->second * 180.0 / M_PI);
-  EXPECT_LT(error->first, 0.005);
-  EXPECT_LT(error->second, 1.0 * M_PI / 180.0);
+  expect_screwed_on(s);
   EXPECT_FALSE(s.gripper_energized());
 }
 

@@ -1,9 +1,9 @@
 #pragma once
 /// @file
 /// What the world model says of an entity, asked by a test through a client of its own (the one every
-/// service uses, rigger/world_client), on the test's event loop. Make it when the cell starts: a client
-/// made just before its first question may ask before the world model's reply writer has discovered it,
-/// and a reply written before that match is lost.
+/// service uses, rigger/world_client), on the test's event loop. Made when the cell starts, as services
+/// make theirs, so that discovery is long done when it asks (the client also asks again when a reply was
+/// lost to a discovery still under way).
 
 #include <chrono>
 #include <optional>

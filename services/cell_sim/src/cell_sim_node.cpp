@@ -251,36 +251,34 @@ void CellSimNode::on_ros2_twist() {
 }
 
 void CellSimNode::take_twist(const rigger_sensing_TwistCommand& c) {
-  {
-    const WallTime now = std::chrono::system_clock::now();
-    const std::string frame = dds::to_string(c.header.frame_id);
-    const dds::Vector6d twist = dds::to_domain(c.twist);
-    std::string refusal;
-    if (!frame.empty() && frame != kBaseFrame) {
-      refusal = "frame '" + frame + "' is not the base frame '" + kBaseFrame + "'";
-    } else if (!twist.allFinite()) {
-      refusal = "twist not finite";
-    } else if (safe_stop_->active()) {
-      refusal = "safe stop in force: " + safe_stop_->describe();
-    } else {
-      const GateVerdict verdict = twist_gate_.offer(dds::to_domain(c.header.stamp), c.seq, c.timeout_s, now);
-      if (verdict == GateVerdict::kAccepted) {
-        TwistCommand command;
-        command.twist_base.linear_mps = twist.head<3>();
-        command.twist_base.angular_rad_per_s = twist.tail<3>();
-        command.expires = *twist_gate_.expiry();
-        command.seq = c.seq;
-        command.source = dds::to_string(c.source);
-        runner_->submit(command);
-        return;
-      }
-      refusal = std::string(verdict_name(verdict));
+  const WallTime now = std::chrono::system_clock::now();
+  const std::string frame = dds::to_string(c.header.frame_id);
+  const dds::Vector6d twist = dds::to_domain(c.twist);
+  std::string refusal;
+  if (!frame.empty() && frame != kBaseFrame) {
+    refusal = "frame '" + frame + "' is not the base frame '" + kBaseFrame + "'";
+  } else if (!twist.allFinite()) {
+    refusal = "twist not finite";
+  } else if (safe_stop_->active()) {
+    refusal = "safe stop in force: " + safe_stop_->describe();
+  } else {
+    const GateVerdict verdict = twist_gate_.offer(dds::to_domain(c.header.stamp), c.seq, c.timeout_s, now);
+    if (verdict == GateVerdict::kAccepted) {
+      TwistCommand command;
+      command.twist_base.linear_mps = twist.head<3>();
+      command.twist_base.angular_rad_per_s = twist.tail<3>();
+      command.expires = *twist_gate_.expiry();
+      command.seq = c.seq;
+      command.source = dds::to_string(c.source);
+      runner_->submit(command);
+      return;
     }
-    ++twists_refused_;
-    if (log_allowed(last_twist_log_)) {
-      ctx_.log->warn("twist command ignored seq={} source={} reason={} refused_total={}", c.seq,
-                     dds::to_string(c.source), refusal, twists_refused_);
-    }
+    refusal = std::string(verdict_name(verdict));
+  }
+  ++twists_refused_;
+  if (log_allowed(last_twist_log_)) {
+    ctx_.log->warn("twist command ignored seq={} source={} reason={} refused_total={}", c.seq,
+                   dds::to_string(c.source), refusal, twists_refused_);
   }
 }
 

@@ -24,6 +24,13 @@ namespace {
 
 using namespace std::chrono_literals;
 
+/// The bridge with the shipped configuration (deploy/config/ros2_bridge.json), READY.
+bool start_shipped_bridge(Cell& cell) {
+  cell.start("ros2_bridge", "ros2_bridge",
+             {"--id", "ros2_bridge", "--config", std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json"});
+  return cell.wait_ready({"ros2_bridge"}, 10s);
+}
+
 struct Seen {
   double linear_x = 0.0;
   std::chrono::steady_clock::time_point at;
@@ -31,9 +38,7 @@ struct Seen {
 
 TEST(Ros2BridgeSafeStopTest, AStopSendsAZeroTwistAndHoldsTheStreamUntilItsReset) {
   Cell cell;
-  cell.start("ros2_bridge", "ros2_bridge",
-             {"--id", "ros2_bridge", "--config", std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json"});
-  ASSERT_TRUE(cell.wait_ready({"ros2_bridge"}, 10s)) << cell.logs();
+  ASSERT_TRUE(start_shipped_bridge(cell)) << cell.logs();
   dds::Writer<rigger_sensing_TwistCommand> commands(cell.participant(), protocol::robot::kCmdTwist);
   dds::Reader<geometry_msgs_msg_dds__TwistStamped_> servo(cell.participant(), "rt/servo_node/delta_twist_cmds",
                                                           ros2::qos::reliable_default());
@@ -81,9 +86,7 @@ TEST(Ros2BridgeSafeStopTest, AStopSendsAZeroTwistAndHoldsTheStreamUntilItsReset)
 
 TEST(Ros2BridgeImageTest, ARos2CameraImageArrivesAsGreyWithItsStampAndAStaleOneDoesNot) {
   Cell cell;
-  cell.start("ros2_bridge", "ros2_bridge",
-             {"--id", "ros2_bridge", "--config", std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json"});
-  ASSERT_TRUE(cell.wait_ready({"ros2_bridge"}, 10s)) << cell.logs();
+  ASSERT_TRUE(start_shipped_bridge(cell)) << cell.logs();
   dds::Writer<sensor_msgs_msg_dds__Image_> camera(cell.participant(), "rt/camera/image_raw", ros2::qos::sensor_data());
   dds::Reader<rigger_vision_Image> images(cell.participant(), protocol::vision::kCameraImage);
   ASSERT_TRUE(camera.wait_for_readers(1, 5s) && images.wait_for_writers(1, 5s));

@@ -168,4 +168,15 @@ std::unique_ptr<ChildProcess> start_riggerctl(Cell& cell, const std::string& nam
       cell.log_dir() + "/" + name + ".log", [loop] { loop->post([] {}); });
 }
 
+CtlResult run_riggerctl(Cell& cell, const std::string& name, const std::vector<std::string>& args,
+                        std::chrono::milliseconds timeout) {
+  auto p = start_riggerctl(cell, name, args);
+  cell.wait_until([&] { return !p->running(); }, timeout);
+  CtlResult r;
+  r.status = p->wait(std::chrono::seconds(1));
+  if (!r.status) p->signal(SIGKILL);
+  r.output = p->log();
+  return r;
+}
+
 }  // namespace rigger::testing

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -77,6 +78,18 @@ class Cell {
 /// code may be the expected one): its output goes to <log dir>/<name>.log, and its end wakes the cell's
 /// loop, so `cell.wait_until([&] { return !p->running(); }, …)` returns at once.
 std::unique_ptr<ChildProcess> start_riggerctl(Cell& cell, const std::string& name, const std::vector<std::string>& args);
+
+/// How a riggerctl run ended.
+struct CtlResult {
+  std::optional<ExitStatus> status;  ///< none: it had not ended by the timeout (it was killed)
+  std::string output;                ///< its stdout and stderr
+  int code() const { return status && status->exited ? status->code : -1; }
+};
+
+/// Runs riggerctl as start_riggerctl() does, to its end, the cell's loop running meanwhile (so the test's
+/// readers keep up); one still running after `timeout` is killed and its result has no status.
+CtlResult run_riggerctl(Cell& cell, const std::string& name, const std::vector<std::string>& args,
+                        std::chrono::milliseconds timeout = std::chrono::seconds(30));
 
 /// GoogleTest fixture owning a Cell: stops every process in TearDown, expects clean exits, and prints
 /// the logs of all processes when the test failed.
