@@ -6,6 +6,8 @@
 #include <limits>
 #include <sstream>
 
+#include "rigger/base/bounded_json.hpp"
+
 namespace rigger {
 namespace {
 
@@ -110,19 +112,24 @@ Config::Config(std::shared_ptr<Document> doc, const nlohmann::json* node, std::s
 Config Config::load(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw ConfigError(path, "", "cannot open the file (does it exist and is it readable?)");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse(ss.str(), path);
+  in.close();
+  return from_parsed(parse_json_file_bounded(path, kConfigLimits), path);
 }
 
 Config Config::parse(const std::string& text, const std::string& origin) {
+  return from_parsed(parse_json_bounded(text, kConfigLimits), origin);
+}
+
+Config Config::from_parsed(JsonParseResult parsed, const std::string& origin) {
+  if (!parsed.ok()) {
+    const JsonParseError& e = *parsed.error;
+    throw ConfigError(origin, e.pointer,
+                      "not valid JSON at line " + std::to_string(e.line) + ", column " + std::to_string(e.column) +
+                          ": " + e.message);
+  }
   auto doc = std::make_shared<Document>();
   doc->file = origin;
-  try {
-    doc->root = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ConfigError(origin, "", std::string("not valid JSON: ") + e.what());
-  }
+  doc->root = std::move(parsed.value);
   if (!doc->root.is_object()) throw ConfigError(origin, "", "expected a JSON object at the top, got " + type_name(doc->root));
   const nlohmann::json* root = &doc->root;
   return Config(std::move(doc), root, "");

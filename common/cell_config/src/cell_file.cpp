@@ -10,6 +10,7 @@
 #include <set>
 #include <utility>
 
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/cell_config/json_text.hpp"
 
 namespace rigger::cell {
@@ -518,67 +519,6 @@ class EntityParser {
   bool has_step_ = false;                           // the entity being parsed has a STEP model
 };
 
-// The parse callback bounds nesting depth while parsing (DESIGN 6) and rejects duplicate object keys,
-// which nlohmann::json would otherwise silently resolve to the last one.
-class ParseGuard {
- public:
-  struct Level {
-    bool is_array = false;
-    std::size_t index = 0;
-    std::string key;
-    std::set<std::string> keys;
-  };
-
-  explicit ParseGuard(const std::string& source) : source_(source) {}
-
-  bool operator()(int depth, json::parse_event_t event, json& parsed) {
-    if (depth > kMaxCellFileDepth) {
-      throw CellFileError(source_, pointer(), "at most " + std::to_string(kMaxCellFileDepth) + " levels of nesting");
-    }
-    switch (event) {
-      case json::parse_event_t::object_start:
-        levels_.push_back(Level{});
-        break;
-      case json::parse_event_t::array_start:
-        levels_.push_back(Level{true, 0, {}, {}});
-        break;
-      case json::parse_event_t::key: {
-        Level& level = levels_.back();
-        level.key = parsed.get<std::string>();
-        if (!level.keys.insert(level.key).second) {
-          throw CellFileError(source_, pointer(), "unique keys in an object", "duplicate key \"" + level.key + "\"");
-        }
-        break;
-      }
-      case json::parse_event_t::object_end:
-      case json::parse_event_t::array_end:
-        if (!levels_.empty()) levels_.pop_back();
-        advance();
-        break;
-      case json::parse_event_t::value:
-        advance();
-        break;
-    }
-    return true;
-  }
-
- private:
-  void advance() {
-    if (!levels_.empty() && levels_.back().is_array) ++levels_.back().index;
-  }
-
-  std::string pointer() const {
-    std::string result;
-    for (const Level& level : levels_) {
-      result = level.is_array ? result + "/" + std::to_string(level.index) : join_pointer(result, level.key);
-    }
-    return result;
-  }
-
-  const std::string& source_;
-  std::vector<Level> levels_;
-};
-
 }  // namespace
 
 CellFileError::CellFileError(std::string file, std::string pointer, std::string expected, std::string got)
@@ -686,13 +626,16 @@ CellFile parse_cell_file(std::string_view text, const std::string& source) {
     throw CellFileError(source, "", "at most " + std::to_string(kMaxCellFileBytes) + " bytes",
                         std::to_string(text.size()) + " bytes");
   }
-  json document;
-  try {
-    document = json::parse(text.begin(), text.end(), ParseGuard(source));
-  } catch (const json::exception& error) {
-    throw CellFileError(source, "", "valid JSON", error.what());
+  // The one bounded parser (rigger/base/bounded_json.hpp) refuses deep nesting and duplicate keys
+  // (which nlohmann::json would silently resolve to the last one) while it parses.
+  const JsonParseResult parsed = parse_json_bounded(text, JsonLimits{kMaxCellFileBytes, static_cast<std::size_t>(kMaxCellFileDepth)});
+  if (!parsed.ok()) {
+    const JsonParseError& error = *parsed.error;
+    throw CellFileError(source, error.pointer, "valid JSON",
+                        "line " + std::to_string(error.line) + ", column " + std::to_string(error.column) + ": " +
+                            error.message);
   }
-  return cell_file_from_json(document, source);
+  return cell_file_from_json(parsed.value, source);
 }
 
 CellFile cell_file_from_json(const json& document, const std::string& source) {

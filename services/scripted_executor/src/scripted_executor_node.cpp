@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/base/install.hpp"
 #include "rigger/base/time.hpp"
 
@@ -17,13 +18,9 @@ namespace {
 
 nlohmann::json load_library(const Config& config) {
   const std::filesystem::path path = config_path(config, "library_file", "test/data/scripted_skill_library.json");
-  std::ifstream in(path);
-  if (!in) config.fail("library_file", "cannot open " + path.string());
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    config.fail("library_file", path.string() + " is not JSON: " + e.what());
-  }
+  auto parsed = parse_json_file_bounded(path);
+  if (!parsed.ok()) config.fail("library_file", parsed.error->to_string());
+  return std::move(parsed.value);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "rules.hpp"
 
+#include "rigger/base/bounded_json.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -149,12 +151,18 @@ Rule parse_rule_argument(const std::string& text) {
   return parsed;
 }
 
+// A prompt's details arrive over DDS from another process: parsed bounded, anything else is no details.
+json details_of(const Prompt& prompt) {
+  auto parsed = parse_json_bounded(prompt.details_json, JsonLimits{64U * 1024U, 16});
+  return parsed.ok() ? std::move(parsed.value) : json();
+}
+
 bool matches(const Rule& rule, const Prompt& prompt) {
   if (!rule.kind.empty() && rule.kind != prompt.kind) return false;
   if (!rule.task_id.empty() && rule.task_id != prompt.task_id) return false;
   if (!rule.node_id.empty() && rule.node_id != prompt.node_id) return false;
   if (rule.match_details.empty()) return true;
-  const json details = json::parse(prompt.details_json, nullptr, /*allow_exceptions=*/false);
+  const json details = details_of(prompt);
   if (!details.is_object()) return false;
   for (const auto& [key, expected] : rule.match_details.items()) {
     const auto it = details.find(key);
@@ -177,7 +185,7 @@ std::optional<std::string> choose_answer(const Rule& rule, const Prompt& prompt)
 
 std::string describe(const Prompt& prompt) {
   std::string line = prompt.kind.empty() ? "(no kind)" : prompt.kind;
-  const json details = json::parse(prompt.details_json, nullptr, /*allow_exceptions=*/false);
+  const json details = details_of(prompt);
   bool any_detail = false;
   if (details.is_object()) {
     // The screw prompt's well-known fields first, in reading order, then the rest as key=value.

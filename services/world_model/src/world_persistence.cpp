@@ -5,6 +5,7 @@
 
 #include <sqlite3.h>
 
+#include "rigger/base/bounded_json.hpp"
 #include "world_json.hpp"
 
 namespace rigger::world {
@@ -258,7 +259,9 @@ PersistedWorld WorldDatabase::load() const {
     const auto revision = sqlite3_column_int64(rows.get(), 1);
     const std::string text = column_text(rows.get(), 2);
     try {
-      Entity entity = entity_from_state_json(json::parse(text));
+      auto parsed = parse_json_bounded(text);
+      if (!parsed.ok()) throw std::invalid_argument(parsed.error->to_string());
+      Entity entity = entity_from_state_json(parsed.value);
       if (entity.id != id) throw std::invalid_argument("the state names entity \"" + entity.id + "\"");
       world.entities.push_back(std::move(entity));
     } catch (const std::exception& error) {

@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/base/install.hpp"
 #include "rigger/base/logging.hpp"
 #include "rigger/compose/compose_file.hpp"
@@ -569,9 +570,9 @@ void console_logins(const ComposeFile& file) {
   std::string address = "127.0.0.1", users = "/var/tmp/rigger/console-users.json";
   int port = 8080;
   if (!console->config.empty()) {
-    std::ifstream in(console->config);
-    const auto c = nlohmann::json::parse(in, nullptr, false);
-    if (c.is_object()) {
+    const auto parsed = parse_json_file_bounded(console->config);
+    const auto& c = parsed.value;
+    if (parsed.ok() && c.is_object()) {
       address = c.value("address", address);
       port = c.value("port", port);
       users = c.value("users_file", users);

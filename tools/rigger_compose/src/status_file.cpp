@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "rigger/base/bounded_json.hpp"
+
 namespace rigger::compose {
 namespace {
 
@@ -78,7 +80,9 @@ std::string to_json_text(const SupervisorStatus& st) {
 
 SupervisorStatus status_from_json_text(const std::string& text) {
   try {
-    const auto j = nlohmann::json::parse(text);
+    auto parsed = parse_json_bounded(text, JsonLimits{1024U * 1024U, 8});
+    if (!parsed.ok()) throw std::runtime_error("malformed status file: " + parsed.error->to_string());
+    const auto& j = parsed.value;
     SupervisorStatus st;
     st.supervisor_pid = j.at("supervisor_pid").get<int>();
     st.domain = j.at("domain").get<std::uint32_t>();

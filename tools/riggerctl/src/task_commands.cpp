@@ -164,8 +164,10 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
   }
   std::string task_id = opt.task_id;
   {
-    auto doc = nlohmann::json::parse(text, nullptr, false);
-    if (!doc.is_discarded() && doc.is_object()) {
+    // Bounded like the controller's own parse; a bad file goes on unchanged, for the controller's validator to explain.
+    auto parsed = parse_json_bounded(text, JsonLimits{recipe::kMaxRecipeBytesCeiling, recipe::Limits{}.max_depth});
+    auto& doc = parsed.value;
+    if (parsed.ok() && doc.is_object()) {
       if (!task_id.empty()) {
         doc["task_id"] = task_id;  // a new id for a re-run of the same file
         text = doc.dump(2);

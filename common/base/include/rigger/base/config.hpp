@@ -20,6 +20,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rigger/base/bounded_json.hpp"
+
 namespace rigger {
 
 /// A configuration problem: where (file, JSON pointer) and what was expected.
@@ -37,7 +39,11 @@ class ConfigError : public std::runtime_error {
 /// A view of one object of a configuration document. Cheap to copy; copies share the read-key record.
 class Config {
  public:
-  /// Reads and parses a JSON file. @throws ConfigError when missing, unreadable or not a JSON object.
+  /// Bounds of a configuration file, applied while it is parsed (rigger/base/bounded_json.hpp).
+  static constexpr JsonLimits kConfigLimits{1024U * 1024U, 32};
+
+  /// Reads and parses a JSON file. @throws ConfigError when missing, unreadable, larger than 1 MiB, nested
+  /// deeper than 32, not JSON (duplicate keys included) or not a JSON object.
   static Config load(const std::string& path);
   /// Parses JSON text; `origin` names it in errors. @throws ConfigError.
   static Config parse(const std::string& text, const std::string& origin);
@@ -85,6 +91,8 @@ class Config {
     std::map<std::string, std::set<std::string>> read_keys;  // object pointer -> keys read
   };
   Config(std::shared_ptr<Document> doc, const nlohmann::json* node, std::string pointer);
+  /// The root object of a parse's result. @throws ConfigError for a parse error or a non-object.
+  static Config from_parsed(JsonParseResult parsed, const std::string& origin);
   const nlohmann::json& at(const std::string& key) const;
   std::string key_pointer(const std::string& key) const;
 
