@@ -1,8 +1,9 @@
 #include "rigger/crane_protocol/crane_config.hpp"
 
 #include <array>
-#include <fstream>
 #include <nlohmann/json.hpp>
+
+#include "rigger/cell_config/cell_file.hpp"
 
 namespace rigger::crane {
 namespace {
@@ -64,35 +65,17 @@ CraneLimits crane_limits_from_attributes(const nlohmann::json& attributes,
 }
 
 CraneLimits load_crane_limits(const std::string& path, std::string_view crane_id) {
-  std::ifstream in(path);
-  if (!in) {
-    throw CraneConfigError(path + ": cannot open");
+  // The one cell-file reader checks the whole file (bounded parse, format, pointers) first.
+  const cell::CellFile cell = cell::rethrow_as<CraneConfigError>([&] { return cell::load_cell_file(path); });
+  const cell::CellEntity* crane = cell.find(crane_id);
+  if (crane == nullptr) {
+    throw CraneConfigError(path + ": /entities: no entity with id \"" + std::string(crane_id) + "\"");
   }
-  nlohmann::json cell;
   try {
-    cell = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw CraneConfigError(path + ": malformed JSON: " + e.what());
+    return crane_limits_from_attributes(crane->attributes, crane->pointer + "/attributes");
+  } catch (const CraneConfigError& e) {
+    throw CraneConfigError(path + ": " + e.what());
   }
-  if (!cell.is_object() || !cell.contains("entities") || !cell["entities"].is_array()) {
-    throw CraneConfigError(path + ": /entities: expected an array");
-  }
-  const auto& entities = cell["entities"];
-  for (std::size_t i = 0; i < entities.size(); ++i) {
-    const auto& entity = entities[i];
-    const bool match = entity.is_object() && entity.contains("id") && entity["id"].is_string() &&
-                       entity["id"].get<std::string>() == crane_id;
-    if (match) {
-      const std::string pointer = "/entities/" + std::to_string(i);
-      try {
-        return crane_limits_from_attributes(member(entity, pointer, "attributes"),
-                                            pointer + "/attributes");
-      } catch (const CraneConfigError& e) {
-        throw CraneConfigError(path + ": " + e.what());
-      }
-    }
-  }
-  throw CraneConfigError(path + ": /entities: no entity with id \"" + std::string(crane_id) + "\"");
 }
 
 }  // namespace rigger::crane

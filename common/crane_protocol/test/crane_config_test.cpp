@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -88,34 +89,44 @@ TEST(CraneConfig, LoadsTheShippedCell) {
   EXPECT_DOUBLE_EQ(limits.rated_load_kg, crane["rated_load_kg"].get<double>());
 }
 
-TEST(CraneConfig, FileErrors) {
-  EXPECT_THROW(load_crane_limits("/nonexistent/cell.json"), CraneConfigError);
-  const std::string path = ::testing::TempDir() + "crane_config_test_bad.json";
-  {
-    std::ofstream out(path);
-    out << R"({"entities": [ {"id": 7}, {"id": "robot"} ]})";
+// The shipped cell with one change made by `edit` to its crane entity, written to a temporary file.
+std::string shipped_cell_with(const std::function<void(nlohmann::json& crane)>& edit) {
+  std::ifstream in(std::string(RIGGER_SOURCE_DIR) + "/deploy/cell/simulated_cell.json");
+  auto cell = nlohmann::json::parse(in);
+  for (auto& entity : cell["entities"]) {
+    if (entity["id"] == "crane") edit(entity);
   }
+  const std::string path = ::testing::TempDir() + "crane_config_test_cell.json";
+  std::ofstream(path) << cell.dump(2);
+  return path;
+}
+
+std::string load_error(const std::string& path) {
   try {
     load_crane_limits(path);
-    ADD_FAILURE() << "no error";
   } catch (const CraneConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("no entity with id \"crane\""), std::string::npos);
+    return e.what();
   }
-  {
-    std::ofstream out(path);
-    out << R"({"entities": [ {"id": "crane"} ]})";
-  }
-  try {
-    load_crane_limits(path);
-    ADD_FAILURE() << "no error";
-  } catch (const CraneConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("/entities/0/attributes: missing"), std::string::npos);
-  }
-  {
-    std::ofstream out(path);
-    out << "{ not json";
-  }
-  EXPECT_THROW(load_crane_limits(path), CraneConfigError);
+  ADD_FAILURE() << "no error for " << path;
+  return {};
+}
+
+TEST(CraneConfig, FileErrorsNameTheFileAndWhere) {
+  EXPECT_NE(load_error("/nonexistent/cell.json").find("/nonexistent/cell.json"), std::string::npos);
+
+  std::string path = shipped_cell_with([](nlohmann::json& crane) { crane["id"] = "hoist"; });
+  EXPECT_NE(load_error(path).find("no entity with id \"crane\""), std::string::npos);
+
+  path = shipped_cell_with([](nlohmann::json& crane) { crane.erase("attributes"); });
+  const std::string missing = load_error(path);
+  EXPECT_NE(missing.find(path + ": /entities/"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("/attributes/bridge_range_m: missing"), std::string::npos) << missing;
+
+  // Not a cell file at all: the cell reader's own error, with line and column.
+  std::ofstream(path) << "{ not json";
+  const std::string malformed = load_error(path);
+  EXPECT_NE(malformed.find("expected valid JSON"), std::string::npos) << malformed;
+  EXPECT_NE(malformed.find("line 1, column "), std::string::npos) << malformed;
   std::remove(path.c_str());
 }
 

@@ -2,8 +2,9 @@
 
 #include <array>
 #include <cmath>
-#include <fstream>
 #include <vector>
+
+#include "rigger/cell_config/cell_file.hpp"
 
 namespace rigger::control {
 namespace {
@@ -198,29 +199,19 @@ Eigen::Isometry3d insertion_offset_from_features(const nlohmann::json& features,
 }
 
 Eigen::Isometry3d entity_pose_from_cell_file(const std::string& path, const std::string& entity_id) {
-  std::ifstream in(path);
-  if (!in) throw ConfigError(path, "", "cannot open the cell file");
-  nlohmann::json cell;
+  cell::CellFile cell;
   try {
-    cell = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw ConfigError(path, "", std::string("not valid JSON: ") + e.what());
+    cell = cell::load_cell_file(path);  // the one cell-file reader: bounded, every rule checked
+  } catch (const cell::CellFileError& e) {
+    throw ConfigError(path, e.pointer(), e.what());
   }
-  const auto entities = cell.find("entities");
-  if (entities == cell.end() || !entities->is_array()) throw ConfigError(path, "/entities", "expected an array");
-  for (std::size_t i = 0; i < entities->size(); ++i) {
-    const nlohmann::json& entity = (*entities)[i];
-    if (!entity.is_object() || entity.value("id", std::string()) != entity_id) continue;
-    const std::string pointer = "/entities/" + std::to_string(i);
-    const std::string parent = entity.value("parent", std::string());
-    if (parent != "world")
-      throw ConfigError(path, pointer + "/parent",
-                        "entity '" + entity_id + "' must have parent 'world', got '" + parent + "'");
-    const auto pose = entity.find("pose");
-    if (pose == entity.end()) throw ConfigError(path, pointer + "/pose", "missing required key");
-    return pose_from_config_json(*pose, path, pointer + "/pose");
-  }
-  throw ConfigError(path, "/entities", "no entity with id '" + entity_id + "'");
+  const cell::CellEntity* entity = cell.find(entity_id);
+  if (entity == nullptr) throw ConfigError(path, "/entities", "no entity with id '" + entity_id + "'");
+  if (entity->parent != "world")
+    throw ConfigError(path, entity->pointer + "/parent",
+                      "entity '" + entity_id + "' must have parent 'world', got '" + entity->parent + "'");
+  if (!entity->pose_parent_entity) throw ConfigError(path, entity->pointer + "/pose", "missing required key");
+  return *entity->pose_parent_entity;
 }
 
 }  // namespace rigger::control
