@@ -8,6 +8,9 @@ function(rigger_target_defaults target)
   target_compile_options(${target} PRIVATE
     $<$<COMPILE_LANGUAGE:CXX>:${RIGGER_WARNINGS}>
     $<$<AND:$<COMPILE_LANGUAGE:CXX>,$<BOOL:${RIGGER_WERROR}>>:-Werror>)
+  # The two trees, for tests, benchmarks and fuzzers only: a program finds its files through its data
+  # folder or its configuration (rigger/base/install.hpp); InstallTest.NoProgramNamesTheSourceOrBuildTree
+  # fails when code outside test/, bench/ and fuzz/ names either.
   target_compile_definitions(${target} PRIVATE
     RIGGER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     RIGGER_BINARY_DIR="${PROJECT_BINARY_DIR}")

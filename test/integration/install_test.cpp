@@ -6,7 +6,8 @@
 // its file there and the demo would fail. unshare needs root (CAP_SYS_ADMIN), which the test machines
 // have; without it the test skips and says so, since nothing else hides the trees from the processes
 // without also hiding them from ctest. It installs what the last build made: run it after a full build,
-// as test/run does. Like the demo it uses the compose file's PLC and console ports: RUN_SERIAL.
+// as test/run does. Like the demo it uses the compose file's PLC and console ports: RUN_SERIAL. The shipped
+// site tools are tried from the moved installation too (make-pki).
 #include <stdlib.h>
 
 #include <chrono>
@@ -107,6 +108,17 @@ TEST_F(RelocatableInstallTest, MovedInstallationRunsTheDemoWithoutSourceOrBuildT
   EXPECT_NE(r.output.find("root     " + prefix() + "/share/rigger\n"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("bin_dir  " + prefix() + "/bin\n"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("(not built)"), std::string::npos) << "a service binary was not installed:\n" << r.output;
+
+  // The site tools are shipped and work from the installation: make-pki reads the installed catalog's
+  // access table and signs a permissions document for every role, the ROS 2 driver's from the shipped grants.
+  const std::string security = prefix() + "/share/rigger/deploy/security";
+  r = bash("make-pki", with_trees_hidden(quoted(security + "/make-pki") + " --extra " + quoted(security + "/ros2.grants") +
+                                         " " + quoted(tmp_ + "/pki")),
+           120s);
+  ASSERT_TRUE(r.status.ok()) << r.output;
+  for (const char* identity : {"task_controller", "console", "ros2_bridge", "ros2_driver"})
+    EXPECT_TRUE(fs::exists(tmp_ + "/pki/identities/" + identity + "/permissions.p7s")) << identity << "\n" << r.output;
+  EXPECT_TRUE(fs::exists(prefix() + "/share/rigger/deploy/lab-hosts"));
 
   cell_may_run_ = true;
   const auto t1 = std::chrono::steady_clock::now();

@@ -3,6 +3,9 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -119,6 +122,30 @@ TEST_F(DataPathTest, ConfigPathNamesTheKeyAndThePlacesTried) {
               std::string::npos)
         << e.what();
   }
+}
+
+// Every target is compiled with RIGGER_SOURCE_DIR and RIGGER_BINARY_DIR defined (for the tests, the
+// benchmarks and the fuzzers), but an installed program must not reach for either tree: it finds its
+// files through data_dir() or its configuration. Code outside test/, bench/ and fuzz/ folders names neither.
+TEST(InstallTest, NoProgramNamesTheSourceOrBuildTree) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> offenders;
+  for (const char* top : {"common", "services", "tools"}) {
+    for (const auto& entry : fs::recursive_directory_iterator(fs::path(RIGGER_SOURCE_DIR) / top)) {
+      if (!entry.is_regular_file()) continue;
+      const auto ext = entry.path().extension();
+      if (ext != ".cpp" && ext != ".hpp" && ext != ".h" && ext != ".c") continue;
+      const std::string rel = fs::relative(entry.path(), RIGGER_SOURCE_DIR).string();
+      if (rel.find("/test/") != std::string::npos || rel.find("/bench/") != std::string::npos ||
+          rel.find("/fuzz/") != std::string::npos)
+        continue;
+      std::ifstream in(entry.path());
+      const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      for (const char* name : {"RIGGER_SOURCE_DIR", "RIGGER_BINARY_DIR"})
+        if (text.find(name) != std::string::npos) offenders.push_back(rel + " (" + name + ")");
+    }
+  }
+  EXPECT_TRUE(offenders.empty()) << ::testing::PrintToString(offenders);
 }
 
 }  // namespace
