@@ -120,6 +120,8 @@ try {
   await page.waitForFunction(() => document.querySelector('#param-grasp')?.value === 'load/grasp_side', null, { timeout: 10000 });
   check(await page.locator('#planner-features-grasp').count() === 0, 'the pick filled grasp with load/grasp_side and closed the picker');
   check(await page.locator('[data-feature-binding="grasp"]').innerText().then((t) => t.includes('load/grasp_side')), 'the form shows the grasp\'s binding');
+  check(await state(() => [...window.rigger.planner.features.markers].filter(([, m]) => m.group.visible).map(([ref]) => ref).join() === 'load/grasp_side'),
+    'with the list closed the 3D view shows the axes of the node\'s feature only');
   // The approach: from the accessible list (hovering its entry highlights its axes in the 3D view).
   await page.click('#planner-pick-approach');
   await page.hover('#planner-features-approach button[data-feature="load/pre_grasp"]');

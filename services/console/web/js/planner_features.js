@@ -81,6 +81,7 @@ export class FeaturePicker {
     this.open = null;  // { pointer, param, node } of the field whose list is shown
     this.hovered = '';
     this.list = null;
+    this.shown = new Set();  // the features the selected node's fields name: drawn while no list is open
     view.overlay = this;
   }
 
@@ -149,14 +150,16 @@ export class FeaturePicker {
     this.onChoose(node, param, f);
   }
 
-  /// Markers shown while a list is open; the hovered one and the field's value stand out.
+  /// Every marker while a list is open, else those the selected node names; the hovered one and the
+  /// fields' values stand out.
   paint() {
     const on = this.active;
     const value = on ? this.open.node.params?.[this.open.param] : '';
     for (const [ref, m] of this.markers) {
-      m.group.visible = on;
-      m.dot.material.color.setHex(ref === this.hovered ? HOVER : ref === value ? CHOSEN : MARK);
-      m.dot.scale.setScalar(ref === this.hovered || ref === value ? 1.8 : 1);
+      const chosen = ref === value || this.shown.has(ref);
+      m.group.visible = on || this.shown.has(ref);
+      m.dot.material.color.setHex(ref === this.hovered ? HOVER : chosen ? CHOSEN : MARK);
+      m.dot.scale.setScalar(ref === this.hovered || chosen ? 1.8 : 1);
     }
     this.view.render();
   }
@@ -168,7 +171,12 @@ export class FeaturePicker {
     this.paint();
   }
   /// The form was drawn for the node at `pointer`: a list open for another node is closed.
-  formFor(pointer) { if (this.open && this.open.pointer !== pointer) this.close(); }
+  formFor(pointer) {
+    if (this.open && this.open.pointer !== pointer) this.close();
+    const had = this.shown.size;
+    this.shown = new Set();
+    if (had) this.paint();
+  }
 
   /// The picker of a feature_ref field: a button that opens the list (and the markers) under it. Typing
   /// in the field still works; a typed value other than the bound feature drops the binding.
@@ -176,6 +184,11 @@ export class FeaturePicker {
     input.addEventListener('input', () => {
       if (node.bindings?.[param] && node.bindings[param].feature !== input.value) delete node.bindings[param];
     }, { capture: true });
+    const value = node.params?.[param];
+    if (this.markers.has(value)) {
+      this.shown.add(value);
+      this.paint();
+    }
     return this.box(node, pointer, param);
   }
   box(node, pointer, param) {
@@ -183,8 +196,13 @@ export class FeaturePicker {
     const id = `planner-features-${param}`;
     const box = el('div', { class: 'binding' }, el('button', { id: `planner-pick-${param}`, 'aria-expanded': String(Boolean(isOpen)), 'aria-controls': id,
       onclick: () => {
-        if (isOpen) this.close();
-        else this.open = { pointer, param, node };
+        const other = !isOpen && this.open && this.openBox?.isConnected ? this.open : null;
+        this.close();
+        if (other) this.openBox.replaceWith(this.box(other.node, other.pointer, other.param));  // one list at a time
+        if (!isOpen) {
+          this.view.hover(null);  // a face highlighted before the list opened is not what a click picks now
+          this.open = { pointer, param, node };
+        }
         box.replaceWith(this.box(node, pointer, param));
         this.paint();
       } }, isOpen ? 'Close the features' : 'Pick a feature…'));
@@ -195,6 +213,7 @@ export class FeaturePicker {
         + `rpy ${b.pose.rpy_deg.map((v) => v.toFixed(2)).join(', ')}° in frame ${b.pose.frame}`));
     }
     if (!isOpen) return box;
+    this.openBox = box;
     this.list?.remove();
     const value = node.params?.[param];
     const byEntity = [...new Set(this.features.map((f) => f.entity))];
