@@ -56,8 +56,9 @@ json structure(const json& node, const std::string& pointer, std::map<std::strin
     } else if (key == "options") {
       out[key] = json::array();
       for (std::size_t i = 0; i < value.size(); ++i)
-        out[key].push_back({{"label", value[i].at("label")},
-                            {"child", structure(value[i].at("child"), pointer + "/options/" + std::to_string(i) + "/child", names)}});
+        out[key].push_back(
+            {{"label", value[i].at("label")},
+             {"child", structure(value[i].at("child"), pointer + "/options/" + std::to_string(i) + "/child", names)}});
     } else {
       out[key] = value;
     }
@@ -90,9 +91,13 @@ std::string first_difference(const json& a, const json& b, const std::string& po
   return "";
 }
 
-json node_at(const json& recipe, const std::string& pointer) { return recipe.at(json::json_pointer(pointer)); }
+json node_at(const json& recipe, const std::string& pointer) {
+  return recipe.at(json::json_pointer(pointer));
+}
 
-Eigen::Vector3d vec(const json& a) { return {a.at(0).get<double>(), a.at(1).get<double>(), a.at(2).get<double>()}; }
+Eigen::Vector3d vec(const json& a) {
+  return {a.at(0).get<double>(), a.at(1).get<double>(), a.at(2).get<double>()};
+}
 
 /// How far `pose` (position, and rotation as rows or rpy_deg as the cell file writes it) is from
 /// `expected`: metres and degrees.
@@ -150,7 +155,8 @@ TEST_F(PlannerBrowserTest, ThePapersTaskBuiltByClicksAndCadPicksMatchesTheShippe
     EXPECT_TRUE(pose.has_value()) << entity << "/" << id;
     return pose.value_or(Eigen::Isometry3d::Identity());
   };
-  for (const auto& [param, feature] : std::vector<std::pair<std::string, std::string>>{{"grasp", "grasp_side"}, {"approach", "pre_grasp"}}) {
+  for (const auto& [param, feature] :
+       std::vector<std::pair<std::string, std::string>>{{"grasp", "grasp_side"}, {"approach", "pre_grasp"}}) {
     const json& b = node_at(planned, attach + "/bindings/" + param);
     EXPECT_EQ(b.at("rule"), "feature");
     EXPECT_EQ(b.at("feature"), "load/" + feature);
@@ -158,8 +164,8 @@ TEST_F(PlannerBrowserTest, ThePapersTaskBuiltByClicksAndCadPicksMatchesTheShippe
     const auto [offset_m, turn_deg] = distance(b.at("pose"), feature_pose("load", feature));
     EXPECT_LE(offset_m, kMaxOffsetM) << param;
     EXPECT_LE(turn_deg, kMaxTurnDeg) << param;
-    std::printf("%s: %s %.3g mm, %.3g deg from the cell file's CAD derivation\n", param.c_str(), feature.c_str(), offset_m * 1e3,
-                turn_deg);
+    std::printf("%s: %s %.3g mm, %.3g deg from the cell file's CAD derivation\n", param.c_str(), feature.c_str(),
+                offset_m * 1e3, turn_deg);
   }
   const json& screws = screw.at("bindings").at("holes").at("screws");
   ASSERT_EQ(screws.size(), 4u);
@@ -169,10 +175,11 @@ TEST_F(PlannerBrowserTest, ThePapersTaskBuiltByClicksAndCadPicksMatchesTheShippe
     const auto [offset_m, turn_deg] = distance(screws[i].at("pose"), feature_pose("target", id));
     EXPECT_LE(offset_m, kMaxOffsetM) << id;
     EXPECT_LE(turn_deg, kMaxTurnDeg) << id;
-    std::printf("%s: CAD-derived entry %.3g mm, axis %.3g deg from the cell file's CAD derivation\n", id.c_str(), offset_m * 1e3,
-                turn_deg);
+    std::printf("%s: CAD-derived entry %.3g mm, axis %.3g deg from the cell file's CAD derivation\n", id.c_str(),
+                offset_m * 1e3, turn_deg);
   }
-  std::printf("browser timings (ms): %s; artifacts in %s\n", result.at("timings_ms").dump().c_str(), cell_.log_dir().c_str());
+  std::printf("browser timings (ms): %s; artifacts in %s\n", result.at("timings_ms").dump().c_str(),
+              cell_.log_dir().c_str());
 }
 
 }  // namespace

@@ -40,14 +40,17 @@ class PlannerCellTest : public MultiProcessTest {
     cell_.start("world_model", "world_model",
                 {"--id", "world_model", "--config", write_config("world_model", {{"cell_config", cell_file}}), "--db",
                  dir + "/world_model.sqlite"});
-    cell_.start("cad", "cad",
-                {"--id", "cad", "--config",
-                 write_config("cad", {{"cell_config", cell_file}, {"allowed_dirs", {repo_file("deploy/cell/models")}}})});
+    cell_.start(
+        "cad", "cad",
+        {"--id", "cad", "--config",
+         write_config("cad", {{"cell_config", cell_file}, {"allowed_dirs", {repo_file("deploy/cell/models")}}})});
     cell_.start("skills", "scripted_executor",
                 {"--id", "skills", "--config",
-                 write_config("skills", {{"library_file", library},
-                                         {"skills", {"Localize", "AttachRobotToLoad", "InsertVisuallyGuided", "Screw", "Release", "Place"}},
-                                         {"default", {{"mode", "succeed"}, {"delay_s", 0.2}}}})});
+                 write_config("skills",
+                              {{"library_file", library},
+                               {"skills",
+                                {"Localize", "AttachRobotToLoad", "InsertVisuallyGuided", "Screw", "Release", "Place"}},
+                               {"default", {{"mode", "succeed"}, {"delay_s", 0.2}}}})});
     cell_.start("monitors", "scripted_executor",
                 {"--id", "monitors", "--config",
                  write_config("monitors", {{"library_file", library},
@@ -65,7 +68,8 @@ class PlannerCellTest : public MultiProcessTest {
                                           {"users_file", dir + "/console-users.json"},
                                           {"audit_log", dir + "/console-audit.log"},
                                           {"confirm_timeout_s", 30}})});
-    if (!cell_.wait_ready({"world_model", "cad", "skills", "monitors", "task_controller", "console"}, std::chrono::seconds(60)))
+    if (!cell_.wait_ready({"world_model", "cad", "skills", "monitors", "task_controller", "console"},
+                          std::chrono::seconds(60)))
       return ::testing::AssertionFailure() << "the planner's services did not all announce READY\n" << cell_.logs();
     return ::testing::AssertionSuccess();
   }
@@ -89,9 +93,11 @@ class PlannerCellTest : public MultiProcessTest {
                          [this, done] { cell_.loop().post([done] { *done = true; }); });
     const bool ended = cell_.wait_until([&] { return *done; }, timeout);
     const std::string log = browser.log();
-    if (!ended) return ::testing::AssertionFailure() << "the browser script " << script << " did not end in time\n" << log;
+    if (!ended)
+      return ::testing::AssertionFailure() << "the browser script " << script << " did not end in time\n" << log;
     const auto exit = browser.wait(std::chrono::seconds(5));
-    if (!exit || !exit->ok()) return ::testing::AssertionFailure() << "the browser script " << script << " failed:\n" << log;
+    if (!exit || !exit->ok())
+      return ::testing::AssertionFailure() << "the browser script " << script << " failed:\n" << log;
     std::printf("%s", log.c_str());
     return ::testing::AssertionSuccess();
   }
