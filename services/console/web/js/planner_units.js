@@ -23,8 +23,10 @@ const OTHER_UNITS = {
 /// undefined); `set(v)` stores the parameter (undefined: the default). With a unit, `input.unitSelect`
 /// is the unit's choice, to be put after the input.
 export function quantityInput(p, cur, set) {
-  const units = [[p.unit, 1], ...(OTHER_UNITS[p.unit] || [])];
   const quantity = cur && typeof cur === 'object' && typeof cur.value === 'number' ? cur : null;
+  const units = [[p.unit, 1], ...(OTHER_UNITS[p.unit] || [])];
+  // An opened recipe's unit this list lacks stays as written (the validator says whether it converts).
+  if (quantity && !units.some(([u]) => u === quantity.unit)) units.push([String(quantity.unit), 1]);
   const input = el('input', { type: 'number', step: p.type === 'integer' ? '1' : 'any',
     value: quantity ? quantity.value : typeof cur === 'number' ? cur : '',
     placeholder: p.default !== undefined ? String(p.default) : '' });
@@ -43,7 +45,7 @@ export function quantityInput(p, cur, set) {
     onchange: () => { hints(units.find(([u]) => u === select.value)[1]); store(); } },
   ...units.map(([u]) => el('option', { value: u, selected: (quantity ? quantity.unit : p.unit) === u }, u))) : null;
   input.addEventListener('input', store);
-  hints(quantity ? units.find(([u]) => u === quantity.unit)?.[1] ?? 1 : 1);
+  hints(quantity ? units.find(([u]) => u === quantity.unit)[1] : 1);
   input.unitSelect = select;
   return input;
 }
