@@ -125,8 +125,9 @@ try {
   // The approach: from the accessible list (hovering its entry highlights its axes in the 3D view).
   await page.click('#planner-pick-approach');
   await page.hover('#planner-features-approach button[data-feature="load/pre_grasp"]');
-  check(await state(() => window.rigger.planner.features.hovered === 'load/pre_grasp'
-    && window.rigger.planner.features.markers.get('load/pre_grasp').dot.scale.x > 1), 'hovering pre_grasp in the list highlights its axes');
+  await page.waitForFunction(() => window.rigger.planner.features.hovered === 'load/pre_grasp'
+    && window.rigger.planner.features.markers.get('load/pre_grasp').dot.scale.x > 1, null, { timeout: 10000 });
+  console.log('ok: hovering pre_grasp in the list highlights its axes');
   await page.click('#planner-features-approach button[data-feature="load/pre_grasp"]');
   await page.waitForFunction(() => document.querySelector('#param-approach')?.value === 'load/pre_grasp', null, { timeout: 10000 });
   console.log('ok: approach picked from the list: load/pre_grasp');
