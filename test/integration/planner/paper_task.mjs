@@ -122,12 +122,13 @@ try {
   check(await page.locator('[data-feature-binding="grasp"]').innerText().then((t) => t.includes('load/grasp_side')), 'the form shows the grasp\'s binding');
   check(await state(() => [...window.rigger.planner.features.markers].filter(([, m]) => m.group.visible).map(([ref]) => ref).join() === 'load/grasp_side'),
     'with the list closed the 3D view shows the axes of the node\'s feature only');
-  // The approach: from the accessible list (hovering its entry highlights its axes in the 3D view).
+  // The approach: from the accessible list; its entry focused (as by Tab) highlights its axes in the 3D
+  // view. Focus, not the mouse: the form's layout moves when the grasp's validation error goes away.
   await page.click('#planner-pick-approach');
-  await page.hover('#planner-features-approach button[data-feature="load/pre_grasp"]');
+  await page.focus('#planner-features-approach button[data-feature="load/pre_grasp"]');
   await page.waitForFunction(() => window.rigger.planner.features.hovered === 'load/pre_grasp'
     && window.rigger.planner.features.markers.get('load/pre_grasp').dot.scale.x > 1, null, { timeout: 10000 });
-  console.log('ok: hovering pre_grasp in the list highlights its axes');
+  console.log('ok: focusing pre_grasp in the list highlights its axes');
   await page.click('#planner-features-approach button[data-feature="load/pre_grasp"]');
   await page.waitForFunction(() => document.querySelector('#param-approach')?.value === 'load/pre_grasp', null, { timeout: 10000 });
   console.log('ok: approach picked from the list: load/pre_grasp');
