@@ -113,8 +113,9 @@ try {
     'hovering grasp_side\'s axes in the 3D view highlights the marker and its entry in the list');
   // axe-core on the planner page with the picker open (its list, the form, the tree, the 3D view).
   await page.addScriptTag({ path: path.join(MODULES, 'axe-core/axe.min.js') });
-  const axe = await page.evaluate(async () => (await window.axe.run(document)).violations.map((x) => `${x.id}: ${x.help} (${x.nodes.length}: ${x.nodes.map((n) => n.target).join(' ')})`));
-  check(axe.length === 0, `axe-core: no violations on the planner with the feature picker open ${JSON.stringify(axe)}`);
+  const axe = () => page.evaluate(async () => (await window.axe.run(document)).violations.map((x) => `${x.id}: ${x.help} (${x.nodes.length}: ${x.nodes.map((n) => n.target).join(' ')})`));
+  const violations = await axe();
+  check(violations.length === 0, `axe-core: no violations on the planner with the feature picker open ${JSON.stringify(violations)}`);
   await page.screenshot({ path: path.join(ART, 'paper-task-feature-picker.png'), fullPage: true });
   await page.mouse.click(grasp.x, grasp.y);
   await page.waitForFunction(() => document.querySelector('#param-grasp')?.value === 'load/grasp_side', null, { timeout: 10000 });
@@ -200,6 +201,8 @@ try {
   }, asked, { timeout: 20000 });
   check(await page.locator('#planner-errors li').count() === 0 && (await page.locator('#planner-valid').innerText()).includes('valid'),
     'the page says valid: the controller would accept the recipe, no error listed');
+  const finalViolations = await axe();
+  check(finalViolations.length === 0, `axe-core: no violations with the whole tree drawn ${JSON.stringify(finalViolations)}`);
   await page.screenshot({ path: path.join(ART, 'paper-task.png'), fullPage: true });
 
   // --- export (download); the console validates the same text ---
