@@ -57,6 +57,8 @@ try {
     return at;
   };
   const fill = (selector, value) => page.fill(selector, String(value));
+  await page.addScriptTag({ path: path.join(MODULES, 'axe-core/axe.min.js') });
+  const axe = () => page.evaluate(async () => (await window.axe.run(document)).violations.map((x) => `${x.id}: ${x.help} (${x.nodes.length}: ${x.nodes.map((n) => n.target).join(' ')})`));
   /// A number in another unit than the parameter's own: the unit chosen from its list, then the number.
   const quantity = async (param, value, unit) => { await page.selectOption(`#unit-${param}`, unit); await fill(`#param-${param}`, value); };
   const insertParams = async (tolerance_mm) => {
@@ -82,6 +84,8 @@ try {
   await add('control:Sequence', '/root');
   await add('decorator:Retry', '/root/children/0');
   await fill('[data-field="max_attempts"]', 3);
+  const emptyRetry = await axe();  // the tree draws "(empty: …)" under a decorator without a child
+  check(emptyRetry.length === 0, `axe-core: no violations with an empty decorator drawn ${JSON.stringify(emptyRetry)}`);
   await add('skill:Localize', '/root/children/0/child');
   await fill('#param-object', 'target');
 
@@ -112,8 +116,6 @@ try {
   check(await state(() => window.rigger.planner.features.markers.get('load/grasp_side').dot.scale.x > 1),
     'hovering grasp_side\'s axes in the 3D view highlights the marker and its entry in the list');
   // axe-core on the planner page with the picker open (its list, the form, the tree, the 3D view).
-  await page.addScriptTag({ path: path.join(MODULES, 'axe-core/axe.min.js') });
-  const axe = () => page.evaluate(async () => (await window.axe.run(document)).violations.map((x) => `${x.id}: ${x.help} (${x.nodes.length}: ${x.nodes.map((n) => n.target).join(' ')})`));
   const violations = await axe();
   check(violations.length === 0, `axe-core: no violations on the planner with the feature picker open ${JSON.stringify(violations)}`);
   await page.screenshot({ path: path.join(ART, 'paper-task-feature-picker.png'), fullPage: true });

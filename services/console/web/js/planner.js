@@ -5,7 +5,7 @@
 // is kept in the recipe), choose feature_ref parameters among the world model's features
 // (planner_features.js), validate with the task controller's own validator (errors on their node and
 // field, by JSON pointer), export canonical JSON and publish (two steps). See docs/console.md, "Planner".
-import { api, el, confirmDialog } from './api.js';
+import { api, el, confirmDialog, store } from './api.js';
 import { PartsView, pickKey } from './planner_view.js';
 import { FeaturePicker } from './planner_features.js';
 import { quantityInput } from './planner_units.js';
@@ -169,14 +169,25 @@ export function plannerPage(main, me) {
   async function loadLibrary() {
     const lib = await api('/api/skills');
     state.library = lib.skills;
+    const chosen = addSelect.value;
     addSelect.replaceChildren(
       el('optgroup', { label: 'Control' }, ...CONTROL.map((c) => el('option', { value: `control:${c}` }, c))),
       el('optgroup', { label: 'Decorators' }, ...Object.keys(DECORATORS).map((c) => el('option', { value: `decorator:${c}` }, c))),
       el('optgroup', { label: 'Operator' }, el('option', { value: 'decision:OperatorDecision' }, 'OperatorDecision')),
       ...['skill', 'monitor', 'condition'].map((kind) => el('optgroup', { label: `${kind[0].toUpperCase()}${kind.slice(1)}s` },
         ...lib.skills.filter((s) => s.kind === kind).map((s) => el('option', { value: `${kind}:${s.name}`, title: s.description || '' }, s.name)))));
+    if ([...addSelect.options].some((o) => o.value === chosen)) addSelect.value = chosen;
     if (lib.problems?.length) say(`Skill library: ${lib.problems.join('; ')}`, true);
   }
+  // An executor that comes, goes or comes back (a missed liveliness lease on a loaded machine) changes
+  // the live library: the palette, the resources and the validation follow it a moment later, instead of
+  // keeping what the library was when the page opened.
+  let libraryTimer = null;
+  const offLibrary = store.on((type) => {
+    if (type !== 'executor' && type !== 'load') return;
+    clearTimeout(libraryTimer);
+    libraryTimer = setTimeout(() => loadLibrary().then(() => { renderResources(); validate(); }, (e) => say(`No skill library: ${e.message}`, true)), 300);
+  });
 
   // --- editing ---
   function newNode(value) {
@@ -503,7 +514,7 @@ export function plannerPage(main, me) {
       })));
     }
     if ((isDecorator(node) && !node.child) || (node.type === 'OperatorDecision' && !node.options?.length)) {
-      li.append(el('ul', { role: 'group' }, el('li', { class: 'muted small' }, '(empty: select it and Add its child)')));
+      li.append(el('ul', { role: 'group' }, el('li', { class: 'muted small', role: 'none' }, '(empty: select it and Add its child)')));
     }
     return li;
   }
@@ -890,5 +901,8 @@ export function plannerPage(main, me) {
     await features.load(ENTITIES);
     window.rigger.planner.ready = true;
   })();
-  return () => { clearTimeout(timer); clearTimeout(recordTimer); document.removeEventListener('keydown', onKey); delete window.rigger.planner; };
+  return () => {
+    clearTimeout(timer); clearTimeout(recordTimer); clearTimeout(libraryTimer); offLibrary();
+    document.removeEventListener('keydown', onKey); delete window.rigger.planner;
+  };
 }
