@@ -22,3 +22,7 @@ rigger_console_browser_test(rigger_console_browser_test console_browser_test.cpp
 # library and the console; the tree built by clicks, holes picked in the 3D view.
 rigger_console_browser_test(rigger_planner_browser_test planner_browser_test.cpp
   console cad world_model scripted_executor task_controller)
+# Issue 16's acceptance: the paper's task (recipes/crane_insert.json) built in the planner by clicks and
+# CAD picks only, compared with the shipped recipe; the same services as the planner test.
+rigger_console_browser_test(rigger_planner_paper_task_test planner_paper_task_test.cpp
+  console cad world_model scripted_executor task_controller)

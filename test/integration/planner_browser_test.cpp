@@ -5,16 +5,12 @@
 // target's holes in the 3D view, binds the Screw skill's holes, sees a bad Parallel threshold flagged on
 // its node and field, fixes it, exports and publishes. This test checks what the system did: the
 // exported recipe validates and carries the CAD-derived screw positions, and the published task ran.
-#include <unistd.h>
-
-#include <filesystem>
 #include <fstream>
 #include <map>
 
 #include <nlohmann/json.hpp>
 
-#include "auth.hpp"
-#include "cell_sim_test_support.hpp"
+#include "planner_test_support.hpp"
 #include "rigger/protocol/task.hpp"
 #include "rigger/protocol/task_names.hpp"
 
@@ -24,26 +20,12 @@ namespace {
 using namespace std::chrono_literals;
 using nlohmann::json;
 
-bool browser_tools_present() {
-  return std::filesystem::exists("/usr/bin/chromium") && std::filesystem::exists("/usr/bin/node") &&
-         std::filesystem::exists(repo_file("services/console/web/node_modules/playwright-core"));
-}
-
-class PlannerBrowserTest : public MultiProcessTest {
- protected:
-  std::string write_config(const std::string& name, const json& config) {
-    const std::string path = cell_.log_dir() + "/" + name + ".json";
-    std::ofstream(path) << config.dump(2);
-    return path;
-  }
-};
+using PlannerBrowserTest = PlannerCellTest;
 
 TEST_F(PlannerBrowserTest, TreeBuiltByClicksScrewsFromPickedHolesValidatedExportedAndPublished) {
   if (!browser_tools_present())
     GTEST_SKIP() << "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)";
   const std::string dir = cell_.log_dir();
-  const std::string cell_file = repo_file("deploy/cell/simulated_cell.json");
-  const std::string library = repo_file("recipes/examples/skill_library.json");
 
   std::map<std::string, int> task_states;
   dds::Reader<rigger_task_TaskStatus> status(cell_.participant(), protocol::task::kStatus);
@@ -52,51 +34,10 @@ TEST_F(PlannerBrowserTest, TreeBuiltByClicksScrewsFromPickedHolesValidatedExport
       task_states[dds::to_string(s.task_id)] = s.state;
     });
   });
-
-  cell_.start("world_model", "world_model",
-              {"--id", "world_model", "--config", write_config("world_model", {{"cell_config", cell_file}}), "--db",
-               dir + "/world_model.sqlite"});
-  cell_.start("cad", "cad",
-              {"--id", "cad", "--config",
-               write_config("cad", {{"cell_config", cell_file}, {"allowed_dirs", {repo_file("deploy/cell/models")}}})});
-  cell_.start("skills", "scripted_executor",
-              {"--id", "skills", "--config",
-               write_config("skills", {{"library_file", library},
-                                       {"skills", {"Localize", "AttachRobotToLoad", "InsertVisuallyGuided", "Screw", "Release", "Place"}},
-                                       {"default", {{"mode", "succeed"}, {"delay_s", 0.2}}}})});
-  cell_.start("monitors", "scripted_executor",
-              {"--id", "monitors", "--config",
-               write_config("monitors", {{"library_file", library},
-                                         {"skills", {"TimerMonitor", "ForceMonitor", "YankMonitor"}},
-                                         {"default", {{"mode", "run"}}}})});
-  cell_.start("task_controller", "task_controller",
-              {"--id", "task_controller", "--config",
-               write_config("task_controller", {{"journal_path", dir + "/journal.sqlite"}})});
-  const auto users = console::make_users(dir + "/console-users.json", {{"ada", console::Role::kProgrammer}});
-  const std::uint16_t port = free_tcp_port();
-  cell_.start("console", "console",
-              {"--id", "console", "--config",
-               write_config("console", {{"port", port},
-                                        {"users_file", dir + "/console-users.json"},
-                                        {"audit_log", dir + "/console-audit.log"},
-                                        {"confirm_timeout_s", 30}})});
-  ASSERT_TRUE(cell_.wait_ready({"world_model", "cad", "skills", "monitors", "task_controller", "console"}, 60s))
-      << cell_.logs();
+  ASSERT_TRUE(start_planner_services());
 
   const std::string result_file = dir + "/planner-result.json";
-  bool browser_done = false;
-  ChildProcess browser("/usr/bin/nice", {"-n", "15", "/usr/bin/node", repo_file("test/integration/planner/e2e.mjs")},
-                       {{"CONSOLE_URL", "http://127.0.0.1:" + std::to_string(port)},
-                        {"TOKEN_PROGRAMMER", users[0].token},
-                        {"ARTIFACTS", dir},
-                        {"RESULT", result_file},
-                        {"NODE_PATH", repo_file("services/console/web/node_modules")}},
-                       dir + "/browser.log", [&] { cell_.loop().post([&] { browser_done = true; }); });
-  const bool ended = cell_.wait_until([&] { return browser_done; }, std::chrono::minutes(6));
-  const std::string browser_log = browser.log();
-  ASSERT_TRUE(ended) << "the browser script did not end within 6 min\n" << browser_log;
-  const auto exit = browser.wait(5s);
-  ASSERT_TRUE(exit && exit->ok()) << "the browser script failed:\n" << browser_log;
+  ASSERT_TRUE(run_browser_script("test/integration/planner/e2e.mjs", result_file, std::chrono::minutes(6)));
 
   std::ifstream in(result_file);
   const json result = json::parse(in);

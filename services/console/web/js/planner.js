@@ -2,10 +2,14 @@
 // nodes, decorators, operator decisions; wrap, copy/cut/paste, undo/redo, keys), fill the parameters
 // from forms generated from the skill descriptions (with their pre- and postconditions), bind the Screw
 // skill's holes to holes picked on the CAD model (the CAD service derives the screw list; the binding
-// is kept in the recipe), validate with the task controller's own validator (errors on their node and
+// is kept in the recipe), choose feature_ref parameters among the world model's features
+// (planner_features.js), validate with the task controller's own validator (errors on their node and
 // field, by JSON pointer), export canonical JSON and publish (two steps). See docs/console.md, "Planner".
-import { api, el, confirmDialog } from './api.js';
+import { api, el, confirmDialog, store } from './api.js';
 import { PartsView, pickKey } from './planner_view.js';
+import { FeaturePicker } from './planner_features.js';
+import { quantityInput } from './planner_units.js';
+import { recipeFields } from './planner_recipe.js';
 
 const CONTROL = ['Sequence', 'Parallel', 'Fallback'];
 // Decorators hold one child; their own field (docs/recipes.md), with the default a new one gets.
@@ -109,6 +113,7 @@ export function plannerPage(main, me) {
   const openFile = el('input', { type: 'file', id: 'planner-open', accept: '.json,application/json', 'aria-label': 'Open a recipe',
     onchange: async () => { if (openFile.files[0]) open(await openFile.files[0].text()); } });
   const viewBox = el('div', { class: 'pview' });
+  const recipeRow = recipeFields(state, changed);
 
   main.replaceChildren(el('h1', {}, 'Planner'),
     el('div', { class: 'toolbar' },
@@ -117,6 +122,7 @@ export function plannerPage(main, me) {
       el('button', { id: 'planner-export', onclick: () => exportRecipe() }, 'Export JSON'),
       el('button', { id: 'planner-publish', class: 'primary', onclick: () => publish() }, 'Publish…'),
       el('label', {}, 'Open ', openFile)),
+    recipeRow.row,
     notice,
     el('div', { class: 'planner' },
       el('section', { class: 'panel', 'aria-labelledby': 'pv' }, el('h2', { id: 'pv' }, 'Parts'),
@@ -147,20 +153,41 @@ export function plannerPage(main, me) {
     if (i >= 0) state.picks.splice(i, 1); else state.picks.push(pick);
     renderPicks();
   });
+  const features = new FeaturePicker(view, (node, name, f) => {
+    settle();
+    node.params = node.params || {};
+    node.params[name] = f.ref;
+    node.bindings = node.bindings || {};
+    node.bindings[name] = FeaturePicker.binding(f);
+    state.staleBindings = state.staleBindings.filter((e) => e.pointer !== `${state.selected}/bindings/${name}`);
+    changed();
+    say(`${name} is the world model's ${f.ref} (${f.label}).`);
+  });
 
   // --- the library ---
   const describe = (name) => state.library.find((s) => s.name === name);
   async function loadLibrary() {
     const lib = await api('/api/skills');
     state.library = lib.skills;
+    const chosen = addSelect.value;
     addSelect.replaceChildren(
       el('optgroup', { label: 'Control' }, ...CONTROL.map((c) => el('option', { value: `control:${c}` }, c))),
       el('optgroup', { label: 'Decorators' }, ...Object.keys(DECORATORS).map((c) => el('option', { value: `decorator:${c}` }, c))),
       el('optgroup', { label: 'Operator' }, el('option', { value: 'decision:OperatorDecision' }, 'OperatorDecision')),
       ...['skill', 'monitor', 'condition'].map((kind) => el('optgroup', { label: `${kind[0].toUpperCase()}${kind.slice(1)}s` },
         ...lib.skills.filter((s) => s.kind === kind).map((s) => el('option', { value: `${kind}:${s.name}`, title: s.description || '' }, s.name)))));
+    if ([...addSelect.options].some((o) => o.value === chosen)) addSelect.value = chosen;
     if (lib.problems?.length) say(`Skill library: ${lib.problems.join('; ')}`, true);
   }
+  // An executor that comes, goes or comes back (a missed liveliness lease on a loaded machine) changes
+  // the live library: the palette, the resources and the validation follow it a moment later, instead of
+  // keeping what the library was when the page opened.
+  let libraryTimer = null;
+  const offLibrary = store.on((type) => {
+    if (type !== 'executor' && type !== 'load') return;
+    clearTimeout(libraryTimer);
+    libraryTimer = setTimeout(() => loadLibrary().then(() => { renderResources(); validate(); }, (e) => say(`No skill library: ${e.message}`, true)), 300);
+  });
 
   // --- editing ---
   function newNode(value) {
@@ -310,6 +337,7 @@ export function plannerPage(main, me) {
     state.selected = selected;
     taskId.value = doc.task_id || '';
     assumptions.value = (doc.assumptions || []).join(' ');
+    recipeRow.refresh();
     changed(true, false);
   }
   function undo() { travel(history.past, history.future); }
@@ -486,7 +514,7 @@ export function plannerPage(main, me) {
       })));
     }
     if ((isDecorator(node) && !node.child) || (node.type === 'OperatorDecision' && !node.options?.length)) {
-      li.append(el('ul', { role: 'group' }, el('li', { class: 'muted small' }, '(empty: select it and Add its child)')));
+      li.append(el('ul', { role: 'group' }, el('li', { class: 'muted small', role: 'none' }, '(empty: select it and Add its child)')));
     }
     return li;
   }
@@ -501,7 +529,7 @@ export function plannerPage(main, me) {
   }
   function renderTree() {
     const byNode = errorsByNode();
-    treeBox.replaceChildren(state.doc.root ? el('ul', {}, treeRow(state.doc.root, '/root', byNode))
+    treeBox.replaceChildren(state.doc.root ? el('ul', { role: 'none' }, treeRow(state.doc.root, '/root', byNode))
       : el('p', { class: 'muted' }, 'Empty: choose a node and press Add.'));
     renderResources();
   }
@@ -566,6 +594,7 @@ export function plannerPage(main, me) {
   }
   function renderForm() {
     const node = state.selected ? nodeAt(state.doc, state.selected) : null;
+    features.formFor(state.selected);
     if (!node) return formBox.replaceChildren(el('p', { class: 'muted' }, 'Select a node.'));
     const parts = [el('p', {}, el('strong', {}, node.type), leafName(node) ? ` ${leafName(node)}` : '', el('code', { class: 'muted' }, ` ${state.selected}`))];
     const name = el('input', { type: 'text', 'data-field': 'name', value: node.name || '',
@@ -622,8 +651,7 @@ export function plannerPage(main, me) {
     const label = `${p.name}${req ? ' *' : ''} `;
     let input;
     if (p.type === 'number' || p.type === 'integer') {
-      input = el('input', { type: 'number', step: p.type === 'integer' ? '1' : 'any', min: p.min, max: p.max, value: typeof cur === 'number' ? cur : '',
-        placeholder: p.default !== undefined ? String(p.default) : '', oninput: () => set(input.value === '' ? undefined : Number(input.value)) });
+      input = quantityInput(p, cur, set);
     } else if (p.type === 'boolean' || p.type === 'enum') {
       const values = p.type === 'boolean' ? [true, false] : p.values;
       input = el('select', { onchange: () => set(input.value === '' ? undefined : JSON.parse(input.value)) },
@@ -642,7 +670,9 @@ export function plannerPage(main, me) {
     }
     input.dataset.field = key;
     input.id = `param-${p.name}`;
-    const f = field(label, input, p.unit || '', help);
+    const f = field(label, input, input.unitSelect ? '' : p.unit || '', help);
+    if (input.unitSelect) input.after(input.unitSelect);
+    if (p.type === 'feature_ref') f.append(features.field(node, state.selected, p.name, input));
     if (node.skill === 'Screw' && p.name === 'holes') f.append(screwBinding(node));
     if (p.type === 'pose') f.append(frameBinding(node, p.name));
     return f;
@@ -779,6 +809,7 @@ export function plannerPage(main, me) {
       state.doc = doc;
       taskId.value = doc.task_id || '';
       assumptions.value = (doc.assumptions || []).join(' ');
+      recipeRow.refresh();
       state.selected = doc.root ? '/root' : '';
       state.staleBindings = [];
       changed();  // opening is one undo step: Undo brings the tree before it back
@@ -797,8 +828,12 @@ export function plannerPage(main, me) {
     const stale = [];
     for (const [ptr, node] of allNodes()) {
       for (const [name, fb] of Object.entries(node.bindings || {})) {
-        if (!FRAME_RULES.includes(fb.rule)) continue;
         const where = `${ptr}/bindings/${name}`;
+        if (fb.rule === 'feature') {
+          const why = await FeaturePicker.check(fb);
+          if (why) stale.push({ pointer: where, message: why });
+        }
+        if (!FRAME_RULES.includes(fb.rule)) continue;
         try {
           const r = await api('/api/planner/frame', { method: 'POST', body: { model: fb.model, ...fb.args } });
           if (r.model_sha256 !== fb.model_sha256) stale.push({ pointer: where, message: `stale binding: ${fb.model} is now model ${r.model_sha256.slice(0, 12)}…, the recipe was made on ${fb.model_sha256.slice(0, 12)}…; pick again` });
@@ -842,7 +877,7 @@ export function plannerPage(main, me) {
 
   // Test hook: state, and screen positions of model points (to click holes like a person would).
   window.rigger.planner = {
-    state, view, history, validate,
+    state, view, history, validate, features,
     screenOf: (entity, point) => view.screenOf(entity, point),
     holes: (entity) => view.parts.get(entity)?.features.holes || [],
   };
@@ -863,7 +898,11 @@ export function plannerPage(main, me) {
     if (failed.length) say(`Parts not shown (${failed.join('; ')})`, true);
     view.frame('target');
     renderHoles();
+    await features.load(ENTITIES);
     window.rigger.planner.ready = true;
   })();
-  return () => { clearTimeout(timer); clearTimeout(recordTimer); document.removeEventListener('keydown', onKey); delete window.rigger.planner; };
+  return () => {
+    clearTimeout(timer); clearTimeout(recordTimer); clearTimeout(libraryTimer); offLibrary();
+    document.removeEventListener('keydown', onKey); delete window.rigger.planner;
+  };
 }

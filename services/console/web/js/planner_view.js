@@ -61,6 +61,9 @@ export class PartsView {
     this.controls.addEventListener('change', () => this.render());
     this.raycaster = new THREE.Raycaster();
     this.hovered = null;
+    // While set and active, hover and click go to it instead ({active, hover(x, y), click(x, y)}: the
+    // feature picker's markers).
+    this.overlay = null;
     const canvas = this.renderer.domElement;
     let down = null;
     canvas.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
@@ -69,6 +72,7 @@ export class PartsView {
     canvas.addEventListener('click', (e) => {
       // A drag orbits; only a click that did not move picks.
       if (down && Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
+      if (this.overlay?.active) return this.overlay.click(e.clientX, e.clientY);
       const pick = this.pickAt(e.clientX, e.clientY);
       if (pick) this.onPick(pick);
     });
@@ -245,6 +249,7 @@ export class PartsView {
   }
 
   hover(e) {
+    if (this.overlay?.active) return this.overlay.hover(e ? e.clientX : null, e ? e.clientY : null);
     const pick = e ? this.pickAt(e.clientX, e.clientY) : null;
     const key = pick ? pickKey(pick) : null;
     if (key === this.hovered) return;

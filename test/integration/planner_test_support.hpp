@@ -1,0 +1,109 @@
+#pragma once
+// Shared by the planner's browser tests (planner_browser_test.cpp, planner_paper_task_test.cpp): the
+// services the planner page talks to — the world model and the CAD service on the simulated cell's
+// file and STEP models, scripted executors announcing the real skill library
+// (recipes/examples/skill_library.json), the task controller and the console — on the test's private
+// DDS domain, and a playwright-core script run against the console in headless Debian chromium.
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "auth.hpp"
+#include "cell_sim_test_support.hpp"
+
+namespace rigger::testing {
+
+/// True when the browser tests can run here: Debian's chromium, node and the console's npm packages.
+inline bool browser_tools_present() {
+  return std::filesystem::exists("/usr/bin/chromium") && std::filesystem::exists("/usr/bin/node") &&
+         std::filesystem::exists(repo_file("services/console/web/node_modules/playwright-core"));
+}
+
+class PlannerCellTest : public MultiProcessTest {
+ protected:
+  std::string write_config(const std::string& name, const nlohmann::json& config) {
+    const std::string path = cell_.log_dir() + "/" + name + ".json";
+    std::ofstream(path) << config.dump(2);
+    return path;
+  }
+
+  /// Starts the planner's services and waits until each announced READY; sets port_ and token_ (the
+  /// programmer "ada"). Skills succeed after 0.2 s, monitors run until stopped.
+  ::testing::AssertionResult start_planner_services() {
+    const std::string dir = cell_.log_dir();
+    const std::string cell_file = repo_file("deploy/cell/simulated_cell.json");
+    const std::string library = repo_file("recipes/examples/skill_library.json");
+    cell_.start("world_model", "world_model",
+                {"--id", "world_model", "--config", write_config("world_model", {{"cell_config", cell_file}}), "--db",
+                 dir + "/world_model.sqlite"});
+    cell_.start(
+        "cad", "cad",
+        {"--id", "cad", "--config",
+         write_config("cad", {{"cell_config", cell_file}, {"allowed_dirs", {repo_file("deploy/cell/models")}}})});
+    cell_.start("skills", "scripted_executor",
+                {"--id", "skills", "--config",
+                 write_config("skills",
+                              {{"library_file", library},
+                               {"skills",
+                                {"Localize", "AttachRobotToLoad", "InsertVisuallyGuided", "Screw", "Release", "Place"}},
+                               {"default", {{"mode", "succeed"}, {"delay_s", 0.2}}}})});
+    cell_.start("monitors", "scripted_executor",
+                {"--id", "monitors", "--config",
+                 write_config("monitors", {{"library_file", library},
+                                           {"skills", {"TimerMonitor", "ForceMonitor", "YankMonitor"}},
+                                           {"default", {{"mode", "run"}}}})});
+    cell_.start("task_controller", "task_controller",
+                {"--id", "task_controller", "--config",
+                 write_config("task_controller", {{"journal_path", dir + "/journal.sqlite"}})});
+    const auto users = console::make_users(dir + "/console-users.json", {{"ada", console::Role::kProgrammer}});
+    token_ = users[0].token;
+    port_ = free_tcp_port();
+    cell_.start("console", "console",
+                {"--id", "console", "--config",
+                 write_config("console", {{"port", port_},
+                                          {"users_file", dir + "/console-users.json"},
+                                          {"audit_log", dir + "/console-audit.log"},
+                                          {"confirm_timeout_s", 30}})});
+    if (!cell_.wait_ready({"world_model", "cad", "skills", "monitors", "task_controller", "console"},
+                          std::chrono::seconds(60)))
+      return ::testing::AssertionFailure() << "the planner's services did not all announce READY\n" << cell_.logs();
+    return ::testing::AssertionSuccess();
+  }
+
+  /// Runs `script` (a repository path) in node, niced, with the console's URL, the token, the log folder
+  /// (ARTIFACTS) and `result_file` (RESULT) in its environment plus `env`; the cell's loop runs
+  /// meanwhile. Succeeds when the script exited 0 within `timeout`; the failure carries its log.
+  ::testing::AssertionResult run_browser_script(const std::string& script, const std::string& result_file,
+                                                std::chrono::milliseconds timeout,
+                                                std::map<std::string, std::string> env = {}) {
+    env.insert({{"CONSOLE_URL", "http://127.0.0.1:" + std::to_string(port_)},
+                {"TOKEN_PROGRAMMER", token_},
+                {"ARTIFACTS", cell_.log_dir()},
+                {"RESULT", result_file},
+                {"NODE_PATH", repo_file("services/console/web/node_modules")}});
+    const std::string name = std::filesystem::path(script).stem().string();
+    // Shared: a script killed on timeout still posts its end to the loop after this function returned.
+    auto done = std::make_shared<bool>(false);
+    ChildProcess browser("/usr/bin/nice", {"-n", "15", "/usr/bin/node", repo_file(script)}, env,
+                         cell_.log_dir() + "/browser-" + name + ".log",
+                         [this, done] { cell_.loop().post([done] { *done = true; }); });
+    const bool ended = cell_.wait_until([&] { return *done; }, timeout);
+    const std::string log = browser.log();
+    if (!ended)
+      return ::testing::AssertionFailure() << "the browser script " << script << " did not end in time\n" << log;
+    const auto exit = browser.wait(std::chrono::seconds(5));
+    if (!exit || !exit->ok())
+      return ::testing::AssertionFailure() << "the browser script " << script << " failed:\n" << log;
+    std::printf("%s", log.c_str());
+    return ::testing::AssertionSuccess();
+  }
+
+  std::uint16_t port_ = 0;
+  std::string token_;
+};
+
+}  // namespace rigger::testing
