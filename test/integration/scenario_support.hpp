@@ -28,6 +28,7 @@
 #include "rigger/protocol/crane.hpp"
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/sim.hpp"
+#include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
 #include "rigger/protocol/task_names.hpp"
 #include "rigger/testing/cell.hpp"
@@ -87,7 +88,15 @@ class ScenarioCell {
         truth_(cell.participant(), protocol::sim::kGroundTruth),
         robot_(cell.participant(), protocol::robot::kState),
         gripper_(cell.participant(), protocol::robot::kGripperState),
-        crane_(cell.participant(), protocol::crane::kState) {
+        crane_(cell.participant(), protocol::crane::kState),
+        commands_(cell.participant(), protocol::skill::kCommand) {
+    cell.loop().on_data(commands_, [this] {
+      commands_.take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
+        if (c.kind != rigger_skill_SKILL_PAUSE || pause_seen_at_) return;
+        pause_seen_at_ = Clock::now();
+        rest_after_pause_at_.reset();
+      });
+    });
     cell.loop().on_data(crane_, [this] {
       crane_.take([this](const rigger_crane_CraneState& c, const dds_sample_info_t&) {
         crane_ready_ = c.link_ok && c.ready && !c.fault;
@@ -133,6 +142,12 @@ class ScenarioCell {
       robot_.take([this](const rigger_robot_RobotState& s, const dds_sample_info_t&) {
         robot_tool_ = dds::to_domain(s.tool_pose);
         robot_moving_ = s.moving;
+        if (pause_seen_at_ && !rest_after_pause_at_) {
+          const auto& v = s.tool_twist.linear;
+          const double tool_mps = Eigen::Vector3d(v.x, v.y, v.z).norm();
+          const double crane_mps = sim_.has_status() ? sim_.latest().crane_velocity_mps.norm() : 1.0;
+          if (tool_mps < 0.001 && crane_mps < 0.001) rest_after_pause_at_ = Clock::now();
+        }
         ++robot_samples_;
       });
     });
@@ -272,6 +287,14 @@ class ScenarioCell {
     return r;
   }
 
+  /// From the first SKILL_PAUSE seen on rigger/skill/command to the first robot state after it in which the
+  /// tool (its reported twist) and the crane (the simulator's status) both move slower than 1 mm/s; both
+  /// times are when this process read the samples. Empty before a pause, or while still moving.
+  std::optional<double> rest_after_pause_s() const {
+    if (!pause_seen_at_ || !rest_after_pause_at_) return std::nullopt;
+    return std::chrono::duration<double>(*rest_after_pause_at_ - *pause_seen_at_).count();
+  }
+
   /// Skill nodes with their durations, in start order, as the demo prints them.
   std::string durations() const {
     std::vector<std::pair<double, std::string>> lines;
@@ -371,6 +394,8 @@ class ScenarioCell {
   dds::Reader<rigger_robot_RobotState> robot_;
   dds::Reader<rigger_robot_GripperState> gripper_;
   dds::Reader<rigger_crane_CraneState> crane_;
+  dds::Reader<rigger_skill_SkillCommand> commands_;
+  std::optional<Clock::time_point> pause_seen_at_, rest_after_pause_at_;
   bool crane_ready_ = false;
   bool ready_ = false;
   std::string task_id_;

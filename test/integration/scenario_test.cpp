@@ -174,6 +174,12 @@ TEST_F(ScenarioTest, APauseDuringTheInsertionHoldsRobotAndCraneAndResumeComplete
               "%.3f mm, crane %.2f mm/s at most\n",
               rest_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
   ASSERT_TRUE(after.at_rest) << "robot or crane still moving 5 s after the pause";
+  // From the PAUSE itself (issue 13's "below 1 mm/s within 300 ms"): reported, not asserted as a time, since
+  // a loaded test machine delays it; what is asserted is that the devices did come below 1 mm/s.
+  const auto from_pause = s.rest_after_pause_s();
+  ASSERT_TRUE(from_pause.has_value()) << "the tool or the crane never came below 1 mm/s after the PAUSE";
+  std::printf("  below 1 mm/s (tool and crane) %.0f ms after the PAUSE command was on the wire\n", *from_pause * 1000.0);
+  RecordProperty("rest_after_pause_ms", std::to_string(static_cast<int>(*from_pause * 1000.0)));
   // The same bounds as a stop after a kill: the arm holds the 40 kg load on a rope (it settles by a little
   // more than a millimetre), the crane does not move.
   EXPECT_LT(after.max_tool_m, 0.002) << "the robot moved while paused";
