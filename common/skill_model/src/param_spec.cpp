@@ -6,8 +6,8 @@
 #include <set>
 #include <utility>
 
-#include "skill_json_util.hpp"
 #include "rigger/skill/units.hpp"
+#include "skill_json_util.hpp"
 
 namespace rigger::skill {
 namespace {
@@ -25,12 +25,15 @@ constexpr std::array<std::pair<ParamType, std::string_view>, 8> kTypeNames{{
     {ParamType::kStringList, "string_list"},
 }};
 
-bool is_numeric(ParamType type) { return type == ParamType::kNumber || type == ParamType::kInteger; }
-bool is_sized(ParamType type) { return type == ParamType::kString || type == ParamType::kStringList; }
+bool is_numeric(ParamType type) {
+  return type == ParamType::kNumber || type == ParamType::kInteger;
+}
+bool is_sized(ParamType type) {
+  return type == ParamType::kString || type == ParamType::kStringList;
+}
 
 bool is_atom_char(char c) {
-  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '.' ||
-         c == '-';
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '.' || c == '-';
 }
 
 bool is_feature_ref(const std::string& text) {
@@ -94,17 +97,18 @@ void check_numbers(const Json& array, std::size_t count, const std::string& poin
   }
   for (std::size_t i = 0; i < count; ++i) {
     if (!array[i].is_number() || !std::isfinite(array[i].get<double>())) {
-      errors.push_back({pointer + "/" + std::to_string(i), "expected a finite number, got " +
-                                                              detail::describe_json(array[i])});
+      errors.push_back(
+          {pointer + "/" + std::to_string(i), "expected a finite number, got " + detail::describe_json(array[i])});
     }
   }
 }
 
 void check_pose(const Json& value, const std::string& pointer, std::vector<ModelError>& errors) {
   if (!value.is_object()) {
-    errors.push_back({pointer, "expected a pose object {\"position_m\": [x,y,z], \"rpy_deg\": [r,p,y]} "
-                               "(or \"quaternion_xyzw\" instead of \"rpy_deg\"), got " +
-                                   detail::describe_json(value)});
+    errors.push_back({pointer,
+                      "expected a pose object {\"position_m\": [x,y,z], \"rpy_deg\": [r,p,y]} "
+                      "(or \"quaternion_xyzw\" instead of \"rpy_deg\"), got " +
+                          detail::describe_json(value)});
     return;
   }
   for (const auto& [key, member] : value.items()) {
@@ -122,8 +126,9 @@ void check_pose(const Json& value, const std::string& pointer, std::vector<Model
   const bool has_rpy = value.contains("rpy_deg");
   const bool has_quaternion = value.contains("quaternion_xyzw");
   if (has_rpy == has_quaternion) {
-    errors.push_back({pointer, "expected exactly one orientation: \"rpy_deg\" [roll, pitch, yaw] in degrees or "
-                               "\"quaternion_xyzw\" [x, y, z, w]"});
+    errors.push_back({pointer,
+                      "expected exactly one orientation: \"rpy_deg\" [roll, pitch, yaw] in degrees or "
+                      "\"quaternion_xyzw\" [x, y, z, w]"});
   }
   if (has_rpy) {
     check_numbers(value["rpy_deg"], 3, pointer + "/rpy_deg", "roll, pitch, yaw in degrees", errors);
@@ -138,15 +143,14 @@ void check_pose(const Json& value, const std::string& pointer, std::vector<Model
         norm2 += c.get<double>() * c.get<double>();
       }
       if (std::abs(std::sqrt(norm2) - 1.0) > 1e-3) {
-        errors.push_back({pointer + "/quaternion_xyzw",
-                          "expected a unit quaternion (norm 1 within 1e-3), norm is " +
-                              detail::format_number(std::sqrt(norm2))});
+        errors.push_back({pointer + "/quaternion_xyzw", "expected a unit quaternion (norm 1 within 1e-3), norm is " +
+                                                            detail::format_number(std::sqrt(norm2))});
       }
     }
   }
   if (value.contains("frame") && (!value["frame"].is_string() || value["frame"].get<std::string>().empty())) {
-    errors.push_back({pointer + "/frame", "expected the name of a frame (non-empty string), got " +
-                                              detail::describe_json(value["frame"])});
+    errors.push_back({pointer + "/frame",
+                      "expected the name of a frame (non-empty string), got " + detail::describe_json(value["frame"])});
   }
 }
 
@@ -179,6 +183,17 @@ const std::vector<std::string_view>& param_type_names() {
     return names;
   }();
   return kNames;
+}
+
+ParamSpec object_id_param(std::string name, std::string description, std::optional<std::string> default_id) {
+  ParamSpec spec{std::move(name), ParamType::kString, "", 1.0, std::nullopt, std::nullopt, {}, std::move(description)};
+  if (default_id) spec.default_value = nlohmann::json(*default_id);
+  return spec;
+}
+
+ParamSpec seconds_param(std::string name, double min_s, double max_s, double default_s, std::string description) {
+  return ParamSpec{std::move(name), ParamType::kNumber,        "s", min_s,
+                   max_s,           nlohmann::json(default_s), {},  std::move(description)};
 }
 
 bool operator==(const ParamSpec& a, const ParamSpec& b) {
@@ -230,9 +245,7 @@ std::vector<ModelError> check_value(const ParamSpec& spec, const Json& value, co
   std::vector<ModelError> errors;
   const std::string expected = "expected " + describe_expectation(spec);
   auto fail = [&](const std::string& why) { errors.push_back({pointer, why}); };
-  auto in_range = [&](double v) {
-    return (!spec.min || v >= *spec.min) && (!spec.max || v <= *spec.max);
-  };
+  auto in_range = [&](double v) { return (!spec.min || v >= *spec.min) && (!spec.max || v <= *spec.max); };
 
   switch (spec.type) {
     case ParamType::kNumber: {
@@ -266,7 +279,7 @@ std::vector<ModelError> check_value(const ParamSpec& spec, const Json& value, co
       if (!value.is_number_integer()) {
         fail(expected + ", got " + detail::describe_json(value));
       } else if (!in_range(value.is_number_unsigned() ? static_cast<double>(value.get<std::uint64_t>())
-                                                       : static_cast<double>(value.get<std::int64_t>()))) {
+                                                      : static_cast<double>(value.get<std::int64_t>()))) {
         fail(expected + ", got " + value.dump());
       } else if (normalized != nullptr) {
         *normalized = value;
@@ -283,8 +296,7 @@ std::vector<ModelError> check_value(const ParamSpec& spec, const Json& value, co
       if (!value.is_string()) {
         fail(expected + ", got " + detail::describe_json(value));
       } else if (!in_range(static_cast<double>(code_points(value.get_ref<const std::string&>())))) {
-        fail(expected + ", got a string of length " +
-             std::to_string(code_points(value.get_ref<const std::string&>())));
+        fail(expected + ", got a string of length " + std::to_string(code_points(value.get_ref<const std::string&>())));
       } else if (normalized != nullptr) {
         *normalized = value;
       }
@@ -323,8 +335,8 @@ std::vector<ModelError> check_value(const ParamSpec& spec, const Json& value, co
       }
       for (std::size_t i = 0; i < value.size(); ++i) {
         if (!value[i].is_string()) {
-          errors.push_back({pointer + "/" + std::to_string(i),
-                            "expected a string, got " + detail::describe_json(value[i])});
+          errors.push_back(
+              {pointer + "/" + std::to_string(i), "expected a string, got " + detail::describe_json(value[i])});
         }
       }
       if (!in_range(static_cast<double>(value.size()))) {
@@ -368,18 +380,18 @@ Parsed<ParamSpec> parse_param_spec(const Json& json, const std::string& pointer)
   Parsed<ParamSpec> result;
   auto& errors = result.errors;
   if (!json.is_object()) {
-    errors.push_back({pointer, "expected a parameter object {\"name\", \"type\", …}, got " + detail::describe_json(json)});
+    errors.push_back(
+        {pointer, "expected a parameter object {\"name\", \"type\", …}, got " + detail::describe_json(json)});
     return result;
   }
-  detail::check_keys(json, pointer, {"name", "type", "unit", "min", "max", "default", "values", "description"},
-                     errors);
+  detail::check_keys(json, pointer, {"name", "type", "unit", "min", "max", "default", "values", "description"}, errors);
   ParamSpec spec;
   detail::read_identifier(json, "name", pointer, detail::IdentifierStyle::kSnake, spec.name, errors);
 
   if (!json.contains("type")) {
     errors.push_back({pointer, "missing \"type\": expected one of " + detail::join(param_type_names())});
-  } else if (const auto type = json["type"].is_string() ? param_type_from_string(json["type"].get<std::string>())
-                                                         : std::nullopt;
+  } else if (const auto type =
+                 json["type"].is_string() ? param_type_from_string(json["type"].get<std::string>()) : std::nullopt;
              !type) {
     errors.push_back({pointer + "/type", "expected one of " + detail::join(param_type_names()) + ", got " +
                                              detail::describe_json(json["type"])});
@@ -408,13 +420,13 @@ Parsed<ParamSpec> parse_param_spec(const Json& json, const std::string& pointer)
     }
     const Json& b = json[bound];
     if (!is_numeric(spec.type) && !is_sized(spec.type)) {
-      errors.push_back({pointer + "/" + bound, std::string("\"") + bound +
-                                                   "\" applies to number, integer, string and string_list only"});
+      errors.push_back({pointer + "/" + bound,
+                        std::string("\"") + bound + "\" applies to number, integer, string and string_list only"});
     } else if (!b.is_number() || !std::isfinite(b.get<double>())) {
       errors.push_back({pointer + "/" + bound, "expected a number, got " + detail::describe_json(b)});
     } else if (is_sized(spec.type) && (b.get<double>() < 0 || std::floor(b.get<double>()) != b.get<double>())) {
-      errors.push_back({pointer + "/" + bound, "expected a non-negative integer (a length or item count), got " +
-                                                   b.dump()});
+      errors.push_back(
+          {pointer + "/" + bound, "expected a non-negative integer (a length or item count), got " + b.dump()});
     } else {
       (std::string(bound) == "min" ? spec.min : spec.max) = b.get<double>();
     }
@@ -434,8 +446,8 @@ Parsed<ParamSpec> parse_param_spec(const Json& json, const std::string& pointer)
       for (std::size_t i = 0; i < values->size(); ++i) {
         const Json& v = (*values)[i];
         if (!v.is_string() || v.get<std::string>().empty()) {
-          errors.push_back({pointer + "/values/" + std::to_string(i), "expected a non-empty string, got " +
-                                                                          detail::describe_json(v)});
+          errors.push_back({pointer + "/values/" + std::to_string(i),
+                            "expected a non-empty string, got " + detail::describe_json(v)});
         } else if (!seen.insert(v.get<std::string>()).second) {
           errors.push_back({pointer + "/values/" + std::to_string(i), "duplicate enum value " + v.dump()});
         } else {
@@ -451,7 +463,8 @@ Parsed<ParamSpec> parse_param_spec(const Json& json, const std::string& pointer)
     if (json["description"].is_string()) {
       spec.description = json["description"].get<std::string>();
     } else {
-      errors.push_back({pointer + "/description", "expected a string, got " + detail::describe_json(json["description"])});
+      errors.push_back(
+          {pointer + "/description", "expected a string, got " + detail::describe_json(json["description"])});
     }
   }
 

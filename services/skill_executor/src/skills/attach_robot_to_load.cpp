@@ -15,14 +15,7 @@ const skill::SkillDescription& AttachRobotToLoadSkill::describe() {
         "the magnet, re-resolves the grasp frame (the load may sway), approaches it in a straight line at low speed "
         "and verifies the hold for verify_s. A retry after a slip first releases and retreats to the approach pose.";
     d.params = {
-        ParamSpec{"object",
-                  ParamType::kString,
-                  "",
-                  1.0,
-                  std::nullopt,
-                  nlohmann::json("load"),
-                  {},
-                  "The crane-carried object (claimed while the skill runs)."},
+        skill::object_id_param("object", "The crane-carried object (claimed while the skill runs).", "load"),
         ParamSpec{"grasp",
                   ParamType::kFeatureRef,
                   "",

@@ -17,14 +17,7 @@ const skill::SkillDescription& CollaborativeMoveLoadSkill::describe() {
         "'done' (or duration_s passed); then admittance OFF, and the world model is told the object is no "
         "longer localized.";
     d.params = {
-        ParamSpec{"object",
-                  ParamType::kString,
-                  "",
-                  1.0,
-                  std::nullopt,
-                  nlohmann::json("load"),
-                  {},
-                  "The crane-carried object the robot holds."},
+        skill::object_id_param("object", "The crane-carried object the robot holds.", "load"),
         ParamSpec{"reference",
                   ParamType::kEnum,
                   "",

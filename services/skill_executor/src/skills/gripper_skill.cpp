@@ -8,7 +8,9 @@
 
 namespace rigger::skill_executor {
 
-std::string mm(double m) { return std::to_string(static_cast<long long>(std::lround(m * 1000.0))) + " mm"; }
+std::string mm(double m) {
+  return std::to_string(static_cast<long long>(std::lround(m * 1000.0))) + " mm";
+}
 
 double speed_scale_for(double tool_speed_mps) {
   return std::clamp(tool_speed_mps / kRobotMaxToolSpeedMps, 0.001, 1.0);
@@ -29,10 +31,8 @@ skill::ParamSpec max_reach_param() {
 skill::ParamSpec timeout_param() {
   using skill::ParamSpec;
   using skill::ParamType;
-  return ParamSpec{"timeout_s", ParamType::kNumber,
-                   "s",         1.0,
-                   600.0,       nlohmann::json(60.0),
-                   {},          "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer."};
+  return skill::seconds_param("timeout_s", 1.0, 600.0, 60.0,
+                              "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer.");
 }
 
 Eigen::Isometry3d along_tool_z(const Eigen::Isometry3d& pose, double distance_m) {
@@ -82,8 +82,7 @@ void GripperSkill::arm_overall_timeout() {
   overall_timer_ = ctx().after(overall_timeout_, [this] {
     overall_timer_ = 0;
     if (finished() || stopping()) return;
-    fail("TIMEOUT",
-         "not done within timeout_s = " + number_text(overall_timeout_s_) + " s (in state " + state() + ")");
+    fail("TIMEOUT", "not done within timeout_s = " + number_text(overall_timeout_s_) + " s (in state " + state() + ")");
   });
 }
 

@@ -25,14 +25,7 @@ const skill::SkillDescription& LocalizeSkill::describe() {
         "Detects an object with the camera (rigger/tracker/command TRACK_ONCE, rigger/tracker/pose) and "
         "stores its pose, quality and localized=true in the world model (rigger/world/update, accepted).";
     d.params = {
-        ParamSpec{"object",
-                  ParamType::kString,
-                  "",
-                  1.0,
-                  std::nullopt,
-                  std::nullopt,
-                  {},
-                  "World-model id of the object to localize (the tracker's object_id)."},
+        skill::object_id_param("object", "World-model id of the object to localize (the tracker's object_id)."),
         ParamSpec{"min_quality",
                   ParamType::kNumber,
                   "",
@@ -41,14 +34,8 @@ const skill::SkillDescription& LocalizeSkill::describe() {
                   nlohmann::json(0.5),
                   {},
                   "Lowest accepted tracking quality."},
-        ParamSpec{"timeout_s",
-                  ParamType::kNumber,
-                  "s",
-                  0.1,
-                  60.0,
-                  nlohmann::json(5.0),
-                  {},
-                  "Fails with NOT_DETECTED when no good enough pose arrived within this time."},
+        skill::seconds_param("timeout_s", 0.1, 60.0, 5.0,
+                             "Fails with NOT_DETECTED when no good enough pose arrived within this time."),
     };
     d.resources = {"camera"};
     d.postconditions = {*skill::parse_predicate("localized($object)")};

@@ -10,9 +10,6 @@ namespace {
 using skill::ParamSpec;
 using skill::ParamType;
 
-ParamSpec object_param(const char* what) {
-  return ParamSpec{"object", ParamType::kString, "", 1.0, std::nullopt, std::nullopt, {}, what};
-}
 ParamSpec approach_m_param() {
   return ParamSpec{"approach_m",
                    ParamType::kNumber,
@@ -66,7 +63,7 @@ const skill::SkillDescription& PickSkill::describe() {
         "Picks an object within the robot's payload with the magnetic gripper: approach pose, straight "
         "descent to the grasp frame, energize and confirm the hold, straight retreat.";
     d.params = {
-        object_param("The object picked (claimed while the skill runs)."),
+        skill::object_id_param("object", "The object picked (claimed while the skill runs)."),
         ParamSpec{"grasp",
                   ParamType::kFeatureRef,
                   "",
@@ -202,7 +199,7 @@ const skill::SkillDescription& PlaceSkill::describe() {
         "straight retreat; then the world model is told the object is no longer localized (Localize it again "
         "before anything needs its pose).";
     d.params = {
-        object_param("The object placed (claimed while the skill runs)."),
+        skill::object_id_param("object", "The object placed (claimed while the skill runs)."),
         ParamSpec{"pose",
                   ParamType::kPose,
                   "",
@@ -222,8 +219,8 @@ const skill::SkillDescription& PlaceSkill::describe() {
     d.resources = {"robot", "gripper", "$object"};
     d.pausable = true;
     d.preconditions = {*skill::parse_predicate("attached(robot,$object)")};
-    d.postconditions = {*skill::parse_predicate("!attached(robot,$object)"),
-                        *skill::parse_predicate("placed($object)"), *skill::parse_predicate("!localized($object)")};
+    d.postconditions = {*skill::parse_predicate("!attached(robot,$object)"), *skill::parse_predicate("placed($object)"),
+                        *skill::parse_predicate("!localized($object)")};
     return d;
   }();
   return kDescription;
@@ -314,8 +311,7 @@ void PlaceSkill::confirm_released() {
 void PlaceSkill::retreat() {
   ctx().progress(0.8, "retreating");
   move_tool(along_tool_z(place_, -params().at("retreat_m").get<double>()),
-            speed_scale_for(params().at("approach_speed_m_per_s").get<double>()), motion_timeout(),
-            [this] {
+            speed_scale_for(params().at("approach_speed_m_per_s").get<double>()), motion_timeout(), [this] {
               const std::string object = params().at("object").get<std::string>();
               succeed_unlocalizing(object, "placed " + object);
             });

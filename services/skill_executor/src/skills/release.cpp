@@ -14,14 +14,7 @@ const skill::SkillDescription& ReleaseSkill::describe() {
         "De-energizes the magnetic gripper, confirms it let go and retreats the tool straight back along "
         "its -z axis by retreat_m.";
     d.params = {
-        ParamSpec{"object",
-                  ParamType::kString,
-                  "",
-                  1.0,
-                  std::nullopt,
-                  nlohmann::json("load"),
-                  {},
-                  "The object let go of (claimed while the skill runs)."},
+        skill::object_id_param("object", "The object let go of (claimed while the skill runs).", "load"),
         ParamSpec{"retreat_m",
                   ParamType::kNumber,
                   "m",
@@ -54,14 +47,8 @@ const skill::SkillDescription& ReleaseSkill::describe() {
                   nlohmann::json(true),
                   {},
                   "Refuse to let go unless the crane reports healthy (rigger/crane/state)."},
-        ParamSpec{"timeout_s",
-                  ParamType::kNumber,
-                  "s",
-                  1.0,
-                  600.0,
-                  nlohmann::json(30.0),
-                  {},
-                  "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer."},
+        skill::seconds_param("timeout_s", 1.0, 600.0, 30.0,
+                             "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer."),
     };
     d.resources = {"robot", "gripper", "$object"};
     d.pausable = true;

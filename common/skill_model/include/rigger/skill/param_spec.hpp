@@ -33,18 +33,25 @@ const std::vector<std::string_view>& param_type_names();
 
 /// One parameter. A parameter without a default is required.
 struct ParamSpec {
-  std::string name;             ///< [a-z][a-z0-9_]*, units in the name when it has one (max_force_n)
+  std::string name;  ///< [a-z][a-z0-9_]*, units in the name when it has one (max_force_n)
   ParamType type = ParamType::kNumber;
-  std::string unit;             ///< SI unit of number/integer values ("" = dimensionless); see units.hpp
-  std::optional<double> min;    ///< inclusive lower bound: value (number/integer), length (string), count (string_list)
-  std::optional<double> max;    ///< inclusive upper bound, same meaning as `min`
+  std::string unit;           ///< SI unit of number/integer values ("" = dimensionless); see units.hpp
+  std::optional<double> min;  ///< inclusive lower bound: value (number/integer), length (string), count (string_list)
+  std::optional<double> max;  ///< inclusive upper bound, same meaning as `min`
   std::optional<nlohmann::json> default_value;  ///< absent ⇒ the parameter is required
   std::vector<std::string> enum_values;         ///< the allowed strings when type == kEnum
-  std::string description;      ///< for people (UIs, riggerctl skills)
+  std::string description;                      ///< for people (UIs, riggerctl skills)
 
   bool required() const { return !default_value.has_value(); }
   friend bool operator==(const ParamSpec& a, const ParamSpec& b);
 };
+
+/// A world-model object id (type string, at least one character): `object`, `target`, … Required when
+/// `default_id` is empty.
+ParamSpec object_id_param(std::string name, std::string description, std::optional<std::string> default_id = {});
+
+/// A duration in seconds in [min_s, max_s], `default_s` when not given.
+ParamSpec seconds_param(std::string name, double min_s, double max_s, double default_s, std::string description);
 
 /// The JSON form: {"name", "type", "unit"?, "min"?, "max"?, "default"?, "values"? (enum), "description"?}.
 nlohmann::json to_json(const ParamSpec& spec);
