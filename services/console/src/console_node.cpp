@@ -76,7 +76,7 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
       static_cast<long>(1000.0 * config.get_in_range<double>("query_timeout_s", 3.0, 0.1, 60.0)));
   std::optional<std::uint32_t> rehearsal_domain;
   if (config.has("rehearsal_domain")) {
-    rehearsal_domain = static_cast<std::uint32_t>(config.get_in_range<int>("rehearsal_domain", 0, 0, 232));
+    rehearsal_domain = static_cast<std::uint32_t>(config.get_in_range<int>("rehearsal_domain", 0, 0, 230));
     if (*rehearsal_domain == ctx.participant.domain_id())
       throw ConfigError(ctx.options.config_path, "/rehearsal_domain",
                         "the rehearsal domain must not be the cell's own domain " + std::to_string(*rehearsal_domain) +
@@ -95,7 +95,7 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
   tasks_.attach(ctx.loop);
   std::optional<RehearsalFeed> rehearsal_feed;
   if (rehearsal_domain) {
-    rehearsal_ = std::make_unique<RehearsalLink>(*rehearsal_domain, ctx.loop, events_.epoch());
+    rehearsal_ = std::make_unique<RehearsalLink>(*rehearsal_domain, ctx.loop, events_.epoch(), query_timeout_);
     rehearsal_feed.emplace(rehearsal_->feed());
     ctx.log->info("rehearsal domain={}", *rehearsal_domain);
   }
@@ -217,8 +217,10 @@ ActionResult ConsoleNode::publish_recipe(const std::string& task_id, const std::
 ActionResult ConsoleNode::rehearse(const std::string& task_id, const std::string& recipe_json,
                                    const std::string& submitter) {
   return on_loop([=](auto promise) {
-    promise->set_value(rehearsal_ ? rehearsal_->publish(task_id, recipe_json, submitter)
-                                  : ActionResult{false, "no rehearsal domain is configured", {}});
+    if (rehearsal_)
+      rehearsal_->publish(task_id, recipe_json, submitter, promise);
+    else
+      promise->set_value({false, "no rehearsal domain is configured", {}});
   });
 }
 

@@ -71,9 +71,4 @@ json ConsoleState::task(const std::string& task_id) const {
   return it == tasks_.end() ? json() : it->second;
 }
 
-bool ConsoleState::has_executors() const {
-  std::lock_guard lock(mutex_);
-  return !executors_.empty();
-}
-
 }  // namespace rigger::console

@@ -37,8 +37,6 @@ class ConsoleState {
   nlohmann::json prompt(const std::string& prompt_id) const;
   /// The last status of task `task_id`, or null.
   nlohmann::json task(const std::string& task_id) const;
-  /// Whether any executor is alive.
-  bool has_executors() const;
 
  private:
   EventLog& log_;

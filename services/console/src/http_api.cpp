@@ -416,7 +416,8 @@ void HttpApi::routes() {
     auto recipe = body(req, res);
     if (!recipe) return;
     const std::string task_id = text_field(*recipe, "task_id");
-    if (task_id.empty()) return send_error(res, 400, "the recipe needs a non-empty string task_id", req.path + "#/task_id");
+    if (task_id.empty())
+      return send_error(res, 400, "the recipe needs a non-empty string task_id", req.path + "#/task_id");
     const std::string domain = std::to_string(rehearsal_->domain_id);
     const auto refuse = [&](int status, const std::string& why, json errors = json::array()) {
       audit(*user, "rehearse", task_id, "refused: " + why);
@@ -424,25 +425,17 @@ void HttpApi::routes() {
       if (!errors.empty()) answer["errors"] = std::move(errors);
       send_json(res, answer, status);
     };
-    if (!rehearsal_->state.has_executors())
-      return refuse(503, "no skill executor announces itself on the rehearsal domain " + domain +
-                             " (is the rehearsal cell running? RIGGER_DOMAIN=" + domain + " deploy/rigger-compose up)");
-    // The rehearsal controller's own verdict, against the library its executors announce.
-    const json verdict = validate_recipe(rehearsal_->skills.library(), req.body);
-    if (!verdict.value("ok", false)) {
-      const json& errors = verdict["errors"];
-      const std::string first = errors.empty() ? "" : ": " + errors[0].value("pointer", "") + " " + errors[0].value("message", "");
-      return refuse(409, "the rehearsal cell's validator refuses the recipe (" + std::to_string(errors.size()) + " error" +
-                             (errors.size() == 1 ? "" : "s") + ")" + first,
-                    errors);
-    }
     if (!rehearsal_->state.task(task_id).is_null())
       return refuse(409, "task " + task_id + " already ran on the rehearsal domain " + domain +
                              " and a controller takes a task id once: rehearse under a new task id");
+    // The rehearsal controller's own verdict (its validator, against the library its executors announce).
     const auto r = backend_.rehearse(task_id, req.body, "console:" + user->name);
+    const bool rejected = r.data.is_object() && r.data.value("state", "") == "REJECTED";
+    if (rejected) return refuse(409, r.message, r.data.value("errors", json::array()));
     if (!r.ok) return refuse(503, r.message);
     audit(*user, "rehearse", task_id, "sent to rehearsal domain " + domain);
-    send_json(res, {{"done", "rehearse"}, {"task_id", task_id}, {"domain", rehearsal_->domain_id}});
+    send_json(res, {{"done", "rehearse"}, {"task_id", task_id}, {"domain", rehearsal_->domain_id},
+                    {"state", r.data.value("state", "")}});
   });
 
   // --- commands ---

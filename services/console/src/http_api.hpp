@@ -61,20 +61,20 @@ class Backend {
   /// data = {"model_sha256", "result": <result_json parsed>, "data": <binary string, the GLB>}; a refusal
   /// is !ok with message "CODE: why".
   virtual ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) = 0;
-  /// Publishes a recipe on the rehearsal domain (the simulated cell where a recipe runs first); !ok when
-  /// no rehearsal domain is configured or no controller reads recipes there (nothing was sent).
+  /// Publishes a recipe on the rehearsal domain (the simulated cell where a recipe runs first) and waits
+  /// for the rehearsal controller's verdict: data = its first status of the task ({"state": "ACCEPTED"
+  /// or "RUNNING" ...}, ok; {"state": "REJECTED", "errors": [...]}, !ok); !ok without data when no
+  /// rehearsal domain is configured, no controller reads recipes there (nothing sent) or none answered.
   virtual ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
                                 const std::string& submitter) = 0;
 };
 
 /// What the console reads on the rehearsal domain (RehearsalLink), apart from the cell's: the HTTP side
-/// serves it as /api/rehearsal/state and /api/rehearsal/events and validates rehearsals against its
-/// live library.
+/// serves it as /api/rehearsal/state and /api/rehearsal/events.
 struct RehearsalFeed {
   std::uint32_t domain_id = 0;
   ConsoleState& state;
   EventLog& events;
-  SkillCatalog& skills;
 };
 
 struct HttpConfig {

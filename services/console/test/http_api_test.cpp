@@ -6,7 +6,6 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <sstream>
 #include <fstream>
 #include <thread>
 #include <mutex>
@@ -51,7 +50,8 @@ class RecordingBackend : public Backend {
   ActionResult cad_answer_{false, "no CAD service on this domain", {}};
   ActionResult rehearse(const std::string& task_id, const std::string&, const std::string& submitter) override {
     if (!rehearse_answer_.ok) return rehearse_answer_;
-    return record("rehearse " + task_id + " by " + submitter);
+    record("rehearse " + task_id + " by " + submitter);
+    return rehearse_answer_;
   }
   ActionResult rehearse_answer_{true, "", {}};
   std::vector<std::string> cad_requests_;
@@ -335,48 +335,40 @@ TEST_F(HttpApiTest, RehearseWithoutARehearsalDomainIsRefusedSayingWhatToConfigur
 
 class HttpApiRehearsalTest : public HttpApiTest {
  protected:
-  std::optional<RehearsalFeed> rehearsal() override { return RehearsalFeed{7, rehearsal_state_, rehearsal_events_, rehearsal_skills_}; }
-  // The cell library of recipes/examples/skill_library.json, announced on the rehearsal domain.
-  void announce_library() {
-    std::ifstream in(std::string(RIGGER_SOURCE_DIR) + "/recipes/examples/skill_library.json");
-    std::stringstream text;
-    text << in.rdbuf();
-    rehearsal_skills_.update("robot-skills", true, text.str());
-    rehearsal_state_.update_executor({{"executor_id", "robot-skills"}, {"alive", true}});
-  }
+  std::optional<RehearsalFeed> rehearsal() override { return RehearsalFeed{7, rehearsal_state_, rehearsal_events_}; }
   EventLog rehearsal_events_{1000, "42"};
   ConsoleState rehearsal_state_{rehearsal_events_};
-  SkillCatalog rehearsal_skills_;
 };
 
 constexpr const char* kLocalize =
     R"({"recipe_version": 1, "task_id": "r1", "root": {"type": "Skill", "skill": "Localize", "params": {"object": "target"}}})";
 
-TEST_F(HttpApiRehearsalTest, RehearseNeedsTheRehearsalCellAndItsValidatorsYesAndIsOneStepJournaledWithWho) {
-  // Nothing announces on the rehearsal domain: 503, nothing sent.
+TEST_F(HttpApiRehearsalTest, RehearseIsOneStepJournaledWithWhoAndAnswersWithTheRehearsalControllersVerdict) {
+  // No controller reads recipes on the rehearsal domain: 503 with the backend's reason.
+  backend_.rehearse_answer_ = {false, "no task controller reads recipes on the rehearsal domain 7; nothing was sent", {}};
   auto r = post("/api/planner/rehearse", kLocalize, kAda);
   ASSERT_EQ(r->status, 503) << r->body;
-  EXPECT_NE(body(r)["error"].get<std::string>().find("rehearsal domain 7"), std::string::npos) << r->body;
-  announce_library();
-  // The rehearsal cell's validator refuses an unknown skill: 409 with its errors by pointer.
-  r = post("/api/planner/rehearse", R"({"recipe_version": 1, "task_id": "r0", "root": {"type": "Skill", "skill": "Fly"}})", kAda);
+  EXPECT_NE(body(r)["error"].get<std::string>().find("no task controller"), std::string::npos);
+  EXPECT_EQ(body(r)["domain"], 7);
+  // The rehearsal controller's validator refuses it: 409 with its errors by pointer.
+  backend_.rehearse_answer_ = {false, "the rehearsal controller refused the recipe: VALIDATION",
+                               {{"state", "REJECTED"}, {"errors", {{{"pointer", "/root/skill"}, {"message", "unknown skill"}}}}}};
+  r = post("/api/planner/rehearse", kLocalize, kAda);
   ASSERT_EQ(r->status, 409) << r->body;
   EXPECT_EQ(body(r)["errors"][0]["pointer"], "/root/skill") << r->body;
-  // A controller that does not answer on the rehearsal domain: 503 with the backend's reason.
-  backend_.rehearse_answer_ = {false, "no task controller reads recipes on the rehearsal domain 7", {}};
-  r = post("/api/planner/rehearse", kLocalize, kAda);
-  ASSERT_EQ(r->status, 503) << r->body;
-  EXPECT_NE(body(r)["error"].get<std::string>().find("no task controller"), std::string::npos);
   EXPECT_TRUE(backend_.actions().empty());
-  // Viewers and operators may not; a programmer's rehearsal is sent at once (nothing real moves).
+  // Viewers and operators may not; bad bodies are refused before anything is sent.
   EXPECT_EQ(post("/api/planner/rehearse", kLocalize, kVic)->status, 403);
   EXPECT_EQ(post("/api/planner/rehearse", kLocalize, kOlu)->status, 403);
   EXPECT_EQ(post("/api/planner/rehearse", R"({"recipe_version": 1})", kAda)->status, 400);
+  EXPECT_EQ(post("/api/planner/rehearse", "{\"task_id\": ", kAda)->status, 400);
   EXPECT_EQ(post("/api/planner/rehearse", std::string(70 * 1024, ' '), kAda)->status, 413);
-  backend_.rehearse_answer_ = {true, "", {}};
+  // Accepted: one step (no confirmation; nothing real moves).
+  backend_.rehearse_answer_ = {true, "", {{"state", "ACCEPTED"}}};
   r = post("/api/planner/rehearse", kLocalize, kAda);
   ASSERT_EQ(r->status, 200) << r->body;
   EXPECT_EQ(body(r)["domain"], 7);
+  EXPECT_EQ(body(r)["state"], "ACCEPTED");
   EXPECT_EQ(backend_.actions(), std::vector<std::string>{"rehearse r1 by console:ada"});
   // The controller takes a task id once: a second rehearsal of r1 is refused before it is sent.
   rehearsal_state_.update_task({{"task_id", "r1"}, {"state", "SUCCEEDED"}});
@@ -385,11 +377,12 @@ TEST_F(HttpApiRehearsalTest, RehearseNeedsTheRehearsalCellAndItsValidatorsYesAnd
   EXPECT_NE(body(r)["error"].get<std::string>().find("new task id"), std::string::npos);
   EXPECT_EQ(backend_.actions().size(), 1u);
   const auto audit = audit_entries(dir_ + "/audit.log");
-  ASSERT_EQ(audit.size(), 5u);  // two 503, one 409 by the validator, the rehearsal, the refused repeat
-  EXPECT_EQ(audit[3]["user"], "ada");
-  EXPECT_EQ(audit[3]["action"], "rehearse");
-  EXPECT_EQ(audit[3]["target"], "r1");
-  EXPECT_EQ(audit[3]["result"], "sent to rehearsal domain 7");
+  ASSERT_EQ(audit.size(), 4u);  // the 503, the 409 by the controller, the rehearsal, the refused repeat
+  EXPECT_EQ(audit[2]["user"], "ada");
+  EXPECT_EQ(audit[2]["action"], "rehearse");
+  EXPECT_EQ(audit[2]["target"], "r1");
+  EXPECT_EQ(audit[2]["result"], "sent to rehearsal domain 7");
+  EXPECT_NE(audit[1]["result"].get<std::string>().find("refused"), std::string::npos);
 }
 
 TEST_F(HttpApiRehearsalTest, TheRehearsalsStateAndStreamAreItsOwnNotTheCells) {
