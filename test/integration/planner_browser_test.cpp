@@ -15,6 +15,7 @@
 
 #include "auth.hpp"
 #include "cell_sim_test_support.hpp"
+#include "scripted_library_support.hpp"
 #include "rigger/protocol/task.hpp"
 #include "rigger/protocol/task_names.hpp"
 
@@ -43,7 +44,6 @@ TEST_F(PlannerBrowserTest, TreeBuiltByClicksScrewsFromPickedHolesValidatedExport
     GTEST_SKIP() << "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)";
   const std::string dir = cell_.log_dir();
   const std::string cell_file = repo_file("deploy/cell/simulated_cell.json");
-  const std::string library = repo_file("recipes/examples/skill_library.json");
 
   std::map<std::string, int> task_states;
   dds::Reader<rigger_task_TaskStatus> status(cell_.participant(), protocol::task::kStatus);
@@ -59,16 +59,8 @@ TEST_F(PlannerBrowserTest, TreeBuiltByClicksScrewsFromPickedHolesValidatedExport
   cell_.start("cad", "cad",
               {"--id", "cad", "--config",
                write_config("cad", {{"cell_config", cell_file}, {"allowed_dirs", {repo_file("deploy/cell/models")}}})});
-  cell_.start("skills", "scripted_executor",
-              {"--id", "skills", "--config",
-               write_config("skills", {{"library_file", library},
-                                       {"skills", {"Localize", "AttachRobotToLoad", "InsertVisuallyGuided", "Screw", "Release", "Place"}},
-                                       {"default", {{"mode", "succeed"}, {"delay_s", 0.2}}}})});
-  cell_.start("monitors", "scripted_executor",
-              {"--id", "monitors", "--config",
-               write_config("monitors", {{"library_file", library},
-                                         {"skills", {"TimerMonitor", "ForceMonitor", "YankMonitor"}},
-                                         {"default", {{"mode", "run"}}}})});
+  start_scripted_library_executors(
+      cell_, {"Localize", "AttachRobotToLoad", "InsertVisuallyGuided", "Screw", "Release", "Place"});
   cell_.start("task_controller", "task_controller",
               {"--id", "task_controller", "--config",
                write_config("task_controller", {{"journal_path", dir + "/journal.sqlite"}})});

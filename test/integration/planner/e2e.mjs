@@ -5,22 +5,16 @@
 // the CAD service's features) projects on the screen, through the page's test hook screenOf(). Any
 // failed check ends the script with exit code 1.
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import { pathToFileURL } from 'node:url';
+import { launchChromium, logPage, check } from '../browser.mjs';
 
 const env = (k) => { if (!process.env[k]) throw new Error(`${k} is not set`); return process.env[k]; };
 const URL_ = env('CONSOLE_URL');
 const ART = env('ARTIFACTS');
 const MODULES = env('NODE_PATH');
 const TOKEN = env('TOKEN_PROGRAMMER');
-const { chromium } = await import(pathToFileURL(path.join(MODULES, 'playwright-core/index.mjs')).href);
 const result = {};
 
-function check(cond, what) {
-  if (!cond) throw new Error(`check failed: ${what}`);
-  console.log(`ok: ${what}`);
-}
 async function call(pathname, { method = 'GET', body } = {}) {
   const headers = { Authorization: `Bearer ${TOKEN}` };
   if (body !== undefined) headers['Content-Type'] = 'application/json';
@@ -46,17 +40,10 @@ result.cad_holes = features.holes;
 let r = await call('/api/planner/screws', { method: 'POST', body: { model: 'object:target', holes: [7] } });
 check(r.status === 400 && /no hole 7/.test(r.json?.error), `a pick of a hole that does not exist -> 400 ${JSON.stringify(r.json)}`);
 
-const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'rigger-chromium-'));
-const context = await chromium.launchPersistentContext(profile, {
-  executablePath: '/usr/bin/chromium', headless: true, viewport: { width: 1600, height: 1000 }, acceptDownloads: true,
-  args: ['--no-sandbox', '--disable-gpu', '--no-first-run', '--disable-background-networking', '--disable-component-update',
-    '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-});
-context.setDefaultTimeout(60000);
+const browser = await launchChromium(MODULES, { acceptDownloads: true });
 try {
-  const page = await context.newPage();
-  page.on('pageerror', (e) => console.log(`[planner] page error: ${e.message}`));
-  page.on('console', (m) => { if (m.type() === 'error') console.log(`[planner] console: ${m.text()}`); });
+  const page = await browser.context.newPage();
+  logPage('planner', page);
   await page.goto(`${URL_}/?token=${TOKEN}#/planner`);
   await page.waitForFunction(() => window.rigger?.ready === true && window.rigger.planner?.ready === true, null, { timeout: 90000 });
   check(await page.locator('#planner-add-kind option[value="skill:Screw"]').count() === 1, 'the Screw skill is offered from the live library');
@@ -299,6 +286,5 @@ try {
   await page.screenshot({ path: path.join(ART, 'planner-editing.png'), fullPage: true });
 } finally {
   fs.writeFileSync(env('RESULT'), JSON.stringify(result, null, 2));
-  await context.close();
-  fs.rmSync(profile, { recursive: true, force: true });
+  await browser.close();
 }

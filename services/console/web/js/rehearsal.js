@@ -62,7 +62,7 @@ export class RehearsalView {
         : 'running';
     const errors = (t?.errors || []).map((e) => el('li', {}, `${e.pointer}: ${e.message}`));
     this.status.replaceChildren(stateBadge(st), el('span', {}, ` Rehearsal of ${this.taskId} ${text}`),
-      errors.length ? el('ul', { class: 'error' }, ...errors) : null);
+      ...(errors.length ? [el('ul', { class: 'error' }, ...errors)] : []));
     this.status.dataset.state = st;
   }
 
