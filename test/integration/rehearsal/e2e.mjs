@@ -1,10 +1,11 @@
 // Rehearse, then publish, in a real browser (run by rehearsal_browser_test.cpp, which starts the full
 // simulated cell on the rehearsal domain, a controller with scripted executors on the console's own
 // domain, a console with rehearsal_domain and one without). Headless Debian chromium through
-// playwright-core, launched as the planner's browser test does. The refusals first (a viewer; a console
-// without a rehearsal domain, in the page and over HTTP), then recipes/crane_insert.json opened on the
-// planner, Rehearse clicked, and the run followed in the rehearsal view to its end state; a Publish
-// afterwards still asks for confirmation (cancelled here: nothing may reach the cell). Any failed check
+// playwright-core, launched as the planner's browser test does. The refusals over HTTP first (a viewer;
+// a console without a rehearsal domain), then recipes/crane_insert.json opened on the planner, Rehearse
+// clicked, and the run followed in the rehearsal view to its end state; a Publish afterwards still asks
+// for confirmation (cancelled here: nothing may reach the cell); last, the console without a rehearsal
+// domain says so in its page. Any failed check
 // ends the script with exit code 1. Every wait is on a condition.
 import fs from 'node:fs';
 import path from 'node:path';
@@ -67,15 +68,6 @@ try {
     check(await page.evaluate(() => window.rigger.planner.state.doc.task_id) === 'crane-insert', 'recipes/crane_insert.json opened on the planner');
   };
 
-  // --- no rehearsal domain: the page says so and stays on the plan ---
-  await openRecipe(PLAIN);
-  await page.click('#planner-rehearse');
-  await page.waitForFunction(() => /rehearsal_domain/.test(document.querySelector('#planner-editor p[role="status"]')?.textContent || ''), null, { timeout: 30000 });
-  const plainNotice = await page.locator('#planner-editor p[role="status"]').innerText();
-  check(/Not rehearsed/.test(plainNotice) && await page.locator('#rehearsal').isHidden(), `the page says what is missing: "${plainNotice}"`);
-  result.no_domain_notice = plainNotice;
-  await page.screenshot({ path: path.join(ART, 'rehearsal-no-domain.png'), fullPage: true });
-
   // --- Rehearse on the console with a rehearsal domain: the live view of the run, to its end ---
   await openRecipe(URL_);
   // The page's loading (three.js, software WebGL) done before the run starts, as a person's would be.
@@ -126,6 +118,16 @@ try {
   await page.click('#confirm-no');
   await page.waitForFunction(() => /Publish not confirmed/.test(document.querySelector('#planner-editor p[role="status"]')?.textContent || ''), null, { timeout: 30000 });
   check(true, 'cancelled: not published');
+
+  // Last, so that the run above starts after one page load, not two (the cell runs in real time).
+  // --- no rehearsal domain: the page says so and stays on the plan ---
+  await openRecipe(PLAIN);
+  await page.click('#planner-rehearse');
+  await page.waitForFunction(() => /rehearsal_domain/.test(document.querySelector('#planner-editor p[role="status"]')?.textContent || ''), null, { timeout: 30000 });
+  const plainNotice = await page.locator('#planner-editor p[role="status"]').innerText();
+  check(/Not rehearsed/.test(plainNotice) && await page.locator('#rehearsal').isHidden(), `the page says what is missing: "${plainNotice}"`);
+  result.no_domain_notice = plainNotice;
+  await page.screenshot({ path: path.join(ART, 'rehearsal-no-domain.png'), fullPage: true });
 } finally {
   fs.writeFileSync(env('RESULT'), JSON.stringify(result, null, 2));
   await browser.close();
