@@ -145,5 +145,14 @@ TEST_F(RehearsalBrowserTest, CraneInsertRehearsedOnTheSimulatedCellSucceedsLiveI
   std::printf("browser artifacts in %s\n", dir.c_str());
 }
 
+// A rehearsal on the cell's own domain would run on the real cell: the console refuses to start (exit 2,
+// naming the key), before it reads its users.
+TEST_F(RehearsalBrowserTest, TheCellsOwnDomainAsRehearsalDomainIsRefusedAtStart) {
+  expect_clean_exit_ = false;  // the console exits 2, as it should
+  expect_refused_configuration(cell_, "console",
+                               nlohmann::json{{"port", 0}, {"rehearsal_domain", cell_.domain_id()}}.dump(),
+                               "/rehearsal_domain");
+}
+
 }  // namespace
 }  // namespace rigger::testing::scenario
