@@ -26,3 +26,9 @@ rigger_console_browser_test(rigger_planner_browser_test planner_browser_test.cpp
 # CAD picks only, compared with the shipped recipe; the same services as the planner test.
 rigger_console_browser_test(rigger_planner_paper_task_test planner_paper_task_test.cpp
   console cad world_model scripted_executor task_controller)
+# Issue 16, rehearse then publish: crane_insert.json rehearsed from the planner on the full simulated cell
+# (real physics) of a second DDS domain, followed live in the page; nothing reaches the console's own cell
+# (a controller with scripted executors). Runs the cell in real time (about 2-3 minutes).
+rigger_console_browser_test(rigger_rehearsal_browser_test rehearsal_browser_test.cpp
+  console cell_sim crane_gateway world_model vision_tracker admittance_control monitor_host skill_executor
+  task_controller scripted_operator scripted_executor)

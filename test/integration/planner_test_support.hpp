@@ -14,6 +14,7 @@
 
 #include "auth.hpp"
 #include "cell_sim_test_support.hpp"
+#include "scripted_library_support.hpp"
 
 namespace rigger::testing {
 
@@ -36,7 +37,6 @@ class PlannerCellTest : public MultiProcessTest {
   ::testing::AssertionResult start_planner_services() {
     const std::string dir = cell_.log_dir();
     const std::string cell_file = repo_file("deploy/cell/simulated_cell.json");
-    const std::string library = repo_file("recipes/examples/skill_library.json");
     cell_.start("world_model", "world_model",
                 {"--id", "world_model", "--config", write_config("world_model", {{"cell_config", cell_file}}), "--db",
                  dir + "/world_model.sqlite"});
@@ -44,18 +44,8 @@ class PlannerCellTest : public MultiProcessTest {
         "cad", "cad",
         {"--id", "cad", "--config",
          write_config("cad", {{"cell_config", cell_file}, {"allowed_dirs", {repo_file("deploy/cell/models")}}})});
-    cell_.start("skills", "scripted_executor",
-                {"--id", "skills", "--config",
-                 write_config("skills",
-                              {{"library_file", library},
-                               {"skills",
-                                {"Localize", "AttachRobotToLoad", "InsertVisuallyGuided", "Screw", "Release", "Place"}},
-                               {"default", {{"mode", "succeed"}, {"delay_s", 0.2}}}})});
-    cell_.start("monitors", "scripted_executor",
-                {"--id", "monitors", "--config",
-                 write_config("monitors", {{"library_file", library},
-                                           {"skills", {"TimerMonitor", "ForceMonitor", "YankMonitor"}},
-                                           {"default", {{"mode", "run"}}}})});
+    start_scripted_library_executors(
+        cell_, {"Localize", "AttachRobotToLoad", "InsertVisuallyGuided", "Screw", "Release", "Place"});
     cell_.start("task_controller", "task_controller",
                 {"--id", "task_controller", "--config",
                  write_config("task_controller", {{"journal_path", dir + "/journal.sqlite"}})});

@@ -5,11 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "rigger/base/bounded_json.hpp"
 #include "rigger/base/install.hpp"
 #include "rigger/dds/conversions.hpp"
-#include "rigger/protocol/task_names.hpp"
 
 #include "rigger/operator_ui/prompt.hpp"
 
@@ -18,9 +18,6 @@ namespace rigger::console {
 using nlohmann::json;
 
 namespace {
-
-using protocol::task::node_state_name;
-using protocol::task::task_state_name;
 
 constexpr std::size_t kEventCapacity = 200000;
 constexpr std::size_t kPlotCapacity = 36000;  // 30 min at 20 Hz
@@ -46,9 +43,7 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
       events_(kEventCapacity, epoch_now()),
       plots_(kPlotCapacity, events_.epoch()),
       state_(events_),
-      task_status_(ctx.participant, protocol::task::kStatus),
-      node_status_(ctx.participant, protocol::task::kNodeStatus, dds::qos::state_changes()),
-      executors_(ctx.participant, protocol::skill::kExecutors, dds::qos::state()),
+      tasks_(ctx.participant, state_, skills_),
       prompts_(ctx.participant, protocol::operator_ui::kPrompt),
       wrench_(ctx.participant, protocol::robot::kWrench),
       crane_(ctx.participant, protocol::crane::kState),
@@ -79,6 +74,14 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
   const double plot_rate_hz = config.get_in_range<double>("plot_rate_hz", 20.0, 1.0, 100.0);
   query_timeout_ = std::chrono::milliseconds(
       static_cast<long>(1000.0 * config.get_in_range<double>("query_timeout_s", 3.0, 0.1, 60.0)));
+  std::optional<std::uint32_t> rehearsal_domain;
+  if (config.has("rehearsal_domain")) {
+    rehearsal_domain = static_cast<std::uint32_t>(config.get_in_range<int>("rehearsal_domain", 0, 0, 230));
+    if (*rehearsal_domain == ctx.participant.domain_id())
+      throw ConfigError(ctx.options.config_path, "/rehearsal_domain",
+                        "the rehearsal domain must not be the cell's own domain " + std::to_string(*rehearsal_domain) +
+                            ": a rehearsal would run on the real cell");
+  }
   config.finish();
   if (http.tls_cert.empty() != http.tls_key.empty())
     throw ConfigError(ctx.options.config_path, "/tls_key", "give both tls_cert and tls_key, or neither");
@@ -89,9 +92,13 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
   Users users = Users::load(users_file);
 
   world_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log, client_id_ + "-world");
-  ctx.loop.on_data(task_status_, [this] { on_task_status(); });
-  ctx.loop.on_data(node_status_, [this] { on_node_status(); });
-  ctx.loop.on_data(executors_, [this] { on_executors(); });
+  tasks_.attach(ctx.loop);
+  std::optional<RehearsalFeed> rehearsal_feed;
+  if (rehearsal_domain) {
+    rehearsal_ = std::make_unique<RehearsalLink>(*rehearsal_domain, ctx.loop, events_.epoch(), query_timeout_);
+    rehearsal_feed.emplace(rehearsal_->feed());
+    ctx.log->info("rehearsal domain={}", *rehearsal_domain);
+  }
   ctx.loop.on_data(prompts_, [this] { on_prompts(); });
   ctx.loop.on_data(journal_replies_, [this] { on_journal_replies(); });
   ctx.loop.on_data(cad_replies_, [this] { on_cad_replies(); });
@@ -123,7 +130,8 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
   });
   ctx.loop.every(std::chrono::nanoseconds(static_cast<long>(1e9 / plot_rate_hz)), [this] { plot_tick(); });
 
-  http_ = std::make_unique<HttpApi>(std::move(http), std::move(users), state_, events_, plots_, *this, skills_, ctx.log);
+  http_ = std::make_unique<HttpApi>(std::move(http), std::move(users), state_, events_, plots_, *this, skills_, ctx.log,
+                                    rehearsal_feed);
   http_->start();
   // The address for people and launchers (rigger-compose prints it with a login link).
   std::printf("console: listening on %s://%s:%d/\n", http_->tls() ? "https" : "http",
@@ -137,47 +145,6 @@ ConsoleNode::~ConsoleNode() {
 
 // --- reading ---
 
-void ConsoleNode::on_task_status() {
-  task_status_.take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
-    json errors = json::array();
-    for (uint32_t i = 0; i < s.errors._length; ++i)
-      errors.push_back({{"pointer", dds::to_string(s.errors._buffer[i].pointer)},
-                        {"message", dds::to_string(s.errors._buffer[i].message)}});
-    state_.update_task({{"task_id", dds::to_string(s.task_id)},
-                        {"state", task_state_name(s.state)},
-                        {"code", dds::to_string(s.code)},
-                        {"message", dds::to_string(s.message)},
-                        {"failed_node", dds::to_string(s.failed_node)},
-                        {"errors", errors},
-                        {"submitted", seconds(s.submitted)},
-                        {"stamp", seconds(s.stamp)}});
-  });
-}
-
-void ConsoleNode::on_node_status() {
-  // A take groups samples by instance (node); the controller writes a burst (a child, then its parent)
-  // together. In stamp order they read as they happened (as riggerctl run shows them).
-  std::vector<std::pair<double, json>> changes;
-  node_status_.take([&](const rigger_task_NodeStatus& s, const dds_sample_info_t&) {
-    changes.emplace_back(seconds(s.stamp), json{{"task_id", dds::to_string(s.task_id)},
-                                                {"node_id", dds::to_string(s.node_id)},
-                                                {"parent_id", dds::to_string(s.parent_id)},
-                                                {"type", dds::to_string(s.node_type)},
-                                                {"name", dds::to_string(s.name)},
-                                                {"state", node_state_name(s.state)},
-                                                {"code", dds::to_string(s.code)},
-                                                {"message", dds::to_string(s.message)},
-                                                {"progress", s.progress},
-                                                {"progress_text", dds::to_string(s.progress_text)},
-                                                {"executor", dds::to_string(s.executor_id)},
-                                                {"started", seconds(s.started)},
-                                                {"finished", seconds(s.finished)},
-                                                {"stamp", seconds(s.stamp)}});
-  });
-  std::stable_sort(changes.begin(), changes.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& [stamp, node] : changes) state_.update_node(node);
-}
-
 void ConsoleNode::on_prompts() {
   prompts_.take([this](const rigger_operator_ui_OperatorPrompt& w, const dds_sample_info_t&) {
     const operator_ui::Prompt p = operator_ui::to_domain(w);
@@ -188,23 +155,6 @@ void ConsoleNode::on_prompts() {
                           {"details", details}, {"timeout_s", p.timeout_s}, {"active", p.active},
                           {"stamp", seconds(w.stamp)}});
   });
-}
-
-void ConsoleNode::on_executors() {
-  executors_.take(
-      [this](const rigger_skill_ExecutorAnnouncement& a, const dds_sample_info_t&) {
-        json skills = json::array();
-        for (uint32_t i = 0; i < a.skills._length; ++i) skills.push_back(dds::to_string(a.skills._buffer[i]));
-        state_.update_executor({{"executor_id", dds::to_string(a.executor_id)}, {"host", dds::to_string(a.host)},
-                                {"pid", a.pid}, {"skills", skills}, {"alive", true}});
-        skills_.update(dds::to_string(a.executor_id), true, dds::to_string(a.library_json));
-      },
-      [this](const rigger_skill_ExecutorAnnouncement& key, const dds_sample_info_t& info) {
-        if (info.instance_state != DDS_IST_ALIVE) {
-          state_.update_executor({{"executor_id", dds::to_string(key.executor_id)}, {"alive", false}});
-          skills_.update(dds::to_string(key.executor_id), false, "");
-        }
-      });
 }
 
 void ConsoleNode::plot_tick() {
@@ -259,13 +209,18 @@ ActionResult ConsoleNode::publish_recipe(const std::string& task_id, const std::
       promise->set_value({false, "no task controller reads recipes on this domain; nothing was sent", {}});
       return;
     }
-    rigger_task_Recipe r{};
-    r.task_id = dds::wire_string(task_id);
-    r.recipe_json = dds::wire_string(recipe_json);
-    r.submitter = dds::wire_string(submitter);
-    r.stamp = dds::wire_now();
-    const dds_return_t rc = recipes_.write(r);
+    const dds_return_t rc = write_recipe(recipes_, task_id, recipe_json, submitter);
     promise->set_value({rc == DDS_RETCODE_OK, rc == DDS_RETCODE_OK ? "" : std::string("publishing failed: ") + dds_strretcode(rc), {}});
+  });
+}
+
+ActionResult ConsoleNode::rehearse(const std::string& task_id, const std::string& recipe_json,
+                                   const std::string& submitter) {
+  return on_loop([=](auto promise) {
+    if (rehearsal_)
+      rehearsal_->publish(task_id, recipe_json, submitter, promise);
+    else
+      promise->set_value({false, "no rehearsal domain is configured", {}});
   });
 }
 

@@ -8,7 +8,8 @@
 ///
 /// Configuration (all optional): address ("127.0.0.1"), port (8080; 0 = any free port), users_file,
 /// web_dir, audit_log, tls_cert + tls_key, confirm_timeout_s (5), max_body_bytes (4 MiB), plot_rate_hz
-/// (20), query_timeout_s (3).
+/// (20), query_timeout_s (3), rehearsal_domain (none: no rehearsal; else the DDS domain of the simulated
+/// cell where recipes are rehearsed, RehearsalLink).
 #include <cstdint>
 #include <future>
 #include <map>
@@ -20,6 +21,8 @@
 #include "console_state.hpp"
 #include "event_log.hpp"
 #include "http_api.hpp"
+#include "rehearsal_link.hpp"
+#include "task_feed.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/idl/types.hpp"
@@ -52,15 +55,14 @@ class ConsoleNode : public dds::Node, public Backend {
   ActionResult journal(const std::string& task_id) override;
   ActionResult world_entity(const std::string& id) override;
   ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) override;
+  ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
+                        const std::string& submitter) override;
 
  private:
   /// Runs `work` on the loop; it must eventually set the promise it is given. Waits up to the query
   /// timeout (plus margin) for it.
   ActionResult on_loop(std::function<void(std::shared_ptr<std::promise<ActionResult>>)> work);
-  void on_node_status();
-  void on_task_status();
   void on_prompts();
-  void on_executors();
   void on_journal_replies();
   void on_cad_replies();
   void plot_tick();
@@ -72,9 +74,7 @@ class ConsoleNode : public dds::Node, public Backend {
   ConsoleState state_;
   SkillCatalog skills_;
 
-  dds::Reader<rigger_task_TaskStatus> task_status_;
-  dds::Reader<rigger_task_NodeStatus> node_status_;
-  dds::Reader<rigger_skill_ExecutorAnnouncement> executors_;
+  TaskFeed tasks_;
   dds::Reader<rigger_operator_ui_OperatorPrompt> prompts_;
   dds::Reader<rigger_sensing_WrenchStamped> wrench_;
   dds::Reader<rigger_crane_CraneState> crane_;
@@ -88,6 +88,7 @@ class ConsoleNode : public dds::Node, public Backend {
   dds::Writer<rigger_cad_CadRequest> cad_requests_;
   dds::Reader<rigger_cad_CadReply> cad_replies_;
   std::unique_ptr<world_client::WorldClient> world_;
+  std::unique_ptr<RehearsalLink> rehearsal_;  ///< none without rehearsal_domain
 
   std::string client_id_;
   std::uint64_t next_request_ = 1;

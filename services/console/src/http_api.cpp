@@ -99,7 +99,7 @@ std::string sse_frames(const EventLog& log, const EventBatch& batch) {
 }  // namespace
 
 HttpApi::HttpApi(HttpConfig config, Users users, ConsoleState& state, EventLog& events, EventLog& plots,
-                 Backend& backend, SkillCatalog& skills, Logger log)
+                 Backend& backend, SkillCatalog& skills, Logger log, std::optional<RehearsalFeed> rehearsal)
     : config_(std::move(config)),
       users_(std::move(users)),
       state_(state),
@@ -107,7 +107,8 @@ HttpApi::HttpApi(HttpConfig config, Users users, ConsoleState& state, EventLog& 
       plots_(plots),
       backend_(backend),
       skills_(skills),
-      log_(std::move(log)) {}
+      log_(std::move(log)),
+      rehearsal_(std::move(rehearsal)) {}
 
 HttpApi::~HttpApi() { stop(); }
 
@@ -152,6 +153,7 @@ void HttpApi::start() {
 void HttpApi::stop() {
   events_.close();
   plots_.close();
+  if (rehearsal_) rehearsal_->events.close();
   if (server_) server_->stop();
   if (thread_.joinable()) thread_.join();
 }
@@ -381,6 +383,59 @@ void HttpApi::routes() {
     } catch (const PlannerError& e) {
       send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
     }
+  });
+
+  // --- the rehearsal cell: the simulated cell on a domain of its own, where a recipe runs first ---
+  // Its state and stream are /api/state's and /api/events' of that domain, kept apart from the cell's.
+  const auto no_rehearsal = [](const httplib::Request& req, httplib::Response& res) {
+    send_error(res, 409,
+               "no rehearsal domain is configured: set rehearsal_domain in the console's configuration and run the "
+               "simulated cell on that domain (docs/console.md, \"Rehearsal\")",
+               req.path);
+  };
+  s.Get("/api/rehearsal/state", [=](const httplib::Request& req, httplib::Response& res) {
+    if (!who(req, res, Role::kViewer)) return;
+    if (!rehearsal_) return no_rehearsal(req, res);
+    json snapshot = rehearsal_->state.snapshot(req.has_param("task") ? req.get_param_value("task") : "");
+    snapshot["domain"] = rehearsal_->domain_id;
+    send_json(res, snapshot);
+  });
+  s.Get("/api/rehearsal/events", [=](const httplib::Request& req, httplib::Response& res) {
+    if (!who(req, res, Role::kViewer, true)) return;
+    if (!rehearsal_) return no_rehearsal(req, res);
+    stream(rehearsal_->events, req, res, rehearsal_->events.last_seq());
+  });
+  // Nothing real moves in a rehearsal, so it is one step (no confirmation), but journaled like a publish.
+  s.Post("/api/planner/rehearse", [=](const httplib::Request& req, httplib::Response& res) {
+    auto user = who(req, res, Role::kProgrammer);
+    if (!user) return;
+    if (!rehearsal_) {
+      audit(*user, "rehearse", "", "refused: no rehearsal domain configured");
+      return no_rehearsal(req, res);
+    }
+    auto recipe = body(req, res);
+    if (!recipe) return;
+    const std::string task_id = text_field(*recipe, "task_id");
+    if (task_id.empty())
+      return send_error(res, 400, "the recipe needs a non-empty string task_id", req.path + "#/task_id");
+    const std::string domain = std::to_string(rehearsal_->domain_id);
+    const auto refuse = [&](int status, const std::string& why, json errors = json::array()) {
+      audit(*user, "rehearse", task_id, "refused: " + why);
+      json answer = {{"error", why}, {"where", req.path}, {"domain", rehearsal_->domain_id}};
+      if (!errors.empty()) answer["errors"] = std::move(errors);
+      send_json(res, answer, status);
+    };
+    if (!rehearsal_->state.task(task_id).is_null())
+      return refuse(409, "task " + task_id + " already ran on the rehearsal domain " + domain +
+                             " and a controller takes a task id once: rehearse under a new task id");
+    // The rehearsal controller's own verdict (its validator, against the library its executors announce).
+    const auto r = backend_.rehearse(task_id, req.body, "console:" + user->name);
+    const bool rejected = r.data.is_object() && r.data.value("state", "") == "REJECTED";
+    if (rejected) return refuse(409, r.message, r.data.value("errors", json::array()));
+    if (!r.ok) return refuse(503, r.message);
+    audit(*user, "rehearse", task_id, "sent to rehearsal domain " + domain);
+    send_json(res, {{"done", "rehearse"}, {"task_id", task_id}, {"domain", rehearsal_->domain_id},
+                    {"state", r.data.value("state", "")}});
   });
 
   // --- commands ---

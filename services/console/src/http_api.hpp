@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -60,6 +61,20 @@ class Backend {
   /// data = {"model_sha256", "result": <result_json parsed>, "data": <binary string, the GLB>}; a refusal
   /// is !ok with message "CODE: why".
   virtual ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) = 0;
+  /// Publishes a recipe on the rehearsal domain (the simulated cell where a recipe runs first) and waits
+  /// for the rehearsal controller's verdict: data = its first status of the task ({"state": "ACCEPTED"
+  /// or "RUNNING" ...}, ok; {"state": "REJECTED", "errors": [...]}, !ok); !ok without data when no
+  /// rehearsal domain is configured, no controller reads recipes there (nothing sent) or none answered.
+  virtual ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
+                                const std::string& submitter) = 0;
+};
+
+/// What the console reads on the rehearsal domain (RehearsalLink), apart from the cell's: the HTTP side
+/// serves it as /api/rehearsal/state and /api/rehearsal/events.
+struct RehearsalFeed {
+  std::uint32_t domain_id = 0;
+  ConsoleState& state;
+  EventLog& events;
 };
 
 struct HttpConfig {
@@ -77,8 +92,9 @@ struct HttpConfig {
 /// The HTTP server. start() binds and serves on its own thread; stop() ends it and every stream.
 class HttpApi {
  public:
+  /// `rehearsal`: the rehearsal cell's side, or none (POST /api/planner/rehearse then answers 409).
   HttpApi(HttpConfig config, Users users, ConsoleState& state, EventLog& events, EventLog& plots, Backend& backend,
-          SkillCatalog& skills, Logger log);
+          SkillCatalog& skills, Logger log, std::optional<RehearsalFeed> rehearsal = std::nullopt);
   ~HttpApi();
   HttpApi(const HttpApi&) = delete;
   HttpApi& operator=(const HttpApi&) = delete;
@@ -110,6 +126,7 @@ class HttpApi {
   Backend& backend_;
   SkillCatalog& skills_;
   Logger log_;
+  std::optional<RehearsalFeed> rehearsal_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   int port_ = 0;

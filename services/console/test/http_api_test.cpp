@@ -48,6 +48,12 @@ class RecordingBackend : public Backend {
     return cad_requests_;
   }
   ActionResult cad_answer_{false, "no CAD service on this domain", {}};
+  ActionResult rehearse(const std::string& task_id, const std::string&, const std::string& submitter) override {
+    if (!rehearse_answer_.ok) return rehearse_answer_;
+    record("rehearse " + task_id + " by " + submitter);
+    return rehearse_answer_;
+  }
+  ActionResult rehearse_answer_{true, "", {}};
   std::vector<std::string> cad_requests_;
   std::vector<std::string> actions() {
     std::lock_guard lock(mutex_);
@@ -77,10 +83,12 @@ class HttpApiTest : public ::testing::Test {
     config.confirm_timeout = 300ms;
     config.max_body_bytes = 64 * 1024;
     api_ = std::make_unique<HttpApi>(config, Users::load(dir_ + "/users.json"), state_, events_, plots_, backend_,
-                                     skills_, null_logger());
+                                     skills_, null_logger(), rehearsal());
     api_->start();
     client_ = std::make_unique<httplib::Client>("127.0.0.1", api_->port());
   }
+  /// The rehearsal cell's side the HTTP side gets (none here).
+  virtual std::optional<RehearsalFeed> rehearsal() { return std::nullopt; }
   void TearDown() override {
     api_->stop();
     std::filesystem::remove_all(dir_);
@@ -289,6 +297,119 @@ TEST_F(HttpApiTest, PlannerScrewsAskTheCadServiceAndTheWorldModelAndRefuseBadPic
   r = post("/api/planner/screws", R"({"model": "object:target", "holes": [0]})", kAda);
   EXPECT_EQ(r->status, 400);
   EXPECT_EQ(body(r)["where"], "/api/planner/screws#/holes/0") << r->body;
+}
+
+
+// --- Rehearsal: a recipe run first on the simulated cell of another domain ---
+
+std::vector<json> audit_entries(const std::string& file) {
+  std::ifstream in(file);
+  std::vector<json> out;
+  for (std::string line; std::getline(in, line);) out.push_back(json::parse(line));
+  return out;
+}
+
+TEST_F(HttpApiTest, RehearseWithoutARehearsalDomainIsRefusedSayingWhatToConfigure) {
+  const std::string recipe = R"({"recipe_version": 1, "task_id": "r1", "root": {"type": "Skill", "skill": "Localize"}})";
+  auto r = post("/api/planner/rehearse", recipe);
+  EXPECT_EQ(r->status, 401);
+  r = post("/api/planner/rehearse", recipe, kVic);
+  EXPECT_EQ(r->status, 403);
+  r = post("/api/planner/rehearse", recipe, kOlu);
+  EXPECT_EQ(r->status, 403);
+  r = post("/api/planner/rehearse", recipe, kAda);
+  ASSERT_EQ(r->status, 409);
+  EXPECT_NE(body(r)["error"].get<std::string>().find("rehearsal_domain"), std::string::npos) << r->body;
+  EXPECT_EQ(body(r)["where"], "/api/planner/rehearse");
+  r = client_->Get("/api/rehearsal/state", as(kVic));
+  EXPECT_EQ(r->status, 409);
+  r = client_->Get("/api/rehearsal/events?token=" + created_[kVic].token);
+  EXPECT_EQ(r->status, 409);
+  EXPECT_TRUE(backend_.actions().empty());
+  const auto audit = audit_entries(dir_ + "/audit.log");
+  ASSERT_EQ(audit.size(), 1u);
+  EXPECT_EQ(audit[0]["user"], "ada");
+  EXPECT_EQ(audit[0]["action"], "rehearse");
+  EXPECT_NE(audit[0]["result"].get<std::string>().find("refused"), std::string::npos);
+}
+
+class HttpApiRehearsalTest : public HttpApiTest {
+ protected:
+  std::optional<RehearsalFeed> rehearsal() override { return RehearsalFeed{7, rehearsal_state_, rehearsal_events_}; }
+  EventLog rehearsal_events_{1000, "42"};
+  ConsoleState rehearsal_state_{rehearsal_events_};
+};
+
+constexpr const char* kLocalize =
+    R"({"recipe_version": 1, "task_id": "r1", "root": {"type": "Skill", "skill": "Localize", "params": {"object": "target"}}})";
+
+TEST_F(HttpApiRehearsalTest, RehearseIsOneStepJournaledWithWhoAndAnswersWithTheRehearsalControllersVerdict) {
+  // No controller reads recipes on the rehearsal domain: 503 with the backend's reason.
+  backend_.rehearse_answer_ = {false, "no task controller reads recipes on the rehearsal domain 7; nothing was sent", {}};
+  auto r = post("/api/planner/rehearse", kLocalize, kAda);
+  ASSERT_EQ(r->status, 503) << r->body;
+  EXPECT_NE(body(r)["error"].get<std::string>().find("no task controller"), std::string::npos);
+  EXPECT_EQ(body(r)["domain"], 7);
+  // The rehearsal controller's validator refuses it: 409 with its errors by pointer.
+  backend_.rehearse_answer_ = {false, "the rehearsal controller refused the recipe: VALIDATION",
+                               {{"state", "REJECTED"}, {"errors", {{{"pointer", "/root/skill"}, {"message", "unknown skill"}}}}}};
+  r = post("/api/planner/rehearse", kLocalize, kAda);
+  ASSERT_EQ(r->status, 409) << r->body;
+  EXPECT_EQ(body(r)["errors"][0]["pointer"], "/root/skill") << r->body;
+  EXPECT_TRUE(backend_.actions().empty());
+  // Viewers and operators may not; bad bodies are refused before anything is sent.
+  EXPECT_EQ(post("/api/planner/rehearse", kLocalize, kVic)->status, 403);
+  EXPECT_EQ(post("/api/planner/rehearse", kLocalize, kOlu)->status, 403);
+  EXPECT_EQ(post("/api/planner/rehearse", R"({"recipe_version": 1})", kAda)->status, 400);
+  EXPECT_EQ(post("/api/planner/rehearse", "{\"task_id\": ", kAda)->status, 400);
+  EXPECT_EQ(post("/api/planner/rehearse", std::string(70 * 1024, ' '), kAda)->status, 413);
+  // Accepted: one step (no confirmation; nothing real moves).
+  backend_.rehearse_answer_ = {true, "", {{"state", "ACCEPTED"}}};
+  r = post("/api/planner/rehearse", kLocalize, kAda);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(body(r)["domain"], 7);
+  EXPECT_EQ(body(r)["state"], "ACCEPTED");
+  EXPECT_EQ(backend_.actions(), std::vector<std::string>{"rehearse r1 by console:ada"});
+  // The controller takes a task id once: a second rehearsal of r1 is refused before it is sent.
+  rehearsal_state_.update_task({{"task_id", "r1"}, {"state", "SUCCEEDED"}});
+  r = post("/api/planner/rehearse", kLocalize, kAda);
+  ASSERT_EQ(r->status, 409) << r->body;
+  EXPECT_NE(body(r)["error"].get<std::string>().find("new task id"), std::string::npos);
+  EXPECT_EQ(backend_.actions().size(), 1u);
+  const auto audit = audit_entries(dir_ + "/audit.log");
+  ASSERT_EQ(audit.size(), 4u);  // the 503, the 409 by the controller, the rehearsal, the refused repeat
+  EXPECT_EQ(audit[2]["user"], "ada");
+  EXPECT_EQ(audit[2]["action"], "rehearse");
+  EXPECT_EQ(audit[2]["target"], "r1");
+  EXPECT_EQ(audit[2]["result"], "sent to rehearsal domain 7");
+  EXPECT_NE(audit[1]["result"].get<std::string>().find("refused"), std::string::npos);
+}
+
+TEST_F(HttpApiRehearsalTest, TheRehearsalsStateAndStreamAreItsOwnNotTheCells) {
+  state_.update_task({{"task_id", "cell-task"}, {"state", "RUNNING"}});
+  rehearsal_state_.update_task({{"task_id", "r1"}, {"state", "RUNNING"}});
+  rehearsal_state_.update_node({{"task_id", "r1"}, {"node_id", "/root"}, {"state", "RUNNING"}});
+  auto r = client_->Get("/api/rehearsal/state", as(kVic));
+  ASSERT_EQ(r->status, 200);
+  EXPECT_EQ(body(r)["domain"], 7);
+  ASSERT_EQ(body(r)["tasks"].size(), 1u);
+  EXPECT_EQ(body(r)["tasks"][0]["task_id"], "r1");
+  EXPECT_EQ(body(r)["nodes"]["r1"][0]["node_id"], "/root");
+  r = client_->Get("/api/state", as(kVic));
+  ASSERT_EQ(body(r)["tasks"].size(), 1u);
+  EXPECT_EQ(body(r)["tasks"][0]["task_id"], "cell-task");
+  // The stream from the beginning of the rehearsal's log: its two events, then (nothing more) it is cut.
+  std::string received;
+  httplib::Client stream("127.0.0.1", api_->port());
+  stream.set_read_timeout(1, 0);
+  stream.Get(("/api/rehearsal/events?token=" + created_[kVic].token + "&last_event_id=42:0").c_str(),
+             [&](const char* data, std::size_t n) {
+               received.append(data, n);
+               return received.find("event: node") == std::string::npos;
+             });
+  EXPECT_NE(received.find("event: task"), std::string::npos) << received;
+  EXPECT_NE(received.find("\"r1\""), std::string::npos) << received;
+  EXPECT_EQ(received.find("cell-task"), std::string::npos) << received;
 }
 
 }  // namespace

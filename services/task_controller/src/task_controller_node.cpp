@@ -20,11 +20,16 @@ std::chrono::milliseconds offered(dds::ServiceContext& ctx, std::chrono::millise
   return lease;
 }
 
+ControllerSettings with_journal(ControllerSettings settings, const std::string& journal_path) {
+  if (!journal_path.empty()) settings.journal_path = journal_path;
+  return settings;
+}
+
 }  // namespace
 
-TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx)
+TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx, const std::string& journal_path)
     : ctx_(ctx),
-      settings_(read_settings(ctx.config)),
+      settings_(with_journal(read_settings(ctx.config), journal_path)),
       journal_(settings_.journal_path, settings_.journal_sync),
       announcements_(ctx.participant, protocol::skill::kExecutors, dds::qos::state()),
       // Executors watch the command writer's liveliness: a controller that dies or hangs has its running

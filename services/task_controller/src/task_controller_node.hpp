@@ -59,8 +59,9 @@ namespace rigger::task_controller {
 
 class TaskControllerNode : public dds::Node, private TaskHost {
  public:
-  /// @throws ConfigError, JournalError, DdsError.
-  explicit TaskControllerNode(dds::ServiceContext& ctx);
+  /// `journal_path`: the journal's file instead of the configuration's journal_path (--journal), when
+  /// not empty. @throws ConfigError, JournalError, DdsError.
+  explicit TaskControllerNode(dds::ServiceContext& ctx, const std::string& journal_path = "");
   ~TaskControllerNode() override;
 
  private:

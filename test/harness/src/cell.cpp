@@ -46,8 +46,9 @@ void claim_log_dir(const std::string& dir) {
 
 }  // namespace
 
-Cell::Cell() {
-  log_dir_ = std::string(RIGGER_BINARY_DIR) + "/test-logs/" + current_test_name() + "-" + std::to_string(getpid());
+Cell::Cell(const std::string& subfolder) {
+  log_dir_ = std::string(RIGGER_BINARY_DIR) + "/test-logs/" + current_test_name() + "-" + std::to_string(getpid()) +
+             (subfolder.empty() ? "" : "/" + subfolder);
   claim_log_dir(log_dir_);
   make_dirs(log_dir_);
   participant_ = std::make_unique<dds::Participant>(domain_.id());

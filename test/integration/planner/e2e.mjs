@@ -17,9 +17,9 @@ result.cad_holes = features.holes;
 let r = await call('/api/planner/screws', { method: 'POST', body: { model: 'object:target', holes: [7] } });
 check(r.status === 400 && /no hole 7/.test(r.json?.error), `a pick of a hole that does not exist -> 400 ${JSON.stringify(r.json)}`);
 
-const context = await launchBrowser();
+const browser = await launchBrowser();
 try {
-  const page = await openPlanner(context);
+  const page = await openPlanner(browser);
   check(await page.locator('#planner-add-kind option[value="skill:Screw"]').count() === 1, 'the Screw skill is offered from the live library');
 
   // --- the tree, by clicks ---
@@ -259,5 +259,5 @@ try {
   result.undo_steps = undos;
   await page.screenshot({ path: path.join(ART, 'planner-editing.png'), fullPage: true });
 } finally {
-  await closeBrowser(context, result);
+  await closeBrowser(browser, result);
 }

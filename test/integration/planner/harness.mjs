@@ -2,20 +2,16 @@
 // planner_test_support.hpp), checks that end the script with exit code 1, the console's API with the
 // programmer's token, headless Debian chromium through playwright-core, and the wait for the skills.
 import fs from 'node:fs';
-import os from 'node:os';
-import path from 'node:path';
-import { pathToFileURL } from 'node:url';
+
+import { check, launchChromium, logPage } from '../browser.mjs';
+
+export { check };
 
 export const env = (k) => { if (!process.env[k]) throw new Error(`${k} is not set`); return process.env[k]; };
 export const URL_ = env('CONSOLE_URL');
 export const ART = env('ARTIFACTS');
 export const MODULES = env('NODE_PATH');
 export const TOKEN = env('TOKEN_PROGRAMMER');
-
-export function check(cond, what) {
-  if (!cond) throw new Error(`check failed: ${what}`);
-  console.log(`ok: ${what}`);
-}
 
 /// The console's API as the programmer: {status, json}.
 export async function call(pathname, { method = 'GET', body } = {}) {
@@ -38,31 +34,20 @@ export async function waitForSkills(needed) {
   }
 }
 
-/// Headless chromium with a fresh profile; closeBrowser() ends it.
+/// Headless chromium with a fresh profile (../browser.mjs); closeBrowser() ends it.
 export async function launchBrowser() {
-  const { chromium } = await import(pathToFileURL(path.join(MODULES, 'playwright-core/index.mjs')).href);
-  const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'rigger-chromium-'));
-  const context = await chromium.launchPersistentContext(profile, {
-    executablePath: '/usr/bin/chromium', headless: true, viewport: { width: 1600, height: 1000 }, acceptDownloads: true,
-    args: ['--no-sandbox', '--disable-gpu', '--no-first-run', '--disable-background-networking', '--disable-component-update',
-      '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-  });
-  context.setDefaultTimeout(60000);
-  context.profile = profile;
-  return context;
+  return launchChromium(MODULES, { acceptDownloads: true });
 }
 /// Writes `result` to RESULT (also after a failed check: what the script saw so far) and ends the browser.
-export async function closeBrowser(context, result) {
+export async function closeBrowser(browser, result) {
   fs.writeFileSync(env('RESULT'), JSON.stringify(result, null, 2));
-  await context.close();
-  fs.rmSync(context.profile, { recursive: true, force: true });
+  await browser.close();
 }
 
 /// A new page on the planner, logged in, once the page and its parts are ready; page errors are logged.
-export async function openPlanner(context) {
-  const page = await context.newPage();
-  page.on('pageerror', (e) => console.log(`[planner] page error: ${e.message}`));
-  page.on('console', (m) => { if (m.type() === 'error') console.log(`[planner] console: ${m.text()}`); });
+export async function openPlanner(browser) {
+  const page = await browser.context.newPage();
+  logPage('planner', page);
   await page.goto(`${URL_}/?token=${TOKEN}#/planner`);
   await page.waitForFunction(() => window.rigger?.ready === true && window.rigger.planner?.ready === true, null, { timeout: 90000 });
   return page;

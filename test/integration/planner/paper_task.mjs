@@ -36,9 +36,9 @@ const holes = world.target?.screw_holes || [];
 check(JSON.stringify(holes.map((h) => h.id)) === '["h1","h2","h3","h4"]', `the world model knows the target's screw holes h1..h4 (${holes.map((h) => h.id)})`);
 result.world_features = world;
 
-const context = await launchBrowser();
+const browser = await launchBrowser();
 try {
-  const page = await openPlanner(context);
+  const page = await openPlanner(browser);
   check(await page.evaluate(() => window.rigger.planner.state.doc.root === null), 'the tree starts empty');
   result.timings_ms.page_ready = Date.now() - t0;
   const tBuild = Date.now();
@@ -237,5 +237,5 @@ try {
   await page.waitForSelector('#planner-valid', { timeout: 20000 });
   result.timings_ms.total = Date.now() - t0;
 } finally {
-  await closeBrowser(context, result);
+  await closeBrowser(browser, result);
 }

@@ -31,8 +31,12 @@ export async function api(path, { method = 'GET', body, raw = false } = {}) {
 }
 
 /// The live picture: tasks, nodes per task, open prompts, executors. Listeners get (type, data).
-class Store {
-  constructor() {
+/// `paths`: where its snapshot and stream come from (the cell's by default; the rehearsal cell's is
+/// /api/rehearsal/state and /api/rehearsal/events); `indicator`: whether it shows the link state in the header.
+export class Store {
+  constructor({ state = '/api/state', events = '/api/events', indicator = true } = {}) {
+    this.paths = { state, events };
+    this.indicator = indicator;
     this.tasks = new Map();
     this.nodes = new Map();  // task id -> Map(node id -> node)
     this.prompts = new Map();
@@ -74,23 +78,29 @@ class Store {
   }
 
   async connect() {
-    const snap = await api('/api/state');
+    const snap = await api(this.paths.state);
     this.load(snap);
-    const url = `/api/events?token=${encodeURIComponent(token())}&last_event_id=${encodeURIComponent(snap.id)}`;
+    const url = `${this.paths.events}?token=${encodeURIComponent(token())}&last_event_id=${encodeURIComponent(snap.id)}`;
     const es = new EventSource(url);
     this.source = es;
-    const link = document.getElementById('link');
-    es.onopen = () => { this.connected = true; link.textContent = 'live'; link.className = 'link live'; };
-    es.onerror = () => { this.connected = false; link.textContent = 'reconnecting…'; link.className = 'link down'; };
+    const link = this.indicator ? document.getElementById('link') : null;
+    es.onopen = () => { this.connected = true; if (link) { link.textContent = 'live'; link.className = 'link live'; } };
+    es.onerror = () => { this.connected = false; if (link) { link.textContent = 'reconnecting…'; link.className = 'link down'; } };
     for (const type of ['task', 'node', 'prompt', 'executor']) {
       es.addEventListener(type, (ev) => { this.lastId = ev.lastEventId; this.apply(type, JSON.parse(ev.data)); });
     }
     // The console restarted (or we fell too far behind): its state is the truth again.
     es.addEventListener('reset', async () => {
       this.resets++;
-      const again = await api('/api/state');
+      const again = await api(this.paths.state);
       this.load(again);
     });
+  }
+  /// Ends the stream (a page that made its own store closes it when left).
+  close() {
+    if (this.source) this.source.close();
+    this.source = null;
+    this.connected = false;
   }
 }
 export const store = new Store();

@@ -4,12 +4,14 @@
 // skill's holes to holes picked on the CAD model (the CAD service derives the screw list; the binding
 // is kept in the recipe), choose feature_ref parameters among the world model's features
 // (planner_features.js), validate with the task controller's own validator (errors on their node and
-// field, by JSON pointer), export canonical JSON and publish (two steps). See docs/console.md, "Planner".
+// field, by JSON pointer), export canonical JSON, rehearse on the simulated cell of the rehearsal domain
+// (one step; the run shown live) and publish (two steps). See docs/console.md, "Planner" and "Rehearsal".
 import { api, el, confirmDialog, store } from './api.js';
 import { PartsView, pickKey } from './planner_view.js';
 import { FeaturePicker } from './planner_features.js';
 import { quantityInput } from './planner_units.js';
 import { recipeFields } from './planner_recipe.js';
+import { RehearsalView } from './rehearsal.js';
 
 const CONTROL = ['Sequence', 'Parallel', 'Fallback'];
 // Decorators hold one child; their own field (docs/recipes.md), with the default a new one gets.
@@ -115,11 +117,12 @@ export function plannerPage(main, me) {
   const viewBox = el('div', { class: 'pview' });
   const recipeRow = recipeFields(state, changed);
 
-  main.replaceChildren(el('h1', {}, 'Planner'),
+  const editor = el('div', { id: 'planner-editor' },
     el('div', { class: 'toolbar' },
       el('label', {}, 'Task id ', taskId), el('label', {}, 'Assumptions ', assumptions),
       el('button', { id: 'planner-validate', onclick: () => validate() }, 'Validate'),
       el('button', { id: 'planner-export', onclick: () => exportRecipe() }, 'Export JSON'),
+      el('button', { id: 'planner-rehearse', onclick: () => rehearse(), title: 'Run it on the simulated cell of the rehearsal domain first' }, 'Rehearse'),
       el('button', { id: 'planner-publish', class: 'primary', onclick: () => publish() }, 'Publish…'),
       el('label', {}, 'Open ', openFile)),
     recipeRow.row,
@@ -147,6 +150,9 @@ export function plannerPage(main, me) {
         el('p', { class: 'muted small' }, 'Keys on the tree: ↑/↓ select, Alt+↑/↓ move, Delete, Ctrl+Z/Ctrl+Y, Ctrl+C/X/V.'),
         treeBox, el('h2', {}, 'Validation'), errorsBox, el('h2', {}, 'Resources'), resourcesBox),
       el('section', { class: 'panel', 'aria-labelledby': 'pf' }, el('h2', { id: 'pf' }, 'Node'), formBox)));
+  // The rehearsal's live view takes the editor's place; "Back to the plan" brings the plan back as it was.
+  const rehearsal = new RehearsalView(() => { rehearsal.hide(); editor.hidden = false; });
+  main.replaceChildren(el('h1', {}, 'Planner'), editor, rehearsal.root);
 
   const view = new PartsView(viewBox, (pick) => {
     const i = state.picks.findIndex((p) => pickKey(p) === pickKey(pick));
@@ -358,7 +364,7 @@ export function plannerPage(main, me) {
   function onKey(e) {
     const t = e.target;
     if (t instanceof HTMLInputElement || t instanceof HTMLTextAreaElement || t instanceof HTMLSelectElement || t?.isContentEditable) return;
-    if (document.querySelector('dialog[open]')) return;
+    if (document.querySelector('dialog[open]') || editor.hidden) return;  // not while a rehearsal is shown
     const mod = e.ctrlKey || e.metaKey;
     const k = e.key.toLowerCase();
     if (mod && (k === 'c' || k === 'x') && window.getSelection()?.toString()) return;  // copying the page's text
@@ -861,6 +867,21 @@ export function plannerPage(main, me) {
     if (generation !== bindingsGeneration) return;
     state.bindingsChecked = (state.bindingsChecked || 0) + 1;
   }
+  /// Runs the recipe on the rehearsal cell (one step: nothing real moves) and shows the run live.
+  async function rehearse() {
+    const v = await validate();
+    if (!v?.canonical) return say('Nothing to rehearse: the recipe does not parse.', true);
+    const local = [...bindingErrors(), ...state.staleBindings];
+    if (local.length) return say(`Not rehearsed: ${local[0].message}`, true);
+    try {
+      const r = await api('/api/planner/rehearse', { method: 'POST', body: JSON.parse(v.canonical) });
+      say(`Rehearsing ${r.task_id} on the simulated cell of domain ${r.domain}.`);
+      editor.hidden = true;
+      await rehearsal.show(r.task_id, r.domain);
+    } catch (e) {
+      say(`Not rehearsed: ${e.message}`, true);
+    }
+  }
   async function publish() {
     const v = await validate();
     if (!v?.ok) return say(`Not published: ${v ? v.errors.length : 'no'} validation error(s); fix them first.`, true);
@@ -877,7 +898,7 @@ export function plannerPage(main, me) {
 
   // Test hook: state, and screen positions of model points (to click holes like a person would).
   window.rigger.planner = {
-    state, view, history, validate, features,
+    state, view, history, validate, features, rehearsal,
     screenOf: (entity, point) => view.screenOf(entity, point),
     holes: (entity) => view.parts.get(entity)?.features.holes || [],
   };
@@ -903,6 +924,6 @@ export function plannerPage(main, me) {
   })();
   return () => {
     clearTimeout(timer); clearTimeout(recordTimer); clearTimeout(libraryTimer); offLibrary();
-    document.removeEventListener('keydown', onKey); delete window.rigger.planner;
+    document.removeEventListener('keydown', onKey); rehearsal.close(); delete window.rigger.planner;
   };
 }

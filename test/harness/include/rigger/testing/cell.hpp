@@ -34,7 +34,9 @@ struct StopReport {
 
 class Cell {
  public:
-  Cell();
+  /// `subfolder`: a second cell of the same test (another domain) keeps its logs and files in that
+  /// subfolder of the test's log folder, so that processes of the same name do not share a log.
+  explicit Cell(const std::string& subfolder = "");
   ~Cell();
 
   std::uint32_t domain_id() const { return domain_.id(); }

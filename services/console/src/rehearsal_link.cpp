@@ -1,0 +1,98 @@
+#include "rehearsal_link.hpp"
+
+#include "rigger/protocol/task.hpp"
+
+namespace rigger::console {
+
+namespace {
+constexpr std::size_t kEventCapacity = 50000;  // a rehearsal is one task at a time
+}  // namespace
+
+RehearsalLink::RehearsalLink(std::uint32_t domain_id, dds::EventLoop& loop, const std::string& epoch,
+                             std::chrono::milliseconds verdict_timeout)
+    : participant_(domain_id),
+      loop_(loop),
+      events_(kEventCapacity, epoch),
+      state_(events_),
+      tasks_(participant_, state_, skills_),
+      recipes_(participant_, protocol::task::kRecipe),
+      verdict_timeout_(verdict_timeout) {
+  dds_listener_t* listener = dds_create_listener(this);
+  dds_lset_data_available(listener, [](dds_entity_t, void* self) { static_cast<RehearsalLink*>(self)->wake(); });
+  for (const dds_entity_t reader : tasks_.readers()) dds_set_listener(reader, listener);
+  dds_delete_listener(listener);
+  wake();  // samples that arrived before the listeners were set
+}
+
+RehearsalLink::~RehearsalLink() {
+  // dds_set_listener waits for a callback in progress: none runs once this returns. Work already posted
+  // to the loop never runs: the console is destroyed after its loop ended.
+  for (const dds_entity_t reader : tasks_.readers()) dds_set_listener(reader, nullptr);
+  events_.close();
+}
+
+void RehearsalLink::wake() {
+  if (!wake_pending_.exchange(true)) loop_.post([this] { take(); });
+}
+
+void RehearsalLink::take() {
+  wake_pending_ = false;  // before taking: samples arriving meanwhile wake the loop again
+  tasks_.take_task_status();
+  tasks_.take_node_status();
+  tasks_.take_executors();
+  settle_verdicts();
+}
+
+void RehearsalLink::publish(const std::string& task_id, const std::string& recipe_json, const std::string& submitter,
+                            std::shared_ptr<std::promise<ActionResult>> answer) {
+  const std::string domain = std::to_string(participant_.domain_id());
+  if (recipes_.matched_readers() == 0) {
+    answer->set_value({false,
+                       "no task controller reads recipes on the rehearsal domain " + domain +
+                           " (is the rehearsal cell running? RIGGER_DOMAIN=" + domain +
+                           " deploy/rigger-compose up); nothing was sent",
+                       {}});
+    return;
+  }
+  if (verdicts_.count(task_id) > 0) {
+    answer->set_value({false, "a rehearsal of " + task_id + " is being sent already", {}});
+    return;
+  }
+  const dds_return_t rc = write_recipe(recipes_, task_id, recipe_json, submitter);
+  if (rc != DDS_RETCODE_OK) {
+    answer->set_value({false, std::string("publishing failed: ") + dds_strretcode(rc), {}});
+    return;
+  }
+  // The controller's first status of the task is its verdict: accepted (then running) or rejected.
+  const auto timer = loop_.after(verdict_timeout_, [this, task_id, domain] {
+    auto it = verdicts_.find(task_id);
+    if (it == verdicts_.end()) return;
+    it->second.answer->set_value({false,
+                                  "the recipe was sent, but no task controller on the rehearsal domain " + domain +
+                                      " gave it a status within " +
+                                      std::to_string(verdict_timeout_.count() / 1000.0).substr(0, 4) + " s",
+                                  {}});
+    verdicts_.erase(it);
+  });
+  verdicts_[task_id] = {std::move(answer), timer};
+  settle_verdicts();
+}
+
+void RehearsalLink::settle_verdicts() {
+  for (auto it = verdicts_.begin(); it != verdicts_.end();) {
+    nlohmann::json status = state_.task(it->first);
+    if (status.is_null()) {
+      ++it;
+      continue;
+    }
+    loop_.cancel(it->second.timer);
+    const bool rejected = status.value("state", "") == "REJECTED";
+    const std::string why = rejected ? "the rehearsal controller refused the recipe: " + status.value("code", "") +
+                                           (status.value("message", "").empty() ? "" : " " + status.value("message", ""))
+                                     : "";
+    it->second.answer->set_value({!rejected, why, std::move(status)});
+    it = verdicts_.erase(it);
+  }
+}
+
+}  // namespace rigger::console
