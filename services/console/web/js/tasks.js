@@ -68,10 +68,20 @@ export function tasksPage(main, me) {
       onclick: () => { if (selected.has(id)) selected.delete(id); else selected.add(id); draw(); } },
     el('span', {}, id, el('br'), el('small', { class: 'muted' }, t ? fmtTime(t.submitted) : 'journal')), stateBadge(taskState(id))))));
   }
+  // The running nodes, kept as node events come (not found by walking every node of every task).
+  const active = new Map();  // "task\nnode" -> node
+  const isActive = (n) => n.state === 'RUNNING' || n.state === 'STOPPING';
+  function noteActive(task, n) {
+    const key = `${task}\n${n.node_id}`;
+    if (isActive(n)) active.set(key, [task, n]); else active.delete(key);
+  }
+  function collectActive() {
+    active.clear();
+    for (const [task, nodes] of store.nodes) for (const n of nodes.values()) noteActive(task, n);
+  }
   function drawRunning() {
     const items = [];
-    for (const [task, nodes] of store.nodes) for (const n of nodes.values())
-      if (n.state === 'RUNNING' || n.state === 'STOPPING') items.push(el('li', {}, stateBadge(n.state), ` ${n.name || n.type} `, el('small', { class: 'muted' }, `${task} ${n.node_id}${n.executor ? ' @' + n.executor : ''}`)));
+    for (const [task, n] of active.values()) items.push(el('li', {}, stateBadge(n.state), ` ${n.name || n.type} `, el('small', { class: 'muted' }, `${task} ${n.node_id}${n.executor ? ' @' + n.executor : ''}`)));
     running.replaceChildren(...(items.length ? items : [el('li', { class: 'muted' }, 'none')]));
   }
   // A task's section stays in the page while it is selected; a redraw replaces its heading only, so
@@ -112,6 +122,7 @@ export function tasksPage(main, me) {
 
   // The newest running tasks open by themselves.
   for (const [id, t] of store.tasks) if (!TERMINAL.has(t.state)) selected.add(id);
+  collectActive();
   draw();
   api('/api/journal').then((r) => {
     for (const e of r.entries) if (!store.tasks.has(e.node_id)) history.set(e.node_id, e.code);
@@ -120,8 +131,9 @@ export function tasksPage(main, me) {
 
   let runningScheduled = false;
   const off = store.on((type, d) => {
-    if (type === 'load') { trees.clear(); draw(); return; }
+    if (type === 'load') { trees.clear(); collectActive(); draw(); return; }
     if (type === 'node') {
+      noteActive(d.task_id, d);
       if (!store.tasks.has(d.task_id) && !selected.has(d.task_id)) return;
       const t = trees.get(d.task_id);
       if (t) t.update(d);
