@@ -16,7 +16,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
-#include <mutex>
+#include <numeric>
 #include <string>
 #include <thread>
 #include <vector>
@@ -216,11 +216,15 @@ int main(int argc, char** argv) {
 
   if (!cell.wait_until([&] { return streaming.load(); }, 10s)) {
     std::fprintf(stderr, "the reference SSE client got no answer\n");
+    stream.stop();
+    reader.join();
     return 1;
   }
-  // Leaf j of the scattered order: 97 and the leaf count share no factor, so every leaf comes once.
+  // Leaf j of a scattered order: a stride that shares no factor with the leaf count visits every leaf once.
   const auto nl = static_cast<long>(leaves.size());
-  auto leaf_of = [&](long j) -> const Leaf& { return leaves[static_cast<std::size_t>((((j * 97) % nl) + nl) % nl)]; };
+  long stride = 97;
+  while (std::gcd(stride, nl) != 1) ++stride;
+  auto leaf_of = [&](long j) -> const Leaf& { return leaves[static_cast<std::size_t>((((j * stride) % nl) + nl) % nl)]; };
   const auto period = std::chrono::nanoseconds(1000000000LL / rate);
   const auto start = std::chrono::steady_clock::now() + 200ms;
   const std::string task = large, type = "Skill", executor = "skills";
