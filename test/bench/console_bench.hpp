@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <fstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -32,6 +33,15 @@ inline BenchConsole start_console(testing::Cell& cell, const std::vector<console
   out.process = &cell.start("console", "console",
                             {"--id", "console", "--config", dir + "/console.json", "--log-level", "warn"});
   return out;
+}
+
+/// Appends `n` bytes of a Server-Sent Event stream to `buffer` and calls `event(text)` with the text of
+/// each event now complete in it (its "id", "event" and "data" lines); keeps the rest for the next call.
+template <typename Event>
+void take_sse_events(std::string& buffer, const char* data, std::size_t n, Event&& event) {
+  buffer.append(data, n);
+  for (std::size_t end; (end = buffer.find("\n\n")) != std::string::npos; buffer.erase(0, end + 2))
+    event(std::string_view(buffer.data(), end));
 }
 
 /// The npm packages of the console's pages (playwright-core), or "" (with the reason on stderr) when

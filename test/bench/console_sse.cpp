@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdio>
 #include <mutex>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -50,14 +51,13 @@ int main(int argc, char** argv) {
     std::string buffer;
     client.Get(("/api/events?token=" + users[0].token).c_str(), [&](const char* data, std::size_t n) {
       streaming = true;
-      buffer.append(data, n);
-      for (std::size_t end; (end = buffer.find("\n\n")) != std::string::npos; buffer.erase(0, end + 2)) {
-        const auto at = buffer.find("\"node_id\":\"bench-");
-        if (at == std::string::npos || at > end) continue;
-        const int i = std::atoi(buffer.c_str() + at + 17);
+      rigger::bench::take_sse_events(buffer, data, n, [&](std::string_view event) {
+        const auto at = event.find("\"node_id\":\"bench-");
+        if (at == std::string_view::npos) return;
+        const int i = std::atoi(event.data() + at + 17);
         if (i >= 0 && i < trials) got[static_cast<std::size_t>(i)] = Clock::now();
         ++received;
-      }
+      });
       return received < trials;
     });
   });

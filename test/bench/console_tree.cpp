@@ -18,6 +18,7 @@
 #include <map>
 #include <numeric>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -77,10 +78,10 @@ std::string write_file(const std::string& path, const std::string& text) {
 }
 
 /// The number k of a change ("bench change k") in an SSE frame, or -1.
-long change_number(const std::string& frame) {
-  static const std::string kTag = "\"message\":\"bench change ";
-  const auto at = frame.find(kTag);
-  return at == std::string::npos ? -1 : std::atol(frame.c_str() + at + kTag.size());
+long change_number(std::string_view event) {
+  static constexpr std::string_view kTag = "\"message\":\"bench change ";
+  const auto at = event.find(kTag);
+  return at == std::string_view::npos ? -1 : std::atol(event.data() + at + kTag.size());
 }
 
 double wall_ms(std::chrono::system_clock::time_point t) {
@@ -203,13 +204,12 @@ int main(int argc, char** argv) {
       streaming = true;
       return true;
     }, [&](const char* data, std::size_t n) {
-      buffer.append(data, n);
-      for (std::size_t end; (end = buffer.find("\n\n")) != std::string::npos; buffer.erase(0, end + 2)) {
-        const long k = change_number(buffer.substr(0, end));
-        if (k < 0 || k >= total) continue;
+      rigger::bench::take_sse_events(buffer, data, n, [&](std::string_view event) {
+        const long k = change_number(event);
+        if (k < 0 || k >= total) return;
         sse_ms[static_cast<std::size_t>(k)] = wall_ms(std::chrono::system_clock::now());
         ++received;
-      }
+      });
       return received < total;
     });
   });
