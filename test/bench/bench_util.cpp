@@ -1,10 +1,16 @@
 #include "bench_util.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <regex>
 #include <sstream>
 
@@ -32,6 +38,56 @@ std::string run_command(const std::string& command) {
   while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
   pclose(p);
   return out;
+}
+
+double cpu_seconds(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto paren = text.rfind(')');  // the command name may hold spaces
+  if (paren == std::string::npos) return -1;
+  std::istringstream fields(text.substr(paren + 2));
+  std::string field;
+  unsigned long utime = 0, stime = 0;
+  // After ")": state is field 3; utime and stime are fields 14 and 15.
+  for (int i = 3; i <= 15 && fields >> field; ++i) {
+    if (i == 14) utime = std::stoul(field);
+    if (i == 15) stime = std::stoul(field);
+  }
+  return static_cast<double>(utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
+}
+
+long long voluntary_switches(pid_t pid, const std::string& tid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/task/" + tid + "/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("voluntary_ctxt_switches:", 0) == 0) return std::stoll(line.substr(line.find(':') + 1));
+  return -1;
+}
+
+std::pair<long long, long long> wake_ups(pid_t pid) {
+  long long all = 0;
+  std::error_code ignored;  // a process gone reads as no threads
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task", ignored)) {
+    const long long n = voluntary_switches(pid, entry.path().filename().string());
+    if (n > 0) all += n;
+  }
+  return {voluntary_switches(pid, std::to_string(pid)), all};
+}
+
+std::vector<double> cpu_share(const std::vector<pid_t>& pids, const std::function<void()>& wait) {
+  using Clock = std::chrono::steady_clock;
+  std::vector<double> before;
+  for (pid_t p : pids) before.push_back(cpu_seconds(p));
+  const auto wakes_before = wake_ups(pids[0]);
+  const auto t0 = Clock::now();
+  wait();
+  const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+  std::vector<double> share;
+  for (std::size_t i = 0; i < pids.size(); ++i) share.push_back((cpu_seconds(pids[i]) - before[i]) / wall);
+  const auto wakes_after = wake_ups(pids[0]);
+  share.push_back(static_cast<double>(wakes_after.first - wakes_before.first) / wall);
+  share.push_back(static_cast<double>(wakes_after.second - wakes_before.second) / wall);
+  return share;
 }
 
 DdsperfLatency run_ddsperf_pingpong(std::uint32_t domain, int rate_hz, int payload_bytes, int seconds, bool waitset) {

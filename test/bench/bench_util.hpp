@@ -1,7 +1,11 @@
 #pragma once
 // Small helpers shared by the benchmarks: percentiles and running ddsperf as the DDS reference.
+#include <sys/types.h>
+
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rigger::bench {
@@ -29,5 +33,19 @@ int int_option(int argc, char** argv, const std::string& name, int fallback);
 
 /// Runs a shell command and returns its stdout.
 std::string run_command(const std::string& command);
+
+/// utime + stime of `pid` in seconds (/proc/PID/stat), or a negative value when /proc cannot be read.
+double cpu_seconds(pid_t pid);
+
+/// voluntary_ctxt_switches of thread `tid` of `pid`, or -1 when /proc cannot be read.
+long long voluntary_switches(pid_t pid, const std::string& tid);
+
+/// Voluntary context switches (wake-ups after a blocking wait) of `pid`'s main thread (a service's
+/// work loop) and of all its threads.
+std::pair<long long, long long> wake_ups(pid_t pid);
+
+/// CPU seconds per wall second (utime + stime) of each of `pids` while `wait()` runs, followed by the
+/// first pid's wake-ups per wall second over the same window: its main thread's, then all its threads'.
+std::vector<double> cpu_share(const std::vector<pid_t>& pids, const std::function<void()>& wait);
 
 }  // namespace rigger::bench

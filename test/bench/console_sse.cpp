@@ -6,16 +6,13 @@
 //   build/bench/bench_console_sse [--trials 1000] [--rate 200]
 #include <atomic>
 #include <cstdio>
-#include <fstream>
 #include <mutex>
+#include <string_view>
 #include <thread>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "../integration/cell_sim_test_support.hpp"
-#include "auth.hpp"
 #include "bench_util.hpp"
+#include "console_bench.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/protocol/task.hpp"
@@ -32,12 +29,9 @@ int main(int argc, char** argv) {
   const int rate_hz = rigger::bench::int_option(argc, argv, "--rate", 200);
 
   rigger::testing::Cell cell;
-  const std::string dir = cell.log_dir();
-  const auto users = rigger::console::make_users(dir + "/users.json", {{"bench", rigger::console::Role::kViewer}});
-  const std::uint16_t port = rigger::testing::free_tcp_port();
-  std::ofstream(dir + "/console.json") << nlohmann::json{{"port", port}, {"users_file", dir + "/users.json"},
-                                                         {"audit_log", ""}}.dump();
-  cell.start("console", "console", {"--config", dir + "/console.json", "--log-level", "warn"});
+  const auto console = rigger::bench::start_console(cell, {{"bench", rigger::console::Role::kViewer}});
+  const auto& users = console.users;
+  const std::uint16_t port = console.port;
   if (!cell.wait_ready({"console"}, 20s)) {
     std::fprintf(stderr, "the console did not become ready\n%s", cell.logs().c_str());
     return 1;
@@ -57,14 +51,13 @@ int main(int argc, char** argv) {
     std::string buffer;
     client.Get(("/api/events?token=" + users[0].token).c_str(), [&](const char* data, std::size_t n) {
       streaming = true;
-      buffer.append(data, n);
-      for (std::size_t end; (end = buffer.find("\n\n")) != std::string::npos; buffer.erase(0, end + 2)) {
-        const auto at = buffer.find("\"node_id\":\"bench-");
-        if (at == std::string::npos || at > end) continue;
-        const int i = std::atoi(buffer.c_str() + at + 17);
+      rigger::bench::take_sse_events(buffer, data, n, [&](std::string_view event) {
+        const auto at = event.find("\"node_id\":\"bench-");
+        if (at == std::string_view::npos) return;
+        const int i = std::atoi(event.data() + at + 17);
         if (i >= 0 && i < trials) got[static_cast<std::size_t>(i)] = Clock::now();
         ++received;
-      }
+      });
       return received < trials;
     });
   });

@@ -11,9 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../integration/cell_sim_test_support.hpp"
-#include "auth.hpp"
 #include "bench_util.hpp"
+#include "console_bench.hpp"
 #include "rigger/testing/cell.hpp"
 #include "rigger/testing/process.hpp"
 
@@ -23,11 +22,8 @@ int main(int argc, char** argv) {
   const int trials = rigger::bench::int_option(argc, argv, "--trials", 30);
   const int nodes = rigger::bench::int_option(argc, argv, "--nodes", 1000);
   const std::string repo = RIGGER_SOURCE_DIR;
-  const std::string modules = repo + "/services/console/web/node_modules";
-  if (!std::ifstream("/usr/bin/chromium") || !std::ifstream(modules + "/playwright-core/index.mjs")) {
-    std::fprintf(stderr, "needs /usr/bin/chromium and %s (deploy/setup runs npm ci)\n", modules.c_str());
-    return 2;
-  }
+  const std::string modules = rigger::bench::browser_modules();
+  if (modules.empty()) return 2;
 
   rigger::testing::Cell cell;
   const std::string dir = cell.log_dir();
@@ -47,11 +43,9 @@ int main(int argc, char** argv) {
   cell.start("skills", "scripted_executor",
              {"--id", "skills", "--log-level", "warn", "--config",
               config("skills", {{"library_file", library}, {"skills", {"Localize"}}})});
-  const auto users = rigger::console::make_users(dir + "/users.json", {{"ada", rigger::console::Role::kProgrammer}});
-  const std::uint16_t port = rigger::testing::free_tcp_port();
-  cell.start("console", "console",
-             {"--id", "console", "--log-level", "warn", "--config",
-              config("console", {{"port", port}, {"users_file", dir + "/users.json"}, {"audit_log", ""}})});
+  const auto console = rigger::bench::start_console(cell, {{"ada", rigger::console::Role::kProgrammer}});
+  const auto& users = console.users;
+  const std::uint16_t port = console.port;
   if (!cell.wait_ready({"world_model", "cad", "skills", "console"}, 60s)) {
     std::fprintf(stderr, "the services did not become ready\n%s", cell.logs().c_str());
     return 1;

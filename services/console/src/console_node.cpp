@@ -106,29 +106,32 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
     wrench_.take([this](const rigger_sensing_WrenchStamped& w, const dds_sample_info_t&) {
       force_sum_ += dds::to_domain(w.wrench.force);
       ++force_count_;
-      fresh_ = true;
+      sampled();
     });
   });
   ctx.loop.on_data(crane_, [this] {
     crane_.take([this](const rigger_crane_CraneState& c, const dds_sample_info_t&) {
       crane_velocity_ = Eigen::Vector3d(c.velocity_mps[0], c.velocity_mps[1], c.velocity_mps[2]);
-      have_crane_ = fresh_ = true;
+      have_crane_ = true;
+      sampled();
     });
   });
   ctx.loop.on_data(robot_, [this] {
     robot_.take([this](const rigger_robot_RobotState& r, const dds_sample_info_t&) {
       robot_velocity_ = dds::to_domain(r.tool_twist.linear);
-      have_robot_ = fresh_ = true;
+      have_robot_ = true;
+      sampled();
     });
   });
   ctx.loop.on_data(admittance_, [this] {
     admittance_.take([this](const rigger_admittance_AdmittanceState& a, const dds_sample_info_t&) {
       servo_error_m_ = a.servo_error_m;
       servo_error_rad_ = a.servo_error_rad;
-      have_admittance_ = fresh_ = true;
+      have_admittance_ = true;
+      sampled();
     });
   });
-  ctx.loop.every(std::chrono::nanoseconds(static_cast<long>(1e9 / plot_rate_hz)), [this] { plot_tick(); });
+  plot_period_ = std::chrono::nanoseconds(static_cast<long>(1e9 / plot_rate_hz));
 
   http_ = std::make_unique<HttpApi>(std::move(http), std::move(users), state_, events_, plots_, *this, skills_, ctx.log,
                                     rehearsal_feed);
@@ -157,11 +160,23 @@ void ConsoleNode::on_prompts() {
   });
 }
 
+void ConsoleNode::sampled() {
+  fresh_ = true;
+  if (plot_timer_ != 0) return;
+  // The first sample after a quiet spell: ticks again, the interval of the first row's yank starting now.
+  last_tick_s_ = wall_now_s();
+  plot_timer_ = ctx_.loop.every(plot_period_, [this] { plot_tick(); });
+}
+
 void ConsoleNode::plot_tick() {
   const double now = wall_now_s();
   if (!fresh_) {
+    // Nothing new: no row, and no more ticks until a sample comes (an idle console does not wake
+    // plot_rate_hz times a second for nothing).
     last_tick_s_ = now;
-    return;  // nothing new: no row (an idle cell costs nothing)
+    ctx_.loop.cancel(plot_timer_);
+    plot_timer_ = 0;
+    return;
   }
   fresh_ = false;
   nlohmann::ordered_json row;  // "t" stays the first key

@@ -65,6 +65,8 @@ class ConsoleNode : public dds::Node, public Backend {
   void on_prompts();
   void on_journal_replies();
   void on_cad_replies();
+  /// A sensor sample arrived: the plot timer runs while they do.
+  void sampled();
   void plot_tick();
 
   dds::ServiceContext& ctx_;
@@ -109,6 +111,8 @@ class ConsoleNode : public dds::Node, public Backend {
   Eigen::Vector3d robot_velocity_ = Eigen::Vector3d::Zero();
   double servo_error_m_ = 0.0, servo_error_rad_ = 0.0;
   bool have_crane_ = false, have_robot_ = false, have_admittance_ = false, fresh_ = false;
+  std::chrono::nanoseconds plot_period_{50000000};
+  dds::EventLoop::TimerId plot_timer_ = 0;  ///< 0: stopped (no sample since the last tick)
 
   std::unique_ptr<HttpApi> http_;  // last: its threads stop first
 };

@@ -23,13 +23,9 @@
 //
 //   build/bench/task_controller_live_bench [--trials 1000] [--period-ms 10] [--idle-seconds 60]
 //                                          [--ddsperf-seconds 10]
-#include <unistd.h>
-
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -56,43 +52,6 @@ namespace dds = rigger::dds;
 std::string write_file(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
   return path;
-}
-
-/// utime + stime of `pid` in seconds, or a negative value when /proc cannot be read.
-double cpu_seconds(pid_t pid) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto paren = text.rfind(')');  // the command name may hold spaces
-  if (paren == std::string::npos) return -1;
-  std::istringstream fields(text.substr(paren + 2));
-  std::string field;
-  unsigned long utime = 0, stime = 0;
-  // After ")": state is field 3; utime and stime are fields 14 and 15.
-  for (int i = 3; i <= 15 && fields >> field; ++i) {
-    if (i == 14) utime = std::stoul(field);
-    if (i == 15) stime = std::stoul(field);
-  }
-  return static_cast<double>(utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
-}
-
-/// voluntary_ctxt_switches of thread `tid` of `pid`, or -1 when /proc cannot be read.
-long long voluntary_switches(pid_t pid, const std::string& tid) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/task/" + tid + "/status");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("voluntary_ctxt_switches:", 0) == 0) return std::stoll(line.substr(line.find(':') + 1));
-  return -1;
-}
-
-/// Voluntary context switches of `pid`'s main thread (its work loop) and of all its threads.
-std::pair<long long, long long> wake_ups(pid_t pid) {
-  long long all = 0;
-  std::error_code ignored;  // a process gone reads as no threads
-  for (const auto& entry : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task", ignored)) {
-    const long long n = voluntary_switches(pid, entry.path().filename().string());
-    if (n > 0) all += n;
-  }
-  return {voluntary_switches(pid, std::to_string(pid)), all};
 }
 
 std::int64_t wire_ns(const rigger_geometry_Time& t) {
@@ -282,21 +241,12 @@ void print_row(const char* label, const std::vector<double>& v) {
 /// CPU seconds per wall second of each pid over `seconds` (the loop runs meanwhile, handling nothing),
 /// then the first pid's wake-ups per wall second: its main thread's, all its threads'.
 std::vector<double> cpu_share(rigger::testing::Cell& cell, const std::vector<pid_t>& pids, int seconds) {
-  std::vector<double> before;
-  for (pid_t p : pids) before.push_back(cpu_seconds(p));
-  const auto wakes_before = wake_ups(pids[0]);
-  const auto t0 = Clock::now();
-  bool over = false;
-  const auto timer = cell.loop().after(std::chrono::seconds(seconds), [&] { over = true; });
-  cell.wait_until([&] { return over; }, std::chrono::seconds(seconds + 5));
-  cell.loop().cancel(timer);
-  const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
-  std::vector<double> share;
-  for (std::size_t i = 0; i < pids.size(); ++i) share.push_back((cpu_seconds(pids[i]) - before[i]) / wall);
-  const auto wakes_after = wake_ups(pids[0]);
-  share.push_back(static_cast<double>(wakes_after.first - wakes_before.first) / wall);
-  share.push_back(static_cast<double>(wakes_after.second - wakes_before.second) / wall);
-  return share;
+  return rigger::bench::cpu_share(pids, [&] {
+    bool over = false;
+    const auto timer = cell.loop().after(std::chrono::seconds(seconds), [&] { over = true; });
+    cell.wait_until([&] { return over; }, std::chrono::seconds(seconds + 5));
+    cell.loop().cancel(timer);
+  });
 }
 
 int measure_idle(int seconds) {

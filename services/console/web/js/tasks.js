@@ -68,20 +68,35 @@ export function tasksPage(main, me) {
       onclick: () => { if (selected.has(id)) selected.delete(id); else selected.add(id); draw(); } },
     el('span', {}, id, el('br'), el('small', { class: 'muted' }, t ? fmtTime(t.submitted) : 'journal')), stateBadge(taskState(id))))));
   }
+  // The running nodes, kept as node events come (not found by walking every node of every task).
+  const active = new Map();  // "task\nnode" -> node
+  const isActive = (n) => n.state === 'RUNNING' || n.state === 'STOPPING';
+  function noteActive(task, n) {
+    const key = `${task}\n${n.node_id}`;
+    if (isActive(n)) active.set(key, [task, n]); else active.delete(key);
+  }
+  function collectActive() {
+    active.clear();
+    for (const [task, nodes] of store.nodes) for (const n of nodes.values()) noteActive(task, n);
+  }
   function drawRunning() {
     const items = [];
-    for (const [task, nodes] of store.nodes) for (const n of nodes.values())
-      if (n.state === 'RUNNING' || n.state === 'STOPPING') items.push(el('li', {}, stateBadge(n.state), ` ${n.name || n.type} `, el('small', { class: 'muted' }, `${task} ${n.node_id}${n.executor ? ' @' + n.executor : ''}`)));
+    for (const [task, n] of active.values()) items.push(el('li', {}, stateBadge(n.state), ` ${n.name || n.type} `, el('small', { class: 'muted' }, `${task} ${n.node_id}${n.executor ? ' @' + n.executor : ''}`)));
     running.replaceChildren(...(items.length ? items : [el('li', { class: 'muted' }, 'none')]));
   }
+  // A task's section stays in the page while it is selected; a redraw replaces its heading only, so
+  // that a task's change of state does not take a 10,000-node tree out of the document and back.
+  const sections = new Map();  // task id -> section
   function drawTrees() {
     for (const id of [...trees.keys()]) if (!selected.has(id)) trees.delete(id);
+    for (const id of [...sections.keys()]) if (!trees.has(id)) sections.delete(id);
     const boxes = [];
     for (const id of selected) {
       let t = trees.get(id);
       if (!t) {
         t = new TreeView(id);
         trees.set(id, t);
+        sections.delete(id);
         t.setAll([...(store.nodes.get(id)?.values() || [])]);
         if (search.value) t.filter(search.value);
       }
@@ -91,17 +106,23 @@ export function tasksPage(main, me) {
       const buttons = [];
       if (live && canOperate) buttons.push(el('button', { onclick: () => command(id, 'pause') }, 'Pause'), el('button', { class: 'danger', onclick: () => command(id, 'stop') }, 'Stop'));
       if (live && canProgram) buttons.push(el('button', { onclick: () => command(id, 'cancel') }, 'Cancel'), el('button', { onclick: () => command(id, 'resume') }, 'Resume…'));
-      boxes.push(el('section', { class: 'task', 'data-task': id, 'aria-label': `Task ${id}` },
-        el('div', { class: 'toolbar' }, el('h2', {}, id), stateBadge(st),
-          task?.code ? el('span', { class: 'muted' }, `${task.code}${task.message ? ': ' + task.message : ''}`) : null, ...buttons),
-        t.root));
+      const heading = el('div', { class: 'toolbar' }, el('h2', {}, id), stateBadge(st),
+        task?.code ? el('span', { class: 'muted' }, `${task.code}${task.message ? ': ' + task.message : ''}`) : null, ...buttons);
+      let box = sections.get(id);
+      if (box) box.firstChild.replaceWith(heading);
+      else sections.set(id, box = el('section', { class: 'task', 'data-task': id, 'aria-label': `Task ${id}` }, heading, t.root));
+      boxes.push(box);
     }
-    treesBox.replaceChildren(...(boxes.length ? boxes : [el('p', { class: 'muted' }, 'Select one or more tasks on the left to see their trees.')]));
+    const shown = [...treesBox.children];
+    if (boxes.length !== shown.length || boxes.some((b, i) => b !== shown[i]) || !boxes.length) {
+      treesBox.replaceChildren(...(boxes.length ? boxes : [el('p', { class: 'muted' }, 'Select one or more tasks on the left to see their trees.')]));
+    }
   }
   function draw() { drawList(); drawRunning(); drawTrees(); }
 
   // The newest running tasks open by themselves.
   for (const [id, t] of store.tasks) if (!TERMINAL.has(t.state)) selected.add(id);
+  collectActive();
   draw();
   api('/api/journal').then((r) => {
     for (const e of r.entries) if (!store.tasks.has(e.node_id)) history.set(e.node_id, e.code);
@@ -110,8 +131,9 @@ export function tasksPage(main, me) {
 
   let runningScheduled = false;
   const off = store.on((type, d) => {
-    if (type === 'load') { trees.clear(); draw(); return; }
+    if (type === 'load') { trees.clear(); collectActive(); draw(); return; }
     if (type === 'node') {
+      noteActive(d.task_id, d);
       if (!store.tasks.has(d.task_id) && !selected.has(d.task_id)) return;
       const t = trees.get(d.task_id);
       if (t) t.update(d);
