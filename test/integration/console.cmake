@@ -24,8 +24,10 @@ rigger_console_browser_test(rigger_planner_browser_test planner_browser_test.cpp
   console cad world_model scripted_executor task_controller)
 # Issue 16's acceptance: the paper's task (recipes/crane_insert.json) built in the planner by clicks and
 # CAD picks only, compared with the shipped recipe; the same services as the planner test.
+# The second test also rehearses the planned task on the full simulated cell of a second domain.
 rigger_console_browser_test(rigger_planner_paper_task_test planner_paper_task_test.cpp
-  console cad world_model scripted_executor task_controller)
+  console cad world_model scripted_executor task_controller cell_sim crane_gateway vision_tracker
+  admittance_control monitor_host skill_executor scripted_operator)
 # Issue 16, rehearse then publish: crane_insert.json rehearsed from the planner on the full simulated cell
 # (real physics) of a second DDS domain, followed live in the page; nothing reaches the console's own cell
 # (a controller with scripted executors). Runs the cell in real time (about 2-3 minutes).

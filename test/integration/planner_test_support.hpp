@@ -6,6 +6,7 @@
 // DDS domain, and a playwright-core script run against the console in headless Debian chromium.
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <string>
@@ -33,8 +34,9 @@ class PlannerCellTest : public MultiProcessTest {
   }
 
   /// Starts the planner's services and waits until each announced READY; sets port_ and token_ (the
-  /// programmer "ada"). Skills succeed after 0.2 s, monitors run until stopped.
-  ::testing::AssertionResult start_planner_services() {
+  /// programmer "ada"). Skills succeed after 0.2 s, monitors run until stopped. `console_extra` is added
+  /// to the console's configuration (e.g. its rehearsal_domain).
+  ::testing::AssertionResult start_planner_services(const nlohmann::json& console_extra = nlohmann::json::object()) {
     const std::string dir = cell_.log_dir();
     const std::string cell_file = repo_file("deploy/cell/simulated_cell.json");
     cell_.start("world_model", "world_model",
@@ -52,12 +54,12 @@ class PlannerCellTest : public MultiProcessTest {
     const auto users = console::make_users(dir + "/console-users.json", {{"ada", console::Role::kProgrammer}});
     token_ = users[0].token;
     port_ = free_tcp_port();
-    cell_.start("console", "console",
-                {"--id", "console", "--config",
-                 write_config("console", {{"port", port_},
-                                          {"users_file", dir + "/console-users.json"},
-                                          {"audit_log", dir + "/console-audit.log"},
-                                          {"confirm_timeout_s", 30}})});
+    nlohmann::json console_config = {{"port", port_},
+                                     {"users_file", dir + "/console-users.json"},
+                                     {"audit_log", dir + "/console-audit.log"},
+                                     {"confirm_timeout_s", 30}};
+    console_config.update(console_extra);
+    cell_.start("console", "console", {"--id", "console", "--config", write_config("console", console_config)});
     if (!cell_.wait_ready({"world_model", "cad", "skills", "monitors", "task_controller", "console"},
                           std::chrono::seconds(60)))
       return ::testing::AssertionFailure() << "the planner's services did not all announce READY\n" << cell_.logs();
@@ -65,11 +67,13 @@ class PlannerCellTest : public MultiProcessTest {
   }
 
   /// Runs `script` (a repository path) in node, niced, with the console's URL, the token, the log folder
-  /// (ARTIFACTS) and `result_file` (RESULT) in its environment plus `env`; the cell's loop runs
-  /// meanwhile. Succeeds when the script exited 0 within `timeout`; the failure carries its log.
+  /// (ARTIFACTS) and `result_file` (RESULT) in its environment plus `env`; the loop of `waiter` (the
+  /// console's cell unless another cell's readers must follow the run) runs meanwhile. Succeeds when the
+  /// script exited 0 within `timeout`; the failure carries its log.
   ::testing::AssertionResult run_browser_script(const std::string& script, const std::string& result_file,
                                                 std::chrono::milliseconds timeout,
-                                                std::map<std::string, std::string> env = {}) {
+                                                std::map<std::string, std::string> env = {}, Cell* waiter = nullptr) {
+    Cell& loop_cell = waiter != nullptr ? *waiter : cell_;
     env.insert({{"CONSOLE_URL", "http://127.0.0.1:" + std::to_string(port_)},
                 {"TOKEN_PROGRAMMER", token_},
                 {"ARTIFACTS", cell_.log_dir()},
@@ -80,8 +84,8 @@ class PlannerCellTest : public MultiProcessTest {
     auto done = std::make_shared<bool>(false);
     ChildProcess browser("/usr/bin/nice", {"-n", "15", "/usr/bin/node", repo_file(script)}, env,
                          cell_.log_dir() + "/browser-" + name + ".log",
-                         [this, done] { cell_.loop().post([done] { *done = true; }); });
-    const bool ended = cell_.wait_until([&] { return *done; }, timeout);
+                         [target = &loop_cell, done] { target->loop().post([done] { *done = true; }); });
+    const bool ended = loop_cell.wait_until([&] { return *done; }, timeout);
     const std::string log = browser.log();
     if (!ended)
       return ::testing::AssertionFailure() << "the browser script " << script << " did not end in time\n" << log;
@@ -94,6 +98,22 @@ class PlannerCellTest : public MultiProcessTest {
 
   std::uint16_t port_ = 0;
   std::string token_;
+};
+
+/// A second cell on a DDS domain of its own (a leased id; logs in rehearsal/): the console's rehearsal
+/// cell. Stopped after the test's own cell; its logs printed when the test failed.
+template <typename Base>
+class WithRehearsalCell : public Base {
+ protected:
+  void TearDown() override {
+    Base::TearDown();
+    const auto report = rehearsal_.stop_all();
+    EXPECT_TRUE(report.ok) << report.problems;
+    if (this->HasFailure())
+      std::cerr << "===== logs of the rehearsal cell's processes (domain " << rehearsal_.domain_id() << ")\n"
+                << rehearsal_.logs();
+  }
+  Cell rehearsal_{"rehearsal"};
 };
 
 }  // namespace rigger::testing

@@ -13,34 +13,14 @@
 #include <fstream>
 
 #include "auth.hpp"
+#include "planner_test_support.hpp"
 #include "scenario_support.hpp"
 #include "scripted_library_support.hpp"
 
 namespace rigger::testing::scenario {
 namespace {
 
-bool browser_tools_present() {
-  return std::filesystem::exists("/usr/bin/chromium") && std::filesystem::exists("/usr/bin/node") &&
-         std::filesystem::exists(repo_file("services/console/web/node_modules/playwright-core"));
-}
-
-class RehearsalBrowserTest : public MultiProcessTest {
- protected:
-  void TearDown() override {
-    MultiProcessTest::TearDown();
-    const auto report = rehearsal_.stop_all();
-    EXPECT_TRUE(report.ok) << report.problems;
-    if (HasFailure())
-      std::cerr << "===== logs of the rehearsal cell's processes (domain " << rehearsal_.domain_id() << ")\n"
-                << rehearsal_.logs();
-  }
-  std::string write_config(const std::string& name, const nlohmann::json& config) {
-    const std::string path = cell_.log_dir() + "/" + name + ".json";
-    std::ofstream(path) << config.dump(2);
-    return path;
-  }
-  Cell rehearsal_{"rehearsal"};  // the simulated cell's own domain (a second leased id), logs in rehearsal/
-};
+using RehearsalBrowserTest = WithRehearsalCell<PlannerCellTest>;
 
 TEST_F(RehearsalBrowserTest, CraneInsertRehearsedOnTheSimulatedCellSucceedsLiveInThePageAndNothingReachesTheCell) {
   if (!browser_tools_present())

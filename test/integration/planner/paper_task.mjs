@@ -36,6 +36,37 @@ const holes = world.target?.screw_holes || [];
 check(JSON.stringify(holes.map((h) => h.id)) === '["h1","h2","h3","h4"]', `the world model knows the target's screw holes h1..h4 (${holes.map((h) => h.id)})`);
 result.world_features = world;
 
+/// Rehearse clicked on the planned (exported and reopened) recipe: the run is followed in the page's
+/// rehearsal view to its end; its end state and every node's shown state go to the result.
+async function rehearse(page) {
+  // The rehearsal cell's executors reach the console in their own time (READY on their domain first).
+  for (const deadline = Date.now() + 60000; ;) {
+    const r = await call('/api/rehearsal/state');
+    const ids = (r.json?.executors || []).map((e) => e.executor_id);
+    if (['robot-skills', 'perception-skills', 'operator-skills', 'monitors'].every((e) => ids.includes(e))) break;
+    check(Date.now() < deadline, `the console hears the rehearsal cell's executors within 60 s (has ${ids})`);
+    await new Promise((ok) => setTimeout(ok, 200));
+  }
+  await page.evaluate(() => new Promise((ok) => requestIdleCallback(ok, { timeout: 10000 })));
+  const tRun = Date.now();
+  await page.click('#planner-rehearse');
+  await page.waitForFunction(() => !document.querySelector('#rehearsal').hidden
+    || /Not rehearsed/.test(document.querySelector('#planner-editor p[role="status"]')?.textContent || ''), null, { timeout: 30000 });
+  check(await page.locator('#rehearsal').isVisible(), `the planned recipe's rehearsal was accepted (${await page.locator('#planner-editor p[role="status"]').innerText()})`);
+  // Polled twice a second: chromium's software rendering must not starve the cell's real-time loops.
+  await page.waitForFunction(() => window.rigger.planner.rehearsal.ended(), null, { timeout: 5 * 60000, polling: 500 });
+  await page.waitForFunction(() => {
+    const v = window.rigger.planner.rehearsal;
+    const nodes = v.store.nodes.get(v.taskId);
+    return nodes && [...nodes.values()].every((n) => document.querySelector(`#rehearsal li[data-node="${n.node_id}"] > .row`)?.dataset.state === n.state);
+  }, null, { timeout: 10000 });
+  const state = await page.evaluate(() => window.rigger.planner.rehearsal.state());
+  const shown = await page.$$eval('#rehearsal li[data-node]', (lis) => Object.fromEntries(lis.map((li) => [li.dataset.node, li.querySelector(':scope > .row').dataset.state])));
+  result.rehearsal = { state, shown, run_s: (Date.now() - tRun) / 1000 };
+  await page.screenshot({ path: path.join(ART, 'paper-task-rehearsed.png'), fullPage: true });
+  check(state === 'SUCCEEDED', `the planned task rehearsed on the simulated cell ended ${state} after ${result.rehearsal.run_s} s`);
+}
+
 const browser = await launchBrowser();
 try {
   const page = await openPlanner(browser);
@@ -235,6 +266,9 @@ try {
     `a grasp binding 2 mm off the world model's grasp_side is flagged on its node ${JSON.stringify(stale)}`);
   await openChecked(exportedPath);
   await page.waitForSelector('#planner-valid', { timeout: 20000 });
+
+  // --- rehearsed on the simulated cell (when the test gives the console a rehearsal domain) ---
+  if (process.env.REHEARSAL_DOMAIN) await rehearse(page);
   result.timings_ms.total = Date.now() - t0;
 } finally {
   await closeBrowser(browser, result);
