@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "monitor.hpp"
+#include "rigger/monitor_host/library.hpp"  // monitor_library_json()
 
 namespace rigger::monitor {
 
@@ -19,8 +20,5 @@ std::vector<std::string> monitor_names();
 /// A new, disarmed monitor of type `name`; nullptr for an unknown name.
 std::unique_ptr<Monitor> make_monitor(std::string_view name);
 
-/// The skill-library document announced by a monitor host:
-/// `{ "library_version": 1, "skills": [ description of each monitor ] }` (MonitorDescription::to_json).
-nlohmann::json monitor_library_json();
 
 }  // namespace rigger::monitor

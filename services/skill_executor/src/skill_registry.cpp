@@ -1,5 +1,7 @@
 #include "skill_registry.hpp"
 
+#include "rigger/skill_executor/library.hpp"
+
 #include <stdexcept>
 
 #include "skills/attach_robot_to_load.hpp"
@@ -64,6 +66,11 @@ SkillRegistry builtin_skills() {
   registry.add({PickSkill::describe(), [] { return std::make_unique<PickSkill>(); }});
   registry.add({PlaceSkill::describe(), [] { return std::make_unique<PlaceSkill>(); }});
   return registry;
+}
+
+nlohmann::json builtin_skill_library_json() {
+  const SkillRegistry registry = builtin_skills();
+  return registry.library_json(registry.names());
 }
 
 }  // namespace rigger::skill_executor

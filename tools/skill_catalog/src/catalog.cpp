@@ -2,9 +2,9 @@
 
 #include <sstream>
 
-#include "monitor_registry.hpp"
+#include "rigger/monitor_host/library.hpp"
 #include "rigger/recipe/conditions.hpp"
-#include "skill_registry.hpp"
+#include "rigger/skill_executor/library.hpp"
 
 namespace rigger::catalog {
 namespace {
@@ -50,8 +50,7 @@ std::string join(const nlohmann::json& list) {
 
 nlohmann::json library_json() {
   nlohmann::json skills = nlohmann::json::array();
-  const auto registry = skill_executor::builtin_skills();
-  append_kind(skills, registry.library_json(registry.names()));
+  append_kind(skills, skill_executor::builtin_skill_library_json());
   append_kind(skills, monitor::monitor_library_json());
   append_kind(skills, recipe::controller_conditions_json());
   return {{"library_version", 1},
