@@ -9,7 +9,9 @@ namespace {
 using namespace build;
 using testing::Harness;
 
-Restoration fresh(const Harness& h) { return Restoration{std::vector<RestoredNode>(h.engine->spec().nodes.size())}; }
+Restoration fresh(const Harness& h) {
+  return Restoration{std::vector<RestoredNode>(h.engine->spec().nodes.size())};
+}
 
 void set(Restoration& r, const Harness& h, const std::string& id, Restored how, std::string code = "") {
   auto& n = r.nodes[h.index(id)];

@@ -36,7 +36,8 @@ struct JournalRecord {
   double stamp_s = 0;   ///< wall clock, seconds since the Unix epoch
   std::string task_id;
   std::string node_id;  ///< "" for task-level lines
-  std::string kind;     ///< "RECIPE", "TASK", "NODE", "EVENT", "COMMAND", "ESCALATION", "REJECTED_EVENT"
+  /// "RECIPE", "TASK", "NODE", "EVENT", "COMMAND", "OPERATOR", "RESUME", "ESCALATION", "REJECTED_EVENT"
+  std::string kind;
   std::string code;
   std::string message;
 };

@@ -33,12 +33,14 @@ std::string code_of(const std::string& message) {
 struct Seen {
   NodeState state = NodeState::kIdle;
   std::string message;
-  bt::Activation activations = 0;  ///< times it entered RUNNING
-  std::size_t cursor = 0;          ///< Retry: child failures; Repeat: child successes (this activation)
+  bt::Activation activations = 0;     ///< times it entered RUNNING
+  std::size_t cursor = 0;             ///< Retry: child failures; Repeat: child successes (this activation)
   std::optional<std::size_t> chosen;  ///< OperatorDecision: the option whose child entered RUNNING
 };
 
-bool active(NodeState s) { return s == NodeState::kRunning || s == NodeState::kStopping; }
+bool active(NodeState s) {
+  return s == NodeState::kRunning || s == NodeState::kStopping;
+}
 
 class Planner {
  public:

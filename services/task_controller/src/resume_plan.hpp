@@ -26,10 +26,11 @@ namespace rigger::task_controller {
 struct ResumePlan {
   bt::Restoration restoration;    ///< for Engine::start(const Restoration&)
   std::vector<std::string> done;  ///< outermost nodes done before the crash (not run again), in tree order
-  std::vector<std::string> rerun;  ///< interrupted leaves that start again by rule (restartable skills, monitors, conditions)
-  std::vector<std::string> ask;    ///< interrupted skills that are not restartable: the operator decides
+  std::vector<std::string>
+      rerun;  ///< interrupted leaves that start again by rule (restartable skills, monitors, conditions)
+  std::vector<std::string> ask;      ///< interrupted skills that are not restartable: the operator decides
   std::vector<std::string> pending;  ///< leaves not started yet, run when their parent reaches them
-  std::string error;  ///< why the task cannot be resumed; "" when it can
+  std::string error;                 ///< why the task cannot be resumed; "" when it can
 };
 
 /// The plan for `spec` (the recipe's tree, rebuilt) from the task's journal `timeline` (its NODE rows,

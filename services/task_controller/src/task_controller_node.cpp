@@ -310,13 +310,14 @@ void TaskControllerNode::on_task_commands() {
       resume_interrupted(task_id, dds::to_string(c.issuer), reason);
       return;
     }
-    if (auto r = resuming_.find(task_id); task == nullptr && c.kind == rigger_task_TASK_CANCEL && r != resuming_.end()) {
+    if (auto r = resuming_.find(task_id);
+        task == nullptr && c.kind == rigger_task_TASK_CANCEL && r != resuming_.end()) {
       // Canceled while the resume waited for the operator: nothing had started, the question goes.
       prompts_.write(r->second.prompt, r->second.question, false, "resume", r->second.details_json);
       journal({wall_now_s(), task_id, "", "COMMAND", "CANCEL", reason});
       flush_side_effects();
       journal_.finish_task(task_id, "CANCELED", bt::codes::kCanceled, reason + " (before the resume was confirmed)",
-                          wall_now_s());
+                           wall_now_s());
       status_.task(task_id, rigger_task_TASK_CANCELED, bt::codes::kCanceled, reason, "");
       resuming_.erase(r);
       return;
@@ -438,11 +439,9 @@ void TaskControllerNode::resume_interrupted(const std::string& task_id, const st
   r.question.options = r.plan.ask.empty() ? std::vector<std::string>{"continue", "abort"}
                                           : std::vector<std::string>{"rerun", "skip", "abort"};
   r.summary += "\nprompt " + r.prompt.str() + ", options " + quoted_options(r.question.options);
-  r.details_json = nlohmann::json{{"done", r.plan.done},
-                                  {"rerun", r.plan.rerun},
-                                  {"ask", r.plan.ask},
-                                  {"pending", r.plan.pending}}
-                       .dump();
+  r.details_json =
+      nlohmann::json{{"done", r.plan.done}, {"rerun", r.plan.rerun}, {"ask", r.plan.ask}, {"pending", r.plan.pending}}
+          .dump();
   r.task = std::move(task);
   journal({wall_now_s(), task_id, "", "RESUME", "PLAN", r.summary});
   journal({wall_now_s(), task_id, "resume", "OPERATOR", "ASK", r.question.prompt});

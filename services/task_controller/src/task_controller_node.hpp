@@ -46,11 +46,11 @@
 #include "operator_decisions.hpp"
 #include "recipe_admission.hpp"
 #include "resume_plan.hpp"
-#include "stage_trace.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
 #include "rigger/safety/safe_stop.hpp"
+#include "stage_trace.hpp"
 #include "status_publisher.hpp"
 #include "task_port.hpp"
 
@@ -144,7 +144,7 @@ class TaskControllerNode : public dds::Node, private TaskHost {
     std::string details_json;
     std::string summary;
   };
-  std::map<std::string, Resuming> resuming_;  ///< by task id
+  std::map<std::string, Resuming> resuming_;          ///< by task id
   std::unique_ptr<world_client::WorldClient> world_;  ///< Condition nodes query the world model through it
   std::vector<NodeStatusRow> status_backlog_;
   std::vector<JournalRecord> journal_backlog_;

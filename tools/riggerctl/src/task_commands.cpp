@@ -503,8 +503,7 @@ void send_task_command(dds::Writer<rigger_task_TaskCommand>& commands, const std
 /// its journal and asks the operator (prompt kind "resume"). Prints what was done and what will run, and
 /// the prompt to answer; exit 0 when the controller waits for the confirmation, 1 when it refused.
 int resume_interrupted(dds::Writer<rigger_task_TaskCommand>& commands, dds::Reader<rigger_task_TaskStatus>& statuses,
-                       dds::EventLoop& loop, const std::string& task_id, const std::string& reason,
-                       double timeout_s) {
+                       dds::EventLoop& loop, const std::string& task_id, const std::string& reason, double timeout_s) {
   bool sent = false, done = false, before = false;
   std::string code, message;
   loop.on_data(statuses, [&] {
@@ -743,7 +742,6 @@ void add_task_commands(CLI::App& app, const CommonOptions& common, int& exit_cod
       exit_code = task_command(common, *task, k, *reason, *wait_s);
     });
   }
-
 }
 
 }  // namespace rigger::ctl

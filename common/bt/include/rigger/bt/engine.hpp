@@ -178,7 +178,7 @@ class Engine {
   TimerId next_timer_ = 1;
   std::deque<NodeIndex> finished_nodes_;  ///< nodes that reached a terminal state; parents not yet told
   std::deque<NodeIndex> pending_starts_;  ///< starts held back by pause()
-  std::vector<RestoredNode> restored_;  ///< empty unless resumed; entries reset once used
+  std::vector<RestoredNode> restored_;    ///< empty unless resumed; entries reset once used
   std::vector<std::string> escalated_;
   std::string cancel_reason_;
   std::optional<TaskResult> result_;
