@@ -125,8 +125,10 @@ TEST_F(ResumeTest, ARestartableSkillIsStartedAgainAfterTheOperatorConfirms) {
   crash_in_the_second_skill("again", true);
   const CtlResult r = ctl("resume", {"resume", "again"});
   EXPECT_EQ(r.code(), 0) << r.output;
-  EXPECT_NE(r.output.find("runs again (interrupted; restartable, monitor or condition): root/1 (second)"),
-            std::string::npos)
+  EXPECT_NE(
+      r.output.find(
+          "runs again (interrupted restartable skills and monitors; conditions, evaluated anew): root/1 (second)"),
+      std::string::npos)
       << r.output;
   const PromptSeen* p = resume_prompt("again");
   ASSERT_NE(p, nullptr);

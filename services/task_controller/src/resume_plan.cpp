@@ -2,6 +2,7 @@
 
 #include <map>
 #include <optional>
+#include <set>
 
 namespace rigger::task_controller {
 namespace {
@@ -127,12 +128,17 @@ class Planner {
     }
     r.cursor = n.cursor;
     r.chosen = n.chosen;
+    const std::size_t guards = node.kind == NodeKind::kSequence ? guarding_conditions(node) : 0;
     for (const NodeIndex c : node.children) {
       const Seen& child = seen_[c];
       bt::RestoredNode& cr = plan_.restoration.nodes[c];
       cr.activations = child.activations;
       switch (child.state) {
         case NodeState::kSuccess:
+          if (guards > 0 && guarded_.count(c) != 0) {
+            plan_.rerun.push_back(spec_.nodes[c].id);  // the guard of what runs next: asked again
+            break;
+          }
           cr.how = Restored::kSucceeded;
           cr.message = "done before the controller restarted";
           plan_.done.push_back(spec_.nodes[c].id);
@@ -158,6 +164,24 @@ class Planner {
     }
   }
 
+  /// A running Sequence's Conditions that succeeded right before its first unfinished child (nothing
+  /// but Conditions between them and it): they guard what runs next, so they are evaluated again
+  /// against the world as it is now (a pose that aged while the controller was down fails them).
+  /// Marks them in guarded_; returns how many.
+  std::size_t guarding_conditions(const bt::NodeSpec& sequence) {
+    std::size_t next = 0;
+    while (next < sequence.children.size() && seen_[sequence.children[next]].state == NodeState::kSuccess) ++next;
+    if (next == sequence.children.size()) return 0;
+    std::size_t marked = 0;
+    for (std::size_t j = next; j-- > 0;) {
+      const NodeIndex c = sequence.children[j];
+      if (spec_.nodes[c].kind != NodeKind::kCondition) break;
+      guarded_.insert(c);
+      ++marked;
+    }
+    return marked;
+  }
+
   /// Leaves below `i` (not started yet) that may run when their parent reaches them.
   void pending(NodeIndex i) {
     std::vector<NodeIndex> stack{i};
@@ -176,6 +200,7 @@ class Planner {
   std::vector<Seen> seen_;
   std::map<std::string, NodeIndex> index_;
   std::map<NodeIndex, std::pair<NodeIndex, std::size_t>> parent_;  ///< child → (parent, position)
+  std::set<NodeIndex> guarded_;  ///< succeeded Conditions evaluated again (guarding_conditions)
 };
 
 std::string list(const std::vector<std::string>& ids, const bt::TreeSpec& spec) {
@@ -217,7 +242,8 @@ std::string describe_node(const bt::TreeSpec& spec, const std::string& node_id) 
 
 std::string describe_plan(const ResumePlan& plan, const bt::TreeSpec& spec) {
   std::string out = "done, not run again: " + list(plan.done, spec);
-  out += "\nruns again (interrupted; restartable, monitor or condition): " + list(plan.rerun, spec);
+  out += "\nruns again (interrupted restartable skills and monitors; conditions, evaluated anew): " +
+         list(plan.rerun, spec);
   if (!plan.ask.empty())
     out += "\ninterrupted, not restartable (the operator decides: rerun, skip = take as done, abort): " +
            list(plan.ask, spec);

@@ -10,6 +10,8 @@
 ///    Retry keeps its failed runs, a Repeat its successes, an OperatorDecision the operator's choice);
 ///    a leaf starts again — a Skill only when its recipe node says `restartable`, otherwise the
 ///    operator decides; a Monitor or Condition (they move nothing) always;
+///  - a Condition that succeeded right before a running Sequence's next child (only Conditions in
+///    between) is evaluated again: it guards what runs next, and the world may have changed;
 ///  - a node STOPPING at the crash was being shut down by a deciding parent: it is taken as STOPPED
 ///    (the executors stopped every run of the lost controller);
 ///  - a task whose root was STOPPING (being canceled) or had finished is not resumed.
@@ -26,8 +28,9 @@ namespace rigger::task_controller {
 struct ResumePlan {
   bt::Restoration restoration;    ///< for Engine::start(const Restoration&)
   std::vector<std::string> done;  ///< outermost nodes done before the crash (not run again), in tree order
-  std::vector<std::string>
-      rerun;  ///< interrupted leaves that start again by rule (restartable skills, monitors, conditions)
+  /// Leaves that start again by rule: interrupted restartable skills, monitors and conditions, and the
+  /// conditions guarding a running Sequence's next child.
+  std::vector<std::string> rerun;
   std::vector<std::string> ask;      ///< interrupted skills that are not restartable: the operator decides
   std::vector<std::string> pending;  ///< leaves not started yet, run when their parent reaches them
   std::string error;                 ///< why the task cannot be resumed; "" when it can

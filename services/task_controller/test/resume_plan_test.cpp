@@ -123,14 +123,16 @@ TEST(ResumePlan, RetryKeepsTheAttemptsMadeBeforeTheCrash) {
   EXPECT_EQ(c.second.starts.size(), 1U);
 }
 
-TEST(ResumePlan, FallbackGoesOnAfterItsFailedAlternativeAndADoneConditionIsDone) {
+TEST(ResumePlan, FallbackGoesOnAfterItsFailedAlternativeAndTheGuardingConditionIsAskedAgain) {
   Crash c(sequence({condition("Ready"), fallback({skill("A"), skill("B")})}));
   c.before.on_condition_result("root/0", 1, true);
   c.fail("root/1/0");  // B runs
   const ResumePlan p = c.resume();
-  EXPECT_EQ(p.done, std::vector<std::string>{"root/0"});
+  EXPECT_TRUE(p.done.empty());
+  EXPECT_EQ(p.rerun, std::vector<std::string>{"root/0"});  // it guards the running Fallback
   EXPECT_EQ(p.ask, std::vector<std::string>{"root/1/1"});
-  EXPECT_EQ(c.second.starts, std::vector<std::string>{"root/1/1"});  // A is not tried again
+  c.after_engine.on_condition_result("root/0", 2, true);
+  EXPECT_EQ(c.second.starts, (std::vector<std::string>{"root/0", "root/1/1"}));  // A is not tried again
 }
 
 TEST(ResumePlan, ARestartableSkillAMonitorAndAConditionThatRanStartAgainByRule) {
@@ -152,6 +154,23 @@ TEST(ResumePlan, AParallelThatHadDecidedIsTakenUpAsDecided) {
   EXPECT_TRUE(c.second.starts.empty());
   ASSERT_TRUE(c.second.result);
   EXPECT_EQ(c.second.result->code, "YANK_DETECTED");
+}
+
+TEST(ResumePlan, ConditionsGuardingTheNextChildAreEvaluatedAgainEarlierOnesAreDone) {
+  Crash c(sequence({condition("Early"), skill("A"), condition("Localized"), condition("Clear"), skill("Insert")}));
+  c.before.on_condition_result("root/0", 1, true);
+  c.succeed("root/1");
+  c.before.on_condition_result("root/2", 1, true);
+  c.before.on_condition_result("root/3", 1, true);  // Insert runs when the controller dies
+  const ResumePlan p = c.resume();
+  EXPECT_EQ(p.done, (std::vector<std::string>{"root/0", "root/1"}));
+  EXPECT_EQ(p.rerun, (std::vector<std::string>{"root/2", "root/3"}));
+  EXPECT_EQ(p.ask, std::vector<std::string>{"root/4"});
+  EXPECT_EQ(c.second.starts, std::vector<std::string>{"root/2"});  // evaluated first; Insert only if it holds
+  c.after_engine.on_condition_result("root/2", 2, false, "NOT_LOCALIZED");
+  ASSERT_TRUE(c.second.result);
+  EXPECT_EQ(c.second.result->code, "NOT_LOCALIZED");
+  EXPECT_EQ(c.second.starts, std::vector<std::string>{"root/2"}) << "the insertion never started";
 }
 
 TEST(ResumePlan, AnOperatorsChoiceIsKept) {
