@@ -5,6 +5,11 @@ if(TARGET task_controller AND TARGET scripted_executor AND TARGET riggerctl)
     SOURCES controller_riggerctl_test.cpp
     DEPS rigger_test_harness rigger_task_controller_core rigger_operator_ui LABEL integration TIMEOUT 120)
   add_dependencies(rigger_controller_riggerctl_test task_controller scripted_executor riggerctl)
+  # Resume after a crash: controller SIGKILLed mid-task, restarted, riggerctl resume, the operator's answer.
+  rigger_add_test(rigger_controller_resume_test
+    SOURCES controller_resume_test.cpp
+    DEPS rigger_test_harness rigger_task_controller_core rigger_operator_ui LABEL integration TIMEOUT 180)
+  add_dependencies(rigger_controller_resume_test task_controller scripted_executor riggerctl)
 endif()
 if(TARGET task_controller AND TARGET scripted_executor)
   # PAUSE/RESUME, CANCEL, OperatorDecision, stop-timeout escalation.

@@ -1,5 +1,6 @@
 #include "rigger/bt/engine.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <utility>
@@ -75,6 +76,53 @@ EventResult Engine::start() {
   request_start(spec_.root);
   drain();
   return {};
+}
+
+EventResult Engine::start(const Restoration& restoration) {
+  if (restoration.nodes.size() != spec_.nodes.size()) {
+    return reject(EventStatus::kInvalidArgument, "restoration has " + std::to_string(restoration.nodes.size()) +
+                                                     " nodes, the tree " + std::to_string(spec_.nodes.size()));
+  }
+  if (dispatching_ || started_) {
+    return start();  // the same refusal
+  }
+  restored_ = restoration.nodes;
+  return start();
+}
+
+bool Engine::take_restored(NodeIndex index, bool queue) {
+  if (restored_.empty()) {
+    return false;
+  }
+  RestoredNode r = std::move(restored_[index]);
+  restored_[index] = RestoredNode{};
+  NodeStatus& st = status_[index];
+  st.activation = std::max(st.activation, r.activations);
+  if (r.how == Restored::kRun) {
+    // Put back what activate() needs once it reset the runtime.
+    restored_[index].cursor = r.cursor;
+    restored_[index].chosen = r.chosen;
+    restored_[index].how = Restored::kRun;
+    return false;
+  }
+  const TimePoint now = port_.now();
+  ++st.activation;
+  st.state = r.how == Restored::kSucceeded ? NodeState::kSuccess
+             : r.how == Restored::kFailed  ? NodeState::kFailure
+                                           : NodeState::kStopped;
+  st.code = r.how == Restored::kSucceeded ? std::string() : (r.code.empty() ? std::string(codes::kFailed) : r.code);
+  st.message = r.message;
+  st.origin = r.how == Restored::kFailed ? spec_.nodes[index].id : std::string();
+  st.progress.reset();
+  st.started_at = now;
+  st.finished_at = now;
+  st.changed_at = now;
+  runtime_[index] = Runtime{};
+  emit(index);
+  if (queue) {
+    finished_nodes_.push_back(index);
+  }
+  return true;
 }
 
 EventResult Engine::check_node_event(std::string_view node_id, NodeKind expected_a, NodeKind expected_b,
@@ -404,6 +452,17 @@ void Engine::reset_subtree(NodeIndex index) {
 }
 
 void Engine::activate(NodeIndex index) {
+  if (take_restored(index, true)) {
+    return;
+  }
+  // A resumed node's counts (restored_ keeps them until its first activation; empty otherwise).
+  std::size_t restored_cursor = 0;
+  std::optional<std::size_t> restored_choice;
+  if (!restored_.empty()) {
+    restored_cursor = restored_[index].cursor;
+    restored_choice = restored_[index].chosen;
+    restored_[index] = RestoredNode{};
+  }
   const NodeSpec& node = spec_.nodes[index];
   NodeStatus& st = status_[index];
   if (st.activation > 0) {
@@ -432,6 +491,15 @@ void Engine::activate(NodeIndex index) {
       port_.evaluate_condition(node, st.activation);
       break;
     case NodeKind::kOperatorDecision:
+      if (restored_choice && *restored_choice < node.children.size()) {
+        // Resumed after the operator had chosen: the choice stands, nobody is asked again.
+        rt.cursor = *restored_choice;
+        rt.active = 1;
+        st.message = "operator chose \"" + node.options[rt.cursor] + "\" before the controller restarted";
+        emit(index);
+        request_start(node.children[rt.cursor]);
+        break;
+      }
       rt.awaiting_operator = true;
       port_.ask_operator(node, st.activation);
       break;
@@ -440,23 +508,48 @@ void Engine::activate(NodeIndex index) {
       rt.active = 1;
       request_start(node.children.front());
       break;
-    case NodeKind::kParallel:
+    case NodeKind::kParallel: {
       for (const NodeIndex child : node.children) {
         rt.possible += can_succeed_[child] ? 1 : 0;
       }
-      rt.active = node.children.size();
-      for (const NodeIndex child : node.children) {
+      // Resumed: the children that finished before the crash count first; only if they do not decide
+      // the Parallel are the others started (no START goes out only to be shut down at once).
+      // Results first, then the children that were being stopped (by the decision those results made).
+      std::vector<NodeIndex> to_start;
+      for (const bool stopped : {false, true}) {
+        for (const NodeIndex child : node.children) {
+          const bool is_stopped = !restored_.empty() && restored_[child].how == Restored::kStopped;
+          if (is_stopped != stopped || status_[index].state != NodeState::kRunning) {
+            continue;
+          }
+          if (take_restored(child, false)) {
+            on_parallel_child(index, child);
+          } else {
+            to_start.push_back(child);
+          }
+        }
+      }
+      if (status_[index].state != NodeState::kRunning) {
+        break;  // decided by the restored results (finished at once: no child was active)
+      }
+      rt.active = to_start.size();
+      for (const NodeIndex child : to_start) {
         request_start(child);
       }
       break;
+    }
     case NodeKind::kTimeout:
       rt.timer = schedule(index, TimerPurpose::kDeadline, now + to_clock(node.duration));
       rt.active = 1;
       request_start(node.children.front());
       break;
-    case NodeKind::kInverter:
     case NodeKind::kRetry:
     case NodeKind::kRepeat:
+      rt.cursor = restored_cursor;  // runs (Retry) or successes (Repeat) before the crash
+      rt.active = 1;
+      request_start(node.children.front());
+      break;
+    case NodeKind::kInverter:
     case NodeKind::kForceSuccess:
       rt.active = 1;
       request_start(node.children.front());

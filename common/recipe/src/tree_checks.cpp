@@ -153,6 +153,7 @@ class Builder {
     const std::string field(skill::to_string(expected));
     n.leaf = j[field].get<std::string>();
     n.executor = j.value("executor", "");
+    n.restartable = n.kind == NodeKind::kSkill && j.value("restartable", false);
     n.stop_timeout = stop;
     const Json params = j.contains("params") ? j["params"] : Json::object();
     n.params = params;

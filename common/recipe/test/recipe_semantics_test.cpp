@@ -115,6 +115,27 @@ TEST(RecipeTree, IdsPointersAndFieldsOfEveryNodeType) {
   EXPECT_NO_THROW(bt::check_tree_spec(recipe.tree));
 }
 
+TEST(RecipeTree, RestartableIsASkillsOptionalBooleanDefaultFalse) {
+  const auto r =
+      RecipeValidator(example_library())
+          .validate_text(recipe_with_root(
+              seq({R"({"type": "Skill", "skill": "Localize", "params": {"object": "load"}, "restartable": true})",
+                   kLocalizeTarget})));
+  ASSERT_TRUE(r.ok()) << dump(r);
+  EXPECT_TRUE(r.recipe->tree.nodes[1].restartable);
+  EXPECT_FALSE(r.recipe->tree.nodes[2].restartable);
+  const auto bad =
+      RecipeValidator(example_library())
+          .validate_text(recipe_with_root(
+              seq({R"({"type": "Skill", "skill": "Localize", "params": {"object": "load"}, "restartable": "yes"})"})));
+  EXPECT_FALSE(bad.ok());
+  EXPECT_TRUE(has_error(bad.errors, "/root/children/0/restartable", "")) << dump(bad);
+  const auto monitor =
+      RecipeValidator(example_library())
+          .validate_text(recipe_with_root(R"({"type": "Monitor", "monitor": "YankMonitor", "restartable": true})"));
+  EXPECT_FALSE(monitor.ok()) << "monitors always start again: the field is a Skill's";
+}
+
 TEST(RecipeTree, DefaultStopTimeoutFromOptions) {
   ValidatorOptions options;
   options.default_stop_timeout = bt::Seconds(4.0);

@@ -159,6 +159,8 @@ json details_of(const Prompt& prompt) {
 
 bool matches(const Rule& rule, const Prompt& prompt) {
   if (!rule.kind.empty() && rule.kind != prompt.kind) return false;
+  // Confirming a resume after a controller crash restarts motion: only a rule that names it answers.
+  if (rule.kind.empty() && prompt.kind == kResumeKind) return false;
   if (!rule.task_id.empty() && rule.task_id != prompt.task_id) return false;
   if (!rule.node_id.empty() && rule.node_id != prompt.node_id) return false;
   if (rule.match_details.empty()) return true;

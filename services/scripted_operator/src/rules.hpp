@@ -51,7 +51,11 @@ std::vector<Rule> parse_rules(const Config& config);
 /// Parses the command-line form (see the file comment). @throws ConfigError whose file is "--rule '<text>'".
 Rule parse_rule_argument(const std::string& text);
 
-/// Whether `rule` applies to `prompt` (kind, ids, details). Does not look at the answer or at `active`.
+/// The task controller's question before it resumes a task after a crash (docs/operator.md).
+inline constexpr const char* kResumeKind = "resume";
+
+/// Whether `rule` applies to `prompt` (kind, ids, details); a wildcard kind never matches a `resume`
+/// prompt (a rule must name it). Does not look at the answer or at `active`.
 bool matches(const Rule& rule, const Prompt& prompt);
 /// The first rule that matches `prompt`, or nullptr.
 const Rule* first_match(const std::vector<Rule>& rules, const Prompt& prompt);

@@ -75,6 +75,15 @@ TEST(Rules, WildcardKindAndIds) {
   EXPECT_EQ(first_match(rules, other), nullptr);
 }
 
+TEST(Rules, OnlyARuleNamingItAnswersAResumePrompt) {
+  Prompt p = decision({"continue", "abort"});
+  p.kind = "resume";
+  p.node_id = "resume";
+  EXPECT_EQ(first_match(rules_from(R"({"rules": [{"kind": "*", "answer": "continue"}]})"), p), nullptr);
+  const auto named = rules_from(R"({"rules": [{"kind": "resume", "answer": "continue"}]})");
+  ASSERT_EQ(first_match(named, p), &named[0]);
+}
+
 TEST(Rules, AnswerNotOfferedIsNotChosen) {
   const auto rules = rules_from(R"({"rules": [{"kind": "decision", "answer": "retry"}]})");
   const Prompt p = decision({"joystick", "visual servo", "abort"});

@@ -60,11 +60,12 @@ bool ExecutorDirectory::alive(const std::string& id) const {
 }
 
 std::optional<ExecutorDirectory::Holder> ExecutorDirectory::holder(const std::vector<std::string>& resources,
-                                                                   const std::string& task_id) const {
+                                                                   const std::string& task_id,
+                                                                   const std::set<std::string>* started) const {
   for (const auto& [id, ex] : executors_) {
     if (!ex.alive) continue;  // a lost executor's runs are its leaves' EXECUTOR_LOST, not a hold
     for (const auto& run : ex.runs) {
-      if (run.task_id == task_id) continue;
+      if (run.task_id == task_id && (started == nullptr || started->count(run.node_id) != 0)) continue;
       for (const auto& r : resources)
         if (std::find(run.resources.begin(), run.resources.end(), r) != run.resources.end()) return Holder{id, r, run};
     }

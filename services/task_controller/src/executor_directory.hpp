@@ -61,8 +61,11 @@ class ExecutorDirectory {
   /// The first run (by executor id, then as announced) on a live executor that holds one of
   /// `resources` and belongs to another task than `task_id` (a run of an earlier controller, or of a
   /// task that ended while its leaf still stopped); nullopt when they are free. Runs of `task_id`
-  /// itself are the executors' to order (a Retry's START waits there for the previous run's stop).
-  std::optional<Holder> holder(const std::vector<std::string>& resources, const std::string& task_id) const;
+  /// itself are the executors' to order (a Retry's START waits there for the previous run's stop) —
+  /// unless `started` is given (a task resumed after a crash): then only its runs of the nodes in
+  /// `started` (STARTs this controller sent) are its own, and the killed controller's runs hold.
+  std::optional<Holder> holder(const std::vector<std::string>& resources, const std::string& task_id,
+                               const std::set<std::string>* started = nullptr) const;
 
  private:
   struct Executor {

@@ -110,6 +110,14 @@ bool Journal::finish_task(const std::string& task_id, const std::string& state, 
   return add_record({stamp_s, task_id, "", "TASK", state, code.empty() ? message : code + ": " + message});
 }
 
+bool Journal::reopen_task(const std::string& task_id, const std::string& message, double stamp_s) {
+  auto s = prepare(db_, "UPDATE tasks SET state='RUNNING', finished=NULL, code=NULL, message=NULL WHERE task_id=?;");
+  if (!s) return false;
+  bind_text(s.get(), 1, task_id);
+  if (sqlite3_step(s.get()) != SQLITE_DONE) return false;
+  return add_record({stamp_s, task_id, "", "TASK", "RUNNING", message});
+}
+
 bool Journal::add_record(const JournalRecord& r) {
   sqlite3_stmt* s = insert_record_;
   sqlite3_reset(s);
@@ -143,6 +151,14 @@ std::vector<JournalTask> Journal::unfinished_tasks() const {
     out.push_back({column_text(s.get(), 0), column_text(s.get(), 1), sqlite3_column_double(s.get(), 2),
                    column_text(s.get(), 3)});
   return out;
+}
+
+JournalTask Journal::task(const std::string& task_id) const {
+  auto s = prepare(db_, "SELECT task_id, state, submitted, recipe FROM tasks WHERE task_id=?;");
+  if (!s) return {};
+  bind_text(s.get(), 1, task_id);
+  if (sqlite3_step(s.get()) != SQLITE_ROW) return {};
+  return {column_text(s.get(), 0), column_text(s.get(), 1), sqlite3_column_double(s.get(), 2), column_text(s.get(), 3)};
 }
 
 bool Journal::has_task(const std::string& task_id) const {

@@ -36,7 +36,8 @@ struct JournalRecord {
   double stamp_s = 0;   ///< wall clock, seconds since the Unix epoch
   std::string task_id;
   std::string node_id;  ///< "" for task-level lines
-  std::string kind;     ///< "RECIPE", "TASK", "NODE", "EVENT", "COMMAND", "ESCALATION", "REJECTED_EVENT"
+  /// "RECIPE", "TASK", "NODE", "EVENT", "COMMAND", "OPERATOR", "RESUME", "ESCALATION", "REJECTED_EVENT"
+  std::string kind;
   std::string code;
   std::string message;
 };
@@ -65,6 +66,9 @@ class Journal {
   /// Marks a task finished with `state` ("SUCCEEDED", "FAILED", "CANCELED", "INTERRUPTED").
   bool finish_task(const std::string& task_id, const std::string& state, const std::string& code,
                    const std::string& message, double stamp_s);
+  /// An INTERRUPTED task resumed (riggerctl resume, confirmed by the operator): RUNNING again, with a
+  /// `TASK RUNNING` line saying why.
+  bool reopen_task(const std::string& task_id, const std::string& message, double stamp_s);
   /// Appends one timeline line.
   bool add_record(const JournalRecord& record);
   /// Appends `records` in one transaction: all or none (one commit, so one fsync with kFull).
@@ -72,6 +76,8 @@ class Journal {
 
   /// Tasks whose state is still RUNNING (the controller died while they ran).
   std::vector<JournalTask> unfinished_tasks() const;
+  /// The task `task_id` with its recipe, or an empty task_id when the journal does not know it.
+  JournalTask task(const std::string& task_id) const;
   /// Whether the journal knows `task_id` (finished or not).
   bool has_task(const std::string& task_id) const;
   /// The timeline of one task in order, at most `max_entries` (the newest are dropped).

@@ -46,11 +46,10 @@ std::string quoted_options(const std::vector<std::string>& options) {
 PromptWriter::PromptWriter(const dds::Participant& participant)
     : prompts_(participant, protocol::operator_ui::kPrompt.name, dds::qos::state()) {}
 
-bool PromptWriter::write(const PromptId& id, const bt::NodeSpec& spec, bool active) {
+bool PromptWriter::write(const PromptId& id, const bt::NodeSpec& spec, bool active, const std::string& kind,
+                         const std::string& details_json) {
   rigger_operator_ui_OperatorPrompt p{};
   const std::string prompt_id = id.str();
-  const std::string kind = "decision";
-  const std::string empty;
   std::vector<char*> storage;
   p.prompt_id = dds::wire_string(prompt_id);
   p.task_id = dds::wire_string(id.task_id);
@@ -59,7 +58,7 @@ bool PromptWriter::write(const PromptId& id, const bt::NodeSpec& spec, bool acti
   p.title = dds::wire_string(spec.name);
   p.text = dds::wire_string(spec.prompt);
   dds::wire_string_sequence(p.options, spec.options, storage);
-  p.details_json = dds::wire_string(empty);
+  p.details_json = dds::wire_string(details_json);
   p.timeout_s = 0;
   p.active = active;
   p.stamp = dds::wire_now();

@@ -48,9 +48,12 @@ class PromptWriter {
  public:
   /// @throws DdsError.
   explicit PromptWriter(const dds::Participant& participant);
-  /// Publishes the prompt of `spec` (active) or its withdrawal (inactive). Returns false when the
-  /// write failed.
-  bool write(const PromptId& id, const bt::NodeSpec& spec, bool active);
+  /// Publishes the prompt of `spec` (active) or its withdrawal (inactive): title `spec.name`, text
+  /// `spec.prompt`, options `spec.options`; `kind` "decision" (an OperatorDecision node) or "resume" (a
+  /// task resumed after a crash, whose `details_json` lists what was done and what will run). Returns
+  /// false when the write failed.
+  bool write(const PromptId& id, const bt::NodeSpec& spec, bool active, const std::string& kind = "decision",
+             const std::string& details_json = "");
 
  private:
   dds::Writer<rigger_operator_ui_OperatorPrompt> prompts_;

@@ -18,13 +18,15 @@
 ///    increasing seq; events must echo the START's seq; unknown, stale, duplicate and out-of-order
 ///    events are rejected, logged and journalled, never acted on).
 ///  - rigger/task/status, rigger/task/node_status: results for everyone.
-///  - rigger/task/command: CANCEL, PAUSE, RESUME.  rigger/operator/prompt|response: OperatorDecision.
+///  - rigger/task/command: CANCEL, PAUSE, RESUME (of a PAUSED or an INTERRUPTED task).
+///  - rigger/operator/prompt|response: OperatorDecision, and the resume prompt.
 ///  - rigger/task/journal_query → journal_reply: the journal's timeline for riggerctl.
 /// Nothing polls: the node does work only when data arrives or one of the engine's timers is due.
 /// Commands first: a handler sends the START/SHUTDOWN commands it causes at once; the node statuses and
 /// journal rows it causes are queued and written together right after it (flush_side_effects()). A
 /// controller killed in between loses those rows, never a task: the recipe row was written before the
-/// first START, so a restarted controller reports the task INTERRUPTED.
+/// first START, so a restarted controller reports the task INTERRUPTED; a RESUME of it rebuilds the tree
+/// from the journal (resume_plan) and starts it once the operator confirms the resume prompt.
 ///
 /// Conditions: ObjectLocalized is answered by the world model (WorldClient) and is always part of the
 /// library recipes are validated against (no executor needs to announce it); an unreachable world model
@@ -43,11 +45,12 @@
 #include "journal_server.hpp"
 #include "operator_decisions.hpp"
 #include "recipe_admission.hpp"
-#include "stage_trace.hpp"
+#include "resume_plan.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
 #include "rigger/safety/safe_stop.hpp"
+#include "stage_trace.hpp"
 #include "status_publisher.hpp"
 #include "task_port.hpp"
 
@@ -72,7 +75,8 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   std::string pick_executor(const std::string& skill, const std::string& pinned) const override {
     return executors_.pick(skill, pinned);
   }
-  std::string holder_of(const std::vector<std::string>& resources, const std::string& task_id) const override;
+  std::string holder_of(const std::vector<std::string>& resources, const std::string& task_id,
+                        const std::set<std::string>* started) const override;
   std::chrono::nanoseconds busy_wait() const override { return settings_.busy_wait; }
   unsigned progress_rows_per_run() const override { return settings_.progress_rows_per_run; }
   ControllerEndpoint& endpoint() override { return endpoint_; }
@@ -96,6 +100,13 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   void on_task_commands();
   void on_operator_responses();
   void report_interrupted();
+  /// RESUME of an INTERRUPTED task (docs/behavior-tree.md "Resume after a crash"): rebuilds its tree
+  /// from the journal, plans what is done and what runs, and asks the operator (prompt kind "resume");
+  /// nothing starts before the answer. Refusals go out as TaskStatus FAILED, code RESUME_REFUSED.
+  void resume_interrupted(const std::string& task_id, const std::string& issuer, const std::string& reason);
+  void refuse_resume(const std::string& task_id, const std::string& why);
+  /// The operator's answer to a resume prompt: continue/rerun/skip start the task, abort ends it.
+  void answer_resume(const PromptId& id, const std::string& answer, const std::string& by);
   void reject(const std::string& task_id, RejectCode code, const std::string& message,
               const std::vector<recipe::Error>& errors = {});
   /// Writes the queued node statuses and journal rows (one transaction). A handler sends its commands
@@ -125,6 +136,16 @@ class TaskControllerNode : public dds::Node, private TaskHost {
     dds::EventLoop::TimerId timer = 0;
   };
   std::map<std::string, Pending> pending_;  ///< recipes waiting for an executor, by task id
+  /// An INTERRUPTED task rebuilt for a resume, waiting for the operator's confirmation (not started).
+  struct Resuming {
+    std::unique_ptr<Task> task;
+    ResumePlan plan;
+    PromptId prompt;
+    bt::NodeSpec question;  ///< the prompt's title, text and options
+    std::string details_json;
+    std::string summary;
+  };
+  std::map<std::string, Resuming> resuming_;          ///< by task id
   std::unique_ptr<world_client::WorldClient> world_;  ///< Condition nodes query the world model through it
   std::vector<NodeStatusRow> status_backlog_;
   std::vector<JournalRecord> journal_backlog_;

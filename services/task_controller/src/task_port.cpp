@@ -229,12 +229,19 @@ void Task::answer(const PromptId& id, const std::string& answer, const std::stri
   log_result("operator decision", node_id, engine_->on_operator_decision(node_id, activation, *choice));
 }
 
+std::string Task::held_by(const bt::NodeSpec& spec) const {
+  if (!resumed_) return host_.holder_of(spec.resources, id_);
+  std::set<std::string> started;
+  for (const auto& [node_id, run] : runs_) started.insert(node_id);
+  return host_.holder_of(spec.resources, id_, &started);
+}
+
 // --- bt::Port ---
 
 void Task::start_leaf(const bt::NodeSpec& spec, bt::Activation activation) {
   // A run of another task (a killed controller's, still stopping) may hold a resource of the leaf: the
   // START waits for the announcement that frees it, instead of being refused RESOURCE_BUSY.
-  const std::string holder = host_.holder_of(spec.resources, id_);
+  const std::string holder = held_by(spec);
   if (holder.empty() || host_.pick_executor(spec.leaf, spec.executor).empty()) {
     send_start(spec, activation);
     return;
@@ -263,7 +270,7 @@ void Task::start_held() {
     if (h == held_.end() || !index) continue;
     const auto& spec = engine_->spec().nodes[*index];
     if (h->second.freed) continue;  // free already; waits for RESUME
-    const std::string holder = host_.holder_of(spec.resources, id_);
+    const std::string holder = held_by(spec);
     if (!holder.empty()) {
       h->second.holder = holder;  // perhaps another run now: the failure names the last one
       continue;
@@ -291,7 +298,7 @@ void Task::release_held(const std::string& node_id) {
   if (held.freed) {
     // Freed while paused: another run may have taken a resource since; then it waits again.
     held.freed = false;
-    const std::string holder = host_.holder_of(spec.resources, id_);
+    const std::string holder = held_by(spec);
     if (!holder.empty()) {
       held.holder = holder;
       held.deadline = arm_held(node_id, held.activation);
@@ -308,7 +315,7 @@ void Task::held_too_long(const std::string& node_id, bt::Activation activation) 
   auto index = engine_->find(node_id);
   if (h == held_.end() || h->second.activation != activation || !index) return;
   const auto& spec = engine_->spec().nodes[*index];
-  const std::string holder = host_.holder_of(spec.resources, id_);
+  const std::string holder = held_by(spec);
   if (holder.empty()) {  // freed by the announcement just taken
     h->second.deadline = 0;  // it fired
     release_held(node_id);

@@ -11,6 +11,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,6 +32,12 @@ namespace rigger::task_controller {
 /// Codes the controller adds to the engine's (RejectCode, recipe_admission.hpp, has the admission ones).
 namespace codes {
 inline constexpr const char* kInterrupted = "INTERRUPTED";
+/// Resume after a crash: the rebuilt task waits for the operator (TaskStatus PAUSED with this code).
+inline constexpr const char* kResumeConfirmation = "RESUME_CONFIRMATION";
+/// Resume after a crash refused (recipe no longer valid, journal unusable, task being canceled, …).
+inline constexpr const char* kResumeRefused = "RESUME_REFUSED";
+/// The operator answered `abort` to the resume prompt: the task ends FAILED, nothing started.
+inline constexpr const char* kResumeAborted = "RESUME_ABORTED";
 inline constexpr const char* kNoExecutor = "NO_EXECUTOR";
 /// The executor did not answer a START (ACCEPTED or FAILURE) within start_answer_timeout_s.
 inline constexpr const char* kStartUnanswered = "START_UNANSWERED";
@@ -57,8 +64,10 @@ class TaskHost {
   /// The live executor for `skill` (ExecutorDirectory::pick).
   virtual std::string pick_executor(const std::string& skill, const std::string& pinned) const = 0;
   /// Which run of another task than `task_id` holds one of `resources`, as the executors announced it
-  /// (ExecutorDirectory::Holder::describe), or "" when they are free.
-  virtual std::string holder_of(const std::vector<std::string>& resources, const std::string& task_id) const = 0;
+  /// (ExecutorDirectory::Holder::describe), or "" when they are free. `started` (a resumed task): only
+  /// its runs of these nodes are its own (ExecutorDirectory::holder).
+  virtual std::string holder_of(const std::vector<std::string>& resources, const std::string& task_id,
+                                const std::set<std::string>* started = nullptr) const = 0;
   /// How long a START waits for its resources to be freed before the leaf fails RESOURCE_HELD.
   virtual std::chrono::nanoseconds busy_wait() const = 0;
   /// How many PROGRESS events of one run are journaled (the rest are counted in one row at its end).
@@ -92,6 +101,9 @@ class Task : public bt::Port {
   const std::vector<std::string>& resources() const { return resources_; }
   bool done() const { return engine_->result().has_value(); }
 
+  /// A task resumed after a controller crash: its STARTs also wait while a run of the same task id (the
+  /// killed controller's, still announced) holds one of their resources. Call before the engine starts.
+  void mark_resumed() { resumed_ = true; }
   /// Logs and journals an engine result that was not acted on.
   void log_result(const char* what, const std::string& node_id, const bt::EventResult& r);
 
@@ -168,8 +180,12 @@ class Task : public bt::Port {
   /// was built.
   const std::string& params_text(const bt::NodeSpec& spec) const;
 
+  /// Which run of another task (or, resumed, of the killed controller) holds one of `spec`'s resources.
+  std::string held_by(const bt::NodeSpec& spec) const;
+
   TaskHost& host_;
   std::string id_;
+  bool resumed_ = false;
   std::vector<std::string> resources_;
   std::unique_ptr<bt::Engine> engine_;
   std::vector<std::string> params_text_;  ///< indexed like engine_->spec().nodes; "" for non-leaves

@@ -2,6 +2,8 @@
 
 #include "executor_directory.hpp"
 
+#include <set>
+
 #include <gtest/gtest.h>
 
 #include "unit_test_util.hpp"
@@ -133,6 +135,10 @@ TEST(ExecutorDirectory, ARunOfAnotherTaskHoldsItsResourcesUntilItIsAnnouncedEnde
   EXPECT_FALSE(d.holder({"crane"}, "new").has_value()) << "nobody holds the crane";
   EXPECT_TRUE(d.holder({"camera"}, "other").has_value());
   EXPECT_FALSE(d.holder({}, "new").has_value()) << "a leaf that claims nothing is never held";
+  // A resumed task: its runs hold unless this controller started them (the killed controller's do).
+  const std::set<std::string> none, started{"root/1"};
+  EXPECT_TRUE(d.holder({"camera"}, "new", &none).has_value());
+  EXPECT_FALSE(d.holder({"camera"}, "new", &started).has_value());
 
   c = d.announce("a", true, lib, {"Pick", "Localize"}, {old_pick});
   EXPECT_FALSE(c.runs_changed) << "a re-announcement of the same runs changes nothing";

@@ -47,6 +47,25 @@ TEST_F(JournalTest, UnfinishedTaskSurvivesReopenAndIsReportedOnce) {
   EXPECT_EQ(timeline[2].code, "INTERRUPTED");
 }
 
+TEST_F(JournalTest, AnInterruptedTaskIsFoundWithItsRecipeAndReopenedAsRunning) {
+  Journal j(path_);
+  ASSERT_TRUE(j.add_task("t1", "{\"recipe\":1}", 10.0));
+  ASSERT_TRUE(j.finish_task("t1", "INTERRUPTED", "INTERRUPTED", "controller restarted", 20.0));
+  const JournalTask t = j.task("t1");
+  EXPECT_EQ(t.task_id, "t1");
+  EXPECT_EQ(t.state, "INTERRUPTED");
+  EXPECT_EQ(t.recipe_json, "{\"recipe\":1}");
+  EXPECT_TRUE(j.task("nope").task_id.empty());
+  ASSERT_TRUE(j.reopen_task("t1", "resumed; confirmed by alice", 30.0));
+  EXPECT_EQ(j.task("t1").state, "RUNNING");
+  ASSERT_EQ(j.unfinished_tasks().size(), 1U) << "a resumed task killed again is INTERRUPTED again";
+  const auto timeline = j.timeline("t1", 100);
+  ASSERT_EQ(timeline.size(), 3U);
+  EXPECT_EQ(timeline[2].kind, "TASK");
+  EXPECT_EQ(timeline[2].code, "RUNNING");
+  EXPECT_EQ(timeline[2].message, "resumed; confirmed by alice");
+}
+
 TEST_F(JournalTest, ABatchOfRecordsIsStoredInOrderAndSurvivesReopen) {
   {
     Journal j(path_, JournalSync::kFull);

@@ -487,6 +487,58 @@ int show_skills(const CommonOptions& common, double timeout_s) {
 }
 // --- cancel, pause, resume ---
 
+/// Writes one TaskCommand, issued by riggerctl:$USER.
+void send_task_command(dds::Writer<rigger_task_TaskCommand>& commands, const std::string& task_id,
+                       rigger_task_TaskCommandKind kind, const std::string& reason) {
+  rigger_task_TaskCommand c{};
+  const std::string issuer = riggerctl_source();
+  c.task_id = dds::wire_string(task_id);
+  c.kind = kind;
+  c.reason = dds::wire_string(reason);
+  c.issuer = dds::wire_string(issuer);
+  c.seq = 1;
+  c.stamp = dds::wire_now();
+  commands.write(c);
+}
+
+/// RESUME of an INTERRUPTED task (the controller restarted while it ran): the controller rebuilds it from
+/// its journal and asks the operator (prompt kind "resume"). Prints what was done and what will run, and
+/// the prompt to answer; exit 0 when the controller waits for the confirmation, 1 when it refused.
+int resume_interrupted(dds::Writer<rigger_task_TaskCommand>& commands, dds::Reader<rigger_task_TaskStatus>& statuses,
+                       dds::EventLoop& loop, const std::string& task_id, const std::string& reason, double timeout_s) {
+  bool sent = false, done = false, before = false;
+  std::string code, message;
+  loop.on_data(statuses, [&] {
+    statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
+      if (dds::to_string(s.task_id) != task_id) return;
+      before = true;
+      if (!sent) return;
+      const std::string c = dds::to_string(s.code);
+      if (c != "RESUME_CONFIRMATION" && c != "RESUME_REFUSED") return;  // the state from before the command
+      done = true;
+      code = c;
+      message = dds::to_string(s.message);
+    });
+  });
+  // The task's status from before (INTERRUPTED, or an earlier resume's answer) is not this one's answer.
+  loop.run_until([&] { return before; }, std::chrono::milliseconds(1000));
+  sent = true;
+  send_task_command(commands, task_id, rigger_task_TASK_RESUME, reason);
+  if (!loop.run_until([&] { return done; }, from_seconds(timeout_s))) {
+    std::fprintf(stderr, "riggerctl: the task controller did not answer the resume of task %s within %.1f s\n",
+                 task_id.c_str(), timeout_s);
+    return kExitFailed;
+  }
+  if (code == "RESUME_REFUSED") {
+    std::fprintf(stderr, "riggerctl: task %s cannot be resumed: %s\n", task_id.c_str(), message.c_str());
+    return kExitFailed;
+  }
+  std::printf("task %s was INTERRUPTED (the task controller restarted while it ran)\n%s\n", task_id.c_str(),
+              message.c_str());
+  std::printf("nothing runs until the operator confirms: answer the prompt kind resume in `riggerctl operator`\n");
+  return 0;
+}
+
 /// Sends CANCEL, PAUSE or RESUME for `task_id` and waits for the controller's acknowledgement on
 /// rigger/task/status: the task's end for CANCEL, PAUSED for PAUSE, RUNNING for RESUME (or the task's
 /// end, whichever comes first). Exit 0 when the wanted state was reached.
@@ -505,10 +557,15 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
   // TASK result): the controller ignores commands for such tasks, so there is nothing to wait for.
   const JournalAnswer journal = ask_journal(topics, loop, task_id, timeout_s);
   if (const int failed = journal_failure(journal, common, timeout_s, "no task " + task_id)) return failed;
-  for (const auto& l : journal.lines) {
-    if (l.kind != "TASK") continue;
-    std::printf("task %s had already ended: %s\n", task_id.c_str(), l.code.c_str());
-    return kind == rigger_task_TASK_CANCEL && l.code == "CANCELED" ? 0 : kExitFailed;
+  // The last TASK line is the task's state: a resumed task has INTERRUPTED, then RUNNING, then its end.
+  const JournalLine* task_line = nullptr;
+  for (const auto& l : journal.lines)
+    if (l.kind == "TASK") task_line = &l;
+  if (task_line != nullptr && task_line->code == "INTERRUPTED" && kind == rigger_task_TASK_RESUME)
+    return resume_interrupted(commands, statuses, loop, task_id, reason, timeout_s);
+  if (task_line != nullptr && task_line->code != "RUNNING") {
+    std::printf("task %s had already ended: %s\n", task_id.c_str(), task_line->code.c_str());
+    return kind == rigger_task_TASK_CANCEL && task_line->code == "CANCELED" ? 0 : kExitFailed;
   }
   const int wanted = kind == rigger_task_TASK_CANCEL  ? rigger_task_TASK_CANCELED
                      : kind == rigger_task_TASK_PAUSE ? rigger_task_TASK_PAUSED
@@ -547,20 +604,17 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
     std::printf("task %s had already ended: %s\n", task_id.c_str(), task_state_name(state));
     return state == wanted ? 0 : kExitFailed;
   }
+  if (before == wanted && kind == rigger_task_TASK_RESUME) {
+    std::fprintf(stderr, "riggerctl: task %s is RUNNING, neither PAUSED nor INTERRUPTED: nothing to resume\n",
+                 task_id.c_str());
+    return kExitFailed;
+  }
   if (before == wanted) {
     std::printf("task %s is %s already\n", task_id.c_str(), task_state_name(before));
     return 0;
   }
-  rigger_task_TaskCommand c{};
-  const std::string issuer = riggerctl_source();
-  c.task_id = dds::wire_string(task_id);
-  c.kind = kind;
-  c.reason = dds::wire_string(reason);
-  c.issuer = dds::wire_string(issuer);
-  c.seq = 1;
-  c.stamp = dds::wire_now();
   sent = true;
-  commands.write(c);
+  send_task_command(commands, task_id, kind, reason);
   if (!loop.run_until([&] { return done; }, from_seconds(timeout_s))) {
     std::fprintf(stderr, "riggerctl: task %s was not %s within %.1f s\n", task_id.c_str(), task_state_name(wanted),
                  timeout_s);
@@ -674,7 +728,10 @@ void add_task_commands(CLI::App& app, const CommonOptions& common, int& exit_cod
   for (const auto& [verb, kind, help] :
        {std::tuple<const char*, rigger_task_TaskCommandKind, const char*>{
             "pause", rigger_task_TASK_PAUSE, "Pause a running task (no new leaf starts) and wait until it is PAUSED."},
-        {"resume", rigger_task_TASK_RESUME, "Resume a paused task and wait until it is RUNNING again."}}) {
+        {"resume", rigger_task_TASK_RESUME,
+         "Resume a paused task and wait until it is RUNNING again; or an INTERRUPTED task (the controller "
+         "restarted while it ran): print what was done and what will run, which starts once the operator "
+         "confirms."}}) {
     auto* cmd = app.add_subcommand(verb, help);
     auto task = std::make_shared<std::string>();
     auto reason = std::make_shared<std::string>(std::string(verb) + "d from riggerctl");
@@ -687,7 +744,6 @@ void add_task_commands(CLI::App& app, const CommonOptions& common, int& exit_cod
       exit_code = task_command(common, *task, k, *reason, *wait_s);
     });
   }
-
 }
 
 }  // namespace rigger::ctl

@@ -31,6 +31,34 @@
 
 namespace rigger::bt {
 
+/// How a node is taken up when a task is resumed from its journal (Engine::start(const Restoration&)).
+enum class Restored {
+  kRun,        ///< runs as usual when its parent reaches it (re-run if it was running at the crash)
+  kSucceeded,  ///< done before the crash: reports SUCCESS at once, nothing below it runs
+  kFailed,     ///< failed before the crash (its parent had not acted on it): reports FAILURE at once
+  kStopped,    ///< was being stopped at the crash: reports STOPPED at once (its executor stopped it)
+};
+
+/// One node's restored state; only its first activation after the restart uses it.
+struct RestoredNode {
+  Restored how = Restored::kRun;
+  std::string code;     ///< kFailed, kStopped: the code reported
+  std::string message;  ///< what the node reports ("done before the controller restarted", …)
+  /// Activations it had before the crash: the first activation now is this + 1, so that events, prompt
+  /// ids and journal rows of the killed controller's runs stay recognisably stale.
+  Activation activations = 0;
+  /// kRun Retry: failed runs of its child so far (they count towards max_attempts); kRun Repeat:
+  /// successes so far.
+  std::size_t cursor = 0;
+  /// kRun OperatorDecision: the option the operator had chosen (its child runs, nobody is asked again).
+  std::optional<std::size_t> chosen;
+};
+
+/// A whole tree's restored state, indexed like TreeSpec::nodes (an empty vector: start from scratch).
+struct Restoration {
+  std::vector<RestoredNode> nodes;
+};
+
 class Engine {
  public:
   /// Takes the tree and the port (which must outlive the engine). Throws SpecError when the tree
@@ -41,6 +69,12 @@ class Engine {
 
   /// Starts the top node (deferred while paused). kWrongPhase if already started or finished.
   EventResult start();
+  /// Starts a task resumed from its journal: like start(), but each node takes its first activation
+  /// from `restoration` (docs/behavior-tree.md "Resume after a crash"). A node restored as done or
+  /// failed reports at once without any Port call; a Sequence/Fallback goes on after its finished
+  /// children; a Parallel counts its finished children first and starts only the others (none when they
+  /// already decide it); Retry/Repeat keep their counts. kInvalidArgument when the sizes differ.
+  EventResult start(const Restoration& restoration);
 
   /// An executor's event about a Skill or Monitor.
   EventResult on_leaf_event(std::string_view node_id, const LeafEvent& event);
@@ -116,6 +150,9 @@ class Engine {
 
   void request_start(NodeIndex index);
   void activate(NodeIndex index);
+  /// Consumes `index`'s restored state on its first activation after a resume; true when the node
+  /// was restored as finished (it reported at once, queued for its parent unless `queue` is false).
+  bool take_restored(NodeIndex index, bool queue);
   void reset_subtree(NodeIndex index);
   void request_shutdown(NodeIndex top, const std::string& reason);
   void finish(NodeIndex index, NodeState state, std::string code, std::string message, std::string origin);
@@ -141,6 +178,7 @@ class Engine {
   TimerId next_timer_ = 1;
   std::deque<NodeIndex> finished_nodes_;  ///< nodes that reached a terminal state; parents not yet told
   std::deque<NodeIndex> pending_starts_;  ///< starts held back by pause()
+  std::vector<RestoredNode> restored_;    ///< empty unless resumed; entries reset once used
   std::vector<std::string> escalated_;
   std::string cancel_reason_;
   std::optional<TaskResult> result_;

@@ -68,6 +68,9 @@ struct NodeSpec {
   /// Skill, Monitor: how long the leaf may take to answer SHUTDOWN with STOPPED before the
   /// controller escalates a safe stop of its resources.
   Seconds stop_timeout{5.0};
+  /// Skill: may be started again without asking the operator when a controller crash interrupted it
+  /// and the task is resumed (the recipe's `restartable`, default false).
+  bool restartable = false;
 
   /// Parallel: M, successes needed among children that can succeed (monitors cannot).
   std::size_t success_threshold = 1;
