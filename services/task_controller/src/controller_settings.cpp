@@ -12,9 +12,10 @@ std::chrono::nanoseconds seconds_in_range(const Config& config, const std::strin
 
 }  // namespace
 
-ControllerSettings read_settings(const Config& config) {
+ControllerSettings read_settings(const Config& config, const std::string& journal_path) {
   ControllerSettings s;
   s.journal_path = config.get<std::string>("journal_path", s.journal_path);
+  if (!journal_path.empty()) s.journal_path = journal_path;
   s.journal_sync =
       config.get_enum("journal_sync", "normal", {"normal", "full"}) == "full" ? JournalSync::kFull : JournalSync::kNormal;
   s.command_lease = std::chrono::milliseconds(config.get_in_range<unsigned>("command_lease_ms", 300U, 200U, 10000U));

@@ -54,7 +54,8 @@ struct ControllerSettings {
   std::string stage_trace_path;  ///< empty: no stage trace
 };
 
-/// Reads every key, then config.finish(). @throws ConfigError naming the key and what was expected.
-ControllerSettings read_settings(const Config& config);
+/// Reads every key, then config.finish(); a non-empty `journal_path` (the --journal option) takes the
+/// place of the configured one. @throws ConfigError naming the key and what was expected.
+ControllerSettings read_settings(const Config& config, const std::string& journal_path = "");
 
 }  // namespace rigger::task_controller

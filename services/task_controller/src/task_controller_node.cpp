@@ -20,16 +20,11 @@ std::chrono::milliseconds offered(dds::ServiceContext& ctx, std::chrono::millise
   return lease;
 }
 
-ControllerSettings with_journal(ControllerSettings settings, const std::string& journal_path) {
-  if (!journal_path.empty()) settings.journal_path = journal_path;
-  return settings;
-}
-
 }  // namespace
 
 TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx, const std::string& journal_path)
     : ctx_(ctx),
-      settings_(with_journal(read_settings(ctx.config), journal_path)),
+      settings_(read_settings(ctx.config, journal_path)),
       journal_(settings_.journal_path, settings_.journal_sync),
       announcements_(ctx.participant, protocol::skill::kExecutors, dds::qos::state()),
       // Executors watch the command writer's liveliness: a controller that dies or hangs has its running
@@ -137,18 +132,6 @@ void TaskControllerNode::flush_side_effects() {
   if (trace_) trace_->flushed();
 }
 
-void TaskControllerNode::report_interrupted() {
-  for (const auto& t : journal_.unfinished_tasks()) {
-    const std::string message =
-        "the task controller stopped while the task ran; nothing runs until `riggerctl resume " + t.task_id +
-        "` and the operator's confirmation";
-    journal_.finish_task(t.task_id, "INTERRUPTED", codes::kInterrupted, message, wall_now_s());
-    if (!status_.task(t.task_id, rigger_task_TASK_FAILED, codes::kInterrupted, message, ""))
-      ctx_.log->error("task status write failed task={}", t.task_id);
-    ctx_.log->warn("task interrupted task={}", t.task_id);
-  }
-}
-
 // --- executors ---
 
 void TaskControllerNode::on_announcements() {
@@ -228,7 +211,8 @@ void TaskControllerNode::handle_recipe(const std::string& task_id, const std::st
   AdmissionRequest request;
   request.task_id = task_id;
   request.text = text;
-  request.id_used = tasks_.count(task_id) || pending_.count(task_id) || (!task_id.empty() && journal_.has_task(task_id));
+  request.id_used =
+      tasks_.count(task_id) || pending_.count(task_id) || (!task_id.empty() && journal_.has_task(task_id));
   request.may_wait = may_wait && settings_.executor_wait.count() > 0;
   for (const auto& [id, task] : tasks_)
     if (!task->done()) request.running.push_back({id, &task->resources()});
@@ -308,25 +292,14 @@ void TaskControllerNode::on_events() {
 void TaskControllerNode::on_task_commands() {
   task_commands_.take([this](const rigger_task_TaskCommand& c, const dds_sample_info_t&) {
     const std::string task_id = dds::to_string(c.task_id);
-    const std::string reason = dds::to_string(c.reason).empty() ? "requested by " + dds::to_string(c.issuer)
-                                                                 : dds::to_string(c.reason);
+    const std::string reason =
+        dds::to_string(c.reason).empty() ? "requested by " + dds::to_string(c.issuer) : dds::to_string(c.reason);
     Task* task = find_task(task_id);
     if (task == nullptr && c.kind == rigger_task_TASK_RESUME) {
       resume_interrupted(task_id, dds::to_string(c.issuer), reason);
       return;
     }
-    if (auto r = resuming_.find(task_id);
-        task == nullptr && c.kind == rigger_task_TASK_CANCEL && r != resuming_.end()) {
-      // Canceled while the resume waited for the operator: nothing had started, the question goes.
-      prompts_.write(r->second.prompt, r->second.question, false, "resume", r->second.details_json);
-      journal({wall_now_s(), task_id, "", "COMMAND", "CANCEL", reason});
-      flush_side_effects();
-      journal_.finish_task(task_id, "CANCELED", bt::codes::kCanceled, reason + " (before the resume was confirmed)",
-                           wall_now_s());
-      status_.task(task_id, rigger_task_TASK_CANCELED, bt::codes::kCanceled, reason, "");
-      resuming_.erase(r);
-      return;
-    }
+    if (task == nullptr && c.kind == rigger_task_TASK_CANCEL && cancel_resuming(task_id, reason)) return;
     if (task == nullptr || task->done()) {
       ctx_.log->warn("task command for a task not running task={} kind={}", task_id, static_cast<int>(c.kind));
       return;
@@ -362,140 +335,6 @@ void TaskControllerNode::on_operator_responses() {
     }
     task->answer(*id, answer, by);
   });
-}
-
-}  // namespace rigger::task_controller
-
-namespace rigger::task_controller {
-
-// --- resume after a crash ---
-
-void TaskControllerNode::refuse_resume(const std::string& task_id, const std::string& why) {
-  ctx_.log->warn("resume refused task={}: {}", task_id, why);
-  journal({wall_now_s(), task_id, "", "RESUME", codes::kResumeRefused, why});
-  flush_side_effects();
-  if (!status_.task(task_id, rigger_task_TASK_FAILED, codes::kResumeRefused, why, ""))
-    ctx_.log->error("task status write failed task={}", task_id);
-}
-
-void TaskControllerNode::resume_interrupted(const std::string& task_id, const std::string& issuer,
-                                            const std::string& reason) {
-  if (auto r = resuming_.find(task_id); r != resuming_.end()) {
-    // Asked again (another riggerctl, or the first one gave up waiting): the same question stands.
-    prompts_.write(r->second.prompt, r->second.question, true, "resume", r->second.details_json);
-    status_.task(task_id, rigger_task_TASK_PAUSED, codes::kResumeConfirmation, r->second.summary, "");
-    return;
-  }
-  flush_side_effects();
-  const JournalTask known = journal_.task(task_id);
-  if (known.task_id.empty()) {
-    ctx_.log->warn("resume of an unknown task task={}", task_id);  // riggerctl tells from the journal
-    return;
-  }
-  if (known.state != "INTERRUPTED") {
-    ctx_.log->warn("resume of a task that is not interrupted nor paused task={} state={}", task_id, known.state);
-    journal({wall_now_s(), task_id, "", "REJECTED_EVENT", "WRONG_PHASE",
-             "RESUME by " + issuer + ": the task is " + known.state + ", neither PAUSED nor INTERRUPTED"});
-    return;
-  }
-  journal({wall_now_s(), task_id, "", "COMMAND", "RESUME",
-           "by " + (issuer.empty() ? std::string("an unnamed issuer") : issuer) + ": " + reason +
-               " (interrupted: rebuilt from the journal; nothing starts before the operator confirms)"});
-  if (known.recipe_json.empty()) {
-    refuse_resume(task_id, "the journal holds no recipe for the task");
-    return;
-  }
-  AdmissionRequest request;
-  request.task_id = task_id;
-  request.text = known.recipe_json;
-  for (const auto& [id, t] : tasks_)
-    if (!t->done()) request.running.push_back({id, &t->resources()});
-  std::vector<std::string> problems;
-  const recipe::RecipeValidator validator(executors_.live_library(&problems), settings_.validator);
-  Admission admission = admit(request, validator);
-  if (admission.outcome != Admission::Outcome::kAdmitted) {
-    refuse_resume(task_id, "the recipe is no longer valid (" + std::string(to_string(admission.code)) +
-                               "): " + admission.message);
-    return;
-  }
-  std::unique_ptr<Task> task;
-  try {
-    task = std::make_unique<Task>(static_cast<TaskHost&>(*this), std::move(*admission.recipe), task_id);
-  } catch (const bt::SpecError& e) {
-    refuse_resume(task_id, std::string("the recipe is no longer valid: ") + e.what());
-    return;
-  }
-  const auto timeline = journal_.timeline(task_id, 10'000'000);
-  Resuming r;
-  r.plan = plan_resume(task->engine().spec(), timeline);
-  if (!r.plan.error.empty()) {
-    refuse_resume(task_id, "the journal cannot be resumed: " + r.plan.error);
-    return;
-  }
-  bt::Activation crashes = 0;  // each crash asks its own question
-  for (const auto& row : timeline)
-    if (row.kind == "TASK" && row.code == "INTERRUPTED") ++crashes;
-  r.prompt = PromptId{task_id, "resume", std::max<bt::Activation>(crashes, 1)};
-  r.summary = describe_plan(r.plan, task->engine().spec());
-  r.question.kind = bt::NodeKind::kOperatorDecision;
-  r.question.id = "resume";
-  r.question.name = "Resume task " + task_id;
-  r.question.prompt = "The task controller restarted while task " + task_id + " ran. Resume it?\n" + r.summary;
-  r.question.options = r.plan.ask.empty() ? std::vector<std::string>{"continue", "abort"}
-                                          : std::vector<std::string>{"rerun", "skip", "abort"};
-  r.summary += "\nprompt " + r.prompt.str() + ", options " + quoted_options(r.question.options);
-  r.details_json =
-      nlohmann::json{{"done", r.plan.done}, {"rerun", r.plan.rerun}, {"ask", r.plan.ask}, {"pending", r.plan.pending}}
-          .dump();
-  r.task = std::move(task);
-  journal({wall_now_s(), task_id, "", "RESUME", "PLAN", r.summary});
-  journal({wall_now_s(), task_id, "resume", "OPERATOR", "ASK", r.question.prompt});
-  flush_side_effects();
-  if (!prompts_.write(r.prompt, r.question, true, "resume", r.details_json))
-    ctx_.log->error("prompt write failed task={}", task_id);
-  if (!status_.task(task_id, rigger_task_TASK_PAUSED, codes::kResumeConfirmation, r.summary, ""))
-    ctx_.log->error("task status write failed task={}", task_id);
-  ctx_.log->info("resume waits for the operator task={} prompt={}", task_id, r.prompt.str());
-  resuming_[task_id] = std::move(r);
-}
-
-void TaskControllerNode::answer_resume(const PromptId& id, const std::string& answer, const std::string& by) {
-  auto it = resuming_.find(id.task_id);
-  if (it == resuming_.end()) return;
-  Resuming& r = it->second;
-  const std::string& task_id = id.task_id;
-  if (!option_index(r.question.options, answer)) {
-    journal({wall_now_s(), task_id, "resume", "REJECTED_EVENT", "NOT_AN_OPTION",
-             "answer \"" + answer + "\" by " + by + ": expected one of " + quoted_options(r.question.options)});
-    return;
-  }
-  prompts_.write(r.prompt, r.question, false, "resume", r.details_json);
-  journal({wall_now_s(), task_id, "resume", "OPERATOR", "ANSWER", answer + " by " + by});
-  if (answer == "abort") {
-    const std::string message = "resume aborted by " + by + "; nothing was started";
-    flush_side_effects();
-    if (!journal_.finish_task(task_id, "FAILED", codes::kResumeAborted, message, wall_now_s()))
-      ctx_.log->error("journal write failed task={}: {}", task_id, journal_.last_error());
-    status_.task(task_id, rigger_task_TASK_FAILED, codes::kResumeAborted, message, "");
-    ctx_.log->info("resume aborted task={} by={}", task_id, by);
-    resuming_.erase(it);
-    return;
-  }
-  std::unique_ptr<Task> task = std::move(r.task);
-  if (answer == "skip") skip_interrupted(r.plan, task->engine().spec(), by);
-  journal({wall_now_s(), task_id, "", "RESUME", "CONFIRMED",
-           answer + " by " + by + "\n" + describe_plan(r.plan, task->engine().spec())});
-  const bt::Restoration restoration = std::move(r.plan.restoration);
-  resuming_.erase(it);
-  flush_side_effects();
-  if (!journal_.reopen_task(task_id, "resumed after the task controller restarted; confirmed by " + by, wall_now_s()))
-    ctx_.log->error("journal write failed task={}: {}", task_id, journal_.last_error());
-  task->mark_resumed();
-  Task& t = *task;
-  tasks_[task_id] = std::move(task);
-  status_.task(task_id, rigger_task_TASK_RUNNING, "", "resumed; confirmed by " + by, "");
-  ctx_.log->info("task resumed task={} by={} answer={}", task_id, by, answer);
-  t.log_result("resume", "root", t.engine().start(restoration));
 }
 
 }  // namespace rigger::task_controller

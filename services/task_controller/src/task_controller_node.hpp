@@ -105,6 +105,9 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   /// nothing starts before the answer. Refusals go out as TaskStatus FAILED, code RESUME_REFUSED.
   void resume_interrupted(const std::string& task_id, const std::string& issuer, const std::string& reason);
   void refuse_resume(const std::string& task_id, const std::string& why);
+  /// A CANCEL of a task whose resume waits for the operator: withdraws the question, ends it CANCELED.
+  /// False when no resume of `task_id` waits. (These live in task_controller_resume.cpp.)
+  bool cancel_resuming(const std::string& task_id, const std::string& reason);
   /// The operator's answer to a resume prompt: continue/rerun/skip start the task, abort ends it.
   void answer_resume(const PromptId& id, const std::string& answer, const std::string& by);
   void reject(const std::string& task_id, RejectCode code, const std::string& message,
