@@ -5,8 +5,11 @@
 // target's holes in the 3D view, binds the Screw skill's holes, sees a bad Parallel threshold flagged on
 // its node and field, fixes it, exports and publishes. This test checks what the system did: the
 // exported recipe validates and carries the CAD-derived screw positions, and the published task ran.
+// The second test (planner/errors.mjs) checks the editing errors on their nodes and fields and that
+// Publish is refused while the tree has them.
 #include <fstream>
 #include <map>
+#include <memory>
 
 #include <nlohmann/json.hpp>
 
@@ -20,27 +23,41 @@ namespace {
 using namespace std::chrono_literals;
 using nlohmann::json;
 
-using PlannerBrowserTest = PlannerCellTest;
+/// The planner's services, the controller's task states followed (task id → last state) from before they
+/// start, and a browser script run against them.
+class PlannerBrowserTest : public PlannerCellTest {
+ protected:
+  /// Starts the services, runs `script` and reads its result (RESULT, `result_name` in the log folder).
+  ::testing::AssertionResult run_script(const std::string& script, const std::string& result_name,
+                                        std::chrono::milliseconds timeout, json& result) {
+    status_ = std::make_unique<dds::Reader<rigger_task_TaskStatus>>(cell_.participant(), protocol::task::kStatus);
+    cell_.loop().on_data(*status_, [this] {
+      status_->take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
+        task_states_[dds::to_string(s.task_id)] = s.state;
+      });
+    });
+    if (auto started = start_planner_services(); !started) return started;
+    const std::string result_file = cell_.log_dir() + "/" + result_name;
+    if (auto ran = run_browser_script(script, result_file, timeout); !ran) return ran;
+    std::ifstream in(result_file);
+    result = json::parse(in);
+    return ::testing::AssertionSuccess();
+  }
+  /// The console's audit log so far (empty when nothing was audited).
+  std::string audit_log() {
+    std::ifstream audit(cell_.log_dir() + "/console-audit.log");
+    return {std::istreambuf_iterator<char>(audit), std::istreambuf_iterator<char>()};
+  }
+
+  std::map<std::string, int> task_states_;
+  std::unique_ptr<dds::Reader<rigger_task_TaskStatus>> status_;
+};
 
 TEST_F(PlannerBrowserTest, TreeBuiltByClicksScrewsFromPickedHolesValidatedExportedAndPublished) {
   if (!browser_tools_present())
     GTEST_SKIP() << "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)";
-  const std::string dir = cell_.log_dir();
-
-  std::map<std::string, int> task_states;
-  dds::Reader<rigger_task_TaskStatus> status(cell_.participant(), protocol::task::kStatus);
-  cell_.loop().on_data(status, [&] {
-    status.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
-      task_states[dds::to_string(s.task_id)] = s.state;
-    });
-  });
-  ASSERT_TRUE(start_planner_services());
-
-  const std::string result_file = dir + "/planner-result.json";
-  ASSERT_TRUE(run_browser_script("test/integration/planner/e2e.mjs", result_file, std::chrono::minutes(6)));
-
-  std::ifstream in(result_file);
-  const json result = json::parse(in);
+  json result;
+  ASSERT_TRUE(run_script("test/integration/planner/e2e.mjs", "planner-result.json", std::chrono::minutes(6), result));
   // The exported recipe is canonical JSON and its Screw node's holes are the world model's features,
   // with the binding (model sha256, references with signatures, CAD-derived poses) kept.
   const std::string exported = result.at("exported");
@@ -68,15 +85,43 @@ TEST_F(PlannerBrowserTest, TreeBuiltByClicksScrewsFromPickedHolesValidatedExport
   // Published with the two-step confirmation: the controller ran the planned task to the end.
   const std::string task_id = recipe.at("task_id");
   ASSERT_TRUE(cell_.wait_until([&] {
-    auto it = task_states.find(task_id);
-    return it != task_states.end() && (it->second == rigger_task_TASK_SUCCEEDED || it->second == rigger_task_TASK_FAILED ||
+    auto it = task_states_.find(task_id);
+    return it != task_states_.end() && (it->second == rigger_task_TASK_SUCCEEDED || it->second == rigger_task_TASK_FAILED ||
                                        it->second == rigger_task_TASK_REJECTED);
   }, 60s)) << "the published task did not end\n" << cell_.logs();
-  EXPECT_EQ(task_states[task_id], rigger_task_TASK_SUCCEEDED) << protocol::task::task_state_name(task_states[task_id]);
-  std::ifstream audit(dir + "/console-audit.log");
-  const std::string audit_text((std::istreambuf_iterator<char>(audit)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(task_states_[task_id], rigger_task_TASK_SUCCEEDED) << protocol::task::task_state_name(task_states_[task_id]);
+  const std::string audit_text = audit_log();
   EXPECT_NE(audit_text.find("\"action\":\"publish\""), std::string::npos) << audit_text;
-  std::printf("browser artifacts in %s\n", dir.c_str());
+  std::printf("browser artifacts in %s\n", cell_.log_dir().c_str());
+}
+
+// Issue 16's "editing errors are shown on the right node and field, and publishing is refused"
+// (planner/errors.mjs): one tree built by clicks with an impossible Parallel threshold, two branches
+// claiming the robot and an insertion whose preconditions nothing provides; the page shows each on its
+// node and field (or the condition or resource it names), and refuses Publish. Nothing reaches the
+// controller: the console never had a publish selected and no task status names the task.
+TEST_F(PlannerBrowserTest, EditingErrorsShownOnTheirNodesAndFieldsAndPublishRefused) {
+  if (!browser_tools_present())
+    GTEST_SKIP() << "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)";
+  json result;
+  ASSERT_TRUE(run_script("test/integration/planner/errors.mjs", "planner-errors-result.json", std::chrono::minutes(4), result));
+  // Each error where it belongs, as the page showed it (the script checked the page; this is the record).
+  EXPECT_EQ(result.at("threshold").at("node"), "/root/children/1");
+  EXPECT_EQ(result.at("threshold").at("field"), "success_threshold");
+  EXPECT_EQ(result.at("conflict").at("node"), "/root/children/1/children/1");
+  EXPECT_EQ(result.at("conflict").at("claims").size(), 2u) << result.dump(2);
+  EXPECT_EQ(result.at("preconditions").at("node"), "/root/children/0");
+  EXPECT_EQ(result.at("preconditions").at("unmet"),
+            json({"attached(robot,load)", "localized(load)", "localized(target)"}));
+  EXPECT_EQ(result.at("publish_notice").get<std::string>().rfind("Not published", 0), 0u) << result.dump(2);
+
+  // Publish was refused in the page: the console never selected a publish (the audit log records every
+  // POST /api/recipes), so nothing was sent, and no task status names the task.
+  const std::string task_id = result.at("task_id");
+  const std::string audit_text = audit_log();
+  EXPECT_EQ(audit_text.find("publish"), std::string::npos) << audit_text;
+  EXPECT_EQ(task_states_.count(task_id), 0u) << protocol::task::task_state_name(task_states_[task_id]);
+  std::printf("browser artifacts in %s\n", cell_.log_dir().c_str());
 }
 
 }  // namespace

@@ -99,7 +99,7 @@ export function plannerPage(main, me) {
   const holesList = el('ul', { class: 'picks', 'aria-label': 'Holes of the models' });
   const errorsBox = el('div', { class: 'perrors', role: 'status', 'aria-live': 'polite' });
   const resourcesBox = el('div', { id: 'planner-resources' });
-  const notice = el('p', { role: 'status', 'aria-live': 'polite' });
+  const notice = el('p', { id: 'planner-notice', role: 'status', 'aria-live': 'polite' });
   const say = (text, bad = false) => { notice.textContent = text; notice.className = bad ? 'error' : ''; };
   const addSelect = el('select', { id: 'planner-add-kind', 'aria-label': 'Node to add' });
   const taskId = el('input', { type: 'text', id: 'planner-task-id', 'aria-label': 'Task id', value: state.doc.task_id,
@@ -580,6 +580,20 @@ export function plannerPage(main, me) {
       f.setAttribute('aria-invalid', String(errs.length > 0));
       if (msg) msg.textContent = errs.map((e) => e.message).join('; ');
     }
+    // The node's own errors about a precondition it needs or a resource it claims (the validator names
+    // them in quotes) mark that condition or resource in the form, with the message as its title.
+    const nodeLevel = own.filter((e) => e.pointer === state.selected);
+    const claimed = (m) => [...(m.match(/^resources? ((?:"[^"]*"(?:, )?)+) (?:is|are) claimed/)?.[1].matchAll(/"([^"]*)"/g) || [])].map((x) => x[1]);
+    const mark = (c, errs, raw) => {
+      c.classList.toggle('unmet', errs.length > 0);
+      c.title = errs.length ? errs.map((e) => e.message).join('\n') : raw;
+    };
+    for (const c of formBox.querySelectorAll('[data-conditions="preconditions"] code[data-condition]')) {
+      mark(c, nodeLevel.filter((e) => e.message.startsWith(`precondition "${c.textContent.trim()}" `)), c.dataset.condition);
+    }
+    for (const c of formBox.querySelectorAll('code[data-claim]')) {
+      mark(c, nodeLevel.filter((e) => claimed(e.message).includes(c.textContent.trim())), c.dataset.claim);
+    }
     const nodeErrs = formBox.querySelector('.node-errors');
     if (nodeErrs) {
       const fields = [...formBox.querySelectorAll('[data-field]')].map((f) => `${state.selected}/${f.dataset.field}`);
@@ -597,6 +611,7 @@ export function plannerPage(main, me) {
     const d = node && describe(leafName(node));
     if (!d) return;
     for (const c of formBox.querySelectorAll('code[data-condition]')) c.textContent = `${bindCondition(c.dataset.condition, node, d)} `;
+    for (const c of formBox.querySelectorAll('code[data-claim]')) c.textContent = `${bindCondition(c.dataset.claim, node, d)} `;
   }
   function renderForm() {
     const node = state.selected ? nodeAt(state.doc, state.selected) : null;
@@ -633,7 +648,10 @@ export function plannerPage(main, me) {
     if (leafName(node) && !d) parts.push(el('p', { class: 'error' }, `${leafName(node)} is not in the live skill library (no executor announces it).`));
     if (d) {
       parts.push(el('p', { class: 'muted' }, d.description || ''));
-      if (d.resources?.length) parts.push(el('p', { class: 'muted small' }, `resources: ${d.resources.map((r) => bindCondition(r, node, d)).join(', ')}`));
+      if (d.resources?.length) {
+        parts.push(el('p', { class: 'small conditions', 'data-claims': '' }, el('span', { class: 'muted' }, 'resources: '),
+          ...d.resources.map((r) => el('code', { title: r, 'data-claim': r }, `${bindCondition(r, node, d)} `))));
+      }
       for (const [key, title] of [['preconditions', 'needs'], ['postconditions', 'then holds']]) {
         if (d[key]?.length) {
           parts.push(el('p', { class: 'small conditions', 'data-conditions': key }, el('span', { class: 'muted' }, `${title}: `),
