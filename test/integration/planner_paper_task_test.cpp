@@ -222,8 +222,10 @@ TEST_F(PlannerRehearsalTest, ThePapersTaskBuiltByClicksRehearsesToSucceededInThe
     ASSERT_TRUE(shown.contains(node_id)) << node_id << " is not shown\n" << shown.dump(2);
     EXPECT_EQ(shown.at(node_id), scenario::ScenarioCell::state_name(node.state)) << node_id << " (" << node.name << ")";
   }
-  const auto error = sim.insertion_error();
-  ASSERT_TRUE(error.has_value());
+  // Where the load was when the robot let go, i.e. screwed on (the physics has no screws: after the
+  // release the load hangs from the rope again), as the scenario tests measure it.
+  const auto error = sim.insertion_error_at_start("release and retreat");
+  ASSERT_TRUE(error.has_value()) << "the release never started";
   EXPECT_LT(error->first, 0.005);
   EXPECT_LT(error->second * 180.0 / M_PI, 1.0);
   std::printf("rehearsed the planned task in %.1f s, screwed on %.1f mm / %.2f deg from its place:\n%s",

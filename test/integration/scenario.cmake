@@ -7,7 +7,7 @@ rigger_targets_exist(_scenario_ready ${_scenario_services})
 if(_scenario_ready)
   rigger_add_test(rigger_scenario_test
     SOURCES scenario_test.cpp
-    DEPS rigger_test_harness rigger_cell_cad Eigen3::Eigen nlohmann_json::nlohmann_json
+    DEPS rigger_test_harness rigger_cell_cad Eigen3::Eigen nlohmann_json::nlohmann_json SQLite::SQLite3
     LABEL integration TIMEOUT 420 RUN_SERIAL)
   add_dependencies(rigger_scenario_test ${_scenario_services})
   if(TARGET ros2_bridge)

@@ -14,11 +14,11 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
-#include "rigger/cell_config/cell_cad.hpp"
 #include <nlohmann/json.hpp>
+#include "rigger/cell_config/cell_cad.hpp"
 
 #include "cell_sim_test_support.hpp"
 #include "rigger/dds/conversions.hpp"
@@ -51,7 +51,9 @@ inline bool task_terminal(int s) {
          s == rigger_task_TASK_CANCELED;
 }
 
-inline double seconds_of(const rigger_geometry_Time& t) { return t.sec + 1e-9 * t.nanosec; }
+inline double seconds_of(const rigger_geometry_Time& t) {
+  return t.sec + 1e-9 * t.nanosec;
+}
 
 /// The whole cell: starts the services, observes the task and the physics.
 class ScenarioCell {
@@ -110,8 +112,8 @@ class ScenarioCell {
         task_message_ = dds::to_string(s.message);
         failed_node_ = dds::to_string(s.failed_node);
         for (uint32_t i = 0; i < s.errors._length; ++i)
-          task_errors_ += dds::to_string(s.errors._buffer[i].pointer) + ": " +
-                          dds::to_string(s.errors._buffer[i].message) + "\n";
+          task_errors_ +=
+              dds::to_string(s.errors._buffer[i].pointer) + ": " + dds::to_string(s.errors._buffer[i].message) + "\n";
       });
     });
     cell.loop().on_data(nodes_, [this] {
@@ -166,7 +168,6 @@ class ScenarioCell {
   }
 
  public:
-
   SimChannel& sim() { return sim_; }
 
   /// Follows task `task_id` submitted by someone else (submit() follows its own).
@@ -257,11 +258,11 @@ class ScenarioCell {
   /// What happened after a stop: how long robot and crane took to come to rest, and how far they moved
   /// once at rest.
   struct AfterStop {
-    bool at_rest = false;    ///< the robot reported not moving and the crane slower than 5 mm/s
-    double rest_after_s = 0.0;  ///< from the call
+    bool at_rest = false;         ///< the robot reported not moving and the crane slower than 5 mm/s
+    double rest_after_s = 0.0;    ///< from the call
     Clock::time_point rest_at{};  ///< when both were first seen at rest
-    double max_tool_m = 0.0;    ///< largest tool displacement over the window, from the first sample at rest
-    double max_crane_mps = 0.0; ///< largest crane speed over the window
+    double max_tool_m = 0.0;      ///< largest tool displacement over the window, from the first sample at rest
+    double max_crane_mps = 0.0;   ///< largest crane speed over the window
   };
   /// Waits (up to 5 s) until robot and crane are at rest, then watches them over `samples` robot-state
   /// samples (100 Hz: 200 = 2 s) for any motion.
@@ -295,6 +296,13 @@ class ScenarioCell {
     return std::chrono::duration<double>(*rest_after_pause_at_ - *pause_seen_at_).count();
   }
 
+  /// Starts a second task controller (harness name and service id `id`) on the first one's configuration
+  /// and journal, as an operator restarts a crashed controller; waits until it is READY.
+  bool restart_controller(const std::string& id) {
+    cell_.start(id, "task_controller", {"--id", id, "--config", cell_.log_dir() + "/task_controller.json"});
+    return cell_.wait_ready({id}, 60s);
+  }
+
   /// Skill nodes with their durations, in start order, as the demo prints them.
   std::string durations() const {
     std::vector<std::pair<double, std::string>> lines;
@@ -302,8 +310,8 @@ class ScenarioCell {
       if (n.type != "Skill" || n.started_s <= 0.0) continue;
       char buf[200];
       const double end = n.finished_s > 0.0 ? n.finished_s : n.started_s;
-      std::snprintf(buf, sizeof buf, "  %-32s %-10s %6.1f s  %s", n.name.c_str(), state_name(n.state), end - n.started_s,
-                    n.code.c_str());
+      std::snprintf(buf, sizeof buf, "  %-32s %-10s %6.1f s  %s", n.name.c_str(), state_name(n.state),
+                    end - n.started_s, n.code.c_str());
       lines.emplace_back(n.started_s, buf);
     }
     std::sort(lines.begin(), lines.end());
@@ -351,8 +359,7 @@ class ScenarioCell {
       cell_.start("cell_sim", "cell_sim", {"--config", config("cell_sim"), "--plc-port", port});
     }
     cell_.start("crane_gateway", "crane_gateway", {"--config", config("crane_gateway"), "--plc-port", port});
-    cell_.start("world_model", "world_model",
-                {"--config", config("world_model"), "--db", dir + "/world_model.sqlite"});
+    cell_.start("world_model", "world_model", {"--config", config("world_model"), "--db", dir + "/world_model.sqlite"});
     cell_.start("vision_tracker", "vision_tracker", {"--config", config("vision_tracker")});
     cell_.start("admittance_control", "admittance_control", {"--config", config("admittance_control")});
     cell_.start("monitors", "monitor_host", {"--id", "monitors", "--config", config("monitor_host")});
@@ -365,9 +372,9 @@ class ScenarioCell {
       args.push_back("--rule");
       args.push_back(std::move(r));
     }
-    std::vector<std::string> ready = {"cell_sim",        "crane_gateway",     "world_model",     "vision_tracker",
-                                      "admittance_control", "monitors",       "robot-skills",    "perception-skills",
-                                      "operator-skills",  "task_controller"};
+    std::vector<std::string> ready = {"cell_sim",           "crane_gateway",  "world_model",  "vision_tracker",
+                                      "admittance_control", "monitors",       "robot-skills", "perception-skills",
+                                      "operator-skills",    "task_controller"};
     if (scripted_operator_) {
       cell_.start("scripted_operator", "scripted_operator", args);
       ready.push_back("scripted_operator");

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <iterator>
 
+#include <sqlite3.h>
+
 #include "scenario_support.hpp"
 
 namespace rigger::testing::scenario {
@@ -20,9 +22,10 @@ class ScenarioTest : public MultiProcessTest {
   double expect_still_after_kill(ScenarioCell& s, Clock::time_point kill_time, const std::string& who) {
     const auto after = s.motion_after_stop(200);
     const double rest_s = std::chrono::duration<double>(after.rest_at - kill_time).count();
-    std::printf("  %s killed; robot and crane at rest (checked) within %.2f s of the kill; then over 2 s: tool "
-                "%.2f mm, crane %.1f mm/s at most\n",
-                who.c_str(), rest_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
+    std::printf(
+        "  %s killed; robot and crane at rest (checked) within %.2f s of the kill; then over 2 s: tool "
+        "%.2f mm, crane %.1f mm/s at most\n",
+        who.c_str(), rest_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
     EXPECT_TRUE(after.at_rest) << "robot or crane still moving 5 s after " << who << " died";
     EXPECT_LT(after.max_tool_m, 0.002) << "the robot kept moving without " << who;
     EXPECT_LT(after.max_crane_mps, 0.005) << "the crane kept moving without " << who;
@@ -48,8 +51,8 @@ class ScenarioTest : public MultiProcessTest {
   }
 
   void print_report(const ScenarioCell& s, const std::string& title) {
-    std::printf("--- %s: task %s after %.1f s\n%s", title.c_str(), s.task_code().empty() ? "ended" : s.task_code().c_str(),
-                s.task_seconds(), s.durations().c_str());
+    std::printf("--- %s: task %s after %.1f s\n%s", title.c_str(),
+                s.task_code().empty() ? "ended" : s.task_code().c_str(), s.task_seconds(), s.durations().c_str());
     if (const auto e = s.insertion_error())
       std::printf("  load vs insertion pose (ground truth): %.1f mm, %.2f deg\n", e->first * 1000.0,
                   e->second * 180.0 / M_PI);
@@ -73,7 +76,8 @@ TEST_F(ScenarioTest, CraneInsertSucceeds) {
   EXPECT_TRUE(s.ever_held());
   EXPECT_FALSE(s.gripper_energized()) << "the robot should have let go at the end";
   // Every skill ran once: no retries, no recovery branch.
-  for (const char* name : {"attach robot to load", "insert visually guided", "operator screws", "release and retreat"}) {
+  for (const char* name :
+       {"attach robot to load", "insert visually guided", "operator screws", "release and retreat"}) {
     const NodeView* n = s.node(name);
     ASSERT_NE(n, nullptr) << name;
     EXPECT_EQ(n->state, rigger_task_NODE_SUCCESS) << name;
@@ -130,11 +134,12 @@ bool run_until_insertion_moves(ScenarioTest* /*unused*/, Cell& cell, ScenarioCel
   const auto start = s.truth("load");
   if (!start) return false;
   return cell.wait_until(
-      [&] {
-        const auto now = s.truth("load");
-        return task_terminal(s.task_state()) || (now && (now->translation() - start->translation()).norm() > moved_m);
-      },
-      120s) &&
+             [&] {
+               const auto now = s.truth("load");
+               return task_terminal(s.task_state()) ||
+                      (now && (now->translation() - start->translation()).norm() > moved_m);
+             },
+             120s) &&
          !task_terminal(s.task_state());
 }
 
@@ -170,15 +175,17 @@ TEST_F(ScenarioTest, APauseDuringTheInsertionHoldsRobotAndCraneAndResumeComplete
   ASSERT_EQ(paused.code(), 0) << paused.output;
   const auto after = s.motion_after_stop(200);
   const double rest_s = std::chrono::duration<double>(after.rest_at - paused_at).count();
-  std::printf("  paused: robot and crane at rest %.2f s after riggerctl pause was started; then over 2 s: tool "
-              "%.3f mm, crane %.2f mm/s at most\n",
-              rest_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
+  std::printf(
+      "  paused: robot and crane at rest %.2f s after riggerctl pause was started; then over 2 s: tool "
+      "%.3f mm, crane %.2f mm/s at most\n",
+      rest_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
   ASSERT_TRUE(after.at_rest) << "robot or crane still moving 5 s after the pause";
   // From the PAUSE itself (issue 13's "below 1 mm/s within 300 ms"): reported, not asserted as a time, since
   // a loaded test machine delays it; what is asserted is that the devices did come below 1 mm/s.
   const auto from_pause = s.rest_after_pause_s();
   ASSERT_TRUE(from_pause.has_value()) << "the tool or the crane never came below 1 mm/s after the PAUSE";
-  std::printf("  below 1 mm/s (tool and crane) %.0f ms after the PAUSE command was on the wire\n", *from_pause * 1000.0);
+  std::printf("  below 1 mm/s (tool and crane) %.0f ms after the PAUSE command was on the wire\n",
+              *from_pause * 1000.0);
   RecordProperty("rest_after_pause_ms", std::to_string(static_cast<int>(*from_pause * 1000.0)));
   // The same bounds as a stop after a kill: the arm holds the 40 kg load on a rope (it settles by a little
   // more than a millimetre), the crane does not move.
@@ -295,6 +302,74 @@ TEST_F(ScenarioTest, ControllerKilledDuringInsertionStopsTheMotion) {
   std::ifstream log(cell_.log_dir() + "/robot-skills.log");
   const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("reason=CONTROLLER_LOST"), std::string::npos) << "the executor did not say why it stopped";
+}
+
+// Resume after a crash (issue 13's acceptance): the task controller is SIGKILLed during the insertion, the
+// executors stop the motion, a new controller on the same journal reports the task INTERRUPTED and starts
+// nothing; `riggerctl resume` rebuilds it from the journal and asks the operator, who answers `rerun` for
+// the interrupted insertion (it is not restartable, so nobody else may) with `riggerctl operator`; the task
+// then SUCCEEDS, screwed on, and the journal shows each completed skill started exactly once.
+TEST_F(ScenarioTest, ControllerKilledDuringInsertionIsResumedWithTheOperatorsConfirmationAndSucceeds) {
+  expect_clean_exit_ = false;  // one process is killed on purpose
+  ScenarioCell s(cell_);
+  ASSERT_TRUE(s.ready()) << "not every service came up";
+  ASSERT_TRUE(run_until_insertion_moves(this, cell_, s, 0.05)) << s.task_summary();
+  const auto kill_time = Clock::now();
+  ASSERT_TRUE(cell_.stop("task_controller", SIGKILL, 5s).has_value());
+  expect_still_after_kill(s, kill_time, "the task controller");
+
+  ASSERT_TRUE(s.restart_controller("task_controller-2")) << cell_.logs();
+  ASSERT_TRUE(cell_.wait_until([&] { return s.task_code() == "INTERRUPTED"; }, 20s)) << s.task_summary();
+  const CtlResult planned = run_riggerctl(cell_, "resume", {"resume", "crane-insert"});
+  ASSERT_EQ(planned.code(), 0) << planned.output;
+  std::printf("riggerctl resume:\n%s", planned.output.c_str());
+  EXPECT_NE(planned.output.find("not restartable"), std::string::npos) << planned.output;
+  // Nothing moves before the operator confirms.
+  EXPECT_FALSE(s.node("insert visually guided") != nullptr && s.node("insert visually guided")->runs > 1)
+      << "the insertion started again before the operator confirmed";
+  const CtlResult answered = run_riggerctl(cell_, "answer", {"operator", "--answer", "crane-insert#resume#1=rerun"});
+  ASSERT_EQ(answered.code(), 0) << answered.output;
+  ASSERT_TRUE(cell_.wait_until([&] { return s.task_state() == rigger_task_TASK_RUNNING; }, 20s)) << s.task_summary();
+  ASSERT_TRUE(s.wait_task_end(kTaskTimeout)) << s.task_summary();
+  print_report(s, "controller killed during the insertion, resumed");
+  ASSERT_EQ(s.task_state(), rigger_task_TASK_SUCCEEDED) << s.task_summary();
+  expect_screwed_on(s);
+
+  // From the journal (both controllers wrote it): each skill that had completed started once, the
+  // interrupted insertion twice (the operator's rerun), the ones after it once.
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open_v2((cell_.log_dir() + "/journal.sqlite").c_str(), &db, SQLITE_OPEN_READONLY, nullptr),
+            SQLITE_OK);
+  std::map<std::string, int> starts;
+  sqlite3_stmt* q = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(db,
+                               "SELECT node_id, COUNT(*) FROM records WHERE task_id = 'crane-insert' AND "
+                               "kind = 'COMMAND' AND code = 'START' GROUP BY node_id",
+                               -1, &q, nullptr),
+            SQLITE_OK);
+  while (sqlite3_step(q) == SQLITE_ROW)
+    starts[reinterpret_cast<const char*>(sqlite3_column_text(q, 0))] = sqlite3_column_int(q, 1);
+  sqlite3_finalize(q);
+  sqlite3_close(db);
+  std::string counts;
+  for (const auto& [node, n] : starts) counts += node + "=" + std::to_string(n) + " ";
+  std::printf("  STARTs per node in the journal: %s\n", counts.c_str());
+  for (const char* name :
+       {"localize target", "localize load", "attach robot to load", "operator screws", "release and retreat"}) {
+    const NodeView* n = s.node(name);
+    ASSERT_NE(n, nullptr) << name;
+    const std::string id = [&] {
+      for (const auto& [node_id, v] : s.nodes())
+        if (v.name == name) return node_id;
+      return std::string();
+    }();
+    EXPECT_EQ(starts[id], 1) << name << " (" << id << ") started " << starts[id] << " times: " << counts;
+  }
+  for (const auto& [node_id, v] : s.nodes()) {
+    if (v.name == "insert visually guided") {
+      EXPECT_EQ(starts[node_id], 2) << counts;
+    }
+  }
 }
 
 }  // namespace
