@@ -96,7 +96,6 @@ class ScenarioCell {
       commands_.take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
         if (c.kind != rigger_skill_SKILL_PAUSE || pause_seen_at_) return;
         pause_seen_at_ = Clock::now();
-        rest_after_pause_at_.reset();
       });
     });
     cell.loop().on_data(crane_, [this] {
@@ -146,9 +145,12 @@ class ScenarioCell {
         robot_moving_ = s.moving;
         if (pause_seen_at_ && !rest_after_pause_at_) {
           const auto& v = s.tool_twist.linear;
-          const double tool_mps = Eigen::Vector3d(v.x, v.y, v.z).norm();
-          const double crane_mps = sim_.has_status() ? sim_.latest().crane_velocity_mps.norm() : 1.0;
-          if (tool_mps < 0.001 && crane_mps < 0.001) rest_after_pause_at_ = Clock::now();
+          const bool tool_still = Eigen::Vector3d(v.x, v.y, v.z).norm() < 0.001;
+          const bool crane_still = sim_.has_status() && sim_.latest().crane_velocity_mps.norm() < 0.001;
+          const auto now = Clock::now();
+          if (tool_still && !tool_rest_after_pause_at_) tool_rest_after_pause_at_ = now;
+          if (crane_still && !crane_rest_after_pause_at_) crane_rest_after_pause_at_ = now;
+          if (tool_still && crane_still) rest_after_pause_at_ = now;
         }
         ++robot_samples_;
       });
@@ -291,10 +293,10 @@ class ScenarioCell {
   /// From the first SKILL_PAUSE seen on rigger/skill/command to the first robot state after it in which the
   /// tool (its reported twist) and the crane (the simulator's status) both move slower than 1 mm/s; both
   /// times are when this process read the samples. Empty before a pause, or while still moving.
-  std::optional<double> rest_after_pause_s() const {
-    if (!pause_seen_at_ || !rest_after_pause_at_) return std::nullopt;
-    return std::chrono::duration<double>(*rest_after_pause_at_ - *pause_seen_at_).count();
-  }
+  std::optional<double> rest_after_pause_s() const { return since_pause(rest_after_pause_at_); }
+  /// The same for the tool alone and for the crane alone (each first seen below 1 mm/s).
+  std::optional<double> tool_rest_after_pause_s() const { return since_pause(tool_rest_after_pause_at_); }
+  std::optional<double> crane_rest_after_pause_s() const { return since_pause(crane_rest_after_pause_at_); }
 
   /// Starts a second task controller (harness name and service id `id`) on the first one's configuration
   /// and journal, as an operator restarts a crashed controller; waits until it is READY.
@@ -402,7 +404,12 @@ class ScenarioCell {
   dds::Reader<rigger_robot_GripperState> gripper_;
   dds::Reader<rigger_crane_CraneState> crane_;
   dds::Reader<rigger_skill_SkillCommand> commands_;
-  std::optional<Clock::time_point> pause_seen_at_, rest_after_pause_at_;
+  std::optional<Clock::time_point> pause_seen_at_, rest_after_pause_at_, tool_rest_after_pause_at_,
+      crane_rest_after_pause_at_;
+  std::optional<double> since_pause(const std::optional<Clock::time_point>& t) const {
+    if (!pause_seen_at_ || !t) return std::nullopt;
+    return std::chrono::duration<double>(*t - *pause_seen_at_).count();
+  }
   bool crane_ready_ = false;
   bool ready_ = false;
   std::string task_id_;
