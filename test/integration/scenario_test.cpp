@@ -5,6 +5,8 @@
 // Each test prints what it measured (durations, final errors); the figures are reported in the issue.
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <optional>
 
 #include <sqlite3.h>
 
@@ -14,6 +16,29 @@ namespace rigger::testing::scenario {
 namespace {
 
 constexpr auto kTaskTimeout = std::chrono::minutes(4);
+
+/// START commands per node of `task_id` in the controller's SQLite journal at `path` (every controller
+/// that wrote it); empty when it cannot be read.
+std::map<std::string, int> journaled_starts(const std::string& path, const std::string& task_id) {
+  std::map<std::string, int> starts;
+  sqlite3* db = nullptr;
+  sqlite3_stmt* q = nullptr;
+  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK &&
+      sqlite3_prepare_v2(db,
+                         "SELECT node_id, COUNT(*) FROM records WHERE task_id = ? AND kind = 'COMMAND' AND "
+                         "code = 'START' GROUP BY node_id",
+                         -1, &q, nullptr) == SQLITE_OK) {
+    sqlite3_bind_text(q, 1, task_id.c_str(), -1, SQLITE_TRANSIENT);
+    while (sqlite3_step(q) == SQLITE_ROW)
+      starts[reinterpret_cast<const char*>(sqlite3_column_text(q, 0))] = sqlite3_column_int(q, 1);
+  }
+  sqlite3_finalize(q);
+  sqlite3_close(db);
+  return starts;
+}
+
+class ScenarioTest;
+bool run_until_insertion_moves(ScenarioTest* /*unused*/, Cell& cell, ScenarioCell& s, double moved_m);
 
 class ScenarioTest : public MultiProcessTest {
  protected:
@@ -31,6 +56,27 @@ class ScenarioTest : public MultiProcessTest {
     EXPECT_LT(after.max_crane_mps, 0.005) << "the crane kept moving without " << who;
     EXPECT_TRUE(s.gripper_holding()) << "the load must stay held";
     return rest_s;
+  }
+
+  /// Runs the task until the insertion moves and SIGKILLs the task controller; robot and crane must come
+  /// to rest and stay still (expect_still_after_kill). The seconds from the kill to rest, or nothing
+  /// (with the failure recorded) when the cell never got that far.
+  std::optional<double> kill_controller_during_insertion(ScenarioCell& s) {
+    expect_clean_exit_ = false;  // one process is killed on purpose
+    if (!s.ready()) {
+      ADD_FAILURE() << "not every service came up";
+      return std::nullopt;
+    }
+    if (!run_until_insertion_moves(this, cell_, s, 0.05)) {
+      ADD_FAILURE() << "the insertion never moved: " << s.task_summary();
+      return std::nullopt;
+    }
+    const auto kill_time = Clock::now();
+    if (!cell_.stop("task_controller", SIGKILL, 5s)) {
+      ADD_FAILURE() << "the task controller did not end on SIGKILL";
+      return std::nullopt;
+    }
+    return expect_still_after_kill(s, kill_time, "the task controller");
   }
 
   /// Where the load was screwed on: its true pose against the insertion pose when the release started
@@ -293,15 +339,11 @@ TEST_F(ScenarioTest, ExecutorKilledDuringInsertionStopsTheMotion) {
 // robot executor sees the controller's command-writer lease expire and shuts the insertion down
 // (CONTROLLER_LOST), so robot and crane stop and stay still with the load held.
 TEST_F(ScenarioTest, ControllerKilledDuringInsertionStopsTheMotion) {
-  expect_clean_exit_ = false;  // one process is killed on purpose
   ScenarioCell s(cell_);
-  ASSERT_TRUE(s.ready()) << "not every service came up";
-  ASSERT_TRUE(run_until_insertion_moves(this, cell_, s, 0.05)) << s.task_summary();
-  const auto kill_time = Clock::now();
-  ASSERT_TRUE(cell_.stop("task_controller", SIGKILL, 5s).has_value());
-  const double rest_s = expect_still_after_kill(s, kill_time, "the task controller");
+  const auto rest_s = kill_controller_during_insertion(s);
+  ASSERT_TRUE(rest_s.has_value());
   // Without supervision the insertion would go on servoing for several seconds more.
-  EXPECT_LT(rest_s, 2.5) << "the motion outlived its controller";
+  EXPECT_LT(*rest_s, 2.5) << "the motion outlived its controller";
   std::ifstream log(cell_.log_dir() + "/robot-skills.log");
   const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("reason=CONTROLLER_LOST"), std::string::npos) << "the executor did not say why it stopped";
@@ -313,13 +355,8 @@ TEST_F(ScenarioTest, ControllerKilledDuringInsertionStopsTheMotion) {
 // the interrupted insertion (it is not restartable, so nobody else may) with `riggerctl operator`; the task
 // then SUCCEEDS, screwed on, and the journal shows each completed skill started exactly once.
 TEST_F(ScenarioTest, ControllerKilledDuringInsertionIsResumedWithTheOperatorsConfirmationAndSucceeds) {
-  expect_clean_exit_ = false;  // one process is killed on purpose
   ScenarioCell s(cell_);
-  ASSERT_TRUE(s.ready()) << "not every service came up";
-  ASSERT_TRUE(run_until_insertion_moves(this, cell_, s, 0.05)) << s.task_summary();
-  const auto kill_time = Clock::now();
-  ASSERT_TRUE(cell_.stop("task_controller", SIGKILL, 5s).has_value());
-  expect_still_after_kill(s, kill_time, "the task controller");
+  ASSERT_TRUE(kill_controller_during_insertion(s).has_value());
 
   ASSERT_TRUE(s.restart_controller("task_controller-2")) << cell_.logs();
   ASSERT_TRUE(cell_.wait_until([&] { return s.task_code() == "INTERRUPTED"; }, 20s)) << s.task_summary();
@@ -340,39 +377,22 @@ TEST_F(ScenarioTest, ControllerKilledDuringInsertionIsResumedWithTheOperatorsCon
 
   // From the journal (both controllers wrote it): each skill that had completed started once, the
   // interrupted insertion twice (the operator's rerun), the ones after it once.
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open_v2((cell_.log_dir() + "/journal.sqlite").c_str(), &db, SQLITE_OPEN_READONLY, nullptr),
-            SQLITE_OK);
-  std::map<std::string, int> starts;
-  sqlite3_stmt* q = nullptr;
-  ASSERT_EQ(sqlite3_prepare_v2(db,
-                               "SELECT node_id, COUNT(*) FROM records WHERE task_id = 'crane-insert' AND "
-                               "kind = 'COMMAND' AND code = 'START' GROUP BY node_id",
-                               -1, &q, nullptr),
-            SQLITE_OK);
-  while (sqlite3_step(q) == SQLITE_ROW)
-    starts[reinterpret_cast<const char*>(sqlite3_column_text(q, 0))] = sqlite3_column_int(q, 1);
-  sqlite3_finalize(q);
-  sqlite3_close(db);
+  const std::map<std::string, int> starts = journaled_starts(cell_.log_dir() + "/journal.sqlite", "crane-insert");
   std::string counts;
   for (const auto& [node, n] : starts) counts += node + "=" + std::to_string(n) + " ";
   std::printf("  STARTs per node in the journal: %s\n", counts.c_str());
+  std::map<std::string, std::string> id_of;  // node name -> node id, as the controller published them
+  for (const auto& [node_id, v] : s.nodes()) id_of[v.name] = node_id;
+  const auto starts_of = [&](const std::string& name) {
+    const auto id = id_of.find(name);
+    if (id == id_of.end()) return -1;  // never ran
+    const auto n = starts.find(id->second);
+    return n == starts.end() ? 0 : n->second;
+  };
   for (const char* name :
-       {"localize target", "localize load", "attach robot to load", "operator screws", "release and retreat"}) {
-    const NodeView* n = s.node(name);
-    ASSERT_NE(n, nullptr) << name;
-    const std::string id = [&] {
-      for (const auto& [node_id, v] : s.nodes())
-        if (v.name == name) return node_id;
-      return std::string();
-    }();
-    EXPECT_EQ(starts[id], 1) << name << " (" << id << ") started " << starts[id] << " times: " << counts;
-  }
-  for (const auto& [node_id, v] : s.nodes()) {
-    if (v.name == "insert visually guided") {
-      EXPECT_EQ(starts[node_id], 2) << counts;
-    }
-  }
+       {"localize target", "localize load", "attach robot to load", "operator screws", "release and retreat"})
+    EXPECT_EQ(starts_of(name), 1) << name << ": " << counts;
+  EXPECT_EQ(starts_of("insert visually guided"), 2) << counts;
 }
 
 }  // namespace

@@ -8,9 +8,7 @@
 
 namespace rigger::skill_executor {
 
-std::string mm(double m) {
-  return std::to_string(static_cast<long long>(std::lround(m * 1000.0))) + " mm";
-}
+std::string mm(double m) { return std::to_string(static_cast<long long>(std::lround(m * 1000.0))) + " mm"; }
 
 double speed_scale_for(double tool_speed_mps) {
   return std::clamp(tool_speed_mps / kRobotMaxToolSpeedMps, 0.001, 1.0);
@@ -29,8 +27,6 @@ skill::ParamSpec max_reach_param() {
                    "Tool poses farther than this from the robot base are refused by the planner."};
 }
 skill::ParamSpec timeout_param() {
-  using skill::ParamSpec;
-  using skill::ParamType;
   return skill::seconds_param("timeout_s", 1.0, 600.0, 60.0,
                               "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer.");
 }
@@ -82,7 +78,8 @@ void GripperSkill::arm_overall_timeout() {
   overall_timer_ = ctx().after(overall_timeout_, [this] {
     overall_timer_ = 0;
     if (finished() || stopping()) return;
-    fail("TIMEOUT", "not done within timeout_s = " + number_text(overall_timeout_s_) + " s (in state " + state() + ")");
+    fail("TIMEOUT",
+         "not done within timeout_s = " + number_text(overall_timeout_s_) + " s (in state " + state() + ")");
   });
 }
 

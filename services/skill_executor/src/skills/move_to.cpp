@@ -26,43 +26,18 @@ const skill::SkillDescription& MoveToSkill::describe() {
     skill::SkillDescription d;
     d.name = "MoveTo";
     d.kind = skill::SkillKind::kSkill;
-    d.description =
-        "Moves the robot's tool to a Cartesian goal pose (planned, executed via rigger/robot/cmd_motion, "
-        "verified against rigger/robot/state).";
+    d.description = "Moves the robot's tool to a Cartesian goal pose (planned, executed via rigger/robot/cmd_motion, "
+                    "verified against rigger/robot/state).";
     d.params = {
-        ParamSpec{"goal",
-                  ParamType::kPose,
-                  "",
-                  std::nullopt,
-                  std::nullopt,
-                  std::nullopt,
-                  {},
+        ParamSpec{"goal", ParamType::kPose, "", std::nullopt, std::nullopt, std::nullopt, {},
                   "Tool goal pose in the robot base frame \"robot\" (the default frame)."},
-        ParamSpec{"speed_scale",
-                  ParamType::kNumber,
-                  "",
-                  0.01,
-                  1.0,
-                  nlohmann::json(0.2),
-                  {},
+        ParamSpec{"speed_scale", ParamType::kNumber, "", 0.01, 1.0, nlohmann::json(0.2), {},
                   "Fraction of the robot's maximum speed."},
         skill::seconds_param("timeout_s", 0.1, 600.0, 30.0,
                              "The motion fails with TIMEOUT (and is stopped) when it takes longer."),
-        ParamSpec{"position_tolerance_m",
-                  ParamType::kNumber,
-                  "m",
-                  0.0001,
-                  0.1,
-                  nlohmann::json(0.005),
-                  {},
+        ParamSpec{"position_tolerance_m", ParamType::kNumber, "m", 0.0001, 0.1, nlohmann::json(0.005), {},
                   "Largest distance between the reached and the goal position."},
-        ParamSpec{"max_reach_m",
-                  ParamType::kNumber,
-                  "m",
-                  0.1,
-                  5.0,
-                  nlohmann::json(1.2),
-                  {},
+        ParamSpec{"max_reach_m", ParamType::kNumber, "m", 0.1, 5.0, nlohmann::json(1.2), {},
                   "Goals farther than this from the robot base are refused by the planner."},
     };
     d.resources = {"robot"};
@@ -101,39 +76,35 @@ void MoveToSkill::move() {
   goal.frame = goal_.frame;
   goal.speed_scale = params().at("speed_scale").get<double>();
   RobotMotion* robot = ctx().devices().robot;
-  const OpId id =
-      robot->move(goal, from_seconds(params().at("timeout_s").get<double>()), guard([this](const OpResult& result) {
-                    if (result.ok)
-                      transition("verify");
-                    else
-                      fail(result.code, result.message);
-                  }));
+  const OpId id = robot->move(goal, from_seconds(params().at("timeout_s").get<double>()),
+                              guard([this](const OpResult& result) {
+                                if (result.ok) transition("verify");
+                                else fail(result.code, result.message);
+                              }));
   track([robot, id] { robot->cancel(id); });
 }
 
 void MoveToSkill::verify() {
   ctx().progress(0.9, "verifying");
   RobotMotion* robot = ctx().devices().robot;
-  const OpId id = robot->next_state(
-      kStateTimeout, guard([this](std::optional<RobotSnapshot> state) {
-        if (!state) {
-          fail("ROBOT_STATE_STALE", "no robot state within " + std::to_string(kStateTimeout.count()) + " s");
-          return;
-        }
-        if (state->frame != goal_.frame) {
-          fail("NOT_VERIFIABLE",
-               "the robot reports its tool in '" + state->frame + "', the goal is in '" + goal_.frame + "'");
-          return;
-        }
-        const double error_m = (state->tool_pose.translation() - goal_.pose.translation()).norm();
-        const double tolerance_m = params().at("position_tolerance_m").get<double>();
-        if (error_m > tolerance_m) {
-          fail("NOT_AT_GOAL", "the tool is " + std::to_string(error_m * 1000.0) + " mm from the goal (tolerance " +
-                                  std::to_string(tolerance_m * 1000.0) + " mm)");
-          return;
-        }
-        succeed("at goal within " + std::to_string(error_m * 1000.0) + " mm");
-      }));
+  const OpId id = robot->next_state(kStateTimeout, guard([this](std::optional<RobotSnapshot> state) {
+    if (!state) {
+      fail("ROBOT_STATE_STALE", "no robot state within " + std::to_string(kStateTimeout.count()) + " s");
+      return;
+    }
+    if (state->frame != goal_.frame) {
+      fail("NOT_VERIFIABLE", "the robot reports its tool in '" + state->frame + "', the goal is in '" + goal_.frame + "'");
+      return;
+    }
+    const double error_m = (state->tool_pose.translation() - goal_.pose.translation()).norm();
+    const double tolerance_m = params().at("position_tolerance_m").get<double>();
+    if (error_m > tolerance_m) {
+      fail("NOT_AT_GOAL", "the tool is " + std::to_string(error_m * 1000.0) + " mm from the goal (tolerance " +
+                              std::to_string(tolerance_m * 1000.0) + " mm)");
+      return;
+    }
+    succeed("at goal within " + std::to_string(error_m * 1000.0) + " mm");
+  }));
   track([robot, id] { robot->cancel(id); });
 }
 

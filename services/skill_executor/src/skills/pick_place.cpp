@@ -219,8 +219,8 @@ const skill::SkillDescription& PlaceSkill::describe() {
     d.resources = {"robot", "gripper", "$object"};
     d.pausable = true;
     d.preconditions = {*skill::parse_predicate("attached(robot,$object)")};
-    d.postconditions = {*skill::parse_predicate("!attached(robot,$object)"), *skill::parse_predicate("placed($object)"),
-                        *skill::parse_predicate("!localized($object)")};
+    d.postconditions = {*skill::parse_predicate("!attached(robot,$object)"),
+                        *skill::parse_predicate("placed($object)"), *skill::parse_predicate("!localized($object)")};
     return d;
   }();
   return kDescription;
@@ -311,7 +311,8 @@ void PlaceSkill::confirm_released() {
 void PlaceSkill::retreat() {
   ctx().progress(0.8, "retreating");
   move_tool(along_tool_z(place_, -params().at("retreat_m").get<double>()),
-            speed_scale_for(params().at("approach_speed_m_per_s").get<double>()), motion_timeout(), [this] {
+            speed_scale_for(params().at("approach_speed_m_per_s").get<double>()), motion_timeout(),
+            [this] {
               const std::string object = params().at("object").get<std::string>();
               succeed_unlocalizing(object, "placed " + object);
             });
