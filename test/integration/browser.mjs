@@ -32,3 +32,18 @@ export function check(cond, what) {
   if (!cond) throw new Error(`check failed: ${what}`);
   console.log(`ok: ${what}`);
 }
+
+/// An environment variable the test must set; a missing one ends the script naming it.
+export const env = (k) => { if (!process.env[k]) throw new Error(`${k} is not set`); return process.env[k]; };
+
+/// One request to the console at `base`: the bearer `token` (none when empty), `body` sent as JSON (a
+/// string as it is). Returns {status, json} (json null when the answer is not JSON).
+export async function consoleRequest(base, pathname, { token, method = 'GET', body } = {}) {
+  const headers = {};
+  if (token) headers.Authorization = `Bearer ${token}`;
+  if (body !== undefined) headers['Content-Type'] = 'application/json';
+  const res = await fetch(base + pathname, { method, headers, body: typeof body === 'string' ? body : JSON.stringify(body) });
+  let json = null;
+  try { json = await res.json(); } catch { /* not JSON */ }
+  return { status: res.status, json };
+}

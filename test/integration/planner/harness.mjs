@@ -3,24 +3,18 @@
 // programmer's token, headless Debian chromium through playwright-core, and the wait for the skills.
 import fs from 'node:fs';
 
-import { check, launchChromium, logPage } from '../browser.mjs';
+import { check, consoleRequest, env, launchChromium, logPage } from '../browser.mjs';
 
-export { check };
+export { check, env };
 
-export const env = (k) => { if (!process.env[k]) throw new Error(`${k} is not set`); return process.env[k]; };
 export const URL_ = env('CONSOLE_URL');
 export const ART = env('ARTIFACTS');
 export const MODULES = env('NODE_PATH');
 export const TOKEN = env('TOKEN_PROGRAMMER');
 
 /// The console's API as the programmer: {status, json}.
-export async function call(pathname, { method = 'GET', body } = {}) {
-  const headers = { Authorization: `Bearer ${TOKEN}` };
-  if (body !== undefined) headers['Content-Type'] = 'application/json';
-  const res = await fetch(URL_ + pathname, { method, headers, body: typeof body === 'string' ? body : JSON.stringify(body) });
-  let json = null;
-  try { json = await res.json(); } catch { /* not JSON */ }
-  return { status: res.status, json };
+export function call(pathname, { method = 'GET', body } = {}) {
+  return consoleRequest(URL_, pathname, { token: TOKEN, method, body });
 }
 
 /// The executors' announcements reach the console in their own time: waits until it knows `needed`.

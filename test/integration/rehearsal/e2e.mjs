@@ -9,9 +9,8 @@
 // ends the script with exit code 1. Every wait is on a condition.
 import fs from 'node:fs';
 import path from 'node:path';
-import { launchChromium, logPage, check as checked } from '../browser.mjs';
+import { check as checked, consoleRequest, env, launchChromium, logPage } from '../browser.mjs';
 
-const env = (k) => { if (!process.env[k]) throw new Error(`${k} is not set`); return process.env[k]; };
 const URL_ = env('CONSOLE_URL');
 const PLAIN = env('PLAIN_URL');
 const ART = env('ARTIFACTS');
@@ -25,14 +24,8 @@ const t0 = Date.now();
 const since = () => `${((Date.now() - t0) / 1000).toFixed(1)} s`;
 
 const check = (cond, what) => checked(cond, `(${since()}) ${what}`);
-async function call(base, pathname, { method = 'GET', body, token = TOKEN } = {}) {
-  const headers = { Authorization: `Bearer ${token}` };
-  if (body !== undefined) headers['Content-Type'] = 'application/json';
-  const res = await fetch(base + pathname, { method, headers, body: typeof body === 'string' ? body : JSON.stringify(body) });
-  let json = null;
-  try { json = await res.json(); } catch { /* not JSON */ }
-  return { status: res.status, json };
-}
+const call = (base, pathname, { method = 'GET', body, token = TOKEN } = {}) =>
+  consoleRequest(base, pathname, { token, method, body });
 const recipeText = fs.readFileSync(RECIPE, 'utf8');
 
 // --- refusals over HTTP: a viewer may not rehearse; a console without a rehearsal domain says so ---
