@@ -6,7 +6,8 @@ import os from 'node:os';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
 
-const env = (k) => { if (!process.env[k]) throw new Error(`${k} is not set`); return process.env[k]; };
+import { check, consoleRequest, env } from '../browser.mjs';
+
 const URL_ = env('CONSOLE_URL');
 const ART = env('ARTIFACTS');
 const MODULES = env('NODE_PATH');
@@ -17,19 +18,7 @@ const recipe = JSON.parse(recipeText);
 const TASK = recipe.task_id;
 const result = {};
 
-function check(cond, what) {
-  if (!cond) throw new Error(`check failed: ${what}`);
-  console.log(`ok: ${what}`);
-}
-async function call(pathname, { token, method = 'GET', body } = {}) {
-  const headers = {};
-  if (token) headers.Authorization = `Bearer ${token}`;
-  if (body !== undefined) headers['Content-Type'] = 'application/json';
-  const res = await fetch(URL_ + pathname, { method, headers, body: typeof body === 'string' ? body : JSON.stringify(body) });
-  let json = null;
-  try { json = await res.json(); } catch { /* not JSON */ }
-  return { status: res.status, json };
-}
+const call = (pathname, options) => consoleRequest(URL_, pathname, options);
 
 // --- refused requests: nothing may reach the controller ---
 let r = await call('/api/recipes', { method: 'POST', body: recipe });
