@@ -180,14 +180,18 @@ class ScenarioCell {
     task_message_.clear();
     failed_node_.clear();
     task_errors_.clear();
+    nodes_seen_.clear();  // node ids repeat across tasks
     submitted_ = Clock::now();
   }
 
   /// Submits `recipe_file` (repository-relative); returns false when no controller reads recipes.
   bool submit(const std::string& recipe_file) {
     std::ifstream in(repo_file(recipe_file));
-    const nlohmann::json recipe = nlohmann::json::parse(in);
-    task_id_ = recipe.at("task_id").get<std::string>();
+    return submit_json(nlohmann::json::parse(in));
+  }
+  /// Submits `recipe` and follows its task; false when no controller reads recipes.
+  bool submit_json(const nlohmann::json& recipe) {
+    watch(recipe.at("task_id").get<std::string>());
     const std::string text = recipe.dump();
     if (!recipes_.wait_for_readers(1, 10s)) return false;
     rigger_task_Recipe r{};
@@ -199,6 +203,11 @@ class ScenarioCell {
     submitted_ = Clock::now();
     return true;
   }
+
+  /// The crane gateway holds its PLC link and reports neither a fault nor a safe stop.
+  bool crane_ready() const { return crane_ready_; }
+  /// How many task controllers' recipe readers this cell's recipe writer matches now.
+  uint32_t recipe_readers() const { return recipes_.matched_readers(); }
 
   /// Runs the test's loop until the task ended or `timeout`.
   bool wait_task_end(std::chrono::milliseconds timeout) {
