@@ -74,7 +74,12 @@ ExecutorEndpoint::ExecutorEndpoint(const dds::Participant& participant, dds::Eve
   loop_.on_data(commands_, [this] { on_commands(); });
   loop_.on_status(commands_.handle(), DDS_LIVELINESS_CHANGED_STATUS, [this] { on_commander_liveliness(); });
   // See ServiceAnnouncer::reannounce(): a reader that expired our lease sees us again on a new sample.
-  refresh_timer_ = loop_.every(dds::kServiceRefreshPeriod, [this] { announce(); });
+  // The same timer re-reads the command writers' liveliness while runs are active: a backstop should a
+  // status change not wake the loop.
+  refresh_timer_ = loop_.every(dds::kServiceRefreshPeriod, [this] {
+    announce();
+    if (!active_.empty()) on_commander_liveliness();
+  });
   loop_.on_status(announcements_.handle(), DDS_LIVELINESS_LOST_STATUS, [this] { announce(); });
   announce();
 }
@@ -129,10 +134,16 @@ void ExecutorEndpoint::on_commands() {
 void ExecutorEndpoint::on_commander_liveliness() {
   dds_liveliness_changed_status_t st{};
   if (dds_get_liveliness_changed_status(commands_.handle(), &st) != DDS_RETCODE_OK) return;
-  if (st.alive_count_change >= 0 && st.not_alive_count_change <= 0) return;  // a writer appeared
-  // A command writer was lost. With every writer gone, every run lost its commander; otherwise the
-  // status names the last one that changed.
+  if (st.alive_count_change != 0 || st.not_alive_count_change != 0)
+    log_->info("command writers' liveliness changed: alive {} ({:+d}), not alive {} ({:+d}), last writer {:x}",
+               st.alive_count, st.alive_count_change, st.not_alive_count, st.not_alive_count_change,
+               st.last_publication_handle);
+  // With no command writer alive, every run lost its commander, whatever the changes since the last read
+  // say: a writer that came back alive and was lost again between two reads nets to no change (seen in
+  // bench_safe_stop after this executor had been frozen: the next controller's kill went unnoticed).
+  // Otherwise a writer was lost when the counts say so, and the status names the last one that changed.
   const bool all_lost = st.alive_count == 0;
+  if (!all_lost && st.alive_count_change >= 0 && st.not_alive_count_change <= 0) return;  // a writer appeared
   // Chosen first, shut down after: a skill that stops at once reports its end from inside on_shutdown,
   // which erases its run from active_ (iterating active_ meanwhile crashed the executor).
   std::vector<LeafRun> lost;
