@@ -70,6 +70,38 @@ TEST_F(LifecycleTest, PauseLetsTheRunningLeafFinishButStartsNothingNewUntilResum
   EXPECT_TRUE(running_after_pause);
 }
 
+// A leaf that cannot pause but holds devices (the scripted executor pauses nothing; Pick holds robot and
+// gripper) is brought to its safe stop by the PAUSE (issue 13): riggerctl pause prints that, the leaf
+// fails NOT_PAUSABLE ("could not pause"), the Sequence above it fails, and the task ends FAILED with it.
+TEST_F(LifecycleTest, APauseStopsALeafThatCannotPauseButHoldsDevicesAndItsNodeReportsIt) {
+  start_controller();
+  start_scripted("exec", {"Localize", "Pick"},
+                 {{"root/0", {{"mode", "succeed"}, {"delay_s", 0.05}}},
+                  {"root/1", {{"mode", "run"}, {"stop_delay_s", 0.2}}}});
+  wait_ready({"tc", "exec"});
+  const json pick = {{"type", "Skill"},
+                     {"name", "grab"},
+                     {"skill", "Pick"},
+                     {"params", {{"object", "load"}, {"grasp", "load/grasp_top"}}}};
+  submit("np", recipe("np", {{"type", "Sequence"}, {"children", {skill("find", "load"), pick}}}));
+  ASSERT_TRUE(cell_.wait_until([&] { return event_at("np", "root/1", rigger_skill_SKILL_EVENT_ACCEPTED); }, 20s));
+  const auto paused = ctl("pause", {"pause", "np", "--reason", "hold"});
+  EXPECT_EQ(paused.code(), 0) << paused.output;
+  EXPECT_NE(paused.output.find("root/1: NOT_PAUSABLE_STOPPED: Pick cannot pause and holds robot, gripper: it is "
+                               "brought to its safe stop"),
+            std::string::npos)
+      << paused.output;
+  ASSERT_TRUE(wait_node("np", "root/1", rigger_task_NODE_FAILURE));
+  EXPECT_EQ(node_at("np", "root/1", rigger_task_NODE_FAILURE)->code, "NOT_PAUSABLE");
+  ASSERT_TRUE(wait_finished("np"));
+  EXPECT_EQ(last("np").state, rigger_task_TASK_FAILED);
+  EXPECT_EQ(last("np").code, "NOT_PAUSABLE") << last("np").message;
+  EXPECT_EQ(command_at("np", "root/1", rigger_skill_SKILL_SHUTDOWN), nullptr) << "the executor stopped it, not a SHUTDOWN";
+  const auto lines = journal("np");
+  EXPECT_TRUE(has_line(lines, "root/1", "EVENT", "NOT_PAUSED"));
+  EXPECT_TRUE(has_line(lines, "root/1", "EVENT", "FAILURE"));
+}
+
 TEST_F(LifecycleTest, CancelWhilePausedStopsTheRunningLeafAndDropsTheHeldStart) {
   start_cell({{"root/0", {{"mode", "run"}, {"stop_delay_s", 0.1}}}});
   submit("pc", recipe("pc", {{"type", "Sequence"}, {"children", {skill("first", "load"), skill("second", "target")}}}));

@@ -9,6 +9,7 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/service_state.hpp"
 #include "rigger/protocol/skill.hpp"
+#include "rigger/safety/safe_stop.hpp"
 #include "rigger/base/bounded_json.hpp"
 
 namespace rigger::executor {
@@ -200,6 +201,7 @@ void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sa
     log_->info("shutdown task={} node={} reason={}", task, node, dds::to_string(cmd.reason));
     const bool was_stopping = it->second.stopping;
     it->second.stopping = true;
+    it->second.stopped_for_pause = false;  // the controller asked for the stop now: STOPPED answers it
     if (!was_stopping) announce();
     if (handlers_.on_shutdown) handlers_.on_shutdown({{task, node, it->second.start_seq}, dds::to_string(cmd.reason)});
     return;
@@ -242,15 +244,26 @@ void ExecutorEndpoint::handle_pause(const std::string& task, const std::string& 
                                     const std::string& reason) {
   const EventKind kind = pause ? EventKind::kPaused : EventKind::kResumed;
   // A START of the node waiting here is newer than a run of the node still stopping: the PAUSE is its.
-  for (auto& w : waiting_) {
-    if (w.run.task_id != task || w.run.node_id != node) continue;
-    if (std::string why = not_pausable(w.skill); !why.empty()) {
-      write_event(w.run, kind, "NOT_PAUSABLE", why, -1.0);
+  for (auto w = waiting_.begin(); w != waiting_.end(); ++w) {
+    if (w->run.task_id != task || w->run.node_id != node) continue;
+    if (std::string why = pause ? stops_for_pause(w->skill, w->resources) : ""; !why.empty()) {
+      // It could not start paused: it never starts.
+      loop_.cancel(w->deadline);
+      const LeafRun run = w->run;
+      waiting_.erase(w);
+      log_->warn("pause task={} node={} code=NOT_PAUSABLE_STOPPED {}; it was waiting to start: not started", task,
+                 node, why);
+      write_event(run, kind, "NOT_PAUSABLE_STOPPED", why + "; it was waiting to start: it will not start", -1.0);
+      write_event(run, EventKind::kFailure, "NOT_PAUSABLE", "could not pause: " + why + "; it never started", -1.0);
       return;
     }
-    w.paused = pause;
-    write_event(w.run, kind, "", w.skill + (pause ? " will start paused" : " will start running") + " on executor " +
-                                     executor_id_, -1.0);
+    if (std::string why = not_pausable(w->skill); !why.empty()) {
+      write_event(w->run, kind, "NOT_PAUSABLE", why, -1.0);
+      return;
+    }
+    w->paused = pause;
+    write_event(w->run, kind, "", w->skill + (pause ? " will start paused" : " will start running") + " on executor " +
+                                      executor_id_, -1.0);
     return;
   }
   const RunKey key{task, node};
@@ -260,6 +273,17 @@ void ExecutorEndpoint::handle_pause(const std::string& task, const std::string& 
     return;
   }
   const LeafRun run{task, node, it->second.start_seq};
+  if (std::string why = pause && !it->second.stopping ? stops_for_pause(it->second.skill, it->second.resources) : "";
+      !why.empty()) {
+    // The answer first, then the safe stop: the skill may end inside on_shutdown.
+    it->second.stopping = true;
+    it->second.stopped_for_pause = true;
+    log_->warn("pause task={} node={} code=NOT_PAUSABLE_STOPPED {}", task, node, why);
+    write_event(run, kind, "NOT_PAUSABLE_STOPPED", why, -1.0);
+    announce();
+    if (handlers_.on_shutdown) handlers_.on_shutdown({run, "PAUSE: " + why});
+    return;
+  }
   const PauseAnswer answer = pause_run(key, pause, reason);
   if (active_.count(key) == 0) return;  // the skill ended inside the call: its end is the answer
   log_->info("{} task={} node={} code={} reason={}", pause ? "pause" : "resume", task, node, answer.code, reason);
@@ -271,6 +295,19 @@ std::string ExecutorEndpoint::not_pausable(const std::string& skill) const {
   if (d != descriptions_.end() && d->second.pausable && handlers_.on_pause) return "";
   const bool monitor = d != descriptions_.end() && d->second.kind == skill::SkillKind::kMonitor;
   return skill + " cannot pause: it keeps " + (monitor ? "monitoring" : "running");
+}
+
+std::string ExecutorEndpoint::stops_for_pause(const std::string& skill, const std::vector<std::string>& resources) const {
+  if (not_pausable(skill).empty()) return "";
+  const auto d = descriptions_.find(skill);
+  if (d == descriptions_.end() || d->second.kind == skill::SkillKind::kMonitor) return "";
+  std::string devices;
+  for (const auto& r : resources)
+    if (std::find(safety::stoppable_resources().begin(), safety::stoppable_resources().end(), r) !=
+        safety::stoppable_resources().end())
+      devices += (devices.empty() ? "" : ", ") + r;
+  if (devices.empty()) return "";
+  return skill + " cannot pause and holds " + devices + ": it is brought to its safe stop";
 }
 
 PauseAnswer ExecutorEndpoint::pause_run(const RunKey& key, bool pause, const std::string& reason) {
@@ -402,8 +439,12 @@ bool ExecutorEndpoint::report(const LeafRun& run, EventKind kind, const std::str
     log_->warn("report dropped reason=run_not_active task={} node={} kind={}", run.task_id, run.node_id, to_string(kind));
     return false;
   }
+  // A run a PAUSE stopped (not pausable) did not pause: its stop is a FAILURE of its node, which the
+  // controller never asked to stop.
+  const bool not_paused = kind == EventKind::kStopped && it->second.stopped_for_pause;
   if (kind != EventKind::kProgress) active_.erase(it);
-  const bool written = write_event(run, kind, code, message, progress);
+  const bool written = not_paused ? write_event(run, EventKind::kFailure, "NOT_PAUSABLE", "could not pause: " + message, progress)
+                                  : write_event(run, kind, code, message, progress);
   // After the event: whoever reads an announcement without the run has the run's end written before it.
   if (kind != EventKind::kProgress) announce();
   if (kind != EventKind::kProgress && !waiting_.empty()) loop_.post([this] { start_waiting(); });

@@ -382,11 +382,12 @@ std::string answer_text(const Event& e) {
 }
 
 // Every PAUSE / RESUME is answered: a pausable skill's run is handed to the skill and holds; a skill
-// that is not pausable keeps running, a monitor keeps monitoring; repeats, unknown nodes and runs being
-// stopped get their own codes. The answers carry the START's seq, like the run's other events.
+// that is not pausable and holds no device keeps running, a monitor keeps monitoring; repeats, unknown
+// nodes and runs being stopped get their own codes. The answers carry the START's seq, like the run's
+// other events.
 TEST_F(ExecutorEndpointTest, PauseAndResumeReachPausableSkillsOnlyAndAreAlwaysAnswered) {
   send("exec-1", "hoist", rigger_skill_SKILL_START, 1, "Hoist");
-  send("exec-1", "move", rigger_skill_SKILL_START, 2, "MoveArm");
+  send("exec-1", "move", rigger_skill_SKILL_START, 2, "Look");
   send("exec-1", "watch", rigger_skill_SKILL_START, 3, "Watch");
   ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 3; }, 5s));
   send("exec-1", "hoist", rigger_skill_SKILL_PAUSE, 4);
@@ -404,7 +405,7 @@ TEST_F(ExecutorEndpointTest, PauseAndResumeReachPausableSkillsOnlyAndAreAlwaysAn
                                                "watch#3:PAUSED:NOT_PAUSABLE", "hoist#1:PAUSED:ALREADY_PAUSED",
                                                "hoist#1:RESUMED:", "ghost#0:RESUMED:NOT_RUNNING",
                                                "move#2:PAUSED:STOPPING"}));
-  EXPECT_NE(received_[1].message.find("MoveArm cannot pause: it keeps running"), std::string::npos)
+  EXPECT_NE(received_[1].message.find("Look cannot pause: it keeps running"), std::string::npos)
       << received_[1].message;
   EXPECT_NE(received_[2].message.find("Watch cannot pause: it keeps monitoring"), std::string::npos)
       << received_[2].message;
@@ -441,6 +442,66 @@ TEST_F(ExecutorEndpointTest, AStartThatWaitedWhilePausedStartsPaused) {
   send("exec-1", "hoist", rigger_skill_SKILL_RESUME, 5);
   ASSERT_TRUE(loop_.run_until([&] { return pauses_.size() == 2; }, 5s));
   EXPECT_FALSE(pauses_[1].pause);
+}
+
+// A skill that cannot pause but holds a device (MoveArm: the robot) cannot hold it still: a PAUSE brings
+// it to its safe stop. The answer says so, the skill gets a SHUTDOWN, and its stop ends the run as a
+// FAILURE NOT_PAUSABLE (the controller never asked it to stop). A SHUTDOWN from the controller meanwhile
+// makes the stop the answer to that SHUTDOWN again.
+TEST_F(ExecutorEndpointTest, APauseBringsASkillThatCannotPauseButHoldsADeviceToItsSafeStop) {
+  send("exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");
+  ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 1; }, 5s));
+  send("exec-1", "move", rigger_skill_SKILL_PAUSE, 2);
+  ASSERT_TRUE(loop_.run_until([&] { return shutdowns_.size() == 1 && received_.size() == 1; }, 5s));
+  EXPECT_TRUE(pauses_.empty()) << "the skill is not asked to pause";
+  EXPECT_EQ(shutdowns_[0].reason, "PAUSE: MoveArm cannot pause and holds robot: it is brought to its safe stop");
+  EXPECT_EQ(answer_text(received_[0]), "move#1:PAUSED:NOT_PAUSABLE_STOPPED");
+  EXPECT_EQ(received_[0].message, "MoveArm cannot pause and holds robot: it is brought to its safe stop");
+  // A second PAUSE finds it stopping.
+  send("exec-1", "move", rigger_skill_SKILL_PAUSE, 3);
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 2; }, 5s));
+  EXPECT_EQ(answer_text(received_[1]), "move#1:PAUSED:STOPPING");
+  // Its safe stop reached: the node failed to pause.
+  EXPECT_TRUE(endpoint_->report(shutdowns_[0].run, EventKind::kStopped, "", "arm at rest"));
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 3; }, 5s));
+  EXPECT_EQ(received_[2].node, "move");
+  EXPECT_EQ(received_[2].kind, rigger_skill_SKILL_EVENT_FAILURE);
+  EXPECT_EQ(received_[2].kind_code, "NOT_PAUSABLE");
+  EXPECT_EQ(received_[2].message, "could not pause: arm at rest");
+
+  // Weld, paused the same way, is cancelled by its controller meanwhile: its stop answers that SHUTDOWN.
+  send("exec-1", "weld", rigger_skill_SKILL_START, 4, "Weld");
+  ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 2; }, 5s));
+  send("exec-1", "weld", rigger_skill_SKILL_PAUSE, 5);
+  send("exec-1", "weld", rigger_skill_SKILL_SHUTDOWN, 6);
+  ASSERT_TRUE(loop_.run_until([&] { return shutdowns_.size() == 3; }, 5s));
+  EXPECT_TRUE(endpoint_->report(shutdowns_[1].run, EventKind::kStopped, "", "welder off"));
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 5; }, 5s));
+  EXPECT_EQ(answer_text(received_[3]), "weld#4:PAUSED:NOT_PAUSABLE_STOPPED");
+  EXPECT_EQ(received_[4].node, "weld");
+  EXPECT_EQ(received_[4].kind, rigger_skill_SKILL_EVENT_STOPPED);
+  EXPECT_TRUE(endpoint_->active_runs().empty());
+}
+
+// Such a skill still waiting here to start (its node's previous run stops) when the PAUSE comes cannot
+// start paused: it never starts, and its node fails NOT_PAUSABLE.
+TEST_F(ExecutorEndpointTest, ASkillThatCannotPauseAndWaitsToStartNeverStartsWhenPaused) {
+  send("exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");
+  send("exec-1", "move", rigger_skill_SKILL_SHUTDOWN, 2, "MoveArm");
+  ASSERT_TRUE(loop_.run_until([&] { return shutdowns_.size() == 1; }, 5s));
+  send("exec-1", "move", rigger_skill_SKILL_START, 3, "MoveArm");
+  send("exec-1", "move", rigger_skill_SKILL_PAUSE, 4);
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 2; }, 5s));
+  EXPECT_EQ(answer_text(received_[0]), "move#3:PAUSED:NOT_PAUSABLE_STOPPED");
+  EXPECT_EQ(received_[1].kind, rigger_skill_SKILL_EVENT_FAILURE);
+  EXPECT_EQ(received_[1].kind_code, "NOT_PAUSABLE");
+  EXPECT_EQ(received_[1].command_seq, 3u);
+  EXPECT_NE(received_[1].message.find("it never started"), std::string::npos) << received_[1].message;
+  // The first run's stop frees the node; nothing starts.
+  EXPECT_TRUE(endpoint_->report(shutdowns_[0].run, EventKind::kStopped));
+  ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 3; }, 5s));
+  loop_.run_until([] { return false; }, 100ms);
+  EXPECT_EQ(starts_.size(), 1u);
 }
 
 }  // namespace

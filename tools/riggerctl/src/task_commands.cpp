@@ -661,7 +661,8 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
   }
   if (kind == rigger_task_TASK_PAUSE && state == wanted)
     std::printf("no new leaf starts until `riggerctl resume %s`; running leaves of pausable skills hold still, "
-                "the others (monitors, operator prompts) run on\n",
+                "those that cannot pause run on (monitors, operator prompts) or, holding a device, are brought to "
+                "their safe stop\n",
                 task_id.c_str());
   return state == wanted ? 0 : kExitFailed;
 }

@@ -24,7 +24,11 @@
 ///    started), so the controller never waits for a stop timeout because of a race;
 ///  - every PAUSE / RESUME is answered at once with PAUSED / RESUMED: code empty when the skill now holds
 ///    (continues); `NOT_PAUSABLE` when its description is not `pausable` (or the executor pauses
-///    nothing), and it keeps running; `STOPPING` for a run being stopped (its safe stop proceeds);
+///    nothing), and it keeps running — except a skill (not a monitor) that holds a device (robot,
+///    crane, gripper, admittance): it cannot hold its devices still, so it is brought to its safe stop
+///    (answer `NOT_PAUSABLE_STOPPED`) and its run ends FAILURE `NOT_PAUSABLE` ("could not pause"), or,
+///    still waiting here to start, it never starts (the same FAILURE); `STOPPING` for a run being
+///    stopped (its safe stop proceeds);
 ///    `ALREADY_PAUSED` / `NOT_PAUSED` for a repeated command; `NOT_RUNNING` for a node not active here
 ///    (command_seq 0). A START still waiting here takes the pause with it: it starts paused. Runs of
 ///    skills only pause; monitors keep monitoring;
@@ -138,6 +142,7 @@ class ExecutorEndpoint {
     dds_instance_handle_t commander = 0;  ///< the command writer that started it
     bool stopping = false;                ///< a SHUTDOWN reached it (from the controller or from here)
     bool paused = false;                  ///< a PAUSE held it and no RESUME came yet
+    bool stopped_for_pause = false;       ///< not pausable: a PAUSE brought it to its safe stop
   };
   /// A START decoded and checked, waiting for the runs that hold its node or resources to stop.
   struct Start {
@@ -160,6 +165,9 @@ class ExecutorEndpoint {
   PauseAnswer pause_run(const RunKey& key, bool pause, const std::string& reason);
   /// Why runs of `skill` are not paused here ("": they are: pausable, and a pause handler is set).
   std::string not_pausable(const std::string& skill) const;
+  /// Why a PAUSE brings runs of `skill` holding `resources` to their safe stop instead ("": it does not:
+  /// the skill pauses, or it is a monitor, or it holds no device).
+  std::string stops_for_pause(const std::string& skill, const std::vector<std::string>& resources) const;
   /// Why `start` cannot run now ("" : it can); `wait` is set when every holder is being stopped.
   std::string blocked(const Start& start, bool& wait) const;
   void dispatch(Start start);

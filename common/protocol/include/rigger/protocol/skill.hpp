@@ -28,7 +28,8 @@ inline constexpr Topic<rigger_skill_SkillEvent> kEvent{
     "skill_executor, monitor_host",
     "task_controller",
     "(ACCEPTED: the answer to a START, code WAITING when it waits; SUCCESS, FAILURE, STOPPED, PROGRESS; "
-    "PAUSED / RESUMED: the answer to a PAUSE / RESUME, code NOT_PAUSABLE when the skill keeps running; "
+    "PAUSED / RESUMED: the answer to a PAUSE / RESUME, code NOT_PAUSABLE when the skill keeps running, NOT_PAUSABLE_STOPPED when it holds a device and is "
+    "brought to its safe stop instead; "
     "code, message, seq, command_seq)",
     ""};
 
