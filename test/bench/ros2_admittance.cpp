@@ -107,8 +107,11 @@ Figures measure(rigger::testing::Cell& cell, int trials, std::chrono::microsecon
   bool command_at_rest = false, servo_at_rest = false;
   int started = 0;
   constexpr int kWarmUp = 8;
-  const auto finish = [&](bool measured) {
-    if (measured && started > kWarmUp) {
+  // A trial ends when its command has come through both topics (the direct one too, so that the next
+  // trial starts from rest on both).
+  const auto try_finish = [&] {
+    if (!trial || !trial->command_stamp || !trial->servo_at.count(*trial->command_stamp)) return;
+    if (started > kWarmUp) {
       const Trial& t = *trial;
       const auto servo_at = t.servo_at.at(*t.command_stamp);
       if (t.via_bridge) {
@@ -120,11 +123,6 @@ Figures measure(rigger::testing::Cell& cell, int trials, std::chrono::microsecon
       out.twist_leg_us.push_back(us_between(t.command_at, servo_at));
     }
     trial.reset();
-  };
-  // A trial ends when its command has come through both topics (the direct one too, so that the next
-  // trial starts from rest on both).
-  const auto try_finish = [&] {
-    if (trial && trial->command_stamp && trial->servo_at.count(*trial->command_stamp)) finish(true);
   };
   cell.loop().on_data(cmd_twist, [&] {
     const auto now = Clock::now();
