@@ -3,16 +3,24 @@
 //    subscriber written with @foxglove/ros2 (live_subscriber.js: TypeScript RTPS, no DDS library, no
 //    ROS 2), which must discover the bridge, match its writer, and decode at least 100 samples. Each one
 //    must be exactly the command sent with that stamp (clamped where it was too fast); the stale and
-//    the non-finite commands must never arrive.
+//    the non-finite commands must never arrive; they must arrive at more than 40 Hz.
+//  - Ros2BridgeLabTest.TwistReachesAStandaloneRos2SubscriberOnAnotherHost: the same exchange and checks
+//    across network namespaces: the bridge (and the test's writer) on lab host `rigger`, the subscriber
+//    on lab host `ros2` (deploy/lab-hosts), discovery by multicast on their eth0 with the lab's Cyclone
+//    configuration (deploy/cyclonedds-lab.xml). Needs root; skipped, saying so, without it.
 //  - WrenchFromARos2DriverArrivesConverted: the test plays a ROS 2 force-torque driver (a
 //    geometry_msgs/msg/WrenchStamped writer on rt/ft_sensor/wrench, sensor_data QoS, as
 //    force_torque_sensor_broadcaster publishes) at 200 Hz; rigger/robot/wrench must carry at least 100
 //    of the fresh samples, each exactly as sent, and none of the stale or non-finite ones.
 //    (@foxglove/ros2 1.0.8 cannot publish, so the ROS 2 side here is rigger's own ROS 2 types.)
 // No sleeps: the test waits on READY, on matching, and on the subscriber's exit.
+#include <unistd.h>
+
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -25,6 +33,7 @@
 #include "rigger/ros2/conversions.hpp"
 #include "rigger/ros2/qos.hpp"
 #include "rigger/testing/cell.hpp"
+#include "rigger/testing/lab.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -44,39 +53,47 @@ std::int64_t stamp_ns(std::int64_t sec, std::uint32_t nanosec) {
   return sec * 1'000'000'000 + nanosec;
 }
 
-class Ros2BridgeLiveTest : public MultiProcessTest {
- protected:
-  void start_bridge() {
-    const std::string path = cell_.log_dir() + "/ros2_bridge.json";
-    std::ofstream(path) << kBridgeConfig;
-    // @foxglove/rtps 1.6.0 refuses an SEDP publication that carries no PID_RELIABILITY ("failed to parse
-    // publication attributes"), although DDSI-RTPS gives a writer's absent reliability as RELIABLE, and
-    // Cyclone leaves out every QoS at its default: so no reliable Cyclone writer would be seen. Cyclone's
-    // Compatibility/ExplicitlyPublishQosSetToDefault puts them all on the wire (docs/ros2.md).
-    cell_.start("ros2_bridge", "ros2_bridge", {"--id", "ros2_bridge", "--config", path}, true,
-                {{"CYCLONEDDS_URI", default_dds_config_uri() + ",<Compatibility><ExplicitlyPublishQosSetToDefault>true"
-                                                               "</ExplicitlyPublishQosSetToDefault></Compatibility>"}});
-    ASSERT_TRUE(cell_.wait_ready({"ros2_bridge"}, 20s));
-  }
-};
+/// `dds_uri` with the one setting @foxglove/rtps needs from the bridge's Cyclone. @foxglove/rtps 1.6.0 refuses
+/// an SEDP publication that carries no PID_RELIABILITY ("failed to parse publication attributes"), although
+/// DDSI-RTPS gives a writer's absent reliability as RELIABLE, and Cyclone leaves out every QoS at its
+/// default: so no reliable Cyclone writer would be seen. Cyclone's
+/// Compatibility/ExplicitlyPublishQosSetToDefault puts them all on the wire (docs/ros2.md).
+std::string for_foxglove(const std::string& dds_uri) {
+  return dds_uri +
+         ",<Compatibility><ExplicitlyPublishQosSetToDefault>true</ExplicitlyPublishQosSetToDefault>"
+         "</Compatibility>";
+}
 
-TEST_F(Ros2BridgeLiveTest, TwistReachesAStandaloneRos2Subscriber) {
+/// Starts ros2_bridge with kBridgeConfig on `cell`'s domain, with Cyclone configuration `dds_uri`, and waits
+/// for its READY.
+void start_bridge(Cell& cell, const std::string& dds_uri) {
+  const std::string path = cell.log_dir() + "/ros2_bridge.json";
+  std::ofstream(path) << kBridgeConfig;
+  cell.start("ros2_bridge", "ros2_bridge", {"--id", "ros2_bridge", "--config", path}, true,
+             {{"CYCLONEDDS_URI", for_foxglove(dds_uri)}});
+  ASSERT_TRUE(cell.wait_ready({"ros2_bridge"}, 20s));
+}
+
+/// Starts live_subscriber.js with `args` (its --domain is added) wherever the test runs it.
+using StartSubscriber = std::function<ChildProcess&(const std::vector<std::string>& args)>;
+
+/// The twist exchange of both Twist tests (see the header): writes rigger/robot/cmd_twist at 100 Hz from
+/// `cell`'s participant until the subscriber that `start_subscriber` starts has received 100 samples and
+/// exited, then checks every sample it decoded against what was sent, and the rate.
+void expect_twists_reach_subscriber(Cell& cell, const StartSubscriber& start_subscriber) {
   ASSERT_TRUE(std::string(RIGGER_NODE).size() > 0) << "node not found: install Node 20+, then npm ci in test/ros2";
-  start_bridge();
-  dds::Writer<rigger_sensing_TwistCommand> commands(cell_.participant(), protocol::robot::kCmdTwist);
+  dds::Writer<rigger_sensing_TwistCommand> commands(cell.participant(), protocol::robot::kCmdTwist);
   ASSERT_TRUE(commands.wait_for_readers(1, 10s));
 
-  auto& subscriber = cell_.start(
-      "live_subscriber", RIGGER_NODE,
-      {RIGGER_SOURCE_DIR "/test/ros2/live_subscriber.js", "--topic", "/servo_node/delta_twist_cmds", "--type",
-       "geometry_msgs/msg/TwistStamped", "--count", "100", "--reliability", "reliable", "--timeout-s", "60"});
-
+  auto& subscriber = start_subscriber({RIGGER_SOURCE_DIR "/test/ros2/live_subscriber.js", "--topic",
+                                       "/servo_node/delta_twist_cmds", "--type", "geometry_msgs/msg/TwistStamped",
+                                       "--count", "100", "--reliability", "reliable", "--timeout-s", "60"});
   // What was sent, by stamp: the twist the subscriber must see, or none (refused).
   std::map<std::int64_t, std::optional<dds::Vector6d>> sent;
   std::uint64_t seq = 0;
   std::string frame = "tool0";  // replaced by the bridge's frame_id
   std::string source = "bridge_live_test";
-  cell_.loop().every(10ms, [&] {
+  const auto timer = cell.loop().every(10ms, [&] {
     ++seq;
     dds::Vector6d twist;
     twist << 0.0001 * static_cast<double>(seq % 1000), -0.002, 0.0, 0.0, 0.0, 0.01;
@@ -103,7 +120,9 @@ TEST_F(Ros2BridgeLiveTest, TwistReachesAStandaloneRos2Subscriber) {
     sent[stamp_ns(c.header.stamp.sec, c.header.stamp.nanosec)] = expected;
     commands.write(c);
   });
-  ASSERT_TRUE(cell_.wait_until([&] { return !subscriber.running(); }, 90s)) << subscriber.log();
+  const bool ended = cell.wait_until([&] { return !subscriber.running(); }, 90s);
+  cell.loop().cancel(timer);
+  ASSERT_TRUE(ended) << subscriber.log();
   const auto status = subscriber.wait(5s);
   ASSERT_TRUE(status && status->ok()) << subscriber.log();
 
@@ -149,8 +168,60 @@ TEST_F(Ros2BridgeLiveTest, TwistReachesAStandaloneRos2Subscriber) {
             << " seconds=" << done["seconds"] << " rate_hz=" << done["rate_hz"] << " commands_sent=" << seq << "\n";
 }
 
+class Ros2BridgeLiveTest : public MultiProcessTest {};
+
+TEST_F(Ros2BridgeLiveTest, TwistReachesAStandaloneRos2Subscriber) {
+  start_bridge(cell_, default_dds_config_uri());
+  ASSERT_FALSE(HasFatalFailure());
+  expect_twists_reach_subscriber(cell_, [this](const std::vector<std::string>& args) -> ChildProcess& {
+    return cell_.start("live_subscriber", RIGGER_NODE, args);
+  });
+}
+
+/// The bridge on lab host `rigger`, the ROS 2 side on lab host `ros2` (see the header). The test process
+/// enters host `rigger` before it makes its participant, so its writer and the bridge it starts live
+/// there; the subscriber runs on `ros2` through `deploy/lab-hosts exec`. Each test has its own lab
+/// (named after its PID) and its own DDS domain; the lab goes whether the test passes, fails or dies.
+class Ros2BridgeLabTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (geteuid() != 0) {
+      GTEST_SKIP() << "network namespaces need root (CAP_NET_ADMIN): not run";
+    }
+    lab_ = std::make_unique<Lab>("r" + std::to_string(getpid() % 10000000), std::vector<std::string>{"rigger", "ros2"});
+    lab_->enter("rigger");
+    setenv("CYCLONEDDS_URI", kLabDds, 1);
+    cell_ = std::make_unique<Cell>();
+  }
+  void TearDown() override {
+    if (cell_) {
+      const auto report = cell_->stop_all();
+      EXPECT_TRUE(report.ok) << report.problems;
+      if (HasFailure()) std::cerr << "===== logs (domain " << cell_->domain_id() << ")\n" << cell_->logs();
+      cell_.reset();
+    }
+    if (lab_) {
+      EXPECT_EQ(lab_->tear_down(), "");
+    }
+  }
+  static constexpr const char* kLabDds = "file://" RIGGER_SOURCE_DIR "/deploy/cyclonedds-lab.xml";
+  std::unique_ptr<Lab> lab_;
+  std::unique_ptr<Cell> cell_;
+};
+
+TEST_F(Ros2BridgeLabTest, TwistReachesAStandaloneRos2SubscriberOnAnotherHost) {
+  start_bridge(*cell_, kLabDds);
+  ASSERT_FALSE(HasFatalFailure());
+  expect_twists_reach_subscriber(*cell_, [this](std::vector<std::string> args) -> ChildProcess& {
+    args.insert(args.begin(), {"exec", "ros2", RIGGER_NODE});
+    args.insert(args.end(), {"--address", lab_->address("ros2")});
+    return cell_->start("live_subscriber", RIGGER_SOURCE_DIR "/deploy/lab-hosts", args, true, lab_->env());
+  });
+}
+
 TEST_F(Ros2BridgeLiveTest, WrenchFromARos2DriverArrivesConverted) {
-  start_bridge();
+  start_bridge(cell_, default_dds_config_uri());
+  ASSERT_FALSE(HasFatalFailure());
   dds::Writer<geometry_msgs_msg_dds__WrenchStamped_> driver(cell_.participant(), "rt/ft_sensor/wrench",
                                                             ros2::qos::sensor_data());
   dds::Reader<rigger_sensing_WrenchStamped> wrench(cell_.participant(), protocol::robot::kWrench);

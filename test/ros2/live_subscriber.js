@@ -6,7 +6,10 @@
 //
 //   node live_subscriber.js --domain 42 --topic /servo_node/delta_twist_cmds \
 //        --type geometry_msgs/msg/TwistStamped --count 100 [--reliability reliable|best_effort]
-//        [--participant-index 99] [--timeout-s 60] [--verbose] [--as-is]
+//        [--participant-index 99] [--address 127.0.0.1] [--timeout-s 60] [--verbose] [--as-is]
+//
+// --address is the IPv4 address of the interface it announces to its peers (on loopback 127.0.0.1; in a
+// lab host, its eth0 address: there discovery is by multicast on eth0, deploy/cyclonedds-lab.xml).
 //
 // Prints one JSON line per event on stdout: {"event":"started",...}, {"event":"publisher",...} when a
 // matching writer is discovered, {"event":"sample","recv_ns":…,"msg":{…}} per sample, and
@@ -56,6 +59,7 @@ const dataType = arg("type");
 const count = Number(arg("count", "100"));
 const reliable = arg("reliability", "reliable") === "reliable";
 const participantIndex = Number(arg("participant-index", "99"));
+const address = arg("address", "127.0.0.1");
 const timeoutMs = 1000 * Number(arg("timeout-s", "60"));
 
 function emit(obj) {
@@ -93,7 +97,7 @@ async function main() {
   const node = new ros2.RosNode({
     name: "rigger_live_subscriber",
     domainId,
-    addresses: ["127.0.0.1"],
+    addresses: [address],
     udpSocketCreate,
     log: process.argv.includes("--verbose") ? console : undefined,
   });
@@ -126,7 +130,7 @@ async function main() {
     sub = new ros2.Subscription({ subscribeOpts, readerEntityId, participant, msgDefinition });
   }
   emit({ event: "started", domain: domainId, dds_topic: subscribeOpts.topicName, type: subscribeOpts.typeName,
-         reliable, as_is: process.argv.includes("--as-is"),
+         reliable, as_is: process.argv.includes("--as-is"), address,
          port: rtps.discoveryUnicastPort(domainId, participantIndex) });
 
   let received = 0;
