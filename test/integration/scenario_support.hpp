@@ -7,8 +7,10 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -349,6 +351,25 @@ class ScenarioCell {
 
   static const char* state_name(int s) { return protocol::task::node_state_name(s); }
 
+  /// The times the simulator fell behind real time and skipped ahead (its log says so, at most every 5 s):
+  /// then the robot's wrench and state had a gap, which a monitor may report as SENSOR_STALE. Empty when it
+  /// never did; otherwise a line with the overruns and the worst lag logged.
+  std::string simulator_lag() const {
+    std::ifstream log(cell_.log_dir() + "/cell_sim.log");
+    const std::string key = "physics behind real time lag_ms=";
+    long worst_ms = 0, overruns = 0;
+    for (std::string line; std::getline(log, line);) {
+      const auto at = line.find(key);
+      if (at == std::string::npos) continue;
+      worst_ms = std::max(worst_ms, std::strtol(line.c_str() + at + key.size(), nullptr, 10));
+      const auto o = line.find("overruns=", at);
+      if (o != std::string::npos) overruns = std::strtol(line.c_str() + o + 9, nullptr, 10);
+    }
+    if (overruns == 0) return "";
+    return "  the simulator fell behind real time " + std::to_string(overruns) + " time(s), worst lag logged " +
+           std::to_string(worst_ms) + " ms (cell_sim.log): the machine was short of CPU\n";
+  }
+
   /// What each service's process used of the CPU over the (first) insertion — the 500 Hz wrench, the
   /// camera images and the visual servo — in % of one core (/proc/<pid>/stat), with the insertion's wall
   /// time and the machine's load average (other work shares it). Empty before the insertion ended.
@@ -539,7 +560,7 @@ inline void print_report(const ScenarioCell& s, const std::string& title) {
   if (const auto e = s.insertion_error())
     std::printf("  load vs insertion pose (ground truth): %.1f mm, %.2f deg\n", e->first * 1000.0,
                 e->second * 180.0 / M_PI);
-  std::printf("%s", s.insertion_cpu().c_str());
+  std::printf("%s%s", s.insertion_cpu().c_str(), s.simulator_lag().c_str());
 }
 
 }  // namespace rigger::testing::scenario
