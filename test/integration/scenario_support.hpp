@@ -370,7 +370,7 @@ class ScenarioCell {
            std::to_string(worst_ms) + " ms (cell_sim.log): the machine was short of CPU\n";
   }
 
-  /// What each service's process used of the CPU over the (first) insertion — the 500 Hz wrench, the
+  /// What each service's process used of the CPU over the (first) insertion — the 1 kHz wrench, the
   /// camera images and the visual servo — in % of one core (/proc/<pid>/stat), with the insertion's wall
   /// time and the machine's load average (other work shares it). Empty before the insertion ended.
   std::string insertion_cpu() const {
