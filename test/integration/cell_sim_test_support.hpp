@@ -71,11 +71,13 @@ struct SimStatusView {
 /// with acknowledgements. Handlers run on the cell's event loop.
 class SimChannel {
  public:
-  explicit SimChannel(Cell& cell)
+  /// `can_control` false: status only, no writer on rigger/sim/control (a test participant whose DDS
+  /// permissions only let it read: send() then answers nothing).
+  explicit SimChannel(Cell& cell, bool can_control = true)
       : status_(cell.participant(), protocol::sim::kStatus.name, dds::qos::sensor_stream()),
         events_(cell.participant(), protocol::sim::kEvent.name, dds::qos::events()),
-        control_(cell.participant(), protocol::sim::kControl),
         cell_(cell) {
+    if (can_control) control_.emplace(cell.participant(), protocol::sim::kControl);
     cell.loop().on_data(status_, [this] {
       status_.take([this](const rigger_sim_SimStatus& s, const dds_sample_info_t&) {
         SimStatusView v;
@@ -106,7 +108,7 @@ class SimChannel {
   /// Sends a control and waits for its acknowledgement; returns it (nullopt: no answer within 5 s).
   std::optional<std::pair<bool, std::string>> send(rigger_sim_SimControlKind kind, bool on, double value = 0.0,
                                                    const Eigen::Vector3d& vector = Eigen::Vector3d::Zero()) {
-    if (!control_.wait_for_readers(1, std::chrono::seconds(5))) return std::nullopt;
+    if (!control_ || !control_->wait_for_readers(1, std::chrono::seconds(5))) return std::nullopt;
     rigger_sim_SimControl c{};
     c.header.stamp = dds::wire_now();
     c.seq = ++seq_;
@@ -115,7 +117,7 @@ class SimChannel {
     c.value = value;
     c.vector = dds::to_wire_vector(vector);
     c.source = const_cast<char*>(kSource);
-    control_.write(c);
+    control_->write(c);
     const std::uint64_t seq = seq_;
     if (!cell_.wait_until([&] { return acks_.count(seq) > 0; }, std::chrono::seconds(5))) return std::nullopt;
     return acks_.at(seq);
@@ -129,7 +131,7 @@ class SimChannel {
   static constexpr const char* kSource = "integration-test";
   dds::Reader<rigger_sim_SimStatus> status_;
   dds::Reader<rigger_sim_SimEvent> events_;
-  dds::Writer<rigger_sim_SimControl> control_;
+  std::optional<dds::Writer<rigger_sim_SimControl>> control_;
   Cell& cell_;
   std::vector<SimStatusView> history_;
   std::map<std::uint64_t, std::pair<bool, std::string>> acks_;

@@ -5,12 +5,18 @@
 // test watching the task, the nodes and the simulator's ground truth. Nothing sleeps: every wait is on
 // samples, with a deadline.
 #include <signal.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -58,6 +64,9 @@ inline double seconds_of(const rigger_geometry_Time& t) {
 /// The whole cell: starts the services, observes the task and the physics.
 class ScenarioCell {
  public:
+  /// The recipe's insertion node (recipes/crane_insert.json), over which insertion_cpu() measures.
+  static constexpr const char* kInsertion = "insert visually guided";
+
   /// `operator_rules`: extra --rule arguments for the scripted operator (first match wins, before its
   /// configured rules). `scripted_operator` false: no scripted operator runs (a person, or a browser
   /// test, answers the prompts).
@@ -77,14 +86,24 @@ class ScenarioCell {
     return std::unique_ptr<ScenarioCell>(new ScenarioCell(cell, {}, true, {}, true));
   }
 
+  /// The cell with DDS Security on (docs/security.md), as `rigger-compose up --secure` runs it: every
+  /// service on deploy/cyclonedds-secure.xml with the PKI in `pki_dir` (deploy/security/make-pki), each
+  /// as its own identity, the name of its service in deploy/compose.yaml. The test's own participant must
+  /// be a permitted reader (identity `observer`, set in the environment before the Cell was made): this
+  /// ScenarioCell opens no writer, so submit() and sim().send() are not available; recipes go through a
+  /// permitted riggerctl (watch() follows them).
+  static std::unique_ptr<ScenarioCell> secured(Cell& cell, const std::string& pki_dir) {
+    return std::unique_ptr<ScenarioCell>(new ScenarioCell(cell, {}, true, {}, false, pki_dir));
+  }
+
  private:
   ScenarioCell(Cell& cell, std::vector<std::string> operator_rules, bool scripted_operator,
-               std::vector<std::string> started_elsewhere, bool behind_ros2_bridge = false)
+               std::vector<std::string> started_elsewhere, bool behind_ros2_bridge = false, std::string pki_dir = "")
       : cell_(cell),
         scripted_operator_(scripted_operator),
         behind_ros2_bridge_(behind_ros2_bridge),
-        sim_(cell),
-        recipes_(cell.participant(), protocol::task::kRecipe.name, dds::qos::commands()),
+        pki_dir_(std::move(pki_dir)),
+        sim_(cell, pki_dir_.empty()),
         status_(cell.participant(), protocol::task::kStatus.name, dds::qos::state()),
         nodes_(cell.participant(), protocol::task::kNodeStatus.name, dds::qos::state_changes()),
         truth_(cell.participant(), protocol::sim::kGroundTruth),
@@ -92,6 +111,7 @@ class ScenarioCell {
         gripper_(cell.participant(), protocol::robot::kGripperState),
         crane_(cell.participant(), protocol::crane::kState),
         commands_(cell.participant(), protocol::skill::kCommand) {
+    if (pki_dir_.empty()) recipes_.emplace(cell.participant(), protocol::task::kRecipe.name, dds::qos::commands());
     cell.loop().on_data(commands_, [this] {
       commands_.take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
         if (c.kind != rigger_skill_SKILL_PAUSE || pause_seen_at_) return;
@@ -120,12 +140,18 @@ class ScenarioCell {
         if (dds::to_string(s.task_id) != task_id_) return;
         NodeView& n = nodes_seen_[dds::to_string(s.node_id)];
         const int state = static_cast<int>(s.state);
+        const std::string name = dds::to_string(s.name);
+        if (name == kInsertion && state == rigger_task_NODE_RUNNING && !insertion_started_)
+          insertion_started_ = CpuMark{Clock::now(), cpu_seconds()};
+        if (name == kInsertion && insertion_started_ && !insertion_ended_ && state != rigger_task_NODE_RUNNING &&
+            state != rigger_task_NODE_IDLE)
+          insertion_ended_ = CpuMark{Clock::now(), cpu_seconds()};
         if (state == rigger_task_NODE_RUNNING && n.state != rigger_task_NODE_RUNNING) {
           ++n.runs;
           if (const auto e = insertion_error()) error_at_start_[dds::to_string(s.name)] = *e;
         }
         n.state = state;
-        n.name = dds::to_string(s.name);
+        n.name = name;
         n.type = dds::to_string(s.node_type);
         n.executor = dds::to_string(s.executor_id);
         n.code = dds::to_string(s.code);
@@ -193,13 +219,13 @@ class ScenarioCell {
   bool submit_json(const nlohmann::json& recipe) {
     watch(recipe.at("task_id").get<std::string>());
     const std::string text = recipe.dump();
-    if (!recipes_.wait_for_readers(1, 10s)) return false;
+    if (!recipes_ || !recipes_->wait_for_readers(1, 10s)) return false;
     rigger_task_Recipe r{};
     r.task_id = dds::wire_string(task_id_);
     r.recipe_json = dds::wire_string(text);
     r.submitter = dds::wire_string("scenario-test");
     r.stamp = dds::wire_now();
-    recipes_.write(r);
+    recipes_->write(r);
     submitted_ = Clock::now();
     return true;
   }
@@ -310,7 +336,8 @@ class ScenarioCell {
   /// Starts a second task controller (harness name and service id `id`) on the first one's configuration
   /// and journal, as an operator restarts a crashed controller; waits until it is READY.
   bool restart_controller(const std::string& id) {
-    cell_.start(id, "task_controller", {"--id", id, "--config", cell_.log_dir() + "/task_controller.json"});
+    start(id, "task_controller", {"--id", id, "--config", cell_.log_dir() + "/task_controller.json"},
+          "task_controller");
     return cell_.wait_ready({id}, 60s);
   }
 
@@ -332,6 +359,54 @@ class ScenarioCell {
   }
 
   static const char* state_name(int s) { return protocol::task::node_state_name(s); }
+
+  /// The times the simulator fell behind real time and skipped ahead (its log says so, at most every 5 s):
+  /// then the robot's wrench and state had a gap, which a monitor may report as SENSOR_STALE. Empty when it
+  /// never did; otherwise a line with the overruns and the worst lag logged.
+  std::string simulator_lag() const {
+    std::ifstream log(cell_.log_dir() + "/cell_sim.log");
+    const std::string key = "physics behind real time lag_ms=";
+    long worst_ms = 0, overruns = 0;
+    for (std::string line; std::getline(log, line);) {
+      const auto at = line.find(key);
+      if (at == std::string::npos) continue;
+      worst_ms = std::max(worst_ms, std::strtol(line.c_str() + at + key.size(), nullptr, 10));
+      const auto o = line.find("overruns=", at);
+      if (o != std::string::npos) overruns = std::strtol(line.c_str() + o + 9, nullptr, 10);
+    }
+    if (overruns == 0) return "";
+    return "  the simulator fell behind real time " + std::to_string(overruns) + " time(s), worst lag logged " +
+           std::to_string(worst_ms) + " ms (cell_sim.log): the machine was short of CPU\n";
+  }
+
+  /// What each service's process used of the CPU over the (first) insertion — the 1 kHz wrench, the
+  /// camera images and the visual servo — in % of one core (/proc/<pid>/stat), with the insertion's wall
+  /// time and the machine's load average (other work shares it). Empty before the insertion ended.
+  std::string insertion_cpu() const {
+    if (!insertion_started_ || !insertion_ended_) return "";
+    const double wall_s = std::chrono::duration<double>(insertion_ended_->at - insertion_started_->at).count();
+    if (wall_s <= 0.0) return "";
+    std::ifstream loadavg("/proc/loadavg");
+    std::string l1, l5, l15;
+    loadavg >> l1 >> l5 >> l15;
+    char head[160];
+    std::snprintf(head, sizeof head, "  CPU over the insertion (%.1f s, load average %s %s %s), %% of one core:\n",
+                  wall_s, l1.c_str(), l5.c_str(), l15.c_str());
+    std::string out = head;
+    double total = 0.0;
+    for (const auto& name : services_) {
+      const auto a = insertion_started_->cpu_s.find(name), b = insertion_ended_->cpu_s.find(name);
+      if (a == insertion_started_->cpu_s.end() || b == insertion_ended_->cpu_s.end()) continue;
+      const double percent = 100.0 * (b->second - a->second) / wall_s;
+      total += percent;
+      char line[120];
+      std::snprintf(line, sizeof line, "    %-20s %5.1f %%\n", name.c_str(), percent);
+      out += line;
+    }
+    char sum[80];
+    std::snprintf(sum, sizeof sum, "    %-20s %5.1f %%\n", "all services", total);
+    return out + sum;
+  }
 
  private:
   // The load's insertion as every process gets it: derived from the STEP models (rigger_cell_cad).
@@ -359,25 +434,59 @@ class ScenarioCell {
     return path;
   }
 
+  // Starts one service of the cell as process (and log) `name`; secured, as DDS identity `identity`
+  // (default: `name`), with the environment rigger-compose up --secure gives it.
+  void start(const std::string& name, const std::string& binary, std::vector<std::string> args,
+             const std::string& identity = "") {
+    std::map<std::string, std::string> env;
+    if (!pki_dir_.empty())
+      env = {{"CYCLONEDDS_URI", "file://" + repo_file("deploy/cyclonedds-secure.xml")},
+             {"RIGGER_SECURITY_DIR", pki_dir_},
+             {"RIGGER_IDENTITY", identity.empty() ? name : identity}};
+    cell_.start(name, binary, std::move(args), true, env);
+    services_.push_back(name);
+  }
+
+  // CPU time (user + system, s) of each service process that still runs, from /proc/<pid>/stat.
+  std::map<std::string, double> cpu_seconds() const {
+    std::map<std::string, double> cpu;
+    const double tick = static_cast<double>(sysconf(_SC_CLK_TCK));
+    for (const auto& name : services_) {
+      ChildProcess& p = cell_.process(name);
+      if (!p.running()) continue;
+      std::ifstream in("/proc/" + std::to_string(p.pid()) + "/stat");
+      const std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      const auto close = stat.rfind(')');
+      if (close == std::string::npos) continue;
+      std::istringstream fields(stat.substr(close + 1));
+      std::string field;
+      double ticks = 0.0;
+      for (int i = 3; i <= 15 && fields >> field; ++i)  // fields 14 and 15: utime, stime (proc(5))
+        if (i >= 14) ticks += std::stod(field);
+      cpu[name] = ticks / tick;
+    }
+    return cpu;
+  }
+
   void start_services(std::vector<std::string> operator_rules) {
     const std::string port = std::to_string(free_tcp_port());
     const std::string dir = cell_.log_dir();
     if (behind_ros2_bridge_) {
-      cell_.start("cell_sim", "cell_sim",
-                  {"--config", config("cell_sim", {{"ros2_driver", nlohmann::json::object()}}), "--plc-port", port});
-      cell_.start("ros2_bridge", "ros2_bridge", {"--config", repo_file("deploy/config/ros2_bridge.json")});
+      start("cell_sim", "cell_sim",
+            {"--config", config("cell_sim", {{"ros2_driver", nlohmann::json::object()}}), "--plc-port", port});
+      start("ros2_bridge", "ros2_bridge", {"--config", repo_file("deploy/config/ros2_bridge.json")});
     } else {
-      cell_.start("cell_sim", "cell_sim", {"--config", config("cell_sim"), "--plc-port", port});
+      start("cell_sim", "cell_sim", {"--config", config("cell_sim"), "--plc-port", port});
     }
-    cell_.start("crane_gateway", "crane_gateway", {"--config", config("crane_gateway"), "--plc-port", port});
-    cell_.start("world_model", "world_model", {"--config", config("world_model"), "--db", dir + "/world_model.sqlite"});
-    cell_.start("vision_tracker", "vision_tracker", {"--config", config("vision_tracker")});
-    cell_.start("admittance_control", "admittance_control", {"--config", config("admittance_control")});
-    cell_.start("monitors", "monitor_host", {"--id", "monitors", "--config", config("monitor_host")});
+    start("crane_gateway", "crane_gateway", {"--config", config("crane_gateway"), "--plc-port", port});
+    start("world_model", "world_model", {"--config", config("world_model"), "--db", dir + "/world_model.sqlite"});
+    start("vision_tracker", "vision_tracker", {"--config", config("vision_tracker")});
+    start("admittance_control", "admittance_control", {"--config", config("admittance_control")});
+    start("monitors", "monitor_host", {"--id", "monitors", "--config", config("monitor_host")}, "monitor_host");
     for (const char* executor : {"robot-skills", "perception-skills", "operator-skills"})
-      cell_.start(executor, "skill_executor", {"--id", executor, "--config", config(executor)});
-    cell_.start("task_controller", "task_controller",
-                {"--config", config("task_controller", {{"journal_path", dir + "/journal.sqlite"}})});
+      start(executor, "skill_executor", {"--id", executor, "--config", config(executor)});
+    start("task_controller", "task_controller",
+          {"--config", config("task_controller", {{"journal_path", dir + "/journal.sqlite"}})});
     std::vector<std::string> args = {"--config", config("scripted_operator")};
     for (auto& r : operator_rules) {
       args.push_back("--rule");
@@ -387,7 +496,7 @@ class ScenarioCell {
                                       "admittance_control", "monitors",       "robot-skills", "perception-skills",
                                       "operator-skills",    "task_controller"};
     if (scripted_operator_) {
-      cell_.start("scripted_operator", "scripted_operator", args);
+      start("scripted_operator", "scripted_operator", args);
       ready.push_back("scripted_operator");
     }
     if (behind_ros2_bridge_) ready.push_back("ros2_bridge");
@@ -404,8 +513,16 @@ class ScenarioCell {
   Cell& cell_;
   bool scripted_operator_ = true;
   bool behind_ros2_bridge_ = false;
+  std::string pki_dir_;                // empty: DDS Security off
+  std::vector<std::string> services_;  // the processes start() made, in start order
+  // CPU time per service and wall clock when the (first) insertion started and when it ended.
+  struct CpuMark {
+    Clock::time_point at{};
+    std::map<std::string, double> cpu_s;
+  };
+  std::optional<CpuMark> insertion_started_, insertion_ended_;
   SimChannel sim_;
-  dds::Writer<rigger_task_Recipe> recipes_;
+  std::optional<dds::Writer<rigger_task_Recipe>> recipes_;  // none when secured
   dds::Reader<rigger_task_TaskStatus> status_;
   dds::Reader<rigger_task_NodeStatus> nodes_;
   dds::Reader<rigger_vision_TrackedPose> truth_;
@@ -433,5 +550,26 @@ class ScenarioCell {
   std::uint64_t robot_samples_ = 0;
   bool gripper_energized_ = false, gripper_holding_ = false, ever_held_ = false;
 };
+
+/// Where the load was screwed on: its true pose against the insertion pose when the release started
+/// (once released it hangs from the rope again). Printed, and within 5 mm and 1 degree.
+inline void expect_screwed_on(const ScenarioCell& s) {
+  const auto error = s.insertion_error_at_start("release and retreat");
+  ASSERT_TRUE(error.has_value()) << "the release never started";
+  std::printf("  load vs insertion pose when screwed on (before the release): %.1f mm, %.2f deg\n",
+              error->first * 1000.0, error->second * 180.0 / M_PI);
+  EXPECT_LT(error->first, 0.005) << "the load is not where the insertion puts it";
+  EXPECT_LT(error->second, 1.0 * M_PI / 180.0);
+}
+
+/// Prints how the task ended, each skill's duration, the load's error and the CPU used over the insertion.
+inline void print_report(const ScenarioCell& s, const std::string& title) {
+  std::printf("--- %s: task %s after %.1f s\n%s", title.c_str(),
+              s.task_code().empty() ? "ended" : s.task_code().c_str(), s.task_seconds(), s.durations().c_str());
+  if (const auto e = s.insertion_error())
+    std::printf("  load vs insertion pose (ground truth): %.1f mm, %.2f deg\n", e->first * 1000.0,
+                e->second * 180.0 / M_PI);
+  std::printf("%s%s", s.insertion_cpu().c_str(), s.simulator_lag().c_str());
+}
 
 }  // namespace rigger::testing::scenario

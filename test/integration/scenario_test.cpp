@@ -79,29 +79,10 @@ class ScenarioTest : public MultiProcessTest {
     return expect_still_after_kill(s, kill_time, "the task controller");
   }
 
-  /// Where the load was screwed on: its true pose against the insertion pose when the release started
-  /// (once released it hangs from the rope again). Printed, and within 5 mm and 1 degree.
-  void expect_screwed_on(const ScenarioCell& s) {
-    const auto error = s.insertion_error_at_start("release and retreat");
-    ASSERT_TRUE(error.has_value()) << "the release never started";
-    std::printf("  load vs insertion pose when screwed on (before the release): %.1f mm, %.2f deg\n",
-                error->first * 1000.0, error->second * 180.0 / M_PI);
-    EXPECT_LT(error->first, 0.005) << "the load is not where the insertion puts it";
-    EXPECT_LT(error->second, 1.0 * M_PI / 180.0);
-  }
-
   /// Pushes the load's centre with a constant force (world frame, N; zero removes it), as `riggerctl sim
   /// load-force` does; true once the simulator acknowledged it.
   static bool push_load(ScenarioCell& s, const Eigen::Vector3d& force_n) {
     return s.sim().send(rigger_sim_SIM_SET_LOAD_FORCE, true, 0.0, force_n).value_or(std::make_pair(false, "")).first;
-  }
-
-  void print_report(const ScenarioCell& s, const std::string& title) {
-    std::printf("--- %s: task %s after %.1f s\n%s", title.c_str(),
-                s.task_code().empty() ? "ended" : s.task_code().c_str(), s.task_seconds(), s.durations().c_str());
-    if (const auto e = s.insertion_error())
-      std::printf("  load vs insertion pose (ground truth): %.1f mm, %.2f deg\n", e->first * 1000.0,
-                  e->second * 180.0 / M_PI);
   }
 };
 

@@ -22,111 +22,35 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "../two_step_recipe.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/qos.hpp"
 #include "rigger/protocol/crane.hpp"
 #include "rigger/protocol/task.hpp"
 #include "rigger/testing/cell.hpp"
-#include "../two_step_recipe.hpp"
+#include "security_support.hpp"
 
 namespace rigger::testing {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using namespace security;
 using namespace std::chrono_literals;
 
-// The PKI (made once for the test program) and an intruder's folder in which the identity CA also
-// plays the permissions CA.
-std::string g_base, g_keys, g_pki, g_rogue;
-
-std::string secure_uri() { return std::string("file://") + RIGGER_SOURCE_DIR + "/deploy/cyclonedds-secure.xml"; }
-// rigger-compose and the probe of this build (the services may come from $RIGGER_BIN_DIR).
-std::string own_binary(const std::string& name) { return std::string(RIGGER_BINARY_DIR) + "/bin/" + name; }
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_text(const std::string& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-}
-
-// Runs a command to its end; its output goes to <g_base>/<name>.log. Returns (status, output).
-std::pair<ExitStatus, std::string> run(const std::string& name, const std::string& binary,
-                                       const std::vector<std::string>& args,
-                                       const std::map<std::string, std::string>& env = {},
-                                       std::chrono::milliseconds timeout = 120s) {
-  ChildProcess p(binary, args, env, g_base + "/" + name + ".log");
-  auto st = p.wait(timeout);
-  if (!st) {
-    p.signal(SIGKILL);
-    st = p.wait(5s);
-    ADD_FAILURE() << name << " did not finish within " << timeout.count() << " ms";
-  }
-  return {st.value_or(ExitStatus{}), p.log()};
-}
+TestPki g_pki;
+std::string g_base;
 
 class SecurityTest : public ::testing::Test {
  public:
   static void SetUpTestSuite() {
     g_base = std::string(RIGGER_BINARY_DIR) + "/test-logs/SecurityTest-" + std::to_string(getpid());
-    // Keys never go into the repository (make-pki refuses): a private folder under /tmp.
-    g_keys = "/tmp/rigger-security-test-" + std::to_string(getpid());
-    g_pki = g_keys + "/pki";
-    g_rogue = g_keys + "/rogue";
-    fs::create_directories(g_base);
-    const auto [made, out] = run("make-pki", std::string(RIGGER_SOURCE_DIR) + "/deploy/security/make-pki",
-                                 {"--catalog", own_binary("rigger-topic-catalog"), g_pki});
-    ASSERT_TRUE(made.ok()) << out;
-    ASSERT_EQ(fs::status(g_pki + "/identities/task_controller/key.pem").permissions() & fs::perms::all,
-              fs::perms::owner_read | fs::perms::owner_write);
-    make_rogue();
+    g_pki.make(g_base, "rigger-security-test");
     // The test's own participant (the Cell's) is a permitted reader of everything: identity "observer".
-    setenv("CYCLONEDDS_URI", secure_uri().c_str(), 1);
-    setenv("RIGGER_SECURITY_DIR", g_pki.c_str(), 1);
-    setenv("RIGGER_IDENTITY", "observer", 1);
+    g_pki.join_as("observer");
   }
 
-  static void TearDownTestSuite() {
-    if (!g_keys.empty()) fs::remove_all(g_keys);
-  }
-
-  // An intruder who holds the identity CA's key (or one who made their own permissions CA and got the
-  // cell's identity CA to sign it): a real identity (vision_tracker's certificate and key), permissions
-  // granting every topic, signed by the identity CA, which its own configuration trusts as permissions CA.
-  static void make_rogue() {
-    const std::string id = g_rogue + "/identities/vision_tracker";
-    fs::create_directories(id);
-    fs::create_directories(g_rogue + "/ca");
-    fs::copy_file(g_pki + "/ca/identity_ca.pem", g_rogue + "/ca/identity_ca.pem");
-    fs::copy_file(g_pki + "/ca/identity_ca.pem", g_rogue + "/ca/permissions_ca.pem");
-    fs::copy_file(g_pki + "/identities/vision_tracker/cert.pem", id + "/cert.pem");
-    fs::copy_file(g_pki + "/identities/vision_tracker/key.pem", id + "/key.pem");
-    const std::string mine = slurp(g_pki + "/identities/vision_tracker/permissions.xml");
-    const auto a = mine.find("<subject_name>"), b = mine.find("</subject_name>");
-    ASSERT_NE(a, std::string::npos);
-    const std::string subject = mine.substr(a, b - a + 15);
-    write_text(id + "/permissions.xml",
-               "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<dds><permissions><grant name=\"everything\">" + subject +
-                   "<validity><not_before>2020-01-01T00:00:00</not_before><not_after>2100-01-01T00:00:00</not_after>"
-                   "</validity><allow_rule><domains><id_range><min>0</min><max>230</max></id_range></domains>"
-                   "<publish><topics><topic>*</topic></topics></publish>"
-                   "<subscribe><topics><topic>*</topic></topics></subscribe></allow_rule>"
-                   "<default>DENY</default></grant></permissions></dds>\n");
-    for (const auto& [in, out] : {std::pair{id + "/permissions.xml", id + "/permissions.p7s"},
-                                  std::pair{g_pki + "/governance.xml", g_rogue + "/governance.p7s"}}) {
-      const auto [signed_ok, log] =
-          run("rogue-sign", "/usr/bin/openssl",
-              {"smime", "-sign", "-in", in, "-text", "-out", out, "-signer", g_pki + "/ca/identity_ca.pem", "-inkey",
-               g_pki + "/ca/identity_ca.key"});
-      ASSERT_TRUE(signed_ok.ok()) << log;
-    }
-  }
+  static void TearDownTestSuite() { g_pki.remove(); }
 
  protected:
   void SetUp() override {
@@ -166,7 +90,7 @@ class SecurityTest : public ::testing::Test {
 
   std::pair<ExitStatus, std::string> compose(const std::string& name, std::vector<std::string> args) {
     args.insert(args.begin(), {"--file", compose_});
-    return run(name + "-" + std::to_string(cell_.domain_id()), own_binary("rigger-compose"), args,
+    return run(g_base, name + "-" + std::to_string(cell_.domain_id()), own_binary("rigger-compose"), args,
                {{"RIGGER_IDENTITY", "rigger-compose"}}, 90s);
   }
 
@@ -180,11 +104,8 @@ class SecurityTest : public ::testing::Test {
                                           [loop] { loop->post([] {}); });
   }
 
-  std::map<std::string, std::string> secure_env(const std::string& identity, const std::string& pki = g_pki) {
-    return {{"CYCLONEDDS_URI", secure_uri()},
-            {"RIGGER_SECURITY_DIR", pki},
-            {"RIGGER_IDENTITY", identity},
-            {"RIGGER_DOMAIN", std::to_string(cell_.domain_id())}};
+  std::map<std::string, std::string> secure_env(const std::string& identity) {
+    return g_pki.env(identity, cell_.domain_id());
   }
 
   Cell cell_;
@@ -237,22 +158,11 @@ TEST_F(SecurityTest, IntrudersAreIgnoredWhileAPermittedRiggerctlRunsARecipe) {
 
   // The intruders, and a control that may command the crane (admittance_control's identity): its
   // velocity must reach the test's reader, which shows that an accepted one would have been seen.
-  const std::string domain = std::to_string(cell_.domain_id());
-  struct Probe {
-    std::string label;
-    std::map<std::string, std::string> env;
-    std::unique_ptr<ChildProcess> process;
-  };
-  std::vector<Probe> probes;
-  probes.push_back({"no-identity",
-                    {{"CYCLONEDDS_URI", default_dds_config_uri()}, {"RIGGER_IDENTITY", ""}, {"RIGGER_SECURITY_DIR", ""}},
-                    nullptr});
-  probes.push_back({"no-permission", secure_env("vision_tracker"), nullptr});
-  probes.push_back({"rogue-permissions", secure_env("vision_tracker", g_rogue), nullptr});
+  std::vector<Probe> probes = intruders(g_pki, cell_.domain_id());
   probes.push_back({"control", secure_env("admittance_control"), nullptr});
   for (auto& p : probes)
-    p.process = start("probe-" + p.label, own_binary("rigger_security_probe"),
-                      {"--domain", domain, "--label", p.label, "--cancel", task, "--match-window-ms", "2500"}, p.env);
+    p.process =
+        start("probe-" + p.label, own_binary("rigger_security_probe"), probe_args(p, cell_.domain_id(), task), p.env);
   ASSERT_TRUE(cell_.wait_until(
       [&] {
         for (auto& p : probes)
@@ -284,22 +194,10 @@ TEST_F(SecurityTest, IntrudersAreIgnoredWhileAPermittedRiggerctlRunsARecipe) {
   EXPECT_EQ(task_states.count("attack-control"), 0u) << "the control may not submit recipes";
 
   // Every attempt is in a log: the probes' own, which say what DDS did with them.
+  expect_intruders_logged(dir_);
   const auto probe_log = [&](const std::string& label) { return slurp(dir_ + "/probe-" + label + ".log"); };
-  for (const auto& label : {"no-identity", "no-permission", "rogue-permissions"}) {
-    const auto log = probe_log(label);
-    for (const auto* topic : {protocol::task::kCommand.name, protocol::task::kRecipe.name, protocol::crane::kCmdVelocity.name}) {
-      EXPECT_NE(log.find(std::string(topic) + ": "), std::string::npos) << label << " did not try " << topic << "\n" << log;
-      EXPECT_EQ(log.find(std::string(topic) + ": MATCHED"), std::string::npos) << label << " matched a reader of " << topic
-                                                                              << "\n" << log;
-    }
-  }
-  // The identity without permission is refused by its own DDS, before anything reaches the wire.
-  EXPECT_NE(probe_log("no-permission").find(std::string(protocol::task::kRecipe.name) + ": writer REFUSED locally"),
-            std::string::npos)
-      << probe_log("no-permission");
   // The permissions signed by the identity CA are rejected by the cell's own DDS, which logs it.
-  EXPECT_NE(service_log("task_controller").find("permissions from plugin: Failed to parse PKCS7 SMIME document"),
-            std::string::npos)
+  EXPECT_NE(service_log("task_controller").find(kRoguePermissionsRejected), std::string::npos)
       << service_log("task_controller");
   EXPECT_NE(probe_log("control").find(std::string(protocol::crane::kCmdVelocity.name) + ": MATCHED"), std::string::npos)
       << probe_log("control");
