@@ -233,7 +233,7 @@ class ScenarioCell {
   /// The crane gateway holds its PLC link and reports neither a fault nor a safe stop.
   bool crane_ready() const { return crane_ready_; }
   /// How many task controllers' recipe readers this cell's recipe writer matches now.
-  uint32_t recipe_readers() const { return recipes_.matched_readers(); }
+  uint32_t recipe_readers() const { return recipes_ ? recipes_->matched_readers() : 0; }
 
   /// Runs the test's loop until the task ended or `timeout`.
   bool wait_task_end(std::chrono::milliseconds timeout) {
