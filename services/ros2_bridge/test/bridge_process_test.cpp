@@ -5,6 +5,8 @@
 // on; its reset lets the stream through again.
 // Camera: the test plays a ROS 2 camera driver writing rgb8 sensor_msgs/Image; rigger/camera/image carries
 // them as mono8 with the driver's stamp, and a stale image does not cross.
+// Joint states: the test plays joint_state_broadcaster; rigger/robot/state carries each fresh message as the
+// bridge's kinematics compute it from the shipped configuration, and refused ones do not cross.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,6 +20,8 @@
 #include "rigger/ros2/types.hpp"
 #include "rigger/safety/safe_stop.hpp"
 #include "rigger/testing/cell.hpp"
+
+#include "bridge_config.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -156,6 +160,117 @@ TEST(Ros2BridgeImageTest, ARos2CameraImageArrivesAsGreyWithItsStampAndAStaleOneD
     const unsigned expected = (299u * 4 * x + 587u * 5 * y + 114u * 100 + 500u) / 1000u;
     EXPECT_EQ(g.data[std::size_t{y} * w + x], expected) << "pixel " << x << "," << y;
   }
+  cell.stop_all();
+}
+
+void expect_same(const rigger_geometry_Pose& got, const rigger_geometry_Pose& want, const char* what) {
+  const double g[7] = {got.position.x,    got.position.y,    got.position.z,   got.orientation.x,
+                       got.orientation.y, got.orientation.z, got.orientation.w};
+  const double w[7] = {want.position.x,    want.position.y,    want.position.z,   want.orientation.x,
+                       want.orientation.y, want.orientation.z, want.orientation.w};
+  for (int i = 0; i < 7; ++i) EXPECT_EQ(g[i], w[i]) << what << " pose field " << i;
+}
+
+void expect_same(const rigger_geometry_Twist& got, const rigger_geometry_Twist& want) {
+  EXPECT_EQ(dds::to_domain(got), dds::to_domain(want)) << "tool twist";
+}
+
+TEST(Ros2BridgeJointStatesTest, AJointStateBecomesTheRobotStateComputedFromTheArmsKinematics) {
+  Cell cell;
+  ASSERT_TRUE(start_shipped_bridge(cell)) << cell.logs();
+  const Config file = Config::load(std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json");
+  const ros2_bridge::BridgeConfig shipped = ros2_bridge::read_bridge_config(file);
+  ASSERT_TRUE(shipped.joint_states);
+  const ros2_bridge::JointStatesStream& arm = *shipped.joint_states;
+  dds::Writer<sensor_msgs_msg_dds__JointState_> driver(cell.participant(), "rt/joint_states",
+                                                       ros2::qos::system_default());
+  dds::Reader<rigger_robot_RobotState> states(cell.participant(), protocol::robot::kState);
+  ASSERT_TRUE(driver.wait_for_readers(1, 5s) && states.wait_for_writers(1, 5s));
+  struct Got {
+    rigger_geometry_Time stamp;
+    std::string frame, fault;
+    rigger_robot_RobotMode mode;
+    bool moving;
+    std::uint64_t last_command_seq;
+    std::vector<double> q, qd;
+    rigger_geometry_Pose flange, tool;
+    rigger_geometry_Twist twist;
+  };
+  std::vector<Got> got;
+  cell.loop().on_data(states, [&] {
+    states.take([&](const rigger_robot_RobotState& s, const dds_sample_info_t&) {
+      got.push_back({s.header.stamp, dds::to_string(s.header.frame_id), dds::to_string(s.fault), s.mode, s.moving,
+                     s.last_command_seq, dds::to_vector<double>(s.joint_position),
+                     dds::to_vector<double>(s.joint_velocity), s.flange_pose, s.tool_pose, s.tool_twist});
+    });
+  });
+  // Message k: joint i (chain order) at 0.1 i - 0.3 + 0.01 k rad, turning at 0.05 (i + 1) rad/s, written last
+  // joint first. In turn the driver writes a fresh one, one a second old, and one naming a joint the
+  // configuration does not know.
+  struct Sent {
+    rigger_geometry_Time stamp;
+    Eigen::VectorXd q, qd;
+  };
+  std::vector<Sent> sent;
+  int k = 0;
+  const auto send = [&](std::chrono::system_clock::time_point stamp, bool unknown_joint) {
+    const int n = 7;
+    Eigen::VectorXd q(n), qd(n);
+    std::vector<std::string> names(n);
+    std::vector<char*> name_ptrs(n);
+    std::vector<double> position(n), velocity(n), effort(n, 1.5);
+    for (int j = 0; j < n; ++j) {
+      const int i = n - 1 - j;
+      q[i] = 0.1 * i - 0.3 + 0.01 * k;
+      qd[i] = 0.05 * (i + 1);
+      names[j] = unknown_joint && i == 2 ? "joint_a3_typo" : arm.joints[static_cast<std::size_t>(i)];
+      name_ptrs[j] = names[j].data();
+      position[j] = q[i];
+      velocity[j] = qd[i];
+    }
+    rigger_geometry_Header header{dds::to_wire(stamp), const_cast<char*>("")};
+    ASSERT_EQ(driver.write(ros2::to_ros2_joint_state(header, name_ptrs, position, velocity, effort)), DDS_RETCODE_OK);
+    if (!unknown_joint && std::chrono::system_clock::now() - stamp < 100ms) sent.push_back({header.stamp, q, qd});
+  };
+  // One message per tick, as joint_state_broadcaster publishes once per control cycle (system_default QoS
+  // keeps the newest sample only: a burst would leave the bridge the last one).
+  cell.loop().every(10ms, [&] {
+    ++k;
+    if (k % 3 == 0) send(std::chrono::system_clock::now(), false);
+    if (k % 3 == 1) send(std::chrono::system_clock::now() - 1s, false);
+    if (k % 3 == 2) send(std::chrono::system_clock::now(), true);
+  });
+  const auto dropped = [&](const char* reason) {
+    return cell.process("ros2_bridge").log().find(std::string("dropped joint_states reason=") + reason) !=
+           std::string::npos;
+  };
+  ASSERT_TRUE(cell.wait_until([&] { return got.size() >= 20 && dropped("stale") && dropped("unknown_joint"); }, 10s))
+      << cell.logs();
+  EXPECT_NE(cell.process("ros2_bridge").log().find("joint 'joint_a3_typo' is neither one of the arm's joints"),
+            std::string::npos);
+  for (const Got& g : got) {
+    const auto it = std::find_if(sent.begin(), sent.end(), [&](const Sent& s) {
+      return s.stamp.sec == g.stamp.sec && s.stamp.nanosec == g.stamp.nanosec;
+    });
+    ASSERT_NE(it, sent.end()) << "a robot state crossed that was not one of the fresh, valid joint states";
+    const ros2_bridge::ArmState expected = arm.kinematics->evaluate(it->q, it->qd, arm.pose_flange_tool);
+    EXPECT_EQ(g.frame, "robot");
+    EXPECT_EQ(g.fault, "");
+    EXPECT_EQ(g.mode, rigger_robot_ROBOT_IDLE);
+    EXPECT_TRUE(g.moving);
+    EXPECT_EQ(g.last_command_seq, 0u);
+    EXPECT_EQ(g.q, std::vector<double>(it->q.data(), it->q.data() + 7)) << "chain order, exactly as sent";
+    EXPECT_EQ(g.qd, std::vector<double>(it->qd.data(), it->qd.data() + 7));
+    // The same library computed both: equal to the bit, on the wire (poses as position and quaternion).
+    dds::Vector6d twist;
+    twist << expected.tool_linear_mps, expected.tool_angular_radps;
+    expect_same(g.flange, dds::to_wire(expected.pose_base_flange), "flange");
+    expect_same(g.tool, dds::to_wire(expected.pose_base_tool), "tool");
+    expect_same(g.twist, dds::to_wire_twist(twist));
+  }
+  std::printf("%zu robot states from %zu fresh joint states (and as many stale and unknown-joint ones)\n", got.size(),
+              sent.size());
+  EXPECT_GE(got.size() + 2, sent.size()) << "fresh joint states lost on the way (at most the last two in flight)";
   cell.stop_all();
 }
 
