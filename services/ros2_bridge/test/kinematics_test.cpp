@@ -2,7 +2,7 @@
 // standard DH rows, the magnet's face as the tool) against MuJoCo's own model of that arm
 // (services/cell_sim/physics/models/cell.xml): flange and tool poses from MuJoCo's kinematics, the tool
 // velocity from mj_objectVelocity, at many joint configurations and velocities within the joint ranges.
-// The DH form is exact for this arm (every axis meets the next or is parallel to it, and the links are
+// The DH form is exact for this arm (every axis meets the next at a right angle, and the links are
 // straight in the zero position), so the bound asserted is rounding: 1 µm and 1 µrad, far below the
 // 0.05 mm / 0.01° a pose consumer would notice; the figures of the run are printed.
 #include <gtest/gtest.h>
