@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <stdexcept>
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/robot.hpp"
@@ -33,6 +34,14 @@ bool start_shipped_bridge(Cell& cell) {
   cell.start("ros2_bridge", "ros2_bridge",
              {"--id", "ros2_bridge", "--config", std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json"});
   return cell.wait_ready({"ros2_bridge"}, 10s);
+}
+
+/// The shipped configuration's joint_states stream: the arm the bridge computes with.
+ros2_bridge::JointStatesStream shipped_joint_states() {
+  const Config file = Config::load(std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json");
+  const ros2_bridge::BridgeConfig shipped = ros2_bridge::read_bridge_config(file);
+  if (!shipped.joint_states) throw std::runtime_error("the shipped ros2_bridge.json bridges no joint_states");
+  return *shipped.joint_states;
 }
 
 struct Seen {
@@ -175,17 +184,22 @@ void expect_same(const rigger_geometry_Twist& got, const rigger_geometry_Twist& 
   EXPECT_EQ(dds::to_domain(got), dds::to_domain(want)) << "tool twist";
 }
 
-TEST(Ros2BridgeJointStatesTest, AJointStateBecomesTheRobotStateComputedFromTheArmsKinematics) {
+/// The shipped bridge, READY, with the test as joint_state_broadcaster (`driver`) and reading the robot state.
+class Ros2BridgeJointStatesTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(start_shipped_bridge(cell)) << cell.logs();
+    ASSERT_TRUE(driver.wait_for_readers(1, 5s) && states.wait_for_writers(1, 5s));
+  }
+
   Cell cell;
-  ASSERT_TRUE(start_shipped_bridge(cell)) << cell.logs();
-  const Config file = Config::load(std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json");
-  const ros2_bridge::BridgeConfig shipped = ros2_bridge::read_bridge_config(file);
-  ASSERT_TRUE(shipped.joint_states);
-  const ros2_bridge::JointStatesStream& arm = *shipped.joint_states;
-  dds::Writer<sensor_msgs_msg_dds__JointState_> driver(cell.participant(), "rt/joint_states",
-                                                       ros2::qos::system_default());
-  dds::Reader<rigger_robot_RobotState> states(cell.participant(), protocol::robot::kState);
-  ASSERT_TRUE(driver.wait_for_readers(1, 5s) && states.wait_for_writers(1, 5s));
+  const ros2_bridge::JointStatesStream arm = shipped_joint_states();
+  dds::Writer<sensor_msgs_msg_dds__JointState_> driver{cell.participant(), "rt/joint_states",
+                                                       ros2::qos::system_default()};
+  dds::Reader<rigger_robot_RobotState> states{cell.participant(), protocol::robot::kState};
+};
+
+TEST_F(Ros2BridgeJointStatesTest, AJointStateBecomesTheRobotStateComputedFromTheArmsKinematics) {
   struct Got {
     rigger_geometry_Time stamp;
     std::string frame, fault;
@@ -271,6 +285,53 @@ TEST(Ros2BridgeJointStatesTest, AJointStateBecomesTheRobotStateComputedFromTheAr
   std::printf("%zu robot states from %zu fresh joint states (and as many stale and unknown-joint ones)\n", got.size(),
               sent.size());
   EXPECT_GE(got.size() + 2, sent.size()) << "fresh joint states lost on the way (at most the last two in flight)";
+  cell.stop_all();
+}
+
+// What JointState does not say, the bridge says from what it knows itself: while it holds a twist command it
+// forwarded to MoveIt Servo the robot state's mode is ROBOT_VELOCITY with that command's seq, and once the
+// command's timeout has passed (the bridge then sends Servo a zero) it is ROBOT_IDLE again.
+TEST_F(Ros2BridgeJointStatesTest, ModeIsVelocityWhileTheBridgeHoldsAServoCommand) {
+  dds::Writer<rigger_sensing_TwistCommand> commands(cell.participant(), protocol::robot::kCmdTwist);
+  dds::Reader<geometry_msgs_msg_dds__TwistStamped_> servo(cell.participant(), "rt/servo_node/delta_twist_cmds",
+                                                          ros2::qos::reliable_default());
+  ASSERT_TRUE(commands.wait_for_readers(1, 5s) && servo.wait_for_writers(1, 5s));
+  std::vector<std::pair<rigger_robot_RobotMode, std::uint64_t>> modes;
+  cell.loop().on_data(states, [&] {
+    states.take([&](const rigger_robot_RobotState& s, const dds_sample_info_t&) {
+      modes.emplace_back(s.mode, s.last_command_seq);
+    });
+  });
+  std::size_t servo_samples = 0;
+  cell.loop().on_data(servo, [&] {
+    servo.take([&](const geometry_msgs_msg_dds__TwistStamped_&, const dds_sample_info_t&) { ++servo_samples; });
+  });
+  std::vector<std::string> names = arm.joints;
+  std::vector<char*> name_ptrs;
+  for (std::string& n : names) name_ptrs.push_back(n.data());
+  std::vector<double> zeros(names.size(), 0.0), effort;
+  cell.loop().every(10ms, [&] {
+    std::vector<double> position = zeros, velocity = zeros;
+    rigger_geometry_Header header{dds::wire_now(), const_cast<char*>("")};
+    driver.write(ros2::to_ros2_joint_state(header, name_ptrs, position, velocity, effort));
+  });
+  const auto last_is = [&](rigger_robot_RobotMode mode, std::uint64_t seq) {
+    return !modes.empty() && modes.back().first == mode && modes.back().second == seq;
+  };
+  ASSERT_TRUE(cell.wait_until([&] { return last_is(rigger_robot_ROBOT_IDLE, 0); }, 5s)) << cell.logs();
+  rigger_sensing_TwistCommand c{};
+  c.header.stamp = dds::wire_now();
+  c.header.frame_id = const_cast<char*>("robot");
+  c.seq = 4242;
+  c.twist.linear.x = 0.01;
+  c.timeout_s = 0.3;
+  c.source = const_cast<char*>("test");
+  ASSERT_EQ(commands.write(c), DDS_RETCODE_OK);
+  EXPECT_TRUE(cell.wait_until([&] { return last_is(rigger_robot_ROBOT_VELOCITY, 4242); }, 2s))
+      << "no ROBOT_VELOCITY state while the command is held";
+  // After the hold (0.2 s, the shipped max_hold_s) the bridge sends Servo its zero and the state is idle again.
+  EXPECT_TRUE(cell.wait_until([&] { return last_is(rigger_robot_ROBOT_IDLE, 4242) && servo_samples >= 2; }, 2s))
+      << "still ROBOT_VELOCITY after the command's hold";
   cell.stop_all();
 }
 
