@@ -122,6 +122,50 @@ TEST_F(SimulatedArm, TheShippedKinematicsGiveMujocosFlangeAndToolPosesAndToolVel
   EXPECT_LT(max_angular, 1e-6);
 }
 
+// The chain form (URDF's origins and axes), taken from MuJoCo's model itself (each arm body's offset and
+// orientation from its parent, each joint's axis, the flange site in the last link), is exact too: the form an
+// integrator would copy from a URDF whose arm is not DH-shaped.
+TEST_F(SimulatedArm, TheChainFormFromTheModelsBodiesAndAxesIsExactToo) {
+  const auto offset = [](const mjtNum* pos, const mjtNum* quat) {
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.translation() = Eigen::Vector3d(pos[0], pos[1], pos[2]);
+    t.linear() = Eigen::Quaterniond(quat[0], quat[1], quat[2], quat[3]).toRotationMatrix();
+    return t;
+  };
+  std::vector<RevoluteJoint> joints;
+  for (int i = 0; i < 7; ++i) {
+    const int j = joints_[i];
+    const int body = model_->jnt_bodyid[j];
+    ASSERT_EQ(model_->body_parentid[body], i == 0 ? base_ : model_->jnt_bodyid[joints_[i - 1]]);
+    ASSERT_EQ(Eigen::Vector3d(model_->jnt_pos[3 * j], model_->jnt_pos[3 * j + 1], model_->jnt_pos[3 * j + 2]).norm(),
+              0.0)
+        << "a joint away from its body's origin needs an extra fixed offset";
+    joints.push_back(
+        {offset(model_->body_pos + 3 * body, model_->body_quat + 4 * body),
+         Eigen::Vector3d(model_->jnt_axis[3 * j], model_->jnt_axis[3 * j + 1], model_->jnt_axis[3 * j + 2])});
+  }
+  ASSERT_EQ(model_->site_bodyid[flange_], model_->jnt_bodyid[joints_[6]]);
+  const SerialChain chain =
+      SerialChain::from_joints(joints, offset(model_->site_pos + 3 * flange_, model_->site_quat + 4 * flange_));
+  std::mt19937 random(18);
+  double max_m = 0, max_rad = 0;
+  for (int n = 0; n < 500; ++n) {
+    Eigen::VectorXd q(7), qd = Eigen::VectorXd::Zero(7);
+    for (int i = 0; i < 7; ++i) {
+      const mjtNum* range = model_->jnt_range + 2 * joints_[i];
+      q[i] = std::uniform_real_distribution<double>(range[0], range[1])(random);
+    }
+    set(q, qd);
+    const Eigen::Isometry3d flange = body_pose(*data_, base_).inverse() * site_pose(*data_, flange_);
+    const ArmState arm = chain.evaluate(q, qd, Eigen::Isometry3d::Identity());
+    max_m = std::max(max_m, (arm.pose_base_flange.translation() - flange.translation()).norm());
+    max_rad = std::max(max_rad, angle_between(arm.pose_base_flange, flange));
+  }
+  std::printf("chain form, 500 configurations: flange %.3g m %.3g rad (max)\n", max_m, max_rad);
+  EXPECT_LT(max_m, 1e-6);
+  EXPECT_LT(max_rad, 1e-6);
+}
+
 // A wrong table must fail the comparison above: one alpha sign flipped moves the flange by decimetres.
 TEST_F(SimulatedArm, AWrongDhTableIsSeen) {
   std::vector<DhRow> rows = {
