@@ -195,6 +195,11 @@ bool run_until_insertion_moves(ScenarioTest* /*unused*/, Cell& cell, ScenarioCel
 TEST_F(ScenarioTest, CraneInsertSucceedsWithTheRobotAndCameraBehindTheRos2Bridge) {
   const auto s = ScenarioCell::behind_ros2_bridge(cell_);
   ASSERT_TRUE(s->ready()) << "not every service came up";
+  // One writer of the robot state, the bridge (cell_sim writes /joint_states only): what the skills and
+  // admittance_control read is what the bridge computed.
+  dds::Reader<rigger_robot_RobotState> robot_states(cell_.participant(), protocol::robot::kState);
+  ASSERT_TRUE(robot_states.wait_for_writers(1, 10s));
+  EXPECT_EQ(robot_states.matched_writers(), 1u) << "rigger/robot/state has a writer besides the bridge";
   ASSERT_TRUE(s->submit("recipes/crane_insert.json"));
   ASSERT_TRUE(s->wait_task_end(kTaskTimeout)) << "the task did not end in time: " << s->task_summary();
   print_report(*s, "crane insert behind the ROS 2 bridge");
