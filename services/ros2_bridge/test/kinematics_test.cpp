@@ -210,6 +210,26 @@ TEST(SerialChain, ToolTwistIsTheDerivativeOfThePose) {
             1e-12);
 }
 
+// `base` goes before the first joint and `flange` after the last, in the DH form as in the chain form.
+TEST(SerialChain, BaseAndFlangePosesFrameTheArm) {
+  const std::vector<DhRow> rows = {{0.1625, 0, M_PI / 2, 0.1}, {0, -0.425, 0, -0.2}, {0.1333, 0, -M_PI / 2, 0}};
+  const Eigen::Isometry3d base(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()));
+  const Eigen::Isometry3d flange = Eigen::Translation3d(0, 0, 0.02) * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitY());
+  const SerialChain bare = SerialChain::from_dh(rows);
+  const SerialChain framed = SerialChain::from_dh(rows, base, flange);
+  Eigen::VectorXd q(3), qd(3);
+  q << 0.4, -0.9, 1.3;
+  qd << 0.2, 0.1, -0.3;
+  const ArmState a = bare.evaluate(q, qd, Eigen::Isometry3d::Identity());
+  const ArmState b = framed.evaluate(q, qd, Eigen::Isometry3d::Identity());
+  EXPECT_TRUE(b.pose_base_flange.isApprox(base * a.pose_base_flange * flange, 1e-12));
+  // The twist of the (moved) flange point, expressed in the turned base frame.
+  const Eigen::Vector3d offset_base = a.pose_base_flange.linear() * flange.translation();
+  EXPECT_TRUE(
+      b.tool_linear_mps.isApprox(base.linear() * (a.tool_linear_mps + a.tool_angular_radps.cross(offset_base)), 1e-12));
+  EXPECT_TRUE(b.tool_angular_radps.isApprox(base.linear() * a.tool_angular_radps, 1e-12));
+}
+
 TEST(SerialChain, RefusesWhatIsNotAnArm) {
   EXPECT_THROW(SerialChain::from_dh({}), std::invalid_argument);
   EXPECT_THROW(SerialChain::from_dh({{NAN, 0, 0, 0}}), std::invalid_argument);
