@@ -81,7 +81,8 @@ class ScenarioCell {
 
   /// The robot and the camera behind the ROS 2 bridge: cell_sim plays their ROS 2 drivers (its
   /// ros2_driver configuration: rt/ topics, ROS 2 types and QoS) and ros2_bridge, with the shipped
-  /// deploy/config/ros2_bridge.json, carries the wrench, the twist and the images to and from rigger.
+  /// deploy/config/ros2_bridge.json, carries the wrench, the joint states (as the robot state), the twist and
+  /// the images to and from rigger.
   static std::unique_ptr<ScenarioCell> behind_ros2_bridge(Cell& cell) {
     return std::unique_ptr<ScenarioCell>(new ScenarioCell(cell, {}, true, {}, true));
   }

@@ -176,18 +176,27 @@ bool run_until_insertion_moves(ScenarioTest* /*unused*/, Cell& cell, ScenarioCel
 TEST_F(ScenarioTest, CraneInsertSucceedsWithTheRobotAndCameraBehindTheRos2Bridge) {
   const auto s = ScenarioCell::behind_ros2_bridge(cell_);
   ASSERT_TRUE(s->ready()) << "not every service came up";
+  // One writer of the robot state, the bridge (cell_sim writes /joint_states only): what the skills and
+  // admittance_control read is what the bridge computed.
+  dds::Reader<rigger_robot_RobotState> robot_states(cell_.participant(), protocol::robot::kState);
+  ASSERT_TRUE(robot_states.wait_for_writers(1, 10s));
+  EXPECT_EQ(robot_states.matched_writers(), 1u) << "rigger/robot/state has a writer besides the bridge";
   ASSERT_TRUE(s->submit("recipes/crane_insert.json"));
   ASSERT_TRUE(s->wait_task_end(kTaskTimeout)) << "the task did not end in time: " << s->task_summary();
   print_report(*s, "crane insert behind the ROS 2 bridge");
   ASSERT_EQ(s->task_state(), rigger_task_TASK_SUCCEEDED) << s->task_summary();
   expect_screwed_on(*s);
-  // Everything the robot felt and the camera saw came through the bridge: its log counts what it forwarded.
+  // Everything the robot felt and the camera saw came through the bridge, and the robot's state too (cell_sim
+  // publishes only /joint_states then): its log counts what it forwarded.
   cell_.stop("ros2_bridge", SIGINT, 10s);
   const std::string log = cell_.process("ros2_bridge").log();
   EXPECT_NE(log.find("bridge stopped wrench_forwarded="), std::string::npos) << log;
   EXPECT_EQ(log.find("wrench_forwarded=0 "), std::string::npos) << log;
   EXPECT_EQ(log.find("twist_forwarded=0 "), std::string::npos) << log;
-  EXPECT_EQ(log.find("image_forwarded=0\n"), std::string::npos) << log;
+  EXPECT_EQ(log.find("image_forwarded=0 "), std::string::npos) << log;
+  EXPECT_EQ(log.find("state_forwarded=0\n"), std::string::npos) << log;
+  const std::size_t counts = log.find("bridge stopped");
+  if (counts != std::string::npos) std::printf("  %s\n", log.substr(counts, log.find('\n', counts) - counts).c_str());
 }
 
 // A pause during the insertion (issue 13): `riggerctl pause` holds robot and crane with the load held (the

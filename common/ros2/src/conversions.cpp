@@ -1,5 +1,7 @@
 #include "rigger/ros2/conversions.hpp"
 
+#include "rigger/dds/conversions.hpp"
+
 namespace rigger::ros2 {
 
 rigger_geometry_Time to_rigger(const builtin_interfaces_msg_dds__Time_& t) {
@@ -47,6 +49,18 @@ geometry_msgs_msg_dds__WrenchStamped_ to_ros2(const rigger_sensing_WrenchStamped
 geometry_msgs_msg_dds__TwistStamped_ to_ros2_twist_stamped(const rigger_geometry_Header& header,
                                                            const rigger_geometry_Twist& twist) {
   return {to_ros2(header), to_ros2(twist)};
+}
+
+sensor_msgs_msg_dds__JointState_ to_ros2_joint_state(const rigger_geometry_Header& header, std::vector<char*>& names,
+                                                     std::vector<double>& position, std::vector<double>& velocity,
+                                                     std::vector<double>& effort) {
+  sensor_msgs_msg_dds__JointState_ out{};
+  out.header_ = to_ros2(header);
+  dds::wire_sequence(out.name_, names);
+  dds::wire_sequence(out.position_, position);
+  dds::wire_sequence(out.velocity_, velocity);
+  dds::wire_sequence(out.effort_, effort);
+  return out;
 }
 
 }  // namespace rigger::ros2

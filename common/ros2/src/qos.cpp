@@ -14,4 +14,10 @@ dds::Qos reliable_default() {
   return q;
 }
 
+dds::Qos system_default() {
+  dds::Qos q;
+  q.reliable().keep_last(1).volatile_durability();
+  return q;
+}
+
 }  // namespace rigger::ros2::qos

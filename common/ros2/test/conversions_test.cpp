@@ -59,5 +59,23 @@ TEST(Ros2Conversions, TimeKeepsTheExtremes) {
   EXPECT_EQ(back.nanosec, t.nanosec);
 }
 
+TEST(Ros2Conversions, JointStateBorrowsTheNamesAndArraysInTheirOrder) {
+  char frame[] = "";
+  char a1[] = "joint_a2", a2[] = "joint_a1";
+  std::vector<char*> names{a1, a2};
+  std::vector<double> position{0.5, -0.25}, velocity{1e-300, -0.0}, effort{};
+  const auto ros = to_ros2_joint_state({{1700000000, 7}, frame}, names, position, velocity, effort);
+  EXPECT_EQ(ros.header_.stamp_.sec_, 1700000000);
+  EXPECT_EQ(ros.header_.stamp_.nanosec_, 7u);
+  ASSERT_EQ(ros.name_._length, 2u);
+  EXPECT_EQ(ros.name_._buffer, names.data());
+  EXPECT_STREQ(ros.name_._buffer[0], "joint_a2");
+  EXPECT_EQ(ros.position_._buffer, position.data());
+  EXPECT_EQ(ros.position_._length, 2u);
+  EXPECT_EQ(ros.velocity_._buffer[0], 1e-300);
+  EXPECT_EQ(ros.effort_._length, 0u);
+  EXPECT_FALSE(ros.name_._release || ros.position_._release || ros.velocity_._release || ros.effort_._release);
+}
+
 }  // namespace
 }  // namespace rigger::ros2

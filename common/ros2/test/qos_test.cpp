@@ -33,5 +33,9 @@ TEST(Ros2Qos, ReliableDefaultIsReliableKeepLast10Volatile) {
                   {DDS_RELIABILITY_RELIABLE, DDS_HISTORY_KEEP_LAST, 10, DDS_DURABILITY_VOLATILE});
 }
 
+TEST(Ros2Qos, SystemDefaultIsReliableKeepLast1Volatile) {
+  expect_policies(qos::system_default(), {DDS_RELIABILITY_RELIABLE, DDS_HISTORY_KEEP_LAST, 1, DDS_DURABILITY_VOLATILE});
+}
+
 }  // namespace
 }  // namespace rigger::ros2

@@ -99,6 +99,10 @@ CellSimConfig::Ros2Driver read_ros2_driver(const Config& c) {
   out.wrench_dds_topic = dds_name("wrench_topic", "/force_torque_sensor_broadcaster/wrench");
   out.twist_dds_topic = dds_name("twist_topic", "/servo_node/delta_twist_cmds");
   out.image_dds_topic = dds_name("image_topic", "/camera/image_raw");
+  out.joint_states_dds_topic = dds_name("joint_states_topic", "/joint_states");
+  out.joint_names = c.get<std::vector<std::string>>("joint_names", out.joint_names);
+  if (out.joint_names.size() != static_cast<std::size_t>(sim::kArmJointCount))
+    c.fail("joint_names", "expected " + std::to_string(sim::kArmJointCount) + " names, base to flange");
   out.base_frame = c.get<std::string>("base_frame", out.base_frame);
   out.twist_timeout = get_ms(c, "twist_timeout_ms", out.twist_timeout, 1, 10000);
   return out;

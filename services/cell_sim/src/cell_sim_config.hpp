@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "rigger/base/config.hpp"
 #include "rigger/plc/plc_emulator.hpp"
@@ -69,11 +70,15 @@ struct CellSimConfig {
   std::optional<double> camera_noise_stddev;
   double camera_blur_sigma_px = 0.0;
 
-  // --- ROS 2 drivers (optional): the simulated robot's wrench and twist input and the camera's images on a
-  // ROS 2 driver's topics (rt/…, ROS 2 types and QoS) instead of rigger's, for running the cell behind
-  // services/ros2_bridge. Robot state, motions and the gripper stay on rigger's topics.
+  // --- ROS 2 drivers (optional): the simulated robot's wrench, joint states and twist input and the camera's
+  // images on a ROS 2 driver's topics (rt/…, ROS 2 types and QoS) instead of rigger's, for running the cell
+  // behind services/ros2_bridge. Motions and the gripper stay on rigger's topics.
   struct Ros2Driver {
     std::string wrench_dds_topic;  ///< geometry_msgs/WrenchStamped written (sensor_data)
+    std::string joint_states_dds_topic;  ///< sensor_msgs/JointState written (system_default QoS)
+    /// The arm's joint names on joint_states, base to flange (the iiwa's A1..A7).
+    std::vector<std::string> joint_names{"joint_a1", "joint_a2", "joint_a3", "joint_a4",
+                                         "joint_a5", "joint_a6", "joint_a7"};
     std::string twist_dds_topic;   ///< geometry_msgs/TwistStamped read (reliable, as MoveIt Servo)
     std::string image_dds_topic;   ///< sensor_msgs/Image mono8 written (sensor_data)
     std::string base_frame = "base_link";  ///< the twist's frame_id that means the robot base

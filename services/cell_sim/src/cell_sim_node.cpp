@@ -117,7 +117,6 @@ CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_li
     : ctx_(ctx),
       config_(read_cell_sim_config(ctx.config)),
       twist_gate_(config_.max_command_future, config_.max_twist_timeout),
-      robot_state_(ctx.participant, protocol::robot::kState, written_by_physics(dds::qos::sensor_stream())),
       motion_status_(ctx.participant, protocol::robot::kMotionStatus),
       gripper_state_(ctx.participant, protocol::robot::kGripperState),
       camera_info_(ctx.participant, protocol::vision::kCameraInfo),
@@ -140,10 +139,12 @@ CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_li
     ros2_wrench_.emplace(ctx.participant, r.wrench_dds_topic, written_by_physics(ros2::qos::sensor_data()));
     ros2_image_.emplace(ctx.participant, r.image_dds_topic, ros2::qos::sensor_data());
     ros2_twist_.emplace(ctx.participant, r.twist_dds_topic, ros2::qos::reliable_default());
-    ctx.log->info("robot and camera as ROS 2 drivers: wrench={} twist={} image={} base_frame={}", r.wrench_dds_topic,
-                  r.twist_dds_topic, r.image_dds_topic, r.base_frame);
+    ros2_joint_states_.emplace(ctx.participant, r.joint_states_dds_topic, ros2::qos::system_default());
+    ctx.log->info("robot and camera as ROS 2 drivers: wrench={} joint_states={} twist={} image={} base_frame={}",
+                  r.wrench_dds_topic, r.joint_states_dds_topic, r.twist_dds_topic, r.image_dds_topic, r.base_frame);
   } else {
     wrench_.emplace(ctx.participant, protocol::robot::kWrench, written_by_physics(dds::qos::sensor_stream()));
+    robot_state_.emplace(ctx.participant, protocol::robot::kState, written_by_physics(dds::qos::sensor_stream()));
     image_.emplace(ctx.participant, protocol::vision::kCameraImage);
     twist_.emplace(ctx.participant, protocol::robot::kCmdTwist.name, dds::qos::setpoints());
   }
@@ -411,6 +412,10 @@ void CellSimNode::publish_wrench(const sim::Wrench& wrench_tool, WallTime stamp)
 
 void CellSimNode::publish_robot_state(const RobotReport& report, WallTime stamp) {
   const sim::RobotState& s = report.state;
+  if (ros2_joint_states_) {
+    publish_joint_states(s, stamp);
+    return;
+  }
   std::vector<double> position(s.position_rad.data(), s.position_rad.data() + sim::kArmJointCount);
   std::vector<double> velocity(s.velocity_rad_per_s.data(), s.velocity_rad_per_s.data() + sim::kArmJointCount);
   rigger_robot_RobotState w{};
@@ -426,7 +431,26 @@ void CellSimNode::publish_robot_state(const RobotReport& report, WallTime stamp)
   w.moving = s.velocity_rad_per_s.cwiseAbs().maxCoeff() > kMovingRadPerS;
   w.fault = dds::wire_string(report.fault);
   w.last_command_seq = report.last_command_seq;
-  robot_state_.write(w);
+  robot_state_->write(w);
+}
+
+// What a ros2_control robot's joint_state_broadcaster publishes: names, positions, velocities and efforts,
+// stamped, nothing else. Its order is its own, not the chain's (Humble's comes from a hash map): this driver
+// writes the joints last to first, so that the bridge's mapping by name is used on every message.
+void CellSimNode::publish_joint_states(const sim::RobotState& s, WallTime stamp) {
+  const CellSimConfig::Ros2Driver& r = *config_.ros2_driver;
+  constexpr int n = sim::kArmJointCount;
+  std::vector<char*> names(n);
+  std::vector<double> position(n), velocity(n), effort(n);
+  for (int k = 0; k < n; ++k) {
+    const int i = n - 1 - k;
+    names[k] = dds::wire_string(r.joint_names[static_cast<std::size_t>(i)]);
+    position[k] = s.position_rad[i];
+    velocity[k] = s.velocity_rad_per_s[i];
+    effort[k] = s.torque_nm[i];
+  }
+  rigger_geometry_Header header{dds::to_wire(stamp), dds::wire_string("")};
+  ros2_joint_states_->write(ros2::to_ros2_joint_state(header, names, position, velocity, effort));
 }
 
 void CellSimNode::publish_gripper_state(const GripperReport& report, WallTime stamp) {

@@ -57,6 +57,7 @@ class CellSimNode : public dds::Node, private SimOutputs {
   void publish_control_result(const ControlResult& result, WallTime stamp) override;
   void publish_image(const cv::Mat& image_mono8, WallTime stamp);
   void publish_camera_info(const sim::CameraModel& camera);
+  void publish_joint_states(const sim::RobotState& state, WallTime stamp);
 
   // event loop thread
   void on_twist();
@@ -82,10 +83,11 @@ class CellSimNode : public dds::Node, private SimOutputs {
   std::optional<dds::Writer<geometry_msgs_msg_dds__WrenchStamped_>> ros2_wrench_;
   std::optional<dds::Writer<rigger_vision_Image>> image_;
   std::optional<dds::Writer<sensor_msgs_msg_dds__Image_>> ros2_image_;
+  std::optional<dds::Writer<rigger_robot_RobotState>> robot_state_;
+  std::optional<dds::Writer<sensor_msgs_msg_dds__JointState_>> ros2_joint_states_;
   std::optional<dds::Reader<rigger_sensing_TwistCommand>> twist_;
   std::optional<dds::Reader<geometry_msgs_msg_dds__TwistStamped_>> ros2_twist_;
   std::uint64_t ros2_twist_seq_ = 0;
-  dds::Writer<rigger_robot_RobotState> robot_state_;
   dds::Writer<rigger_robot_MotionStatus> motion_status_;
   dds::Writer<rigger_robot_GripperState> gripper_state_;
   dds::Writer<rigger_vision_CameraInfo> camera_info_;

@@ -111,7 +111,12 @@ TEST(CellSimConfig, Ros2DriverTopicsDefaultToTheUsualDriversAndAreCheckedByRos2R
   EXPECT_EQ(c.ros2_driver->image_dds_topic, "rt/cam/image");
   EXPECT_EQ(c.ros2_driver->base_frame, "base_link");
   EXPECT_EQ(c.ros2_driver->twist_timeout, 50ms);
+  EXPECT_EQ(c.ros2_driver->joint_states_dds_topic, "rt/joint_states");
+  EXPECT_EQ(c.ros2_driver->joint_names.front(), "joint_a1");
+  EXPECT_EQ(c.ros2_driver->joint_names.back(), "joint_a7");
   EXPECT_NE(error_of(R"({"ros2_driver": {"wrench_topic": "/ft sensor"}})").find("/ros2_driver/wrench_topic"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"ros2_driver": {"joint_names": ["a1", "a2"]}})").find("/ros2_driver/joint_names"),
             std::string::npos);
 }
 

@@ -9,13 +9,15 @@
 #include <string>
 
 #include "boundary.hpp"
+#include "joint_states.hpp"
+#include "kinematics.hpp"
 #include "rigger/base/config.hpp"
 
 namespace rigger::ros2_bridge {
 
 /// The ROS 2 QoS profiles a bridged topic may use (rigger/ros2/qos.hpp).
-enum class Ros2Qos { kSensorData, kReliableDefault };
-/// "sensor_data", "reliable_default".
+enum class Ros2Qos { kSensorData, kReliableDefault, kSystemDefault };
+/// "sensor_data", "reliable_default", "system_default".
 std::string_view ros2_qos_name(Ros2Qos qos);
 
 /// What every bridged stream has: the ROS 2 topic, its QoS, the age check, and a frame override.
@@ -44,11 +46,24 @@ struct TwistStream : Stream {
 /// Defaults: sensor_data, max age 200 ms.
 struct ImageStream : Stream {};
 
+/// A ROS 2 driver's sensor_msgs/JointState (joint_state_broadcaster: /joint_states) → rigger/robot/state,
+/// with the flange and tool poses and the tool twist computed from the arm's kinematics. Defaults:
+/// system_default QoS (joint_state_broadcaster's SystemDefaultsQoS), max age 100 ms; frame_id (the
+/// robot state's base frame, the cell entity of the robot) "robot".
+struct JointStatesStream : Stream {
+  std::vector<std::string> joints;         ///< the arm's joint names, chain order (base to flange)
+  std::vector<std::string> ignore_joints;  ///< other joints the driver publishes (e.g. a gripper's)
+  std::optional<SerialChain> kinematics;   ///< always set once read
+  Eigen::Isometry3d pose_flange_tool = Eigen::Isometry3d::Identity();  ///< the tool offset
+  double moving_threshold_radps = 1e-3;                                ///< `moving` above this joint speed
+};
+
 struct BridgeConfig {
   std::string ros_namespace = "/";  ///< resolves relative ROS 2 topic names
   std::optional<WrenchStream> wrench;
   std::optional<TwistStream> twist;
   std::optional<ImageStream> image;
+  std::optional<JointStatesStream> joint_states;
   std::chrono::nanoseconds refusal_log_interval{std::chrono::seconds(1)};
 };
 

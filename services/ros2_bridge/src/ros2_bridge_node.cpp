@@ -12,7 +12,15 @@ namespace rigger::ros2_bridge {
 namespace {
 
 dds::Qos qos_of(Ros2Qos qos) {
-  return qos == Ros2Qos::kSensorData ? ros2::qos::sensor_data() : ros2::qos::reliable_default();
+  switch (qos) {
+    case Ros2Qos::kSensorData:
+      return ros2::qos::sensor_data();
+    case Ros2Qos::kReliableDefault:
+      return ros2::qos::reliable_default();
+    case Ros2Qos::kSystemDefault:
+      break;
+  }
+  return ros2::qos::system_default();
 }
 
 }  // namespace
@@ -35,6 +43,16 @@ Ros2BridgeNode::Ros2BridgeNode(dds::ServiceContext& ctx) : ctx_(ctx), config_(re
     ctx.log->info("bridging wrench from={} dds_topic={} qos={} to={} max_age_s={}", w.ros_topic, w.dds_topic,
                   ros2_qos_name(w.qos), protocol::robot::kWrench.name, to_seconds(w.age.max_age));
   }
+  if (config_.joint_states) {
+    const JointStatesStream& j = *config_.joint_states;
+    joint_map_.emplace(j.joints, j.ignore_joints);
+    rigger_state_.emplace(ctx.participant, protocol::robot::kState);
+    ros2_joint_states_.emplace(ctx.participant, j.dds_topic, qos_of(j.qos));
+    ctx.loop.on_data(*ros2_joint_states_, [this] { on_ros2_joint_states(); });
+    ctx.log->info("bridging joint_states from={} dds_topic={} qos={} to={} joints={} frame_id={} max_age_s={}",
+                  j.ros_topic, j.dds_topic, ros2_qos_name(j.qos), protocol::robot::kState.name, j.joints.size(),
+                  j.frame_id, to_seconds(j.age.max_age));
+  }
   if (config_.twist) {
     const TwistStream& t = *config_.twist;
     ros2_twist_.emplace(ctx.participant, t.dds_topic, qos_of(t.qos));
@@ -56,14 +74,7 @@ void Ros2BridgeNode::on_ros2_image() {
   const ImageStream& cfg = *config_.image;
   ros2_image_->take([&](const sensor_msgs_msg_dds__Image_& in, const dds_sample_info_t&) {
     const rigger_geometry_Header header = ros2::to_rigger(in.header_);
-    const WallTime stamp = dds::to_domain(header.stamp);
-    const WallTime now = std::chrono::system_clock::now();
-    const AgeVerdict age = check_age(stamp, now, cfg.age);
-    if (age != AgeVerdict::kFresh) {
-      count("dropped", "image", age_verdict_name(age),
-            fmt::format("age_s={:.3f} max_age_s={}", to_seconds(now - stamp), to_seconds(cfg.age.max_age)));
-      return;
-    }
+    if (!fresh("image", header.stamp, cfg.age)) return;
     const std::string encoding = in.encoding_ == nullptr ? "" : in.encoding_;
     const ImageVerdict verdict =
         to_mono8(encoding, in.width_, in.height_, in.step_, in.data_._buffer, in.data_._length, grey_);
@@ -90,8 +101,18 @@ void Ros2BridgeNode::on_ros2_image() {
 
 Ros2BridgeNode::~Ros2BridgeNode() {
   if (hold_timer_) send_zero_twist("bridge stopping");
-  ctx_.log->info("bridge stopped wrench_forwarded={} twist_forwarded={} image_forwarded={}", wrench_forwarded_,
-                 twist_forwarded_, image_forwarded_);
+  ctx_.log->info("bridge stopped wrench_forwarded={} twist_forwarded={} image_forwarded={} state_forwarded={}",
+                 wrench_forwarded_, twist_forwarded_, image_forwarded_, state_forwarded_);
+}
+
+bool Ros2BridgeNode::fresh(const std::string& stream, const rigger_geometry_Time& wire_stamp, const AgeLimits& limits) {
+  const WallTime stamp = dds::to_domain(wire_stamp);
+  const WallTime now = std::chrono::system_clock::now();
+  const AgeVerdict age = check_age(stamp, now, limits);
+  if (age == AgeVerdict::kFresh) return true;
+  count("dropped", stream, age_verdict_name(age),
+        fmt::format("age_s={:.3f} max_age_s={}", to_seconds(now - stamp), to_seconds(limits.max_age)));
+  return false;
 }
 
 void Ros2BridgeNode::count(std::string_view event, const std::string& stream, std::string_view reason,
@@ -108,20 +129,52 @@ void Ros2BridgeNode::on_ros2_wrench() {
   const WrenchStream& cfg = *config_.wrench;
   ros2_wrench_->take([&](const geometry_msgs_msg_dds__WrenchStamped_& in, const dds_sample_info_t&) {
     rigger_sensing_WrenchStamped out = ros2::to_rigger(in);
-    const WallTime stamp = dds::to_domain(out.header.stamp);
-    const WallTime now = std::chrono::system_clock::now();
-    const AgeVerdict age = check_age(stamp, now, cfg.age);
-    if (age != AgeVerdict::kFresh) {
-      count("dropped", "wrench", age_verdict_name(age),
-            fmt::format("age_s={:.3f} max_age_s={}", to_seconds(now - stamp), to_seconds(cfg.age.max_age)));
-      return;
-    }
+    if (!fresh("wrench", out.header.stamp, cfg.age)) return;
     if (!all_finite(dds::to_domain(out.wrench))) {
       count("dropped", "wrench", "not_finite", "");
       return;
     }
     if (!cfg.frame_id.empty()) out.header.frame_id = dds::wire_string(cfg.frame_id);
     if (rigger_wrench_->write(out) == DDS_RETCODE_OK) ++wrench_forwarded_;
+  });
+}
+
+// JointState gives joints only: poses and twist come from the configured kinematics; `mode` says whether the
+// bridge is holding a twist command it forwarded (ROBOT_VELOCITY) or not (ROBOT_IDLE); `fault` stays empty
+// (a driver's faults are not on /joint_states). docs/ros2.md says so.
+void Ros2BridgeNode::on_ros2_joint_states() {
+  const JointStatesStream& cfg = *config_.joint_states;
+  ros2_joint_states_->take([&](const sensor_msgs_msg_dds__JointState_& in, const dds_sample_info_t&) {
+    const rigger_geometry_Header header = ros2::to_rigger(in.header_);
+    if (!fresh("joint_states", header.stamp, cfg.age)) return;
+    joint_names_.clear();
+    for (std::uint32_t i = 0; i < in.name_._length; ++i)
+      joint_names_.emplace_back(in.name_._buffer[i] == nullptr ? "" : in.name_._buffer[i]);
+    const ChainJoints joints = joint_map_->map(joint_names_, in.position_._buffer, in.position_._length,
+                                               in.velocity_._buffer, in.velocity_._length);
+    if (joints.verdict != JointStateVerdict::kOk) {
+      count("dropped", "joint_states", joint_state_verdict_name(joints.verdict), joints.detail);
+      return;
+    }
+    const ArmState arm = cfg.kinematics->evaluate(joints.position_rad, joints.velocity_radps, cfg.pose_flange_tool);
+    std::vector<double> position(joints.position_rad.data(), joints.position_rad.data() + joints.position_rad.size());
+    std::vector<double> velocity(joints.velocity_radps.data(),
+                                 joints.velocity_radps.data() + joints.velocity_radps.size());
+    Vector6d twist;
+    twist << arm.tool_linear_mps, arm.tool_angular_radps;
+    rigger_robot_RobotState out{};
+    out.header.stamp = header.stamp;
+    out.header.frame_id = dds::wire_string(cfg.frame_id);
+    out.mode = hold_timer_ ? rigger_robot_ROBOT_VELOCITY : rigger_robot_ROBOT_IDLE;
+    dds::wire_sequence(out.joint_position, position);
+    dds::wire_sequence(out.joint_velocity, velocity);
+    out.flange_pose = dds::to_wire(arm.pose_base_flange);
+    out.tool_pose = dds::to_wire(arm.pose_base_tool);
+    out.tool_twist = dds::to_wire_twist(twist);
+    out.moving = joints.velocity_radps.cwiseAbs().maxCoeff() > cfg.moving_threshold_radps;
+    out.fault = dds::wire_string("");
+    out.last_command_seq = last_twist_seq_;
+    if (rigger_state_->write(out) == DDS_RETCODE_OK) ++state_forwarded_;
   });
 }
 
@@ -162,6 +215,7 @@ void Ros2BridgeNode::on_rigger_twist() {
     const rigger_geometry_Twist twist = dds::to_wire_twist(limited.twist);
     if (ros2_twist_->write(ros2::to_ros2_twist_stamped(header, twist)) != DDS_RETCODE_OK) return;
     ++twist_forwarded_;
+    last_twist_seq_ = in.seq;
     zero_frame_id_ = dds::to_string(header.frame_id);
     // Hold the command for its own timeout (capped), then stop the driver explicitly.
     const auto hold = in.timeout_s > 0.0 ? std::min(from_seconds(in.timeout_s), cfg.max_hold) : cfg.max_hold;

@@ -12,6 +12,10 @@
 ///   - image: a camera driver's sensor_msgs/Image (rt/<topic>) → rigger/camera/image as mono8 (colour
 ///     converted to grey, rows tight); stale, future-stamped and malformed images and other encodings
 ///     are dropped.
+///   - joint_states: the driver's sensor_msgs/JointState (joint_state_broadcaster) → rigger/robot/state,
+///     joints mapped by name onto the configured arm, flange and tool pose and tool twist from its
+///     kinematics (kinematics.hpp); stale, future-stamped, unstamped, malformed messages, unknown,
+///     repeated or missing joints and non-finite values are dropped.
 /// Drops are counted and logged at most once per refusal_log_interval_s per stream and reason.
 /// Everything runs on the service's event loop.
 
@@ -23,6 +27,7 @@
 
 #include "boundary.hpp"
 #include "bridge_config.hpp"
+#include "joint_states.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/ros2/types.hpp"
@@ -41,8 +46,11 @@ class Ros2BridgeNode : public dds::Node {
   void on_ros2_wrench();
   void on_rigger_twist();
   void on_ros2_image();
+  void on_ros2_joint_states();
   void send_zero_twist(const std::string& why);
   void on_safe_stop(const safety::StopState& stop);
+  /// Whether a sample of `stream` stamped `stamp` passes `limits`; counts and logs the drop when not.
+  bool fresh(const std::string& stream, const rigger_geometry_Time& stamp, const AgeLimits& limits);
   /// Counts an `event` ("dropped", "clamped") on `stream` for `reason` and logs it when its counter allows.
   void count(std::string_view event, const std::string& stream, std::string_view reason, const std::string& detail);
 
@@ -57,6 +65,12 @@ class Ros2BridgeNode : public dds::Node {
   std::optional<dds::Writer<rigger_vision_Image>> rigger_image_;
   std::vector<std::uint8_t> grey_;  // the image being forwarded (its rows tight)
   std::uint64_t image_forwarded_ = 0;
+  std::optional<dds::Reader<sensor_msgs_msg_dds__JointState_>> ros2_joint_states_;
+  std::optional<dds::Writer<rigger_robot_RobotState>> rigger_state_;
+  std::optional<JointMap> joint_map_;
+  std::vector<std::string_view> joint_names_;  // the message being mapped
+  std::uint64_t state_forwarded_ = 0;
+  std::uint64_t last_twist_seq_ = 0;  // of the last twist command forwarded, for RobotState.last_command_seq
 
   std::map<std::string, RefusalCounter> refusals_;  // "<stream> <reason>"
   std::uint64_t wrench_forwarded_ = 0;

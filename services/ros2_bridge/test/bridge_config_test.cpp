@@ -87,13 +87,13 @@ TEST(BridgeConfig, TheShippedSecurityGrantsNameTheShippedTopics) {
   std::set<std::string> grants;
   for (std::string line; std::getline(in, line);)
     if (!line.empty() && line[0] != '#') grants.insert(line);
-  ASSERT_TRUE(b.image);
-  EXPECT_EQ(grants, (std::set<std::string>{"ros2_bridge subscribe " + b.wrench->dds_topic,
-                                           "ros2_bridge publish " + b.twist->dds_topic,
-                                           "ros2_bridge subscribe " + b.image->dds_topic,
-                                           "ros2_driver publish " + b.wrench->dds_topic,
-                                           "ros2_driver subscribe " + b.twist->dds_topic,
-                                           "ros2_driver publish " + b.image->dds_topic}));
+  ASSERT_TRUE(b.image && b.joint_states);
+  EXPECT_EQ(grants,
+            (std::set<std::string>{
+                "ros2_bridge subscribe " + b.wrench->dds_topic, "ros2_bridge subscribe " + b.joint_states->dds_topic,
+                "ros2_driver publish " + b.joint_states->dds_topic, "ros2_bridge publish " + b.twist->dds_topic,
+                "ros2_bridge subscribe " + b.image->dds_topic, "ros2_driver publish " + b.wrench->dds_topic,
+                "ros2_driver subscribe " + b.twist->dds_topic, "ros2_driver publish " + b.image->dds_topic}));
 }
 
 TEST(BridgeConfig, QosIsChosenPerTopic) {
@@ -117,9 +117,66 @@ TEST(BridgeConfig, ErrorsNameTheKey) {
   EXPECT_THAT(error_of(R"({"wrench": {"topic": "/w", "max_age_s": 0}})"), HasSubstr("/wrench/max_age_s"));
   EXPECT_THAT(error_of(R"({"ros_namespace": "arm", "wrench": {"topic": "w"}})"), HasSubstr("/ros_namespace"));
   EXPECT_THAT(error_of(R"({"wrench": {"topic": "/w", "max_agee_s": 1}})"), HasSubstr("max_agee_s"));
-  EXPECT_THAT(error_of(R"({"joint_states": {"topic": "/joint_states"}})"), HasSubstr("no stream"));
+  EXPECT_THAT(error_of(R"({"camera_info": {"topic": "/camera_info"}})"), HasSubstr("no stream"));
   EXPECT_THAT(error_of(R"({"wrench": {"topic": "/x"}, "twist_command": {"topic": "x"}})"),
               HasSubstr("/twist_command/topic"));
+}
+
+// The shipped arm: the simulated iiwa 14 as DH rows, joint_state_broadcaster's topic and QoS, the magnet's
+// face 0.12 m from the flange (deploy/cell/simulated_cell.json's flange_to_face_m).
+TEST(BridgeConfig, TheShippedConfigurationBridgesJointStates) {
+  const Config c = Config::load(std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json");
+  const BridgeConfig b = read_bridge_config(c);
+  c.finish();
+  ASSERT_TRUE(b.joint_states);
+  const JointStatesStream& j = *b.joint_states;
+  EXPECT_EQ(j.dds_topic, "rt/joint_states");
+  EXPECT_EQ(j.qos, Ros2Qos::kSystemDefault);
+  EXPECT_EQ(j.frame_id, "robot");
+  EXPECT_EQ(j.joints.size(), 7u);
+  ASSERT_TRUE(j.kinematics);
+  EXPECT_EQ(j.kinematics->joint_count(), 7);
+  EXPECT_TRUE(j.pose_flange_tool.isApprox(Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.12))));
+}
+
+std::string joint_states(const std::string& kinematics, const std::string& more = "") {
+  return R"({"joint_states": {"topic": "/joint_states", "joints": ["a", "b"], "kinematics": )" + kinematics + more +
+         "}}";
+}
+
+TEST(BridgeConfig, JointStatesTakeDhRowsOrAChain) {
+  const auto dh = read(joint_states(R"({"dh": [{"d_m": 0.1, "alpha_deg": 90}, {"a_m": 0.2}]})",
+                                    R"(, "tool": {"position_m": [0, 0, 0.05]}, "ignore_joints": ["finger"])"));
+  ASSERT_TRUE(dh.joint_states && dh.joint_states->kinematics);
+  EXPECT_EQ(dh.joint_states->ignore_joints, std::vector<std::string>{"finger"});
+  EXPECT_EQ(dh.joint_states->age.max_age, 100ms);
+  const auto chain = read(joint_states(
+      R"({"chain": [{"axis": [0, 0, 1]}, {"origin": {"position_m": [0, 0, 0.1], "rpy_deg": [90, 0, 0]},
+                                          "axis": [0, 0, 1]}], "flange": {"position_m": [0.2, 0, 0]}})"));
+  ASSERT_TRUE(chain.joint_states && chain.joint_states->kinematics);
+  // The same arm both ways: Rz(q1) Tz(0.1) Rx(90°) · Rz(q2) Tx(0.2).
+  const Eigen::VectorXd q = Eigen::Vector2d(0.3, -1.1), qd = Eigen::Vector2d::Zero();
+  const ArmState a = dh.joint_states->kinematics->evaluate(q, qd, Eigen::Isometry3d::Identity());
+  const ArmState b = chain.joint_states->kinematics->evaluate(q, qd, Eigen::Isometry3d::Identity());
+  EXPECT_TRUE(a.pose_base_flange.isApprox(b.pose_base_flange, 1e-12));
+}
+
+TEST(BridgeConfig, JointStatesErrorsNameTheKey) {
+  EXPECT_THAT(error_of(joint_states(R"({"dh": [{"d_m": 0.1}]})")),
+              AllOf(HasSubstr("/joint_states/kinematics/dh"), HasSubstr("1 entries for 2 joints")));
+  EXPECT_THAT(error_of(joint_states(R"({"dh": [{}, {}], "chain": [{}, {}]})")),
+              AllOf(HasSubstr("/joint_states/kinematics"), HasSubstr("\"dh\"")));
+  EXPECT_THAT(error_of(joint_states(R"({"chain": [{"axis": [0, 0, 1]}, {"axis": [0, 1, 1]}]})")),
+              HasSubstr("/joint_states/kinematics/chain/1/axis"));
+  EXPECT_THAT(error_of(joint_states(R"({"dh": [{"d_m": "x"}, {}]})")), HasSubstr("/joint_states/kinematics/dh/0/d_m"));
+  EXPECT_THAT(error_of(joint_states(R"({"dh": [{}, {}]})", R"(, "tool": {"position_m": [0, 0]})")),
+              HasSubstr("/joint_states/tool/position_m"));
+  EXPECT_THAT(error_of(joint_states(R"({"dh": [{}, {}]})", R"(, "ignore_joints": ["a"])")),
+              AllOf(HasSubstr("/joint_states/joints"), HasSubstr("'a' is named twice")));
+  EXPECT_THAT(error_of(R"({"joint_states": {"topic": "/joint_states", "kinematics": {"dh": []}}})"),
+              HasSubstr("/joint_states/joints"));
+  EXPECT_THAT(error_of(joint_states(R"({"dh": [{}, {}]})", R"(, "qos": "best_effort")")),
+              HasSubstr("/joint_states/qos"));
 }
 
 }  // namespace

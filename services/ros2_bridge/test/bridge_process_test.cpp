@@ -5,10 +5,13 @@
 // on; its reset lets the stream through again.
 // Camera: the test plays a ROS 2 camera driver writing rgb8 sensor_msgs/Image; rigger/camera/image carries
 // them as mono8 with the driver's stamp, and a stale image does not cross.
+// Joint states: the test plays joint_state_broadcaster; rigger/robot/state carries each fresh message as the
+// bridge's kinematics compute it from the shipped configuration, and refused ones do not cross.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <optional>
+#include <stdexcept>
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/robot.hpp"
@@ -18,6 +21,8 @@
 #include "rigger/ros2/types.hpp"
 #include "rigger/safety/safe_stop.hpp"
 #include "rigger/testing/cell.hpp"
+
+#include "bridge_config.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -29,6 +34,14 @@ bool start_shipped_bridge(Cell& cell) {
   cell.start("ros2_bridge", "ros2_bridge",
              {"--id", "ros2_bridge", "--config", std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json"});
   return cell.wait_ready({"ros2_bridge"}, 10s);
+}
+
+/// The shipped configuration's joint_states stream: the arm the bridge computes with.
+ros2_bridge::JointStatesStream shipped_joint_states() {
+  const Config file = Config::load(std::string(RIGGER_SOURCE_DIR) + "/deploy/config/ros2_bridge.json");
+  const ros2_bridge::BridgeConfig shipped = ros2_bridge::read_bridge_config(file);
+  if (!shipped.joint_states) throw std::runtime_error("the shipped ros2_bridge.json bridges no joint_states");
+  return *shipped.joint_states;
 }
 
 struct Seen {
@@ -156,6 +169,169 @@ TEST(Ros2BridgeImageTest, ARos2CameraImageArrivesAsGreyWithItsStampAndAStaleOneD
     const unsigned expected = (299u * 4 * x + 587u * 5 * y + 114u * 100 + 500u) / 1000u;
     EXPECT_EQ(g.data[std::size_t{y} * w + x], expected) << "pixel " << x << "," << y;
   }
+  cell.stop_all();
+}
+
+void expect_same(const rigger_geometry_Pose& got, const rigger_geometry_Pose& want, const char* what) {
+  const double g[7] = {got.position.x,    got.position.y,    got.position.z,   got.orientation.x,
+                       got.orientation.y, got.orientation.z, got.orientation.w};
+  const double w[7] = {want.position.x,    want.position.y,    want.position.z,   want.orientation.x,
+                       want.orientation.y, want.orientation.z, want.orientation.w};
+  for (int i = 0; i < 7; ++i) EXPECT_EQ(g[i], w[i]) << what << " pose field " << i;
+}
+
+void expect_same(const rigger_geometry_Twist& got, const rigger_geometry_Twist& want) {
+  EXPECT_EQ(dds::to_domain(got), dds::to_domain(want)) << "tool twist";
+}
+
+/// The shipped bridge, READY, with the test as joint_state_broadcaster (`driver`) and reading the robot state.
+class Ros2BridgeJointStatesTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(start_shipped_bridge(cell)) << cell.logs();
+    ASSERT_TRUE(driver.wait_for_readers(1, 5s) && states.wait_for_writers(1, 5s));
+  }
+
+  Cell cell;
+  const ros2_bridge::JointStatesStream arm = shipped_joint_states();
+  dds::Writer<sensor_msgs_msg_dds__JointState_> driver{cell.participant(), "rt/joint_states",
+                                                       ros2::qos::system_default()};
+  dds::Reader<rigger_robot_RobotState> states{cell.participant(), protocol::robot::kState};
+};
+
+TEST_F(Ros2BridgeJointStatesTest, AJointStateBecomesTheRobotStateComputedFromTheArmsKinematics) {
+  struct Got {
+    rigger_geometry_Time stamp;
+    std::string frame, fault;
+    rigger_robot_RobotMode mode;
+    bool moving;
+    std::uint64_t last_command_seq;
+    std::vector<double> q, qd;
+    rigger_geometry_Pose flange, tool;
+    rigger_geometry_Twist twist;
+  };
+  std::vector<Got> got;
+  cell.loop().on_data(states, [&] {
+    states.take([&](const rigger_robot_RobotState& s, const dds_sample_info_t&) {
+      got.push_back({s.header.stamp, dds::to_string(s.header.frame_id), dds::to_string(s.fault), s.mode, s.moving,
+                     s.last_command_seq, dds::to_vector<double>(s.joint_position),
+                     dds::to_vector<double>(s.joint_velocity), s.flange_pose, s.tool_pose, s.tool_twist});
+    });
+  });
+  // Message k: joint i (chain order) at 0.1 i - 0.3 + 0.01 k rad, turning at 0.05 (i + 1) rad/s, written last
+  // joint first. In turn the driver writes a fresh one, one a second old, and one naming a joint the
+  // configuration does not know.
+  struct Sent {
+    rigger_geometry_Time stamp;
+    Eigen::VectorXd q, qd;
+  };
+  std::vector<Sent> sent;
+  int k = 0;
+  const auto send = [&](std::chrono::system_clock::time_point stamp, bool unknown_joint) {
+    const int n = 7;
+    Eigen::VectorXd q(n), qd(n);
+    std::vector<std::string> names(n);
+    std::vector<char*> name_ptrs(n);
+    std::vector<double> position(n), velocity(n), effort(n, 1.5);
+    for (int j = 0; j < n; ++j) {
+      const int i = n - 1 - j;
+      q[i] = 0.1 * i - 0.3 + 0.01 * k;
+      qd[i] = 0.05 * (i + 1);
+      names[j] = unknown_joint && i == 2 ? "joint_a3_typo" : arm.joints[static_cast<std::size_t>(i)];
+      name_ptrs[j] = names[j].data();
+      position[j] = q[i];
+      velocity[j] = qd[i];
+    }
+    rigger_geometry_Header header{dds::to_wire(stamp), const_cast<char*>("")};
+    ASSERT_EQ(driver.write(ros2::to_ros2_joint_state(header, name_ptrs, position, velocity, effort)), DDS_RETCODE_OK);
+    if (!unknown_joint && std::chrono::system_clock::now() - stamp < 100ms) sent.push_back({header.stamp, q, qd});
+  };
+  // One message per tick, as joint_state_broadcaster publishes once per control cycle (system_default QoS
+  // keeps the newest sample only: a burst would leave the bridge the last one).
+  cell.loop().every(10ms, [&] {
+    ++k;
+    if (k % 3 == 0) send(std::chrono::system_clock::now(), false);
+    if (k % 3 == 1) send(std::chrono::system_clock::now() - 1s, false);
+    if (k % 3 == 2) send(std::chrono::system_clock::now(), true);
+  });
+  const auto dropped = [&](const char* reason) {
+    return cell.process("ros2_bridge").log().find(std::string("dropped joint_states reason=") + reason) !=
+           std::string::npos;
+  };
+  ASSERT_TRUE(cell.wait_until([&] { return got.size() >= 20 && dropped("stale") && dropped("unknown_joint"); }, 10s))
+      << cell.logs();
+  EXPECT_NE(cell.process("ros2_bridge").log().find("joint 'joint_a3_typo' is neither one of the arm's joints"),
+            std::string::npos);
+  for (const Got& g : got) {
+    const auto it = std::find_if(sent.begin(), sent.end(), [&](const Sent& s) {
+      return s.stamp.sec == g.stamp.sec && s.stamp.nanosec == g.stamp.nanosec;
+    });
+    ASSERT_NE(it, sent.end()) << "a robot state crossed that was not one of the fresh, valid joint states";
+    const ros2_bridge::ArmState expected = arm.kinematics->evaluate(it->q, it->qd, arm.pose_flange_tool);
+    EXPECT_EQ(g.frame, "robot");
+    EXPECT_EQ(g.fault, "");
+    EXPECT_EQ(g.mode, rigger_robot_ROBOT_IDLE);
+    EXPECT_TRUE(g.moving);
+    EXPECT_EQ(g.last_command_seq, 0u);
+    EXPECT_EQ(g.q, std::vector<double>(it->q.data(), it->q.data() + 7)) << "chain order, exactly as sent";
+    EXPECT_EQ(g.qd, std::vector<double>(it->qd.data(), it->qd.data() + 7));
+    // The same library computed both: equal to the bit, on the wire (poses as position and quaternion).
+    dds::Vector6d twist;
+    twist << expected.tool_linear_mps, expected.tool_angular_radps;
+    expect_same(g.flange, dds::to_wire(expected.pose_base_flange), "flange");
+    expect_same(g.tool, dds::to_wire(expected.pose_base_tool), "tool");
+    expect_same(g.twist, dds::to_wire_twist(twist));
+  }
+  std::printf("%zu robot states from %zu fresh joint states (and as many stale and unknown-joint ones)\n", got.size(),
+              sent.size());
+  EXPECT_GE(got.size() + 2, sent.size()) << "fresh joint states lost on the way (at most the last two in flight)";
+  cell.stop_all();
+}
+
+// What JointState does not say, the bridge says from what it knows itself: while it holds a twist command it
+// forwarded to MoveIt Servo the robot state's mode is ROBOT_VELOCITY with that command's seq, and once the
+// command's timeout has passed (the bridge then sends Servo a zero) it is ROBOT_IDLE again.
+TEST_F(Ros2BridgeJointStatesTest, ModeIsVelocityWhileTheBridgeHoldsAServoCommand) {
+  dds::Writer<rigger_sensing_TwistCommand> commands(cell.participant(), protocol::robot::kCmdTwist);
+  dds::Reader<geometry_msgs_msg_dds__TwistStamped_> servo(cell.participant(), "rt/servo_node/delta_twist_cmds",
+                                                          ros2::qos::reliable_default());
+  ASSERT_TRUE(commands.wait_for_readers(1, 5s) && servo.wait_for_writers(1, 5s));
+  std::vector<std::pair<rigger_robot_RobotMode, std::uint64_t>> modes;
+  cell.loop().on_data(states, [&] {
+    states.take([&](const rigger_robot_RobotState& s, const dds_sample_info_t&) {
+      modes.emplace_back(s.mode, s.last_command_seq);
+    });
+  });
+  std::size_t servo_samples = 0;
+  cell.loop().on_data(servo, [&] {
+    servo.take([&](const geometry_msgs_msg_dds__TwistStamped_&, const dds_sample_info_t&) { ++servo_samples; });
+  });
+  std::vector<std::string> names = arm.joints;
+  std::vector<char*> name_ptrs;
+  for (std::string& n : names) name_ptrs.push_back(n.data());
+  std::vector<double> zeros(names.size(), 0.0), effort;
+  cell.loop().every(10ms, [&] {
+    std::vector<double> position = zeros, velocity = zeros;
+    rigger_geometry_Header header{dds::wire_now(), const_cast<char*>("")};
+    driver.write(ros2::to_ros2_joint_state(header, name_ptrs, position, velocity, effort));
+  });
+  const auto last_is = [&](rigger_robot_RobotMode mode, std::uint64_t seq) {
+    return !modes.empty() && modes.back().first == mode && modes.back().second == seq;
+  };
+  ASSERT_TRUE(cell.wait_until([&] { return last_is(rigger_robot_ROBOT_IDLE, 0); }, 5s)) << cell.logs();
+  rigger_sensing_TwistCommand c{};
+  c.header.stamp = dds::wire_now();
+  c.header.frame_id = const_cast<char*>("robot");
+  c.seq = 4242;
+  c.twist.linear.x = 0.01;
+  c.timeout_s = 0.3;
+  c.source = const_cast<char*>("test");
+  ASSERT_EQ(commands.write(c), DDS_RETCODE_OK);
+  EXPECT_TRUE(cell.wait_until([&] { return last_is(rigger_robot_ROBOT_VELOCITY, 4242); }, 2s))
+      << "no ROBOT_VELOCITY state while the command is held";
+  // After the hold (0.2 s, the shipped max_hold_s) the bridge sends Servo its zero and the state is idle again.
+  EXPECT_TRUE(cell.wait_until([&] { return last_is(rigger_robot_ROBOT_IDLE, 4242) && servo_samples >= 2; }, 2s))
+      << "still ROBOT_VELOCITY after the command's hold";
   cell.stop_all();
 }
 

@@ -17,11 +17,11 @@ inline constexpr Topic<rigger_sensing_WrenchStamped> kWrench{"rigger/robot/wrenc
                                                              "(wrist F/T, sensor frame) ≥ 500 Hz",
                                                              ""};
 
-/// robot driver / cell_sim → skills, admittance_control.
+/// robot driver / cell_sim / ros2_bridge (from a ROS 2 driver's joint states) → skills, admittance_control.
 inline constexpr Topic<rigger_robot_RobotState> kState{"rigger/robot/state",
                                                        QosProfile::kSensorStream,
                                                        "",
-                                                       "robot driver / cell_sim",
+                                                       "robot driver / cell_sim / ros2_bridge",
                                                        "skills, admittance_control",
                                                        "(joints, flange and tool pose in base frame, tool twist, mode)",
                                                        ""};

@@ -5,6 +5,8 @@
 /// change. Strings are borrowed, not copied: a converted struct is valid while its source lives (convert,
 /// write, drop). Every conversion has a round-trip test (test/conversions_test.cpp).
 
+#include <vector>
+
 #include <rigger/idl/types.hpp>
 
 #include "rigger/ros2/types.hpp"
@@ -34,5 +36,11 @@ geometry_msgs_msg_dds__WrenchStamped_ to_ros2(const rigger_sensing_WrenchStamped
 /// A TwistStamped (MoveIt Servo's Cartesian command) of `twist` in `header`'s frame. Borrows frame_id.
 geometry_msgs_msg_dds__TwistStamped_ to_ros2_twist_stamped(const rigger_geometry_Header& header,
                                                            const rigger_geometry_Twist& twist);
+
+/// A JointState (joint_state_broadcaster's message) in `header`, borrowing frame_id, the names and the three
+/// arrays (which must outlive the result and are not released with it).
+sensor_msgs_msg_dds__JointState_ to_ros2_joint_state(const rigger_geometry_Header& header, std::vector<char*>& names,
+                                                     std::vector<double>& position, std::vector<double>& velocity,
+                                                     std::vector<double>& effort);
 
 }  // namespace rigger::ros2

@@ -17,4 +17,8 @@ dds::Qos sensor_data();
 /// uses varies by driver and version: the bridge's cell configuration names it per topic.
 dds::Qos reliable_default();
 
+/// rmw_qos_profile_system_default (rclcpp::SystemDefaultsQoS()) as rmw_cyclonedds resolves it: Cyclone's
+/// defaults, i.e. reliable, keep-last 1, volatile. What joint_state_broadcaster publishes /joint_states with.
+dds::Qos system_default();
+
 }  // namespace rigger::ros2::qos
