@@ -1,7 +1,8 @@
-// A host's link cut during the insertion (issue 17), on the lab of multi_host_support.hpp. Label `lab`:
-// not in test/run (`ctest -L lab` runs it): on a quiet 2-core machine it failed 4 runs of 7 on timing
-// alone (a 102 ms gap in the 500 Hz wrench stream against the yank monitor's 100 ms, Modbus replies
-// inside the devices host timing out), with 13 services and three supervisors on two cores.
+// A host's link cut during the insertion (issue 17), on the lab of multi_host_support.hpp. Label
+// `integration` (in test/run) since it passed seven runs of seven on the shared 2-core machine (load 2-11);
+// before the stop changes of issue 13 it had failed 4 runs of 7 on timing (a 102 ms gap in the 500 Hz
+// wrench stream against the yank monitor's 100 ms, Modbus replies inside the devices host timing out).
+// That scheduling cause was not fixed: see docs/deploy.md.
 #include "multi_host_support.hpp"
 
 namespace rigger::testing::scenario {
