@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -96,6 +97,7 @@ class SimChannel {
         v.gripper_holding_force_n = s.gripper_holding_force_n;
         v.load_external_force_n = dds::to_domain(s.load_external_force_n);
         history_.push_back(v);
+        if (on_status_) on_status_(v);
       });
     });
     cell.loop().on_data(events_, [this] {
@@ -123,6 +125,9 @@ class SimChannel {
     return acks_.at(seq);
   }
 
+  /// Calls `handler` with every status sample as it arrives (on the cell's event loop), after history().
+  void on_status(std::function<void(const SimStatusView&)> handler) { on_status_ = std::move(handler); }
+
   bool has_status() const { return !history_.empty(); }
   const SimStatusView& latest() const { return history_.back(); }
   const std::vector<SimStatusView>& history() const { return history_; }
@@ -134,6 +139,7 @@ class SimChannel {
   std::optional<dds::Writer<rigger_sim_SimControl>> control_;
   Cell& cell_;
   std::vector<SimStatusView> history_;
+  std::function<void(const SimStatusView&)> on_status_;
   std::map<std::uint64_t, std::pair<bool, std::string>> acks_;
   std::uint64_t seq_ = 0;
 };

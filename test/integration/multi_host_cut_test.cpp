@@ -1,7 +1,8 @@
-// A host's link cut during the insertion (issue 17), on the lab of multi_host_support.hpp. Label `lab`:
-// not in test/run (`ctest -L lab` runs it): on a quiet 2-core machine it failed 4 runs of 7 on timing
-// alone (a 102 ms gap in the 500 Hz wrench stream against the yank monitor's 100 ms, Modbus replies
-// inside the devices host timing out), with 13 services and three supervisors on two cores.
+// A host's link cut during the insertion (issue 17), on the lab of multi_host_support.hpp. Label
+// `integration` (in test/run) since it passed seven runs of seven on the shared 2-core machine (load 2-11);
+// before the stop changes of issue 13 it had failed 4 runs of 7 on timing (a 102 ms gap in the 500 Hz
+// wrench stream against the yank monitor's 100 ms, Modbus replies inside the devices host timing out).
+// That scheduling cause was not fixed: see docs/deploy.md.
 #include "multi_host_support.hpp"
 
 namespace rigger::testing::scenario {
@@ -30,12 +31,28 @@ TEST_F(MultiHostTest, SkillsHostCutDuringInsertionStopsTheCellAndItRecovers) {
       120s));
   ASSERT_FALSE(task_terminal(s->task_state())) << s->task_summary();
 
+  // The cut runs while this process keeps reading the cell (a blocking wait would stamp the samples queued
+  // meanwhile with the time they are read): times count from the start of the command, which pulls the cable
+  // as its last step.
   const auto cut_at = Clock::now();
-  ASSERT_TRUE(lab("cut", {"skills"}).status.ok());
+  s->mark_stop(cut_at);
+  auto cut = this->start("deploy/lab-hosts cut skills", "lab-cut");  // `start` here is the load's pose
+  ASSERT_TRUE(cell_->wait_until([&] { return !cut->running(); }, 60s));
+  const double cut_command_s = std::chrono::duration<double>(Clock::now() - cut_at).count();
+  ASSERT_TRUE(finish(*cut, "deploy/lab-hosts cut skills", 5s).status.ok());
   const auto after = s->motion_after_stop(200);
   const double rest_s = std::chrono::duration<double>(after.rest_at - cut_at).count();
   std::printf("  skills host cut: robot and crane at rest within %.2f s; then over 2 s: tool %.2f mm, crane %.1f mm/s\n",
               rest_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
+  const auto below = s->rest_after_mark_s();
+  std::printf(
+      "  below 1 mm/s (tool and crane) %.0f ms after the cut command started (it took %.0f ms; tool alone "
+      "%.0f ms, crane alone %.0f ms); last above it %.0f ms after; where the time went:\n%s",
+      below.value_or(-1.0) * 1000.0, cut_command_s * 1000.0, s->tool_rest_after_mark_s().value_or(-1.0) * 1000.0,
+      s->crane_rest_after_mark_s().value_or(-1.0) * 1000.0, s->settled_after_mark_s().value_or(-1.0) * 1000.0,
+      s->stop_timeline().c_str());
+  RecordProperty("rest_after_cut_ms", std::to_string(static_cast<int>(below.value_or(-1.0) * 1000.0)));
+  ASSERT_TRUE(below.has_value()) << "the tool or the crane never came below 1 mm/s after the cut";
   EXPECT_TRUE(after.at_rest) << "robot or crane still moving 5 s after the cut";
   EXPECT_LT(after.max_tool_m, 0.002);
   EXPECT_LT(after.max_crane_mps, 0.005);

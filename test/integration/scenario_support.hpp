@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -31,6 +32,7 @@
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/qos.hpp"
 #include "rigger/idl/types.hpp"
+#include "rigger/protocol/admittance.hpp"
 #include "rigger/protocol/crane.hpp"
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/sim.hpp"
@@ -111,13 +113,37 @@ class ScenarioCell {
         robot_(cell.participant(), protocol::robot::kState),
         gripper_(cell.participant(), protocol::robot::kGripperState),
         crane_(cell.participant(), protocol::crane::kState),
-        commands_(cell.participant(), protocol::skill::kCommand) {
+        commands_(cell.participant(), protocol::skill::kCommand),
+        cmd_twist_(cell.participant(), protocol::robot::kCmdTwist),
+        crane_cmd_(cell.participant(), protocol::crane::kCmdVelocity),
+        admittance_(cell.participant(), protocol::admittance::kState) {
     if (pki_dir_.empty()) recipes_.emplace(cell.participant(), protocol::task::kRecipe.name, dds::qos::commands());
     cell.loop().on_data(commands_, [this] {
       commands_.take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
-        if (c.kind != rigger_skill_SKILL_PAUSE || pause_seen_at_) return;
-        pause_seen_at_ = Clock::now();
+        if (c.kind != rigger_skill_SKILL_PAUSE || stop_mark_) return;
+        mark_stop(dds::to_domain(c.stamp));
       });
+    });
+    cell.loop().on_data(cmd_twist_, [this] {
+      cmd_twist_.take([this](const rigger_sensing_TwistCommand& c, const dds_sample_info_t&) {
+        trace(StopSample::kTwistCommand, dds::to_domain(c.twist.linear).norm(), dds::to_domain(c.header.stamp));
+      });
+    });
+    cell.loop().on_data(crane_cmd_, [this] {
+      crane_cmd_.take([this](const rigger_crane_CraneVelocityCommand& c, const dds_sample_info_t&) {
+        trace(StopSample::kCraneCommand,
+              Eigen::Vector3d(c.velocity_mps[0], c.velocity_mps[1], c.velocity_mps[2]).norm(),
+              dds::to_domain(c.header.stamp));
+      });
+    });
+    cell.loop().on_data(admittance_, [this] {
+      admittance_.take([this](const rigger_admittance_AdmittanceState& a, const dds_sample_info_t&) {
+        trace(StopSample::kAdmittanceMode, static_cast<double>(a.mode), dds::to_domain(a.header.stamp));
+      });
+    });
+    sim_.on_status([this](const SimStatusView& v) {
+      trace(StopSample::kCraneSpeed, v.crane_velocity_mps.norm(), v.stamp);
+      trace(StopSample::kPlcSetpoint, v.plc_setpoint_mps.norm(), v.stamp);
     });
     cell.loop().on_data(crane_, [this] {
       crane_.take([this](const rigger_crane_CraneState& c, const dds_sample_info_t&) {
@@ -170,14 +196,16 @@ class ScenarioCell {
       robot_.take([this](const rigger_robot_RobotState& s, const dds_sample_info_t&) {
         robot_tool_ = dds::to_domain(s.tool_pose);
         robot_moving_ = s.moving;
-        if (pause_seen_at_ && !rest_after_pause_at_) {
-          const auto& v = s.tool_twist.linear;
+        const auto& v = s.tool_twist.linear;
+        const WallTime stamp = dds::to_domain(s.header.stamp);
+        trace(StopSample::kToolSpeed, Eigen::Vector3d(v.x, v.y, v.z).norm(), stamp);
+        if (stop_mark_ && !rest_after_mark_s_ && stamp >= *stop_mark_) {
           const bool tool_still = Eigen::Vector3d(v.x, v.y, v.z).norm() < 0.001;
           const bool crane_still = sim_.has_status() && sim_.latest().crane_velocity_mps.norm() < 0.001;
-          const auto now = Clock::now();
-          if (tool_still && !tool_rest_after_pause_at_) tool_rest_after_pause_at_ = now;
-          if (crane_still && !crane_rest_after_pause_at_) crane_rest_after_pause_at_ = now;
-          if (tool_still && crane_still) rest_after_pause_at_ = now;
+          const double t = std::chrono::duration<double>(stamp - *stop_mark_).count();
+          if (tool_still && !tool_rest_after_mark_s_) tool_rest_after_mark_s_ = t;
+          if (crane_still && !crane_rest_after_mark_s_) crane_rest_after_mark_s_ = t;
+          if (tool_still && crane_still) rest_after_mark_s_ = t;
         }
         ++robot_samples_;
       });
@@ -326,13 +354,77 @@ class ScenarioCell {
     return r;
   }
 
-  /// From the first SKILL_PAUSE seen on rigger/skill/command to the first robot state after it in which the
-  /// tool (its reported twist) and the crane (the simulator's status) both move slower than 1 mm/s; both
-  /// times are when this process read the samples. Empty before a pause, or while still moving.
-  std::optional<double> rest_after_pause_s() const { return since_pause(rest_after_pause_at_); }
+  /// Marks the start of a stop at wall-clock time `t` (the first SKILL_PAUSE on rigger/skill/command marks
+  /// itself with its stamp; a test marks a link cut or a kill): rest_after_mark_s() and stop_timeline() count
+  /// from it. Every sample is timed by its own stamp (the processes share this machine's clock), not by when
+  /// this process read it, so that a test process the scheduler holds back does not lengthen the figures.
+  void mark_stop(WallTime t) {
+    stop_mark_ = t;
+    rest_after_mark_s_.reset();
+    tool_rest_after_mark_s_.reset();
+    crane_rest_after_mark_s_.reset();
+    stop_trace_.clear();
+  }
+  void mark_stop(Clock::time_point t) {
+    mark_stop(std::chrono::system_clock::now() -
+              std::chrono::duration_cast<std::chrono::system_clock::duration>(Clock::now() - t));
+  }
+
+  /// From the stop's mark (the first SKILL_PAUSE, or mark_stop()) to the first robot state stamped after it in
+  /// which the tool (its reported twist) and the crane (the simulator's latest status) both move slower than
+  /// 1 mm/s. Empty before a mark, or while still moving.
+  std::optional<double> rest_after_mark_s() const { return rest_after_mark_s_; }
   /// The same for the tool alone and for the crane alone (each first seen below 1 mm/s).
-  std::optional<double> tool_rest_after_pause_s() const { return since_pause(tool_rest_after_pause_at_); }
-  std::optional<double> crane_rest_after_pause_s() const { return since_pause(crane_rest_after_pause_at_); }
+  std::optional<double> tool_rest_after_mark_s() const { return tool_rest_after_mark_s_; }
+  std::optional<double> crane_rest_after_mark_s() const { return crane_rest_after_mark_s_; }
+
+  /// Where the stop's time went, by the samples' stamps (for the first 1.5 s after the mark):
+  /// per 20 ms, the largest commanded robot twist (rigger/robot/cmd_twist), the tool's reported speed, the
+  /// commanded crane velocity (rigger/crane/cmd_velocity), the PLC's setpoint and the crane's true speed
+  /// (rigger/sim/status), all in mm/s, and the admittance mode; then, for each, when it last exceeded 1 mm/s.
+  std::string stop_timeline(double until_s = 0.8) const {
+    constexpr double kBinS = 0.02;
+    const int bins = static_cast<int>(until_s / kBinS);
+    std::vector<std::array<double, StopSample::kKinds>> table(bins);
+    for (auto& row : table) row.fill(-1.0);
+    std::array<double, StopSample::kKinds> last_above{};
+    last_above.fill(-1.0);
+    for (const StopSample& x : stop_trace_) {
+      const int bin = static_cast<int>(x.t_s / kBinS);
+      if (bin >= 0 && bin < bins) table[bin][x.kind] = std::max(table[bin][x.kind], x.value);
+      if (x.kind != StopSample::kAdmittanceMode && x.value >= 0.001) last_above[x.kind] = x.t_s;
+    }
+    std::string out = "  ms   twist cmd  tool  crane cmd  plc set  crane  admittance mode\n";
+    char line[160];
+    for (int b = 0; b < bins; ++b) {
+      const auto& r = table[b];
+      auto mm = [](double v) { return v < 0.0 ? std::string("    -") : std::to_string(v * 1000.0).substr(0, 5); };
+      std::snprintf(line, sizeof line, "  %3d  %9s  %5s  %9s  %7s  %5s  %s\n", static_cast<int>(b * kBinS * 1000),
+                    mm(r[StopSample::kTwistCommand]).c_str(), mm(r[StopSample::kToolSpeed]).c_str(),
+                    mm(r[StopSample::kCraneCommand]).c_str(), mm(r[StopSample::kPlcSetpoint]).c_str(),
+                    mm(r[StopSample::kCraneSpeed]).c_str(),
+                    r[StopSample::kAdmittanceMode] < 0.0
+                        ? "-"
+                        : std::to_string(static_cast<int>(r[StopSample::kAdmittanceMode])).c_str());
+      out += line;
+    }
+    std::snprintf(line, sizeof line,
+                  "  last above 1 mm/s (ms): twist cmd %.0f, tool %.0f, crane cmd %.0f, plc set %.0f, crane %.0f\n",
+                  last_above[StopSample::kTwistCommand] * 1000, last_above[StopSample::kToolSpeed] * 1000,
+                  last_above[StopSample::kCraneCommand] * 1000, last_above[StopSample::kPlcSetpoint] * 1000,
+                  last_above[StopSample::kCraneSpeed] * 1000);
+    return out + line;
+  }
+  /// When the tool and the crane (as stop_timeline() reads them) were last faster than 1 mm/s after the mark,
+  /// in s: the time from which both stayed below it. Empty before a mark.
+  std::optional<double> settled_after_mark_s() const {
+    if (!stop_mark_) return std::nullopt;
+    double last = 0.0;
+    for (const StopSample& x : stop_trace_)
+      if ((x.kind == StopSample::kToolSpeed || x.kind == StopSample::kCraneSpeed) && x.value >= 0.001)
+        last = std::max(last, x.t_s);
+    return last;
+  }
 
   /// Starts a second task controller (harness name and service id `id`) on the first one's configuration
   /// and journal, as an operator restarts a crashed controller; waits until it is READY.
@@ -531,11 +623,22 @@ class ScenarioCell {
   dds::Reader<rigger_robot_GripperState> gripper_;
   dds::Reader<rigger_crane_CraneState> crane_;
   dds::Reader<rigger_skill_SkillCommand> commands_;
-  std::optional<Clock::time_point> pause_seen_at_, rest_after_pause_at_, tool_rest_after_pause_at_,
-      crane_rest_after_pause_at_;
-  std::optional<double> since_pause(const std::optional<Clock::time_point>& t) const {
-    if (!pause_seen_at_ || !t) return std::nullopt;
-    return std::chrono::duration<double>(*t - *pause_seen_at_).count();
+  dds::Reader<rigger_sensing_TwistCommand> cmd_twist_;
+  dds::Reader<rigger_crane_CraneVelocityCommand> crane_cmd_;
+  dds::Reader<rigger_admittance_AdmittanceState> admittance_;
+  std::optional<WallTime> stop_mark_;
+  std::optional<double> rest_after_mark_s_, tool_rest_after_mark_s_, crane_rest_after_mark_s_;
+  struct StopSample {
+    enum Kind { kTwistCommand, kToolSpeed, kCraneCommand, kPlcSetpoint, kCraneSpeed, kAdmittanceMode, kKinds };
+    double t_s;
+    int kind;
+    double value;
+  };
+  std::vector<StopSample> stop_trace_;
+  void trace(int kind, double value, WallTime stamp) {
+    if (!stop_mark_) return;
+    const double t = std::chrono::duration<double>(stamp - *stop_mark_).count();
+    if (t >= 0.0 && t < 1.5) stop_trace_.push_back({t, kind, value});
   }
   bool crane_ready_ = false;
   bool ready_ = false;

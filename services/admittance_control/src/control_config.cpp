@@ -66,6 +66,7 @@ RobotAdmittanceConfig read_robot(const Config& c) {
   r.limits.max_linear_speed_mps = limits.get<double>("max_linear_speed_mps", r.limits.max_linear_speed_mps);
   r.limits.max_angular_speed_radps = limits.get<double>("max_angular_speed_radps", r.limits.max_angular_speed_radps);
   r.limits.max_acceleration = read_vector<6>(limits, "max_acceleration", r.limits.max_acceleration);
+  r.limits.stop_deceleration = read_vector<6>(limits, "stop_deceleration", r.limits.max_acceleration);
   const Config tool = c.child_or_empty("tool");
   r.tool.mass_kg = tool.get<double>("mass_kg", r.tool.mass_kg);
   r.tool.center_of_mass_m = read_vector<3>(tool, "center_of_mass_m", r.tool.center_of_mass_m);
@@ -94,6 +95,7 @@ CraneAdmittanceConfig read_crane(const Config& c) {
   r.force_filter_cutoff_hz = c.get<double>("force_filter_cutoff_hz", r.force_filter_cutoff_hz);
   r.max_speed_mps = read_vector<3>(c, "max_speed_mps", r.max_speed_mps);
   r.max_acceleration_mps2 = read_vector<3>(c, "max_acceleration_mps2", r.max_acceleration_mps2);
+  r.stop_deceleration_mps2 = read_vector<3>(c, "stop_deceleration_mps2", r.max_acceleration_mps2);
   r.robot_velocity_feedforward = c.get<double>("robot_velocity_feedforward", r.robot_velocity_feedforward);
   r.rope_offset_gain_per_s = c.get<double>("rope_offset_gain_per_s", r.rope_offset_gain_per_s);
   r.force_timeout = read_seconds(c, "force_timeout_s", r.force_timeout);

@@ -50,6 +50,7 @@ std::optional<ConfigProblem> find_problem(const CraneAdmittanceConfig& c) {
   if (auto p = check_scalar(c.force_filter_cutoff_hz, "/force_filter_cutoff_hz", Bound::kNonNegative, "Hz")) return p;
   if (auto p = check_axes(c.max_speed_mps, "/max_speed_mps", Bound::kNonNegative, "m/s")) return p;
   if (auto p = check_axes(c.max_acceleration_mps2, "/max_acceleration_mps2", Bound::kPositive, "m/s^2")) return p;
+  if (auto p = check_axes(c.stop_deceleration_mps2, "/stop_deceleration_mps2", Bound::kPositive, "m/s^2")) return p;
   if (!(c.robot_velocity_feedforward >= 0.0 && c.robot_velocity_feedforward <= 1.0))
     return ConfigProblem{"/robot_velocity_feedforward", "expected a number in [0, 1]"};
   if (auto p = check_scalar(c.rope_offset_gain_per_s, "/rope_offset_gain_per_s", Bound::kNonNegative, "1/s")) return p;
@@ -115,7 +116,8 @@ CraneOutput CraneAdmittance::step(Seconds dt, const CraneInput& input) {
   CraneOutput out;
   out.status.gains_blending = gains_.blending();
   if (!enabled_) {
-    const bool moving = ramp_to_zero(last_output_, config_.max_acceleration_mps2, h);
+    const bool moving =
+        ramp_to_zero(last_output_, config_.stop_deceleration_mps2.cwiseMax(config_.max_acceleration_mps2), h);
     if (!moving) reset_state();
     out.velocity_world_mps = last_output_;
     out.status.state = moving ? CraneState::kStopping : CraneState::kDisabled;

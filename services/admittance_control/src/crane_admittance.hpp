@@ -53,6 +53,9 @@ struct CraneAdmittanceConfig {
   Eigen::Vector3d max_speed_mps{0.5, 0.5, 0.2};
   /// Per-axis acceleration limit, m/s^2, > 0 (the cell's crane: 0.5, 0.5, 0.3); each axis on its own.
   Eigen::Vector3d max_acceleration_mps2{0.5, 0.5, 0.3};
+  /// Per-axis deceleration of a stop (disabled: the ramp to zero), m/s^2, > 0; never slower than
+  /// max_acceleration_mps2. The PLC ramps too: it must brake at least as hard (its stop_decel_mps2).
+  Eigen::Vector3d stop_deceleration_mps2{0.5, 0.5, 0.3};
   /// Share of the robot's commanded TCP velocity fed forward to the crane, in [0, 1].
   double robot_velocity_feedforward = 1.0;
   /// Gain on a measured horizontal load-to-hook offset, 1/s, >= 0 (0: not used).

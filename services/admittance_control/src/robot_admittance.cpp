@@ -116,7 +116,8 @@ std::optional<ConfigProblem> find_problem(const MotionLimits& limits) {
     return p;
   if (auto p = check_scalar(limits.max_angular_speed_radps, "/max_angular_speed_radps", Bound::kNonNegative, "rad/s"))
     return p;
-  return check_axes(limits.max_acceleration, "/max_acceleration", Bound::kPositive, "m/s^2 or rad/s^2");
+  if (auto p = check_axes(limits.max_acceleration, "/max_acceleration", Bound::kPositive, "m/s^2 or rad/s^2")) return p;
+  return check_axes(limits.stop_deceleration, "/stop_deceleration", Bound::kPositive, "m/s^2 or rad/s^2");
 }
 
 std::optional<ConfigProblem> find_problem(const RobotAdmittanceConfig& c) {
@@ -222,8 +223,9 @@ AdmittanceOutput RobotAdmittance::stopping_output(double dt_s) {
   out.status.gains_blending = gains_.blending();
   Eigen::Vector3d linear = last_output_.head<3>();
   Eigen::Vector3d angular = last_output_.tail<3>();
-  const bool linear_moving = ramp_to_zero(linear, config_.limits.max_acceleration.head<3>(), dt_s);
-  const bool angular_moving = ramp_to_zero(angular, config_.limits.max_acceleration.tail<3>(), dt_s);
+  const Vector6d rate = config_.limits.stop_deceleration.cwiseMax(config_.limits.max_acceleration);
+  const bool linear_moving = ramp_to_zero(linear, rate.head<3>(), dt_s);
+  const bool angular_moving = ramp_to_zero(angular, rate.tail<3>(), dt_s);
   last_output_ << linear, angular;
   out.twist = Twist::from_stacked(last_output_);
   if (!linear_moving && !angular_moving) {

@@ -78,6 +78,10 @@ struct MotionLimits {
   double max_angular_speed_radps = 0.5;
   /// m/s^2 and rad/s^2, > 0.
   Vector6d max_acceleration = (Vector6d() << 0.5, 0.5, 0.5, 1.0, 1.0, 1.0).finished();
+  /// Deceleration of a stop (mode OFF: the ramp to zero), m/s^2 and rad/s^2, > 0; a stop never ramps
+  /// slower than max_acceleration. Braking may be harder than accelerating: a pause or a lost commander must
+  /// bring the robot to rest quickly, and the carried load is felt at the wrist only while the robot brakes.
+  Vector6d stop_deceleration = (Vector6d() << 0.5, 0.5, 0.5, 1.0, 1.0, 1.0).finished();
 };
 
 /// The first rule `limits` break (pointer relative to the limits object), if any.

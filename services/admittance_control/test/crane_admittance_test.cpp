@@ -182,6 +182,27 @@ TEST(CraneAdmittance, DisabledIsZeroAndDisablingRampsDown) {
   EXPECT_TRUE(out.velocity_world_mps.isZero(0.0));
 }
 
+// Disabled (a pause, a lost commander), the crane brakes at stop_deceleration_mps2, per axis.
+TEST(CraneAdmittance, DisablingRampsDownAtTheStopDeceleration) {
+  CraneAdmittanceConfig c = bare_config();
+  c.max_acceleration_mps2.setConstant(0.5);
+  c.stop_deceleration_mps2 = Eigen::Vector3d(1.0, 1.0, 0.6);
+  CraneAdmittance law(c);
+  law.set_enabled(true);
+  CraneOutput out;
+  for (int k = 0; k < 300; ++k) out = law.step(kDt, pull(Eigen::Vector3d(-30.0, 0.0, 0.0)));
+  ASSERT_NEAR(out.velocity_world_mps.x(), 0.1, 1e-6);
+  law.set_enabled(false);
+  int steps = 0;
+  for (; steps < 100 && out.status.state != CraneState::kDisabled; ++steps) {
+    const double previous = out.velocity_world_mps.x();
+    out = law.step(kDt, pull(Eigen::Vector3d(-30.0, 0.0, 0.0)));
+    EXPECT_NEAR(previous - out.velocity_world_mps.x(), std::min(previous, 1.0 * kH), 1e-9);
+  }
+  EXPECT_NEAR(steps, 0.1 / (1.0 * kH), 1.0);  // 100 ms, where max_acceleration_mps2 would take 200
+  EXPECT_TRUE(out.velocity_world_mps.isZero(0.0));
+}
+
 TEST(CraneAdmittance, GainChangesAreBlendedAndInvalidOnesRefused) {
   CraneAdmittanceConfig c = bare_config();
   c.gain_transition_time = Seconds(1.0);

@@ -512,6 +512,32 @@ TEST(Modes, OffIsZeroAndSwitchingOffWhileMovingRampsDownAtTheAccelerationLimit) 
   EXPECT_NEAR(stopping_steps, 0.2 / (1.0 * kH), 1.5);
 }
 
+// A stop brakes at stop_deceleration (a pause, a lost commander), harder than the motion accelerates; a
+// stop_deceleration below the acceleration limit never makes the stop slower than max_acceleration.
+TEST(Modes, SwitchingOffRampsDownAtTheStopDecelerationButNeverSlowerThanTheAccelerationLimit) {
+  for (const double stop : {2.0, 0.25}) {
+    RobotAdmittanceConfig c = bare_config();
+    c.limits.max_acceleration.setConstant(1.0);
+    c.limits.stop_deceleration.setConstant(stop);
+    RobotAdmittance law(c);
+    law.set_mode(AdmittanceMode::kRobot);
+    AdmittanceOutput out;
+    for (int i = 0; i < 1000; ++i) out = law.step(kDt, sample(axis_value(1, 20.0)), kUpright, {});
+    ASSERT_NEAR(out.twist.linear_mps.y(), 0.2, 1e-6);
+    law.set_mode(AdmittanceMode::kOff);
+    int stopping_steps = 0;
+    while (out.status.state != AdmittanceState::kOff && stopping_steps < 1000) {
+      const double previous = out.twist.linear_mps.y();
+      out = law.step(kDt, sample(axis_value(1, 20.0)), kUpright, {});
+      if (out.status.state == AdmittanceState::kStopping) {
+        EXPECT_NEAR(previous - out.twist.linear_mps.y(), std::max(stop, 1.0) * kH, 1e-9) << stop;
+      }
+      ++stopping_steps;
+    }
+    EXPECT_NEAR(stopping_steps, 0.2 / (std::max(stop, 1.0) * kH), 1.5) << stop;
+  }
+}
+
 TEST(Reference, JoystickIsAFeedForwardTheForceAddsTo) {
   RobotAdmittanceConfig c = bare_config();
   c.limits.max_acceleration.setConstant(1.0);

@@ -60,6 +60,8 @@ void read_plc(const Config& plc, CellSimConfig& out) {
   auto& program = out.plc.program;
   program.heartbeat_timeout = get_ms(plc, "heartbeat_timeout_ms", std::chrono::milliseconds(200), 10, 250);
   program.quick_stop_decel_mps2 = get_vector3(plc, "quick_stop_decel_mps2", program.quick_stop_decel_mps2, 0.01, 20.0);
+  if (plc.has("stop_decel_mps2"))
+    program.stop_decel_mps2 = get_vector3(plc, "stop_decel_mps2", Eigen::Vector3d::Zero(), 0.01, 20.0);
   program.overload_factor = plc.get_in_range("overload_factor", program.overload_factor, 1.0, 10.0);
   program.limit_switch_tolerance_m =
       plc.get_in_range("limit_switch_tolerance_m", program.limit_switch_tolerance_m, 0.0, 0.5);

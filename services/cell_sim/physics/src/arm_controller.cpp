@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "rigger/sim/pose_math.hpp"
@@ -230,6 +231,15 @@ void ArmController::stop() {
   supersede_motion("stopped");
   pending_.reset();
   settling_ = false;
+  if (mode_ == RobotMode::Twist) {
+    // A twist stream stops on its path, as a robot controller's path-maintaining stop does: the twist's
+    // reference ramps to zero at the Cartesian limits, then the arm holds. Braking each joint at its own
+    // limit instead took the tool off its line at several m/s², and a held 40 kg load then swayed against the
+    // wrist for a second.
+    twist_command_ = Twist{};
+    twist_time_s_ = -std::numeric_limits<double>::infinity();
+    return;
+  }
   mode_ = RobotMode::Stopping;
 }
 

@@ -91,6 +91,7 @@ struct CellPhysics::Impl {
   void substep();
   void control_crane(double dt_s);
   void control_arm(double dt_s);
+  void add_payload_inertia(const JointVector& joint_acceleration);
   void control_gripper(double dt_s);
   void record_wrench();
   int aligned_face_contact() const;
@@ -131,6 +132,8 @@ struct CellPhysics::Impl {
   JointVector joint_torque = JointVector::Zero();
   std::vector<mjtNum> servo_acceleration;
   std::vector<mjtNum> servo_force;
+  std::vector<mjtNum> payload_jacp;  // 3 x nv, row major: the gripper's Jacobian at the payload's centre of mass
+  std::vector<mjtNum> payload_jacr;
 
   // Gripper.
   MagnetGripLogic magnet;
@@ -185,6 +188,8 @@ CellPhysics::Impl::Impl(const CellGeometry& cell_geometry,
   }
   servo_acceleration.assign(static_cast<std::size_t>(model->nv), 0.0);
   servo_force.assign(static_cast<std::size_t>(model->nv), 0.0);
+  payload_jacp.assign(3 * static_cast<std::size_t>(model->nv), 0.0);
+  payload_jacr.assign(3 * static_cast<std::size_t>(model->nv), 0.0);
 
   const CraneGeometry& crane = cell.crane;
   // Crane drives: references stay inside the end stops; each drive's ramp is what its force limit
@@ -328,12 +333,53 @@ void CellPhysics::Impl::control_arm(double dt_s) {
         accel[j];
   }
   mj_mulM(model.get(), data.get(), servo_force.data(), servo_acceleration.data());
+  if (holding && held_body >= 0) add_payload_inertia(arm->reference_acceleration());
   for (int j = 0; j < kArmJointCount; ++j) {
     const int dof = index.arm[static_cast<std::size_t>(j)].dof;
     const double torque =
         servo_force[static_cast<std::size_t>(dof)] + data->qfrc_bias[dof] - data->qfrc_passive[dof];
     joint_torque[j] = std::clamp(torque, -arm_limits.torque_max_nm[j], arm_limits.torque_max_nm[j]);
     data->ctrl[index.arm_actuator[static_cast<std::size_t>(j)]] = joint_torque[j];
+  }
+}
+
+// A robot controller's dynamic model includes the payload its load data describe. Without it the servo's
+// computed torque is sized for the arm alone: decelerating a 40 kg load, the arm fell behind its reference and
+// the load then swayed against the wrist at ~2 Hz, barely damped (19 mm/s at the tool, still 2 mm/s 1.5 s
+// later: GripperPhysics.AHeldLoadStopsWithTheArm). So while the magnet holds a body, the torque that the
+// reference's acceleration needs to move that body rigidly with the gripper is fed forward:
+// τ = Jpᵀ m Jp q̈_ref + Jrᵀ I Jr q̈_ref, with Jp, Jr the gripper's Jacobian at the body's centre of mass (the
+// sway then starts at ~3.5 mm/s). The feedback gains stay the arm's own: scaled up for the payload, the arm
+// side of the magnet's spring-damper went unstable at the 1 ms step (the grip chattered and let go). The
+// body's weight is not fed forward: the crane's rope carries the load, and a controller that compensated it
+// would push the load up the rope.
+void CellPhysics::Impl::add_payload_inertia(const JointVector& joint_acceleration) {
+  const int nv = model->nv;
+  mj_jac(model.get(), data.get(), payload_jacp.data(), payload_jacr.data(), data->xipos + 3 * held_body,
+         index.gripper_body);
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();
+  for (int j = 0; j < kArmJointCount; ++j) {
+    const int dof = index.arm[static_cast<std::size_t>(j)].dof;
+    const double qdd = joint_acceleration[j];
+    for (int r = 0; r < 3; ++r) {
+      linear[r] += payload_jacp[static_cast<std::size_t>(r * nv + dof)] * qdd;
+      angular[r] += payload_jacr[static_cast<std::size_t>(r * nv + dof)] * qdd;
+    }
+  }
+  const Eigen::Map<const Eigen::Matrix<mjtNum, 3, 3, Eigen::RowMajor>> rotation(data->ximat + 9 * held_body);
+  const Eigen::Matrix3d inertia_world =
+      rotation * vec3(model->body_inertia + 3 * held_body).asDiagonal() * rotation.transpose();
+  const Eigen::Vector3d force = model->body_mass[held_body] * linear;
+  const Eigen::Vector3d torque = inertia_world * angular;
+  for (int j = 0; j < kArmJointCount; ++j) {
+    const int dof = index.arm[static_cast<std::size_t>(j)].dof;
+    double extra = 0.0;
+    for (int r = 0; r < 3; ++r) {
+      extra += payload_jacp[static_cast<std::size_t>(r * nv + dof)] * force[r] +
+               payload_jacr[static_cast<std::size_t>(r * nv + dof)] * torque[r];
+    }
+    servo_force[static_cast<std::size_t>(dof)] += extra;
   }
 }
 

@@ -137,6 +137,32 @@ TEST(RobotPhysics, TwistStopsWhenCommandsAreNotRenewed) {
   EXPECT_LT(travelled, 0.1 * 0.25);
 }
 
+// A stop during a twist stream (a safe stop, the driver's twist timeout) brakes the tool on its line at the
+// Cartesian deceleration limit (1 m/s²), as a robot controller's path-maintaining stop does: from 0.1 m/s the
+// tool is at rest after about 0.1 s and 5 mm, along the direction it moved.
+TEST(RobotPhysics, AStopDuringATwistBrakesOnThePathAtTheCartesianLimit) {
+  CellPhysics physics(reachable_cell());
+  physics.step(100ms);
+  Twist twist;
+  twist.linear_mps = Eigen::Vector3d(0.0, 0.1, 0.0);
+  for (int i = 0; i < 100; ++i) {
+    ASSERT_TRUE(physics.set_tool_twist(twist).ok());
+    physics.step(10ms);
+  }
+  const Eigen::Vector3d at_stop = physics.robot_state().pose_base_tool.translation();
+  physics.stop_robot();
+  double rest_s = -1.0;
+  for (int i = 1; i <= 500; ++i) {
+    physics.step(1ms);
+    if (rest_s < 0.0 && physics.robot_state().twist_base_tool.linear_mps.norm() < 1e-3) rest_s = i * 1e-3;
+  }
+  const Eigen::Vector3d travel = physics.robot_state().pose_base_tool.translation() - at_stop;
+  EXPECT_NEAR(rest_s, 0.1, 0.03);
+  EXPECT_NEAR(travel.y(), 0.1 * 0.1 / 2.0, 0.002);
+  EXPECT_LT(std::hypot(travel.x(), travel.z()), 5e-4);
+  EXPECT_EQ(physics.robot_state().mode, RobotMode::Hold);
+}
+
 TEST(RobotPhysics, JointLimitsAreNeverExceeded) {
   CellPhysics physics(reachable_cell());
   const ArmLimits& limits = physics.arm_limits();

@@ -36,6 +36,13 @@ void validate(const PlcProgramConfig& config) {
       throw PlcConfigError("plc quick_stop_decel_mps2 " + std::string(crane::axis_name(axis)) +
                            ": must be finite and at least the axis' max acceleration");
     }
+    if (config.stop_decel_mps2) {
+      const double stop = (*config.stop_decel_mps2)[i];
+      if (!std::isfinite(stop) || stop < config.limits.max_accel_mps2[i] || stop > quick) {
+        throw PlcConfigError("plc stop_decel_mps2 " + std::string(crane::axis_name(axis)) +
+                             ": must be between the axis' max acceleration and its quick stop deceleration");
+      }
+    }
     const double range = config.limits.position_max_m[i] - config.limits.position_min_m[i];
     if (!(config.limit_switch_tolerance_m >= 0.0) ||
         !(2.0 * config.limit_switch_tolerance_m < range)) {
@@ -148,7 +155,10 @@ PlcOutputs PlcProgram::cycle(const PlcInputs& inputs, std::chrono::nanoseconds d
     // Ramp generator. Faults and overrun limits stop with the quick-stop deceleration.
     const bool overrun = (flags.limit_max[axis] && ramp_velocity_mps_[i] > 0.0) ||
                          (flags.limit_min[axis] && ramp_velocity_mps_[i] < 0.0);
-    const double rate = (faulted() || overrun) ? config_.quick_stop_decel_mps2[i] : accel;
+    const double current = ramp_velocity_mps_[i];
+    const bool slowing = std::abs(target[i]) < std::abs(current) || target[i] * current < 0.0;
+    const double ramp = slowing && config_.stop_decel_mps2 ? (*config_.stop_decel_mps2)[i] : accel;
+    const double rate = (faulted() || overrun) ? config_.quick_stop_decel_mps2[i] : ramp;
     const double max_step = rate * dt_s;
     ramp_velocity_mps_[i] += std::clamp(target[i] - ramp_velocity_mps_[i], -max_step, max_step);
   }

@@ -25,8 +25,9 @@ PlcProgramConfig config() {
 // The program in a closed loop with an ideal crane, on program time only (no clocks).
 class Harness {
  public:
-  explicit Harness(const Eigen::Vector3d& start = {4.0, 2.5, 2.0}, double load_kg = 40.0)
-      : program(config()), axes(start, load_kg) {}
+  explicit Harness(const Eigen::Vector3d& start = {4.0, 2.5, 2.0}, double load_kg = 40.0,
+                   const PlcProgramConfig& program_config = config())
+      : program(program_config), axes(start, load_kg) {}
 
   /// Cycles for `duration` in steps of `dt`, the gateway heartbeat changing every cycle when
   /// `heartbeat_alive`.
@@ -134,6 +135,32 @@ TEST(PlcProgram, RampsAtTheAccelerationLimitAndClampsSpeed) {
   EXPECT_DOUBLE_EQ(out.velocity_command_mps.y(), -0.5);
   EXPECT_DOUBLE_EQ(out.velocity_command_mps.z(), 0.2);
   EXPECT_TRUE(out.status.flags.moving);
+}
+
+// With a deceleration ramp configured, a setpoint that slows an axis down ramps at it (a frequency converter's
+// separate DEC ramp: a zero setpoint stops the crane sooner); speeding up stays at the acceleration limit.
+TEST(PlcProgram, SlowsDownAtTheStopDecelerationAndSpeedsUpAtTheAccelerationLimit) {
+  PlcProgramConfig c = config();
+  c.stop_decel_mps2 = Eigen::Vector3d(1.0, 1.0, 0.6);
+  Harness h({4.0, 2.5, 2.0}, 40.0, c);
+  h.take_control();
+  h.command.velocity_mps = {0.2, -0.2, 0.1};
+  auto out = h.run(500ms);
+  ASSERT_NEAR(out.velocity_command_mps.x(), 0.2, 1e-9);
+  ASSERT_NEAR(out.velocity_command_mps.y(), -0.2, 1e-9);
+  ASSERT_NEAR(out.velocity_command_mps.z(), 0.1, 1e-9);
+  h.command.velocity_mps.setZero();
+  out = h.run(100ms);  // 25 cycles of 4 ms
+  EXPECT_NEAR(out.velocity_command_mps.x(), 0.2 - 1.0 * 0.1, 1e-9);
+  EXPECT_NEAR(out.velocity_command_mps.y(), -0.2 + 1.0 * 0.1, 1e-9);
+  EXPECT_NEAR(out.velocity_command_mps.z(), 0.1 - 0.6 * 0.1, 1e-9);
+  out = h.run(120ms);
+  EXPECT_TRUE(out.velocity_command_mps.isZero(0.0));
+  h.command.velocity_mps = {-0.2, 0.2, -0.1};
+  out = h.run(100ms);
+  EXPECT_NEAR(out.velocity_command_mps.x(), -0.5 * 0.1, 1e-9);
+  EXPECT_NEAR(out.velocity_command_mps.y(), 0.5 * 0.1, 1e-9);
+  EXPECT_NEAR(out.velocity_command_mps.z(), -0.3 * 0.1, 1e-9);
 }
 
 TEST(PlcProgram, HeartbeatTimeoutStopsAndLatchesUntilReset) {
@@ -339,6 +366,13 @@ TEST(PlcProgramConfig, RejectsUnsafeOrUnusableSettings) {
   c = config();
   c.quick_stop_decel_mps2.x() = 0.1;  // weaker than the normal ramp
   EXPECT_THROW(PlcProgram{c}, PlcConfigError);
+  c = config();
+  c.stop_decel_mps2 = Eigen::Vector3d(0.4, 1.0, 0.6);  // bridge: slower than its acceleration
+  EXPECT_THROW(PlcProgram{c}, PlcConfigError);
+  c.stop_decel_mps2 = Eigen::Vector3d(1.0, 1.0, 5.0);  // hoist: harder than its quick stop
+  EXPECT_THROW(PlcProgram{c}, PlcConfigError);
+  c.stop_decel_mps2 = Eigen::Vector3d(1.0, 1.0, 0.6);
+  EXPECT_NO_THROW(PlcProgram{c});
   c = config();
   c.limits.max_speed_mps.z() = 0.0;
   EXPECT_THROW(PlcProgram{c}, PlcConfigError);

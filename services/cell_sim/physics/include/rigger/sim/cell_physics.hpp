@@ -141,7 +141,9 @@ class CellPhysics {
   /// Resolved-rate velocity of the tool point (base frame), held for the twist timeout unless
   /// renewed; scaled down to the Cartesian limits; joint limits enforced.  Zero stops the arm.
   CommandResult set_tool_twist(const Twist& twist_base);
-  /// Decelerate to rest and hold; an active motion ends as Stopped.
+  /// Decelerate to rest and hold; an active motion ends as Stopped. A twist stream stops on its path (the
+  /// tool's twist ramps to zero at the Cartesian acceleration limit); a point-to-point motion brakes each
+  /// joint at its acceleration limit.
   void stop_robot();
   [[nodiscard]] RobotState robot_state() const;
   [[nodiscard]] const ArmLimits& arm_limits() const;

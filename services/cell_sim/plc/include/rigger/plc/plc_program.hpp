@@ -29,6 +29,10 @@ struct PlcProgramConfig {
   std::chrono::nanoseconds heartbeat_timeout = std::chrono::milliseconds(200);
   /// Deceleration of the quick stop after a fault (e-stop, heartbeat timeout) [m/s^2], per axis.
   Eigen::Vector3d quick_stop_decel_mps2{2.0, 2.0, 1.0};
+  /// Deceleration ramp [m/s^2], per axis, used while the setpoint asks the axis to slow down (a frequency
+  /// converter's separate deceleration ramp); between the axis' max acceleration and its quick stop.
+  /// Nothing: the max acceleration, as when speeding up.
+  std::optional<Eigen::Vector3d> stop_decel_mps2;
   /// Overload when the hook load exceeds rated_load * overload_factor.
   double overload_factor = 1.1;
   /// A limit switch is active within this distance of its end of range [m].
