@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "rigger/testing/process.hpp"
+
 namespace rigger::bench {
 
 /// The q-quantile (0..1) of `values` (nearest rank); 0 when empty.
@@ -34,8 +36,8 @@ int int_option(int argc, char** argv, const std::string& name, int fallback);
 /// Runs a shell command and returns its stdout.
 std::string run_command(const std::string& command);
 
-/// utime + stime of `pid` in seconds (/proc/PID/stat), or a negative value when /proc cannot be read.
-double cpu_seconds(pid_t pid);
+/// utime + stime of `pid` in seconds (/proc/PID/stat); the test harness's.
+using testing::cpu_seconds;
 
 /// voluntary_ctxt_switches of thread `tid` of `pid`, or -1 when /proc cannot be read.
 long long voluntary_switches(pid_t pid, const std::string& tid);

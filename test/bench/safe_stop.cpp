@@ -12,8 +12,9 @@
 //    passes, whichever is first, it commands the safe stop of the leaf's devices (rigger/safety/stop).
 //    Measured: the freeze → the stop on the wire, and the stop → both below 1 mm/s. Then the executor
 //    is let go (SIGCONT) and the stops are reset (riggerctl estop --reset).
-// Each trial's figures come from this process's readers: the tool's reported twist (rigger/robot/state)
-// and the simulator's crane velocity (rigger/sim/status), the first robot state in which both are slow.
+// Each trial's figure is ScenarioCell's rest_after_mark_s(): from the mark to the first robot state stamped
+// after it in which the tool's reported twist (rigger/robot/state) and the simulator's crane velocity
+// (rigger/sim/status) are both below 1 mm/s, timed by the samples' stamps.
 //
 //   build/bench/bench_safe_stop [--trials 20]
 #include <signal.h>
@@ -40,13 +41,13 @@ using rigger::testing::Cell;
 using rigger::testing::scenario::Clock;
 using rigger::testing::scenario::ScenarioCell;
 
-constexpr double kStillMps = 0.001;    // "still": below 1 mm/s
 constexpr double kMovingMps = 0.02;    // a trial breaks the supervision once both move faster than this
 constexpr double kJogMps = 0.05;       // the joystick's push
 constexpr double kStopTimeoutS = 0.5;  // the recipe's stop timeout (escalation trials)
 constexpr int kCommandLeaseMs = 300;   // task_controller's command_lease_ms (its default; the shipped file sets none)
 
-/// Robot tool and crane speeds as this process reads them, and when both were first slow after a mark.
+/// Whether robot tool and crane both move (faster than kMovingMps), as this process reads them. When they
+/// are still again after a stop, ScenarioCell says (mark_stop(), rest_after_mark_s()).
 class Motion {
  public:
   Motion(Cell& cell, rigger::testing::SimChannel& sim)
@@ -55,40 +56,24 @@ class Motion {
       robot_.take([this](const rigger_robot_RobotState& s, const dds_sample_info_t&) {
         const auto& v = s.tool_twist.linear;
         tool_mps_ = Eigen::Vector3d(v.x, v.y, v.z).norm();
-        if (mark_ && !still_at_ && tool_mps_ < kStillMps && crane_mps() < kStillMps) still_at_ = Clock::now();
       });
     });
   }
-  double tool_mps() const { return tool_mps_; }
-  double crane_mps() const { return sim_.has_status() ? sim_.latest().crane_velocity_mps.norm() : 1.0; }
-  bool moving() const { return tool_mps_ > kMovingMps && crane_mps() > kMovingMps; }
-  void mark(Clock::time_point t) {
-    mark_ = t;
-    still_at_.reset();
-  }
-  void clear() {
-    mark_.reset();
-    still_at_.reset();
-  }
-  /// Milliseconds from the mark to the first robot state with both still; empty while moving.
-  std::optional<double> still_after_ms() const {
-    if (!mark_ || !still_at_) return std::nullopt;
-    return std::chrono::duration<double, std::milli>(*still_at_ - *mark_).count();
+  bool moving() const {
+    return tool_mps_ > kMovingMps && sim_.has_status() && sim_.latest().crane_velocity_mps.norm() > kMovingMps;
   }
 
  private:
   rigger::dds::Reader<rigger_robot_RobotState> robot_;
   rigger::testing::SimChannel& sim_;
   double tool_mps_ = 0.0;
-  std::optional<Clock::time_point> mark_, still_at_;
 };
 
 /// The operator's joystick, written on the cell's loop at 50 Hz while on.
 class Joystick {
  public:
   explicit Joystick(Cell& cell)
-      : cell_(cell),
-        writer_(cell.participant(), rigger::protocol::operator_ui::kJoystick.name, rigger::dds::qos::setpoints()) {
+      : writer_(cell.participant(), rigger::protocol::operator_ui::kJoystick.name, rigger::dds::qos::setpoints()) {
     cell.loop().every(20ms, [this] {
       if (on_) write(speed_);
     });
@@ -112,7 +97,6 @@ class Joystick {
     c.source = rigger::dds::wire_string("bench_safe_stop");
     writer_.write(c);
   }
-  Cell& cell_;
   rigger::dds::Writer<rigger_sensing_TwistCommand> writer_;
   bool on_ = false;
   double speed_ = 0.0;
@@ -186,11 +170,11 @@ int main(int argc, char** argv) {
     if (!cell.wait_until([&] { return motion.moving(); }, 15s)) return fail(task + ": robot and crane did not move");
 
     if (kill) {
-      motion.mark(Clock::now());
+      s.mark_stop(Clock::now());
       if (!cell.stop(controller, SIGKILL, 5s)) return fail("the controller did not end on SIGKILL");
-      if (!cell.wait_until([&] { return motion.still_after_ms().has_value(); }, 10s))
+      if (!cell.wait_until([&] { return s.rest_after_mark_s().has_value(); }, 10s))
         return fail(task + ": still moving");
-      kill_ms.push_back(*motion.still_after_ms());
+      kill_ms.push_back(*s.rest_after_mark_s() * 1000.0);
       joystick.release();
       // The killed controller's recipe reader must be gone before the next one's is counted (its
       // participant lease is 1 s); then a new controller on the same journal.
@@ -201,7 +185,6 @@ int main(int argc, char** argv) {
     } else {
       rigger::testing::ChildProcess& executor = cell.process("robot-skills");
       stop_seen.reset();
-      motion.clear();
       const auto frozen_at = Clock::now();
       executor.signal(SIGSTOP);
       rigger_task_TaskCommand c{};
@@ -214,15 +197,15 @@ int main(int argc, char** argv) {
       commands.write(c);
       const bool stopped = cell.wait_until([&] { return stop_seen.has_value(); }, 10s);
       if (stopped) {
-        motion.mark(*stop_seen);
+        s.mark_stop(*stop_seen);
         freeze_to_stop_ms.push_back(std::chrono::duration<double, std::milli>(*stop_seen - frozen_at).count());
       }
-      const bool still = stopped && cell.wait_until([&] { return motion.still_after_ms().has_value(); }, 10s);
+      const bool still = stopped && cell.wait_until([&] { return s.rest_after_mark_s().has_value(); }, 10s);
       joystick.release();
       executor.signal(SIGCONT);
       if (!stopped) return fail(task + ": no safe stop was commanded");
       if (!still) return fail(task + ": still moving after the safe stop");
-      stop_ms.push_back(*motion.still_after_ms());
+      stop_ms.push_back(*s.rest_after_mark_s() * 1000.0);
       if (!s.wait_task_end(30s)) return fail(task + ": the cancelled task did not end");
       // The operator's reset, as riggerctl does it: it returns once every device acknowledged it.
       const auto reset = rigger::testing::run_riggerctl(cell, "reset-" + std::to_string(i), {"estop", "--reset"});
@@ -230,7 +213,6 @@ int main(int argc, char** argv) {
       if (!cell.wait_until([&] { return s.crane_ready(); }, 10s))
         return fail("the crane did not come back after the reset");
     }
-    motion.clear();
     std::printf("  %-12s %6.0f ms\n", task.c_str(), kill ? kill_ms.back() : stop_ms.back());
     std::fflush(stdout);
   }

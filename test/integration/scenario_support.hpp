@@ -5,7 +5,6 @@
 // test watching the task, the nodes and the simulator's ground truth. Nothing sleeps: every wait is on
 // samples, with a deadline.
 #include <signal.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -13,11 +12,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <iterator>
 #include <map>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -543,20 +540,10 @@ class ScenarioCell {
   // CPU time (user + system, s) of each service process that still runs, from /proc/<pid>/stat.
   std::map<std::string, double> cpu_seconds() const {
     std::map<std::string, double> cpu;
-    const double tick = static_cast<double>(sysconf(_SC_CLK_TCK));
     for (const auto& name : services_) {
       ChildProcess& p = cell_.process(name);
       if (!p.running()) continue;
-      std::ifstream in("/proc/" + std::to_string(p.pid()) + "/stat");
-      const std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-      const auto close = stat.rfind(')');
-      if (close == std::string::npos) continue;
-      std::istringstream fields(stat.substr(close + 1));
-      std::string field;
-      double ticks = 0.0;
-      for (int i = 3; i <= 15 && fields >> field; ++i)  // fields 14 and 15: utime, stime (proc(5))
-        if (i >= 14) ticks += std::stod(field);
-      cpu[name] = ticks / tick;
+      if (const double s = testing::cpu_seconds(p.pid()); s >= 0.0) cpu[name] = s;
     }
     return cpu;
   }

@@ -60,4 +60,7 @@ class ChildProcess {
   std::optional<ExitStatus> status_;
 };
 
+/// utime + stime of process `pid` in seconds (/proc/PID/stat), or a negative value when /proc cannot be read.
+double cpu_seconds(pid_t pid);
+
 }  // namespace rigger::testing
