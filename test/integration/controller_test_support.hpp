@@ -21,6 +21,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
@@ -92,7 +93,7 @@ class ControllerTest : public MultiProcessTest {
     statuses_ = std::make_unique<dds::Reader<rigger_task_TaskStatus>>(p, protocol::task::kStatus);
     nodes_ = std::make_unique<dds::Reader<rigger_task_NodeStatus>>(p, protocol::task::kNodeStatus,
                                                                    dds::qos::state_changes());
-    commands_ = std::make_unique<dds::Reader<rigger_skill_SkillCommand>>(p, protocol::skill::kCommand);
+    commands_ = std::make_unique<dds::Reader<rigger_skill_SkillCommand>>(p, protocol::skill::kCommand, dds::qos::all_commands());
     events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(p, protocol::skill::kEvent);
     prompts_ = std::make_unique<dds::Reader<rigger_operator_ui_OperatorPrompt>>(p, protocol::operator_ui::kPrompt);
     journal_replies_ = std::make_unique<dds::Reader<rigger_task_JournalReply>>(p, protocol::task::kJournalReply);

@@ -25,6 +25,7 @@
 #include "rigger/cell_config/cell_cad.hpp"
 
 #include "cell_sim_test_support.hpp"
+#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/qos.hpp"
@@ -110,7 +111,7 @@ class ScenarioCell {
         robot_(cell.participant(), protocol::robot::kState),
         gripper_(cell.participant(), protocol::robot::kGripperState),
         crane_(cell.participant(), protocol::crane::kState),
-        commands_(cell.participant(), protocol::skill::kCommand),
+        commands_(cell.participant(), protocol::skill::kCommand, dds::qos::all_commands()),
         cmd_twist_(cell.participant(), protocol::robot::kCmdTwist),
         crane_cmd_(cell.participant(), protocol::crane::kCmdVelocity),
         admittance_(cell.participant(), protocol::admittance::kState) {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/service_state.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/safety/safe_stop.hpp"
@@ -63,7 +64,7 @@ ExecutorEndpoint::ExecutorEndpoint(const dds::Participant& participant, dds::Eve
       host_(host_name()),
       announcements_(participant, protocol::skill::kExecutors),
       events_(participant, protocol::skill::kEvent),
-      commands_(participant, protocol::skill::kCommand) {
+      commands_(participant, protocol::skill::kCommand, dds::qos::executor_commands(executor_id_)) {
   if (!library_.is_object() || !library_.contains("skills") || !library_["skills"].is_array())
     throw std::invalid_argument("executor " + executor_id_ + ": the skill library needs a \"skills\" array");
   for (const auto& s : library_["skills"]) {
@@ -129,7 +130,17 @@ std::vector<std::string> ExecutorEndpoint::resources_of(const std::string& skill
 }
 
 void ExecutorEndpoint::on_commands() {
-  commands_.take([this](const rigger_skill_SkillCommand& cmd, const dds_sample_info_t& info) { handle(cmd, info); });
+  if (!options_.on_received) {
+    commands_.take([this](const rigger_skill_SkillCommand& cmd, const dds_sample_info_t& info) { handle(cmd, info); });
+    return;
+  }
+  const std::int64_t woke = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                std::chrono::system_clock::now().time_since_epoch())
+                                .count();
+  commands_.take([this, woke](const rigger_skill_SkillCommand& cmd, const dds_sample_info_t& info) {
+    options_.on_received(cmd, woke);
+    handle(cmd, info);
+  });
 }
 
 void ExecutorEndpoint::on_commander_liveliness() {

@@ -12,6 +12,7 @@
 #include "rigger/base/bounded_json.hpp"
 #include "rigger/base/install.hpp"
 #include "rigger/base/time.hpp"
+#include "rigger/dds/conversions.hpp"
 
 namespace rigger::scripted {
 namespace {
@@ -22,6 +23,9 @@ nlohmann::json load_library(const Config& config) {
   if (!parsed.ok()) config.fail("library_file", parsed.error->to_string());
   return std::move(parsed.value);
 }
+
+/// The receipt trace holds at most this many commands (a benchmark's thousands of trials fit).
+constexpr std::size_t kReceiptCapacity = 1U << 16;
 
 }  // namespace
 
@@ -62,18 +66,38 @@ ScriptedExecutorNode::ScriptedExecutorNode(dds::ServiceContext& ctx) : ctx_(ctx)
     auto children = ctx.config.child("nodes");
     for (const auto& [node_id, value] : raw.items()) by_node_[node_id] = parse_behaviour(children.child(node_id), default_skill_);
   }
+  receipt_trace_path_ = ctx.config.get<std::string>("receipt_trace_path", "");
   ctx.config.finish();
 
+  executor::ExecutorEndpoint::Options options;
+  if (!receipt_trace_path_.empty()) {
+    receipts_.reserve(kReceiptCapacity);
+    options.on_received = [this](const rigger_skill_SkillCommand& c, std::int64_t woke_wall_ns) {
+      if (receipts_.size() < kReceiptCapacity)
+        receipts_.push_back({dds::to_string(c.executor_id), static_cast<int>(c.kind), dds::to_string(c.task_id),
+                             dds::to_string(c.node_id),
+                             static_cast<std::int64_t>(c.stamp.sec) * 1000000000LL + c.stamp.nanosec, woke_wall_ns});
+    };
+  }
   endpoint_ = std::make_unique<executor::ExecutorEndpoint>(
       ctx.participant, ctx.loop, ctx.log, ctx.options.id, library,
       executor::ExecutorEndpoint::Handlers{[this](const executor::StartRequest& r) { on_start(r); },
-                                           [this](const executor::ShutdownRequest& r) { on_shutdown(r); }});
+                                           [this](const executor::ShutdownRequest& r) { on_shutdown(r); }},
+      std::move(options));
   ctx.log->info("scripted executor ready skills={}", skills.size());
 }
 
 ScriptedExecutorNode::~ScriptedExecutorNode() {
   for (auto& [key, a] : active_)
     for (auto t : a.timers) ctx_.loop.cancel(t);
+  if (receipt_trace_path_.empty()) return;
+  std::ofstream out(receipt_trace_path_);
+  out << "executor\tkind\ttask\tnode\tstamp_wall_ns\twoke_wall_ns\n";
+  for (const auto& r : receipts_)
+    out << r.executor_id << '\t' << r.kind << '\t' << r.task_id << '\t' << r.node_id << '\t' << r.stamp_wall_ns << '\t' << r.woke_wall_ns
+        << '\n';
+  out.flush();
+  if (!out) ctx_.log->error("could not write the receipt trace {}", receipt_trace_path_);
 }
 
 const Behaviour& ScriptedExecutorNode::behaviour_for(const std::string& skill, const std::string& node_id) const {

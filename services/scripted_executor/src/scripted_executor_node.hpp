@@ -11,7 +11,11 @@
 ///   "default":      behaviour for skills (monitors default to {"mode": "run"})
 ///   "behaviours":   object: skill name → behaviour (overrides "default")
 ///   "nodes":        object: recipe node id ("root/0/1") → behaviour (overrides the skill's)
+///   "receipt_trace_path": string, default "" (off): stamp each command taken (whom it names, kind, task, node,
+///                   the controller's stamp, when this executor's loop woke for it) in memory and write
+///                   them to this file when the executor stops (task_controller_live_bench reads it)
 
+#include <cstdint>
 #include <map>
 #include <string>
 #include <utility>
@@ -43,7 +47,19 @@ class ScriptedExecutorNode : public dds::Node {
   void finish(const Key& key, executor::EventKind kind, std::string code, std::string message);
   const Behaviour& behaviour_for(const std::string& skill, const std::string& node_id) const;
 
+  /// One command taken (receipt_trace_path): for benchmarks that time a command's way to its executor.
+  struct Receipt {
+    std::string executor_id;  ///< whom the command names
+    int kind = 0;             ///< rigger_skill_SkillCommandKind
+    std::string task_id;
+    std::string node_id;
+    std::int64_t stamp_wall_ns = 0;  ///< the controller's stamp
+    std::int64_t woke_wall_ns = 0;   ///< when this executor's loop woke for it
+  };
+
   dds::ServiceContext& ctx_;
+  std::string receipt_trace_path_;  ///< empty: no receipt trace
+  std::vector<Receipt> receipts_;
   std::map<std::string, Behaviour> by_skill_;
   std::map<std::string, Behaviour> by_node_;
   Behaviour default_skill_;

@@ -1,6 +1,9 @@
 #include "controller_endpoint.hpp"
 
+#include <cstring>
+
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/qos.hpp"
 
 namespace rigger::task_controller {
@@ -47,8 +50,51 @@ bt::LeafEvent to_leaf_event(const rigger_skill_SkillEvent& e) {
 }
 
 ControllerEndpoint::ControllerEndpoint(const dds::Participant& participant, std::chrono::milliseconds lease)
-    : commands_(participant, protocol::skill::kCommand, supervised_commands(lease)),
+    : participant_(participant),
+      lease_(lease),
+      commands_(participant, protocol::skill::kCommand, supervised_commands(lease)),
       events_(participant, protocol::skill::kEvent) {}
+
+void ControllerEndpoint::executor_seen(const std::string& executor_id, const dds_guid_t& participant_key, bool again) {
+  auto it = routes_.find(executor_id);
+  if (it == routes_.end()) {
+    const std::string partition = protocol::skill::command_partition(executor_id);
+    if (partition.empty()) return;  // an id no partition can name alone: the default partition it is
+    dds::Qos qos = supervised_commands(lease_);
+    dds::set_partitions(qos, {partition});
+    it = routes_.emplace(executor_id, Route{dds::Writer<rigger_skill_SkillCommand>(participant_, protocol::skill::kCommand, qos),
+                                            participant_key, false})
+             .first;
+    return;
+  }
+  Route& r = it->second;
+  if (again || std::memcmp(&r.participant, &participant_key, sizeof participant_key) != 0) {
+    r.participant = participant_key;
+    r.matched = false;
+  }
+}
+
+bool ControllerEndpoint::routable(const std::string& executor_id) {
+  const auto it = routes_.find(executor_id);
+  if (it == routes_.end()) return false;
+  Route& r = it->second;
+  if (r.matched) {
+    // Cheap check that it still has a reader; a lost and found executor is checked afresh (executor_seen).
+    dds_publication_matched_status_t st{};
+    if (dds_get_publication_matched_status(r.writer.handle(), &st) == DDS_RETCODE_OK && st.current_count > 0) return true;
+    r.matched = false;
+  }
+  constexpr std::size_t kMax = 64;
+  dds_instance_handle_t readers[kMax];
+  const dds_return_t n = dds_get_matched_subscriptions(r.writer.handle(), readers, kMax);
+  for (dds_return_t i = 0; i < n && static_cast<std::size_t>(i) < kMax && !r.matched; ++i) {
+    dds_builtintopic_endpoint_t* e = dds_get_matched_subscription_data(r.writer.handle(), readers[i]);
+    if (e == nullptr) continue;
+    r.matched = std::memcmp(&e->participant_key, &r.participant, sizeof r.participant) == 0;
+    dds_builtintopic_free_endpoint(e);
+  }
+  return r.matched;
+}
 
 bool ControllerEndpoint::send(rigger_skill_SkillCommandKind kind, const std::string& task_id,
                               const bt::NodeSpec& spec, const LeafRun& run, const std::string& params,
@@ -63,8 +109,9 @@ bool ControllerEndpoint::send(rigger_skill_SkillCommandKind kind, const std::str
   c.reason = dds::wire_string(reason);
   c.seq = run.start_seq;
   c.stamp = dds::wire_now();
+  auto& writer = run.routed ? routes_.at(run.executor_id).writer : commands_;
   if (trace_) trace_->command_writing();
-  const bool written = commands_.write(c) == DDS_RETCODE_OK;
+  const bool written = writer.write(c) == DDS_RETCODE_OK;
   if (trace_) trace_->command_written();
   return written;
 }

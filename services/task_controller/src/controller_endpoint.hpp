@@ -27,6 +27,9 @@ struct LeafRun {
   std::string executor_id;
   std::uint64_t start_seq = 0;  ///< the START's seq; the run's events echo it as command_seq
   bt::Activation activation = 0;
+  /// Its commands go in its executor's partition (ControllerEndpoint::routable, decided at its START and
+  /// kept for every later command of the run, so that they stay on one writer, in order).
+  bool routed = false;
 };
 
 /// Per-writer ordering of events: each executor numbers its events; a seq not above the last one seen
@@ -74,6 +77,14 @@ class ControllerEndpoint {
   ControllerEndpoint(const dds::Participant& participant, std::chrono::milliseconds lease);
 
   /// The next command seq (every START, SHUTDOWN, PAUSE and RESUME takes one).
+  /// An executor announced itself from the participant `participant_key`: makes the writer of its
+  /// partition (once) and notes whose reader must match it. `again`: it was lost before (or its
+  /// participant changed), so the match is checked afresh.
+  void executor_seen(const std::string& executor_id, const dds_guid_t& participant_key, bool again);
+  /// Whether a START for `executor_id` can go in its partition now: the executor's own reader has matched
+  /// the partition's writer. Until then commands go in the default partition, which it also reads.
+  bool routable(const std::string& executor_id);
+
   std::uint64_t next_seq() { return ++command_seq_; }
   /// Sends START (params: the leaf's JSON), SHUTDOWN, PAUSE or RESUME of `spec` under `run`. Returns
   /// false when the write failed.
@@ -89,7 +100,17 @@ class ControllerEndpoint {
   void trace(StageTrace* trace) { trace_ = trace; }
 
  private:
-  dds::Writer<rigger_skill_SkillCommand> commands_;
+  /// One executor's partition of the command topic.
+  struct Route {
+    dds::Writer<rigger_skill_SkillCommand> writer;
+    dds_guid_t participant{};  ///< the executor's
+    bool matched = false;      ///< the executor's reader has matched `writer`
+  };
+
+  const dds::Participant& participant_;
+  std::chrono::milliseconds lease_;
+  dds::Writer<rigger_skill_SkillCommand> commands_;  ///< the default partition
+  std::map<std::string, Route> routes_;               ///< by executor id
   dds::Reader<rigger_skill_SkillEvent> events_;
   EventOrder order_;
   std::uint64_t command_seq_ = 0;

@@ -145,6 +145,14 @@ void TaskControllerNode::on_announcements() {
                                 dds::to_string_vector(a.skills), executor::runs_of(a));
         if (change.lost) lost.push_back(id);
         if (change.came_up) ctx_.log->info("executor up executor={}", id);
+        if (change.alive) {
+          // Its participant, whose reader the writer of its command partition must match.
+          if (dds_builtintopic_endpoint_t* w =
+                  dds_get_matched_publication_data(announcements_.handle(), info.publication_handle)) {
+            endpoint_.executor_seen(id, w->participant_key, change.came_up);
+            dds_builtintopic_free_endpoint(w);
+          }
+        }
         if (!change.library_error.empty())
           ctx_.log->warn("executor library unreadable executor={}: {}", id, change.library_error);
         appeared = appeared || change.alive;

@@ -343,6 +343,7 @@ void Task::send_start(const bt::NodeSpec& spec, bt::Activation activation) {
   }
   end_progress(spec.id);  // a run whose end never came (its stop timed out) before this one
   LeafRun run{executor_id, host_.endpoint().next_seq(), activation};
+  run.routed = host_.endpoint().routable(executor_id);
   runs_[spec.id] = run;
   const std::string& params = params_text(spec);
   host_.journal({wall_now_s(), id_, spec.id, "COMMAND", "START",

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/skill/skill_library.hpp"
@@ -106,7 +107,7 @@ class FakeHost final : public TaskHost {
   Logger log_ = null_logger();
   ControllerEndpoint endpoint_{participant_, 300ms};
   PromptWriter prompts_{participant_};
-  dds::Reader<rigger_skill_SkillCommand> reader_{participant_, protocol::skill::kCommand};
+  dds::Reader<rigger_skill_SkillCommand> reader_{participant_, protocol::skill::kCommand, dds::qos::all_commands()};
   std::vector<Command> commands_;
   std::uint64_t event_seq_ = 0;
   std::unique_ptr<Task> task_;

@@ -103,6 +103,10 @@ class ExecutorEndpoint {
   struct Options {
     /// How long a START waits for the run that holds its node or resources to finish stopping.
     std::chrono::milliseconds start_wait{10000};
+    /// Called with each command taken, before it is handled, and the wall-clock instant (ns since the
+    /// epoch) the loop woke for it: a receipt trace for benchmarks (scripted_executor's
+    /// receipt_trace_path). Empty (the default): nothing is stamped.
+    std::function<void(const rigger_skill_SkillCommand&, std::int64_t woke_wall_ns)> on_received = {};
   };
 
   /// `library` is a skill-library document { "library_version": 1, "skills": [ {"name": …}, … ] }.

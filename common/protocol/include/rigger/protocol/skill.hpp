@@ -2,11 +2,28 @@
 /// @file
 /// The topics of skill executors (idl/skill.idl), each declared once.
 
+#include <string>
+
 #include <rigger/idl/types.hpp>
 
 #include "rigger/protocol/topic.hpp"
 
 namespace rigger::protocol::skill {
+
+/// The partitions of the command topic. The controller writes a leaf's commands in the partition of
+/// the leaf's executor once that executor's reader has matched its writer there, so that a command is
+/// sent to, and wakes, that executor alone; before that (the first milliseconds after an executor
+/// appears) and for anything else it writes in the default partition, which every executor also reads
+/// (docs/dds.md#commands-go-to-their-executor-alone).
+inline constexpr const char* kCommandPartitionPrefix = "rigger.executor.";
+/// What a reader of every command (tests, tools) names besides the default partition.
+inline constexpr const char* kCommandPartitionPattern = "rigger.executor.*";
+/// The partition that reaches executor `executor_id` alone; "" (none: the default partition only) for
+/// an id with a partition wildcard character in it (* ? [ ] \), which would match other executors.
+inline std::string command_partition(const std::string& executor_id) {
+  if (executor_id.empty() || executor_id.find_first_of("*?[]\\") != std::string::npos) return "";
+  return kCommandPartitionPrefix + executor_id;
+}
 
 /// task_controller → skill_executor, monitor_host.
 inline constexpr Topic<rigger_skill_SkillCommand> kCommand{"rigger/skill/command",
@@ -18,7 +35,9 @@ inline constexpr Topic<rigger_skill_SkillCommand> kCommand{"rigger/skill/command
                                                            "the controller's writer adds MANUAL_BY_PARTICIPANT "
                                                            "liveliness (command_lease_ms, 300 ms): executors shut "
                                                            "down the runs of a controller that lost it "
-                                                           "([safety.md](safety.md))"};
+                                                           "([safety.md](safety.md)); a leaf's commands go in "
+                                                           "its executor's partition rigger.executor.<id> "
+                                                           "([dds.md](dds.md#commands-go-to-their-executor-alone))"};
 
 /// skill_executor, monitor_host → task_controller.
 inline constexpr Topic<rigger_skill_SkillEvent> kEvent{
