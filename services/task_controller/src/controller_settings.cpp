@@ -30,6 +30,7 @@ ControllerSettings read_settings(const Config& config, const std::string& journa
   s.start_answer_timeout = seconds_in_range(config, "start_answer_timeout_s", 5.0, 0.05, 600.0);
   s.busy_wait = seconds_in_range(config, "busy_wait_s", 10.0, 0.0, 600.0);
   s.progress_rows_per_run = config.get_in_range<unsigned>("journal_progress_per_run", 20U, 0U, 100000U);
+  s.flush_delay = std::chrono::microseconds(config.get_in_range<unsigned>("flush_delay_us", 1000U, 0U, 100000U));
   s.stage_trace_path = config.get<std::string>("stage_trace_path", "");
   config.finish();
   return s;

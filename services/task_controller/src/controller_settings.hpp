@@ -30,6 +30,11 @@
 ///                      leaf fails RESOURCE_HELD, naming the holder
 ///   "journal_progress_per_run": integer in [0, 100000], default 20: the first PROGRESS events of each
 ///                      run are journaled; at the run's end one row (PROGRESS_LEFT_OUT) counts the others
+///   "flush_delay_us": integer in [0, 100000], default 1000: the journal rows and node statuses an event
+///                      causes are written this long after its commands, together with those of every
+///                      event that comes meanwhile; the commands' receivers get the CPU first (on a
+///                      2-core machine the flush competed with them), and a burst is one transaction.
+///                      0: right after the handler (docs/behavior-tree.md#where-the-time-goes-issue-19)
 
 #include <chrono>
 #include <string>
@@ -51,6 +56,7 @@ struct ControllerSettings {
   std::chrono::nanoseconds start_answer_timeout{std::chrono::seconds(5)};
   std::chrono::nanoseconds busy_wait{std::chrono::seconds(10)};
   unsigned progress_rows_per_run = 20;
+  std::chrono::microseconds flush_delay{1000};
   std::string stage_trace_path;  ///< empty: no stage trace
 };
 

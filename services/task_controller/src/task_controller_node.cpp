@@ -117,11 +117,23 @@ void TaskControllerNode::task_finished(const std::string& id, int state, const s
 }
 
 void TaskControllerNode::post_flush_if_idle() {
-  // The first queued item posts the flush; later ones ride along with it.
-  if (journal_backlog_.empty() && status_backlog_.empty()) ctx_.loop.post([this] { flush_side_effects(); });
+  // The first queued item schedules the flush; later ones ride along with it.
+  if (flush_pending_) return;
+  flush_pending_ = true;
+  if (settings_.flush_delay.count() == 0) {
+    ctx_.loop.post([this] { flush_side_effects(); });
+    return;
+  }
+  flush_timer_ = ctx_.loop.after(settings_.flush_delay, [this] {
+    flush_timer_ = 0;
+    flush_side_effects();
+  });
 }
 
 void TaskControllerNode::flush_side_effects() {
+  if (flush_timer_ != 0) ctx_.loop.cancel(flush_timer_);
+  flush_timer_ = 0;
+  flush_pending_ = false;
   for (const auto& row : status_backlog_)
     if (!status_.node(row)) ctx_.log->error("node status write failed task={} node={}", row.task_id, row.node_id);
   status_backlog_.clear();

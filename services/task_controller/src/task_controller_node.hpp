@@ -152,6 +152,8 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   std::unique_ptr<world_client::WorldClient> world_;  ///< Condition nodes query the world model through it
   std::vector<NodeStatusRow> status_backlog_;
   std::vector<JournalRecord> journal_backlog_;
+  bool flush_pending_ = false;                 ///< a flush of the backlogs is scheduled
+  dds::EventLoop::TimerId flush_timer_ = 0;    ///< its timer (0: none, or a posted flush)
   std::unique_ptr<StageTrace> trace_;  ///< nullptr unless stage_trace_path is set
 };
 
