@@ -23,214 +23,30 @@
 //
 //   build/bench/task_controller_live_bench [--trials 1000] [--period-ms 10] [--idle-seconds 60]
 //                                          [--ddsperf-seconds 10]
+//
+// The reaction's processes and measurement are in live_reaction.* (shared with test/bench's
+// bench_network_matrix, which runs them across two lab hosts and with DDS Security).
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "bench_util.hpp"
+#include "live_reaction.hpp"
 #include "rigger/dds/conversions.hpp"
-#include "rigger/dds/pubsub.hpp"
-#include "rigger/executor/executor_endpoint.hpp"
-#include "rigger/protocol/skill.hpp"
-#include "rigger/protocol/task.hpp"
 #include "rigger/testing/cell.hpp"
-#include "task_controller_node.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
-using Clock = std::chrono::steady_clock;
 using nlohmann::json;
-namespace tc = rigger::task_controller;
 namespace dds = rigger::dds;
-
-std::string write_file(const std::string& path, const std::string& text) {
-  std::ofstream(path) << text;
-  return path;
-}
-
-std::int64_t wire_ns(const rigger_geometry_Time& t) {
-  return static_cast<std::int64_t>(t.sec) * 1000000000LL + t.nanosec;
-}
-
-struct Observer {
-  explicit Observer(rigger::testing::Cell& cell)
-      : recipes(cell.participant(), rigger::protocol::task::kRecipe),
-        task_commands(cell.participant(), rigger::protocol::task::kCommand),
-        statuses(cell.participant(), rigger::protocol::task::kStatus),
-        commands(cell.participant(), rigger::protocol::skill::kCommand),
-        events(cell.participant(), rigger::protocol::skill::kEvent) {}
-
-  void submit(const std::string& task_id, const json& recipe) {
-    rigger_task_Recipe r{};
-    const std::string text = recipe.dump(), submitter = "bench";
-    r.task_id = dds::wire_string(task_id);
-    r.recipe_json = dds::wire_string(text);
-    r.submitter = dds::wire_string(submitter);
-    r.stamp = dds::wire_now();
-    recipes.write(r);
-  }
-  void cancel(const std::string& task_id) {
-    rigger_task_TaskCommand c{};
-    const std::string issuer = "bench", reason = "bench done";
-    c.task_id = dds::wire_string(task_id);
-    c.kind = rigger_task_TASK_CANCEL;
-    c.reason = dds::wire_string(reason);
-    c.issuer = dds::wire_string(issuer);
-    c.seq = ++seq;
-    c.stamp = dds::wire_now();
-    task_commands.write(c);
-  }
-
-  dds::Writer<rigger_task_Recipe> recipes;
-  dds::Writer<rigger_task_TaskCommand> task_commands;
-  dds::Reader<rigger_task_TaskStatus> statuses;
-  dds::Reader<rigger_skill_SkillCommand> commands;
-  dds::Reader<rigger_skill_SkillEvent> events;
-  std::uint64_t seq = 0;
-};
-
-struct Reaction {
-  // Per trial, from the monitor's FAILURE (its executor's stamp) to:
-  std::vector<double> shutdown_written_us;   ///< the controller's SHUTDOWN stamp (1 hop + handling)
-  std::vector<double> shutdown_received_us;  ///< this process receiving that SHUTDOWN (2 hops + handling)
-  std::vector<double> stopped_written_us;    ///< the skill executor's STOPPED stamp (bounds its receipt)
-  // Per trial, one stage each (the controller's stage trace; they add up to shutdown_received_us but
-  // for the clock reads between them):
-  std::vector<double> to_woke_us;         ///< FAILURE written → controller's handler woke (DDS, 1 hop)
-  std::vector<double> to_writing_us;      ///< woke → SHUTDOWN handed to DDS (take, engine until the write)
-  std::vector<double> writing_us;         ///< the SHUTDOWN's write call
-  std::vector<double> to_engine_us;       ///< SHUTDOWN written → engine returned
-  std::vector<double> to_flushed_us;      ///< engine returned → journal rows and node statuses written
-  std::vector<double> command_to_seen_us;  ///< SHUTDOWN stamped → received here (DDS, 1 hop)
-  double trials_per_s = 0;
-  bool ok = false;
-};
-
-bool terminal(int s) {
-  return s == rigger_task_TASK_REJECTED || s == rigger_task_TASK_SUCCEEDED || s == rigger_task_TASK_FAILED ||
-         s == rigger_task_TASK_CANCELED;
-}
-
-/// The paper's pattern, repeated: Repeat(trials, ForceSuccess(Parallel(1, 1)[skill, monitor])). The
-/// skill (Localize on executor "skills") runs until shut down; the monitor (TimerMonitor on executor
-/// "monitors", another process) fails `period_ms` after its START. Three processes take part — the
-/// monitor's executor, the controller, the skill's executor — and this one watches the topics.
-Reaction measure_reaction(const std::string& journal_sync, int trials, int period_ms) {
-  Reaction out;
-  rigger::testing::Cell cell;
-  const std::string dir = cell.log_dir();
-  const std::string trace_path = dir + "/stages-" + journal_sync + ".tsv";
-  cell.start("tc", "task_controller",
-             {"--id", "tc", "--log-level", "warn", "--config",
-              write_file(dir + "/tc.json", json{{"journal_path", dir + "/journal-" + journal_sync + ".sqlite"},
-                                                {"journal_sync", journal_sync},
-                                                {"stage_trace_path", trace_path}}
-                                               .dump())});
-  cell.start("skills", "scripted_executor",
-             {"--id", "skills", "--log-level", "warn", "--config",
-              write_file(dir + "/skills.json", json{{"skills", {"Localize"}}, {"default", {{"mode", "run"}}}}.dump())});
-  cell.start("monitors", "scripted_executor",
-             {"--id", "monitors", "--log-level", "warn", "--config",
-              write_file(dir + "/monitors.json",
-                         json{{"skills", {"TimerMonitor"}},
-                              {"behaviours",
-                               {{"TimerMonitor", {{"mode", "fail"}, {"delay_s", period_ms / 1000.0}, {"code", "BENCH"}}}}}}
-                             .dump())});
-  if (!cell.wait_ready({"tc", "skills", "monitors"}, 30s)) {
-    std::fprintf(stderr, "services did not become ready\n%s", cell.logs().c_str());
-    return out;
-  }
-  Observer obs(cell);
-  if (!obs.recipes.wait_for_readers(1, 10s)) return out;
-  // Trials run one after the other (the next starts after the skill STOPPED), so the i-th FAILURE,
-  // SHUTDOWN and STOPPED belong to trial i.
-  std::vector<std::int64_t> failure_ns, shutdown_stamp_ns, shutdown_seen_ns, stopped_ns;
-  bool done = false;
-  int final_state = -1;
-  cell.loop().on_data(obs.events, [&] {
-    obs.events.take([&](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
-      const std::string executor = dds::to_string(e.executor_id);
-      if (executor == "monitors" && e.kind == rigger_skill_SKILL_EVENT_FAILURE) failure_ns.push_back(wire_ns(e.stamp));
-      if (executor == "skills" && e.kind == rigger_skill_SKILL_EVENT_STOPPED) stopped_ns.push_back(wire_ns(e.stamp));
-    });
-  });
-  cell.loop().on_data(obs.commands, [&] {
-    const std::int64_t seen = wire_ns(dds::wire_now());
-    obs.commands.take([&](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
-      if (c.kind != rigger_skill_SKILL_SHUTDOWN || dds::to_string(c.executor_id) != "skills") return;
-      shutdown_stamp_ns.push_back(wire_ns(c.stamp));
-      shutdown_seen_ns.push_back(seen);
-    });
-  });
-  cell.loop().on_data(obs.statuses, [&] {
-    obs.statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
-      if (dds::to_string(s.task_id) == "reaction" && terminal(s.state)) {
-        done = true;
-        final_state = s.state;
-      }
-    });
-  });
-  const json parallel = {
-      {"type", "Parallel"},
-      {"success_threshold", 1},
-      {"failure_threshold", 1},
-      {"children",
-       {{{"type", "Skill"}, {"skill", "Localize"}, {"params", {{"object", "load"}}}},
-        {{"type", "Monitor"}, {"monitor", "TimerMonitor"}, {"params", {{"max_duration_s", 3600}}}}}}};
-  const json root = {{"type", "Repeat"},
-                     {"repetitions", trials},
-                     {"child", {{"type", "ForceSuccess"}, {"child", parallel}}}};
-  const auto t0 = Clock::now();
-  obs.submit("reaction", {{"recipe_version", 1}, {"task_id", "reaction"}, {"root", root}});
-  if (!cell.wait_until([&] { return done; }, std::chrono::milliseconds(30000 + trials * (period_ms + 20)))) {
-    std::fprintf(stderr, "the reaction recipe did not finish\n");
-    return out;
-  }
-  out.trials_per_s = trials / std::chrono::duration<double>(Clock::now() - t0).count();
-  if (final_state != rigger_task_TASK_SUCCEEDED) {
-    std::fprintf(stderr, "the reaction recipe ended in state %d\n%s", final_state, cell.logs().c_str());
-    return out;
-  }
-  cell.stop_all();
-  const std::size_t n = failure_ns.size();
-  if (n == 0 || shutdown_stamp_ns.size() != n || stopped_ns.size() != n) {
-    std::fprintf(stderr, "unpaired events: %zu FAILURE, %zu SHUTDOWN, %zu STOPPED\n", n, shutdown_stamp_ns.size(),
-                 stopped_ns.size());
-    return out;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    out.shutdown_written_us.push_back(static_cast<double>(shutdown_stamp_ns[i] - failure_ns[i]) / 1000.0);
-    out.shutdown_received_us.push_back(static_cast<double>(shutdown_seen_ns[i] - failure_ns[i]) / 1000.0);
-    out.stopped_written_us.push_back(static_cast<double>(stopped_ns[i] - failure_ns[i]) / 1000.0);
-    out.command_to_seen_us.push_back(static_cast<double>(shutdown_seen_ns[i] - shutdown_stamp_ns[i]) / 1000.0);
-  }
-  // The controller wrote its trace when it stopped (stop_all waited for it). A trial's FAILURE is the
-  // record with its stamp.
-  std::map<std::int64_t, tc::StageRecord> traced;
-  for (auto& r : tc::StageTrace::read(trace_path))
-    if (r.executor_id == "monitors" && r.kind == "FAILURE") traced.emplace(r.stamp_wall_ns, std::move(r));
-  const auto us = [](std::int64_t from, std::int64_t to) { return static_cast<double>(to - from) / 1000.0; };
-  for (std::size_t i = 0; i < n; ++i) {
-    auto it = traced.find(failure_ns[i]);
-    if (it == traced.end() || it->second.command_ns == 0 || it->second.flushed_ns == 0) continue;
-    const auto& r = it->second;
-    out.to_woke_us.push_back(us(r.stamp_wall_ns, r.woke_wall_ns));
-    out.to_writing_us.push_back(us(r.woke_ns, r.writing_ns));
-    out.writing_us.push_back(us(r.writing_ns, r.command_ns));
-    out.to_engine_us.push_back(us(r.command_ns, r.engine_ns));
-    out.to_flushed_us.push_back(us(r.engine_ns, r.flushed_ns));
-  }
-  if (out.to_woke_us.size() != n)
-    std::fprintf(stderr, "stage trace: %zu of %zu trials traced (%s)\n", out.to_woke_us.size(), n, trace_path.c_str());
-  out.ok = true;
-  return out;
-}
+using rigger::bench::measure_reaction;
+using rigger::bench::Observer;
+using rigger::bench::Reaction;
+using rigger::bench::write_file;
 
 void print_row(const char* label, const std::vector<double>& v) {
   using rigger::bench::percentile;

@@ -1,0 +1,75 @@
+#pragma once
+// The skill-event reaction of the task controller as a real process, shared by task_controller_live_bench
+// (loopback, plain) and bench_network_matrix (test/bench: loopback or two lab hosts, security off or on):
+// a monitor's FAILURE written -> the sibling skill's SHUTDOWN received, with the controller and two
+// scripted executors as real processes and this process watching the topics like the skill's executor.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rigger/dds/pubsub.hpp"
+#include "rigger/protocol/skill.hpp"
+#include "rigger/protocol/task.hpp"
+#include "rigger/testing/cell.hpp"
+
+namespace rigger::bench {
+
+/// Writes `text` to `path` and returns `path`.
+std::string write_file(const std::string& path, const std::string& text);
+
+/// The bench's own endpoints on the task and skill topics: it submits and cancels recipes, follows task
+/// statuses, and sees every skill command and event.
+struct Observer {
+  explicit Observer(rigger::testing::Cell& cell);
+
+  void submit(const std::string& task_id, const nlohmann::json& recipe);
+  void cancel(const std::string& task_id);
+
+  rigger::dds::Writer<rigger_task_Recipe> recipes;
+  rigger::dds::Writer<rigger_task_TaskCommand> task_commands;
+  rigger::dds::Reader<rigger_task_TaskStatus> statuses;
+  rigger::dds::Reader<rigger_skill_SkillCommand> commands;
+  rigger::dds::Reader<rigger_skill_SkillEvent> events;
+  std::uint64_t seq = 0;
+};
+
+struct Reaction {
+  // Per trial, from the monitor's FAILURE (its executor's stamp) to:
+  std::vector<double> shutdown_written_us;   ///< the controller's SHUTDOWN stamp (1 hop + handling)
+  std::vector<double> shutdown_received_us;  ///< this process receiving that SHUTDOWN (2 hops + handling)
+  std::vector<double> stopped_written_us;    ///< the skill executor's STOPPED stamp (bounds its receipt)
+  // Per trial, one stage each (the controller's stage trace; they add up to shutdown_received_us but
+  // for the clock reads between them):
+  std::vector<double> to_woke_us;          ///< FAILURE written → controller's handler woke (DDS, 1 hop)
+  std::vector<double> to_writing_us;       ///< woke → SHUTDOWN handed to DDS (take, engine until the write)
+  std::vector<double> writing_us;          ///< the SHUTDOWN's write call
+  std::vector<double> to_engine_us;        ///< SHUTDOWN written → engine returned
+  std::vector<double> to_flushed_us;       ///< engine returned → journal rows and node statuses written
+  std::vector<double> command_to_seen_us;  ///< SHUTDOWN stamped → received here (DDS, 1 hop)
+  double trials_per_s = 0;
+  bool ok = false;
+};
+
+/// Starts one of the reaction's processes in `cell`: `name` is "tc" (task_controller), "skills" or
+/// "monitors" (scripted_executor), `binary` a name in the build's bin/.
+using StartProcess = std::function<rigger::testing::ChildProcess&(
+    rigger::testing::Cell& cell, const std::string& name, const std::string& binary, std::vector<std::string> args)>;
+
+/// Where the reaction runs. The defaults: this host, the cell's DDS configuration, the cell's own log folder.
+struct ReactionSetup {
+  std::string cell_subfolder;  ///< Cell(subfolder): its own log folder and journal for each setup of a run
+  StartProcess start;          ///< empty: cell.start(name, binary, args)
+};
+
+/// The paper's pattern, repeated: Repeat(trials, ForceSuccess(Parallel(1, 1)[skill, monitor])). The
+/// skill (Localize on executor "skills") runs until shut down; the monitor (TimerMonitor on executor
+/// "monitors", another process) fails `period_ms` after its START. Three processes take part — the
+/// monitor's executor, the controller, the skill's executor — and this one watches the topics. The
+/// Cell (and so this process's participant) is made here, with CYCLONEDDS_URI as it is now. `ok` is
+/// false, and what went wrong is on stderr, when a process did not start or the trials did not finish.
+Reaction measure_reaction(const std::string& journal_sync, int trials, int period_ms, const ReactionSetup& setup = {});
+
+}  // namespace rigger::bench
