@@ -94,14 +94,22 @@ Reaction measure_reaction(const std::string& journal_sync, int trials, int perio
     return out;
   }
   Observer obs(cell);
-  if (!obs.recipes.wait_for_readers(1, 10s)) return out;
+  // Every endpoint of this process matched before the first trial: with DDS Security an endpoint
+  // matches only after its participant's handshake and token exchange, later than READY, and a
+  // FAILURE or SHUTDOWN written before would be missed here.
+  if (!obs.recipes.wait_for_readers(1, 10s) || !obs.statuses.wait_for_writers(1, 10s) ||
+      !obs.commands.wait_for_writers(1, 10s) || !obs.events.wait_for_writers(2, 10s)) {
+    std::fprintf(stderr, "this process's task and skill endpoints did not match the services' within 10 s\n%s",
+                 cell.logs().c_str());
+    return out;
+  }
   // Trials run one after the other (the next starts after the skill STOPPED), so the i-th FAILURE,
-  // SHUTDOWN and STOPPED belong to trial i.
+  // SHUTDOWN and STOPPED of task "reaction" belong to trial i.
   std::vector<std::int64_t> failure_ns, shutdown_stamp_ns, shutdown_seen_ns, stopped_ns;
-  bool done = false;
-  int final_state = -1;
+  std::map<std::string, int> final_state;  // of each task that ended
   cell.loop().on_data(obs.events, [&] {
     obs.events.take([&](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
+      if (dds::to_string(e.task_id) != "reaction") return;
       const std::string executor = dds::to_string(e.executor_id);
       if (executor == "monitors" && e.kind == rigger_skill_SKILL_EVENT_FAILURE) failure_ns.push_back(wire_ns(e.stamp));
       if (executor == "skills" && e.kind == rigger_skill_SKILL_EVENT_STOPPED) stopped_ns.push_back(wire_ns(e.stamp));
@@ -110,17 +118,16 @@ Reaction measure_reaction(const std::string& journal_sync, int trials, int perio
   cell.loop().on_data(obs.commands, [&] {
     const std::int64_t seen = wire_ns(dds::wire_now());
     obs.commands.take([&](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
-      if (c.kind != rigger_skill_SKILL_SHUTDOWN || dds::to_string(c.executor_id) != "skills") return;
+      if (c.kind != rigger_skill_SKILL_SHUTDOWN || dds::to_string(c.executor_id) != "skills" ||
+          dds::to_string(c.task_id) != "reaction")
+        return;
       shutdown_stamp_ns.push_back(wire_ns(c.stamp));
       shutdown_seen_ns.push_back(seen);
     });
   });
   cell.loop().on_data(obs.statuses, [&] {
     obs.statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
-      if (dds::to_string(s.task_id) == "reaction" && terminal(s.state)) {
-        done = true;
-        final_state = s.state;
-      }
+      if (terminal(s.state)) final_state[dds::to_string(s.task_id)] = s.state;
     });
   });
   const json parallel = {
@@ -130,20 +137,30 @@ Reaction measure_reaction(const std::string& journal_sync, int trials, int perio
       {"children",
        {{{"type", "Skill"}, {"skill", "Localize"}, {"params", {{"object", "load"}}}},
         {{"type", "Monitor"}, {"monitor", "TimerMonitor"}, {"params", {{"max_duration_s", 3600}}}}}}};
-  const json root = {{"type", "Repeat"},
-                     {"repetitions", trials},
-                     {"child", {{"type", "ForceSuccess"}, {"child", parallel}}}};
+  const auto recipe = [&](const std::string& task_id, int repetitions) {
+    const json root = {
+        {"type", "Repeat"}, {"repetitions", repetitions}, {"child", {{"type", "ForceSuccess"}, {"child", parallel}}}};
+    return json{{"recipe_version", 1}, {"task_id", task_id}, {"root", root}};
+  };
+  // Runs task `task_id` to its end; false (and why on stderr) unless it SUCCEEDED.
+  const auto run = [&](const std::string& task_id, int repetitions) {
+    obs.submit(task_id, recipe(task_id, repetitions));
+    if (!cell.wait_until([&] { return final_state.count(task_id) > 0; },
+                         std::chrono::milliseconds(30000 + repetitions * (period_ms + 20)))) {
+      std::fprintf(stderr, "the %s recipe did not finish\n", task_id.c_str());
+      return false;
+    }
+    if (final_state[task_id] != rigger_task_TASK_SUCCEEDED) {
+      std::fprintf(stderr, "the %s recipe ended in state %d\n%s", task_id.c_str(), final_state[task_id],
+                   cell.logs().c_str());
+      return false;
+    }
+    return true;
+  };
+  if (setup.warmup_trials > 0 && !run("warmup", setup.warmup_trials)) return out;
   const auto t0 = Clock::now();
-  obs.submit("reaction", {{"recipe_version", 1}, {"task_id", "reaction"}, {"root", root}});
-  if (!cell.wait_until([&] { return done; }, std::chrono::milliseconds(30000 + trials * (period_ms + 20)))) {
-    std::fprintf(stderr, "the reaction recipe did not finish\n");
-    return out;
-  }
+  if (!run("reaction", trials)) return out;
   out.trials_per_s = trials / std::chrono::duration<double>(Clock::now() - t0).count();
-  if (final_state != rigger_task_TASK_SUCCEEDED) {
-    std::fprintf(stderr, "the reaction recipe ended in state %d\n%s", final_state, cell.logs().c_str());
-    return out;
-  }
   cell.stop_all();
   const std::size_t n = failure_ns.size();
   if (n == 0 || shutdown_stamp_ns.size() != n || stopped_ns.size() != n) {

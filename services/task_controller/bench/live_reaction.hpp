@@ -62,13 +62,15 @@ using StartProcess = std::function<rigger::testing::ChildProcess&(
 struct ReactionSetup {
   std::string cell_subfolder;  ///< Cell(subfolder): its own log folder and journal for each setup of a run
   StartProcess start;          ///< empty: cell.start(name, binary, args)
+  int warmup_trials = 0;       ///< trials of a task "warmup" run first and left out of the figures
 };
 
 /// The paper's pattern, repeated: Repeat(trials, ForceSuccess(Parallel(1, 1)[skill, monitor])). The
 /// skill (Localize on executor "skills") runs until shut down; the monitor (TimerMonitor on executor
 /// "monitors", another process) fails `period_ms` after its START. Three processes take part — the
 /// monitor's executor, the controller, the skill's executor — and this one watches the topics. The
-/// Cell (and so this process's participant) is made here, with CYCLONEDDS_URI as it is now. `ok` is
+/// Cell (and so this process's participant) is made here, with CYCLONEDDS_URI as it is now; the trials
+/// start once this process's endpoints matched the services'. `ok` is
 /// false, and what went wrong is on stderr, when a process did not start or the trials did not finish.
 Reaction measure_reaction(const std::string& journal_sync, int trials, int period_ms, const ReactionSetup& setup = {});
 
