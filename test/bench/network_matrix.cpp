@@ -127,6 +127,7 @@ struct Samples {
   std::vector<double> echo_us, reaction_us, to_controller_us, in_controller_us, to_executor_us;
   double trials_per_s = 0;
   int rounds = 0;
+  std::size_t stray_stopped = 0;  ///< skills the executor stopped on its own (e.g. CONTROLLER_LOST)
 };
 
 /// The identity each process joins as when secured (the access table's: common/protocol/src/access.cpp).
@@ -168,6 +169,7 @@ class Runner {
     rigger::bench::ReactionSetup where;
     where.cell_subfolder = folder + "/reaction";
     where.warmup_trials = o_.warmup;
+    where.allow_stray_stopped = true;
     where.start = [&](Cell& cell, const std::string& name, const std::string& binary,
                       std::vector<std::string> args) -> ChildProcess& {
       return start(setup, cell, name, binary, std::move(args));
@@ -185,6 +187,7 @@ class Runner {
     add(out.to_executor_us, r.command_to_seen_us);
     for (std::size_t i = 0; i < r.to_writing_us.size(); ++i)
       out.in_controller_us.push_back(r.to_writing_us[i] + r.writing_us[i]);
+    out.stray_stopped += r.stray_stopped;
     out.trials_per_s = (out.trials_per_s * out.rounds + r.trials_per_s) / (out.rounds + 1);
     ++out.rounds;
     return true;
@@ -306,9 +309,13 @@ int main(int argc, char** argv) {
                 e.p90 / e0.p90, e.p99 / e0.p99, "", r.p50 / r0.p50, r.p90 / r0.p90, r.p99 / r0.p99);
   }
   std::printf("Where the reaction's time goes, p50 (us; the controller's stage trace and this process's receipt):\n");
-  std::printf("%-26s %14s %14s %14s\n", "", "FAILURE->tc", "tc handling", "SHUTDOWN->here");
+  std::printf("%-26s %14s %14s %14s %14s\n", "", "FAILURE->tc", "tc handling", "SHUTDOWN->here", "stray STOPPED");
   for (std::size_t i = 0; i < setups.size(); ++i)
-    std::printf("%-26s %14.1f %14.1f %14.1f\n", setups[i].label.c_str(), percentile(samples[i].to_controller_us, 0.5),
-                percentile(samples[i].in_controller_us, 0.5), percentile(samples[i].to_executor_us, 0.5));
+    std::printf("%-26s %14.1f %14.1f %14.1f %14zu\n", setups[i].label.c_str(),
+                percentile(samples[i].to_controller_us, 0.5), percentile(samples[i].in_controller_us, 0.5),
+                percentile(samples[i].to_executor_us, 0.5), samples[i].stray_stopped);
+  std::printf(
+      "(stray STOPPED: trials in which the skill's executor stopped the skill on its own, e.g. when the "
+      "controller's liveliness lapsed; their reaction still counts)\n");
   return 0;
 }

@@ -163,15 +163,24 @@ Reaction measure_reaction(const std::string& journal_sync, int trials, int perio
   out.trials_per_s = trials / std::chrono::duration<double>(Clock::now() - t0).count();
   cell.stop_all();
   const std::size_t n = failure_ns.size();
-  if (n == 0 || shutdown_stamp_ns.size() != n || stopped_ns.size() != n) {
+  const bool stopped_paired = stopped_ns.size() == n;
+  const bool stray_stopped = stopped_ns.size() > n && setup.allow_stray_stopped;
+  if (n == 0 || shutdown_stamp_ns.size() != n || (!stopped_paired && !stray_stopped)) {
     std::fprintf(stderr, "unpaired events: %zu FAILURE, %zu SHUTDOWN, %zu STOPPED\n", n, shutdown_stamp_ns.size(),
                  stopped_ns.size());
     return out;
   }
+  if (stray_stopped) {
+    out.stray_stopped = stopped_ns.size() - n;
+    std::fprintf(stderr,
+                 "%zu STOPPED for %zu SHUTDOWN: the skill's executor stopped the skill on its own (%s says why, e.g. "
+                 "CONTROLLER_LOST); the STOPPED figures are left out\n",
+                 stopped_ns.size(), n, cell.process("skills").log_path().c_str());
+  }
   for (std::size_t i = 0; i < n; ++i) {
     out.shutdown_written_us.push_back(static_cast<double>(shutdown_stamp_ns[i] - failure_ns[i]) / 1000.0);
     out.shutdown_received_us.push_back(static_cast<double>(shutdown_seen_ns[i] - failure_ns[i]) / 1000.0);
-    out.stopped_written_us.push_back(static_cast<double>(stopped_ns[i] - failure_ns[i]) / 1000.0);
+    if (stopped_paired) out.stopped_written_us.push_back(static_cast<double>(stopped_ns[i] - failure_ns[i]) / 1000.0);
     out.command_to_seen_us.push_back(static_cast<double>(shutdown_seen_ns[i] - shutdown_stamp_ns[i]) / 1000.0);
   }
   // The controller wrote its trace when it stopped (stop_all waited for it). A trial's FAILURE is the

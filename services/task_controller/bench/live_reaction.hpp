@@ -3,6 +3,7 @@
 // (loopback, plain) and bench_network_matrix (test/bench: loopback or two lab hosts, security off or on):
 // a monitor's FAILURE written -> the sibling skill's SHUTDOWN received, with the controller and two
 // scripted executors as real processes and this process watching the topics like the skill's executor.
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -50,6 +51,7 @@ struct Reaction {
   std::vector<double> to_flushed_us;       ///< engine returned → journal rows and node statuses written
   std::vector<double> command_to_seen_us;  ///< SHUTDOWN stamped → received here (DDS, 1 hop)
   double trials_per_s = 0;
+  std::size_t stray_stopped = 0;  ///< STOPPED without a SHUTDOWN (only with ReactionSetup::allow_stray_stopped)
   bool ok = false;
 };
 
@@ -63,6 +65,10 @@ struct ReactionSetup {
   std::string cell_subfolder;  ///< Cell(subfolder): its own log folder and journal for each setup of a run
   StartProcess start;          ///< empty: cell.start(name, binary, args)
   int warmup_trials = 0;       ///< trials of a task "warmup" run first and left out of the figures
+  /// The skill's executor may stop the skill on its own (CONTROLLER_LOST when the controller's liveliness
+  /// lapsed on a loaded machine): more STOPPED than SHUTDOWN then still gives the FAILURE -> SHUTDOWN
+  /// figures, counts the extra ones and leaves stopped_written_us empty. false: such a run fails.
+  bool allow_stray_stopped = false;
 };
 
 /// The paper's pattern, repeated: Repeat(trials, ForceSuccess(Parallel(1, 1)[skill, monitor])). The
