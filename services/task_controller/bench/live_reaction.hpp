@@ -76,8 +76,8 @@ struct ReactionSetup {
 /// "monitors", another process) fails `period_ms` after its START. Three processes take part — the
 /// monitor's executor, the controller, the skill's executor — and this one watches the topics. The
 /// Cell (and so this process's participant) is made here, with CYCLONEDDS_URI as it is now; the trials
-/// start once this process's endpoints matched the services'. `ok` is
-/// false, and what went wrong is on stderr, when a process did not start or the trials did not finish.
+/// start once this process's endpoints matched the services'. `ok` is false, and what went wrong is on
+/// stderr, when a process did not start, an endpoint did not match or the trials did not finish or pair.
 Reaction measure_reaction(const std::string& journal_sync, int trials, int period_ms, const ReactionSetup& setup = {});
 
 }  // namespace rigger::bench
