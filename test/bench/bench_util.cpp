@@ -4,15 +4,18 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <regex>
 #include <sstream>
+#include <stdexcept>
 
 namespace rigger::bench {
 
@@ -38,6 +41,26 @@ std::string run_command(const std::string& command) {
   while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
   pclose(p);
   return out;
+}
+
+RunPki::RunPki() {
+  char dir_template[] = "/tmp/rigger-bench-pki-XXXXXX";
+  if (!mkdtemp(dir_template))
+    throw std::runtime_error(std::string("mkdtemp ") + dir_template + ": " + std::strerror(errno));
+  folder_ = dir_template;
+  pki_ = folder_ + "/pki";
+  const std::string make = std::string(RIGGER_SOURCE_DIR) + "/deploy/security/make-pki --catalog " + RIGGER_BINARY_DIR +
+                           "/bin/rigger-topic-catalog " + pki_ + " >/dev/null";
+  if (std::system(make.c_str()) != 0) {
+    std::error_code ignored;
+    std::filesystem::remove_all(folder_, ignored);
+    throw std::runtime_error(make + " failed");
+  }
+}
+
+RunPki::~RunPki() {
+  std::error_code ignored;
+  std::filesystem::remove_all(folder_, ignored);
 }
 
 long long voluntary_switches(pid_t pid, const std::string& tid) {

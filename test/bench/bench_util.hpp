@@ -36,6 +36,22 @@ int int_option(int argc, char** argv, const std::string& name, int fallback);
 /// Runs a shell command and returns its stdout.
 std::string run_command(const std::string& command);
 
+/// A PKI for one run: deploy/security/make-pki with this build's rigger-topic-catalog (every identity of
+/// the access table) into a fresh /tmp/rigger-bench-pki-XXXXXX/pki, deleted with the object.
+class RunPki {
+ public:
+  /// @throws std::runtime_error naming what failed (the folder, or the make-pki command).
+  RunPki();
+  RunPki(const RunPki&) = delete;
+  RunPki& operator=(const RunPki&) = delete;
+  ~RunPki();
+  const std::string& folder() const { return folder_; }  ///< the temporary folder, for files that go with it
+  const std::string& pki() const { return pki_; }        ///< its RIGGER_SECURITY_DIR
+
+ private:
+  std::string folder_, pki_;
+};
+
 /// utime + stime of `pid` in seconds (/proc/PID/stat); the test harness's.
 using testing::cpu_seconds;
 

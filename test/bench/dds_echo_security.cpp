@@ -5,13 +5,14 @@
 // carries a MAC, nothing is encrypted). Prints both and the ratio on/off.
 //
 //   build/bench/bench_dds_echo_security [--rate 1000] [--size 64] [--seconds 10]
-#include <signal.h>
 #include <stdlib.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <map>
+#include <memory>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench_util.hpp"
@@ -20,34 +21,18 @@
 
 namespace {
 
-using namespace std::chrono_literals;
-
-struct Figures {
-  double p50 = 0, p90 = 0, p99 = 0;
-  std::size_t count = 0;
-};
+using rigger::bench::RttFigures;
 
 // One phase: a fresh Cell (its participant reads CYCLONEDDS_URI now), echo started with `echo_env`.
-bool phase(const rigger::bench::EchoRun& run, const std::map<std::string, std::string>& echo_env, Figures& out) {
-  rigger::testing::Cell cell;
-  std::map<std::string, std::string> env = echo_env;
-  env["RIGGER_DOMAIN"] = std::to_string(cell.domain_id());
-  rigger::testing::ChildProcess echo("echo",
-                                     {"--id", "echo", "--log-level", "warn", "--domain", std::to_string(cell.domain_id())},
-                                     env, cell.log_dir() + "/echo.log");
-  if (!cell.wait_ready({"echo"}, 20s)) {
-    std::fprintf(stderr, "echo did not become ready\n%s\n", echo.log().c_str());
-    return false;
-  }
-  const auto rtt = rigger::bench::measure_echo_rtt(cell, run);
-  echo.signal(SIGINT);
-  echo.wait(5s);
-  if (rtt.empty()) {
-    std::fprintf(stderr, "echo's endpoints did not match\n%s\n", echo.log().c_str());
-    return false;
-  }
-  using rigger::bench::percentile;
-  out = {percentile(rtt, 0.50), percentile(rtt, 0.90), percentile(rtt, 0.99), rtt.size()};
+bool phase(const rigger::bench::EchoRun& run, const std::map<std::string, std::string>& echo_env, RttFigures& out) {
+  const auto rtt = rigger::bench::measure_echo_phase(
+      run,
+      [&](rigger::testing::Cell& cell, std::vector<std::string> args) -> rigger::testing::ChildProcess& {
+        return cell.start("echo", "echo", std::move(args), true, echo_env);
+      },
+      "");
+  if (rtt.empty()) return false;
+  out = rigger::bench::summarize(rtt);
   return true;
 }
 
@@ -57,22 +42,18 @@ int main(int argc, char** argv) {
   using rigger::bench::int_option;
   const rigger::bench::EchoRun run{int_option(argc, argv, "--rate", 1000), int_option(argc, argv, "--size", 64),
                                    int_option(argc, argv, "--seconds", 10)};
-  char dir_template[] = "/tmp/rigger-bench-pki-XXXXXX";
-  if (!mkdtemp(dir_template)) {
-    std::perror("mkdtemp");
+  std::unique_ptr<rigger::bench::RunPki> made;
+  try {
+    made = std::make_unique<rigger::bench::RunPki>();
+  } catch (const std::runtime_error& e) {
+    std::fprintf(stderr, "%s\n", e.what());
     return 1;
   }
-  const std::string pki = std::string(dir_template) + "/pki";
-  const std::string make = std::string(RIGGER_SOURCE_DIR) + "/deploy/security/make-pki --catalog " + RIGGER_BINARY_DIR +
-                           "/bin/rigger-topic-catalog " + pki + " >/dev/null";
-  if (std::system(make.c_str()) != 0) {
-    std::fprintf(stderr, "%s failed\n", make.c_str());
-    return 1;
-  }
+  const std::string pki = made->pki();
   const std::string plain = rigger::testing::default_dds_config_uri();
   const std::string secure = std::string("file://") + RIGGER_SOURCE_DIR + "/deploy/cyclonedds-secure.xml";
 
-  Figures off, on;
+  RttFigures off, on;
   setenv("CYCLONEDDS_URI", plain.c_str(), 1);
   if (!phase(run, {{"CYCLONEDDS_URI", plain}}, off)) return 1;
   setenv("CYCLONEDDS_URI", secure.c_str(), 1);
@@ -80,7 +61,7 @@ int main(int argc, char** argv) {
   setenv("RIGGER_IDENTITY", "bench", 1);
   if (!phase(run, {{"CYCLONEDDS_URI", secure}, {"RIGGER_SECURITY_DIR", pki}, {"RIGGER_IDENTITY", "echo"}}, on))
     return 1;
-  std::system(("rm -rf " + std::string(dir_template)).c_str());
+  made.reset();
 
   std::printf("DDS round trip through the echo service, %d B payload at %d Hz for %d s each, loopback\n", run.size,
               run.rate_hz, run.seconds);

@@ -1,7 +1,12 @@
 #include "echo_rtt.hpp"
 
+#include <signal.h>
+
 #include <cstdint>
+#include <cstdio>
 #include <string>
+
+#include "bench_util.hpp"
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
@@ -56,6 +61,25 @@ std::vector<double> measure_echo_rtt(rigger::testing::Cell& cell, const EchoRun&
   loop.run_until([&] { return Clock::now() >= end; }, end - Clock::now() + 1s);
   loop.cancel(timer);
   return rtt_us;
+}
+
+RttFigures summarize(const std::vector<double>& us) {
+  return {percentile(us, 0.50), percentile(us, 0.90), percentile(us, 0.99), us.size()};
+}
+
+std::vector<double> measure_echo_phase(const EchoRun& run, const StartEcho& start_echo,
+                                       const std::string& cell_subfolder) {
+  rigger::testing::Cell cell(cell_subfolder);
+  auto& echo = start_echo(cell, {"--id", "echo", "--log-level", "warn"});
+  if (!cell.wait_ready({"echo"}, 20s)) {
+    std::fprintf(stderr, "echo did not become ready\n%s\n", echo.log().c_str());
+    return {};
+  }
+  auto rtt = measure_echo_rtt(cell, run);
+  echo.signal(SIGINT);
+  echo.wait(5s);
+  if (rtt.empty()) std::fprintf(stderr, "echo's endpoints did not match\n%s\n", echo.log().c_str());
+  return rtt;
 }
 
 }  // namespace rigger::bench

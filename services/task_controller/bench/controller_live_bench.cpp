@@ -28,260 +28,34 @@
 //
 //   build/bench/task_controller_live_bench [--trials 1000] [--period-ms 10] [--idle-seconds 60]
 //                                          [--ddsperf-seconds 10]
+//
+// The reaction's processes and measurement are in live_reaction.* (shared with test/bench's
+// bench_network_matrix, which runs them across two lab hosts and with DDS Security).
+#include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "bench_util.hpp"
-#include "rigger/dds/partitions.hpp"
+#include "live_reaction.hpp"
 #include "rigger/dds/conversions.hpp"
-#include "rigger/dds/pubsub.hpp"
-#include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/dds/partitions.hpp"
 #include "rigger/protocol/skill.hpp"
-#include "rigger/protocol/task.hpp"
 #include "rigger/testing/cell.hpp"
-#include "task_controller_node.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
-using Clock = std::chrono::steady_clock;
 using nlohmann::json;
-namespace tc = rigger::task_controller;
 namespace dds = rigger::dds;
-
-std::string write_file(const std::string& path, const std::string& text) {
-  std::ofstream(path) << text;
-  return path;
-}
-
-/// What the bench writes and reads on the task topics. It reads neither skill commands nor skill events:
-/// every timing comes from the processes that take part (the controller's stage trace, the skill
-/// executor's receipt trace), so that the bench adds no reader to the path it measures (each reader a
-/// sample goes to is one more send and one more woken process on a 2-core machine).
-struct Observer {
-  explicit Observer(rigger::testing::Cell& cell)
-      : recipes(cell.participant(), rigger::protocol::task::kRecipe),
-        task_commands(cell.participant(), rigger::protocol::task::kCommand),
-        statuses(cell.participant(), rigger::protocol::task::kStatus) {}
-
-  void submit(const std::string& task_id, const json& recipe) {
-    rigger_task_Recipe r{};
-    const std::string text = recipe.dump(), submitter = "bench";
-    r.task_id = dds::wire_string(task_id);
-    r.recipe_json = dds::wire_string(text);
-    r.submitter = dds::wire_string(submitter);
-    r.stamp = dds::wire_now();
-    recipes.write(r);
-  }
-  void cancel(const std::string& task_id) {
-    rigger_task_TaskCommand c{};
-    const std::string issuer = "bench", reason = "bench done";
-    c.task_id = dds::wire_string(task_id);
-    c.kind = rigger_task_TASK_CANCEL;
-    c.reason = dds::wire_string(reason);
-    c.issuer = dds::wire_string(issuer);
-    c.seq = ++seq;
-    c.stamp = dds::wire_now();
-    task_commands.write(c);
-  }
-
-  dds::Writer<rigger_task_Recipe> recipes;
-  dds::Writer<rigger_task_TaskCommand> task_commands;
-  dds::Reader<rigger_task_TaskStatus> statuses;
-  std::uint64_t seq = 0;
-};
-
-/// One line of scripted_executor's receipt trace.
-struct Receipt {
-  std::string executor_id, task_id, node_id;
-  int kind = 0;
-  std::int64_t stamp_wall_ns = 0, woke_wall_ns = 0;
-};
-
-std::vector<Receipt> read_receipts(const std::string& path) {
-  std::vector<Receipt> out;
-  std::ifstream in(path);
-  std::string line;
-  if (!std::getline(in, line)) return out;  // the header
-  while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    Receipt r;
-    std::string kind;
-    if (std::getline(fields, r.executor_id, '\t') && std::getline(fields, kind, '\t') &&
-        std::getline(fields, r.task_id, '\t') && std::getline(fields, r.node_id, '\t') &&
-        fields >> r.stamp_wall_ns >> r.woke_wall_ns) {
-      r.kind = std::stoi(kind);
-      out.push_back(std::move(r));
-    }
-  }
-  return out;
-}
-
-struct Reaction {
-  // Per trial, from the event that causes the command (its executor's stamp) to:
-  std::vector<double> command_written_us;   ///< the controller's command stamp (1 hop + handling)
-  std::vector<double> command_received_us;  ///< the executor's loop woke for it (2 hops + handling)
-  std::vector<double> stopped_written_us;   ///< the skill executor's STOPPED stamp (SHUTDOWN trials)
-  // Per trial, one stage each (the controller's stage trace; they add up to command_received_us but
-  // for the clock reads between them):
-  std::vector<double> to_woke_us;          ///< event written → controller's handler woke (DDS, 1 hop)
-  std::vector<double> to_writing_us;       ///< woke → command handed to DDS (take, engine until the write)
-  std::vector<double> writing_us;          ///< the command's write call
-  std::vector<double> to_engine_us;        ///< command written → engine returned
-  std::vector<double> to_flushed_us;       ///< engine returned → journal rows and node statuses written
-  std::vector<double> command_to_seen_us;  ///< command stamped → executor woke (DDS, 1 hop)
-  double trials_per_s = 0;
-  bool ok = false;
-};
-
-bool terminal(int s) {
-  return s == rigger_task_TASK_REJECTED || s == rigger_task_TASK_SUCCEEDED || s == rigger_task_TASK_FAILED ||
-         s == rigger_task_TASK_CANCELED;
-}
-
-enum class Pattern {
-  /// The paper's pattern, repeated: Repeat(trials, ForceSuccess(Parallel(1, 1)[skill, monitor])). The
-  /// skill (Localize on executor "skills") runs until shut down; the monitor (TimerMonitor on executor
-  /// "monitors", another process) fails `period_ms` after its START. Measured: the monitor's FAILURE →
-  /// the skill's SHUTDOWN taken by the skill's executor.
-  kMonitorFailure,
-  /// A sequence, repeated: Repeat(trials / 2, Sequence[Localize, Localize]) on executor "skills", each
-  /// Localize succeeding `period_ms` after its START; "monitors" runs too (idle), as in the other pattern.
-  /// Measured: a leaf's SUCCESS → the next leaf's START taken by the skill's executor.
-  kSuccessNext,
-};
-
-/// Three processes take part — the controller and two scripted executors — and this one submits the
-/// recipe and waits for its end.
-Reaction measure_reaction(Pattern pattern, const std::string& journal_sync, int trials, int period_ms) {
-  Reaction out;
-  rigger::testing::Cell cell;
-  const std::string dir = cell.log_dir();
-  const std::string tag = std::string(pattern == Pattern::kMonitorFailure ? "failure-" : "success-") + journal_sync;
-  const std::string trace_path = dir + "/stages-" + tag + ".tsv";
-  const std::string receipt_path = dir + "/receipts-" + tag + ".tsv";
-  cell.start("tc", "task_controller",
-             {"--id", "tc", "--log-level", "warn", "--config",
-              write_file(dir + "/tc.json", json{{"journal_path", dir + "/journal-" + tag + ".sqlite"},
-                                                {"journal_sync", journal_sync},
-                                                {"stage_trace_path", trace_path}}
-                                               .dump())});
-  const json skill_behaviour = pattern == Pattern::kMonitorFailure
-                                   ? json{{"mode", "run"}}
-                                   : json{{"mode", "succeed"}, {"delay_s", period_ms / 1000.0}};
-  cell.start("skills", "scripted_executor",
-             {"--id", "skills", "--log-level", "warn", "--config",
-              write_file(dir + "/skills.json", json{{"skills", {"Localize"}},
-                                                    {"default", skill_behaviour},
-                                                    {"receipt_trace_path", receipt_path}}
-                                                   .dump())});
-  cell.start("monitors", "scripted_executor",
-             {"--id", "monitors", "--log-level", "warn", "--config",
-              write_file(dir + "/monitors.json",
-                         json{{"skills", {"TimerMonitor"}},
-                              {"behaviours",
-                               {{"TimerMonitor", {{"mode", "fail"}, {"delay_s", period_ms / 1000.0}, {"code", "BENCH"}}}}}}
-                             .dump())});
-  if (!cell.wait_ready({"tc", "skills", "monitors"}, 30s)) {
-    std::fprintf(stderr, "services did not become ready\n%s", cell.logs().c_str());
-    return out;
-  }
-  Observer obs(cell);
-  if (!obs.recipes.wait_for_readers(1, 10s)) return out;
-  bool done = false;
-  int final_state = -1;
-  cell.loop().on_data(obs.statuses, [&] {
-    obs.statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
-      if (dds::to_string(s.task_id) == "reaction" && terminal(s.state)) {
-        done = true;
-        final_state = s.state;
-      }
-    });
-  });
-  const json localize = {{"type", "Skill"}, {"skill", "Localize"}, {"params", {{"object", "load"}}}};
-  json root;
-  if (pattern == Pattern::kMonitorFailure) {
-    const json parallel = {
-        {"type", "Parallel"},
-        {"success_threshold", 1},
-        {"failure_threshold", 1},
-        {"children",
-         {localize, {{"type", "Monitor"}, {"monitor", "TimerMonitor"}, {"params", {{"max_duration_s", 3600}}}}}}};
-    root = {{"type", "Repeat"}, {"repetitions", trials}, {"child", {{"type", "ForceSuccess"}, {"child", parallel}}}};
-  } else {
-    root = {{"type", "Repeat"},
-            {"repetitions", std::max(1, trials / 2)},
-            {"child", {{"type", "Sequence"}, {"children", {localize, localize}}}}};
-  }
-  const auto t0 = Clock::now();
-  obs.submit("reaction", {{"recipe_version", 1}, {"task_id", "reaction"}, {"root", root}});
-  if (!cell.wait_until([&] { return done; }, std::chrono::milliseconds(30000 + trials * (period_ms + 20)))) {
-    std::fprintf(stderr, "the reaction recipe did not finish\n");
-    return out;
-  }
-  out.trials_per_s = trials / std::chrono::duration<double>(Clock::now() - t0).count();
-  if (final_state != rigger_task_TASK_SUCCEEDED) {
-    std::fprintf(stderr, "the reaction recipe ended in state %d\n%s", final_state, cell.logs().c_str());
-    return out;
-  }
-  // The controller and the skill executor write their traces when they stop (stop_all waits for them).
-  cell.stop_all();
-  // Trials run one after the other, so the i-th cause and the i-th command belong to trial i: the
-  // monitor's i-th FAILURE and the skill executor's i-th SHUTDOWN; or the i-th SUCCESS and the (i+1)-th
-  // START (the first START has no cause).
-  std::vector<tc::StageRecord> causes;
-  std::vector<std::int64_t> stopped_ns;
-  for (auto& r : tc::StageTrace::read(trace_path)) {
-    if (pattern == Pattern::kMonitorFailure && r.executor_id == "monitors" && r.kind == "FAILURE")
-      causes.push_back(std::move(r));
-    else if (pattern == Pattern::kSuccessNext && r.executor_id == "skills" && r.kind == "SUCCESS")
-      causes.push_back(std::move(r));
-    else if (r.executor_id == "skills" && r.kind == "STOPPED")
-      stopped_ns.push_back(r.stamp_wall_ns);
-  }
-  const int command_kind = pattern == Pattern::kMonitorFailure ? rigger_skill_SKILL_SHUTDOWN : rigger_skill_SKILL_START;
-  std::vector<Receipt> commands;
-  for (auto& r : read_receipts(receipt_path))
-    if (r.executor_id == "skills" && r.task_id == "reaction" && r.kind == command_kind) commands.push_back(std::move(r));
-  if (pattern == Pattern::kSuccessNext && !commands.empty()) commands.erase(commands.begin());
-  const std::size_t n = std::min(causes.size(), commands.size());
-  if (n == 0 || causes.size() < static_cast<std::size_t>(trials) - 1 || commands.size() + 1 < causes.size()) {
-    std::fprintf(stderr, "unpaired: %zu causes, %zu commands (%s, %s)\n", causes.size(), commands.size(),
-                 trace_path.c_str(), receipt_path.c_str());
-    return out;
-  }
-  const auto us = [](std::int64_t from, std::int64_t to) { return static_cast<double>(to - from) / 1000.0; };
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto& c = causes[i];
-    const auto& r = commands[i];
-    if (r.stamp_wall_ns < c.stamp_wall_ns) {
-      std::fprintf(stderr, "trial %zu: the command is stamped before its cause\n", i);
-      return out;
-    }
-    out.command_written_us.push_back(us(c.stamp_wall_ns, r.stamp_wall_ns));
-    out.command_received_us.push_back(us(c.stamp_wall_ns, r.woke_wall_ns));
-    out.command_to_seen_us.push_back(us(r.stamp_wall_ns, r.woke_wall_ns));
-    if (pattern == Pattern::kMonitorFailure && i < stopped_ns.size())
-      out.stopped_written_us.push_back(us(c.stamp_wall_ns, stopped_ns[i]));
-    if (c.command_ns == 0 || c.flushed_ns == 0) continue;
-    out.to_woke_us.push_back(us(c.stamp_wall_ns, c.woke_wall_ns));
-    out.to_writing_us.push_back(us(c.woke_ns, c.writing_ns));
-    out.writing_us.push_back(us(c.writing_ns, c.command_ns));
-    out.to_engine_us.push_back(us(c.command_ns, c.engine_ns));
-    out.to_flushed_us.push_back(us(c.engine_ns, c.flushed_ns));
-  }
-  if (out.to_woke_us.size() != n)
-    std::fprintf(stderr, "stage trace: %zu of %zu trials traced (%s)\n", out.to_woke_us.size(), n, trace_path.c_str());
-  out.ok = true;
-  return out;
-}
+using rigger::bench::measure_reaction;
+using rigger::bench::Observer;
+using rigger::bench::Pattern;
+using rigger::bench::Reaction;
+using rigger::bench::write_file;
 
 void print_row(const char* label, const std::vector<double>& v) {
   using rigger::bench::percentile;

@@ -1,0 +1,247 @@
+#include "live_reaction.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <utility>
+
+#include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/skill.hpp"
+#include "stage_trace.hpp"
+
+namespace rigger::bench {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+namespace tc = rigger::task_controller;
+namespace dds = rigger::dds;
+
+bool terminal(int s) {
+  return s == rigger_task_TASK_REJECTED || s == rigger_task_TASK_SUCCEEDED || s == rigger_task_TASK_FAILED ||
+         s == rigger_task_TASK_CANCELED;
+}
+
+/// One line of scripted_executor's receipt trace.
+struct Receipt {
+  std::string executor_id, task_id, node_id;
+  int kind = 0;
+  std::int64_t stamp_wall_ns = 0, woke_wall_ns = 0;
+};
+
+std::vector<Receipt> read_receipts(const std::string& path) {
+  std::vector<Receipt> out;
+  std::ifstream in(path);
+  std::string line;
+  if (!std::getline(in, line)) return out;  // the header
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    Receipt r;
+    std::string kind;
+    if (std::getline(fields, r.executor_id, '\t') && std::getline(fields, kind, '\t') &&
+        std::getline(fields, r.task_id, '\t') && std::getline(fields, r.node_id, '\t') &&
+        fields >> r.stamp_wall_ns >> r.woke_wall_ns) {
+      r.kind = std::stoi(kind);
+      out.push_back(std::move(r));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string write_file(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+  return path;
+}
+
+Observer::Observer(rigger::testing::Cell& cell)
+    : recipes(cell.participant(), rigger::protocol::task::kRecipe),
+      task_commands(cell.participant(), rigger::protocol::task::kCommand),
+      statuses(cell.participant(), rigger::protocol::task::kStatus) {}
+
+void Observer::submit(const std::string& task_id, const json& recipe) {
+  rigger_task_Recipe r{};
+  const std::string text = recipe.dump(), submitter = "bench";
+  r.task_id = dds::wire_string(task_id);
+  r.recipe_json = dds::wire_string(text);
+  r.submitter = dds::wire_string(submitter);
+  r.stamp = dds::wire_now();
+  recipes.write(r);
+}
+
+void Observer::cancel(const std::string& task_id) {
+  rigger_task_TaskCommand c{};
+  const std::string issuer = "bench", reason = "bench done";
+  c.task_id = dds::wire_string(task_id);
+  c.kind = rigger_task_TASK_CANCEL;
+  c.reason = dds::wire_string(reason);
+  c.issuer = dds::wire_string(issuer);
+  c.seq = ++seq;
+  c.stamp = dds::wire_now();
+  task_commands.write(c);
+}
+
+Reaction measure_reaction(Pattern pattern, const std::string& journal_sync, int trials, int period_ms,
+                          const ReactionSetup& setup) {
+  Reaction out;
+  rigger::testing::Cell cell(setup.cell_subfolder);
+  const auto start = [&](const std::string& name, const std::string& binary, std::vector<std::string> args) {
+    if (setup.start)
+      setup.start(cell, name, binary, std::move(args));
+    else
+      cell.start(name, binary, std::move(args));
+  };
+  const std::string dir = cell.log_dir();
+  const std::string tag = std::string(pattern == Pattern::kMonitorFailure ? "failure-" : "success-") + journal_sync;
+  const std::string trace_path = dir + "/stages-" + tag + ".tsv";
+  const std::string receipt_path = dir + "/receipts-" + tag + ".tsv";
+  start("tc", "task_controller",
+        {"--id", "tc", "--log-level", "warn", "--config",
+         write_file(dir + "/tc.json", json{{"journal_path", dir + "/journal-" + tag + ".sqlite"},
+                                           {"journal_sync", journal_sync},
+                                           {"stage_trace_path", trace_path}}
+                                          .dump())});
+  const json skill_behaviour = pattern == Pattern::kMonitorFailure
+                                   ? json{{"mode", "run"}}
+                                   : json{{"mode", "succeed"}, {"delay_s", period_ms / 1000.0}};
+  start("skills", "scripted_executor",
+        {"--id", "skills", "--log-level", "warn", "--config",
+         write_file(dir + "/skills.json", json{{"skills", {"Localize"}},
+                                               {"default", skill_behaviour},
+                                               {"receipt_trace_path", receipt_path}}
+                                              .dump())});
+  start("monitors", "scripted_executor",
+        {"--id", "monitors", "--log-level", "warn", "--config",
+         write_file(dir + "/monitors.json",
+                    json{{"skills", {"TimerMonitor"}},
+                         {"behaviours",
+                          {{"TimerMonitor", {{"mode", "fail"}, {"delay_s", period_ms / 1000.0}, {"code", "BENCH"}}}}}}
+                        .dump())});
+  if (!cell.wait_ready({"tc", "skills", "monitors"}, 30s)) {
+    std::fprintf(stderr, "services did not become ready\n%s", cell.logs().c_str());
+    return out;
+  }
+  Observer obs(cell);
+  // This process's endpoints matched the controller's before the first trial: with DDS Security an
+  // endpoint matches only after its participant's handshake and token exchange, later than READY.
+  if (!obs.recipes.wait_for_readers(1, 10s) || !obs.statuses.wait_for_writers(1, 10s)) {
+    std::fprintf(stderr, "this process's task endpoints did not match the controller's within 10 s\n%s",
+                 cell.logs().c_str());
+    return out;
+  }
+  std::map<std::string, int> final_state;  // of each task that ended
+  cell.loop().on_data(obs.statuses, [&] {
+    obs.statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
+      if (terminal(s.state)) final_state[dds::to_string(s.task_id)] = s.state;
+    });
+  });
+  const json localize = {{"type", "Skill"}, {"skill", "Localize"}, {"params", {{"object", "load"}}}};
+  const auto recipe = [&](const std::string& task_id, int repetitions) {
+    json root;
+    if (pattern == Pattern::kMonitorFailure) {
+      const json parallel = {
+          {"type", "Parallel"},
+          {"success_threshold", 1},
+          {"failure_threshold", 1},
+          {"children",
+           {localize, {{"type", "Monitor"}, {"monitor", "TimerMonitor"}, {"params", {{"max_duration_s", 3600}}}}}}};
+      root = {{"type", "Repeat"}, {"repetitions", repetitions}, {"child", {{"type", "ForceSuccess"}, {"child", parallel}}}};
+    } else {
+      root = {{"type", "Repeat"},
+              {"repetitions", std::max(1, repetitions / 2)},
+              {"child", {{"type", "Sequence"}, {"children", {localize, localize}}}}};
+    }
+    return json{{"recipe_version", 1}, {"task_id", task_id}, {"root", root}};
+  };
+  // Runs task `task_id` to its end; false (and why on stderr) unless it SUCCEEDED.
+  const auto run = [&](const std::string& task_id, int repetitions) {
+    obs.submit(task_id, recipe(task_id, repetitions));
+    if (!cell.wait_until([&] { return final_state.count(task_id) > 0; },
+                         std::chrono::milliseconds(30000 + repetitions * (period_ms + 20)))) {
+      std::fprintf(stderr, "the %s recipe did not finish\n", task_id.c_str());
+      return false;
+    }
+    if (final_state[task_id] != rigger_task_TASK_SUCCEEDED) {
+      std::fprintf(stderr, "the %s recipe ended in state %d\n%s", task_id.c_str(), final_state[task_id],
+                   cell.logs().c_str());
+      return false;
+    }
+    return true;
+  };
+  if (setup.warmup_trials > 0 && !run("warmup", setup.warmup_trials)) return out;
+  // The stage trace names no task: the trials' events are those stamped after the submission.
+  const std::int64_t submitted_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                        std::chrono::system_clock::now().time_since_epoch())
+                                        .count();
+  const auto t0 = Clock::now();
+  if (!run("reaction", trials)) return out;
+  out.trials_per_s = trials / std::chrono::duration<double>(Clock::now() - t0).count();
+  // The controller and the skill executor write their traces when they stop (stop_all waits for them).
+  cell.stop_all();
+  // Trials run one after the other, so the i-th cause and the i-th command belong to trial i: the
+  // monitor's i-th FAILURE and the skill executor's i-th SHUTDOWN; or the i-th SUCCESS and the (i+1)-th
+  // START (the first START has no cause).
+  std::vector<tc::StageRecord> causes;
+  std::vector<std::int64_t> stopped_ns;
+  for (auto& r : tc::StageTrace::read(trace_path)) {
+    if (r.stamp_wall_ns < submitted_ns) continue;
+    if (pattern == Pattern::kMonitorFailure && r.executor_id == "monitors" && r.kind == "FAILURE")
+      causes.push_back(std::move(r));
+    else if (pattern == Pattern::kSuccessNext && r.executor_id == "skills" && r.kind == "SUCCESS")
+      causes.push_back(std::move(r));
+    else if (r.executor_id == "skills" && r.kind == "STOPPED")
+      stopped_ns.push_back(r.stamp_wall_ns);
+  }
+  const int command_kind = pattern == Pattern::kMonitorFailure ? rigger_skill_SKILL_SHUTDOWN : rigger_skill_SKILL_START;
+  std::vector<Receipt> commands;
+  for (auto& r : read_receipts(receipt_path))
+    if (r.executor_id == "skills" && r.task_id == "reaction" && r.kind == command_kind) commands.push_back(std::move(r));
+  if (pattern == Pattern::kSuccessNext && !commands.empty()) commands.erase(commands.begin());
+  // Pattern A pairs every FAILURE with a SHUTDOWN; pattern B's last SUCCESS ends the task (no next START).
+  const std::size_t n = pattern == Pattern::kMonitorFailure ? causes.size() : std::min(causes.size(), commands.size());
+  const bool paired = n > 0 && commands.size() == n &&
+                      (pattern == Pattern::kMonitorFailure || causes.size() == n || causes.size() == n + 1);
+  const bool stopped_paired = pattern != Pattern::kMonitorFailure || stopped_ns.size() == n;
+  const bool stray_stopped = pattern == Pattern::kMonitorFailure && stopped_ns.size() > n && setup.allow_stray_stopped;
+  if (!paired || (!stopped_paired && !stray_stopped)) {
+    std::fprintf(stderr, "unpaired: %zu causes, %zu commands, %zu STOPPED (%s, %s)\n", causes.size(), commands.size(),
+                 stopped_ns.size(), trace_path.c_str(), receipt_path.c_str());
+    return out;
+  }
+  if (stray_stopped) {
+    out.stray_stopped = stopped_ns.size() - n;
+    std::fprintf(stderr,
+                 "%zu STOPPED for %zu SHUTDOWN: the skill's executor stopped the skill on its own (%s says why, e.g. "
+                 "CONTROLLER_LOST); the STOPPED figures are left out\n",
+                 stopped_ns.size(), n, cell.process("skills").log_path().c_str());
+  }
+  const auto us = [](std::int64_t from, std::int64_t to) { return static_cast<double>(to - from) / 1000.0; };
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& c = causes[i];
+    const auto& r = commands[i];
+    if (r.stamp_wall_ns < c.stamp_wall_ns) {
+      std::fprintf(stderr, "trial %zu: the command is stamped before its cause\n", i);
+      return out;
+    }
+    out.command_written_us.push_back(us(c.stamp_wall_ns, r.stamp_wall_ns));
+    out.command_received_us.push_back(us(c.stamp_wall_ns, r.woke_wall_ns));
+    out.command_to_seen_us.push_back(us(r.stamp_wall_ns, r.woke_wall_ns));
+    if (pattern == Pattern::kMonitorFailure && stopped_paired) out.stopped_written_us.push_back(us(c.stamp_wall_ns, stopped_ns[i]));
+    if (c.command_ns == 0 || c.flushed_ns == 0) continue;
+    out.to_woke_us.push_back(us(c.stamp_wall_ns, c.woke_wall_ns));
+    out.to_writing_us.push_back(us(c.woke_ns, c.writing_ns));
+    out.writing_us.push_back(us(c.writing_ns, c.command_ns));
+    out.to_engine_us.push_back(us(c.command_ns, c.engine_ns));
+    out.to_flushed_us.push_back(us(c.engine_ns, c.flushed_ns));
+  }
+  if (out.to_woke_us.size() != n)
+    std::fprintf(stderr, "stage trace: %zu of %zu trials traced (%s)\n", out.to_woke_us.size(), n, trace_path.c_str());
+  out.ok = true;
+  return out;
+}
+
+}  // namespace rigger::bench
