@@ -88,6 +88,7 @@ ExecutorEndpoint::ExecutorEndpoint(const dds::Participant& participant, dds::Eve
 
 ExecutorEndpoint::~ExecutorEndpoint() {
   loop_.cancel(refresh_timer_);
+  if (announce_timer_ != 0) loop_.cancel(announce_timer_);
   for (const auto& w : waiting_) loop_.cancel(w.deadline);
   rigger_skill_ExecutorAnnouncement key{};
   const std::string empty;
@@ -110,6 +111,18 @@ void ExecutorEndpoint::announce() {
   WireRuns storage;
   wire_runs(a, runs, storage);
   if (announcements_.write(a) != DDS_RETCODE_OK) log_->warn("announcement write failed executor={}", executor_id_);
+}
+
+void ExecutorEndpoint::announce_soon() {
+  // The announcement carries the whole library: written at once, it went out right behind the event or
+  // the START's answer and took the CPU from whoever handles them (on 2 cores, the controller and the
+  // next command's receiver; here, the skill's own SHUTDOWN handler). Runs that change within the delay
+  // share one announcement, written after their events (so a reader of it has their ends first).
+  if (announce_timer_ != 0) return;
+  announce_timer_ = loop_.after(kAnnounceDelay, [this] {
+    announce_timer_ = 0;
+    announce();
+  });
 }
 
 std::vector<LeafRun> ExecutorEndpoint::active_runs() const {
@@ -213,7 +226,7 @@ void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sa
     const bool was_stopping = it->second.stopping;
     it->second.stopping = true;
     it->second.stopped_for_pause = false;  // the controller asked for the stop now: STOPPED answers it
-    if (!was_stopping) announce();
+    if (!was_stopping) announce_soon();
     if (handlers_.on_shutdown) handlers_.on_shutdown({{task, node, it->second.start_seq}, dds::to_string(cmd.reason)});
     return;
   }
@@ -291,7 +304,7 @@ void ExecutorEndpoint::handle_pause(const std::string& task, const std::string& 
     it->second.stopped_for_pause = true;
     log_->warn("pause task={} node={} code=NOT_PAUSABLE_STOPPED {}", task, node, why);
     write_event(run, kind, "NOT_PAUSABLE_STOPPED", why, -1.0);
-    announce();
+    announce_soon();
     if (handlers_.on_shutdown) handlers_.on_shutdown({run, "PAUSE: " + why});
     return;
   }
@@ -415,7 +428,7 @@ void ExecutorEndpoint::dispatch(Start start) {
   log_->info("start task={} node={} skill={} seq={}", start.run.task_id, start.run.node_id, start.skill,
              start.run.start_seq);
   write_event(start.run, EventKind::kAccepted, "", start.skill + " runs on executor " + executor_id_, -1.0);
-  announce();
+  announce_soon();
   const RunKey key{start.run.task_id, start.run.node_id};
   const bool paused = start.paused;
   if (handlers_.on_start) handlers_.on_start({start.run, start.skill, std::move(start.params)});
@@ -457,7 +470,7 @@ bool ExecutorEndpoint::report(const LeafRun& run, EventKind kind, const std::str
   const bool written = not_paused ? write_event(run, EventKind::kFailure, "NOT_PAUSABLE", "could not pause: " + message, progress)
                                   : write_event(run, kind, code, message, progress);
   // After the event: whoever reads an announcement without the run has the run's end written before it.
-  if (kind != EventKind::kProgress) announce();
+  if (kind != EventKind::kProgress) announce_soon();
   if (kind != EventKind::kProgress && !waiting_.empty()) loop_.post([this] { start_waiting(); });
   return written;
 }

@@ -159,6 +159,8 @@ class ExecutorEndpoint {
     bool paused = false;  ///< a PAUSE came while it waited: it starts paused
   };
 
+  /// announce(), kAnnounceDelay from now, once for all the changes meanwhile.
+  void announce_soon();
   void on_commands();
   void on_commander_liveliness();
   void handle(const rigger_skill_SkillCommand& cmd, const dds_sample_info_t& info);
@@ -204,6 +206,9 @@ class ExecutorEndpoint {
   std::deque<Start> waiting_;
   std::uint64_t event_seq_ = 0;
   dds::EventLoop::TimerId refresh_timer_ = 0;
+  dds::EventLoop::TimerId announce_timer_ = 0;  ///< announce_soon()'s, 0: none pending
+  /// How long after a run's start, stop or end its announcement is written (announce_soon()).
+  static constexpr std::chrono::milliseconds kAnnounceDelay{2};
 };
 
 const char* to_string(EventKind kind);
