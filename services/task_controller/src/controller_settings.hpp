@@ -30,11 +30,18 @@
 ///                      leaf fails RESOURCE_HELD, naming the holder
 ///   "journal_progress_per_run": integer in [0, 100000], default 20: the first PROGRESS events of each
 ///                      run are journaled; at the run's end one row (PROGRESS_LEFT_OUT) counts the others
+///   "resume_tolerance_mm": number in [0.1, 10000], default 10, and "resume_tolerance_deg": number in
+///                      [0.01, 180], default 2: a resumed task's completed localization of an object runs
+///                      again when the object is farther than this from the pose journaled when it was
+///                      localized (relocalization.hpp)
+///   "resume_max_pose_age_s": number in [0.1, 1e6], default 300: ... or when its pose is older than this (a
+///                      recipe's ObjectLocalized(object, max_age_s) condition asks for less)
 
 #include <chrono>
 #include <string>
 
 #include "journal.hpp"
+#include "relocalization.hpp"
 #include "rigger/base/config.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
 
@@ -52,6 +59,7 @@ struct ControllerSettings {
   std::chrono::nanoseconds busy_wait{std::chrono::seconds(10)};
   unsigned progress_rows_per_run = 20;
   std::string stage_trace_path;  ///< empty: no stage trace
+  RecheckSettings recheck;       ///< resume_tolerance_mm, resume_tolerance_deg, resume_max_pose_age_s
 };
 
 /// Reads every key, then config.finish(); a non-empty `journal_path` (the --journal option) takes the
