@@ -5,11 +5,15 @@ if(TARGET task_controller AND TARGET scripted_executor AND TARGET riggerctl)
     SOURCES controller_riggerctl_test.cpp
     DEPS rigger_test_harness rigger_task_controller_core rigger_operator_ui LABEL integration TIMEOUT 120)
   add_dependencies(rigger_controller_riggerctl_test task_controller scripted_executor riggerctl)
-  # Resume after a crash: controller SIGKILLed mid-task, restarted, riggerctl resume, the operator's answer.
+endif()
+if(TARGET task_controller AND TARGET scripted_executor AND TARGET riggerctl AND TARGET world_model)
+  # Resume after a crash: controller SIGKILLed mid-task, restarted, riggerctl resume, the operator's answer;
+  # with the real world model, a load moved while the controller was down is localized again.
   rigger_add_test(rigger_controller_resume_test
     SOURCES controller_resume_test.cpp
-    DEPS rigger_test_harness rigger_task_controller_core rigger_operator_ui LABEL integration TIMEOUT 180)
-  add_dependencies(rigger_controller_resume_test task_controller scripted_executor riggerctl)
+    DEPS rigger_test_harness rigger_task_controller_core rigger_operator_ui rigger_world_client
+    LABEL integration TIMEOUT 300)
+  add_dependencies(rigger_controller_resume_test task_controller scripted_executor riggerctl world_model)
 endif()
 if(TARGET task_controller AND TARGET scripted_executor)
   # PAUSE/RESUME, CANCEL, OperatorDecision, stop-timeout escalation.

@@ -2,12 +2,18 @@
 // three runs, a second controller on the same journal reports the task INTERRUPTED and starts nothing;
 // `riggerctl resume` rebuilds it from the journal and asks the operator (prompt kind "resume"); only the
 // operator's answer starts anything. Real task_controller, scripted executor and riggerctl processes.
+// RelocalizeTest adds the real world_model: a load localized before the crash and moved (a new
+// observation) while the controller was down is localized again before anything else runs.
+#include <functional>
 #include <map>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "controller_test_support.hpp"
+#include "rigger/base/logging.hpp"
+#include "rigger/world_client/world_client.hpp"
 
 namespace rigger::testing::controller {
 namespace {
@@ -18,8 +24,10 @@ json skill(const std::string& name, const std::string& object) {
 
 class ResumeTest : public ControllerTest {
  protected:
-  /// Task `task_id`, Sequence [first, second, third]; tc is killed while `second` (2 s) runs, tc-2 is
-  /// started on the same journal and has reported the task INTERRUPTED when this returns.
+  /// Task `task_id`, Sequence [first (load), second (target), third (target)]; tc is killed while
+  /// `second` (2 s) runs, tc-2 is started on the same journal and has reported the task INTERRUPTED when
+  /// this returns. What runs after the crash uses the target only, so the load's completed localization
+  /// is no precondition of it and no world model is asked (RelocalizeTest is about that).
   void crash_in_the_second_skill(const std::string& task_id, bool second_restartable = false) {
     expect_clean_exit_ = false;  // tc is killed
     start_controller();
@@ -30,10 +38,11 @@ class ResumeTest : public ControllerTest {
     wait_ready({"tc", "exec"});
     json second = skill("second", "target");
     if (second_restartable) second["restartable"] = true;
-    submit(task_id,
-           {{"recipe_version", 1},
-            {"task_id", task_id},
-            {"root", {{"type", "Sequence"}, {"children", {skill("first", "load"), second, skill("third", "load")}}}}});
+    submit(
+        task_id,
+        {{"recipe_version", 1},
+         {"task_id", task_id},
+         {"root", {{"type", "Sequence"}, {"children", {skill("first", "load"), second, skill("third", "target")}}}}});
     ASSERT_TRUE(cell_.wait_until([&] { return event_at(task_id, "root/1", rigger_skill_SKILL_EVENT_ACCEPTED); }, 20s));
     // Killed once the journal holds the second START: the rows of a handler are written right after its
     // commands, so a kill just after a START may lose them (then the first skill counts as interrupted,
@@ -178,6 +187,155 @@ TEST_F(ResumeTest, ARecipeNoLongerValidIsRefusedWithTheReasonAndTheTaskStaysInte
   const auto lines = journal("gone");
   EXPECT_TRUE(has_line(lines, "", "RESUME", "RESUME_REFUSED"));
   EXPECT_FALSE(has_line(lines, "", "TASK", "RUNNING"));
+}
+
+/// With the real world model: Sequence [Localize(load) "localize load", Localize(target) "second" (2 s),
+/// Pick(load) "pick load"]. The camera's observation of the load (written by the test, as the tracker
+/// would) is in the world model before the task starts; the controller journals the load's pose when
+/// "localize load" succeeds and is killed while "second" runs.
+class RelocalizeTest : public ResumeTest {
+ protected:
+  void SetUp() override {
+    ResumeTest::SetUp();
+    cell_.start("wm", "world_model", {"--id", "wm", "--db", cell_.log_dir() + "/world.sqlite"});
+    world_ = std::make_unique<world_client::WorldClient>(cell_.participant(), cell_.loop(), null_logger(), "test");
+  }
+
+  /// An observation of the load at `pose` (world frame), stamped now, as the tracker would write it.
+  void see_load(const Eigen::Vector3d& position) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() = position;
+    std::optional<world_client::Reply> updated;
+    world_->update_pose("load", "world", pose, std::chrono::system_clock::now(), 0.9, true, 5s,
+                        [&](const world_client::Reply& r) { updated = r; });
+    ASSERT_TRUE(cell_.wait_until([&] { return updated.has_value(); }, 10s));
+    ASSERT_TRUE(updated->ok) << updated->code << ": " << updated->message;
+  }
+
+  /// Runs the task until the controller is killed in "second"; `while_down` runs before tc-2 starts.
+  void crash_after_localizing_the_load(const std::string& task_id, const std::function<void()>& while_down) {
+    expect_clean_exit_ = false;  // tc is killed
+    start_controller();
+    start_scripted("exec", {"Localize", "Pick"},
+                   {{"root/0", {{"mode", "succeed"}, {"delay_s", 0.1}}},
+                    {"root/1", {{"mode", "succeed"}, {"delay_s", 2.0}}},
+                    {"root/2", {{"mode", "succeed"}, {"delay_s", 0.1}}}});
+    wait_ready({"wm", "tc", "exec"});
+    ASSERT_TRUE(cell_.wait_until([&] { return world_->connected(); }, 10s));
+    see_load(kLoadAt);
+    const json pick = {{"type", "Skill"},
+                       {"name", "pick load"},
+                       {"skill", "Pick"},
+                       {"params", {{"object", "load"}, {"grasp", "load/grasp_side"}}}};
+    const json children = {skill("localize load", "load"), skill("second", "target"), pick};
+    submit(task_id,
+           {{"recipe_version", 1}, {"task_id", task_id}, {"root", {{"type", "Sequence"}, {"children", children}}}});
+    ASSERT_TRUE(cell_.wait_until([&] { return event_at(task_id, "root/1", rigger_skill_SKILL_EVENT_ACCEPTED); }, 20s));
+    // The load's pose is journaled (the world model answered) and the second START is in the journal.
+    ASSERT_TRUE(cell_.wait_until(
+        [&] {
+          const auto lines = journal(task_id);
+          return has_line(lines, "root/0", "WORLD", "LOCALIZED") && has_line(lines, "root/1", "COMMAND", "START");
+        },
+        10s));
+    cell_.loop().on_status(recipes_->handle(), DDS_PUBLICATION_MATCHED_STATUS, [] {});
+    ASSERT_TRUE(cell_.stop("tc", SIGKILL, 5s).has_value());
+    ASSERT_TRUE(cell_.wait_until([&] { return recipes_->matched_readers() == 0; }, 10s));
+    starts_before_ = count_commands(task_id, rigger_skill_SKILL_START);
+    while_down();
+    start_controller(json::object(), "tc-2");
+    wait_ready({"tc-2"});
+    ASSERT_TRUE(cell_.wait_until([&] { return code_seen(task_id, "INTERRUPTED"); }, 10s));
+  }
+
+  /// details_json of the open resume prompt of `task_id`.
+  json resume_details(const std::string& task_id) {
+    const PromptSeen* p = resume_prompt(task_id);
+    if (p == nullptr) return json();
+    return json::parse(p->details_json, nullptr, false);
+  }
+
+  /// The operator reruns the interrupted "second"; the task must succeed.
+  void rerun_to_success(const std::string& task_id) {
+    answer(task_id + "#resume#1", "rerun");
+    ASSERT_TRUE(wait_finished(task_id, 30s));
+    EXPECT_EQ(last(task_id).state, rigger_task_TASK_SUCCEEDED) << last(task_id).code << " " << last(task_id).message;
+  }
+
+  const Eigen::Vector3d kLoadAt{3.4, 1.8, 1.25};
+  std::unique_ptr<world_client::WorldClient> world_;
+};
+
+TEST_F(RelocalizeTest, ALoadMovedWhileTheControllerWasDownIsLocalizedAgainFirstAndTheTaskSucceeds) {
+  crash_after_localizing_the_load("moved", [&] { see_load(kLoadAt + Eigen::Vector3d(0.045, 0, 0)); });
+  const CtlResult r = ctl("resume", {"resume", "moved"});
+  EXPECT_EQ(r.code(), 0) << r.output;
+  std::printf("riggerctl resume:\n%s", r.output.c_str());
+  EXPECT_NE(r.output.find("load moved 45 mm and 0.0 deg since it was localized at "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Localize(load) (root/0, localize load) will run again (preconditions do not hold)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("runs again): root/0 (localize load)"), std::string::npos) << r.output;
+  const json d = resume_details("moved");
+  ASSERT_TRUE(d.is_object()) << "no resume prompt with details";
+  EXPECT_EQ(d["relocalize"], json::array({"root/0"}));
+  EXPECT_EQ(d["done"], json::array());
+  ASSERT_EQ(d["world"].size(), 1U) << d.dump();
+  const json& load = d["world"][0];
+  EXPECT_EQ(load["object"], "load");
+  EXPECT_EQ(load["verdict"], "moved");
+  EXPECT_EQ(load["relocalize"], true);
+  EXPECT_EQ(load["preconditions_hold"], false);
+  EXPECT_EQ(load["world_model"], "answered");
+  EXPECT_NEAR(load["displacement_mm"].get<double>(), 45.0, 0.5);
+  EXPECT_EQ(load["used_by"], json::array({"root/2"}));
+  EXPECT_LT(load["pose_age_s"].get<double>(), 60.0);
+  EXPECT_EQ(count_commands("moved", rigger_skill_SKILL_START), starts_before_) << "nothing before the confirmation";
+
+  rerun_to_success("moved");
+  // The moved load's localization ran again (first), the interrupted skill by the operator's rerun.
+  EXPECT_EQ(journaled_starts("moved"), (std::map<std::string, int>{{"root/0", 2}, {"root/1", 2}, {"root/2", 1}}));
+  int poses = 0;
+  for (const auto& l : journal("moved")) poses += l.node == "root/0" && l.kind == "WORLD" && l.code == "LOCALIZED";
+  EXPECT_EQ(poses, 2) << "each localization journals the load's pose";
+}
+
+TEST_F(RelocalizeTest, ALoadThatDidNotMoveStaysLocalizedAndEachCompletedSkillRunsOnce) {
+  // A new observation 2 mm off (camera noise) is no move.
+  crash_after_localizing_the_load("still", [&] { see_load(kLoadAt + Eigen::Vector3d(0, 0.002, 0)); });
+  const CtlResult r = ctl("resume", {"resume", "still"});
+  EXPECT_EQ(r.code(), 0) << r.output;
+  EXPECT_NE(r.output.find("done, not run again: root/0 (localize load)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("load is where it was localized (2 mm and 0.0 deg off since it was localized at "),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("its localization stays done (preconditions hold)"), std::string::npos) << r.output;
+  const json d = resume_details("still");
+  ASSERT_TRUE(d.is_object());
+  EXPECT_EQ(d["relocalize"], json::array());
+  ASSERT_EQ(d["world"].size(), 1U) << d.dump();
+  EXPECT_EQ(d["world"][0]["verdict"], "unchanged");
+  EXPECT_EQ(d["world"][0]["preconditions_hold"], true);
+  EXPECT_EQ(d["world"][0]["localized"], true);
+  rerun_to_success("still");
+  EXPECT_EQ(journaled_starts("still"), (std::map<std::string, int>{{"root/0", 1}, {"root/1", 2}, {"root/2", 1}}));
+}
+
+TEST_F(RelocalizeTest, AWorldModelThatIsDownIsSaidInThePromptAndTheLoadIsLocalizedAgain) {
+  crash_after_localizing_the_load("blind", [&] { ASSERT_TRUE(cell_.stop("wm", SIGINT, 10s).has_value()); });
+  const CtlResult r = ctl("resume", {"resume", "blind"});
+  EXPECT_EQ(r.code(), 0) << r.output;
+  EXPECT_NE(r.output.find("the world model did not answer about load (WORLD_UNREACHABLE"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("will run again to be safe"), std::string::npos) << r.output;
+  const json d = resume_details("blind");
+  ASSERT_TRUE(d.is_object());
+  EXPECT_EQ(d["relocalize"], json::array({"root/0"}));
+  ASSERT_EQ(d["world"].size(), 1U) << d.dump();
+  EXPECT_EQ(d["world"][0]["verdict"], "unknown");
+  EXPECT_EQ(d["world"][0]["world_model"].get<std::string>().rfind("WORLD_UNREACHABLE", 0), 0U) << d.dump();
+  rerun_to_success("blind");
+  EXPECT_EQ(journaled_starts("blind"), (std::map<std::string, int>{{"root/0", 2}, {"root/1", 2}, {"root/2", 1}}));
 }
 
 }  // namespace

@@ -70,6 +70,7 @@ struct PromptSeen {
   std::vector<std::string> options;
   bool active = false;
   Clock::time_point at;
+  std::string details_json;
 };
 struct JournalLine {
   std::string node, kind, code, message;
@@ -127,7 +128,8 @@ class ControllerTest : public MultiProcessTest {
     loop.on_data(*prompts_, [this] {
       prompts_->take([this](const rigger_operator_ui_OperatorPrompt& pr, const dds_sample_info_t&) {
         prompts_seen_.push_back({dds::to_string(pr.prompt_id), dds::to_string(pr.task_id), dds::to_string(pr.node_id),
-                                 dds::to_string(pr.text), dds::to_string_vector(pr.options), pr.active, Clock::now()});
+                                 dds::to_string(pr.text), dds::to_string_vector(pr.options), pr.active, Clock::now(),
+                                 dds::to_string(pr.details_json)});
       });
     });
     loop.on_data(*journal_replies_, [this] {

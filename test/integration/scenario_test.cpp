@@ -363,6 +363,11 @@ TEST_F(ScenarioTest, ControllerKilledDuringInsertionIsResumedWithTheOperatorsCon
   ASSERT_EQ(planned.code(), 0) << planned.output;
   std::printf("riggerctl resume:\n%s", planned.output.c_str());
   EXPECT_NE(planned.output.find("not restartable"), std::string::npos) << planned.output;
+  // The world re-checked before asking: the target did not move since it was localized, the load has
+  // been carried by the task's own skills since (attached, then inserted): neither is localized again.
+  EXPECT_NE(planned.output.find("world: target is where it was localized"), std::string::npos) << planned.output;
+  EXPECT_NE(planned.output.find("world: load has been attached by"), std::string::npos) << planned.output;
+  EXPECT_EQ(planned.output.find("re-localized"), std::string::npos) << planned.output;
   // Nothing moves before the operator confirms.
   EXPECT_FALSE(s.node("insert visually guided") != nullptr && s.node("insert visually guided")->runs > 1)
       << "the insertion started again before the operator confirmed";

@@ -32,6 +32,9 @@ ControllerSettings read_settings(const Config& config, const std::string& journa
   s.progress_rows_per_run = config.get_in_range<unsigned>("journal_progress_per_run", 20U, 0U, 100000U);
   s.flush_delay = std::chrono::microseconds(config.get_in_range<unsigned>("flush_delay_us", 1000U, 0U, 100000U));
   s.stage_trace_path = config.get<std::string>("stage_trace_path", "");
+  s.recheck.tolerance_m = config.get_in_range<double>("resume_tolerance_mm", 10.0, 0.1, 10000.0) / 1000.0;
+  s.recheck.tolerance_deg = config.get_in_range<double>("resume_tolerance_deg", 2.0, 0.01, 180.0);
+  s.recheck.max_age_s = config.get_in_range<double>("resume_max_pose_age_s", 300.0, 0.1, 1e6);
   config.finish();
   return s;
 }

@@ -35,11 +35,18 @@
 ///                      event that comes meanwhile; the commands' receivers get the CPU first (on a
 ///                      2-core machine the flush competed with them), and a burst is one transaction.
 ///                      0: right after the handler (docs/behavior-tree.md#where-the-time-goes-issue-19)
+///   "resume_tolerance_mm": number in [0.1, 10000], default 10, and "resume_tolerance_deg": number in
+///                      [0.01, 180], default 2: a resumed task's completed localization of an object runs
+///                      again when the object is farther than this from the pose journaled when it was
+///                      localized (relocalization.hpp)
+///   "resume_max_pose_age_s": number in [0.1, 1e6], default 300: ... or when its pose is older than this (a
+///                      recipe's ObjectLocalized(object, max_age_s) condition asks for less)
 
 #include <chrono>
 #include <string>
 
 #include "journal.hpp"
+#include "relocalization.hpp"
 #include "rigger/base/config.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
 
@@ -58,6 +65,7 @@ struct ControllerSettings {
   unsigned progress_rows_per_run = 20;
   std::chrono::microseconds flush_delay{1000};
   std::string stage_trace_path;  ///< empty: no stage trace
+  RecheckSettings recheck;       ///< resume_tolerance_mm, resume_tolerance_deg, resume_max_pose_age_s
 };
 
 /// Reads every key, then config.finish(); a non-empty `journal_path` (the --journal option) takes the

@@ -45,11 +45,15 @@ bool active(NodeState s) {
 
 class Planner {
  public:
-  Planner(const bt::TreeSpec& spec, ResumePlan& plan) : spec_(spec), plan_(plan), seen_(spec.nodes.size()) {
+  Planner(const bt::TreeSpec& spec, ResumePlan& plan, const std::set<std::string>& again)
+      : spec_(spec), plan_(plan), seen_(spec.nodes.size()) {
     for (NodeIndex i = 0; i < spec.nodes.size(); ++i) {
       index_[spec.nodes[i].id] = i;
       for (std::size_t c = 0; c < spec.nodes[i].children.size(); ++c) parent_[spec.nodes[i].children[c]] = {i, c};
     }
+    for (const auto& id : again)
+      if (const auto it = index_.find(id); it != index_.end() && bt::is_leaf(spec.nodes[it->second].kind))
+        again_.insert(it->second);
     plan_.restoration.nodes.resize(spec.nodes.size());
   }
 
@@ -82,6 +86,26 @@ class Planner {
       plan_.error = "the tree had finished (" + std::string(bt::to_string(s)) +
                     ") before the controller stopped; only the task's row is missing";
       return;
+    }
+    // A leaf that runs again opens its done ancestors, up to the first one that was running; only a path
+    // of successes can be opened (below a failure, the leaf would not be reached).
+    for (const NodeIndex leaf : again_) {
+      if (seen_[leaf].state != NodeState::kSuccess) continue;
+      std::vector<NodeIndex> path;
+      NodeIndex at = leaf;
+      bool open = false;
+      for (auto p = parent_.find(at); p != parent_.end(); p = parent_.find(at)) {
+        at = p->second.first;
+        if (seen_[at].state == NodeState::kRunning) {
+          open = true;
+          break;
+        }
+        if (seen_[at].state != NodeState::kSuccess) break;
+        path.push_back(at);
+      }
+      if (!open) continue;
+      runs_again_.insert(leaf);
+      reopened_.insert(path.begin(), path.end());
     }
     visit(root, s == NodeState::kRunning);
   }
@@ -129,12 +153,36 @@ class Planner {
     r.cursor = n.cursor;
     r.chosen = n.chosen;
     const std::size_t guards = node.kind == NodeKind::kSequence ? guarding_conditions(node) : 0;
+    restore_children(node, guards);
+  }
+
+  /// A done control node that runs again because a leaf below it does (plan()): its children are taken
+  /// up as they were, the path to that leaf opened further. A Repeat had counted the success it gives.
+  void reopen(NodeIndex i) {
+    const bt::NodeSpec& node = spec_.nodes[i];
+    bt::RestoredNode& r = plan_.restoration.nodes[i];
+    const Seen& n = seen_[i];
+    r.activations = n.activations;
+    r.cursor = node.kind == NodeKind::kRepeat && n.cursor > 0 ? n.cursor - 1 : n.cursor;
+    r.chosen = n.chosen;
+    restore_children(node, 0);
+  }
+
+  void restore_children(const bt::NodeSpec& node, std::size_t guards) {
     for (const NodeIndex c : node.children) {
       const Seen& child = seen_[c];
       bt::RestoredNode& cr = plan_.restoration.nodes[c];
       cr.activations = child.activations;
       switch (child.state) {
         case NodeState::kSuccess:
+          if (runs_again_.count(c) != 0) {
+            plan_.relocalize.push_back(spec_.nodes[c].id);  // the world changed under it: runs again
+            break;
+          }
+          if (reopened_.count(c) != 0) {
+            reopen(c);
+            break;
+          }
           if (guards > 0 && guarded_.count(c) != 0) {
             plan_.rerun.push_back(spec_.nodes[c].id);  // the guard of what runs next: asked again
             break;
@@ -201,6 +249,9 @@ class Planner {
   std::map<std::string, NodeIndex> index_;
   std::map<NodeIndex, std::pair<NodeIndex, std::size_t>> parent_;  ///< child → (parent, position)
   std::set<NodeIndex> guarded_;  ///< succeeded Conditions evaluated again (guarding_conditions)
+  std::set<NodeIndex> again_;    ///< leaves asked to run again (plan_resume's `again`)
+  std::set<NodeIndex> runs_again_;  ///< those of again_ that can: a path of successes below a running node
+  std::set<NodeIndex> reopened_;    ///< done control nodes on those paths, taken up as running
 };
 
 std::string list(const std::vector<std::string>& ids, const bt::TreeSpec& spec) {
@@ -211,9 +262,10 @@ std::string list(const std::vector<std::string>& ids, const bt::TreeSpec& spec) 
 
 }  // namespace
 
-ResumePlan plan_resume(const bt::TreeSpec& spec, const std::vector<JournalRecord>& timeline) {
+ResumePlan plan_resume(const bt::TreeSpec& spec, const std::vector<JournalRecord>& timeline,
+                       const std::set<std::string>& again) {
   ResumePlan plan;
-  Planner planner(spec, plan);
+  Planner planner(spec, plan, again);
   if (planner.read(timeline)) planner.plan();
   return plan;
 }
@@ -244,6 +296,9 @@ std::string describe_plan(const ResumePlan& plan, const bt::TreeSpec& spec) {
   std::string out = "done, not run again: " + list(plan.done, spec);
   out += "\nruns again (interrupted restartable skills and monitors; conditions, evaluated anew): " +
          list(plan.rerun, spec);
+  if (!plan.relocalize.empty())
+    out += "\nre-localized (done, but the world changed while the controller was down; runs again): " +
+           list(plan.relocalize, spec);
   if (!plan.ask.empty())
     out += "\ninterrupted, not restartable (the operator decides: rerun, skip = take as done, abort): " +
            list(plan.ask, spec);

@@ -16,6 +16,7 @@
 ///    (the executors stopped every run of the lost controller);
 ///  - a task whose root was STOPPING (being canceled) or had finished is not resumed.
 
+#include <set>
 #include <string>
 #include <vector>
 
@@ -33,20 +34,30 @@ struct ResumePlan {
   std::vector<std::string> rerun;
   std::vector<std::string> ask;      ///< interrupted skills that are not restartable: the operator decides
   std::vector<std::string> pending;  ///< leaves not started yet, run when their parent reaches them
+  /// Leaves done before the crash that run again because the world changed under them (a localization of
+  /// an object that moved while the controller was down: relocalization.hpp); their done ancestors are
+  /// taken up as running, their done siblings stay done.
+  std::vector<std::string> relocalize;
   std::string error;                 ///< why the task cannot be resumed; "" when it can
 };
 
 /// The plan for `spec` (the recipe's tree, rebuilt) from the task's journal `timeline` (its NODE rows,
 /// in order). A NODE row naming a node the tree does not have, or a state no node has, is an error
-/// (the journal does not belong to this recipe or is corrupt).
-ResumePlan plan_resume(const bt::TreeSpec& spec, const std::vector<JournalRecord>& timeline);
+/// (the journal does not belong to this recipe or is corrupt). `again`: ids of leaves that had succeeded
+/// and run again (relocalize): each ancestor done with them is taken up as running (a Sequence starts
+/// them, then reports its other done children at once; a Repeat counts one success less), everything
+/// else done stays done. An id in `again` that is not a leaf that succeeded on a path of successes
+/// below a running node is ignored.
+ResumePlan plan_resume(const bt::TreeSpec& spec, const std::vector<JournalRecord>& timeline,
+                       const std::set<std::string>& again = {});
 
 /// The operator's `skip`: every `ask` leaf is taken as done (SUCCESS) instead of started again.
 void skip_interrupted(ResumePlan& plan, const bt::TreeSpec& spec, const std::string& by);
 
 /// "root/0 (MoveTo)": a node for people.
 std::string describe_node(const bt::TreeSpec& spec, const std::string& node_id);
-/// The plan for people, one part per line: "done: …", "runs again: …", "operator decides: …", "then: …".
+/// The plan for people, one part per line: "done: …", "runs again: …", "re-localized: …" (when any),
+/// "operator decides: …", "then: …".
 std::string describe_plan(const ResumePlan& plan, const bt::TreeSpec& spec);
 
 }  // namespace rigger::task_controller

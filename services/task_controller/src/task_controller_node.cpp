@@ -94,6 +94,24 @@ void TaskControllerNode::is_localized(const std::string& object, double max_age_
   world_->is_localized(object, max_age_s, settings_.condition_timeout, std::move(answer));
 }
 
+void TaskControllerNode::localized(const std::string& task_id, const std::string& node_id, const std::string& object) {
+  // The pose the rest of the task relies on, for a resume after a crash (relocalization.hpp). Read after
+  // the leaf's SUCCESS: a Localize has stored its pose by then.
+  world_->pose(object, kRecheckFrame, settings_.condition_timeout,
+               [this, task_id, node_id, object](const world_client::Reply& r) {
+                 if (!r.ok) {
+                   journal({wall_now_s(), task_id, node_id, kWorldRow, kPoseUnknownCode,
+                            object + ": " + r.code + (r.message.empty() ? "" : ": " + r.message)});
+                   return;
+                 }
+                 LocalizedPose p;
+                 p.object = object;
+                 p.pose_world_object = r.pose;
+                 p.stamp_s = wall_now_s() - r.age_s;
+                 journal({wall_now_s(), task_id, node_id, kWorldRow, kLocalizedCode, localized_pose_row(p)});
+               });
+}
+
 std::string TaskControllerNode::holder_of(const std::vector<std::string>& resources, const std::string& task_id,
                                           const std::set<std::string>* started) const {
   const auto holder = executors_.holder(resources, task_id, started);
@@ -274,6 +292,7 @@ void TaskControllerNode::handle_recipe(const std::string& task_id, const std::st
   }
   status_.task(task_id, rigger_task_TASK_ACCEPTED, "", "", "");
   ctx_.log->info("task accepted task={} nodes={}", task_id, task->engine().spec().nodes.size());
+  task->set_localizing(localizing_leaves(task->engine().spec(), validator.library()));
   Task& t = *task;
   tasks_[task_id] = std::move(task);
   status_.task(task_id, rigger_task_TASK_RUNNING, "", "", "");

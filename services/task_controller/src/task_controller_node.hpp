@@ -33,6 +33,7 @@
 /// fails the Condition with WORLD_UNREACHABLE, an unknown condition with UNKNOWN_CONDITION.
 
 #include <chrono>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -85,6 +86,7 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   void node_status(NodeStatusRow row) override;
   void is_localized(const std::string& object, double max_age_s,
                     std::function<void(const world_client::Reply&)> answer) override;
+  void localized(const std::string& task_id, const std::string& node_id, const std::string& object) override;
   std::chrono::nanoseconds start_answer_timeout() const override { return settings_.start_answer_timeout; }
   bool safe_stop(const std::string& resource, const std::string& reason) override;
   void task_finished(const std::string& id, int state, const std::string& journal_state, const bt::TaskResult& result,
@@ -105,6 +107,11 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   /// nothing starts before the answer. Refusals go out as TaskStatus FAILED, code RESUME_REFUSED.
   void resume_interrupted(const std::string& task_id, const std::string& issuer, const std::string& reason);
   void refuse_resume(const std::string& task_id, const std::string& why);
+  /// The world model's answer about the `index`-th re-checked object of the resume of `task_id` (check
+  /// `serial`); once every object is answered the plan is final and the operator is asked.
+  void rechecked(const std::string& task_id, std::uint64_t serial, std::size_t index, const world_client::Reply& reply);
+  /// Journals the plan and asks the operator (the world re-check done).
+  void ask_resume(const std::string& task_id);
   /// A CANCEL of a task whose resume waits for the operator: withdraws the question, ends it CANCELED.
   /// False when no resume of `task_id` waits. (These live in task_controller_resume.cpp.)
   bool cancel_resuming(const std::string& task_id, const std::string& reason);
@@ -143,12 +150,18 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   struct Resuming {
     std::unique_ptr<Task> task;
     ResumePlan plan;
+    std::vector<JournalRecord> timeline;  ///< the task's journal rows at the resume (re-planned with)
+    std::vector<ObjectRecheck> checks;    ///< the objects re-checked against the world model
+    std::size_t unanswered = 0;           ///< checks still waiting for the world model
+    std::uint64_t serial = 0;             ///< tells this resume's world answers from a withdrawn one's
+    bool asked = false;                   ///< the prompt is out (before: the world is being re-checked)
     PromptId prompt;
     bt::NodeSpec question;  ///< the prompt's title, text and options
     std::string details_json;
     std::string summary;
   };
   std::map<std::string, Resuming> resuming_;          ///< by task id
+  std::uint64_t resume_serial_ = 0;
   std::unique_ptr<world_client::WorldClient> world_;  ///< Condition nodes query the world model through it
   std::vector<NodeStatusRow> status_backlog_;
   std::vector<JournalRecord> journal_backlog_;

@@ -26,7 +26,7 @@ bool TaskControllerNode::cancel_resuming(const std::string& task_id, const std::
   const auto r = resuming_.find(task_id);
   if (r == resuming_.end()) return false;
   // Canceled while the resume waited for the operator: nothing had started, the question goes.
-  prompts_.write(r->second.prompt, r->second.question, false, "resume", r->second.details_json);
+  if (r->second.asked) prompts_.write(r->second.prompt, r->second.question, false, "resume", r->second.details_json);
   journal({wall_now_s(), task_id, "", "COMMAND", "CANCEL", reason});
   flush_side_effects();
   journal_.finish_task(task_id, "CANCELED", bt::codes::kCanceled, reason + " (before the resume was confirmed)",
@@ -47,6 +47,7 @@ void TaskControllerNode::refuse_resume(const std::string& task_id, const std::st
 void TaskControllerNode::resume_interrupted(const std::string& task_id, const std::string& issuer,
                                             const std::string& reason) {
   if (auto r = resuming_.find(task_id); r != resuming_.end()) {
+    if (!r->second.asked) return;  // the world is being re-checked: the prompt comes once it answered
     // Asked again (another riggerctl, or the first one gave up waiting): the same question stands.
     prompts_.write(r->second.prompt, r->second.question, true, "resume", r->second.details_json);
     status_.task(task_id, rigger_task_TASK_PAUSED, codes::kResumeConfirmation, r->second.summary, "");
@@ -91,18 +92,64 @@ void TaskControllerNode::resume_interrupted(const std::string& task_id, const st
     refuse_resume(task_id, std::string("the recipe is no longer valid: ") + e.what());
     return;
   }
-  const auto timeline = journal_.timeline(task_id, 10'000'000);
+  auto timeline = journal_.timeline(task_id, 10'000'000);
   Resuming r;
   r.plan = plan_resume(task->engine().spec(), timeline);
   if (!r.plan.error.empty()) {
     refuse_resume(task_id, "the journal cannot be resumed: " + r.plan.error);
     return;
   }
+  // Before asking: the world model's view of the objects whose completed localizations the rest of
+  // the task relies on (relocalization.hpp). The prompt waits for its answers (or their timeout).
+  task->set_localizing(localizing_leaves(task->engine().spec(), validator.library()));
+  r.checks = objects_to_recheck(task->engine().spec(), r.plan, timeline, validator.library(), settings_.recheck);
+  r.timeline = std::move(timeline);
+  r.task = std::move(task);
+  r.serial = ++resume_serial_;
+  r.unanswered = r.checks.size();
+  std::vector<std::string> objects;
+  for (const auto& c : r.checks) objects.push_back(c.object);
+  const std::uint64_t serial = r.serial;
+  resuming_[task_id] = std::move(r);
+  if (objects.empty()) {
+    ask_resume(task_id);
+    return;
+  }
+  ctx_.log->info("resume re-checks the world task={} objects={}", task_id, objects.size());
+  for (std::size_t i = 0; i < objects.size(); ++i)
+    world_->pose(
+        objects[i], kRecheckFrame, settings_.condition_timeout,
+        [this, task_id, serial, i](const world_client::Reply& reply) { rechecked(task_id, serial, i, reply); });
+}
+
+void TaskControllerNode::rechecked(const std::string& task_id, std::uint64_t serial, std::size_t index,
+                                   const world_client::Reply& reply) {
+  const auto it = resuming_.find(task_id);
+  if (it == resuming_.end() || it->second.serial != serial || it->second.asked) return;  // withdrawn meanwhile
+  Resuming& r = it->second;
+  WorldNow now;
+  now.ok = reply.ok;
+  now.code = reply.code;
+  now.message = reply.message;
+  now.pose_world_object = reply.pose;
+  now.localized = reply.localized;
+  now.age_s = reply.age_s;
+  judge(r.checks[index], now, settings_.recheck, r.task->engine().spec());
+  if (--r.unanswered > 0) return;
+  const std::set<std::string> again = leaves_to_relocalize(r.checks);
+  if (!again.empty()) r.plan = plan_resume(r.task->engine().spec(), r.timeline, again);
+  ask_resume(task_id);
+}
+
+void TaskControllerNode::ask_resume(const std::string& task_id) {
+  Resuming& r = resuming_.at(task_id);
+  const bt::TreeSpec& spec = r.task->engine().spec();
   bt::Activation crashes = 0;  // each crash asks its own question
-  for (const auto& row : timeline)
+  for (const auto& row : r.timeline)
     if (row.kind == "TASK" && row.code == "INTERRUPTED") ++crashes;
   r.prompt = PromptId{task_id, "resume", std::max<bt::Activation>(crashes, 1)};
-  r.summary = describe_plan(r.plan, task->engine().spec());
+  r.summary = describe_plan(r.plan, spec);
+  if (!r.checks.empty()) r.summary += "\n" + describe_checks(r.checks);
   r.question.kind = bt::NodeKind::kOperatorDecision;
   r.question.id = "resume";
   r.question.name = "Resume task " + task_id;
@@ -110,10 +157,10 @@ void TaskControllerNode::resume_interrupted(const std::string& task_id, const st
   r.question.options = r.plan.ask.empty() ? std::vector<std::string>{"continue", "abort"}
                                           : std::vector<std::string>{"rerun", "skip", "abort"};
   r.summary += "\nprompt " + r.prompt.str() + ", options " + quoted_options(r.question.options);
-  r.details_json =
-      nlohmann::json{{"done", r.plan.done}, {"rerun", r.plan.rerun}, {"ask", r.plan.ask}, {"pending", r.plan.pending}}
-          .dump();
-  r.task = std::move(task);
+  r.details_json = nlohmann::json{{"done", r.plan.done}, {"rerun", r.plan.rerun},     {"relocalize", r.plan.relocalize},
+                                  {"ask", r.plan.ask},   {"pending", r.plan.pending}, {"world", to_json(r.checks)}}
+                       .dump();
+  r.asked = true;
   journal({wall_now_s(), task_id, "", "RESUME", "PLAN", r.summary});
   journal({wall_now_s(), task_id, "resume", "OPERATOR", "ASK", r.question.prompt});
   flush_side_effects();
@@ -121,13 +168,13 @@ void TaskControllerNode::resume_interrupted(const std::string& task_id, const st
     ctx_.log->error("prompt write failed task={}", task_id);
   if (!status_.task(task_id, rigger_task_TASK_PAUSED, codes::kResumeConfirmation, r.summary, ""))
     ctx_.log->error("task status write failed task={}", task_id);
-  ctx_.log->info("resume waits for the operator task={} prompt={}", task_id, r.prompt.str());
-  resuming_[task_id] = std::move(r);
+  ctx_.log->info("resume waits for the operator task={} prompt={} relocalize={}", task_id, r.prompt.str(),
+                 r.plan.relocalize.size());
 }
 
 void TaskControllerNode::answer_resume(const PromptId& id, const std::string& answer, const std::string& by) {
   auto it = resuming_.find(id.task_id);
-  if (it == resuming_.end()) return;
+  if (it == resuming_.end() || !it->second.asked || !(it->second.prompt == id)) return;
   Resuming& r = it->second;
   const std::string& task_id = id.task_id;
   if (!option_index(r.question.options, answer)) {

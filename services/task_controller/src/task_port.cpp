@@ -520,6 +520,8 @@ void Task::node_changed(const bt::NodeSpec& spec, const bt::NodeStatus& status) 
   if (status.state != NodeState::kRunning || !status.progress)  // progress lines are not worth a row each
     host_.journal({wall_now_s(), id_, spec.id, "NODE", std::string(bt::to_string(status.state)),
                    status.code.empty() ? status.message : status.code + ": " + status.message});
+  if (status.state == NodeState::kSuccess)
+    if (const auto l = localizing_.find(spec.id); l != localizing_.end()) host_.localized(id_, spec.id, l->second);
 }
 
 void Task::finished(const bt::TaskResult& result) {

@@ -80,6 +80,11 @@ class TaskHost {
   /// Asks the world model whether `object` is localized (the answer comes on a later loop turn).
   virtual void is_localized(const std::string& object, double max_age_s,
                             std::function<void(const world_client::Reply&)> answer) = 0;
+  /// Leaf `node_id` of task `task_id`, which localizes `object`, succeeded: the host journals the
+  /// object's pose as the world model has it now (relocalization.hpp), for a resume after a crash.
+  virtual void localized(const std::string& task_id, const std::string& node_id, const std::string& object) {
+    (void)task_id, (void)node_id, (void)object;
+  }
   /// How long an executor has to answer a START before the leaf fails START_UNANSWERED.
   virtual std::chrono::nanoseconds start_answer_timeout() const = 0;
   /// Commands a safe stop of `resource`; false when the write failed.
@@ -104,6 +109,9 @@ class Task : public bt::Port {
   /// A task resumed after a controller crash: its STARTs also wait while a run of the same task id (the
   /// killed controller's, still announced) holds one of their resources. Call before the engine starts.
   void mark_resumed() { resumed_ = true; }
+  /// The leaves that localize an object (node id → object, relocalization.hpp localizing_leaves): when
+  /// one succeeds, TaskHost::localized is called.
+  void set_localizing(std::map<std::string, std::string> leaves) { localizing_ = std::move(leaves); }
   /// Logs and journals an engine result that was not acted on.
   void log_result(const char* what, const std::string& node_id, const bt::EventResult& r);
 
@@ -186,6 +194,7 @@ class Task : public bt::Port {
   TaskHost& host_;
   std::string id_;
   bool resumed_ = false;
+  std::map<std::string, std::string> localizing_;  ///< set_localizing
   std::vector<std::string> resources_;
   std::unique_ptr<bt::Engine> engine_;
   std::vector<std::string> params_text_;  ///< indexed like engine_->spec().nodes; "" for non-leaves

@@ -6,6 +6,7 @@
 #include "resume_plan.hpp"
 #include "rigger/bt/engine.hpp"
 #include "rigger/bt/tree_builder.hpp"
+#include "unit_test_util.hpp"
 
 namespace rigger::task_controller {
 namespace {
@@ -13,29 +14,7 @@ namespace {
 using namespace bt::build;
 using bt::NodeState;
 
-/// A Port that keeps the journal's NODE rows and the STARTs, nothing else.
-class JournalingPort : public bt::Port {
- public:
-  bt::TimePoint now() override { return bt::TimePoint{}; }
-  void start_leaf(const bt::NodeSpec& n, bt::Activation) override { starts.push_back(n.id); }
-  void shutdown_leaf(const bt::NodeSpec& n, bt::Activation, const std::string&) override { shutdowns.push_back(n.id); }
-  void evaluate_condition(const bt::NodeSpec& n, bt::Activation) override { starts.push_back(n.id); }
-  void ask_operator(const bt::NodeSpec& n, bt::Activation) override { asked.push_back(n.id); }
-  void withdraw_operator_request(const bt::NodeSpec&, bt::Activation) override {}
-  void schedule(bt::TimerId, bt::TimePoint) override {}
-  void cancel_timer(bt::TimerId) override {}
-  void escalate_safe_stop(const bt::NodeSpec&, const std::string&) override {}
-  void node_changed(const bt::NodeSpec& n, const bt::NodeStatus& s) override {
-    if (s.state == NodeState::kRunning && s.progress) return;
-    rows.push_back({0, "t", n.id, "NODE", std::string(bt::to_string(s.state)),
-                    s.code.empty() ? s.message : s.code + ": " + s.message});
-  }
-  void finished(const bt::TaskResult& r) override { result = r; }
-
-  std::vector<JournalRecord> rows;
-  std::vector<std::string> starts, shutdowns, asked;
-  std::optional<bt::TaskResult> result;
-};
+using testing::JournalingPort;
 
 /// The killed controller's run (`before`) and the restarted one's (`after`) of the same tree.
 struct Crash {
