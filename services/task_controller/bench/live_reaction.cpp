@@ -110,7 +110,7 @@ Reaction measure_reaction(Pattern pattern, const std::string& journal_sync, int 
                                    : json{{"mode", "succeed"}, {"delay_s", period_ms / 1000.0}};
   start("skills", "scripted_executor",
         {"--id", "skills", "--log-level", "warn", "--config",
-         write_file(dir + "/skills.json", json{{"skills", {"Localize"}},
+         write_file(dir + "/skills.json", json{{"skills", {"Localize", "Pick"}},
                                                {"default", skill_behaviour},
                                                {"receipt_trace_path", receipt_path}}
                                               .dump())});
@@ -151,11 +151,16 @@ Reaction measure_reaction(Pattern pattern, const std::string& journal_sync, int 
            {localize, {{"type", "Monitor"}, {"monitor", "TimerMonitor"}, {"params", {{"max_duration_s", 3600}}}}}}};
       root = {{"type", "Repeat"}, {"repetitions", repetitions}, {"child", {{"type", "ForceSuccess"}, {"child", parallel}}}};
     } else {
+      // Pick, not Localize: a localization's SUCCESS also has the controller ask the world model for the
+      // pose (for a resume), which this cell has no world model to answer.
+      const json pick = {{"type", "Skill"}, {"skill", "Pick"}, {"params", {{"object", "load"}, {"grasp", "load/grasp_top"}}}};
       root = {{"type", "Repeat"},
               {"repetitions", std::max(1, repetitions / 2)},
-              {"child", {{"type", "Sequence"}, {"children", {localize, localize}}}}};
+              {"child", {{"type", "Sequence"}, {"children", {pick, pick}}}}};
     }
-    return json{{"recipe_version", 1}, {"task_id", task_id}, {"root", root}};
+    json r = {{"recipe_version", 1}, {"task_id", task_id}, {"root", root}};
+    if (pattern == Pattern::kSuccessNext) r["assumptions"] = {"localized(load)"};  // Pick's precondition
+    return r;
   };
   // Runs task `task_id` to its end; false (and why on stderr) unless it SUCCEEDED.
   const auto run = [&](const std::string& task_id, int repetitions) {

@@ -46,7 +46,7 @@ enum class Pattern {
   /// skill (Localize on executor "skills") runs until shut down; the monitor (TimerMonitor on executor
   /// "monitors") fails `period_ms` after its START. Measured: the FAILURE -> the skill's SHUTDOWN.
   kMonitorFailure,
-  /// A sequence, repeated: Repeat(trials / 2, Sequence[Localize, Localize]) on executor "skills", each
+  /// A sequence, repeated: Repeat(trials / 2, Sequence[Pick, Pick]) on executor "skills", each
   /// succeeding `period_ms` after its START; "monitors" runs too, idle. Measured: a leaf's SUCCESS -> the
   /// next leaf's START.
   kSuccessNext,

@@ -521,7 +521,13 @@ void Task::node_changed(const bt::NodeSpec& spec, const bt::NodeStatus& status) 
     host_.journal({wall_now_s(), id_, spec.id, "NODE", std::string(bt::to_string(status.state)),
                    status.code.empty() ? status.message : status.code + ": " + status.message});
   if (status.state == NodeState::kSuccess)
-    if (const auto l = localizing_.find(spec.id); l != localizing_.end()) host_.localized(id_, spec.id, l->second);
+    if (const auto l = localizing_.find(spec.id); l != localizing_.end()) {
+      // After the commands this SUCCESS causes (the next leaf's START): the world query is not on their path.
+      TaskHost* host = &host_;
+      host_.loop().post([host, task_id = id_, node_id = spec.id, object = l->second] {
+        host->localized(task_id, node_id, object);
+      });
+    }
 }
 
 void Task::finished(const bt::TaskResult& result) {
