@@ -159,18 +159,33 @@ int main(int argc, char** argv) {
   const int idle_seconds = int_option(argc, argv, "--idle-seconds", 60);
   const int ddsperf_seconds = int_option(argc, argv, "--ddsperf-seconds", 10);
 
+  // ddsperf at the rate the trials run (one per period plus the reaction, ~90 Hz at 10 ms), on the same
+  // payload order (a SkillEvent is ~150 B). Half of its time before the reactions and half after, pooled:
+  // on this VM ddsperf's one-way figure moved by half between two windows a minute apart, and the
+  // reference should see the machine as the reactions did.
+  const int rate_hz = std::max(1, static_cast<int>(1000.0 / (period_ms + 1) + 0.5));
+  const int half = std::max(2, ddsperf_seconds / 2);
+  rigger::bench::DdsperfLatency waitset, listener;
+  rigger::testing::DomainLease lease;
+  const auto pool = [](rigger::bench::DdsperfLatency& into, const rigger::bench::DdsperfLatency& r) {
+    const double n = static_cast<double>(into.count), m = static_cast<double>(r.count);
+    if (n + m == 0) return;
+    into.p50_us = (into.p50_us * n + r.p50_us * m) / (n + m);
+    into.p90_us = (into.p90_us * n + r.p90_us * m) / (n + m);
+    into.p99_us = (into.p99_us * n + r.p99_us * m) / (n + m);
+    into.count += r.count;
+    into.raw += r.raw;
+  };
+  const auto reference = [&] {
+    pool(waitset, rigger::bench::run_ddsperf_pingpong(lease.id(), rate_hz, 128, half, true));
+    pool(listener, rigger::bench::run_ddsperf_pingpong(lease.id(), rate_hz, 128, half, false));
+  };
+  reference();
   const Reaction failure = measure_reaction(Pattern::kMonitorFailure, "normal", trials, period_ms);
   const Reaction success = measure_reaction(Pattern::kSuccessNext, "normal", trials, period_ms);
   const Reaction full = measure_reaction(Pattern::kMonitorFailure, "full", std::max(1, trials / 5), period_ms);
   if (!failure.ok || !success.ok || !full.ok) return 1;
-  // ddsperf at the rate the trials ran (rounded), on the same payload order (a SkillEvent is ~150 B).
-  const int rate_hz = std::max(1, static_cast<int>(failure.trials_per_s + 0.5));
-  rigger::bench::DdsperfLatency waitset, listener;
-  {
-    rigger::testing::DomainLease lease;
-    waitset = rigger::bench::run_ddsperf_pingpong(lease.id(), rate_hz, 128, ddsperf_seconds, true);
-    listener = rigger::bench::run_ddsperf_pingpong(lease.id(), rate_hz, 128, ddsperf_seconds, false);
-  }
+  reference();
   if (waitset.count == 0 || listener.count == 0) {
     std::fprintf(stderr, "could not parse ddsperf output:\n%s\n%s\n", waitset.raw.c_str(), listener.raw.c_str());
     return 1;
@@ -203,9 +218,12 @@ int main(int argc, char** argv) {
     std::printf("%-62s %9.1f %9.1f %9.1f %7llu\n", label, r.p50_us / 2, r.p90_us / 2, r.p99_us / 2,
                 static_cast<unsigned long long>(r.count));
   };
-  std::printf("ddsperf one-way (half the round trip), 128 B, %d Hz:\n", rate_hz);
+  std::printf("ddsperf one-way (half the round trip), 128 B, %d Hz, %d s before the reactions and %d s after:\n",
+              rate_hz, half, half);
   ref_row("  ddsperf waitset triggering (as rigger's event loop)", waitset);
   ref_row("  ddsperf listener triggering (ddsperf's default)", listener);
+  std::printf("Commands for the skill's executor also taken by the monitors' executor: A %zu, B %zu, A full %zu\n",
+              failure.misrouted, success.misrouted, full.misrouted);
   const auto ratios = [&](const char* label, const Reaction& r) {
     const double p50 = percentile(r.command_received_us, 0.5), p99 = percentile(r.command_received_us, 0.99);
     std::printf("%s / ddsperf waitset one-way: p50 %.2fx, p99 %.2fx (target <= 2x each); listener: p50 %.2fx\n", label,

@@ -99,6 +99,7 @@ Reaction measure_reaction(Pattern pattern, const std::string& journal_sync, int 
   const std::string tag = std::string(pattern == Pattern::kMonitorFailure ? "failure-" : "success-") + journal_sync;
   const std::string trace_path = dir + "/stages-" + tag + ".tsv";
   const std::string receipt_path = dir + "/receipts-" + tag + ".tsv";
+  const std::string monitor_receipt_path = dir + "/monitor-receipts-" + tag + ".tsv";
   start("tc", "task_controller",
         {"--id", "tc", "--log-level", "warn", "--config",
          write_file(dir + "/tc.json", json{{"journal_path", dir + "/journal-" + tag + ".sqlite"},
@@ -118,6 +119,7 @@ Reaction measure_reaction(Pattern pattern, const std::string& journal_sync, int 
         {"--id", "monitors", "--log-level", "warn", "--config",
          write_file(dir + "/monitors.json",
                     json{{"skills", {"TimerMonitor"}},
+                         {"receipt_trace_path", monitor_receipt_path},
                          {"behaviours",
                           {{"TimerMonitor", {{"mode", "fail"}, {"delay_s", period_ms / 1000.0}, {"code", "BENCH"}}}}}}
                         .dump())});
@@ -206,6 +208,10 @@ Reaction measure_reaction(Pattern pattern, const std::string& journal_sync, int 
   for (auto& r : read_receipts(receipt_path))
     if (r.executor_id == "skills" && r.task_id == "reaction" && r.kind == command_kind) commands.push_back(std::move(r));
   if (pattern == Pattern::kSuccessNext && !commands.empty()) commands.erase(commands.begin());
+  // Commands go to their executor alone (the controller writes them in its partition once its reader
+  // matched): the monitors' executor should have taken none of the skill's.
+  for (const auto& r : read_receipts(monitor_receipt_path))
+    if (r.executor_id == "skills" && r.task_id == "reaction") ++out.misrouted;
   // Pattern A pairs every FAILURE with a SHUTDOWN; pattern B's last SUCCESS ends the task (no next START).
   const std::size_t n = pattern == Pattern::kMonitorFailure ? causes.size() : std::min(causes.size(), commands.size());
   const bool paired = n > 0 && commands.size() == n &&

@@ -66,6 +66,9 @@ struct Reaction {
   std::vector<double> to_flushed_us;       ///< engine returned → journal rows and node statuses written
   std::vector<double> command_to_seen_us;  ///< command stamped → the executor woke (DDS, 1 hop)
   double trials_per_s = 0;
+  /// Commands for the skill's executor that the monitors' executor took too (0 when every command went in
+  /// the skill executor's partition; the first START of a run may go in the default one, before matching).
+  std::size_t misrouted = 0;
   std::size_t stray_stopped = 0;  ///< STOPPED without a SHUTDOWN (only with ReactionSetup::allow_stray_stopped)
   bool ok = false;
 };
