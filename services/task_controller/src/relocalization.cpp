@@ -228,7 +228,8 @@ std::vector<ObjectRecheck> objects_to_recheck(const bt::TreeSpec& spec, const Re
   return out;
 }
 
-void judge(ObjectRecheck& c, const WorldNow& now, const RecheckSettings& settings, const bt::TreeSpec& spec) {
+void judge(ObjectRecheck& c, const world_client::Reply& now, const RecheckSettings& settings,
+           const bt::TreeSpec& spec) {
   c.now = now;
   const std::string again = leaves_text(c.localized_by, spec, c.object);
   const std::string when = c.recorded ? " since it was localized at " + utc_clock(c.recorded->stamp_s)
@@ -245,8 +246,8 @@ void judge(ObjectRecheck& c, const WorldNow& now, const RecheckSettings& setting
     return;
   }
   if (c.recorded) {
-    const Eigen::Isometry3d delta = c.recorded->pose_world_object.inverse() * now.pose_world_object;
-    c.displacement_m = (now.pose_world_object.translation() - c.recorded->pose_world_object.translation()).norm();
+    const Eigen::Isometry3d delta = c.recorded->pose_world_object.inverse() * now.pose;
+    c.displacement_m = (now.pose.translation() - c.recorded->pose_world_object.translation()).norm();
     c.rotation_deg = Eigen::AngleAxisd(delta.rotation()).angle() * 180.0 / M_PI;
   }
   const std::string age = "pose " + fixed(now.age_s, 1) + " s old";

@@ -32,6 +32,7 @@
 #include "resume_plan.hpp"
 #include "rigger/bt/tree_spec.hpp"
 #include "rigger/skill/skill_library.hpp"
+#include "rigger/world_client/world_client.hpp"
 
 namespace rigger::task_controller {
 
@@ -66,16 +67,6 @@ struct RecheckSettings {
   double max_age_s = 300.0;  ///< when no ObjectLocalized condition of the recipe gives one
 };
 
-/// The world model's answer about one object now (WorldClient::pose in kRecheckFrame).
-struct WorldNow {
-  bool ok = false;   ///< the world model answered with a pose
-  std::string code;  ///< ok=false: why ("WORLD_UNREACHABLE", "UNKNOWN_ENTITY", …)
-  std::string message;
-  Eigen::Isometry3d pose_world_object = Eigen::Isometry3d::Identity();
-  bool localized = false;
-  double age_s = 0;
-};
-
 /// What the resume found out about one object the rest of the task uses.
 struct ObjectRecheck {
   std::string object;
@@ -86,7 +77,9 @@ struct ObjectRecheck {
   double max_age_s = 0;
 
   // Set by judge():
-  std::optional<WorldNow> now;
+  /// The world model's answer about the object now (WorldClient::pose in kRecheckFrame: `pose` is
+  /// T_world_object).
+  std::optional<world_client::Reply> now;
   /// "unchanged", "moved", "carried", "stale", "not_localized" (no pose, or marked so), "unrecorded" (no
   /// pose journaled at the localization), "unknown" (the world model did not answer)
   std::string verdict;
@@ -104,7 +97,8 @@ std::vector<ObjectRecheck> objects_to_recheck(const bt::TreeSpec& spec, const Re
 
 /// Judges `check` against the world model's answer `now` (ok=false: it did not answer, or not with a
 /// pose: the safe side, the localization runs again); `spec` names the nodes in the reason.
-void judge(ObjectRecheck& check, const WorldNow& now, const RecheckSettings& settings, const bt::TreeSpec& spec);
+void judge(ObjectRecheck& check, const world_client::Reply& now, const RecheckSettings& settings,
+           const bt::TreeSpec& spec);
 
 /// The localizing leaves to run again (plan_resume's `again`).
 std::set<std::string> leaves_to_relocalize(const std::vector<ObjectRecheck>& checks);

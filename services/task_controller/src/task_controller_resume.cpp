@@ -127,14 +127,7 @@ void TaskControllerNode::rechecked(const std::string& task_id, std::uint64_t ser
   const auto it = resuming_.find(task_id);
   if (it == resuming_.end() || it->second.serial != serial || it->second.asked) return;  // withdrawn meanwhile
   Resuming& r = it->second;
-  WorldNow now;
-  now.ok = reply.ok;
-  now.code = reply.code;
-  now.message = reply.message;
-  now.pose_world_object = reply.pose;
-  now.localized = reply.localized;
-  now.age_s = reply.age_s;
-  judge(r.checks[index], now, settings_.recheck, r.task->engine().spec());
+  judge(r.checks[index], reply, settings_.recheck, r.task->engine().spec());
   if (--r.unanswered > 0) return;
   const std::set<std::string> again = leaves_to_relocalize(r.checks);
   if (!again.empty()) r.plan = plan_resume(r.task->engine().spec(), r.timeline, again);

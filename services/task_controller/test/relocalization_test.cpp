@@ -85,7 +85,7 @@ struct Resume {
     return objects_to_recheck(spec, plan, first.rows, lib, settings);
   }
   /// Judges every check against `now` (same answer for each object), re-plans and starts the engine.
-  std::vector<ObjectRecheck> resume(const WorldNow& now) {
+  std::vector<ObjectRecheck> resume(const world_client::Reply& now) {
     auto c = checks();
     for (auto& check : c) judge(check, now, settings, spec);
     plan = plan_resume(spec, first.rows, leaves_to_relocalize(c));
@@ -102,12 +102,12 @@ struct Resume {
   ResumePlan plan;
 };
 
-WorldNow seen(const Eigen::Isometry3d& pose, double age_s = 2.0) {
-  WorldNow n;
+world_client::Reply seen(const Eigen::Isometry3d& pose, double age_s = 2.0) {
+  world_client::Reply n;
   n.ok = true;
   n.code = "OK";
   n.localized = true;
-  n.pose_world_object = pose;
+  n.pose = pose;
   n.age_s = age_s;
   return n;
 }
@@ -199,7 +199,7 @@ TEST(Relocalization, AStalePoseRunsTheLocalizationAgainTheRecipesMaxAgeFirst) {
 TEST(Relocalization, AWorldModelThatDoesNotAnswerErrsOnTheSafeSide) {
   Resume r(sequence({localize("load"), bt::build::skill("Wait"), insert("load", "target")}));
   r.succeed("root/0", at(1, 0, 0));
-  WorldNow none;
+  world_client::Reply none;
   none.code = "WORLD_UNREACHABLE";
   none.message = "no world model answered within 1000 ms";
   const auto c = r.resume(none);
@@ -224,7 +224,7 @@ TEST(Relocalization, NoJournaledPoseOrNotLocalizedRunsItAgain) {
 
   Resume lost(sequence({localize("load"), bt::build::skill("Wait"), insert("load", "target")}));
   lost.succeed("root/0", at(1, 0, 0));
-  WorldNow n = seen(at(1, 0, 0));
+  world_client::Reply n = seen(at(1, 0, 0));
   n.localized = false;
   EXPECT_EQ(lost.resume(n)[0].verdict, "not_localized");
 }
