@@ -12,7 +12,7 @@
 ///   "behaviours":   object: skill name → behaviour (overrides "default")
 ///   "nodes":        object: recipe node id ("root/0/1") → behaviour (overrides the skill's)
 ///   "receipt_trace_path": string, default "" (off): stamp each command taken (whom it names, kind, task, node,
-///                   the controller's stamp, when this executor's loop woke for it) in memory and write
+///                   the controller's stamp, when this executor's command handler began) in memory and write
 ///                   them to this file when the executor stops (task_controller_live_bench reads it)
 
 #include <cstdint>
@@ -54,7 +54,7 @@ class ScriptedExecutorNode : public dds::Node {
     std::string task_id;
     std::string node_id;
     std::int64_t stamp_wall_ns = 0;  ///< the controller's stamp
-    std::int64_t woke_wall_ns = 0;   ///< when this executor's loop woke for it
+    std::int64_t woke_wall_ns = 0;   ///< when this executor's command handler began
   };
 
   dds::ServiceContext& ctx_;

@@ -8,7 +8,7 @@
 //        (journal_sync normal) and with journal_sync full;
 //     B. a leaf's SUCCESS written → the next leaf's START received by its executor
 //        (Repeat(Sequence[skill, skill])).
-//     "Received" is the instant the executor's event loop woke for the command (scripted_executor's
+//     "Received" is the instant the executor's command handler began (scripted_executor's
 //     receipt_trace_path); the event's stamp is its writer's wall clock, as recorded in the controller's
 //     stage trace. This process reads neither skill events nor skill commands: it adds no reader to the
 //     path it measures. One host, one clock.
@@ -190,7 +190,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "could not parse ddsperf output:\n%s\n%s\n", waitset.raw.c_str(), listener.raw.c_str());
     return 1;
   }
-  std::printf("Reaction, %d trials each, received = the executor's event loop woke for the command:\n", trials);
+  std::printf("Reaction, %d trials each, received = the executor's command handler began:\n", trials);
   std::printf("%-62s %9s %9s %9s %7s\n", "", "p50 us", "p90 us", "p99 us", "n");
   std::printf("A. monitor FAILURE -> sibling SHUTDOWN, Repeat(ForceSuccess(Parallel(1,1)[skill, monitor])), %.0f per s\n",
               failure.trials_per_s);

@@ -7,7 +7,7 @@
 //
 // Where the figures come from: the event's stamp (its writer's wall clock) and the controller's stages
 // from the controller's stage trace (stage_trace_path); the command's stamp and the instant the skill
-// executor's loop woke for it from that executor's receipt trace (scripted_executor's
+// executor's command handler began from that executor's receipt trace (scripted_executor's
 // receipt_trace_path). This process reads neither skill events nor skill commands: it adds no reader to
 // the path it measures (each reader a sample goes to is one more send, and one more woken process on a
 // 2-core machine). One host, one clock (lab hosts share the kernel's).
@@ -55,7 +55,7 @@ enum class Pattern {
 struct Reaction {
   // Per trial, from the event that causes the command (its executor's stamp) to:
   std::vector<double> command_written_us;   ///< the controller's command stamp (1 hop + handling)
-  std::vector<double> command_received_us;  ///< the executor's loop woke for it (2 hops + handling)
+  std::vector<double> command_received_us;  ///< the executor's command handler began (2 hops + handling)
   std::vector<double> stopped_written_us;   ///< the skill executor's STOPPED stamp (pattern A)
   // Per trial, one stage each (the controller's stage trace; they add up to command_received_us but
   // for the clock reads between them):

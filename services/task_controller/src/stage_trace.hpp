@@ -37,7 +37,8 @@ class StageTrace {
   /// Keeps at most `capacity` records (later events are not traced), memory reserved now.
   explicit StageTrace(std::size_t capacity = 200000);
 
-  /// The event loop woke for events (call once per wake, before taking them).
+  /// The events' handler began (call once per call, before taking them): in the listener when the loop
+  /// was idle, else on the loop thread.
   void woke();
   /// An event taken in this wake enters the engine.
   void begin(const std::string& executor_id, const std::string& kind, std::int64_t stamp_wall_ns);

@@ -47,7 +47,7 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx, const std::stri
   ctx.loop.on_data(announcements_, [this] { on_announcements(); });
   // A lease expiry also shows as a NOT_ALIVE instance, but waking on the status makes sure we look.
   ctx.loop.on_status(announcements_.handle(), DDS_LIVELINESS_CHANGED_STATUS, [this] { on_announcements(); });
-  ctx.loop.on_data(endpoint_.events(), [this] { on_events(); });
+  ctx.loop.on_data_now(endpoint_.events(), [this] { on_events(); });
   ctx.loop.on_data(recipes_, [this] { on_recipes(); });
   ctx.loop.on_data(task_commands_, [this] { on_task_commands(); });
   ctx.loop.on_data(journal_server_.queries(), [this] {

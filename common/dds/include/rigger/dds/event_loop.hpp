@@ -1,14 +1,16 @@
 #pragma once
 /// @file
 /// A service's single work loop: a Cyclone waitset that wakes only on data, on a status change, on a
-/// guard condition (stop, posted work) or at the next timer deadline. Nothing polls. Handlers run on
-/// the loop's thread, never inside a DDS callback.
+/// guard condition (stop, posted work) or at the next timer deadline. Nothing polls. Handlers never
+/// overlap: they run on the loop's thread, except an on_data_now() handler, which runs on the DDS thread
+/// that delivered its sample while run() waits, holding the loop's dispatch lock.
 
 #include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <unordered_map>
 #include <vector>
@@ -36,15 +38,30 @@ class EventLoop {
   void on_data(const R& reader, Handler handler) {
     on_data(reader.handle(), std::move(handler));
   }
+  /// Like on_data, for the few readers on a reaction path (the controller's skill events, an executor's
+  /// commands). While run() waits, `handler` runs at once in a data-available listener on the DDS
+  /// thread that delivered the sample, holding the loop's dispatch lock, so it still never overlaps
+  /// another handler or timer. That saves the loop thread's wake-up, one thread hand-off per hop (about
+  /// 50 us on the 2-core VM: ddsperf's listener against its waitset triggering). When the loop is busy
+  /// the handler runs on the loop thread right after; the loop thread also runs it at the end of any
+  /// pass that finds the reader still holding samples. Outside run() (run_once, run_until: tests that
+  /// look at state between calls) it runs on the loop thread as on_data's does. The handler must not
+  /// block on DDS (a reply it would wait for arrives on the thread it holds); its writes rely on the
+  /// writer history watermarks of deploy/cyclonedds.xml (docs/dds.md) never to block.
+  void on_data_now(dds_entity_t reader, Handler handler);
+  template <typename R>
+  void on_data_now(const R& reader, Handler handler) {
+    on_data_now(reader.handle(), std::move(handler));
+  }
   /// Calls `handler` when a status in `mask` (e.g. DDS_LIVELINESS_CHANGED_STATUS) changes on `entity`.
   /// The loop resets those statuses after the handler; read them inside it with dds_get_*_status.
   void on_status(dds_entity_t entity, uint32_t mask, Handler handler);
 
-  /// Runs `handler` once, `delay` from now. Loop thread only (or before run()).
+  /// Runs `handler` once, `delay` from now. From a handler only (or before run()).
   TimerId after(std::chrono::nanoseconds delay, Handler handler);
-  /// Runs `handler` every `period`, first after one period. Loop thread only (or before run()).
+  /// Runs `handler` every `period`, first after one period. From a handler only (or before run()).
   TimerId every(std::chrono::nanoseconds period, Handler handler);
-  /// Cancels a timer; unknown or fired ids are ignored. Loop thread only.
+  /// Cancels a timer; unknown or fired ids are ignored. From a handler only.
   void cancel(TimerId id);
 
   /// Queues `handler` to run on the loop thread and wakes the loop. Thread-safe.
@@ -71,6 +88,18 @@ class EventLoop {
     uint32_t status_mask;  // 0 for read conditions
     Handler handler;
   };
+  struct Immediate {  // an on_data_now reader; the listener's argument
+    EventLoop* loop = nullptr;
+    dds_entity_t reader = 0;
+    dds_entity_t condition = 0;  // its read condition: on the waitset outside run(), off it inside
+    dds_attach_t index = 0;
+    Handler handler;
+    std::atomic<bool> pending{false};  // delivered while the loop was busy: the loop runs it next
+  };
+
+  static void on_available(dds_entity_t reader, void* arg);
+  void run_immediates(bool sweep);
+  bool run_once_locked(std::unique_lock<std::mutex>& lock, std::chrono::nanoseconds timeout);
 
   TimerId add_timer(Clock::time_point deadline, std::chrono::nanoseconds period, Handler handler);
   void attach(dds_entity_t entity, uint32_t status_mask, Handler handler);
@@ -84,7 +113,13 @@ class EventLoop {
   std::map<TimerId, Timer> timers_;
   std::multimap<Clock::time_point, TimerId> deadlines_;
   TimerId next_timer_ = 1;
+  std::vector<std::unique_ptr<Immediate>> immediates_;
   std::atomic<bool> stop_{false};
+  // Held by whoever runs handlers: the loop thread except while it waits, or a listener that found it
+  // free. Timers and attachments are guarded by it.
+  std::mutex dispatch_;
+  std::atomic<bool> immediate_ok_{false};     // inside run(): listeners may run handlers
+  Clock::time_point waiting_until_ = Clock::time_point::max();  // the loop's next wake-up (dispatch_)
   std::mutex posted_mutex_;
   std::vector<Handler> posted_;
 };

@@ -104,7 +104,7 @@ class ExecutorEndpoint {
     /// How long a START waits for the run that holds its node or resources to finish stopping.
     std::chrono::milliseconds start_wait{10000};
     /// Called with each command taken, before it is handled, and the wall-clock instant (ns since the
-    /// epoch) the loop woke for it: a receipt trace for benchmarks (scripted_executor's
+    /// epoch) its handler began: a receipt trace for benchmarks (scripted_executor's
     /// receipt_trace_path). Empty (the default): nothing is stamped.
     std::function<void(const rigger_skill_SkillCommand&, std::int64_t woke_wall_ns)> on_received = {};
   };
