@@ -73,7 +73,7 @@ ExecutorEndpoint::ExecutorEndpoint(const dds::Participant& participant, dds::Eve
     if (auto parsed = skill::parse_description(s); parsed.ok()) descriptions_.emplace(s["name"], *parsed.value);
   }
   library_text_ = library_.dump();
-  loop_.on_data_now(commands_, [this] { on_commands(); });
+  loop_.on_data(commands_, [this] { on_commands(); });
   loop_.on_status(commands_.handle(), DDS_LIVELINESS_CHANGED_STATUS, [this] { on_commander_liveliness(); });
   // See ServiceAnnouncer::reannounce(): a reader that expired our lease sees us again on a new sample.
   // The same timer re-reads the command writers' liveliness while runs are active: a backstop should a

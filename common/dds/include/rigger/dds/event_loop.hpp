@@ -38,8 +38,7 @@ class EventLoop {
   void on_data(const R& reader, Handler handler) {
     on_data(reader.handle(), std::move(handler));
   }
-  /// Like on_data, for the few readers on a reaction path (the controller's skill events, an executor's
-  /// commands). While run() waits, `handler` runs at once in a data-available listener on the DDS
+  /// Like on_data, for a reader on a reaction path (the controller's skill events). While run() waits, `handler` runs at once in a data-available listener on the DDS
   /// thread that delivered the sample, holding the loop's dispatch lock, so it still never overlaps
   /// another handler or timer. That saves the loop thread's wake-up, one thread hand-off per hop (about
   /// 50 us on the 2-core VM: ddsperf's listener against its waitset triggering). When the loop is busy
