@@ -38,9 +38,9 @@ class EventLoop {
   void on_data(const R& reader, Handler handler) {
     on_data(reader.handle(), std::move(handler));
   }
-  /// Like on_data, for a reader on a reaction path (the controller's skill events). While run() waits, `handler` runs at once in a data-available listener on the DDS
-  /// thread that delivered the sample, holding the loop's dispatch lock, so it still never overlaps
-  /// another handler or timer. That saves the loop thread's wake-up, one thread hand-off per hop (about
+  /// Like on_data, for a reader on a reaction path (the controller's skill events). While run() waits,
+  /// `handler` runs at once in a data-available listener on the DDS thread that delivered the sample,
+  /// holding the loop's dispatch lock, so it still never overlaps another handler or timer. That saves the loop thread's wake-up, one thread hand-off per hop (about
   /// 50 us on the 2-core VM: ddsperf's listener against its waitset triggering). When the loop is busy
   /// the handler runs on the loop thread right after; the loop thread also runs it at the end of any
   /// pass that finds the reader still holding samples. Outside run() (run_once, run_until: tests that
