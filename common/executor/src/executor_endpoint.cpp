@@ -73,7 +73,7 @@ ExecutorEndpoint::ExecutorEndpoint(const dds::Participant& participant, dds::Eve
     if (auto parsed = skill::parse_description(s); parsed.ok()) descriptions_.emplace(s["name"], *parsed.value);
   }
   library_text_ = library_.dump();
-  loop_.on_data(commands_, [this] { on_commands(); });
+  loop_.on_data_now(commands_, [this] { on_commands(); });
   loop_.on_status(commands_.handle(), DDS_LIVELINESS_CHANGED_STATUS, [this] { on_commander_liveliness(); });
   // See ServiceAnnouncer::reannounce(): a reader that expired our lease sees us again on a new sample.
   // The same timer re-reads the command writers' liveliness while runs are active: a backstop should a
@@ -195,15 +195,26 @@ void ExecutorEndpoint::on_commander_liveliness() {
   }
 }
 
+bool CommandOrder::accept(std::uint64_t seq, std::uint64_t* last) {
+  const std::uint64_t newest = seen_.empty() ? 0 : *seen_.rbegin();
+  if (last) *last = newest;
+  if (seq == 0) return false;
+  // The set holds every seq taken from its smallest on: below that, a full window cannot tell.
+  if (seen_.size() >= kWindow && seq < *seen_.begin()) return false;
+  if (!seen_.insert(seq).second) return false;
+  if (seen_.size() > kWindow) seen_.erase(seen_.begin());
+  return true;
+}
+
 void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sample_info_t& info) {
   if (dds::to_string(cmd.executor_id) != executor_id_) return;
   const std::string task = dds::to_string(cmd.task_id), node = dds::to_string(cmd.node_id);
-  auto& last = last_seq_by_writer_[info.publication_handle];
-  if (cmd.seq <= last) {
+  std::uint64_t last = 0;
+  if (!order_by_writer_[info.publication_handle].accept(cmd.seq, &last)) {
     log_->warn("command dropped reason=stale_or_duplicate seq={} last_seq={} task={} node={}", cmd.seq, last, task, node);
     return;
   }
-  last = cmd.seq;
+  if (cmd.seq < last) log_->info("command taken out of order seq={} last_seq={} task={} node={} (sent again)", cmd.seq, last, task, node);
   const auto key = std::make_pair(task, node);
 
   if (cmd.kind == rigger_skill_SKILL_SHUTDOWN) {

@@ -120,17 +120,41 @@ TEST_F(ExecutorEndpointTest, StartThenSuccessCarriesTheStartSeq) {
   EXPECT_TRUE(endpoint_->active_runs().empty());
 }
 
-TEST_F(ExecutorEndpointTest, IgnoresOtherExecutorsAndStaleSeqs) {
+TEST_F(ExecutorEndpointTest, IgnoresOtherExecutorsAndDuplicateSeqs) {
   send("exec-2", "n1", rigger_skill_SKILL_START, 1);
   send("exec-1", "n2", rigger_skill_SKILL_START, 5);
   send("exec-1", "n3", rigger_skill_SKILL_START, 5);  // duplicate seq: dropped
-  send("exec-1", "n4", rigger_skill_SKILL_START, 4);  // older seq: dropped
+  send("exec-1", "n4", rigger_skill_SKILL_START, 4);  // older, never seen: a START sent again, taken
+  send("exec-1", "n4", rigger_skill_SKILL_START, 4);  // and only once
   send("exec-1", "n5", rigger_skill_SKILL_START, 6);
-  ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 2; }, 5s));
+  ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 3; }, 5s));
   loop_.run_until([] { return false; }, 100ms);  // nothing else may arrive
-  ASSERT_EQ(starts_.size(), 2u);
+  ASSERT_EQ(starts_.size(), 3u);
   EXPECT_EQ(starts_[0].run.node_id, "n2");
-  EXPECT_EQ(starts_[1].run.node_id, "n5");
+  EXPECT_EQ(starts_[1].run.node_id, "n4");
+  EXPECT_EQ(starts_[2].run.node_id, "n5");
+}
+
+TEST(CommandOrder, TakesEachSeqOnceAndDropsWhatIsOlderThanTheWindow) {
+  CommandOrder order;
+  std::uint64_t last = 99;
+  EXPECT_FALSE(order.accept(0, &last)) << "seq 0 is never a command's";
+  EXPECT_EQ(last, 0u);
+  EXPECT_TRUE(order.accept(10, &last));
+  EXPECT_TRUE(order.accept(12, &last));
+  EXPECT_EQ(last, 10u);
+  EXPECT_FALSE(order.accept(12));
+  EXPECT_TRUE(order.accept(11, &last)) << "a command sent again after a newer one";
+  EXPECT_EQ(last, 12u);
+  EXPECT_FALSE(order.accept(11));
+  EXPECT_TRUE(order.accept(3)) << "the window is not full: nothing taken is forgotten yet";
+  // Fill the window: the oldest seqs are forgotten, and anything older than the window is stale.
+  for (std::uint64_t s = 100; s < 100 + CommandOrder::kWindow; ++s) ASSERT_TRUE(order.accept(s));
+  EXPECT_FALSE(order.accept(99)) << "older than every seq remembered";
+  EXPECT_FALSE(order.accept(100)) << "seen";
+  EXPECT_TRUE(order.accept(100 + CommandOrder::kWindow + 5));
+  EXPECT_FALSE(order.accept(100)) << "now older than the window";
+  EXPECT_TRUE(order.accept(100 + CommandOrder::kWindow + 1)) << "inside the window, not seen";
 }
 
 TEST_F(ExecutorEndpointTest, BadParamsAndUnknownSkillFailWithCodes) {

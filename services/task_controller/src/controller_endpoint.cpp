@@ -55,7 +55,27 @@ ControllerEndpoint::ControllerEndpoint(const dds::Participant& participant, std:
       commands_(participant, protocol::skill::kCommand, supervised_commands(lease)),
       events_(participant, protocol::skill::kEvent) {}
 
+namespace {
+
+/// Whether a reader of the participant `participant_key` has matched `writer`.
+bool has_reader_of(dds_entity_t writer, const dds_guid_t& participant_key) {
+  constexpr std::size_t kMax = 64;
+  dds_instance_handle_t readers[kMax];
+  const dds_return_t n = dds_get_matched_subscriptions(writer, readers, kMax);
+  bool found = false;
+  for (dds_return_t i = 0; i < n && static_cast<std::size_t>(i) < kMax && !found; ++i) {
+    dds_builtintopic_endpoint_t* e = dds_get_matched_subscription_data(writer, readers[i]);
+    if (e == nullptr) continue;
+    found = std::memcmp(&e->participant_key, &participant_key, sizeof participant_key) == 0;
+    dds_builtintopic_free_endpoint(e);
+  }
+  return found;
+}
+
+}  // namespace
+
 void ControllerEndpoint::executor_seen(const std::string& executor_id, const dds_guid_t& participant_key, bool again) {
+  participants_[executor_id] = participant_key;
   auto it = routes_.find(executor_id);
   if (it == routes_.end()) {
     const std::string partition = protocol::skill::command_partition(executor_id);
@@ -84,16 +104,16 @@ bool ControllerEndpoint::routable(const std::string& executor_id) {
     if (dds_get_publication_matched_status(r.writer.handle(), &st) == DDS_RETCODE_OK && st.current_count > 0) return true;
     r.matched = false;
   }
-  constexpr std::size_t kMax = 64;
-  dds_instance_handle_t readers[kMax];
-  const dds_return_t n = dds_get_matched_subscriptions(r.writer.handle(), readers, kMax);
-  for (dds_return_t i = 0; i < n && static_cast<std::size_t>(i) < kMax && !r.matched; ++i) {
-    dds_builtintopic_endpoint_t* e = dds_get_matched_subscription_data(r.writer.handle(), readers[i]);
-    if (e == nullptr) continue;
-    r.matched = std::memcmp(&e->participant_key, &r.participant, sizeof r.participant) == 0;
-    dds_builtintopic_free_endpoint(e);
-  }
+  r.matched = has_reader_of(r.writer.handle(), r.participant);
   return r.matched;
+}
+
+bool ControllerEndpoint::reachable(const std::string& executor_id) {
+  if (routable(executor_id)) return true;
+  const auto it = participants_.find(executor_id);
+  // Not seen here (a test's executor that never announced itself): nothing to check it against.
+  if (it == participants_.end()) return true;
+  return has_reader_of(commands_.handle(), it->second);
 }
 
 bool ControllerEndpoint::send(rigger_skill_SkillCommandKind kind, const std::string& task_id,

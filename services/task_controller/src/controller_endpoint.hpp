@@ -84,6 +84,14 @@ class ControllerEndpoint {
   /// Whether a START for `executor_id` can go in its partition now: the executor's own reader has matched
   /// the partition's writer. Until then commands go in the default partition, which it also reads.
   bool routable(const std::string& executor_id);
+  /// Whether a START for `executor_id` would reach it now: its reader has matched the writer of its
+  /// partition or the default one. A command written before that is lost for good: a volatile reader
+  /// never gets what its writer sent before it knew the reader. Announcement and command reader are
+  /// discovered separately, so an executor can be seen a moment before it is reachable.
+  bool reachable(const std::string& executor_id);
+  /// The writer of the default partition: the node watches it for PUBLICATION_MATCHED, which every
+  /// executor's reader (it reads the default partition too) raises when it is discovered.
+  dds_entity_t default_writer() const { return commands_.handle(); }
 
   std::uint64_t next_seq() { return ++command_seq_; }
   /// Sends START (params: the leaf's JSON), SHUTDOWN, PAUSE or RESUME of `spec` under `run`. Returns
@@ -111,6 +119,7 @@ class ControllerEndpoint {
   std::chrono::milliseconds lease_;
   dds::Writer<rigger_skill_SkillCommand> commands_;  ///< the default partition
   std::map<std::string, Route> routes_;               ///< by executor id
+  std::map<std::string, dds_guid_t> participants_;    ///< by executor id: the participant it announced from
   dds::Reader<rigger_skill_SkillEvent> events_;
   EventOrder order_;
   std::uint64_t command_seq_ = 0;

@@ -28,6 +28,7 @@ ControllerSettings read_settings(const Config& config, const std::string& journa
   s.condition_timeout =
       std::chrono::milliseconds(config.get_in_range<unsigned>("condition_timeout_ms", 1000U, 10U, 60000U));
   s.start_answer_timeout = seconds_in_range(config, "start_answer_timeout_s", 5.0, 0.05, 600.0);
+  s.start_resend = seconds_in_range(config, "start_resend_s", 0.2, 0.01, 60.0);
   s.busy_wait = seconds_in_range(config, "busy_wait_s", 10.0, 0.0, 600.0);
   s.progress_rows_per_run = config.get_in_range<unsigned>("journal_progress_per_run", 20U, 0U, 100000U);
   s.flush_delay = std::chrono::microseconds(config.get_in_range<unsigned>("flush_delay_us", 1000U, 0U, 100000U));

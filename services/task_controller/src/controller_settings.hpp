@@ -24,6 +24,9 @@
 ///   "start_answer_timeout_s": number in [0.05, 600], default 5: an executor answers every START at once
 ///                      (ACCEPTED, or FAILURE with a code); a START without an answer in this time fails
 ///                      its leaf with START_UNANSWERED (and the controller sends a SHUTDOWN after it)
+///   "start_resend_s": number in [0.01, 60], default 0.2: a START still unanswered after this long is
+///                      sent again (same seq, same writer), and again after twice and four times this
+///                      long, while start_answer_timeout_s lasts
 ///   "busy_wait_s": number in [0, 600], default 10: a START whose resources a run of another task holds
 ///                      (as the executors announce their runs: a killed controller's, still stopping) is
 ///                      held until they are free, re-checked on every announcement; after this long the
@@ -61,6 +64,7 @@ struct ControllerSettings {
   std::chrono::nanoseconds executor_wait{std::chrono::seconds(2)};
   std::chrono::milliseconds condition_timeout{1000};
   std::chrono::nanoseconds start_answer_timeout{std::chrono::seconds(5)};
+  std::chrono::nanoseconds start_resend{std::chrono::milliseconds(200)};
   std::chrono::nanoseconds busy_wait{std::chrono::seconds(10)};
   unsigned progress_rows_per_run = 20;
   std::chrono::microseconds flush_delay{1000};

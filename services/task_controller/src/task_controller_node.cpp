@@ -47,6 +47,12 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx, const std::stri
   ctx.loop.on_data(announcements_, [this] { on_announcements(); });
   // A lease expiry also shows as a NOT_ALIVE instance, but waking on the status makes sure we look.
   ctx.loop.on_status(announcements_.handle(), DDS_LIVELINESS_CHANGED_STATUS, [this] { on_announcements(); });
+  // An executor's command reader, discovered after its announcement: the STARTs held for it go now.
+  ctx.loop.on_status(endpoint_.default_writer(), DDS_PUBLICATION_MATCHED_STATUS, [this] {
+    dds_publication_matched_status_t st{};
+    dds_get_publication_matched_status(endpoint_.default_writer(), &st);  // resets the status: no re-wake
+    start_held();
+  });
   ctx.loop.on_data_now(endpoint_.events(), [this] { on_events(); });
   ctx.loop.on_data(recipes_, [this] { on_recipes(); });
   ctx.loop.on_data(task_commands_, [this] { on_task_commands(); });
@@ -194,7 +200,10 @@ void TaskControllerNode::on_announcements() {
       });
   for (const auto& id : lost) executor_lost(id);
   if (appeared) retry_pending();
-  // Held STARTs go as soon as an announcement shows their resources free.
+  start_held();  // as soon as an announcement shows their resources free
+}
+
+void TaskControllerNode::start_held() {
   std::vector<std::string> holding;
   for (const auto& [id, task] : tasks_)
     if (task->holds_starts()) holding.push_back(id);

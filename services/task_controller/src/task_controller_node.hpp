@@ -88,6 +88,7 @@ class TaskControllerNode : public dds::Node, private TaskHost {
                     std::function<void(const world_client::Reply&)> answer) override;
   void localized(const std::string& task_id, const std::string& node_id, const std::string& object) override;
   std::chrono::nanoseconds start_answer_timeout() const override { return settings_.start_answer_timeout; }
+  std::chrono::nanoseconds start_resend() const override { return settings_.start_resend; }
   bool safe_stop(const std::string& resource, const std::string& reason) override;
   void task_finished(const std::string& id, int state, const std::string& journal_state, const bt::TaskResult& result,
                      const std::string& message) override;
@@ -98,6 +99,8 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   /// `may_wait`: hold a recipe whose only errors are unknown skills/monitors (see executor_wait_s).
   void handle_recipe(const std::string& task_id, const std::string& text, bool may_wait);
   void retry_pending();
+  /// Sends every held START that can go now (Task::start_held, for each task that holds one).
+  void start_held();
   void on_events();
   void on_task_commands();
   void on_operator_responses();

@@ -229,6 +229,16 @@ void Task::answer(const PromptId& id, const std::string& answer, const std::stri
   log_result("operator decision", node_id, engine_->on_operator_decision(node_id, activation, *choice));
 }
 
+std::string Task::waits_for(const bt::NodeSpec& spec, bool* unreachable) const {
+  if (unreachable) *unreachable = false;
+  std::string holder = held_by(spec);
+  if (!holder.empty()) return holder;
+  const std::string executor_id = host_.pick_executor(spec.leaf, spec.executor);
+  if (executor_id.empty() || host_.endpoint().reachable(executor_id)) return {};
+  if (unreachable) *unreachable = true;
+  return "executor " + executor_id + ", whose command reader this controller has not discovered yet";
+}
+
 std::string Task::held_by(const bt::NodeSpec& spec) const {
   if (!resumed_) return host_.holder_of(spec.resources, id_);
   std::set<std::string> started;
@@ -241,7 +251,9 @@ std::string Task::held_by(const bt::NodeSpec& spec) const {
 void Task::start_leaf(const bt::NodeSpec& spec, bt::Activation activation) {
   // A run of another task (a killed controller's, still stopping) may hold a resource of the leaf: the
   // START waits for the announcement that frees it, instead of being refused RESOURCE_BUSY.
-  const std::string holder = held_by(spec);
+  // An executor announced a moment ago may not have a reader on the command topic matched yet; a START
+  // written then would reach nobody, so it waits for the match the same way.
+  const std::string holder = waits_for(spec);
   if (holder.empty() || host_.pick_executor(spec.leaf, spec.executor).empty()) {
     send_start(spec, activation);
     return;
@@ -270,7 +282,7 @@ void Task::start_held() {
     if (h == held_.end() || !index) continue;
     const auto& spec = engine_->spec().nodes[*index];
     if (h->second.freed) continue;  // free already; waits for RESUME
-    const std::string holder = held_by(spec);
+    const std::string holder = waits_for(spec);
     if (!holder.empty()) {
       h->second.holder = holder;  // perhaps another run now: the failure names the last one
       continue;
@@ -298,7 +310,7 @@ void Task::release_held(const std::string& node_id) {
   if (held.freed) {
     // Freed while paused: another run may have taken a resource since; then it waits again.
     held.freed = false;
-    const std::string holder = held_by(spec);
+    const std::string holder = waits_for(spec);
     if (!holder.empty()) {
       held.holder = holder;
       held.deadline = arm_held(node_id, held.activation);
@@ -315,7 +327,8 @@ void Task::held_too_long(const std::string& node_id, bt::Activation activation) 
   auto index = engine_->find(node_id);
   if (h == held_.end() || h->second.activation != activation || !index) return;
   const auto& spec = engine_->spec().nodes[*index];
-  const std::string holder = held_by(spec);
+  bool unreachable = false;
+  const std::string holder = waits_for(spec, &unreachable);
   if (holder.empty()) {  // freed by the announcement just taken
     h->second.deadline = 0;  // it fired
     release_held(node_id);
@@ -324,7 +337,8 @@ void Task::held_too_long(const std::string& node_id, bt::Activation activation) 
   held_.erase(h);
   const double waited_s = std::chrono::duration<double>(host_.busy_wait()).count();
   host_.log()->error("start held too long task={} node={} holder=\"{}\"", id_, node_id, holder);
-  own_event(node_id, bt::LeafEventKind::kFailure, activation, codes::kResourceHeld,
+  // A START that could never be delivered is one its executor could not answer.
+  own_event(node_id, bt::LeafEventKind::kFailure, activation, unreachable ? codes::kStartUnanswered : codes::kResourceHeld,
             spec.leaf + " not started: " + holder + " for " + number_text(waited_s) + " s (busy_wait_s)",
             "resource held");
 }
@@ -357,6 +371,36 @@ void Task::send_start(const bt::NodeSpec& spec, bt::Activation activation) {
   unanswered_[node_id] = host_.loop().after(host_.start_answer_timeout(), [host, task_id, node_id, seq] {
     if (Task* t = host->find_task(task_id)) t->start_unanswered(node_id, seq);
   });
+  arm_resend(node_id, seq, 0);
+}
+
+void Task::arm_resend(const std::string& node_id, std::uint64_t start_seq, unsigned sent_again) {
+  if (sent_again >= kStartResends) return;
+  TaskHost* host = &host_;
+  const std::string task_id = id_;
+  host_.loop().after(host_.start_resend() * (1u << sent_again), [host, task_id, node_id, start_seq, sent_again] {
+    if (Task* t = host->find_task(task_id)) t->resend_start(node_id, start_seq, sent_again);
+  });
+}
+
+void Task::resend_start(const std::string& node_id, std::uint64_t start_seq, unsigned sent_again) {
+  auto run = runs_.find(node_id);
+  if (unanswered_.count(node_id) == 0 || run == runs_.end() || run->second.start_seq != start_seq) return;
+  auto index = engine_->find(node_id);
+  if (!index) return;
+  const auto& st = engine_->status(*index);
+  // The engine stops it, or stopped it: a SHUTDOWN went (or goes) instead.
+  if (st.activation != run->second.activation || st.state != NodeState::kRunning) return;
+  const auto& spec = engine_->spec().nodes[*index];
+  // The same seq on the same writer: an executor that did take the first one drops this one.
+  host_.log()->warn("start sent again task={} node={} executor={} seq={}: no answer yet", id_, node_id,
+                    run->second.executor_id, start_seq);
+  host_.journal({wall_now_s(), id_, node_id, "COMMAND", codes::kStartSentAgain,
+                 spec.leaf + " on " + run->second.executor_id + " seq " + std::to_string(start_seq) +
+                     ": no answer after " + number_text(std::chrono::duration<double>(host_.start_resend() * ((2u << sent_again) - 1)).count()) + " s"});
+  if (!host_.endpoint().send(rigger_skill_SKILL_START, id_, spec, run->second, params_text(spec), ""))
+    host_.log()->error("skill command write failed task={} node={}", id_, node_id);
+  arm_resend(node_id, start_seq, sent_again + 1);
 }
 
 void Task::start_unanswered(const std::string& node_id, std::uint64_t start_seq) {

@@ -43,6 +43,8 @@ inline constexpr const char* kNoExecutor = "NO_EXECUTOR";
 inline constexpr const char* kStartUnanswered = "START_UNANSWERED";
 /// A run of another task (or of an earlier controller) held a resource of the leaf for busy_wait_s.
 inline constexpr const char* kResourceHeld = "RESOURCE_HELD";
+/// Journal code of a START sent again (same seq, same writer) because its executor had not answered.
+inline constexpr const char* kStartSentAgain = "START_SENT_AGAIN";
 /// Journal code of a START held back while another task's run holds a resource of the leaf.
 inline constexpr const char* kStartWaits = "START_WAITS";
 /// A held START whose leaf was shut down before it could be sent.
@@ -87,6 +89,8 @@ class TaskHost {
   }
   /// How long an executor has to answer a START before the leaf fails START_UNANSWERED.
   virtual std::chrono::nanoseconds start_answer_timeout() const = 0;
+  /// How long an unanswered START waits before it is sent again (Task::arm_resend).
+  virtual std::chrono::nanoseconds start_resend() const = 0;
   /// Commands a safe stop of `resource`; false when the write failed.
   virtual bool safe_stop(const std::string& resource, const std::string& reason) = 0;
   /// The task ended: record and publish its result (`state`: the wire TaskState, `journal_state` the
@@ -151,7 +155,9 @@ class Task : public bt::Port {
   /// A START held back while runs of another task hold a resource of the leaf (`holder` says which).
   struct Held {
     bt::Activation activation = 0;
-    dds::EventLoop::TimerId deadline = 0;  ///< busy_wait: then the leaf fails RESOURCE_HELD
+    /// busy_wait: then the leaf fails RESOURCE_HELD (START_UNANSWERED when its executor's reader was
+    /// never matched)
+    dds::EventLoop::TimerId deadline = 0;
     std::string holder;
     /// Its resources were freed while the task was paused: sent on RESUME (deadline then cancelled).
     bool freed = false;
@@ -178,6 +184,13 @@ class Task : public bt::Port {
   void send_start(const bt::NodeSpec& spec, bt::Activation activation);
   /// The START of `node_id` waited busy_wait: sent if its resources are free now, else the leaf fails.
   void held_too_long(const std::string& node_id, bt::Activation activation);
+  /// A START unanswered after TaskHost::start_resend is sent again, then after twice and four times that
+  /// (kStartResends in all), before start_answer_timeout fails it. A write can reach nobody although
+  /// both ends are discovered: a reader that has not yet had its writer's first heartbeat drops what
+  /// came before it. The executor takes a seq once (executor::CommandOrder).
+  static constexpr unsigned kStartResends = 3;
+  void arm_resend(const std::string& node_id, std::uint64_t start_seq, unsigned sent_again);
+  void resend_start(const std::string& node_id, std::uint64_t start_seq, unsigned sent_again);
   /// The answer timer of `node_id`'s START fired: fails the leaf if that START is still unanswered.
   void start_unanswered(const std::string& node_id, std::uint64_t start_seq);
   /// Journals a PROGRESS event of `node_id`'s current run, or counts it beyond the bound.
@@ -190,6 +203,10 @@ class Task : public bt::Port {
 
   /// Which run of another task (or, resumed, of the killed controller) holds one of `spec`'s resources.
   std::string held_by(const bt::NodeSpec& spec) const;
+  /// What a START of `spec` must wait for: held_by, else the executor it would go to while that
+  /// executor's command reader has not matched a writer of the controller yet (`unreachable` set).
+  /// "" when it can go now.
+  std::string waits_for(const bt::NodeSpec& spec, bool* unreachable = nullptr) const;
 
   TaskHost& host_;
   std::string id_;

@@ -102,5 +102,23 @@ TEST(CommandRouting, AnIdWithAWildcardHasNoPartitionOfItsOwn) {
   EXPECT_EQ(protocol::skill::command_partition(""), "");
 }
 
+// An executor is reachable once its reader has matched a writer of the controller: an announcement
+// alone (here: a participant with no command reader) is not enough.
+TEST(CommandRouting, AnExecutorIsReachableOnlyOnceItsCommandReaderIsMatched) {
+  rigger::testing::DomainLease domain;
+  dds::Participant controller(domain.id());
+  dds::EventLoop loop(controller);
+  ControllerEndpoint endpoint(controller, 300ms);
+  dds::Participant bare(domain.id());
+  endpoint.executor_seen("a", guid_of(bare), false);
+  endpoint.executor_seen("b*", guid_of(bare), false);  // no partition of its own: the default one only
+  EXPECT_FALSE(spin({&loop}, [&] { return endpoint.reachable("a") || endpoint.reachable("b*"); }, 300ms))
+      << "reachable with no reader at all";
+  Executor a(domain.id(), "a"), b(domain.id(), "b*");
+  endpoint.executor_seen("a", guid_of(a.participant), false);
+  endpoint.executor_seen("b*", guid_of(b.participant), false);
+  EXPECT_TRUE(spin({&loop, &a.loop, &b.loop}, [&] { return endpoint.reachable("a") && endpoint.reachable("b*"); }, 10s));
+}
+
 }  // namespace
 }  // namespace rigger::task_controller

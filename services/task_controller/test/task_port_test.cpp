@@ -45,6 +45,7 @@ class FakeHost final : public TaskHost {
   void node_status(NodeStatusRow) override {}
   void is_localized(const std::string&, double, std::function<void(const world_client::Reply&)>) override {}
   std::chrono::nanoseconds start_answer_timeout() const override { return 30s; }
+  std::chrono::nanoseconds start_resend() const override { return start_resend_; }
   bool safe_stop(const std::string&, const std::string&) override { return true; }
   void task_finished(const std::string&, int state, const std::string&, const bt::TaskResult&,
                      const std::string&) override {
@@ -87,6 +88,13 @@ class FakeHost final : public TaskHost {
     e.event.message = message;
     task_->on_event(e);
   }
+  /// The executor answers the START `start_seq` of `node` (ACCEPTED: it runs).
+  void accept(const std::string& node, std::uint64_t start_seq) {
+    ReceivedEvent e = event(node);
+    e.command_seq = start_seq;
+    e.accepted = true;
+    task_->on_event(e);
+  }
   /// The leaf `node` (run `start_seq`) reports `kind`.
   void report(const std::string& node, std::uint64_t start_seq, bt::LeafEventKind kind) {
     ReceivedEvent e = event(node);
@@ -95,8 +103,12 @@ class FakeHost final : public TaskHost {
     task_->on_event(e);
   }
 
+  std::uint32_t domain() const { return domain_.id(); }
+
   std::string holder_;
   std::chrono::nanoseconds busy_wait_ = 30s;
+  /// Long by default: the other tests read the commands without answering them.
+  std::chrono::nanoseconds start_resend_ = 30s;
   std::vector<JournalRecord> rows_;
   int finished_state_ = -1;
 
@@ -262,6 +274,86 @@ TEST(TaskPause, AHeldStartTakenAgainBeforeTheResumeWaitsAgain) {
   ASSERT_FALSE(events.empty());
   EXPECT_NE(events.back().find("RESOURCE_HELD"), std::string::npos) << events.back();
   EXPECT_NE(events.back().find("task other"), std::string::npos) << events.back();
+}
+
+// An executor is announced a moment before its command reader is discovered (two separate discovery
+// messages). A START written in between reached nobody and was lost for good (a volatile reader never
+// gets what was written before its writer knew it): the START waits for the reader instead, and goes
+// when it is matched.
+dds_guid_t guid_of(const dds::Participant& p) {
+  dds_guid_t g{};
+  EXPECT_EQ(dds_get_guid(p.handle(), &g), DDS_RETCODE_OK);
+  return g;
+}
+
+TEST(TaskStart, AStartWaitsForItsExecutorsCommandReaderAndThenReachesIt) {
+  FakeHost host;
+  dds::Participant executor(host.domain());  // announced, no command reader yet
+  host.endpoint().executor_seen("exec-1", guid_of(executor), false);
+  Task& task = host.start(one_leaf("unreached"));
+  EXPECT_TRUE(task.holds_starts()) << "a START went to an executor whose reader nobody had matched";
+  EXPECT_TRUE(host.commands_now().empty());
+  const auto waits = host.rows("COMMAND");
+  ASSERT_EQ(waits.size(), 1u);
+  EXPECT_NE(waits[0].find("START_WAITS"), std::string::npos) << waits[0];
+  EXPECT_NE(waits[0].find("exec-1, whose command reader"), std::string::npos) << waits[0];
+
+  dds::EventLoop executor_loop(executor);
+  dds::Reader<rigger_skill_SkillCommand> reader(executor, protocol::skill::kCommand,
+                                                dds::qos::executor_commands("exec-1"));
+  std::vector<std::string> received;
+  executor_loop.on_data(reader, [&] {
+    reader.take([&](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
+      received.push_back(dds::to_string(c.node_id));
+    });
+  });
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while (!host.endpoint().reachable("exec-1") && std::chrono::steady_clock::now() < deadline)
+    executor_loop.run_once(1ms);
+  ASSERT_TRUE(host.endpoint().reachable("exec-1")) << "the executor's reader was never matched";
+  task.start_held();  // what the node does on PUBLICATION_MATCHED
+  EXPECT_FALSE(task.holds_starts());
+  ASSERT_TRUE(executor_loop.run_until([&] { return !received.empty(); }, 5s)) << "the START never reached the executor";
+  EXPECT_EQ(received, (std::vector<std::string>{"root"}));
+}
+
+// A START that got no answer is sent again, with its seq, until an answer comes: a reader that had not
+// yet had its writer's first heartbeat drops what came before, though both ends were discovered.
+TEST(TaskStart, AnUnansweredStartIsSentAgainWithItsSeqUntilAnswered) {
+  FakeHost host;
+  host.start_resend_ = 300ms;
+  host.start(one_leaf("resend"));
+  const auto first = host.commands_after(2);  // the START, then the same again 300 ms later
+  ASSERT_EQ(kinds(first), (std::vector<std::string>{"START root", "START root"}));
+  EXPECT_EQ(first[0].seq, first[1].seq);
+  const auto again = host.rows("COMMAND");
+  ASSERT_EQ(again.size(), 2u);
+  EXPECT_NE(again[0].find("root START: Localize on exec-1 seq"), std::string::npos) << again[0];
+  EXPECT_NE(again[1].find("START_SENT_AGAIN"), std::string::npos) << again[1];
+  EXPECT_NE(again[1].find("no answer after 0.3 s"), std::string::npos) << again[1];
+
+  host.accept("root", first[0].seq);
+  // The next one would have gone 600 ms after the first resend.
+  host.loop().run_until([] { return false; }, 800ms);
+  EXPECT_EQ(host.commands_now().size(), first.size()) << "sent again after the answer";
+  EXPECT_EQ(host.rows("COMMAND").size(), 2u);
+}
+
+// Never discovered: after busy_wait the leaf fails START_UNANSWERED (the START could not be delivered),
+// not RESOURCE_HELD.
+TEST(TaskStart, AStartWhoseExecutorsReaderNeverAppearsFailsStartUnanswered) {
+  FakeHost host;
+  host.busy_wait_ = 200ms;
+  dds::Participant executor(host.domain());
+  host.endpoint().executor_seen("exec-1", guid_of(executor), false);
+  host.start(one_leaf("never"));
+  ASSERT_TRUE(host.loop().run_until([&] { return host.finished_state_ >= 0; }, 5s));
+  EXPECT_EQ(host.finished_state_, rigger_task_TASK_FAILED);
+  EXPECT_TRUE(host.commands_now().empty());
+  const auto events = host.rows("EVENT");
+  ASSERT_FALSE(events.empty());
+  EXPECT_NE(events.back().find("START_UNANSWERED"), std::string::npos) << events.back();
+  EXPECT_NE(events.back().find("not discovered"), std::string::npos) << events.back();
 }
 
 }  // namespace

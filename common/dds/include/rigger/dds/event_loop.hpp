@@ -38,15 +38,16 @@ class EventLoop {
   void on_data(const R& reader, Handler handler) {
     on_data(reader.handle(), std::move(handler));
   }
-  /// Like on_data, for a reader on a reaction path (the controller's skill events). While run() waits,
-  /// `handler` runs at once in a data-available listener on the DDS thread that delivered the sample,
-  /// holding the loop's dispatch lock, so it still never overlaps another handler or timer. That saves the loop thread's wake-up, one thread hand-off per hop (about
-  /// 50 us on the 2-core VM: ddsperf's listener against its waitset triggering). When the loop is busy
-  /// the handler runs on the loop thread right after; the loop thread also runs it at the end of any
-  /// pass that finds the reader still holding samples. Outside run() (run_once, run_until: tests that
-  /// look at state between calls) it runs on the loop thread as on_data's does. The handler must not
-  /// block on DDS (a reply it would wait for arrives on the thread it holds); its writes rely on the
-  /// writer history watermarks of deploy/cyclonedds.xml (docs/dds.md) never to block.
+  /// Like on_data, for a reader on a reaction path (the controller's skill events, an executor's
+  /// commands). While run() waits, `handler` runs at once in a data-available listener on the DDS thread
+  /// that delivered the sample, holding the loop's dispatch lock, so it still never overlaps another
+  /// handler or timer. That saves the loop thread's wake-up, one thread hand-off per hop (about 50 us on
+  /// the 2-core VM: ddsperf's listener against its waitset triggering). When the loop is busy the
+  /// handler runs on the loop thread right after; the loop thread also runs it at the end of any pass
+  /// that finds the reader still holding samples. Outside run() (run_once, run_until: tests that look at
+  /// state between calls) it runs on the loop thread as on_data's does. The handler must not block on
+  /// DDS (a reply it would wait for arrives on the thread it holds); its writes rely on the writer
+  /// history watermarks of deploy/cyclonedds.xml (docs/dds.md) never to block.
   void on_data_now(dds_entity_t reader, Handler handler);
   template <typename R>
   void on_data_now(const R& reader, Handler handler) {

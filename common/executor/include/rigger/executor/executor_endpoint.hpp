@@ -5,8 +5,11 @@
 /// SkillCommands addressed to it on rigger/skill/command, and reports SkillEvents on rigger/skill/event.
 ///
 /// Protocol rules enforced here, so that no skill has to:
-///  - commands for other executors are ignored; a command whose seq is not newer than the last one from
-///    the same controller is a duplicate or stale and is dropped (logged);
+///  - commands for other executors are ignored; a command whose seq was seen before from the same
+///    controller writer is a duplicate and is dropped (logged), and so is one older than the last
+///    CommandOrder::kWindow seen (stale); an older seq not seen yet is a command the controller sent
+///    again because the first one never arrived (a START written while discovery was still under way),
+///    and is taken;
 ///  - START with unparsable params → FAILURE `BAD_PARAMS`; for a skill not in the library →
 ///    FAILURE `UNKNOWN_SKILL`;
 ///  - every START is answered, never dropped: ACCEPTED when it runs (just before the skill's start
@@ -44,6 +47,7 @@
 #include <deque>
 #include <functional>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -57,6 +61,21 @@
 #include "rigger/skill/skill_description.hpp"
 
 namespace rigger::executor {
+
+/// Which commands of one controller writer were taken. The controller numbers its commands in the order
+/// written and sends a START again (same seq, same writer) when it got no answer: a command can arrive
+/// once more, or late behind newer ones, but never twice here. Pure logic.
+class CommandOrder {
+ public:
+  /// How many of the newest seqs are remembered; an older seq is dropped as stale.
+  static constexpr std::size_t kWindow = 1024;
+  /// Whether `seq` is taken: not seen before and not older than the window. `last` receives the
+  /// newest seq seen before this call.
+  bool accept(std::uint64_t seq, std::uint64_t* last = nullptr);
+
+ private:
+  std::set<std::uint64_t> seen_;  ///< the newest kWindow seqs taken
+};
 
 /// One run of a leaf. The START's seq tells a re-run of the same node (Retry, Repeat) from the last one.
 struct LeafRun {
@@ -201,7 +220,7 @@ class ExecutorEndpoint {
   dds::Writer<rigger_skill_ExecutorAnnouncement> announcements_;
   dds::Writer<rigger_skill_SkillEvent> events_;
   dds::Reader<rigger_skill_SkillCommand> commands_;
-  std::map<dds_instance_handle_t, std::uint64_t> last_seq_by_writer_;
+  std::map<dds_instance_handle_t, CommandOrder> order_by_writer_;
   std::map<RunKey, Active> active_;
   std::deque<Start> waiting_;
   std::uint64_t event_seq_ = 0;
