@@ -224,6 +224,8 @@ int main(int argc, char** argv) {
   ref_row("  ddsperf listener triggering (ddsperf's default)", listener);
   std::printf("Commands for the skill's executor also taken by the monitors' executor: A %zu, B %zu, A full %zu\n",
               failure.misrouted, success.misrouted, full.misrouted);
+  std::printf("STARTs sent again for want of an answer (journal START_SENT_AGAIN): A %zu, B %zu, A full %zu\n",
+              failure.sent_again, success.sent_again, full.sent_again);
   const auto ratios = [&](const char* label, const Reaction& r) {
     const double p50 = percentile(r.command_received_us, 0.5), p99 = percentile(r.command_received_us, 0.99);
     std::printf("%s / ddsperf waitset one-way: p50 %.2fx, p99 %.2fx (target <= 2x each); listener: p50 %.2fx\n", label,

@@ -9,6 +9,7 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/skill.hpp"
+#include "journal.hpp"
 #include "stage_trace.hpp"
 
 namespace rigger::bench {
@@ -212,6 +213,12 @@ Reaction measure_reaction(Pattern pattern, const std::string& journal_sync, int 
   // matched): the monitors' executor should have taken none of the skill's.
   for (const auto& r : read_receipts(monitor_receipt_path))
     if (r.executor_id == "skills" && r.task_id == "reaction") ++out.misrouted;
+  {
+    const tc::Journal journal(dir + "/journal-" + tag + ".sqlite");
+    for (const char* task : {"warmup", "reaction"})
+      for (const auto& r : journal.timeline(task, 1000000))
+        if (r.kind == "COMMAND" && r.code == "START_SENT_AGAIN") ++out.sent_again;
+  }
   // Pattern A pairs every FAILURE with a SHUTDOWN; pattern B's last SUCCESS ends the task (no next START).
   const std::size_t n = pattern == Pattern::kMonitorFailure ? causes.size() : std::min(causes.size(), commands.size());
   const bool paired = n > 0 && commands.size() == n &&

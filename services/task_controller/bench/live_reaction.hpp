@@ -69,6 +69,9 @@ struct Reaction {
   /// Commands for the skill's executor that the monitors' executor took too (0 when every command went in
   /// the skill executor's partition; the first START of a run may go in the default one, before matching).
   std::size_t misrouted = 0;
+  /// STARTs the controller sent again because no answer came in start_resend_s (its journal's
+  /// START_SENT_AGAIN rows): 0 when no command was lost.
+  std::size_t sent_again = 0;
   std::size_t stray_stopped = 0;  ///< STOPPED without a SHUTDOWN (only with ReactionSetup::allow_stray_stopped)
   bool ok = false;
 };
