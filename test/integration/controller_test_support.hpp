@@ -13,6 +13,7 @@
 #include <chrono>
 #include <fstream>
 #include <map>
+#include <set>
 #include <memory>
 #include <optional>
 #include <string>
@@ -114,6 +115,12 @@ class ControllerTest : public MultiProcessTest {
     });
     loop.on_data(*commands_, [this] {
       commands_->take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t& info) {
+        // A START the controller sent again (no answer yet) is the same command: recorded once, as an
+        // executor takes it once. The count of such re-sends is in sent_again_.
+        if (!command_seqs_.insert({info.publication_handle, c.seq}).second) {
+          ++sent_again_;
+          return;
+        }
         commands_seen_.push_back({dds::to_string(c.executor_id), dds::to_string(c.task_id), dds::to_string(c.node_id),
                                   static_cast<int>(c.kind), c.seq, Clock::now(), info.source_timestamp});
       });
@@ -171,10 +178,25 @@ class ControllerTest : public MultiProcessTest {
     cell_.start(id, "scripted_executor", {"--id", id, "--config", write_config(id, cfg)});
   }
   /// Waits until `services` are READY and the controller reads recipes and task commands.
+  /// Also waits until this test's command reader matched the controller's writers: the default one and
+  /// one per executor partition, which the controller makes when the executor announces itself. A
+  /// command written before this reader matched its writer reaches the executor (the controller waits
+  /// for that) but not this test.
   void wait_ready(const std::vector<std::string>& services) {
     ASSERT_TRUE(cell_.wait_ready(services, 30s)) << cell_.logs();
     ASSERT_TRUE(recipes_->wait_for_readers(1, 10s));
     ASSERT_TRUE(task_commands_->wait_for_readers(1, 10s));
+    std::uint32_t executors = 0, controllers = 0;
+    for (const auto& id : services) {
+      const auto it = cell_.directory().services().find(id);
+      if (it == cell_.directory().services().end()) continue;
+      const std::string& kind = it->second.kind;
+      if (kind == "task_controller") ++controllers;
+      if (kind == "scripted_executor" || kind == "skill_executor" || kind == "monitor_host") ++executors;
+    }
+    if (controllers == 0) return;
+    ASSERT_TRUE(cell_.wait_until([&] { return commands_->matched_writers() >= executors + 1; }, 10s))
+        << commands_->matched_writers() << " command writers matched, " << executors + 1 << " expected";
   }
 
   // --- talking to the controller ---
@@ -331,6 +353,9 @@ class ControllerTest : public MultiProcessTest {
   std::map<std::string, std::vector<TaskSeen>> tasks_;
   std::map<std::string, std::vector<NodeSeen>> nodes_seen_;  // "task|node"
   std::vector<CommandSeen> commands_seen_;
+  /// (writer, seq) of commands_seen_: a controller numbers its commands, a restarted one from 1 again.
+  std::set<std::pair<dds_instance_handle_t, std::uint64_t>> command_seqs_;
+  std::size_t sent_again_ = 0;  ///< commands seen again with a (writer, seq) already recorded
   std::vector<EventSeen> events_seen_;
   std::vector<PromptSeen> prompts_seen_;
   std::map<std::uint64_t, std::vector<JournalLine>> journal_answers_;

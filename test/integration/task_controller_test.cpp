@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,10 @@ struct SeenCommand {
   Clock::time_point at;
   std::uint64_t seq = 0;
 };
+struct SeenEvent {
+  std::string task;
+  std::uint64_t command_seq = 0;
+};
 
 bool terminal(int s) {
   return s == rigger_task_TASK_REJECTED || s == rigger_task_TASK_SUCCEEDED || s == rigger_task_TASK_FAILED ||
@@ -84,6 +89,12 @@ class TaskControllerTest : public MultiProcessTest {
     nodes_ = std::make_unique<dds::Reader<rigger_task_NodeStatus>>(p, protocol::task::kNodeStatus,
                                                                    dds::qos::state_changes());
     commands_ = std::make_unique<dds::Reader<rigger_skill_SkillCommand>>(p, protocol::skill::kCommand, dds::qos::all_commands());
+    events_ = std::make_unique<dds::Reader<rigger_skill_SkillEvent>>(p, protocol::skill::kEvent);
+    cell_.loop().on_data(*events_, [this] {
+      events_->take([this](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
+        events_seen_.push_back({dds::to_string(e.task_id), e.command_seq});
+      });
+    });
     cell_.loop().on_data(*statuses_, [this] {
       statuses_->take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
         SeenStatus seen{static_cast<int>(s.state), dds::to_string(s.code), dds::to_string(s.message),
@@ -101,7 +112,9 @@ class TaskControllerTest : public MultiProcessTest {
       });
     });
     cell_.loop().on_data(*commands_, [this] {
-      commands_->take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
+      commands_->take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t& info) {
+        // A START sent again (no answer yet) is the same command, taken once as an executor takes it.
+        if (!command_seqs_.insert({info.publication_handle, c.seq}).second) return;
         commands_seen_.push_back({dds::to_string(c.executor_id), dds::to_string(c.task_id), dds::to_string(c.node_id),
                                   static_cast<int>(c.kind), Clock::now(), c.seq});
       });
@@ -137,6 +150,10 @@ class TaskControllerTest : public MultiProcessTest {
     start_executors(skill_nodes, monitor_nodes);
     ASSERT_TRUE(cell_.wait_ready({"tc", "exec-skills", "exec-monitors"}, 20s));
     ASSERT_TRUE(recipes_->wait_for_readers(1, 10s));
+    // This test reads every command: the controller's default writer and one per executor partition,
+    // made when the executor announces itself. A command written before this reader matched that writer
+    // would reach the executor but not this test.
+    ASSERT_TRUE(cell_.wait_until([&] { return commands_->matched_writers() >= 3; }, 10s));
   }
 
   void submit(const std::string& task_id, const std::string& text, bool patient = false) {
@@ -206,10 +223,13 @@ class TaskControllerTest : public MultiProcessTest {
   std::unique_ptr<dds::Reader<rigger_task_TaskStatus>> statuses_;
   std::unique_ptr<dds::Reader<rigger_task_NodeStatus>> nodes_;
   std::unique_ptr<dds::Reader<rigger_skill_SkillCommand>> commands_;
+  std::unique_ptr<dds::Reader<rigger_skill_SkillEvent>> events_;
   std::map<std::string, std::vector<SeenStatus>> status_;
   std::map<std::string, std::vector<SeenNode>> node_;
   void kill_in_a_burst(int flush_delay_us);
   std::vector<SeenCommand> commands_seen_;
+  std::set<std::pair<dds_instance_handle_t, std::uint64_t>> command_seqs_;  ///< (writer, seq) of commands_seen_
+  std::vector<SeenEvent> events_seen_;
   std::string journal_path_;
 };
 
@@ -375,11 +395,20 @@ void TaskControllerTest::kill_in_a_burst(int flush_delay_us) {
   EXPECT_EQ(last("burst").code, "INTERRUPTED");
   ASSERT_TRUE(cell_.wait_ready({"tc-2"}, 20s));
 
-  // What happened: every START the killed controller wrote (reliable, keep-all: all of them arrive).
-  std::vector<std::uint64_t> sent;
+  // What happened: every START the killed controller wrote that reached this test's reader or the
+  // executor (which answers each START it takes, and lives on). Reliable delivery needs the writer: a
+  // datagram dropped while the controller dies is never sent again, so on a loaded machine this test's
+  // reader (it takes every command, event and status) can miss the last STARTs that the executor got.
+  std::set<std::uint64_t> witnessed, seen_here;
   for (const auto& c : commands_seen_)
-    if (c.task == "burst" && c.kind == rigger_skill_SKILL_START) sent.push_back(c.seq);
-  std::sort(sent.begin(), sent.end());
+    if (c.task == "burst" && c.kind == rigger_skill_SKILL_START) {
+      witnessed.insert(c.seq);
+      // The restarted controller numbers its commands from 1 again: a START of its would repeat a seq.
+      EXPECT_TRUE(seen_here.insert(c.seq).second) << "START seq " << c.seq << " twice: the restarted controller started something";
+    }
+  for (const auto& e : events_seen_)
+    if (e.task == "burst" && e.command_seq != 0) witnessed.insert(e.command_seq);
+  const std::vector<std::uint64_t> sent(witnessed.begin(), witnessed.end());
   for (std::size_t i = 0; i < sent.size(); ++i) ASSERT_EQ(sent[i], i + 1) << "the controller skipped a seq";
 
   // What the journal kept: rows numbered without a gap, the STARTs a prefix of those sent, and between
@@ -396,7 +425,7 @@ void TaskControllerTest::kill_in_a_burst(int flush_delay_us) {
       EXPECT_EQ(r.code, "SUCCESS");
       ++events_since_start;
     }
-    if (r.kind != "COMMAND") continue;
+    if (r.kind != "COMMAND" || r.code == "START_SENT_AGAIN") continue;  // no answer yet: the same START again
     ASSERT_EQ(r.code, "START") << r.message;
     const auto at = r.message.find(" seq ");
     ASSERT_NE(at, std::string::npos) << r.message;
@@ -424,11 +453,8 @@ void TaskControllerTest::kill_in_a_burst(int flush_delay_us) {
                                          << " s before the kill and is not in the journal";
     }
   }
-  std::cout << "killed after " << sent.size() << " STARTs; journal: " << rows.size() << " rows, "
-            << journalled.size() << " STARTs\n";
-
-  // The restarted controller started nothing.
-  EXPECT_EQ(count_commands("burst", rigger_skill_SKILL_START), sent.size());
+  std::cout << "killed after " << sent.size() << " STARTs (" << seen_here.size() << " seen by this test); journal: "
+            << rows.size() << " rows, " << journalled.size() << " STARTs\n";
 }
 
 TEST_F(TaskControllerTest, ControllerKilledInABurstLeavesAJournalThatIsAPrefixOfWhatHappened) {
