@@ -321,6 +321,27 @@ TEST_F(RelocalizeTest, ALoadThatDidNotMoveStaysLocalizedAndEachCompletedSkillRun
   EXPECT_EQ(journaled_starts("still"), (std::map<std::string, int>{{"root/0", 1}, {"root/1", 2}, {"root/2", 1}}));
 }
 
+// Nothing looked at the load while the controller was down (the tracker is idle unless a skill asks it):
+// the world model's pose is the one the localization saw, which says nothing of where the load is now.
+TEST_F(RelocalizeTest, ALoadNobodySawSinceTheCrashIsLocalizedAgain) {
+  crash_after_localizing_the_load("unseen", [] {});
+  const CtlResult r = ctl("resume", {"resume", "unseen"});
+  EXPECT_EQ(r.code(), 0) << r.output;
+  EXPECT_NE(r.output.find("nothing has seen load since the controller stopped"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("it may have been moved; Localize(load) (root/0, localize load) will run again"),
+            std::string::npos)
+      << r.output;
+  const json d = resume_details("unseen");
+  ASSERT_TRUE(d.is_object()) << "no resume prompt with details";
+  EXPECT_EQ(d["relocalize"], json::array({"root/0"}));
+  ASSERT_EQ(d["world"].size(), 1U) << d.dump();
+  EXPECT_EQ(d["world"][0]["verdict"], "unconfirmed");
+  EXPECT_EQ(d["world"][0]["preconditions_hold"], false);
+  EXPECT_NEAR(d["world"][0]["displacement_mm"].get<double>(), 0.0, 0.5) << "the same pose: no evidence either way";
+  rerun_to_success("unseen");
+  EXPECT_EQ(journaled_starts("unseen"), (std::map<std::string, int>{{"root/0", 2}, {"root/1", 2}, {"root/2", 1}}));
+}
+
 TEST_F(RelocalizeTest, AWorldModelThatIsDownIsSaidInThePromptAndTheLoadIsLocalizedAgain) {
   crash_after_localizing_the_load("blind", [&] { ASSERT_TRUE(cell_.stop("wm", SIGINT, 10s).has_value()); });
   const CtlResult r = ctl("resume", {"resume", "blind"});

@@ -56,6 +56,15 @@ std::string utc_clock(double stamp_s) {
   return buffer;
 }
 
+/// utc_clock with milliseconds ("12:01:03.250 UTC"): two moments within a second told apart.
+std::string utc_clock_ms(double stamp_s) {
+  const double whole = std::floor(stamp_s);
+  const std::string hms = utc_clock(whole);
+  char ms[8];
+  std::snprintf(ms, sizeof ms, ".%03d", static_cast<int>(std::min(999.0, (stamp_s - whole) * 1000.0)));
+  return hms.substr(0, 8) + ms + hms.substr(8);
+}
+
 std::string fixed(double v, int digits) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
@@ -162,6 +171,11 @@ std::vector<ObjectRecheck> objects_to_recheck(const bt::TreeSpec& spec, const Re
       at = p->second;
     }
   };
+  // The crashed controller's last row: the one before the latest TASK INTERRUPTED (its successor's).
+  double interrupted_at_s = 0;
+  for (std::size_t k = 0; k < timeline.size(); ++k)
+    if (timeline[k].kind == "TASK" && timeline[k].code == "INTERRUPTED" && k > 0)
+      interrupted_at_s = timeline[k - 1].stamp_s;
   std::vector<std::string> remaining = plan.rerun;
   remaining.insert(remaining.end(), plan.ask.begin(), plan.ask.end());
   remaining.insert(remaining.end(), plan.pending.begin(), plan.pending.end());
@@ -181,6 +195,7 @@ std::vector<ObjectRecheck> objects_to_recheck(const bt::TreeSpec& spec, const Re
       c.object = object;
       c.used_by = users;
       c.max_age_s = settings.max_age_s;
+      c.interrupted_at_s = interrupted_at_s;
       out.push_back(c);
     }
     ObjectRecheck& c = out[it->second];
@@ -278,6 +293,14 @@ void judge(ObjectRecheck& c, const world_client::Reply& now, const RecheckSettin
     c.reason = "no pose of " + c.object +
                " was journaled when it was localized (the controller stopped before the world model answered); " +
                again + " will run again to be safe";
+    return;
+  }
+  const double observed_at_s = c.checked_at_s - now.age_s;
+  if (c.interrupted_at_s > 0 && c.checked_at_s > 0 && observed_at_s <= c.interrupted_at_s) {
+    c.verdict = "unconfirmed";
+    c.reason = "nothing has seen " + c.object + " since the controller stopped (the world model's pose of it was observed at " +
+               utc_clock_ms(observed_at_s) + ", the controller's last journal row is of " + utc_clock_ms(c.interrupted_at_s) +
+               "): it may have been moved; " + again + " will run again";
     return;
   }
   const std::string moved = fixed(c.displacement_m * 1000.0, 0) + " mm and " + fixed(c.rotation_deg, 1) + " deg";

@@ -18,6 +18,10 @@
 ///    objects are the exception to the displacement rule: when a done skill after the localization
 ///    established `attached(…, X)` (AttachRobotToLoad, Pick) and none undid it, X moved with the robot
 ///    by the task's own doing, and its localization stays done (the pose age still counts).
+///  - A pose is only evidence if it was observed after the controller stopped: the tracker is idle
+///    unless a skill asks it, so the world model's pose of a load nobody looked at since is the one the
+///    localization journaled, wherever the load is now. A pose observed no later than the crashed
+///    controller's last journal row is `unconfirmed`, and the localization runs again.
 
 #include <map>
 #include <optional>
@@ -75,13 +79,19 @@ struct ObjectRecheck {
   std::string carried_by;                 ///< a done skill that attached it after the localization, or ""
   std::optional<LocalizedPose> recorded;  ///< the latest journaled pose of those localizations
   double max_age_s = 0;
+  /// The crashed controller's last journal row of the task (s since the Unix epoch; 0: unknown). A pose
+  /// observed no later than this is no evidence of where the object is now.
+  double interrupted_at_s = 0;
+  /// When the world model was asked (wall clock, s; set by the caller; 0: the rule above is not applied).
+  double checked_at_s = 0;
 
   // Set by judge():
   /// The world model's answer about the object now (WorldClient::pose in kRecheckFrame: `pose` is
   /// T_world_object).
   std::optional<world_client::Reply> now;
   /// "unchanged", "moved", "carried", "stale", "not_localized" (no pose, or marked so), "unrecorded" (no
-  /// pose journaled at the localization), "unknown" (the world model did not answer)
+  /// pose journaled at the localization), "unconfirmed" (not observed since the controller stopped),
+  /// "unknown" (the world model did not answer)
   std::string verdict;
   double displacement_m = 0;
   double rotation_deg = 0;

@@ -127,6 +127,7 @@ void TaskControllerNode::rechecked(const std::string& task_id, std::uint64_t ser
   const auto it = resuming_.find(task_id);
   if (it == resuming_.end() || it->second.serial != serial || it->second.asked) return;  // withdrawn meanwhile
   Resuming& r = it->second;
+  r.checks[index].checked_at_s = wall_now_s();
   judge(r.checks[index], reply, settings_.recheck, r.task->engine().spec());
   if (--r.unanswered > 0) return;
   const std::set<std::string> again = leaves_to_relocalize(r.checks);

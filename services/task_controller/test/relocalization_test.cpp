@@ -155,6 +155,37 @@ TEST(Relocalization, NotMovedStaysDoneAndNothingRunsAgain) {
   EXPECT_NE(c[0].reason.find("stays done"), std::string::npos) << c[0].reason;
 }
 
+// The tracker is idle unless a skill asks it: a pose observed before the controller stopped says nothing
+// of where the object is now, however close it is to the journaled one.
+TEST(Relocalization, APoseNobodyObservedSinceTheControllerStoppedIsNoEvidenceAndItRunsAgain) {
+  Resume r(sequence({localize("load"), bt::build::skill("Wait"), insert("load", "target")}));
+  r.succeed("root/0", at(1, 0, 0));
+  for (auto& row : r.first.rows) row.stamp_s = 1000.0;  // the crashed controller's rows
+  r.first.rows.push_back({1005.0, "t", "", "TASK", "INTERRUPTED", "the controller stopped"});
+  auto c = r.checks();
+  ASSERT_EQ(c.size(), 1U);
+  EXPECT_DOUBLE_EQ(c[0].interrupted_at_s, 1000.0);
+
+  ObjectRecheck unseen = c[0];
+  unseen.checked_at_s = 1010.0;
+  judge(unseen, seen(at(1, 0, 0), 12.0), r.settings, r.spec);  // observed at 998 s
+  EXPECT_EQ(unseen.verdict, "unconfirmed");
+  EXPECT_TRUE(unseen.relocalize);
+  EXPECT_FALSE(unseen.preconditions_hold);
+  EXPECT_NE(unseen.reason.find("nothing has seen load since the controller stopped"), std::string::npos) << unseen.reason;
+  EXPECT_NE(unseen.reason.find("will run again"), std::string::npos) << unseen.reason;
+
+  ObjectRecheck looked = c[0];
+  looked.checked_at_s = 1010.0;
+  judge(looked, seen(at(1.002, 0, 0), 4.0), r.settings, r.spec);  // observed at 1006 s, 2 mm off
+  EXPECT_EQ(looked.verdict, "unchanged");
+  EXPECT_FALSE(looked.relocalize);
+
+  ObjectRecheck unknown_time = c[0];  // the caller did not say when it asked: the rule is not applied
+  judge(unknown_time, seen(at(1, 0, 0), 12.0), r.settings, r.spec);
+  EXPECT_EQ(unknown_time.verdict, "unchanged");
+}
+
 TEST(Relocalization, MovedRunsTheLocalizationAgainFirstAndSaysWhyInPlainWords) {
   Resume r(sequence({localize("load"), bt::build::skill("Wait"), insert("load", "target")}));
   r.succeed("root/0", at(1, 0, 0));
