@@ -106,8 +106,12 @@ class MultiHostTest : public ::testing::Test {
     return start("deploy/lab-hosts exec " + host + " env " + host_env(host) + " " + command, name);
   }
   std::string host_env(const std::string& host) const {
+    // Each host keeps its state (world model database, controller journal) in a folder of its own, as
+    // separate machines would: not in /var/tmp/rigger, which other tests' cells running at the same time
+    // use too (a world model waiting on another's lock there took 13 s to come up).
     return "RIGGER_HOST=" + host + " RIGGER_DOMAIN=" + std::to_string(cell_->domain_id()) + " RIGGER_LOG_ROOT='" +
-           cell_->log_dir() + "' RIGGER_BUILD_DIR='" + bin_dir() + "/..' CYCLONEDDS_URI=" + dds_config();
+           cell_->log_dir() + "' RIGGER_STATE_DIR='" + cell_->log_dir() + "/state-" + host + "' RIGGER_BUILD_DIR='" +
+           bin_dir() + "/..' CYCLONEDDS_URI=" + dds_config();
   }
 
   std::unique_ptr<ChildProcess> start(const std::string& command, const std::string& name) {
@@ -146,7 +150,7 @@ class MultiHostTest : public ::testing::Test {
     return ok;
   }
 
-  /// A fresh task id: the journal (under /var/tmp/rigger) keeps every task it has seen.
+  /// A fresh task id: the journal keeps every task it has seen.
   static std::string task_id(const std::string& what) {
     return "multihost-" + what + "-" + std::to_string(std::time(nullptr)) + "-" + std::to_string(getpid());
   }
