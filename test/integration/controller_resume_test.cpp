@@ -4,6 +4,7 @@
 // operator's answer starts anything. Real task_controller, scripted executor and riggerctl processes.
 // RelocalizeTest adds the real world_model: a load localized before the crash and moved (a new
 // observation) while the controller was down is localized again before anything else runs.
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <string>
@@ -28,7 +29,10 @@ class ResumeTest : public ControllerTest {
   /// `second` (2 s) runs, tc-2 is started on the same journal and has reported the task INTERRUPTED when
   /// this returns. What runs after the crash uses the target only, so the load's completed localization
   /// is no precondition of it and no world model is asked (RelocalizeTest is about that).
-  void crash_in_the_second_skill(const std::string& task_id, bool second_restartable = false) {
+  /// `while_down` runs before tc-2 starts, `tc2_config` adds to tc-2's configuration.
+  void crash_in_the_second_skill(const std::string& task_id, bool second_restartable = false,
+                                 const std::function<void()>& while_down = {},
+                                 const json& tc2_config = json::object()) {
     expect_clean_exit_ = false;  // tc is killed
     start_controller();
     start_scripted("exec", {"Localize"},
@@ -52,7 +56,8 @@ class ResumeTest : public ControllerTest {
     ASSERT_TRUE(cell_.stop("tc", SIGKILL, 5s).has_value());
     ASSERT_TRUE(cell_.wait_until([&] { return recipes_->matched_readers() == 0; }, 10s));
     starts_before_ = count_commands(task_id, rigger_skill_SKILL_START);
-    start_controller(json::object(), "tc-2");
+    if (while_down) while_down();
+    start_controller(tc2_config, "tc-2");
     wait_ready({"tc-2"});
     ASSERT_TRUE(cell_.wait_until([&] { return code_seen(task_id, "INTERRUPTED"); }, 10s));
   }
@@ -78,6 +83,37 @@ class ResumeTest : public ControllerTest {
 
   std::size_t starts_before_ = 0;
 };
+
+// A RESUME that comes before the restarted controller has heard the executors (here: the executor is
+// down, and comes back later) waits for them, as a new recipe does, instead of calling the recipe no
+// longer valid for its unknown skills.
+TEST_F(ResumeTest, AResumeBeforeTheExecutorsAreHeardWaitsForThem) {
+  crash_in_the_second_skill(
+      "early", false, [&] { ASSERT_TRUE(cell_.stop("exec", SIGINT, 10s).has_value()); },
+      {{"executor_wait_s", 20}});
+  command("early", rigger_task_TASK_RESUME, "right after the restart");
+  // It waits: no refusal, no prompt, while no executor offers Localize.
+  EXPECT_FALSE(cell_.wait_until([&] { return code_seen("early", "RESUME_REFUSED") || prompt("early", "resume"); },
+                                1s))
+      << "the resume did not wait for the executors";
+  // The executor "exec" back (a process of another name: the harness names each process once).
+  const json again = {{"skills", {"Localize"}},
+                      {"nodes",
+                       {{"root/1", {{"mode", "succeed"}, {"delay_s", 0.1}}},
+                        {"root/2", {{"mode", "succeed"}, {"delay_s", 0.1}}}}}};
+  cell_.start("exec-again", "scripted_executor", {"--id", "exec", "--config", write_config("exec-again", again)});
+  const PromptSeen* p = resume_prompt("early");
+  ASSERT_NE(p, nullptr) << "no resume prompt once the executor was heard";
+  EXPECT_FALSE(code_seen("early", "RESUME_REFUSED"));
+  const auto lines = journal("early");
+  EXPECT_EQ(std::count_if(lines.begin(), lines.end(),
+                          [](const JournalLine& l) { return l.kind == "COMMAND" && l.code == "RESUME"; }),
+            1)
+      << "the waiting resume is journaled once, when it goes on";
+  answer("early#resume#1", "rerun");
+  ASSERT_TRUE(wait_finished("early", 30s));
+  EXPECT_EQ(last("early").state, rigger_task_TASK_SUCCEEDED) << last("early").code << " " << last("early").message;
+}
 
 TEST_F(ResumeTest, KilledInTheSecondSkillAndResumedWithTheOperatorsRerunTheTaskSucceeds) {
   crash_in_the_second_skill("seq");

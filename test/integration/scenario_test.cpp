@@ -91,6 +91,31 @@ class ScenarioTest : public MultiProcessTest {
     return expect_still_after_kill(s, kill_time, "the task controller");
   }
 
+  /// The operator answers `rerun` to the resume prompt; the task must then SUCCEED, screwed on. Returns
+  /// the STARTs per node *name* in the journal (both controllers wrote it; -1: a node that never ran).
+  std::map<std::string, int> rerun_to_success(ScenarioCell& s, const char* report) {
+    const CtlResult answered = run_riggerctl(cell_, "answer", {"operator", "--answer", "crane-insert#resume#1=rerun"});
+    EXPECT_EQ(answered.code(), 0) << answered.output;
+    EXPECT_TRUE(s.wait_task_end(kTaskTimeout)) << s.task_summary();
+    print_report(s, report);
+    EXPECT_EQ(s.task_state(), rigger_task_TASK_SUCCEEDED) << s.task_summary();
+    if (s.task_state() == rigger_task_TASK_SUCCEEDED) expect_screwed_on(s);
+    const std::map<std::string, int> starts = journaled_starts(cell_.log_dir() + "/journal.sqlite", "crane-insert");
+    std::string counts;
+    for (const auto& [node, n] : starts) counts += node + "=" + std::to_string(n) + " ";
+    std::printf("  STARTs per node in the journal: %s\n", counts.c_str());
+    std::map<std::string, int> by_name;
+    for (const auto& [node_id, v] : s.nodes()) {
+      const auto n = starts.find(node_id);
+      by_name[v.name] = n == starts.end() ? 0 : n->second;
+    }
+    return by_name;
+  }
+  static int starts_of(const std::map<std::string, int>& starts, const std::string& name) {
+    const auto n = starts.find(name);
+    return n == starts.end() ? -1 : n->second;
+  }
+
   /// Pushes the load's centre with a constant force (world frame, N; zero removes it), as `riggerctl sim
   /// load-force` does; true once the simulator acknowledged it.
   static bool push_load(ScenarioCell& s, const Eigen::Vector3d& force_n) {
@@ -371,32 +396,53 @@ TEST_F(ScenarioTest, ControllerKilledDuringInsertionIsResumedWithTheOperatorsCon
   // Nothing moves before the operator confirms.
   EXPECT_FALSE(s.node("insert visually guided") != nullptr && s.node("insert visually guided")->runs > 1)
       << "the insertion started again before the operator confirmed";
-  const CtlResult answered = run_riggerctl(cell_, "answer", {"operator", "--answer", "crane-insert#resume#1=rerun"});
-  ASSERT_EQ(answered.code(), 0) << answered.output;
-  ASSERT_TRUE(cell_.wait_until([&] { return s.task_state() == rigger_task_TASK_RUNNING; }, 20s)) << s.task_summary();
-  ASSERT_TRUE(s.wait_task_end(kTaskTimeout)) << s.task_summary();
-  print_report(s, "controller killed during the insertion, resumed");
-  ASSERT_EQ(s.task_state(), rigger_task_TASK_SUCCEEDED) << s.task_summary();
-  expect_screwed_on(s);
-
-  // From the journal (both controllers wrote it): each skill that had completed started once, the
-  // interrupted insertion twice (the operator's rerun), the ones after it once.
-  const std::map<std::string, int> starts = journaled_starts(cell_.log_dir() + "/journal.sqlite", "crane-insert");
-  std::string counts;
-  for (const auto& [node, n] : starts) counts += node + "=" + std::to_string(n) + " ";
-  std::printf("  STARTs per node in the journal: %s\n", counts.c_str());
-  std::map<std::string, std::string> id_of;  // node name -> node id, as the controller published them
-  for (const auto& [node_id, v] : s.nodes()) id_of[v.name] = node_id;
-  const auto starts_of = [&](const std::string& name) {
-    const auto id = id_of.find(name);
-    if (id == id_of.end()) return -1;  // never ran
-    const auto n = starts.find(id->second);
-    return n == starts.end() ? 0 : n->second;
-  };
+  // From the journal: each skill that had completed started once, the interrupted insertion twice (the
+  // operator's rerun), the ones after it once.
+  const auto starts = rerun_to_success(s, "controller killed during the insertion, resumed");
   for (const char* name :
        {"localize target", "localize load", "attach robot to load", "operator screws", "release and retreat"})
-    EXPECT_EQ(starts_of(name), 1) << name << ": " << counts;
-  EXPECT_EQ(starts_of("insert visually guided"), 2) << counts;
+    EXPECT_EQ(starts_of(starts, name), 1) << name;
+  EXPECT_EQ(starts_of(starts, "insert visually guided"), 2);
+}
+
+// Resume after a crash before the load was carried: the controller is SIGKILLed while the robot
+// attaches itself to the load, after "localize load" succeeded. Nothing looks at the load while the
+// controller is down (the tracker is idle unless a skill asks it), so the world model's pose of the load
+// is the one that localization saw: no evidence of where the load is now (nor the target). The resume
+// says so, runs both localizations again before the operator's rerun of the attach, and the task
+// SUCCEEDS in the physics.
+TEST_F(ScenarioTest, ControllerKilledDuringTheAttachIsResumedWithTheLoadLocalizedAgain) {
+  ScenarioCell s(cell_);
+  expect_clean_exit_ = false;  // the controller is killed on purpose
+  ASSERT_TRUE(s.ready()) << "not every service came up";
+  ASSERT_TRUE(s.submit("recipes/crane_insert.json"));
+  ASSERT_TRUE(cell_.wait_until(
+      [&] {
+        const NodeView* attach = s.node("attach robot to load");
+        return attach != nullptr && attach->state == rigger_task_NODE_RUNNING;
+      },
+      kTaskTimeout))
+      << s.task_summary();
+  ASSERT_TRUE(cell_.stop("task_controller", SIGKILL, 5s).has_value());
+
+  ASSERT_TRUE(s.restart_controller("task_controller-2")) << cell_.logs();
+  ASSERT_TRUE(cell_.wait_until([&] { return s.task_code() == "INTERRUPTED"; }, 20s)) << s.task_summary();
+  const CtlResult planned = run_riggerctl(cell_, "resume", {"resume", "crane-insert"});
+  ASSERT_EQ(planned.code(), 0) << planned.output;
+  std::printf("riggerctl resume:\n%s", planned.output.c_str());
+  EXPECT_NE(planned.output.find("nothing has seen load since the controller stopped"), std::string::npos)
+      << planned.output;
+  EXPECT_NE(planned.output.find("(root/1/0/0, localize load) will run again"), std::string::npos) << planned.output;
+  EXPECT_NE(planned.output.find("nothing has seen target since the controller stopped"), std::string::npos)
+      << planned.output;
+  // From the journal: both localizations ran again, first, and the attach by the operator's rerun;
+  // everything after them once.
+  const auto starts =
+      rerun_to_success(s, "controller killed during the attach, resumed with the load localized again");
+  for (const char* name : {"localize target", "localize load", "attach robot to load"})
+    EXPECT_EQ(starts_of(starts, name), 2) << name;
+  for (const char* name : {"insert visually guided", "operator screws", "release and retreat"})
+    EXPECT_EQ(starts_of(starts, name), 1) << name;
 }
 
 }  // namespace

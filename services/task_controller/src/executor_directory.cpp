@@ -61,10 +61,14 @@ bool ExecutorDirectory::alive(const std::string& id) const {
 
 std::optional<ExecutorDirectory::Holder> ExecutorDirectory::holder(const std::vector<std::string>& resources,
                                                                    const std::string& task_id,
-                                                                   const std::set<std::string>* started) const {
+                                                                   const std::set<std::string>* started,
+                                                                   const std::string& node_id) const {
   for (const auto& [id, ex] : executors_) {
     if (!ex.alive) continue;  // a lost executor's runs are its leaves' EXECUTOR_LOST, not a hold
     for (const auto& run : ex.runs) {
+      if (started != nullptr && !node_id.empty() && run.task_id == task_id && run.node_id == node_id &&
+          started->count(node_id) == 0)
+        return Holder{id, "", run};
       if (run.task_id == task_id && (started == nullptr || started->count(run.node_id) != 0)) continue;
       for (const auto& r : resources)
         if (std::find(run.resources.begin(), run.resources.end(), r) != run.resources.end()) return Holder{id, r, run};
@@ -74,6 +78,9 @@ std::optional<ExecutorDirectory::Holder> ExecutorDirectory::holder(const std::ve
 }
 
 std::string ExecutorDirectory::Holder::describe() const {
+  if (resource.empty())
+    return "its own earlier run, " + run.skill + " (task " + run.task_id + ", node " + run.node_id + ") on executor " +
+           executor_id + (run.stopping ? ", stopping" : ", running");
   return "resource '" + resource + "', held by " + run.skill + " (task " + run.task_id + ", node " + run.node_id +
          ") on executor " + executor_id + (run.stopping ? ", stopping" : ", running");
 }

@@ -63,9 +63,11 @@ class ExecutorDirectory {
   /// task that ended while its leaf still stopped); nullopt when they are free. Runs of `task_id`
   /// itself are the executors' to order (a Retry's START waits there for the previous run's stop) —
   /// unless `started` is given (a task resumed after a crash): then only its runs of the nodes in
-  /// `started` (STARTs this controller sent) are its own, and the killed controller's runs hold.
+  /// `started` (STARTs this controller sent) are its own, and the killed controller's runs hold; and a
+  /// run of `node_id` itself not in `started` holds whatever it claims (a monitor claims nothing): an
+  /// executor refuses a START of a node it still runs for a controller it has not yet seen lost.
   std::optional<Holder> holder(const std::vector<std::string>& resources, const std::string& task_id,
-                               const std::set<std::string>* started = nullptr) const;
+                               const std::set<std::string>* started = nullptr, const std::string& node_id = "") const;
 
  private:
   struct Executor {

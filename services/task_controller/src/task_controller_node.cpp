@@ -119,8 +119,8 @@ void TaskControllerNode::localized(const std::string& task_id, const std::string
 }
 
 std::string TaskControllerNode::holder_of(const std::vector<std::string>& resources, const std::string& task_id,
-                                          const std::set<std::string>* started) const {
-  const auto holder = executors_.holder(resources, task_id, started);
+                                          const std::set<std::string>* started, const std::string& node_id) const {
+  const auto holder = executors_.holder(resources, task_id, started, node_id);
   return holder ? holder->describe() : std::string();
 }
 
@@ -221,6 +221,16 @@ void TaskControllerNode::retry_pending() {
     ctx_.loop.cancel(it->second.timer);
     pending_.erase(it);
     handle_recipe(id, text, true);
+  }
+  std::vector<std::string> resumes;
+  for (const auto& [id, p] : pending_resumes_) resumes.push_back(id);
+  for (const auto& id : resumes) {
+    auto it = pending_resumes_.find(id);
+    if (it == pending_resumes_.end()) continue;
+    const PendingResume p = it->second;
+    ctx_.loop.cancel(p.timer);
+    pending_resumes_.erase(it);
+    resume_interrupted(id, p.issuer, p.reason, true);
   }
 }
 

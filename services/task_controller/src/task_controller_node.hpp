@@ -77,7 +77,7 @@ class TaskControllerNode : public dds::Node, private TaskHost {
     return executors_.pick(skill, pinned);
   }
   std::string holder_of(const std::vector<std::string>& resources, const std::string& task_id,
-                        const std::set<std::string>* started) const override;
+                        const std::set<std::string>* started, const std::string& node_id) const override;
   std::chrono::nanoseconds busy_wait() const override { return settings_.busy_wait; }
   unsigned progress_rows_per_run() const override { return settings_.progress_rows_per_run; }
   ControllerEndpoint& endpoint() override { return endpoint_; }
@@ -108,7 +108,10 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   /// RESUME of an INTERRUPTED task (docs/behavior-tree.md "Resume after a crash"): rebuilds its tree
   /// from the journal, plans what is done and what runs, and asks the operator (prompt kind "resume");
   /// nothing starts before the answer. Refusals go out as TaskStatus FAILED, code RESUME_REFUSED.
-  void resume_interrupted(const std::string& task_id, const std::string& issuer, const std::string& reason);
+  /// `may_wait`: a recipe naming a skill or monitor no live executor offers yet waits for announcements
+  /// (executor_wait_s), as a new recipe does: a controller just restarted has not heard every executor.
+  void resume_interrupted(const std::string& task_id, const std::string& issuer, const std::string& reason,
+                          bool may_wait = true);
   void refuse_resume(const std::string& task_id, const std::string& why);
   /// The world model's answer about the `index`-th re-checked object of the resume of `task_id` (check
   /// `serial`); once every object is answered the plan is final and the operator is asked.
@@ -149,6 +152,12 @@ class TaskControllerNode : public dds::Node, private TaskHost {
     dds::EventLoop::TimerId timer = 0;
   };
   std::map<std::string, Pending> pending_;  ///< recipes waiting for an executor, by task id
+  /// RESUMEs of INTERRUPTED tasks whose recipe waits for an executor, by task id.
+  struct PendingResume {
+    std::string issuer, reason;
+    dds::EventLoop::TimerId timer = 0;
+  };
+  std::map<std::string, PendingResume> pending_resumes_;
   /// An INTERRUPTED task rebuilt for a resume, waiting for the operator's confirmation (not started).
   struct Resuming {
     std::unique_ptr<Task> task;

@@ -45,7 +45,8 @@ void TaskControllerNode::refuse_resume(const std::string& task_id, const std::st
 }
 
 void TaskControllerNode::resume_interrupted(const std::string& task_id, const std::string& issuer,
-                                            const std::string& reason) {
+                                            const std::string& reason, bool may_wait) {
+  if (pending_resumes_.count(task_id)) return;  // waiting for executors: it goes on when they are heard
   if (auto r = resuming_.find(task_id); r != resuming_.end()) {
     if (!r->second.asked) return;  // the world is being re-checked: the prompt comes once it answered
     // Asked again (another riggerctl, or the first one gave up waiting): the same question stands.
@@ -65,6 +66,31 @@ void TaskControllerNode::resume_interrupted(const std::string& task_id, const st
              "RESUME by " + issuer + ": the task is " + known.state + ", neither PAUSED nor INTERRUPTED"});
     return;
   }
+  AdmissionRequest request;
+  request.task_id = task_id;
+  request.text = known.recipe_json;
+  request.may_wait = may_wait && settings_.executor_wait.count() > 0;
+  for (const auto& [id, t] : tasks_)
+    if (!t->done()) request.running.push_back({id, &t->resources()});
+  std::vector<std::string> problems;
+  const recipe::RecipeValidator validator(executors_.live_library(&problems), settings_.validator);
+  Admission admission = admit(request, validator);
+  if (!known.recipe_json.empty() && admission.outcome == Admission::Outcome::kWait) {
+    // A controller just restarted may not have heard every executor yet: wait for their announcements
+    // (retry_pending), at most executor_wait_s, before the recipe is judged.
+    ctx_.log->info("resume waits for executors task={} first={}", task_id, admission.message);
+    auto& p = pending_resumes_[task_id];
+    p.issuer = issuer;
+    p.reason = reason;
+    p.timer = ctx_.loop.after(settings_.executor_wait, [this, task_id] {
+      auto it = pending_resumes_.find(task_id);
+      if (it == pending_resumes_.end()) return;
+      const PendingResume waited = it->second;
+      pending_resumes_.erase(it);
+      resume_interrupted(task_id, waited.issuer, waited.reason, false);
+    });
+    return;
+  }
   journal({wall_now_s(), task_id, "", "COMMAND", "RESUME",
            "by " + (issuer.empty() ? std::string("an unnamed issuer") : issuer) + ": " + reason +
                " (interrupted: rebuilt from the journal; nothing starts before the operator confirms)"});
@@ -72,14 +98,6 @@ void TaskControllerNode::resume_interrupted(const std::string& task_id, const st
     refuse_resume(task_id, "the journal holds no recipe for the task");
     return;
   }
-  AdmissionRequest request;
-  request.task_id = task_id;
-  request.text = known.recipe_json;
-  for (const auto& [id, t] : tasks_)
-    if (!t->done()) request.running.push_back({id, &t->resources()});
-  std::vector<std::string> problems;
-  const recipe::RecipeValidator validator(executors_.live_library(&problems), settings_.validator);
-  Admission admission = admit(request, validator);
   if (admission.outcome != Admission::Outcome::kAdmitted) {
     refuse_resume(task_id, "the recipe is no longer valid (" + std::string(to_string(admission.code)) +
                                "): " + admission.message);

@@ -243,7 +243,7 @@ std::string Task::held_by(const bt::NodeSpec& spec) const {
   if (!resumed_) return host_.holder_of(spec.resources, id_);
   std::set<std::string> started;
   for (const auto& [node_id, run] : runs_) started.insert(node_id);
-  return host_.holder_of(spec.resources, id_, &started);
+  return host_.holder_of(spec.resources, id_, &started, spec.id);
 }
 
 // --- bt::Port ---

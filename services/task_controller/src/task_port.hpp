@@ -67,9 +67,11 @@ class TaskHost {
   virtual std::string pick_executor(const std::string& skill, const std::string& pinned) const = 0;
   /// Which run of another task than `task_id` holds one of `resources`, as the executors announced it
   /// (ExecutorDirectory::Holder::describe), or "" when they are free. `started` (a resumed task): only
-  /// its runs of these nodes are its own (ExecutorDirectory::holder).
+  /// its runs of these nodes are its own, and a run of `node_id` itself that this controller did not
+  /// start holds it (ExecutorDirectory::holder).
   virtual std::string holder_of(const std::vector<std::string>& resources, const std::string& task_id,
-                                const std::set<std::string>* started = nullptr) const = 0;
+                                const std::set<std::string>* started = nullptr,
+                                const std::string& node_id = "") const = 0;
   /// How long a START waits for its resources to be freed before the leaf fails RESOURCE_HELD.
   virtual std::chrono::nanoseconds busy_wait() const = 0;
   /// How many PROGRESS events of one run are journaled (the rest are counted in one row at its end).

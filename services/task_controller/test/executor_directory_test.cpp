@@ -139,6 +139,14 @@ TEST(ExecutorDirectory, ARunOfAnotherTaskHoldsItsResourcesUntilItIsAnnouncedEnde
   const std::set<std::string> none, started{"root/1"};
   EXPECT_TRUE(d.holder({"camera"}, "new", &none).has_value());
   EXPECT_FALSE(d.holder({"camera"}, "new", &started).has_value());
+  // A resumed task's START of a node that claims nothing waits while the killed controller's run of that
+  // very node still runs (the executor would refuse it ALREADY_RUNNING); another node's does not.
+  const auto own = d.holder({}, "new", &none, "root/1");
+  ASSERT_TRUE(own.has_value());
+  EXPECT_EQ(own->describe(), "its own earlier run, Localize (task new, node root/1) on executor b, running");
+  EXPECT_FALSE(d.holder({}, "new", &none, "root/2").has_value());
+  EXPECT_FALSE(d.holder({}, "new", &started, "root/1").has_value()) << "this controller's own run";
+  EXPECT_FALSE(d.holder({}, "new", nullptr, "root/1").has_value()) << "not resumed: the executor orders its runs";
 
   c = d.announce("a", true, lib, {"Pick", "Localize"}, {old_pick});
   EXPECT_FALSE(c.runs_changed) << "a re-announcement of the same runs changes nothing";

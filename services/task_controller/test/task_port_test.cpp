@@ -33,8 +33,8 @@ class FakeHost final : public TaskHost {
   const Logger& log() const override { return log_; }
   Task* find_task(const std::string& id) override { return task_ && task_->id() == id ? task_.get() : nullptr; }
   std::string pick_executor(const std::string&, const std::string&) const override { return "exec-1"; }
-  std::string holder_of(const std::vector<std::string>&, const std::string&,
-                        const std::set<std::string>*) const override {
+  std::string holder_of(const std::vector<std::string>&, const std::string&, const std::set<std::string>*,
+                        const std::string&) const override {
     return holder_;
   }
   std::chrono::nanoseconds busy_wait() const override { return busy_wait_; }
