@@ -11,6 +11,7 @@
 #include "rigger/protocol/skill.hpp"
 #include "journal.hpp"
 #include "stage_trace.hpp"
+#include "task_port.hpp"
 
 namespace rigger::bench {
 namespace {
@@ -217,7 +218,7 @@ Reaction measure_reaction(Pattern pattern, const std::string& journal_sync, int 
     const tc::Journal journal(dir + "/journal-" + tag + ".sqlite");
     for (const char* task : {"warmup", "reaction"})
       for (const auto& r : journal.timeline(task, 1000000))
-        if (r.kind == "COMMAND" && r.code == "START_SENT_AGAIN") ++out.sent_again;
+        if (r.kind == "COMMAND" && r.code == tc::codes::kStartSentAgain) ++out.sent_again;
   }
   // Pattern A pairs every FAILURE with a SHUTDOWN; pattern B's last SUCCESS ends the task (no next START).
   const std::size_t n = pattern == Pattern::kMonitorFailure ? causes.size() : std::min(causes.size(), commands.size());

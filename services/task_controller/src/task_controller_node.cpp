@@ -48,11 +48,7 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx, const std::stri
   // A lease expiry also shows as a NOT_ALIVE instance, but waking on the status makes sure we look.
   ctx.loop.on_status(announcements_.handle(), DDS_LIVELINESS_CHANGED_STATUS, [this] { on_announcements(); });
   // An executor's command reader, discovered after its announcement: the STARTs held for it go now.
-  ctx.loop.on_status(endpoint_.default_writer(), DDS_PUBLICATION_MATCHED_STATUS, [this] {
-    dds_publication_matched_status_t st{};
-    dds_get_publication_matched_status(endpoint_.default_writer(), &st);  // resets the status: no re-wake
-    start_held();
-  });
+  ctx.loop.on_status(endpoint_.default_writer(), DDS_PUBLICATION_MATCHED_STATUS, [this] { start_held(); });
   ctx.loop.on_data_now(endpoint_.events(), [this] { on_events(); });
   ctx.loop.on_data(recipes_, [this] { on_recipes(); });
   ctx.loop.on_data(task_commands_, [this] { on_task_commands(); });
@@ -211,26 +207,28 @@ void TaskControllerNode::start_held() {
     if (Task* task = find_task(id)) task->start_held();
 }
 
+void TaskControllerNode::wait_for_executors(const std::string& task_id, std::function<void(bool may_wait)> again) {
+  auto& p = pending_[task_id];
+  p.again = std::move(again);
+  p.timer = ctx_.loop.after(settings_.executor_wait, [this, task_id] {
+    auto it = pending_.find(task_id);
+    if (it == pending_.end()) return;
+    const auto decide = std::move(it->second.again);
+    pending_.erase(it);
+    decide(false);
+  });
+}
+
 void TaskControllerNode::retry_pending() {
   std::vector<std::string> ids;
   for (const auto& [id, p] : pending_) ids.push_back(id);
   for (const auto& id : ids) {
     auto it = pending_.find(id);
     if (it == pending_.end()) continue;
-    const std::string text = it->second.text;
+    const auto decide = std::move(it->second.again);
     ctx_.loop.cancel(it->second.timer);
     pending_.erase(it);
-    handle_recipe(id, text, true);
-  }
-  std::vector<std::string> resumes;
-  for (const auto& [id, p] : pending_resumes_) resumes.push_back(id);
-  for (const auto& id : resumes) {
-    auto it = pending_resumes_.find(id);
-    if (it == pending_resumes_.end()) continue;
-    const PendingResume p = it->second;
-    ctx_.loop.cancel(p.timer);
-    pending_resumes_.erase(it);
-    resume_interrupted(id, p.issuer, p.reason, true);
+    decide(true);
   }
 }
 
@@ -279,16 +277,8 @@ void TaskControllerNode::handle_recipe(const std::string& task_id, const std::st
   Admission admission = admit(request, validator);
   if (admission.outcome == Admission::Outcome::kWait) {
     // Perhaps its executor has not been discovered yet: wait for announcements, then decide.
-    auto& p = pending_[task_id];
-    p.text = text;
     ctx_.log->info("recipe waits for executors task={} first={}", task_id, admission.message);
-    p.timer = ctx_.loop.after(settings_.executor_wait, [this, task_id] {
-      auto it = pending_.find(task_id);
-      if (it == pending_.end()) return;
-      const std::string pending_text = it->second.text;
-      pending_.erase(it);
-      handle_recipe(task_id, pending_text, false);
-    });
+    wait_for_executors(task_id, [this, task_id, text](bool wait) { handle_recipe(task_id, text, wait); });
     return;
   }
   if (admission.outcome == Admission::Outcome::kRejected) {

@@ -34,6 +34,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -98,6 +99,7 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   void on_recipes();
   /// `may_wait`: hold a recipe whose only errors are unknown skills/monitors (see executor_wait_s).
   void handle_recipe(const std::string& task_id, const std::string& text, bool may_wait);
+  /// Decides every pending recipe and RESUME anew (an executor appeared).
   void retry_pending();
   /// Sends every held START that can go now (Task::start_held, for each task that holds one).
   void start_held();
@@ -147,17 +149,17 @@ class TaskControllerNode : public dds::Node, private TaskHost {
 
   ExecutorDirectory executors_;
   std::map<std::string, std::unique_ptr<Task>> tasks_;
+  /// A recipe, or the RESUME of an INTERRUPTED task, whose recipe names a skill or monitor no live
+  /// executor offers yet: `again` decides it anew (may_wait true: on an executor's announcement; false:
+  /// once executor_wait_s has passed).
   struct Pending {
-    std::string text;
+    std::function<void(bool may_wait)> again;
     dds::EventLoop::TimerId timer = 0;
   };
-  std::map<std::string, Pending> pending_;  ///< recipes waiting for an executor, by task id
-  /// RESUMEs of INTERRUPTED tasks whose recipe waits for an executor, by task id.
-  struct PendingResume {
-    std::string issuer, reason;
-    dds::EventLoop::TimerId timer = 0;
-  };
-  std::map<std::string, PendingResume> pending_resumes_;
+  std::map<std::string, Pending> pending_;  ///< by task id
+  /// Holds `again` for `task_id` until an executor announces itself (retry_pending) or executor_wait_s
+  /// has passed.
+  void wait_for_executors(const std::string& task_id, std::function<void(bool may_wait)> again);
   /// An INTERRUPTED task rebuilt for a resume, waiting for the operator's confirmation (not started).
   struct Resuming {
     std::unique_ptr<Task> task;

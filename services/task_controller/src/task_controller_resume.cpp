@@ -46,7 +46,7 @@ void TaskControllerNode::refuse_resume(const std::string& task_id, const std::st
 
 void TaskControllerNode::resume_interrupted(const std::string& task_id, const std::string& issuer,
                                             const std::string& reason, bool may_wait) {
-  if (pending_resumes_.count(task_id)) return;  // waiting for executors: it goes on when they are heard
+  if (pending_.count(task_id)) return;  // waiting for executors: it goes on when they are heard
   if (auto r = resuming_.find(task_id); r != resuming_.end()) {
     if (!r->second.asked) return;  // the world is being re-checked: the prompt comes once it answered
     // Asked again (another riggerctl, or the first one gave up waiting): the same question stands.
@@ -79,15 +79,8 @@ void TaskControllerNode::resume_interrupted(const std::string& task_id, const st
     // A controller just restarted may not have heard every executor yet: wait for their announcements
     // (retry_pending), at most executor_wait_s, before the recipe is judged.
     ctx_.log->info("resume waits for executors task={} first={}", task_id, admission.message);
-    auto& p = pending_resumes_[task_id];
-    p.issuer = issuer;
-    p.reason = reason;
-    p.timer = ctx_.loop.after(settings_.executor_wait, [this, task_id] {
-      auto it = pending_resumes_.find(task_id);
-      if (it == pending_resumes_.end()) return;
-      const PendingResume waited = it->second;
-      pending_resumes_.erase(it);
-      resume_interrupted(task_id, waited.issuer, waited.reason, false);
+    wait_for_executors(task_id, [this, task_id, issuer, reason](bool wait) {
+      resume_interrupted(task_id, issuer, reason, wait);
     });
     return;
   }

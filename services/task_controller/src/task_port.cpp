@@ -383,37 +383,40 @@ void Task::arm_resend(const std::string& node_id, std::uint64_t start_seq, unsig
   });
 }
 
-void Task::resend_start(const std::string& node_id, std::uint64_t start_seq, unsigned sent_again) {
-  auto run = runs_.find(node_id);
-  if (unanswered_.count(node_id) == 0 || run == runs_.end() || run->second.start_seq != start_seq) return;
-  auto index = engine_->find(node_id);
-  if (!index) return;
+const bt::NodeSpec* Task::unanswered_and_running(const std::string& node_id, std::uint64_t start_seq) const {
+  const auto run = runs_.find(node_id);
+  if (unanswered_.count(node_id) == 0 || run == runs_.end() || run->second.start_seq != start_seq) return nullptr;
+  const auto index = engine_->find(node_id);
+  if (!index) return nullptr;
   const auto& st = engine_->status(*index);
-  // The engine stops it, or stopped it: a SHUTDOWN went (or goes) instead.
-  if (st.activation != run->second.activation || st.state != NodeState::kRunning) return;
-  const auto& spec = engine_->spec().nodes[*index];
+  // The engine stops it, or stopped it: its SHUTDOWN went (or goes), and its stop timeout covers it.
+  if (st.activation != run->second.activation || st.state != NodeState::kRunning) return nullptr;
+  return &engine_->spec().nodes[*index];
+}
+
+void Task::resend_start(const std::string& node_id, std::uint64_t start_seq, unsigned sent_again) {
+  const bt::NodeSpec* leaf = unanswered_and_running(node_id, start_seq);
+  if (leaf == nullptr) return;
+  const bt::NodeSpec& spec = *leaf;
+  const LeafRun& run = runs_.at(node_id);
   // The same seq on the same writer: an executor that did take the first one drops this one.
   host_.log()->warn("start sent again task={} node={} executor={} seq={}: no answer yet", id_, node_id,
-                    run->second.executor_id, start_seq);
+                    run.executor_id, start_seq);
+  const double waited_s = std::chrono::duration<double>(host_.start_resend() * ((2u << sent_again) - 1)).count();
   host_.journal({wall_now_s(), id_, node_id, "COMMAND", codes::kStartSentAgain,
-                 spec.leaf + " on " + run->second.executor_id + " seq " + std::to_string(start_seq) +
-                     ": no answer after " + number_text(std::chrono::duration<double>(host_.start_resend() * ((2u << sent_again) - 1)).count()) + " s"});
-  if (!host_.endpoint().send(rigger_skill_SKILL_START, id_, spec, run->second, params_text(spec), ""))
+                 spec.leaf + " on " + run.executor_id + " seq " + std::to_string(start_seq) + ": no answer after " +
+                     number_text(waited_s) + " s"});
+  if (!host_.endpoint().send(rigger_skill_SKILL_START, id_, spec, run, params_text(spec), ""))
     host_.log()->error("skill command write failed task={} node={}", id_, node_id);
   arm_resend(node_id, start_seq, sent_again + 1);
 }
 
 void Task::start_unanswered(const std::string& node_id, std::uint64_t start_seq) {
-  auto u = unanswered_.find(node_id);
-  auto run = runs_.find(node_id);
-  if (u == unanswered_.end() || run == runs_.end() || run->second.start_seq != start_seq) return;
-  unanswered_.erase(u);
-  auto index = engine_->find(node_id);
-  if (!index) return;
-  const auto& st = engine_->status(*index);
-  // A leaf the engine already stops is covered by its stop timeout.
-  if (st.activation != run->second.activation || st.state != NodeState::kRunning) return;
-  const auto& spec = engine_->spec().nodes[*index];
+  const bt::NodeSpec* leaf = unanswered_and_running(node_id, start_seq);
+  const auto run = runs_.find(node_id);
+  if (run != runs_.end() && run->second.start_seq == start_seq) unanswered_.erase(node_id);  // its timer fired
+  if (leaf == nullptr) return;
+  const bt::NodeSpec& spec = *leaf;
   const double waited_s = std::chrono::duration<double>(host_.start_answer_timeout()).count();
   const std::string why = "START of " + spec.leaf + " (seq " + std::to_string(start_seq) + ") got no answer from " +
                           run->second.executor_id + " within " + number_text(waited_s) + " s";

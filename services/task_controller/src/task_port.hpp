@@ -192,6 +192,9 @@ class Task : public bt::Port {
   /// came before it. The executor takes a seq once (executor::CommandOrder).
   static constexpr unsigned kStartResends = 3;
   void arm_resend(const std::string& node_id, std::uint64_t start_seq, unsigned sent_again);
+  /// `node_id`'s leaf while its START `start_seq` is unanswered and the engine still runs that run;
+  /// nullptr otherwise.
+  const bt::NodeSpec* unanswered_and_running(const std::string& node_id, std::uint64_t start_seq) const;
   void resend_start(const std::string& node_id, std::uint64_t start_seq, unsigned sent_again);
   /// The answer timer of `node_id`'s START fired: fails the leaf if that START is still unanswered.
   void start_unanswered(const std::string& node_id, std::uint64_t start_seq);
