@@ -8,7 +8,7 @@
 //    below 1 mm/s. The reference is that lease (command_lease_ms): no executor can know sooner.
 //  - escalation: the skill's executor is frozen (SIGSTOP: a skill that ignores SHUTDOWN) while the
 //    joystick keeps pushing, and the task is cancelled: the controller's SHUTDOWN goes unanswered, and
-//    when the executor's liveliness lapses (its 300 ms lease) or the recipe's stop timeout (0.5 s)
+//    when the executor's liveliness lapses (its 150 ms lease) or the recipe's stop timeout (0.5 s)
 //    passes, whichever is first, it commands the safe stop of the leaf's devices (rigger/safety/stop).
 //    Measured: the freeze → the stop on the wire, and the stop → both below 1 mm/s. Then the executor
 //    is let go (SIGCONT) and the stops are reset (riggerctl estop --reset).
@@ -44,7 +44,7 @@ using rigger::testing::scenario::ScenarioCell;
 constexpr double kMovingMps = 0.02;    // a trial breaks the supervision once both move faster than this
 constexpr double kJogMps = 0.05;       // the joystick's push
 constexpr double kStopTimeoutS = 0.5;  // the recipe's stop timeout (escalation trials)
-constexpr int kCommandLeaseMs = 300;   // task_controller's command_lease_ms (its default; the shipped file sets none)
+constexpr int kCommandLeaseMs = 150;   // task_controller's command_lease_ms (its default; the shipped file sets none)
 
 /// Whether robot tool and crane both move (faster than kMovingMps), as this process reads them. When they
 /// are still again after a stop, ScenarioCell says (mark_stop(), rest_after_mark_s()).
@@ -227,7 +227,7 @@ int main(int argc, char** argv) {
   print_row("controller SIGKILL -> robot and crane < 1 mm/s", kill_ms,
             "command lease " + std::to_string(kCommandLeaseMs) + " ms");
   print_row("executor frozen, task cancelled -> safe stop written", freeze_to_stop_ms,
-            "executor lease " + std::to_string(rigger::dds::kDefaultLease.count()) + " ms, stop timeout " +
+            "executor lease " + std::to_string(rigger::dds::liveliness_lease().count()) + " ms, stop timeout " +
                 std::to_string(static_cast<int>(kStopTimeoutS * 1000)) + " ms");
   print_row("safe stop written -> robot and crane < 1 mm/s", stop_ms, "");
   return 0;

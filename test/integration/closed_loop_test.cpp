@@ -24,6 +24,7 @@
 #include "cell_sim_test_support.hpp"
 #include "control_config.hpp"
 #include "rigger/cell_config/cell_cad.hpp"
+#include "rigger/dds/liveliness.hpp"
 #include "rigger/dds/service_state.hpp"
 #include "rigger/protocol/admittance.hpp"
 #include "rigger/protocol/crane.hpp"
@@ -99,8 +100,8 @@ class ClosedLoopTest : public MultiProcessTest {
     // The test is the skill here: it announces itself, and its commands name it as their source.
     commander_ = std::make_unique<dds::ServiceAnnouncer>(p, kCommanderId, "integration_test");
     commander_->announce(dds::ServiceStatus::kReady);
-    // As run_service does: the announcement's liveliness is asserted from the loop (MANUAL_BY_PARTICIPANT).
-    cell_.loop().every(dds::kDefaultLease / 3, [&p] { p.assert_liveliness(); });
+    // As run_service does: the announcement's liveliness is asserted (MANUAL_BY_PARTICIPANT).
+    liveliness_ = std::make_unique<dds::LivelinessAsserter>(p, dds::liveliness_lease() / 3, 0ms);
 
     auto& loop = cell_.loop();
     loop.on_data(*truth_reader_, [this] {
@@ -324,6 +325,7 @@ class ClosedLoopTest : public MultiProcessTest {
   std::unique_ptr<dds::Writer<rigger_vision_TrackerCommand>> tracker_command_writer_;
   std::unique_ptr<dds::Writer<rigger_admittance_AdmittanceCommand>> admittance_writer_;
   std::unique_ptr<dds::ServiceAnnouncer> commander_;
+  std::unique_ptr<dds::LivelinessAsserter> liveliness_;
 
   Eigen::Isometry3d pose_world_base_ = Eigen::Isometry3d::Identity();
   cell::CellFile cell_file_;

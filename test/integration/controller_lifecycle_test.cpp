@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "controller_test_support.hpp"
+#include "rigger/dds/liveliness.hpp"
 #include "rigger/safety/safe_stop.hpp"
 
 namespace rigger::testing::controller {
@@ -294,7 +295,7 @@ TEST_F(LifecycleTest, AStartNobodyAnswersFailsItsLeafInsteadOfHangingTheTask) {
   deaf["name"] = "Deaf";
   const std::string deaf_library = json{{"library_version", 1}, {"skills", {deaf}}}.dump();
   dds::Writer<rigger_skill_ExecutorAnnouncement> mute(p, protocol::skill::kExecutors);
-  const auto lease = cell_.loop().every(dds::kDefaultLease / 3, [&p] { p.assert_liveliness(); });
+  auto lease = std::make_unique<dds::LivelinessAsserter>(p, dds::liveliness_lease() / 3, 0ms);
   rigger_skill_ExecutorAnnouncement a{};
   const std::string id = "mute", host = "test";
   const std::vector<std::string> skills = {"Deaf"};
@@ -312,7 +313,7 @@ TEST_F(LifecycleTest, AStartNobodyAnswersFailsItsLeafInsteadOfHangingTheTask) {
   const auto submitted = Clock::now();
   submit("deaf", recipe("deaf", {{"type", "Fallback"}, {"children", {unanswered, skill("heard", "target")}}}));
   ASSERT_TRUE(wait_finished("deaf")) << cell_.logs();
-  cell_.loop().cancel(lease);
+  lease.reset();
   EXPECT_EQ(last("deaf").state, rigger_task_TASK_SUCCEEDED) << last("deaf").message;
 
   const CommandSeen* start = command_at("deaf", "root/0", rigger_skill_SKILL_START);

@@ -67,5 +67,16 @@ TEST_F(ServiceConfigTest, BadCommandLine) {
   EXPECT_NE(p.log().find("--domain"), std::string::npos) << p.log();
 }
 
+// The liveliness lease every service offers can be lengthened for a loaded machine; a value that is not
+// a lease stops the service at start, naming the variable and what it expects.
+TEST_F(ServiceConfigTest, BadLivelinessLeaseInTheEnvironment) {
+  auto& p = cell_.start("echo", "echo", {}, true, {{"RIGGER_LIVELINESS_LEASE_MS", "50"}});
+  auto st = p.wait(20s);
+  ASSERT_TRUE(st.has_value()) << "echo did not exit on a bad lease";
+  EXPECT_EQ(st->code, 2);
+  EXPECT_NE(p.log().find("RIGGER_LIVELINESS_LEASE_MS='50'"), std::string::npos) << p.log();
+  EXPECT_NE(p.log().find("[100, 10000]"), std::string::npos) << p.log();
+}
+
 }  // namespace
 }  // namespace rigger::testing

@@ -1,5 +1,8 @@
 #include "rigger/dds/qos.hpp"
 
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace rigger::dds {
@@ -44,6 +47,21 @@ Qos& Qos::transient_local() {
 Qos& Qos::manual_liveliness(std::chrono::milliseconds lease) {
   dds_qset_liveliness(qos_, DDS_LIVELINESS_MANUAL_BY_PARTICIPANT, DDS_MSECS(lease.count()));
   return *this;
+}
+
+std::chrono::milliseconds liveliness_lease() {
+  static const std::chrono::milliseconds lease = [] {
+    const char* env = std::getenv("RIGGER_LIVELINESS_LEASE_MS");
+    if (!env || !*env) return kDefaultLease;
+    char* end = nullptr;
+    const long v = std::strtol(env, &end, 10);
+    if (*end != '\0' || v < 100 || v > 10000) {
+      throw std::invalid_argument(std::string("RIGGER_LIVELINESS_LEASE_MS='") + env +
+                                  "' is not a liveliness lease in milliseconds, an integer in [100, 10000]");
+    }
+    return std::chrono::milliseconds(v);
+  }();
+  return lease;
 }
 
 namespace qos {

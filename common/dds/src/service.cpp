@@ -9,6 +9,8 @@
 #include <iostream>
 #include <thread>
 
+#include "rigger/dds/liveliness.hpp"
+
 namespace rigger::dds {
 namespace {
 
@@ -70,6 +72,7 @@ int run_service(int argc, char** argv, const ServiceSpec& spec) {
   if (spec.add_options) spec.add_options(app);
   try {
     options.domain = domain_from_environment(0);
+    liveliness_lease();  // a bad $RIGGER_LIVELINESS_LEASE_MS is a usage error, said here
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kExitOk : kExitUsage;
@@ -96,23 +99,33 @@ int run_service(int argc, char** argv, const ServiceSpec& spec) {
     announcer.announce(ServiceStatus::kStarting);
     signals.start(loop, log);
     loop.on_status(announcer.writer_handle(), DDS_LIVELINESS_LOST_STATUS, [&] {
-      log->warn("liveliness lost: the work loop stalled longer than the lease; announcing again");
+      log->warn(
+          "liveliness lost: no assertion within the lease (the work loop stalled longer than {} ms, or "
+          "the machine starved the asserting thread); announcing again",
+          kLoopStallLimit.count());
       announcer.reannounce();
     });
 
+    // Liveliness is asserted from a thread of its own every third of the shortest lease offered (two
+    // assertions' margin): while the node is built, and then as long as the loop ticked within
+    // kLoopStallLimit. A killed process is seen within the lease, a hung loop within the stall limit
+    // plus the lease, and a loop that stalls for less (a slow write, a starved machine) costs nobody a
+    // lease.
     ServiceContext ctx{options, log, participant, loop, announcer, config};
+    LivelinessAsserter liveliness(participant, ctx.liveliness_lease / 3);
     std::unique_ptr<Node> node = spec.make_node(ctx);
-    // The loop's own periodic work on one timer, so that an idle service wakes for nothing else of its
-    // own. Liveliness is asserted from the work loop (if the loop hangs, the lease runs out and others
-    // see it) every third of the shortest lease offered: two assertions' margin on a loaded machine, and
-    // no more often. Every kServiceRefreshPeriod of ticks it re-announces: a reader starved of CPU may
-    // expire a lease before it processed the liveliness messages queued for it, and the instance then
-    // stays NOT_ALIVE until a new sample; one small sample a second heals such a false loss.
-    const auto period = ctx.liveliness_lease / 3;
-    const auto ticks_per_refresh = std::max<std::chrono::milliseconds::rep>(1, kServiceRefreshPeriod / period);
+    liveliness.set_period(ctx.liveliness_lease / 3);  // the node may have offered a shorter lease
+    // The loop's own periodic work is one timer, four times per stall limit, so that an idle service
+    // wakes for nothing else of its own: it shows the loop's progress, and every kServiceRefreshPeriod it
+    // re-announces: a reader starved of CPU may expire a lease before it processed the liveliness
+    // messages queued for it, and the instance then stays NOT_ALIVE until a new sample; one small sample
+    // a second heals such a false loss.
+    const auto tick = std::min<std::chrono::milliseconds>(kLoopStallLimit / 4, kServiceRefreshPeriod);
+    const auto ticks_per_refresh = std::max<std::chrono::milliseconds::rep>(1, kServiceRefreshPeriod / tick);
     std::chrono::milliseconds::rep ticks = 0;
-    loop.every(period, [&participant, &announcer, &ticks, ticks_per_refresh] {
-      participant.assert_liveliness();
+    liveliness.loop_alive();
+    loop.every(tick, [&liveliness, &announcer, &ticks, ticks_per_refresh] {
+      liveliness.loop_alive();
       if (++ticks % ticks_per_refresh == 0) announcer.reannounce();
     });
     announcer.announce(ServiceStatus::kReady);

@@ -200,7 +200,7 @@ std::string catalog_markdown() {
         "| `state()` | reliable | keep-last 1 per instance | transient-local | | latest state, late joiners see it "
         "at once |\n"
         "| `announcements(lease)` | reliable | keep-last 1 | transient-local | MANUAL_BY_PARTICIPANT liveliness, "
-        "lease 300 ms | who is alive; loss seen within the lease |\n"
+        "lease 150 ms (`dds::liveliness_lease()`) | who is alive; loss seen within the lease |\n"
         "| `sensor_stream()` | best effort | keep-last 1 | volatile | | high-rate data where only the newest "
         "matters |\n"
         "| `setpoints()` | reliable | keep-last 1 | volatile | | velocity setpoints: newest wins, age checked on "

@@ -27,6 +27,7 @@
 #include "admittance_node.hpp"
 #include "rigger/crane_protocol/crane_config.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/liveliness.hpp"
 #include "rigger/plc/kinematic_crane_axes.hpp"
 #include "rigger/plc/plc_emulator.hpp"
 #include "rigger/protocol/admittance.hpp"
@@ -57,7 +58,7 @@ class NodeThread {
         context_{options_, null_logger(), participant_, loop_, announcer_, Config::load(config_path)},
         node_(context_) {
     announcer_.announce(dds::ServiceStatus::kReady);
-    loop_.every(dds::kDefaultLease / 3, [this] { participant_.assert_liveliness(); });
+    liveliness_ = std::make_unique<dds::LivelinessAsserter>(participant_, dds::liveliness_lease() / 3, 0ms);
     thread_ = std::thread([this] { loop_.run(); });
   }
   ~NodeThread() {
@@ -70,6 +71,7 @@ class NodeThread {
   dds::Participant participant_;
   dds::EventLoop loop_;
   dds::ServiceAnnouncer announcer_;
+  std::unique_ptr<dds::LivelinessAsserter> liveliness_;
   dds::ServiceContext context_;
   AdmittanceNode node_;
   std::thread thread_;

@@ -9,6 +9,7 @@
 
 #include "admittance_node.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/liveliness.hpp"
 #include "rigger/protocol/admittance.hpp"
 #include "rigger/protocol/crane.hpp"
 #include "rigger/protocol/robot.hpp"
@@ -36,8 +37,8 @@ class AdmittanceNodeTest : public ::testing::Test {
         tracker_writer_(participant_, protocol::vision::kTrackerPose),
         crane_state_writer_(participant_, protocol::crane::kState) {
     announcer_.announce(dds::ServiceStatus::kReady);  // the commands' source ("admittance-test") is alive
-    // As run_service does: the announcements' liveliness is asserted from the loop (MANUAL_BY_PARTICIPANT).
-    loop_.every(dds::kDefaultLease / 3, [this] { participant_.assert_liveliness(); });
+    // As run_service does: the announcements' liveliness is asserted (MANUAL_BY_PARTICIPANT).
+    liveliness_ = std::make_unique<dds::LivelinessAsserter>(participant_, dds::liveliness_lease() / 3, 0ms);
     node_ = std::make_unique<AdmittanceNode>(context_);
     loop_.on_data(twists_, [this] {
       twists_.take([this](const rigger_sensing_TwistCommand& t, const dds_sample_info_t&) {
@@ -169,6 +170,7 @@ class AdmittanceNodeTest : public ::testing::Test {
   dds::Participant participant_;
   dds::EventLoop loop_;
   dds::ServiceAnnouncer announcer_;
+  std::unique_ptr<dds::LivelinessAsserter> liveliness_;
   dds::ServiceContext context_;
   dds::Writer<rigger_sensing_WrenchStamped> wrench_writer_;
   dds::Writer<rigger_robot_RobotState> robot_state_writer_;

@@ -95,7 +95,7 @@ void copy3(const Eigen::Vector3d& v, double (&out)[N]) {
 // The physics thread writes these every step or every few: with a liveliness lease per writer,
 // asserted by each write, readers see a hung physics thread within the lease, not only a dead process.
 dds::Qos written_by_physics(dds::Qos qos) {
-  dds_qset_liveliness(qos.get(), DDS_LIVELINESS_MANUAL_BY_TOPIC, DDS_MSECS(dds::kDefaultLease.count()));
+  dds_qset_liveliness(qos.get(), DDS_LIVELINESS_MANUAL_BY_TOPIC, DDS_MSECS(dds::kStateStreamLease.count()));
   return qos;
 }
 

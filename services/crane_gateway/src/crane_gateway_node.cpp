@@ -22,7 +22,7 @@ std::chrono::milliseconds get_ms(const Config& config, const std::string& key, i
 // write, readers see a hung cycle thread within the lease, not only a dead process.
 dds::Qos state_qos() {
   dds::Qos qos = dds::qos::state();
-  dds_qset_liveliness(qos.get(), DDS_LIVELINESS_MANUAL_BY_TOPIC, DDS_MSECS(dds::kDefaultLease.count()));
+  dds_qset_liveliness(qos.get(), DDS_LIVELINESS_MANUAL_BY_TOPIC, DDS_MSECS(dds::kStateStreamLease.count()));
   return qos;
 }
 

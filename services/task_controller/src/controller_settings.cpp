@@ -1,5 +1,7 @@
 #include "controller_settings.hpp"
 
+#include "rigger/dds/qos.hpp"
+
 namespace rigger::task_controller {
 namespace {
 
@@ -18,7 +20,8 @@ ControllerSettings read_settings(const Config& config, const std::string& journa
   if (!journal_path.empty()) s.journal_path = journal_path;
   s.journal_sync =
       config.get_enum("journal_sync", "normal", {"normal", "full"}) == "full" ? JournalSync::kFull : JournalSync::kNormal;
-  s.command_lease = std::chrono::milliseconds(config.get_in_range<unsigned>("command_lease_ms", 300U, 200U, 10000U));
+  s.command_lease = std::chrono::milliseconds(config.get_in_range<unsigned>(
+      "command_lease_ms", static_cast<unsigned>(dds::liveliness_lease().count()), 100U, 10000U));
   s.validator.default_stop_timeout =
       bt::Seconds(config.get_in_range<double>("default_stop_timeout_s", 5.0, 0.01, 600.0));
   s.validator.limits.max_bytes = config.get_in_range<unsigned>(

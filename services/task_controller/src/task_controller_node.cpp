@@ -14,7 +14,7 @@ namespace rigger::task_controller {
 namespace {
 
 /// Offers the command writer's liveliness lease to run_service, which asserts the participant's
-/// liveliness every third of it when it is the shortest (a 200 ms lease needs 67 ms).
+/// liveliness every third of it when it is the shortest (a 100 ms lease: every 33 ms).
 std::chrono::milliseconds offered(dds::ServiceContext& ctx, std::chrono::milliseconds lease) {
   ctx.offer_liveliness_lease(lease);
   return lease;

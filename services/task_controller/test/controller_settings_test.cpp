@@ -11,7 +11,7 @@ TEST(ControllerSettingsTest, DefaultsWithoutKeys) {
   const ControllerSettings s = read_settings(Config::empty());
   EXPECT_EQ(s.journal_path, "task_controller_journal.sqlite");
   EXPECT_EQ(s.journal_sync, JournalSync::kNormal);
-  EXPECT_EQ(s.command_lease, 300ms);
+  EXPECT_EQ(s.command_lease, dds::liveliness_lease());  // 150 ms unless $RIGGER_LIVELINESS_LEASE_MS
   EXPECT_EQ(s.executor_wait, 2s);
   EXPECT_EQ(s.condition_timeout, 1000ms);
   EXPECT_EQ(s.start_answer_timeout, 5s);
@@ -50,7 +50,7 @@ TEST(ControllerSettingsTest, ReadsEveryKey) {
 }
 
 TEST(ControllerSettingsTest, RefusesOutOfRangeAndUnknownKeys) {
-  EXPECT_THROW(read_settings(Config::parse(R"({"command_lease_ms": 100})", "tc.json")), ConfigError);
+  EXPECT_THROW(read_settings(Config::parse(R"({"command_lease_ms": 50})", "tc.json")), ConfigError);
   EXPECT_THROW(read_settings(Config::parse(R"({"journal_sync": "sometimes"})", "tc.json")), ConfigError);
   EXPECT_THROW(read_settings(Config::parse(R"({"resume_tolerance_mm": 0})", "tc.json")), ConfigError);
   try {

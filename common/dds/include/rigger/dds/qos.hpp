@@ -37,8 +37,19 @@ class Qos {
   dds_qos_t* qos_;
 };
 
-/// The default liveliness lease of announcement writers (services, executors).
-inline constexpr std::chrono::milliseconds kDefaultLease{300};
+/// The default liveliness lease of announcement writers (services, executors): how long a killed
+/// commander's motion can go on before its peers stop it. Asserted from a thread of its own
+/// (LivelinessAsserter), so that it can be this short without a loop's stall passing for a death.
+inline constexpr std::chrono::milliseconds kDefaultLease{150};
+/// The liveliness lease of this process's announcement writers: kDefaultLease, or
+/// $RIGGER_LIVELINESS_LEASE_MS (an integer in [100, 10000]) where a machine is loaded beyond what the
+/// default's 100 ms margin can bear (the test suite, ~2.5 simulated cells per core: docs/testing.md).
+/// @throws std::invalid_argument naming the variable when its value is not such an integer.
+std::chrono::milliseconds liveliness_lease();
+/// The lease of state streams whose every write asserts it (crane and cell state, 50 Hz and faster):
+/// readers see a hung writing thread within it. Longer than kDefaultLease: nothing stops on it that a
+/// shorter lease would stop sooner (the devices have their own command watchdogs).
+inline constexpr std::chrono::milliseconds kStateStreamLease{300};
 
 namespace qos {
 /// Commands that must all arrive, in order: reliable, keep-all, volatile (SkillCommand, TaskCommand, Recipe).
@@ -56,7 +67,7 @@ Qos sensor_stream();
 /// Velocity setpoints: reliable, keep-last 1, volatile (the newest command wins; its age is checked on receipt).
 Qos setpoints();
 /// Liveliness-monitored announcements: state() plus MANUAL_BY_PARTICIPANT liveliness with `lease`.
-Qos announcements(std::chrono::milliseconds lease = kDefaultLease);
+Qos announcements(std::chrono::milliseconds lease = liveliness_lease());
 /// The profile a topic descriptor names (announcements with the default lease).
 Qos of(protocol::QosProfile profile);
 }  // namespace qos

@@ -10,9 +10,10 @@
 /// run_service parses the common options (--id, --domain, --config, --log-level), sets up the logger,
 /// creates the participant and the event loop, announces STARTING, builds the node, announces READY,
 /// runs the loop until SIGINT/SIGTERM, announces STOPPING and destroys the node (whose destructor
-/// brings its devices to a safe state). It asserts the participant's liveliness from the loop, so a
-/// hung loop is seen by others within the lease: every third of the shortest lease the participant's
-/// writers offer (ServiceContext::offer_liveliness_lease), and no more often.
+/// brings its devices to a safe state). It asserts the participant's liveliness from a thread of its
+/// own (LivelinessAsserter) every third of the shortest lease the participant's writers offer
+/// (ServiceContext::offer_liveliness_lease), while the loop shows progress: a killed process is seen
+/// by others within the lease, a hung loop within kLoopStallLimit plus the lease.
 ///
 /// Exit codes: 0 clean stop; 1 runtime failure; 2 bad command line or configuration.
 
@@ -60,8 +61,8 @@ struct ServiceContext {
   ServiceAnnouncer& announcer;
   Config config;  ///< the --config file (or empty); the node calls config.finish() after reading it
   /// The shortest MANUAL_BY_PARTICIPANT liveliness lease this participant's writers offer: the service
-  /// announcer's (kDefaultLease) unless the node offers a shorter one.
-  std::chrono::milliseconds liveliness_lease = kDefaultLease;
+  /// announcer's (dds::liveliness_lease()) unless the node offers a shorter one.
+  std::chrono::milliseconds liveliness_lease = dds::liveliness_lease();
 
   /// A writer of the node offers `lease` (MANUAL_BY_PARTICIPANT): run_service asserts the participant's
   /// liveliness every third of the shortest lease offered. Call while the node is built.

@@ -23,7 +23,7 @@ class ServiceAnnouncer {
  public:
   /// @throws DdsError.
   ServiceAnnouncer(const Participant& participant, std::string service_id, std::string kind,
-                   std::chrono::milliseconds lease = kDefaultLease);
+                   std::chrono::milliseconds lease = liveliness_lease());
   /// Unregisters the instance, so readers see the service leave at once rather than after the lease.
   ~ServiceAnnouncer();
   ServiceAnnouncer(const ServiceAnnouncer&) = delete;

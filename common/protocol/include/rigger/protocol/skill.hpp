@@ -33,7 +33,7 @@ inline constexpr Topic<rigger_skill_SkillCommand> kCommand{"rigger/skill/command
                                                            "skill_executor, monitor_host",
                                                            "(START with params JSON / SHUTDOWN with reason / PAUSE / RESUME, seq)",
                                                            "the controller's writer adds MANUAL_BY_PARTICIPANT "
-                                                           "liveliness (command_lease_ms, 300 ms): executors shut "
+                                                           "liveliness (command_lease_ms, 150 ms): executors shut "
                                                            "down the runs of a controller that lost it "
                                                            "([safety.md](safety.md)); a leaf's commands go in "
                                                            "its executor's partition rigger.executor.<id> "
