@@ -1,5 +1,7 @@
 #include "rigger/base/bounded_json.hpp"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -137,7 +139,8 @@ TEST(BoundedJson, FileErrorsNameTheFile) {
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.error->to_string().find("/nonexistent/rigger/file.json"), std::string::npos);
 
-  const auto path = std::filesystem::temp_directory_path() / "rigger_bounded_json_test.json";
+  const auto path =
+      std::filesystem::temp_directory_path() / ("rigger_bounded_json_test-" + std::to_string(getpid()) + ".json");
   {
     std::ofstream out(path);
     out << "{\"a\": [1, 2,]}";

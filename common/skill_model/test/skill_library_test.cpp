@@ -1,5 +1,7 @@
 #include "rigger/skill/skill_library.hpp"
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -39,7 +41,8 @@ TEST(SkillLibrary, JsonRoundTrip) {
 }
 
 TEST(SkillLibrary, FileRoundTrip) {
-  const auto path = std::filesystem::temp_directory_path() / "rigger_skill_library_test.json";
+  const auto path =
+      std::filesystem::temp_directory_path() / ("rigger_skill_library_test-" + std::to_string(getpid()) + ".json");
   const auto lib = SkillLibrary::from_json(library_json());
   lib.save_file(path);
   const auto loaded = SkillLibrary::load_file(path);
@@ -48,7 +51,8 @@ TEST(SkillLibrary, FileRoundTrip) {
 }
 
 TEST(SkillLibrary, LoadFileErrorsNameFileAndPlace) {
-  const auto path = std::filesystem::temp_directory_path() / "rigger_skill_library_bad.json";
+  const auto path =
+      std::filesystem::temp_directory_path() / ("rigger_skill_library_bad-" + std::to_string(getpid()) + ".json");
   {
     std::ofstream out(path);
     out << "{\"library_version\": 1, \"skills\": [\n  {\"name\": \"X\", \"kind\": \"skill\",}\n]}";
