@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <optional>
@@ -98,6 +99,16 @@ class ScenarioCell {
   }
 
  private:
+  /// The QoS of a topic whose every sample goes into the stop timeline: its own profile, with a history
+  /// deep enough that samples wait in the reader while the test thread is busy (killing a process, say);
+  /// with the topic's keep-last 1 they were overwritten, and the timeline had gaps of up to 400 ms.
+  template <typename T>
+  static dds::Qos traced(const protocol::Topic<T>& topic) {
+    dds::Qos q = dds::qos::of(topic.qos);
+    q.keep_last(256);
+    return q;
+  }
+
   ScenarioCell(Cell& cell, std::vector<std::string> operator_rules, bool scripted_operator,
                std::vector<std::string> started_elsewhere, bool behind_ros2_bridge = false, std::string pki_dir = "")
       : cell_(cell),
@@ -108,13 +119,13 @@ class ScenarioCell {
         status_(cell.participant(), protocol::task::kStatus.name, dds::qos::state()),
         nodes_(cell.participant(), protocol::task::kNodeStatus.name, dds::qos::state_changes()),
         truth_(cell.participant(), protocol::sim::kGroundTruth),
-        robot_(cell.participant(), protocol::robot::kState),
+        robot_(cell.participant(), protocol::robot::kState, traced(protocol::robot::kState)),
         gripper_(cell.participant(), protocol::robot::kGripperState),
         crane_(cell.participant(), protocol::crane::kState),
         commands_(cell.participant(), protocol::skill::kCommand, dds::qos::all_commands()),
-        cmd_twist_(cell.participant(), protocol::robot::kCmdTwist),
-        crane_cmd_(cell.participant(), protocol::crane::kCmdVelocity),
-        admittance_(cell.participant(), protocol::admittance::kState) {
+        cmd_twist_(cell.participant(), protocol::robot::kCmdTwist, traced(protocol::robot::kCmdTwist)),
+        crane_cmd_(cell.participant(), protocol::crane::kCmdVelocity, traced(protocol::crane::kCmdVelocity)),
+        admittance_(cell.participant(), protocol::admittance::kState, traced(protocol::admittance::kState)) {
     if (pki_dir_.empty()) recipes_.emplace(cell.participant(), protocol::task::kRecipe.name, dds::qos::commands());
     cell.loop().on_data(commands_, [this] {
       commands_.take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
@@ -140,6 +151,9 @@ class ScenarioCell {
       });
     });
     sim_.on_status([this](const SimStatusView& v) {
+      if (sim_clock_.size() == kSimClockSamples)
+        sim_clock_.erase(sim_clock_.begin(), sim_clock_.begin() + kSimClockSamples / 2);
+      sim_clock_.emplace_back(v.stamp, v.sim_time_s);
       trace(StopSample::kCraneSpeed, v.crane_velocity_mps.norm(), v.stamp);
       trace(StopSample::kPlcSetpoint, v.plc_setpoint_mps.norm(), v.stamp);
     });
@@ -224,6 +238,19 @@ class ScenarioCell {
 
  public:
   SimChannel& sim() { return sim_; }
+  /// The physics' simulated time at wall time `t`, interpolated between the simulator's status samples
+  /// (the latest few minutes of them); nullopt outside them. A loaded machine can make the physics fall
+  /// behind real time and skip ahead: a plant then moves for less simulated time than the wall time a
+  /// velocity was commanded for, as no real plant does.
+  std::optional<double> sim_time_at(WallTime t) const {
+    const auto after = std::lower_bound(sim_clock_.begin(), sim_clock_.end(), t,
+                                        [](const auto& sample, WallTime w) { return sample.first < w; });
+    if (after == sim_clock_.begin() || after == sim_clock_.end()) return std::nullopt;
+    const auto before = std::prev(after);
+    const double span = std::chrono::duration<double>(after->first - before->first).count();
+    const double f = span > 0.0 ? std::chrono::duration<double>(t - before->first).count() / span : 0.0;
+    return before->second + f * (after->second - before->second);
+  }
 
   /// Follows task `task_id` submitted by someone else (submit() follows its own).
   void watch(const std::string& task_id) {
@@ -603,6 +630,8 @@ class ScenarioCell {
   };
   std::optional<CpuMark> insertion_started_, insertion_ended_;
   SimChannel sim_;
+  static constexpr std::size_t kSimClockSamples = 60000;
+  std::vector<std::pair<WallTime, double>> sim_clock_;      ///< (status stamp, simulated time), in stamp order
   std::optional<dds::Writer<rigger_task_Recipe>> recipes_;  // none when secured
   dds::Reader<rigger_task_TaskStatus> status_;
   dds::Reader<rigger_task_NodeStatus> nodes_;
