@@ -44,7 +44,6 @@ using rigger::testing::scenario::ScenarioCell;
 constexpr double kMovingMps = 0.02;    // a trial breaks the supervision once both move faster than this
 constexpr double kJogMps = 0.05;       // the joystick's push
 constexpr double kStopTimeoutS = 0.5;  // the recipe's stop timeout (escalation trials)
-constexpr int kCommandLeaseMs = 150;   // task_controller's command_lease_ms (its default; the shipped file sets none)
 
 /// Whether robot tool and crane both move (faster than kMovingMps), as this process reads them. When they
 /// are still again after a stop, ScenarioCell says (mark_stop(), rest_after_mark_s()).
@@ -225,7 +224,8 @@ int main(int argc, char** argv) {
       trials, cell.domain_id());
   std::printf("%-52s %8s %8s %8s %6s  %s\n", "", "p50 ms", "p99 ms", "max ms", "trials", "reference");
   print_row("controller SIGKILL -> robot and crane < 1 mm/s", kill_ms,
-            "command lease " + std::to_string(kCommandLeaseMs) + " ms");
+            "command lease " + std::to_string(rigger::dds::liveliness_lease().count()) +
+                " ms (command_lease_ms: its default, which the shipped file keeps)");
   print_row("executor frozen, task cancelled -> safe stop written", freeze_to_stop_ms,
             "executor lease " + std::to_string(rigger::dds::liveliness_lease().count()) + " ms, stop timeout " +
                 std::to_string(static_cast<int>(kStopTimeoutS * 1000)) + " ms");
