@@ -86,15 +86,31 @@ void GuideCellTest::guide(const std::string& recipe, std::vector<std::string> ru
   std::vector<JoystickSample> joystick;
   dds::Reader<rigger_sensing_TwistCommand> joystick_reader(cell_.participant(), protocol::operator_ui::kJoystick,
                                                            dds::qos::setpoints().keep_last(256));
+  // What admittance control commanded the robot (base frame), for the report: the distance its twists add up to.
+  double twist_x_m = 0.0;
+  std::optional<std::pair<WallTime, double>> last_twist;
+  dds::Reader<rigger_sensing_TwistCommand> twist_reader(cell_.participant(), protocol::robot::kCmdTwist,
+                                                        dds::qos::setpoints().keep_last(1024));
+  cell_.loop().on_data(twist_reader, [&] {
+    twist_reader.take([&](const rigger_sensing_TwistCommand& t, const dds_sample_info_t&) {
+      const WallTime stamp = dds::to_domain(t.header.stamp);
+      if (last_twist) {
+        const double dt = std::chrono::duration<double>(stamp - last_twist->first).count();
+        twist_x_m += last_twist->second * std::min(dt, static_cast<double>(t.timeout_s));
+      }
+      last_twist = std::make_pair(stamp, t.twist.linear.x);
+    });
+  });
+  const Eigen::Vector3d crane_before = s.crane_position();
   cell_.loop().on_data(joystick_reader, [&] {
     joystick_reader.take([&](const rigger_sensing_TwistCommand& t, const dds_sample_info_t&) {
       joystick.push_back({dds::to_domain(t.header.stamp), t.twist.linear.x});
     });
   });
   // Still for 3 s (the skill takes the crane and engages admittance meanwhile), then +x for 4 s, then zero.
-  auto jog = start_riggerctl(cell_, "jog",
-                             {"jog", "--script", "stop:3s,x+" + std::to_string(kJogSpeedMps) + ":" +
-                                                     std::to_string(kJogSeconds) + "s"});
+  auto jog = start_riggerctl(
+      cell_, "jog",
+      {"jog", "--script", "stop:3s,x+" + std::to_string(kJogSpeedMps) + ":" + std::to_string(kJogSeconds) + "s"});
   ASSERT_TRUE(cell_.wait_until([&] { return !jog->running(); }, 30s)) << "the jog script did not end";
   const auto jog_status = jog->wait(1s);
   ASSERT_TRUE(jog_status && jog_status->exited && jog_status->code == 0) << jog->log();
@@ -102,6 +118,7 @@ void GuideCellTest::guide(const std::string& recipe, std::vector<std::string> ru
 
   ASSERT_TRUE(s.wait_node("guide load", rigger_task_NODE_SUCCESS, 30s)) << s.task_summary();
   const Eigen::Vector3d at_done = s.truth("load")->translation();
+  const Eigen::Vector3d crane_travel = s.crane_position() - crane_before;
   ASSERT_TRUE(s.wait_task_end(kTaskTimeout)) << "the task did not end in time: " << s.task_summary();
   std::printf("--- %s: task %s after %.1f s\n%s", recipe.c_str(), s.task_code().c_str(), s.task_seconds(),
               s.durations().c_str());
@@ -120,12 +137,17 @@ void GuideCellTest::guide(const std::string& recipe, std::vector<std::string> ru
       "until 'done', %.1f mm in all\n",
       along * 1000.0, kJogSpeedMps * kJogSeconds * 1000.0, joystick.size(), commanded * 1000.0, fallbacks,
       across * 1000.0, drift * 1000.0, along_at_done * 1000.0);
+  std::printf(
+      "  until 'done': admittance's twists to the robot add up to %.1f mm along its x; the crane's axes "
+      "moved (%.1f, %.1f, %.1f) mm\n",
+      twist_x_m * 1000.0, crane_travel.x() * 1000.0, crane_travel.y() * 1000.0, crane_travel.z() * 1000.0);
   ASSERT_GT(joystick.size(), 100U) << "the test did not read the joystick's samples";
   ASSERT_GT(commanded, 0.75 * kJogSpeedMps * kJogSeconds) << "the joystick or the physics lost much of the jog";
   // Where the joystick put it, once robot and crane came to rest: what it commanded, within 5 mm.
   EXPECT_NEAR(along_at_done, commanded, 0.005) << "the load is not where the joystick put it";
   EXPECT_LT((at_done - before - along_at_done * pushed).norm(), 0.005) << "the load went sideways";
-  EXPECT_EQ(s.gripper_energized(), !releases) << (releases ? "the robot should have let go" : "the load must stay held");
+  EXPECT_EQ(s.gripper_energized(), !releases)
+      << (releases ? "the robot should have let go" : "the load must stay held");
   // The load moved where no camera saw it: CollaborativeMoveLoad told the world model.
   const auto localized = world.localized("load");
   ASSERT_TRUE(localized.has_value()) << "the world model did not answer";

@@ -154,6 +154,7 @@ class ScenarioCell {
       if (sim_clock_.size() == kSimClockSamples)
         sim_clock_.erase(sim_clock_.begin(), sim_clock_.begin() + kSimClockSamples / 2);
       sim_clock_.emplace_back(v.stamp, v.sim_time_s);
+      crane_position_ = v.crane_position_m;
       trace(StopSample::kCraneSpeed, v.crane_velocity_mps.norm(), v.stamp);
       trace(StopSample::kPlcSetpoint, v.plc_setpoint_mps.norm(), v.stamp);
     });
@@ -242,6 +243,8 @@ class ScenarioCell {
   /// (the latest few minutes of them); nullopt outside them. A loaded machine can make the physics fall
   /// behind real time and skip ahead: a plant then moves for less simulated time than the wall time a
   /// velocity was commanded for, as no real plant does.
+  /// The crane's true axis positions (bridge x, trolley y, hoist z) in the simulator's latest status.
+  const Eigen::Vector3d& crane_position() const { return crane_position_; }
   std::optional<double> sim_time_at(WallTime t) const {
     const auto after = std::lower_bound(sim_clock_.begin(), sim_clock_.end(), t,
                                         [](const auto& sample, WallTime w) { return sample.first < w; });
@@ -631,6 +634,7 @@ class ScenarioCell {
   std::optional<CpuMark> insertion_started_, insertion_ended_;
   SimChannel sim_;
   static constexpr std::size_t kSimClockSamples = 60000;
+  Eigen::Vector3d crane_position_ = Eigen::Vector3d::Zero();
   std::vector<std::pair<WallTime, double>> sim_clock_;      ///< (status stamp, simulated time), in stamp order
   std::optional<dds::Writer<rigger_task_Recipe>> recipes_;  // none when secured
   dds::Reader<rigger_task_TaskStatus> status_;
