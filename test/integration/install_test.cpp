@@ -41,7 +41,9 @@ class RelocatableInstallTest : public ShellTest {
 
   void TearDown() override {
     if (cell_may_run_) {  // a demo that did not end cleanly may have left its supervisor and services
-      const auto r = bash("down", "exec " + plain_env() + " " + quoted(prefix() + "/bin/rigger-compose") + " down", 60s);
+      const std::string down =
+          "exec " + plain_env(state_dir()) + " " + quoted(prefix() + "/bin/rigger-compose") + " down";
+      const auto r = bash("down", down, 60s);
       EXPECT_TRUE(r.status.ok()) << r.output;
     }
     std::error_code ec;
@@ -50,6 +52,8 @@ class RelocatableInstallTest : public ShellTest {
   }
 
   std::string prefix() const { return tmp_ + "/b"; }
+  /// The demo's state folder: outside the build tree, which with_trees_hidden() hides.
+  std::string state_dir() const { return tmp_ + "/state"; }
   static std::string build_dir() { return fs::canonical(bin_dir() + "/..").string(); }
   static std::string source_dir() { return fs::canonical(RIGGER_SOURCE_DIR).string(); }
 
@@ -61,7 +65,7 @@ class RelocatableInstallTest : public ShellTest {
                               " && mount -t tmpfs -o size=1m rigger-hidden " + source +
                               " && if [ -e " + build + "/CMakeCache.txt ] || [ -e " + source +
                               "/CMakeLists.txt ]; then echo 'source or build tree still visible'; exit 99; fi" +
-                              " && cd / && exec " + plain_env() + " " + command;
+                              " && cd / && exec " + plain_env(state_dir()) + " " + command;
     return "exec unshare --mount /bin/bash -c \"" + inner + "\"";
   }
 

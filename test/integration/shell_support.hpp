@@ -37,8 +37,12 @@ class ShellTest : public MultiProcessTest {
 
   /// `env` arguments for a user's plain shell on the test's domain: no CYCLONEDDS_URI (the programs find
   /// their DDS configuration themselves), RIGGER_DOMAIN the cell's private domain.
-  std::string plain_env() const {
-    return "env -u CYCLONEDDS_URI RIGGER_DOMAIN=" + std::to_string(cell_.domain_id());
+  /// Also a state folder of the test's own (world model database, controller journal; `state_dir`, by
+  /// default in the test's log folder): in the default /var/tmp/rigger a world model waited more than 30 s
+  /// on the lock of another test's cell, and the demo's bring-up failed.
+  std::string plain_env(const std::string& state_dir = "") const {
+    return "env -u CYCLONEDDS_URI RIGGER_DOMAIN=" + std::to_string(cell_.domain_id()) + " RIGGER_STATE_DIR='" +
+           (state_dir.empty() ? cell_.log_dir() + "/state" : state_dir) + "'";
   }
 
   /// The last lines of every service's log in rigger-compose's log folder (the harness does not see it).
