@@ -23,23 +23,25 @@ constexpr double kJogSeconds = 4.0;
 // robot.reference_timeout_s).
 constexpr double kReferenceTimeoutS = 0.2;
 
-/// A joystick sample as the test read it off rigger/operator/joystick.
-struct JoystickSample {
+/// A velocity command as the test read it off the wire (the joystick's, or admittance control's twist to
+/// the robot).
+struct VelocitySample {
   WallTime stamp;
-  double x_mps;  ///< along the robot base frame's x
+  double x_mps;   ///< along the robot base frame's x
+  double hold_s;  ///< how long after its stamp its reader applies it at most, without a newer one
 };
 
-/// How far the joystick's samples move a plant along x: each sample's velocity for as long as
-/// admittance_control applies it (until the next one, at most kReferenceTimeoutS), in the plant's own
-/// time. With a plant in real time that is the script's 0.05 m/s × 4 s; a simulator that fell behind
-/// real time and skipped ahead moved for less, and no controller could have made up for it.
-/// `fallbacks` counts the samples whose simulated time was not known (wall time used).
-double commanded_in_plant_time(const std::vector<JoystickSample>& samples, const ScenarioCell& s, int& fallbacks) {
+/// How far velocity commands move a plant along x: each sample's velocity for as long as it is applied
+/// (until the next one, at most its hold_s), in the plant's own time. For the joystick, with a plant in
+/// real time, that is the script's 0.05 m/s × 4 s; a simulator that fell behind real time and skipped
+/// ahead moved for less, and no controller could have made up for it. `fallbacks` counts the samples
+/// whose simulated time was not known (wall time used).
+double distance_in_plant_time(const std::vector<VelocitySample>& samples, const ScenarioCell& s, int& fallbacks) {
   double distance = 0.0;
   for (std::size_t i = 0; i + 1 < samples.size(); ++i) {
     const WallTime from = samples[i].stamp;
     const double wall_s =
-        std::min(kReferenceTimeoutS, std::chrono::duration<double>(samples[i + 1].stamp - from).count());
+        std::min(samples[i].hold_s, std::chrono::duration<double>(samples[i + 1].stamp - from).count());
     const WallTime to = from + std::chrono::duration_cast<WallTime::duration>(std::chrono::duration<double>(wall_s));
     const auto sim_from = s.sim_time_at(from), sim_to = s.sim_time_at(to);
     double plant_s = wall_s;
@@ -83,30 +85,23 @@ void GuideCellTest::guide(const std::string& recipe, std::vector<std::string> ru
   ASSERT_NE(s.node("guide load"), nullptr) << "the task ended before the guided move: " << s.task_summary();
   ASSERT_EQ(s.node("guide load")->state, rigger_task_NODE_RUNNING) << s.task_summary();
   const Eigen::Vector3d before = s.truth("load")->translation();
-  std::vector<JoystickSample> joystick;
+  // What the joystick commanded, and what admittance control commanded the robot (base frame).
+  std::vector<VelocitySample> joystick, twists;
   dds::Reader<rigger_sensing_TwistCommand> joystick_reader(cell_.participant(), protocol::operator_ui::kJoystick,
                                                            dds::qos::setpoints().keep_last(256));
-  // What admittance control commanded the robot (base frame), for the report: the distance its twists add up to.
-  double twist_x_m = 0.0;
-  std::optional<std::pair<WallTime, double>> last_twist;
   dds::Reader<rigger_sensing_TwistCommand> twist_reader(cell_.participant(), protocol::robot::kCmdTwist,
                                                         dds::qos::setpoints().keep_last(1024));
+  cell_.loop().on_data(joystick_reader, [&] {
+    joystick_reader.take([&](const rigger_sensing_TwistCommand& t, const dds_sample_info_t&) {
+      joystick.push_back({dds::to_domain(t.header.stamp), t.twist.linear.x, kReferenceTimeoutS});
+    });
+  });
   cell_.loop().on_data(twist_reader, [&] {
     twist_reader.take([&](const rigger_sensing_TwistCommand& t, const dds_sample_info_t&) {
-      const WallTime stamp = dds::to_domain(t.header.stamp);
-      if (last_twist) {
-        const double dt = std::chrono::duration<double>(stamp - last_twist->first).count();
-        twist_x_m += last_twist->second * std::min(dt, static_cast<double>(t.timeout_s));
-      }
-      last_twist = std::make_pair(stamp, t.twist.linear.x);
+      twists.push_back({dds::to_domain(t.header.stamp), t.twist.linear.x, t.timeout_s});
     });
   });
   const Eigen::Vector3d crane_before = s.crane_position();
-  cell_.loop().on_data(joystick_reader, [&] {
-    joystick_reader.take([&](const rigger_sensing_TwistCommand& t, const dds_sample_info_t&) {
-      joystick.push_back({dds::to_domain(t.header.stamp), t.twist.linear.x});
-    });
-  });
   // Still for 3 s (the skill takes the crane and engages admittance meanwhile), then +x for 4 s, then zero.
   auto jog = start_riggerctl(
       cell_, "jog",
@@ -125,7 +120,9 @@ void GuideCellTest::guide(const std::string& recipe, std::vector<std::string> ru
   ASSERT_EQ(s.task_state(), rigger_task_TASK_SUCCEEDED) << s.task_summary();
 
   int fallbacks = 0;
-  const double commanded = commanded_in_plant_time(joystick, s, fallbacks);
+  const double commanded = distance_in_plant_time(joystick, s, fallbacks);
+  int twist_fallbacks = 0;
+  const double twist_x_m = distance_in_plant_time(twists, s, twist_fallbacks);
   const Eigen::Vector3d moved = after_jog - before;
   const double along = moved.dot(pushed);
   const double across = (moved - along * pushed).norm();
@@ -138,9 +135,10 @@ void GuideCellTest::guide(const std::string& recipe, std::vector<std::string> ru
       along * 1000.0, kJogSpeedMps * kJogSeconds * 1000.0, joystick.size(), commanded * 1000.0, fallbacks,
       across * 1000.0, drift * 1000.0, along_at_done * 1000.0);
   std::printf(
-      "  until 'done': admittance's twists to the robot add up to %.1f mm along its x; the crane's axes "
-      "moved (%.1f, %.1f, %.1f) mm\n",
-      twist_x_m * 1000.0, crane_travel.x() * 1000.0, crane_travel.y() * 1000.0, crane_travel.z() * 1000.0);
+      "  until 'done': admittance's %zu twists to the robot add up to %.1f mm along its x in the physics' time "
+      "(%d timed by the wall clock); the crane's axes moved (%.1f, %.1f, %.1f) mm\n",
+      twists.size(), twist_x_m * 1000.0, twist_fallbacks, crane_travel.x() * 1000.0, crane_travel.y() * 1000.0,
+      crane_travel.z() * 1000.0);
   ASSERT_GT(joystick.size(), 100U) << "the test did not read the joystick's samples";
   ASSERT_GT(commanded, 0.75 * kJogSpeedMps * kJogSeconds) << "the joystick or the physics lost much of the jog";
   // Where the joystick put it, once robot and crane came to rest: what it commanded, within 5 mm.

@@ -239,12 +239,12 @@ class ScenarioCell {
 
  public:
   SimChannel& sim() { return sim_; }
+  /// The crane's true axis positions (bridge x, trolley y, hoist z) in the simulator's latest status.
+  const Eigen::Vector3d& crane_position() const { return crane_position_; }
   /// The physics' simulated time at wall time `t`, interpolated between the simulator's status samples
   /// (the latest few minutes of them); nullopt outside them. A loaded machine can make the physics fall
   /// behind real time and skip ahead: a plant then moves for less simulated time than the wall time a
   /// velocity was commanded for, as no real plant does.
-  /// The crane's true axis positions (bridge x, trolley y, hoist z) in the simulator's latest status.
-  const Eigen::Vector3d& crane_position() const { return crane_position_; }
   std::optional<double> sim_time_at(WallTime t) const {
     const auto after = std::lower_bound(sim_clock_.begin(), sim_clock_.end(), t,
                                         [](const auto& sample, WallTime w) { return sample.first < w; });

@@ -1,9 +1,8 @@
 #include "rigger/dds/qos.hpp"
 
-#include <cstdlib>
-#include <stdexcept>
-#include <string>
 #include <utility>
+
+#include "environment.hpp"
 
 namespace rigger::dds {
 
@@ -51,15 +50,9 @@ Qos& Qos::manual_liveliness(std::chrono::milliseconds lease) {
 
 std::chrono::milliseconds liveliness_lease() {
   static const std::chrono::milliseconds lease = [] {
-    const char* env = std::getenv("RIGGER_LIVELINESS_LEASE_MS");
-    if (!env || !*env) return kDefaultLease;
-    char* end = nullptr;
-    const long v = std::strtol(env, &end, 10);
-    if (*end != '\0' || v < 100 || v > 10000) {
-      throw std::invalid_argument(std::string("RIGGER_LIVELINESS_LEASE_MS='") + env +
-                                  "' is not a liveliness lease in milliseconds, an integer in [100, 10000]");
-    }
-    return std::chrono::milliseconds(v);
+    const auto v = detail::integer_from_environment("RIGGER_LIVELINESS_LEASE_MS", 100, 10000,
+                                                    "a liveliness lease in milliseconds");
+    return v ? std::chrono::milliseconds(*v) : kDefaultLease;
   }();
   return lease;
 }

@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <iostream>
 #include <thread>
 
+#include "environment.hpp"
 #include "rigger/dds/liveliness.hpp"
 
 namespace rigger::dds {
@@ -52,14 +52,8 @@ class SignalThread {
 }  // namespace
 
 std::uint32_t domain_from_environment(std::uint32_t fallback) {
-  const char* env = std::getenv("RIGGER_DOMAIN");
-  if (!env || !*env) return fallback;
-  char* end = nullptr;
-  const long v = std::strtol(env, &end, 10);
-  if (*end != '\0' || v < 0 || v > 232) {
-    throw std::invalid_argument(std::string("RIGGER_DOMAIN='") + env + "' is not a domain id in [0, 232]");
-  }
-  return static_cast<std::uint32_t>(v);
+  const auto v = detail::integer_from_environment("RIGGER_DOMAIN", 0, 232, "a domain id");
+  return v ? static_cast<std::uint32_t>(*v) : fallback;
 }
 
 int run_service(int argc, char** argv, const ServiceSpec& spec) {

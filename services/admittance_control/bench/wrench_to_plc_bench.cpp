@@ -55,10 +55,10 @@ class NodeThread {
         participant_(domain),
         loop_(participant_),
         announcer_(participant_, options_.id, "admittance_control"),
+        liveliness_(participant_, dds::liveliness_lease() / 3, 0ms),  // as run_service asserts it
         context_{options_, null_logger(), participant_, loop_, announcer_, Config::load(config_path)},
         node_(context_) {
     announcer_.announce(dds::ServiceStatus::kReady);
-    liveliness_ = std::make_unique<dds::LivelinessAsserter>(participant_, dds::liveliness_lease() / 3, 0ms);
     thread_ = std::thread([this] { loop_.run(); });
   }
   ~NodeThread() {
@@ -71,7 +71,7 @@ class NodeThread {
   dds::Participant participant_;
   dds::EventLoop loop_;
   dds::ServiceAnnouncer announcer_;
-  std::unique_ptr<dds::LivelinessAsserter> liveliness_;
+  dds::LivelinessAsserter liveliness_;
   dds::ServiceContext context_;
   AdmittanceNode node_;
   std::thread thread_;

@@ -27,6 +27,7 @@ class AdmittanceNodeTest : public ::testing::Test {
       : participant_(lease_.id()),
         loop_(participant_),
         announcer_(participant_, "admittance-test", "admittance_control"),
+        liveliness_(participant_, dds::liveliness_lease() / 3, 0ms),  // as run_service asserts it
         context_{options_, null_logger(), participant_, loop_, announcer_, Config::parse(config_json, "test")},
         wrench_writer_(participant_, protocol::robot::kWrench),
         robot_state_writer_(participant_, protocol::robot::kState),
@@ -37,8 +38,6 @@ class AdmittanceNodeTest : public ::testing::Test {
         tracker_writer_(participant_, protocol::vision::kTrackerPose),
         crane_state_writer_(participant_, protocol::crane::kState) {
     announcer_.announce(dds::ServiceStatus::kReady);  // the commands' source ("admittance-test") is alive
-    // As run_service does: the announcements' liveliness is asserted (MANUAL_BY_PARTICIPANT).
-    liveliness_ = std::make_unique<dds::LivelinessAsserter>(participant_, dds::liveliness_lease() / 3, 0ms);
     node_ = std::make_unique<AdmittanceNode>(context_);
     loop_.on_data(twists_, [this] {
       twists_.take([this](const rigger_sensing_TwistCommand& t, const dds_sample_info_t&) {
@@ -170,7 +169,7 @@ class AdmittanceNodeTest : public ::testing::Test {
   dds::Participant participant_;
   dds::EventLoop loop_;
   dds::ServiceAnnouncer announcer_;
-  std::unique_ptr<dds::LivelinessAsserter> liveliness_;
+  dds::LivelinessAsserter liveliness_;
   dds::ServiceContext context_;
   dds::Writer<rigger_sensing_WrenchStamped> wrench_writer_;
   dds::Writer<rigger_robot_RobotState> robot_state_writer_;

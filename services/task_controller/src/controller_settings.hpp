@@ -11,9 +11,9 @@
 ///   "default_stop_timeout_s": number in [0.01, 600], default 5
 ///   "max_recipe_bytes": integer in [1024, 67108864 (recipe::kMaxRecipeBytesCeiling)], default 4194304
 ///   "max_recipe_depth": integer in [8, 1024], default 128
-///   "command_lease_ms": integer in [100, 10000], default dds::liveliness_lease() (150): the liveliness lease offered
-///   on
-///                       rigger/skill/command; executors shut down the runs of a controller that lost it
+///   "command_lease_ms": integer in [100, 10000], default dds::liveliness_lease() (150): the liveliness
+///                       lease offered on rigger/skill/command; executors shut down the runs of a
+///                       controller that lost it
 ///   "stage_trace_path": string, default "" (off): record when each executor event was received, its first
 ///                       command written, the engine done and its side effects flushed (StageTrace), and
 ///                       write the records to this file when the controller stops (for the live bench)
