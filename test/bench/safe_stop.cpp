@@ -12,9 +12,9 @@
 //    passes, whichever is first, it commands the safe stop of the leaf's devices (rigger/safety/stop).
 //    Measured: the freeze → the stop on the wire, and the stop → both below 1 mm/s. Then the executor
 //    is let go (SIGCONT) and the stops are reset (riggerctl estop --reset).
-// Each trial's figure is ScenarioCell's rest_after_mark_s(): from the mark to the first robot state stamped
-// after it in which the tool's reported twist (rigger/robot/state) and the simulator's crane velocity
-// (rigger/sim/status) are both below 1 mm/s, timed by the samples' stamps.
+// Each trial's figure is ScenarioCell's rest_after_mark_s(): from the mark to the first moment at which the
+// newest tool twist (rigger/robot/state) and the newest crane velocity of the simulator (rigger/sim/status)
+// are both below 1 mm/s, timed by the samples' stamps.
 //
 //   build/bench/bench_safe_stop [--trials 20]
 #include <signal.h>

@@ -156,6 +156,7 @@ class ScenarioCell {
       sim_clock_.emplace_back(v.stamp, v.sim_time_s);
       crane_position_ = v.crane_position_m;
       trace(StopSample::kCraneSpeed, v.crane_velocity_mps.norm(), v.stamp);
+      note_rest(crane_rest_, v.crane_velocity_mps.norm(), v.stamp);
       trace(StopSample::kPlcSetpoint, v.plc_setpoint_mps.norm(), v.stamp);
     });
     cell.loop().on_data(crane_, [this] {
@@ -212,14 +213,7 @@ class ScenarioCell {
         const auto& v = s.tool_twist.linear;
         const WallTime stamp = dds::to_domain(s.header.stamp);
         trace(StopSample::kToolSpeed, Eigen::Vector3d(v.x, v.y, v.z).norm(), stamp);
-        if (stop_mark_ && !rest_after_mark_s_ && stamp >= *stop_mark_) {
-          const bool tool_still = Eigen::Vector3d(v.x, v.y, v.z).norm() < 0.001;
-          const bool crane_still = sim_.has_status() && sim_.latest().crane_velocity_mps.norm() < 0.001;
-          const double t = std::chrono::duration<double>(stamp - *stop_mark_).count();
-          if (tool_still && !tool_rest_after_mark_s_) tool_rest_after_mark_s_ = t;
-          if (crane_still && !crane_rest_after_mark_s_) crane_rest_after_mark_s_ = t;
-          if (tool_still && crane_still) rest_after_mark_s_ = t;
-        }
+        note_rest(tool_rest_, Eigen::Vector3d(v.x, v.y, v.z).norm(), stamp);
         ++robot_samples_;
       });
     });
@@ -352,7 +346,7 @@ class ScenarioCell {
   /// What happened after a stop: how long robot and crane took to come to rest, and how far they moved
   /// once at rest.
   struct AfterStop {
-    bool at_rest = false;         ///< the robot reported not moving and the crane slower than 5 mm/s
+    bool at_rest = false;         ///< the robot reported not moving and the crane slower than 1 mm/s
     double rest_after_s = 0.0;    ///< from the call
     Clock::time_point rest_at{};  ///< when both were first seen at rest
     double max_tool_m = 0.0;      ///< largest tool displacement over the window, from the first sample at rest
@@ -364,7 +358,9 @@ class ScenarioCell {
     AfterStop r;
     const auto t0 = Clock::now();
     auto crane_speed = [&] { return sim_.has_status() ? sim_.latest().crane_velocity_mps.norm() : 1.0; };
-    r.at_rest = cell_.wait_until([&] { return robot_samples_ > 0 && !robot_moving_ && crane_speed() < 0.005; }, 5s);
+    // The crane's threshold is the issues' "still" (1 mm/s): with 5 mm/s the window below could open on the tail
+    // of the crane's drive braking after the arm had stopped, and read 1.2 mm/s for a crane that was stopping.
+    r.at_rest = cell_.wait_until([&] { return robot_samples_ > 0 && !robot_moving_ && crane_speed() < 0.001; }, 5s);
     r.rest_at = Clock::now();
     r.rest_after_s = std::chrono::duration<double>(r.rest_at - t0).count();
     if (!r.at_rest) return r;
@@ -389,8 +385,8 @@ class ScenarioCell {
   void mark_stop(WallTime t) {
     stop_mark_ = t;
     rest_after_mark_s_.reset();
-    tool_rest_after_mark_s_.reset();
-    crane_rest_after_mark_s_.reset();
+    tool_rest_ = {};
+    crane_rest_ = {};
     stop_trace_.clear();
   }
   void mark_stop(Clock::time_point t) {
@@ -398,13 +394,15 @@ class ScenarioCell {
               std::chrono::duration_cast<std::chrono::system_clock::duration>(Clock::now() - t));
   }
 
-  /// From the stop's mark (the first SKILL_PAUSE, or mark_stop()) to the first robot state stamped after it in
-  /// which the tool (its reported twist) and the crane (the simulator's latest status) both move slower than
-  /// 1 mm/s. Empty before a mark, or while still moving.
+  /// From the stop's mark (the first SKILL_PAUSE, or mark_stop()) to the first moment, by the samples' stamps,
+  /// at which the newest robot state (the tool's reported twist) and the newest simulator status (the crane's
+  /// true speed) both show less than 1 mm/s. Empty before a mark, or while still moving. (Until 2026-11-26 the
+  /// crane's part was the status this process had read when a robot state arrived: a status stream read late
+  /// made it up to 200 ms longer than the trace showed.)
   std::optional<double> rest_after_mark_s() const { return rest_after_mark_s_; }
   /// The same for the tool alone and for the crane alone (each first seen below 1 mm/s).
-  std::optional<double> tool_rest_after_mark_s() const { return tool_rest_after_mark_s_; }
-  std::optional<double> crane_rest_after_mark_s() const { return crane_rest_after_mark_s_; }
+  std::optional<double> tool_rest_after_mark_s() const { return tool_rest_.first_still_s; }
+  std::optional<double> crane_rest_after_mark_s() const { return crane_rest_.first_still_s; }
 
   /// Where the stop's time went, by the samples' stamps (for the first 1.5 s after the mark):
   /// per 20 ms, the largest commanded robot twist (rigger/robot/cmd_twist), the tool's reported speed, the
@@ -648,7 +646,30 @@ class ScenarioCell {
   dds::Reader<rigger_crane_CraneVelocityCommand> crane_cmd_;
   dds::Reader<rigger_admittance_AdmittanceState> admittance_;
   std::optional<WallTime> stop_mark_;
-  std::optional<double> rest_after_mark_s_, tool_rest_after_mark_s_, crane_rest_after_mark_s_;
+  std::optional<double> rest_after_mark_s_;
+  /// One plant's speed after the mark, by its samples' stamps: the newest sample's, and the first below 1 mm/s.
+  struct RestTrack {
+    std::optional<double> latest_t_s;
+    bool latest_still = false;
+    double still_since_s = 0.0;  ///< the first sample of the current run below 1 mm/s
+    std::optional<double> first_still_s;
+  };
+  RestTrack tool_rest_, crane_rest_;
+  /// Records a speed sample of the tool or the crane; once the newest samples of both (by stamp, whichever
+  /// stream the test process read first) are below 1 mm/s, the rest is the later of the two runs' starts.
+  void note_rest(RestTrack& track, double speed_mps, WallTime stamp) {
+    if (!stop_mark_ || stamp < *stop_mark_) return;
+    const double t = std::chrono::duration<double>(stamp - *stop_mark_).count();
+    const bool still = speed_mps < 0.001;
+    if (still && !track.first_still_s) track.first_still_s = t;
+    if (track.latest_t_s && *track.latest_t_s > t) return;  // an older sample read late
+    if (still && !(track.latest_t_s && track.latest_still)) track.still_since_s = t;
+    track.latest_t_s = t;
+    track.latest_still = still;
+    if (!rest_after_mark_s_ && tool_rest_.latest_t_s && crane_rest_.latest_t_s && tool_rest_.latest_still &&
+        crane_rest_.latest_still)
+      rest_after_mark_s_ = std::max(tool_rest_.still_since_s, crane_rest_.still_since_s);
+  }
   struct StopSample {
     enum Kind { kTwistCommand, kToolSpeed, kCraneCommand, kPlcSetpoint, kCraneSpeed, kAdmittanceMode, kKinds };
     double t_s;

@@ -74,8 +74,8 @@ struct IkResult {
 struct MagnetSpring {
   double stiffness_n_per_m = 1.0e5;
   double damping_n_s_per_m = 2000.0;
-  double rotational_stiffness_nm_per_rad = 3000.0;
-  double rotational_damping_nm_s_per_rad = 15.0;
+  double rotational_stiffness_nm_per_rad = 10000.0;
+  double rotational_damping_nm_s_per_rad = 40.0;
   /// Contact counts as "flat on the load" within this angle between tool z and the face normal.
   double max_contact_angle_rad = 5.0 * 3.14159265358979323846 / 180.0;
 };
