@@ -333,16 +333,15 @@ void AdmittanceNode::on_command() {
                      source);
       return;
     }
-    if (c.mass._length || c.damping._length || c.stiffness._length) {
-      AdmittanceGains gains = robot_.target_gains();
-      if (auto v = gains_vector(c.mass)) gains.mass = *v;
-      if (auto v = gains_vector(c.damping)) gains.damping = *v;
-      if (auto v = gains_vector(c.stiffness)) gains.stiffness = *v;
-      const RequestResult result = robot_.set_gains(gains);
-      if (!result.accepted) {
-        ctx_.log->warn("command refused seq={} source={}: gains: {}", c.seq, source, result.reason);
-        return;
-      }
+    // A command's gains are the configured ones but for the sequences it gives (the IDL's contract): one
+    // skill's gains (CollaborativeMoveLoad's path stiffness) never carry over into the next skill's motion.
+    AdmittanceGains gains = config_.robot.gains;
+    if (auto v = gains_vector(c.mass)) gains.mass = *v;
+    if (auto v = gains_vector(c.damping)) gains.damping = *v;
+    if (auto v = gains_vector(c.stiffness)) gains.stiffness = *v;
+    if (auto p = find_problem(gains)) {
+      ctx_.log->warn("command refused seq={} source={}: gains{}: {}", c.seq, source, p->pointer, p->problem);
+      return;
     }
     if (c.axes._length == 6) {
       std::array<bool, 6> axes{};
@@ -353,6 +352,10 @@ void AdmittanceNode::on_command() {
       ctx_.log->warn("command refused seq={} source={}: safe stop in force: {}", c.seq, source, safe_stop_.describe());
       return;
     }
+    const AdmittanceGains previous_gains = robot_.target_gains();
+    if (gains.mass != previous_gains.mass || gains.damping != previous_gains.damping ||
+        gains.stiffness != previous_gains.stiffness)
+      robot_.set_gains(gains);  // validated above; blends in over gain_transition_time_s
     last_command_seq_ = c.seq;
     node_fault_.clear();  // any accepted command acknowledges a latched node fault
     node_fault_text_.clear();
@@ -388,6 +391,10 @@ void AdmittanceNode::on_command() {
       ctx_.log->info("command seq={} source={} mode={} reference={}", c.seq, source, to_string(mode),
                      to_string(reference));
     }
+    if (c.stiffness._length)
+      ctx_.log->info("command seq={} stiffness=({}, {}, {}) N/m, ({}, {}, {}) N m/rad", c.seq, gains.stiffness[0],
+                     gains.stiffness[1], gains.stiffness[2], gains.stiffness[3], gains.stiffness[4],
+                     gains.stiffness[5]);
     check_commander();
     publish_state();
   });

@@ -66,16 +66,21 @@ class AdmittanceNodeTest : public ::testing::Test {
     ASSERT_EQ(robot_state_writer_.write(s), DDS_RETCODE_OK);
   }
 
-  void command(rigger_admittance_AdmittanceMode mode) {
+  void command(rigger_admittance_AdmittanceMode mode, std::vector<double> stiffness = {}) {
+    write_command(mode, stiffness);
+    const std::uint64_t seq = command_seq_;
+    ASSERT_TRUE(loop_.run_until([&] { return !state_log_.empty() && state_log_.back().last_command_seq == seq; }, 5s));
+  }
+  /// Writes a command (reference NONE, the robot law's stiffness when given) without waiting for it.
+  void write_command(rigger_admittance_AdmittanceMode mode, std::vector<double>& stiffness) {
     rigger_admittance_AdmittanceCommand c{};
     c.header.stamp = dds::wire_now();
     c.seq = ++command_seq_;
     c.mode = mode;
     c.reference = rigger_admittance_REFERENCE_NONE;
     c.source = dds::wire_string(source_);
+    dds::wire_sequence(c.stiffness, stiffness);
     ASSERT_EQ(command_writer_.write(c), DDS_RETCODE_OK);
-    const std::uint64_t seq = command_seq_;
-    ASSERT_TRUE(loop_.run_until([&] { return !state_log_.empty() && state_log_.back().last_command_seq == seq; }, 5s));
   }
 
   /// A fresh wrench sample every 2 ms (the sensor stream) until stopped.
@@ -288,6 +293,30 @@ TEST_F(AdmittanceNodeTest, ConstantForceGivesATwistInItsDirectionWithIncreasingS
   }
   EXPECT_LE(twist_log_.back().twist(0), 0.25 + 1e-9);  // the configured velocity limit
   EXPECT_FALSE(state_log_.back().fault) << state_log_.back().code;
+}
+
+// A command's stiffness holds for that command only: the next command without gains is back on the configured
+// free admittance (K = 0), so that one skill's spring never carries over into another skill's motion.
+TEST_F(AdmittanceNodeTest, ACommandsStiffnessHoldsUntilTheNextCommand) {
+  publish_robot_state();
+  start_wrench_stream((Vector6d() << 20, 0, 0, 0, 0, 0).finished());
+  // 20 N against 1000 N/m: the spring takes it at (20 - 3 N deadband) / 1000 = 17 mm, and the twist dies out.
+  command(rigger_admittance_ADMITTANCE_ROBOT, {1000, 1000, 1000, 0, 0, 0});
+  ASSERT_TRUE(
+      loop_.run_until([&] { return twist_log_.size() > 100 && std::abs(twist_log_.back().twist(0)) < 0.002; }, 10s))
+      << "the spring does not hold the tool against a constant force";
+  // The configured gains again: a damper only, 17 N / 100 N s/m = 0.17 m/s.
+  command(rigger_admittance_ADMITTANCE_ROBOT);
+  ASSERT_TRUE(loop_.run_until([&] { return twist_log_.back().twist(0) > 0.15; }, 10s))
+      << "the previous command's stiffness carried over";
+  // Nonsense gains are refused as a whole: the command is not acknowledged and the law keeps going.
+  std::vector<double> negative{-1, 0, 0, 0, 0, 0};
+  write_command(rigger_admittance_ADMITTANCE_ROBOT, negative);
+  const std::uint64_t refused = command_seq_;
+  const std::size_t states = state_log_.size();
+  ASSERT_TRUE(loop_.run_until([&] { return state_log_.size() >= states + 20; }, 5s));
+  EXPECT_NE(state_log_.back().last_command_seq, refused);
+  EXPECT_GT(twist_log_.back().twist(0), 0.15);
 }
 
 TEST_F(AdmittanceNodeTest, StaleWrenchStreamGivesZeroOutputAndFaultWrenchStale) {

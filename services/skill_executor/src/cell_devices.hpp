@@ -112,6 +112,9 @@ struct AdmittanceRequest {
   std::string servo_target;  ///< kVisualServo: the tracked object it goes to (e.g. "target")
   Eigen::Isometry3d servo_goal_in_target =
       Eigen::Isometry3d::Identity();  ///< the object's goal pose in the target frame
+  /// The robot law's stiffness per axis of its frame (x y z N/m, rx ry rz N m/rad): a spring that pulls the
+  /// tool back onto the reference's path. Empty: admittance_control's configured stiffness.
+  std::vector<double> stiffness;
 };
 
 /// One rigger/admittance/state sample.

@@ -350,6 +350,8 @@ OpId DdsAdmittanceController::command(const AdmittanceRequest& request, std::chr
   c.servo_target = dds::wire_string(request.servo_target);
   c.servo_goal_in_target = dds::to_wire(request.servo_goal_in_target);
   c.source = dds::wire_string(source_);
+  std::vector<double> stiffness = request.stiffness;
+  dds::wire_sequence(c.stiffness, stiffness);
   Pending p{seq, request, std::move(done), 0};
   p.timer = loop_.after(timeout, [this, id, seq, timeout, mode = request.mode] {
     finish(id, OpResult::failure("TIMEOUT", "admittance_control did not confirm command seq " + std::to_string(seq) +

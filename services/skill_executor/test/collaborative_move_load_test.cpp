@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "cell_fakes.hpp"
+#include "rigger/skill/param_check.hpp"
 #include "skills/collaborative.hpp"
 #include "skills/collaborative_move_load.hpp"
 
@@ -38,10 +39,24 @@ class CollaborativeMoveLoadTest : public ::testing::Test {
     ASSERT_NE(r, nullptr);
     EXPECT_EQ(r->mode, AdmittanceModeRequest::kRobotAndCrane);
     EXPECT_EQ(r->reference, AdmittanceReference::kJoystick);
+    const double k = params_.value("path_stiffness_n_per_m", 200.0);
+    EXPECT_EQ(r->stiffness, (std::vector<double>{k, k, k, 0.0, 0.0, 0.0}))
+        << "a spring towards the joystick's path on the linear axes only";
     ASSERT_TRUE(h.admittance.complete(OpResult::success()));
     ASSERT_EQ(h.state(), "guide");
   }
 };
+
+// The path stiffness is a parameter; 0 is free admittance. Out of range is refused before anything moves.
+TEST_F(CollaborativeMoveLoadTest, ThePathStiffnessIsAParameter) {
+  params_["path_stiffness_n_per_m"] = 0.0;
+  CellRunHarness h(type_, params_);
+  to_guide(h);
+  const nlohmann::json too_stiff = {{"path_stiffness_n_per_m", 2500.0}};
+  const skill::ParamCheckResult checked = skill::check_params(CollaborativeMoveLoadSkill::describe(), too_stiff);
+  ASSERT_EQ(checked.errors.size(), 1u);
+  EXPECT_EQ(checked.errors[0].pointer, "/path_stiffness_n_per_m");
+}
 
 TEST_F(CollaborativeMoveLoadTest, TheOperatorsDoneEndsItWithAdmittanceOff) {
   CellRunHarness h(type_, params_);
@@ -57,6 +72,7 @@ TEST_F(CollaborativeMoveLoadTest, TheOperatorsDoneEndsItWithAdmittanceOff) {
   EXPECT_EQ(h.crane.watches(), 0u);
   ASSERT_NE(h.admittance.pending(), nullptr);
   EXPECT_EQ(h.admittance.pending()->mode, AdmittanceModeRequest::kOff);
+  EXPECT_TRUE(h.admittance.pending()->stiffness.empty()) << "OFF goes back to the configured gains";
   EXPECT_FALSE(h.result) << "not before OFF is confirmed";
   ASSERT_TRUE(h.admittance.complete(OpResult::success()));
   // The load moved where no camera saw it: the world model is told before the run succeeds.

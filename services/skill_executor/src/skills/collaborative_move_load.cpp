@@ -44,6 +44,17 @@ const skill::SkillDescription& CollaborativeMoveLoadSkill::describe() {
                   nlohmann::json(600.0),
                   {},
                   "With duration_s = 0: fails with TIMEOUT when the operator did not answer within this time."},
+        ParamSpec{"path_stiffness_n_per_m",
+                  ParamType::kNumber,
+                  "N/m",
+                  0.0,
+                  2000.0,
+                  nlohmann::json(200.0),
+                  {},
+                  "The robot law's spring (x, y, z) towards the joystick's path: what the load's pull on the "
+                  "robot (the crane lagging or leading) made the robot give way is taken back once the pull is "
+                  "inside the force deadband, so the load ends where the joystick put it. 0: free admittance, "
+                  "where that give-way stays (up to ~7 mm over a 20 cm jog in the simulated cell)."},
     };
     d.resources = {"robot", "crane", "operator", "$object"};
     d.preconditions = {*skill::parse_predicate("attached(robot,$object)")};
@@ -106,6 +117,8 @@ void CollaborativeMoveLoadSkill::engage() {
   AdmittanceRequest request;
   request.mode = AdmittanceModeRequest::kRobotAndCrane;
   request.reference = AdmittanceReference::kJoystick;
+  const double k = params().at("path_stiffness_n_per_m").get<double>();
+  request.stiffness = {k, k, k, 0.0, 0.0, 0.0};
   const OpId id = admittance->command(request, kAdmittanceEngageTimeout, guard([this](const OpResult& r) {
                                         if (r.ok)
                                           transition("guide");
