@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstring>
 #include <set>
 #include <stdexcept>
 
@@ -156,6 +157,14 @@ void ExecutorEndpoint::on_commands() {
   });
 }
 
+std::optional<dds_guid_t> ExecutorEndpoint::writer_participant(dds_instance_handle_t writer) const {
+  dds_builtintopic_endpoint_t* e = dds_get_matched_publication_data(commands_.handle(), writer);
+  if (e == nullptr) return std::nullopt;
+  const dds_guid_t participant = e->participant_key;
+  dds_builtintopic_free_endpoint(e);
+  return participant;
+}
+
 void ExecutorEndpoint::on_commander_liveliness() {
   dds_liveliness_changed_status_t st{};
   if (dds_get_liveliness_changed_status(commands_.handle(), &st) != DDS_RETCODE_OK) return;
@@ -169,11 +178,22 @@ void ExecutorEndpoint::on_commander_liveliness() {
   // Otherwise a writer was lost when the counts say so, and the status names the last one that changed.
   const bool all_lost = st.alive_count == 0;
   if (!all_lost && st.alive_count_change >= 0 && st.not_alive_count_change <= 0) return;  // a writer appeared
+  // A run's commander is lost with the writer that started it, and with any other writer of the same
+  // participant: a controller's writers share its asserted liveliness, so one lapse means the process
+  // stopped asserting. (The status reports each writer's lapse on its own: under load the second came
+  // 706 ms after the first, and a run started by it kept the robot moving that long.)
+  const std::optional<dds_guid_t> lost_participant = writer_participant(st.last_publication_handle);
+  const auto commander_lost = [&](dds_instance_handle_t commander) {
+    if (all_lost || commander == st.last_publication_handle) return true;
+    if (!lost_participant) return false;
+    const std::optional<dds_guid_t> p = writer_participant(commander);
+    return p && std::memcmp(p->v, lost_participant->v, sizeof p->v) == 0;
+  };
   // Chosen first, shut down after: a skill that stops at once reports its end from inside on_shutdown,
   // which erases its run from active_ (iterating active_ meanwhile crashed the executor).
   std::vector<LeafRun> lost;
   for (auto& [key, run] : active_) {
-    if (run.stopping || (!all_lost && run.commander != st.last_publication_handle)) continue;
+    if (run.stopping || !commander_lost(run.commander)) continue;
     run.stopping = true;
     lost.push_back({key.first, key.second, run.start_seq});
   }
@@ -185,7 +205,7 @@ void ExecutorEndpoint::on_commander_liveliness() {
   }
   // Waiting STARTs of a lost controller start nothing.
   for (auto it = waiting_.begin(); it != waiting_.end();) {
-    if (all_lost || it->commander == st.last_publication_handle) {
+    if (commander_lost(it->commander)) {
       loop_.cancel(it->deadline);
       refuse(it->run, "CONTROLLER_LOST", "the task controller was lost before " + it->skill + " could start");
       it = waiting_.erase(it);

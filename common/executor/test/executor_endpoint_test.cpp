@@ -365,6 +365,28 @@ TEST_F(ExecutorEndpointTest, RunsOfALostControllerAreShutDown) {
   EXPECT_NE(shutdowns_[0].reason.find("CONTROLLER_LOST"), std::string::npos);
 }
 
+// A controller's writers share its liveliness: when one of them lapses, the runs any of them started are
+// shut down, without waiting for each writer's own lapse to be reported. Here the writer that starts the
+// run has a 30 s lease and its sibling 200 ms: nobody asserts, and the run must end with the sibling.
+TEST_F(ExecutorEndpointTest, RunsStartedByAnyWriterOfALostControllerAreShutDown) {
+  dds::Participant controller(domain_.id());
+  dds::Qos long_lease = dds::qos::commands();
+  long_lease.manual_liveliness(30s);
+  dds::Writer<rigger_skill_SkillCommand> route(controller, protocol::skill::kCommand, long_lease);
+  ASSERT_TRUE(route.wait_for_readers(1, 5s));
+  send_with(route, "exec-1", "move", rigger_skill_SKILL_START, 1, "MoveArm");
+  ASSERT_TRUE(loop_.run_until([&] { return starts_.size() == 1; }, 5s));
+  dds::Qos short_lease = dds::qos::commands();
+  short_lease.manual_liveliness(200ms);
+  dds::Writer<rigger_skill_SkillCommand> sibling(controller, protocol::skill::kCommand, short_lease);
+  ASSERT_TRUE(sibling.wait_for_readers(1, 5s));
+  controller.assert_liveliness();  // both writers alive now; then nobody asserts again
+  ASSERT_TRUE(loop_.run_until([&] { return !shutdowns_.empty(); }, 5s))
+      << "the run waited for its own writer's 30 s lease";
+  EXPECT_EQ(shutdowns_[0].run.node_id, "move");
+  EXPECT_NE(shutdowns_[0].reason.find("CONTROLLER_LOST"), std::string::npos);
+}
+
 // Skills that stop at once, inside the shutdown call, end their runs while the lost controller's runs are
 // still being shut down (this crashed an executor once: the loop walked the runs it was erasing).
 TEST_F(ExecutorEndpointTest, RunsThatStopAtOnceWhenTheirControllerIsLostEndCleanly) {

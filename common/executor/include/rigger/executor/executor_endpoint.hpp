@@ -182,6 +182,8 @@ class ExecutorEndpoint {
   void announce_soon();
   void on_commands();
   void on_commander_liveliness();
+  /// The participant of a matched command writer; nothing once it is no longer matched.
+  std::optional<dds_guid_t> writer_participant(dds_instance_handle_t writer) const;
   void handle(const rigger_skill_SkillCommand& cmd, const dds_sample_info_t& info);
   void handle_start(Start start);
   /// PAUSE (`pause`) or RESUME of node (task, node): answers PAUSED / RESUMED (see the file comment).
