@@ -301,9 +301,20 @@ TEST_F(AdmittanceNodeTest, ACommandsStiffnessHoldsUntilTheNextCommand) {
   publish_robot_state();
   start_wrench_stream((Vector6d() << 20, 0, 0, 0, 0, 0).finished());
   // 20 N against 1000 N/m: the spring takes it at (20 - 3 N deadband) / 1000 = 17 mm, and the twist dies out.
+  // Held: 50 twists in a row (0.1 s) below 2 mm/s, none during a fault (a stale wrench also gives zero; without
+  // the spring the twist leaves 2 mm/s within 4 ms of any restart, at the 0.5 m/s² limit).
   command(rigger_admittance_ADMITTANCE_ROBOT, {1000, 1000, 1000, 0, 0, 0});
-  ASSERT_TRUE(
-      loop_.run_until([&] { return twist_log_.size() > 100 && std::abs(twist_log_.back().twist(0)) < 0.002; }, 10s))
+  std::size_t seen = 0;
+  int quiet = 0;
+  ASSERT_TRUE(loop_.run_until(
+      [&] {
+        for (; seen < twist_log_.size(); ++seen) {
+          const bool still = std::abs(twist_log_[seen].twist(0)) < 0.002 && !state_log_.back().fault;
+          quiet = still ? quiet + 1 : 0;
+        }
+        return quiet >= 50;
+      },
+      10s))
       << "the spring does not hold the tool against a constant force";
   // The configured gains again: a damper only, 17 N / 100 N s/m = 0.17 m/s.
   command(rigger_admittance_ADMITTANCE_ROBOT);
@@ -316,7 +327,7 @@ TEST_F(AdmittanceNodeTest, ACommandsStiffnessHoldsUntilTheNextCommand) {
   const std::size_t states = state_log_.size();
   ASSERT_TRUE(loop_.run_until([&] { return state_log_.size() >= states + 20; }, 5s));
   EXPECT_NE(state_log_.back().last_command_seq, refused);
-  EXPECT_GT(twist_log_.back().twist(0), 0.15);
+  EXPECT_TRUE(loop_.run_until([&] { return twist_log_.back().twist(0) > 0.15; }, 5s)) << "the refusal changed the law";
 }
 
 TEST_F(AdmittanceNodeTest, StaleWrenchStreamGivesZeroOutputAndFaultWrenchStale) {
