@@ -352,10 +352,7 @@ void AdmittanceNode::on_command() {
       ctx_.log->warn("command refused seq={} source={}: safe stop in force: {}", c.seq, source, safe_stop_.describe());
       return;
     }
-    const AdmittanceGains previous_gains = robot_.target_gains();
-    if (gains.mass != previous_gains.mass || gains.damping != previous_gains.damping ||
-        gains.stiffness != previous_gains.stiffness)
-      robot_.set_gains(gains);  // validated above; blends in over gain_transition_time_s
+    robot_.set_gains(gains);  // validated above; a change blends in over gain_transition_time_s
     last_command_seq_ = c.seq;
     node_fault_.clear();  // any accepted command acknowledges a latched node fault
     node_fault_text_.clear();

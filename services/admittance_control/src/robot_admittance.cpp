@@ -173,6 +173,7 @@ void RobotAdmittance::set_mode(AdmittanceMode mode) {
 
 RequestResult RobotAdmittance::set_gains(const AdmittanceGains& gains) {
   if (auto p = find_problem(gains)) return {false, "gains" + p->pointer + ": " + p->problem};
+  if (gains == target_gains()) return {};
   for (int i = 0; i < 6; ++i)
     if (gains_.current()(i, 2) == 0.0) deviation_[i] = 0.0;
   gains_.set_target(to_matrix(gains), config_.gain_transition_time);

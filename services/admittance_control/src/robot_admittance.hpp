@@ -63,6 +63,10 @@ struct AdmittanceGains {
   Vector6d damping = (Vector6d() << 100.0, 100.0, 100.0, 10.0, 10.0, 10.0).finished();
   /// Virtual stiffness, N/m and N m/rad, >= 0 (0: free guiding).
   Vector6d stiffness = Vector6d::Zero();
+  friend bool operator==(const AdmittanceGains& a, const AdmittanceGains& b) {
+    return a.mass == b.mass && a.damping == b.damping && a.stiffness == b.stiffness;
+  }
+  friend bool operator!=(const AdmittanceGains& a, const AdmittanceGains& b) { return !(a == b); }
 };
 
 /// The first rule `gains` break (pointer relative to the gains object, e.g. "/damping/2"), if any.
@@ -216,7 +220,8 @@ class RobotAdmittance {
   /// Blends new gains in over gain_transition_time. On axes whose current stiffness is zero the
   /// spring is re-anchored at the current position first, so adding stiffness after free guiding
   /// holds the robot where it is instead of pulling it back. Refused (nothing changes) when a gain
-  /// breaks a rule of find_problem().
+  /// breaks a rule of find_problem(). The current target again changes nothing either: a blend under way
+  /// goes on, and no spring is re-anchored (admittance_control passes every command's gains).
   RequestResult set_gains(const AdmittanceGains& gains);
   /// The gains in effect at the last step (blending towards target_gains()).
   AdmittanceGains current_gains() const;

@@ -277,6 +277,22 @@ TEST(GainChange, AddingStiffnessAfterFreeGuidingHoldsTheCurrentPosition) {
   EXPECT_NEAR(displacement, 20.0 / 500.0, 1e-3);
 }
 
+// The target again (admittance_control passes every command's gains) changes nothing: the blend under way is
+// not restarted from where it is, so it ends on time.
+TEST(GainChange, TheCurrentTargetAgainLeavesTheBlendAlone) {
+  RobotAdmittanceConfig c = bare_config();
+  c.gain_transition_time = Seconds(0.2);
+  RobotAdmittance law = active_law(c);
+  AdmittanceGains softer = law.current_gains();
+  softer.damping[0] = 50.0;
+  ASSERT_TRUE(law.set_gains(softer).accepted);
+  for (int i = 0; i < 50; ++i) law.step(kDt, sample(axis_value(0, 20.0)), kUpright, {});  // half the blend
+  ASSERT_NE(law.current_gains().damping[0], 50.0);
+  ASSERT_TRUE(law.set_gains(softer).accepted);
+  for (int i = 0; i < 51; ++i) law.step(kDt, sample(axis_value(0, 20.0)), kUpright, {});  // the other half
+  EXPECT_EQ(law.current_gains().damping[0], 50.0) << "the same target restarted the blend";
+}
+
 TEST(GainChange, InvalidGainsAreRefusedAndChangeNothing) {
   RobotAdmittance law = active_law(bare_config());
   const AdmittanceGains before = law.target_gains();
