@@ -1,4 +1,4 @@
-// Idle CPU of the console (issue 15: "idle console CPU <= 1.5x an idle DDS participant"): the console
+// Idle CPU of the console (target: "idle console CPU <= 1.5x an idle DDS participant"): the console
 // process on a private domain with no task, CPU seconds per wall second (/proc/PID/stat utime+stime)
 // over --seconds, with no client, with one browser-less client on the event stream (/api/events) and
 // with a second one on the plot stream (/api/plots/stream), next to an idle DDS participant (ddsperf

@@ -1,4 +1,4 @@
-// Console event latency (issue 15): a node status written on rigger/task/node_status here, read by a
+// Console event latency: a node status written on rigger/task/node_status here, read by a
 // console process, numbered and sent as a Server-Sent Event to an HTTP client here: the time from the
 // write to the event's arrival. Printed next to the DDS one-way floor of the same run (half of
 // ddsperf's ping/pong round trip).

@@ -1,4 +1,4 @@
-// The Tasks page with a large tree (issue 15: "a 10,000-node recipe's tree shown in chromium in under
+// The Tasks page with a large tree (target: "a 10,000-node recipe's tree shown in chromium in under
 // 1 s and following 1,000 node changes per second without falling behind"). A task controller, a
 // scripted executor serving Localize leaves (SUCCESS at once) and the console run on a private DDS
 // domain; the controller runs a 10-node recipe (the reference) and a --nodes recipe (a Sequence of

@@ -1,6 +1,6 @@
 // Round-trip latency of rigger's typed DDS layer (rigger::dds Writer/Reader + EventLoop, in this
 // process and in the echo service) next to Cyclone's own ddsperf ping/pong, measured in the same run on
-// the same domain configuration, payload size and rate. Targets (issue 2): p50 ratio <= 1.5, p99 <= 2.
+// the same domain configuration, payload size and rate. Targets: p50 ratio <= 1.5, p99 <= 2.
 //
 //   build/bench/bench_dds_echo [--rate 1000] [--size 64] [--seconds 10]
 #include <cstdio>

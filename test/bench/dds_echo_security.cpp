@@ -1,4 +1,4 @@
-// The echo round trip of rigger's typed layer with DDS Security off and on, in the same run (issue 17):
+// The echo round trip of rigger's typed layer with DDS Security off and on, in the same run:
 // the same echo service, rate and payload, first on deploy/cyclonedds.xml, then on
 // deploy/cyclonedds-secure.xml with a PKI made for the run by deploy/security/make-pki (identities
 // "bench" and "echo"; the echo topics fall under the governance's "signed" class: every submessage

@@ -1,4 +1,4 @@
-// Monitor reaction (issue 4): a monitor_host process runs a ForceMonitor on a 1 kHz wrench stream
+// Monitor reaction: a monitor_host process runs a ForceMonitor on a 1 kHz wrench stream
 // published here; the force steps above the limit and the time from publishing the first sample of the
 // step to receiving the monitor's FAILURE is measured — two DDS hops (wrench, event) plus the filter,
 // the check and the host's loop. Printed next to ddsperf's ping/pong round trip (also two hops) from the

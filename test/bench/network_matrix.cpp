@@ -1,5 +1,5 @@
 // The echo round trip and the skill-event reaction latency over {loopback, two hosts} x {DDS Security off,
-// on}, in one run, with each figure's ratio against loopback with security off (issue 17).
+// on}, in one run, with each figure's ratio against loopback with security off (docs/deploy.md).
 //
 //   loopback   every process on this host, deploy/cyclonedds.xml (unicast discovery on lo)
 //   two hosts  a lab of two network namespaces joined by a bridge (rigger::testing::Lab, deploy/lab-hosts),

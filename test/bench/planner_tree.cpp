@@ -1,4 +1,4 @@
-// The planner's responsiveness with a large tree (issue 16): scripted executors announcing the real
+// The planner's responsiveness with a large tree: scripted executors announcing the real
 // skill library, the world model, the CAD service and the console on a private DDS domain, and headless
 // Debian chromium (playwright-core) opening generated trees of 10 (the reference) and 1,000 nodes in the
 // planner and timing an edit's redraw and the tree's validation in the page, and the derivation of a

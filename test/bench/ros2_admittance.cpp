@@ -1,5 +1,5 @@
 // A wrench from a ROS 2 force-torque broadcaster to the twist MoveIt Servo receives, through rigger's
-// ROS 2 bridge and its admittance control (issue 18, docs/ros2.md "What the bridge costs"), next to the
+// ROS 2 bridge and its admittance control (docs/ros2.md "What the bridge costs"), next to the
 // same chain without the bridge, in the same run:
 //
 //   with the bridge  geometry_msgs/WrenchStamped on rt/force_torque_sensor_broadcaster/wrench (sensor_data)

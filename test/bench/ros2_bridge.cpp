@@ -1,4 +1,4 @@
-// What the ROS 2 bridge adds to a wrench on its way from a ROS 2 driver into rigger (issue 18): a
+// What the ROS 2 bridge adds to a wrench on its way from a ROS 2 driver into rigger: a
 // geometry_msgs/WrenchStamped written on the driver's DDS topic (rt/…, sensor_data QoS) goes through the
 // ros2_bridge process (age and finiteness checks, conversion) and arrives as rigger/robot/wrench. Measured
 // from the sample's stamp to its arrival back in this process: two DDS hops and the bridge. The same-run

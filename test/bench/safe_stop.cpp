@@ -1,4 +1,4 @@
-// How fast the supervisor's stops reach moving devices (issue 13), on the whole simulated cell (real
+// How fast the supervisor's stops reach moving devices (docs/safety.md), on the whole simulated cell (real
 // processes, MuJoCo physics, loopback). The robot localizes the load and attaches itself to it once;
 // then each trial runs CollaborativeMoveLoad with the operator's joystick (written here at 50 Hz, 5 cm/s,
 // alternately +x and -x) so that robot and crane carry the load under admittance control, and, once both

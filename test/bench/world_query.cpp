@@ -1,4 +1,4 @@
-// World-model query round trip (issue 4): a world_model process holding 1,000 entities answers pose
+// World-model query round trip: a world_model process holding 1,000 entities answers pose
 // queries (A in the frame of B, through the frame tree) from a WorldClient, one request outstanding at
 // a time; printed next to ddsperf's ping/pong round trip measured in the same run.
 //

@@ -16,6 +16,7 @@
 set -euo pipefail
 
 root=${1:?usage: docs_reference.sh REPO_ROOT}
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 cd "$root"
 
 # The files to read, NUL-separated, relative to the root.
@@ -92,6 +93,24 @@ report 'issue number (say the rule, or link its decision)' "$issue_re" ${checked
 report_wrapped_issues ${checked[@]+"${checked[@]}"}
 report 'reference to a DESIGN section that is not in the repository' "$design_re" \
   ${checked[@]+"${checked[@]}"}
+
+# Known string literals (program output, strings tests compare against): a repository check does not
+# change what the code prints. docs_reference.allow lists them, one `path<TAB>fixed text` a line.
+allow=$here/docs_reference.allow
+if [[ -f $allow ]]; then
+  kept=$(mktemp)
+  trap 'rm -f "$findings" "$kept"' EXIT
+  while IFS= read -r finding; do
+    path=${finding%%:*}
+    listed=0
+    while IFS=$'\t' read -r allowed_path allowed_text; do
+      [[ -z $allowed_path || $allowed_path == \#* ]] && continue
+      if [[ $path == "$allowed_path" && $finding == *"$allowed_text"* ]]; then listed=1; fi
+    done <"$allow"
+    ((listed)) || printf '%s\n' "$finding"
+  done <"$findings" >"$kept"
+  mv "$kept" "$findings"
+fi
 
 if [[ -s $findings ]]; then
   sort -t: -k1,1 -k2,2n "$findings"

@@ -1,4 +1,4 @@
-// The cad process (issue 14) over real DDS: it answers by correlation id, serves the cell's object models
+// The cad process over real DDS: it answers by correlation id, serves the cell's object models
 // (GLB for the web console), refuses bad requests with a code, and keeps answering after a STEP file
 // that crashes OCCT's reader (the time limit is tested in common/cad's unit tests).
 #include <signal.h>

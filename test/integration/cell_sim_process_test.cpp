@@ -1,5 +1,5 @@
 // The cell_sim process as a robot driver, gripper and camera would be seen by the rest of rigger
-// (issue 5 acceptance): a twist stream moves the tool, a stale command is ignored, stopping the stream
+// (acceptance): a twist stream moves the tool, a stale command is ignored, stopping the stream
 // stops the arm; the wrist wrench streams at >= 500 Hz; images, camera info, ground truth, motion and
 // gripper topics; fault injection is acknowledged; bad configuration exits 2.
 #include <algorithm>

@@ -15,20 +15,20 @@ function(rigger_console_browser_test name source)
   add_dependencies(${name} ${ARGN})
 endfunction()
 
-# Issue 15: the paper's scenario with the screw prompts answered by clicks in the operator station.
+# The console: the paper's scenario with the screw prompts answered by clicks in the operator station.
 rigger_console_browser_test(rigger_console_browser_test console_browser_test.cpp
   console cell_sim crane_gateway world_model vision_tracker admittance_control monitor_host skill_executor task_controller)
-# Issue 16: the planner: the CAD service, world model, controller, scripted executors with the real skill
+# The planner: the CAD service, world model, controller, scripted executors with the real skill
 # library and the console; the tree built by clicks, holes picked in the 3D view.
 rigger_console_browser_test(rigger_planner_browser_test planner_browser_test.cpp
   console cad world_model scripted_executor task_controller)
-# Issue 16's acceptance: the paper's task (recipes/crane_insert.json) built in the planner by clicks and
+# The planner's acceptance: the paper's task (recipes/crane_insert.json) built in the planner by clicks and
 # CAD picks only, compared with the shipped recipe; the same services as the planner test.
 # The second test also rehearses the planned task on the full simulated cell of a second domain.
 rigger_console_browser_test(rigger_planner_paper_task_test planner_paper_task_test.cpp
   console cad world_model scripted_executor task_controller cell_sim crane_gateway vision_tracker
   admittance_control monitor_host skill_executor scripted_operator)
-# Issue 16, rehearse then publish: crane_insert.json rehearsed from the planner on the full simulated cell
+# The planner, rehearse then publish: crane_insert.json rehearsed from the planner on the full simulated cell
 # (real physics) of a second DDS domain, followed live in the page; nothing reaches the console's own cell
 # (a controller with scripted executors). Runs the cell in real time (about 2-3 minutes).
 rigger_console_browser_test(rigger_rehearsal_browser_test rehearsal_browser_test.cpp

@@ -1,4 +1,4 @@
-// The console in a real browser (issue 15): the paper's scenario on every real process, the console on
+// The console in a real browser: the paper's scenario on every real process, the console on
 // the same private DDS domain, and headless Debian chromium driven by playwright-core
 // (console/e2e.mjs). No scripted operator runs: the four screw prompts are answered by clicks in the
 // operator station. The browser script checks what the pages show (tree, 3D highlight, replay, axe)

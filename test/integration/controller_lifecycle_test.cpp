@@ -72,7 +72,7 @@ TEST_F(LifecycleTest, PauseLetsTheRunningLeafFinishButStartsNothingNewUntilResum
 }
 
 // A leaf that cannot pause but holds devices (the scripted executor pauses nothing; Pick holds robot and
-// gripper) is brought to its safe stop by the PAUSE (issue 13): riggerctl pause prints that, the leaf
+// gripper) is brought to its safe stop by the PAUSE: riggerctl pause prints that, the leaf
 // fails NOT_PAUSABLE ("could not pause"), the Sequence above it fails, and the task ends FAILED with it.
 TEST_F(LifecycleTest, APauseStopsALeafThatCannotPauseButHoldsDevicesAndItsNodeReportsIt) {
   start_controller();
@@ -266,7 +266,7 @@ TEST_F(LifecycleTest, ASkillThatNeverAnswersStoppedIsEscalatedAfterItsStopTimeou
   EXPECT_TRUE(escalation);
 }
 
-// Every START gets an answer (issue 13): a real executor answers ACCEPTED before its skill's first
+// Every START gets an answer: a real executor answers ACCEPTED before its skill's first
 // event. An executor that announces a skill but never answers (a lost sample, a wedged executor whose
 // lease is still asserted) must not leave the task RUNNING forever: after start_answer_timeout_s the
 // controller fails the leaf START_UNANSWERED, sends a SHUTDOWN after the START, and the task goes on.
@@ -432,7 +432,7 @@ TEST_F(LifecycleTest, ProgressEventsAreJournaledUpToTheBoundPerRun) {
 }
 
 // A (re)started controller learns from the executors' announcements which runs are still running or
-// stopping and starts nothing on their resources until they are free (issue 13). The controller is
+// stopping and starts nothing on their resources until they are free. The controller is
 // SIGKILLed while a skill runs whose stop takes `stop_delay_s`: the executor shuts that run down
 // (CONTROLLER_LOST) and stops it while a second controller, on the same journal, takes a new task.
 class RestartTest : public LifecycleTest {

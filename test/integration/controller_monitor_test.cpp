@@ -100,7 +100,7 @@ TEST_F(ControllerMonitorTest, AForceAboveTheLimitFailsTheParallelWithTheMonitors
   EXPECT_EQ(command_at("force", "root/1", rigger_skill_SKILL_SHUTDOWN), nullptr);
 }
 
-// Safety while paused (issue 13): PAUSE reaches the monitor too, and monitor_host answers that it keeps
+// Safety while paused: PAUSE reaches the monitor too, and monitor_host answers that it keeps
 // monitoring (NOT_PAUSABLE); a force over the limit during the pause still fires it and fails the task,
 // the skill (not pausable here either) being shut down first.
 TEST_F(ControllerMonitorTest, AMonitorKeepsMonitoringWhileTheTaskIsPaused) {

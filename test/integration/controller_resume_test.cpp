@@ -1,4 +1,4 @@
-// Resume after a crash (issue 13): the controller is SIGKILLed while the second skill of a Sequence of
+// Resume after a crash: the controller is SIGKILLed while the second skill of a Sequence of
 // three runs, a second controller on the same journal reports the task INTERRUPTED and starts nothing;
 // `riggerctl resume` rebuilds it from the journal and asks the operator (prompt kind "resume"); only the
 // operator's answer starts anything. Real task_controller, scripted executor and riggerctl processes.

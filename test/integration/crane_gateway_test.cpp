@@ -1,5 +1,5 @@
 // The crane gateway and the simulated cell's PLC emulator as real processes, Modbus TCP on loopback,
-// DDS on a private domain (issue 5 acceptance): move to a commanded position, heartbeat stall,
+// DDS on a private domain (acceptance): move to a commanded position, heartbeat stall,
 // PLC link cut, e-stop. The crane's true state comes from a second path, the simulator's status
 // (rigger/sim/status), which also carries the PLC's registers.
 #include <signal.h>

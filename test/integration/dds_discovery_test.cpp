@@ -1,4 +1,4 @@
-// Acceptance of the foundation (issue 2): on loopback only, 24 processes discover each other within
+// Acceptance of the foundation: on loopback only, 24 processes discover each other within
 // 3 s on a private domain, and the loss of one (SIGKILL, or hung under SIGSTOP) is seen by the others in
 // under 1 s. Each echo process publishes the READY services it sees on rigger/system/peer_view.
 #include <signal.h>

@@ -1,4 +1,4 @@
-// CollaborativeMoveLoad in physics (issue 18): recipes/examples/guide_by_joystick.json on every real process
+// CollaborativeMoveLoad in physics: recipes/examples/guide_by_joystick.json on every real process
 // of the cell. The robot localizes the load and attaches itself to it; then the operator's joystick
 // (`riggerctl jog --script`, the real tool, publishing rigger/operator/joystick) drives admittance control of
 // robot and crane, and the scripted operator answers the skill's 'done' prompt afterwards. The test asserts

@@ -1,4 +1,4 @@
-// `cmake --install` gives a working, relocatable tree (issue 12). The build is installed into <tmp>/a,
+// `cmake --install` gives a working, relocatable tree. The build is installed into <tmp>/a,
 // the folder is moved to <tmp>/b, and the README's main command, `rigger-compose demo`, is run from
 // <tmp>/b alone: from / as working directory, in a plain user's environment (no CYCLONEDDS_URI) on the
 // test's private DDS domain, inside a private mount namespace (`unshare --mount`) in which empty tmpfs

@@ -1,4 +1,4 @@
-# The cell over three hosts (issue 17): network namespaces made by deploy/lab-hosts, rigger-compose on
+# The cell over three hosts (docs/deploy.md): network namespaces made by deploy/lab-hosts, rigger-compose on
 # each, the scenario and a link cut. Needs root; real time physics: alone.
 set(_multi_host_targets cell_sim crane_gateway world_model cad vision_tracker admittance_control monitor_host
     skill_executor task_controller scripted_operator console riggerctl rigger-compose)

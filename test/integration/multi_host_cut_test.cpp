@@ -1,7 +1,8 @@
-// A host's link cut during the insertion (issue 17), on the lab of multi_host_support.hpp. Label
+// A host's link cut during the insertion, on the lab of multi_host_support.hpp. Label
 // `integration` (in test/run) since it passed seven runs of seven on the shared 2-core machine (load 2-11);
-// before the stop changes of issue 13 it had failed 4 runs of 7 on timing (a 102 ms gap in the 500 Hz
-// wrench stream against the yank monitor's 100 ms, Modbus replies inside the devices host timing out).
+// before the stop decelerations and the arm's payload damping it had failed 4 runs of 7 on timing (a 102 ms
+// gap in the 500 Hz wrench stream against the yank monitor's 100 ms, Modbus replies inside the devices host
+// timing out).
 // That scheduling cause was not fixed: see docs/deploy.md.
 #include "multi_host_support.hpp"
 
@@ -82,7 +83,7 @@ TEST_F(MultiHostTest, SkillsHostCutDuringInsertionStopsTheCellAndItRecovers) {
   // The operator looks, resets the stops the controller wrote, and runs the rest of the task: the robot
   // still holds the load over the target, so a recipe of the remaining steps (localize both again, the
   // insertion with its fallback, the screws, the release) made from the shipped one, with the attachment
-  // as an assumption. (Resuming from the journal instead is issue #13's open part.)
+  // as an assumption. (Resuming from the journal after a cut is not done yet.)
   const auto reset = on("controller", "reset", riggerctl() + " estop --reset", 30s);
   ASSERT_TRUE(reset.status.ok()) << reset.output;
   std::ifstream shipped(RIGGER_SOURCE_DIR "/recipes/crane_insert.json");

@@ -1,5 +1,5 @@
 #pragma once
-// The cell spread over three hosts (issue 17): Linux network namespaces made by deploy/lab-hosts, joined
+// The cell spread over three hosts (docs/deploy.md): Linux network namespaces made by deploy/lab-hosts, joined
 // by veth pairs and a bridge, each running its share of deploy/compose.lab.yaml with rigger-compose and
 // the shipped lab DDS configuration (multicast discovery on eth0). Nothing is faked: real binaries, real
 // DDS across the namespaces' interfaces, and a link cut by taking a host's port on the bridge down.

@@ -1,4 +1,4 @@
-// The scenario over three hosts (issue 17): the fixture and the lab are in multi_host_support.hpp.
+// The scenario over three hosts: the fixture and the lab are in multi_host_support.hpp.
 #include "multi_host_support.hpp"
 
 namespace rigger::testing::scenario {

@@ -1,4 +1,4 @@
-// A PAUSE that holds motion, in physics (issue 13): cell_sim (MuJoCo arm), the skill executor hosting
+// A PAUSE that holds motion, in physics: cell_sim (MuJoCo arm), the skill executor hosting
 // MoveTo and the task controller as real processes on a private domain; the test submits the task and
 // sends PAUSE / RESUME on rigger/task/command, and judges the arm by the simulator's own state stream
 // (rigger/robot/state from cell_sim: the tool twist and pose of the physics model).

@@ -1,4 +1,4 @@
-// Pick and Place in physics (issue 18): recipes/examples/pick_and_place.json on every real process of the
+// Pick and Place in physics: recipes/examples/pick_and_place.json on every real process of the
 // cell (cell_sim with MuJoCo and its camera, world_model, vision_tracker, the skill executors, monitor_host,
 // task_controller; the crane's processes run too, untouched). The tracker localizes the small part by its
 // marker, Pick grasps it off its table with the magnet, Place sets it down at the recipe's pose on the same

@@ -1,4 +1,4 @@
-// The console's planner in a real browser (issue 16, first slice): the real CAD service (the cell's STEP
+// The console's planner in a real browser: the real CAD service (the cell's STEP
 // models), the real world model, the task controller, scripted executors announcing the real skill
 // library (recipes/examples/skill_library.json), and the console, all on a private DDS domain; headless
 // Debian chromium driven by playwright-core (planner/e2e.mjs) builds a tree by clicks, picks the
@@ -95,7 +95,7 @@ TEST_F(PlannerBrowserTest, TreeBuiltByClicksScrewsFromPickedHolesValidatedExport
   std::printf("browser artifacts in %s\n", cell_.log_dir().c_str());
 }
 
-// Issue 16's "editing errors are shown on the right node and field, and publishing is refused"
+// The planner's rule "editing errors are shown on the right node and field, and publishing is refused"
 // (planner/errors.mjs): one tree built by clicks with an impossible Parallel threshold, two branches
 // claiming the robot and an insertion whose preconditions nothing provides; the page shows each on its
 // node and field (or the condition or resource it names), and refuses Publish. Nothing reaches the

@@ -1,4 +1,4 @@
-// Issue 16's acceptance: the paper's task (recipes/crane_insert.json) built in the console's planner by
+// The planner's acceptance: the paper's task (recipes/crane_insert.json) built in the console's planner by
 // clicks and CAD picks only, in headless chromium (planner/paper_task.mjs) against the real world model,
 // CAD service, task controller, scripted executors announcing the real skill library and the console on a
 // private DDS domain. The script builds the tree from an empty one, picks AttachRobotToLoad's grasp and
@@ -188,7 +188,7 @@ TEST_F(PlannerBrowserTest, ThePapersTaskBuiltByClicksAndCadPicksMatchesTheShippe
               cell_.log_dir().c_str());
 }
 
-// The whole of issue 16's acceptance in one run: the paper's task built by clicks and CAD picks as above,
+// The whole of the planner's acceptance in one run: the paper's task built by clicks and CAD picks as above,
 // then rehearsed from the planner on the full simulated cell with real physics (cell_sim, crane gateway,
 // admittance, tracker, world model, the real skill executors, the scripted operator, a controller) on a
 // second DDS domain, which the console joins as its rehearsal_domain. The page follows the run to its end;

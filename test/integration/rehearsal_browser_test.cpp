@@ -1,4 +1,4 @@
-// Rehearse, then publish (issue 16): the console's cell (its own DDS domain) has a task controller with
+// Rehearse, then publish: the console's cell (its own DDS domain) has a task controller with
 // scripted executors and no devices; the rehearsal cell is the full simulated cell with real physics
 // (cell_sim, crane gateway, admittance, tracker, world model, the real skill executors, the scripted
 // operator, a controller) on a second domain of its own, which the console joins through

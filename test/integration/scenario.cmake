@@ -1,4 +1,4 @@
-# The paper's scenario end to end on every real process (issue 7): success and four fault variants.
+# The paper's scenario end to end on every real process: success and four fault variants.
 # Each test runs the cell in real time (about 1–3 minutes); they run alone, since the physics, the
 # camera and the tracker need the machine's cores to keep real time.
 set(_scenario_services cell_sim crane_gateway world_model vision_tracker admittance_control monitor_host
@@ -16,14 +16,14 @@ if(_scenario_ready)
   if(TARGET riggerctl)
     add_dependencies(rigger_scenario_test riggerctl)  # the pause variant pauses and resumes with it
   endif()
-  # Pick and Place in physics (issue 18): recipes/examples/pick_and_place.json on the same processes,
+  # Pick and Place in physics: recipes/examples/pick_and_place.json on the same processes,
   # the part's final true pose checked against the recipe's place pose (about a minute).
   rigger_add_test(rigger_pick_place_cell_test
     SOURCES pick_place_cell_test.cpp
     DEPS rigger_test_harness rigger_cell_cad rigger_world_client Eigen3::Eigen nlohmann_json::nlohmann_json
     LABEL integration TIMEOUT 420 RUN_SERIAL)
   add_dependencies(rigger_pick_place_cell_test ${_scenario_services})
-  # CollaborativeMoveLoad in physics (issue 18): recipes/examples/guide_by_joystick.json with the joystick
+  # CollaborativeMoveLoad in physics: recipes/examples/guide_by_joystick.json with the joystick
   # driven by `riggerctl jog --script` (about a minute).
   rigger_add_test(rigger_guide_cell_test
     SOURCES guide_cell_test.cpp
@@ -31,7 +31,7 @@ if(_scenario_ready)
     LABEL integration TIMEOUT 420 RUN_SERIAL)
   add_dependencies(rigger_guide_cell_test ${_scenario_services} riggerctl)
 endif()
-# docs/getting-started.md step 2 as written, without CYCLONEDDS_URI (issue 12): rigger-compose up, then
+# docs/getting-started.md step 2 as written, without CYCLONEDDS_URI: rigger-compose up, then
 # riggerctl services/skills/run by hand.
 if(_scenario_ready AND TARGET riggerctl AND TARGET rigger-compose)
   rigger_add_test(rigger_getting_started_test
@@ -41,7 +41,7 @@ if(_scenario_ready AND TARGET riggerctl AND TARGET rigger-compose)
   add_dependencies(rigger_getting_started_test ${_scenario_services} riggerctl rigger-compose)
 endif()
 # `cmake --install` into a temporary prefix, moved, then `rigger-compose demo` from it with the source and
-# build trees hidden (issue 12). It installs what the last full build made (test/run runs after one).
+# build trees hidden. It installs what the last full build made (test/run runs after one).
 if(_scenario_ready AND TARGET riggerctl AND TARGET rigger-compose AND TARGET cad AND TARGET console)
   rigger_add_test(rigger_install_test
     SOURCES install_test.cpp

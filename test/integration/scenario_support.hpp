@@ -1,5 +1,5 @@
 #pragma once
-// The paper's scenario on real processes (issue 7): every service of deploy/compose.yaml started by the
+// The paper's scenario on real processes: every service of deploy/compose.yaml started by the
 // test harness on a private DDS domain with the shipped configurations (paths made absolute, the PLC on
 // a free port, state files in the test's log folder), a recipe submitted on rigger/task/recipe, and the
 // test watching the task, the nodes and the simulator's ground truth. Nothing sleeps: every wait is on

@@ -1,4 +1,4 @@
-// The paper's scenario end to end (issue 7), on every real process: cell_sim (MuJoCo + PLC emulator +
+// The paper's scenario end to end, on every real process: cell_sim (MuJoCo + PLC emulator +
 // camera), crane_gateway (Modbus TCP), world_model, vision_tracker, admittance_control, monitor_host,
 // three skill executors, task_controller and the scripted operator. See scenario_support.hpp.
 //
@@ -236,7 +236,7 @@ TEST_F(ScenarioTest, CraneInsertSucceedsWithTheRobotAndCameraBehindTheRos2Bridge
   if (counts != std::string::npos) std::printf("  %s\n", log.substr(counts, log.find('\n', counts) - counts).c_str());
 }
 
-// A pause during the insertion (issue 13): `riggerctl pause` holds robot and crane with the load held (the
+// A pause during the insertion: `riggerctl pause` holds robot and crane with the load held (the
 // insertion turns admittance OFF), they stay still for 2 s, and after `riggerctl resume` the insertion goes on
 // and the task ends as the nominal one does, screwed on within 5 mm.
 TEST_F(ScenarioTest, APauseDuringTheInsertionHoldsRobotAndCraneAndResumeCompletesTheTask) {
@@ -253,7 +253,7 @@ TEST_F(ScenarioTest, APauseDuringTheInsertionHoldsRobotAndCraneAndResumeComplete
       "%.3f mm, crane %.2f mm/s at most\n",
       rest_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
   ASSERT_TRUE(after.at_rest) << "robot or crane still moving 5 s after the pause";
-  // From the PAUSE itself (issue 13's "below 1 mm/s within 300 ms"): reported, not asserted as a time, since
+  // From the PAUSE itself (the target: below 1 mm/s within 300 ms): reported, not asserted as a time, since
   // a loaded test machine delays it; what is asserted is that the devices did come below 1 mm/s.
   const auto from_pause = s.rest_after_mark_s();
   ASSERT_TRUE(from_pause.has_value()) << "the tool or the crane never came below 1 mm/s after the PAUSE";
@@ -373,7 +373,7 @@ TEST_F(ScenarioTest, ControllerKilledDuringInsertionStopsTheMotion) {
   EXPECT_NE(text.find("reason=CONTROLLER_LOST"), std::string::npos) << "the executor did not say why it stopped";
 }
 
-// Resume after a crash (issue 13's acceptance): the task controller is SIGKILLed during the insertion, the
+// Resume after a crash (its acceptance): the task controller is SIGKILLed during the insertion, the
 // executors stop the motion, a new controller on the same journal reports the task INTERRUPTED and starts
 // nothing; `riggerctl resume` rebuilds it from the journal and asks the operator, who answers `rerun` for
 // the interrupted insertion (it is not restartable, so nobody else may) with `riggerctl operator`; the task

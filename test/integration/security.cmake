@@ -1,4 +1,4 @@
-# DDS Security (issue 17, docs/security.md): a PKI made by deploy/security/make-pki, a secured cell
+# DDS Security (docs/security.md): a PKI made by deploy/security/make-pki, a secured cell
 # brought up by `rigger-compose up --secure`, intruders (rigger_security_probe) and a permitted riggerctl.
 if(TARGET task_controller AND TARGET scripted_executor AND TARGET riggerctl AND TARGET rigger-compose
    AND TARGET rigger-topic-catalog)
@@ -9,7 +9,7 @@ if(TARGET task_controller AND TARGET scripted_executor AND TARGET riggerctl AND 
   add_dependencies(rigger_security_test task_controller scripted_executor riggerctl rigger-compose
     rigger-topic-catalog rigger_security_probe)
 endif()
-# The paper's crane scenario with every service secured (issue 17): recipes/crane_insert.json through a
+# The paper's crane scenario with every service secured: recipes/crane_insert.json through a
 # permitted riggerctl while intruders try, on the real physics: alone, like the other scenario tests.
 if(TARGET rigger_security_probe AND _scenario_ready)
   rigger_add_test(rigger_secure_scenario_test

@@ -1,5 +1,5 @@
 // Bad configuration stops a service at start with a message naming the file, the key and what was
-// expected, and exit code 2 (issue 2 acceptance). Exercised on the echo service; every service uses
+// expected, and exit code 2. Exercised on the echo service; every service uses
 // the same loader (rigger::Config) and the same run_service().
 #include <fstream>
 

@@ -6,7 +6,7 @@ if(TARGET skill_executor AND TARGET world_model)
     DEPS rigger_test_harness rigger_world_client rigger_operator_ui Eigen3::Eigen nlohmann_json::nlohmann_json LABEL integration TIMEOUT 120)
   add_dependencies(rigger_skills_cell_test skill_executor world_model)
 endif()
-# A PAUSE that holds motion (issue 13): MoveTo on the physics arm through the real controller, paused
+# A PAUSE that holds motion: MoveTo on the physics arm through the real controller, paused
 # mid-motion (the arm below 1 mm/s and staying there), resumed to SUCCEEDED (about 15 s).
 if(TARGET cell_sim AND TARGET skill_executor AND TARGET task_controller AND TARGET riggerctl)
   rigger_add_test(rigger_pause_cell_test

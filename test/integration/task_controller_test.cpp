@@ -1,4 +1,4 @@
-// Acceptance of the task controller (issue 3) with real processes: the controller, scripted
+// Acceptance of the task controller with real processes: the controller, scripted
 // executors and this test's own participant on a private domain. The test observes the skill
 // commands the executors receive, the node status and the task status; it never sleeps.
 #include <signal.h>

@@ -1,4 +1,4 @@
-// The world_model process (issue 4): restart with the same database keeps the entities and marks
+// The world_model process: restart with the same database keeps the entities and marks
 // poses stale; rejected updates leave the state unchanged and say why; a late-joining reader sees
 // every entity at once (transient-local); the change stream says who changed what.
 #include <signal.h>

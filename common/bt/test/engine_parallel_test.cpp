@@ -30,7 +30,7 @@ struct Expectation {
   std::size_t decided_after = 0;  // number of events in `order` delivered when the decision fell
 };
 
-// The oracle states DESIGN §2 directly on prefixes of the event order: the decision falls after
+// The oracle states the Parallel rule directly on prefixes of the event order: the decision falls after
 // the shortest prefix in which M successes, or K failures, or "successes + skills that have not
 // reported yet < M" holds. Monitors never count as possible successes.
 Expectation oracle(std::size_t skills, std::size_t m, std::size_t k, const std::vector<Outcome>& outcomes,

@@ -53,7 +53,7 @@ TEST(AccessTable, EveryTopicHasAWriterAndAReader) {
   }
 }
 
-// The rules of issue 17: who may move things and who may start or stop a task.
+// The access rules of DDS Security (docs/security.md): who may move things and who may start or stop a task.
 TEST(AccessTable, OnlyTheUserToolsCommandTasks) {
   const std::set<std::string> tools{"console", "riggerctl"};
   EXPECT_EQ(writers_of(task::kRecipe.name), tools);

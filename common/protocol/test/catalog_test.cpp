@@ -71,7 +71,7 @@ TEST(Catalog, TopicsPageIsUpToDate) {
       << "docs/topics.md is stale: run tools/update-topic-reference";
 }
 
-// The acceptance rule of issue 12: outside tests and docs, a topic's name is spelled once, in its
+// The catalog's rule: outside tests and docs, a topic's name is spelled once, in its
 // descriptor. Scans the C++ sources of common/, services/ and tools/ (their test/ folders excepted).
 TEST(Catalog, EachTopicNameSpelledOnceInTheSources) {
   std::map<std::string, std::vector<std::string>> places;

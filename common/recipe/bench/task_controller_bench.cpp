@@ -1,5 +1,5 @@
 // Benchmarks of the task controller's pure logic (Google Benchmark; built when
-// RIGGER_BUILD_BENCH is on, not a test). Issue 3's scale target: validate and build a
+// RIGGER_BUILD_BENCH is on, not a test). The scale target: validate and build a
 // 10,000-node recipe in < 200 ms; 1,000 concurrent monitor leaves in one Parallel.
 //
 //   build/bin/task_controller_bench [--benchmark_filter=…]
@@ -89,7 +89,7 @@ void BM_Stage_EngineConstruct10kNodes(benchmark::State& state) {
 BENCHMARK(BM_Stage_EngineConstruct10kNodes)->Unit(benchmark::kMillisecond);
 
 // What the controller's Task adds to building a 10,000-node recipe: every remote leaf's START parameters
-// serialised once, up front, instead of on each START (issue 19).
+// serialised once, up front, instead of on each START (reaction latency).
 void BM_Stage_SerialiseLeafParams10kNodes(benchmark::State& state) {
   const auto validated = recipe::RecipeValidator(library()).validate_document(big_recipe(1111));
   const auto& nodes = validated.recipe->tree.nodes;

@@ -1,4 +1,4 @@
-// The simulation's real-time factor with every publisher on (issue 5: target >= 3), next to a bare
+// The simulation's real-time factor with every publisher on (target >= 3), next to a bare
 // mj_step on the same MJCF measured in the same run. On demand, not a test:
 //
 //   build/bench/cell_sim_rtf_bench [seconds]

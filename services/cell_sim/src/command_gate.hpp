@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Which streamed velocity commands the simulated robot driver applies (DESIGN §6): a command's age
+/// Which streamed velocity commands the simulated robot driver applies: a command's age
 /// is checked on receipt against its own timeout, and a stream's sequence numbers must grow. Pure:
 /// time is passed in, no DDS.
 

@@ -161,7 +161,7 @@ void SimRunner::run() {
 void SimRunner::one_step(WallTime now) {
   drain_mailbox(now);
   if (twist_ && now >= twist_->expires) {
-    // No fresh twist within its timeout: the arm stops (DESIGN §6).
+    // No fresh twist within its timeout: the arm stops.
     physics_->stop_robot();
     twist_.reset();
   }

@@ -147,8 +147,9 @@ void CraneGatewayNode::on_command() {
     command.stamp = dds::to_domain(c.header.stamp);
     command.seq = c.seq;
     std::string refusal;
-    // The command's own timeout is checked on receipt too (DESIGN §6); the gateway's configured
-    // command timeout then bounds how long an accepted command drives the crane.
+    // The command's own timeout is checked on receipt too (after a network drop DDS may deliver a burst of
+    // old samples, and none of them may move the crane); the gateway's configured command timeout then
+    // bounds how long an accepted command drives the crane.
     if (std::isnan(c.timeout_s) || c.timeout_s < 0.0) {
       refusal = "timeout_s must be >= 0";
     } else if (c.timeout_s > 0.0 && now - command.stamp > from_seconds(std::min(c.timeout_s, 1e6))) {

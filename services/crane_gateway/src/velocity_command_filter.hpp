@@ -1,5 +1,5 @@
 #pragma once
-// Which velocity commands the crane gateway may pass on (DESIGN §6): fresh ones only.
+// Which velocity commands the crane gateway may pass on: fresh ones only.
 
 #include <Eigen/Core>
 #include <chrono>

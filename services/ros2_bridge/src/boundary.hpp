@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// What the ROS 2 bridge lets through its boundary (DESIGN §6 applied to ROS 2 drivers): samples no
+/// What the ROS 2 bridge lets through its boundary (rigger's safety rules applied to ROS 2 drivers): samples no
 /// older than a configured age, twist commands within the cell's speed limits, and how often a refusal
 /// may be logged. Pure: no DDS, no wire types, time is passed in. Not thread-safe.
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// The primitive operations skills are built from (DESIGN §5). Synchronous primitives are plain
+/// The primitive operations skills are built from (docs/skills.md). Synchronous primitives are plain
 /// functions (planning, checks). Asynchronous primitives are device operations over topics that end
 /// with exactly one callback: done (ok), failed (a code and a message) or timed out. They are
 /// interfaces so that a skill's FSM is unit-tested with fakes and runs on DDS devices in the executor

@@ -1,7 +1,7 @@
 // The task controller as a real process, with scripted executors, on a private domain; run on
 // demand, not a test. Prints:
 //
-//  1. Reaction latency (issues 3 and 19), across three processes (an executor → the controller → an
+//  1. Reaction latency, across three processes (an executor → the controller → an
 //     executor), p50/p90/p99:
 //     A. a monitor's FAILURE written → the sibling skill's SHUTDOWN received by the skill's executor
 //        (Repeat(ForceSuccess(Parallel(1, 1)[skill, monitor]))), with the journal as deployed

@@ -38,7 +38,7 @@
 ///                      causes are written this long after its commands, together with those of every
 ///                      event that comes meanwhile; the commands' receivers get the CPU first (on a
 ///                      2-core machine the flush competed with them), and a burst is one transaction.
-///                      0: right after the handler (docs/behavior-tree.md#where-the-time-goes-issue-19)
+///                      0: right after the handler (docs/behavior-tree.md#where-the-time-goes)
 ///   "resume_tolerance_mm": number in [0.1, 10000], default 10, and "resume_tolerance_deg": number in
 ///                      [0.01, 180], default 2: a resumed task's completed localization of an object runs
 ///                      again when the object is farther than this from the pose journaled when it was

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// The task controller's journal (DESIGN §6 "Nothing is lost"): every accepted recipe and every
+/// The task controller's journal (nothing is lost): every accepted recipe and every
 /// event/transition, with wall-clock timestamps, in one SQLite file.
 ///
 /// Durability: WAL mode; the sync level is the caller's choice (`JournalSync`).

@@ -1,4 +1,4 @@
-// The controller's resume after a crash (issue 13; docs/behavior-tree.md, "Resume after a crash"): an
+// The controller's resume after a crash (docs/behavior-tree.md, "Resume after a crash"): an
 // INTERRUPTED task's journal becomes a restored tree (resume_plan.hpp, pure), the operator is asked, and
 // only the confirmation starts anything; a restarted controller first reports the tasks it finds
 // unfinished as INTERRUPTED. Members of TaskControllerNode, kept apart from its wiring.

@@ -1,5 +1,5 @@
 // Vision tracker throughput at 1280 x 720 on one core, next to OpenCV's default ArUco detector on
-// the same frames (issue 6: target >= 100 frames/s and >= 4x the reference). Not a test.
+// the same frames (target >= 100 frames/s and >= 4x the reference). Not a test.
 //
 // Frames: the simulated cell's camera with its configured noise, the load swinging slowly beside
 // the static target (both visible), 60 frames at 30 Hz. The tracker runs as deployed: ArUco3

@@ -1,4 +1,4 @@
-// Tracker accuracy on the simulated camera against ground truth (issue 6 acceptance): load and
+// Tracker accuracy on the simulated camera against ground truth (the acceptance criterion): load and
 // target at 1 to 2 m, 1280 x 720, the configured pixel noise; median translation <= 2 mm and
 // median rotation <= 0.5 deg for each object. Prints medians and 90th percentiles.
 
@@ -52,7 +52,7 @@ class TrackerAccuracyTest : public ::testing::Test {
       const FrameResult result = tracker.process(image, Stamp(std::chrono::seconds(1)));
       EXPECT_EQ(result.status, FrameStatus::kOk);
       for (const sim::ObjectPose& pose : truth) {
-        // The acceptance is the crane scenario's objects (issue 6); the small part of Pick and Place and
+        // The acceptance is the crane scenario's objects; the small part of Pick and Place and
         // its table are in the picture, at their configured poses, but not measured here.
         if (pose.object_id != "load" && pose.object_id != "target") continue;
         const auto track = std::find_if(result.objects.begin(), result.objects.end(),

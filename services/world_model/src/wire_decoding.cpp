@@ -90,7 +90,7 @@ Decoded<EntityUpdate> decode_update(const rigger_world_EntityUpdate& wire) {
       return error("BAD_ATTRIBUTES", "attributes_json: expected at most " + std::to_string(kMaxAttributesJsonBytes) +
                                          " bytes, got " + std::to_string(attributes.size()));
     }
-    // Nesting bounded while parsing (DESIGN 6), so deep input is refused before it is built; the store
+    // Nesting bounded while parsing, not after, so deep input is refused before it is built; the store
     // then checks the exact depth of the values it keeps (world_store.cpp).
     JsonParseResult patch = parse_json_bounded(attributes, {kMaxAttributesJsonBytes, kMaxAttributeDepth + 1});
     if (!patch.ok()) {

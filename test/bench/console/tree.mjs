@@ -1,4 +1,4 @@
-// The Tasks page with a large tree (issue 15: "a 10,000-node recipe's tree shown in chromium in under
+// The Tasks page with a large tree (target: "a 10,000-node recipe's tree shown in chromium in under
 // 1 s and following 1,000 node changes per second without falling behind"). Run by bench_console_tree,
 // which runs the tasks named in TASKS (the first the 10-node reference) to the end, then writes CHANGES
 // node changes at RATE per second for the last one once this script prints "follow: ready". In the page:

@@ -1,4 +1,4 @@
-// The planner with a large tree (issue 16: "a 1,000-node tree stays responsive: an edit revalidated and
+// The planner with a large tree (target: "a 1,000-node tree stays responsive: an edit revalidated and
 // redrawn in under 100 ms in chromium"). Run by bench_planner_tree, which starts scripted executors with
 // the real skill library and the console. For each tree size it opens a generated recipe in the planner
 // (the Open button), then times, in the page:
@@ -64,7 +64,7 @@ for (const deadline = Date.now() + 60000; ;) {
 }
 
 // The screw list from the target's 4 picked holes through the console (the CAD service derives it, the
-// world model adds each hole's screw type and torque): issue 16's target is 50 ms.
+// world model adds each hole's screw type and torque): the target is 50 ms.
 {
   const screws = await timed(() => asked('/api/planner/screws', JSON.stringify({ model: 'object:target', holes: [0, 1, 2, 3] })),
     (status, body) => {

@@ -1,4 +1,4 @@
-// The planner's editing errors in a real browser (issue 16: "editing errors are shown on the right node
+// The planner's editing errors in a real browser (target: "editing errors are shown on the right node
 // and field, and publishing is refused"), run by planner_browser_test.cpp with the same services as
 // e2e.mjs. One tree built by clicks holds three errors the controller's validator finds: a Parallel
 // whose success threshold (3) exceeds its two branches, those two branches both claiming the robot and

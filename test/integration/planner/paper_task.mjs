@@ -1,4 +1,4 @@
-// The paper's task built in the planner by clicks and CAD picks only (issue 16), run by
+// The paper's task built in the planner by clicks and CAD picks only, run by
 // planner_paper_task_test.cpp (which starts the world model, the CAD service, the controller, scripted
 // executors announcing the real skill library and the console): headless Debian chromium through
 // playwright-core. From an empty tree: localize target and load (each in a Retry), attach with a yank

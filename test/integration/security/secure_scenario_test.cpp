@@ -1,4 +1,4 @@
-// The paper's crane scenario with DDS Security on (issue 17, docs/security.md): every service of the
+// The paper's crane scenario with DDS Security on (docs/security.md): every service of the
 // simulated cell (scenario_support.hpp) on deploy/cyclonedds-secure.xml with its own identity and
 // permissions from a PKI that deploy/security/make-pki makes for this test, as `rigger-compose up --secure`
 // runs them; a permitted riggerctl runs recipes/crane_insert.json. While the robot carries the load, three

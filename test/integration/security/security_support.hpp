@@ -1,5 +1,5 @@
 #pragma once
-// What the DDS Security tests share (issue 17, docs/security.md): a PKI made by deploy/security/make-pki
+// What the DDS Security tests share (docs/security.md): a PKI made by deploy/security/make-pki
 // into a private folder, the "rogue" folder of an intruder whose permissions the identity CA signed, the
 // environment that puts a process on the secured domain as an identity, and the three intruders
 // (rigger_security_probe) with the checks on what their logs say.
@@ -149,7 +149,7 @@ struct Probe {
   std::unique_ptr<ChildProcess> process;
 };
 
-/// The three intruders of issue 17: (1) no identity (the plain configuration), (2) the valid identity
+/// The three intruders (docs/security.md): (1) no identity (the plain configuration), (2) the valid identity
 /// vision_tracker, which has no permission for those topics, (3) vision_tracker's certificate with the
 /// rogue permissions signed by the identity CA. Not started yet.
 inline std::vector<Probe> intruders(const TestPki& pki, std::uint32_t domain) {

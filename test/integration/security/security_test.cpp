@@ -1,4 +1,4 @@
-// DDS Security with real processes (issue 17, docs/security.md): a PKI made by deploy/security/make-pki
+// DDS Security with real processes (docs/security.md): a PKI made by deploy/security/make-pki
 // into the test's folder; a small secured cell (task controller + a scripted executor) brought up by
 // `rigger-compose up --secure`; three intruders — no identity, a valid identity without permission for
 // the recipe topic, and a valid identity whose permissions were signed by the identity CA — each try to

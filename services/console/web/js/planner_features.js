@@ -1,4 +1,4 @@
-// Feature picks (issue 16): a feature_ref parameter (AttachRobotToLoad's grasp and approach, Pick's
+// Feature picks (the planner, docs/console.md): a feature_ref parameter (AttachRobotToLoad's grasp and approach, Pick's
 // grasp) is chosen from the named features the world model knows of the cell's parts — grasp frames,
 // approach waypoints, screw holes, the rope attachment — which it derived at start-up from the STEP
 // models by the cell file's references and signatures (docs/world-model.md, "CAD rules"). A field's

@@ -1,5 +1,5 @@
 #pragma once
-/// The event-driven behaviour-tree engine (DESIGN §2). Pure C++: no clock, thread, DDS or
+/// The event-driven behaviour-tree engine (docs/behavior-tree.md). Pure C++: no clock, thread, DDS or
 /// logger of its own. Inputs are method calls; outputs go through the Port. Nothing polls: the
 /// engine does work only inside an input call.
 ///

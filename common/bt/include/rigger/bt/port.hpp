@@ -24,7 +24,7 @@ using TimerId = std::uint64_t;
 /// node is recognised as stale.
 using Activation = std::uint32_t;
 
-/// States of a node (DESIGN §2): IDLE → RUNNING → SUCCESS | FAILURE; RUNNING → STOPPING → STOPPED.
+/// States of a node: IDLE → RUNNING → SUCCESS | FAILURE; RUNNING → STOPPING → STOPPED.
 enum class NodeState { kIdle, kRunning, kStopping, kSuccess, kFailure, kStopped };
 /// "IDLE", "RUNNING", "STOPPING", "SUCCESS", "FAILURE", "STOPPED".
 std::string_view to_string(NodeState state);

@@ -19,7 +19,7 @@ using NodeIndex = std::size_t;
 /// Durations in seconds, as in recipes.
 using Seconds = std::chrono::duration<double>;
 
-/// Every node type a recipe may use (DESIGN §2).
+/// Every node type a recipe may use (docs/behavior-tree.md).
 enum class NodeKind {
   kSequence,          ///< children one after another; first failure fails; all succeed → success
   kFallback,          ///< children one after another; first success succeeds; all fail → failure
@@ -102,7 +102,7 @@ class SpecError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-/// Whether each node can ever report SUCCESS, by DESIGN §2's typed counting: a monitor never
+/// Whether each node can ever report SUCCESS, by the typed counting of Parallel: a monitor never
 /// succeeds; Sequence needs all children to be able to; Fallback/OperatorDecision any;
 /// Parallel when M children can; Inverter and ForceSuccess always can (a failure becomes
 /// success); Retry, Repeat and Timeout when their child can; Skill and Condition can.

@@ -1,5 +1,5 @@
 #pragma once
-/// From recipe text to a validated behaviour tree (DESIGN §4), or to the list of every error.
+/// From recipe text to a validated behaviour tree (docs/recipes.md), or to the list of every error.
 ///
 /// Stages, each reporting every error it finds with a JSON pointer and what was expected:
 ///  1. bounded parsing: size checked before parsing, nesting depth checked while parsing,
