@@ -286,7 +286,7 @@ int main(int argc, char** argv) {
   }
   const std::string load_after = load_average();
 
-  std::printf("Network matrix (issue 17), %d round(s); load average %s before, %s after\n", o.rounds,
+  std::printf("Network matrix (loopback and lab hosts, security off and on), %d round(s); load average %s before, %s after\n", o.rounds,
               load_before.c_str(), load_after.c_str());
   std::printf("echo: round trip through the echo service, %d B at %d Hz for %d s per round\n", o.size, o.rate_hz,
               o.seconds);
