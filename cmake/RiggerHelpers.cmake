@@ -64,11 +64,13 @@ function(rigger_add_library name)
   set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
   set(src_scope PUBLIC)
   if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include)
-    target_include_directories(${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    # Installed libraries (rigger_export) find their headers in <prefix>/include.
+    target_include_directories(${name} PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+                                              $<INSTALL_INTERFACE:include>)
     set(src_scope PRIVATE)
   endif()
   if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/src)
-    target_include_directories(${name} ${src_scope} ${CMAKE_CURRENT_SOURCE_DIR}/src)
+    target_include_directories(${name} ${src_scope} $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/src>)
   endif()
   target_link_libraries(${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
 endfunction()
@@ -77,9 +79,15 @@ endfunction()
 # rigger/base/install.hpp's data_dir().
 set(RIGGER_DATA_DESTINATION share/rigger)
 
+# A benchmark program: in <build>/bench, built by the target rigger_benches (test/bench/run), not by `all`.
+function(rigger_bench_target name)
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench EXCLUDE_FROM_ALL TRUE)
+  add_dependencies(rigger_benches ${name})
+endfunction()
+
 # rigger_add_executable(NAME SOURCES ... [DEPS ...] [BENCH | NOT_INSTALLED]): a program placed in
 # <build>/bin and installed into <prefix>/bin (`cmake --install`), like every service and user tool.
-# BENCH: a benchmark, placed in <build>/bench and not installed. NOT_INSTALLED: a test helper in bin/.
+# BENCH: a benchmark, placed in <build>/bench, built only by rigger_benches, not installed. NOT_INSTALLED: a test helper in bin/.
 function(rigger_add_executable name)
   cmake_parse_arguments(ARG "BENCH;NOT_INSTALLED" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
@@ -89,7 +97,7 @@ function(rigger_add_executable name)
   endif()
   target_link_libraries(${name} PRIVATE ${ARG_DEPS})
   if(ARG_BENCH)
-    set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench)
+    rigger_bench_target(${name})
     return()
   endif()
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
@@ -106,17 +114,21 @@ function(rigger_add_service name)
   rigger_add_executable(${name} SOURCES src/main.cpp DEPS rigger_${name}_core)
 endfunction()
 
-# rigger_add_test(NAME SOURCES ... DEPS ... LABEL unit|dds|integration|lab [TIMEOUT s] [RUN_SERIAL]) (lab: on demand, not test/run)
+# rigger_add_test(NAME SOURCES ... DEPS ... LABEL unit|dds|integration|timing|lab [TIMEOUT s] [RUN_SERIAL]
+#                 [TIMING gtest-filter]) (lab: on demand, not test/run)
 # One GoogleTest binary; each test case becomes a ctest test with the label and a timeout.
 # RUN_SERIAL: for tests that assert a deadline (e.g. discovery within 3 s) and must not share the
 # machine's two cores with the rest of the suite.
+# TIMING: the test cases matching the filter (e.g. "Suite.A:Suite.B") are labelled `timing` instead: they
+# assert a real-time target, and test/run runs them one at a time after the rest, with the shipped
+# liveliness lease (label timing alone does the same for a whole binary).
 function(rigger_add_test name)
   if(NOT RIGGER_BUILD_TESTS)
     return()
   endif()
-  cmake_parse_arguments(ARG "RUN_SERIAL" "LABEL;TIMEOUT" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "RUN_SERIAL" "LABEL;TIMEOUT;TIMING" "SOURCES;DEPS" ${ARGN})
   if(NOT ARG_LABEL)
-    message(FATAL_ERROR "rigger_add_test(${name}): LABEL is required (unit, dds, integration, fuzz)")
+    message(FATAL_ERROR "rigger_add_test(${name}): LABEL is required (unit, dds, integration, timing, lab)")
   endif()
   if(NOT ARG_TIMEOUT)
     if(ARG_LABEL STREQUAL "unit")
@@ -136,10 +148,19 @@ function(rigger_add_test name)
   if(ARG_RUN_SERIAL)
     set(serial TRUE)
   endif()
+  set(environment "RIGGER_BIN_DIR=${PROJECT_BINARY_DIR}/bin;RIGGER_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+  if(ARG_TIMING)
+    gtest_discover_tests(${name} TEST_FILTER "-${ARG_TIMING}"
+      DISCOVERY_TIMEOUT 60
+      PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial} ENVIRONMENT "${environment}")
+    gtest_discover_tests(${name} TEST_FILTER "${ARG_TIMING}"
+      DISCOVERY_TIMEOUT 60
+      PROPERTIES LABELS timing TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL TRUE ENVIRONMENT "${environment}")
+    return()
+  endif()
   gtest_discover_tests(${name}
     DISCOVERY_TIMEOUT 60
-    PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial}
-    ENVIRONMENT "RIGGER_BIN_DIR=${PROJECT_BINARY_DIR}/bin;RIGGER_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+    PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial} ENVIRONMENT "${environment}")
 endfunction()
 
 # rigger_add_fuzzer(NAME SOURCES ... DEPS ... [CORPUS dir] [SECONDS n]): a libFuzzer target (clang

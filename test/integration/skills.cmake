@@ -11,3 +11,13 @@ if(TARGET rigger_skills_robot_test AND TARGET crane_gateway)
   target_compile_definitions(rigger_skills_robot_test PRIVATE RIGGER_WITH_CRANE_GATEWAY=1)
   add_dependencies(rigger_skills_robot_test crane_gateway)
 endif()
+# A skill written outside the tree (examples/skill_plugin) against the installed skill SDK: installed,
+# built with find_package(rigger), unit-tested, and run by the real controller on the physics arm.
+if(TARGET rigger_skill_sdk AND TARGET cell_sim AND TARGET task_controller)
+  rigger_add_test(rigger_skill_sdk_plugin_test
+    SOURCES skill_sdk_test.cpp
+    DEPS rigger_test_harness rigger_task_controller_core Eigen3::Eigen nlohmann_json::nlohmann_json
+    LABEL integration TIMEOUT 420)
+  target_compile_definitions(rigger_skill_sdk_plugin_test PRIVATE RIGGER_CMAKE_COMMAND="${CMAKE_COMMAND}")
+  add_dependencies(rigger_skill_sdk_plugin_test cell_sim task_controller rigger_skill_sdk)
+endif()

@@ -62,7 +62,7 @@ Part task_client() {
           names(task::kStatus, task::kNodeStatus, task::kJournalReply, skill::kExecutors, operator_ui::kPrompt,
                 operator_ui::kResponse)};
 }
-// The skill executor's device proxies (services/skill_executor/src/dds_*devices.cpp), each switched on by
+// The skill executor's device proxies (common/skill_sdk/src/dds_*devices.cpp), each switched on by
 // the executor's configuration (deploy/config/*-skills.json).
 Part robot_device() { return {names(robot::kCmdMotion), names(robot::kState, robot::kMotionStatus)}; }
 Part gripper_device() { return {names(robot::kGripperCmd), names(robot::kGripperState)}; }

@@ -3,7 +3,8 @@
 // the magnet.
 #include <gtest/gtest.h>
 
-#include "gripper_skill_harness.hpp"
+#include "sdk_testing.hpp"
+#include "tool_poses.hpp"
 #include "skills/attach_robot_to_load.hpp"
 
 namespace rigger::skill_executor {
@@ -11,12 +12,12 @@ namespace {
 
 using namespace std::chrono_literals;
 using testing::FakeGripper;
-using testing::GripperRunHarness;
+using testing::RunHarness;
 using Kind = testing::FakeRobot::Op::Kind;
 
 // grasp_side and pre_grasp of the simulated cell in the robot base frame.
-const Eigen::Isometry3d kGrasp = testing::tool_facing_x(0.80, -0.25, 0.30);
-const Eigen::Isometry3d kApproach = testing::tool_facing_x(0.70, -0.25, 0.30);
+const Eigen::Isometry3d kGrasp = tool_facing_x(0.80, -0.25, 0.30);
+const Eigen::Isometry3d kApproach = tool_facing_x(0.70, -0.25, 0.30);
 
 nlohmann::json attach_params() {
   return {{"grasp", "load/grasp_side"}, {"approach", "load/pre_grasp"}, {"timeout_s", 30.0}};
@@ -27,14 +28,14 @@ class AttachTest : public ::testing::Test {
   SkillType type_{AttachRobotToLoadSkill::describe(), [] { return std::make_unique<AttachRobotToLoadSkill>(); }};
 
   /// Starts the run and answers SkillRun's own feature resolutions (in the world frame).
-  static void start(GripperRunHarness& h) {
+  static void start(RunHarness& h) {
     h.run->start();
     while (!h.run->skill() && !h.result && h.resolver.pending() > 0) h.resolver.answer(OpResult::success());
   }
 
   /// Completes what the current state waits for, as on the success path. `grasp_now` is what the
   /// resolver answers for the grasp frame.
-  static void step(GripperRunHarness& h, const Eigen::Isometry3d& grasp_now = kGrasp,
+  static void step(RunHarness& h, const Eigen::Isometry3d& grasp_now = kGrasp,
                    const GripperSnapshot& initial = FakeGripper::state(false, false)) {
     const std::string s = h.state();
     if (s == "check" || s == "re_resolve") {
@@ -63,7 +64,7 @@ class AttachTest : public ::testing::Test {
       FAIL() << "no step for state " << s;
     }
   }
-  static bool answer_feature(GripperRunHarness& h, const Eigen::Isometry3d& grasp_now) {
+  static bool answer_feature(RunHarness& h, const Eigen::Isometry3d& grasp_now) {
     const auto* req = h.resolver.oldest();
     if (!req) return false;
     EXPECT_EQ(req->frame, kRobotBaseFrame) << req->ref;
@@ -72,7 +73,7 @@ class AttachTest : public ::testing::Test {
   }
   /// Drives the run along the success path (or the retry path when `initial` is energized) until it
   /// enters `target` (or ends).
-  static void drive_to(GripperRunHarness& h, const std::string& target,
+  static void drive_to(RunHarness& h, const std::string& target,
                        const GripperSnapshot& initial = FakeGripper::state(false, false)) {
     for (int i = 0; i < 40 && !h.result && h.state() != target; ++i) {
       step(h, kGrasp, initial);
@@ -81,7 +82,7 @@ class AttachTest : public ::testing::Test {
     ASSERT_FALSE(h.result) << h.describe_result();
     ASSERT_EQ(h.state(), target);
   }
-  static void run_to_end(GripperRunHarness& h, const GripperSnapshot& initial = FakeGripper::state(false, false)) {
+  static void run_to_end(RunHarness& h, const GripperSnapshot& initial = FakeGripper::state(false, false)) {
     for (int i = 0; i < 40 && !h.result; ++i) {
       step(h, kGrasp, initial);
       if (::testing::Test::HasFatalFailure()) return;
@@ -90,7 +91,7 @@ class AttachTest : public ::testing::Test {
 };
 
 TEST_F(AttachTest, SuccessMovesToTheApproachEnergizesApproachesSlowlyAndVerifiesTheHold) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   ASSERT_NE(h.run->skill(), nullptr);
   drive_to(h, "move_approach");
@@ -123,7 +124,7 @@ TEST_F(AttachTest, SuccessMovesToTheApproachEnergizesApproachesSlowlyAndVerifies
 }
 
 TEST_F(AttachTest, TheGraspIsReResolvedBeforeTheFinalApproachAndTheNewPoseIsUsed) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   drive_to(h, "re_resolve");
   ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
@@ -137,7 +138,7 @@ TEST_F(AttachTest, TheGraspIsReResolvedBeforeTheFinalApproachAndTheNewPoseIsUsed
 }
 
 TEST_F(AttachTest, TooMuchSwayIsLoadMovingWithoutApproaching) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   drive_to(h, "re_resolve");
   ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
@@ -150,7 +151,7 @@ TEST_F(AttachTest, TooMuchSwayIsLoadMovingWithoutApproaching) {
 }
 
 TEST_F(AttachTest, ARetryAfterASlipReleasesAndRetreatsToTheApproachPoseFirst) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   const GripperSnapshot slipped = FakeGripper::state(true, false, true);
   drive_to(h, "retreat", slipped);
@@ -168,7 +169,7 @@ TEST_F(AttachTest, ARetryAfterASlipReleasesAndRetreatsToTheApproachPoseFirst) {
 }
 
 TEST_F(AttachTest, AGripperThatStaysEnergizedAfterTheReleaseIsReleaseFailed) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   drive_to(h, "release", FakeGripper::state(true, true));
   ASSERT_TRUE(h.gripper.confirm());
@@ -179,7 +180,7 @@ TEST_F(AttachTest, AGripperThatStaysEnergizedAfterTheReleaseIsReleaseFailed) {
 }
 
 TEST_F(AttachTest, ALossWhileVerifyingIsGraspLost) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   drive_to(h, "verify");
   ASSERT_EQ(h.gripper.publish(FakeGripper::state(true, true)), 0) << "holding is no news";
@@ -190,7 +191,7 @@ TEST_F(AttachTest, ALossWhileVerifyingIsGraspLost) {
 }
 
 TEST_F(AttachTest, ALossSeenByTheConfirmingSampleIsGraspLost) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   drive_to(h, "confirm");
   ASSERT_EQ(h.gripper.publish(FakeGripper::state(true, false)), 1);
@@ -198,7 +199,7 @@ TEST_F(AttachTest, ALossSeenByTheConfirmingSampleIsGraspLost) {
 }
 
 TEST_F(AttachTest, NoHoldAfterTheApproachIsGraspFailed) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   drive_to(h, "await_hold");
   EXPECT_EQ(h.gripper.oldest_wait()->timeout, 2s);  // hold_timeout_s default
@@ -209,7 +210,7 @@ TEST_F(AttachTest, NoHoldAfterTheApproachIsGraspFailed) {
 
 TEST_F(AttachTest, ResolverFailuresEndTheRunWithTheirCodeBeforeAnyMotion) {
   for (const char* code : {"UNKNOWN_FEATURE", "WORLD_UNREACHABLE"}) {
-    GripperRunHarness h(type_, attach_params());
+    RunHarness h(type_, attach_params());
     start(h);
     drive_to(h, "resolve");
     ASSERT_TRUE(h.resolver.answer(OpResult::failure(code, "test")));
@@ -219,7 +220,7 @@ TEST_F(AttachTest, ResolverFailuresEndTheRunWithTheirCodeBeforeAnyMotion) {
 }
 
 TEST_F(AttachTest, AnUnlocalizedLoadIsNotLocalized) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   drive_to(h, "resolve");
   h.resolver.localized = false;
@@ -229,8 +230,8 @@ TEST_F(AttachTest, AnUnlocalizedLoadIsNotLocalized) {
 }
 
 TEST_F(AttachTest, AnApproachFarFromTheGraspOrOutOfReachIsPlanFailed) {
-  for (const auto& approach : {testing::tool_facing_x(0.0, -0.25, 0.30), testing::tool_facing_x(1.5, -0.25, 0.30)}) {
-    GripperRunHarness h(type_, attach_params());
+  for (const auto& approach : {tool_facing_x(0.0, -0.25, 0.30), tool_facing_x(1.5, -0.25, 0.30)}) {
+    RunHarness h(type_, attach_params());
     start(h);
     drive_to(h, "resolve");
     ASSERT_TRUE(h.resolver.answer(OpResult::success(), kGrasp));
@@ -242,7 +243,7 @@ TEST_F(AttachTest, AnApproachFarFromTheGraspOrOutOfReachIsPlanFailed) {
 
 TEST_F(AttachTest, AFailedMotionStopsTheRobotBeforeReportingIt) {
   for (const char* state : {"move_approach", "approach"}) {
-    GripperRunHarness h(type_, attach_params());
+    RunHarness h(type_, attach_params());
     start(h);
     drive_to(h, state);
     ASSERT_TRUE(h.robot.complete(Kind::kMove, OpResult::failure("MOTION_FAILED", "path not trackable")));
@@ -253,7 +254,7 @@ TEST_F(AttachTest, AFailedMotionStopsTheRobotBeforeReportingIt) {
 }
 
 TEST_F(AttachTest, TheOverallTimeoutFailsTimeoutFromWhereverTheRunIs) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   drive_to(h, "approach");
   h.timers.advance(30s);
@@ -262,7 +263,7 @@ TEST_F(AttachTest, TheOverallTimeoutFailsTimeoutFromWhereverTheRunIs) {
   ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));
   EXPECT_TRUE(h.failed_with("TIMEOUT")) << h.describe_result();
   // A motion that times out by itself is TIMEOUT too.
-  GripperRunHarness h2(type_, attach_params());
+  RunHarness h2(type_, attach_params());
   start(h2);
   drive_to(h2, "move_approach");
   ASSERT_TRUE(h2.robot.complete(Kind::kMove, OpResult::failure("TIMEOUT", "too slow")));
@@ -271,14 +272,14 @@ TEST_F(AttachTest, TheOverallTimeoutFailsTimeoutFromWhereverTheRunIs) {
 }
 
 TEST_F(AttachTest, ACraneFaultRefusesToMove) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   ASSERT_EQ(h.state(), "check");
   ASSERT_TRUE(h.crane.complete_check(OpResult::failure("CRANE_FAULT", "PLC fault 17")));
   EXPECT_TRUE(h.failed_with("CRANE_FAULT")) << h.describe_result();
   EXPECT_EQ(h.robot.moves, 0);
   // And right before the final approach.
-  GripperRunHarness h2(type_, attach_params());
+  RunHarness h2(type_, attach_params());
   start(h2);
   drive_to(h2, "re_resolve");
   ASSERT_TRUE(h2.crane.complete_check(OpResult::failure("CRANE_FAULT", "e-stop")));
@@ -288,7 +289,7 @@ TEST_F(AttachTest, ACraneFaultRefusesToMove) {
 
 TEST_F(AttachTest, ACraneFaultWhileTheRobotMovesStopsItAndFailsCraneFault) {
   for (const char* state : {"move_approach", "approach"}) {
-    GripperRunHarness h(type_, attach_params());
+    RunHarness h(type_, attach_params());
     start(h);
     drive_to(h, state);
     ASSERT_EQ(h.crane.watches(), 1u) << state;
@@ -299,7 +300,7 @@ TEST_F(AttachTest, ACraneFaultWhileTheRobotMovesStopsItAndFailsCraneFault) {
     EXPECT_TRUE(h.failed_with("CRANE_FAULT")) << state << ": " << h.describe_result();
   }
   // The watch ends with its state.
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   drive_to(h, "energize");
   EXPECT_EQ(h.crane.watches(), 0u);
@@ -307,12 +308,12 @@ TEST_F(AttachTest, ACraneFaultWhileTheRobotMovesStopsItAndFailsCraneFault) {
 
 TEST_F(AttachTest, MissingDevicesAreDeviceUnavailableAndCheckCraneFalseSkipsTheCrane) {
   {
-    GripperRunHarness h(type_, attach_params(), [](Devices& d) { d.gripper = nullptr; });
+    RunHarness h(type_, attach_params(), [](Devices& d) { d.gripper = nullptr; });
     start(h);
     EXPECT_TRUE(h.failed_with("DEVICE_UNAVAILABLE")) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, attach_params(), [](Devices& d) { d.crane = nullptr; });
+    RunHarness h(type_, attach_params(), [](Devices& d) { d.crane = nullptr; });
     start(h);
     EXPECT_TRUE(h.failed_with("DEVICE_UNAVAILABLE")) << h.describe_result();
     EXPECT_NE(h.result->message.find("crane"), std::string::npos);
@@ -320,7 +321,7 @@ TEST_F(AttachTest, MissingDevicesAreDeviceUnavailableAndCheckCraneFalseSkipsTheC
   {
     auto params = attach_params();
     params["check_crane"] = false;
-    GripperRunHarness h(type_, params, [](Devices& d) { d.crane = nullptr; });
+    RunHarness h(type_, params, [](Devices& d) { d.crane = nullptr; });
     start(h);
     EXPECT_FALSE(h.result);
     EXPECT_EQ(h.gripper.pending_waits(), 1u) << "straight to the gripper state";
@@ -328,13 +329,13 @@ TEST_F(AttachTest, MissingDevicesAreDeviceUnavailableAndCheckCraneFalseSkipsTheC
 }
 
 TEST_F(AttachTest, NoGripperStateIsGripperStateStaleAndAnUnconfirmedEnergizeIsGripperTimeout) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
   ASSERT_TRUE(h.gripper.time_out_wait());
   EXPECT_TRUE(h.failed_with("GRIPPER_STATE_STALE")) << h.describe_result();
 
-  GripperRunHarness h2(type_, attach_params());
+  RunHarness h2(type_, attach_params());
   start(h2);
   drive_to(h2, "energize");
   ASSERT_TRUE(h2.gripper.confirm(OpResult::failure("TIMEOUT", "no state")));
@@ -345,7 +346,7 @@ TEST_F(AttachTest, BadParamsFailBeforeAnything) {
   auto params = attach_params();
   params["approach_speed_m_per_s"] = 0.5;
   params.erase("grasp");
-  GripperRunHarness h(type_, params);
+  RunHarness h(type_, params);
   h.run->start();
   ASSERT_TRUE(h.failed_with("BAD_PARAMS")) << h.describe_result();
   EXPECT_NE(h.result->message.find("/params/approach_speed_m_per_s"), std::string::npos) << h.result->message;
@@ -359,7 +360,7 @@ TEST_F(AttachTest, ShutdownInEveryStateReachesItsSafeStopAndNeverTouchesTheMagne
   for (const std::string state : {"check", "resolve", "release", "retreat", "move_approach", "energize", "re_resolve",
                                   "approach", "await_hold", "verify", "confirm"}) {
     SCOPED_TRACE(state);
-    GripperRunHarness h(type_, attach_params());
+    RunHarness h(type_, attach_params());
     start(h);
     const bool retry_path = state == "release" || state == "retreat";
     drive_to(h, state, retry_path ? FakeGripper::state(true, true) : FakeGripper::state(false, false));
@@ -381,7 +382,7 @@ TEST_F(AttachTest, ShutdownInEveryStateReachesItsSafeStopAndNeverTouchesTheMagne
 }
 
 TEST_F(AttachTest, AStopThatIsNotConfirmedIsSafeStopFailed) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   drive_to(h, "approach");
   h.run->shutdown("test");
@@ -390,7 +391,7 @@ TEST_F(AttachTest, AStopThatIsNotConfirmedIsSafeStopFailed) {
 }
 
 TEST_F(AttachTest, EveryStatesSafeStopReportsSafe) {
-  GripperRunHarness h(type_, attach_params());
+  RunHarness h(type_, attach_params());
   start(h);
   const Skill& skill = *h.run->skill();
   EXPECT_EQ(skill.state_names(),

@@ -3,16 +3,16 @@
 // confirmed before STOPPED).
 #include <gtest/gtest.h>
 
-#include "cell_fakes.hpp"
+#include "sdk_testing.hpp"
 #include "rigger/skill/param_check.hpp"
-#include "skills/collaborative.hpp"
+#include "rigger/skill_sdk/states.hpp"
 #include "skills/collaborative_move_load.hpp"
 
 namespace rigger::skill_executor {
 namespace {
 
 using namespace std::chrono_literals;
-using testing::CellRunHarness;
+using testing::RunHarness;
 
 AdmittanceSnapshot guiding_state() {
   AdmittanceSnapshot s;
@@ -28,7 +28,7 @@ class CollaborativeMoveLoadTest : public ::testing::Test {
   nlohmann::json params_ = nlohmann::json::object();
 
   /// Runs to `guide`.
-  void to_guide(CellRunHarness& h) {
+  void to_guide(RunHarness& h) {
     h.run->start();
     ASSERT_EQ(h.state(), "check_crane");
     ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
@@ -50,7 +50,7 @@ class CollaborativeMoveLoadTest : public ::testing::Test {
 // The path stiffness is a parameter; 0 is free admittance. Out of range is refused before anything moves.
 TEST_F(CollaborativeMoveLoadTest, ThePathStiffnessIsAParameter) {
   params_["path_stiffness_n_per_m"] = 0.0;
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   to_guide(h);
   const nlohmann::json too_stiff = {{"path_stiffness_n_per_m", 2500.0}};
   const skill::ParamCheckResult checked = skill::check_params(CollaborativeMoveLoadSkill::describe(), too_stiff);
@@ -59,7 +59,7 @@ TEST_F(CollaborativeMoveLoadTest, ThePathStiffnessIsAParameter) {
 }
 
 TEST_F(CollaborativeMoveLoadTest, TheOperatorsDoneEndsItWithAdmittanceOff) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   to_guide(h);
   EXPECT_EQ(h.crane.watches(), 1u);
   EXPECT_EQ(h.admittance.watches(), 1u);
@@ -89,7 +89,7 @@ TEST_F(CollaborativeMoveLoadTest, TheOperatorsDoneEndsItWithAdmittanceOff) {
 // (A world model that cannot be told the load moved fails the run: nothing may use the old pose.)
 TEST_F(CollaborativeMoveLoadTest, ADurationEndsItWithoutAnAnswer) {
   params_["duration_s"] = 20.0;
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   to_guide(h);
   h.timers.advance(19s);
   EXPECT_EQ(h.state(), "guide");
@@ -104,7 +104,7 @@ TEST_F(CollaborativeMoveLoadTest, ADurationEndsItWithoutAnAnswer) {
 
 TEST_F(CollaborativeMoveLoadTest, NoAnswerWithinMaxDurationIsTimeoutAfterAdmittanceOff) {
   params_["max_duration_s"] = 30.0;
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   to_guide(h);
   h.timers.advance(30s);
   EXPECT_FALSE(h.result) << "reported before admittance OFF was confirmed";
@@ -117,14 +117,14 @@ TEST_F(CollaborativeMoveLoadTest, NoAnswerWithinMaxDurationIsTimeoutAfterAdmitta
 TEST_F(CollaborativeMoveLoadTest, FailuresWhileGuidingStopFirstThenReportTheirCode) {
   struct Case {
     const char* name;
-    std::function<void(CellRunHarness&)> cause;
+    std::function<void(RunHarness&)> cause;
     const char* code;
   };
   const std::vector<Case> cases = {
-      {"abort", [](CellRunHarness& h) { h.operator_panel.answer("abort"); }, "OPERATOR_ABORTED"},
-      {"crane", [](CellRunHarness& h) { h.crane.problem("crane: e-stop latched"); }, "CRANE_FAULT"},
+      {"abort", [](RunHarness& h) { h.operator_panel.answer("abort"); }, "OPERATOR_ABORTED"},
+      {"crane", [](RunHarness& h) { h.crane.problem("crane: e-stop latched"); }, "CRANE_FAULT"},
       {"admittance fault",
-       [](CellRunHarness& h) {
+       [](RunHarness& h) {
          auto s = guiding_state();
          s.fault = true;
          s.fault_code = "WRENCH_STALE";
@@ -133,7 +133,7 @@ TEST_F(CollaborativeMoveLoadTest, FailuresWhileGuidingStopFirstThenReportTheirCo
        },
        "ADMITTANCE_FAULT"},
       {"admittance crane fault",
-       [](CellRunHarness& h) {
+       [](RunHarness& h) {
          auto s = guiding_state();
          s.fault = true;
          s.fault_code = "CRANE_FAULT";
@@ -142,7 +142,7 @@ TEST_F(CollaborativeMoveLoadTest, FailuresWhileGuidingStopFirstThenReportTheirCo
        },
        "CRANE_FAULT"},
       {"admittance went OFF on a crane fault",
-       [](CellRunHarness& h) {
+       [](RunHarness& h) {
          auto s = guiding_state();
          s.mode = AdmittanceModeRequest::kOff;
          s.fault = true;
@@ -151,7 +151,7 @@ TEST_F(CollaborativeMoveLoadTest, FailuresWhileGuidingStopFirstThenReportTheirCo
        },
        "CRANE_FAULT"},
       {"admittance went OFF on another fault",
-       [](CellRunHarness& h) {
+       [](RunHarness& h) {
          auto s = guiding_state();
          s.mode = AdmittanceModeRequest::kOff;
          s.fault = true;
@@ -160,7 +160,7 @@ TEST_F(CollaborativeMoveLoadTest, FailuresWhileGuidingStopFirstThenReportTheirCo
        },
        "ADMITTANCE_FAULT"},
       {"preempted",
-       [](CellRunHarness& h) {
+       [](RunHarness& h) {
          auto s = guiding_state();
          s.mode = AdmittanceModeRequest::kOff;
          h.admittance.publish(s);
@@ -168,7 +168,7 @@ TEST_F(CollaborativeMoveLoadTest, FailuresWhileGuidingStopFirstThenReportTheirCo
        "ADMITTANCE_PREEMPTED"},
   };
   for (const auto& c : cases) {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     to_guide(h);
     c.cause(h);
     EXPECT_FALSE(h.result) << c.name << ": reported before admittance OFF was confirmed";
@@ -180,7 +180,7 @@ TEST_F(CollaborativeMoveLoadTest, FailuresWhileGuidingStopFirstThenReportTheirCo
 }
 
 TEST_F(CollaborativeMoveLoadTest, AMomentaryAdmittanceFaultDoesNotEndTheMove) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   to_guide(h);
   auto s = guiding_state();
   s.fault = true;
@@ -194,7 +194,7 @@ TEST_F(CollaborativeMoveLoadTest, AMomentaryAdmittanceFaultDoesNotEndTheMove) {
 }
 
 TEST_F(CollaborativeMoveLoadTest, AnUnhealthyCraneFailsThePreconditionWithoutCommandingAnything) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   h.run->start();
   ASSERT_TRUE(h.crane.complete_check(OpResult::failure(kCraneFault, "crane: fault 3")));
   ASSERT_TRUE(h.failed_with("CRANE_FAULT"));
@@ -203,7 +203,7 @@ TEST_F(CollaborativeMoveLoadTest, AnUnhealthyCraneFailsThePreconditionWithoutCom
 }
 
 TEST_F(CollaborativeMoveLoadTest, ExternalControlNotGrantedIsACraneFault) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   h.run->start();
   ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
   ASSERT_TRUE(h.crane.complete_external(OpResult::failure(kCraneFault, "not granted")));
@@ -212,7 +212,7 @@ TEST_F(CollaborativeMoveLoadTest, ExternalControlNotGrantedIsACraneFault) {
 }
 
 TEST_F(CollaborativeMoveLoadTest, AnEngageThatIsNotConfirmedIsAnAdmittanceFaultAfterOff) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   h.run->start();
   ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
   ASSERT_TRUE(h.crane.complete_external(OpResult::success()));
@@ -225,11 +225,11 @@ TEST_F(CollaborativeMoveLoadTest, AnEngageThatIsNotConfirmedIsAnAdmittanceFaultA
 TEST_F(CollaborativeMoveLoadTest, BadParamsAndMissingDevices) {
   for (const auto& params : {nlohmann::json{{"duration_s", -1}}, nlohmann::json{{"max_duration_s", 0}},
                              nlohmann::json{{"object", ""}}, nlohmann::json{{"speed", 1}}}) {
-    CellRunHarness h(type_, params);
+    RunHarness h(type_, params);
     h.run->start();
     EXPECT_TRUE(h.failed_with("BAD_PARAMS")) << params.dump();
   }
-  CellRunHarness h(type_, params_, [](Devices& d) { d.crane = nullptr; });
+  RunHarness h(type_, params_, [](Devices& d) { d.crane = nullptr; });
   h.run->start();
   EXPECT_TRUE(h.failed_with("DEVICE_UNAVAILABLE"));
 }
@@ -237,7 +237,7 @@ TEST_F(CollaborativeMoveLoadTest, BadParamsAndMissingDevices) {
 TEST_F(CollaborativeMoveLoadTest, ShutdownInEveryStateReachesTheSafeStop) {
   // Resting states before anything moves: STOPPED at once, nothing commanded.
   for (const char* state : {"check_crane", "crane_external"}) {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     h.run->start();
     if (std::string(state) == "crane_external") {
       ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
@@ -250,7 +250,7 @@ TEST_F(CollaborativeMoveLoadTest, ShutdownInEveryStateReachesTheSafeStop) {
   // engage, guide, disengage: STOPPED only once admittance OFF is confirmed; SAFE_STOP_FAILED otherwise.
   for (const char* state : {"engage", "guide", "disengage"}) {
     for (bool confirmed : {true, false}) {
-      CellRunHarness h(type_, params_);
+      RunHarness h(type_, params_);
       h.run->start();
       ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
       ASSERT_TRUE(h.crane.complete_external(OpResult::success()));
@@ -272,7 +272,7 @@ TEST_F(CollaborativeMoveLoadTest, ShutdownInEveryStateReachesTheSafeStop) {
     }
   }
   // Every state's on_shutdown directly.
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   to_guide(h);
   for (const auto& name : h.run->skill()->state_names()) {
     std::optional<bool> safe;

@@ -4,7 +4,7 @@
 // monitor and the admittance controller's confirmation by state.
 #include <gtest/gtest.h>
 
-#include "cell_fakes.hpp"
+#include "sdk_testing.hpp"
 #include "dds_cell_devices.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/qos.hpp"
@@ -15,7 +15,7 @@
 #include "rigger/protocol/vision.hpp"
 #include "rigger/protocol/world.hpp"
 #include "rigger/testing/domain.hpp"
-#include "skill_executor_node.hpp"
+#include "executor_node.hpp"
 #include "skills/localize.hpp"
 #include "skills/screw.hpp"
 

@@ -3,15 +3,15 @@
 // (admittance OFF + tracker stop, confirmed before STOPPED).
 #include <gtest/gtest.h>
 
-#include "cell_fakes.hpp"
-#include "skills/collaborative.hpp"
+#include "sdk_testing.hpp"
+#include "rigger/skill_sdk/states.hpp"
 #include "skills/insert_visually_guided.hpp"
 
 namespace rigger::skill_executor {
 namespace {
 
 using namespace std::chrono_literals;
-using testing::CellRunHarness;
+using testing::RunHarness;
 
 nlohmann::json load_features(const std::string& target = "target") {
   return {{"insertion",
@@ -33,12 +33,12 @@ class InsertTest : public ::testing::Test {
   SkillType type_{InsertVisuallyGuidedSkill::describe(), [] { return std::make_unique<InsertVisuallyGuidedSkill>(); }};
   nlohmann::json params_ = {{"standoff_z_m", 0.02}, {"settle_s", 1.0}, {"timeout_s", 60.0}, {"tracking_lost_s", 0.5}};
 
-  void good_poses(CellRunHarness& h) {
+  void good_poses(RunHarness& h) {
     h.tracker.publish(h.tracker.sample("load", true, 0.9));
     h.tracker.publish(h.tracker.sample("target", true, 0.9));
   }
   /// Runs to `servo`.
-  void to_servo(CellRunHarness& h) {
+  void to_servo(RunHarness& h) {
     h.run->start();
     ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
     ASSERT_EQ(h.state(), "lookup");
@@ -55,7 +55,7 @@ class InsertTest : public ::testing::Test {
 };
 
 TEST_F(InsertTest, SuccessServoesSettlesThenHoldsWithAdmittanceOff) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   h.run->start();
   ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
   ASSERT_TRUE(h.world.answer_features(OpResult::success(), load_features()));
@@ -101,7 +101,7 @@ TEST_F(InsertTest, SuccessServoesSettlesThenHoldsWithAdmittanceOff) {
 
 TEST_F(InsertTest, ConvergedButOutsideTheSkillsToleranceDoesNotSettle) {
   params_["tolerance_m"] = 0.001;
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   to_servo(h);
   h.admittance.publish(servo_state(0.003, 0.0, true));
   h.timers.advance(400ms);
@@ -115,11 +115,11 @@ TEST_F(InsertTest, ConvergedButOutsideTheSkillsToleranceDoesNotSettle) {
 TEST_F(InsertTest, ServoFailuresStopFirstThenReportTheirCode) {
   struct Case {
     const char* name;
-    std::function<void(CellRunHarness&)> cause;
+    std::function<void(RunHarness&)> cause;
     const char* code;
   };
   const auto fault = [](const char* code) {
-    return [code](CellRunHarness& h) {
+    return [code](RunHarness& h) {
       auto s = servo_state(0.02, 0.0, false);
       s.fault = true;
       s.fault_code = code;
@@ -131,11 +131,11 @@ TEST_F(InsertTest, ServoFailuresStopFirstThenReportTheirCode) {
     };
   };
   const std::vector<Case> cases = {
-      {"crane state", [](CellRunHarness& h) { h.crane.problem("crane: no link"); }, "CRANE_FAULT"},
+      {"crane state", [](RunHarness& h) { h.crane.problem("crane: no link"); }, "CRANE_FAULT"},
       {"admittance crane fault", fault("CRANE_FAULT"), "CRANE_FAULT"},
       {"admittance fault", fault("WRENCH_NOT_FINITE"), "ADMITTANCE_FAULT"},
       {"admittance went OFF on a crane fault",
-       [](CellRunHarness& h) {
+       [](RunHarness& h) {
          auto s = servo_state(0.02, 0.0, false);
          s.mode = AdmittanceModeRequest::kOff;
          s.fault = true;
@@ -144,15 +144,15 @@ TEST_F(InsertTest, ServoFailuresStopFirstThenReportTheirCode) {
        },
        "CRANE_FAULT"},
       {"preempted",
-       [](CellRunHarness& h) {
+       [](RunHarness& h) {
          auto s = servo_state(0.02, 0.0, false);
          s.reference = AdmittanceReference::kJoystick;
          h.admittance.publish(s);
        },
        "ADMITTANCE_PREEMPTED"},
-      {"tracker lost", [](CellRunHarness& h) { h.timers.advance(500ms); }, "TRACKING_LOST"},
+      {"tracker lost", [](RunHarness& h) { h.timers.advance(500ms); }, "TRACKING_LOST"},
       {"low quality",
-       [](CellRunHarness& h) {
+       [](RunHarness& h) {
          h.timers.advance(300ms);
          h.tracker.publish(h.tracker.sample("load", true, 0.9));
          h.tracker.publish(h.tracker.sample("target", true, 0.2));  // below min_quality: not a refresh
@@ -160,7 +160,7 @@ TEST_F(InsertTest, ServoFailuresStopFirstThenReportTheirCode) {
        },
        "TRACKING_LOST"},
       {"servo stopped for tracking",
-       [](CellRunHarness& h) {
+       [](RunHarness& h) {
          auto s = servo_state(0.02, 0.0, false);
          s.fault_code = "TARGET_POSE_STALE";
          h.admittance.publish(s);
@@ -173,7 +173,7 @@ TEST_F(InsertTest, ServoFailuresStopFirstThenReportTheirCode) {
        },
        "TRACKING_LOST"},
       {"timeout",
-       [](CellRunHarness& h) {
+       [](RunHarness& h) {
          for (int i = 0; i < 60 * 4; ++i) {
            h.timers.advance(250ms);
            h.tracker.publish(h.tracker.sample("load", true, 0.9));
@@ -183,7 +183,7 @@ TEST_F(InsertTest, ServoFailuresStopFirstThenReportTheirCode) {
        "TIMEOUT"},
   };
   for (const auto& c : cases) {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     to_servo(h);
     const int stops_before = h.tracker.count(TrackerRequest::kStop);
     c.cause(h);
@@ -198,7 +198,7 @@ TEST_F(InsertTest, ServoFailuresStopFirstThenReportTheirCode) {
 }
 
 TEST_F(InsertTest, AServoStopForTrackingThatRecoversDoesNotFail) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   to_servo(h);
   auto s = servo_state(0.02, 0.0, false);
   s.fault_code = "LOAD_QUALITY_LOW";
@@ -228,7 +228,7 @@ TEST_F(InsertTest, AServoStopForTrackingThatRecoversDoesNotFail) {
 
 TEST_F(InsertTest, PreconditionAndLookupFailures) {
   {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     h.run->start();
     ASSERT_TRUE(h.crane.complete_check(OpResult::failure(kCraneFault, "crane: e-stop latched")));
     ASSERT_TRUE(h.failed_with("CRANE_FAULT"));
@@ -236,7 +236,7 @@ TEST_F(InsertTest, PreconditionAndLookupFailures) {
     EXPECT_TRUE(h.tracker.commands.empty());
   }
   {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     h.run->start();
     ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
     ASSERT_TRUE(h.world.answer_features(OpResult::success(), load_features("other")));
@@ -244,21 +244,21 @@ TEST_F(InsertTest, PreconditionAndLookupFailures) {
     EXPECT_NE(h.result->message.find("'other'"), std::string::npos);
   }
   {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     h.run->start();
     ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
     ASSERT_TRUE(h.world.answer_features(OpResult::success(), nlohmann::json::object()));
     EXPECT_TRUE(h.failed_with("UNKNOWN_FEATURE"));
   }
   {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     h.run->start();
     ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
     ASSERT_TRUE(h.world.answer_features(OpResult::failure("WORLD_UNREACHABLE", "no reply"), nlohmann::json::object()));
     EXPECT_TRUE(h.failed_with("WORLD_UNREACHABLE"));
   }
   {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     h.run->start();
     ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
     ASSERT_TRUE(h.world.answer_features(OpResult::success(), load_features()));
@@ -266,7 +266,7 @@ TEST_F(InsertTest, PreconditionAndLookupFailures) {
     EXPECT_TRUE(h.failed_with("CRANE_FAULT"));
   }
   {  // no poses after TRACK_CONTINUOUS: TRACKING_LOST after the tracker is stopped
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     h.run->start();
     ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
     ASSERT_TRUE(h.world.answer_features(OpResult::success(), load_features()));
@@ -284,17 +284,17 @@ TEST_F(InsertTest, BadParamsAndMissingDevices) {
   for (const auto& params :
        {nlohmann::json{{"tolerance_m", 0.2}}, nlohmann::json{{"standoff_z_m", 2.0}}, nlohmann::json{{"settle_s", -1}},
         nlohmann::json{{"object", "target"}}, nlohmann::json{{"tolerance_rad", {{"value", 30}, {"unit", "deg"}}}}}) {
-    CellRunHarness h(type_, params);
+    RunHarness h(type_, params);
     h.run->start();
     EXPECT_TRUE(h.failed_with("BAD_PARAMS")) << params.dump();
     EXPECT_TRUE(h.admittance.requests.empty());
   }
   // A quantity in degrees is converted.
-  CellRunHarness ok(type_, {{"tolerance_rad", {{"value", 2}, {"unit", "deg"}}}});
+  RunHarness ok(type_, {{"tolerance_rad", {{"value", 2}, {"unit", "deg"}}}});
   ok.run->start();
   EXPECT_FALSE(ok.result);
   for (int which = 0; which < 4; ++which) {
-    CellRunHarness h(type_, params_, [which](Devices& d) {
+    RunHarness h(type_, params_, [which](Devices& d) {
       if (which == 0) d.admittance = nullptr;
       if (which == 1) d.crane = nullptr;
       if (which == 2) d.tracker = nullptr;
@@ -310,7 +310,7 @@ TEST_F(InsertTest, ShutdownInEveryStateReachesTheSafeStop) {
                                            "servo",       "hold"};
   for (const auto& state : states) {
     for (bool confirmed : {true, false}) {
-      CellRunHarness h(type_, params_);
+      RunHarness h(type_, params_);
       h.run->start();
       if (h.state() != state) {
         ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
@@ -354,7 +354,7 @@ TEST_F(InsertTest, ShutdownInEveryStateReachesTheSafeStop) {
     }
   }
   // Every state's on_shutdown directly: safe, and only after OFF is confirmed where one is sent.
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   to_servo(h);
   EXPECT_EQ(h.run->skill()->state_names(), states);
   for (const auto& name : h.run->skill()->state_names()) {
@@ -386,14 +386,14 @@ namespace rigger::skill_executor {
 namespace {
 
 using namespace std::chrono_literals;
-using testing::CellRunHarness;
+using testing::RunHarness;
 
 // PAUSE during the servo: admittance OFF (robot and crane at rest, the tracker keeps tracking), no
 // servo timer runs out while paused (TRACKING_LOST, TIMEOUT); RESUME engages the servo again and the
 // insertion settles and succeeds as usual.
 TEST_F(InsertTest, APauseTurnsAdmittanceOffAndResumeEngagesTheServoAgain) {
   EXPECT_TRUE(InsertVisuallyGuidedSkill::describe().pausable);
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   to_servo(h);
   const int tracker_stops = h.tracker.count(TrackerRequest::kStop);
   ASSERT_TRUE(h.run->pause(true));

@@ -2,14 +2,14 @@
 // bad params, missing devices, and shutdown from every state.
 #include <gtest/gtest.h>
 
-#include "cell_fakes.hpp"
+#include "sdk_testing.hpp"
 #include "skills/localize.hpp"
 
 namespace rigger::skill_executor {
 namespace {
 
 using namespace std::chrono_literals;
-using testing::CellRunHarness;
+using testing::RunHarness;
 
 class LocalizeTest : public ::testing::Test {
  protected:
@@ -18,7 +18,7 @@ class LocalizeTest : public ::testing::Test {
 };
 
 TEST_F(LocalizeTest, SuccessSendsTrackOnceAndStoresAGoodFreshPose) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   h.run->start();
   EXPECT_EQ(h.state(), "detect");
   ASSERT_EQ(h.tracker.count(TrackerRequest::kOnce), 1);
@@ -45,7 +45,7 @@ TEST_F(LocalizeTest, SuccessSendsTrackOnceAndStoresAGoodFreshPose) {
 }
 
 TEST_F(LocalizeTest, LowQualityOrLostPosesAskTheTrackerAgain) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   h.run->start();
   h.tracker.publish(h.tracker.sample("load", true, 0.3));  // below the default 0.5
   EXPECT_EQ(h.state(), "detect");
@@ -61,7 +61,7 @@ TEST_F(LocalizeTest, LowQualityOrLostPosesAskTheTrackerAgain) {
 
 TEST_F(LocalizeTest, MinQualityIsAParameter) {
   params_["min_quality"] = 0.95;
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   h.run->start();
   h.tracker.publish(h.tracker.sample("load", true, 0.9));
   EXPECT_EQ(h.state(), "detect");
@@ -70,7 +70,7 @@ TEST_F(LocalizeTest, MinQualityIsAParameter) {
 }
 
 TEST_F(LocalizeTest, NoGoodPoseWithinTheTimeoutIsNotDetected) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   h.run->start();
   h.tracker.publish(h.tracker.sample("load", true, 0.2));
   h.timers.advance(3s);
@@ -81,7 +81,7 @@ TEST_F(LocalizeTest, NoGoodPoseWithinTheTimeoutIsNotDetected) {
 }
 
 TEST_F(LocalizeTest, ARejectedUpdateFailsWithTheWorldModelsCode) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   h.run->start();
   h.tracker.publish(h.tracker.sample("load", true, 0.9));
   ASSERT_TRUE(h.world.answer_update(OpResult::failure("UNKNOWN_ENTITY", "no entity \"load\"")));
@@ -90,7 +90,7 @@ TEST_F(LocalizeTest, ARejectedUpdateFailsWithTheWorldModelsCode) {
 }
 
 TEST_F(LocalizeTest, AnUnreachableWorldModelIsWorldUnreachable) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   h.run->start();
   h.tracker.publish(h.tracker.sample("load", true, 0.9));
   ASSERT_TRUE(h.world.answer_update(OpResult::failure("WORLD_UNREACHABLE", "no reply")));
@@ -98,7 +98,7 @@ TEST_F(LocalizeTest, AnUnreachableWorldModelIsWorldUnreachable) {
 }
 
 TEST_F(LocalizeTest, StampBackwardsDetectsAgainAFewTimesThenFails) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   h.run->start();
   for (int attempt = 1; attempt <= LocalizeSkill::kMaxUpdateAttempts; ++attempt) {
     h.tracker.publish(h.tracker.sample("load", true, 0.9));
@@ -116,7 +116,7 @@ TEST_F(LocalizeTest, BadParamsFailBeforeAnythingIsCommanded) {
   for (const auto& params :
        {nlohmann::json{{"object", ""}}, nlohmann::json{{"object", "load"}, {"min_quality", 1.5}},
         nlohmann::json{{"min_quality", 0.5}}, nlohmann::json{{"object", "load"}, {"timeout_s", -1}}}) {
-    CellRunHarness h(type_, params);
+    RunHarness h(type_, params);
     h.run->start();
     ASSERT_TRUE(h.failed_with("BAD_PARAMS")) << params.dump();
     EXPECT_TRUE(h.tracker.commands.empty());
@@ -125,7 +125,7 @@ TEST_F(LocalizeTest, BadParamsFailBeforeAnythingIsCommanded) {
 
 TEST_F(LocalizeTest, MissingDevicesAreDeviceUnavailable) {
   for (int which = 0; which < 2; ++which) {
-    CellRunHarness h(type_, params_, [which](Devices& d) {
+    RunHarness h(type_, params_, [which](Devices& d) {
       if (which == 0)
         d.tracker = nullptr;
       else
@@ -139,7 +139,7 @@ TEST_F(LocalizeTest, MissingDevicesAreDeviceUnavailable) {
 TEST_F(LocalizeTest, ShutdownFromEveryStateIsStoppedAtOnceAndLeavesNothingPending) {
   // detect
   {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     h.run->start();
     h.run->shutdown("test");
     ASSERT_TRUE(h.stopped());
@@ -148,7 +148,7 @@ TEST_F(LocalizeTest, ShutdownFromEveryStateIsStoppedAtOnceAndLeavesNothingPendin
   }
   // update: the world's late answer is dropped
   {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     h.run->start();
     h.tracker.publish(h.tracker.sample("load", true, 0.9));
     h.run->shutdown("test");
@@ -157,7 +157,7 @@ TEST_F(LocalizeTest, ShutdownFromEveryStateIsStoppedAtOnceAndLeavesNothingPendin
     EXPECT_EQ(h.results, 1);
   }
   // every state's safe stop directly
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   h.run->start();
   for (const auto& name : h.run->skill()->state_names()) {
     std::optional<bool> safe;

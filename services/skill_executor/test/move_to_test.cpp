@@ -2,7 +2,7 @@
 // state reaching the safe stop.
 #include <gtest/gtest.h>
 
-#include "fakes.hpp"
+#include "sdk_testing.hpp"
 #include "skills/move_to.hpp"
 
 namespace rigger::skill_executor {

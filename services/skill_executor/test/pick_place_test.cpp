@@ -2,7 +2,8 @@
 // with what is commanded, each failure code, bad params, and a shutdown from every state.
 #include <gtest/gtest.h>
 
-#include "gripper_skill_harness.hpp"
+#include "sdk_testing.hpp"
+#include "tool_poses.hpp"
 #include "skills/pick_place.hpp"
 
 namespace rigger::skill_executor {
@@ -10,11 +11,11 @@ namespace {
 
 using namespace std::chrono_literals;
 using testing::FakeGripper;
-using testing::GripperRunHarness;
+using testing::RunHarness;
 using Kind = testing::FakeRobot::Op::Kind;
 
 // A part on a table in front of the robot, grasped from above (tool z down).
-const Eigen::Isometry3d kGrasp = testing::tool_down(0.60, 0.10, 0.05);
+const Eigen::Isometry3d kGrasp = tool_down(0.60, 0.10, 0.05);
 
 nlohmann::json pick_params() {
   return {{"object", "part"}, {"grasp", "part/grasp_top"}};
@@ -25,7 +26,7 @@ nlohmann::json place_params(nlohmann::json pose = {{"position_m", {0.5, -0.2, 0.
 
 /// Completes what the current state waits for, as on the success path (Pick and Place share state
 /// names where they do the same).
-void step(GripperRunHarness& h, bool holding_at_start) {
+void step(RunHarness& h, bool holding_at_start) {
   const std::string s = h.state();
   if (s == "check") {
     ASSERT_EQ(h.gripper.publish(FakeGripper::state(holding_at_start, holding_at_start)), 1);
@@ -46,12 +47,12 @@ void step(GripperRunHarness& h, bool holding_at_start) {
   }
 }
 
-void start(GripperRunHarness& h) {
+void start(RunHarness& h) {
   h.run->start();
   while (!h.run->skill() && !h.result && h.resolver.pending() > 0) h.resolver.answer(OpResult::success());
 }
 
-void drive_to(GripperRunHarness& h, const std::string& target, bool holding_at_start) {
+void drive_to(RunHarness& h, const std::string& target, bool holding_at_start) {
   for (int i = 0; i < 20 && !h.result && h.state() != target; ++i) {
     step(h, holding_at_start);
     if (::testing::Test::HasFatalFailure()) return;
@@ -60,7 +61,7 @@ void drive_to(GripperRunHarness& h, const std::string& target, bool holding_at_s
   ASSERT_EQ(h.state(), target);
 }
 
-void run_to_end(GripperRunHarness& h, bool holding_at_start) {
+void run_to_end(RunHarness& h, bool holding_at_start) {
   for (int i = 0; i < 20 && !h.result; ++i) {
     step(h, holding_at_start);
     if (::testing::Test::HasFatalFailure()) return;
@@ -76,7 +77,7 @@ class PickTest : public ::testing::Test {
 // paused; RESUME commands the same grasp goal again and the pick completes.
 TEST_F(PickTest, APauseStopsTheDescentAndResumeDescendsToTheSameGrasp) {
   EXPECT_TRUE(PickSkill::describe().pausable);
-  GripperRunHarness h(type_, pick_params());
+  RunHarness h(type_, pick_params());
   start(h);
   drive_to(h, "descend", false);
   const Eigen::Vector3d goal = h.robot.pending(Kind::kMove)->goal.pose_frame_tool.translation();
@@ -94,7 +95,7 @@ TEST_F(PickTest, APauseStopsTheDescentAndResumeDescendsToTheSameGrasp) {
   ASSERT_TRUE(h.result);
   EXPECT_EQ(h.result->kind, SkillResult::Kind::kSuccess) << h.describe_result();
   // The run's timeout counts again from the resume.
-  GripperRunHarness late(type_, pick_params());
+  RunHarness late(type_, pick_params());
   start(late);
   drive_to(late, "descend", false);
   ASSERT_TRUE(late.run->pause(true));
@@ -107,7 +108,7 @@ TEST_F(PickTest, APauseStopsTheDescentAndResumeDescendsToTheSameGrasp) {
 }
 
 TEST_F(PickTest, ApproachesDescendsGripsAndRetreats) {
-  GripperRunHarness h(type_, pick_params());
+  RunHarness h(type_, pick_params());
   start(h);
   drive_to(h, "move_approach", false);
   auto* move = h.robot.pending(Kind::kMove);
@@ -132,20 +133,20 @@ TEST_F(PickTest, ApproachesDescendsGripsAndRetreats) {
 
 TEST_F(PickTest, FailureCodes) {
   {  // already holding
-    GripperRunHarness h(type_, pick_params());
+    RunHarness h(type_, pick_params());
     start(h);
     ASSERT_EQ(h.gripper.publish(FakeGripper::state(true, true)), 1);
     EXPECT_TRUE(h.failed_with("GRIPPER_OCCUPIED")) << h.describe_result();
   }
   for (const char* code : {"UNKNOWN_FEATURE", "WORLD_UNREACHABLE"}) {
-    GripperRunHarness h(type_, pick_params());
+    RunHarness h(type_, pick_params());
     start(h);
     drive_to(h, "resolve", false);
     ASSERT_TRUE(h.resolver.answer(OpResult::failure(code, "test")));
     EXPECT_TRUE(h.failed_with(code)) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, pick_params());
+    RunHarness h(type_, pick_params());
     start(h);
     drive_to(h, "resolve", false);
     h.resolver.localized = false;
@@ -153,15 +154,15 @@ TEST_F(PickTest, FailureCodes) {
     EXPECT_TRUE(h.failed_with("NOT_LOCALIZED")) << h.describe_result();
   }
   {  // out of reach
-    GripperRunHarness h(type_, pick_params());
+    RunHarness h(type_, pick_params());
     start(h);
     drive_to(h, "resolve", false);
-    ASSERT_TRUE(h.resolver.answer(OpResult::success(), testing::tool_down(1.3, 0.0, 0.05)));
+    ASSERT_TRUE(h.resolver.answer(OpResult::success(), tool_down(1.3, 0.0, 0.05)));
     EXPECT_TRUE(h.failed_with("PLAN_FAILED")) << h.describe_result();
     EXPECT_EQ(h.robot.moves, 0);
   }
   for (const char* state : {"move_approach", "descend", "retreat"}) {
-    GripperRunHarness h(type_, pick_params());
+    RunHarness h(type_, pick_params());
     start(h);
     drive_to(h, state, false);
     ASSERT_TRUE(h.robot.complete(Kind::kMove, OpResult::failure("MOTION_FAILED", "x")));
@@ -170,34 +171,34 @@ TEST_F(PickTest, FailureCodes) {
     EXPECT_TRUE(h.failed_with("MOTION_FAILED")) << state << ": " << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, pick_params());
+    RunHarness h(type_, pick_params());
     start(h);
     drive_to(h, "grip", false);
     ASSERT_TRUE(h.gripper.confirm(OpResult::failure("TIMEOUT", "x")));
     EXPECT_TRUE(h.failed_with("GRIPPER_TIMEOUT")) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, pick_params());
+    RunHarness h(type_, pick_params());
     start(h);
     drive_to(h, "await_hold", false);
     ASSERT_TRUE(h.gripper.time_out_wait());
     EXPECT_TRUE(h.failed_with("GRASP_FAILED")) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, pick_params());
+    RunHarness h(type_, pick_params());
     start(h);
     drive_to(h, "verify", false);
     ASSERT_EQ(h.gripper.publish(FakeGripper::state(true, false)), 1);
     EXPECT_TRUE(h.failed_with("GRASP_LOST")) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, pick_params());
+    RunHarness h(type_, pick_params());
     start(h);
     ASSERT_TRUE(h.gripper.time_out_wait());
     EXPECT_TRUE(h.failed_with("GRIPPER_STATE_STALE")) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, {{"object", "part"}, {"grasp", "part/grasp_top"}, {"timeout_s", 2.0}});
+    RunHarness h(type_, {{"object", "part"}, {"grasp", "part/grasp_top"}, {"timeout_s", 2.0}});
     start(h);
     drive_to(h, "descend", false);
     h.timers.advance(2s);
@@ -205,12 +206,12 @@ TEST_F(PickTest, FailureCodes) {
     EXPECT_TRUE(h.failed_with("TIMEOUT")) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, pick_params(), [](Devices& d) { d.gripper = nullptr; });
+    RunHarness h(type_, pick_params(), [](Devices& d) { d.gripper = nullptr; });
     start(h);
     EXPECT_TRUE(h.failed_with("DEVICE_UNAVAILABLE")) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, {{"grasp", "part/grasp_top"}, {"approach_m", 2.0}});
+    RunHarness h(type_, {{"grasp", "part/grasp_top"}, {"approach_m", 2.0}});
     h.run->start();
     EXPECT_TRUE(h.failed_with("BAD_PARAMS")) << h.describe_result();
     EXPECT_NE(h.result->message.find("/params/object"), std::string::npos);
@@ -223,7 +224,7 @@ TEST_F(PickTest, ShutdownInEveryStateReachesItsSafeStop) {
   for (const std::string state :
        {"check", "resolve", "move_approach", "descend", "grip", "await_hold", "retreat", "verify"}) {
     SCOPED_TRACE(state);
-    GripperRunHarness h(type_, pick_params());
+    RunHarness h(type_, pick_params());
     start(h);
     drive_to(h, state, false);
     if (HasFatalFailure()) return;
@@ -246,7 +247,7 @@ class PlaceTest : public ::testing::Test {
 };
 
 TEST_F(PlaceTest, ApproachesDescendsReleasesAndRetreats) {
-  GripperRunHarness h(type_, place_params());
+  RunHarness h(type_, place_params());
   start(h);
   drive_to(h, "move_approach", true);
   auto* move = h.robot.pending(Kind::kMove);
@@ -268,7 +269,7 @@ TEST_F(PlaceTest, ApproachesDescendsReleasesAndRetreats) {
 TEST_F(PlaceTest, ThePlacedObjectIsNoLongerLocalizedInTheWorldModel) {
   for (const bool told : {true, false}) {
     testing::FakeWorldAccess world;
-    GripperRunHarness h(type_, place_params(), [&](Devices& d) { d.world_access = &world; });
+    RunHarness h(type_, place_params(), [&](Devices& d) { d.world_access = &world; });
     start(h);
     drive_to(h, "retreat", true);
     ASSERT_TRUE(h.robot.complete(Kind::kMove, OpResult::success()));
@@ -293,7 +294,7 @@ TEST_F(PlaceTest, ThePlacedObjectIsNoLongerLocalizedInTheWorldModel) {
 }
 
 TEST_F(PlaceTest, APoseRelativeToAFeatureIsResolvedInTheRobotFrame) {
-  GripperRunHarness h(
+  RunHarness h(
       type_,
       place_params({{"position_m", {0.0, 0.0, -0.02}}, {"rpy_deg", {0.0, 0.0, 0.0}}, {"frame", "part/grasp_top"}}));
   start(h);
@@ -307,20 +308,20 @@ TEST_F(PlaceTest, APoseRelativeToAFeatureIsResolvedInTheRobotFrame) {
 
 TEST_F(PlaceTest, FailureCodes) {
   {
-    GripperRunHarness h(type_, place_params());
+    RunHarness h(type_, place_params());
     start(h);
     ASSERT_EQ(h.gripper.publish(FakeGripper::state(false, false)), 1);
     EXPECT_TRUE(h.failed_with("NOT_HOLDING")) << h.describe_result();
   }
   {
-    GripperRunHarness h(
+    RunHarness h(
         type_, place_params({{"position_m", {0.5, 0.0, 0.1}}, {"rpy_deg", {180.0, 0.0, 0.0}}, {"frame", "world"}}));
     start(h);
     EXPECT_TRUE(h.failed_with("PLAN_FAILED")) << h.describe_result();
     EXPECT_NE(h.result->message.find("'world'"), std::string::npos);
   }
   {
-    GripperRunHarness h(
+    RunHarness h(
         type_, place_params({{"position_m", {0.0, 0.0, 0.0}}, {"rpy_deg", {0.0, 0.0, 0.0}}, {"frame", "fixture/top"}}));
     start(h);
     drive_to(h, "resolve", true);
@@ -328,7 +329,7 @@ TEST_F(PlaceTest, FailureCodes) {
     EXPECT_TRUE(h.failed_with("UNKNOWN_FEATURE")) << h.describe_result();
   }
   for (const char* state : {"move_approach", "descend", "retreat"}) {
-    GripperRunHarness h(type_, place_params());
+    RunHarness h(type_, place_params());
     start(h);
     drive_to(h, state, true);
     ASSERT_TRUE(h.robot.complete(Kind::kMove, OpResult::failure("MOTION_FAILED", "x")));
@@ -336,21 +337,21 @@ TEST_F(PlaceTest, FailureCodes) {
     EXPECT_TRUE(h.failed_with("MOTION_FAILED")) << state << ": " << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, place_params());
+    RunHarness h(type_, place_params());
     start(h);
     drive_to(h, "confirm_released", true);
     ASSERT_TRUE(h.gripper.time_out_wait());
     EXPECT_TRUE(h.failed_with("RELEASE_FAILED")) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, place_params());
+    RunHarness h(type_, place_params());
     start(h);
     drive_to(h, "release", true);
     ASSERT_TRUE(h.gripper.confirm(OpResult::failure("TIMEOUT", "x")));
     EXPECT_TRUE(h.failed_with("GRIPPER_TIMEOUT")) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, {{"object", "part"}});
+    RunHarness h(type_, {{"object", "part"}});
     h.run->start();
     EXPECT_TRUE(h.failed_with("BAD_PARAMS")) << h.describe_result();
     EXPECT_NE(h.result->message.find("/params/pose"), std::string::npos);
@@ -358,7 +359,7 @@ TEST_F(PlaceTest, FailureCodes) {
 }
 
 TEST_F(PlaceTest, AnUnreachablePlacePoseIsPlanFailedWithoutMoving) {
-  GripperRunHarness h(type_, place_params({{"position_m", {2.0, 0.0, 0.1}}, {"rpy_deg", {180.0, 0.0, 0.0}}}));
+  RunHarness h(type_, place_params({{"position_m", {2.0, 0.0, 0.1}}, {"rpy_deg", {180.0, 0.0, 0.0}}}));
   start(h);
   ASSERT_EQ(h.gripper.publish(FakeGripper::state(true, true)), 1);
   EXPECT_TRUE(h.failed_with("PLAN_FAILED")) << h.describe_result();
@@ -369,7 +370,7 @@ TEST_F(PlaceTest, ShutdownInEveryStateReachesItsSafeStop) {
   const std::vector<std::string> moving{"move_approach", "descend", "retreat"};
   for (const std::string state : {"check", "move_approach", "descend", "release", "confirm_released", "retreat"}) {
     SCOPED_TRACE(state);
-    GripperRunHarness h(type_, place_params());
+    RunHarness h(type_, place_params());
     start(h);
     drive_to(h, state, true);
     if (HasFatalFailure()) return;
@@ -385,7 +386,7 @@ TEST_F(PlaceTest, ShutdownInEveryStateReachesItsSafeStop) {
     EXPECT_EQ(h.gripper.commanded, commanded);
   }
   // resolve (synchronous for a robot-frame pose) and every other state, through find_state.
-  GripperRunHarness h(type_, place_params());
+  RunHarness h(type_, place_params());
   start(h);
   const Skill& skill = *h.run->skill();
   for (const auto& name : skill.state_names()) {

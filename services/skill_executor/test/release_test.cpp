@@ -2,7 +2,8 @@
 // code, bad params, and a shutdown from every state.
 #include <gtest/gtest.h>
 
-#include "gripper_skill_harness.hpp"
+#include "sdk_testing.hpp"
+#include "tool_poses.hpp"
 #include "skills/release.hpp"
 
 namespace rigger::skill_executor {
@@ -10,10 +11,10 @@ namespace {
 
 using namespace std::chrono_literals;
 using testing::FakeGripper;
-using testing::GripperRunHarness;
+using testing::RunHarness;
 using Kind = testing::FakeRobot::Op::Kind;
 
-const Eigen::Isometry3d kTool = testing::tool_facing_x(0.80, -0.25, 0.30);
+const Eigen::Isometry3d kTool = tool_facing_x(0.80, -0.25, 0.30);
 
 RobotSnapshot robot_at(const Eigen::Isometry3d& pose, std::string frame = kRobotBaseFrame) {
   RobotSnapshot s;
@@ -27,7 +28,7 @@ class ReleaseTest : public ::testing::Test {
   SkillType type_{ReleaseSkill::describe(), [] { return std::make_unique<ReleaseSkill>(); }};
 
   /// Completes what the current state waits for, as on the success path.
-  static void step(GripperRunHarness& h) {
+  static void step(RunHarness& h) {
     const std::string s = h.state();
     if (s == "check") {
       if (h.crane.pending_checks() > 0)
@@ -46,7 +47,7 @@ class ReleaseTest : public ::testing::Test {
       FAIL() << "no step for state " << s;
     }
   }
-  static void drive_to(GripperRunHarness& h, const std::string& target) {
+  static void drive_to(RunHarness& h, const std::string& target) {
     for (int i = 0; i < 20 && !h.result && h.state() != target; ++i) {
       step(h);
       if (::testing::Test::HasFatalFailure()) return;
@@ -57,7 +58,7 @@ class ReleaseTest : public ::testing::Test {
 };
 
 TEST_F(ReleaseTest, ReleasesConfirmsAndRetreatsAlongTheToolMinusZ) {
-  GripperRunHarness h(type_, nlohmann::json::object());
+  RunHarness h(type_, nlohmann::json::object());
   h.run->start();
   drive_to(h, "retreat");
   EXPECT_EQ(h.gripper.commanded, std::vector<bool>{false});
@@ -76,7 +77,7 @@ TEST_F(ReleaseTest, ReleasesConfirmsAndRetreatsAlongTheToolMinusZ) {
 }
 
 TEST_F(ReleaseTest, AZeroRetreatSucceedsOnceReleased) {
-  GripperRunHarness h(type_, {{"retreat_m", 0.0}});
+  RunHarness h(type_, {{"retreat_m", 0.0}});
   h.run->start();
   drive_to(h, "confirm_released");
   ASSERT_EQ(h.gripper.publish(FakeGripper::state(false, false)), 1);
@@ -85,7 +86,7 @@ TEST_F(ReleaseTest, AZeroRetreatSucceedsOnceReleased) {
 }
 
 TEST_F(ReleaseTest, AnEnergizedGripperHoldingNothingIsReleasedToo) {
-  GripperRunHarness h(type_, {{"retreat_m", 0.0}});
+  RunHarness h(type_, {{"retreat_m", 0.0}});
   h.run->start();
   ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
   ASSERT_EQ(h.gripper.publish(FakeGripper::state(true, false)), 1);
@@ -93,7 +94,7 @@ TEST_F(ReleaseTest, AnEnergizedGripperHoldingNothingIsReleasedToo) {
 }
 
 TEST_F(ReleaseTest, NothingHeldIsNotHolding) {
-  GripperRunHarness h(type_, nlohmann::json::object());
+  RunHarness h(type_, nlohmann::json::object());
   h.run->start();
   ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
   ASSERT_EQ(h.gripper.publish(FakeGripper::state(false, false)), 1);
@@ -102,7 +103,7 @@ TEST_F(ReleaseTest, NothingHeldIsNotHolding) {
 }
 
 TEST_F(ReleaseTest, ACraneFaultRefusesToLetGo) {
-  GripperRunHarness h(type_, nlohmann::json::object());
+  RunHarness h(type_, nlohmann::json::object());
   h.run->start();
   ASSERT_TRUE(h.crane.complete_check(OpResult::failure("CRANE_FAULT", "overload")));
   EXPECT_TRUE(h.failed_with("CRANE_FAULT")) << h.describe_result();
@@ -111,21 +112,21 @@ TEST_F(ReleaseTest, ACraneFaultRefusesToLetGo) {
 
 TEST_F(ReleaseTest, GripperFailuresHaveTheirCodes) {
   {
-    GripperRunHarness h(type_, nlohmann::json::object());
+    RunHarness h(type_, nlohmann::json::object());
     h.run->start();
     ASSERT_TRUE(h.crane.complete_check(OpResult::success()));
     ASSERT_TRUE(h.gripper.time_out_wait());
     EXPECT_TRUE(h.failed_with("GRIPPER_STATE_STALE")) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, nlohmann::json::object());
+    RunHarness h(type_, nlohmann::json::object());
     h.run->start();
     drive_to(h, "release");
     ASSERT_TRUE(h.gripper.confirm(OpResult::failure("TIMEOUT", "no state")));
     EXPECT_TRUE(h.failed_with("GRIPPER_TIMEOUT")) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, nlohmann::json::object());
+    RunHarness h(type_, nlohmann::json::object());
     h.run->start();
     drive_to(h, "confirm_released");
     EXPECT_EQ(h.gripper.publish(FakeGripper::state(false, true)), 0) << "still holding";
@@ -144,8 +145,8 @@ TEST_F(ReleaseTest, RobotStateFailuresHaveTheirCodes) {
   faulted.fault = "emergency_stop";
   for (const auto& c :
        {Case{std::nullopt, "ROBOT_STATE_STALE"}, Case{robot_at(kTool, "world"), "NOT_VERIFIABLE"},
-        Case{faulted, "ROBOT_FAULT"}, Case{robot_at(testing::tool_facing_x(1.4, 0.0, 0.2)), "PLAN_FAILED"}}) {
-    GripperRunHarness h(type_, nlohmann::json::object());
+        Case{faulted, "ROBOT_FAULT"}, Case{robot_at(tool_facing_x(1.4, 0.0, 0.2)), "PLAN_FAILED"}}) {
+    RunHarness h(type_, nlohmann::json::object());
     h.run->start();
     drive_to(h, "read_pose");
     ASSERT_TRUE(h.robot.answer_state(c.state));
@@ -156,7 +157,7 @@ TEST_F(ReleaseTest, RobotStateFailuresHaveTheirCodes) {
 
 TEST_F(ReleaseTest, AFailedRetreatStopsTheRobotFirstAndTheOverallTimeoutIsTimeout) {
   {
-    GripperRunHarness h(type_, nlohmann::json::object());
+    RunHarness h(type_, nlohmann::json::object());
     h.run->start();
     drive_to(h, "retreat");
     ASSERT_TRUE(h.robot.complete(Kind::kMove, OpResult::failure("MOTION_ABORTED", "STOPPED: stopped by other")));
@@ -165,7 +166,7 @@ TEST_F(ReleaseTest, AFailedRetreatStopsTheRobotFirstAndTheOverallTimeoutIsTimeou
     EXPECT_TRUE(h.failed_with("MOTION_ABORTED")) << h.describe_result();
   }
   {
-    GripperRunHarness h(type_, {{"timeout_s", 5.0}});
+    RunHarness h(type_, {{"timeout_s", 5.0}});
     h.run->start();
     drive_to(h, "retreat");
     h.timers.advance(5s);
@@ -176,13 +177,13 @@ TEST_F(ReleaseTest, AFailedRetreatStopsTheRobotFirstAndTheOverallTimeoutIsTimeou
 
 TEST_F(ReleaseTest, BadParamsAndMissingDevices) {
   {
-    GripperRunHarness h(type_, {{"retreat_m", -0.1}});
+    RunHarness h(type_, {{"retreat_m", -0.1}});
     h.run->start();
     EXPECT_TRUE(h.failed_with("BAD_PARAMS")) << h.describe_result();
     EXPECT_NE(h.result->message.find("/params/retreat_m"), std::string::npos);
   }
   {
-    GripperRunHarness h(type_, nlohmann::json::object(), [](Devices& d) { d.robot = nullptr; });
+    RunHarness h(type_, nlohmann::json::object(), [](Devices& d) { d.robot = nullptr; });
     h.run->start();
     EXPECT_TRUE(h.failed_with("DEVICE_UNAVAILABLE")) << h.describe_result();
   }
@@ -191,7 +192,7 @@ TEST_F(ReleaseTest, BadParamsAndMissingDevices) {
 TEST_F(ReleaseTest, ShutdownInEveryStateReachesItsSafeStop) {
   for (const std::string state : {"check", "release", "confirm_released", "read_pose", "retreat"}) {
     SCOPED_TRACE(state);
-    GripperRunHarness h(type_, nlohmann::json::object());
+    RunHarness h(type_, nlohmann::json::object());
     h.run->start();
     drive_to(h, state);
     if (HasFatalFailure()) return;
@@ -207,7 +208,7 @@ TEST_F(ReleaseTest, ShutdownInEveryStateReachesItsSafeStop) {
     EXPECT_TRUE(h.stopped()) << h.describe_result();
     EXPECT_EQ(h.gripper.commanded, commanded);
   }
-  GripperRunHarness h(type_, nlohmann::json::object());
+  RunHarness h(type_, nlohmann::json::object());
   h.run->start();
   const Skill& skill = *h.run->skill();
   for (const auto& name : skill.state_names()) {

@@ -2,14 +2,14 @@
 // hole withdrawn whenever it is left, every answer, timeouts, bad params and shutdown from every state.
 #include <gtest/gtest.h>
 
-#include "cell_fakes.hpp"
+#include "sdk_testing.hpp"
 #include "skills/screw.hpp"
 
 namespace rigger::skill_executor {
 namespace {
 
 using namespace std::chrono_literals;
-using testing::CellRunHarness;
+using testing::RunHarness;
 
 nlohmann::json target_features() {
   return {{"screw_holes",
@@ -29,7 +29,7 @@ class ScrewTest : public ::testing::Test {
   nlohmann::json params_ = {{"holes", {"target/h1", "target/h2"}}, {"timeout_per_hole_s", 60.0}};
 
   /// Starts and answers the look-up: features of "target", then the two positions.
-  void look_up(CellRunHarness& h) {
+  void look_up(RunHarness& h) {
     h.run->start();
     ASSERT_EQ(h.state(), "lookup");
     ASSERT_EQ(h.world.features_entity(), "target");
@@ -45,7 +45,7 @@ class ScrewTest : public ::testing::Test {
 };
 
 TEST_F(ScrewTest, SuccessPromptsEveryHoleWithItsDataAndWithdrawsEachPrompt) {
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   look_up(h);
   const auto* first = h.operator_panel.newest();
   ASSERT_NE(first, nullptr);
@@ -76,7 +76,7 @@ TEST_F(ScrewTest, SuccessPromptsEveryHoleWithItsDataAndWithdrawsEachPrompt) {
 TEST_F(ScrewTest, ParamsOverrideTheWorldModelsTypeAndTorque) {
   params_["torque_nm"] = 80.0;
   params_["screw_type"] = "M16x50";
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   look_up(h);
   EXPECT_EQ(h.operator_panel.newest()->spec.details["screw_type"], "M16x50");
   EXPECT_DOUBLE_EQ(h.operator_panel.newest()->spec.details["torque_nm"].get<double>(), 80.0);
@@ -89,7 +89,7 @@ TEST_F(ScrewTest, EachAnswerAndTheTimeoutEndTheRunWithItsCode) {
   };
   for (const auto& c :
        {Case{"failed", "SCREW_FAILED"}, Case{"abort", "OPERATOR_ABORTED"}, Case{std::nullopt, "OPERATOR_TIMEOUT"}}) {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     look_up(h);
     ASSERT_TRUE(h.operator_panel.answer(c.answer));
     ASSERT_TRUE(h.failed_with(c.code)) << c.code << " got " << (h.result ? h.result->code : "nothing");
@@ -100,20 +100,20 @@ TEST_F(ScrewTest, EachAnswerAndTheTimeoutEndTheRunWithItsCode) {
 
 TEST_F(ScrewTest, AnUnknownHoleOrEntityFails) {
   {
-    CellRunHarness h(type_, {{"holes", {"target/h9"}}});
+    RunHarness h(type_, {{"holes", {"target/h9"}}});
     h.run->start();
     ASSERT_TRUE(h.world.answer_features(OpResult::success(), target_features()));
     ASSERT_TRUE(h.failed_with("UNKNOWN_FEATURE"));
     EXPECT_NE(h.result->message.find("h9"), std::string::npos);
   }
   {
-    CellRunHarness h(type_, {{"holes", {"nothing/h1"}}});
+    RunHarness h(type_, {{"holes", {"nothing/h1"}}});
     h.run->start();
     ASSERT_TRUE(h.world.answer_features(OpResult::failure("UNKNOWN_ENTITY", "no entity"), nlohmann::json::object()));
     EXPECT_TRUE(h.failed_with("UNKNOWN_ENTITY"));
   }
   {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     h.run->start();
     ASSERT_TRUE(h.world.answer_features(OpResult::success(), target_features()));
     ASSERT_TRUE(h.resolver.answer(OpResult::failure("WORLD_UNREACHABLE", "no reply")));
@@ -125,34 +125,34 @@ TEST_F(ScrewTest, BadParamsFail) {
   for (const auto& params : {nlohmann::json{{"holes", nlohmann::json::array()}}, nlohmann::json::object(),
                              nlohmann::json{{"holes", {"target/h1"}}, {"torque_nm", -5}},
                              nlohmann::json{{"holes", {"target/h1"}}, {"timeout_per_hole_s", 0}}}) {
-    CellRunHarness h(type_, params);
+    RunHarness h(type_, params);
     h.run->start();
     ASSERT_TRUE(h.failed_with("BAD_PARAMS")) << params.dump();
     EXPECT_TRUE(h.operator_panel.prompts.empty());
   }
   // A hole ref without a feature part passes the string_list check but not the skill's.
-  CellRunHarness h(type_, {{"holes", {"h1"}}});
+  RunHarness h(type_, {{"holes", {"h1"}}});
   h.run->start();
   ASSERT_TRUE(h.failed_with("BAD_PARAMS"));
   EXPECT_NE(h.result->message.find("/params/holes"), std::string::npos);
 }
 
 TEST_F(ScrewTest, MissingDevicesAreDeviceUnavailable) {
-  CellRunHarness h(type_, params_, [](Devices& d) { d.operator_panel = nullptr; });
+  RunHarness h(type_, params_, [](Devices& d) { d.operator_panel = nullptr; });
   h.run->start();
   EXPECT_TRUE(h.failed_with("DEVICE_UNAVAILABLE"));
 }
 
 TEST_F(ScrewTest, ShutdownFromEveryStateIsStoppedWithThePromptWithdrawn) {
   {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     h.run->start();
     h.run->shutdown("test");
     ASSERT_TRUE(h.stopped());
     EXPECT_FALSE(h.world.answer_features(OpResult::success(), target_features())) << "look-up not cancelled";
   }
   {
-    CellRunHarness h(type_, params_);
+    RunHarness h(type_, params_);
     look_up(h);
     ASSERT_TRUE(h.operator_panel.answer("done"));
     h.run->shutdown("test");
@@ -161,7 +161,7 @@ TEST_F(ScrewTest, ShutdownFromEveryStateIsStoppedWithThePromptWithdrawn) {
     EXPECT_FALSE(h.operator_panel.answer("done")) << "a late answer must find no waiting prompt";
     EXPECT_EQ(h.results, 1);
   }
-  CellRunHarness h(type_, params_);
+  RunHarness h(type_, params_);
   look_up(h);
   for (const auto& name : h.run->skill()->state_names()) {
     std::optional<bool> safe;

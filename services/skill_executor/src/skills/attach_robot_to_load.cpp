@@ -1,12 +1,11 @@
 #include "attach_robot_to_load.hpp"
 #include "rigger/base/text.hpp"
+#include "rigger/skill_sdk/params.hpp"
 
 namespace rigger::skill_executor {
 
 const skill::SkillDescription& AttachRobotToLoadSkill::describe() {
   static const skill::SkillDescription kDescription = [] {
-    using skill::ParamSpec;
-    using skill::ParamType;
     skill::SkillDescription d;
     d.name = "AttachRobotToLoad";
     d.kind = skill::SkillKind::kSkill;
@@ -15,82 +14,26 @@ const skill::SkillDescription& AttachRobotToLoadSkill::describe() {
         "the magnet, re-resolves the grasp frame (the load may sway), approaches it in a straight line at low speed "
         "and verifies the hold for verify_s. A retry after a slip first releases and retreats to the approach pose.";
     d.params = {
-        skill::object_id_param("object", "The crane-carried object (claimed while the skill runs).", "load"),
-        ParamSpec{"grasp",
-                  ParamType::kFeatureRef,
-                  "",
-                  std::nullopt,
-                  std::nullopt,
-                  std::nullopt,
-                  {},
-                  "Grasp frame = tool pose at the grasp (z into the face), e.g. load/grasp_side."},
-        ParamSpec{"approach",
-                  ParamType::kFeatureRef,
-                  "",
-                  std::nullopt,
-                  std::nullopt,
-                  std::nullopt,
-                  {},
-                  "Approach waypoint = tool pose before the straight approach, e.g. load/pre_grasp."},
-        ParamSpec{"approach_speed_m_per_s",
-                  ParamType::kNumber,
-                  "m/s",
-                  0.005,
-                  0.1,
-                  nlohmann::json(0.02),
-                  {},
-                  "Tool speed of the straight approach (and of the retreat of a retry)."},
-        ParamSpec{"press_in_m",
-                  ParamType::kNumber,
-                  "m",
-                  0.0,
-                  0.03,
-                  nlohmann::json(0.01),
-                  {},
-                  "How far past the grasp frame, along the tool z (into the face), the straight approach aims: the "
-                  "face still reaches a load that hangs or sways slightly farther away, and a hanging load yields."},
-        ParamSpec{"speed_scale",
-                  ParamType::kNumber,
-                  "",
-                  0.01,
-                  1.0,
-                  nlohmann::json(0.2),
-                  {},
-                  "Fraction of the robot's maximum speed for the transfer to the approach waypoint."},
-        ParamSpec{"verify_s",
-                  ParamType::kNumber,
-                  "s",
-                  0.0,
-                  10.0,
-                  nlohmann::json(1.0),
-                  {},
-                  "The magnet must report holding without interruption for this long (else GRASP_LOST)."},
-        ParamSpec{"hold_timeout_s",
-                  ParamType::kNumber,
-                  "s",
-                  0.1,
-                  10.0,
-                  nlohmann::json(2.0),
-                  {},
-                  "After the approach ended, the magnet must report holding within this time (else GRASP_FAILED)."},
-        ParamSpec{"max_sway_m",
-                  ParamType::kNumber,
-                  "m",
-                  0.001,
-                  0.2,
-                  nlohmann::json(0.03),
-                  {},
-                  "Largest displacement of the grasp frame between planning and the final approach (else "
-                  "LOAD_MOVING)."},
+        params::object("object", "The crane-carried object (claimed while the skill runs).", "load"),
+        params::feature("grasp").doc("Grasp frame = tool pose at the grasp (z into the face), e.g. load/grasp_side."),
+        params::feature("approach").doc(
+            "Approach waypoint = tool pose before the straight approach, e.g. load/pre_grasp."),
+        params::number("approach_speed_m_per_s").unit("m/s").range(0.005, 0.1).fallback(0.02).doc(
+            "Tool speed of the straight approach (and of the retreat of a retry)."),
+        params::number("press_in_m").unit("m").range(0.0, 0.03).fallback(0.01).doc(
+            "How far past the grasp frame, along the tool z (into the face), the straight approach aims: the face "
+            "still reaches a load that hangs or sways slightly farther away, and a hanging load yields."),
+        params::number("speed_scale").range(0.01, 1.0).fallback(0.2).doc(
+            "Fraction of the robot's maximum speed for the transfer to the approach waypoint."),
+        params::number("verify_s").unit("s").range(0.0, 10.0).fallback(1.0).doc(
+            "The magnet must report holding without interruption for this long (else GRASP_LOST)."),
+        params::number("hold_timeout_s").unit("s").range(0.1, 10.0).fallback(2.0).doc(
+            "After the approach ended, the magnet must report holding within this time (else GRASP_FAILED)."),
+        params::number("max_sway_m").unit("m").range(0.001, 0.2).fallback(0.03).doc(
+            "Largest displacement of the grasp frame between planning and the final approach (else " "LOAD_MOVING)."),
         max_reach_param(),
-        ParamSpec{"check_crane",
-                  ParamType::kBoolean,
-                  "",
-                  std::nullopt,
-                  std::nullopt,
-                  nlohmann::json(true),
-                  {},
-                  "Refuse to move unless the crane reports healthy (rigger/crane/state)."},
+        params::boolean("check_crane").fallback(true).doc(
+            "Refuse to move unless the crane reports healthy (rigger/crane/state)."),
         timeout_param(),
     };
     d.resources = {"robot", "gripper", "$object"};

@@ -26,6 +26,7 @@
 #include <string>
 
 #include "gripper_skill.hpp"
+#include "sdk.hpp"
 
 namespace rigger::skill_executor {
 

@@ -1,13 +1,12 @@
 #include "collaborative_move_load.hpp"
 
-#include "collaborative.hpp"
+#include "rigger/skill_sdk/states.hpp"
+#include "rigger/skill_sdk/params.hpp"
 
 namespace rigger::skill_executor {
 
 const skill::SkillDescription& CollaborativeMoveLoadSkill::describe() {
   static const skill::SkillDescription kDescription = [] {
-    using skill::ParamSpec;
-    using skill::ParamType;
     skill::SkillDescription d;
     d.name = "CollaborativeMoveLoad";
     d.kind = skill::SkillKind::kSkill;
@@ -17,44 +16,19 @@ const skill::SkillDescription& CollaborativeMoveLoadSkill::describe() {
         "'done' (or duration_s passed); then admittance OFF, and the world model is told the object is no "
         "longer localized.";
     d.params = {
-        skill::object_id_param("object", "The crane-carried object the robot holds.", "load"),
-        ParamSpec{"reference",
-                  ParamType::kEnum,
-                  "",
-                  std::nullopt,
-                  std::nullopt,
-                  nlohmann::json("joystick"),
-                  {"joystick"},
-                  "The motion reference: the operator's joystick (rigger/operator/joystick). Visual servoing is "
-                  "InsertVisuallyGuided's."},
-        ParamSpec{
-            "duration_s",
-            ParamType::kNumber,
-            "s",
-            0.0,
-            3600.0,
-            nlohmann::json(0.0),
-            {},
-            "Ends with SUCCESS after this time (the operator may end earlier); 0: only the operator's 'done' ends it."},
-        ParamSpec{"max_duration_s",
-                  ParamType::kNumber,
-                  "s",
-                  1.0,
-                  7200.0,
-                  nlohmann::json(600.0),
-                  {},
-                  "With duration_s = 0: fails with TIMEOUT when the operator did not answer within this time."},
-        ParamSpec{"path_stiffness_n_per_m",
-                  ParamType::kNumber,
-                  "N/m",
-                  0.0,
-                  2000.0,
-                  nlohmann::json(200.0),
-                  {},
-                  "The robot law's spring (x, y, z) towards the joystick's path: what the load's pull on the "
-                  "robot (the crane lagging or leading) made the robot give way is taken back once the pull is "
-                  "inside the force deadband, so the load ends where the joystick put it. 0: free admittance, "
-                  "where that give-way stays (up to ~7 mm over a 20 cm jog in the simulated cell)."},
+        params::object("object", "The crane-carried object the robot holds.", "load"),
+        params::choice("reference", {"joystick"}).fallback("joystick").doc(
+            "The motion reference: the operator's joystick (rigger/operator/joystick). Visual servoing is "
+            "InsertVisuallyGuided's."),
+        params::number("duration_s").unit("s").range(0.0, 3600.0).fallback(0.0).doc(
+            "Ends with SUCCESS after this time (the operator may end earlier); 0: only the operator's 'done' ends it."),
+        params::number("max_duration_s").unit("s").range(1.0, 7200.0).fallback(600.0).doc(
+            "With duration_s = 0: fails with TIMEOUT when the operator did not answer within this time."),
+        params::number("path_stiffness_n_per_m").unit("N/m").range(0.0, 2000.0).fallback(200.0).doc(
+            "The robot law's spring (x, y, z) towards the joystick's path: what the load's pull on the robot (the "
+            "crane lagging or leading) made the robot give way is taken back once the pull is inside the force "
+            "deadband, so the load ends where the joystick put it. 0: free admittance, where that give-way stays (up "
+            "to ~7 mm over a 20 cm jog in the simulated cell)."),
     };
     d.resources = {"robot", "crane", "operator", "$object"};
     d.preconditions = {*skill::parse_predicate("attached(robot,$object)")};

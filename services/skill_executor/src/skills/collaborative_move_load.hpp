@@ -26,8 +26,9 @@
 /// DEVICE_UNAVAILABLE, CRANE_FAULT, ADMITTANCE_FAULT, ADMITTANCE_PREEMPTED, OPERATOR_ABORTED, TIMEOUT (no "done" within
 /// max_duration_s).
 
-#include "../cell_devices.hpp"
-#include "../skill.hpp"
+#include "rigger/skill_sdk/cell_devices.hpp"
+#include "rigger/skill_sdk/skill.hpp"
+#include "sdk.hpp"
 
 namespace rigger::skill_executor {
 

@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "../cell_devices.hpp"
+#include "rigger/skill_sdk/cell_devices.hpp"
 #include "rigger/base/text.hpp"
+#include "rigger/skill_sdk/params.hpp"
 
 namespace rigger::skill_executor {
 
@@ -15,20 +16,12 @@ double speed_scale_for(double tool_speed_mps) {
 }
 
 skill::ParamSpec max_reach_param() {
-  using skill::ParamSpec;
-  using skill::ParamType;
-  return ParamSpec{"max_reach_m",
-                   ParamType::kNumber,
-                   "m",
-                   0.1,
-                   5.0,
-                   nlohmann::json(1.2),
-                   {},
-                   "Tool poses farther than this from the robot base are refused by the planner."};
+  return params::number("max_reach_m").unit("m").range(0.1, 5.0).fallback(1.2).doc(
+      "Tool poses farther than this from the robot base are refused by the planner.");
 }
 skill::ParamSpec timeout_param() {
-  return skill::seconds_param("timeout_s", 1.0, 600.0, 60.0,
-                              "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer.");
+  return params::number("timeout_s").unit("s").range(1.0, 600.0).fallback(60.0).doc(
+      "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer.");
 }
 
 Eigen::Isometry3d along_tool_z(const Eigen::Isometry3d& pose, double distance_m) {

@@ -19,9 +19,10 @@
 
 #include <Eigen/Geometry>
 
-#include "../skill.hpp"
+#include "rigger/skill_sdk/skill.hpp"
 #include "move_to.hpp"
 #include "rigger/skill/param_spec.hpp"
+#include "sdk.hpp"
 
 namespace rigger::skill_executor {
 

@@ -2,9 +2,10 @@
 
 #include <cmath>
 
-#include "../pose_param.hpp"
-#include "collaborative.hpp"
+#include "rigger/skill_sdk/pose_param.hpp"
+#include "rigger/skill_sdk/states.hpp"
 #include "rigger/base/text.hpp"
+#include "rigger/skill_sdk/params.hpp"
 
 namespace rigger::skill_executor {
 
@@ -29,8 +30,6 @@ std::optional<std::string> insertion_goal(const nlohmann::json& features, const 
 
 const skill::SkillDescription& InsertVisuallyGuidedSkill::describe() {
   static const skill::SkillDescription kDescription = [] {
-    using skill::ParamSpec;
-    using skill::ParamType;
     skill::SkillDescription d;
     d.name = "InsertVisuallyGuided";
     d.kind = skill::SkillKind::kSkill;
@@ -39,77 +38,27 @@ const skill::SkillDescription& InsertVisuallyGuidedSkill::describe() {
         "servoing (admittance ROBOT_AND_CRANE, reference VISUAL_SERVO, tracker continuous); succeeds when "
         "converged within tolerance for settle_s, then admittance OFF (robot and crane hold, magnet on).";
     d.params = {
-        skill::object_id_param("object", "The tracked object that moves (held by the robot, carried by the crane).",
-                               "load"),
-        skill::object_id_param("target", "The tracked object it is inserted into.", "target"),
-        ParamSpec{"tolerance_m",
-                  ParamType::kNumber,
-                  "m",
-                  0.0005,
-                  0.05,
-                  nlohmann::json(0.005),
-                  {},
-                  "Largest position error counted as inserted."},
-        ParamSpec{
-            "tolerance_rad",
-            ParamType::kNumber,
-            "rad",
-            0.0008,
-            0.2,
-            nlohmann::json(M_PI / 180.0),
-            {},
-            "Largest rotation error counted as inserted; default 1 deg (write {\"value\": 1, \"unit\": \"deg\"})."},
-        ParamSpec{"settle_s",
-                  ParamType::kNumber,
-                  "s",
-                  0.0,
-                  30.0,
-                  nlohmann::json(1.0),
-                  {},
-                  "The error must stay within tolerance this long."},
-        skill::seconds_param("timeout_s", 1.0, 600.0, 120.0,
-                             "Fails with TIMEOUT when not settled this long after the servo started."),
-        ParamSpec{"standoff_x_m",
-                  ParamType::kNumber,
-                  "m",
-                  -0.5,
-                  0.5,
-                  nlohmann::json(0.0),
-                  {},
-                  "Stand-off added to the insertion position, x in the target frame."},
-        ParamSpec{"standoff_y_m",
-                  ParamType::kNumber,
-                  "m",
-                  -0.5,
-                  0.5,
-                  nlohmann::json(0.0),
-                  {},
-                  "Stand-off added to the insertion position, y in the target frame."},
-        ParamSpec{"standoff_z_m",
-                  ParamType::kNumber,
-                  "m",
-                  -0.5,
-                  0.5,
-                  nlohmann::json(0.0),
-                  {},
-                  "Stand-off added to the insertion position, z in the target frame (e.g. 0.05 to stop above)."},
-        ParamSpec{"min_quality",
-                  ParamType::kNumber,
-                  "",
-                  0.0,
-                  1.0,
-                  nlohmann::json(0.5),
-                  {},
-                  "Tracker poses below this quality count as not tracked."},
-        ParamSpec{"tracking_lost_s",
-                  ParamType::kNumber,
-                  "s",
-                  0.05,
-                  10.0,
-                  nlohmann::json(1.0),
-                  {},
-                  "Fails with TRACKING_LOST when object or target is not tracked (or the servo stops for "
-                  "tracking) for this long."},
+        params::object("object", "The tracked object that moves (held by the robot, carried by the crane).", "load"),
+        params::object("target", "The tracked object it is inserted into.", "target"),
+        params::number("tolerance_m").unit("m").range(0.0005, 0.05).fallback(0.005).doc(
+            "Largest position error counted as inserted."),
+        params::number("tolerance_rad").unit("rad").range(0.0008, 0.2).fallback(M_PI / 180.0).doc(
+            "Largest rotation error counted as inserted; default 1 deg (write {\"value\": 1, \"unit\": \"deg\"})."),
+        params::number("settle_s").unit("s").range(0.0, 30.0).fallback(1.0).doc(
+            "The error must stay within tolerance this long."),
+        params::number("timeout_s").unit("s").range(1.0, 600.0).fallback(120.0).doc(
+            "Fails with TIMEOUT when not settled this long after the servo started."),
+        params::number("standoff_x_m").unit("m").range(-0.5, 0.5).fallback(0.0).doc(
+            "Stand-off added to the insertion position, x in the target frame."),
+        params::number("standoff_y_m").unit("m").range(-0.5, 0.5).fallback(0.0).doc(
+            "Stand-off added to the insertion position, y in the target frame."),
+        params::number("standoff_z_m").unit("m").range(-0.5, 0.5).fallback(0.0).doc(
+            "Stand-off added to the insertion position, z in the target frame (e.g. 0.05 to stop above)."),
+        params::number("min_quality").range(0.0, 1.0).fallback(0.5).doc(
+            "Tracker poses below this quality count as not tracked."),
+        params::number("tracking_lost_s").unit("s").range(0.05, 10.0).fallback(1.0).doc(
+            "Fails with TRACKING_LOST when object or target is not tracked (or the servo stops for tracking) for "
+            "this long."),
     };
     d.resources = {"robot", "crane", "camera", "$object", "$target"};
     d.preconditions = {*skill::parse_predicate("attached(robot,$object)"),

@@ -1,4 +1,5 @@
 #include "localize.hpp"
+#include "rigger/skill_sdk/params.hpp"
 
 #include <cstdio>
 
@@ -16,8 +17,6 @@ std::string fixed(double v, int digits = 2) {
 
 const skill::SkillDescription& LocalizeSkill::describe() {
   static const skill::SkillDescription kDescription = [] {
-    using skill::ParamSpec;
-    using skill::ParamType;
     skill::SkillDescription d;
     d.name = "Localize";
     d.kind = skill::SkillKind::kSkill;
@@ -25,17 +24,10 @@ const skill::SkillDescription& LocalizeSkill::describe() {
         "Detects an object with the camera (rigger/tracker/command TRACK_ONCE, rigger/tracker/pose) and "
         "stores its pose, quality and localized=true in the world model (rigger/world/update, accepted).";
     d.params = {
-        skill::object_id_param("object", "World-model id of the object to localize (the tracker's object_id)."),
-        ParamSpec{"min_quality",
-                  ParamType::kNumber,
-                  "",
-                  0.0,
-                  1.0,
-                  nlohmann::json(0.5),
-                  {},
-                  "Lowest accepted tracking quality."},
-        skill::seconds_param("timeout_s", 0.1, 60.0, 5.0,
-                             "Fails with NOT_DETECTED when no good enough pose arrived within this time."),
+        params::object("object", "World-model id of the object to localize (the tracker's object_id)."),
+        params::number("min_quality").range(0.0, 1.0).fallback(0.5).doc("Lowest accepted tracking quality."),
+        params::number("timeout_s").unit("s").range(0.1, 60.0).fallback(5.0).doc(
+            "Fails with NOT_DETECTED when no good enough pose arrived within this time."),
     };
     d.resources = {"camera"};
     d.postconditions = {*skill::parse_predicate("localized($object)")};

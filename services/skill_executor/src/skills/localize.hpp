@@ -22,8 +22,9 @@
 #include <optional>
 #include <string>
 
-#include "../cell_devices.hpp"
-#include "../skill.hpp"
+#include "rigger/skill_sdk/cell_devices.hpp"
+#include "rigger/skill_sdk/skill.hpp"
+#include "sdk.hpp"
 
 namespace rigger::skill_executor {
 

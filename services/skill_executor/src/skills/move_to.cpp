@@ -1,5 +1,6 @@
 #include "move_to.hpp"
 #include "rigger/base/text.hpp"
+#include "rigger/skill_sdk/params.hpp"
 
 #include <cmath>
 
@@ -21,24 +22,20 @@ std::optional<std::string> plan_cartesian_goal(const PoseParam& goal, double max
 
 const skill::SkillDescription& MoveToSkill::describe() {
   static const skill::SkillDescription kDescription = [] {
-    using skill::ParamSpec;
-    using skill::ParamType;
     skill::SkillDescription d;
     d.name = "MoveTo";
     d.kind = skill::SkillKind::kSkill;
     d.description = "Moves the robot's tool to a Cartesian goal pose (planned, executed via rigger/robot/cmd_motion, "
                     "verified against rigger/robot/state).";
     d.params = {
-        ParamSpec{"goal", ParamType::kPose, "", std::nullopt, std::nullopt, std::nullopt, {},
-                  "Tool goal pose in the robot base frame \"robot\" (the default frame)."},
-        ParamSpec{"speed_scale", ParamType::kNumber, "", 0.01, 1.0, nlohmann::json(0.2), {},
-                  "Fraction of the robot's maximum speed."},
-        skill::seconds_param("timeout_s", 0.1, 600.0, 30.0,
-                             "The motion fails with TIMEOUT (and is stopped) when it takes longer."),
-        ParamSpec{"position_tolerance_m", ParamType::kNumber, "m", 0.0001, 0.1, nlohmann::json(0.005), {},
-                  "Largest distance between the reached and the goal position."},
-        ParamSpec{"max_reach_m", ParamType::kNumber, "m", 0.1, 5.0, nlohmann::json(1.2), {},
-                  "Goals farther than this from the robot base are refused by the planner."},
+        params::pose("goal").doc("Tool goal pose in the robot base frame \"robot\" (the default frame)."),
+        params::speed_scale(0.2),
+        params::number("timeout_s").unit("s").range(0.1, 600.0).fallback(30.0).doc(
+            "The motion fails with TIMEOUT (and is stopped) when it takes longer."),
+        params::number("position_tolerance_m").unit("m").range(0.0001, 0.1).fallback(0.005).doc(
+            "Largest distance between the reached and the goal position."),
+        params::number("max_reach_m").unit("m").range(0.1, 5.0).fallback(1.2).doc(
+            "Goals farther than this from the robot base are refused by the planner."),
     };
     d.resources = {"robot"};
     d.pausable = true;

@@ -19,8 +19,9 @@
 #include <optional>
 #include <string>
 
-#include "../pose_param.hpp"
-#include "../skill.hpp"
+#include "rigger/skill_sdk/pose_param.hpp"
+#include "rigger/skill_sdk/skill.hpp"
+#include "sdk.hpp"
 
 namespace rigger::skill_executor {
 

@@ -1,54 +1,28 @@
 #include "pick_place.hpp"
 
-#include "../world_resolver.hpp"
+#include "rigger/skill_sdk/primitives.hpp"
 #include "rigger/base/text.hpp"
+#include "rigger/skill_sdk/params.hpp"
 
 namespace rigger::skill_executor {
 
 namespace {
 
-using skill::ParamSpec;
-using skill::ParamType;
-
-ParamSpec approach_m_param() {
-  return ParamSpec{"approach_m",
-                   ParamType::kNumber,
-                   "m",
-                   0.01,
-                   kPickPlaceMaxApproachM,
-                   nlohmann::json(0.10),
-                   {},
-                   "The approach pose is the target tool pose moved back this far along the tool's -z axis."};
+skill::ParamSpec approach_m_param() {
+  return params::number("approach_m").unit("m").range(0.01, kPickPlaceMaxApproachM).fallback(0.10).doc(
+      "The approach pose is the target tool pose moved back this far along the tool's -z axis.");
 }
-ParamSpec approach_speed_param() {
-  return ParamSpec{"approach_speed_m_per_s",
-                   ParamType::kNumber,
-                   "m/s",
-                   0.005,
-                   0.25,
-                   nlohmann::json(0.05),
-                   {},
-                   "Tool speed of the straight descent and of the retreat."};
+skill::ParamSpec approach_speed_param() {
+  return params::number("approach_speed_m_per_s").unit("m/s").range(0.005, 0.25).fallback(0.05).doc(
+      "Tool speed of the straight descent and of the retreat.");
 }
-ParamSpec retreat_param() {
-  return ParamSpec{"retreat_m",
-                   ParamType::kNumber,
-                   "m",
-                   0.0,
-                   kPickPlaceMaxApproachM,
-                   nlohmann::json(0.10),
-                   {},
-                   "Straight retreat along the tool's -z axis at the end (0: none)."};
+skill::ParamSpec retreat_param() {
+  return params::number("retreat_m").unit("m").range(0.0, kPickPlaceMaxApproachM).fallback(0.10).doc(
+      "Straight retreat along the tool's -z axis at the end (0: none).");
 }
-ParamSpec speed_scale_param() {
-  return ParamSpec{"speed_scale",
-                   ParamType::kNumber,
-                   "",
-                   0.01,
-                   1.0,
-                   nlohmann::json(0.2),
-                   {},
-                   "Fraction of the robot's maximum speed for the transfer to the approach pose."};
+skill::ParamSpec speed_scale_param() {
+  return params::number("speed_scale").range(0.01, 1.0).fallback(0.2).doc(
+      "Fraction of the robot's maximum speed for the transfer to the approach pose.");
 }
 }  // namespace
 
@@ -63,27 +37,14 @@ const skill::SkillDescription& PickSkill::describe() {
         "Picks an object within the robot's payload with the magnetic gripper: approach pose, straight "
         "descent to the grasp frame, energize and confirm the hold, straight retreat.";
     d.params = {
-        skill::object_id_param("object", "The object picked (claimed while the skill runs)."),
-        ParamSpec{"grasp",
-                  ParamType::kFeatureRef,
-                  "",
-                  std::nullopt,
-                  std::nullopt,
-                  std::nullopt,
-                  {},
-                  "Grasp frame = tool pose at the grasp (z into the object), e.g. part/grasp_top."},
+        params::object("object", "The object picked (claimed while the skill runs)."),
+        params::feature("grasp").doc("Grasp frame = tool pose at the grasp (z into the object), e.g. part/grasp_top."),
         approach_m_param(),
         approach_speed_param(),
         retreat_param(),
         speed_scale_param(),
-        ParamSpec{"hold_timeout_s",
-                  ParamType::kNumber,
-                  "s",
-                  0.1,
-                  10.0,
-                  nlohmann::json(2.0),
-                  {},
-                  "After energizing, the magnet must report holding within this time (else GRASP_FAILED)."},
+        params::number("hold_timeout_s").unit("s").range(0.1, 10.0).fallback(2.0).doc(
+            "After energizing, the magnet must report holding within this time (else GRASP_FAILED)."),
         max_reach_param(),
         timeout_param(),
     };
@@ -199,16 +160,10 @@ const skill::SkillDescription& PlaceSkill::describe() {
         "straight retreat; then the world model is told the object is no longer localized (Localize it again "
         "before anything needs its pose).";
     d.params = {
-        skill::object_id_param("object", "The object placed (claimed while the skill runs)."),
-        ParamSpec{"pose",
-                  ParamType::kPose,
-                  "",
-                  std::nullopt,
-                  std::nullopt,
-                  std::nullopt,
-                  {},
-                  "Tool pose at the release (z into the support), in the robot base frame \"robot\" (the default) or "
-                  "relative to a world-model feature named as its frame, e.g. \"frame\": \"fixture/place_top\"."},
+        params::object("object", "The object placed (claimed while the skill runs)."),
+        params::pose("pose").doc(
+            "Tool pose at the release (z into the support), in the robot base frame \"robot\" (the default) or "
+            "relative to a world-model feature named as its frame, e.g. \"frame\": \"fixture/place_top\"."),
         approach_m_param(),
         approach_speed_param(),
         retreat_param(),

@@ -22,6 +22,7 @@
 /// MOTION_ABORTED, GRIPPER_TIMEOUT, RELEASE_FAILED, TIMEOUT.
 
 #include "gripper_skill.hpp"
+#include "sdk.hpp"
 
 namespace rigger::skill_executor {
 

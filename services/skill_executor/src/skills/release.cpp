@@ -1,12 +1,11 @@
 #include "release.hpp"
 #include "rigger/base/text.hpp"
+#include "rigger/skill_sdk/params.hpp"
 
 namespace rigger::skill_executor {
 
 const skill::SkillDescription& ReleaseSkill::describe() {
   static const skill::SkillDescription kDescription = [] {
-    using skill::ParamSpec;
-    using skill::ParamType;
     skill::SkillDescription d;
     d.name = "Release";
     d.kind = skill::SkillKind::kSkill;
@@ -14,41 +13,17 @@ const skill::SkillDescription& ReleaseSkill::describe() {
         "De-energizes the magnetic gripper, confirms it let go and retreats the tool straight back along "
         "its -z axis by retreat_m.";
     d.params = {
-        skill::object_id_param("object", "The object let go of (claimed while the skill runs).", "load"),
-        ParamSpec{"retreat_m",
-                  ParamType::kNumber,
-                  "m",
-                  0.0,
-                  0.5,
-                  nlohmann::json(0.10),
-                  {},
-                  "Distance of the straight retreat along the tool's -z axis (0: none)."},
-        ParamSpec{"retreat_speed_m_per_s",
-                  ParamType::kNumber,
-                  "m/s",
-                  0.005,
-                  0.25,
-                  nlohmann::json(0.05),
-                  {},
-                  "Tool speed of the retreat."},
-        ParamSpec{"max_reach_m",
-                  ParamType::kNumber,
-                  "m",
-                  0.1,
-                  5.0,
-                  nlohmann::json(1.2),
-                  {},
-                  "A retreat goal farther than this from the robot base is refused by the planner."},
-        ParamSpec{"check_crane",
-                  ParamType::kBoolean,
-                  "",
-                  std::nullopt,
-                  std::nullopt,
-                  nlohmann::json(true),
-                  {},
-                  "Refuse to let go unless the crane reports healthy (rigger/crane/state)."},
-        skill::seconds_param("timeout_s", 1.0, 600.0, 30.0,
-                             "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer."),
+        params::object("object", "The object let go of (claimed while the skill runs).", "load"),
+        params::number("retreat_m").unit("m").range(0.0, 0.5).fallback(0.10).doc(
+            "Distance of the straight retreat along the tool's -z axis (0: none)."),
+        params::number("retreat_speed_m_per_s").unit("m/s").range(0.005, 0.25).fallback(0.05).doc(
+            "Tool speed of the retreat."),
+        params::number("max_reach_m").unit("m").range(0.1, 5.0).fallback(1.2).doc(
+            "A retreat goal farther than this from the robot base is refused by the planner."),
+        params::boolean("check_crane").fallback(true).doc(
+            "Refuse to let go unless the crane reports healthy (rigger/crane/state)."),
+        params::number("timeout_s").unit("s").range(1.0, 600.0).fallback(30.0).doc(
+            "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer."),
     };
     d.resources = {"robot", "gripper", "$object"};
     d.pausable = true;

@@ -17,6 +17,7 @@
 /// MOTION_ABORTED, TIMEOUT.
 
 #include "gripper_skill.hpp"
+#include "sdk.hpp"
 
 namespace rigger::skill_executor {
 

@@ -2,7 +2,8 @@
 
 #include <cstdio>
 
-#include "../world_resolver.hpp"
+#include "rigger/skill_sdk/primitives.hpp"
+#include "rigger/skill_sdk/params.hpp"
 
 namespace rigger::skill_executor {
 
@@ -30,8 +31,6 @@ std::string find_screw_hole(const nlohmann::json& features, const std::string& i
 
 const skill::SkillDescription& ScrewSkill::describe() {
   static const skill::SkillDescription kDescription = [] {
-    using skill::ParamSpec;
-    using skill::ParamType;
     skill::SkillDescription d;
     d.name = "Screw";
     d.kind = skill::SkillKind::kSkill;
@@ -39,40 +38,16 @@ const skill::SkillDescription& ScrewSkill::describe() {
         "Prompts the operator hole by hole with the screw type, torque and position (rigger/operator/prompt) "
         "and waits for each confirmation (rigger/operator/response): done, failed or abort.";
     d.params = {
-        ParamSpec{"holes",
-                  ParamType::kStringList,
-                  "",
-                  1.0,
-                  32.0,
-                  std::nullopt,
-                  {},
-                  "Feature refs of the screw holes, in order, e.g. [\"target/h1\", \"target/h2\"]."},
-        ParamSpec{"torque_nm",
-                  ParamType::kNumber,
-                  "Nm",
-                  0.0,
-                  400.0,
-                  nlohmann::json(0.0),
-                  {},
-                  "Tightening torque for every hole; 0: each hole's torque from the world model."},
-        ParamSpec{"screw_type",
-                  ParamType::kString,
-                  "",
-                  std::nullopt,
-                  64.0,
-                  nlohmann::json(""),
-                  {},
-                  "Screw type for every hole; empty: each hole's type from the world model."},
-        ParamSpec{"timeout_per_hole_s",
-                  ParamType::kNumber,
-                  "s",
-                  1.0,
-                  3600.0,
-                  nlohmann::json(600.0),
-                  {},
-                  "Fails with OPERATOR_TIMEOUT when a hole is not confirmed within this time."},
-        skill::object_id_param("object", "The object being fastened (for the conditions).", "load"),
-        skill::object_id_param("target", "The object it is fastened to (for the conditions).", "target"),
+        params::string_list("holes").range(1.0, 32.0).doc(
+            "Feature refs of the screw holes, in order, e.g. [\"target/h1\", \"target/h2\"]."),
+        params::number("torque_nm").unit("Nm").range(0.0, 400.0).fallback(0.0).doc(
+            "Tightening torque for every hole; 0: each hole's torque from the world model."),
+        params::text("screw_type").at_most(64.0).fallback("").doc(
+            "Screw type for every hole; empty: each hole's type from the world model."),
+        params::number("timeout_per_hole_s").unit("s").range(1.0, 3600.0).fallback(600.0).doc(
+            "Fails with OPERATOR_TIMEOUT when a hole is not confirmed within this time."),
+        params::object("object", "The object being fastened (for the conditions).", "load"),
+        params::object("target", "The object it is fastened to (for the conditions).", "target"),
     };
     d.resources = {"operator"};
     d.preconditions = {*skill::parse_predicate("inserted($object,$target)")};

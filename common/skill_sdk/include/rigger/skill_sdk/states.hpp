@@ -1,0 +1,49 @@
+#pragma once
+/// @file
+/// Pieces shared by the skills that move the crane-carried load with robot and crane under admittance
+/// control (CollaborativeMoveLoad, InsertVisuallyGuided): the safe stop and the classification of
+/// admittance faults.
+
+#include <chrono>
+#include <string>
+
+#include "rigger/skill_sdk/cell_devices.hpp"
+#include "rigger/skill_sdk/skill.hpp"
+
+namespace rigger::skill_sdk {
+
+/// How long admittance OFF (robot and crane ramped to zero) may take to be confirmed.
+inline constexpr std::chrono::seconds kAdmittanceStopTimeout{5};
+/// How long an admittance mode change may take to be confirmed.
+inline constexpr std::chrono::seconds kAdmittanceEngageTimeout{2};
+/// Crane state: the precondition wants a state this fresh; the watch fails after this much silence.
+inline constexpr std::chrono::seconds kCraneStateMaxAge{1};
+inline constexpr std::chrono::seconds kCraneCheckTimeout{2};
+inline constexpr std::chrono::milliseconds kCraneMaxSilence{500};
+inline constexpr std::chrono::seconds kCraneExternalTimeout{3};
+/// An admittance fault must last this long to fail the skill: the controller's output is zero while it
+/// reports a fault, so waiting is safe, and a momentary WRENCH_STALE (a late sensor sample on a loaded
+/// host) does not end a long collaborative motion. Crane faults seen on rigger/crane/state fail at once.
+inline constexpr std::chrono::milliseconds kAdmittanceFaultGrace{500};
+
+/// The collaborative safe stop: admittance OFF (robot twist and crane velocity ramp to zero; the
+/// magnet is not touched and stays on), done(true) once the admittance state reports OFF with both
+/// outputs at rest; done(false) when it does not within kAdmittanceStopTimeout. When `tracker` is
+/// given, the tracker's continuous mode is stopped too (TRACK_STOP for `object`).
+void admittance_safe_stop(AdmittanceController* admittance, VisionTracker* tracker, const std::string& object,
+                          const Skill::SafeStopDone& done);
+
+/// True for the admittance fault codes that mean the crane side failed ("CRANE_FAULT" and the crane
+/// law's own "FORCE_*" faults are not: they are the admittance controller's).
+bool is_crane_fault_code(const std::string& code);
+/// The skill's failure code for an admittance fault code: kCraneFault for crane-side codes, else
+/// "ADMITTANCE_FAULT".
+std::string admittance_fault_code(const std::string& code);
+/// True for the codes that mean the visual servo stopped its reference for lack of tracking
+/// (TRACKING_LOST, LOAD_/TARGET_QUALITY_LOW, LOAD_/TARGET_POSE_STALE, LOAD_/TARGET_POSE_INVALID).
+bool is_tracking_stop_code(const std::string& code);
+
+/// "12.3 mm, 0.80 deg" for a servo error.
+std::string servo_error_text(double error_m, double error_rad);
+
+}  // namespace rigger::skill_sdk

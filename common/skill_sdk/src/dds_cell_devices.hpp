@@ -1,0 +1,206 @@
+#pragma once
+/// @file
+/// The DDS implementations of the cell devices (cell_devices.hpp):
+///  - DdsCraneMonitor: rigger/crane/state (state QoS) and rigger/crane/control (commands QoS);
+///  - DdsVisionTracker: rigger/tracker/command (commands QoS) and rigger/tracker/pose (sensor stream QoS);
+///  - DdsAdmittanceController: rigger/admittance/command (commands QoS, one seq per command) confirmed by
+///    rigger/admittance/state (state QoS) through its last_command_seq;
+///  - DdsOperatorPanel: rigger/operator/prompt and rigger/operator/response (state QoS), one prompt_id per
+///    prompt ("<source>-<seq>");
+///  - DdsWorldAccess: the world model's FEATURES query and pose updates through world_client::WorldClient.
+/// Commands carry `source` = the executor id. Sequence numbers start at the wall clock in ns, so that a
+/// restarted executor's commands are newer than its predecessor's.
+/// Thread safety: the event loop thread; destroy before the loop.
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "rigger/skill_sdk/cell_devices.hpp"
+#include "rigger/base/logging.hpp"
+#include "rigger/dds/event_loop.hpp"
+#include "rigger/dds/pubsub.hpp"
+#include "rigger/world_client/world_client.hpp"
+
+namespace rigger::skill_sdk {
+
+/// Conversions from the wire (exposed for tests).
+CraneSnapshot to_snapshot(const rigger_crane_CraneState& s);
+TrackedObjectSample to_sample(const rigger_vision_TrackedPose& s);
+AdmittanceSnapshot to_snapshot(const rigger_admittance_AdmittanceState& s);
+
+/// Every sample of a topic, converted once, fanned out to subscribers until they unsubscribe.
+template <typename T, typename V>
+class TopicFanout {
+ public:
+  using Convert = std::function<V(const T&)>;
+  TopicFanout(const dds::Participant& participant, dds::EventLoop& loop, const std::string& topic, const dds::Qos& qos,
+              Convert convert)
+      : reader_(participant, topic, qos), convert_(std::move(convert)) {
+    loop.on_data(reader_, [this] { on_data(); });
+  }
+  OpId subscribe(std::function<void(const V&)> on_sample) {
+    subscribers_[++next_id_] = std::move(on_sample);
+    return next_id_;
+  }
+  void unsubscribe(OpId id) { subscribers_.erase(id); }
+  const std::optional<V>& latest() const { return latest_; }
+
+ private:
+  void on_data() {
+    reader_.take([this](const T& sample, const dds_sample_info_t&) {
+      latest_ = convert_(sample);
+      const V value = *latest_;
+      // Callbacks may (un)subscribe: walk a copy of the ids and look each up.
+      std::vector<OpId> ids;
+      for (const auto& [id, cb] : subscribers_) ids.push_back(id);
+      for (OpId id : ids) {
+        auto it = subscribers_.find(id);
+        if (it == subscribers_.end()) continue;
+        auto cb = it->second;  // a copy: the callback may unsubscribe itself
+        cb(value);
+      }
+    });
+  }
+
+  dds::Reader<T> reader_;
+  Convert convert_;
+  std::map<OpId, std::function<void(const V&)>> subscribers_;
+  std::optional<V> latest_;
+  OpId next_id_ = 0;
+};
+
+class DdsCraneMonitor final : public CraneMonitor {
+ public:
+  DdsCraneMonitor(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
+  ~DdsCraneMonitor() override;
+  OpId check_health(std::chrono::nanoseconds max_age, std::chrono::nanoseconds timeout, OpCallback done) override;
+  OpId watch_health(std::chrono::nanoseconds max_silence, OpCallback on_problem) override;
+  OpId request_external(std::chrono::nanoseconds timeout, OpCallback done) override;
+  void cancel(OpId id) override;
+
+ private:
+  struct Pending {
+    bool external = false;  // request_external (else check_health)
+    WallTime since;         // check_health: the oldest acceptable stamp
+    std::string link_down;  // check_health: the link-down problem seen while waiting, if any
+    OpCallback done;
+    dds::EventLoop::TimerId timer = 0;
+  };
+  struct Watch {
+    std::chrono::nanoseconds max_silence;
+    OpCallback on_problem;
+    dds::EventLoop::TimerId timer = 0;
+  };
+  void on_state(const CraneSnapshot& s);
+  void evaluate(OpId id, const CraneSnapshot& s);
+  void finish(OpId id, const OpResult& result);
+  void fire_watch(OpId id, const std::string& message);
+
+  dds::EventLoop& loop_;
+  Logger log_;
+  std::string source_;
+  dds::Writer<rigger_crane_CraneControl> control_;
+  TopicFanout<rigger_crane_CraneState, CraneSnapshot> state_;
+  std::map<OpId, Pending> pending_;
+  std::map<OpId, Watch> watches_;
+  OpId next_id_ = 0;
+  std::uint64_t seq_;
+};
+
+class DdsVisionTracker final : public VisionTracker {
+ public:
+  DdsVisionTracker(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
+  WallTime command(TrackerRequest request, const std::string& object_id) override;
+  OpId watch(const std::string& object_id, std::function<void(const TrackedObjectSample&)> on_sample) override;
+  void cancel(OpId id) override { poses_.unsubscribe(id); }
+
+ private:
+  Logger log_;
+  std::string source_;
+  dds::Writer<rigger_vision_TrackerCommand> commands_;
+  TopicFanout<rigger_vision_TrackedPose, TrackedObjectSample> poses_;
+  std::uint64_t seq_;
+};
+
+class DdsAdmittanceController final : public AdmittanceController {
+ public:
+  DdsAdmittanceController(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
+  ~DdsAdmittanceController() override;
+  OpId command(const AdmittanceRequest& request, std::chrono::nanoseconds timeout, OpCallback done) override;
+  OpId watch(std::function<void(const AdmittanceSnapshot&)> on_state) override;
+  void cancel(OpId id) override;
+
+ private:
+  struct Pending {
+    std::uint64_t seq = 0;
+    AdmittanceRequest request;
+    OpCallback done;
+    dds::EventLoop::TimerId timer = 0;
+  };
+  void on_state(const AdmittanceSnapshot& s);
+  void finish(OpId id, const OpResult& result);
+
+  dds::EventLoop& loop_;
+  Logger log_;
+  std::string source_;
+  dds::Writer<rigger_admittance_AdmittanceCommand> commands_;
+  TopicFanout<rigger_admittance_AdmittanceState, AdmittanceSnapshot> state_;
+  std::map<OpId, Pending> pending_;
+  std::map<OpId, OpId> watches_;  // our id -> fanout subscription
+  OpId next_id_ = 0;
+  OpId state_subscription_ = 0;
+  std::uint64_t seq_;
+};
+
+class DdsOperatorPanel final : public OperatorPanel {
+ public:
+  DdsOperatorPanel(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
+  /// Withdraws every prompt still published.
+  ~DdsOperatorPanel() override;
+  OpId ask(const OperatorPromptSpec& spec, std::chrono::nanoseconds timeout,
+           std::function<void(std::optional<std::string>)> done) override;
+  void withdraw(OpId id) override;
+
+  /// The prompt_id of `id` ("" when unknown); for tests and logs.
+  std::string prompt_id(OpId id) const;
+
+ private:
+  struct Prompt {
+    std::string prompt_id;
+    OperatorPromptSpec spec;
+    std::function<void(std::optional<std::string>)> done;  // empty once answered or timed out
+    dds::EventLoop::TimerId timer = 0;
+  };
+  void write(const Prompt& prompt, bool active);
+  void on_responses();
+
+  dds::EventLoop& loop_;
+  Logger log_;
+  std::string source_;
+  dds::Writer<rigger_operator_ui_OperatorPrompt> prompts_;
+  dds::Reader<rigger_operator_ui_OperatorResponse> responses_;
+  std::map<OpId, Prompt> open_;
+  OpId next_id_ = 0;
+  std::uint64_t seq_;
+};
+
+class DdsWorldAccess final : public WorldAccess {
+ public:
+  explicit DdsWorldAccess(world_client::WorldClient& client) : client_(client) {}
+  OpId features(const std::string& entity, std::chrono::nanoseconds timeout,
+                std::function<void(const OpResult&, const nlohmann::json&)> done) override;
+  OpId update_pose(const std::string& entity, const std::string& parent_frame, const Eigen::Isometry3d& pose,
+                   WallTime stamp, double quality, std::chrono::nanoseconds timeout, OpCallback done) override;
+  OpId mark_unlocalized(const std::string& entity, WallTime stamp, std::chrono::nanoseconds timeout,
+                        OpCallback done) override;
+  void cancel(OpId id) override { client_.cancel(id); }
+
+ private:
+  world_client::WorldClient& client_;
+};
+
+}  // namespace rigger::skill_sdk

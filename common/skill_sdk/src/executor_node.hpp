@@ -1,0 +1,86 @@
+#pragma once
+/// @file
+/// The skill executor's DDS node: announces the skills its configuration names (ExecutorEndpoint),
+/// runs one SkillRun per START, turns SHUTDOWN into the running skill's safe stop, and reports the
+/// run's PROGRESS and its end (SUCCESS, FAILURE, or STOPPED once the safe stop is reached).
+///
+/// Configuration keys (all optional):
+///   "executor_id": string, default the service id
+///   "skills": array of skill names, default every skill of this binary
+///   "robot": boolean, default true — offer the robot (cmd_motion/motion_status/state) to skills
+///   "gripper": boolean, default true — offer the gripper (gripper/cmd, gripper/state)
+///   "world_model": boolean, default true — resolve feature_ref params through the world model, and offer
+///                  its features and pose updates (Localize, Screw, InsertVisuallyGuided)
+///   "crane": boolean, default true — offer the crane's health and external control (crane/state, crane/control)
+///   "tracker": boolean, default true — offer the vision tracker (tracker/command, tracker/pose)
+///   "admittance": boolean, default true — offer admittance control (admittance/command, admittance/state)
+///   "operator": boolean, default true — offer operator prompts (operator/prompt, operator/response)
+///   "resolve_frame": string, default "world" — the frame feature_ref params are resolved in
+///   "resolve_timeout_s": number in [0.05, 30], default 2
+/// On node destruction (service stop) every running skill's safe stop is commanded (not awaited: the
+/// loop has stopped).
+
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "dds_cell_devices.hpp"
+#include "dds_devices.hpp"
+#include "rigger/dds/service.hpp"
+#include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/world_client/world_client.hpp"
+#include "rigger/skill_sdk/skill_registry.hpp"
+#include "rigger/skill_sdk/skill_run.hpp"
+#include "world_resolver.hpp"
+
+namespace rigger::skill_sdk {
+
+/// Timers on a dds::EventLoop.
+class LoopTimers final : public Timers {
+ public:
+  explicit LoopTimers(dds::EventLoop& loop) : loop_(loop) {}
+  std::uint64_t after(std::chrono::nanoseconds delay, std::function<void()> handler) override {
+    return loop_.after(delay, std::move(handler));
+  }
+  void cancel(std::uint64_t id) override { loop_.cancel(id); }
+
+ private:
+  dds::EventLoop& loop_;
+};
+
+/// The skills named by `config` ("skills", default all of `registry`). @throws ConfigError naming an
+/// unknown skill.
+std::vector<std::string> configured_skills(const Config& config, const SkillRegistry& registry);
+
+class SkillExecutorNode : public dds::Node {
+ public:
+  /// @throws ConfigError, DdsError.
+  SkillExecutorNode(dds::ServiceContext& ctx, SkillRegistry registry);
+  ~SkillExecutorNode() override;
+
+ private:
+  using RunKey = std::pair<std::string, std::string>;
+  void on_start(const executor::StartRequest& request);
+  void on_shutdown(const executor::ShutdownRequest& request);
+  executor::PauseAnswer on_pause(const executor::PauseRequest& request);
+
+  dds::ServiceContext& ctx_;
+  SkillRegistry registry_;
+  LoopTimers timers_;
+  std::unique_ptr<DdsRobot> robot_;
+  std::unique_ptr<DdsGripper> gripper_;
+  std::unique_ptr<world_client::WorldClient> world_client_;
+  std::unique_ptr<WorldFeatureResolver> resolver_;
+  std::unique_ptr<DdsWorldAccess> world_access_;
+  std::unique_ptr<DdsCraneMonitor> crane_;
+  std::unique_ptr<DdsVisionTracker> tracker_;
+  std::unique_ptr<DdsAdmittanceController> admittance_;
+  std::unique_ptr<DdsOperatorPanel> operator_panel_;
+  Devices devices_;
+  SkillRun::Options run_options_;
+  std::map<RunKey, std::unique_ptr<SkillRun>> runs_;
+  std::unique_ptr<executor::ExecutorEndpoint> endpoint_;  // last: its handlers use the members above
+};
+
+}  // namespace rigger::skill_sdk

@@ -1,0 +1,43 @@
+#include "rigger/skill_sdk/states.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace rigger::skill_sdk {
+
+void admittance_safe_stop(AdmittanceController* admittance, VisionTracker* tracker, const std::string& object,
+                          const Skill::SafeStopDone& done) {
+  if (tracker != nullptr) tracker->command(TrackerRequest::kStop, object);
+  if (admittance == nullptr) {
+    done(true, "no admittance controller: nothing was commanded");
+    return;
+  }
+  AdmittanceRequest off;
+  off.mode = AdmittanceModeRequest::kOff;
+  admittance->command(off, kAdmittanceStopTimeout, [done](const OpResult& result) {
+    done(result.ok,
+         result.ok ? "admittance OFF, robot and crane at rest, magnet on" : result.code + ": " + result.message);
+  });
+}
+
+bool is_crane_fault_code(const std::string& code) {
+  return code == "CRANE_FAULT" || code == "CRANE_LINK_DOWN";
+}
+
+std::string admittance_fault_code(const std::string& code) {
+  return is_crane_fault_code(code) ? kCraneFault : "ADMITTANCE_FAULT";
+}
+
+bool is_tracking_stop_code(const std::string& code) {
+  return code == "TRACKING_LOST" || code == "LOAD_QUALITY_LOW" || code == "TARGET_QUALITY_LOW" ||
+         code == "LOAD_POSE_STALE" || code == "TARGET_POSE_STALE" || code == "LOAD_POSE_INVALID" ||
+         code == "TARGET_POSE_INVALID";
+}
+
+std::string servo_error_text(double error_m, double error_rad) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%.1f mm, %.2f deg", error_m * 1000.0, error_rad * 180.0 / M_PI);
+  return buf;
+}
+
+}  // namespace rigger::skill_sdk
