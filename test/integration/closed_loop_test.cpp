@@ -31,6 +31,7 @@
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/sim.hpp"
 #include "rigger/protocol/vision.hpp"
+#include "rigger/testing/require.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -515,7 +516,7 @@ TEST_F(ClosedLoopTest, LostCommanderStopsTheInsertion) {
 }
 
 TEST_F(ClosedLoopTest, KilledCommanderStopsTheInsertion) {
-  if (access((bin_dir() + "/echo").c_str(), X_OK) != 0) GTEST_SKIP() << "the echo service is not built";
+  RIGGER_REQUIRE_OR_SKIP(access((bin_dir() + "/echo").c_str(), X_OK) == 0, "the echo service is not built");
   expect_clean_exit_ = false;  // the commander is SIGKILLed on purpose
   start_cell();
   // A stand-in for the skill executor: any rigger process announcing the service id the command names.

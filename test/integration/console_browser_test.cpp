@@ -13,6 +13,7 @@
 
 #include "auth.hpp"
 #include "scenario_support.hpp"
+#include "rigger/testing/require.hpp"
 
 namespace rigger::testing::scenario {
 namespace {
@@ -28,8 +29,7 @@ class ConsoleBrowserTest : public MultiProcessTest {};
 constexpr double kConfirmTimeoutS = 5.0;
 
 TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusalsMoveNothing) {
-  if (!browser_tools_present())
-    GTEST_SKIP() << "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)";
+  RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   ScenarioCell scenario(cell_, {}, /*scripted_operator=*/false);
   ASSERT_TRUE(scenario.ready()) << "the cell did not come up";
   std::ifstream recipe_file(repo_file("recipes/crane_insert.json"));

@@ -9,6 +9,7 @@
 #include "controller_test_support.hpp"
 #include "rigger/base/logging.hpp"
 #include "rigger/world_client/world_client.hpp"
+#include "rigger/testing/require.hpp"
 
 namespace rigger::testing::controller {
 namespace {
@@ -66,14 +67,12 @@ TEST_F(ControllerWorldTest, ObjectLocalizedFailsBeforePassesAfterAndFailsWhenThe
   ASSERT_TRUE(updated->ok) << updated->code << ": " << updated->message;
 
   const TaskSeen& after = check("after");
-  if (Clock::now() - seen_steady < std::chrono::duration<double>(kMaxAgeS)) {
-    EXPECT_EQ(after.state, rigger_task_TASK_SUCCEEDED) << after.code << " " << after.message;
-    const NodeSeen* passed = node_at("after", "root", rigger_task_NODE_SUCCESS);
-    ASSERT_NE(passed, nullptr);
-    EXPECT_NE(passed->message.find("ObjectLocalized(load"), std::string::npos) << passed->message;
-  } else {
-    GTEST_SKIP() << "the machine took longer than max_age_s to answer; freshness cannot be judged";
-  }
+  RIGGER_REQUIRE_OR_SKIP(Clock::now() - seen_steady < std::chrono::duration<double>(kMaxAgeS),
+                         "the machine took longer than max_age_s to answer; freshness cannot be judged");
+  EXPECT_EQ(after.state, rigger_task_TASK_SUCCEEDED) << after.code << " " << after.message;
+  const NodeSeen* passed = node_at("after", "root", rigger_task_NODE_SUCCESS);
+  ASSERT_NE(passed, nullptr);
+  EXPECT_NE(passed->message.find("ObjectLocalized(load"), std::string::npos) << passed->message;
 
   // Nobody sees the load again: once its pose is older than max_age_s the condition fails. The loop
   // runs until that moment (a timer wakes it), then the recipe runs again.

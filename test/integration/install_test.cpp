@@ -22,6 +22,7 @@
 #include <gtest/gtest.h>
 
 #include "shell_support.hpp"
+#include "rigger/testing/require.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -74,8 +75,8 @@ class RelocatableInstallTest : public ShellTest {
 };
 
 TEST_F(RelocatableInstallTest, MovedInstallationRunsTheDemoWithoutSourceOrBuildTree) {
-  if (!bash("probe", "exec unshare --mount true", 10s).status.ok())
-    GTEST_SKIP() << "unshare --mount is not permitted here (needs root): the source and build trees cannot be hidden";
+  RIGGER_REQUIRE_OR_SKIP(bash("probe", "exec unshare --mount true", 10s).status.ok(),
+                         "unshare --mount is not permitted here (needs root): the source and build trees cannot be hidden");
 
   const auto t0 = std::chrono::steady_clock::now();
   auto r = bash("install", quoted(RIGGER_CMAKE_COMMAND) + " --install " + quoted(build_dir()) + " --prefix " +

@@ -1,9 +1,8 @@
-// A host's link cut during the insertion, on the lab of multi_host_support.hpp. Label
-// `integration` (in test/run) since it passed seven runs of seven on the shared 2-core machine (load 2-11);
-// before the stop decelerations and the arm's payload damping it had failed 4 runs of 7 on timing (a 102 ms
-// gap in the 500 Hz wrench stream against the yank monitor's 100 ms, Modbus replies inside the devices host
-// timing out).
-// That scheduling cause was not fixed: see docs/deploy.md.
+// A host's link cut during the insertion, on the lab of multi_host_support.hpp. It asserts the safety target
+// (at rest within 500 ms of the cut), so it is a timing test (label `timing`): test/run runs it alone, with
+// the shipped liveliness lease. Under a loaded machine it had failed on scheduling (a 102 ms gap in the
+// 500 Hz wrench stream against the yank monitor's 100 ms, Modbus replies inside the devices host timing
+// out): see docs/deploy.md.
 #include "multi_host_support.hpp"
 
 namespace rigger::testing::scenario {
@@ -54,6 +53,12 @@ TEST_F(MultiHostTest, SkillsHostCutDuringInsertionStopsTheCellAndItRecovers) {
       s->stop_timeline().c_str());
   RecordProperty("rest_after_cut_ms", std::to_string(static_cast<int>(below.value_or(-1.0) * 1000.0)));
   ASSERT_TRUE(below.has_value()) << "the tool or the crane never came below 1 mm/s after the cut";
+  // The safety target: at rest for good within 500 ms of the cut (a timing test: test/run runs it alone).
+  const auto settled = s->settled_after_mark_s();
+  ASSERT_TRUE(settled.has_value());
+  EXPECT_LT(*settled, 0.5) << "robot or crane last above 1 mm/s " << *settled * 1000.0
+                           << " ms after the cut command started; where the time went:\n"
+                           << s->stop_timeline();
   EXPECT_TRUE(after.at_rest) << "robot or crane still moving 5 s after the cut";
   EXPECT_LT(after.max_tool_m, 0.002);
   EXPECT_LT(after.max_crane_mps, 0.005);

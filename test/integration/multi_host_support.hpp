@@ -35,6 +35,7 @@
 #include <gtest/gtest.h>
 
 #include "scenario_support.hpp"
+#include "rigger/testing/require.hpp"
 
 namespace rigger::testing::scenario {
 
@@ -52,7 +53,7 @@ struct ShellResult {
 class MultiHostTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (geteuid() != 0) GTEST_SKIP() << "network namespaces need root (CAP_NET_ADMIN): not run";
+    RIGGER_REQUIRE_OR_SKIP(geteuid() == 0, "network namespaces need root (CAP_NET_ADMIN): not run");
     lab_ = "m" + std::to_string(getpid() % 10000000);
     const auto made = lab("up", {"devices", "skills", "controller"});
     ASSERT_TRUE(made.status.ok()) << "deploy/lab-hosts up failed:\n" << made.output;

@@ -16,6 +16,7 @@
 #include "planner_test_support.hpp"
 #include "rigger/protocol/task.hpp"
 #include "rigger/protocol/task_names.hpp"
+#include "rigger/testing/require.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -54,8 +55,7 @@ class PlannerBrowserTest : public PlannerCellTest {
 };
 
 TEST_F(PlannerBrowserTest, TreeBuiltByClicksScrewsFromPickedHolesValidatedExportedAndPublished) {
-  if (!browser_tools_present())
-    GTEST_SKIP() << "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)";
+  RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   json result;
   ASSERT_TRUE(run_script("test/integration/planner/e2e.mjs", "planner-result.json", std::chrono::minutes(6), result));
   // The exported recipe is canonical JSON and its Screw node's holes are the world model's features,
@@ -101,8 +101,7 @@ TEST_F(PlannerBrowserTest, TreeBuiltByClicksScrewsFromPickedHolesValidatedExport
 // node and field (or the condition or resource it names), and refuses Publish. Nothing reaches the
 // controller: the console never had a publish selected and no task status names the task.
 TEST_F(PlannerBrowserTest, EditingErrorsShownOnTheirNodesAndFieldsAndPublishRefused) {
-  if (!browser_tools_present())
-    GTEST_SKIP() << "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)";
+  RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   json result;
   ASSERT_TRUE(run_script("test/integration/planner/errors.mjs", "planner-errors-result.json", std::chrono::minutes(4), result));
   // Each error where it belongs, as the page showed it (the script checked the page; this is the record).

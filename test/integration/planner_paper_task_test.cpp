@@ -31,6 +31,7 @@
 #include "rigger/cell_config/cell_cad.hpp"
 #include "rigger/protocol/task.hpp"
 #include "scenario_support.hpp"
+#include "rigger/testing/require.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -174,8 +175,7 @@ void expect_the_shipped_task(const json& result, const std::string& shipped_file
 }
 
 TEST_F(PlannerBrowserTest, ThePapersTaskBuiltByClicksAndCadPicksMatchesTheShippedRecipe) {
-  if (!browser_tools_present())
-    GTEST_SKIP() << "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)";
+  RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   const std::string shipped_file = repo_file("recipes/crane_insert.json");
   ASSERT_TRUE(start_planner_services());
   const std::string result_file = cell_.log_dir() + "/paper-task-result.json";
@@ -197,8 +197,7 @@ TEST_F(PlannerBrowserTest, ThePapersTaskBuiltByClicksAndCadPicksMatchesTheShippe
 using PlannerRehearsalTest = WithRehearsalCell<PlannerCellTest>;
 
 TEST_F(PlannerRehearsalTest, ThePapersTaskBuiltByClicksRehearsesToSucceededInTheSimulatedCell) {
-  if (!browser_tools_present())
-    GTEST_SKIP() << "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)";
+  RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   const std::string shipped_file = repo_file("recipes/crane_insert.json");
   scenario::ScenarioCell sim(rehearsal_);
   ASSERT_TRUE(sim.ready()) << "the rehearsal cell did not come up\n" << rehearsal_.logs();

@@ -16,6 +16,7 @@
 #include "planner_test_support.hpp"
 #include "scenario_support.hpp"
 #include "scripted_library_support.hpp"
+#include "rigger/testing/require.hpp"
 
 namespace rigger::testing::scenario {
 namespace {
@@ -23,8 +24,7 @@ namespace {
 using RehearsalBrowserTest = WithRehearsalCell<PlannerCellTest>;
 
 TEST_F(RehearsalBrowserTest, CraneInsertRehearsedOnTheSimulatedCellSucceedsLiveInThePageAndNothingReachesTheCell) {
-  if (!browser_tools_present())
-    GTEST_SKIP() << "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)";
+  RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   ASSERT_NE(cell_.domain_id(), rehearsal_.domain_id());
   const std::string dir = cell_.log_dir();
 

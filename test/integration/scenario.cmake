@@ -4,11 +4,16 @@
 set(_scenario_services cell_sim crane_gateway world_model vision_tracker admittance_control monitor_host
     skill_executor task_controller scripted_operator)
 rigger_targets_exist(_scenario_ready ${_scenario_services})
+# The stop tests assert the safety targets (500 ms after a kill, 300 ms after a PAUSE): timing tests.
+set(_scenario_timing "ScenarioTest.ExecutorKilledDuringInsertionStopsTheMotion"
+                     "ScenarioTest.ControllerKilledDuringInsertionStopsTheMotion"
+                     "ScenarioTest.APauseDuringTheInsertionHoldsRobotAndCraneAndResumeCompletesTheTask")
+list(JOIN _scenario_timing ":" _scenario_timing)
 if(_scenario_ready)
   rigger_add_test(rigger_scenario_test
     SOURCES scenario_test.cpp
     DEPS rigger_test_harness rigger_cell_cad Eigen3::Eigen nlohmann_json::nlohmann_json SQLite::SQLite3
-    LABEL integration TIMEOUT 420 RUN_SERIAL)
+    LABEL integration TIMEOUT 420 RUN_SERIAL TIMING "${_scenario_timing}")
   add_dependencies(rigger_scenario_test ${_scenario_services})
   if(TARGET ros2_bridge)
     add_dependencies(rigger_scenario_test ros2_bridge)  # the variant behind the ROS 2 bridge

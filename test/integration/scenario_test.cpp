@@ -2,7 +2,8 @@
 // camera), crane_gateway (Modbus TCP), world_model, vision_tracker, admittance_control, monitor_host,
 // three skill executors, task_controller and the scripted operator. See scenario_support.hpp.
 //
-// Each test prints what it measured (durations, final errors); the figures are reported in the issue.
+// Each test prints what it measured (durations, final errors, a stop's timeline). The stop tests assert the
+// safety targets; they are timing tests (TIMING in scenario.cmake): test/run runs them alone.
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -40,8 +41,22 @@ std::map<std::string, int> journaled_starts(const std::string& path, const std::
 class ScenarioTest;
 bool run_until_insertion_moves(ScenarioTest* /*unused*/, Cell& cell, ScenarioCell& s, double moved_m);
 
+/// The safety targets (docs/safety.md): robot and crane below 1 mm/s for good within 500 ms of a lost
+/// commander (a killed controller or executor, a cut link) and within 300 ms of a PAUSE.
+constexpr double kStopRestLimitS = 0.5;
+constexpr double kPauseRestLimitS = 0.3;
+
 class ScenarioTest : public MultiProcessTest {
  protected:
+  /// Robot and crane last above 1 mm/s less than `limit_s` after the stop's mark; the timeline on failure.
+  static void expect_settled_within(const ScenarioCell& s, double limit_s, const char* what) {
+    const auto settled = s.settled_after_mark_s();
+    ASSERT_TRUE(settled.has_value()) << "robot or crane never came to rest after " << what;
+    EXPECT_LT(*settled, limit_s) << "robot or crane last above 1 mm/s " << *settled * 1000.0 << " ms after " << what
+                                 << " (limit " << limit_s * 1000.0 << " ms); where the time went:\n"
+                                 << s.stop_timeline();
+  }
+
   /// Prints when tool and crane came below 1 mm/s after the stop's mark (`what`) and where the time went.
   static void print_stop(const ScenarioCell& s, const char* what) {
     std::printf(
@@ -253,12 +268,13 @@ TEST_F(ScenarioTest, APauseDuringTheInsertionHoldsRobotAndCraneAndResumeComplete
       "%.3f mm, crane %.2f mm/s at most\n",
       rest_s, after.max_tool_m * 1000.0, after.max_crane_mps * 1000.0);
   ASSERT_TRUE(after.at_rest) << "robot or crane still moving 5 s after the pause";
-  // From the PAUSE itself (the target: below 1 mm/s within 300 ms): reported, not asserted as a time, since
-  // a loaded test machine delays it; what is asserted is that the devices did come below 1 mm/s.
+  // From the PAUSE itself: robot and crane below 1 mm/s for good within 300 ms (a timing test: test/run
+  // runs it alone, with the shipped liveliness lease).
   const auto from_pause = s.rest_after_mark_s();
   ASSERT_TRUE(from_pause.has_value()) << "the tool or the crane never came below 1 mm/s after the PAUSE";
   print_stop(s, "the PAUSE command was on the wire");
   RecordProperty("rest_after_pause_ms", std::to_string(static_cast<int>(*from_pause * 1000.0)));
+  expect_settled_within(s, kPauseRestLimitS, "the PAUSE");
   // The same bounds as a stop after a kill: the arm holds the 40 kg load on a rope (it settles by a little
   // more than a millimetre), the crane does not move.
   EXPECT_LT(after.max_tool_m, 0.002) << "the robot moved while paused";
@@ -357,6 +373,7 @@ TEST_F(ScenarioTest, ExecutorKilledDuringInsertionStopsTheMotion) {
   print_report(s, "executor killed");
   EXPECT_EQ(s.task_state(), rigger_task_TASK_FAILED);
   expect_still_after_kill(s, kill_time, "the executor");
+  expect_settled_within(s, kStopRestLimitS, "the executor's kill");
 }
 
 // The task controller is SIGKILLed during the insertion: nobody supervises the skills any more. The
@@ -367,7 +384,7 @@ TEST_F(ScenarioTest, ControllerKilledDuringInsertionStopsTheMotion) {
   const auto rest_s = kill_controller_during_insertion(s);
   ASSERT_TRUE(rest_s.has_value());
   // Without supervision the insertion would go on servoing for several seconds more.
-  EXPECT_LT(*rest_s, 2.5) << "the motion outlived its controller";
+  expect_settled_within(s, kStopRestLimitS, "the controller's kill");
   std::ifstream log(cell_.log_dir() + "/robot-skills.log");
   const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("reason=CONTROLLER_LOST"), std::string::npos) << "the executor did not say why it stopped";

@@ -34,6 +34,7 @@
 #include "rigger/ros2/qos.hpp"
 #include "rigger/testing/cell.hpp"
 #include "rigger/testing/lab.hpp"
+#include "rigger/testing/require.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -185,9 +186,7 @@ TEST_F(Ros2BridgeLiveTest, TwistReachesAStandaloneRos2Subscriber) {
 class Ros2BridgeLabTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (geteuid() != 0) {
-      GTEST_SKIP() << "network namespaces need root (CAP_NET_ADMIN): not run";
-    }
+    RIGGER_REQUIRE_OR_SKIP(geteuid() == 0, "network namespaces need root (CAP_NET_ADMIN): not run");
     lab_ = std::make_unique<Lab>("r" + std::to_string(getpid() % 10000000), std::vector<std::string>{"rigger", "ros2"});
     lab_->enter("rigger");
     setenv("CYCLONEDDS_URI", kLabDds, 1);
