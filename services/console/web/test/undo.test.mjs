@@ -133,4 +133,17 @@ describe('History', () => {
     assert.equal(told, 7, 'told at the start, after each of the 4 steps and each of the 2 undos');
     history.close();
   });
+
+  it('undoes typing still waiting for its quiet time as a step of its own', () => {
+    const { tree, history, edit, undo, redo } = editor({ quietMs: 60000 });
+    edit(() => tree.add('control:Sequence'));
+    tree.set('/root/name', 'typed');
+    history.recordLater();
+    assert.ok(undo());
+    assert.equal(tree.doc.root.name, undefined, 'the typing was the step undone');
+    assert.equal(history.future.length, 1);
+    assert.ok(redo(), 'the typing can be redone');
+    assert.equal(tree.doc.root.name, 'typed');
+    history.close();
+  });
 });

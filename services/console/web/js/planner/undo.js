@@ -45,13 +45,14 @@ export class History {
   /// Typing still waiting for its quiet time becomes its own step now.
   settle() { if (this.timer) this.record(); }
   /// The snapshot to restore, or null when there is no step to go back (forward) to.
-  undo() { return this.travel(this.past, this.future); }
-  redo() { return this.travel(this.future, this.past); }
+  undo() { return this.travel('past', 'future'); }
+  redo() { return this.travel('future', 'past'); }
   travel(from, to) {
+    // Settled first: the step it makes replaces `future`, which must be the list the present goes to.
     this.settle();
-    if (!from.length) return null;
-    to.push(this.current);
-    this.current = from.pop();
+    if (!this[from].length) return null;
+    this[to].push(this.current);
+    this.current = this[from].pop();
     return this.current;
   }
   /// Drops the pending step's timer (the page is left).
