@@ -4,7 +4,7 @@ import { tasksPage } from './tasks.js';
 import { replayPage } from './replay.js';
 import { plotsPage } from './plots.js';
 import { operatorPage } from './operator.js';
-import { plannerPage } from './planner.js';
+import { plannerPage } from './planner/page.js';
 
 const pages = { tasks: tasksPage, replay: replayPage, plots: plotsPage, operator: operatorPage, planner: plannerPage };
 const main = document.getElementById('page');

@@ -1,0 +1,324 @@
+// The planner (programmer role): build a task's behaviour tree from the live skill library (control
+// nodes, decorators, operator decisions; wrap, copy/cut/paste, undo/redo, keys), fill the parameters
+// from forms generated from the skill descriptions (with their pre- and postconditions), bind the Screw
+// skill's holes to holes picked on the CAD model (the CAD service derives the screw list; the binding
+// is kept in the recipe), choose feature_ref parameters among the world model's features
+// (planner_features.js), validate with the task controller's own validator (errors on their node and
+// field, by JSON pointer), export canonical JSON, rehearse on the simulated cell of the rehearsal domain
+// (one step; the run shown live) and publish (two steps). See docs/console.md, "Planner" and "Rehearsal".
+//
+// This module lays the page out and wires its parts: the recipe and its edits (tree_document.js), undo
+// (undo.js), the tree's drawing (tree_view.js), the node's form (form.js), picks and bindings
+// (bindings.js), keys (keys.js) and the console's endpoints (api.js).
+import { el, confirmDialog, store } from '../api.js';
+import { PartsView } from '../planner_view.js';
+import { FeaturePicker } from '../planner_features.js';
+import { recipeFields } from '../planner_recipe.js';
+import { RehearsalView } from '../rehearsal.js';
+import { confirmCommand, rehearseRecipe, skillLibrary, submitRecipe, validateRecipe } from './api.js';
+import { Bindings } from './bindings.js';
+import { NodeForm } from './form.js';
+import { listenKeys } from './keys.js';
+import { CONTROL, DECORATORS, TreeDocument, WRAPPERS, changedOwners, emptyRecipe, errorsByNode, leafName, nodeAt, screwErrors } from './tree_document.js';
+import { TreeView } from './tree_view.js';
+import { History } from './undo.js';
+
+const ENTITIES = ['target', 'load'];
+
+export function plannerPage(main, me) {
+  if (me.role !== 'programmer') {
+    main.replaceChildren(el('h1', {}, 'Planner'), el('p', { class: 'error' }, `The planner is for programmers; you are a ${me.role}.`));
+    return () => {};
+  }
+  const state = {
+    doc: emptyRecipe(),
+    selected: '',
+    picks: [],
+    library: [],
+    errors: [],
+    validation: null,
+    validations: 0,
+    exported: '',
+    staleBindings: [],  // bindings of an opened recipe that no longer match the CAD model
+  };
+  const tree = new TreeDocument(state);
+  const treeBox = el('div', { class: 'ptree', role: 'tree', 'aria-label': 'Behaviour tree' });
+  const formBox = el('div', { class: 'pform' });
+  const picksList = el('ol', { class: 'picks', 'aria-label': 'Picked faces and holes' });
+  const holesList = el('ul', { class: 'picks', 'aria-label': 'Holes of the models' });
+  const errorsBox = el('div', { class: 'perrors', role: 'status', 'aria-live': 'polite' });
+  const resourcesBox = el('div', { id: 'planner-resources' });
+  const notice = el('p', { id: 'planner-notice', role: 'status', 'aria-live': 'polite' });
+  const say = (text, bad = false) => { notice.textContent = text; notice.className = bad ? 'error' : ''; };
+  const addSelect = el('select', { id: 'planner-add-kind', 'aria-label': 'Node to add' });
+  const taskId = el('input', { type: 'text', id: 'planner-task-id', 'aria-label': 'Task id', value: state.doc.task_id,
+    oninput: () => { tree.set('/task_id', taskId.value); changed(false); } });
+  const assumptions = el('input', { type: 'text', id: 'planner-assumptions', 'aria-label': 'Assumptions', placeholder: 'facts that hold at the start, e.g. hooked(crane,load)',
+    oninput: () => {
+      const list = assumptions.value.split(/[\s;]+/).filter(Boolean);
+      tree.set('/assumptions', list.length ? list : undefined);
+      changed(false);
+    } });
+  const wrapSelect = el('select', { id: 'planner-wrap-kind', 'aria-label': 'Wrap the selected node in' },
+    ...WRAPPERS.map((t) => el('option', { value: t }, t)));
+  const openFile = el('input', { type: 'file', id: 'planner-open', accept: '.json,application/json', 'aria-label': 'Open a recipe',
+    onchange: async () => { if (openFile.files[0]) open(await openFile.files[0].text()); } });
+  const viewBox = el('div', { class: 'pview' });
+  const recipeRow = recipeFields(state, changed);
+  const undoButton = el('button', { id: 'planner-undo', title: 'Ctrl+Z', onclick: () => undo() }, 'Undo');
+  const redoButton = el('button', { id: 'planner-redo', title: 'Ctrl+Shift+Z or Ctrl+Y', onclick: () => redo() }, 'Redo');
+
+  const editor = el('div', { id: 'planner-editor' },
+    el('div', { class: 'toolbar' },
+      el('label', {}, 'Task id ', taskId), el('label', {}, 'Assumptions ', assumptions),
+      el('button', { id: 'planner-validate', onclick: () => validate() }, 'Validate'),
+      el('button', { id: 'planner-export', onclick: () => exportRecipe() }, 'Export JSON'),
+      el('button', { id: 'planner-rehearse', onclick: () => rehearse(), title: 'Run it on the simulated cell of the rehearsal domain first' }, 'Rehearse'),
+      el('button', { id: 'planner-publish', class: 'primary', onclick: () => publish() }, 'Publish…'),
+      el('label', {}, 'Open ', openFile)),
+    recipeRow.row,
+    notice,
+    el('div', { class: 'planner' },
+      el('section', { class: 'panel', 'aria-labelledby': 'pv' }, el('h2', { id: 'pv' }, 'Parts'),
+        el('div', { class: 'toolbar' }, ...ENTITIES.map((e) => el('button', { onclick: () => view.frame(e) }, `View ${e}`)),
+          el('button', { id: 'planner-clear-picks', onclick: () => bindings.clearPicks() }, 'Clear picks')),
+        viewBox,
+        el('h2', {}, 'Picked'), picksList,
+        el('details', {}, el('summary', {}, 'Holes of the models (click to pick)'), holesList)),
+      el('section', { class: 'panel', 'aria-labelledby': 'pt' }, el('h2', { id: 'pt' }, 'Tree'),
+        el('div', { class: 'toolbar' }, addSelect,
+          el('button', { id: 'planner-add', onclick: () => { if (addSelect.value) edit(() => tree.add(addSelect.value)); } }, 'Add'),
+          el('button', { id: 'planner-up', title: 'Alt+↑', onclick: () => move(-1) }, 'Up'),
+          el('button', { id: 'planner-down', title: 'Alt+↓', onclick: () => move(1) }, 'Down'),
+          el('button', { id: 'planner-delete', class: 'danger', title: 'Delete', onclick: () => remove() }, 'Delete')),
+        el('div', { class: 'toolbar' }, wrapSelect,
+          el('button', { id: 'planner-wrap', onclick: () => edit(() => tree.wrap(wrapSelect.value)) }, 'Wrap'),
+          undoButton, redoButton,
+          el('button', { id: 'planner-copy', title: 'Ctrl+C', onclick: () => copy() }, 'Copy'),
+          el('button', { id: 'planner-cut', title: 'Ctrl+X', onclick: () => cut() }, 'Cut'),
+          el('button', { id: 'planner-paste', title: 'Ctrl+V', onclick: () => paste() }, 'Paste')),
+        el('p', { class: 'muted small' }, 'Keys on the tree: ↑/↓ select, Alt+↑/↓ move, Delete, Ctrl+Z/Ctrl+Y, Ctrl+C/X/V.'),
+        treeBox, el('h2', {}, 'Validation'), errorsBox, el('h2', {}, 'Resources'), resourcesBox),
+      el('section', { class: 'panel', 'aria-labelledby': 'pf' }, el('h2', { id: 'pf' }, 'Node'), formBox)));
+  // The rehearsal's live view takes the editor's place; "Back to the plan" brings the plan back as it was.
+  const rehearsal = new RehearsalView(() => { rehearsal.hide(); editor.hidden = false; });
+  main.replaceChildren(el('h1', {}, 'Planner'), editor, rehearsal.root);
+
+  const describe = (name) => state.library.find((s) => s.name === name);
+  const history = new History(() => tree.snapshot(), { onChange: () => {
+    undoButton.disabled = !history.canUndo;
+    redoButton.disabled = !history.canRedo;
+  } });
+  const select = (pointer) => { tree.select(pointer); treeView.render(); form.render(); };
+  const view = new PartsView(viewBox, (pick) => bindings.toggle(pick));
+  const features = new FeaturePicker(view, (node, name, f) => bindings.featureChosen(name, f));
+  const treeView = new TreeView({ box: treeBox, resources: resourcesBox, errors: errorsBox, state, describe, select });
+  const form = new NodeForm({ box: formBox, state, tree, describe, features, changed });
+  const bindings = new Bindings({ state, tree, view, form, picksList, holesList, say, changed,
+    settle: () => history.settle(), validate });
+  form.bindings = bindings;
+
+  // --- the library ---
+  async function loadLibrary() {
+    const lib = await skillLibrary();
+    state.library = lib.skills;
+    const chosen = addSelect.value;
+    addSelect.replaceChildren(
+      el('optgroup', { label: 'Control' }, ...CONTROL.map((c) => el('option', { value: `control:${c}` }, c))),
+      el('optgroup', { label: 'Decorators' }, ...Object.keys(DECORATORS).map((c) => el('option', { value: `decorator:${c}` }, c))),
+      el('optgroup', { label: 'Operator' }, el('option', { value: 'decision:OperatorDecision' }, 'OperatorDecision')),
+      ...['skill', 'monitor', 'condition'].map((kind) => el('optgroup', { label: `${kind[0].toUpperCase()}${kind.slice(1)}s` },
+        ...lib.skills.filter((s) => s.kind === kind).map((s) => el('option', { value: `${kind}:${s.name}`, title: s.description || '' }, s.name)))));
+    if ([...addSelect.options].some((o) => o.value === chosen)) addSelect.value = chosen;
+    if (lib.problems?.length) say(`Skill library: ${lib.problems.join('; ')}`, true);
+  }
+  // An executor that comes, goes or comes back (a missed liveliness lease on a loaded machine) changes
+  // the live library: the palette, the resources and the validation follow it a moment later, instead of
+  // keeping what the library was when the page opened.
+  let libraryTimer = null;
+  const offLibrary = store.on((type) => {
+    if (type !== 'executor' && type !== 'load') return;
+    clearTimeout(libraryTimer);
+    libraryTimer = setTimeout(() => loadLibrary().then(() => { treeView.renderResources(); validate(); }, (e) => say(`No skill library: ${e.message}`, true)), 300);
+  });
+
+  // --- structural edits: the typing before one is its own undo step; a refusal is said unless `quiet` ---
+  function edit(apply, quiet = false) {
+    history.settle();
+    const r = apply();
+    if (r.error) {
+      if (!quiet) say(r.error, true);
+      return false;
+    }
+    changed(true, true, r.scope || '');
+    return true;
+  }
+  const move = (delta) => edit(() => tree.move(delta), true);
+  const remove = () => edit(() => tree.remove(), true);
+  // Copy, cut, paste: a subtree, kept in the page and offered to the system clipboard as text.
+  let clipboard = null;
+  function copy() {
+    const { node, error } = tree.copy();
+    if (error) return say(error, true);
+    clipboard = node;
+    navigator.clipboard?.writeText(JSON.stringify(node, null, 2)).catch(() => { /* the page's copy is enough */ });
+    say(`Copied ${node.type}${leafName(node) ? ` ${leafName(node)}` : ''}.`);
+    return true;
+  }
+  function cut() { if (copy()) remove(); }
+  function paste() {
+    if (!clipboard) return say('Nothing copied yet.', true);
+    edit(() => tree.insert(structuredClone(clipboard)));
+  }
+  /// The recipe's own fields as the document has them (after Open, Undo, Redo).
+  function showRecipeFields() {
+    taskId.value = state.doc.task_id || '';
+    assumptions.value = (state.doc.assumptions || []).join(' ');
+    recipeRow.refresh();
+  }
+  function travel(snapshot) {
+    if (snapshot === null) return;
+    tree.restore(snapshot);
+    showRecipeFields();
+    changed(true, false);
+  }
+  const undo = () => travel(history.undo());
+  const redo = () => travel(history.redo());
+  const offKeys = listenKeys({
+    undo, redo, copy, cut, paste, delete: remove, moveUp: () => move(-1), moveDown: () => move(1),
+    previous: () => selectStep(-1), next: () => selectStep(1), focus: () => treeView.focusSelected(),
+  }, { active: () => !document.querySelector('dialog[open]') && !editor.hidden, selected: () => state.selected });
+  function selectStep(delta) {
+    if (tree.step(delta).error) return;
+    treeView.render();
+    form.render();
+    treeView.focusSelected();
+  }
+
+  // --- after every edit, and the validation by the controller's validator through the console ---
+  let timer = null;
+  /// After every edit: redraw, validate (after 250 ms), and make it an undo step — at once for a
+  /// structural edit (redrawForm), after 600 ms of quiet for typing in a field.
+  /// `scope`: the subtree a structural edit stayed inside (and the selection with it), redrawn alone.
+  function changed(redrawForm = true, remember = true, scope = '') {
+    // Typing in a field changes the selected node only (an option's label shows on its child's row).
+    const own = !redrawForm && state.selected && nodeAt(state.doc, state.selected)?.type !== 'OperatorDecision';
+    if ((own && treeView.renderNode(state.selected)) || (scope && treeView.renderSubtree(scope))) treeView.renderResources();
+    else treeView.render();
+    if (redrawForm) form.render();
+    else form.refreshConditions();
+    clearTimeout(timer);
+    timer = setTimeout(() => validate(), 250);
+    if (!remember) history.present();
+    else if (redrawForm) history.record();
+    else history.recordLater();
+  }
+  async function validate() {
+    clearTimeout(timer);
+    const seq = ++state.validations;
+    let r;
+    try {
+      r = await validateRecipe(tree.recipe());
+    } catch (e) {
+      return say(`Validation failed: ${e.message}`, true);
+    }
+    if (seq !== state.validations) return state.validation;  // a newer edit is being validated
+    r.errors = [...r.errors, ...screwErrors(state.doc), ...state.staleBindings];
+    r.ok = r.ok && r.errors.length === 0;
+    state.validation = r;
+    state.validated = seq;
+    // Only the nodes whose errors came or went are redrawn.
+    const before = errorsByNode(state.doc, state.errors);
+    state.errors = r.errors;
+    const after = errorsByNode(state.doc, state.errors);
+    for (const ptr of changedOwners(before, after)) treeView.renderNode(ptr, after);
+    treeView.renderErrors();
+    form.markFields();
+    return r;
+  }
+
+  // --- export, open, rehearse, publish ---
+  async function exportRecipe() {
+    const v = await validate();
+    if (!v?.canonical) return say('Nothing to export.', true);
+    state.exported = v.canonical;
+    const a = el('a', { href: URL.createObjectURL(new Blob([v.canonical], { type: 'application/json' })), download: `${state.doc.task_id || 'recipe'}.json` });
+    document.body.append(a);
+    a.click();
+    a.remove();
+    say(v.ok ? 'Exported (valid).' : `Exported with ${v.errors.length} error(s): the controller would refuse it.`, !v.ok);
+  }
+  function open(text) {
+    try {
+      const doc = JSON.parse(text);
+      history.settle();
+      const r = tree.open(doc);
+      if (r.error) return say(`Not a recipe: ${r.error}`, true);
+      showRecipeFields();
+      state.staleBindings = [];
+      changed();  // opening is one undo step: Undo brings the tree before it back
+      say(`Opened ${doc.task_id}.`);
+      bindings.check();
+    } catch (e) {
+      say(`Not a recipe: ${e.message}`, true);
+    }
+  }
+  /// Runs the recipe on the rehearsal cell (one step: nothing real moves) and shows the run live.
+  async function rehearse() {
+    const v = await validate();
+    if (!v?.canonical) return say('Nothing to rehearse: the recipe does not parse.', true);
+    const local = [...screwErrors(state.doc), ...state.staleBindings];
+    if (local.length) return say(`Not rehearsed: ${local[0].message}`, true);
+    try {
+      const r = await rehearseRecipe(JSON.parse(v.canonical));
+      say(`Rehearsing ${r.task_id} on the simulated cell of domain ${r.domain}.`);
+      editor.hidden = true;
+      await rehearsal.show(r.task_id, r.domain);
+    } catch (e) {
+      say(`Not rehearsed: ${e.message}`, true);
+    }
+  }
+  async function publish() {
+    const v = await validate();
+    if (!v?.ok) return say(`Not published: ${v ? v.errors.length : 'no'} validation error(s); fix them first.`, true);
+    try {
+      const sel = await submitRecipe(JSON.parse(v.canonical));
+      if (!(await confirmDialog('Publish the recipe?', `Publish ${state.doc.task_id}: the task starts and the robot and the crane move.`, 'Publish'))) return say('Publish not confirmed.');
+      await confirmCommand(sel.confirmation_id);
+      say(`Published ${state.doc.task_id}; follow it on the Tasks page.`);
+      state.published = state.doc.task_id;
+    } catch (e) {
+      say(`Publishing failed: ${e.message}`, true);
+    }
+  }
+
+  // Test hook: state, and screen positions of model points (to click holes like a person would).
+  window.rigger.planner = {
+    state, view, history, validate, features, rehearsal,
+    screenOf: (entity, point) => view.screenOf(entity, point),
+    holes: (entity) => view.parts.get(entity)?.features.holes || [],
+  };
+
+  history.present();
+  treeView.render();
+  form.render();
+  (async () => {
+    try {
+      await loadLibrary();
+      treeView.renderResources();  // the descriptions say what each leaf claims
+    } catch (e) {
+      say(`No skill library: ${e.message}`, true);
+    }
+    const loaded = await Promise.allSettled(ENTITIES.map((e) => view.load(e)));
+    const failed = loaded.map((r, i) => r.status === 'rejected' ? `${ENTITIES[i]}: ${r.reason.message}` : null).filter(Boolean);
+    if (failed.length) say(`Parts not shown (${failed.join('; ')})`, true);
+    view.frame('target');
+    bindings.renderHoles();
+    await features.load(ENTITIES);
+    window.rigger.planner.ready = true;
+  })();
+  return () => {
+    clearTimeout(timer); history.close(); clearTimeout(libraryTimer); offLibrary(); offKeys();
+    rehearsal.close(); delete window.rigger.planner;
+  };
+}

@@ -1,0 +1,23 @@
+// What picks on the CAD model make (no DOM): the CAD service's frame rules a pose parameter is bound by.
+
+/// The frame rules of a pose binding (docs/console.md, "Poses from picks").
+export const FRAME_RULES = ['edges', 'face', 'hole'];
+
+/// The CAD frame rule the picks make, as the request's fields (POST /api/planner/frame) with a
+/// `summary` for the button, or {error} saying what to pick.
+export function frameFromPicks(picks) {
+  const of = (kind) => picks.filter((p) => p.kind === kind);
+  const [edges, faces, holes, vertices] = ['edge', 'face', 'hole', 'vertex'].map(of);
+  if (!picks.length) return { error: 'pick a point (a vertex or a face) and two perpendicular edges, or a face, or a hole' };
+  const entities = new Set(picks.map((p) => p.entity));
+  if (entities.size !== 1) return { error: `the picks are on ${[...entities].join(' and ')}: pick on one part` };
+  const model = `object:${picks[0].entity}`;
+  if (edges.length === 2 && vertices.length + faces.length === 1 && picks.length === 3) {
+    const point = vertices[0] || faces[0];
+    return { model, rule: 'edges', point_m: point.point_m, edges: edges.map((e) => e.ref),
+      summary: `a point (${point.kind} ${point.kind === 'vertex' ? point.vertex : point.face}) and edges ${edges[0].edge}, ${edges[1].edge}` };
+  }
+  if (holes.length === 1 && picks.length === 1) return { model, rule: 'hole', hole: holes[0].hole, summary: `hole ${holes[0].hole}` };
+  if (faces.length === 1 && picks.length === 1) return { model, rule: 'face', face: faces[0].ref, point_m: faces[0].point_m, summary: `face ${faces[0].face} at the picked point` };
+  return { error: `${picks.length} picks (${picks.map((p) => p.kind).join(', ')}): pick a point (a vertex or a face) and two perpendicular edges, or one face, or one hole` };
+}

@@ -1,0 +1,60 @@
+// The planner's pure helpers besides the document (js/planner/keys.js's key map, js/planner/picks.js's
+// frame rules), without a browser. Run by ctest (console_web_unit_test).
+import assert from 'node:assert/strict';
+import { describe, it } from 'node:test';
+
+import { keyCommand } from '../js/planner/keys.js';
+import { frameFromPicks } from '../js/planner/picks.js';
+
+describe('keyCommand', () => {
+  const press = (key, mods = {}, { selected = true, textSelected = false } = {}) =>
+    keyCommand({ key, ctrlKey: false, metaKey: false, shiftKey: false, altKey: false, ...mods }, { selected, textSelected: () => textSelected });
+
+  it('maps the documented keys', () => {
+    assert.equal(press('z', { ctrlKey: true }), 'undo');
+    assert.equal(press('Z', { ctrlKey: true, shiftKey: true }), 'redo');
+    assert.equal(press('y', { metaKey: true }), 'redo');
+    assert.equal(press('c', { ctrlKey: true }), 'copy');
+    assert.equal(press('x', { metaKey: true }), 'cut');
+    assert.equal(press('v', { ctrlKey: true }), 'paste');
+    assert.equal(press('Delete'), 'delete');
+    assert.equal(press('ArrowUp', { altKey: true }), 'moveUp');
+    assert.equal(press('ArrowDown', { altKey: true }), 'moveDown');
+    assert.equal(press('ArrowUp'), 'previous');
+    assert.equal(press('ArrowDown'), 'next');
+  });
+  it('leaves other keys, Delete without a selection and a copy of selected text to the browser', () => {
+    assert.equal(press('a'), '');
+    assert.equal(press('z'), '', 'z without Ctrl types');
+    assert.equal(press('ArrowUp', { ctrlKey: true }), '');
+    assert.equal(press('Delete', {}, { selected: false }), '');
+    assert.equal(press('Delete', { ctrlKey: true }), '');
+    assert.equal(press('c', { ctrlKey: true }, { textSelected: true }), '');
+    assert.equal(press('x', { ctrlKey: true }, { textSelected: true }), '');
+    assert.equal(press('v', { ctrlKey: true }, { textSelected: true }), 'paste');
+  });
+});
+
+describe('frameFromPicks', () => {
+  const ref = (kind, index) => ({ kind, index, model_sha256: 'ab'.repeat(32), signature: {} });
+  const vertex = { kind: 'vertex', entity: 'target', vertex: 3, point_m: [0.1, 0, 0.05], ref: ref('vertex', 3) };
+  const edge = (i) => ({ kind: 'edge', entity: 'target', edge: i, ref: ref('edge', i) });
+  const face = { kind: 'face', entity: 'target', face: 7, point_m: [0, 0, 0.05], ref: ref('face', 7) };
+  const hole = { kind: 'hole', entity: 'target', hole: 2, ref: ref('face', 12) };
+
+  it('makes the paper\'s rule of a point and two edges, in the order picked', () => {
+    assert.deepEqual(frameFromPicks([edge(4), vertex, edge(9)]), { model: 'object:target', rule: 'edges', point_m: [0.1, 0, 0.05],
+      edges: [ref('edge', 4), ref('edge', 9)], summary: 'a point (vertex 3) and edges 4, 9' });
+    assert.equal(frameFromPicks([face, edge(1), edge(2)]).summary, 'a point (face 7) and edges 1, 2');
+  });
+  it('makes the face and hole rules of one pick', () => {
+    assert.deepEqual(frameFromPicks([face]), { model: 'object:target', rule: 'face', face: ref('face', 7), point_m: [0, 0, 0.05], summary: 'face 7 at the picked point' });
+    assert.deepEqual(frameFromPicks([hole]), { model: 'object:target', rule: 'hole', hole: 2, summary: 'hole 2' });
+  });
+  it('says what to pick instead', () => {
+    assert.match(frameFromPicks([]).error, /^pick a point \(a vertex or a face\) and two perpendicular edges/);
+    assert.equal(frameFromPicks([vertex, { ...edge(1), entity: 'load' }]).error, 'the picks are on target and load: pick on one part');
+    assert.match(frameFromPicks([vertex, edge(1)]).error, /^2 picks \(vertex, edge\): pick a point/);
+    assert.match(frameFromPicks([hole, face]).error, /^2 picks \(hole, face\)/);
+  });
+});
