@@ -16,6 +16,50 @@ function(rigger_target_defaults target)
     RIGGER_BINARY_DIR="${PROJECT_BINARY_DIR}")
 endfunction()
 
+# Precompiled headers: the heavy third-party headers most translation units include (nlohmann/json,
+# Eigen, spdlog, and GoogleTest in tests) are parsed once per build, not once per file. Two donor targets
+# compile them, one position-independent (for the libraries) and one not (programs, tests); every rigger
+# target reuses one of them. GCC falls back to the plain headers where a target's flags do not fit; clang
+# refuses such a mismatch outright, so the fuzz tree (other flags per target) turns it off.
+option(RIGGER_PCH "Precompile the heavy third-party headers once per build" ON)
+set(RIGGER_PCH_HEADERS <algorithm> <chrono> <cmath> <functional> <map> <memory> <optional> <string> <vector>
+    <Eigen/Geometry> <nlohmann/json.hpp> <spdlog/spdlog.h>)
+
+# rigger_use_pch(TARGET pic|program|test): TARGET reuses the donor of its kind (made on first use).
+function(rigger_use_pch target kind)
+  if(NOT RIGGER_PCH)
+    return()
+  endif()
+  set(donor rigger_pch_${kind})
+  set(deps spdlog::spdlog nlohmann_json::nlohmann_json Eigen3::Eigen)
+  if(kind STREQUAL "test")
+    list(APPEND deps GTest::gtest GTest::gmock)
+  endif()
+  if(NOT TARGET ${donor})
+    set(source ${PROJECT_BINARY_DIR}/pch/donor.cpp)
+    if(NOT EXISTS ${source})
+      file(WRITE ${source} "// The precompiled headers' donor (cmake/RiggerHelpers.cmake): no code of its own.\n")
+    endif()
+    add_library(${donor} STATIC EXCLUDE_FROM_ALL ${source})
+    rigger_target_defaults(${donor})
+    target_link_libraries(${donor} PRIVATE ${deps})
+    set(headers ${RIGGER_PCH_HEADERS})
+    if(kind STREQUAL "test")
+      list(APPEND headers <gtest/gtest.h>)
+    endif()
+    if(kind STREQUAL "pic")
+      set_target_properties(${donor} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+    endif()
+    target_precompile_headers(${donor} PRIVATE ${headers})
+  endif()
+  # The donor's definitions and include folders (not its libraries), so that the headers mean the same.
+  foreach(dep IN LISTS deps)
+    target_compile_definitions(${target} PRIVATE $<TARGET_PROPERTY:${dep},INTERFACE_COMPILE_DEFINITIONS>)
+    target_include_directories(${target} SYSTEM PRIVATE $<TARGET_PROPERTY:${dep},INTERFACE_INCLUDE_DIRECTORIES>)
+  endforeach()
+  target_precompile_headers(${target} REUSE_FROM ${donor})
+endfunction()
+
 # Adds every immediate subfolder of DIR holding a CMakeLists.txt (honours RIGGER_ONLY).
 function(rigger_add_subdirectories dir)
   file(GLOB children RELATIVE ${CMAKE_CURRENT_SOURCE_DIR}/${dir} ${CMAKE_CURRENT_SOURCE_DIR}/${dir}/*/CMakeLists.txt)
@@ -62,6 +106,7 @@ function(rigger_add_library name)
   add_library(rigger::${short} ALIAS ${name})
   rigger_target_defaults(${name})
   set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  rigger_use_pch(${name} pic)
   set(src_scope PUBLIC)
   if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include)
     # Installed libraries (rigger_export) find their headers in <prefix>/include.
@@ -92,6 +137,7 @@ function(rigger_add_executable name)
   cmake_parse_arguments(ARG "BENCH;NOT_INSTALLED" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   rigger_target_defaults(${name})
+  rigger_use_pch(${name} program)
   if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/src)  # a service's main and its folder's benches see its private headers
     target_include_directories(${name} PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
   endif()
@@ -139,6 +185,7 @@ function(rigger_add_test name)
   endif()
   add_executable(${name} ${ARG_SOURCES})
   rigger_target_defaults(${name})
+  rigger_use_pch(${name} test)
   if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/src)  # a library's tests see its private headers
     target_include_directories(${name} PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
   endif()
