@@ -5,6 +5,47 @@
 
 namespace rigger::skill_sdk {
 
+void CraneSkill::check_crane_health(std::function<void()> then, std::chrono::nanoseconds max_age,
+                                    std::chrono::nanoseconds timeout) {
+  CraneMonitor* crane = ctx().devices().crane;
+  if (crane == nullptr) {
+    fail("DEVICE_UNAVAILABLE", "this executor has no crane monitor");
+    return;
+  }
+  const OpId id = crane->check_health(max_age, timeout, guard([this, then = std::move(then)](const OpResult& r) {
+                                        if (r.ok)
+                                          then();
+                                        else
+                                          fail(kCraneFault, r.message);
+                                      }));
+  track([crane, id] { crane->cancel(id); });
+}
+
+void CraneSkill::request_crane_external(std::function<void()> then, std::chrono::nanoseconds timeout) {
+  CraneMonitor* crane = ctx().devices().crane;
+  if (crane == nullptr) {
+    fail("DEVICE_UNAVAILABLE", "this executor has no crane monitor");
+    return;
+  }
+  const OpId id = crane->request_external(timeout, guard([this, then = std::move(then)](const OpResult& r) {
+                                            if (r.ok)
+                                              then();
+                                            else
+                                              fail(kCraneFault, r.message);
+                                          }));
+  track([crane, id] { crane->cancel(id); });
+}
+
+void CraneSkill::watch_crane_health(std::chrono::nanoseconds max_silence) {
+  CraneMonitor* crane = ctx().devices().crane;
+  if (crane == nullptr) return;
+  const OpId id = crane->watch_health(max_silence, guard([this](const OpResult& problem) {
+                                        fail(kCraneFault, "the crane reported a problem in state " + state() + ": " +
+                                                              problem.message);
+                                      }));
+  track([crane, id] { crane->cancel(id); });
+}
+
 void admittance_safe_stop(AdmittanceController* admittance, VisionTracker* tracker, const std::string& object,
                           const Skill::SafeStopDone& done) {
   if (tracker != nullptr) tracker->command(TrackerRequest::kStop, object);

@@ -30,7 +30,7 @@ const skill::SkillDescription& AttachRobotToLoadSkill::describe() {
         params::number("hold_timeout_s").unit("s").range(0.1, 10.0).fallback(2.0).doc(
             "After the approach ended, the magnet must report holding within this time (else GRASP_FAILED)."),
         params::number("max_sway_m").unit("m").range(0.001, 0.2).fallback(0.03).doc(
-            "Largest displacement of the grasp frame between planning and the final approach (else " "LOAD_MOVING)."),
+            "Largest displacement of the grasp frame between planning and the final approach (else LOAD_MOVING)."),
         max_reach_param(),
         params::boolean("check_crane").fallback(true).doc(
             "Refuse to move unless the crane reports healthy (rigger/crane/state)."),

@@ -64,25 +64,11 @@ void CollaborativeMoveLoadSkill::check_crane() {
     return;
   }
   ctx().progress(0.05, "checking the crane");
-  CraneMonitor* crane = devices.crane;
-  const OpId id = crane->check_health(kCraneStateMaxAge, kCraneCheckTimeout, guard([this](const OpResult& r) {
-                                        if (r.ok)
-                                          transition("crane_external");
-                                        else
-                                          fail(kCraneFault, r.message);
-                                      }));
-  track([crane, id] { crane->cancel(id); });
+  check_crane_health([this] { transition("crane_external"); });
 }
 
 void CollaborativeMoveLoadSkill::crane_external() {
-  CraneMonitor* crane = ctx().devices().crane;
-  const OpId id = crane->request_external(kCraneExternalTimeout, guard([this](const OpResult& r) {
-                                            if (r.ok)
-                                              transition("engage");
-                                            else
-                                              fail(kCraneFault, r.message);
-                                          }));
-  track([crane, id] { crane->cancel(id); });
+  request_crane_external([this] { transition("engage"); });
 }
 
 void CollaborativeMoveLoadSkill::engage() {
@@ -110,10 +96,7 @@ void CollaborativeMoveLoadSkill::guide() {
   const double max_duration_s = params().at("max_duration_s").get<double>();
   ctx().progress(-1.0, "the operator guides " + object + " with the joystick; answer 'done' when it is in place");
 
-  CraneMonitor* crane = devices.crane;
-  const OpId crane_watch =
-      crane->watch_health(kCraneMaxSilence, guard([this](const OpResult& r) { fail(kCraneFault, r.message); }));
-  track([crane, crane_watch] { crane->cancel(crane_watch); });
+  watch_crane_health();
 
   AdmittanceController* admittance = devices.admittance;
   const OpId admittance_watch = admittance->watch(guard([this](const AdmittanceSnapshot& s) { on_admittance(s); }));

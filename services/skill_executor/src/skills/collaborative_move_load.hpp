@@ -32,7 +32,7 @@
 
 namespace rigger::skill_executor {
 
-class CollaborativeMoveLoadSkill final : public Skill {
+class CollaborativeMoveLoadSkill final : public CraneSkill {
  public:
   static const skill::SkillDescription& describe();
   CollaborativeMoveLoadSkill();

@@ -94,30 +94,15 @@ void GripperSkill::check_crane(bool required, std::function<void()> then) {
     then();
     return;
   }
-  CraneMonitor* crane = ctx().devices().crane;
-  if (crane == nullptr) {
+  if (ctx().devices().crane == nullptr) {
     fail("DEVICE_UNAVAILABLE", "this executor has no crane state (needed by check_crane = true)");
     return;
   }
-  const OpId id = crane->check_health(std::chrono::seconds(1), std::chrono::seconds(2),
-                                      guard([this, then = std::move(then)](const OpResult& result) {
-                                        if (result.ok)
-                                          then();
-                                        else
-                                          fail(result.code.empty() ? kCraneFault : result.code, result.message);
-                                      }));
-  track([crane, id] { crane->cancel(id); });
+  check_crane_health(std::move(then));
 }
 
 void GripperSkill::watch_crane(bool required) {
-  CraneMonitor* crane = ctx().devices().crane;
-  if (!required || crane == nullptr) return;  // check_crane() refused a missing crane before
-  const OpId id =
-      crane->watch_health(std::chrono::seconds(1), guard([this](const OpResult& problem) {
-                            fail(problem.code.empty() ? kCraneFault : problem.code,
-                                 "the crane reported a problem in state " + state() + ": " + problem.message);
-                          }));
-  track([crane, id] { crane->cancel(id); });
+  if (required) watch_crane_health(std::chrono::seconds(1));  // check_crane() refused a missing crane before
 }
 
 void GripperSkill::resolve_in_robot_frame(const std::string& ref, std::function<void(const Eigen::Isometry3d&)> then) {

@@ -50,7 +50,7 @@ Eigen::Isometry3d along_tool_z(const Eigen::Isometry3d& pose, double distance_m)
 std::optional<std::string> check_straight_approach(const Eigen::Isometry3d& from, const Eigen::Isometry3d& to,
                                                    double max_reach_m, double max_length_m, double max_angle_rad);
 
-class GripperSkill : public Skill {
+class GripperSkill : public CraneSkill {
  public:
   ~GripperSkill() override;
 

@@ -131,14 +131,7 @@ void InsertVisuallyGuidedSkill::check_crane() {
     return;
   }
   ctx().progress(0.02, "checking the crane");
-  CraneMonitor* crane = devices.crane;
-  const OpId id = crane->check_health(kCraneStateMaxAge, kCraneCheckTimeout, guard([this](const OpResult& r) {
-                                        if (r.ok)
-                                          transition("lookup");
-                                        else
-                                          fail(kCraneFault, r.message);
-                                      }));
-  track([crane, id] { crane->cancel(id); });
+  check_crane_health([this] { transition("lookup"); });
 }
 
 void InsertVisuallyGuidedSkill::lookup() {
@@ -161,14 +154,7 @@ void InsertVisuallyGuidedSkill::lookup() {
 }
 
 void InsertVisuallyGuidedSkill::crane_external() {
-  CraneMonitor* crane = ctx().devices().crane;
-  const OpId id = crane->request_external(kCraneExternalTimeout, guard([this](const OpResult& r) {
-                                            if (r.ok)
-                                              transition("track");
-                                            else
-                                              fail(kCraneFault, r.message);
-                                          }));
-  track([crane, id] { crane->cancel(id); });
+  request_crane_external([this] { transition("track"); });
 }
 
 void InsertVisuallyGuidedSkill::start_tracking() {
@@ -218,10 +204,7 @@ void InsertVisuallyGuidedSkill::servo() {
   const Devices& devices = ctx().devices();
   track([this] { cancel_timers(); });
 
-  CraneMonitor* crane = devices.crane;
-  const OpId crane_watch =
-      crane->watch_health(kCraneMaxSilence, guard([this](const OpResult& r) { fail(kCraneFault, r.message); }));
-  track([crane, crane_watch] { crane->cancel(crane_watch); });
+  watch_crane_health();
 
   AdmittanceController* admittance = devices.admittance;
   const OpId admittance_watch = admittance->watch(guard([this](const AdmittanceSnapshot& s) { on_admittance(s); }));

@@ -46,7 +46,7 @@ namespace rigger::skill_executor {
 std::optional<std::string> insertion_goal(const nlohmann::json& features, const std::string& target,
                                           const Eigen::Vector3d& standoff_in_target_m, Eigen::Isometry3d& goal);
 
-class InsertVisuallyGuidedSkill final : public Skill {
+class InsertVisuallyGuidedSkill final : public CraneSkill {
  public:
   static const skill::SkillDescription& describe();
   InsertVisuallyGuidedSkill();

@@ -6,6 +6,7 @@
 #include "rigger/skill_sdk/cell_devices.hpp"
 #include "rigger/skill_sdk/primitives.hpp"
 #include "rigger/skill_sdk/skill.hpp"
+#include "rigger/skill_sdk/states.hpp"
 
 namespace rigger::skill_executor {
 using namespace rigger::skill_sdk;

@@ -1,10 +1,12 @@
 #pragma once
 /// @file
-/// Pieces shared by the skills that move the crane-carried load with robot and crane under admittance
-/// control (CollaborativeMoveLoad, InsertVisuallyGuided): the safe stop and the classification of
-/// admittance faults.
+/// Reusable states: the crane's health check, its external control and a watch of its health (CraneSkill,
+/// for every skill that acts while the crane carries the load), and the pieces shared by the skills that
+/// move that load with robot and crane under admittance control (CollaborativeMoveLoad,
+/// InsertVisuallyGuided): the collaborative safe stop and the classification of admittance faults.
 
 #include <chrono>
+#include <functional>
 #include <string>
 
 #include "rigger/skill_sdk/cell_devices.hpp"
@@ -25,6 +27,22 @@ inline constexpr std::chrono::seconds kCraneExternalTimeout{3};
 /// reports a fault, so waiting is safe, and a momentary WRENCH_STALE (a late sensor sample on a loaded
 /// host) does not end a long collaborative motion. Crane faults seen on rigger/crane/state fail at once.
 inline constexpr std::chrono::milliseconds kAdmittanceFaultGrace{500};
+
+/// A skill that acts while the crane carries the load. Each method is the action of one of the skill's
+/// states: it starts the crane operation as an operation of the current state (cancelled when the state is
+/// left) and ends by calling `then`, or by failing the skill with kCraneFault.
+class CraneSkill : public Skill {
+ protected:
+  /// The crane's state fresher than `max_age` and showing no problem → `then`. Fails DEVICE_UNAVAILABLE
+  /// when the executor has no crane monitor.
+  void check_crane_health(std::function<void()> then, std::chrono::nanoseconds max_age = kCraneStateMaxAge,
+                          std::chrono::nanoseconds timeout = kCraneCheckTimeout);
+  /// External control granted (the admittance law commands the crane's velocity) → `then`.
+  void request_crane_external(std::function<void()> then, std::chrono::nanoseconds timeout = kCraneExternalTimeout);
+  /// For as long as the current state lasts: a crane state showing a problem, or none for `max_silence`,
+  /// fails the skill. Does nothing when the executor has no crane monitor.
+  void watch_crane_health(std::chrono::nanoseconds max_silence = kCraneMaxSilence);
+};
 
 /// The collaborative safe stop: admittance OFF (robot twist and crane velocity ramp to zero; the
 /// magnet is not touched and stays on), done(true) once the admittance state reports OFF with both
