@@ -84,18 +84,19 @@ TEST_F(SkillSdkTest, AnOutOfTreeSkillBuiltAgainstTheInstalledSdkRunsInARecipeOnT
   ASSERT_TRUE(cell_.wait_until([&] { return !tool.empty(); }, 10s)) << "no robot state from cell_sim";
 
   // Validated against what the executor announced: an offset beyond the declared ±0.2 m is refused.
-  const auto nudge = [](double dz) {
+  const auto nudge = [](const std::string& task_id, double dz) {
     return json{{"recipe_version", 1},
-                {"root", {{"id", "nudge"}, {"type", "Skill"}, {"skill", "Nudge"}, {"params", {{"dz_m", dz}}}}}};
+                {"task_id", task_id},
+                {"root", {{"name", "nudge"}, {"type", "Skill"}, {"skill", "Nudge"}, {"params", {{"dz_m", dz}}}}}};
   };
-  submit("too-far", nudge(0.5));
+  submit("too-far", nudge("too-far", 0.5));
   ASSERT_TRUE(wait_finished("too-far", 20s)) << cell_.logs();
   EXPECT_EQ(last("too-far").state, rigger_task_TASK_REJECTED) << last("too-far").message;
   EXPECT_NE(last("too-far").message.find("dz_m"), std::string::npos) << last("too-far").message;
 
   const Eigen::Vector3d start = tool.back();
   const std::size_t from = tool.size();
-  submit("nudge", nudge(0.05));
+  submit("nudge", nudge("nudge", 0.05));
   ASSERT_TRUE(wait_finished("nudge", 60s)) << cell_.logs();
   EXPECT_EQ(last("nudge").state, rigger_task_TASK_SUCCEEDED) << last("nudge").code << ": " << last("nudge").message;
   double highest = -1.0;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "rigger/skill_sdk/testing/run_harness.hpp"
+#include "rigger/skill_sdk/params.hpp"
 #include "rigger/skill_sdk/skill_registry.hpp"
 
 namespace rigger::skill_sdk {
@@ -22,8 +23,7 @@ class GraspSkill final : public Skill {
   static SkillType type() {
     skill::SkillDescription d;
     d.name = "Grasp";
-    d.params = {skill::ParamSpec{"grasp", skill::ParamType::kFeatureRef, "", std::nullopt, std::nullopt, std::nullopt, {}, ""},
-                skill::ParamSpec{"speed_mps", skill::ParamType::kNumber, "m/s", 0.0, 1.0, nlohmann::json(0.1), {}, ""}};
+    d.params = {params::feature("grasp"), params::number("speed_mps").unit("m/s").range(0.0, 1.0).fallback(0.1)};
     d.resources = {"robot"};
     return {d, [] { return std::make_unique<GraspSkill>(); }};
   }
@@ -99,13 +99,19 @@ TEST_F(SkillRunTest, FeatureRefWithoutAWorldModelIsDeviceUnavailable) {
 }
 
 TEST(SkillRegistryTest, LibraryJsonNamesSkillsAndRefusesUnknownOnes) {
-  const auto registry = builtin_skills();
-  const auto library = registry.library_json({"MoveTo"});
+  SkillRegistry registry;
+  registry.add(GraspSkill::type());
+  const auto library = registry.library_json({"Grasp"});
   EXPECT_EQ(library.at("library_version"), 1);
   ASSERT_EQ(library.at("skills").size(), 1u);
-  EXPECT_EQ(library["skills"][0].at("name"), "MoveTo");
+  EXPECT_EQ(library["skills"][0].at("name"), "Grasp");
   EXPECT_EQ(library["skills"][0].at("resources"), nlohmann::json::array({"robot"}));
-  EXPECT_THROW(registry.library_json({"Fly"}), std::invalid_argument);
+  try {
+    registry.library_json({"Fly"});
+    FAIL() << "an unknown skill was described";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown skill 'Fly'; this binary has: Grasp"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SkillRegistryTest, RefusesDuplicatesAndInvalidDescriptions) {

@@ -28,7 +28,11 @@ nlohmann::json place_params(nlohmann::json pose = {{"position_m", {0.5, -0.2, 0.
 /// names where they do the same).
 void step(RunHarness& h, bool holding_at_start) {
   const std::string s = h.state();
-  if (s == "check") {
+  if (const auto* update = h.world.pending_update()) {  // Place's end: the part moved unobserved
+    EXPECT_EQ(update->entity, "part");
+    EXPECT_FALSE(update->localized);
+    ASSERT_TRUE(h.world.answer_update(OpResult::success()));
+  } else if (s == "check") {
     ASSERT_EQ(h.gripper.publish(FakeGripper::state(holding_at_start, holding_at_start)), 1);
   } else if (s == "resolve") {
     ASSERT_NE(h.resolver.oldest(), nullptr);
@@ -260,6 +264,7 @@ TEST_F(PlaceTest, ApproachesDescendsReleasesAndRetreats) {
   EXPECT_NEAR(h.robot.pending(Kind::kMove)->goal.pose_frame_tool.translation().z(), 0.20, 1e-12);
   run_to_end(h, true);
   EXPECT_TRUE(h.succeeded()) << h.describe_result();
+  EXPECT_NE(h.result->message.find("part no longer localized"), std::string::npos) << h.result->message;
   EXPECT_EQ(h.robot.moves, 3);
 }
 
