@@ -8,12 +8,26 @@ function(rigger_target_defaults target)
   target_compile_options(${target} PRIVATE
     $<$<COMPILE_LANGUAGE:CXX>:${RIGGER_WARNINGS}>
     $<$<AND:$<COMPILE_LANGUAGE:CXX>,$<BOOL:${RIGGER_WERROR}>>:-Werror>)
-  # The two trees, for tests, benchmarks and fuzzers only: a program finds its files through its data
-  # folder or its configuration (rigger/base/install.hpp); InstallTest.NoProgramNamesTheSourceOrBuildTree
-  # fails when code outside test/, bench/ and fuzz/ names either.
-  target_compile_definitions(${target} PRIVATE
-    RIGGER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-    RIGGER_BINARY_DIR="${PROJECT_BINARY_DIR}")
+  # The two trees, for tests, benchmarks and fuzzers only (a target with a source in a test/, bench/ or
+  # fuzz/ folder, or below the top-level test/): a program finds its files through its data folder or its
+  # configuration (rigger/base/install.hpp); InstallTest.NoProgramNamesTheSourceOrBuildTree fails when
+  # code outside those folders names either. Keeping the clone's path off the other targets' command
+  # lines also lets a compiler cache serve them to another clone of the same tree (deploy/setup).
+  get_target_property(sources ${target} SOURCES)
+  set(test_code FALSE)
+  if(CMAKE_CURRENT_SOURCE_DIR MATCHES "^${PROJECT_SOURCE_DIR}/test(/|$)")
+    set(test_code TRUE)
+  endif()
+  foreach(source IN LISTS sources)
+    if(source MATCHES "(^|/)(test|bench|fuzz)/")
+      set(test_code TRUE)
+    endif()
+  endforeach()
+  if(test_code)
+    target_compile_definitions(${target} PRIVATE
+      RIGGER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+      RIGGER_BINARY_DIR="${PROJECT_BINARY_DIR}")
+  endif()
 endfunction()
 
 # Precompiled headers: the heavy third-party headers most translation units include (nlohmann/json,
