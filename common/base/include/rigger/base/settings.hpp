@@ -21,7 +21,8 @@
 ///   }
 ///   const EchoSettings s = read_settings(config, echo_settings());  // throws ConfigError
 ///
-/// A value is stored by a member pointer or by a callable `void(S&, const T&)`. A std::chrono::duration
+/// A value is stored by a member pointer or by a callable `void(S&, const T&)` (or `void(S&, const T&,
+/// const Config&)`, to find a file the way config_path() does). A std::chrono::duration
 /// member takes the value in the unit of the key's name (`_s`, `_ms`, `_us`, `_ns`). Tables are built
 /// once at setup; reading is setup-time only (everything throws ConfigError).
 
@@ -60,11 +61,11 @@ struct Range {
   T hi;
 };
 
-/// A default known only when the settings are read (e.g. one an environment variable may change);
-/// `text` is what the reference prints for it.
+/// A default known only when the settings are read (one an environment variable may change, the
+/// service's id); `text` is what the reference prints for it.
 template <typename T>
 struct RuntimeDefault {
-  T (*value)();
+  std::function<T()> value;
   std::string text;
 };
 
@@ -161,10 +162,13 @@ template <typename R, typename P>
 struct IsDuration<std::chrono::duration<R, P>> : std::true_type {};
 
 /// Stores `value` into `settings` by a member pointer (converting a duration from the key's unit) or a
-/// callable.
+/// callable (given the Config too when it takes it, e.g. to find a file beside the configuration's).
 template <typename S, typename T, typename Set>
-void store(S& settings, const T& value, const Set& set, const std::string& unit, const std::string& key) {
-  if constexpr (std::is_member_object_pointer_v<Set>) {
+void store(S& settings, const T& value, const Set& set, const std::string& unit, const std::string& key,
+           const Config& config) {
+  if constexpr (std::is_invocable_v<const Set&, S&, const T&, const Config&>) {
+    set(settings, value, config);
+  } else if constexpr (std::is_member_object_pointer_v<Set>) {
     auto& member = settings.*set;
     using M = std::decay_t<decltype(member)>;
     if constexpr (IsDuration<M>::value)
@@ -176,20 +180,40 @@ void store(S& settings, const T& value, const Set& set, const std::string& unit,
   }
 }
 
-template <typename S, typename T, typename Set>
-Setting<S> make(std::string key, std::function<T()> fallback, std::string default_text, std::string range_text,
-                std::function<T(const Config&, const std::string&, const T&)> get, Set set, std::string description) {
-  SettingInfo info{
-      key, type_name<T>(), std::move(default_text), std::move(range_text), unit_of_key(key), std::move(description)};
-  const std::string unit = info.unit;
-  return Setting<S>(std::move(info), [key, unit, fallback, get, set](const Config& config, S& settings) {
-    store(settings, get(config, key, fallback()), set, unit, key);
-  });
-}
-
 template <typename T>
 std::string range_text(const Range<T>& range) {
   return "[" + value_text(range.lo) + ", " + value_text(range.hi) + "]";
+}
+
+template <typename T>
+RuntimeDefault<T> constant(T value) {
+  const std::string text = value_text(value);
+  return {[value = std::move(value)] { return value; }, text};
+}
+
+/// A setting read by `get(config, key, fallback)`.
+template <typename S, typename T, typename Get, typename Set>
+Setting<S> make(std::string key, RuntimeDefault<T> fallback, std::string range_text, Get get, Set set,
+                std::string description) {
+  SettingInfo info{
+      key, type_name<T>(), std::move(fallback.text), std::move(range_text), unit_of_key(key), std::move(description)};
+  const std::string unit = info.unit;
+  return Setting<S>(std::move(info),
+                    [key, unit, value = std::move(fallback.value), get, set](const Config& config, S& settings) {
+                      store(settings, get(config, key, value()), set, unit, key, config);
+                    });
+}
+
+template <typename T>
+auto any_value() {
+  return [](const Config& c, const std::string& k, const T& f) { return c.get<T>(k, f); };
+}
+
+template <typename T>
+auto within(Range<T> range) {
+  return [range](const Config& c, const std::string& k, const T& f) {
+    return c.get_in_range<T>(k, f, range.lo, range.hi);
+  };
 }
 
 }  // namespace settings_detail
@@ -199,33 +223,30 @@ std::string range_text(const Range<T>& range) {
 template <typename S, typename F, typename Set>
 Setting<S> setting(std::string key, F fallback, Set set, std::string description) {
   using T = settings_detail::ValueOf<F>;
-  const T value = fallback;
-  return settings_detail::make<S, T>(
-      std::move(key), [value] { return value; }, settings_detail::value_text(value), "",
-      [](const Config& c, const std::string& k, const T& f) { return c.get<T>(k, f); }, set, std::move(description));
+  return settings_detail::make<S, T>(std::move(key), settings_detail::constant<T>(std::move(fallback)), "",
+                                     settings_detail::any_value<T>(), set, std::move(description));
+}
+
+/// A key without bounds whose default is known only when the settings are read.
+template <typename S, typename T, typename Set>
+Setting<S> setting(std::string key, RuntimeDefault<T> fallback, Set set, std::string description) {
+  return settings_detail::make<S, T>(std::move(key), std::move(fallback), "", settings_detail::any_value<T>(), set,
+                                     std::move(description));
 }
 
 /// A number within `range` (inclusive): int, unsigned or double, the type of `fallback`.
 template <typename S, typename T, typename Set>
 Setting<S> setting(std::string key, T fallback, Range<T> range, Set set, std::string description) {
-  return settings_detail::make<S, T>(
-      std::move(key), [fallback] { return fallback; }, settings_detail::value_text(fallback),
-      settings_detail::range_text(range),
-      [range](const Config& c, const std::string& k, const T& f) {
-        return c.get_in_range<T>(k, f, range.lo, range.hi);
-      },
-      set, std::move(description));
+  return settings_detail::make<S, T>(std::move(key), settings_detail::constant(fallback),
+                                     settings_detail::range_text(range), settings_detail::within(range), set,
+                                     std::move(description));
 }
 
 /// A number within `range` whose default is known only when the settings are read.
 template <typename S, typename T, typename Set>
 Setting<S> setting(std::string key, RuntimeDefault<T> fallback, Range<T> range, Set set, std::string description) {
-  return settings_detail::make<S, T>(
-      std::move(key), fallback.value, std::move(fallback.text), settings_detail::range_text(range),
-      [range](const Config& c, const std::string& k, const T& f) {
-        return c.get_in_range<T>(k, f, range.lo, range.hi);
-      },
-      set, std::move(description));
+  return settings_detail::make<S, T>(std::move(key), std::move(fallback), settings_detail::range_text(range),
+                                     settings_detail::within(range), set, std::move(description));
 }
 
 /// One of named values: the key holds a name of `options`, the struct the value it maps to (an enum
@@ -247,7 +268,7 @@ Setting<S> choice(std::string key, E fallback, std::vector<std::pair<std::string
   return Setting<S>(std::move(info), [key, fallback_name, names, options, set](const Config& config, S& settings) {
     const std::string name = config.get_enum(key, fallback_name, names);
     for (const auto& [option, value] : options)
-      if (option == name) return settings_detail::store(settings, value, set, "", key);
+      if (option == name) return settings_detail::store(settings, value, set, "", key, config);
   });
 }
 
@@ -258,7 +279,7 @@ template <typename S, typename Set>
 Setting<S> path_setting(std::string key, std::string fallback, Set set, std::string description) {
   SettingInfo info{key, "path", settings_detail::json_text(fallback), "", "", std::move(description)};
   return Setting<S>(std::move(info), [key, fallback, set](const Config& config, S& settings) {
-    settings_detail::store(settings, config_path(config, key, fallback), set, "", key);
+    settings_detail::store(settings, config_path(config, key, fallback), set, "", key, config);
   });
 }
 
