@@ -5,19 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include "error_of.hpp"
+
 namespace rigger {
 namespace {
-
-// Returns the message of the ConfigError thrown by f, or "" when nothing was thrown.
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(Config, ReadsTypedValuesAndDefaults) {
   auto cfg = Config::parse(R"({"rate_hz": 50, "host": "127.0.0.1", "axes": [1, 2.5], "plc": {"port": 1502}})", "t.json");

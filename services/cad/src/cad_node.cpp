@@ -6,22 +6,34 @@
 #include <chrono>
 
 namespace rigger::cad_service {
-CadServiceSettings read_settings(const Config& config) {
-  CadServiceSettings settings;
-  settings.cell_file = config_path(config, "cell_config", kDefaultCellFile);
-  // An allowed folder that does not exist allows nothing (the shipped list names OpenCascade's samples,
-  // which not every machine has): kept, not refused.
-  for (const auto& dir : config.get<std::vector<std::string>>("allowed_dirs", {})) {
-    settings.allowed_dirs.push_back(find_data_path(dir, config_file_of(config)).path);
-  }
-  settings.limits.max_bytes =
-      static_cast<std::uintmax_t>(config.get_in_range<double>("max_file_mib", 64.0, 0.001, 1024.0) * (1 << 20));
-  settings.limits.timeout = std::chrono::milliseconds(
-      static_cast<long>(1000 * config.get_in_range<double>("read_timeout_s", 60.0, 0.1, 3600.0)));
-  settings.max_models = static_cast<std::size_t>(config.get_in_range<int>("max_models", 16, 1, 1000));
-  config.finish();
-  return settings;
+const SettingsTable<CadServiceSettings>& cad_settings() {
+  using S = CadServiceSettings;
+  static const SettingsTable<S> table{
+      path_setting<S>("cell_config", kDefaultCellFile, &S::cell_file,
+                      "the cell file: relative to this file, then to the data folder; its objects' STEP models are "
+                      "loaded at start"),
+      // A missing folder is kept, not refused: the shipped list names OpenCascade's samples, which not
+      // every machine has.
+      setting<S>(
+          "allowed_dirs", std::vector<std::string>{},
+          [](S& s, const std::vector<std::string>& dirs, const Config& config) {
+            for (const auto& dir : dirs) s.allowed_dirs.push_back(find_data_path(dir, config_file_of(config)).path);
+          },
+          "folders a request may name files in (besides the cell's models), each relative to this file, then "
+          "to the data folder; a folder that does not exist allows nothing"),
+      setting<S>("max_file_mib", 64.0, {0.001, 1024.0},
+                 [](S& s, double mib) { s.limits.max_bytes = static_cast<std::uintmax_t>(mib * (1 << 20)); },
+                 "larger STEP files are refused before parsing"),
+      setting<S>("read_timeout_s", 60.0, {0.1, 3600.0},
+                 [](S& s, double v) { s.limits.timeout = std::chrono::milliseconds(static_cast<long>(1000 * v)); },
+                 "wall time of the reader child process (killed after)"),
+      setting<S>("max_models", 16, {1, 1000}, &S::max_models,
+                 "models kept besides the cell's objects' (the oldest is dropped first)"),
+  };
+  return table;
 }
+
+CadServiceSettings read_settings(const Config& config) { return rigger::read_settings(config, cad_settings()); }
 
 CadNode::CadNode(dds::ServiceContext& ctx, CadServiceSettings settings)
     : ctx_(ctx),

@@ -5,15 +5,17 @@
 /// files are read in a child process, so a hostile file never ends this process.
 
 #include "cad_service.hpp"
+#include "rigger/base/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/protocol/cad.hpp"
 
 namespace rigger::cad_service {
 
-/// Settings from the --config file: "cell_config" (default deploy/cell/simulated_cell.json),
-/// "allowed_dirs" (array of folders a request may name files in), both found by the rule of
-/// rigger/base/install.hpp; "max_file_mib", "read_timeout_s", "max_models". @throws ConfigError.
+/// The cad service's configuration keys (docs/config-reference.md#cad).
+const SettingsTable<CadServiceSettings>& cad_settings();
+
+/// Settings from the --config file, then config.finish(). @throws ConfigError.
 CadServiceSettings read_settings(const Config& config);
 
 class CadNode : public dds::Node {

@@ -11,15 +11,25 @@ dds::Qos echo_qos() {
   return q;
 }
 
-EchoNode::EchoNode(dds::ServiceContext& ctx)
+const SettingsTable<EchoSettings>& echo_settings() {
+  using S = EchoSettings;
+  static const SettingsTable<S> table{
+      setting<S>("max_payload_bytes", 1u << 20, {0u, 1u << 24}, &S::max_payload_bytes,
+                 "larger requests are dropped (and logged)"),
+      setting<S>("publish_peer_view", true, &S::publish_peer_view,
+                 "publish the ready services this process sees on `rigger/system/peer_view`"),
+  };
+  return table;
+}
+
+EchoNode::EchoNode(dds::ServiceContext& ctx, const EchoSettings& settings)
     : ctx_(ctx),
-      max_payload_bytes_(ctx.config.get_in_range<unsigned>("max_payload_bytes", 1u << 20, 0u, 1u << 24)),
-      publish_peer_view_(ctx.config.get<bool>("publish_peer_view", true)),
+      max_payload_bytes_(settings.max_payload_bytes),
+      publish_peer_view_(settings.publish_peer_view),
       requests_(ctx.participant, protocol::system::kEchoRequest, echo_qos()),
       replies_(ctx.participant, protocol::system::kEchoReply, echo_qos()),
       directory_(ctx.participant),
       peer_view_(ctx.participant, protocol::system::kPeerView) {
-  ctx.config.finish();
   ctx.loop.on_data(requests_, [this] { on_request(); });
   if (publish_peer_view_) {
     ctx.loop.on_data(directory_.reader(), [this] { on_directory(); });

@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "rigger/base/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 
@@ -11,12 +12,19 @@ namespace rigger::echo {
 /// QoS of the echo topics: reliable keep-last 1, as ddsperf's ping/pong, so the two compare fairly.
 dds::Qos echo_qos();
 
-/// Configuration keys (all optional):
-///   "max_payload_bytes": integer in [0, 16777216], default 1048576 — larger requests are dropped
-///   "publish_peer_view": boolean, default true
+/// The echo service's configuration.
+struct EchoSettings {
+  unsigned max_payload_bytes{};
+  bool publish_peer_view{};
+};
+
+/// The echo service's configuration keys (docs/config-reference.md#echo).
+const SettingsTable<EchoSettings>& echo_settings();
+
 class EchoNode : public dds::Node {
  public:
-  explicit EchoNode(dds::ServiceContext& ctx);
+  explicit EchoNode(dds::ServiceContext& ctx) : EchoNode(ctx, read_settings(ctx.config, echo_settings())) {}
+  EchoNode(dds::ServiceContext& ctx, const EchoSettings& settings);
 
  private:
   void on_request();

@@ -11,13 +11,22 @@ namespace rigger::monitor {
 
 using executor::EventKind;
 
-MonitorHostNode::MonitorHostNode(dds::ServiceContext& ctx)
+SettingsTable<MonitorHostSettings> monitor_host_settings(const std::string& service_id) {
+  using S = MonitorHostSettings;
+  return {
+      setting<S>("max_monitors", 10000u, {1u, 100000u}, &S::max_monitors, "STARTs beyond it fail with `CAPACITY`"),
+      setting<S>("wrench_topic", std::string(protocol::robot::kWrench.name), &S::wrench_topic,
+                 "the topic of the wrench samples the monitors are fed"),
+      setting<S>("executor_id", RuntimeDefault<std::string>{[service_id] { return service_id; }, "--id"},
+                 &S::executor_id, "the executor id the controller addresses; default: the service's id (`--id`)"),
+  };
+}
+
+MonitorHostNode::MonitorHostNode(dds::ServiceContext& ctx, const MonitorHostSettings& settings)
     : ctx_(ctx),
-      max_monitors_(ctx.config.get_in_range<unsigned>("max_monitors", 10000u, 1u, 100000u)),
-      wrench_(ctx.participant, ctx.config.get<std::string>("wrench_topic", protocol::robot::kWrench.name),
-              dds::qos::sensor_stream()) {
-  const std::string executor_id = ctx.config.get<std::string>("executor_id", ctx.options.id);
-  ctx.config.finish();
+      max_monitors_(settings.max_monitors),
+      wrench_(ctx.participant, settings.wrench_topic, dds::qos::sensor_stream()) {
+  const std::string& executor_id = settings.executor_id;
   ctx.loop.on_data(wrench_, [this] { on_wrench(); });
   endpoint_ = std::make_unique<executor::ExecutorEndpoint>(
       ctx.participant, ctx.loop, ctx.log, executor_id, monitor_library_json(),

@@ -7,10 +7,7 @@
 /// SENSOR_STALE), never by polling. The moment it fires, the leaf reports FAILURE with the monitor's
 /// code. SHUTDOWN → STOPPED at once (a monitor holds no device). A monitor never reports SUCCESS.
 ///
-/// Configuration keys (all optional):
-///   "executor_id": string, default the service id — the id the controller addresses
-///   "max_monitors": integer in [1, 100000], default 10000 — STARTs beyond it fail with CAPACITY
-///   "wrench_topic": string, default the topic of protocol::robot::kWrench
+/// Configuration keys: monitor_host_settings() (rigger/monitor_host/settings.hpp).
 
 #include <chrono>
 #include <cstdint>
@@ -24,6 +21,7 @@
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/monitor_host/settings.hpp"
 #include "rigger/protocol/robot.hpp"
 
 namespace rigger::monitor {
@@ -31,7 +29,9 @@ namespace rigger::monitor {
 class MonitorHostNode : public dds::Node {
  public:
   /// @throws ConfigError on bad configuration, DdsError.
-  explicit MonitorHostNode(dds::ServiceContext& ctx);
+  explicit MonitorHostNode(dds::ServiceContext& ctx)
+      : MonitorHostNode(ctx, read_settings(ctx.config, monitor_host_settings(ctx.options.id))) {}
+  MonitorHostNode(dds::ServiceContext& ctx, const MonitorHostSettings& settings);
   ~MonitorHostNode() override;
 
   /// Monitors armed now (for tests and logs).

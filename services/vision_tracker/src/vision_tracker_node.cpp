@@ -10,13 +10,10 @@ namespace rigger::vision {
 
 namespace {
 
-Tracker make_tracker(const Config& config) {
-  const std::filesystem::path cell_file = config_path(config, "cell_file", kDefaultCellFile);
-  const std::string camera_id = config.get<std::string>("camera_id", "camera");
-  const double lost_after_s = config.get_in_range("lost_after_s", 0.5, 0.01, 10.0);
+Tracker make_tracker(const VisionTrackerSettings& settings, const Config& config) {
   try {
-    TrackerConfig tracker_config = tracker_config_from_cell(cell::load_cell_file(cell_file), camera_id);
-    tracker_config.lost_after = from_seconds(lost_after_s);
+    TrackerConfig tracker_config = tracker_config_from_cell(cell::load_cell_file(settings.cell_file), settings.camera_id);
+    tracker_config.lost_after = settings.lost_after;
     return Tracker(std::move(tracker_config));
   } catch (const std::exception& e) {
     throw ConfigError(config.file(), config.pointer() + "/cell_file", e.what());
@@ -42,18 +39,36 @@ const char* to_string(FrameStatus status) {
 
 }  // namespace
 
-VisionTrackerNode::VisionTrackerNode(dds::ServiceContext& ctx)
+const SettingsTable<VisionTrackerSettings>& vision_tracker_settings() {
+  using S = VisionTrackerSettings;
+  static const SettingsTable<S> table{
+      setting<S>("frame_id", "world", &S::frame_id, "frame of the published poses"),
+      path_setting<S>("cell_file", kDefaultCellFile, &S::cell_file,
+                      "the cell file (the camera and the objects' layouts): relative to this file, then to the "
+                      "data folder"),
+      setting<S>("camera_id", "camera", &S::camera_id, "the cell entity holding the camera block"),
+      setting<S>("lost_after_s", 0.5, {0.01, 10.0}, &S::lost_after, "the tracker's lost-tracking age"),
+      setting<S>("once_min_quality", 0.5, {0.0, 1.0}, &S::once_min_quality,
+                 "the quality a pose needs to end a TRACK_ONCE"),
+      setting<S>("once_timeout_s", 2.0, {0.05, 60.0}, &S::once_timeout,
+                 "when an unfinished TRACK_ONCE gives up (publishing tracked=false)"),
+      choice<S>("start_mode", false, {{"idle", false}, {"continuous", true}}, &S::continuous,
+                "what is tracked at start, for every object: nothing, or every image"),
+  };
+  return table;
+}
+
+VisionTrackerNode::VisionTrackerNode(dds::ServiceContext& ctx, const VisionTrackerSettings& settings)
     : ctx_(ctx),
-      frame_id_(ctx.config.get<std::string>("frame_id", "world")),
-      tracker_(make_tracker(ctx.config)),
-      schedule_(object_ids(tracker_.config()), ctx.config.get_in_range("once_min_quality", 0.5, 0.0, 1.0)),
-      once_timeout_(from_seconds(ctx.config.get_in_range("once_timeout_s", 2.0, 0.05, 60.0))),
+      frame_id_(settings.frame_id),
+      tracker_(make_tracker(settings, ctx.config)),
+      schedule_(object_ids(tracker_.config()), settings.once_min_quality),
+      once_timeout_(settings.once_timeout),
       images_(ctx.participant, protocol::vision::kCameraImage),
       commands_(ctx.participant, protocol::vision::kTrackerCommand),
       poses_(ctx.participant, protocol::vision::kTrackerPose) {
-  const bool continuous = ctx.config.get_enum("start_mode", "idle", {"idle", "continuous"}) == "continuous";
+  const bool continuous = settings.continuous;
   if (continuous) schedule_.track_continuous("");
-  ctx.config.finish();
   ctx.loop.on_data(images_, [this] { on_image(); });
   ctx.loop.on_data(commands_, [this] { on_command(); });
   ctx.log->info("tracking {} objects, mode {}", tracker_.config().objects.size(), continuous ? "continuous" : "idle");

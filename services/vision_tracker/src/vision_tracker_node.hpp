@@ -5,8 +5,10 @@
 
 #include <chrono>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 
+#include "rigger/base/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "tracker.hpp"
@@ -14,15 +16,21 @@
 
 namespace rigger::vision {
 
-/// Configuration keys (all optional):
-///   "cell_file": string, default "deploy/cell/simulated_cell.json" — found by the rule of
-///                rigger/base/install.hpp (beside this configuration, then in the data folder)
-///   "camera_id": string, default "camera" — the cell entity holding the camera block
-///   "frame_id": string, default "world" — frame of the published poses
-///   "start_mode": "idle" | "continuous", default "idle" — for every object
-///   "lost_after_s": number in [0.01, 10], default 0.5 — the tracker's lost-tracking age
-///   "once_min_quality": number in [0, 1], default 0.5 — the quality a pose needs to end a TRACK_ONCE
-///   "once_timeout_s": number in [0.05, 60], default 2 — when an unfinished TRACK_ONCE gives up
+/// The vision tracker's configuration (durations in the units of their keys' names).
+struct VisionTrackerSettings {
+  std::filesystem::path cell_file;
+  std::string camera_id;  ///< the cell entity holding the camera block
+  std::string frame_id;   ///< frame of the published poses
+  bool continuous{};      ///< start_mode: track every object from the start
+  std::chrono::nanoseconds lost_after{};
+  double once_min_quality{};
+  std::chrono::nanoseconds once_timeout{};
+};
+
+/// The vision tracker's configuration keys (docs/config-reference.md#vision_tracker).
+const SettingsTable<VisionTrackerSettings>& vision_tracker_settings();
+
+/// The node reads vision_tracker_settings() from its configuration.
 /// @throws ConfigError for a bad key or an unreadable cell file (exit 2).
 ///
 /// Commands (rigger/tracker/command), per object_id ("" = every object):
@@ -35,7 +43,9 @@ namespace rigger::vision {
 /// While no object is tracked, images are not looked at.
 class VisionTrackerNode : public dds::Node {
  public:
-  explicit VisionTrackerNode(dds::ServiceContext& ctx);
+  explicit VisionTrackerNode(dds::ServiceContext& ctx)
+      : VisionTrackerNode(ctx, read_settings(ctx.config, vision_tracker_settings())) {}
+  VisionTrackerNode(dds::ServiceContext& ctx, const VisionTrackerSettings& settings);
 
   /// What is tracked, per object. Loop thread.
   const TrackingSchedule& schedule() const { return schedule_; }

@@ -60,15 +60,22 @@ std::optional<WorldDatabase> open_database(const WorldModelSettings& settings, W
 
 }  // namespace
 
-WorldModelSettings read_settings(const Config& config) {
-  WorldModelSettings s;
-  s.cell_config = config_path(config, "cell_config", kDefaultCellFile).string();
-  s.database = config.get<std::string>("database", s.database);
-  s.max_change_log_rows = config.get_in_range<unsigned>("max_change_log_rows", 100000u, 100u, 10000000u);
-  s.follow_tracker = config.get<bool>("follow_tracker", s.follow_tracker);
-  config.finish();
-  return s;
+const SettingsTable<WorldModelSettings>& world_model_settings() {
+  using S = WorldModelSettings;
+  static const SettingsTable<S> table{
+      path_setting<S>("cell_config", kDefaultCellFile, &S::cell_config,
+                      "the cell file: relative to this file, then to the data folder; `--cell` takes its place"),
+      setting<S>("database", kDefaultDatabase, &S::database,
+                 "the SQLite state file (its folder is created); `\"\"` keeps no state across restarts; `--db` "
+                 "takes its place"),
+      setting<S>("max_change_log_rows", 100000u, {100u, 10000000u}, &S::max_change_log_rows,
+                 "change-log rows kept, pruned every 256 saves; the latest states are always kept"),
+      setting<S>("follow_tracker", true, &S::follow_tracker, "apply `rigger/tracker/pose` samples as updates"),
+  };
+  return table;
 }
+
+WorldModelSettings read_settings(const Config& config) { return rigger::read_settings(config, world_model_settings()); }
 
 WorldModelNode::WorldModelNode(dds::ServiceContext& ctx, const WorldModelSettings& settings)
     : ctx_(ctx),

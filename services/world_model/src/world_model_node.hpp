@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 
+#include "rigger/base/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "wire_decoding.hpp"
@@ -24,18 +25,17 @@ namespace rigger::world {
 /// The default database file.
 inline constexpr const char* kDefaultDatabase = "/tmp/rigger/world_model.sqlite";
 
-/// Settings of the node, from the --config file (keys below) and the command line (which wins).
+/// Settings of the node, from the --config file (the keys of world_model_settings()) and the command
+/// line (which wins: --cell is taken as it is given).
 struct WorldModelSettings {
-  /// "cell_config": the cell file, found by the rule of rigger/base/install.hpp (default
-  /// kDefaultCellFile in the data folder); --cell on the command line is taken as it is given.
-  std::string cell_config;
-  /// "database": the SQLite file (its folder is created); "" keeps no state across restarts.
-  std::string database = kDefaultDatabase;
-  /// "max_change_log_rows": integer in [100, 10000000], default 100000.
-  std::size_t max_change_log_rows = 100000;
-  /// "follow_tracker": apply `rigger/tracker/pose` samples as updates (default true).
-  bool follow_tracker = true;
+  std::string cell_config;  ///< the cell file
+  std::string database;     ///< the SQLite file (its folder is created); "" keeps no state across restarts
+  std::size_t max_change_log_rows{};
+  bool follow_tracker{};  ///< apply `rigger/tracker/pose` samples as updates
 };
+
+/// The world model's configuration keys: type, default, range and meaning of each.
+const SettingsTable<WorldModelSettings>& world_model_settings();
 
 /// Reads the settings from `config` (and calls config.finish()). @throws ConfigError.
 WorldModelSettings read_settings(const Config& config);

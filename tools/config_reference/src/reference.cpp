@@ -1,0 +1,58 @@
+#include "reference.hpp"
+
+#include <vector>
+
+#include "cad_node.hpp"
+#include "controller_settings.hpp"
+#include "echo_node.hpp"
+#include "rigger/base/settings.hpp"
+#include "rigger/monitor_host/settings.hpp"
+#include "vision_tracker_node.hpp"
+#include "world_model_node.hpp"
+
+namespace rigger::config_reference {
+namespace {
+
+struct Section {
+  std::string service;  ///< the folder under services/, and the section's anchor
+  std::string about;    ///< one sentence: what the service is, and its shipped configuration file
+  std::vector<SettingInfo> settings;
+};
+
+std::vector<Section> sections() {
+  return {
+      {"task_controller",
+       "Takes recipes, validates them and runs them as behaviour trees "
+       "([behavior-tree.md](behavior-tree.md#the-controllers-configuration-deployconfigtask_controllerjson)).",
+       describe(task_controller::controller_settings())},
+      {"world_model", "The authoritative store of the cell's entities ([world-model.md](world-model.md)).",
+       describe(world::world_model_settings())},
+      {"monitor_host", "The executor of the monitors ([skills.md](skills.md)).",
+       describe(monitor::monitor_host_settings("<id>"))},
+      {"cad", "Answers questions about the STEP models of the cell ([cad.md](cad.md)).",
+       describe(cad_service::cad_settings())},
+      {"vision_tracker", "Camera images in, object poses out.", describe(vision::vision_tracker_settings())},
+      {"echo", "Answers echo requests (the latency benchmarks' peer) and publishes the peers it sees.",
+       describe(echo::echo_settings())},
+  };
+}
+
+}  // namespace
+
+std::string reference_markdown() {
+  std::string out =
+      "# Configuration reference\n\n"
+      "<!-- Generated from the services' settings tables by tools/update-config-reference; do not edit. -->\n\n"
+      "The keys of each service's JSON configuration file (`--config`; the shipped ones are in "
+      "`deploy/config/`). Every key is optional: an absent key takes its default. A key of the wrong type, "
+      "out of its range (inclusive) or unknown stops the service at start (exit 2), naming the file, the "
+      "key's JSON pointer and what was expected. Units are in the keys' names (`_s`, `_ms`, `_mm`, `_hz`…). "
+      "Each service declares its keys once, in a table of `rigger/base/settings.hpp` descriptors that both "
+      "reads the file and writes this page; a unit test fails while the page is stale.\n";
+  for (const auto& section : sections()) {
+    out += "\n## " + section.service + "\n\n" + section.about + "\n\n" + settings_markdown(section.settings);
+  }
+  return out;
+}
+
+}  // namespace rigger::config_reference
