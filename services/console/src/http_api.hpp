@@ -27,6 +27,8 @@
 
 namespace httplib {
 class Server;
+struct Request;
+struct Response;
 }
 
 namespace rigger::console {
@@ -114,9 +116,48 @@ class HttpApi {
     std::string payload;  ///< the recipe text for publish
     std::chrono::steady_clock::time_point deadline;
   };
+  // The routes: routes() registers the table of method + path -> handler (http_api.cpp); each handler
+  // is one member function, grouped by area in http_read_routes.cpp, http_planner_routes.cpp and
+  // http_command_routes.cpp.
+  using Handler = void (HttpApi::*)(const httplib::Request&, httplib::Response&);
   void routes();
   void audit(const User& user, const std::string& action, const std::string& target, const std::string& result);
   std::string new_confirmation(Pending p);
+  // Who is asking, and may they? Sends 401/403 and returns nullopt when not. Only the event streams
+  // take the token from the query (?token=) or the rigger_token cookie: EventSource cannot set headers.
+  std::optional<User> who(const httplib::Request& req, httplib::Response& res, Role needed, bool stream = false);
+  // The request body as a JSON object, parsed within bounds; sends 400 and returns nullopt otherwise.
+  std::optional<nlohmann::json> body(const httplib::Request& req, httplib::Response& res);
+
+  // Reads.
+  void get_me(const httplib::Request& req, httplib::Response& res);
+  void get_state(const httplib::Request& req, httplib::Response& res);
+  void get_events(const httplib::Request& req, httplib::Response& res);
+  void get_plots_stream(const httplib::Request& req, httplib::Response& res);
+  void get_plots(const httplib::Request& req, httplib::Response& res);
+  void get_journal(const httplib::Request& req, httplib::Response& res);
+  void get_world_entity(const httplib::Request& req, httplib::Response& res);
+  void get_cad_model(const httplib::Request& req, httplib::Response& res);
+  void get_cad_features(const httplib::Request& req, httplib::Response& res);
+  void get_cad_parts(const httplib::Request& req, httplib::Response& res);
+  void cad_read(const httplib::Request& req, httplib::Response& res, const char* kind, const char* what);
+  void get_skills(const httplib::Request& req, httplib::Response& res);
+  // The planner and the rehearsal cell.
+  void post_planner_validate(const httplib::Request& req, httplib::Response& res);
+  void post_planner_screws(const httplib::Request& req, httplib::Response& res);
+  void post_planner_frame(const httplib::Request& req, httplib::Response& res);
+  void get_rehearsal_state(const httplib::Request& req, httplib::Response& res);
+  void get_rehearsal_events(const httplib::Request& req, httplib::Response& res);
+  void post_planner_rehearse(const httplib::Request& req, httplib::Response& res);
+  // Commands.
+  void post_recipe(const httplib::Request& req, httplib::Response& res);
+  void post_task_resume(const httplib::Request& req, httplib::Response& res);
+  void post_confirm(const httplib::Request& req, httplib::Response& res);
+  void post_task_cancel(const httplib::Request& req, httplib::Response& res);
+  void post_task_pause(const httplib::Request& req, httplib::Response& res);
+  void post_task_stop(const httplib::Request& req, httplib::Response& res);
+  void task_command(const httplib::Request& req, httplib::Response& res, const std::string& kind, Role needed);
+  void post_prompt_answer(const httplib::Request& req, httplib::Response& res);
 
   HttpConfig config_;
   Users users_;

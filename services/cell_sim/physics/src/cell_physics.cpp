@@ -2,14 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
-#include <sstream>
 #include <vector>
 
-#include "arm_controller.hpp"
-#include "arm_kinematics.hpp"
+#include "cell_physics_impl.hpp"
 #include "rigger/base/install.hpp"
-#include "cell_model.hpp"
 #include "rigger/sim/iiwa14.hpp"
 #include "rigger/sim/pose_math.hpp"
 
@@ -17,21 +13,6 @@ namespace rigger::sim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// Joint servo bandwidth (rad/s) and damping ratio: computed torque with the model's mass matrix,
-// as stiff as a position-controlled industrial arm.
-constexpr double kServoBandwidthRadPerS = 80.0;
-constexpr double kServoDampingRatio = 1.0;
-// The joints whose velocity feedback carries the held payload's reflected inertia (A1 to A5; see
-// add_payload_inertia). A6 and A7, whose axes pass next to the magnet, keep the arm's own: damped for the
-// payload, they held the tool's orientation against the load so stiffly that a slow pull off the face
-// peeled the grip at 54-70 % of its rating (GripperPhysics' WeakGrasp tests; 87-99 % without).
-constexpr int kPayloadDampedJoints = 5;
-// That damping blends in over this time after the magnet grips (s), as a controller given new load data
-// would. Switched on at once, it met a load still swinging on its rope with the full damping: the slip
-// scenario's retry then failed once on the grip's yank at the wrist (2,093 N/s against the yank monitor's
-// 2,000 N/s; the grip alone is ~1,000 N/s). Blended in, that scenario passed twice.
-constexpr double kPayloadDampingBlendS = 0.5;
 
 // Hoist load cell: low-pass time constant (s).
 constexpr double kLoadCellTimeConstantS = 0.5;
@@ -50,29 +31,6 @@ constexpr const char* kWarningNames[mjNWARNING] = {"near-singular inertia",
                                                    "bad qvel",
                                                    "bad qacc (state reset)",
                                                    "bad ctrl"};
-
-Eigen::Vector3d vec3(const mjtNum* values) { return {values[0], values[1], values[2]}; }
-
-void add_wrench_at(mjData& data, int body, const Eigen::Vector3d& force,
-                   const Eigen::Vector3d& torque, const Eigen::Vector3d& point_world) {
-  // xfrc_applied is (force, torque) at the body's centre of mass, world frame.
-  const Eigen::Vector3d lever = point_world - vec3(data.xipos + 3 * body);
-  const Eigen::Vector3d total_torque = torque + lever.cross(force);
-  for (int i = 0; i < 3; ++i) {
-    data.xfrc_applied[6 * body + i] += force[i];
-    data.xfrc_applied[6 * body + 3 + i] += total_torque[i];
-  }
-}
-
-// Linear and angular velocity of a body at a world point.
-void body_point_velocity(const mjModel& model, const mjData& data, int body,
-                         const Eigen::Vector3d& point_world, Eigen::Vector3d& linear,
-                         Eigen::Vector3d& angular) {
-  mjtNum velocity[6];
-  mj_objectVelocity(&model, &data, mjOBJ_BODY, body, velocity, 0);
-  angular = vec3(velocity);
-  linear = vec3(velocity + 3) + angular.cross(point_world - vec3(data.xpos + 3 * body));
-}
 
 ArmLimits make_arm_limits(double margin_rad) {
   ArmLimits limits;
@@ -94,77 +52,6 @@ JointVector ready_joint_positions() {
   // A2 + A4 (about -y) + A6 add up to 90 deg: the flange points along +x, tool x down.
   return (JointVector() << 0.0, 0.393, 0.0, -1.986, 0.0, -0.808, 0.0).finished();
 }
-
-struct CellPhysics::Impl {
-  Impl(const CellGeometry& cell_geometry, const CellPhysicsOptions& physics_options);
-
-  void substep();
-  void control_crane(double dt_s);
-  void control_arm(double dt_s);
-  JointVector add_payload_inertia(const JointVector& joint_acceleration);
-  void control_gripper(double dt_s);
-  void record_wrench();
-  int aligned_face_contact() const;
-  MagnetSpring magnet_spring_for(int body) const;
-  JointVector joint_positions() const;
-  JointVector joint_velocities() const;
-  Eigen::Isometry3d site_pose_world(int site) const;
-  Eigen::Isometry3d body_pose_world(int body) const;
-  double now_s() const { return static_cast<double>(steps) * timestep_s; }
-  void run_steps(std::uint64_t count);
-
-  CellGeometry cell;
-  CellPhysicsOptions options;
-  detail::ModelPtr model;
-  detail::DataPtr data;
-  detail::CellModelIndex index;
-  ArmLimits arm_limits;
-  std::unique_ptr<detail::ArmKinematics> kinematics;
-  std::unique_ptr<detail::ArmController> arm;
-  Eigen::Isometry3d pose_world_base = Eigen::Isometry3d::Identity();
-
-  double timestep_s = 0.001;
-  std::chrono::nanoseconds timestep_ns{1000000};
-  std::uint64_t steps = 0;
-  Clock::duration wall_stepping{0};
-
-  // Crane.
-  TravelDrive bridge;
-  TravelDrive trolley;
-  HoistDrum drum;
-  bool crane_frozen = false;
-  Eigen::Vector3d crane_setpoint_mps = Eigen::Vector3d::Zero();
-  double rope_tension = 0.0;
-  double load_mass_estimate = 0.0;
-  double hook_mass_kg = 0.0;
-
-  // Arm servo.
-  JointVector joint_torque = JointVector::Zero();
-  JointVector joint_model_damping = JointVector::Zero();  // the model's own joint damping (N m s/rad)
-  std::vector<mjtNum> servo_acceleration;
-  std::vector<mjtNum> servo_force;
-  std::vector<mjtNum> payload_jacp;  // 3 x nv, row major: the gripper's Jacobian at the payload's centre of mass
-  std::vector<mjtNum> payload_jacr;
-
-  // Gripper.
-  MagnetGripLogic magnet;
-  MagnetCapacity capacity;
-  bool holding = false;
-  bool face_in_contact = false;
-  int held_body = -1;  // the load's or the part's body while holding
-  double held_s = 0.0;  // how long the magnet has held it
-  double utilisation = 0.0;
-  Eigen::Vector3d anchor_load = Eigen::Vector3d::Zero();  // load frame
-  Eigen::Matrix3d rotation_tool_load = Eigen::Matrix3d::Identity();
-
-  Eigen::Vector3d load_force_world = Eigen::Vector3d::Zero();
-
-  // Wrist sensor.
-  Wrench wrench_raw;
-  Wrench wrench_external;
-  std::mt19937_64 noise_engine;
-  std::normal_distribution<double> unit_normal{0.0, 1.0};
-};
 
 CellPhysics::Impl::Impl(const CellGeometry& cell_geometry,
                         const CellPhysicsOptions& physics_options)
@@ -327,240 +214,6 @@ void CellPhysics::Impl::control_crane(double dt_s) {
   const double measured_mass = gravity > 0.0 ? rope_tension / gravity - hook_mass_kg : 0.0;
   load_mass_estimate +=
       std::min(1.0, dt_s / kLoadCellTimeConstantS) * (measured_mass - load_mass_estimate);
-}
-
-void CellPhysics::Impl::control_arm(double dt_s) {
-  const JointVector q = joint_positions();
-  const JointVector qd = joint_velocities();
-  const Eigen::Isometry3d measured_pose_base_tool =
-      pose_world_base.inverse() * site_pose_world(index.tool_site);
-  arm->update(now_s(), dt_s, q, measured_pose_base_tool);
-
-  // Computed-torque joint servo: M (qdd_ref + Kd e_dot + Kp e) + bias, with the friction the
-  // model has compensated, clipped to the motors' torque limits.
-  const double kp = kServoBandwidthRadPerS * kServoBandwidthRadPerS;
-  const double kd = 2.0 * kServoDampingRatio * kServoBandwidthRadPerS;
-  const JointVector accel = arm->reference_acceleration() + kd * (arm->reference_velocity() - qd) +
-                            kp * (arm->reference_position() - q);
-  std::fill(servo_acceleration.begin(), servo_acceleration.end(), 0.0);
-  for (int j = 0; j < kArmJointCount; ++j) {
-    servo_acceleration[static_cast<std::size_t>(index.arm[static_cast<std::size_t>(j)].dof)] =
-        accel[j];
-  }
-  mj_mulM(model.get(), data.get(), servo_force.data(), servo_acceleration.data());
-  const JointVector payload_inertia = holding && held_body >= 0
-                                          ? add_payload_inertia(arm->reference_acceleration())
-                                          : JointVector::Zero();
-  const JointVector qd_ref = arm->reference_velocity();
-  held_s = holding ? held_s + dt_s : 0.0;
-  for (int j = 0; j < kArmJointCount; ++j) {
-    const int dof = index.arm[static_cast<std::size_t>(j)].dof;
-    // The payload's share of the drive's velocity feedback (see add_payload_inertia): c (q̇_ref - q̇), part of
-    // the motor torque and clipped with it. Its -c q̇ is also the model's joint damping, so that the Euler
-    // step integrates it implicitly (at the next step's velocity): stable however heavy the payload. The
-    // passive force mj_step1 computed with the previous step's c is cancelled through qfrc_applied (it is
-    // accounted for in the torque); the model's own passive forces are compensated as before.
-    const double previous_damping = model->dof_damping[dof] - joint_model_damping[j];
-    const double payload_damping =
-        j < kPayloadDampedJoints ? std::min(1.0, held_s / kPayloadDampingBlendS) * kd * payload_inertia[j] : 0.0;
-    const double model_passive = data->qfrc_passive[dof] + previous_damping * qd[j];
-    const double torque = servo_force[static_cast<std::size_t>(dof)] + data->qfrc_bias[dof] - model_passive +
-                          payload_damping * (qd_ref[j] - qd[j]);
-    joint_torque[j] = std::clamp(torque, -arm_limits.torque_max_nm[j], arm_limits.torque_max_nm[j]);
-    data->ctrl[index.arm_actuator[static_cast<std::size_t>(j)]] = joint_torque[j];
-    data->qfrc_applied[dof] = previous_damping * qd[j];
-    model->dof_damping[dof] = joint_model_damping[j] + payload_damping;
-  }
-}
-
-// A robot controller's dynamic model includes the payload its load data describe. Without it the servo's
-// computed torque is sized for the arm alone: decelerating a 40 kg load, the arm fell behind its reference and
-// the load then swayed against the wrist at ~2 Hz, barely damped (19 mm/s at the tool, still 2 mm/s 1.5 s
-// later: GripperPhysics.AHeldLoadStopsWithTheArm). So while the magnet holds a body, the torque that the
-// reference's acceleration needs to move that body rigidly with the gripper is fed forward:
-// τ = Jpᵀ m Jp q̈_ref + Jrᵀ I Jr q̈_ref, with Jp, Jr the gripper's Jacobian at the body's centre of mass (the
-// sway then starts at ~3.5 mm/s). The feedback gains stay the arm's own: scaled up for the payload, the arm
-// side of the magnet's spring-damper went unstable at the 1 ms step (the grip chattered and let go). The
-// body's weight is not fed forward: the crane's rope carries the load, and a controller that compensated it
-// would push the load up the rope. Returns the payload's inertia reflected to each joint, for the payload's
-// share of the velocity feedback (control_arm): kd times it, as joint damping relative to the reference that
-// the Euler step integrates implicitly, so that it damps the sway that is left (a held-load stop settles
-// below 1 mm/s 136 ms after the twist reached zero instead of 724 ms) without the instability of explicit
-// gains; the stiffness stays the arm's own.
-JointVector CellPhysics::Impl::add_payload_inertia(const JointVector& joint_acceleration) {
-  const int nv = model->nv;
-  mj_jac(model.get(), data.get(), payload_jacp.data(), payload_jacr.data(), data->xipos + 3 * held_body,
-         index.gripper_body);
-  Eigen::Vector3d linear = Eigen::Vector3d::Zero();
-  Eigen::Vector3d angular = Eigen::Vector3d::Zero();
-  for (int j = 0; j < kArmJointCount; ++j) {
-    const int dof = index.arm[static_cast<std::size_t>(j)].dof;
-    const double qdd = joint_acceleration[j];
-    for (int r = 0; r < 3; ++r) {
-      linear[r] += payload_jacp[static_cast<std::size_t>(r * nv + dof)] * qdd;
-      angular[r] += payload_jacr[static_cast<std::size_t>(r * nv + dof)] * qdd;
-    }
-  }
-  const Eigen::Map<const Eigen::Matrix<mjtNum, 3, 3, Eigen::RowMajor>> rotation(data->ximat + 9 * held_body);
-  const Eigen::Matrix3d inertia_world =
-      rotation * vec3(model->body_inertia + 3 * held_body).asDiagonal() * rotation.transpose();
-  const Eigen::Vector3d force = model->body_mass[held_body] * linear;
-  const Eigen::Vector3d torque = inertia_world * angular;
-  for (int j = 0; j < kArmJointCount; ++j) {
-    const int dof = index.arm[static_cast<std::size_t>(j)].dof;
-    double extra = 0.0;
-    for (int r = 0; r < 3; ++r) {
-      extra += payload_jacp[static_cast<std::size_t>(r * nv + dof)] * force[r] +
-               payload_jacr[static_cast<std::size_t>(r * nv + dof)] * torque[r];
-    }
-    servo_force[static_cast<std::size_t>(dof)] += extra;
-  }
-  // The payload's inertia reflected to each joint alone (the diagonal of Jpᵀ m Jp + Jrᵀ I Jr).
-  JointVector reflected = JointVector::Zero();
-  for (int j = 0; j < kArmJointCount; ++j) {
-    const int dof = index.arm[static_cast<std::size_t>(j)].dof;
-    Eigen::Vector3d jp;
-    Eigen::Vector3d jr;
-    for (int r = 0; r < 3; ++r) {
-      jp[r] = payload_jacp[static_cast<std::size_t>(r * nv + dof)];
-      jr[r] = payload_jacr[static_cast<std::size_t>(r * nv + dof)];
-    }
-    reflected[j] = model->body_mass[held_body] * jp.squaredNorm() + jr.dot(inertia_world * jr);
-  }
-  return reflected;
-}
-
-// The magnet's spring-damper for the body it holds. Its forces are applied explicitly (xfrc_applied), and an
-// explicit spring-damper on a light body is stable at the step only while c·dt/m and k·dt²/m stay small (the
-// arm's servo on the other side makes it worse: held 1.5 mm across the air gap, a 3 kg part oscillated against
-// the tool at half the step rate with c·dt/m = 0.5): the gains are capped for the body's mass and smallest
-// principal inertia (c ≤ 0.1 m/dt, k ≤ 0.25 m/dt²). The 40 kg load is far below the caps (it keeps the
-// configured gains); a 3 kg part's damping is capped.
-MagnetSpring CellPhysics::Impl::magnet_spring_for(int body) const {
-  MagnetSpring params = options.magnet_spring;
-  if (body < 0) return params;
-  const double mass = model->body_mass[body];
-  const double inertia =
-      std::min({model->body_inertia[3 * body], model->body_inertia[3 * body + 1], model->body_inertia[3 * body + 2]});
-  const double dt = timestep_s;
-  params.damping_n_s_per_m = std::min(params.damping_n_s_per_m, 0.1 * mass / dt);
-  params.stiffness_n_per_m = std::min(params.stiffness_n_per_m, 0.25 * mass / (dt * dt));
-  params.rotational_damping_nm_s_per_rad = std::min(params.rotational_damping_nm_s_per_rad, 0.1 * inertia / dt);
-  params.rotational_stiffness_nm_per_rad = std::min(params.rotational_stiffness_nm_per_rad, 0.25 * inertia / (dt * dt));
-  return params;
-}
-
-// The body (the load's or the part's) whose box the magnet face touches flat, or -1.
-int CellPhysics::Impl::aligned_face_contact() const {
-  const Eigen::Vector3d tool_z = site_pose_world(index.tool_site).linear().col(2);
-  const double min_cosine = std::cos(options.magnet_spring.max_contact_angle_rad);
-  for (int i = 0; i < data->ncon; ++i) {
-    const mjContact& contact = data->contact[i];
-    int other = -1;
-    if (contact.geom1 == index.gripper_face_geom) other = contact.geom2;
-    if (contact.geom2 == index.gripper_face_geom) other = contact.geom1;
-    if ((other == index.load_geom || other == index.part_geom) &&
-        std::abs(tool_z.dot(vec3(contact.frame))) >= min_cosine) {
-      return model->geom_bodyid[other];
-    }
-  }
-  return -1;
-}
-
-void CellPhysics::Impl::control_gripper(double dt_s) {
-  const int touched_body = aligned_face_contact();
-  face_in_contact = touched_body >= 0;
-  const Eigen::Isometry3d tool = site_pose_world(index.tool_site);
-  // What the magnet holds (or is about to grip): the load or the part.
-  const int grip_body = holding ? held_body : touched_body;
-  const Eigen::Isometry3d load = grip_body >= 0 ? body_pose_world(grip_body) : Eigen::Isometry3d::Identity();
-
-  // The magnet as a stiff spring-damper between the face centre and the load point that touched
-  // it, holding the relative orientation of the moment of grasp.
-  Eigen::Vector3d force_on_load = Eigen::Vector3d::Zero();
-  Eigen::Vector3d torque_on_load = Eigen::Vector3d::Zero();
-  Eigen::Vector3d load_point = tool.translation();
-  const auto spring = [&]() {
-    const MagnetSpring params = magnet_spring_for(grip_body);
-    load_point = load * anchor_load;
-    Eigen::Vector3d load_velocity;
-    Eigen::Vector3d load_angular;
-    Eigen::Vector3d gripper_velocity;
-    Eigen::Vector3d gripper_angular;
-    body_point_velocity(*model, *data, grip_body, load_point, load_velocity, load_angular);
-    body_point_velocity(*model, *data, index.gripper_body, tool.translation(), gripper_velocity,
-                        gripper_angular);
-    force_on_load = -params.stiffness_n_per_m * (load_point - tool.translation()) -
-                    params.damping_n_s_per_m * (load_velocity - gripper_velocity);
-    const Eigen::Matrix3d load_wanted = tool.linear() * rotation_tool_load;
-    torque_on_load =
-        -params.rotational_stiffness_nm_per_rad * rotation_error(load.linear(), load_wanted) -
-        params.rotational_damping_nm_s_per_rad * (load_angular - gripper_angular);
-  };
-
-  double current_utilisation = 0.0;
-  if (holding) {
-    spring();
-    const Eigen::Matrix3d to_tool = tool.linear().transpose();
-    current_utilisation =
-        magnet_utilisation(to_tool * force_on_load, to_tool * torque_on_load, capacity);
-  }
-  switch (magnet.update(face_in_contact, current_utilisation, dt_s)) {
-    case GripAction::Attach:
-      holding = true;
-      held_body = grip_body;
-      anchor_load = load.inverse() * tool.translation();
-      rotation_tool_load = tool.linear().transpose() * load.linear();
-      spring();
-      break;
-    case GripAction::Release:
-      holding = false;
-      held_body = -1;
-      break;
-    case GripAction::None:
-      break;
-  }
-  utilisation = holding ? magnet.filtered_utilisation() : 0.0;
-  if (holding) {
-    // Equal and opposite, at the same point, so momentum is conserved.
-    add_wrench_at(*data, held_body, force_on_load, torque_on_load, load_point);
-    add_wrench_at(*data, index.gripper_body, -force_on_load, -torque_on_load, load_point);
-  }
-}
-
-void CellPhysics::Impl::record_wrench() {
-  // MuJoCo's force/torque sensors: what the flange exerts on the gripper, in the sensor frame,
-  // torque about the sensor origin.  The gripper side exerts the opposite on the flange.
-  const Eigen::Vector3d force = -vec3(data->sensordata + index.ft_force_address);
-  const Eigen::Vector3d torque_sensor = -vec3(data->sensordata + index.ft_torque_address);
-  // Tool frame: same axes as the sensor (both sites are unrotated on the gripper body).
-  const Eigen::Vector3d tool_offset = vec3(model->site_pos + 3 * index.tool_site);
-  Wrench raw;
-  raw.force_n = force;
-  raw.torque_nm = torque_sensor - tool_offset.cross(force);
-
-  // Static weight of the gripper, as a controller's tool-load data would predict it.
-  const Eigen::Matrix3d rotation_world_sensor = site_pose_world(index.ft_site).linear();
-  const double gripper_mass = model->body_mass[index.gripper_body];
-  const Eigen::Vector3d weight_sensor =
-      rotation_world_sensor.transpose() * (gripper_mass * vec3(model->opt.gravity));
-  const Eigen::Vector3d com_sensor = vec3(model->body_ipos + 3 * index.gripper_body);
-  Wrench weight;
-  weight.force_n = weight_sensor;
-  weight.torque_nm = (com_sensor - tool_offset).cross(weight_sensor);
-
-  const WrenchNoise& noise = options.wrench_noise;
-  for (int i = 0; i < 3; ++i) {
-    if (noise.force_stddev_n > 0.0) {
-      raw.force_n[i] += noise.force_stddev_n * unit_normal(noise_engine);
-    }
-    if (noise.torque_stddev_nm > 0.0) {
-      raw.torque_nm[i] += noise.torque_stddev_nm * unit_normal(noise_engine);
-    }
-  }
-  wrench_raw = raw;
-  wrench_external.force_n = raw.force_n - weight.force_n;
-  wrench_external.torque_nm = raw.torque_nm - weight.torque_nm;
 }
 
 // ---- CellPhysics ---------------------------------------------------------------------------

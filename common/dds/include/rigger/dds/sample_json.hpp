@@ -37,7 +37,7 @@ struct FormatLimits {
                                    ///< at the top level, the text form a closing "… (cut at N bytes)" line
 };
 
-struct TypeNode;  // the compiled type, private to sample_json.cpp
+struct TypeNode;  // the compiled type, private to src/sample_type.hpp
 
 /// The compiled layout and names of one type. Immutable after construction: thread-safe to share.
 class SampleFormat {

@@ -1,0 +1,126 @@
+// The console's planner routes (validation, screws and frames from CAD picks) and the rehearsal cell's:
+// the simulated cell on a domain of its own, where a recipe runs first.
+#include <string>
+
+#include <httplib.h>
+
+#include "http_api.hpp"
+#include "http_replies.hpp"
+
+namespace rigger::console {
+
+using nlohmann::json;
+
+namespace {
+
+/// The CAD service did not answer a planner request: a refusal of the picks (a CAD_ code: stale, not a
+/// hole, not perpendicular, off the face) is the request's fault (400, at `picks` in the body); no
+/// answer is the cell's (503).
+void send_cad_refusal(httplib::Response& res, const httplib::Request& req, const std::string& message,
+                      const std::string& picks) {
+  const bool refused = message.rfind("CAD_", 0) == 0;
+  send_error(res, refused ? 400 : 503, "the CAD service: " + message, req.path + (refused ? picks : ""));
+}
+
+void no_rehearsal(const httplib::Request& req, httplib::Response& res) {
+  send_error(res, 409,
+             "no rehearsal domain is configured: set rehearsal_domain in the console's configuration and run the "
+             "simulated cell on that domain (docs/console.md, \"Rehearsal\")",
+             req.path);
+}
+
+}  // namespace
+
+// Validation by the controller's own validator against the live library; the answer is 200 either way
+// (ok and errors by JSON pointer), 400 only for a body that is not a recipe at all.
+void HttpApi::post_planner_validate(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kProgrammer)) return;
+  send_json(res, validate_recipe(skills_.library(), req.body));
+}
+
+// The screw list of picked holes: derived by the CAD service, matched to the world model's screw holes.
+void HttpApi::post_planner_screws(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kProgrammer)) return;
+  auto b = body(req, res);
+  if (!b) return;
+  try {
+    const ScrewRequest request = parse_screw_request(*b);
+    const auto derived =
+        backend_.cad("derive", request.model, json{{"parameter", "screw_list"}, {"holes", request.holes}}.dump());
+    if (!derived.ok) return send_cad_refusal(res, req, derived.message, "#/holes");
+    const auto entity = backend_.world_entity(request.entity);
+    if (!entity.ok) return send_error(res, 503, "the world model: " + entity.message, req.path);
+    send_json(res, screws_with_features(request, derived.data.value("model_sha256", ""),
+                                        derived.data.value("result", json::object()), entity.data));
+  } catch (const PlannerError& e) {
+    send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
+  }
+}
+
+// A pose parameter from picks: the CAD service's frame rule, as a pose in the part's frame.
+void HttpApi::post_planner_frame(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kProgrammer)) return;
+  auto b = body(req, res);
+  if (!b) return;
+  try {
+    const FrameRequest request = parse_frame_request(*b);
+    const auto framed = backend_.cad("frame", request.model, request.args.dump());
+    if (!framed.ok) return send_cad_refusal(res, req, framed.message, "");
+    const json result = framed.data.value("result", json::object());
+    send_json(res, {{"model", request.model}, {"model_sha256", framed.data.value("model_sha256", "")},
+                    {"args", request.args}, {"frame", result.value("frame", json())},
+                    {"pose", pose_from_cad_frame(result, request.entity)}});
+  } catch (const PlannerError& e) {
+    send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
+  }
+}
+
+// Its state and stream are /api/state's and /api/events' of that domain, kept apart from the cell's.
+void HttpApi::get_rehearsal_state(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kViewer)) return;
+  if (!rehearsal_) return no_rehearsal(req, res);
+  json snapshot = rehearsal_->state.snapshot(req.has_param("task") ? req.get_param_value("task") : "");
+  snapshot["domain"] = rehearsal_->domain_id;
+  send_json(res, snapshot);
+}
+
+void HttpApi::get_rehearsal_events(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kViewer, true)) return;
+  if (!rehearsal_) return no_rehearsal(req, res);
+  stream_events(rehearsal_->events, req, res, rehearsal_->events.last_seq());
+}
+
+// Nothing real moves in a rehearsal, so it is one step (no confirmation), but journaled like a publish.
+void HttpApi::post_planner_rehearse(const httplib::Request& req, httplib::Response& res) {
+  auto user = who(req, res, Role::kProgrammer);
+  if (!user) return;
+  if (!rehearsal_) {
+    audit(*user, "rehearse", "", "refused: no rehearsal domain configured");
+    return no_rehearsal(req, res);
+  }
+  auto recipe = body(req, res);
+  if (!recipe) return;
+  const std::string task_id = text_field(*recipe, "task_id");
+  if (task_id.empty())
+    return send_error(res, 400, "the recipe needs a non-empty string task_id", req.path + "#/task_id");
+  const std::string domain = std::to_string(rehearsal_->domain_id);
+  const auto refuse = [&](int status, const std::string& why, json errors = json::array()) {
+    audit(*user, "rehearse", task_id, "refused: " + why);
+    json answer = {{"error", why}, {"where", req.path}, {"domain", rehearsal_->domain_id}};
+    if (!errors.empty()) answer["errors"] = std::move(errors);
+    send_json(res, answer, status);
+  };
+  if (!rehearsal_->state.task(task_id).is_null())
+    return refuse(409, "task " + task_id + " already ran on the rehearsal domain " + domain +
+                           " and a controller takes a task id once: rehearse under a new task id");
+  // The rehearsal controller's own verdict (its validator, against the library its executors announce).
+  const auto r = backend_.rehearse(task_id, req.body, "console:" + user->name);
+  const bool rejected = r.data.is_object() && r.data.value("state", "") == "REJECTED";
+  if (rejected) return refuse(409, r.message, r.data.value("errors", json::array()));
+  if (!r.ok) return refuse(503, r.message);
+  audit(*user, "rehearse", task_id, "sent to rehearsal domain " + domain);
+  send_json(res, {{"done", "rehearse"}, {"task_id", task_id}, {"domain", rehearsal_->domain_id},
+                  {"state", r.data.value("state", "")}});
+}
+
+}  // namespace rigger::console

@@ -1,0 +1,45 @@
+#pragma once
+/// @file
+/// What the console's HTTP routes answer with: JSON bodies and errors, and Server-Sent Event streams of
+/// an EventLog. Used by HttpApi's handlers only.
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "event_log.hpp"
+
+namespace httplib {
+struct Request;
+struct Response;
+}
+
+namespace rigger::console {
+
+// Content types chosen so that cpp-httplib does not compress: 0.11 compresses with brotli at quality 11
+// whenever the browser accepts br (every browser does) and the type is in its exact list (text/*,
+// application/json, application/javascript): that cost 1.8 s of CPU per page load for three.js and
+// 0.5 s per validation of a 1,000-node tree (bench_planner_tree); gzip would be 36 ms, but the library
+// prefers br and gives no way to choose. The console serves a LAN, where the bytes cost less than that:
+// JSON and JavaScript go uncompressed (three.js, 1.3 MB, in 2 ms on loopback). See docs/console.md.
+constexpr const char* kJson = "application/json; charset=utf-8";
+constexpr const char* kJavaScript = "application/javascript; charset=utf-8";
+
+/// `j` as compact text. Strings from DDS or from requests are not checked for UTF-8: what is not is
+/// replaced, never thrown on.
+std::string to_text(const nlohmann::json& j);
+
+/// Answers `status` with {"error": error, "where": where}.
+void send_error(httplib::Response& res, int status, const std::string& error, const std::string& where);
+
+/// Answers `status` with `body`.
+void send_json(httplib::Response& res, const nlohmann::json& body, int status = 200);
+
+/// `body[key]` when it is a string, else "".
+std::string text_field(const nlohmann::json& body, const char* key);
+
+/// Streams `log` as Server-Sent Events from the client's Last-Event-ID (header, or last_event_id in
+/// the query), or from `start` when it has none. The stream ends when `log` is closed.
+void stream_events(EventLog& log, const httplib::Request& req, httplib::Response& res, std::uint64_t start);
+
+}  // namespace rigger::console
