@@ -39,19 +39,13 @@
 #include "rigger/protocol/task.hpp"
 #include "rigger/protocol/task_names.hpp"
 #include "rigger/testing/cell.hpp"
+#include "scenario_report_support.hpp"
+#include "stop_timeline_support.hpp"
 
 namespace rigger::testing::scenario {
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
-
-/// A node's last status.
-struct NodeView {
-  std::string name, type, executor, code, message;
-  int state = -1;
-  double started_s = 0.0, finished_s = 0.0;  // wall clock, s since the epoch (0: not yet)
-  int runs = 0;                              // times it was seen entering RUNNING
-};
 
 inline bool task_terminal(int s) {
   return s == rigger_task_TASK_REJECTED || s == rigger_task_TASK_SUCCEEDED || s == rigger_task_TASK_FAILED ||
@@ -129,25 +123,25 @@ class ScenarioCell {
     if (pki_dir_.empty()) recipes_.emplace(cell.participant(), protocol::task::kRecipe.name, dds::qos::commands());
     cell.loop().on_data(commands_, [this] {
       commands_.take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
-        if (c.kind != rigger_skill_SKILL_PAUSE || stop_mark_) return;
+        if (c.kind != rigger_skill_SKILL_PAUSE || stop_.marked()) return;
         mark_stop(dds::to_domain(c.stamp));
       });
     });
     cell.loop().on_data(cmd_twist_, [this] {
       cmd_twist_.take([this](const rigger_sensing_TwistCommand& c, const dds_sample_info_t&) {
-        trace(StopSample::kTwistCommand, dds::to_domain(c.twist.linear).norm(), dds::to_domain(c.header.stamp));
+        stop_.trace(StopTimeline::kTwistCommand, dds::to_domain(c.twist.linear).norm(), dds::to_domain(c.header.stamp));
       });
     });
     cell.loop().on_data(crane_cmd_, [this] {
       crane_cmd_.take([this](const rigger_crane_CraneVelocityCommand& c, const dds_sample_info_t&) {
-        trace(StopSample::kCraneCommand,
-              Eigen::Vector3d(c.velocity_mps[0], c.velocity_mps[1], c.velocity_mps[2]).norm(),
-              dds::to_domain(c.header.stamp));
+        stop_.trace(StopTimeline::kCraneCommand,
+                    Eigen::Vector3d(c.velocity_mps[0], c.velocity_mps[1], c.velocity_mps[2]).norm(),
+                    dds::to_domain(c.header.stamp));
       });
     });
     cell.loop().on_data(admittance_, [this] {
       admittance_.take([this](const rigger_admittance_AdmittanceState& a, const dds_sample_info_t&) {
-        trace(StopSample::kAdmittanceMode, static_cast<double>(a.mode), dds::to_domain(a.header.stamp));
+        stop_.trace(StopTimeline::kAdmittanceMode, static_cast<double>(a.mode), dds::to_domain(a.header.stamp));
       });
     });
     sim_.on_status([this](const SimStatusView& v) {
@@ -155,9 +149,9 @@ class ScenarioCell {
         sim_clock_.erase(sim_clock_.begin(), sim_clock_.begin() + kSimClockSamples / 2);
       sim_clock_.emplace_back(v.stamp, v.sim_time_s);
       crane_position_ = v.crane_position_m;
-      trace(StopSample::kCraneSpeed, v.crane_velocity_mps.norm(), v.stamp);
-      note_rest(crane_rest_, v.crane_velocity_mps.norm(), v.stamp);
-      trace(StopSample::kPlcSetpoint, v.plc_setpoint_mps.norm(), v.stamp);
+      stop_.trace(StopTimeline::kCraneSpeed, v.crane_velocity_mps.norm(), v.stamp);
+      stop_.note_rest(StopTimeline::Plant::kCrane, v.crane_velocity_mps.norm(), v.stamp);
+      stop_.trace(StopTimeline::kPlcSetpoint, v.plc_setpoint_mps.norm(), v.stamp);
     });
     cell.loop().on_data(crane_, [this] {
       crane_.take([this](const rigger_crane_CraneState& c, const dds_sample_info_t&) {
@@ -212,8 +206,8 @@ class ScenarioCell {
         robot_moving_ = s.moving;
         const auto& v = s.tool_twist.linear;
         const WallTime stamp = dds::to_domain(s.header.stamp);
-        trace(StopSample::kToolSpeed, Eigen::Vector3d(v.x, v.y, v.z).norm(), stamp);
-        note_rest(tool_rest_, Eigen::Vector3d(v.x, v.y, v.z).norm(), stamp);
+        stop_.trace(StopTimeline::kToolSpeed, Eigen::Vector3d(v.x, v.y, v.z).norm(), stamp);
+        stop_.note_rest(StopTimeline::Plant::kTool, Eigen::Vector3d(v.x, v.y, v.z).norm(), stamp);
         ++robot_samples_;
       });
     });
@@ -378,79 +372,17 @@ class ScenarioCell {
     return r;
   }
 
-  /// Marks the start of a stop at wall-clock time `t` (the first SKILL_PAUSE on rigger/skill/command marks
-  /// itself with its stamp; a test marks a link cut or a kill): rest_after_mark_s() and stop_timeline() count
-  /// from it. Every sample is timed by its own stamp (the processes share this machine's clock), not by when
-  /// this process read it, so that a test process the scheduler holds back does not lengthen the figures.
-  void mark_stop(WallTime t) {
-    stop_mark_ = t;
-    rest_after_mark_s_.reset();
-    tool_rest_ = {};
-    crane_rest_ = {};
-    stop_trace_.clear();
-  }
-  void mark_stop(Clock::time_point t) {
-    mark_stop(std::chrono::system_clock::now() -
-              std::chrono::duration_cast<std::chrono::system_clock::duration>(Clock::now() - t));
-  }
-
-  /// From the stop's mark (the first SKILL_PAUSE, or mark_stop()) to the first moment, by the samples' stamps,
-  /// at which the newest robot state (the tool's reported twist) and the newest simulator status (the crane's
-  /// true speed) both show less than 1 mm/s. Empty before a mark, or while still moving. (Until 2026-11-26 the
-  /// crane's part was the status this process had read when a robot state arrived: a status stream read late
-  /// made it up to 200 ms longer than the trace showed.)
-  std::optional<double> rest_after_mark_s() const { return rest_after_mark_s_; }
-  /// The same for the tool alone and for the crane alone (each first seen below 1 mm/s).
-  std::optional<double> tool_rest_after_mark_s() const { return tool_rest_.first_still_s; }
-  std::optional<double> crane_rest_after_mark_s() const { return crane_rest_.first_still_s; }
-
-  /// Where the stop's time went, by the samples' stamps (for the first 1.5 s after the mark):
-  /// per 20 ms, the largest commanded robot twist (rigger/robot/cmd_twist), the tool's reported speed, the
-  /// commanded crane velocity (rigger/crane/cmd_velocity), the PLC's setpoint and the crane's true speed
-  /// (rigger/sim/status), all in mm/s, and the admittance mode; then, for each, when it last exceeded 1 mm/s.
-  std::string stop_timeline(double until_s = 0.8) const {
-    constexpr double kBinS = 0.02;
-    const int bins = static_cast<int>(until_s / kBinS);
-    std::vector<std::array<double, StopSample::kKinds>> table(bins);
-    for (auto& row : table) row.fill(-1.0);
-    std::array<double, StopSample::kKinds> last_above{};
-    last_above.fill(-1.0);
-    for (const StopSample& x : stop_trace_) {
-      const int bin = static_cast<int>(x.t_s / kBinS);
-      if (bin >= 0 && bin < bins) table[bin][x.kind] = std::max(table[bin][x.kind], x.value);
-      if (x.kind != StopSample::kAdmittanceMode && x.value >= 0.001) last_above[x.kind] = x.t_s;
-    }
-    std::string out = "  ms   twist cmd  tool  crane cmd  plc set  crane  admittance mode\n";
-    char line[160];
-    for (int b = 0; b < bins; ++b) {
-      const auto& r = table[b];
-      auto mm = [](double v) { return v < 0.0 ? std::string("    -") : std::to_string(v * 1000.0).substr(0, 5); };
-      std::snprintf(line, sizeof line, "  %3d  %9s  %5s  %9s  %7s  %5s  %s\n", static_cast<int>(b * kBinS * 1000),
-                    mm(r[StopSample::kTwistCommand]).c_str(), mm(r[StopSample::kToolSpeed]).c_str(),
-                    mm(r[StopSample::kCraneCommand]).c_str(), mm(r[StopSample::kPlcSetpoint]).c_str(),
-                    mm(r[StopSample::kCraneSpeed]).c_str(),
-                    r[StopSample::kAdmittanceMode] < 0.0
-                        ? "-"
-                        : std::to_string(static_cast<int>(r[StopSample::kAdmittanceMode])).c_str());
-      out += line;
-    }
-    std::snprintf(line, sizeof line,
-                  "  last above 1 mm/s (ms): twist cmd %.0f, tool %.0f, crane cmd %.0f, plc set %.0f, crane %.0f\n",
-                  last_above[StopSample::kTwistCommand] * 1000, last_above[StopSample::kToolSpeed] * 1000,
-                  last_above[StopSample::kCraneCommand] * 1000, last_above[StopSample::kPlcSetpoint] * 1000,
-                  last_above[StopSample::kCraneSpeed] * 1000);
-    return out + line;
-  }
-  /// When the tool and the crane (as stop_timeline() reads them) were last faster than 1 mm/s after the mark,
-  /// in s: the time from which both stayed below it. Empty before a mark.
-  std::optional<double> settled_after_mark_s() const {
-    if (!stop_mark_) return std::nullopt;
-    double last = 0.0;
-    for (const StopSample& x : stop_trace_)
-      if ((x.kind == StopSample::kToolSpeed || x.kind == StopSample::kCraneSpeed) && x.value >= 0.001)
-        last = std::max(last, x.t_s);
-    return last;
-  }
+  /// Marks the start of a stop at wall-clock (or steady-clock) time `t`; the first SKILL_PAUSE on
+  /// rigger/skill/command marks itself (StopTimeline::mark).
+  void mark_stop(WallTime t) { stop_.mark(t); }
+  void mark_stop(Clock::time_point t) { stop_.mark(t); }
+  /// After the mark: when the tool and the crane both came to rest, each alone, the stop's timeline and when
+  /// both stayed below 1 mm/s (StopTimeline).
+  std::optional<double> rest_after_mark_s() const { return stop_.rest_after_mark_s(); }
+  std::optional<double> tool_rest_after_mark_s() const { return stop_.tool_rest_after_mark_s(); }
+  std::optional<double> crane_rest_after_mark_s() const { return stop_.crane_rest_after_mark_s(); }
+  std::string stop_timeline(double until_s = 0.8) const { return stop_.timeline(until_s); }
+  std::optional<double> settled_after_mark_s() const { return stop_.settled_after_mark_s(); }
 
   /// Starts a second task controller (harness name and service id `id`) on the first one's configuration
   /// and journal, as an operator restarts a crashed controller; waits until it is READY.
@@ -461,70 +393,18 @@ class ScenarioCell {
   }
 
   /// Skill nodes with their durations, in start order, as the demo prints them.
-  std::string durations() const {
-    std::vector<std::pair<double, std::string>> lines;
-    for (const auto& [id, n] : nodes_seen_) {
-      if (n.type != "Skill" || n.started_s <= 0.0) continue;
-      char buf[200];
-      const double end = n.finished_s > 0.0 ? n.finished_s : n.started_s;
-      std::snprintf(buf, sizeof buf, "  %-32s %-10s %6.1f s  %s", n.name.c_str(), state_name(n.state),
-                    end - n.started_s, n.code.c_str());
-      lines.emplace_back(n.started_s, buf);
-    }
-    std::sort(lines.begin(), lines.end());
-    std::string out;
-    for (const auto& [t, l] : lines) out += l + "\n";
-    return out;
-  }
+  std::string durations() const { return skill_durations(nodes_seen_); }
 
   static const char* state_name(int s) { return protocol::task::node_state_name(s); }
 
-  /// The times the simulator fell behind real time and skipped ahead (its log says so, at most every 5 s):
-  /// then the robot's wrench and state had a gap, which a monitor may report as SENSOR_STALE. Empty when it
-  /// never did; otherwise a line with the overruns and the worst lag logged.
-  std::string simulator_lag() const {
-    std::ifstream log(cell_.log_dir() + "/cell_sim.log");
-    const std::string key = "physics behind real time lag_ms=";
-    long worst_ms = 0, overruns = 0;
-    for (std::string line; std::getline(log, line);) {
-      const auto at = line.find(key);
-      if (at == std::string::npos) continue;
-      worst_ms = std::max(worst_ms, std::strtol(line.c_str() + at + key.size(), nullptr, 10));
-      const auto o = line.find("overruns=", at);
-      if (o != std::string::npos) overruns = std::strtol(line.c_str() + o + 9, nullptr, 10);
-    }
-    if (overruns == 0) return "";
-    return "  the simulator fell behind real time " + std::to_string(overruns) + " time(s), worst lag logged " +
-           std::to_string(worst_ms) + " ms (cell_sim.log): the machine was short of CPU\n";
-  }
+  /// The times the simulator fell behind real time (simulator_lag_report).
+  std::string simulator_lag() const { return simulator_lag_report(cell_.log_dir()); }
 
-  /// What each service's process used of the CPU over the (first) insertion — the 1 kHz wrench, the
-  /// camera images and the visual servo — in % of one core (/proc/<pid>/stat), with the insertion's wall
-  /// time and the machine's load average (other work shares it). Empty before the insertion ended.
+  /// What each service's process used of the CPU over the (first) insertion (insertion_cpu_report); empty
+  /// before the insertion ended.
   std::string insertion_cpu() const {
     if (!insertion_started_ || !insertion_ended_) return "";
-    const double wall_s = std::chrono::duration<double>(insertion_ended_->at - insertion_started_->at).count();
-    if (wall_s <= 0.0) return "";
-    std::ifstream loadavg("/proc/loadavg");
-    std::string l1, l5, l15;
-    loadavg >> l1 >> l5 >> l15;
-    char head[160];
-    std::snprintf(head, sizeof head, "  CPU over the insertion (%.1f s, load average %s %s %s), %% of one core:\n",
-                  wall_s, l1.c_str(), l5.c_str(), l15.c_str());
-    std::string out = head;
-    double total = 0.0;
-    for (const auto& name : services_) {
-      const auto a = insertion_started_->cpu_s.find(name), b = insertion_ended_->cpu_s.find(name);
-      if (a == insertion_started_->cpu_s.end() || b == insertion_ended_->cpu_s.end()) continue;
-      const double percent = 100.0 * (b->second - a->second) / wall_s;
-      total += percent;
-      char line[120];
-      std::snprintf(line, sizeof line, "    %-20s %5.1f %%\n", name.c_str(), percent);
-      out += line;
-    }
-    char sum[80];
-    std::snprintf(sum, sizeof sum, "    %-20s %5.1f %%\n", "all services", total);
-    return out + sum;
+    return insertion_cpu_report(*insertion_started_, *insertion_ended_, services_);
   }
 
  private:
@@ -624,11 +504,6 @@ class ScenarioCell {
   bool behind_ros2_bridge_ = false;
   std::string pki_dir_;                // empty: DDS Security off
   std::vector<std::string> services_;  // the processes start() made, in start order
-  // CPU time per service and wall clock when the (first) insertion started and when it ended.
-  struct CpuMark {
-    Clock::time_point at{};
-    std::map<std::string, double> cpu_s;
-  };
   std::optional<CpuMark> insertion_started_, insertion_ended_;
   SimChannel sim_;
   static constexpr std::size_t kSimClockSamples = 60000;
@@ -645,43 +520,7 @@ class ScenarioCell {
   dds::Reader<rigger_sensing_TwistCommand> cmd_twist_;
   dds::Reader<rigger_crane_CraneVelocityCommand> crane_cmd_;
   dds::Reader<rigger_admittance_AdmittanceState> admittance_;
-  std::optional<WallTime> stop_mark_;
-  std::optional<double> rest_after_mark_s_;
-  /// One plant's speed after the mark, by its samples' stamps: the newest sample's, and the first below 1 mm/s.
-  struct RestTrack {
-    std::optional<double> latest_t_s;
-    bool latest_still = false;
-    double still_since_s = 0.0;  ///< the first sample of the current run below 1 mm/s
-    std::optional<double> first_still_s;
-  };
-  RestTrack tool_rest_, crane_rest_;
-  /// Records a speed sample of the tool or the crane; once the newest samples of both (by stamp, whichever
-  /// stream the test process read first) are below 1 mm/s, the rest is the later of the two runs' starts.
-  void note_rest(RestTrack& track, double speed_mps, WallTime stamp) {
-    if (!stop_mark_ || stamp < *stop_mark_) return;
-    const double t = std::chrono::duration<double>(stamp - *stop_mark_).count();
-    const bool still = speed_mps < 0.001;
-    if (still && !track.first_still_s) track.first_still_s = t;
-    if (track.latest_t_s && *track.latest_t_s > t) return;  // an older sample read late
-    if (still && !(track.latest_t_s && track.latest_still)) track.still_since_s = t;
-    track.latest_t_s = t;
-    track.latest_still = still;
-    if (!rest_after_mark_s_ && tool_rest_.latest_t_s && crane_rest_.latest_t_s && tool_rest_.latest_still &&
-        crane_rest_.latest_still)
-      rest_after_mark_s_ = std::max(tool_rest_.still_since_s, crane_rest_.still_since_s);
-  }
-  struct StopSample {
-    enum Kind { kTwistCommand, kToolSpeed, kCraneCommand, kPlcSetpoint, kCraneSpeed, kAdmittanceMode, kKinds };
-    double t_s;
-    int kind;
-    double value;
-  };
-  std::vector<StopSample> stop_trace_;
-  void trace(int kind, double value, WallTime stamp) {
-    if (!stop_mark_) return;
-    const double t = std::chrono::duration<double>(stamp - *stop_mark_).count();
-    if (t >= 0.0 && t < 1.5) stop_trace_.push_back({t, kind, value});
-  }
+  StopTimeline stop_;
   bool crane_ready_ = false;
   bool ready_ = false;
   std::string task_id_;
