@@ -9,11 +9,8 @@ set -euo pipefail
 
 readonly kLimit=600
 
-# Generated files only, each with the reason it may be longer (and, for now, one file whose split is
-# under way).
+# Generated files only, each with the reason it may be longer (none today).
 readonly allowed=(
-  # being split (its stop timeline and report into files of their own)
-  test/integration/scenario_support.hpp
 )
 
 root=${1:?usage: file_length.sh REPOSITORY_ROOT}
