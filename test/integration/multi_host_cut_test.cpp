@@ -2,18 +2,12 @@
 // scaled to the lease it runs with (below). Three hosts' worth of processes on two cores: under load it
 // has failed on scheduling (a 104 ms gap in the 500 Hz wrench stream against the yank monitor's 100 ms),
 // see docs/deploy.md.
-#include <cstdlib>
-
 #include "multi_host_support.hpp"
+#include "rigger/dds/qos.hpp"
 
 namespace rigger::testing::scenario {
 namespace {
 
-/// The liveliness lease the cell's processes offer: RIGGER_LIVELINESS_LEASE_MS, else the shipped 150 ms.
-double liveliness_lease_s() {
-  const char* ms = std::getenv("RIGGER_LIVELINESS_LEASE_MS");
-  return (ms != nullptr && *ms != '\0' ? std::atof(ms) : 150.0) / 1000.0;
-}
 
 // The skills host's cable is pulled while the load is being inserted: the controller loses the executors
 // and stops the leaf's devices; robot and crane come to rest; the task fails with EXECUTOR_LOST. Cable
@@ -64,7 +58,7 @@ TEST_F(MultiHostTest, SkillsHostCutDuringInsertionStopsTheCellAndItRecovers) {
   // the shipped 150 ms lease. The three hosts' processes do not keep the shipped lease on the 2-core test
   // machine (a false liveliness lapse before the cut), so test/run runs this test with the suite's 300 ms
   // lease and the bound follows the lease (docs/testing.md).
-  const double lease_s = liveliness_lease_s();
+  const double lease_s = std::chrono::duration<double>(dds::liveliness_lease()).count();
   const auto settled = s->settled_after_mark_s();
   ASSERT_TRUE(settled.has_value());
   EXPECT_LT(*settled, lease_s + 0.35) << "robot or crane last above 1 mm/s " << *settled * 1000.0
