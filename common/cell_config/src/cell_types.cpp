@@ -97,7 +97,7 @@ std::optional<Eigen::Isometry3d> CadFeatures::find_pose(std::string_view feature
 
 Eigen::Matrix3d CameraIntrinsics::camera_matrix() const {
   Eigen::Matrix3d k;
-  k << fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0;
+  k << fx_px, 0.0, cx_px, 0.0, fy_px, cy_px, 0.0, 0.0, 1.0;
   return k;
 }
 

@@ -80,16 +80,16 @@ CameraIntrinsics EntityParser::parse_camera(const json& value, const std::string
       check_.require(value, pointer, "width", "the image width in pixels"), pointer + "/width", 1, 65535));
   camera.height_px = static_cast<int>(check_.integer(
       check_.require(value, pointer, "height", "the image height in pixels"), pointer + "/height", 1, 65535));
-  camera.fx = check_.positive(check_.require(value, pointer, "fx", "the focal length fx in pixels"), pointer + "/fx");
-  camera.fy = check_.positive(check_.require(value, pointer, "fy", "the focal length fy in pixels"), pointer + "/fy");
-  camera.cx =
+  camera.fx_px = check_.positive(check_.require(value, pointer, "fx", "the focal length fx in pixels"), pointer + "/fx");
+  camera.fy_px = check_.positive(check_.require(value, pointer, "fy", "the focal length fy in pixels"), pointer + "/fy");
+  camera.cx_px =
       check_.number(check_.require(value, pointer, "cx", "the principal point cx in pixels"), pointer + "/cx");
-  camera.cy =
+  camera.cy_px =
       check_.number(check_.require(value, pointer, "cy", "the principal point cy in pixels"), pointer + "/cy");
-  if (camera.cx < 0.0 || camera.cx > camera.width_px) {
+  if (camera.cx_px < 0.0 || camera.cx_px > camera.width_px) {
     check_.fail(pointer + "/cx", "a principal point inside the image [0, width]", describe_json(value.at("cx")));
   }
-  if (camera.cy < 0.0 || camera.cy > camera.height_px) {
+  if (camera.cy_px < 0.0 || camera.cy_px > camera.height_px) {
     check_.fail(pointer + "/cy", "a principal point inside the image [0, height]", describe_json(value.at("cy")));
   }
   camera.rate_hz =

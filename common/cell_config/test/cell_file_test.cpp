@@ -88,8 +88,8 @@ TEST(CellFile, LoadsTheCellFixture) {
   ASSERT_TRUE(camera.camera.has_value());
   EXPECT_EQ(camera.camera->width_px, 1280);
   EXPECT_EQ(camera.camera->height_px, 720);
-  EXPECT_DOUBLE_EQ(camera.camera->fx, 1000.0);
-  EXPECT_DOUBLE_EQ(camera.camera->cy, 360.0);
+  EXPECT_DOUBLE_EQ(camera.camera->fx_px, 1000.0);
+  EXPECT_DOUBLE_EQ(camera.camera->cy_px, 360.0);
   EXPECT_EQ(camera.camera->distortion.size(), 5u);
   EXPECT_DOUBLE_EQ(camera.camera->rate_hz, 30.0);
   EXPECT_DOUBLE_EQ(camera.camera->noise_stddev, 2.0);

@@ -569,7 +569,9 @@ void CellSimNode::publish_image(const cv::Mat& image_mono8, WallTime stamp) {
 }
 
 void CellSimNode::publish_camera_info(const sim::CameraModel& camera) {
-  std::vector<double> d(camera.distortion.begin(), camera.distortion.end());
+  // plumb_bob carries five coefficients; a cell file may give four (k3 = 0) or none.
+  std::vector<double> d = camera.distortion;
+  d.resize(5, 0.0);
   rigger_vision_CameraInfo w{};
   w.header.stamp = dds::wire_now();
   w.header.frame_id = const_cast<char*>(config_.camera_id.c_str());

@@ -58,7 +58,7 @@ PoseEstimator::PoseEstimator(const CameraIntrinsics& camera, const EstimatorSett
 
 Eigen::Vector2d PoseEstimator::project(const Eigen::Isometry3d& pose, const Eigen::Vector3d& point) const {
   const Eigen::Vector3d p = pose * point;
-  return {camera_.fx_px * p.x() / p.z() + camera_.cx_px, camera_.fy_px * p.y() / p.z() + camera_.cy_px};
+  return camera_.project(p);
 }
 
 void PoseEstimator::normal_equations(const std::vector<Eigen::Vector3d>& object_points,
@@ -80,8 +80,7 @@ void PoseEstimator::normal_equations(const std::vector<Eigen::Vector3d>& object_
         -rotated.z(), 0.0, rotated.x(),                        //
         rotated.y(), -rotated.x(), 0.0;
     const Eigen::Matrix<double, 2, 6> j = d_projection * d_point;
-    const Eigen::Vector2d residual(camera_.fx_px * p.x() * inv_z + camera_.cx_px - image_points[i].x(),
-                                   camera_.fy_px * p.y() * inv_z + camera_.cy_px - image_points[i].y());
+    const Eigen::Vector2d residual = camera_.project(p) - image_points[i];
     jtj += j.transpose() * j;
     jtr += j.transpose() * residual;
   }

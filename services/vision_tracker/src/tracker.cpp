@@ -103,8 +103,7 @@ std::vector<cv::Rect> Tracker::regions_of_interest(double& min_side_px) const {
         if (p.z() <= 0.0) {
           return {};  // the layout straddles the camera plane: search the full frame
         }
-        const Eigen::Vector2d px(config_.camera.fx_px * p.x() / p.z() + config_.camera.cx_px,
-                                 config_.camera.fy_px * p.y() / p.z() + config_.camera.cy_px);
+        const Eigen::Vector2d px = config_.camera.project(p);
         if (c > 0) {
           perimeter += (px - previous).norm();
         }

@@ -100,10 +100,8 @@ TrackerConfig tracker_config_from_cell(const cell::CellFile& file, const std::st
   if (!camera.camera) {
     file.fail(camera.pointer + "/camera", "the intrinsics of camera \"" + camera_id + "\"", "nothing (missing key)");
   }
-  const cell::CameraIntrinsics& intrinsics = *camera.camera;
   TrackerConfig config;
-  config.camera = {intrinsics.width_px, intrinsics.height_px, intrinsics.fx, intrinsics.fy, intrinsics.cx,
-                   intrinsics.cy, intrinsics.distortion};
+  config.camera = *camera.camera;
   config.pose_world_camera = file.pose_root_entity(camera_id);
 
   std::string dictionary;

@@ -25,18 +25,8 @@ class TrackerConfigError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-/// Pinhole camera with OpenCV's lens distortion: none, or 4, 5, 8, 12 or 14 coefficients
-/// (k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4 [tx ty]]]]): plumb_bob is 5, the rational model 8.
-/// Pixel (0, 0) is the centre of the top-left pixel; optical frame z forward, x right, y down.
-struct CameraIntrinsics {
-  int width_px = 0;
-  int height_px = 0;
-  double fx_px = 0.0;
-  double fy_px = 0.0;
-  double cx_px = 0.0;
-  double cy_px = 0.0;
-  std::vector<double> distortion;  ///< empty: an ideal pinhole
-};
+/// The camera the tracker looks through: the cell file's intrinsics and lens distortion.
+using cell::CameraIntrinsics;
 
 /// One square marker of an object's layout. Marker frame as OpenCV ArUco: origin at the centre,
 /// x right and y up on the printed image, z out of it; size_m is the black border's outer edge.

@@ -45,8 +45,7 @@ class PoseEstimatorTest : public ::testing::Test {
       const auto corners = marker_corners_object(marker);
       for (int c = 0; c < 4; ++c) {
         const Eigen::Vector3d p = pose_camera_object * corners[c];
-        d.corners_px[c] = Eigen::Vector2d(camera_.fx_px * p.x() / p.z() + camera_.cx_px,
-                                          camera_.fy_px * p.y() / p.z() + camera_.cy_px);
+        d.corners_px[c] = camera_.project(p);
         if (noise_px > 0.0) {
           d.corners_px[c] += Eigen::Vector2d(noise(rng), noise(rng));
         }
@@ -56,7 +55,7 @@ class PoseEstimatorTest : public ::testing::Test {
     return markers;
   }
 
-  CameraIntrinsics camera_{1280, 720, 1000.0, 1000.0, 640.0, 360.0, {}};
+  CameraIntrinsics camera_ = CameraIntrinsics::pinhole(1280, 720, 1000.0, 640.0, 360.0);
   EstimatorSettings settings_;
   PoseEstimator estimator_;
   ObjectLayout layout_;

@@ -16,7 +16,7 @@ using ::testing::HasSubstr;
 
 TrackerConfig good_config() {
   TrackerConfig config;
-  config.camera = {1280, 720, 1000.0, 1000.0, 640.0, 360.0, {}};
+  config.camera = CameraIntrinsics::pinhole(1280, 720, 1000.0, 640.0, 360.0);
   MarkerPlacement marker;
   marker.id = 1;
   marker.size_m = 0.08;

@@ -122,8 +122,8 @@ json entity_to_json(const Entity& entity) {
   }
   if (entity.camera) {
     const CameraIntrinsics& camera = *entity.camera;
-    result["camera"] = {{"width", camera.width_px}, {"height", camera.height_px}, {"fx", camera.fx},
-                        {"fy", camera.fy},          {"cx", camera.cx},            {"cy", camera.cy},
+    result["camera"] = {{"width", camera.width_px}, {"height", camera.height_px}, {"fx", camera.fx_px},
+                        {"fy", camera.fy_px},          {"cx", camera.cx_px},            {"cy", camera.cy_px},
                         {"distortion", camera.distortion}, {"rate_hz", camera.rate_hz},
                         {"noise_stddev", camera.noise_stddev}, {"optical_frame", camera.optical_frame}};
   }

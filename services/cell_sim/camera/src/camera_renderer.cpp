@@ -137,7 +137,7 @@ CameraRenderer::CameraRenderer(const CameraScene& scene, RenderSettings settings
     : CameraRenderer(scene.camera, scene.objects, scene.dictionary, std::move(settings)) {}
 
 Eigen::Vector2d CameraRenderer::project(const Eigen::Vector3d& p) const {
-  return {camera_.fx_px * p.x() / p.z() + camera_.cx_px, camera_.fy_px * p.y() / p.z() + camera_.cy_px};
+  return camera_.project(p);
 }
 
 std::vector<std::size_t> CameraRenderer::painter_order(const std::vector<Placed>& placed) const {

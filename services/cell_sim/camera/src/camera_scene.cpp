@@ -8,6 +8,9 @@
 namespace rigger::sim {
 namespace {
 
+/// k1 k2 p1 p2 k3: the most the renderer's CameraInfo (plumb_bob) carries.
+constexpr std::size_t kPlumbBobCoefficients = 5;
+
 // Markers must lie on a box face: on its plane (within this distance) and facing out of it.
 constexpr double kOnFaceTolerance_m = 1e-3;
 constexpr double kNormalAlignment = 0.999;
@@ -91,21 +94,11 @@ CameraModel camera_model(const cell::CellFile& file, const cell::CellEntity& ent
   if (!entity.camera) {
     file.fail(entity.pointer + "/camera", "the intrinsics of camera \"" + entity.id + "\"", "nothing (missing key)");
   }
-  const cell::CameraIntrinsics& intrinsics = *entity.camera;
-  CameraModel camera;
-  camera.width_px = intrinsics.width_px;
-  camera.height_px = intrinsics.height_px;
-  camera.fx_px = intrinsics.fx;
-  camera.fy_px = intrinsics.fy;
-  camera.cx_px = intrinsics.cx;
-  camera.cy_px = intrinsics.cy;
-  if (intrinsics.distortion.size() > camera.distortion.size()) {
+  const cell::CameraIntrinsics& camera = *entity.camera;
+  if (camera.distortion.size() > kPlumbBobCoefficients) {
     file.fail(entity.pointer + "/camera/distortion", "4 or 5 numbers (k1 k2 p1 p2 [k3], the renderer's plumb_bob)",
-              std::to_string(intrinsics.distortion.size()) + " numbers");
+              std::to_string(camera.distortion.size()) + " numbers");
   }
-  std::copy(intrinsics.distortion.begin(), intrinsics.distortion.end(), camera.distortion.begin());
-  camera.rate_hz = intrinsics.rate_hz;
-  camera.noise_stddev = intrinsics.noise_stddev;
   return camera;
 }
 

@@ -319,7 +319,7 @@ TEST_F(CameraRendererTest, ObjectsBehindOrAroundTheCameraDoNotBreakTheFrame) {
 
 TEST_F(CameraRendererTest, RejectsUnusableConfiguration) {
   CameraModel camera = scene_.camera;
-  camera.distortion[0] = 0.1;
+  camera.distortion = {0.1, 0.0, 0.0, 0.0, 0.0};
   EXPECT_THROW(CameraRenderer(camera, scene_.objects, scene_.dictionary), std::invalid_argument);
   camera = scene_.camera;
   camera.width_px = 0;

@@ -140,21 +140,39 @@ struct ObjectModel {
   std::string step;
 };
 
-/// Pinhole camera intrinsics (OpenCV model), pixels. Pixel (0, 0) is the centre of the top-left pixel.
+/// A camera's intrinsics as in sensor_msgs/CameraInfo: a pinhole with OpenCV's lens distortion. The one
+/// camera model of the project (cell file, world model, simulated camera, tracker). Pixel (0, 0) is the
+/// centre of the top-left pixel; the optical frame has z forward, x right, y down.
 struct CameraIntrinsics {
   int width_px = 0;
   int height_px = 0;
-  double fx = 0.0;
-  double fy = 0.0;
-  double cx = 0.0;
-  double cy = 0.0;
-  std::vector<double> distortion;  ///< OpenCV order k1 k2 p1 p2 [k3 [k4 k5 k6 [s1..s4 [tx ty]]]]
-  double rate_hz = 0.0;            ///< frame rate, > 0
-  double noise_stddev = 0.0;       ///< simulated image noise (grey levels), >= 0
-  std::string optical_frame;       ///< axis convention of the camera frame, in words
+  double fx_px = 0.0;
+  double fy_px = 0.0;
+  double cx_px = 0.0;
+  double cy_px = 0.0;
+  /// None (an ideal pinhole), or 4, 5, 8, 12 or 14 coefficients in OpenCV's order
+  /// k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4 [tx ty]]]]: plumb_bob is 5, the rational model 8.
+  std::vector<double> distortion;
+  double rate_hz = 0.0;       ///< frame rate, > 0
+  double noise_stddev = 0.0;  ///< simulated image noise (grey levels), >= 0
+  std::string optical_frame;  ///< axis convention of the camera frame, in words
 
+  /// An ideal pinhole (no distortion) of the given size, focal length and principal point.
+  static CameraIntrinsics pinhole(int width_px, int height_px, double f_px, double cx_px, double cy_px) {
+    CameraIntrinsics c;
+    c.width_px = width_px;
+    c.height_px = height_px;
+    c.fx_px = c.fy_px = f_px;
+    c.cx_px = cx_px;
+    c.cy_px = cy_px;
+    return c;
+  }
   /// The 3x3 camera matrix K.
   Eigen::Matrix3d camera_matrix() const;
+  /// Where a point in the optical frame (z > 0) lands on the ideal pinhole image, in pixels (no distortion).
+  Eigen::Vector2d project(const Eigen::Vector3d& point_camera) const {
+    return {fx_px * point_camera.x() / point_camera.z() + cx_px, fy_px * point_camera.y() / point_camera.z() + cy_px};
+  }
 };
 
 /// Rotation R = Rz(yaw) Ry(pitch) Rx(roll) from roll, pitch, yaw in degrees (the cell file's `rpy_deg`).

@@ -26,21 +26,9 @@ class CameraSceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Pinhole camera as in sensor_msgs/CameraInfo. Pixel (0, 0) is the centre of the top-left pixel.
-/// The optical frame has z forward, x right, y down.
-struct CameraModel {
-  int width_px = 0;
-  int height_px = 0;
-  double fx_px = 0.0;
-  double fy_px = 0.0;
-  double cx_px = 0.0;
-  double cy_px = 0.0;
-  /// plumb_bob k1 k2 p1 p2 k3. The renderer supports only zero distortion.
-  std::array<double, 5> distortion{};
-  double rate_hz = 30.0;
-  /// Standard deviation of the additive Gaussian pixel noise, in grey levels (0..255).
-  double noise_stddev = 0.0;
-};
+/// The simulated camera is the cell file's: its intrinsics, rate and pixel noise (noise_stddev, grey
+/// levels 0..255). The renderer supports only zero distortion.
+using CameraModel = cell::CameraIntrinsics;
 
 /// A square fiducial marker printed on an object. Marker frame (OpenCV ArUco convention): origin at
 /// the marker centre, x to the right of the printed image, y up, z out of the printed face. The
