@@ -1,11 +1,10 @@
 #include "rigger/testing/process.hpp"
 
+#include "rigger/base/process.hpp"
 #include "rigger/testing/domain.hpp"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <string.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,8 +13,6 @@
 #include <iterator>
 #include <sstream>
 #include <stdexcept>
-
-extern char** environ;
 
 namespace rigger::testing {
 
@@ -28,47 +25,17 @@ ChildProcess::ChildProcess(const std::string& binary, const std::vector<std::str
                            const std::map<std::string, std::string>& env, const std::string& log_path,
                            std::function<void()> on_exit)
     : log_path_(log_path) {
-  std::vector<std::string> argv_store{binary};
-  argv_store.insert(argv_store.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : argv_store) argv.push_back(a.data());
-  argv.push_back(nullptr);
-
-  std::map<std::string, std::string> merged;
-  for (char** e = environ; *e; ++e) {
-    const std::string kv(*e);
-    const auto eq = kv.find('=');
-    if (eq != std::string::npos) merged[kv.substr(0, eq)] = kv.substr(eq + 1);
+  SpawnRequest request;
+  request.path = binary.find('/') == std::string::npos ? bin_dir_path(binary) : binary;
+  request.args = args;
+  request.env = env;
+  request.log_path = log_path;
+  request.truncate_log = true;
+  try {
+    pid_ = spawn_process(request);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot start " + request.path + ": " + e.what());
   }
-  for (const auto& [k, v] : env) merged[k] = v;
-  std::vector<std::string> env_store;
-  for (const auto& [k, v] : merged) env_store.push_back(k + "=" + v);
-  std::vector<char*> envp;
-  for (auto& e : env_store) envp.push_back(e.data());
-  envp.push_back(nullptr);
-
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  // The child starts with no blocked signals and default dispositions, whatever the test process has.
-  posix_spawnattr_t attr;
-  posix_spawnattr_init(&attr);
-  sigset_t none, defaults;
-  sigemptyset(&none);
-  sigemptyset(&defaults);
-  sigaddset(&defaults, SIGINT);
-  sigaddset(&defaults, SIGTERM);
-  sigaddset(&defaults, SIGPIPE);
-  posix_spawnattr_setsigmask(&attr, &none);
-  posix_spawnattr_setsigdefault(&attr, &defaults);
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
-  const std::string path = binary.find('/') == std::string::npos ? bin_dir_path(binary) : binary;
-  const int rc = posix_spawn(&pid_, path.c_str(), &actions, &attr, argv.data(), envp.data());
-  posix_spawn_file_actions_destroy(&actions);
-  posix_spawnattr_destroy(&attr);
-  if (rc != 0) throw std::runtime_error("cannot start " + path + ": " + strerror(rc));
 
   reaper_ = std::thread([this, on_exit = std::move(on_exit)] {
     // Wait without reaping, record the end, and only then reap under the lock: signal() can never hit
