@@ -46,6 +46,21 @@ void CraneSkill::watch_crane_health(std::chrono::nanoseconds max_silence) {
   track([crane, id] { crane->cancel(id); });
 }
 
+void CraneSkill::engage_admittance(const AdmittanceRequest& request, const std::string& what,
+                                   std::function<void()> then) {
+  AdmittanceController* admittance = ctx().devices().admittance;
+  const OpId id = admittance->command(request, kAdmittanceEngageTimeout,
+                                      guard([this, what, then = std::move(then)](const OpResult& r) {
+                                        if (r.ok) {
+                                          then();
+                                          return;
+                                        }
+                                        fail(r.code == "ADMITTANCE_PREEMPTED" ? r.code : "ADMITTANCE_FAULT",
+                                             "engaging " + what + ": " + r.code + ": " + r.message);
+                                      }));
+  track([admittance, id] { admittance->cancel(id); });
+}
+
 void admittance_safe_stop(AdmittanceController* admittance, VisionTracker* tracker, const std::string& object,
                           const Skill::SafeStopDone& done) {
   if (tracker != nullptr) tracker->command(TrackerRequest::kStop, object);

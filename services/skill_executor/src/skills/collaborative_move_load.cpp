@@ -73,20 +73,12 @@ void CollaborativeMoveLoadSkill::crane_external() {
 
 void CollaborativeMoveLoadSkill::engage() {
   ctx().progress(0.1, "admittance ROBOT_AND_CRANE with the joystick");
-  AdmittanceController* admittance = ctx().devices().admittance;
   AdmittanceRequest request;
   request.mode = AdmittanceModeRequest::kRobotAndCrane;
   request.reference = AdmittanceReference::kJoystick;
   const double k = params().at("path_stiffness_n_per_m").get<double>();
   request.stiffness = {k, k, k, 0.0, 0.0, 0.0};
-  const OpId id = admittance->command(request, kAdmittanceEngageTimeout, guard([this](const OpResult& r) {
-                                        if (r.ok)
-                                          transition("guide");
-                                        else
-                                          fail(r.code == "ADMITTANCE_PREEMPTED" ? r.code : "ADMITTANCE_FAULT",
-                                               "engaging admittance ROBOT_AND_CRANE: " + r.code + ": " + r.message);
-                                      }));
-  track([admittance, id] { admittance->cancel(id); });
+  engage_admittance(request, "admittance ROBOT_AND_CRANE", [this] { transition("guide"); });
 }
 
 void CollaborativeMoveLoadSkill::guide() {

@@ -183,21 +183,13 @@ void InsertVisuallyGuidedSkill::start_tracking() {
 
 void InsertVisuallyGuidedSkill::engage() {
   ctx().progress(0.1, "admittance ROBOT_AND_CRANE, visual servo to " + target_);
-  AdmittanceController* admittance = ctx().devices().admittance;
   AdmittanceRequest request;
   request.mode = AdmittanceModeRequest::kRobotAndCrane;
   request.reference = AdmittanceReference::kVisualServo;
   request.servo_object = object_;
   request.servo_target = target_;
   request.servo_goal_in_target = goal_;
-  const OpId id = admittance->command(request, kAdmittanceEngageTimeout, guard([this](const OpResult& r) {
-                                        if (r.ok)
-                                          transition("servo");
-                                        else
-                                          fail(r.code == "ADMITTANCE_PREEMPTED" ? r.code : "ADMITTANCE_FAULT",
-                                               "engaging the visual servo: " + r.code + ": " + r.message);
-                                      }));
-  track([admittance, id] { admittance->cancel(id); });
+  engage_admittance(request, "the visual servo", [this] { transition("servo"); });
 }
 
 void InsertVisuallyGuidedSkill::servo() {

@@ -42,6 +42,9 @@ class CraneSkill : public Skill {
   /// For as long as the current state lasts: a crane state showing a problem, or none for `max_silence`,
   /// fails the skill. Does nothing when the executor has no crane monitor.
   void watch_crane_health(std::chrono::nanoseconds max_silence = kCraneMaxSilence);
+  /// The admittance controller switched to `request` → `then`; a refusal fails the skill with
+  /// ADMITTANCE_PREEMPTED (another client took it) or ADMITTANCE_FAULT, saying "engaging `what`".
+  void engage_admittance(const AdmittanceRequest& request, const std::string& what, std::function<void()> then);
 };
 
 /// The collaborative safe stop: admittance OFF (robot twist and crane velocity ramp to zero; the
