@@ -153,13 +153,8 @@ void AttachRobotToLoadSkill::approach() {
 
 void AttachRobotToLoadSkill::await_hold() {
   ctx().progress(0.8, "waiting for the magnet to hold");
-  const double timeout_s = params().at("hold_timeout_s").get<double>();
-  wait_gripper([](const GripperSnapshot& g) { return g.holding; }, from_seconds(timeout_s),
-               [this](const GripperSnapshot&) { transition("verify"); },
-               [this, timeout_s] {
-                 fail("GRASP_FAILED", "the magnet did not report holding within " + number_text(timeout_s) +
-                                          " s of reaching the grasp frame");
-               });
+  wait_for_hold(params().at("hold_timeout_s").get<double>(), " of reaching the grasp frame",
+                [this] { transition("verify"); });
 }
 
 void AttachRobotToLoadSkill::verify() {

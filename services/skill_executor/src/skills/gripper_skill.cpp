@@ -173,6 +173,15 @@ void GripperSkill::wait_gripper(std::function<bool(const GripperSnapshot&)> pred
   track([gripper, id] { gripper->cancel(id); });
 }
 
+void GripperSkill::wait_for_hold(double timeout_s, const std::string& since, std::function<void()> then) {
+  wait_gripper([](const GripperSnapshot& g) { return g.holding; }, from_seconds(timeout_s),
+               [then = std::move(then)](const GripperSnapshot&) { then(); },
+               [this, timeout_s, since] {
+                 fail("GRASP_FAILED",
+                      "the magnet did not report holding within " + number_text(timeout_s) + " s" + since);
+               });
+}
+
 void GripperSkill::read_gripper(std::function<void(const GripperSnapshot&)> then) {
   wait_gripper([](const GripperSnapshot&) { return true; }, kStateTimeout, std::move(then),
                [this] {

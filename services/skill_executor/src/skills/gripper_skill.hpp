@@ -93,6 +93,9 @@ class GripperSkill : public CraneSkill {
   /// Waits for a gripper state satisfying `predicate`: `on_sample` with it, `on_timeout` after `timeout`.
   void wait_gripper(std::function<bool(const GripperSnapshot&)> predicate, std::chrono::nanoseconds timeout,
                     std::function<void(const GripperSnapshot&)> on_sample, std::function<void()> on_timeout);
+  /// The magnet reports holding within `timeout_s` → `then`; else GRASP_FAILED ("… within T s" and
+  /// `since`, e.g. " of reaching the grasp frame").
+  void wait_for_hold(double timeout_s, const std::string& since, std::function<void()> then);
   /// The next gripper state sample; fails GRIPPER_STATE_STALE when none comes within kStateTimeout.
   void read_gripper(std::function<void(const GripperSnapshot&)> then);
   /// The next robot state sample in the robot base frame; fails ROBOT_STATE_STALE when none comes within

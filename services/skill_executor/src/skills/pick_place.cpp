@@ -118,17 +118,9 @@ void PickSkill::grip() {
 }
 
 void PickSkill::await_hold() {
-  const double timeout_s = params().at("hold_timeout_s").get<double>();
-  wait_gripper([](const GripperSnapshot& g) { return g.holding; }, from_seconds(timeout_s),
-               [this](const GripperSnapshot&) {
-                 if (params().at("retreat_m").get<double>() <= 0.0)
-                   transition("verify");
-                 else
-                   transition("retreat");
-               },
-               [this, timeout_s] {
-                 fail("GRASP_FAILED", "the magnet did not report holding within " + number_text(timeout_s) + " s");
-               });
+  wait_for_hold(params().at("hold_timeout_s").get<double>(), "", [this] {
+    transition(params().at("retreat_m").get<double>() <= 0.0 ? "verify" : "retreat");
+  });
 }
 
 void PickSkill::retreat() {
