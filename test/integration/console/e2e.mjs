@@ -20,6 +20,9 @@ const TASK = recipe.task_id;
 // The target's hole positions (target frame, m) as the CAD rules derive them from the cell's STEP file.
 const CAD_HOLES = JSON.parse(env('CAD_HOLES'));
 // How far the highlight's centroid on screen may be from the projection of the hole's CAD position.
+// Measured 3.1 px for every hole (the camera centres on the hole): the pin, ring and frame sit 2-5 mm
+// above the hole's entry and their near halves, larger in perspective, pull the centroid down-screen.
+// The nearest other hole of the target (0.2 m away) is about 90 px from the highlighted one on screen.
 const HOLE_TOLERANCE_PX = 5;
 const result = { holes: {} };
 
