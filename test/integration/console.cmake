@@ -17,7 +17,7 @@ endfunction()
 
 # The console: the paper's scenario with the screw prompts answered by clicks in the operator station.
 rigger_console_browser_test(rigger_console_browser_test console_browser_test.cpp
-  console cell_sim crane_gateway world_model vision_tracker admittance_control monitor_host skill_executor task_controller)
+  console cad cell_sim crane_gateway world_model vision_tracker admittance_control monitor_host skill_executor task_controller)
 # The planner: the CAD service, world model, controller, scripted executors with the real skill
 # library and the console; the tree built by clicks, holes picked in the 3D view.
 rigger_console_browser_test(rigger_planner_browser_test planner_browser_test.cpp

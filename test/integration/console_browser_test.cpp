@@ -1,10 +1,11 @@
 // The console in a real browser: the paper's scenario on every real process, the console on
 // the same private DDS domain, and headless Debian chromium driven by playwright-core
 // (console/e2e.mjs). No scripted operator runs: the four screw prompts are answered by clicks in the
-// operator station. The browser script checks what the pages show (tree, 3D highlight, replay, axe)
-// and the refused requests (401, 403, 409); this test checks what the system did: the task
-// SUCCEEDED, the tree the page showed is the tree the controller published, and nothing started
-// before the confirmed publish.
+// operator station. The browser script checks what the pages show (tree, the 3D view on the CAD
+// service's geometry with each prompt's hole highlighted where its CAD position projects, replay, plots,
+// axe) and the refused requests (401, 403, 409); this test checks what the system did: the task
+// SUCCEEDED, the tree the page showed is the tree the controller published, nothing started before the
+// confirmed publish, and the plotted force and tool speed are the physics' own over the insertion.
 #include <unistd.h>
 
 #include <cstdlib>
@@ -12,6 +13,7 @@
 #include <fstream>
 
 #include "auth.hpp"
+#include "console/physics_trace.hpp"
 #include "scenario_support.hpp"
 #include "rigger/testing/require.hpp"
 
@@ -25,13 +27,54 @@ bool browser_tools_present() {
 
 class ConsoleBrowserTest : public MultiProcessTest {};
 
+// The console's plot rows: 20 per second (its default plot_rate_hz), each the mean wrench since the row before.
+constexpr double kPlotRowS = 1.0 / 20.0;
+
+// The plots page's |F| and tool speed over the insertion, against the physics at each row's time.
+void expect_plots_are_the_physics(const ScenarioCell& scenario, const PhysicsTrace& physics, const nlohmann::json& plots) {
+  const NodeView* insertion = scenario.node(ScenarioCell::kInsertion);
+  ASSERT_TRUE(insertion != nullptr && insertion->finished_s > insertion->started_s) << "no finished insertion";
+  const double from = insertion->started_s, to = insertion->finished_s;
+  const auto force = compare_series(plots.at("f"), from, to, [&](double t) { return physics.force_at(t, kPlotRowS); });
+  const auto speed = compare_series(plots.at("robot_v"), from, to, [&](double t) { return physics.speed_at(t); });
+  std::printf("  insertion %.2f s; physics %zu wrench, %zu robot samples\n  %s\n  %s\n", to - from,
+              physics.force_samples(), physics.speed_samples(), force.describe("|F|", "N").c_str(),
+              speed.describe("tool speed", "m/s").c_str());
+  // Tolerances from two runs on a loaded 2-core machine (insertion 11.6 s, the restarted console's rows
+  // over 10.2-10.7 s of it): 205-214 rows each; |F| peak page vs physics 3.25/3.33 N and 3.78/3.75 N
+  // (within 3 %), row error median 0.005-0.007 N, max 0.48 N (the console averages by arrival, the
+  // physics here by stamp: at a contact step a row's window differs by a sample or two); tool speed
+  // peaks equal to 0.1 mm/s, row error median 0. Empty or zero series fail the row count or the peaks;
+  // the same series moved by 1 s gave row error medians of 0.37 N and 5 mm/s, failing both.
+  for (const auto* c : {&force, &speed}) EXPECT_GE(c->rows, 40) << "fewer than 2 s of rows inside the insertion";
+  EXPECT_GT(force.physics_peak, 1.0) << "the physics pushed with no force: nothing to compare";
+  EXPECT_GT(speed.physics_peak, 0.01) << "the tool did not move: nothing to compare";
+  EXPECT_NEAR(force.page_peak, force.physics_peak, 0.1 * force.physics_peak) << "|F| peak";
+  EXPECT_NEAR(speed.page_peak, speed.physics_peak, 0.05 * speed.physics_peak) << "tool speed peak";
+  EXPECT_LE(force.median_error, 0.1) << "|F| (N) row by row";
+  EXPECT_LE(speed.median_error, 0.001) << "tool speed (m/s) row by row";
+}
+
 // Long enough for a dialog click in a loaded headless chromium (2.7 s seen), short enough to wait out.
 constexpr double kConfirmTimeoutS = 5.0;
+
+// The target's screw holes (target frame, m) as the CAD rules derive them from its STEP file: the truth
+// the browser script projects with the page's camera, independent of what the page was told.
+nlohmann::json cad_holes() {
+  const cell::CellFile cell = cell::load_cell_file_with_cad(repo_file("deploy/cell/simulated_cell.json"));
+  nlohmann::json holes = nlohmann::json::object();
+  for (const auto& h : cell.require("target", "the operator station's 3D view").features.screw_holes) {
+    const Eigen::Vector3d p = h.pose_entity_hole.translation();
+    holes[h.id] = {p.x(), p.y(), p.z()};
+  }
+  return holes;
+}
 
 TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusalsMoveNothing) {
   RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   ScenarioCell scenario(cell_, {}, /*scripted_operator=*/false);
   ASSERT_TRUE(scenario.ready()) << "the cell did not come up";
+  PhysicsTrace physics(cell_);
   std::ifstream recipe_file(repo_file("recipes/crane_insert.json"));
   const std::string task_id = nlohmann::json::parse(recipe_file).at("task_id");
   scenario.watch(task_id);
@@ -48,8 +91,16 @@ TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusa
                                                            {"confirm_timeout_s", kConfirmTimeoutS}}
                                                 .dump(2);
   }
+  // The CAD service on the cell file and models the cell's other services read: the 3D view draws its
+  // tessellation of the target.
+  {
+    std::ofstream(dir + "/cad.json") << nlohmann::json{{"cell_config", repo_file("deploy/cell/simulated_cell.json")},
+                                                       {"allowed_dirs", {repo_file("deploy/cell/models")}}}
+                                            .dump(2);
+  }
+  cell_.start("cad", "cad", {"--id", "cad", "--config", dir + "/cad.json"});
   cell_.start("console", "console", {"--config", dir + "/console.json"});
-  ASSERT_TRUE(cell_.wait_ready({"console"}, 20s));
+  ASSERT_TRUE(cell_.wait_ready({"cad", "console"}, 30s));
 
   const std::string result_file = dir + "/browser-result.json";
   bool browser_done = false;
@@ -64,6 +115,7 @@ TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusa
                         {"ARTIFACTS", dir},
                         {"RESULT", result_file},
                         {"CONFIRM_TIMEOUT_S", std::to_string(kConfirmTimeoutS)},
+                        {"CAD_HOLES", cad_holes().dump()},
                         {"NODE_PATH", repo_file("services/console/web/node_modules")}},
                        dir + "/browser.log", [&] { cell_.loop().post([&] { browser_done = true; }); });
   // Mid-task (the insertion running, the browser watching), the console is restarted on the same port:
@@ -109,6 +161,14 @@ TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusa
   }
   EXPECT_EQ(result.at("replay_tree"), page_tree) << "the replay's last step differs from the live tree";
   EXPECT_TRUE(std::filesystem::exists(dir + "/operator-station-hole-1.png"));
+  // Each prompt's hole was highlighted on screen where its CAD position projects (e2e.mjs measures).
+  EXPECT_EQ(result.at("holes").size(), 4U) << result.at("holes").dump(2);
+  for (const auto& [hole, h] : result.at("holes").items()) {
+    std::printf("  hole %s: highlight %.2f px from its CAD position's projection (%d pixels)\n", hole.c_str(),
+                h.at("distance_px").get<double>(), h.at("pixels").get<int>());
+    EXPECT_LE(h.at("distance_px").get<double>(), 5.0) << hole << ": " << h.dump();
+  }
+  expect_plots_are_the_physics(scenario, physics, result.at("plots"));
   // Every action was journaled with who did it: the console's audit log names the users.
   std::ifstream audit(dir + "/console-audit.log");
   const std::string audit_text((std::istreambuf_iterator<char>(audit)), std::istreambuf_iterator<char>());

@@ -7,6 +7,7 @@ import path from 'node:path';
 import { pathToFileURL } from 'node:url';
 
 import { check, consoleRequest, env } from '../browser.mjs';
+import { highlightOnScreen, plotted, project } from './measure.mjs';
 
 const URL_ = env('CONSOLE_URL');
 const ART = env('ARTIFACTS');
@@ -16,7 +17,14 @@ const tokens = { programmer: env('TOKEN_PROGRAMMER'), operator: env('TOKEN_OPERA
 const recipeText = fs.readFileSync(env('RECIPE'), 'utf8');
 const recipe = JSON.parse(recipeText);
 const TASK = recipe.task_id;
-const result = {};
+// The target's hole positions (target frame, m) as the CAD rules derive them from the cell's STEP file.
+const CAD_HOLES = JSON.parse(env('CAD_HOLES'));
+// How far the highlight's centroid on screen may be from the projection of the hole's CAD position.
+// Measured 3.1 px for every hole (the camera centres on the hole): the pin, ring and frame sit 2-5 mm
+// above the hole's entry and their near halves, larger in perspective, pull the centroid down-screen.
+// The nearest other hole of the target (0.2 m away) is about 90 px from the highlighted one on screen.
+const HOLE_TOLERANCE_PX = 5;
+const result = { holes: {} };
 
 const call = (pathname, options) => consoleRequest(URL_, pathname, options);
 
@@ -88,7 +96,7 @@ try {
       const o = window.rigger.operator;
       if (!o || !o.prompt_id || answered.includes(o.prompt_id)) return false;
       const v = window.rigger.view3d;
-      if (o.hole && (!v || v.highlighted !== o.hole)) return false;  // the 3D view has not caught up yet
+      if (o.hole && (!v || v.highlighted !== o.hole || v.source === 'none')) return false;  // the 3D view has not caught up yet
       return { prompt: o.prompt_id, hole: o.hole, view: v ? { ...v } : null, text: document.querySelector('.prompt').innerText };
     }, [TASK, [...seen]], { timeout: 240000, polling: 200 });
     const p = await handle.jsonValue();
@@ -97,6 +105,15 @@ try {
     if (p.hole) {
       screws++;
       check(p.view.highlighted === p.hole && p.view.holes.includes(p.hole), `3D view highlights hole ${p.hole} (${p.view.source} geometry, number ${p.view.number})`);
+      check(p.view.source === 'cad', `the 3D view draws the CAD service's geometry (source ${p.view.source}, ${p.view.cad_error || ''})`);
+      const cad = CAD_HOLES[p.hole];
+      check(cad, `hole ${p.hole} is a hole of the target's CAD model`);
+      const expected = project(p.view.camera.view_projection, p.view.camera.width, p.view.camera.height, cad);
+      const onScreen = await highlightOnScreen(op, '.op .view canvas');
+      check(onScreen.at, `the highlight of hole ${p.hole} is on screen (${onScreen.pixels} highlight pixels)`);
+      const distance = Math.hypot(onScreen.at[0] - expected[0], onScreen.at[1] - expected[1]);
+      result.holes[p.hole] = { expected_px: expected, seen_px: onScreen.at, pixels: onScreen.pixels, distance_px: distance, page_hole_m: p.view.hole_m, cad_hole_m: cad };
+      check(distance <= HOLE_TOLERANCE_PX, `hole ${p.hole}: the highlight at (${onScreen.at.map((x) => x.toFixed(1))}) is ${distance.toFixed(1)} px from its CAD position's projection (${expected.map((x) => x.toFixed(1))})`);
       check(p.text.includes(`${screws} of 4`) && /M12x40/.test(p.text) && /60 N·m/.test(p.text), `prompt shows step ${screws} of 4, screw type and torque`);
       if (screws === 1) {
         const v = await call(`/api/prompts/${encodeURIComponent(p.prompt)}/answer`, { token: tokens.viewer, method: 'POST', body: { answer: 'done' } });
@@ -152,6 +169,9 @@ try {
   // Plots of the finished task.
   await prog.goto(`${URL_}/#/plots/${TASK}`);
   await prog.waitForFunction(() => window.rigger?.plots?.rows > 0, null, { timeout: 20000 });
+  // What the charts draw; console_browser_test.cpp compares it with the physics over the insertion.
+  result.plots = { f: await plotted(prog, '|F| (N)'), robot_v: await plotted(prog, 'robot tool speed (m/s)') };
+  check(result.plots.f.length > 0 && result.plots.robot_v.length > 0, `the plots draw force and tool speed (${result.plots.f.length}, ${result.plots.robot_v.length} samples)`);
   await prog.screenshot({ path: path.join(ART, 'plots.png'), fullPage: true });
   console.log('ok: plots of the finished task');
 } finally {

@@ -20,7 +20,17 @@ export function plotsPage(main, _me, args) {
   let plots = [];
   let source = null;
   let dirty = false;
-  const page = { rows: 0, mode: 'live' };
+  // For tests: the row count, and series(label), the times (s) and values a chart draws for that series.
+  const page = {
+    rows: 0, mode: 'live',
+    series(label) {
+      for (const p of plots) {
+        const i = p.series.findIndex((s) => s.label === label);
+        if (i > 0) return { t: Array.from(p.data[0]), values: Array.from(p.data[i]) };
+      }
+      return null;
+    },
+  };
   window.rigger.plots = page;
 
   function build() {

@@ -60,7 +60,13 @@ export class TargetView {
     this.camera.updateProjectionMatrix();
     this.render();
   }
-  render() { this.renderer.render(this.scene, this.camera); }
+  /// Renders; for tests, state.camera holds the view-projection (column-major) and the canvas's CSS size.
+  render() {
+    this.renderer.render(this.scene, this.camera);
+    const vp = new THREE.Matrix4().multiplyMatrices(this.camera.projectionMatrix, this.camera.matrixWorldInverse);
+    const c = this.renderer.domElement;
+    this.state.camera = { view_projection: vp.elements.slice(), width: c.clientWidth, height: c.clientHeight };
+  }
 
   /// Loads the part `entity` (e.g. "target"): its holes from the world model, its geometry from CAD or a box.
   async load(entity = 'target') {
@@ -120,6 +126,7 @@ export class TargetView {
         target = p;
         this.state.highlighted = h.id;
         this.state.number = i + 1;
+        this.state.hole_m = [p.x, p.y, p.z];
       }
     });
     const look = target || new THREE.Vector3(0, 0, 0);
