@@ -110,8 +110,8 @@ class ScenarioCell {
         behind_ros2_bridge_(behind_ros2_bridge),
         pki_dir_(std::move(pki_dir)),
         sim_(cell, pki_dir_.empty()),
-        status_(cell.participant(), protocol::task::kStatus.name, dds::qos::state()),
-        nodes_(cell.participant(), protocol::task::kNodeStatus.name, dds::qos::state_changes()),
+        status_(cell.participant(), protocol::task::kStatus),
+        nodes_(cell.participant(), protocol::task::kNodeStatus, dds::qos::state_changes()),
         truth_(cell.participant(), protocol::sim::kGroundTruth),
         robot_(cell.participant(), protocol::robot::kState, traced(protocol::robot::kState)),
         gripper_(cell.participant(), protocol::robot::kGripperState),
@@ -120,7 +120,7 @@ class ScenarioCell {
         cmd_twist_(cell.participant(), protocol::robot::kCmdTwist, traced(protocol::robot::kCmdTwist)),
         crane_cmd_(cell.participant(), protocol::crane::kCmdVelocity, traced(protocol::crane::kCmdVelocity)),
         admittance_(cell.participant(), protocol::admittance::kState, traced(protocol::admittance::kState)) {
-    if (pki_dir_.empty()) recipes_.emplace(cell.participant(), protocol::task::kRecipe.name, dds::qos::commands());
+    if (pki_dir_.empty()) recipes_.emplace(cell.participant(), protocol::task::kRecipe);
     cell.loop().on_data(commands_, [this] {
       commands_.take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
         if (c.kind != rigger_skill_SKILL_PAUSE || stop_.marked()) return;

@@ -98,7 +98,7 @@ DdsCraneMonitor::DdsCraneMonitor(const dds::Participant& participant, dds::Event
       log_(std::move(log)),
       source_(std::move(source)),
       control_(participant, protocol::crane::kControl),
-      state_(participant, loop, protocol::crane::kState.name, dds::qos::state(),
+      state_(participant, loop, protocol::crane::kState,
              [](const rigger_crane_CraneState& s) { return to_snapshot(s); }),
       seq_(initial_seq()) {
   state_.subscribe([this](const CraneSnapshot& s) { on_state(s); });
@@ -270,8 +270,8 @@ DdsVisionTracker::DdsVisionTracker(const dds::Participant& participant, dds::Eve
                                    std::string source)
     : log_(std::move(log)),
       source_(std::move(source)),
-      commands_(participant, protocol::vision::kTrackerCommand.name, dds::qos::commands()),
-      poses_(participant, loop, protocol::vision::kTrackerPose.name, dds::qos::sensor_stream(),
+      commands_(participant, protocol::vision::kTrackerCommand),
+      poses_(participant, loop, protocol::vision::kTrackerPose,
              [](const rigger_vision_TrackedPose& s) { return to_sample(s); }),
       seq_(initial_seq()) {}
 
@@ -326,8 +326,8 @@ DdsAdmittanceController::DdsAdmittanceController(const dds::Participant& partici
     : loop_(loop),
       log_(std::move(log)),
       source_(std::move(source)),
-      commands_(participant, protocol::admittance::kCommand.name, dds::qos::commands()),
-      state_(participant, loop, protocol::admittance::kState.name, dds::qos::state(),
+      commands_(participant, protocol::admittance::kCommand),
+      state_(participant, loop, protocol::admittance::kState,
              [](const rigger_admittance_AdmittanceState& s) { return to_snapshot(s); }),
       seq_(initial_seq()) {
   state_subscription_ = state_.subscribe([this](const AdmittanceSnapshot& s) { on_state(s); });

@@ -123,7 +123,7 @@ CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_li
       ground_truth_(ctx.participant, protocol::sim::kGroundTruth),
       sim_event_(ctx.participant, protocol::sim::kEvent),
       sim_status_(ctx.participant, protocol::sim::kStatus),
-      motion_(ctx.participant, protocol::robot::kCmdMotion.name, dds::qos::commands()),
+      motion_(ctx.participant, protocol::robot::kCmdMotion),
       gripper_(ctx.participant, protocol::robot::kGripperCmd),
       sim_control_(ctx.participant, protocol::sim::kControl) {
   if (command_line.plc_port) config_.plc.server.port = *command_line.plc_port;
@@ -146,7 +146,7 @@ CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_li
     wrench_.emplace(ctx.participant, protocol::robot::kWrench, written_by_physics(dds::qos::sensor_stream()));
     robot_state_.emplace(ctx.participant, protocol::robot::kState, written_by_physics(dds::qos::sensor_stream()));
     image_.emplace(ctx.participant, protocol::vision::kCameraImage);
-    twist_.emplace(ctx.participant, protocol::robot::kCmdTwist.name, dds::qos::setpoints());
+    twist_.emplace(ctx.participant, protocol::robot::kCmdTwist);
   }
 
   sim::CellGeometry geometry;

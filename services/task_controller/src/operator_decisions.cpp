@@ -44,7 +44,7 @@ std::string quoted_options(const std::vector<std::string>& options) {
 }
 
 PromptWriter::PromptWriter(const dds::Participant& participant)
-    : prompts_(participant, protocol::operator_ui::kPrompt.name, dds::qos::state()) {}
+    : prompts_(participant, protocol::operator_ui::kPrompt) {}
 
 bool PromptWriter::write(const PromptId& id, const bt::NodeSpec& spec, bool active, const std::string& kind,
                          const std::string& details_json) {
