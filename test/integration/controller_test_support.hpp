@@ -22,9 +22,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/executor/executor_endpoint.hpp"
 #include "rigger/operator_ui/prompt.hpp"
 #include "rigger/protocol/operator.hpp"
@@ -143,11 +144,9 @@ class ControllerTest : public MultiProcessTest {
       journal_replies_->take([this](const rigger_task_JournalReply& r, const dds_sample_info_t&) {
         if (dds::to_string(r.client_id) != kJournalClient) return;
         auto& lines = journal_answers_[r.request_id];
-        for (std::uint32_t i = 0; i < r.entries._length; ++i) {
-          const auto& e = r.entries._buffer[i];
+        for (const auto& e : dds::elements(r.entries))
           lines.push_back(
               {dds::to_string(e.node_id), dds::to_string(e.kind), dds::to_string(e.code), dds::to_string(e.message)});
-        }
       });
     });
   }

@@ -26,10 +26,11 @@
 #include "rigger/cell_config/cell_cad.hpp"
 
 #include "cell_sim_test_support.hpp"
-#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/qos.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/idl/types.hpp"
 #include "rigger/protocol/admittance.hpp"
 #include "rigger/protocol/crane.hpp"
@@ -165,9 +166,8 @@ class ScenarioCell {
         task_code_ = dds::to_string(s.code);
         task_message_ = dds::to_string(s.message);
         failed_node_ = dds::to_string(s.failed_node);
-        for (uint32_t i = 0; i < s.errors._length; ++i)
-          task_errors_ +=
-              dds::to_string(s.errors._buffer[i].pointer) + ": " + dds::to_string(s.errors._buffer[i].message) + "\n";
+        for (const auto& e : dds::elements(s.errors))
+          task_errors_ += dds::to_string(e.pointer) + ": " + dds::to_string(e.message) + "\n";
       });
     });
     cell.loop().on_data(nodes_, [this] {

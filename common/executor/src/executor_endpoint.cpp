@@ -7,12 +7,13 @@
 #include <set>
 #include <stdexcept>
 
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/partitions.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/dds/service_state.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/safety/safe_stop.hpp"
-#include "rigger/base/bounded_json.hpp"
 
 namespace rigger::executor {
 namespace {
@@ -547,12 +548,9 @@ void wire_runs(rigger_skill_ExecutorAnnouncement& announcement, const std::vecto
 
 std::vector<AnnouncedRun> runs_of(const rigger_skill_ExecutorAnnouncement& announcement) {
   std::vector<AnnouncedRun> out;
-  out.reserve(announcement.runs._length);
-  for (std::uint32_t i = 0; i < announcement.runs._length; ++i) {
-    const auto& w = announcement.runs._buffer[i];
+  for (const auto& w : dds::elements(announcement.runs))
     out.push_back({dds::to_string(w.task_id), dds::to_string(w.node_id), dds::to_string(w.skill),
                    dds::to_string_vector(w.resources), w.stopping});
-  }
   return out;
 }
 

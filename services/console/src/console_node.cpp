@@ -10,6 +10,7 @@
 #include "rigger/base/bounded_json.hpp"
 #include "rigger/base/install.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/sequences.hpp"
 
 #include "rigger/operator_ui/prompt.hpp"
 
@@ -295,8 +296,7 @@ void ConsoleNode::on_journal_replies() {
     auto it = journal_pending_.find(rep.request_id);
     if (it == journal_pending_.end()) return;
     json entries = json::array();
-    for (uint32_t i = 0; i < rep.entries._length; ++i) {
-      const auto& e = rep.entries._buffer[i];
+    for (const auto& e : dds::elements(rep.entries)) {
       entries.push_back({{"stamp", seconds(e.stamp)}, {"node_id", dds::to_string(e.node_id)},
                          {"kind", dds::to_string(e.kind)}, {"code", dds::to_string(e.code)},
                          {"message", dds::to_string(e.message)}});
@@ -354,7 +354,8 @@ void ConsoleNode::on_cad_replies() {
     if (!rep.ok) {
       it->second.promise->set_value({false, dds::to_string(rep.code) + ": " + dds::to_string(rep.message), {}});
     } else {
-      std::string data(reinterpret_cast<const char*>(rep.data._buffer), rep.data._length);
+      const auto bytes = dds::elements(rep.data);
+      std::string data(reinterpret_cast<const char*>(bytes.data()), bytes.size());
       JsonParseResult parsed = parse_json_bounded(dds::to_string(rep.result_json), {16U * 1024U * 1024U, 64});
       json result = parsed.ok() ? std::move(parsed.value) : json::object();
       it->second.promise->set_value(
