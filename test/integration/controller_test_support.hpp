@@ -26,11 +26,11 @@
 #include "rigger/dds/partitions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/sequences.hpp"
-#include "rigger/executor/executor_endpoint.hpp"
 #include "rigger/operator_ui/prompt.hpp"
 #include "rigger/protocol/operator.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
+#include "rigger/skill_protocol/executor_endpoint.hpp"
 #include "rigger/testing/cell.hpp"
 #include "task_controller_node.hpp"
 

@@ -32,18 +32,29 @@ RunMatch match_run(const LeafRun* run, const std::string& executor_id, std::uint
   return command_seq == run->start_seq ? RunMatch::kCurrent : RunMatch::kStale;
 }
 
-bt::LeafEvent to_leaf_event(const rigger_skill_SkillEvent& e) {
+bt::LeafEvent to_leaf_event(const skill_protocol::LeafOutcome& outcome) {
+  using skill_protocol::EventKind;
   bt::LeafEvent ev;
-  ev.code = dds::to_string(e.code);
-  ev.message = dds::to_string(e.message);
-  switch (e.kind) {
-    case rigger_skill_SKILL_EVENT_SUCCESS: ev.kind = bt::LeafEventKind::kSuccess; break;
-    case rigger_skill_SKILL_EVENT_FAILURE: ev.kind = bt::LeafEventKind::kFailure; break;
-    case rigger_skill_SKILL_EVENT_STOPPED: ev.kind = bt::LeafEventKind::kStopped; break;
-    case rigger_skill_SKILL_EVENT_ACCEPTED: ev.kind = bt::LeafEventKind::kProgress; break;
-    default:
+  ev.code = outcome.code;
+  ev.message = outcome.message;
+  switch (outcome.kind) {
+    case EventKind::kSuccess:
+      ev.kind = bt::LeafEventKind::kSuccess;
+      break;
+    case EventKind::kFailure:
+      ev.kind = bt::LeafEventKind::kFailure;
+      break;
+    case EventKind::kStopped:
+      ev.kind = bt::LeafEventKind::kStopped;
+      break;
+    case EventKind::kProgress:
       ev.kind = bt::LeafEventKind::kProgress;
-      if (e.progress >= 0.0 && e.progress <= 1.0) ev.progress = e.progress;
+      ev.progress = outcome.progress;
+      break;
+    case EventKind::kAccepted:
+    case EventKind::kPaused:
+    case EventKind::kResumed:
+      ev.kind = bt::LeafEventKind::kProgress;
       break;
   }
   return ev;
@@ -151,10 +162,7 @@ void ControllerEndpoint::take(const std::function<void(const ReceivedEvent&)>& o
       on_out_of_order(r, last);
       return;
     }
-    r.event = to_leaf_event(e);
-    r.accepted = e.kind == rigger_skill_SKILL_EVENT_ACCEPTED;
-    if (e.kind == rigger_skill_SKILL_EVENT_PAUSED) r.pause_answer = "PAUSED";
-    if (e.kind == rigger_skill_SKILL_EVENT_RESUMED) r.pause_answer = "RESUMED";
+    r.outcome = skill_protocol::from_wire(e);
     on_event(r);
   });
 }

@@ -1,12 +1,14 @@
 #pragma once
 /// @file
-/// The controller's half of the skill protocol, the mirror of rigger::executor::ExecutorEndpoint:
+/// The controller's half of the skill protocol, the mirror of rigger::skill_protocol::ExecutorEndpoint:
 /// START/SHUTDOWN go out on rigger/skill/command with an increasing seq, under a liveliness lease the
 /// executors watch (a controller that dies or hangs has its running skills shut down); events come in
 /// on rigger/skill/event and must be newer than the last one from the same executor writer (EventOrder)
 /// and echo the seq of the START of the run they report on (match_run). Events that break a rule are
 /// rejected (logged and journalled by the node), never acted on.
-/// EventOrder, match_run and to_leaf_event are pure logic; ControllerEndpoint owns the DDS entities.
+/// An event's outcome is read with rigger::skill_protocol::from_wire, the executor endpoint's
+/// to_wire read back. EventOrder, match_run and to_leaf_event are pure logic; ControllerEndpoint owns
+/// the DDS entities.
 
 #include <chrono>
 #include <cstdint>
@@ -18,6 +20,7 @@
 #include "rigger/bt/tree_spec.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/protocol/skill.hpp"
+#include "rigger/skill_protocol/leaf_outcome.hpp"
 #include "stage_trace.hpp"
 
 namespace rigger::task_controller {
@@ -57,18 +60,15 @@ struct ReceivedEvent {
   std::string task_id, node_id, executor_id;
   std::uint64_t seq = 0, command_seq = 0;
   std::int64_t stamp_wall_ns = 0;  ///< the event's stamp (its writer's wall clock)
-  bt::LeafEvent event;  ///< activation not set: the node takes it from its LeafRun
-  /// The executor's answer to the START (ACCEPTED, code WAITING or empty): for the controller, not the
-  /// engine (`event` then holds only code and message).
-  bool accepted = false;
-  /// "PAUSED" / "RESUMED": the executor's answer to a PAUSE / RESUME (code and message in `event`), for
-  /// the journal, never the engine; "" otherwise.
-  std::string pause_answer;
+  /// What the run reports. ACCEPTED (code WAITING or empty) answers the START: for the controller, not
+  /// the engine; PAUSED / RESUMED answer a PAUSE / RESUME: for the journal, never the engine.
+  skill_protocol::LeafOutcome outcome;
 };
 
-/// The wire event as the engine's (kind, code, message; progress only when in [0, 1]). ACCEPTED, which
-/// is not the engine's, comes out as PROGRESS without a fraction.
-bt::LeafEvent to_leaf_event(const rigger_skill_SkillEvent& e);
+/// An outcome for the engine (kind, code, message, progress; activation not set: the node takes it from
+/// its LeafRun). ACCEPTED, PAUSED and RESUMED, which are not the engine's, come out as PROGRESS without a
+/// fraction.
+bt::LeafEvent to_leaf_event(const skill_protocol::LeafOutcome& outcome);
 
 class ControllerEndpoint {
  public:

@@ -4,10 +4,10 @@
 #include <chrono>
 
 #include "rigger/dds/conversions.hpp"
-#include "rigger/executor/executor_endpoint.hpp"
 #include "rigger/protocol/operator.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
+#include "rigger/skill_protocol/executor_endpoint.hpp"
 #include "rigger/world_client/world_client.hpp"
 
 namespace rigger::task_controller {
@@ -174,7 +174,7 @@ void TaskControllerNode::on_announcements() {
         const std::string id = dds::to_string(a.executor_id);
         const auto change =
             executors_.announce(id, info.instance_state == DDS_IST_ALIVE, dds::to_string(a.library_json),
-                                dds::to_string_vector(a.skills), executor::runs_of(a));
+                                dds::to_string_vector(a.skills), skill_protocol::runs_of(a));
         if (change.lost) lost.push_back(id);
         if (change.came_up) ctx_.log->info("executor up executor={}", id);
         if (change.alive) {
@@ -319,7 +319,8 @@ void TaskControllerNode::on_events() {
   if (trace_) trace_->woke();
   endpoint_.take(
       [this](const ReceivedEvent& e) {
-        if (trace_) trace_->begin(e.executor_id, std::string(bt::to_string(e.event.kind)), e.stamp_wall_ns);
+        if (trace_)
+          trace_->begin(e.executor_id, std::string(bt::to_string(to_leaf_event(e.outcome).kind)), e.stamp_wall_ns);
         Task* task = find_task(e.task_id);
         if (task == nullptr) {
           ctx_.log->warn("event rejected (unknown task) executor={} task={} node={}", e.executor_id, e.task_id,

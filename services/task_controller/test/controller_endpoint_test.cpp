@@ -1,5 +1,5 @@
 // The controller's half of the skill protocol, its pure rules: event order per writer, run matching,
-// the wire event as the engine's.
+// an outcome as the engine's.
 
 #include "controller_endpoint.hpp"
 
@@ -32,31 +32,23 @@ TEST(MatchRun, TellsCurrentUnknownAndStale) {
   EXPECT_EQ(match_run(nullptr, "exec-a", 7), RunMatch::kUnknown);
 }
 
-TEST(ToLeafEvent, MapsKindsAndKeepsOnlyValidProgress) {
-  rigger_skill_SkillEvent e{};
-  char code[] = "YANK_DETECTED";
-  char message[] = "yank 900 N/s";
-  e.code = code;
-  e.message = message;
-  e.kind = rigger_skill_SKILL_EVENT_FAILURE;
-  auto ev = to_leaf_event(e);
+TEST(ToLeafEvent, MapsKindsAndKeepsTheProtocolsOwnAnswersFromTheEngine) {
+  using skill_protocol::EventKind;
+  auto ev = to_leaf_event({EventKind::kFailure, "YANK_DETECTED", "yank 900 N/s", std::nullopt});
   EXPECT_EQ(ev.kind, bt::LeafEventKind::kFailure);
   EXPECT_EQ(ev.code, "YANK_DETECTED");
   EXPECT_EQ(ev.message, "yank 900 N/s");
-  e.kind = rigger_skill_SKILL_EVENT_SUCCESS;
-  EXPECT_EQ(to_leaf_event(e).kind, bt::LeafEventKind::kSuccess);
-  e.kind = rigger_skill_SKILL_EVENT_STOPPED;
-  EXPECT_EQ(to_leaf_event(e).kind, bt::LeafEventKind::kStopped);
-  e.kind = rigger_skill_SKILL_EVENT_PROGRESS;
-  e.progress = 0.5;
-  ev = to_leaf_event(e);
+  EXPECT_EQ(to_leaf_event({EventKind::kSuccess, "", "", std::nullopt}).kind, bt::LeafEventKind::kSuccess);
+  EXPECT_EQ(to_leaf_event({EventKind::kStopped, "", "", std::nullopt}).kind, bt::LeafEventKind::kStopped);
+  ev = to_leaf_event({EventKind::kProgress, "", "", 0.5});
   EXPECT_EQ(ev.kind, bt::LeafEventKind::kProgress);
   ASSERT_TRUE(ev.progress);
   EXPECT_DOUBLE_EQ(*ev.progress, 0.5);
-  e.progress = 1.5;
-  EXPECT_FALSE(to_leaf_event(e).progress);
-  e.progress = -1.0;
-  EXPECT_FALSE(to_leaf_event(e).progress);
+  for (EventKind answer : {EventKind::kAccepted, EventKind::kPaused, EventKind::kResumed}) {
+    ev = to_leaf_event({answer, "WAITING", "", 0.5});
+    EXPECT_EQ(ev.kind, bt::LeafEventKind::kProgress) << skill_protocol::to_string(answer);
+    EXPECT_FALSE(ev.progress) << skill_protocol::to_string(answer);
+  }
 }
 
 }  // namespace
