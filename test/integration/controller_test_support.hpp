@@ -26,7 +26,7 @@
 #include "rigger/dds/partitions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/sequences.hpp"
-#include "rigger/operator_ui/prompt.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 #include "rigger/protocol/operator.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
@@ -221,7 +221,7 @@ class ControllerTest : public MultiProcessTest {
     ASSERT_EQ(task_commands_->write(c), DDS_RETCODE_OK);
   }
   void answer(const std::string& prompt_id, const std::string& choice) {
-    ASSERT_EQ(operator_ui::write_response(*responses_, prompt_id, choice, "test-operator", ""), DDS_RETCODE_OK);
+    ASSERT_EQ(operator_protocol::write_response(*responses_, prompt_id, choice, "test-operator", ""), DDS_RETCODE_OK);
   }
   /// The journal's timeline of `task_id` as the controller answers it now (empty on no answer).
   std::vector<JournalLine> journal(const std::string& task_id) {

@@ -12,7 +12,7 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/sequences.hpp"
 
-#include "rigger/operator_ui/prompt.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 
 namespace rigger::console {
 
@@ -151,7 +151,7 @@ ConsoleNode::~ConsoleNode() {
 
 void ConsoleNode::on_prompts() {
   prompts_.take([this](const rigger_operator_ui_OperatorPrompt& w, const dds_sample_info_t&) {
-    const operator_ui::Prompt p = operator_ui::to_domain(w);
+    const operator_protocol::Prompt p = operator_protocol::from_wire(w);
     JsonParseResult parsed = parse_json_bounded(p.details_json.empty() ? "{}" : p.details_json, {64U * 1024U, 16});
     json details = parsed.ok() && parsed.value.is_object() ? std::move(parsed.value) : json::object();
     state_.update_prompt({{"prompt_id", p.prompt_id}, {"task_id", p.task_id}, {"node_id", p.node_id},
@@ -262,7 +262,7 @@ ActionResult ConsoleNode::task_command(const std::string& task_id, const std::st
 ActionResult ConsoleNode::answer_prompt(const std::string& prompt_id, const std::string& answer,
                                         const std::string& operator_id, const std::string& comment) {
   return on_loop([=](auto promise) {
-    const dds_return_t rc = operator_ui::write_response(responses_, prompt_id, answer, operator_id, comment);
+    const dds_return_t rc = operator_protocol::write_response(responses_, prompt_id, answer, operator_id, comment);
     promise->set_value({rc == DDS_RETCODE_OK, rc == DDS_RETCODE_OK ? "" : std::string("sending failed: ") + dds_strretcode(rc), {}});
   });
 }

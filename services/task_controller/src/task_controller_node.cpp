@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 #include "rigger/protocol/operator.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
@@ -359,10 +360,11 @@ void TaskControllerNode::on_task_commands() {
 }
 
 void TaskControllerNode::on_operator_responses() {
-  responses_.take([this](const rigger_operator_ui_OperatorResponse& resp, const dds_sample_info_t&) {
-    const std::string prompt_id = dds::to_string(resp.prompt_id);
-    const std::string answer = dds::to_string(resp.answer);
-    const std::string by = dds::to_string(resp.operator_id);
+  responses_.take([this](const rigger_operator_ui_OperatorResponse& wire, const dds_sample_info_t&) {
+    const operator_protocol::Response response = operator_protocol::from_wire(wire);
+    const std::string& prompt_id = response.prompt_id;
+    const std::string& answer = response.answer;
+    const std::string& by = response.operator_id;
     const auto id = PromptId::parse(prompt_id);
     if (!id) {
       ctx_.log->warn("operator answer rejected: prompt id {} is not one of ours", prompt_id);
