@@ -40,7 +40,8 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx, const std::stri
       safe_stops_(ctx.participant) {
   if (!settings_.stage_trace_path.empty()) {
     trace_ = std::make_unique<StageTrace>();
-    endpoint_.trace(trace_.get());
+    StageTrace* trace = trace_.get();
+    endpoint_.trace_writes([trace] { trace->command_writing(); }, [trace] { trace->command_written(); });
   }
   world_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log,
                                                        "task_controller-" + ctx.options.id);

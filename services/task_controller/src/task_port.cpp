@@ -203,7 +203,8 @@ void Task::pause_leaves(bool pause, const std::string& why) {
     LeafRun sent = run->second;
     sent.start_seq = host_.endpoint().next_seq();
     host_.journal({wall_now_s(), id_, node_id, "COMMAND", command, spec.leaf + " on " + sent.executor_id + ": " + why});
-    if (!host_.endpoint().send(pause ? rigger_skill_SKILL_PAUSE : rigger_skill_SKILL_RESUME, id_, spec, sent, "{}", why))
+    if (!host_.endpoint().send(pause ? rigger_skill_SKILL_PAUSE : rigger_skill_SKILL_RESUME, id_, spec.id, spec.leaf,
+                               sent, "{}", why))
       host_.log()->error("skill command write failed task={} node={} kind={}", id_, node_id, command);
     if (pause) paused_[node_id] = activation;
   }
@@ -255,7 +256,7 @@ void Task::send_shutdown(const bt::NodeSpec& spec, const LeafRun& run, const std
   LeafRun shutdown = run;
   shutdown.start_seq = host_.endpoint().next_seq();
   host_.journal({wall_now_s(), id_, spec.id, "COMMAND", "SHUTDOWN", reason});
-  if (!host_.endpoint().send(rigger_skill_SKILL_SHUTDOWN, id_, spec, shutdown, "{}", reason))
+  if (!host_.endpoint().send(rigger_skill_SKILL_SHUTDOWN, id_, spec.id, spec.leaf, shutdown, "{}", reason))
     host_.log()->error("skill command write failed task={} node={}", id_, spec.id);
 }
 

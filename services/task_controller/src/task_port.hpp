@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "controller_endpoint.hpp"
 #include "journal.hpp"
+#include "leaf_run.hpp"
 #include "operator_decisions.hpp"
 #include "rigger/base/logging.hpp"
 #include "rigger/bt/engine.hpp"

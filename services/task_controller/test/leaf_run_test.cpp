@@ -1,30 +1,14 @@
-// The controller's half of the skill protocol, its pure rules: event order per writer, run matching,
-// an outcome as the engine's.
+// What an executor's event means for the controller: which run it is for, what the engine makes of it.
 
-#include "controller_endpoint.hpp"
+#include "leaf_run.hpp"
 
 #include <gtest/gtest.h>
 
 namespace rigger::task_controller {
 namespace {
 
-TEST(EventOrder, AcceptsOnlyNewerSeqsPerWriter) {
-  EventOrder order;
-  std::uint64_t last = 99;
-  EXPECT_TRUE(order.accept(1, 1, &last));
-  EXPECT_EQ(last, 0U);
-  EXPECT_TRUE(order.accept(1, 5, &last));
-  EXPECT_EQ(last, 1U);
-  EXPECT_FALSE(order.accept(1, 5, &last)) << "duplicate";
-  EXPECT_EQ(last, 5U);
-  EXPECT_FALSE(order.accept(1, 3, &last)) << "out of order";
-  EXPECT_EQ(last, 5U) << "a rejected seq does not move the last one";
-  EXPECT_TRUE(order.accept(2, 1)) << "another writer counts on its own";
-  EXPECT_FALSE(order.accept(1, 0)) << "seq 0 is never newer";
-}
-
 TEST(MatchRun, TellsCurrentUnknownAndStale) {
-  const LeafRun run{"exec-a", 7, 2};
+  const LeafRun run{{"exec-a", 7, false}, 2};
   EXPECT_EQ(match_run(&run, "exec-a", 7), RunMatch::kCurrent);
   EXPECT_EQ(match_run(&run, "exec-a", 6), RunMatch::kStale);
   EXPECT_EQ(match_run(&run, "exec-a", 8), RunMatch::kStale);
