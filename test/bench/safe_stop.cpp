@@ -71,8 +71,7 @@ class Motion {
 /// The operator's joystick, written on the cell's loop at 50 Hz while on.
 class Joystick {
  public:
-  explicit Joystick(Cell& cell)
-      : writer_(cell.participant(), rigger::protocol::operator_ui::kJoystick.name, rigger::dds::qos::setpoints()) {
+  explicit Joystick(Cell& cell) : writer_(cell.participant(), rigger::protocol::operator_ui::kJoystick) {
     cell.loop().every(20ms, [this] {
       if (on_) write(speed_);
     });

@@ -14,6 +14,9 @@ readonly allowed=(
 )
 
 root=${1:?usage: file_length.sh REPOSITORY_ROOT}
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+# shellcheck source=source_files.sh
+source "$here/source_files.sh"
 cd "$root"
 
 is_source() {
@@ -22,22 +25,6 @@ is_source() {
     *.cpp | *.hpp | *.h | *.c | *.js | *.mjs | *.cmake | *.py | *.sh) return 0 ;;
     *) return 1 ;;
   esac
-}
-
-is_allowed() {
-  local entry
-  for entry in "${allowed[@]}"; do
-    [[ "$1" == "$entry" ]] && return 0
-  done
-  return 1
-}
-
-list_files() {
-  if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
-    git ls-files -z --cached --others --exclude-standard
-  else
-    find . \( -name .git -o -name node_modules -o -name 'build*' \) -prune -o -type f -print0 | sed -z 's|^\./||'
-  fi
 }
 
 failed=0

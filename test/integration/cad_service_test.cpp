@@ -12,6 +12,8 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/dds/sequences.hpp"
+#include "rigger/protocol/cad.hpp"
 #include "rigger/testing/cell.hpp"
 
 namespace rigger::testing {
@@ -36,14 +38,20 @@ class CadServiceTest : public MultiProcessTest {
                              R"(/common/cad/test/data"]})";
     cell_.start("cad", "cad", {"--id", "cad", "--config", config});
     ASSERT_TRUE(cell_.wait_ready({"cad"}, 30s)) << cell_.logs();
-    requests_.emplace(cell_.participant(), "rigger/cad/request", dds::qos::commands());
-    replies_.emplace(cell_.participant(), "rigger/cad/reply", dds::qos::events());
+    requests_.emplace(cell_.participant(), protocol::cad::kRequest);
+    replies_.emplace(cell_.participant(), protocol::cad::kReply);
     cell_.loop().on_data(*replies_, [this] {
       replies_->take([this](const rigger_cad_CadReply& r, const dds_sample_info_t&) {
         if (dds::to_string(r.client_id) != "cad-test") return;
-        Answer a{r.ok, dds::to_string(r.code), dds::to_string(r.message), dds::to_string(r.model_sha256),
-                 dds::to_string(r.result_json), r.data._length, ""};
-        if (r.data._length >= 4) a.data_head.assign(reinterpret_cast<const char*>(r.data._buffer), 4);
+        const auto data = dds::elements(r.data);
+        Answer a{r.ok,
+                 dds::to_string(r.code),
+                 dds::to_string(r.message),
+                 dds::to_string(r.model_sha256),
+                 dds::to_string(r.result_json),
+                 data.size(),
+                 ""};
+        if (data.size() >= 4) a.data_head.assign(reinterpret_cast<const char*>(data.data()), 4);
         answers_[r.request_id] = a;
       });
     });

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "cell_sim_test_support.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/sim.hpp"
 #include "rigger/protocol/vision.hpp"
@@ -219,11 +220,12 @@ TEST_F(CellSimProcessTest, CameraPublishesImagesInfoAndGroundTruth) {
       width = im.width;
       height = im.height;
       step = im.step;
-      bytes = im.data._length;
+      const auto data = dds::elements(im.data);
+      bytes = static_cast<std::uint32_t>(data.size());
       encoding = dds::to_string(im.encoding);
       double sum = 0.0;
-      for (std::uint32_t i = 0; i < im.data._length; i += 97) sum += im.data._buffer[i];
-      mean = sum / (im.data._length / 97.0);
+      for (std::size_t i = 0; i < data.size(); i += 97) sum += data[i];
+      mean = sum / (data.size() / 97.0);
     });
   });
   std::optional<std::array<double, 9>> k;

@@ -75,8 +75,8 @@ class SimChannel {
   /// `can_control` false: status only, no writer on rigger/sim/control (a test participant whose DDS
   /// permissions only let it read: send() then answers nothing).
   explicit SimChannel(Cell& cell, bool can_control = true)
-      : status_(cell.participant(), protocol::sim::kStatus.name, dds::qos::sensor_stream().keep_last(256)),
-        events_(cell.participant(), protocol::sim::kEvent.name, dds::qos::events()),
+      : status_(cell.participant(), protocol::sim::kStatus, dds::qos::sensor_stream().keep_last(256)),
+        events_(cell.participant(), protocol::sim::kEvent),
         cell_(cell) {
     if (can_control) control_.emplace(cell.participant(), protocol::sim::kControl);
     cell.loop().on_data(status_, [this] {

@@ -22,14 +22,15 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/executor/executor_endpoint.hpp"
-#include "rigger/operator_ui/prompt.hpp"
+#include "rigger/dds/sequences.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 #include "rigger/protocol/operator.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
+#include "rigger/skill_protocol/executor_endpoint.hpp"
 #include "rigger/testing/cell.hpp"
 #include "task_controller_node.hpp"
 
@@ -143,11 +144,9 @@ class ControllerTest : public MultiProcessTest {
       journal_replies_->take([this](const rigger_task_JournalReply& r, const dds_sample_info_t&) {
         if (dds::to_string(r.client_id) != kJournalClient) return;
         auto& lines = journal_answers_[r.request_id];
-        for (std::uint32_t i = 0; i < r.entries._length; ++i) {
-          const auto& e = r.entries._buffer[i];
+        for (const auto& e : dds::elements(r.entries))
           lines.push_back(
               {dds::to_string(e.node_id), dds::to_string(e.kind), dds::to_string(e.code), dds::to_string(e.message)});
-        }
       });
     });
   }
@@ -222,7 +221,7 @@ class ControllerTest : public MultiProcessTest {
     ASSERT_EQ(task_commands_->write(c), DDS_RETCODE_OK);
   }
   void answer(const std::string& prompt_id, const std::string& choice) {
-    ASSERT_EQ(operator_ui::write_response(*responses_, prompt_id, choice, "test-operator", ""), DDS_RETCODE_OK);
+    ASSERT_EQ(operator_protocol::write_response(*responses_, prompt_id, choice, "test-operator", ""), DDS_RETCODE_OK);
   }
   /// The journal's timeline of `task_id` as the controller answers it now (empty on no answer).
   std::vector<JournalLine> journal(const std::string& task_id) {

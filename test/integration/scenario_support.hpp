@@ -26,10 +26,11 @@
 #include "rigger/cell_config/cell_cad.hpp"
 
 #include "cell_sim_test_support.hpp"
-#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/qos.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/idl/types.hpp"
 #include "rigger/protocol/admittance.hpp"
 #include "rigger/protocol/crane.hpp"
@@ -110,8 +111,8 @@ class ScenarioCell {
         behind_ros2_bridge_(behind_ros2_bridge),
         pki_dir_(std::move(pki_dir)),
         sim_(cell, pki_dir_.empty()),
-        status_(cell.participant(), protocol::task::kStatus.name, dds::qos::state()),
-        nodes_(cell.participant(), protocol::task::kNodeStatus.name, dds::qos::state_changes()),
+        status_(cell.participant(), protocol::task::kStatus),
+        nodes_(cell.participant(), protocol::task::kNodeStatus, dds::qos::state_changes()),
         truth_(cell.participant(), protocol::sim::kGroundTruth),
         robot_(cell.participant(), protocol::robot::kState, traced(protocol::robot::kState)),
         gripper_(cell.participant(), protocol::robot::kGripperState),
@@ -120,7 +121,7 @@ class ScenarioCell {
         cmd_twist_(cell.participant(), protocol::robot::kCmdTwist, traced(protocol::robot::kCmdTwist)),
         crane_cmd_(cell.participant(), protocol::crane::kCmdVelocity, traced(protocol::crane::kCmdVelocity)),
         admittance_(cell.participant(), protocol::admittance::kState, traced(protocol::admittance::kState)) {
-    if (pki_dir_.empty()) recipes_.emplace(cell.participant(), protocol::task::kRecipe.name, dds::qos::commands());
+    if (pki_dir_.empty()) recipes_.emplace(cell.participant(), protocol::task::kRecipe);
     cell.loop().on_data(commands_, [this] {
       commands_.take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
         if (c.kind != rigger_skill_SKILL_PAUSE || stop_.marked()) return;
@@ -165,9 +166,8 @@ class ScenarioCell {
         task_code_ = dds::to_string(s.code);
         task_message_ = dds::to_string(s.message);
         failed_node_ = dds::to_string(s.failed_node);
-        for (uint32_t i = 0; i < s.errors._length; ++i)
-          task_errors_ +=
-              dds::to_string(s.errors._buffer[i].pointer) + ": " + dds::to_string(s.errors._buffer[i].message) + "\n";
+        for (const auto& e : dds::elements(s.errors))
+          task_errors_ += dds::to_string(e.pointer) + ": " + dds::to_string(e.message) + "\n";
       });
     });
     cell.loop().on_data(nodes_, [this] {

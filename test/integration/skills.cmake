@@ -16,7 +16,7 @@ endif()
 if(TARGET rigger_skill_sdk AND TARGET cell_sim AND TARGET task_controller)
   rigger_add_test(rigger_skill_sdk_plugin_test
     SOURCES skill_sdk_test.cpp
-    DEPS rigger_test_harness rigger_task_controller_core rigger_operator_ui Eigen3::Eigen nlohmann_json::nlohmann_json
+    DEPS rigger_test_harness rigger_task_controller_core rigger_operator_protocol Eigen3::Eigen nlohmann_json::nlohmann_json
     LABEL integration TIMEOUT 420)
   target_compile_definitions(rigger_skill_sdk_plugin_test PRIVATE RIGGER_CMAKE_COMMAND="${CMAKE_COMMAND}")
   add_dependencies(rigger_skill_sdk_plugin_test cell_sim task_controller rigger_skill_sdk)

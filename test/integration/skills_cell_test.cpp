@@ -7,7 +7,7 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/operator_ui/prompt.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 #include "rigger/protocol/operator.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/vision.hpp"
@@ -100,7 +100,7 @@ class SkillsCellTest : public MultiProcessTest {
     poses_->write(out);
   }
   void respond(const std::string& prompt_id, const std::string& answer) {
-    operator_ui::write_response(*responses_, prompt_id, answer, "test-operator", "");
+    operator_protocol::write_response(*responses_, prompt_id, answer, "test-operator", "");
   }
   void start(const std::string& executor, const std::string& node, const std::string& skill,
              const nlohmann::json& params) {

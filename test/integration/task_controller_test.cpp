@@ -17,12 +17,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/partitions.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
+#include "rigger/skill_protocol/executor_endpoint.hpp"
 #include "rigger/testing/cell.hpp"
 #include "task_controller_node.hpp"
 
@@ -99,9 +100,8 @@ class TaskControllerTest : public MultiProcessTest {
       statuses_->take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
         SeenStatus seen{static_cast<int>(s.state), dds::to_string(s.code), dds::to_string(s.message),
                         dds::to_string(s.failed_node), {}, Clock::now()};
-        for (uint32_t i = 0; i < s.errors._length; ++i)
-          seen.errors.push_back(dds::to_string(s.errors._buffer[i].pointer) + ": " +
-                                dds::to_string(s.errors._buffer[i].message));
+        for (const auto& e : dds::elements(s.errors))
+          seen.errors.push_back(dds::to_string(e.pointer) + ": " + dds::to_string(e.message));
         status_[dds::to_string(s.task_id)].push_back(seen);
       });
     });

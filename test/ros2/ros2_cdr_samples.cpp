@@ -28,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rigger/dds/entity.hpp"
+#include "rigger/dds/sequences.hpp"
 
 namespace {
 
@@ -62,16 +63,11 @@ void fill(geometry_msgs_msg_dds__Pose_& s, const ordered_json& j);
 void fill(geometry_msgs_msg_dds__Twist_& s, const ordered_json& j);
 void fill(geometry_msgs_msg_dds__Wrench_& s, const ordered_json& j);
 
-/// An idlc sequence from a JSON array: the buffer is dds_alloc'ed with _release set, so that
-/// dds_sample_free frees it.
+/// An idlc sequence from a JSON array, owning its elements (dds_sample_free frees them).
 template <typename Seq>
 void fill_sequence(Seq& seq, const ordered_json& array) {
-  using Element = std::remove_pointer_t<decltype(seq._buffer)>;
-  const auto n = static_cast<std::uint32_t>(array.size());
-  seq._length = seq._maximum = n;
-  seq._release = true;
-  seq._buffer = n == 0 ? nullptr : static_cast<Element*>(dds_alloc(n * sizeof(Element)));
-  for (std::uint32_t i = 0; i < n; ++i) fill(seq._buffer[i], array[i]);
+  auto* elements = rigger::dds::alloc_sequence(seq, array.size());
+  for (std::size_t i = 0; i < array.size(); ++i) fill(elements[i], array[i]);
 }
 
 template <typename Member, typename... Rest>

@@ -51,7 +51,7 @@ ServiceAnnouncer::ServiceAnnouncer(const Participant& participant, std::string s
     : service_id_(std::move(service_id)),
       kind_(std::move(kind)),
       host_(host_name()),
-      writer_(participant, protocol::system::kServiceState.name, qos::announcements(lease)) {}
+      writer_(participant, protocol::system::kServiceState, qos::announcements(lease)) {}
 
 ServiceAnnouncer::~ServiceAnnouncer() {
   rigger_system_ServiceState key{};
@@ -79,7 +79,7 @@ dds_return_t ServiceAnnouncer::announce(ServiceStatus status, const std::string&
 }
 
 ServiceDirectory::ServiceDirectory(const Participant& participant)
-    : reader_(participant, protocol::system::kServiceState.name, qos::state()) {}
+    : reader_(participant, protocol::system::kServiceState, qos::state()) {}
 
 bool ServiceDirectory::update() {
   bool changed = false;

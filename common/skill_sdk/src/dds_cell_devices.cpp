@@ -5,6 +5,7 @@
 #include "rigger/base/text.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/qos.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 #include "rigger/protocol/admittance.hpp"
 #include "rigger/protocol/crane.hpp"
 #include "rigger/protocol/operator.hpp"
@@ -98,7 +99,7 @@ DdsCraneMonitor::DdsCraneMonitor(const dds::Participant& participant, dds::Event
       log_(std::move(log)),
       source_(std::move(source)),
       control_(participant, protocol::crane::kControl),
-      state_(participant, loop, protocol::crane::kState.name, dds::qos::state(),
+      state_(participant, loop, protocol::crane::kState,
              [](const rigger_crane_CraneState& s) { return to_snapshot(s); }),
       seq_(initial_seq()) {
   state_.subscribe([this](const CraneSnapshot& s) { on_state(s); });
@@ -270,8 +271,8 @@ DdsVisionTracker::DdsVisionTracker(const dds::Participant& participant, dds::Eve
                                    std::string source)
     : log_(std::move(log)),
       source_(std::move(source)),
-      commands_(participant, protocol::vision::kTrackerCommand.name, dds::qos::commands()),
-      poses_(participant, loop, protocol::vision::kTrackerPose.name, dds::qos::sensor_stream(),
+      commands_(participant, protocol::vision::kTrackerCommand),
+      poses_(participant, loop, protocol::vision::kTrackerPose,
              [](const rigger_vision_TrackedPose& s) { return to_sample(s); }),
       seq_(initial_seq()) {}
 
@@ -326,8 +327,8 @@ DdsAdmittanceController::DdsAdmittanceController(const dds::Participant& partici
     : loop_(loop),
       log_(std::move(log)),
       source_(std::move(source)),
-      commands_(participant, protocol::admittance::kCommand.name, dds::qos::commands()),
-      state_(participant, loop, protocol::admittance::kState.name, dds::qos::state(),
+      commands_(participant, protocol::admittance::kCommand),
+      state_(participant, loop, protocol::admittance::kState,
              [](const rigger_admittance_AdmittanceState& s) { return to_snapshot(s); }),
       seq_(initial_seq()) {
   state_subscription_ = state_.subscribe([this](const AdmittanceSnapshot& s) { on_state(s); });
@@ -470,28 +471,26 @@ std::string DdsOperatorPanel::prompt_id(OpId id) const {
 }
 
 void DdsOperatorPanel::write(const Prompt& prompt, bool active) {
-  const std::string empty, kind = prompt.spec.kind, title = prompt.spec.title, text = prompt.spec.text;
-  const std::string details = prompt.spec.details.dump();
-  std::vector<char*> options;
-  rigger_operator_ui_OperatorPrompt p{};
-  p.prompt_id = dds::wire_string(prompt.prompt_id);
-  p.task_id = dds::wire_string(empty);
-  p.node_id = dds::wire_string(source_);
-  p.kind = dds::wire_string(kind);
-  p.title = dds::wire_string(title);
-  p.text = dds::wire_string(text);
-  dds::wire_string_sequence(p.options, prompt.spec.options, options);
-  p.details_json = dds::wire_string(details);
+  operator_protocol::Prompt p;
+  p.prompt_id = prompt.prompt_id;
+  p.node_id = source_;
+  p.kind = prompt.spec.kind;
+  p.title = prompt.spec.title;
+  p.text = prompt.spec.text;
+  p.options = prompt.spec.options;
+  p.details_json = prompt.spec.details.dump();
   p.timeout_s = prompt.spec.timeout_s;
   p.active = active;
-  p.stamp = dds::wire_now();
-  if (prompts_.write(p) != DDS_RETCODE_OK) log_->warn("operator prompt write failed prompt_id={}", prompt.prompt_id);
+  if (operator_protocol::write_prompt(prompts_, p) != DDS_RETCODE_OK)
+    log_->warn("operator prompt write failed prompt_id={}", prompt.prompt_id);
 }
 
 void DdsOperatorPanel::on_responses() {
   std::vector<std::pair<std::function<void(std::optional<std::string>)>, std::string>> answered;
-  responses_.take([&](const rigger_operator_ui_OperatorResponse& r, const dds_sample_info_t&) {
-    const std::string prompt_id = dds::to_string(r.prompt_id), answer = dds::to_string(r.answer);
+  responses_.take([&](const rigger_operator_ui_OperatorResponse& wire, const dds_sample_info_t&) {
+    const operator_protocol::Response r = operator_protocol::from_wire(wire);
+    const std::string& prompt_id = r.prompt_id;
+    const std::string& answer = r.answer;
     for (auto& [id, prompt] : open_) {
       if (prompt.prompt_id != prompt_id || !prompt.done) continue;
       const auto& options = prompt.spec.options;
@@ -499,7 +498,7 @@ void DdsOperatorPanel::on_responses() {
         log_->warn("operator response to {} ignored: \"{}\" is not one of the prompt's options", prompt_id, answer);
         continue;
       }
-      log_->info("operator response to {}: {} (operator {})", prompt_id, answer, dds::to_string(r.operator_id));
+      log_->info("operator response to {}: {} (operator {})", prompt_id, answer, r.operator_id);
       if (prompt.timer != 0) loop_.cancel(prompt.timer);
       prompt.timer = 0;
       answered.emplace_back(std::move(prompt.done), answer);

@@ -37,9 +37,9 @@ template <typename T, typename V>
 class TopicFanout {
  public:
   using Convert = std::function<V(const T&)>;
-  TopicFanout(const dds::Participant& participant, dds::EventLoop& loop, const std::string& topic, const dds::Qos& qos,
+  TopicFanout(const dds::Participant& participant, dds::EventLoop& loop, const protocol::Topic<T>& topic,
               Convert convert)
-      : reader_(participant, topic, qos), convert_(std::move(convert)) {
+      : reader_(participant, topic), convert_(std::move(convert)) {
     loop.on_data(reader_, [this] { on_data(); });
   }
   OpId subscribe(std::function<void(const V&)> on_sample) {

@@ -27,9 +27,9 @@ DdsRobot::DdsRobot(const dds::Participant& participant, dds::EventLoop& loop, Lo
     : loop_(loop),
       log_(std::move(log)),
       source_(std::move(source)),
-      commands_(participant, protocol::robot::kCmdMotion.name, dds::qos::commands()),
+      commands_(participant, protocol::robot::kCmdMotion),
       status_(participant, protocol::robot::kMotionStatus),
-      state_(participant, loop, protocol::robot::kState.name, dds::qos::sensor_stream(), to_snapshot),
+      state_(participant, loop, protocol::robot::kState, to_snapshot),
       seq_(initial_seq()) {
   loop_.on_data(status_, [this] { on_status(); });
 }
@@ -148,8 +148,8 @@ void DdsRobot::cancel(OpId id) {
 DdsGripper::DdsGripper(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source)
     : log_(std::move(log)),
       source_(std::move(source)),
-      commands_(participant, protocol::robot::kGripperCmd.name, dds::qos::commands()),
-      state_(participant, loop, protocol::robot::kGripperState.name, dds::qos::state(),
+      commands_(participant, protocol::robot::kGripperCmd),
+      state_(participant, loop, protocol::robot::kGripperState,
              [](const rigger_robot_GripperState& s) {
                GripperSnapshot g;
                g.stamp = dds::to_domain(s.header.stamp);

@@ -6,7 +6,7 @@
 
 namespace rigger::skill_sdk {
 
-using executor::EventKind;
+using skill_protocol::EventKind;
 
 std::vector<std::string> configured_skills(const Config& config, const SkillRegistry& registry) {
   if (!config.has("skills")) return registry.names();
@@ -52,11 +52,12 @@ SkillExecutorNode::SkillExecutorNode(dds::ServiceContext& ctx, SkillRegistry reg
   devices_.admittance = admittance_.get();
   devices_.operator_panel = operator_panel_.get();
   devices_.world_access = world_access_.get();
-  endpoint_ = std::make_unique<executor::ExecutorEndpoint>(
+  endpoint_ = std::make_unique<skill_protocol::ExecutorEndpoint>(
       ctx.participant, ctx.loop, ctx.log, executor_id, registry_.library_json(skills),
-      executor::ExecutorEndpoint::Handlers{[this](const executor::StartRequest& r) { on_start(r); },
-                                           [this](const executor::ShutdownRequest& r) { on_shutdown(r); },
-                                           [this](const executor::PauseRequest& r) { return on_pause(r); }});
+      skill_protocol::ExecutorEndpoint::Handlers{
+          [this](const skill_protocol::StartRequest& r) { on_start(r); },
+          [this](const skill_protocol::ShutdownRequest& r) { on_shutdown(r); },
+          [this](const skill_protocol::PauseRequest& r) { return on_pause(r); }});
   std::string list;
   for (const auto& s : skills) list += (list.empty() ? "" : ",") + s;
   ctx.log->info("skill executor executor_id={} skills={}", executor_id, list);
@@ -76,14 +77,14 @@ SkillExecutorNode::~SkillExecutorNode() {
   runs_.clear();
 }
 
-void SkillExecutorNode::on_start(const executor::StartRequest& request) {
+void SkillExecutorNode::on_start(const skill_protocol::StartRequest& request) {
   const SkillType* type = registry_.find(request.skill);
   if (!type) {  // the endpoint checks names against the announced library; this is a safety net
     endpoint_->report(request.run, EventKind::kFailure, "UNKNOWN_SKILL", "no skill named " + request.skill);
     return;
   }
   const RunKey key{request.run.task_id, request.run.node_id};
-  const executor::LeafRun leaf = request.run;
+  const skill_protocol::LeafRun leaf = request.run;
   SkillRun::Callbacks callbacks;
   callbacks.progress = [this, leaf](double fraction, const std::string& message) {
     endpoint_->report(leaf, EventKind::kProgress, "", message, fraction);
@@ -107,13 +108,13 @@ void SkillExecutorNode::on_start(const executor::StartRequest& request) {
   raw->start();
 }
 
-void SkillExecutorNode::on_shutdown(const executor::ShutdownRequest& request) {
+void SkillExecutorNode::on_shutdown(const skill_protocol::ShutdownRequest& request) {
   auto it = runs_.find({request.run.task_id, request.run.node_id});
   if (it == runs_.end() || it->second->finished()) return;  // the endpoint answered NOT_RUNNING or the end is reported
   it->second->shutdown(request.reason);
 }
 
-executor::PauseAnswer SkillExecutorNode::on_pause(const executor::PauseRequest& request) {
+skill_protocol::PauseAnswer SkillExecutorNode::on_pause(const skill_protocol::PauseRequest& request) {
   auto it = runs_.find({request.run.task_id, request.run.node_id});
   if (it == runs_.end() || it->second->finished()) return {"NOT_RUNNING", "the run has ended"};
   const Skill* skill = it->second->skill();

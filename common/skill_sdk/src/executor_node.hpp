@@ -28,10 +28,10 @@
 #include "dds_cell_devices.hpp"
 #include "dds_devices.hpp"
 #include "rigger/dds/service.hpp"
-#include "rigger/executor/executor_endpoint.hpp"
-#include "rigger/world_client/world_client.hpp"
+#include "rigger/skill_protocol/executor_endpoint.hpp"
 #include "rigger/skill_sdk/skill_registry.hpp"
 #include "rigger/skill_sdk/skill_run.hpp"
+#include "rigger/world_client/world_client.hpp"
 #include "world_resolver.hpp"
 
 namespace rigger::skill_sdk {
@@ -61,9 +61,9 @@ class SkillExecutorNode : public dds::Node {
 
  private:
   using RunKey = std::pair<std::string, std::string>;
-  void on_start(const executor::StartRequest& request);
-  void on_shutdown(const executor::ShutdownRequest& request);
-  executor::PauseAnswer on_pause(const executor::PauseRequest& request);
+  void on_start(const skill_protocol::StartRequest& request);
+  void on_shutdown(const skill_protocol::ShutdownRequest& request);
+  skill_protocol::PauseAnswer on_pause(const skill_protocol::PauseRequest& request);
 
   dds::ServiceContext& ctx_;
   SkillRegistry registry_;
@@ -80,7 +80,7 @@ class SkillExecutorNode : public dds::Node {
   Devices devices_;
   SkillRun::Options run_options_;
   std::map<RunKey, std::unique_ptr<SkillRun>> runs_;
-  std::unique_ptr<executor::ExecutorEndpoint> endpoint_;  // last: its handlers use the members above
+  std::unique_ptr<skill_protocol::ExecutorEndpoint> endpoint_;  // last: its handlers use the members above
 };
 
 }  // namespace rigger::skill_sdk

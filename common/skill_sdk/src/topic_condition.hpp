@@ -25,9 +25,9 @@ template <typename T, typename Value>
 class TopicCondition {
  public:
   using Convert = std::function<Value(const T&)>;
-  TopicCondition(const dds::Participant& participant, dds::EventLoop& loop, const std::string& topic, const dds::Qos& qos,
+  TopicCondition(const dds::Participant& participant, dds::EventLoop& loop, const protocol::Topic<T>& topic,
                  Convert convert)
-      : loop_(loop), reader_(participant, topic, qos), convert_(std::move(convert)) {
+      : loop_(loop), reader_(participant, topic), convert_(std::move(convert)) {
     loop_.on_data(reader_, [this] { on_data(); });
   }
   ~TopicCondition() {

@@ -8,6 +8,7 @@
 #include "rigger/base/install.hpp"
 #include "rigger/cell_config/cell_file.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/admittance.hpp"
 #include "rigger/protocol/crane.hpp"
 #include "rigger/protocol/operator.hpp"
@@ -75,10 +76,13 @@ Seconds age_of(const std::optional<WallTime>& stamp) {
   return std::chrono::duration_cast<Seconds>(std::chrono::system_clock::now() - *stamp);
 }
 
-std::optional<Vector6d> gains_vector(const dds_sequence_double& seq) {
-  if (seq._length != 6) return std::nullopt;
+/// Six gains from a wire sequence of doubles, nullopt when it holds another number of values.
+template <typename Seq>
+std::optional<Vector6d> gains_vector(const Seq& seq) {
+  const auto values = dds::elements(seq);
+  if (values.size() != 6) return std::nullopt;
   Vector6d v;
-  for (int i = 0; i < 6; ++i) v(i) = seq._buffer[i];
+  for (int i = 0; i < 6; ++i) v(i) = values[i];
   return v;
 }
 
@@ -326,9 +330,10 @@ void AdmittanceNode::on_command() {
         return;
     }
     // Gains: each sequence is empty (keep) or six values; all-or-nothing.
-    const auto bad_length = [](std::uint32_t n) { return n != 0 && n != 6; };
-    if (bad_length(c.mass._length) || bad_length(c.damping._length) || bad_length(c.stiffness._length) ||
-        (c.axes._length != 0 && c.axes._length != 6)) {
+    const auto bad_length = [](std::size_t n) { return n != 0 && n != 6; };
+    const auto axes_given = dds::elements(c.axes);
+    if (bad_length(dds::elements(c.mass).size()) || bad_length(dds::elements(c.damping).size()) ||
+        bad_length(dds::elements(c.stiffness).size()) || bad_length(axes_given.size())) {
       ctx_.log->warn("command refused seq={} source={}: mass, damping, stiffness and axes need 0 or 6 values", c.seq,
                      source);
       return;
@@ -343,9 +348,9 @@ void AdmittanceNode::on_command() {
       ctx_.log->warn("command refused seq={} source={}: gains{}: {}", c.seq, source, p->pointer, p->problem);
       return;
     }
-    if (c.axes._length == 6) {
+    if (axes_given.size() == 6) {
       std::array<bool, 6> axes{};
-      for (std::size_t i = 0; i < 6; ++i) axes[i] = c.axes._buffer[i];
+      for (std::size_t i = 0; i < 6; ++i) axes[i] = axes_given[i];
       robot_.set_selected_axes(axes);
     }
     if (mode != AdmittanceMode::kOff && safe_stop_.active()) {
@@ -388,7 +393,7 @@ void AdmittanceNode::on_command() {
       ctx_.log->info("command seq={} source={} mode={} reference={}", c.seq, source, to_string(mode),
                      to_string(reference));
     }
-    if (c.stiffness._length)
+    if (!dds::elements(c.stiffness).empty())
       ctx_.log->info("command seq={} stiffness=({}, {}, {}) N/m, ({}, {}, {}) N m/rad", c.seq, gains.stiffness[0],
                      gains.stiffness[1], gains.stiffness[2], gains.stiffness[3], gains.stiffness[4],
                      gains.stiffness[5]);

@@ -2,6 +2,7 @@
 
 #include "rigger/base/install.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/sequences.hpp"
 
 #include <chrono>
 
@@ -52,9 +53,8 @@ void CadNode::on_requests() {
     const std::string client_id = dds::to_string(wire.client_id);
     query.model = dds::to_string(wire.model);
     query.args_json = dds::to_string(wire.args_json);
-    if (wire.content._length > 0 && wire.content._buffer != nullptr) {
-      query.content.assign(reinterpret_cast<const char*>(wire.content._buffer), wire.content._length);
-    }
+    const auto content = dds::elements(wire.content);
+    query.content.assign(reinterpret_cast<const char*>(content.data()), content.size());
     CadAnswer answer;
     switch (wire.kind) {
       case rigger_cad_CAD_LOAD: query.kind = QueryKind::kLoad; break;
@@ -86,10 +86,7 @@ void CadNode::on_requests() {
     reply.message = dds::wire_string(answer.message);
     reply.model_sha256 = dds::wire_string(answer.model_sha256);
     reply.result_json = dds::wire_string(answer.result_json);
-    reply.data._buffer = answer.data.data();
-    reply.data._length = static_cast<std::uint32_t>(answer.data.size());
-    reply.data._maximum = reply.data._length;
-    reply.data._release = false;
+    dds::wire_sequence(reply.data, answer.data);
     const dds_return_t rc = replies_.write(reply);
     if (rc != DDS_RETCODE_OK) {
       ctx_.log->error("reply write failed client={} request={} rc={}", client_id, wire.request_id, rc);

@@ -63,8 +63,7 @@ double bare_mj_step_real_time_factor(double seconds) {
 /// Counts the samples of one topic, whatever its type.
 template <typename T>
 struct Counter {
-  Counter(rigger::testing::Cell& cell, const char* topic, const rigger::dds::Qos& qos)
-      : reader(cell.participant(), topic, qos) {
+  Counter(rigger::testing::Cell& cell, const rigger::protocol::Topic<T>& topic) : reader(cell.participant(), topic) {
     cell.loop().on_data(reader, [this] { reader.take([this](const T&, const dds_sample_info_t&) { ++count; }); });
   }
   rigger::dds::Reader<T> reader;
@@ -87,20 +86,19 @@ std::uint16_t free_port() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  namespace q = rigger::dds::qos;
   const double seconds = argc > 1 ? std::atof(argv[1]) : 5.0;
 
   const double bare_before = bare_mj_step_real_time_factor(seconds / 2);
 
   rigger::testing::Cell cell;
-  Counter<rigger_sensing_WrenchStamped> wrench(cell, rigger::protocol::robot::kWrench.name, q::sensor_stream());
-  Counter<rigger_robot_RobotState> robot(cell, rigger::protocol::robot::kState.name, q::sensor_stream());
-  Counter<rigger_robot_GripperState> gripper(cell, rigger::protocol::robot::kGripperState.name, q::state());
-  Counter<rigger_vision_Image> image(cell, rigger::protocol::vision::kCameraImage.name, q::sensor_stream());
-  Counter<rigger_vision_CameraInfo> info(cell, rigger::protocol::vision::kCameraInfo.name, q::state());
-  Counter<rigger_vision_TrackedPose> truth(cell, rigger::protocol::sim::kGroundTruth.name, q::sensor_stream());
-  Counter<rigger_robot_MotionStatus> motion(cell, rigger::protocol::robot::kMotionStatus.name, q::events());
-  Counter<rigger_sim_SimEvent> events(cell, rigger::protocol::sim::kEvent.name, q::events());
+  Counter<rigger_sensing_WrenchStamped> wrench(cell, rigger::protocol::robot::kWrench);
+  Counter<rigger_robot_RobotState> robot(cell, rigger::protocol::robot::kState);
+  Counter<rigger_robot_GripperState> gripper(cell, rigger::protocol::robot::kGripperState);
+  Counter<rigger_vision_Image> image(cell, rigger::protocol::vision::kCameraImage);
+  Counter<rigger_vision_CameraInfo> info(cell, rigger::protocol::vision::kCameraInfo);
+  Counter<rigger_vision_TrackedPose> truth(cell, rigger::protocol::sim::kGroundTruth);
+  Counter<rigger_robot_MotionStatus> motion(cell, rigger::protocol::robot::kMotionStatus);
+  Counter<rigger_sim_SimEvent> events(cell, rigger::protocol::sim::kEvent);
   rigger::dds::Reader<rigger_sim_SimStatus> status(cell.participant(), rigger::protocol::sim::kStatus);
   struct Point {
     Clock::time_point wall;

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/sim.hpp"
 #include "rigger/protocol/vision.hpp"
@@ -123,7 +124,7 @@ CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_li
       ground_truth_(ctx.participant, protocol::sim::kGroundTruth),
       sim_event_(ctx.participant, protocol::sim::kEvent),
       sim_status_(ctx.participant, protocol::sim::kStatus),
-      motion_(ctx.participant, protocol::robot::kCmdMotion.name, dds::qos::commands()),
+      motion_(ctx.participant, protocol::robot::kCmdMotion),
       gripper_(ctx.participant, protocol::robot::kGripperCmd),
       sim_control_(ctx.participant, protocol::sim::kControl) {
   if (command_line.plc_port) config_.plc.server.port = *command_line.plc_port;
@@ -146,7 +147,7 @@ CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_li
     wrench_.emplace(ctx.participant, protocol::robot::kWrench, written_by_physics(dds::qos::sensor_stream()));
     robot_state_.emplace(ctx.participant, protocol::robot::kState, written_by_physics(dds::qos::sensor_stream()));
     image_.emplace(ctx.participant, protocol::vision::kCameraImage);
-    twist_.emplace(ctx.participant, protocol::robot::kCmdTwist.name, dds::qos::setpoints());
+    twist_.emplace(ctx.participant, protocol::robot::kCmdTwist);
   }
 
   sim::CellGeometry geometry;
@@ -326,14 +327,15 @@ void CellSimNode::on_motion() {
         command.kind = MotionKind::kStop;
         break;
       case rigger_robot_MOTION_JOINT: {
-        if (c.joint_goal._length != sim::kArmJointCount) {
+        const auto goal = dds::elements(c.joint_goal);
+        if (goal.size() != static_cast<std::size_t>(sim::kArmJointCount)) {
           refuse_motion(command.motion_id, "INVALID",
                         "joint_goal needs " + std::to_string(sim::kArmJointCount) + " values, got " +
-                            std::to_string(c.joint_goal._length));
+                            std::to_string(goal.size()));
           return;
         }
         command.kind = MotionKind::kJoint;
-        for (int i = 0; i < sim::kArmJointCount; ++i) command.joint_goal_rad[i] = c.joint_goal._buffer[i];
+        for (int i = 0; i < sim::kArmJointCount; ++i) command.joint_goal_rad[i] = goal[i];
         break;
       }
       case rigger_robot_MOTION_CARTESIAN: {
@@ -546,10 +548,7 @@ void CellSimNode::publish_image(const cv::Mat& image_mono8, WallTime stamp) {
   w.encoding = const_cast<char*>("mono8");
   w.is_bigendian = false;
   w.step = static_cast<std::uint32_t>(image_mono8.step[0]);
-  w.data._buffer = image_mono8.data;
-  w.data._length = static_cast<std::uint32_t>(image_mono8.total());
-  w.data._maximum = w.data._length;
-  w.data._release = false;
+  dds::wire_buffer(w.data, image_mono8.data, image_mono8.total());
   if (!ros2_image_) {
     image_->write(w);
     return;
@@ -561,10 +560,7 @@ void CellSimNode::publish_image(const cv::Mat& image_mono8, WallTime stamp) {
   r.encoding_ = w.encoding;
   r.is_bigendian_ = 0;
   r.step_ = w.step;
-  r.data_._buffer = w.data._buffer;
-  r.data_._length = w.data._length;
-  r.data_._maximum = w.data._maximum;
-  r.data_._release = false;
+  dds::wire_buffer(r.data_, image_mono8.data, image_mono8.total());
   ros2_image_->write(r);
 }
 

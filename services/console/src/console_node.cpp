@@ -10,8 +10,9 @@
 #include "rigger/base/bounded_json.hpp"
 #include "rigger/base/install.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/sequences.hpp"
 
-#include "rigger/operator_ui/prompt.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 
 namespace rigger::console {
 
@@ -150,7 +151,7 @@ ConsoleNode::~ConsoleNode() {
 
 void ConsoleNode::on_prompts() {
   prompts_.take([this](const rigger_operator_ui_OperatorPrompt& w, const dds_sample_info_t&) {
-    const operator_ui::Prompt p = operator_ui::to_domain(w);
+    const operator_protocol::Prompt p = operator_protocol::from_wire(w);
     JsonParseResult parsed = parse_json_bounded(p.details_json.empty() ? "{}" : p.details_json, {64U * 1024U, 16});
     json details = parsed.ok() && parsed.value.is_object() ? std::move(parsed.value) : json::object();
     state_.update_prompt({{"prompt_id", p.prompt_id}, {"task_id", p.task_id}, {"node_id", p.node_id},
@@ -261,7 +262,7 @@ ActionResult ConsoleNode::task_command(const std::string& task_id, const std::st
 ActionResult ConsoleNode::answer_prompt(const std::string& prompt_id, const std::string& answer,
                                         const std::string& operator_id, const std::string& comment) {
   return on_loop([=](auto promise) {
-    const dds_return_t rc = operator_ui::write_response(responses_, prompt_id, answer, operator_id, comment);
+    const dds_return_t rc = operator_protocol::write_response(responses_, prompt_id, answer, operator_id, comment);
     promise->set_value({rc == DDS_RETCODE_OK, rc == DDS_RETCODE_OK ? "" : std::string("sending failed: ") + dds_strretcode(rc), {}});
   });
 }
@@ -295,8 +296,7 @@ void ConsoleNode::on_journal_replies() {
     auto it = journal_pending_.find(rep.request_id);
     if (it == journal_pending_.end()) return;
     json entries = json::array();
-    for (uint32_t i = 0; i < rep.entries._length; ++i) {
-      const auto& e = rep.entries._buffer[i];
+    for (const auto& e : dds::elements(rep.entries)) {
       entries.push_back({{"stamp", seconds(e.stamp)}, {"node_id", dds::to_string(e.node_id)},
                          {"kind", dds::to_string(e.kind)}, {"code", dds::to_string(e.code)},
                          {"message", dds::to_string(e.message)}});
@@ -354,7 +354,8 @@ void ConsoleNode::on_cad_replies() {
     if (!rep.ok) {
       it->second.promise->set_value({false, dds::to_string(rep.code) + ": " + dds::to_string(rep.message), {}});
     } else {
-      std::string data(reinterpret_cast<const char*>(rep.data._buffer), rep.data._length);
+      const auto bytes = dds::elements(rep.data);
+      std::string data(reinterpret_cast<const char*>(bytes.data()), bytes.size());
       JsonParseResult parsed = parse_json_bounded(dds::to_string(rep.result_json), {16U * 1024U * 1024U, 64});
       json result = parsed.ok() ? std::move(parsed.value) : json::object();
       it->second.promise->set_value(

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
 #include "rigger/protocol/task_names.hpp"
@@ -37,9 +38,8 @@ std::array<dds_entity_t, 3> TaskFeed::readers() const {
 void TaskFeed::take_task_status() {
   task_status_.take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
     json errors = json::array();
-    for (uint32_t i = 0; i < s.errors._length; ++i)
-      errors.push_back({{"pointer", dds::to_string(s.errors._buffer[i].pointer)},
-                        {"message", dds::to_string(s.errors._buffer[i].message)}});
+    for (const auto& e : dds::elements(s.errors))
+      errors.push_back({{"pointer", dds::to_string(e.pointer)}, {"message", dds::to_string(e.message)}});
     state_.update_task({{"task_id", dds::to_string(s.task_id)},
                         {"state", protocol::task::task_state_name(s.state)},
                         {"code", dds::to_string(s.code)},
@@ -79,7 +79,7 @@ void TaskFeed::take_executors() {
   executors_.take(
       [this](const rigger_skill_ExecutorAnnouncement& a, const dds_sample_info_t&) {
         json skills = json::array();
-        for (uint32_t i = 0; i < a.skills._length; ++i) skills.push_back(dds::to_string(a.skills._buffer[i]));
+        for (const char* skill : dds::elements(a.skills)) skills.push_back(dds::to_string(skill));
         state_.update_executor({{"executor_id", dds::to_string(a.executor_id)}, {"host", dds::to_string(a.host)},
                                 {"pid", a.pid}, {"skills", skills}, {"alive", true}});
         skills_.update(dds::to_string(a.executor_id), true, dds::to_string(a.library_json));

@@ -103,7 +103,7 @@ CraneGatewayNode::CraneGatewayNode(dds::ServiceContext& ctx, const CommandLine& 
         ctx.config.finish();
         return c;
       }()),
-      state_(ctx.participant, protocol::crane::kState.name, state_qos()),
+      state_(ctx.participant, protocol::crane::kState, state_qos()),
       commands_(ctx.participant, protocol::crane::kCmdVelocity),
       control_(ctx.participant, protocol::crane::kControl),
       gateway_(config_) {

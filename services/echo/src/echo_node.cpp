@@ -1,6 +1,7 @@
 #include "echo_node.hpp"
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/system.hpp"
 
 namespace rigger::echo {
@@ -39,9 +40,10 @@ EchoNode::EchoNode(dds::ServiceContext& ctx, const EchoSettings& settings)
 
 void EchoNode::on_request() {
   requests_.take([this](const rigger_system_EchoSample& req, const dds_sample_info_t&) {
-    if (req.payload._length > max_payload_bytes_) {
-      ctx_.log->warn("request dropped client={} seq={} payload_bytes={} max={}", dds::to_string(req.client_id),
-                     req.seq, req.payload._length, max_payload_bytes_);
+    const std::size_t payload_bytes = dds::elements(req.payload).size();
+    if (payload_bytes > max_payload_bytes_) {
+      ctx_.log->warn("request dropped client={} seq={} payload_bytes={} max={}", dds::to_string(req.client_id), req.seq,
+                     payload_bytes, max_payload_bytes_);
       return;
     }
     replies_.write(req);  // same key, seq, timestamp and payload: the client measures the round trip

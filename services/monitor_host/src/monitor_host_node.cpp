@@ -9,7 +9,7 @@
 
 namespace rigger::monitor {
 
-using executor::EventKind;
+using skill_protocol::EventKind;
 
 SettingsTable<MonitorHostSettings> monitor_host_settings(const std::string& service_id) {
   using S = MonitorHostSettings;
@@ -28,10 +28,10 @@ MonitorHostNode::MonitorHostNode(dds::ServiceContext& ctx, const MonitorHostSett
       wrench_(ctx.participant, settings.wrench_topic, dds::qos::sensor_stream()) {
   const std::string& executor_id = settings.executor_id;
   ctx.loop.on_data(wrench_, [this] { on_wrench(); });
-  endpoint_ = std::make_unique<executor::ExecutorEndpoint>(
+  endpoint_ = std::make_unique<skill_protocol::ExecutorEndpoint>(
       ctx.participant, ctx.loop, ctx.log, executor_id, monitor_library_json(),
-      executor::ExecutorEndpoint::Handlers{[this](const executor::StartRequest& r) { on_start(r); },
-                                           [this](const executor::ShutdownRequest& r) { on_shutdown(r); }});
+      skill_protocol::ExecutorEndpoint::Handlers{[this](const skill_protocol::StartRequest& r) { on_start(r); },
+                                                 [this](const skill_protocol::ShutdownRequest& r) { on_shutdown(r); }});
   ctx.log->info("monitor host executor_id={} monitors={}", executor_id, monitor_names().size());
 }
 
@@ -41,7 +41,7 @@ MonitorHostNode::~MonitorHostNode() {
     if (active.timer != 0) ctx_.loop.cancel(active.timer);
 }
 
-void MonitorHostNode::on_start(const executor::StartRequest& request) {
+void MonitorHostNode::on_start(const skill_protocol::StartRequest& request) {
   const RunKey key{request.run.task_id, request.run.node_id};
   if (active_.size() >= max_monitors_) {
     endpoint_->report(request.run, EventKind::kFailure, "CAPACITY",
@@ -67,7 +67,7 @@ void MonitorHostNode::on_start(const executor::StartRequest& request) {
   (void)it;
 }
 
-void MonitorHostNode::on_shutdown(const executor::ShutdownRequest& request) {
+void MonitorHostNode::on_shutdown(const skill_protocol::ShutdownRequest& request) {
   const RunKey key{request.run.task_id, request.run.node_id};
   if (active_.count(key) == 0) return;
   forget(key);
@@ -93,7 +93,7 @@ void MonitorHostNode::on_wrench() {
 void MonitorHostNode::fire(const RunKey& key, const Verdict& verdict) {
   auto it = active_.find(key);
   if (it == active_.end()) return;
-  const executor::LeafRun run = it->second.run;
+  const skill_protocol::LeafRun run = it->second.run;
   ctx_.log->info("monitor fired node={} monitor={} code={} value={}: {}", run.node_id, it->second.name, verdict.code,
                  verdict.value, verdict.message);
   forget(key);

@@ -20,9 +20,9 @@
 #include "monitor.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
-#include "rigger/executor/executor_endpoint.hpp"
 #include "rigger/monitor_host/settings.hpp"
 #include "rigger/protocol/robot.hpp"
+#include "rigger/skill_protocol/executor_endpoint.hpp"
 
 namespace rigger::monitor {
 
@@ -40,15 +40,15 @@ class MonitorHostNode : public dds::Node {
  private:
   using RunKey = std::pair<std::string, std::string>;  // (task_id, node_id)
   struct Active {
-    executor::LeafRun run;
+    skill_protocol::LeafRun run;
     std::string name;
     std::unique_ptr<Monitor> monitor;
     dds::EventLoop::TimerId timer = 0;  // 0: none pending
     std::optional<Stamp> timer_deadline;
   };
 
-  void on_start(const executor::StartRequest& request);
-  void on_shutdown(const executor::ShutdownRequest& request);
+  void on_start(const skill_protocol::StartRequest& request);
+  void on_shutdown(const skill_protocol::ShutdownRequest& request);
   void on_wrench();
   /// Reports FAILURE for `verdict` and forgets the run.
   void fire(const RunKey& key, const Verdict& verdict);
@@ -61,7 +61,7 @@ class MonitorHostNode : public dds::Node {
   std::size_t max_monitors_;
   dds::Reader<rigger_sensing_WrenchStamped> wrench_;
   std::map<RunKey, Active> active_;
-  std::unique_ptr<executor::ExecutorEndpoint> endpoint_;  // last: its handlers use the members above
+  std::unique_ptr<skill_protocol::ExecutorEndpoint> endpoint_;  // last: its handlers use the members above
 };
 
 }  // namespace rigger::monitor

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/vision.hpp"
 #include "rigger/ros2/conversions.hpp"
@@ -76,12 +77,12 @@ void Ros2BridgeNode::on_ros2_image() {
     const rigger_geometry_Header header = ros2::to_rigger(in.header_);
     if (!fresh("image", header.stamp, cfg.age)) return;
     const std::string encoding = in.encoding_ == nullptr ? "" : in.encoding_;
-    const ImageVerdict verdict =
-        to_mono8(encoding, in.width_, in.height_, in.step_, in.data_._buffer, in.data_._length, grey_);
+    const auto data = dds::elements(in.data_);
+    const ImageVerdict verdict = to_mono8(encoding, in.width_, in.height_, in.step_, data.data(), data.size(), grey_);
     if (verdict != ImageVerdict::kOk) {
       count("dropped", "image", image_verdict_name(verdict),
             fmt::format("encoding={} width={} height={} step={} bytes={}", encoding, in.width_, in.height_, in.step_,
-                        in.data_._length));
+                        data.size()));
       return;
     }
     rigger_vision_Image out{};
@@ -91,10 +92,7 @@ void Ros2BridgeNode::on_ros2_image() {
     out.height = in.height_;
     out.encoding = const_cast<char*>("mono8");
     out.step = in.width_;
-    out.data._buffer = grey_.data();
-    out.data._length = static_cast<std::uint32_t>(grey_.size());
-    out.data._maximum = out.data._length;
-    out.data._release = false;
+    dds::wire_sequence(out.data, grey_);
     if (rigger_image_->write(out) == DDS_RETCODE_OK) ++image_forwarded_;
   });
 }
@@ -148,10 +146,11 @@ void Ros2BridgeNode::on_ros2_joint_states() {
     const rigger_geometry_Header header = ros2::to_rigger(in.header_);
     if (!fresh("joint_states", header.stamp, cfg.age)) return;
     joint_names_.clear();
-    for (std::uint32_t i = 0; i < in.name_._length; ++i)
-      joint_names_.emplace_back(in.name_._buffer[i] == nullptr ? "" : in.name_._buffer[i]);
-    const ChainJoints joints = joint_map_->map(joint_names_, in.position_._buffer, in.position_._length,
-                                               in.velocity_._buffer, in.velocity_._length);
+    for (const char* name : dds::elements(in.name_)) joint_names_.emplace_back(name == nullptr ? "" : name);
+    const auto positions = dds::elements(in.position_);
+    const auto velocities = dds::elements(in.velocity_);
+    const ChainJoints joints =
+        joint_map_->map(joint_names_, positions.data(), positions.size(), velocities.data(), velocities.size());
     if (joints.verdict != JointStateVerdict::kOk) {
       count("dropped", "joint_states", joint_state_verdict_name(joints.verdict), joints.detail);
       return;

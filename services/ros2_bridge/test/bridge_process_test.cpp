@@ -112,8 +112,8 @@ TEST(Ros2BridgeImageTest, ARos2CameraImageArrivesAsGreyWithItsStampAndAStaleOneD
   std::vector<Got> got;
   cell.loop().on_data(images, [&] {
     images.take([&](const rigger_vision_Image& i, const dds_sample_info_t&) {
-      got.push_back({i.width, i.height, i.step, dds::to_string(i.encoding),
-                     std::vector<std::uint8_t>(i.data._buffer, i.data._buffer + i.data._length), i.header.stamp});
+      got.push_back({i.width, i.height, i.step, dds::to_string(i.encoding), dds::to_vector<std::uint8_t>(i.data),
+                     i.header.stamp});
     });
   });
   // 64 × 48 rgb8, a step of 200 (8 padding bytes a row); the pixel at (x, y) has R = 4x, G = 5y, B = 100.
@@ -134,9 +134,7 @@ TEST(Ros2BridgeImageTest, ARos2CameraImageArrivesAsGreyWithItsStampAndAStaleOneD
     img.width_ = w;
     img.encoding_ = const_cast<char*>("rgb8");
     img.step_ = step;
-    img.data_._buffer = rgb.data();
-    img.data_._length = img.data_._maximum = static_cast<std::uint32_t>(rgb.size());
-    img.data_._release = false;
+    dds::wire_sequence(img.data_, rgb);
     return camera.write(img);
   };
   // Best effort, as cameras publish: until discovery has settled on both sides a sample may be lost, so the

@@ -69,7 +69,7 @@ ScriptedExecutorNode::ScriptedExecutorNode(dds::ServiceContext& ctx) : ctx_(ctx)
   receipt_trace_path_ = ctx.config.get<std::string>("receipt_trace_path", "");
   ctx.config.finish();
 
-  executor::ExecutorEndpoint::Options options;
+  skill_protocol::ExecutorEndpoint::Options options;
   if (!receipt_trace_path_.empty()) {
     receipts_.reserve(kReceiptCapacity);
     options.on_received = [this](const rigger_skill_SkillCommand& c, std::int64_t woke_wall_ns) {
@@ -79,10 +79,10 @@ ScriptedExecutorNode::ScriptedExecutorNode(dds::ServiceContext& ctx) : ctx_(ctx)
                              static_cast<std::int64_t>(c.stamp.sec) * 1000000000LL + c.stamp.nanosec, woke_wall_ns});
     };
   }
-  endpoint_ = std::make_unique<executor::ExecutorEndpoint>(
+  endpoint_ = std::make_unique<skill_protocol::ExecutorEndpoint>(
       ctx.participant, ctx.loop, ctx.log, ctx.options.id, library,
-      executor::ExecutorEndpoint::Handlers{[this](const executor::StartRequest& r) { on_start(r); },
-                                           [this](const executor::ShutdownRequest& r) { on_shutdown(r); }},
+      skill_protocol::ExecutorEndpoint::Handlers{[this](const skill_protocol::StartRequest& r) { on_start(r); },
+                                                 [this](const skill_protocol::ShutdownRequest& r) { on_shutdown(r); }},
       std::move(options));
   ctx.log->info("scripted executor ready skills={}", skills.size());
 }
@@ -107,7 +107,7 @@ const Behaviour& ScriptedExecutorNode::behaviour_for(const std::string& skill, c
   return m != is_monitor_.end() && m->second ? default_monitor_ : default_skill_;
 }
 
-void ScriptedExecutorNode::on_start(const executor::StartRequest& request) {
+void ScriptedExecutorNode::on_start(const skill_protocol::StartRequest& request) {
   const Key key{request.run.task_id, request.run.node_id};
   const Behaviour& b = behaviour_for(request.skill, request.run.node_id);
   ctx_.log->info("start task={} node={} skill={} mode={} delay_s={}", key.first, key.second, request.skill,
@@ -126,7 +126,7 @@ void ScriptedExecutorNode::on_start(const executor::StartRequest& request) {
     a.timers.push_back(ctx_.loop.after(from_seconds(b.delay_s * fraction), [this, key, fraction, start_seq] {
       auto it = active_.find(key);
       if (it == active_.end() || it->second.run.start_seq != start_seq || it->second.stopping) return;
-      endpoint_->report(it->second.run, executor::EventKind::kProgress, "", "scripted progress", fraction);
+      endpoint_->report(it->second.run, skill_protocol::EventKind::kProgress, "", "scripted progress", fraction);
     }));
   }
   if (b.mode == Mode::kRun) return;
@@ -135,8 +135,12 @@ void ScriptedExecutorNode::on_start(const executor::StartRequest& request) {
     if (it == active_.end() || it->second.run.start_seq != start_seq || it->second.stopping) return;
     const Behaviour& beh = it->second.behaviour;
     switch (beh.mode) {
-      case Mode::kSucceed: finish(key, executor::EventKind::kSuccess, "", beh.message); break;
-      case Mode::kFail: finish(key, executor::EventKind::kFailure, beh.code, beh.message); break;
+      case Mode::kSucceed:
+        finish(key, skill_protocol::EventKind::kSuccess, "", beh.message);
+        break;
+      case Mode::kFail:
+        finish(key, skill_protocol::EventKind::kFailure, beh.code, beh.message);
+        break;
       case Mode::kCrash:
         ctx_.log->warn("scripted crash task={} node={}", key.first, key.second);
         ctx_.log->flush();
@@ -152,7 +156,7 @@ void ScriptedExecutorNode::on_start(const executor::StartRequest& request) {
   }));
 }
 
-void ScriptedExecutorNode::on_shutdown(const executor::ShutdownRequest& request) {
+void ScriptedExecutorNode::on_shutdown(const skill_protocol::ShutdownRequest& request) {
   const Key key{request.run.task_id, request.run.node_id};
   auto it = active_.find(key);
   if (it == active_.end()) return;
@@ -164,21 +168,22 @@ void ScriptedExecutorNode::on_shutdown(const executor::ShutdownRequest& request)
   for (auto t : a.timers) ctx_.loop.cancel(t);
   a.timers.clear();
   if (a.behaviour.stop_delay_s <= 0.0) {
-    finish(key, executor::EventKind::kStopped, "", "stopped");
+    finish(key, skill_protocol::EventKind::kStopped, "", "stopped");
     return;
   }
   const auto start_seq = a.run.start_seq;
   a.timers.push_back(ctx_.loop.after(from_seconds(a.behaviour.stop_delay_s), [this, key, start_seq] {
     auto i = active_.find(key);
     if (i == active_.end() || i->second.run.start_seq != start_seq) return;
-    finish(key, executor::EventKind::kStopped, "", "stopped after a slow stop");
+    finish(key, skill_protocol::EventKind::kStopped, "", "stopped after a slow stop");
   }));
 }
 
-void ScriptedExecutorNode::finish(const Key& key, executor::EventKind kind, std::string code, std::string message) {
+void ScriptedExecutorNode::finish(const Key& key, skill_protocol::EventKind kind, std::string code,
+                                  std::string message) {
   auto it = active_.find(key);
   if (it == active_.end()) return;
-  const executor::LeafRun run = it->second.run;
+  const skill_protocol::LeafRun run = it->second.run;
   for (auto t : it->second.timers) ctx_.loop.cancel(t);
   active_.erase(it);
   endpoint_->report(run, kind, code, message);  // code/message are copies: they may have lived in the erased entry

@@ -23,7 +23,7 @@
 
 #include "behaviour.hpp"
 #include "rigger/dds/service.hpp"
-#include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/skill_protocol/executor_endpoint.hpp"
 
 namespace rigger::scripted {
 
@@ -35,16 +35,16 @@ class ScriptedExecutorNode : public dds::Node {
 
  private:
   struct Active {
-    executor::LeafRun run;
+    skill_protocol::LeafRun run;
     Behaviour behaviour;
     std::vector<dds::EventLoop::TimerId> timers;
     bool stopping = false;
   };
   using Key = std::pair<std::string, std::string>;  // task, node
 
-  void on_start(const executor::StartRequest& request);
-  void on_shutdown(const executor::ShutdownRequest& request);
-  void finish(const Key& key, executor::EventKind kind, std::string code, std::string message);
+  void on_start(const skill_protocol::StartRequest& request);
+  void on_shutdown(const skill_protocol::ShutdownRequest& request);
+  void finish(const Key& key, skill_protocol::EventKind kind, std::string code, std::string message);
   const Behaviour& behaviour_for(const std::string& skill, const std::string& node_id) const;
 
   /// One command taken (receipt_trace_path): for benchmarks that time a command's way to its executor.
@@ -66,7 +66,7 @@ class ScriptedExecutorNode : public dds::Node {
   Behaviour default_monitor_;
   std::map<std::string, bool> is_monitor_;
   std::map<Key, Active> active_;
-  std::unique_ptr<executor::ExecutorEndpoint> endpoint_;
+  std::unique_ptr<skill_protocol::ExecutorEndpoint> endpoint_;
 };
 
 }  // namespace rigger::scripted

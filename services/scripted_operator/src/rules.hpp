@@ -22,11 +22,11 @@
 #include <nlohmann/json.hpp>
 
 #include "rigger/base/config.hpp"
-#include "rigger/operator_ui/prompt.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 
 namespace rigger::scripted_operator {
 
-using operator_ui::Prompt;
+using operator_protocol::Prompt;
 
 struct Rule {
   std::string kind;  ///< empty: any kind

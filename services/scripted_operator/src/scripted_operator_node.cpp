@@ -34,18 +34,18 @@ ScriptedOperatorNode::~ScriptedOperatorNode() {
 }
 
 void ScriptedOperatorNode::on_prompts() {
-  prompts_.take(
-      [this](const rigger_operator_ui_OperatorPrompt& p, const dds_sample_info_t&) { on_prompt(operator_ui::to_domain(p)); },
-      [this](const rigger_operator_ui_OperatorPrompt& key, const dds_sample_info_t& info) {
-        // A disposed prompt instance is gone for good: forget it (its id may be reused).
-        if (info.instance_state != DDS_IST_NOT_ALIVE_DISPOSED) return;
-        const std::string id = dds::to_string(key.prompt_id);
-        if (auto it = pending_.find(id); it != pending_.end()) {
-          ctx_.loop.cancel(it->second.timer);
-          pending_.erase(it);
-        }
-        done_.erase(id);
-      });
+  prompts_.take([this](const rigger_operator_ui_OperatorPrompt& p,
+                       const dds_sample_info_t&) { on_prompt(operator_protocol::from_wire(p)); },
+                [this](const rigger_operator_ui_OperatorPrompt& key, const dds_sample_info_t& info) {
+                  // A disposed prompt instance is gone for good: forget it (its id may be reused).
+                  if (info.instance_state != DDS_IST_NOT_ALIVE_DISPOSED) return;
+                  const std::string id = dds::to_string(key.prompt_id);
+                  if (auto it = pending_.find(id); it != pending_.end()) {
+                    ctx_.loop.cancel(it->second.timer);
+                    pending_.erase(it);
+                  }
+                  done_.erase(id);
+                });
 }
 
 void ScriptedOperatorNode::on_prompt(const Prompt& prompt) {
@@ -90,7 +90,7 @@ void ScriptedOperatorNode::answer(const std::string& prompt_id) {
   const Pending p = it->second;
   pending_.erase(it);
   done_.insert(prompt_id);
-  if (const auto rc = operator_ui::write_response(responses_, prompt_id, p.answer, operator_id_, p.rule->comment);
+  if (const auto rc = operator_protocol::write_response(responses_, prompt_id, p.answer, operator_id_, p.rule->comment);
       rc != DDS_RETCODE_OK) {
     ctx_.log->error("response write failed id={} rc={}", prompt_id, dds_strretcode(rc));
     return;

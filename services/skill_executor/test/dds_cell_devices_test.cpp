@@ -4,18 +4,18 @@
 // monitor and the admittance controller's confirmation by state.
 #include <gtest/gtest.h>
 
-#include "sdk_testing.hpp"
 #include "dds_cell_devices.hpp"
+#include "executor_node.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/qos.hpp"
-#include "rigger/operator_ui/prompt.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 #include "rigger/protocol/admittance.hpp"
 #include "rigger/protocol/crane.hpp"
 #include "rigger/protocol/operator.hpp"
 #include "rigger/protocol/vision.hpp"
 #include "rigger/protocol/world.hpp"
 #include "rigger/testing/domain.hpp"
-#include "executor_node.hpp"
+#include "sdk_testing.hpp"
 #include "skills/localize.hpp"
 #include "skills/screw.hpp"
 
@@ -139,7 +139,7 @@ TEST_F(DdsCellDevicesTest, ScrewPromptsOverDdsAndWithdrawsEachPromptAfterItsAnsw
   };
   std::vector<Seen> seen;
   const auto respond = [&](const std::string& prompt_id, const std::string& answer) {
-    operator_ui::write_response(responses, prompt_id, answer, "test-operator", "");
+    operator_protocol::write_response(responses, prompt_id, answer, "test-operator", "");
   };
   loop_.on_data(prompts, [&] {
     prompts.take([&](const rigger_operator_ui_OperatorPrompt& p, const dds_sample_info_t& info) {

@@ -10,7 +10,7 @@ namespace rigger::task_controller {
 ExecutorDirectory::Change ExecutorDirectory::announce(const std::string& id, bool alive,
                                                       const std::string& library_json,
                                                       const std::vector<std::string>& skills,
-                                                      std::vector<executor::AnnouncedRun> runs) {
+                                                      std::vector<skill_protocol::AnnouncedRun> runs) {
   Change change;
   auto& ex = executors_[id];
   change.alive = alive;

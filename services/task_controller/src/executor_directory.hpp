@@ -14,8 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rigger/executor/announced_run.hpp"
 #include "rigger/skill/skill_library.hpp"
+#include "rigger/skill_protocol/announced_run.hpp"
 
 namespace rigger::task_controller {
 
@@ -33,7 +33,7 @@ class ExecutorDirectory {
   struct Holder {
     std::string executor_id;
     std::string resource;  ///< the first resource of the START that the run holds
-    executor::AnnouncedRun run;
+    skill_protocol::AnnouncedRun run;
     /// "resource 'robot', held by Pick (task t1, node root/0) on executor exec, stopping"
     std::string describe() const;
   };
@@ -42,7 +42,7 @@ class ExecutorDirectory {
   /// when its text differs from the last one announced (executors re-announce every second, mostly
   /// unchanged), so library_error is reported once per text. `runs` replace the runs it held.
   Change announce(const std::string& id, bool alive, const std::string& library_json,
-                  const std::vector<std::string>& skills, std::vector<executor::AnnouncedRun> runs = {});
+                  const std::vector<std::string>& skills, std::vector<skill_protocol::AnnouncedRun> runs = {});
   /// The instance of `id` is no longer alive (disposed, or its writer lost liveliness). Returns whether
   /// it was alive until now (lost now).
   bool gone(const std::string& id);
@@ -75,7 +75,7 @@ class ExecutorDirectory {
     std::string library_text;  ///< as announced; `library` is its parse
     nlohmann::json library;    ///< null when unreadable
     std::set<std::string> skills;
-    std::vector<executor::AnnouncedRun> runs;  ///< as last announced
+    std::vector<skill_protocol::AnnouncedRun> runs;  ///< as last announced
   };
   std::map<std::string, Executor> executors_;
 };

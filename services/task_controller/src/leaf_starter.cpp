@@ -39,13 +39,12 @@ void Task::send_start(const bt::NodeSpec& spec, bt::Activation activation) {
     return;
   }
   end_progress(spec.id);  // a run whose end never came (its stop timed out) before this one
-  LeafRun run{executor_id, host_.endpoint().next_seq(), activation};
-  run.routed = host_.endpoint().routable(executor_id);
+  const LeafRun run{{executor_id, host_.endpoint().next_seq(), host_.endpoint().routable(executor_id)}, activation};
   runs_[spec.id] = run;
   const std::string& params = params_text(spec);
   host_.journal({wall_now_s(), id_, spec.id, "COMMAND", "START",
                  spec.leaf + " on " + executor_id + " seq " + std::to_string(run.start_seq) + " " + params});
-  if (!host_.endpoint().send(rigger_skill_SKILL_START, id_, spec, run, params, ""))
+  if (!host_.endpoint().send(rigger_skill_SKILL_START, id_, spec.id, spec.leaf, run, params, ""))
     host_.log()->error("skill command write failed task={} node={}", id_, spec.id);
   TaskHost* host = &host_;
   const std::string task_id = id_, node_id = spec.id;
@@ -89,7 +88,7 @@ void Task::resend_start(const std::string& node_id, std::uint64_t start_seq, uns
   host_.journal({wall_now_s(), id_, node_id, "COMMAND", codes::kStartSentAgain,
                  spec.leaf + " on " + run.executor_id + " seq " + std::to_string(start_seq) + ": no answer after " +
                      number_text(waited_s) + " s"});
-  if (!host_.endpoint().send(rigger_skill_SKILL_START, id_, spec, run, params_text(spec), ""))
+  if (!host_.endpoint().send(rigger_skill_SKILL_START, id_, spec.id, spec.leaf, run, params_text(spec), ""))
     host_.log()->error("skill command write failed task={} node={}", id_, node_id);
   arm_resend(node_id, start_seq, sent_again + 1);
 }

@@ -4,6 +4,7 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/qos.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 
 namespace rigger::task_controller {
 
@@ -44,25 +45,21 @@ std::string quoted_options(const std::vector<std::string>& options) {
 }
 
 PromptWriter::PromptWriter(const dds::Participant& participant)
-    : prompts_(participant, protocol::operator_ui::kPrompt.name, dds::qos::state()) {}
+    : prompts_(participant, protocol::operator_ui::kPrompt) {}
 
 bool PromptWriter::write(const PromptId& id, const bt::NodeSpec& spec, bool active, const std::string& kind,
                          const std::string& details_json) {
-  rigger_operator_ui_OperatorPrompt p{};
-  const std::string prompt_id = id.str();
-  std::vector<char*> storage;
-  p.prompt_id = dds::wire_string(prompt_id);
-  p.task_id = dds::wire_string(id.task_id);
-  p.node_id = dds::wire_string(spec.id);
-  p.kind = dds::wire_string(kind);
-  p.title = dds::wire_string(spec.name);
-  p.text = dds::wire_string(spec.prompt);
-  dds::wire_string_sequence(p.options, spec.options, storage);
-  p.details_json = dds::wire_string(details_json);
-  p.timeout_s = 0;
+  operator_protocol::Prompt p;
+  p.prompt_id = id.str();
+  p.task_id = id.task_id;
+  p.node_id = spec.id;
+  p.kind = kind;
+  p.title = spec.name;
+  p.text = spec.prompt;
+  p.options = spec.options;
+  p.details_json = details_json;
   p.active = active;
-  p.stamp = dds::wire_now();
-  return prompts_.write(p) == DDS_RETCODE_OK;
+  return operator_protocol::write_prompt(prompts_, p) == DDS_RETCODE_OK;
 }
 
 }  // namespace rigger::task_controller

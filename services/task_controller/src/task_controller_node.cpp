@@ -4,10 +4,11 @@
 #include <chrono>
 
 #include "rigger/dds/conversions.hpp"
-#include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 #include "rigger/protocol/operator.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
+#include "rigger/skill_protocol/executor_endpoint.hpp"
 #include "rigger/world_client/world_client.hpp"
 
 namespace rigger::task_controller {
@@ -39,7 +40,8 @@ TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx, const std::stri
       safe_stops_(ctx.participant) {
   if (!settings_.stage_trace_path.empty()) {
     trace_ = std::make_unique<StageTrace>();
-    endpoint_.trace(trace_.get());
+    StageTrace* trace = trace_.get();
+    endpoint_.trace_writes([trace] { trace->command_writing(); }, [trace] { trace->command_written(); });
   }
   world_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log,
                                                        "task_controller-" + ctx.options.id);
@@ -174,7 +176,7 @@ void TaskControllerNode::on_announcements() {
         const std::string id = dds::to_string(a.executor_id);
         const auto change =
             executors_.announce(id, info.instance_state == DDS_IST_ALIVE, dds::to_string(a.library_json),
-                                dds::to_string_vector(a.skills), executor::runs_of(a));
+                                dds::to_string_vector(a.skills), skill_protocol::runs_of(a));
         if (change.lost) lost.push_back(id);
         if (change.came_up) ctx_.log->info("executor up executor={}", id);
         if (change.alive) {
@@ -319,7 +321,8 @@ void TaskControllerNode::on_events() {
   if (trace_) trace_->woke();
   endpoint_.take(
       [this](const ReceivedEvent& e) {
-        if (trace_) trace_->begin(e.executor_id, std::string(bt::to_string(e.event.kind)), e.stamp_wall_ns);
+        if (trace_)
+          trace_->begin(e.executor_id, std::string(bt::to_string(to_leaf_event(e.outcome).kind)), e.stamp_wall_ns);
         Task* task = find_task(e.task_id);
         if (task == nullptr) {
           ctx_.log->warn("event rejected (unknown task) executor={} task={} node={}", e.executor_id, e.task_id,
@@ -358,10 +361,11 @@ void TaskControllerNode::on_task_commands() {
 }
 
 void TaskControllerNode::on_operator_responses() {
-  responses_.take([this](const rigger_operator_ui_OperatorResponse& resp, const dds_sample_info_t&) {
-    const std::string prompt_id = dds::to_string(resp.prompt_id);
-    const std::string answer = dds::to_string(resp.answer);
-    const std::string by = dds::to_string(resp.operator_id);
+  responses_.take([this](const rigger_operator_ui_OperatorResponse& wire, const dds_sample_info_t&) {
+    const operator_protocol::Response response = operator_protocol::from_wire(wire);
+    const std::string& prompt_id = response.prompt_id;
+    const std::string& answer = response.answer;
+    const std::string& by = response.operator_id;
     const auto id = PromptId::parse(prompt_id);
     if (!id) {
       ctx_.log->warn("operator answer rejected: prompt id {} is not one of ours", prompt_id);

@@ -4,7 +4,8 @@
 /// It wires one unit per job (each in its own file, the logic in each unit-tested without DDS):
 ///  - executor_directory: the live executors and their skills (which executor runs a leaf);
 ///  - recipe_admission: run, wait for an executor, or reject with a typed RejectCode;
-///  - controller_endpoint: the controller's half of the skill protocol (ExecutorEndpoint's mirror);
+///  - leaf_run: which run an executor's event is for and what the engine makes of it (the controller's
+///    half of the skill protocol itself is rigger::skill_protocol::ControllerEndpoint);
 ///  - operator_decisions: prompt ids and answers; journal_server: journal queries;
 ///  - task_port: one running task, the engine's bt::Port; status_publisher: task and node status;
 ///  - controller_settings: the configuration keys, read before anything is built.
@@ -40,11 +41,11 @@
 #include <string>
 #include <vector>
 
-#include "controller_endpoint.hpp"
 #include "controller_settings.hpp"
 #include "executor_directory.hpp"
 #include "journal.hpp"
 #include "journal_server.hpp"
+#include "leaf_run.hpp"
 #include "operator_decisions.hpp"
 #include "recipe_admission.hpp"
 #include "resume_plan.hpp"

@@ -79,13 +79,16 @@ void Task::log_result(const char* what, const std::string& node_id, const bt::Ev
 // --- what arrives for the task ---
 
 void Task::on_event(const ReceivedEvent& e) {
-  if (!e.pause_answer.empty()) {
+  using skill_protocol::EventKind;
+  const skill_protocol::LeafOutcome& outcome = e.outcome;
+  if (outcome.kind == EventKind::kPaused || outcome.kind == EventKind::kResumed) {
     // What a leaf did with a PAUSE / RESUME: for people (the journal), never for the engine.
-    const std::string& code = e.event.code;
-    host_.log()->info("{} task={} node={} executor={} code={} {}", e.pause_answer, id_, e.node_id, e.executor_id, code,
-                      e.event.message);
-    host_.journal({wall_now_s(), id_, e.node_id, "EVENT", code.empty() ? e.pause_answer : "NOT_" + e.pause_answer,
-                   code.empty() ? e.event.message : code + ": " + e.event.message});
+    const std::string answer = skill_protocol::to_string(outcome.kind);
+    const std::string& code = outcome.code;
+    host_.log()->info("{} task={} node={} executor={} code={} {}", answer, id_, e.node_id, e.executor_id, code,
+                      outcome.message);
+    host_.journal({wall_now_s(), id_, e.node_id, "EVENT", code.empty() ? answer : "NOT_" + answer,
+                   code.empty() ? outcome.message : code + ": " + outcome.message});
     return;
   }
   auto run_it = runs_.find(e.node_id);
@@ -110,13 +113,13 @@ void Task::on_event(const ReceivedEvent& e) {
     host_.loop().cancel(u->second);
     unanswered_.erase(u);
   }
-  if (e.accepted) {
+  if (outcome.kind == EventKind::kAccepted) {
     // Running needs no row (its events follow); a START that waits does: it explains the delay.
-    if (!e.event.code.empty())
-      host_.journal({wall_now_s(), id_, e.node_id, "EVENT", "ACCEPTED", e.event.code + ": " + e.event.message});
+    if (!outcome.code.empty())
+      host_.journal({wall_now_s(), id_, e.node_id, "EVENT", "ACCEPTED", outcome.code + ": " + outcome.message});
     return;
   }
-  bt::LeafEvent ev = e.event;
+  bt::LeafEvent ev = to_leaf_event(outcome);
   ev.activation = run->activation;
   if (ev.kind == bt::LeafEventKind::kProgress) {
     journal_progress(e.node_id, ev);
@@ -200,7 +203,8 @@ void Task::pause_leaves(bool pause, const std::string& why) {
     LeafRun sent = run->second;
     sent.start_seq = host_.endpoint().next_seq();
     host_.journal({wall_now_s(), id_, node_id, "COMMAND", command, spec.leaf + " on " + sent.executor_id + ": " + why});
-    if (!host_.endpoint().send(pause ? rigger_skill_SKILL_PAUSE : rigger_skill_SKILL_RESUME, id_, spec, sent, "{}", why))
+    if (!host_.endpoint().send(pause ? rigger_skill_SKILL_PAUSE : rigger_skill_SKILL_RESUME, id_, spec.id, spec.leaf,
+                               sent, "{}", why))
       host_.log()->error("skill command write failed task={} node={} kind={}", id_, node_id, command);
     if (pause) paused_[node_id] = activation;
   }
@@ -252,7 +256,7 @@ void Task::send_shutdown(const bt::NodeSpec& spec, const LeafRun& run, const std
   LeafRun shutdown = run;
   shutdown.start_seq = host_.endpoint().next_seq();
   host_.journal({wall_now_s(), id_, spec.id, "COMMAND", "SHUTDOWN", reason});
-  if (!host_.endpoint().send(rigger_skill_SKILL_SHUTDOWN, id_, spec, shutdown, "{}", reason))
+  if (!host_.endpoint().send(rigger_skill_SKILL_SHUTDOWN, id_, spec.id, spec.leaf, shutdown, "{}", reason))
     host_.log()->error("skill command write failed task={} node={}", id_, spec.id);
 }
 

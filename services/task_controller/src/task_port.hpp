@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "controller_endpoint.hpp"
 #include "journal.hpp"
+#include "leaf_run.hpp"
 #include "operator_decisions.hpp"
 #include "rigger/base/logging.hpp"
 #include "rigger/bt/engine.hpp"
@@ -189,7 +189,7 @@ class Task : public bt::Port {
   /// A START unanswered after TaskHost::start_resend is sent again, then after twice and four times that
   /// (kStartResends in all), before start_answer_timeout fails it. A write can reach nobody although
   /// both ends are discovered: a reader that has not yet had its writer's first heartbeat drops what
-  /// came before it. The executor takes a seq once (executor::CommandOrder).
+  /// came before it. The executor takes a seq once (skill_protocol::CommandOrder).
   static constexpr unsigned kStartResends = 3;
   void arm_resend(const std::string& node_id, std::uint64_t start_seq, unsigned sent_again);
   /// `node_id`'s leaf while its START `start_seq` is unanswered and the engine still runs that run;

@@ -117,7 +117,7 @@ TEST(ExecutorDirectory, AnUnchangedReannouncementKeepsTheParsedLibraryAndAChange
 // A restarted controller learns from the announcements which runs of its predecessor still hold
 // resources, and starts nothing on them until they are free.
 TEST(ExecutorDirectory, ARunOfAnotherTaskHoldsItsResourcesUntilItIsAnnouncedEnded) {
-  using executor::AnnouncedRun;
+  using skill_protocol::AnnouncedRun;
   ExecutorDirectory d;
   const std::string lib = library_with({"Pick", "Localize"}).dump();
   const AnnouncedRun old_pick{"old", "root/0", "Pick", {"robot", "gripper"}, true};

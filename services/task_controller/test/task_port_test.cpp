@@ -81,25 +81,24 @@ class FakeHost final : public TaskHost {
     return out;
   }
   /// What the executor answers to the PAUSE or RESUME of `node` (its current run).
-  void answer(const std::string& node, const char* answer, const std::string& code, const std::string& message) {
+  void answer(const std::string& node, skill_protocol::EventKind answer, const std::string& code,
+              const std::string& message) {
     ReceivedEvent e = event(node);
-    e.pause_answer = answer;
-    e.event.code = code;
-    e.event.message = message;
+    e.outcome = {answer, code, message, std::nullopt};
     task_->on_event(e);
   }
   /// The executor answers the START `start_seq` of `node` (ACCEPTED: it runs).
   void accept(const std::string& node, std::uint64_t start_seq) {
     ReceivedEvent e = event(node);
     e.command_seq = start_seq;
-    e.accepted = true;
+    e.outcome.kind = skill_protocol::EventKind::kAccepted;
     task_->on_event(e);
   }
   /// The leaf `node` (run `start_seq`) reports `kind`.
-  void report(const std::string& node, std::uint64_t start_seq, bt::LeafEventKind kind) {
+  void report(const std::string& node, std::uint64_t start_seq, skill_protocol::EventKind kind) {
     ReceivedEvent e = event(node);
     e.command_seq = start_seq;
-    e.event.kind = kind;
+    e.outcome.kind = kind;
     task_->on_event(e);
   }
 
@@ -187,8 +186,8 @@ TEST(TaskPause, PauseAndResumeReachEveryRunningLeafAndTheJournalSaysWhoAndWhatEa
   EXPECT_EQ(host.rows("COMMAND")[3], "root/0 PAUSE: Localize on exec-1: lunch break");
 
   // The answers: Localize holds, the operator's Screw cannot pause and runs on; both are journaled.
-  host.answer("root/0", "PAUSED", "", "Localize holds still in state detect");
-  host.answer("root/1", "PAUSED", "NOT_PAUSABLE", "Screw cannot pause: it keeps running");
+  host.answer("root/0", skill_protocol::EventKind::kPaused, "", "Localize holds still in state detect");
+  host.answer("root/1", skill_protocol::EventKind::kPaused, "NOT_PAUSABLE", "Screw cannot pause: it keeps running");
   EXPECT_EQ(host.rows("EVENT"), (std::vector<std::string>{"root/0 PAUSED: Localize holds still in state detect",
                                                           "root/1 NOT_PAUSED: NOT_PAUSABLE: Screw cannot pause: it "
                                                           "keeps running"}));
@@ -197,15 +196,15 @@ TEST(TaskPause, PauseAndResumeReachEveryRunningLeafAndTheJournalSaysWhoAndWhatEa
   EXPECT_EQ(host.commands_now().size(), 4u);
 
   // The operator ends the screwing while paused (a leaf that was not paused may end): no RESUME for it.
-  host.report("root/1", screw_seq, bt::LeafEventKind::kSuccess);
+  host.report("root/1", screw_seq, skill_protocol::EventKind::kSuccess);
   EXPECT_EQ(task.command(rigger_task_TASK_RESUME, "requested by riggerctl:alice", "riggerctl:alice"),
             rigger_task_TASK_RUNNING);
   ASSERT_EQ(kinds(host.commands_after(5)), (std::vector<std::string>{"START root/0", "START root/1", "PAUSE root/0",
                                                                      "PAUSE root/1", "RESUME root/0"}));
   EXPECT_EQ(host.rows("COMMAND").back(), "root/0 RESUME: Localize on exec-1: requested by riggerctl:alice");
   EXPECT_EQ(host.rows("COMMAND").at(6), " RESUME: requested by riggerctl:alice");
-  host.answer("root/0", "RESUMED", "", "Localize continues in state detect");
-  host.report("root/0", localize_seq, bt::LeafEventKind::kSuccess);
+  host.answer("root/0", skill_protocol::EventKind::kResumed, "", "Localize continues in state detect");
+  host.report("root/0", localize_seq, skill_protocol::EventKind::kSuccess);
   EXPECT_EQ(host.finished_state_, rigger_task_TASK_SUCCEEDED);
 }
 

@@ -4,6 +4,7 @@
 
 #include "rigger/base/install.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/vision.hpp"
 
 namespace rigger::vision {
@@ -138,20 +139,22 @@ void VisionTrackerNode::on_image() {
 void VisionTrackerNode::process(const rigger_vision_Image& image) {
   const std::string encoding = dds::to_string(image.encoding);
   const std::uint64_t expected_bytes = static_cast<std::uint64_t>(image.step) * image.height;
+  const auto data = dds::elements(image.data);  // empty when the buffer is null
   const char* problem = nullptr;
   if (encoding != "mono8") problem = "encoding is not mono8";
   else if (image.width == 0 || image.height == 0) problem = "width or height is zero";
   else if (image.step < image.width) problem = "step is less than width";
-  else if (image.data._length != expected_bytes || image.data._buffer == nullptr) problem = "data length is not step * height";
+  else if (data.size() != expected_bytes)
+    problem = "data length is not step * height";
   if (problem) {
     ++images_dropped_;
     ctx_.log->warn("image dropped: {} (encoding={} width={} height={} step={} data_bytes={})", problem, encoding,
-                   image.width, image.height, image.step, image.data._length);
+                   image.width, image.height, image.step, data.size());
     return;
   }
   // A view of the sample's buffer, no copy: the tracker is done with it before the loan returns.
-  const cv::Mat view(static_cast<int>(image.height), static_cast<int>(image.width), CV_8UC1, image.data._buffer,
-                     image.step);
+  const cv::Mat view(static_cast<int>(image.height), static_cast<int>(image.width), CV_8UC1,
+                     const_cast<std::uint8_t*>(data.data()), image.step);
   const FrameResult result = tracker_.process(view, dds::to_domain(image.header.stamp));
   if (result.status != FrameStatus::kOk) {
     ++images_dropped_;

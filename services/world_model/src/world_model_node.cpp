@@ -81,7 +81,7 @@ WorldModelNode::WorldModelNode(dds::ServiceContext& ctx, const WorldModelSetting
     : ctx_(ctx),
       store_(load_store(settings, ctx.config, ctx.log)),
       db_(open_database(settings, store_, ctx.log)),
-      entities_(ctx.participant, protocol::world::kEntity.name, dds::qos::state()),
+      entities_(ctx.participant, protocol::world::kEntity),
       changes_(ctx.participant, protocol::world::kChange),
       update_results_(ctx.participant, protocol::world::kUpdateResult),
       replies_(ctx.participant, protocol::world::kReply),
@@ -91,7 +91,7 @@ WorldModelNode::WorldModelNode(dds::ServiceContext& ctx, const WorldModelSetting
   ctx.loop.on_data(updates_, [this] { on_updates(); });
   ctx.loop.on_data(queries_, [this] { on_queries(); });
   if (settings.follow_tracker) {
-    tracker_poses_.emplace(ctx.participant, protocol::vision::kTrackerPose.name, dds::qos::sensor_stream());
+    tracker_poses_.emplace(ctx.participant, protocol::vision::kTrackerPose);
     ctx.loop.on_data(*tracker_poses_, [this] { on_tracker_poses(); });
   }
   ctx.log->info("world model ready entities={} revision={}", store_.entities().size(), store_.revision());

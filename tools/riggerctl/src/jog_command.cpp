@@ -159,7 +159,7 @@ class RawTerminal {
 class TwistPublisher {
  public:
   TwistPublisher(dds::Participant& participant, const JogOptions& opt)
-      : writer_(participant, protocol::operator_ui::kJoystick.name, dds::qos::setpoints()),
+      : writer_(participant, protocol::operator_ui::kJoystick),
         frame_(opt.frame),
         source_(opt.source),
         timeout_s_(opt.timeout_s) {}

@@ -6,6 +6,7 @@
 
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "task_support.hpp"
 
 namespace rigger::ctl::tasks {
@@ -25,11 +26,9 @@ JournalAnswer ask_journal(JournalTopics& topics, dds::EventLoop& loop, const std
       answer.answered = true;
       answer.ok = rep.ok;
       answer.message = dds::to_string(rep.message);
-      for (uint32_t i = 0; i < rep.entries._length; ++i) {
-        const auto& e = rep.entries._buffer[i];
+      for (const auto& e : dds::elements(rep.entries))
         answer.lines.push_back({e.stamp, dds::to_string(e.node_id), dds::to_string(e.kind), dds::to_string(e.code),
                                 dds::to_string(e.message)});
-      }
     });
   });
   rigger_task_JournalQuery q{};

@@ -101,7 +101,7 @@ class PromptBoard {
   std::vector<Event> take_prompts() {
     std::vector<Event> events;
     prompts_.take([&](const rigger_operator_ui_OperatorPrompt& p, const dds_sample_info_t&) {
-      PromptView v = operator_ui::to_domain(p);
+      PromptView v = operator_protocol::from_wire(p);
       const std::string id = v.prompt_id;
       if (!v.active) {
         withdrawn_.insert(id);
@@ -152,7 +152,7 @@ class ResponseWriter {
 
   /// Writes the answer; returns whether DDS accepted it.
   bool write(const std::string& prompt_id, const std::string& answer) {
-    const auto rc = operator_ui::write_response(writer_, prompt_id, answer, operator_id_, comment_);
+    const auto rc = operator_protocol::write_response(writer_, prompt_id, answer, operator_id_, comment_);
     if (rc != DDS_RETCODE_OK) std::fprintf(stderr, "riggerctl: writing the answer failed: %s\n", dds_strretcode(rc));
     return rc == DDS_RETCODE_OK;
   }

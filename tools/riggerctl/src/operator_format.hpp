@@ -8,11 +8,11 @@
 #include <utility>
 #include <vector>
 
-#include "rigger/operator_ui/prompt.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 
 namespace rigger::ctl {
 
-using PromptView = operator_ui::Prompt;
+using PromptView = operator_protocol::Prompt;
 
 /// Several lines: header (position, id, kind, task/node), title, text, details as key: value, and the
 /// options numbered from 1. Ends with a newline.

@@ -16,6 +16,7 @@
 #include "rigger/base/bounded_json.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/task_names.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
 #include "run_display.hpp"
@@ -149,8 +150,8 @@ int run_recipe(const CommonOptions& common, const RunOptions& opt) {
       code = dds::to_string(s.code);
       message = dds::to_string(s.message);
       failed_node = dds::to_string(s.failed_node);
-      for (uint32_t i = 0; i < s.errors._length; ++i)
-        errors.emplace_back(dds::to_string(s.errors._buffer[i].pointer), dds::to_string(s.errors._buffer[i].message));
+      for (const auto& e : dds::elements(s.errors))
+        errors.emplace_back(dds::to_string(e.pointer), dds::to_string(e.message));
     });
   });
 

@@ -58,8 +58,7 @@ struct JournalAnswer {
 /// The journal's query writer and reply reader; declare it before the EventLoop that asks through it.
 struct JournalTopics {
   explicit JournalTopics(dds::Participant& participant)
-      : queries(participant, protocol::task::kJournalQuery.name, dds::qos::commands()),
-        replies(participant, protocol::task::kJournalReply.name, dds::qos::events()) {}
+      : queries(participant, protocol::task::kJournalQuery), replies(participant, protocol::task::kJournalReply) {}
   dds::Writer<rigger_task_JournalQuery> queries;
   dds::Reader<rigger_task_JournalReply> replies;
 };

@@ -1,4 +1,4 @@
-#include "controller_endpoint.hpp"
+#include "rigger/skill_protocol/controller_endpoint.hpp"
 
 #include <cstring>
 
@@ -6,7 +6,7 @@
 #include "rigger/dds/partitions.hpp"
 #include "rigger/dds/qos.hpp"
 
-namespace rigger::task_controller {
+namespace rigger::skill_protocol {
 namespace {
 
 /// The skill-command writer's QoS: commands() with MANUAL_BY_PARTICIPANT liveliness, asserted by
@@ -25,28 +25,6 @@ bool EventOrder::accept(std::uint64_t writer, std::uint64_t seq, std::uint64_t* 
   if (seq <= l) return false;
   l = seq;
   return true;
-}
-
-RunMatch match_run(const LeafRun* run, const std::string& executor_id, std::uint64_t command_seq) {
-  if (run == nullptr || run->executor_id != executor_id) return RunMatch::kUnknown;
-  return command_seq == run->start_seq ? RunMatch::kCurrent : RunMatch::kStale;
-}
-
-bt::LeafEvent to_leaf_event(const rigger_skill_SkillEvent& e) {
-  bt::LeafEvent ev;
-  ev.code = dds::to_string(e.code);
-  ev.message = dds::to_string(e.message);
-  switch (e.kind) {
-    case rigger_skill_SKILL_EVENT_SUCCESS: ev.kind = bt::LeafEventKind::kSuccess; break;
-    case rigger_skill_SKILL_EVENT_FAILURE: ev.kind = bt::LeafEventKind::kFailure; break;
-    case rigger_skill_SKILL_EVENT_STOPPED: ev.kind = bt::LeafEventKind::kStopped; break;
-    case rigger_skill_SKILL_EVENT_ACCEPTED: ev.kind = bt::LeafEventKind::kProgress; break;
-    default:
-      ev.kind = bt::LeafEventKind::kProgress;
-      if (e.progress >= 0.0 && e.progress <= 1.0) ev.progress = e.progress;
-      break;
-  }
-  return ev;
 }
 
 ControllerEndpoint::ControllerEndpoint(const dds::Participant& participant, std::chrono::milliseconds lease)
@@ -82,8 +60,10 @@ void ControllerEndpoint::executor_seen(const std::string& executor_id, const dds
     if (partition.empty()) return;  // an id no partition can name alone: the default partition it is
     dds::Qos qos = supervised_commands(lease_);
     dds::set_partitions(qos, {partition});
-    it = routes_.emplace(executor_id, Route{dds::Writer<rigger_skill_SkillCommand>(participant_, protocol::skill::kCommand, qos),
-                                            participant_key, false})
+    it = routes_
+             .emplace(executor_id,
+                      Route{dds::Writer<rigger_skill_SkillCommand>(participant_, protocol::skill::kCommand, qos),
+                            participant_key, false})
              .first;
     return;
   }
@@ -101,7 +81,8 @@ bool ControllerEndpoint::routable(const std::string& executor_id) {
   if (r.matched) {
     // Cheap check that it still has a reader; a lost and found executor is checked afresh (executor_seen).
     dds_publication_matched_status_t st{};
-    if (dds_get_publication_matched_status(r.writer.handle(), &st) == DDS_RETCODE_OK && st.current_count > 0) return true;
+    if (dds_get_publication_matched_status(r.writer.handle(), &st) == DDS_RETCODE_OK && st.current_count > 0)
+      return true;
     r.matched = false;
   }
   r.matched = has_reader_of(r.writer.handle(), r.participant);
@@ -117,22 +98,22 @@ bool ControllerEndpoint::reachable(const std::string& executor_id) {
 }
 
 bool ControllerEndpoint::send(rigger_skill_SkillCommandKind kind, const std::string& task_id,
-                              const bt::NodeSpec& spec, const LeafRun& run, const std::string& params,
-                              const std::string& reason) {
+                              const std::string& node_id, const std::string& skill, const CommandRoute& run,
+                              const std::string& params, const std::string& reason) {
   rigger_skill_SkillCommand c{};
   c.executor_id = dds::wire_string(run.executor_id);
   c.task_id = dds::wire_string(task_id);
-  c.node_id = dds::wire_string(spec.id);
-  c.skill = dds::wire_string(spec.leaf);
+  c.node_id = dds::wire_string(node_id);
+  c.skill = dds::wire_string(skill);
   c.kind = kind;
   c.params_json = dds::wire_string(params);
   c.reason = dds::wire_string(reason);
   c.seq = run.start_seq;
   c.stamp = dds::wire_now();
   auto& writer = run.routed ? routes_.at(run.executor_id).writer : commands_;
-  if (trace_) trace_->command_writing();
+  if (before_write_) before_write_();
   const bool written = writer.write(c) == DDS_RETCODE_OK;
-  if (trace_) trace_->command_written();
+  if (after_write_) after_write_();
   return written;
 }
 
@@ -151,12 +132,9 @@ void ControllerEndpoint::take(const std::function<void(const ReceivedEvent&)>& o
       on_out_of_order(r, last);
       return;
     }
-    r.event = to_leaf_event(e);
-    r.accepted = e.kind == rigger_skill_SKILL_EVENT_ACCEPTED;
-    if (e.kind == rigger_skill_SKILL_EVENT_PAUSED) r.pause_answer = "PAUSED";
-    if (e.kind == rigger_skill_SKILL_EVENT_RESUMED) r.pause_answer = "RESUMED";
+    r.outcome = from_wire(e);
     on_event(r);
   });
 }
 
-}  // namespace rigger::task_controller
+}  // namespace rigger::skill_protocol

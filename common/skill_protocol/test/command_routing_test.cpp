@@ -6,14 +6,14 @@
 
 #include <functional>
 
-#include "controller_endpoint.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/partitions.hpp"
 #include "rigger/protocol/skill.hpp"
+#include "rigger/skill_protocol/controller_endpoint.hpp"
 #include "rigger/testing/domain.hpp"
 
-namespace rigger::task_controller {
+namespace rigger::skill_protocol {
 namespace {
 
 using namespace std::chrono_literals;
@@ -28,7 +28,9 @@ dds_guid_t guid_of(const dds::Participant& p) {
 /// of one participant), and the nodes of the commands it took.
 struct Executor {
   Executor(std::uint32_t domain, const std::string& id)
-      : participant(domain), loop(participant), reader(participant, protocol::skill::kCommand, dds::qos::executor_commands(id)) {
+      : participant(domain),
+        loop(participant),
+        reader(participant, protocol::skill::kCommand, dds::qos::executor_commands(id)) {
     loop.on_data(reader, [this] {
       reader.take([this](const rigger_skill_SkillCommand& c, const dds_sample_info_t&) {
         nodes.push_back(dds::to_string(c.node_id));
@@ -52,14 +54,6 @@ bool spin(const std::vector<dds::EventLoop*>& loops, const std::function<bool()>
   return true;
 }
 
-bt::NodeSpec leaf(const std::string& id) {
-  bt::NodeSpec s;
-  s.kind = bt::NodeKind::kSkill;
-  s.id = id;
-  s.leaf = "Localize";
-  return s;
-}
-
 TEST(CommandRouting, ARoutedCommandReachesItsExecutorAloneAndAnUnroutedOneReachesAll) {
   rigger::testing::DomainLease domain;
   dds::Participant controller(domain.id());
@@ -71,27 +65,29 @@ TEST(CommandRouting, ARoutedCommandReachesItsExecutorAloneAndAnUnroutedOneReache
   endpoint.executor_seen("a", guid_of(a.participant), false);
   endpoint.executor_seen("b", guid_of(b.participant), false);
   // Discovery: the partition writers match the executors' readers.
-  ASSERT_TRUE(spin(loops, [&] { return endpoint.routable("a") && endpoint.routable("b"); }, 10s));
+  ASSERT_TRUE(spin(
+      loops, [&] { return endpoint.routable("a") && endpoint.routable("b"); }, 10s));
 
-  LeafRun to_a{"a", endpoint.next_seq(), 1};
-  to_a.routed = true;
-  LeafRun to_b{"b", endpoint.next_seq(), 2};
-  to_b.routed = true;
-  LeafRun unrouted{"a", endpoint.next_seq(), 3};  // a START before a's reader matched goes here
-  ASSERT_TRUE(endpoint.send(rigger_skill_SKILL_START, "t", leaf("root/0"), to_a, "{}", ""));
-  ASSERT_TRUE(endpoint.send(rigger_skill_SKILL_START, "t", leaf("root/1"), to_b, "{}", ""));
-  ASSERT_TRUE(endpoint.send(rigger_skill_SKILL_START, "t", leaf("root/2"), unrouted, "{}", ""));
-  ASSERT_TRUE(spin(loops, [&] { return a.nodes.size() >= 2 && b.nodes.size() >= 2; }, 10s))
+  const CommandRoute to_a{"a", endpoint.next_seq(), true};
+  const CommandRoute to_b{"b", endpoint.next_seq(), true};
+  const CommandRoute unrouted{"a", endpoint.next_seq(), false};  // a START before a's reader matched goes here
+  ASSERT_TRUE(endpoint.send(rigger_skill_SKILL_START, "t", "root/0", "Localize", to_a, "{}", ""));
+  ASSERT_TRUE(endpoint.send(rigger_skill_SKILL_START, "t", "root/1", "Localize", to_b, "{}", ""));
+  ASSERT_TRUE(endpoint.send(rigger_skill_SKILL_START, "t", "root/2", "Localize", unrouted, "{}", ""));
+  ASSERT_TRUE(spin(
+      loops, [&] { return a.nodes.size() >= 2 && b.nodes.size() >= 2; }, 10s))
       << "a took " << a.nodes.size() << ", b took " << b.nodes.size();
   // A command written before would have arrived by now (one host, loopback); let 200 ms more pass.
-  spin(loops, [] { return false; }, 200ms);
+  spin(
+      loops, [] { return false; }, 200ms);
   EXPECT_EQ(a.nodes, (std::vector<std::string>{"root/0", "root/2"}));
   EXPECT_EQ(b.nodes, (std::vector<std::string>{"root/1", "root/2"}));
 
   // The executor's participant changed (it restarted): the match is checked again, against the new one.
   Executor a2(domain.id(), "a");
   endpoint.executor_seen("a", guid_of(a2.participant), true);
-  EXPECT_TRUE(spin({&loop, &a2.loop}, [&] { return endpoint.routable("a"); }, 10s));
+  EXPECT_TRUE(spin(
+      {&loop, &a2.loop}, [&] { return endpoint.routable("a"); }, 10s));
 }
 
 TEST(CommandRouting, AnIdWithAWildcardHasNoPartitionOfItsOwn) {
@@ -112,13 +108,15 @@ TEST(CommandRouting, AnExecutorIsReachableOnlyOnceItsCommandReaderIsMatched) {
   dds::Participant bare(domain.id());
   endpoint.executor_seen("a", guid_of(bare), false);
   endpoint.executor_seen("b*", guid_of(bare), false);  // no partition of its own: the default one only
-  EXPECT_FALSE(spin({&loop}, [&] { return endpoint.reachable("a") || endpoint.reachable("b*"); }, 300ms))
+  EXPECT_FALSE(spin(
+      {&loop}, [&] { return endpoint.reachable("a") || endpoint.reachable("b*"); }, 300ms))
       << "reachable with no reader at all";
   Executor a(domain.id(), "a"), b(domain.id(), "b*");
   endpoint.executor_seen("a", guid_of(a.participant), false);
   endpoint.executor_seen("b*", guid_of(b.participant), false);
-  EXPECT_TRUE(spin({&loop, &a.loop, &b.loop}, [&] { return endpoint.reachable("a") && endpoint.reachable("b*"); }, 10s));
+  EXPECT_TRUE(spin(
+      {&loop, &a.loop, &b.loop}, [&] { return endpoint.reachable("a") && endpoint.reachable("b*"); }, 10s));
 }
 
 }  // namespace
-}  // namespace rigger::task_controller
+}  // namespace rigger::skill_protocol

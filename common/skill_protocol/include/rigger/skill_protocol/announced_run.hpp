@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace rigger::executor {
+namespace rigger::skill_protocol {
 
 /// One run active on an executor: started and not yet ended by SUCCESS, FAILURE or STOPPED.
 struct AnnouncedRun {
@@ -26,4 +26,4 @@ inline bool operator!=(const AnnouncedRun& a, const AnnouncedRun& b) {
   return !(a == b);
 }
 
-}  // namespace rigger::executor
+}  // namespace rigger::skill_protocol

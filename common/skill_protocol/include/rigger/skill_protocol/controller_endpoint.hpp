@@ -1,12 +1,13 @@
 #pragma once
 /// @file
-/// The controller's half of the skill protocol, the mirror of rigger::executor::ExecutorEndpoint:
-/// START/SHUTDOWN go out on rigger/skill/command with an increasing seq, under a liveliness lease the
-/// executors watch (a controller that dies or hangs has its running skills shut down); events come in
-/// on rigger/skill/event and must be newer than the last one from the same executor writer (EventOrder)
-/// and echo the seq of the START of the run they report on (match_run). Events that break a rule are
-/// rejected (logged and journalled by the node), never acted on.
-/// EventOrder, match_run and to_leaf_event are pure logic; ControllerEndpoint owns the DDS entities.
+/// The controller's half of the skill protocol, the mirror of ExecutorEndpoint (executor_endpoint.hpp):
+/// START/SHUTDOWN/PAUSE/RESUME go out on rigger/skill/command with an increasing seq, under a liveliness
+/// lease the executors watch (a controller that dies or hangs has its running skills shut down); events
+/// come in on rigger/skill/event and must be newer than the last one from the same executor writer
+/// (EventOrder); their outcome is read with from_wire (leaf_outcome.hpp), the executor's to_wire read
+/// back. Which run an event belongs to, and what the engine makes of it, is the controller's
+/// (services/task_controller: match_run, to_leaf_event). EventOrder is pure logic; ControllerEndpoint
+/// owns the DDS entities.
 
 #include <chrono>
 #include <cstdint>
@@ -14,19 +15,17 @@
 #include <map>
 #include <string>
 
-#include "rigger/bt/port.hpp"
-#include "rigger/bt/tree_spec.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/protocol/skill.hpp"
-#include "stage_trace.hpp"
+#include "rigger/skill_protocol/leaf_outcome.hpp"
 
-namespace rigger::task_controller {
+namespace rigger::skill_protocol {
 
-/// The controller's record of one START it sent.
-struct LeafRun {
+/// Where a command goes: the executor of the run, the command's seq (a START's seq is the run's; its
+/// events echo it as command_seq), and whether it goes in the executor's partition.
+struct CommandRoute {
   std::string executor_id;
-  std::uint64_t start_seq = 0;  ///< the START's seq; the run's events echo it as command_seq
-  bt::Activation activation = 0;
+  std::uint64_t start_seq = 0;
   /// Its commands go in its executor's partition (ControllerEndpoint::routable, decided at its START and
   /// kept for every later command of the run, so that they stay on one writer, in order).
   bool routed = false;
@@ -44,31 +43,15 @@ class EventOrder {
   std::map<std::uint64_t, std::uint64_t> last_;
 };
 
-/// How an event relates to the run the controller knows for its node.
-enum class RunMatch {
-  kCurrent,  ///< from the run's executor and for its current START
-  kUnknown,  ///< no run for the node, or another executor's
-  kStale,    ///< for an earlier START of the node
-};
-RunMatch match_run(const LeafRun* run, const std::string& executor_id, std::uint64_t command_seq);
-
 /// A SkillEvent that passed the ordering check.
 struct ReceivedEvent {
   std::string task_id, node_id, executor_id;
   std::uint64_t seq = 0, command_seq = 0;
   std::int64_t stamp_wall_ns = 0;  ///< the event's stamp (its writer's wall clock)
-  bt::LeafEvent event;  ///< activation not set: the node takes it from its LeafRun
-  /// The executor's answer to the START (ACCEPTED, code WAITING or empty): for the controller, not the
-  /// engine (`event` then holds only code and message).
-  bool accepted = false;
-  /// "PAUSED" / "RESUMED": the executor's answer to a PAUSE / RESUME (code and message in `event`), for
-  /// the journal, never the engine; "" otherwise.
-  std::string pause_answer;
+  /// What the run reports. ACCEPTED (code WAITING or empty) answers the START: for the controller, not
+  /// the engine; PAUSED / RESUMED answer a PAUSE / RESUME: for the journal, never the engine.
+  LeafOutcome outcome;
 };
-
-/// The wire event as the engine's (kind, code, message; progress only when in [0, 1]). ACCEPTED, which
-/// is not the engine's, comes out as PROGRESS without a fraction.
-bt::LeafEvent to_leaf_event(const rigger_skill_SkillEvent& e);
 
 class ControllerEndpoint {
  public:
@@ -76,7 +59,6 @@ class ControllerEndpoint {
   /// run_service's loop). @throws DdsError.
   ControllerEndpoint(const dds::Participant& participant, std::chrono::milliseconds lease);
 
-  /// The next command seq (every START, SHUTDOWN, PAUSE and RESUME takes one).
   /// An executor announced itself from the participant `participant_key`: makes the writer of its
   /// partition (once) and notes whose reader must match it. `again`: it was lost before (or its
   /// participant changed), so the match is checked afresh.
@@ -93,19 +75,23 @@ class ControllerEndpoint {
   /// executor's reader (it reads the default partition too) raises when it is discovered.
   dds_entity_t default_writer() const { return commands_.handle(); }
 
+  /// The next command seq (every START, SHUTDOWN, PAUSE and RESUME takes one).
   std::uint64_t next_seq() { return ++command_seq_; }
-  /// Sends START (params: the leaf's JSON), SHUTDOWN, PAUSE or RESUME of `spec` under `run`. Returns
-  /// false when the write failed.
-  bool send(rigger_skill_SkillCommandKind kind, const std::string& task_id, const bt::NodeSpec& spec,
-            const LeafRun& run, const std::string& params, const std::string& reason);
+  /// Sends START (params: the leaf's JSON), SHUTDOWN, PAUSE or RESUME of node `node_id` (skill `skill`)
+  /// of `task_id` along `route`. Returns false when the write failed.
+  bool send(rigger_skill_SkillCommandKind kind, const std::string& task_id, const std::string& node_id,
+            const std::string& skill, const CommandRoute& route, const std::string& params, const std::string& reason);
 
   /// Takes every event: in-order ones to `on_event`, others to `on_out_of_order` (with the last seq).
   void take(const std::function<void(const ReceivedEvent&)>& on_event,
             const std::function<void(const ReceivedEvent&, std::uint64_t last)>& on_out_of_order);
 
   const dds::Reader<rigger_skill_SkillEvent>& events() const { return events_; }
-  /// Tells `trace` (nullptr: nobody) of every command write, before and after it.
-  void trace(StageTrace* trace) { trace_ = trace; }
+  /// Calls `before` and `after` around every command write (empty: nothing), for a stage trace.
+  void trace_writes(std::function<void()> before, std::function<void()> after) {
+    before_write_ = std::move(before);
+    after_write_ = std::move(after);
+  }
 
  private:
   /// One executor's partition of the command topic.
@@ -118,12 +104,12 @@ class ControllerEndpoint {
   const dds::Participant& participant_;
   std::chrono::milliseconds lease_;
   dds::Writer<rigger_skill_SkillCommand> commands_;  ///< the default partition
-  std::map<std::string, Route> routes_;               ///< by executor id
-  std::map<std::string, dds_guid_t> participants_;    ///< by executor id: the participant it announced from
+  std::map<std::string, Route> routes_;              ///< by executor id
+  std::map<std::string, dds_guid_t> participants_;   ///< by executor id: the participant it announced from
   dds::Reader<rigger_skill_SkillEvent> events_;
   EventOrder order_;
   std::uint64_t command_seq_ = 0;
-  StageTrace* trace_ = nullptr;
+  std::function<void()> before_write_, after_write_;
 };
 
-}  // namespace rigger::task_controller
+}  // namespace rigger::skill_protocol

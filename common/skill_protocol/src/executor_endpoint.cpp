@@ -1,4 +1,4 @@
-#include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/skill_protocol/executor_endpoint.hpp"
 
 #include <unistd.h>
 
@@ -7,31 +7,19 @@
 #include <set>
 #include <stdexcept>
 
+#include "rigger/base/bounded_json.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/partitions.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/dds/service_state.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/safety/safe_stop.hpp"
-#include "rigger/base/bounded_json.hpp"
 
-namespace rigger::executor {
+namespace rigger::skill_protocol {
 namespace {
 
 /// A START's parameters: one skill's values (poses, a screw list), far below a recipe's 4 MiB.
 constexpr rigger::JsonLimits kParamsLimits{256U * 1024U, 32};
-
-rigger_skill_SkillEventKind to_wire(EventKind k) {
-  switch (k) {
-    case EventKind::kSuccess: return rigger_skill_SKILL_EVENT_SUCCESS;
-    case EventKind::kFailure: return rigger_skill_SKILL_EVENT_FAILURE;
-    case EventKind::kStopped: return rigger_skill_SKILL_EVENT_STOPPED;
-    case EventKind::kProgress: return rigger_skill_SKILL_EVENT_PROGRESS;
-    case EventKind::kAccepted: return rigger_skill_SKILL_EVENT_ACCEPTED;
-    case EventKind::kPaused: return rigger_skill_SKILL_EVENT_PAUSED;
-    case EventKind::kResumed: return rigger_skill_SKILL_EVENT_RESUMED;
-  }
-  return rigger_skill_SKILL_EVENT_FAILURE;
-}
 
 std::string host_name() {
   char buf[256] = {};
@@ -40,22 +28,8 @@ std::string host_name() {
 
 }  // namespace
 
-const char* to_string(EventKind kind) {
-  switch (kind) {
-    case EventKind::kSuccess: return "SUCCESS";
-    case EventKind::kFailure: return "FAILURE";
-    case EventKind::kStopped: return "STOPPED";
-    case EventKind::kProgress: return "PROGRESS";
-    case EventKind::kAccepted: return "ACCEPTED";
-    case EventKind::kPaused: return "PAUSED";
-    case EventKind::kResumed: return "RESUMED";
-  }
-  return "?";
-}
-
 ExecutorEndpoint::ExecutorEndpoint(const dds::Participant& participant, dds::EventLoop& loop, Logger log,
-                                   std::string executor_id, nlohmann::json library, Handlers handlers,
-                                   Options options)
+                                   std::string executor_id, nlohmann::json library, Handlers handlers, Options options)
     : loop_(loop),
       log_(std::move(log)),
       executor_id_(std::move(executor_id)),
@@ -148,9 +122,8 @@ void ExecutorEndpoint::on_commands() {
     commands_.take([this](const rigger_skill_SkillCommand& cmd, const dds_sample_info_t& info) { handle(cmd, info); });
     return;
   }
-  const std::int64_t woke = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                std::chrono::system_clock::now().time_since_epoch())
-                                .count();
+  const std::int64_t woke =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
   commands_.take([this, woke](const rigger_skill_SkillCommand& cmd, const dds_sample_info_t& info) {
     options_.on_received(cmd, woke);
     handle(cmd, info);
@@ -231,10 +204,12 @@ void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sa
   const std::string task = dds::to_string(cmd.task_id), node = dds::to_string(cmd.node_id);
   std::uint64_t last = 0;
   if (!order_by_writer_[info.publication_handle].accept(cmd.seq, &last)) {
-    log_->warn("command dropped reason=stale_or_duplicate seq={} last_seq={} task={} node={}", cmd.seq, last, task, node);
+    log_->warn("command dropped reason=stale_or_duplicate seq={} last_seq={} task={} node={}", cmd.seq, last, task,
+               node);
     return;
   }
-  if (cmd.seq < last) log_->info("command taken out of order seq={} last_seq={} task={} node={} (sent again)", cmd.seq, last, task, node);
+  if (cmd.seq < last)
+    log_->info("command taken out of order seq={} last_seq={} task={} node={} (sent again)", cmd.seq, last, task, node);
   const auto key = std::make_pair(task, node);
 
   if (cmd.kind == rigger_skill_SKILL_SHUTDOWN) {
@@ -244,7 +219,8 @@ void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sa
       loop_.cancel(w->deadline);
       const LeafRun run = w->run;
       waiting_.erase(w);
-      write_event(run, EventKind::kStopped, "NOT_STARTED", "stopped before it started on executor " + executor_id_, -1.0);
+      write_event(run, EventKind::kStopped, "NOT_STARTED", "stopped before it started on executor " + executor_id_,
+                  -1.0);
       return;
     }
     auto it = active_.find(key);
@@ -271,7 +247,12 @@ void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sa
     return;
   }
 
-  Start start{{task, node, cmd.seq}, dds::to_string(cmd.skill), nlohmann::json::object(), {}, info.publication_handle, 0,
+  Start start{{task, node, cmd.seq},
+              dds::to_string(cmd.skill),
+              nlohmann::json::object(),
+              {},
+              info.publication_handle,
+              0,
               false};
   if (cmd.params_json != nullptr && cmd.params_json[0] != '\0') {
     // Parameters come from another process: bounded while parsed (size first, then depth, UTF-8, keys).
@@ -283,8 +264,8 @@ void ExecutorEndpoint::handle(const rigger_skill_SkillCommand& cmd, const dds_sa
     start.params = std::move(parsed.value);
   }
   if (!start.params.is_object()) {
-    refuse(start.run, "BAD_PARAMS", "params of " + start.skill + " must be a JSON object, got " +
-                                        std::string(start.params.type_name()));
+    refuse(start.run, "BAD_PARAMS",
+           "params of " + start.skill + " must be a JSON object, got " + std::string(start.params.type_name()));
     return;
   }
   if (std::find(skill_names_.begin(), skill_names_.end(), start.skill) == skill_names_.end()) {
@@ -306,8 +287,8 @@ void ExecutorEndpoint::handle_pause(const std::string& task, const std::string& 
       loop_.cancel(w->deadline);
       const LeafRun run = w->run;
       waiting_.erase(w);
-      log_->warn("pause task={} node={} code=NOT_PAUSABLE_STOPPED {}; it was waiting to start: not started", task,
-                 node, why);
+      log_->warn("pause task={} node={} code=NOT_PAUSABLE_STOPPED {}; it was waiting to start: not started", task, node,
+                 why);
       write_event(run, kind, "NOT_PAUSABLE_STOPPED", why + "; it was waiting to start: it will not start", -1.0);
       write_event(run, EventKind::kFailure, "NOT_PAUSABLE", "could not pause: " + why + "; it never started", -1.0);
       return;
@@ -317,8 +298,9 @@ void ExecutorEndpoint::handle_pause(const std::string& task, const std::string& 
       return;
     }
     w->paused = pause;
-    write_event(w->run, kind, "", w->skill + (pause ? " will start paused" : " will start running") + " on executor " +
-                                      executor_id_, -1.0);
+    write_event(w->run, kind, "",
+                w->skill + (pause ? " will start paused" : " will start running") + " on executor " + executor_id_,
+                -1.0);
     return;
   }
   const RunKey key{task, node};
@@ -352,7 +334,8 @@ std::string ExecutorEndpoint::not_pausable(const std::string& skill) const {
   return skill + " cannot pause: it keeps " + (monitor ? "monitoring" : "running");
 }
 
-std::string ExecutorEndpoint::stops_for_pause(const std::string& skill, const std::vector<std::string>& resources) const {
+std::string ExecutorEndpoint::stops_for_pause(const std::string& skill,
+                                              const std::vector<std::string>& resources) const {
   if (not_pausable(skill).empty()) return "";
   const auto d = descriptions_.find(skill);
   if (d == descriptions_.end() || d->second.kind == skill::SkillKind::kMonitor) return "";
@@ -370,7 +353,8 @@ PauseAnswer ExecutorEndpoint::pause_run(const RunKey& key, bool pause, const std
   const std::string skill = a.skill;  // `a` may be gone after the handler (a skill that ends at once)
   if (a.stopping) return {"STOPPING", skill + " is being stopped: its safe stop proceeds"};
   if (std::string why = not_pausable(skill); !why.empty()) return {"NOT_PAUSABLE", why};
-  if (a.paused == pause) return {pause ? "ALREADY_PAUSED" : "NOT_PAUSED", skill + " was " + (pause ? "" : "not ") + "paused"};
+  if (a.paused == pause)
+    return {pause ? "ALREADY_PAUSED" : "NOT_PAUSED", skill + " was " + (pause ? "" : "not ") + "paused"};
   PauseAnswer answer = handlers_.on_pause({{key.first, key.second, a.start_seq}, pause, reason});
   auto it = active_.find(key);
   if (it != active_.end() && answer.code.empty()) it->second.paused = pause;
@@ -418,8 +402,7 @@ void ExecutorEndpoint::handle_start(Start start) {
               -1.0);
   start.deadline = loop_.after(options_.start_wait, [this, run] {
     for (auto w = waiting_.begin(); w != waiting_.end(); ++w) {
-      if (w->run.task_id != run.task_id || w->run.node_id != run.node_id || w->run.start_seq != run.start_seq)
-        continue;
+      if (w->run.task_id != run.task_id || w->run.node_id != run.node_id || w->run.start_seq != run.start_seq) continue;
       bool ignored = false;
       const std::string still = blocked(*w, ignored);
       const std::string skill = w->skill;
@@ -466,8 +449,8 @@ void ExecutorEndpoint::dispatch(Start start) {
   // Paused while it waited (already answered): it holds from its start.
   if (paused && active_.count(key) != 0) {
     const PauseAnswer answer = pause_run(key, true, "paused while it waited");
-    if (!answer.code.empty()) log_->warn("start paused failed task={} node={} code={} {}", key.first, key.second,
-                                         answer.code, answer.message);
+    if (!answer.code.empty())
+      log_->warn("start paused failed task={} node={} code={} {}", key.first, key.second, answer.code, answer.message);
   }
 }
 
@@ -491,15 +474,17 @@ bool ExecutorEndpoint::report(const LeafRun& run, EventKind kind, const std::str
   const auto key = std::make_pair(run.task_id, run.node_id);
   auto it = active_.find(key);
   if (it == active_.end() || it->second.start_seq != run.start_seq) {
-    log_->warn("report dropped reason=run_not_active task={} node={} kind={}", run.task_id, run.node_id, to_string(kind));
+    log_->warn("report dropped reason=run_not_active task={} node={} kind={}", run.task_id, run.node_id,
+               to_string(kind));
     return false;
   }
   // A run a PAUSE stopped (not pausable) did not pause: its stop is a FAILURE of its node, which the
   // controller never asked to stop.
   const bool not_paused = kind == EventKind::kStopped && it->second.stopped_for_pause;
   if (kind != EventKind::kProgress) active_.erase(it);
-  const bool written = not_paused ? write_event(run, EventKind::kFailure, "NOT_PAUSABLE", "could not pause: " + message, progress)
-                                  : write_event(run, kind, code, message, progress);
+  const bool written =
+      not_paused ? write_event(run, EventKind::kFailure, "NOT_PAUSABLE", "could not pause: " + message, progress)
+                 : write_event(run, kind, code, message, progress);
   // After the event: whoever reads an announcement without the run has the run's end written before it.
   if (kind != EventKind::kProgress) announce_soon();
   if (kind != EventKind::kProgress && !waiting_.empty()) loop_.post([this] { start_waiting(); });
@@ -512,10 +497,8 @@ bool ExecutorEndpoint::write_event(const LeafRun& run, EventKind kind, const std
   ev.executor_id = dds::wire_string(executor_id_);
   ev.task_id = dds::wire_string(run.task_id);
   ev.node_id = dds::wire_string(run.node_id);
-  ev.kind = to_wire(kind);
-  ev.code = dds::wire_string(code);
-  ev.message = dds::wire_string(message);
-  ev.progress = progress;
+  const LeafOutcome outcome{kind, code, message, progress < 0.0 ? std::nullopt : std::optional<double>(progress)};
+  to_wire(outcome, ev);
   ev.seq = ++event_seq_;
   ev.command_seq = run.start_seq;
   ev.stamp = dds::wire_now();
@@ -547,13 +530,10 @@ void wire_runs(rigger_skill_ExecutorAnnouncement& announcement, const std::vecto
 
 std::vector<AnnouncedRun> runs_of(const rigger_skill_ExecutorAnnouncement& announcement) {
   std::vector<AnnouncedRun> out;
-  out.reserve(announcement.runs._length);
-  for (std::uint32_t i = 0; i < announcement.runs._length; ++i) {
-    const auto& w = announcement.runs._buffer[i];
+  for (const auto& w : dds::elements(announcement.runs))
     out.push_back({dds::to_string(w.task_id), dds::to_string(w.node_id), dds::to_string(w.skill),
                    dds::to_string_vector(w.resources), w.stopping});
-  }
   return out;
 }
 
-}  // namespace rigger::executor
+}  // namespace rigger::skill_protocol

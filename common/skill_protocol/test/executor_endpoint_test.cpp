@@ -1,5 +1,5 @@
 // The executor side of the protocol, driven by a raw controller-side writer/reader in the same process.
-#include "rigger/executor/executor_endpoint.hpp"
+#include "rigger/skill_protocol/executor_endpoint.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include "rigger/protocol/skill.hpp"
 #include "rigger/testing/domain.hpp"
 
-namespace rigger::executor {
+namespace rigger::skill_protocol {
 namespace {
 
 using namespace std::chrono_literals;
@@ -21,19 +21,20 @@ struct Event {
 class ExecutorEndpointTest : public ::testing::Test {
  protected:
   ExecutorEndpointTest() {
-    library_ = {{"library_version", 1},
-                {"skills",
-                 {{{"name", "Wait"}},
-                  {{"name", "Grasp"}},
-                  {{"name", "MoveArm"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"robot"}}},
-                  {{"name", "Weld"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"robot"}}},
-                  {{"name", "Look"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"camera"}}},
-                  {{"name", "Hoist"},
-                   {"kind", "skill"},
-                   {"params", nlohmann::json::array()},
-                   {"resources", {"crane"}},
-                   {"pausable", true}},
-                  {{"name", "Watch"}, {"kind", "monitor"}, {"params", nlohmann::json::array()}}}}};
+    library_ = {
+        {"library_version", 1},
+        {"skills",
+         {{{"name", "Wait"}},
+          {{"name", "Grasp"}},
+          {{"name", "MoveArm"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"robot"}}},
+          {{"name", "Weld"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"robot"}}},
+          {{"name", "Look"}, {"kind", "skill"}, {"params", nlohmann::json::array()}, {"resources", {"camera"}}},
+          {{"name", "Hoist"},
+           {"kind", "skill"},
+           {"params", nlohmann::json::array()},
+           {"resources", {"crane"}},
+           {"pausable", true}},
+          {{"name", "Watch"}, {"kind", "monitor"}, {"params", nlohmann::json::array()}}}}};
     ExecutorEndpoint::Options options;
     options.start_wait = 300ms;
     endpoint_ = std::make_unique<ExecutorEndpoint>(
@@ -174,8 +175,7 @@ TEST_F(ExecutorEndpointTest, BadParamsAndUnknownSkillFailWithCodes) {
 // Parameters from another process are bounded while parsed: too deep or too large is refused, with where.
 TEST_F(ExecutorEndpointTest, ParamsTooDeepOrTooLargeAreRefusedWhileParsed) {
   send("exec-1", "deep", rigger_skill_SKILL_START, 1, "Wait", "{\"a\":" + std::string(100000, '[') + "}");
-  send("exec-1", "big", rigger_skill_SKILL_START, 2, "Wait",
-       "{\"s\":\"" + std::string(300 * 1024, 'x') + "\"}");
+  send("exec-1", "big", rigger_skill_SKILL_START, 2, "Wait", "{\"s\":\"" + std::string(300 * 1024, 'x') + "\"}");
   send("exec-1", "dup", rigger_skill_SKILL_START, 3, "Wait", "{\"t\":1,\"t\":2}");
   ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 3; }, 5s));
   EXPECT_TRUE(starts_.empty());
@@ -415,9 +415,9 @@ TEST(ExecutorEndpointSetup, RejectsALibraryWithoutSkills) {
 }
 
 }  // namespace
-}  // namespace rigger::executor
+}  // namespace rigger::skill_protocol
 
-namespace rigger::executor {
+namespace rigger::skill_protocol {
 namespace {
 
 std::string answer_text(const Event& e) {
@@ -447,10 +447,10 @@ TEST_F(ExecutorEndpointTest, PauseAndResumeReachPausableSkillsOnlyAndAreAlwaysAn
   ASSERT_TRUE(loop_.run_until([&] { return received_.size() == 7; }, 5s));
   std::vector<std::string> answers;
   for (const auto& e : received_) answers.push_back(answer_text(e));
-  EXPECT_EQ(answers, (std::vector<std::string>{"hoist#1:PAUSED:", "move#2:PAUSED:NOT_PAUSABLE",
-                                               "watch#3:PAUSED:NOT_PAUSABLE", "hoist#1:PAUSED:ALREADY_PAUSED",
-                                               "hoist#1:RESUMED:", "ghost#0:RESUMED:NOT_RUNNING",
-                                               "move#2:PAUSED:STOPPING"}));
+  EXPECT_EQ(answers,
+            (std::vector<std::string>{"hoist#1:PAUSED:", "move#2:PAUSED:NOT_PAUSABLE", "watch#3:PAUSED:NOT_PAUSABLE",
+                                      "hoist#1:PAUSED:ALREADY_PAUSED",
+                                      "hoist#1:RESUMED:", "ghost#0:RESUMED:NOT_RUNNING", "move#2:PAUSED:STOPPING"}));
   EXPECT_NE(received_[1].message.find("Look cannot pause: it keeps running"), std::string::npos)
       << received_[1].message;
   EXPECT_NE(received_[2].message.find("Watch cannot pause: it keeps monitoring"), std::string::npos)
@@ -551,4 +551,4 @@ TEST_F(ExecutorEndpointTest, ASkillThatCannotPauseAndWaitsToStartNeverStartsWhen
 }
 
 }  // namespace
-}  // namespace rigger::executor
+}  // namespace rigger::skill_protocol

@@ -13,12 +13,11 @@
 ///  - START with unparsable params → FAILURE `BAD_PARAMS`; for a skill not in the library →
 ///    FAILURE `UNKNOWN_SKILL`;
 ///  - every START is answered, never dropped: ACCEPTED when it runs (just before the skill's start
-///    handler), ACCEPTED `WAITING` when it first waits, or FAILURE with a code; a START whose node or resources (the skill
-///    description's `resources`, "$param" resolved) are held by a run that is being stopped waits
-///    until that run has stopped, then starts (or, after Options::start_wait, fails
-///    `STILL_STOPPING`); one whose node runs here and was not asked to stop fails `ALREADY_RUNNING`;
-///    one whose resources a running (not stopping) skill holds fails `RESOURCE_BUSY`, naming the
-///    holder;
+///    handler), ACCEPTED `WAITING` when it first waits, or FAILURE with a code; a START whose node or resources (the
+///    skill description's `resources`, "$param" resolved) are held by a run that is being stopped waits until that run
+///    has stopped, then starts (or, after Options::start_wait, fails `STILL_STOPPING`); one whose node runs here and
+///    was not asked to stop fails `ALREADY_RUNNING`; one whose resources a running (not stopping) skill holds fails
+///    `RESOURCE_BUSY`, naming the holder;
 ///  - the controller's liveliness is watched through its command writer's lease (the controller
 ///    offers MANUAL_BY_PARTICIPANT liveliness on rigger/skill/command): when the writer that started
 ///    a run is lost (killed, hung, or gone), that run is shut down (reason `CONTROLLER_LOST`) so no
@@ -57,10 +56,11 @@
 #include "rigger/base/logging.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/executor/announced_run.hpp"
 #include "rigger/skill/skill_description.hpp"
+#include "rigger/skill_protocol/announced_run.hpp"
+#include "rigger/skill_protocol/leaf_outcome.hpp"
 
-namespace rigger::executor {
+namespace rigger::skill_protocol {
 
 /// Which commands of one controller writer were taken. The controller numbers its commands in the order
 /// written and sends a START again (same seq, same writer) when it got no answer: a command can arrive
@@ -83,10 +83,6 @@ struct LeafRun {
   std::string node_id;
   std::uint64_t start_seq = 0;
 };
-
-/// kAccepted, kPaused and kResumed are the endpoint's own answers to a START, PAUSE and RESUME; skills
-/// report the others.
-enum class EventKind { kSuccess, kFailure, kStopped, kProgress, kAccepted, kPaused, kResumed };
 
 struct StartRequest {
   LeafRun run;
@@ -232,8 +228,6 @@ class ExecutorEndpoint {
   static constexpr std::chrono::milliseconds kAnnounceDelay{2};
 };
 
-const char* to_string(EventKind kind);
-
 /// Storage that the runs of a written announcement borrow (see rigger/dds/conversions.hpp).
 struct WireRuns {
   std::vector<rigger_skill_ExecutorRun> runs;
@@ -248,4 +242,4 @@ void wire_runs(rigger_skill_ExecutorAnnouncement& announcement, const std::vecto
 /// The runs an announcement lists.
 std::vector<AnnouncedRun> runs_of(const rigger_skill_ExecutorAnnouncement& announcement);
 
-}  // namespace rigger::executor
+}  // namespace rigger::skill_protocol
