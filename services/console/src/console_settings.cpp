@@ -2,26 +2,6 @@
 
 namespace rigger::console {
 
-namespace {
-
-/// rehearsal_domain has no default: absent, the console rehearses nothing.
-Setting<ConsoleSettings> rehearsal_domain_setting() {
-  const std::string key = "rehearsal_domain";
-  SettingInfo info{key,
-                   "integer",
-                   "none",
-                   "[0, 230]",
-                   "",
-                   "the DDS domain of the rehearsal cell, where the Planner's Rehearse runs a recipe first "
-                   "([console.md](console.md#rehearsal)); none: no rehearsal. Must differ from the console's own "
-                   "domain"};
-  return Setting<ConsoleSettings>(std::move(info), [key](const Config& config, ConsoleSettings& s) {
-    if (config.has(key)) s.rehearsal_domain = static_cast<std::uint32_t>(config.get_in_range<int>(key, 0, 0, 230));
-  });
-}
-
-}  // namespace
-
 const SettingsTable<ConsoleSettings>& console_settings() {
   using S = ConsoleSettings;
   static const SettingsTable<S> table{
@@ -39,18 +19,27 @@ const SettingsTable<ConsoleSettings>& console_settings() {
       setting<S>("tls_key", "", &S::tls_key, "the PEM key of `tls_cert`"),
       setting<S>("confirm_timeout_s", 5.0, {0.5, 120.0}, &S::confirm_timeout,
                  "how long a selected publish/resume waits for its confirmation"),
-      setting<S>("max_body_bytes", 4.0 * 1024 * 1024, {1024.0, 100.0 * 1024 * 1024},
-                 [](S& s, const double& v) { s.max_body_bytes = static_cast<std::size_t>(v); },
-                 "larger request bodies are refused with 413 before they are read"),
+      setting<S>(
+          "max_body_bytes", 4.0 * 1024 * 1024, {1024.0, 100.0 * 1024 * 1024},
+          [](S& s, const double& v) { s.max_body_bytes = static_cast<std::size_t>(v); },
+          "larger request bodies are refused with 413 before they are read"),
       setting<S>("plot_rate_hz", 20.0, {1.0, 100.0}, &S::plot_rate_hz,
                  "plot rows per second while sensor samples come (the average force over the interval; the "
                  "latest state of the others)"),
       setting<S>("query_timeout_s", 3.0, {0.1, 60.0}, &S::query_timeout,
                  "how long a journal, world or CAD query waits for its answer"),
-      rehearsal_domain_setting(),
-      path_setting<S>("web_dir", "web", [](S& s, const std::filesystem::path& p) { s.web_dir = p.string(); },
-                      "the pages and their `node_modules/`: relative to this file, then to the data folder (the "
-                      "build tree links it to `services/console/web`)"),
+      own_setting<S>(
+          "rehearsal_domain", "integer", "none", "[0, 230]",
+          [](const Config& config, const std::string& key, S& s) {
+            if (config.has(key))
+              s.rehearsal_domain = static_cast<std::uint32_t>(config.get_in_range<int>(key, 0, 0, 230));
+          },
+          "the DDS domain of the rehearsal cell, where the Planner's Rehearse runs a recipe first "
+          "([console.md](console.md#rehearsal)); none: no rehearsal. Must differ from the console's own domain"),
+      path_setting<S>(
+          "web_dir", "web", [](S& s, const std::filesystem::path& p) { s.web_dir = p.string(); },
+          "the pages and their `node_modules/`: relative to this file, then to the data folder (the "
+          "build tree links it to `services/console/web`)"),
   };
   return table;
 }
