@@ -19,10 +19,8 @@ const SettingsTable<ConsoleSettings>& console_settings() {
       setting<S>("tls_key", "", &S::tls_key, "the PEM key of `tls_cert`"),
       setting<S>("confirm_timeout_s", 5.0, {0.5, 120.0}, &S::confirm_timeout,
                  "how long a selected publish/resume waits for its confirmation"),
-      setting<S>(
-          "max_body_bytes", 4.0 * 1024 * 1024, {1024.0, 100.0 * 1024 * 1024},
-          [](S& s, const double& v) { s.max_body_bytes = static_cast<std::size_t>(v); },
-          "larger request bodies are refused with 413 before they are read"),
+      setting<S>("max_body_bytes", 4u * 1024u * 1024u, {1024u, 100u * 1024u * 1024u}, &S::max_body_bytes,
+                 "larger request bodies are refused with 413 before they are read"),
       setting<S>("plot_rate_hz", 20.0, {1.0, 100.0}, &S::plot_rate_hz,
                  "plot rows per second while sensor samples come (the average force over the interval; the "
                  "latest state of the others)"),
