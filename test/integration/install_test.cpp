@@ -21,16 +21,15 @@
 
 #include <gtest/gtest.h>
 
-#include "shell_support.hpp"
+#include "rigger/testing/process.hpp"
 #include "rigger/testing/require.hpp"
+#include "shell_support.hpp"
 
 namespace rigger::testing {
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
-
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
 class RelocatableInstallTest : public ShellTest {
  protected:
@@ -43,7 +42,7 @@ class RelocatableInstallTest : public ShellTest {
   void TearDown() override {
     if (cell_may_run_) {  // a demo that did not end cleanly may have left its supervisor and services
       const std::string down =
-          "exec " + plain_env(state_dir()) + " " + quoted(prefix() + "/bin/rigger-compose") + " down";
+          "exec " + plain_env(state_dir()) + " " + shell_quoted(prefix() + "/bin/rigger-compose") + " down";
       const auto r = bash("down", down, 60s);
       EXPECT_TRUE(r.status.ok()) << r.output;
     }
@@ -61,7 +60,7 @@ class RelocatableInstallTest : public ShellTest {
   /// A script that runs `command` from / in a private mount namespace where the build tree and the source
   /// tree are empty folders; it exits 99 if they are still visible.
   std::string with_trees_hidden(const std::string& command) const {
-    const std::string build = quoted(build_dir()), source = quoted(source_dir());
+    const std::string build = shell_quoted(build_dir()), source = shell_quoted(source_dir());
     const std::string inner = "mount -t tmpfs -o size=1m rigger-hidden " + build +
                               " && mount -t tmpfs -o size=1m rigger-hidden " + source +
                               " && if [ -e " + build + "/CMakeCache.txt ] || [ -e " + source +
@@ -79,8 +78,9 @@ TEST_F(RelocatableInstallTest, MovedInstallationRunsTheDemoWithoutSourceOrBuildT
                          "unshare --mount is not permitted here (needs root): the source and build trees cannot be hidden");
 
   const auto t0 = std::chrono::steady_clock::now();
-  auto r = bash("install", quoted(RIGGER_CMAKE_COMMAND) + " --install " + quoted(build_dir()) + " --prefix " +
-                               quoted(tmp_ + "/a"),
+  auto r = bash("install",
+                shell_quoted(RIGGER_CMAKE_COMMAND) + " --install " + shell_quoted(build_dir()) + " --prefix " +
+                    shell_quoted(tmp_ + "/a"),
                 120s);
   ASSERT_TRUE(r.status.ok()) << r.output;
   const double install_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -108,7 +108,7 @@ TEST_F(RelocatableInstallTest, MovedInstallationRunsTheDemoWithoutSourceOrBuildT
   EXPECT_GE(named, 3) << text;
 
   // The installation describes itself: its own data folder and bin/, no path of the trees.
-  r = bash("config", with_trees_hidden(quoted(prefix() + "/bin/rigger-compose") + " config"), 30s);
+  r = bash("config", with_trees_hidden(shell_quoted(prefix() + "/bin/rigger-compose") + " config"), 30s);
   ASSERT_TRUE(r.status.ok()) << r.output;
   EXPECT_NE(r.output.find("root     " + prefix() + "/share/rigger\n"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("bin_dir  " + prefix() + "/bin\n"), std::string::npos) << r.output;
@@ -117,8 +117,9 @@ TEST_F(RelocatableInstallTest, MovedInstallationRunsTheDemoWithoutSourceOrBuildT
   // The site tools are shipped and work from the installation: make-pki reads the installed catalog's
   // access table and signs a permissions document for every role, the ROS 2 driver's from the shipped grants.
   const std::string security = prefix() + "/share/rigger/deploy/security";
-  r = bash("make-pki", with_trees_hidden(quoted(security + "/make-pki") + " --extra " + quoted(security + "/ros2.grants") +
-                                         " " + quoted(tmp_ + "/pki")),
+  r = bash("make-pki",
+           with_trees_hidden(shell_quoted(security + "/make-pki") + " --extra " +
+                             shell_quoted(security + "/ros2.grants") + " " + shell_quoted(tmp_ + "/pki")),
            120s);
   ASSERT_TRUE(r.status.ok()) << r.output;
   for (const char* identity : {"task_controller", "console", "ros2_bridge", "ros2_driver"})
@@ -127,7 +128,7 @@ TEST_F(RelocatableInstallTest, MovedInstallationRunsTheDemoWithoutSourceOrBuildT
 
   cell_may_run_ = true;
   const auto t1 = std::chrono::steady_clock::now();
-  r = bash("demo", with_trees_hidden(quoted(prefix() + "/bin/rigger-compose") + " demo"), 420s);
+  r = bash("demo", with_trees_hidden(shell_quoted(prefix() + "/bin/rigger-compose") + " demo"), 420s);
   std::printf("demo from the moved installation: %.1f s\n",
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count());
   ASSERT_TRUE(r.status.ok()) << r.status.describe() << "\n" << r.output << compose_logs();

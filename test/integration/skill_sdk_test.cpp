@@ -12,13 +12,12 @@
 #include "cell_sim_test_support.hpp"
 #include "controller_test_support.hpp"
 #include "rigger/protocol/robot.hpp"
+#include "rigger/testing/process.hpp"
 
 namespace rigger::testing::controller {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
 class SkillSdkTest : public ControllerTest {
  protected:
@@ -30,12 +29,14 @@ class SkillSdkTest : public ControllerTest {
     tmp_ = pattern;
     const std::string build_dir = fs::canonical(bin_dir() + "/..").string();
     const std::string script =
-        "set -e; " + quoted(RIGGER_CMAKE_COMMAND) + " --install " + quoted(build_dir) + " --component sdk --prefix " +
-        quoted(tmp_ + "/prefix") + " >/dev/null && " + quoted(RIGGER_CMAKE_COMMAND) + " -S " +
-        quoted(std::string(RIGGER_SOURCE_DIR) + "/examples/skill_plugin") + " -B " + quoted(tmp_ + "/build") +
-        " -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=" + quoted(tmp_ + "/prefix") + " && " +
-        quoted(RIGGER_CMAKE_COMMAND) + " --build " + quoted(tmp_ + "/build") + " -j 2 && cd " + quoted(tmp_ + "/build") +
-        " && ctest --output-on-failure";
+        "set -e; " + shell_quoted(RIGGER_CMAKE_COMMAND) + " --install " + shell_quoted(build_dir) +
+        " --component sdk --prefix " + shell_quoted(tmp_ + "/prefix") + " >/dev/null && " +
+        shell_quoted(RIGGER_CMAKE_COMMAND) + " -S " +
+        shell_quoted(std::string(RIGGER_SOURCE_DIR) + "/examples/skill_plugin") + " -B " +
+        shell_quoted(tmp_ + "/build") +
+        " -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=" + shell_quoted(tmp_ + "/prefix") + " && " +
+        shell_quoted(RIGGER_CMAKE_COMMAND) + " --build " + shell_quoted(tmp_ + "/build") + " -j 2 && cd " +
+        shell_quoted(tmp_ + "/build") + " && ctest --output-on-failure";
     ChildProcess p("/bin/bash", {"-c", script}, {}, tmp_ + "/build.log");
     auto st = p.wait(std::chrono::minutes(5));
     if (!st) {

@@ -108,6 +108,58 @@ TEST(Settings, ReadIntoLeavesFinishToTheCaller) {
   EXPECT_NO_THROW(config.finish());
 }
 
+struct Link {
+  unsigned port{};
+  std::chrono::milliseconds backoff_min{};
+};
+
+const SettingsTable<Link>& link_settings() {
+  using S = Link;
+  static const SettingsTable<S> table{
+      nested("plc", setting<S>("port", 1502u, {1u, 65535u}, &S::port, "its port")),
+      nested("backoff_ms", setting<S>(
+                               "min", 20, {1, 60000},
+                               [](S& s, int ms) { s.backoff_min = std::chrono::milliseconds(ms); }, "the first retry")),
+  };
+  return table;
+}
+
+TEST(Settings, NestedKeysAreReadFromTheirObject) {
+  EXPECT_EQ(read_settings(Config::parse("{}", "x.json"), link_settings()).port, 1502u);
+  const Link s =
+      read_settings(Config::parse(R"({"plc": {"port": 502}, "backoff_ms": {"min": 5}})", "x.json"), link_settings());
+  EXPECT_EQ(s.port, 502u);
+  EXPECT_EQ(s.backoff_min, 5ms);
+  const auto range =
+      error_of([] { read_settings(Config::parse(R"({"plc": {"port": 0}})", "x.json"), link_settings()); });
+  EXPECT_NE(range.find("x.json at /plc/port"), std::string::npos) << range;
+  const auto unknown =
+      error_of([] { read_settings(Config::parse(R"({"plc": {"prot": 502}})", "x.json"), link_settings()); });
+  EXPECT_NE(unknown.find("/plc/prot"), std::string::npos) << unknown;
+  const auto info = describe(link_settings());
+  EXPECT_EQ(info[0].key, "plc/port");
+  EXPECT_EQ(info[1].key, "backoff_ms/min");
+  EXPECT_EQ(info[1].unit, "ms");
+}
+
+TEST(Settings, AnOwnSettingReadsItsKeyItself) {
+  struct Rules {
+    std::vector<int> ids;
+  };
+  const SettingsTable<Rules> table{own_setting<Rules>(
+      "rules", "array of rule objects", "[]", "",
+      [](const Config& config, const std::string& key, Rules& r) {
+        for (const auto& rule : config.children(key)) r.ids.push_back(rule.get<int>("id"));
+      },
+      "the rules")};
+  EXPECT_EQ(read_settings(Config::parse(R"({"rules": [{"id": 4}, {"id": 2}]})", "x.json"), table).ids,
+            (std::vector<int>{4, 2}));
+  const auto unknown =
+      error_of([&] { read_settings(Config::parse(R"({"rules": [{"id": 4, "di": 1}]})", "x.json"), table); });
+  EXPECT_NE(unknown.find("/rules/0/di"), std::string::npos) << unknown;
+  EXPECT_EQ(describe(table)[0].type, "array of rule objects");
+}
+
 TEST(Settings, DescribesEveryKeyForTheReference) {
   const auto info = describe(example_settings());
   ASSERT_EQ(info.size(), example_settings().size());

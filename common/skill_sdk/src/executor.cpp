@@ -18,7 +18,9 @@ int describe(int argc, char** argv, const ExecutorInfo& info, const SkillRegistr
   try {
     app.parse(argc, argv);
     const Config config = config_path.empty() ? Config::empty() : Config::load(config_path);
-    std::cout << skills.library_json(configured_skills(config, skills)).dump(2) << "\n";
+    ExecutorSettings settings;
+    read_into(config, executor_settings(info.program, skills), settings);
+    std::cout << skills.library_json(settings.skills).dump(2) << "\n";
     return dds::kExitOk;
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? dds::kExitOk : dds::kExitUsage;

@@ -2,50 +2,69 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace rigger::skill_sdk {
 
 using skill_protocol::EventKind;
 
-std::vector<std::string> configured_skills(const Config& config, const SkillRegistry& registry) {
-  if (!config.has("skills")) return registry.names();
-  const auto names = config.get<std::vector<std::string>>("skills");
-  if (names.empty()) config.fail("skills", "expected at least one skill name");
-  for (const auto& name : names) {
-    if (!registry.find(name)) {
-      std::string known;
-      for (const auto& n : registry.names()) known += (known.empty() ? "" : ", ") + n;
-      config.fail("skills", "unknown skill '" + name + "'; this binary has: " + known);
-    }
-  }
-  return names;
+SettingsTable<ExecutorSettings> executor_settings(const std::string& service_id, const SkillRegistry& registry) {
+  using S = ExecutorSettings;
+  const std::vector<std::string> known = registry.names();
+  return {
+      setting<S>("executor_id", RuntimeDefault<std::string>{[service_id] { return service_id; }, "--id"},
+                 &S::executor_id, "the executor id the controller addresses; default: the service's id (`--id`)"),
+      setting<S>(
+          "skills", RuntimeDefault<std::vector<std::string>>{[known] { return known; }, "every skill built in"},
+          [known](S& s, const std::vector<std::string>& names, const Config& config) {
+            if (names.empty()) config.fail("skills", "expected at least one skill name");
+            for (const auto& name : names) {
+              if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+              std::string list;
+              for (const auto& n : known) list += (list.empty() ? "" : ", ") + n;
+              config.fail("skills", "unknown skill '" + name + "'; this binary has: " + list);
+            }
+            s.skills = names;
+          },
+          "the skills announced (their library: `--describe`)"),
+      setting<S>("robot", true, &S::robot, "offer the robot (cmd_motion, motion_status, state) to skills"),
+      setting<S>("gripper", true, &S::gripper, "offer the gripper (gripper/cmd, gripper/state)"),
+      setting<S>("world_model", true, &S::world_model,
+                 "resolve feature_ref params through the world model, and offer its features and pose updates "
+                 "(Localize, Screw, InsertVisuallyGuided)"),
+      setting<S>("crane", true, &S::crane,
+                 "offer the crane's health and external control (crane/state, crane/control)"),
+      setting<S>("tracker", true, &S::tracker, "offer the vision tracker (tracker/command, tracker/pose)"),
+      setting<S>("admittance", true, &S::admittance, "offer admittance control (admittance/command, admittance/state)"),
+      setting<S>("operator", true, &S::operator_panel, "offer operator prompts (operator/prompt, operator/response)"),
+      setting<S>("resolve_frame", "world", &S::resolve_frame, "the frame feature_ref params are resolved in"),
+      setting<S>("resolve_timeout_s", 2.0, {0.05, 30.0}, &S::resolve_timeout,
+                 "how long resolving a feature_ref param may take"),
+  };
 }
 
 SkillExecutorNode::SkillExecutorNode(dds::ServiceContext& ctx, SkillRegistry registry)
     : ctx_(ctx), registry_(std::move(registry)), timers_(ctx.loop) {
-  const std::string executor_id = ctx.config.get<std::string>("executor_id", ctx.options.id);
-  const auto skills = configured_skills(ctx.config, registry_);
-  if (ctx.config.get<bool>("robot", true)) robot_ = std::make_unique<DdsRobot>(ctx.participant, ctx.loop, ctx.log, executor_id);
-  if (ctx.config.get<bool>("gripper", true))
-    gripper_ = std::make_unique<DdsGripper>(ctx.participant, ctx.loop, ctx.log, executor_id);
-  if (ctx.config.get<bool>("world_model", true)) {
+  const ExecutorSettings settings = read_settings(ctx.config, executor_settings(ctx.options.id, registry_));
+  const std::string& executor_id = settings.executor_id;
+  const auto& skills = settings.skills;
+  if (settings.robot) robot_ = std::make_unique<DdsRobot>(ctx.participant, ctx.loop, ctx.log, executor_id);
+  if (settings.gripper) gripper_ = std::make_unique<DdsGripper>(ctx.participant, ctx.loop, ctx.log, executor_id);
+  if (settings.world_model) {
     world_client_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log,
                                                                 executor_id + "-" + std::to_string(::getpid()));
     resolver_ = std::make_unique<WorldFeatureResolver>(*world_client_);
     world_access_ = std::make_unique<DdsWorldAccess>(*world_client_);
   }
-  if (ctx.config.get<bool>("crane", true))
-    crane_ = std::make_unique<DdsCraneMonitor>(ctx.participant, ctx.loop, ctx.log, executor_id);
-  if (ctx.config.get<bool>("tracker", true))
-    tracker_ = std::make_unique<DdsVisionTracker>(ctx.participant, ctx.loop, ctx.log, executor_id);
-  if (ctx.config.get<bool>("admittance", true))
+  if (settings.crane) crane_ = std::make_unique<DdsCraneMonitor>(ctx.participant, ctx.loop, ctx.log, executor_id);
+  if (settings.tracker) tracker_ = std::make_unique<DdsVisionTracker>(ctx.participant, ctx.loop, ctx.log, executor_id);
+  if (settings.admittance)
     admittance_ = std::make_unique<DdsAdmittanceController>(ctx.participant, ctx.loop, ctx.log, executor_id);
-  if (ctx.config.get<bool>("operator", true))
+  if (settings.operator_panel)
     operator_panel_ = std::make_unique<DdsOperatorPanel>(ctx.participant, ctx.loop, ctx.log, executor_id);
-  run_options_.resolve_frame = ctx.config.get<std::string>("resolve_frame", "world");
-  run_options_.resolve_timeout = from_seconds(ctx.config.get_in_range("resolve_timeout_s", 2.0, 0.05, 30.0));
-  ctx.config.finish();
+  run_options_.resolve_frame = settings.resolve_frame;
+  run_options_.resolve_timeout = settings.resolve_timeout;
   devices_ = Devices{robot_.get(), gripper_.get(), resolver_.get()};
   devices_.crane = crane_.get();
   devices_.tracker = tracker_.get();

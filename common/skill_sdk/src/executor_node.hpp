@@ -4,19 +4,7 @@
 /// runs one SkillRun per START, turns SHUTDOWN into the running skill's safe stop, and reports the
 /// run's PROGRESS and its end (SUCCESS, FAILURE, or STOPPED once the safe stop is reached).
 ///
-/// Configuration keys (all optional):
-///   "executor_id": string, default the service id
-///   "skills": array of skill names, default every skill of this binary
-///   "robot": boolean, default true — offer the robot (cmd_motion/motion_status/state) to skills
-///   "gripper": boolean, default true — offer the gripper (gripper/cmd, gripper/state)
-///   "world_model": boolean, default true — resolve feature_ref params through the world model, and offer
-///                  its features and pose updates (Localize, Screw, InsertVisuallyGuided)
-///   "crane": boolean, default true — offer the crane's health and external control (crane/state, crane/control)
-///   "tracker": boolean, default true — offer the vision tracker (tracker/command, tracker/pose)
-///   "admittance": boolean, default true — offer admittance control (admittance/command, admittance/state)
-///   "operator": boolean, default true — offer operator prompts (operator/prompt, operator/response)
-///   "resolve_frame": string, default "world" — the frame feature_ref params are resolved in
-///   "resolve_timeout_s": number in [0.05, 30], default 2
+/// Configuration keys: executor_settings() (rigger/skill_sdk/executor_settings.hpp).
 /// On node destruction (service stop) every running skill's safe stop is commanded (not awaited: the
 /// loop has stopped).
 
@@ -29,6 +17,7 @@
 #include "dds_devices.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/skill_protocol/executor_endpoint.hpp"
+#include "rigger/skill_sdk/executor_settings.hpp"
 #include "rigger/skill_sdk/skill_registry.hpp"
 #include "rigger/skill_sdk/skill_run.hpp"
 #include "rigger/world_client/world_client.hpp"
@@ -48,10 +37,6 @@ class LoopTimers final : public Timers {
  private:
   dds::EventLoop& loop_;
 };
-
-/// The skills named by `config` ("skills", default all of `registry`). @throws ConfigError naming an
-/// unknown skill.
-std::vector<std::string> configured_skills(const Config& config, const SkillRegistry& registry);
 
 class SkillExecutorNode : public dds::Node {
  public:

@@ -6,14 +6,12 @@
 
 #include "cad_service.hpp"
 #include "rigger/base/settings.hpp"
+#include "rigger/cad/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/protocol/cad.hpp"
 
 namespace rigger::cad_service {
-
-/// The cad service's configuration keys (docs/config-reference.md#cad).
-const SettingsTable<CadServiceSettings>& cad_settings();
 
 /// Settings from the --config file, then config.finish(). @throws ConfigError.
 CadServiceSettings read_settings(const Config& config);

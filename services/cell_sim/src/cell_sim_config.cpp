@@ -6,17 +6,13 @@
 #include <limits>
 
 #include "rigger/base/install.hpp"
+#include "rigger/base/settings.hpp"
 #include "rigger/crane_protocol/crane_config.hpp"
 
 namespace rigger::cell_sim {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::chrono::milliseconds get_ms(const Config& config, const std::string& key, std::chrono::milliseconds fallback,
-                                 int lo, int hi) {
-  return std::chrono::milliseconds(config.get_in_range<int>(key, static_cast<int>(fallback.count()), lo, hi));
-}
 
 Eigen::Vector3d get_vector3(const Config& config, const std::string& key, const Eigen::Vector3d& fallback, double lo,
                             double hi) {
@@ -32,54 +28,6 @@ Eigen::Vector3d get_vector3(const Config& config, const std::string& key, const 
   return {values[0], values[1], values[2]};
 }
 
-void read_robot(const Config& robot, CellSimConfig& out) {
-  out.wrench_rate_hz = robot.get_in_range("wrench_rate_hz", out.wrench_rate_hz, 1.0, 1000.0);
-  out.wrench_source = robot.get_enum("wrench_source", "external", {"external", "raw"}) == "raw"
-                          ? WrenchSource::kRaw
-                          : WrenchSource::kExternal;
-  out.robot_state_rate_hz = robot.get_in_range("state_rate_hz", out.robot_state_rate_hz, 1.0, 1000.0);
-  out.gripper_state_rate_hz = robot.get_in_range("gripper_state_rate_hz", out.gripper_state_rate_hz, 1.0, 1000.0);
-  out.max_twist_timeout = get_ms(robot, "max_twist_timeout_ms", out.max_twist_timeout, 10, 5000);
-  out.physics.twist_timeout = out.max_twist_timeout;
-  out.max_command_future = get_ms(robot, "max_command_future_ms", out.max_command_future, 0, 1000);
-  out.max_motion_command_age = get_ms(robot, "max_motion_command_age_ms", out.max_motion_command_age, 10, 60000);
-  const Config noise = robot.child_or_empty("wrench_noise");
-  out.physics.wrench_noise.force_stddev_n = noise.get_in_range("force_stddev_n", 0.0, 0.0, 100.0);
-  out.physics.wrench_noise.torque_stddev_nm = noise.get_in_range("torque_stddev_nm", 0.0, 0.0, 10.0);
-  out.physics.noise_seed =
-      static_cast<std::uint64_t>(robot.get_in_range<int>("noise_seed", 1, 0, std::numeric_limits<int>::max()));
-}
-
-void read_plc(const Config& plc, CellSimConfig& out) {
-  out.crane_id = plc.get<std::string>("crane_id", out.crane_id);
-  out.plc.server.address = plc.get<std::string>("address", out.plc.server.address);
-  out.plc.server.port = plc.get<std::uint16_t>("port", 1502);
-  out.plc.server.max_clients = plc.get_in_range("max_clients", out.plc.server.max_clients, 1, 64);
-  out.plc_scan_period = get_ms(plc, "scan_period_ms", out.plc_scan_period, 1, 50);
-  out.plc_link_up = plc.get<bool>("link_up", out.plc_link_up);
-  auto& program = out.plc.program;
-  program.heartbeat_timeout = get_ms(plc, "heartbeat_timeout_ms", std::chrono::milliseconds(200), 10, 250);
-  program.quick_stop_decel_mps2 = get_vector3(plc, "quick_stop_decel_mps2", program.quick_stop_decel_mps2, 0.01, 20.0);
-  if (plc.has("stop_decel_mps2"))
-    program.stop_decel_mps2 = get_vector3(plc, "stop_decel_mps2", Eigen::Vector3d::Zero(), 0.01, 20.0);
-  program.overload_factor = plc.get_in_range("overload_factor", program.overload_factor, 1.0, 10.0);
-  program.limit_switch_tolerance_m =
-      plc.get_in_range("limit_switch_tolerance_m", program.limit_switch_tolerance_m, 0.0, 0.5);
-}
-
-void read_camera(const Config& camera, CellSimConfig& out) {
-  out.camera_enabled = camera.get<bool>("enabled", out.camera_enabled);
-  out.camera_id = camera.get<std::string>("id", out.camera_id);
-  if (camera.has("rate_hz")) out.camera_rate_hz = camera.get_in_range("rate_hz", 30.0, 0.1, 60.0);
-  out.camera_width_px = camera.get_in_range("width", 0, 0, 1280);
-  out.camera_height_px = camera.get_in_range("height", 0, 0, 720);
-  if ((out.camera_width_px == 0) != (out.camera_height_px == 0)) {
-    camera.fail(out.camera_width_px == 0 ? "width" : "height", "expected width and height together (or neither)");
-  }
-  if (camera.has("noise_stddev")) out.camera_noise_stddev = camera.get_in_range("noise_stddev", 0.0, 0.0, 64.0);
-  out.camera_blur_sigma_px = camera.get_in_range("blur_sigma_px", out.camera_blur_sigma_px, 0.0, 10.0);
-}
-
 }  // namespace
 
 fs::path default_cell_file() { return find_data_path(kDefaultCellFile).path; }
@@ -88,6 +36,8 @@ std::uint64_t steps_per_period(double rate_hz, std::chrono::nanoseconds timestep
   const double steps = 1.0 / (rate_hz * std::chrono::duration<double>(timestep).count());
   return steps < 1.0 ? 1 : static_cast<std::uint64_t>(std::llround(steps));
 }
+
+namespace {
 
 CellSimConfig::Ros2Driver read_ros2_driver(const Config& c) {
   CellSimConfig::Ros2Driver out;
@@ -106,30 +56,160 @@ CellSimConfig::Ros2Driver read_ros2_driver(const Config& c) {
   if (out.joint_names.size() != static_cast<std::size_t>(sim::kArmJointCount))
     c.fail("joint_names", "expected " + std::to_string(sim::kArmJointCount) + " names, base to flange");
   out.base_frame = c.get<std::string>("base_frame", out.base_frame);
-  out.twist_timeout = get_ms(c, "twist_timeout_ms", out.twist_timeout, 1, 10000);
+  out.twist_timeout = std::chrono::milliseconds(c.get_in_range<int>("twist_timeout_ms", 100, 1, 10000));
   return out;
+}
+
+}  // namespace
+
+const SettingsTable<CellSimConfig>& cell_sim_settings() {
+  using S = CellSimConfig;
+  using std::chrono::milliseconds;
+  const auto robot = [](Setting<S> s) { return nested("robot", std::move(s)); };
+  const auto plc = [](Setting<S> s) { return nested("plc", std::move(s)); };
+  const auto camera = [](Setting<S> s) { return nested("camera", std::move(s)); };
+  const auto vector3 = [](std::string key, std::string fallback, auto set, std::string description) {
+    return own_setting<S>(
+        key, "array of numbers", std::move(fallback), "3 numbers (bridge, trolley, hoist) in [0.01, 20]",
+        [set](const Config& config, const std::string& k, S& s) {
+          if (config.has(k)) set(s, get_vector3(config, k, Eigen::Vector3d::Zero(), 0.01, 20.0));
+        },
+        std::move(description));
+  };
+  static const SettingsTable<S> table{
+      path_setting<S>("cell_file", kDefaultCellFile, &S::cell_file,
+                      "geometry, crane limits, camera: relative to this file, then to the data folder"),
+      own_setting<S>(
+          "model_file", "path", "the physics library's `models/cell.xml`", "",
+          [](const Config& config, const std::string& key, S& s) {
+            if (!config.has(key)) return;
+            s.model_file = config_path(config, key);
+            s.physics.model_path = s.model_file;
+          },
+          "the MJCF model: relative to this file, then to the data folder"),
+      setting<S>(
+          "real_time_factor", 1.0, {0.0, 1000.0},
+          [](S& s, double f, const Config& config) {
+            if (f > 0.0 && f < 0.05) config.fail("real_time_factor", "expected 0 (unpaced) or a value in [0.05, 1000]");
+            s.real_time_factor = f;
+          },
+          "simulated seconds per wall second; 0: unpaced, else at least 0.05. Keep 1 with a crane gateway "
+          "attached (the PLC's watchdog runs on simulated time); `--real-time-factor` takes its place"),
+      setting<S>("max_lag_ms", 100, {1, 10000}, &S::max_lag,
+                 "when the physics falls this far behind, it skips ahead instead of catching up in a burst"),
+      setting<S>("realtime_priority", 0, {0, 99}, &S::realtime_priority,
+                 "SCHED_FIFO priority of the physics thread; 0: the normal scheduler"),
+      setting<S>("ground_truth_rate_hz", 50.0, {1.0, 1000.0}, &S::ground_truth_rate_hz,
+                 "ground-truth poses per simulated second (tests and benchmarks)"),
+      setting<S>("status_rate_hz", 100.0, {1.0, 1000.0}, &S::status_rate_hz,
+                 "`rigger/sim/status` per simulated second"),
+      robot(setting<S>("wrench_rate_hz", 1000.0, {1.0, 1000.0}, &S::wrench_rate_hz,
+                       "wrench samples per simulated second")),
+      robot(choice<S>("wrench_source", WrenchSource::kExternal,
+                      {{"external", WrenchSource::kExternal}, {"raw", WrenchSource::kRaw}}, &S::wrench_source,
+                      "`external`: the sensor reading minus the gripper's static weight; `raw`: what the sensor "
+                      "reads, gripper weight included")),
+      robot(setting<S>("state_rate_hz", 100.0, {1.0, 1000.0}, &S::robot_state_rate_hz,
+                       "robot states per simulated second")),
+      robot(setting<S>("gripper_state_rate_hz", 10.0, {1.0, 1000.0}, &S::gripper_state_rate_hz,
+                       "gripper states per simulated second")),
+      robot(setting<S>(
+          "max_twist_timeout_ms", 500, {10, 5000},
+          [](S& s, int ms) { s.physics.twist_timeout = s.max_twist_timeout = milliseconds(ms); },
+          "cap on a twist command's timeout, and the physics' backstop")),
+      robot(setting<S>("max_command_future_ms", 50, {0, 1000}, &S::max_command_future,
+                       "how far a command's stamp may lie ahead of the simulator's clock (clock skew)")),
+      robot(setting<S>("max_motion_command_age_ms", 1000, {10, 60000}, &S::max_motion_command_age,
+                       "older motion commands are refused as STALE")),
+      robot(nested("wrench_noise", setting<S>(
+                                       "force_stddev_n", 0.0, {0.0, 100.0},
+                                       [](S& s, double v) { s.physics.wrench_noise.force_stddev_n = v; },
+                                       "Gaussian noise on the wrench's force"))),
+      robot(nested("wrench_noise", setting<S>(
+                                       "torque_stddev_nm", 0.0, {0.0, 10.0},
+                                       [](S& s, double v) { s.physics.wrench_noise.torque_stddev_nm = v; },
+                                       "Gaussian noise on the wrench's torque"))),
+      robot(setting<S>(
+          "noise_seed", 1, {0, std::numeric_limits<int>::max()},
+          [](S& s, int v) { s.physics.noise_seed = static_cast<std::uint64_t>(v); }, "the noise's seed")),
+      plc(setting<S>("crane_id", "crane", &S::crane_id, "the crane entity in the cell file")),
+      plc(setting<S>(
+          "address", "127.0.0.1", [](S& s, const std::string& v) { s.plc.server.address = v; },
+          "the Modbus server's IPv4 address; `0.0.0.0`: every interface")),
+      plc(setting<S>(
+          "port", 1502u, {0u, 65535u}, [](S& s, unsigned v) { s.plc.server.port = static_cast<std::uint16_t>(v); },
+          "the Modbus server's port; 0: an ephemeral one, reported in `rigger/sim/status` (it changes when the "
+          "link is cut and restored); `--plc-port` takes its place")),
+      plc(setting<S>(
+          "max_clients", 4, {1, 64}, [](S& s, int v) { s.plc.server.max_clients = v; },
+          "further connections are closed at once")),
+      plc(setting<S>("scan_period_ms", 4, {1, 50}, &S::plc_scan_period, "the PLC's scan, in simulated time")),
+      plc(setting<S>("link_up", true, &S::plc_link_up,
+                     "start listening; `false`: the link is cut until `SIM_PLC_LINK` on")),
+      plc(setting<S>(
+          "heartbeat_timeout_ms", 200, {10, 250},
+          [](S& s, int v) { s.plc.program.heartbeat_timeout = milliseconds(v); },
+          "the gateway's heartbeat must change within it, else the crane quick-stops ([cell-sim.md](cell-sim.md))")),
+      plc(vector3(
+          "quick_stop_decel_mps2", "[2, 2, 1]",
+          [](S& s, const Eigen::Vector3d& v) { s.plc.program.quick_stop_decel_mps2 = v; },
+          "the quick stop's deceleration per axis; not below the crane's max acceleration")),
+      plc(vector3(
+          "stop_decel_mps2", "the max acceleration",
+          [](S& s, const Eigen::Vector3d& v) { s.plc.program.stop_decel_mps2 = v; },
+          "the ramp while a setpoint slows an axis down (a frequency converter's deceleration ramp); between the "
+          "axis' max acceleration and its quick stop. Speeding up stays at the max acceleration")),
+      plc(setting<S>(
+          "overload_factor", 1.1, {1.0, 10.0}, [](S& s, double v) { s.plc.program.overload_factor = v; },
+          "a load above the rated one times this is an overload")),
+      plc(setting<S>(
+          "limit_switch_tolerance_m", 0.002, {0.0, 0.5},
+          [](S& s, double v) { s.plc.program.limit_switch_tolerance_m = v; },
+          "how far past a travel limit the limit switch trips")),
+      camera(setting<S>("enabled", true, &S::camera_enabled, "render and publish camera images")),
+      camera(setting<S>("id", "camera", &S::camera_id, "the camera entity in the cell file")),
+      camera(own_setting<S>(
+          "rate_hz", "number", "the cell file's", "[0.1, 60]",
+          [](const Config& config, const std::string& key, S& s) {
+            if (config.has(key)) s.camera_rate_hz = config.get_in_range(key, 30.0, 0.1, 60.0);
+          },
+          "frames per simulated second")),
+      camera(setting<S>("width", 0, {0, 1280}, &S::camera_width_px,
+                        "image width; 0: the cell file's. With `height` (same aspect ratio); intrinsics scale")),
+      camera(setting<S>("height", 0, {0, 720}, &S::camera_height_px, "image height; 0: the cell file's")),
+      camera(own_setting<S>(
+          "noise_stddev", "number", "the cell file's", "[0, 64]",
+          [](const Config& config, const std::string& key, S& s) {
+            if (config.has(key)) s.camera_noise_stddev = config.get_in_range(key, 0.0, 0.0, 64.0);
+          },
+          "pixel noise in grey levels")),
+      camera(setting<S>("blur_sigma_px", 0.0, {0.0, 10.0}, &S::camera_blur_sigma_px, "Gaussian blur of the image")),
+      own_setting<S>(
+          "ros2_driver", "object", "absent", "",
+          [](const Config& config, const std::string& key, S& s) {
+            if (config.has(key)) s.ros2_driver = read_ros2_driver(config.child(key));
+          },
+          "present (even `{}`): the robot's wrench, state and twist input and the camera's images are on ROS 2 "
+          "drivers' topics instead of rigger's, for running the cell behind `ros2_bridge` ([ros2.md](ros2.md)): "
+          "`geometry_msgs/WrenchStamped` written on `wrench_topic` (default "
+          "`/force_torque_sensor_broadcaster/wrench`, sensor_data); `sensor_msgs/JointState` written instead of "
+          "`rigger/robot/state` on `joint_states_topic` (default `/joint_states`, system_default QoS; names "
+          "`joint_names`, default `joint_a1`…`joint_a7`, written last joint first; at `robot/state_rate_hz`); "
+          "`geometry_msgs/TwistStamped` read on `twist_topic` (default `/servo_node/delta_twist_cmds`, "
+          "reliable; each drives for `twist_timeout_ms`, default 100, in frame `base_frame`, default "
+          "`base_link`); `sensor_msgs/Image` mono8 written on `image_topic` (default `/camera/image_raw`, "
+          "sensor_data). Motions and the gripper stay on rigger's topics"),
+  };
+  return table;
 }
 
 CellSimConfig read_cell_sim_config(const Config& config) {
   CellSimConfig out;
-  out.cell_file = config_path(config, "cell_file", kDefaultCellFile);
-  if (config.has("model_file")) {
-    out.model_file = config_path(config, "model_file");
-    out.physics.model_path = out.model_file;
+  read_into(config, cell_sim_settings(), out);
+  if ((out.camera_width_px == 0) != (out.camera_height_px == 0)) {
+    config.child_or_empty("camera").fail(out.camera_width_px == 0 ? "width" : "height",
+                                         "expected width and height together (or neither)");
   }
-  out.real_time_factor = config.get_in_range("real_time_factor", out.real_time_factor, 0.0, 1000.0);
-  if (out.real_time_factor > 0.0 && out.real_time_factor < 0.05) {
-    config.fail("real_time_factor", "expected 0 (unpaced) or a value in [0.05, 1000]");
-  }
-  out.max_lag = get_ms(config, "max_lag_ms", out.max_lag, 1, 10000);
-  out.realtime_priority = config.get_in_range("realtime_priority", out.realtime_priority, 0, 99);
-  out.ground_truth_rate_hz = config.get_in_range("ground_truth_rate_hz", out.ground_truth_rate_hz, 1.0, 1000.0);
-  out.status_rate_hz = config.get_in_range("status_rate_hz", out.status_rate_hz, 1.0, 1000.0);
-  read_robot(config.child_or_empty("robot"), out);
-  read_plc(config.child_or_empty("plc"), out);
-  read_camera(config.child_or_empty("camera"), out);
-  if (config.has("ros2_driver")) out.ros2_driver = read_ros2_driver(config.child("ros2_driver"));
-
   try {
     out.plc.program.limits = crane::load_crane_limits(out.cell_file.string(), out.crane_id);
     plc::validate(out.plc.program);

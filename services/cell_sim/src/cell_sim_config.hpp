@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rigger/base/config.hpp"
+#include "rigger/cell_sim/settings.hpp"
 #include "rigger/plc/plc_emulator.hpp"
 #include "rigger/sim/cell_physics.hpp"
 
@@ -91,8 +92,9 @@ struct CellSimConfig {
   double status_rate_hz = 100.0;
 };
 
-/// Reads every key of `config` (see docs/cell-sim.md); paths are found by the rule of
-/// rigger/base/install.hpp (beside the configuration file, then in the data folder). Does not call finish(). Loads the cell file's crane limits.
+/// Reads cell_sim_settings() from `config`; paths are found by the rule of rigger/base/install.hpp (beside
+/// the configuration file, then in the data folder). Does not call finish(). Loads the cell file's crane
+/// limits.
 /// @throws ConfigError naming the file, the key and what was expected.
 CellSimConfig read_cell_sim_config(const Config& config);
 

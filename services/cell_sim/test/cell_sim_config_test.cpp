@@ -120,6 +120,15 @@ TEST(CellSimConfig, Ros2DriverTopicsDefaultToTheUsualDriversAndAreCheckedByRos2R
             std::string::npos);
 }
 
+TEST(CellSimConfig, OutOfRangeAndUnknownKeysNameTheKeyAndTheFile) {
+  const std::string range = error_of(R"({"camera": {"blur_sigma_px": 11}})");
+  EXPECT_NE(range.find("test.json"), std::string::npos) << range;
+  EXPECT_NE(range.find("/camera/blur_sigma_px"), std::string::npos) << range;
+  const std::string unknown = error_of(R"({"plc": {"scan_period": 4}})");
+  EXPECT_NE(unknown.find("test.json"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("/plc/scan_period"), std::string::npos) << unknown;
+}
+
 TEST(CellSimConfig, AMissingCellFileIsAConfigurationError) {
   const std::string error = error_of(R"({"cell_file": "/nonexistent/cell.json"})");
   EXPECT_NE(error.find("/cell_file"), std::string::npos) << error;

@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "rigger/base/bounded_json.hpp"
-#include "rigger/base/install.hpp"
+#include "rigger/console/settings.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/sequences.hpp"
 
@@ -58,39 +58,28 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
       cad_requests_(ctx.participant, protocol::cad::kRequest),
       cad_replies_(ctx.participant, protocol::cad::kReply),
       client_id_(ctx.options.id + "-" + std::to_string(::getpid())) {
-  auto& config = ctx.config;
+  const ConsoleSettings settings = read_console_settings(ctx.config);
   HttpConfig http;
   http.config_file = ctx.options.config_path;
-  http.address = config.get<std::string>("address", http.address);
-  http.port = config.get_in_range<int>("port", http.port, 0, 65535);
-  http.web_dir = config_path(config, "web_dir", "web").string();  // the data folder's web/ (install.hpp)
-  http.audit_log = config.get<std::string>("audit_log", "/var/tmp/rigger/console-audit.log");
-  http.tls_cert = config.get<std::string>("tls_cert", "");
-  http.tls_key = config.get<std::string>("tls_key", "");
-  http.confirm_timeout = std::chrono::milliseconds(
-      static_cast<long>(1000.0 * config.get_in_range<double>("confirm_timeout_s", 5.0, 0.5, 120.0)));
-  http.max_body_bytes = static_cast<std::size_t>(
-      config.get_in_range<double>("max_body_bytes", 4.0 * 1024 * 1024, 1024.0, 100.0 * 1024 * 1024));
-  const std::string users_file = config.get<std::string>("users_file", "/var/tmp/rigger/console-users.json");
-  const double plot_rate_hz = config.get_in_range<double>("plot_rate_hz", 20.0, 1.0, 100.0);
-  query_timeout_ = std::chrono::milliseconds(
-      static_cast<long>(1000.0 * config.get_in_range<double>("query_timeout_s", 3.0, 0.1, 60.0)));
-  std::optional<std::uint32_t> rehearsal_domain;
-  if (config.has("rehearsal_domain")) {
-    rehearsal_domain = static_cast<std::uint32_t>(config.get_in_range<int>("rehearsal_domain", 0, 0, 230));
-    if (*rehearsal_domain == ctx.participant.domain_id())
-      throw ConfigError(ctx.options.config_path, "/rehearsal_domain",
-                        "the rehearsal domain must not be the cell's own domain " + std::to_string(*rehearsal_domain) +
-                            ": a rehearsal would run on the real cell");
-  }
-  config.finish();
-  if (http.tls_cert.empty() != http.tls_key.empty())
-    throw ConfigError(ctx.options.config_path, "/tls_key", "give both tls_cert and tls_key, or neither");
+  http.address = settings.address;
+  http.port = settings.port;
+  http.web_dir = settings.web_dir;
+  http.audit_log = settings.audit_log;
+  http.tls_cert = settings.tls_cert;
+  http.tls_key = settings.tls_key;
+  http.confirm_timeout = settings.confirm_timeout;
+  http.max_body_bytes = settings.max_body_bytes;
+  query_timeout_ = settings.query_timeout;
+  const std::optional<std::uint32_t> rehearsal_domain = settings.rehearsal_domain;
+  if (rehearsal_domain && *rehearsal_domain == ctx.participant.domain_id())
+    throw ConfigError(ctx.options.config_path, "/rehearsal_domain",
+                      "the rehearsal domain must not be the cell's own domain " + std::to_string(*rehearsal_domain) +
+                          ": a rehearsal would run on the real cell");
   if (!http.audit_log.empty()) {
     const auto slash = http.audit_log.rfind('/');
     if (slash != std::string::npos && slash > 0) std::filesystem::create_directories(http.audit_log.substr(0, slash));
   }
-  Users users = Users::load(users_file);
+  Users users = Users::load(settings.users_file);
 
   world_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log, client_id_ + "-world");
   tasks_.attach(ctx.loop);
@@ -132,14 +121,14 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
       sampled();
     });
   });
-  plot_period_ = std::chrono::nanoseconds(static_cast<long>(1e9 / plot_rate_hz));
+  plot_period_ = std::chrono::nanoseconds(static_cast<long>(1e9 / settings.plot_rate_hz));
 
   http_ = std::make_unique<HttpApi>(std::move(http), std::move(users), state_, events_, plots_, *this, skills_, ctx.log,
                                     rehearsal_feed);
   http_->start();
   // The address for people and launchers (rigger-compose prints it with a login link).
   std::printf("console: listening on %s://%s:%d/\n", http_->tls() ? "https" : "http",
-              config.get<std::string>("address", "127.0.0.1").c_str(), http_->port());
+              settings.address.c_str(), http_->port());
   std::fflush(stdout);
 }
 

@@ -6,10 +6,7 @@
 /// side (HttpApi) runs on its own threads and reaches DDS only through the Backend below, which posts
 /// each request to this node's event loop and waits for the loop's answer.
 ///
-/// Configuration (all optional): address ("127.0.0.1"), port (8080; 0 = any free port), users_file,
-/// web_dir, audit_log, tls_cert + tls_key, confirm_timeout_s (5), max_body_bytes (4 MiB), plot_rate_hz
-/// (20), query_timeout_s (3), rehearsal_domain (none: no rehearsal; else the DDS domain of the simulated
-/// cell where recipes are rehearsed, RehearsalLink).
+/// Configuration keys: console_settings() (rigger/console/settings.hpp).
 #include <cstdint>
 #include <future>
 #include <map>

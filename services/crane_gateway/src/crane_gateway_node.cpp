@@ -14,10 +14,6 @@ namespace {
 namespace fs = std::filesystem;
 using SteadyClock = std::chrono::steady_clock;
 
-std::chrono::milliseconds get_ms(const Config& config, const std::string& key, int fallback, int lo, int hi) {
-  return std::chrono::milliseconds(config.get_in_range<int>(key, fallback, lo, hi));
-}
-
 // rigger/crane/state is written every cycle: with a liveliness lease on the writer, asserted by each
 // write, readers see a hung cycle thread within the lease, not only a dead process.
 dds::Qos state_qos() {
@@ -33,43 +29,85 @@ void CommandLine::add_to(CLI::App& app) {
   app.add_option("--plc-port", plc_port, "PLC Modbus TCP port (overrides plc/port)")->check(CLI::Range(1, 65535));
 }
 
+const SettingsTable<GatewaySettings>& gateway_settings() {
+  using S = GatewaySettings;
+  using std::chrono::milliseconds;
+  static const SettingsTable<S> table{
+      path_setting<S>("cell_file", kDefaultCellFile, &S::cell_file,
+                      "the cell file whose crane entity gives the crane's limits (they must match the PLC's limits "
+                      "block): relative to this file, then to the data folder"),
+      setting<S>("crane_id", "crane", &S::crane_id, "the crane's entity in the cell file"),
+      nested("plc", setting<S>(
+                        "host", "127.0.0.1", [](S& s, const std::string& v) { s.gateway.plc_host = v; },
+                        "the PLC's address (a numeric one: a name is resolved at every connect); "
+                        "`--plc-host` takes its place")),
+      nested("plc", setting<S>(
+                        "port", 1502u, {1u, 65535u},
+                        [](S& s, unsigned v) { s.gateway.plc_port = static_cast<std::uint16_t>(v); },
+                        "the PLC's Modbus TCP port (502 on most PLCs); `--plc-port` takes its place")),
+      nested("plc", setting<S>(
+                        "unit_id", 1, {0, 255}, [](S& s, int v) { s.gateway.unit_id = v; },
+                        "the Modbus unit id: 0 … 247 or 255")),
+      nested("plc", setting<S>(
+                        "response_timeout_ms", 50, {1, 5000},
+                        [](S& s, int v) { s.gateway.response_timeout = milliseconds(v); },
+                        "bounds the connect and each response; a late answer drops the connection")),
+      setting<S>(
+          "cycle_rate_hz", 50.0, {1.0, 500.0},
+          [](S& s, double hz) { s.gateway.cycle_period = milliseconds(std::max<long>(1, std::lround(1000.0 / hz))); },
+          "Modbus cycles per second (the period rounded to whole milliseconds)"),
+      nested("reconnect_backoff_ms",
+             setting<S>(
+                 "min", 20, {1, 60000}, [](S& s, int v) { s.gateway.reconnect_backoff_min = milliseconds(v); },
+                 "the first reconnect after this long, doubling up to `max`")),
+      nested("reconnect_backoff_ms",
+             setting<S>(
+                 "max", 2000, {1, 600000}, [](S& s, int v) { s.gateway.reconnect_backoff_max = milliseconds(v); },
+                 "the longest wait between reconnects; not below `min`")),
+      setting<S>(
+          "command_timeout_ms", 100, {1, 10000}, [](S& s, int v) { s.gateway.logic.command_timeout = milliseconds(v); },
+          "a velocity command drives the crane at most this long; not below the cycle period"),
+      setting<S>(
+          "max_command_future_ms", 50, {0, 5000},
+          [](S& s, int v) { s.gateway.logic.max_command_future = milliseconds(v); },
+          "how far in the future a command's stamp may be (clock skew)"),
+      setting<S>(
+          "plc_heartbeat_timeout_ms", 250, {10, 10000},
+          [](S& s, int v) { s.gateway.logic.plc_heartbeat_timeout = milliseconds(v); },
+          "the PLC's heartbeat must change within it"),
+      setting<S>(
+          "reset_pulse_cycles", 3, {1, 100}, [](S& s, int v) { s.gateway.logic.reset_pulse_cycles = v; },
+          "cycles the fault-reset bit is held"),
+      nested("plausibility", setting<S>(
+                                 "position_margin_m", 0.2, {0.0, 10.0},
+                                 [](S& s, double v) { s.gateway.logic.plausibility.position_margin_m = v; },
+                                 "a reported position may lie this far outside the crane's travel")),
+      nested("plausibility", setting<S>(
+                                 "speed_factor", 1.25, {1.0, 10.0},
+                                 [](S& s, double v) { s.gateway.logic.plausibility.speed_factor = v; },
+                                 "a reported speed may exceed the crane's limit by this factor")),
+      nested("plausibility",
+             setting<S>(
+                 "load_factor", 2.0, {1.0, 100.0}, [](S& s, double v) { s.gateway.logic.plausibility.load_factor = v; },
+                 "a reported load may exceed the crane's rated load by this factor")),
+  };
+  return table;
+}
+
 CraneGatewayConfig read_gateway_config(const Config& config) {
-  CraneGatewayConfig out;
-  const fs::path cell_file = config_path(config, "cell_file", kDefaultCellFile);
-  const std::string crane_id = config.get<std::string>("crane_id", "crane");
+  GatewaySettings s;
+  read_into(config, gateway_settings(), s);
   try {
-    out.logic.plausibility.limits = crane::load_crane_limits(cell_file.string(), crane_id);
+    s.gateway.logic.plausibility.limits = crane::load_crane_limits(s.cell_file.string(), s.crane_id);
   } catch (const crane::CraneConfigError& e) {
     config.fail(config.has("cell_file") ? "cell_file" : "", e.what());
   }
-
-  const Config plc = config.child_or_empty("plc");
-  out.plc_host = plc.get<std::string>("host", "127.0.0.1");
-  out.plc_port = plc.get<std::uint16_t>("port", 1502);
-  if (out.plc_port == 0) plc.fail("port", "expected a port in [1, 65535]");
-  out.unit_id = plc.get_in_range("unit_id", 1, 0, 255);
-  out.response_timeout = get_ms(plc, "response_timeout_ms", 50, 1, 5000);
-
-  const double rate_hz = config.get_in_range("cycle_rate_hz", 50.0, 1.0, 500.0);
-  out.cycle_period = std::chrono::milliseconds(std::max<long>(1, std::lround(1000.0 / rate_hz)));
-  const Config backoff = config.child_or_empty("reconnect_backoff_ms");
-  out.reconnect_backoff_min = get_ms(backoff, "min", 20, 1, 60000);
-  out.reconnect_backoff_max = get_ms(backoff, "max", 2000, 1, 600000);
-
-  out.logic.command_timeout = get_ms(config, "command_timeout_ms", 100, 1, 10000);
-  out.logic.max_command_future = get_ms(config, "max_command_future_ms", 50, 0, 5000);
-  out.logic.plc_heartbeat_timeout = get_ms(config, "plc_heartbeat_timeout_ms", 250, 10, 10000);
-  out.logic.reset_pulse_cycles = config.get_in_range("reset_pulse_cycles", 3, 1, 100);
-  const Config plausible = config.child_or_empty("plausibility");
-  out.logic.plausibility.position_margin_m = plausible.get_in_range("position_margin_m", 0.2, 0.0, 10.0);
-  out.logic.plausibility.speed_factor = plausible.get_in_range("speed_factor", 1.25, 1.0, 10.0);
-  out.logic.plausibility.load_factor = plausible.get_in_range("load_factor", 2.0, 1.0, 100.0);
   try {
-    validate(out);
+    validate(s.gateway);
   } catch (const GatewayConfigError& e) {
     config.fail("", e.what());
   }
-  return out;
+  return s.gateway;
 }
 
 CraneStateReport summarize(const GatewayState& state) {

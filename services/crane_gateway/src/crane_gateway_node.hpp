@@ -16,6 +16,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -26,6 +27,8 @@
 #include <CLI/CLI.hpp>
 
 #include "crane_gateway.hpp"
+#include "rigger/base/settings.hpp"
+#include "rigger/crane_gateway/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/safety/safe_stop.hpp"
@@ -39,8 +42,15 @@ struct CommandLine {
   void add_to(CLI::App& app);
 };
 
-/// Reads deploy/config/crane_gateway.json (keys in docs/cell-sim.md); the crane's limits come from
-/// the cell file's crane entity. Does not call finish(). @throws ConfigError.
+/// The crane gateway's configuration: the cycle's, and where the crane's limits come from.
+struct GatewaySettings {
+  CraneGatewayConfig gateway;
+  std::filesystem::path cell_file;
+  std::string crane_id;
+};
+
+/// Reads gateway_settings() from deploy/config/crane_gateway.json; the crane's limits come from the cell
+/// file's crane entity. Does not call finish(). @throws ConfigError.
 CraneGatewayConfig read_gateway_config(const Config& config);
 
 /// The CraneState a gateway state becomes on the wire, in domain terms (for to_wire and its test).

@@ -6,6 +6,7 @@
 #include "rigger/base/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
+#include "rigger/echo/settings.hpp"
 
 namespace rigger::echo {
 
@@ -17,9 +18,6 @@ struct EchoSettings {
   unsigned max_payload_bytes{};
   bool publish_peer_view{};
 };
-
-/// The echo service's configuration keys (docs/config-reference.md#echo).
-const SettingsTable<EchoSettings>& echo_settings();
 
 class EchoNode : public dds::Node {
  public:

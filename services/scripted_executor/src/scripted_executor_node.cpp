@@ -9,20 +9,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rigger/base/bounded_json.hpp"
-#include "rigger/base/install.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/dds/conversions.hpp"
 
 namespace rigger::scripted {
 namespace {
-
-nlohmann::json load_library(const Config& config) {
-  const std::filesystem::path path = config_path(config, "library_file", "test/data/scripted_skill_library.json");
-  auto parsed = parse_json_file_bounded(path);
-  if (!parsed.ok()) config.fail("library_file", parsed.error->to_string());
-  return std::move(parsed.value);
-}
 
 /// The receipt trace holds at most this many commands (a benchmark's thousands of trials fit).
 constexpr std::size_t kReceiptCapacity = 1U << 16;
@@ -30,44 +21,15 @@ constexpr std::size_t kReceiptCapacity = 1U << 16;
 }  // namespace
 
 ScriptedExecutorNode::ScriptedExecutorNode(dds::ServiceContext& ctx) : ctx_(ctx) {
-  nlohmann::json library = load_library(ctx.config);
-  if (!library.contains("skills") || !library["skills"].is_array())
-    ctx.config.fail("library_file", "expected a skill library with a \"skills\" array");
-  std::set<std::string> wanted;
-  if (ctx.config.has("skills"))
-    for (const auto& s : ctx.config.get<std::vector<std::string>>("skills")) wanted.insert(s);
-  nlohmann::json skills = nlohmann::json::array();
-  std::set<std::string> missing = wanted;  // `wanted` itself must stay whole: it filters every description
-  for (const auto& d : library["skills"]) {
-    const std::string name = d.value("name", "");
-    if (!wanted.empty() && !wanted.count(name)) continue;
-    is_monitor_[name] = d.value("kind", "skill") == "monitor";
-    missing.erase(name);
-    skills.push_back(d);
-  }
-  if (!missing.empty()) ctx.config.fail("skills", "not in the library: " + *missing.begin());
-  library["skills"] = skills;
-
-  default_monitor_.mode = Mode::kRun;
-  default_skill_ = parse_behaviour(ctx.config.child_or_empty("default"), default_skill_);
-  if (ctx.config.has("behaviours")) {
-    const auto& raw = ctx.config.raw("behaviours");
-    if (!raw.is_object()) ctx.config.fail("behaviours", "expected an object: skill name → behaviour");
-    auto children = ctx.config.child("behaviours");
-    for (const auto& [name, value] : raw.items()) {
-      auto m = is_monitor_.find(name);
-      if (m == is_monitor_.end()) children.fail(name, "not an announced skill or monitor");
-      by_skill_[name] = parse_behaviour(children.child(name), m->second ? default_monitor_ : default_skill_);
-    }
-  }
-  if (ctx.config.has("nodes")) {
-    const auto& raw = ctx.config.raw("nodes");
-    if (!raw.is_object()) ctx.config.fail("nodes", "expected an object: node id → behaviour");
-    auto children = ctx.config.child("nodes");
-    for (const auto& [node_id, value] : raw.items()) by_node_[node_id] = parse_behaviour(children.child(node_id), default_skill_);
-  }
-  receipt_trace_path_ = ctx.config.get<std::string>("receipt_trace_path", "");
-  ctx.config.finish();
+  ScriptedExecutorSettings settings = read_settings(ctx.config, scripted_executor_settings());
+  nlohmann::json library = std::move(settings.library);
+  const std::size_t announced = library["skills"].size();
+  is_monitor_ = std::move(settings.is_monitor);
+  default_skill_ = settings.default_skill;
+  default_monitor_ = settings.default_monitor;
+  by_skill_ = std::move(settings.by_skill);
+  by_node_ = std::move(settings.by_node);
+  receipt_trace_path_ = std::move(settings.receipt_trace_path);
 
   skill_protocol::ExecutorEndpoint::Options options;
   if (!receipt_trace_path_.empty()) {
@@ -84,7 +46,7 @@ ScriptedExecutorNode::ScriptedExecutorNode(dds::ServiceContext& ctx) : ctx_(ctx)
       skill_protocol::ExecutorEndpoint::Handlers{[this](const skill_protocol::StartRequest& r) { on_start(r); },
                                                  [this](const skill_protocol::ShutdownRequest& r) { on_shutdown(r); }},
       std::move(options));
-  ctx.log->info("scripted executor ready skills={}", skills.size());
+  ctx.log->info("scripted executor ready skills={}", announced);
 }
 
 ScriptedExecutorNode::~ScriptedExecutorNode() {

@@ -3,17 +3,7 @@
 /// The scripted executor's node: announces a skill library through ExecutorEndpoint and plays a
 /// Behaviour (behaviour.hpp) for every START.
 ///
-/// Configuration keys:
-///   "library_file": string, path of a skill-library file, found by the rule of rigger/base/install.hpp
-///                   (beside this configuration, then in the data folder); default
-///                   test/data/scripted_skill_library.json in the data folder
-///   "skills":       array of names to announce (default: every description in the library)
-///   "default":      behaviour for skills (monitors default to {"mode": "run"})
-///   "behaviours":   object: skill name → behaviour (overrides "default")
-///   "nodes":        object: recipe node id ("root/0/1") → behaviour (overrides the skill's)
-///   "receipt_trace_path": string, default "" (off): stamp each command taken (whom it names, kind, task, node,
-///                   the controller's stamp, when this executor's command handler began) in memory and write
-///                   them to this file when the executor stops (task_controller_live_bench reads it)
+/// Configuration keys: scripted_executor_settings() (rigger/scripted_executor/settings.hpp).
 
 #include <cstdint>
 #include <map>
@@ -24,6 +14,7 @@
 #include "behaviour.hpp"
 #include "rigger/dds/service.hpp"
 #include "rigger/skill_protocol/executor_endpoint.hpp"
+#include "scripted_settings.hpp"
 
 namespace rigger::scripted {
 

@@ -109,11 +109,26 @@ Rule parse_rule(const Config& config) {
   return rule;
 }
 
-std::vector<Rule> parse_rules(const Config& config) {
-  std::vector<Rule> rules;
-  if (config.has("rules") && !config.raw("rules").is_array()) config.fail("rules", "expected an array of rule objects");
-  for (const auto& child : config.children("rules")) rules.push_back(parse_rule(child));
-  return rules;
+const SettingsTable<ScriptedOperatorSettings>& scripted_operator_settings() {
+  using S = ScriptedOperatorSettings;
+  static const SettingsTable<S> table{
+      own_setting<S>(
+          "rules", "array of rule objects", "[]", "",
+          [](const Config& config, const std::string& key, S& s) {
+            if (config.has(key) && !config.raw(key).is_array()) config.fail(key, "expected an array of rule objects");
+            for (const auto& child : config.children(key)) s.rules.push_back(parse_rule(child));
+          },
+          "tried in order after the `--rule` ones; a rule's keys (`kind`, `task_id`, `node_id`, `match_details`, "
+          "`answer`, `delay_s`, `comment`) in [operator.md](operator.md#rules)"),
+      setting<S>(
+          "operator_id", "scripted",
+          [](S& s, const std::string& id, const Config& config) {
+            if (id.empty()) config.fail("operator_id", "expected a non-empty operator id");
+            s.operator_id = id;
+          },
+          "the `operator_id` of its answers; not empty"),
+  };
+  return table;
 }
 
 Rule parse_rule_argument(const std::string& text) {

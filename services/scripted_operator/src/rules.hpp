@@ -22,7 +22,9 @@
 #include <nlohmann/json.hpp>
 
 #include "rigger/base/config.hpp"
+#include "rigger/base/settings.hpp"
 #include "rigger/operator_protocol/prompt.hpp"
+#include "rigger/scripted_operator/settings.hpp"
 
 namespace rigger::scripted_operator {
 
@@ -46,8 +48,11 @@ const std::vector<std::string>& known_options(const std::string& kind);
 
 /// Reads one rule object. @throws ConfigError naming the key, e.g. an answer a "screw" prompt never offers.
 Rule parse_rule(const Config& config);
-/// Reads the "rules" array of `config` (none when absent). @throws ConfigError naming /rules/<i>/<key>.
-std::vector<Rule> parse_rules(const Config& config);
+/// The scripted operator's configuration (scripted_operator_settings()).
+struct ScriptedOperatorSettings {
+  std::vector<Rule> rules;  ///< the configuration file's, tried after the --rule ones
+  std::string operator_id;  ///< the OperatorResponse's operator_id
+};
 /// Parses the command-line form (see the file comment). @throws ConfigError whose file is "--rule '<text>'".
 Rule parse_rule_argument(const std::string& text);
 

@@ -13,10 +13,9 @@ ScriptedOperatorNode::ScriptedOperatorNode(dds::ServiceContext& ctx, const std::
       responses_in_(ctx.participant, protocol::operator_ui::kResponse),
       responses_(ctx.participant, protocol::operator_ui::kResponse) {
   for (const auto& text : rule_arguments) rules_.push_back(parse_rule_argument(text));
-  for (auto& rule : parse_rules(ctx.config)) rules_.push_back(std::move(rule));
-  operator_id_ = ctx.config.get<std::string>("operator_id", "scripted");
-  if (operator_id_.empty()) ctx.config.fail("operator_id", "expected a non-empty operator id");
-  ctx.config.finish();
+  ScriptedOperatorSettings settings = read_settings(ctx.config, scripted_operator_settings());
+  for (auto& rule : settings.rules) rules_.push_back(std::move(rule));
+  operator_id_ = std::move(settings.operator_id);
 
   for (const auto& rule : rules_)
     ctx.log->info("rule kind={} task={} node={} details={} answer={} delay_s={} from={}",

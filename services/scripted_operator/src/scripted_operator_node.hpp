@@ -5,9 +5,7 @@
 /// timer). It never answers an option the prompt does not offer (it logs an error instead), never
 /// withdraws a prompt, and drops a pending answer when the prompt is withdrawn or someone else answers.
 ///
-/// Configuration (all optional):
-///   "rules":       array of rule objects (rules.hpp), tried in order after the --rule ones
-///   "operator_id": string, default "scripted": the OperatorResponse's operator_id
+/// Configuration keys: scripted_operator_settings() (rigger/scripted_operator/settings.hpp).
 ///
 /// Command line: --rule 'KIND[:KEY=VALUE,…]:ANSWER[|ANSWER…][@DELAY_S]' (repeatable); these rules come
 /// first, so they override the configuration file's for the prompts they match.

@@ -29,10 +29,7 @@ Prompt decision(std::vector<std::string> options) {
 }
 
 std::vector<Rule> rules_from(const std::string& json) {
-  Config config = Config::parse(json, "test.json");
-  auto rules = parse_rules(config);
-  config.finish();
-  return rules;
+  return read_settings(Config::parse(json, "test.json"), scripted_operator_settings()).rules;
 }
 
 TEST(Rules, FirstMatchWinsAndDetailsNarrow) {
@@ -131,6 +128,27 @@ TEST(Rules, InvalidAnswerIsRefusedWithPointer) {
                ConfigError);
   EXPECT_THROW(rules_from(R"({"rules": [{"kind": "decision", "answer": "a", "anwser": "b"}]})"), ConfigError);
   EXPECT_THROW(rules_from(R"({"rules": {"kind": "decision"}})"), ConfigError);
+}
+
+TEST(Rules, SettingsDefaultsAndErrorsNameTheKeyAndTheFile) {
+  const ScriptedOperatorSettings s = read_settings(Config::parse("{}", "test.json"), scripted_operator_settings());
+  EXPECT_TRUE(s.rules.empty());
+  EXPECT_EQ(s.operator_id, "scripted");
+  const auto error_of = [](const std::string& json) -> std::string {
+    try {
+      rules_from(json);
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string range = error_of(R"({"rules": [{"answer": "a", "delay_s": 3601}]})");
+  EXPECT_NE(range.find("test.json"), std::string::npos) << range;
+  EXPECT_NE(range.find("/rules/0/delay_s"), std::string::npos) << range;
+  const std::string unknown = error_of(R"({"operator": "x"})");
+  EXPECT_NE(unknown.find("test.json"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("/operator"), std::string::npos) << unknown;
+  EXPECT_NE(error_of(R"({"operator_id": ""})").find("/operator_id"), std::string::npos);
 }
 
 TEST(Rules, CommandLineForm) {

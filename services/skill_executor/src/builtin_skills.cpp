@@ -1,6 +1,7 @@
 #include "builtin_skills.hpp"
 
 #include "rigger/skill_executor/library.hpp"
+#include "rigger/skill_executor/settings.hpp"
 #include "skills/attach_robot_to_load.hpp"
 #include "skills/collaborative_move_load.hpp"
 #include "skills/insert_visually_guided.hpp"
@@ -24,6 +25,10 @@ SkillRegistry builtin_skills() {
   registry.add<PickSkill>();
   registry.add<PlaceSkill>();
   return registry;
+}
+
+SettingsTable<skill_sdk::ExecutorSettings> skill_executor_settings(const std::string& service_id) {
+  return skill_sdk::executor_settings(service_id, builtin_skills());
 }
 
 nlohmann::json builtin_skill_library_json() {

@@ -15,6 +15,7 @@
 #include "rigger/base/config.hpp"
 #include "rigger/base/settings.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
+#include "rigger/task_controller/settings.hpp"
 
 namespace rigger::task_controller {
 
@@ -35,9 +36,6 @@ struct ControllerSettings {
   std::string stage_trace_path;  ///< empty: no stage trace
   RecheckSettings recheck;       ///< resume_tolerance_mm, resume_tolerance_deg, resume_max_pose_age_s
 };
-
-/// The controller's configuration keys: type, default, range and meaning of each.
-const SettingsTable<ControllerSettings>& controller_settings();
 
 /// Reads every key, then config.finish(); a non-empty `journal_path` (the --journal option) takes the
 /// place of the configured one. @throws ConfigError naming the key and what was expected.

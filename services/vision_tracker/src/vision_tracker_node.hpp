@@ -11,6 +11,7 @@
 #include "rigger/base/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
+#include "rigger/vision_tracker/settings.hpp"
 #include "tracker.hpp"
 #include "tracking_schedule.hpp"
 
@@ -26,9 +27,6 @@ struct VisionTrackerSettings {
   double once_min_quality{};
   std::chrono::nanoseconds once_timeout{};
 };
-
-/// The vision tracker's configuration keys (docs/config-reference.md#vision_tracker).
-const SettingsTable<VisionTrackerSettings>& vision_tracker_settings();
 
 /// The node reads vision_tracker_settings() from its configuration.
 /// @throws ConfigError for a bad key or an unreadable cell file (exit 2).

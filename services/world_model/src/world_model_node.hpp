@@ -15,6 +15,7 @@
 #include "rigger/base/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
+#include "rigger/world_model/settings.hpp"
 #include "wire_decoding.hpp"
 #include "world_answers.hpp"
 #include "world_persistence.hpp"
@@ -33,9 +34,6 @@ struct WorldModelSettings {
   std::size_t max_change_log_rows{};
   bool follow_tracker{};  ///< apply `rigger/tracker/pose` samples as updates
 };
-
-/// The world model's configuration keys: type, default, range and meaning of each.
-const SettingsTable<WorldModelSettings>& world_model_settings();
 
 /// Reads the settings from `config` (and calls config.finish()). @throws ConfigError.
 WorldModelSettings read_settings(const Config& config);

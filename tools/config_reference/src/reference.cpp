@@ -2,13 +2,19 @@
 
 #include <vector>
 
-#include "cad_node.hpp"
-#include "controller_settings.hpp"
-#include "echo_node.hpp"
 #include "rigger/base/settings.hpp"
+#include "rigger/cad/settings.hpp"
+#include "rigger/cell_sim/settings.hpp"
+#include "rigger/console/settings.hpp"
+#include "rigger/crane_gateway/settings.hpp"
+#include "rigger/echo/settings.hpp"
 #include "rigger/monitor_host/settings.hpp"
-#include "vision_tracker_node.hpp"
-#include "world_model_node.hpp"
+#include "rigger/scripted_executor/settings.hpp"
+#include "rigger/scripted_operator/settings.hpp"
+#include "rigger/skill_executor/settings.hpp"
+#include "rigger/task_controller/settings.hpp"
+#include "rigger/vision_tracker/settings.hpp"
+#include "rigger/world_model/settings.hpp"
 
 namespace rigger::config_reference {
 namespace {
@@ -27,6 +33,10 @@ std::vector<Section> sections() {
        describe(task_controller::controller_settings())},
       {"world_model", "The authoritative store of the cell's entities ([world-model.md](world-model.md)).",
        describe(world::world_model_settings())},
+      {"skill_executor",
+       "Hosts the built-in skills its configuration names; an executor built on the skill SDK reads the same "
+       "keys ([skills.md](skills.md)).",
+       describe(skill_executor::skill_executor_settings("<id>"))},
       {"monitor_host", "The executor of the monitors ([skills.md](skills.md)).",
        describe(monitor::monitor_host_settings("<id>"))},
       {"cad", "Answers questions about the STEP models of the cell ([cad.md](cad.md)).",
@@ -34,6 +44,21 @@ std::vector<Section> sections() {
       {"vision_tracker", "Camera images in, object poses out.", describe(vision::vision_tracker_settings())},
       {"echo", "Answers echo requests (the latency benchmarks' peer) and publishes the peers it sees.",
        describe(echo::echo_settings())},
+      {"console", "The web gateway: the browser's REST, live streams and pages ([console.md](console.md)).",
+       describe(console::console_settings())},
+      {"cell_sim",
+       "The simulated cell: physics, the robot's and gripper's drivers, the crane PLC emulator, the camera "
+       "([cell-sim.md](cell-sim.md#configuration)).",
+       describe(cell_sim::cell_sim_settings())},
+      {"crane_gateway",
+       "The only bridge to the crane PLC, over Modbus TCP ([cell-sim.md](cell-sim.md#the-crane-gateway-process), "
+       "[crane-modbus.md](crane-modbus.md)).",
+       describe(crane_gateway::gateway_settings())},
+      {"scripted_operator", "Answers operator prompts by rule: the demo's and the tests' human.",
+       describe(scripted_operator::scripted_operator_settings())},
+      {"scripted_executor",
+       "A skill executor without hardware: announces skills and monitors and plays scripted behaviours.",
+       describe(scripted::scripted_executor_settings())},
   };
 }
 

@@ -21,9 +21,11 @@ TEST(ConfigReference, CheckedInReferenceIsCurrent) {
 TEST(ConfigReference, NamesEveryConvertedService) {
   const std::string page = reference_markdown();
   for (const char* section :
-       {"## task_controller", "## world_model", "## monitor_host", "## cad", "## vision_tracker", "## echo"})
+       {"## task_controller", "## world_model", "## skill_executor", "## monitor_host", "## cad", "## vision_tracker",
+        "## echo", "## console", "## cell_sim", "## crane_gateway", "## scripted_operator", "## scripted_executor"})
     EXPECT_NE(page.find(section), std::string::npos) << section;
   EXPECT_NE(page.find("| `command_lease_ms` | integer | `150` | `[100, 10000]` | ms |"), std::string::npos);
+  EXPECT_NE(page.find("| `plc/port` | integer | `1502` | `[1, 65535]` |"), std::string::npos);  // a nested key
 }
 
 }  // namespace

@@ -283,6 +283,31 @@ Setting<S> path_setting(std::string key, std::string fallback, Set set, std::str
   });
 }
 
+/// A key the service reads itself: an object or array of its own form (rule objects, behaviours by skill
+/// name), or a value without a default. `type`, `default_text` and `range_text` are what the reference
+/// prints; `read(config, key, settings)` reads it with Config's readers (and their errors).
+template <typename S, typename Read>
+Setting<S> own_setting(std::string key, std::string type, std::string default_text, std::string range_text, Read read,
+                       std::string description) {
+  SettingInfo info{
+      key, std::move(type), std::move(default_text), std::move(range_text), unit_of_key(key), std::move(description)};
+  return Setting<S>(std::move(info), [key, read](const Config& config, S& settings) { read(config, key, settings); });
+}
+
+/// `inner`, read from the object `parent` of the configuration (`{"plc": {"port": 1502}}`; absent: every
+/// key of it takes its default). The reference lists it as `parent/key`; a key without a unit of its own
+/// takes the parent's (`reconnect_backoff_ms/min`). A duration member needs the unit in the inner key's
+/// name: bind one under a unit-named parent with a callable.
+template <typename S>
+Setting<S> nested(const std::string& parent, Setting<S> inner) {
+  SettingInfo info = inner.info();
+  info.key = parent + "/" + info.key;
+  if (info.unit.empty()) info.unit = unit_of_key(parent);
+  return Setting<S>(std::move(info), [parent, inner = std::move(inner)](const Config& config, S& settings) {
+    inner.read(config.child_or_empty(parent), settings);
+  });
+}
+
 /// Reads every setting of `table` (a default for each absent key) into `settings`; finish() is left to
 /// the caller, for a service that reads more of the file itself. @throws ConfigError.
 template <typename S>

@@ -17,6 +17,9 @@
 
 namespace rigger::testing {
 
+/// `s` as one word of a POSIX shell command: in single quotes, each `'` in it written `'\''`.
+std::string shell_quoted(const std::string& s);
+
 /// How a child ended.
 struct ExitStatus {
   bool exited = false;  ///< true: exit(code); false: killed by `signal`

@@ -1,0 +1,38 @@
+#pragma once
+/// @file
+/// The console's configuration keys, public for the configuration reference
+/// (tools/update-config-reference, docs/config-reference.md#console).
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "rigger/base/settings.hpp"
+
+namespace rigger::console {
+
+/// The console's configuration.
+struct ConsoleSettings {
+  std::string address;
+  int port{};
+  std::string web_dir;
+  std::string audit_log;  ///< empty: actions are only logged
+  std::string tls_cert;   ///< with tls_key: HTTPS
+  std::string tls_key;
+  std::chrono::milliseconds confirm_timeout{};
+  std::size_t max_body_bytes{};
+  std::string users_file;
+  double plot_rate_hz{};
+  std::chrono::milliseconds query_timeout{};
+  std::optional<std::uint32_t> rehearsal_domain;  ///< none: no rehearsal
+};
+
+/// The console's configuration keys.
+const SettingsTable<ConsoleSettings>& console_settings();
+
+/// Reads the console's keys and refuses unknown ones and a lone tls_cert or tls_key. @throws ConfigError.
+ConsoleSettings read_console_settings(const Config& config);
+
+}  // namespace rigger::console

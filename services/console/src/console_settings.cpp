@@ -1,0 +1,52 @@
+#include "rigger/console/settings.hpp"
+
+namespace rigger::console {
+
+const SettingsTable<ConsoleSettings>& console_settings() {
+  using S = ConsoleSettings;
+  static const SettingsTable<S> table{
+      setting<S>("address", "127.0.0.1", &S::address,
+                 "the address to listen on (only this host by default; `0.0.0.0` for every interface — then use "
+                 "TLS)"),
+      setting<S>("port", 8080, {0, 65535}, &S::port, "0: any free port (printed at start)"),
+      setting<S>("users_file", "/var/tmp/rigger/console-users.json", &S::users_file,
+                 "users and token hashes ([console.md](console.md)); missing or malformed: the console does not "
+                 "start"),
+      setting<S>("audit_log", "/var/tmp/rigger/console-audit.log", &S::audit_log,
+                 "one JSON line per action: time, user, role, action, target, result; `\"\"`: none"),
+      setting<S>("tls_cert", "", &S::tls_cert,
+                 "a PEM certificate: with `tls_key`, the console speaks HTTPS only; give both or neither"),
+      setting<S>("tls_key", "", &S::tls_key, "the PEM key of `tls_cert`"),
+      setting<S>("confirm_timeout_s", 5.0, {0.5, 120.0}, &S::confirm_timeout,
+                 "how long a selected publish/resume waits for its confirmation"),
+      setting<S>("max_body_bytes", 4u * 1024u * 1024u, {1024u, 100u * 1024u * 1024u}, &S::max_body_bytes,
+                 "larger request bodies are refused with 413 before they are read"),
+      setting<S>("plot_rate_hz", 20.0, {1.0, 100.0}, &S::plot_rate_hz,
+                 "plot rows per second while sensor samples come (the average force over the interval; the "
+                 "latest state of the others)"),
+      setting<S>("query_timeout_s", 3.0, {0.1, 60.0}, &S::query_timeout,
+                 "how long a journal, world or CAD query waits for its answer"),
+      own_setting<S>(
+          "rehearsal_domain", "integer", "none", "[0, 230]",
+          [](const Config& config, const std::string& key, S& s) {
+            if (config.has(key))
+              s.rehearsal_domain = static_cast<std::uint32_t>(config.get_in_range<int>(key, 0, 0, 230));
+          },
+          "the DDS domain of the rehearsal cell, where the Planner's Rehearse runs a recipe first "
+          "([console.md](console.md#rehearsal)); none: no rehearsal. Must differ from the console's own domain"),
+      path_setting<S>(
+          "web_dir", "web", [](S& s, const std::filesystem::path& p) { s.web_dir = p.string(); },
+          "the pages and their `node_modules/`: relative to this file, then to the data folder (the "
+          "build tree links it to `services/console/web`)"),
+  };
+  return table;
+}
+
+ConsoleSettings read_console_settings(const Config& config) {
+  ConsoleSettings s = read_settings(config, console_settings());
+  if (s.tls_cert.empty() != s.tls_key.empty())
+    throw ConfigError(config.file(), "/tls_key", "give both tls_cert and tls_key, or neither");
+  return s;
+}
+
+}  // namespace rigger::console
