@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -183,7 +184,7 @@ class ScenarioCell {
           insertion_ended_ = CpuMark{Clock::now(), cpu_seconds()};
         if (state == rigger_task_NODE_RUNNING && n.state != rigger_task_NODE_RUNNING) {
           ++n.runs;
-          if (const auto e = insertion_error()) error_at_start_[dds::to_string(s.name)] = *e;
+          if (const auto e = insertion_error_at(dds::to_domain(s.started))) error_at_start_[name] = *e;
         }
         n.state = state;
         n.name = name;
@@ -197,7 +198,12 @@ class ScenarioCell {
     });
     cell.loop().on_data(truth_, [this] {
       truth_.take([this](const rigger_vision_TrackedPose& p, const dds_sample_info_t&) {
-        truth_poses_[dds::to_string(p.object_id)] = dds::to_domain(p.pose.pose);
+        const std::string object = dds::to_string(p.object_id);
+        const Eigen::Isometry3d pose = dds::to_domain(p.pose.pose);
+        truth_poses_[object] = pose;
+        auto& history = truth_history_[object];
+        history.push_back({dds::to_domain(p.header.stamp), pose});
+        if (history.size() > kTruthHistory) history.pop_front();
       });
     });
     cell.loop().on_data(robot_, [this] {
@@ -320,13 +326,23 @@ class ScenarioCell {
     const auto load = truth("load");
     const auto target = truth("target");
     if (!load || !target) return std::nullopt;
-    const Eigen::Isometry3d goal = *target * insertion_offset();
-    const double dist = (goal.translation() - load->translation()).norm();
-    const double angle = Eigen::AngleAxisd(goal.linear() * load->linear().transpose()).angle();
-    return std::make_pair(dist, angle);
+    return pose_error(*target * insertion_offset(), *load);
   }
 
-  /// The insertion error (as insertion_error()) when the node named `name` last started running.
+  /// The insertion error (as insertion_error()) by the truth at `t`: the latest sample stamped at or before
+  /// `t`, at most kTruthBefore before it; nullopt when the test's loop saw no such sample (it did not run
+  /// then, and the reader's keep-last 1 kept only a later sample).
+  std::optional<std::pair<double, double>> insertion_error_at(WallTime t) const {
+    const auto load = truth_at("load", t);
+    const auto target = truth_at("target", t);
+    if (!load || !target) return std::nullopt;
+    return pose_error(*target * insertion_offset(), *load);
+  }
+
+  /// The insertion error (as insertion_error()) by the truth at the stamp at which the node named `name`
+  /// last started running (insertion_error_at()): not by the truth the test happens to hold when it reads
+  /// the node's status, which a test that did not run its loop meanwhile reads seconds late (the load
+  /// released and hanging from the rope again).
   std::optional<std::pair<double, double>> insertion_error_at_start(const std::string& name) const {
     auto it = error_at_start_.find(name);
     if (it == error_at_start_.end()) return std::nullopt;
@@ -401,13 +417,28 @@ class ScenarioCell {
   std::string simulator_lag() const { return simulator_lag_report(cell_.log_dir()); }
 
   /// What each service's process used of the CPU over the (first) insertion (insertion_cpu_report); empty
-  /// before the insertion ended.
+  /// before the insertion ended, and for services started elsewhere.
   std::string insertion_cpu() const {
-    if (!insertion_started_ || !insertion_ended_) return "";
+    if (!insertion_started_ || !insertion_ended_ || services_.empty()) return "";
     return insertion_cpu_report(*insertion_started_, *insertion_ended_, services_);
   }
 
  private:
+  // Distance (m) and angle (rad) between `goal` and `load`.
+  static std::pair<double, double> pose_error(const Eigen::Isometry3d& goal, const Eigen::Isometry3d& load) {
+    const double dist = (goal.translation() - load.translation()).norm();
+    const double angle = Eigen::AngleAxisd(goal.linear() * load.linear().transpose()).angle();
+    return std::make_pair(dist, angle);
+  }
+
+  std::optional<Eigen::Isometry3d> truth_at(const std::string& object, WallTime t) const {
+    const auto it = truth_history_.find(object);
+    if (it == truth_history_.end()) return std::nullopt;
+    for (auto s = it->second.rbegin(); s != it->second.rend(); ++s)
+      if (s->stamp <= t) return t - s->stamp <= kTruthBefore ? std::optional(s->pose) : std::nullopt;
+    return std::nullopt;
+  }
+
   // The load's insertion as every process gets it: derived from the STEP models (rigger_cell_cad).
   static Eigen::Isometry3d insertion_offset() {
     const cell::CellFile cell = cell::load_cell_file_with_cad(repo_file("deploy/cell/simulated_cell.json"));
@@ -529,6 +560,13 @@ class ScenarioCell {
   std::string task_code_, task_message_, failed_node_, task_errors_;
   std::map<std::string, NodeView> nodes_seen_;
   std::map<std::string, Eigen::Isometry3d> truth_poses_;
+  struct TruthSample {
+    WallTime stamp;
+    Eigen::Isometry3d pose;
+  };
+  static constexpr std::size_t kTruthHistory = 100;  // per object: 2 s of the simulator's 50 Hz
+  static constexpr std::chrono::milliseconds kTruthBefore{100};
+  std::map<std::string, std::deque<TruthSample>> truth_history_;  // the latest kTruthHistory, in stamp order
   std::map<std::string, std::pair<double, double>> error_at_start_;
   Eigen::Isometry3d robot_tool_ = Eigen::Isometry3d::Identity();
   bool robot_moving_ = false;
@@ -540,7 +578,7 @@ class ScenarioCell {
 /// (once released it hangs from the rope again). Printed, and within 5 mm and 1 degree.
 inline void expect_screwed_on(const ScenarioCell& s) {
   const auto error = s.insertion_error_at_start("release and retreat");
-  ASSERT_TRUE(error.has_value()) << "the release never started";
+  ASSERT_TRUE(error.has_value()) << "the release never started, or the test's loop did not run when it did";
   std::printf("  load vs insertion pose when screwed on (before the release): %.1f mm, %.2f deg\n",
               error->first * 1000.0, error->second * 180.0 / M_PI);
   EXPECT_LT(error->first, 0.005) << "the load is not where the insertion puts it";
