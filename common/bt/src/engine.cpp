@@ -185,8 +185,11 @@ EventResult Engine::on_leaf_event(std::string_view node_id, const LeafEvent& eve
         finish(i, NodeState::kFailure, event.code.empty() ? codes::kFailed : event.code, event.message, node.id);
         break;
       case LeafEventKind::kStopped:
-        return reject(EventStatus::kOutOfOrder,
-                      "node \"" + node.id + "\" reported STOPPED but no SHUTDOWN was sent (it is RUNNING)");
+        // No SHUTDOWN was sent: the executor ended the run on its own. Waiting for another answer would
+        // hang the task; the leaf is at rest and no longer acting, which the parent must hear as a failure.
+        finish(i, NodeState::kFailure, codes::kStoppedByExecutor,
+               with_detail("its executor stopped it without a SHUTDOWN", event.message), node.id);
+        break;
       case LeafEventKind::kProgress:
         break;
     }

@@ -422,13 +422,16 @@ TEST(EngineInput, DuplicateAndLateEventsAreRejectedAndChangeNothing) {
   EXPECT_EQ(h.state("root/1"), NodeState::kRunning);
 }
 
-TEST(EngineInput, StoppedWithoutShutdownIsOutOfOrder) {
-  Harness h(skill("A"));
+TEST(EngineInput, StoppedWithoutShutdownIsAFailureSoTheTaskGoesOn) {
+  Harness h(sequence({skill("A"), skill("B")}));
   h.engine->start();
-  const auto r = h.stopped("root");
-  EXPECT_EQ(r.status, EventStatus::kOutOfOrder);
-  EXPECT_FALSE(r.acted_on());
-  EXPECT_EQ(h.state("root"), NodeState::kRunning);
+  const auto r = h.stopped("root/0");
+  EXPECT_TRUE(r.acted_on()) << r.reason;
+  EXPECT_EQ(h.state("root/0"), NodeState::kFailure);
+  EXPECT_EQ(h.state("root"), NodeState::kFailure);
+  EXPECT_EQ(h.state("root/1"), NodeState::kIdle) << "the sequence must not go on after the stopped leaf";
+  EXPECT_EQ(h.port.result()->code, codes::kStoppedByExecutor);
+  EXPECT_EQ(h.port.result()->origin, "root/0");
 }
 
 TEST(EngineInput, EventsBeforeStartAreRejected) {

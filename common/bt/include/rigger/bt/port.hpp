@@ -55,6 +55,9 @@ inline constexpr const char* kFailed = "FAILED";                   ///< default 
 inline constexpr const char* kInverted = "INVERTED";               ///< an Inverter turned its child's success into failure
 inline constexpr const char* kCanceled = "CANCELED";               ///< the task was canceled
 inline constexpr const char* kExecutorLost = "EXECUTOR_LOST";      ///< the leaf's executor lost liveliness
+/// A running leaf reported STOPPED unasked: its executor ended the run on its own (e.g. it lost the
+/// controller, CONTROLLER_LOST) after its safe stop. The leaf no longer acts, so it counts as a failure.
+inline constexpr const char* kStoppedByExecutor = "STOPPED_BY_EXECUTOR";
 /// A skill's own safe stop failed (its FAILURE code): the engine escalates to a safe stop of its resources.
 inline constexpr const char* kSafeStopFailed = "SAFE_STOP_FAILED";
 }  // namespace codes
