@@ -66,8 +66,6 @@ std::string_view to_string(EventStatus status) {
       return "INVALID_ACTIVATION";
     case EventStatus::kNotActive:
       return "NOT_ACTIVE";
-    case EventStatus::kOutOfOrder:
-      return "OUT_OF_ORDER";
     case EventStatus::kInvalidArgument:
       return "INVALID_ARGUMENT";
     case EventStatus::kUnknownTimer:

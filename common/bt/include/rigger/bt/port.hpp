@@ -102,7 +102,6 @@ enum class EventStatus {
   kStaleActivation,   ///< event for an earlier run of the node
   kInvalidActivation, ///< event for a run that was never started
   kNotActive,         ///< node is not running/stopping: a duplicate or late event
-  kOutOfOrder,        ///< e.g. STOPPED although no SHUTDOWN was sent
   kInvalidArgument,   ///< option out of range, progress outside [0, 1]
   kUnknownTimer,      ///< timer not (or no longer) scheduled by this engine
   kWrongPhase,        ///< start twice, pause while paused, anything after the task finished
