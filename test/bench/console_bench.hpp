@@ -29,7 +29,7 @@ inline BenchConsole start_console(testing::Cell& cell, const std::vector<console
   out.users = console::make_users(dir + "/users.json", users);
   out.port = testing::free_tcp_port();
   std::ofstream(dir + "/console.json") << nlohmann::json{{"port", out.port}, {"users_file", dir + "/users.json"},
-                                                         {"audit_log", ""}}.dump();
+                                                         {"audit_log", ""}, {"runs_dir", ""}}.dump();
   out.process = &cell.start("console", "console",
                             {"--id", "console", "--config", dir + "/console.json", "--log-level", "warn"});
   return out;

@@ -35,8 +35,12 @@ void expect_plots_are_the_physics(const ScenarioCell& scenario, const PhysicsTra
   const NodeView* insertion = scenario.node(ScenarioCell::kInsertion);
   ASSERT_TRUE(insertion != nullptr && insertion->finished_s > insertion->started_s) << "no finished insertion";
   const double from = insertion->started_s, to = insertion->finished_s;
-  const auto force = compare_series(plots.at("f"), from, to, [&](double t) { return physics.force_at(t, kPlotRowS); });
-  const auto speed = compare_series(plots.at("robot_v"), from, to, [&](double t) { return physics.speed_at(t); });
+  // The console's row averages the wrench since its previous row (one row period, longer when its loop
+  // was late on a loaded machine).
+  const auto force = compare_series(plots.at("f"), from, to, kPlotRowS,
+                                    [&](double row_from, double t) { return physics.force_at(row_from, t); });
+  const auto speed = compare_series(plots.at("robot_v"), from, to, kPlotRowS,
+                                    [&](double, double t) { return physics.speed_at(t); });
   std::printf("  insertion %.2f s; physics %zu wrench, %zu robot samples\n  %s\n  %s\n", to - from,
               physics.force_samples(), physics.speed_samples(), force.describe("|F|", "N").c_str(),
               speed.describe("tool speed", "m/s").c_str());
@@ -87,7 +91,7 @@ TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusa
   {
     std::ofstream(dir + "/console.json") << nlohmann::json{{"port", port},
                                                            {"users_file", dir + "/console-users.json"},
-                                                           {"audit_log", dir + "/console-audit.log"},
+                                                           {"audit_log", dir + "/console-audit.log"}, {"runs_dir", dir + "/console-runs"},
                                                            {"confirm_timeout_s", kConfirmTimeoutS}}
                                                 .dump(2);
   }
@@ -127,7 +131,9 @@ TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusa
   ASSERT_TRUE(cell_.wait_until([&] { return browser_done || node_running("insert visually guided"); }, std::chrono::minutes(4)))
       << "the insertion did not start\n" << browser.log();
   bool restarted = false;
+  double restart_s = 0;  // wall clock, s since the epoch
   if (!browser_done) {
+    restart_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
     const auto stopped = cell_.stop("console", SIGINT, 10s);
     ASSERT_TRUE(stopped && stopped->ok()) << "the console did not stop cleanly";
     cell_.start("console-restarted", "console", {"--id", "console-restarted", "--config", dir + "/console.json"});
@@ -169,6 +175,14 @@ TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusa
     EXPECT_LE(h.at("distance_px").get<double>(), 5.0) << hole << ": " << h.dump();
   }
   expect_plots_are_the_physics(scenario, physics, result.at("plots"));
+  // The replay's plots are the run's, kept on disk across the console's restart: the same physics, and
+  // rows from before the restart.
+  expect_plots_are_the_physics(scenario, physics, result.at("replay_plots"));
+  if (restarted) {
+    ASSERT_FALSE(result.at("replay_plots").at("f").empty());
+    EXPECT_LT(result.at("replay_plots").at("f").front().at(0).get<double>(), restart_s)
+        << "the replay holds no plot row from before the console restarted";
+  }
   // Every action was journaled with who did it: the console's audit log names the users.
   std::ifstream audit(dir + "/console-audit.log");
   const std::string audit_text((std::istreambuf_iterator<char>(audit)), std::istreambuf_iterator<char>());

@@ -56,7 +56,7 @@ class PlannerCellTest : public MultiProcessTest {
     port_ = free_tcp_port();
     nlohmann::json console_config = {{"port", port_},
                                      {"users_file", dir + "/console-users.json"},
-                                     {"audit_log", dir + "/console-audit.log"},
+                                     {"audit_log", dir + "/console-audit.log"}, {"runs_dir", dir + "/console-runs"},
                                      {"confirm_timeout_s", 30}};
     console_config.update(console_extra);
     cell_.start("console", "console", {"--id", "console", "--config", write_config("console", console_config)});

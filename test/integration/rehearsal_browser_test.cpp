@@ -51,7 +51,7 @@ TEST_F(RehearsalBrowserTest, CraneInsertRehearsedOnTheSimulatedCellSucceedsLiveI
   const std::uint16_t port = free_tcp_port();
   const std::uint16_t plain_port = free_tcp_port();
   const nlohmann::json console_config = {{"users_file", dir + "/console-users.json"},
-                                         {"audit_log", dir + "/console-audit.log"},
+                                         {"audit_log", dir + "/console-audit.log"}, {"runs_dir", dir + "/console-runs"},
                                          {"confirm_timeout_s", 30}};
   nlohmann::json with_rehearsal = console_config;
   with_rehearsal["port"] = port;
@@ -59,6 +59,7 @@ TEST_F(RehearsalBrowserTest, CraneInsertRehearsedOnTheSimulatedCellSucceedsLiveI
   nlohmann::json plain = console_config;
   plain["port"] = plain_port;
   plain["audit_log"] = dir + "/console-plain-audit.log";
+  plain["runs_dir"] = dir + "/console-plain-runs";
   cell_.start("console", "console", {"--id", "console", "--config", write_config("console", with_rehearsal)});
   cell_.start("console-plain", "console", {"--id", "console-plain", "--config", write_config("console-plain", plain)});
   ASSERT_TRUE(cell_.wait_ready({"skills", "monitors", "task_controller", "console", "console-plain"}, 60s))

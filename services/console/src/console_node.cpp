@@ -80,6 +80,16 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
     if (slash != std::string::npos && slash > 0) std::filesystem::create_directories(http.audit_log.substr(0, slash));
   }
   Users users = Users::load(settings.users_file);
+  if (!settings.runs_dir.empty()) {
+    try {
+      runs_ = std::make_unique<RunArchive>(settings.runs_dir, RunArchive::Limits{settings.max_runs});
+    } catch (const std::runtime_error& e) {
+      throw ConfigError(ctx.options.config_path, "/runs_dir", e.what());
+    }
+    tasks_.on_task_status([this](const std::string& task, const std::string& state, double stamp) {
+      runs_->on_task(task, state, stamp);
+    });
+  }
 
   world_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log, client_id_ + "-world");
   tasks_.attach(ctx.loop);
@@ -124,7 +134,7 @@ ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
   plot_period_ = std::chrono::nanoseconds(static_cast<long>(1e9 / settings.plot_rate_hz));
 
   http_ = std::make_unique<HttpApi>(std::move(http), std::move(users), state_, events_, plots_, *this, skills_, ctx.log,
-                                    rehearsal_feed);
+                                    rehearsal_feed, runs_.get());
   http_->start();
   // The address for people and launchers (rigger-compose prints it with a login link).
   std::printf("console: listening on %s://%s:%d/\n", http_->tls() ? "https" : "http",
@@ -193,7 +203,9 @@ void ConsoleNode::plot_tick() {
     row["servo_rad"] = round4(servo_error_rad_);
   }
   last_tick_s_ = now;
-  plots_.append("plot", row.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
+  std::string text = row.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+  if (runs_) runs_->on_row(text);
+  plots_.append("plot", std::move(text));
 }
 
 // --- the HTTP side's requests, run on the loop ---

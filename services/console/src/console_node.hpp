@@ -19,6 +19,7 @@
 #include "event_log.hpp"
 #include "http_api.hpp"
 #include "rehearsal_link.hpp"
+#include "run_archive.hpp"
 #include "task_feed.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/service.hpp"
@@ -70,6 +71,7 @@ class ConsoleNode : public dds::Node, public Backend {
   std::chrono::milliseconds query_timeout_{3000};
   EventLog events_;
   EventLog plots_;
+  std::unique_ptr<RunArchive> runs_;  ///< null: runs are not kept
   ConsoleState state_;
   SkillCatalog skills_;
 

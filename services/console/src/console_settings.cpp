@@ -14,6 +14,11 @@ const SettingsTable<ConsoleSettings>& console_settings() {
                  "start"),
       setting<S>("audit_log", "/var/tmp/rigger/console-audit.log", &S::audit_log,
                  "one JSON line per action: time, user, role, action, target, result; `\"\"`: none"),
+      setting<S>("runs_dir", "/var/tmp/rigger/console-runs", &S::runs_dir,
+                 "where the plots of each task run are kept, so a finished run can be replayed after a restart "
+                 "([console.md](console.md#replay)); `\"\"`: not kept"),
+      setting<S>("max_runs", 200u, {1u, 100000u}, &S::max_runs,
+                 "how many runs `runs_dir` keeps; the oldest finished run is removed first"),
       setting<S>("tls_cert", "", &S::tls_cert,
                  "a PEM certificate: with `tls_key`, the console speaks HTTPS only; give both or neither"),
       setting<S>("tls_key", "", &S::tls_key, "the PEM key of `tls_cert`"),

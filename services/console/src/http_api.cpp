@@ -51,7 +51,8 @@ std::string utc_now() {
 }  // namespace
 
 HttpApi::HttpApi(HttpConfig config, Users users, ConsoleState& state, EventLog& events, EventLog& plots,
-                 Backend& backend, SkillCatalog& skills, Logger log, std::optional<RehearsalFeed> rehearsal)
+                 Backend& backend, SkillCatalog& skills, Logger log, std::optional<RehearsalFeed> rehearsal,
+                 const RunArchive* runs)
     : config_(std::move(config)),
       users_(std::move(users)),
       state_(state),
@@ -60,7 +61,8 @@ HttpApi::HttpApi(HttpConfig config, Users users, ConsoleState& state, EventLog& 
       backend_(backend),
       skills_(skills),
       log_(std::move(log)),
-      rehearsal_(std::move(rehearsal)) {}
+      rehearsal_(std::move(rehearsal)),
+      runs_(runs) {}
 
 HttpApi::~HttpApi() { stop(); }
 
@@ -202,6 +204,8 @@ void HttpApi::routes() {
       {Method::kGet, "/api/plots/stream", &HttpApi::get_plots_stream},
       {Method::kGet, "/api/plots", &HttpApi::get_plots},
       {Method::kGet, "/api/journal", &HttpApi::get_journal},
+      {Method::kGet, "/api/runs", &HttpApi::get_runs},
+      {Method::kGet, R"(/api/runs/([^/]+)/plots)", &HttpApi::get_run_plots},
       {Method::kGet, R"(/api/world/entity/([A-Za-z0-9_.:-]+))", &HttpApi::get_world_entity},
       {Method::kGet, "/api/cad/model.glb", &HttpApi::get_cad_model},
       {Method::kGet, "/api/cad/features", &HttpApi::get_cad_features},

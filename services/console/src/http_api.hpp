@@ -23,6 +23,7 @@
 #include "console_state.hpp"
 #include "event_log.hpp"
 #include "planner.hpp"
+#include "run_archive.hpp"
 #include "rigger/base/logging.hpp"
 
 namespace httplib {
@@ -95,8 +96,10 @@ struct HttpConfig {
 class HttpApi {
  public:
   /// `rehearsal`: the rehearsal cell's side, or none (POST /api/planner/rehearse then answers 409).
+  /// `runs`: the plots of past runs, or none (GET /api/runs then answers 404).
   HttpApi(HttpConfig config, Users users, ConsoleState& state, EventLog& events, EventLog& plots, Backend& backend,
-          SkillCatalog& skills, Logger log, std::optional<RehearsalFeed> rehearsal = std::nullopt);
+          SkillCatalog& skills, Logger log, std::optional<RehearsalFeed> rehearsal = std::nullopt,
+          const RunArchive* runs = nullptr);
   ~HttpApi();
   HttpApi(const HttpApi&) = delete;
   HttpApi& operator=(const HttpApi&) = delete;
@@ -135,6 +138,8 @@ class HttpApi {
   void get_events(const httplib::Request& req, httplib::Response& res);
   void get_plots_stream(const httplib::Request& req, httplib::Response& res);
   void get_plots(const httplib::Request& req, httplib::Response& res);
+  void get_runs(const httplib::Request& req, httplib::Response& res);
+  void get_run_plots(const httplib::Request& req, httplib::Response& res);
   void get_journal(const httplib::Request& req, httplib::Response& res);
   void get_world_entity(const httplib::Request& req, httplib::Response& res);
   void get_cad_model(const httplib::Request& req, httplib::Response& res);
@@ -168,6 +173,7 @@ class HttpApi {
   SkillCatalog& skills_;
   Logger log_;
   std::optional<RehearsalFeed> rehearsal_;
+  const RunArchive* runs_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   int port_ = 0;

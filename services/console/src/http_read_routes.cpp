@@ -50,6 +50,20 @@ void HttpApi::get_plots(const httplib::Request& req, httplib::Response& res) {
   res.set_content(out, kJson);
 }
 
+void HttpApi::get_runs(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kViewer)) return;
+  if (runs_ == nullptr) return send_error(res, 404, "this console keeps no runs (its runs_dir is empty)", req.path);
+  send_json(res, {{"runs", runs_->runs()}});
+}
+
+void HttpApi::get_run_plots(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kViewer)) return;
+  const std::string task = req.matches[1];
+  const auto rows = runs_ != nullptr ? runs_->rows(task) : std::nullopt;
+  if (!rows) return send_error(res, 404, "no run of task '" + task + "' is kept", req.path);
+  res.set_content(*rows, kJson);
+}
+
 void HttpApi::get_journal(const httplib::Request& req, httplib::Response& res) {
   if (!who(req, res, Role::kViewer)) return;
   const std::string task = req.has_param("task") ? req.get_param_value("task") : "";

@@ -48,6 +48,8 @@ void TaskFeed::take_task_status() {
                         {"errors", errors},
                         {"submitted", seconds(s.submitted)},
                         {"stamp", seconds(s.stamp)}});
+    if (task_observer_)
+      task_observer_(dds::to_string(s.task_id), protocol::task::task_state_name(s.state), seconds(s.stamp));
   });
 }
 

@@ -7,6 +7,7 @@
 ///
 /// Thread safety: the take_*() calls and write_recipe() run on the console's loop thread.
 #include <array>
+#include <functional>
 #include <string>
 
 #include "console_state.hpp"
@@ -22,6 +23,11 @@ class TaskFeed {
   /// Creates the three readers on `participant`. @throws DdsError.
   TaskFeed(const dds::Participant& participant, ConsoleState& state, SkillCatalog& skills);
 
+  /// Called on the loop with each task status taken (task id, state name, stamp in s since the epoch).
+  void on_task_status(std::function<void(const std::string&, const std::string&, double)> observer) {
+    task_observer_ = std::move(observer);
+  }
+
   /// Takes each reader's samples on `loop` when it holds some (for readers of the loop's participant).
   void attach(dds::EventLoop& loop);
   /// The readers' handles (e.g. for listeners that wake a loop of another participant).
@@ -35,6 +41,7 @@ class TaskFeed {
  private:
   ConsoleState& state_;
   SkillCatalog& skills_;
+  std::function<void(const std::string&, const std::string&, double)> task_observer_;
   dds::Reader<rigger_task_TaskStatus> task_status_;
   dds::Reader<rigger_task_NodeStatus> node_status_;
   dds::Reader<rigger_skill_ExecutorAnnouncement> executors_;

@@ -82,8 +82,9 @@ class HttpApiTest : public ::testing::Test {
     config.audit_log = dir_ + "/audit.log";
     config.confirm_timeout = 300ms;
     config.max_body_bytes = 64 * 1024;
+    runs_ = std::make_unique<RunArchive>(dir_ + "/runs", RunArchive::Limits{});
     api_ = std::make_unique<HttpApi>(config, Users::load(dir_ + "/users.json"), state_, events_, plots_, backend_,
-                                     skills_, null_logger(), rehearsal());
+                                     skills_, null_logger(), rehearsal(), runs_.get());
     api_->start();
     client_ = std::make_unique<httplib::Client>("127.0.0.1", api_->port());
   }
@@ -107,6 +108,7 @@ class HttpApiTest : public ::testing::Test {
   ConsoleState state_{events_};
   RecordingBackend backend_;
   SkillCatalog skills_;
+  std::unique_ptr<RunArchive> runs_;
   std::unique_ptr<HttpApi> api_;
   std::unique_ptr<httplib::Client> client_;
 };
@@ -139,6 +141,24 @@ TEST_F(HttpApiTest, EveryRequestNeedsAKnownTokenAndTheRightRole) {
   r = post("/api/prompts/p1/answer", R"({"answer": "done", "comment": 5})", kOlu);
   EXPECT_EQ(r->status, 200);
   EXPECT_EQ(backend_.actions(), std::vector<std::string>{"answer p1 done by olu"});
+}
+
+TEST_F(HttpApiTest, RunsServeTheirPlotsFromDiskToViewers) {
+  runs_->on_task("insert", "RUNNING", 10);
+  runs_->on_row(R"({"t":10.5,"f":3.25})");
+  runs_->on_task("insert", "SUCCEEDED", 11);
+  auto r = client_->Get("/api/runs", as(kVic));
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200);
+  EXPECT_EQ(body(r)["runs"][0]["task_id"], "insert");
+  EXPECT_EQ(body(r)["runs"][0]["state"], "SUCCEEDED");
+  r = client_->Get("/api/runs/insert/plots", as(kVic));
+  ASSERT_EQ(r->status, 200);
+  EXPECT_EQ(body(r), json::parse(R"([{"t":10.5,"f":3.25}])"));
+  r = client_->Get("/api/runs/other/plots", as(kVic));
+  EXPECT_EQ(r->status, 404);
+  EXPECT_NE(body(r)["error"].get<std::string>().find("'other'"), std::string::npos);
+  EXPECT_EQ(client_->Get("/api/runs/insert/plots")->status, 401);
 }
 
 TEST_F(HttpApiTest, PublishIsSelectThenConfirmInTimeByTheSameUser) {

@@ -164,6 +164,15 @@ try {
   await prog.locator('input[type=range]').fill(String(Math.floor(steps / 2)));
   const middle = await prog.evaluate(() => { window.rigger.replay.tree.flush(); return window.rigger.replay.tree.states(); });
   check(JSON.stringify(middle) !== JSON.stringify(result.replay_tree), `the replay's slider shows an earlier state (step ${Math.floor(steps / 2)} of ${steps})`);
+  // The run's plots, read from the console's disk (it restarted during the run): the line stands at
+  // the journaled time of the slider's step.
+  const journal = (await call(`/api/journal?task=${TASK}`, { token: tokens.viewer })).json.entries
+    .filter((e) => e.kind === 'NODE').sort((a, b) => a.stamp - b.stamp);
+  const replayPlots = await prog.evaluate(() => ({ rows: window.rigger.replay.plots.rows, marker: window.rigger.replay.plots.marker }));
+  check(replayPlots.rows > 0, `the replay draws the run's plots (${replayPlots.rows} rows)`);
+  check(replayPlots.marker === journal[Math.floor(steps / 2) - 1].stamp,
+    `the replay's plot line stands at the step's journaled time (${replayPlots.marker} vs ${journal[Math.floor(steps / 2) - 1].stamp})`);
+  result.replay_plots = { f: await plotted(prog, '|F| (N)', 'replay'), robot_v: await plotted(prog, 'robot tool speed (m/s)', 'replay') };
   await prog.screenshot({ path: path.join(ART, 'replay.png'), fullPage: true });
 
   // Plots of the finished task.

@@ -40,8 +40,8 @@ export async function highlightOnScreen(page, selector) {
 
 /// The samples the plots page draws for the series labelled `label`: [[t (s, epoch), value], ...],
 /// the gaps (null) left out.
-export async function plotted(page, label) {
-  const s = await page.evaluate((l) => window.rigger.plots.series(l), label);
+export async function plotted(page, label, where = 'plots') {
+  const s = await page.evaluate(([w, l]) => (w === 'replay' ? window.rigger.replay.plots : window.rigger.plots).series(l), [where, label]);
   if (!s) return [];
   return s.t.map((t, i) => [t, s.values[i]]).filter(([, v]) => v !== null && v !== undefined);
 }

@@ -37,12 +37,12 @@ class PhysicsTrace {
     });
   }
 
-  /// |mean force| over the samples stamped in (t - window_s, t], as the console averages the wrench over
-  /// one plot row; NaN when there is none.
-  double force_at(double t, double window_s) const {
+  /// |mean force| over the samples stamped in (from, t], as the console averages the wrench since its
+  /// previous plot row; NaN when there is none.
+  double force_at(double from, double t) const {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     int n = 0;
-    for (auto it = first_after(force_, t - window_s); it != force_.end() && it->first <= t; ++it, ++n) sum += it->second;
+    for (auto it = first_after(force_, from); it != force_.end() && it->first <= t; ++it, ++n) sum += it->second;
     return n > 0 ? (sum / n).norm() : std::nan("");
   }
   /// The tool speed of the latest sample stamped at or before `t` (the console plots the latest); NaN
@@ -92,16 +92,21 @@ struct SeriesComparison {
   }
 };
 
-/// Compares `series` ([[t, value], ...] as e2e.mjs read them off the chart) with `physics(t)` over the rows
-/// with t in [from, to]; rows without a physics value are skipped.
+/// Compares `series` ([[t, value], ...] as e2e.mjs read them off the chart) with `physics(previous_t, t)`
+/// over the rows with t in [from, to] (previous_t: the row before's time, or t - first_row_s for the
+/// first row); rows without a physics value are skipped.
 template <typename Physics>
-SeriesComparison compare_series(const nlohmann::json& series, double from, double to, Physics physics) {
+SeriesComparison compare_series(const nlohmann::json& series, double from, double to, double first_row_s,
+                                Physics physics) {
   SeriesComparison c;
   std::vector<double> errors;
+  double previous_t = std::nan("");
   for (const auto& row : series) {
     const double t = row.at(0).get<double>(), page = row.at(1).get<double>();
+    const double row_from = std::isnan(previous_t) ? t - first_row_s : previous_t;
+    previous_t = t;
     if (t < from || t > to) continue;
-    const double truth = physics(t);
+    const double truth = physics(row_from, t);
     if (std::isnan(truth)) continue;
     if (c.rows++ == 0) c.first_t = t;
     c.last_t = t;

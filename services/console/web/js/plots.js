@@ -1,13 +1,8 @@
-// Plots: force and yank, crane and robot speed, servo error: three charts on one synchronised time
-// axis, live (the console's decimated rows over SSE) or for a finished task's time span.
-import uPlot from 'uplot';
+// Plots: force and yank, crane and robot speed, servo error: live (the console's decimated rows over
+// SSE) or a task's run (kept on disk by the console with the run: GET /api/runs/{task}/plots).
 import { api, token, el, fmtTime } from './api.js';
+import { PlotCharts } from './plot_charts.js';
 
-const CHARTS = [
-  { title: 'Force and yank', series: [['f', '|F| (N)', '#0b5cad'], ['yank', 'yank (N/s)', '#a4161a', 'yank']] },
-  { title: 'Velocity', series: [['crane_v', 'crane speed (m/s)', '#7a4b00'], ['robot_v', 'robot tool speed (m/s)', '#146c2e']] },
-  { title: 'Servo error', series: [['servo_m', 'servo error (m)', '#5b2a86']] },
-];
 const WINDOW_S = 120;
 
 export function plotsPage(main, _me, args) {
@@ -15,44 +10,17 @@ export function plotsPage(main, _me, args) {
   const box = el('div', {});
   const notice = el('p', { role: 'status' });
   main.replaceChildren(el('h1', {}, 'Plots'), el('section', { class: 'panel' }, el('div', { class: 'toolbar' }, el('label', {}, 'Show ', picker)), notice, box));
-  const sync = uPlot.sync('rigger');
+  const charts = new PlotCharts(box, 'rigger');
   let rows = [];
-  let plots = [];
   let source = null;
   let dirty = false;
   // For tests: the row count, and series(label), the times (s) and values a chart draws for that series.
-  const page = {
-    rows: 0, mode: 'live',
-    series(label) {
-      for (const p of plots) {
-        const i = p.series.findIndex((s) => s.label === label);
-        if (i > 0) return { t: Array.from(p.data[0]), values: Array.from(p.data[i]) };
-      }
-      return null;
-    },
-  };
+  const page = { rows: 0, mode: 'live', series: (label) => charts.series(label) };
   window.rigger.plots = page;
 
-  function build() {
-    const width = Math.max(500, box.clientWidth - 20);
-    plots.forEach((p) => p.destroy());
-    box.replaceChildren();
-    plots = CHARTS.map((c) => {
-      const div = el('figure', { class: 'plot', 'aria-label': `${c.title} over time` });
-      box.append(div);
-      return new uPlot({ title: c.title, width, height: 200, cursor: { sync: { key: sync.key } },
-        scales: { x: { time: true } },
-        series: [{}, ...c.series.map(([, label, stroke, scale]) => ({ label, stroke, width: 1.5, spanGaps: true, scale: scale || 'y' }))],
-        axes: [{}, { size: 60, scale: 'y' }, ...(c.series.some((x) => x[3]) ? [{ size: 60, scale: 'yank', side: 1, grid: { show: false } }] : [])] },
-      data(c), div);
-    });
-  }
-  function data(c) {
-    return [rows.map((r) => r.t), ...c.series.map(([k]) => rows.map((r) => (r[k] === undefined ? null : r[k])))];
-  }
   function redraw() {
     dirty = false;
-    plots.forEach((p, i) => p.setData(data(CHARTS[i])));
+    charts.setRows(rows);
     page.rows = rows.length;
   }
 
@@ -63,7 +31,7 @@ export function plotsPage(main, _me, args) {
     try {
       if (!mode || mode === 'live') {
         rows = await api(`/api/plots?from=${Date.now() / 1000 - WINDOW_S}`);
-        build();
+        charts.build(rows);
         redraw();
         source = new EventSource(`/api/plots/stream?token=${encodeURIComponent(token())}`);
         source.addEventListener('plot', (ev) => {
@@ -73,22 +41,20 @@ export function plotsPage(main, _me, args) {
           dirty = true;
         });
       } else {
-        const j = await api(`/api/journal?task=${encodeURIComponent(mode)}`);
-        const t = j.entries.map((e) => e.stamp);
-        rows = await api(`/api/plots?from=${Math.min(...t) - 1}&to=${Math.max(...t) + 1}`);
-        build();
+        rows = await api(`/api/runs/${encodeURIComponent(mode)}/plots`);
+        charts.build(rows);
         redraw();
-        if (!rows.length) notice.textContent = 'The console holds no samples of that time span (it keeps the last 30 minutes).';
+        if (!rows.length) notice.textContent = 'The run of that task holds no samples.';
       }
     } catch (e) { notice.textContent = e.message; notice.className = 'error'; }
   }
   const tick = setInterval(() => { if (dirty) redraw(); }, 250);
 
-  api('/api/journal').then((r) => {
+  api('/api/runs').then((r) => {
     picker.replaceChildren(el('option', { value: 'live' }, 'live (last 2 minutes)'),
-      ...r.entries.map((e) => el('option', { value: e.node_id }, `task ${e.node_id} (${e.code}, ${fmtTime(e.stamp)})`)));
+      ...r.runs.map((run) => el('option', { value: run.task_id }, `task ${run.task_id} (${run.state}, ${fmtTime(run.started)})`)));
     if (args[0]) picker.value = decodeURIComponent(args[0]);
     start(picker.value);
   }).catch(() => start('live'));
-  return () => { clearInterval(tick); if (source) source.close(); plots.forEach((p) => p.destroy()); };
+  return () => { clearInterval(tick); if (source) source.close(); charts.destroy(); };
 }

@@ -1,7 +1,9 @@
 // Replay: a finished task's timeline from the controller's journal, stepped with a slider and drawn by
-// the same tree renderer as the live page.
+// the same tree renderer as the live page, with the run's plots (kept on disk by the console) and a
+// line at the slider's moment.
 import { api, store, el, fmtTime, stateBadge } from './api.js';
 import { TreeView } from './tree.js';
+import { PlotCharts } from './plot_charts.js';
 
 export function replayPage(main, _me, args) {
   const picker = el('select', { 'aria-label': 'Task to replay', onchange: () => open(picker.value) });
@@ -10,10 +12,16 @@ export function replayPage(main, _me, args) {
   const event = el('p', { class: 'muted' });
   const treeBox = el('div', {});
   const notice = el('p', { role: 'status' });
+  const plotBox = el('div', {});
+  const plotNotice = el('p', { role: 'status', class: 'muted' });
+  const charts = new PlotCharts(plotBox, 'rigger-replay');
   const play = el('button', { onclick: () => toggle(), disabled: true }, '▶ Play');
   main.replaceChildren(el('h1', {}, 'Replay'), el('section', { class: 'panel replay' },
-    el('div', { class: 'toolbar' }, el('label', {}, 'Task ', picker), play, clock), slider, event, notice), el('section', { class: 'panel' }, treeBox));
-  const page = { task: '', position: 0, length: 0, tree: null };
+    el('div', { class: 'toolbar' }, el('label', {}, 'Task ', picker), play, clock), slider, event, notice), el('section', { class: 'panel' }, treeBox),
+    el('section', { class: 'panel', 'aria-label': 'Plots of the run' }, el('h2', {}, 'Plots of the run'), plotNotice, plotBox));
+  // For tests: the step shown, the tree, and the plots: series(label) as the charts draw it and the
+  // time (s) of the line at the slider's moment.
+  const page = { task: '', position: 0, length: 0, tree: null, plots: { rows: 0, marker: null, series: (label) => charts.series(label) } };
   window.rigger.replay = page;
   let steps = [];
   let timer = null;
@@ -42,6 +50,8 @@ export function replayPage(main, _me, args) {
     const cur = steps[k - 1];
     clock.textContent = cur ? `${fmtTime(cur.stamp)} · step ${k} of ${steps.length}` : `start · ${steps.length} steps`;
     event.replaceChildren(...(cur ? [`${cur.node_id} → `, stateBadge(cur.code), cur.message ? ` ${cur.message}` : ''] : []));
+    page.plots.marker = cur ? cur.stamp : (steps[0] ? steps[0].stamp : null);
+    charts.setMarker(page.plots.marker);
   }
 
   async function open(taskId) {
@@ -62,8 +72,21 @@ export function replayPage(main, _me, args) {
       slider.disabled = false; play.disabled = false;
       slider.value = String(steps.length);
       slider.oninput = () => show(+slider.value);
+      await loadPlots(taskId);
       show(steps.length);
     } catch (e) { notice.textContent = `Journal of ${taskId}: ${e.message}`; notice.className = 'error'; }
+  }
+
+  async function loadPlots(taskId) {
+    plotNotice.textContent = '';
+    let rows = [];
+    try {
+      rows = await api(`/api/runs/${encodeURIComponent(taskId)}/plots`);
+    } catch (e) {
+      plotNotice.textContent = `No plots are kept for this run (${e.message}).`;
+    }
+    charts.build(rows);
+    page.plots.rows = rows.length;
   }
 
   api('/api/journal').then((r) => {
@@ -73,5 +96,5 @@ export function replayPage(main, _me, args) {
     const want = args[0] ? decodeURIComponent(args[0]) : '';
     if (want) { picker.value = want; open(want); }
   }).catch((e) => { notice.textContent = `Journal: ${e.message}`; notice.className = 'error'; });
-  return () => { if (timer) clearInterval(timer); };
+  return () => { if (timer) clearInterval(timer); charts.destroy(); };
 }

@@ -27,6 +27,8 @@ struct ConsoleSettings {
   double plot_rate_hz{};
   std::chrono::milliseconds query_timeout{};
   std::optional<std::uint32_t> rehearsal_domain;  ///< none: no rehearsal
+  std::string runs_dir;                           ///< empty: runs are not kept
+  std::size_t max_runs{};
 };
 
 /// The console's configuration keys.

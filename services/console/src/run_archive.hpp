@@ -1,0 +1,71 @@
+#pragma once
+/// @file
+/// The plots of each task run, kept on disk with the run, so that a finished task can be replayed after
+/// a console restart or a day later (the console's memory holds only the last 30 minutes). One folder
+/// per task under the archive's folder:
+///
+///   <folder>/<task_id>/plots.jsonl   the console's plot rows while the task was active, one JSON object
+///                                    per line, as /api/plots serves them ({"t": seconds, ...})
+///   <folder>/<task_id>/run.json      {"task_id", "state", "first", "last", "rows", "truncated"}
+///
+/// A run begins when the task is first seen ACCEPTED, RUNNING or PAUSED, and ends at its final state
+/// (SUCCEEDED, FAILED, CANCELED, REJECTED); a task id run again starts a new run (the old one is
+/// replaced). A console that restarts during a run goes on appending to it. At most `max_runs` runs are
+/// kept (the oldest finished ones are removed), and `max_rows` rows per run (then the run is marked
+/// truncated). Rows are written as they come, so a crash loses at most the row being written.
+///
+/// Thread safety: on_task() and on_row() run on the console's loop; runs() and rows() on HTTP threads.
+#include <cstddef>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace rigger::console {
+
+class RunArchive {
+ public:
+  struct Limits {
+    std::size_t max_runs = 200;
+    std::size_t max_rows = 200000;  ///< 2 h 45 min at 20 rows per second
+  };
+
+  /// Opens (creating it) the archive folder and reads what it holds. @throws std::runtime_error naming the
+  /// folder when it cannot be created or read.
+  RunArchive(std::filesystem::path folder, Limits limits);
+  ~RunArchive();
+  RunArchive(const RunArchive&) = delete;
+  RunArchive& operator=(const RunArchive&) = delete;
+
+  /// A task's status, with its time (s since the epoch). Task ids outside the recipe format
+  /// ([A-Za-z0-9][A-Za-z0-9_.-]{0,127}) are not recorded.
+  void on_task(const std::string& task_id, const std::string& state, double stamp_s);
+  /// A plot row: appended to the run of every active task.
+  void on_row(const std::string& row_json);
+
+  /// The runs kept, newest first: each run.json's content.
+  nlohmann::json runs() const;
+  /// A run's rows as one JSON array text, or nullopt when no run of `task_id` is kept.
+  std::optional<std::string> rows(const std::string& task_id) const;
+
+ private:
+  struct Run {
+    nlohmann::json meta;  ///< run.json
+    std::ofstream rows;   ///< open while the task is active
+  };
+  void begin(const std::string& task_id, const std::string& state, double stamp_s);
+  void finish(Run& run, const std::string& state, double stamp_s);
+  void write_meta(const Run& run) const;
+  void prune();
+
+  const std::filesystem::path folder_;
+  const Limits limits_;
+  mutable std::mutex mutex_;
+  std::map<std::string, Run> runs_;  ///< by task id
+};
+
+}  // namespace rigger::console
