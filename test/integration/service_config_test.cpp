@@ -92,6 +92,8 @@ TEST_F(ServiceConfigTest, ConvertedServicesNameTheFileAndTheKey) {
     const char* service;
     const char* out_of_range;
     const char* pointer;
+    /// An otherwise valid file with an unknown key (a service needing some keys gives them).
+    const char* unknown = R"({"no_such_key": 1})";
   };
   const Case cases[] = {
       {"console", R"({"port": 70000})", "/port"},
@@ -100,6 +102,10 @@ TEST_F(ServiceConfigTest, ConvertedServicesNameTheFileAndTheKey) {
       {"scripted_executor", R"({"default": {"delay_s": 4000}})", "/default/delay_s"},
       {"scripted_operator", R"({"rules": [{"answer": "done", "delay_s": -1}]})", "/rules/0/delay_s"},
       {"skill_executor", R"({"resolve_timeout_s": 60})", "/resolve_timeout_s"},
+      {"admittance_control", R"({"robot": {"gains": {"damping": [100, 100, 0, 10, 10, 10]}}})",
+       "/robot/gains/damping/2"},
+      {"ros2_bridge", R"({"wrench": {"topic": "/w", "max_age_s": 20}})", "/wrench/max_age_s",
+       R"({"wrench": {"topic": "/w"}, "no_such_key": 1})"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.service);
@@ -108,8 +114,7 @@ TEST_F(ServiceConfigTest, ConvertedServicesNameTheFileAndTheKey) {
     EXPECT_EQ(st.code, 2);
     EXPECT_NE(log.find(std::string(c.service) + "-config.json"), std::string::npos) << log;
     EXPECT_NE(log.find(c.pointer), std::string::npos) << log;
-    auto [unknown_st, unknown_log] =
-        run_service_with(c.service, R"({"no_such_key": 1})", true, std::string(c.service) + "-unknown");
+    auto [unknown_st, unknown_log] = run_service_with(c.service, c.unknown, true, std::string(c.service) + "-unknown");
     EXPECT_EQ(unknown_st.code, 2);
     EXPECT_NE(unknown_log.find(std::string(c.service) + "-unknown-config.json"), std::string::npos) << unknown_log;
     EXPECT_NE(unknown_log.find("/no_such_key"), std::string::npos) << unknown_log;

@@ -19,41 +19,26 @@ namespace rigger::control {
 
 namespace {
 
-// Node keys are read before load_control_config(), whose finish() then accepts them as read.
-double read_twist_timeout(const Config& config) {
-  return config.get_in_range("twist_timeout_s", 0.05, 0.002, 1.0);
-}
-double read_crane_timeout(const Config& config) {
-  return config.get_in_range("crane_timeout_s", 0.2, 0.02, 2.0);
-}
-
-// The configured cell file (optional), found by the rule of rigger/base/install.hpp.
-std::optional<std::filesystem::path> resolve_cell_file(const Config& config) {
-  if (!config.has("cell_file")) return std::nullopt;
-  return config_path(config, "cell_file");
-}
-
 // The robot base's pose in the world: entity `robot_id` of the configured cell file, else identity.
-Eigen::Isometry3d read_pose_world_base(const Config& config, const std::string& robot_id) {
-  const auto path = resolve_cell_file(config);
-  if (!path) return Eigen::Isometry3d::Identity();
+Eigen::Isometry3d read_pose_world_base(const Config& config, const ControlConfig& control) {
+  if (!control.cell_file) return Eigen::Isometry3d::Identity();
   try {
-    return entity_pose_from_cell_file(path->string(), robot_id);
+    return entity_pose_from_cell_file(control.cell_file->string(), control.robot_id);
   } catch (const ConfigError& e) {
     throw ConfigError(config.file(), config.pointer() + "/cell_file", e.what());
   }
 }
 
 // With crane.rope_offset_gain_per_s > 0: the rope_object's rope attachment from the cell file.
-std::optional<Eigen::Isometry3d> read_rope_attachment(const Config& config, double gain_per_s,
-                                                      const std::string& object) {
-  if (gain_per_s <= 0.0) return std::nullopt;
-  const auto path = resolve_cell_file(config);
+std::optional<Eigen::Isometry3d> read_rope_attachment(const Config& config, const ControlConfig& control) {
+  if (control.crane.rope_offset_gain_per_s <= 0.0) return std::nullopt;
+  const std::optional<std::filesystem::path>& path = control.cell_file;
+  const std::string& object = control.rope_object;
   const std::string key = config.pointer() + "/crane/rope_offset_gain_per_s";
   if (!path)
     throw ConfigError(config.file(), key,
-                      "a measured rope offset needs cell_file (the rope attachment of '" + object + "'); set 0 or "
-                      "give the cell file");
+                      "a measured rope offset needs cell_file (the rope attachment of '" + object +
+                          "'); set 0 or give the cell file");
   try {
     const cell::CellFile cell = cell::load_cell_file(*path);
     const cell::CellEntity& entity = cell.require(object, "rope_object, for the measured rope offset");
@@ -90,16 +75,16 @@ std::optional<Vector6d> gains_vector(const Seq& seq) {
 
 AdmittanceNode::AdmittanceNode(dds::ServiceContext& ctx)
     : ctx_(ctx),
-      twist_timeout_s_(read_twist_timeout(ctx.config)),
-      crane_timeout_s_(read_crane_timeout(ctx.config)),
-      pose_world_base_(read_pose_world_base(ctx.config, ctx.config.get<std::string>("robot_id", "robot"))),
-      robot_id_(ctx.config.get<std::string>("robot_id", "robot")),
-      crane_state_timeout_(ctx.config.get_in_range("crane_state_timeout_s", 0.5, 0.05, 5.0)),
-      commander_grace_(ctx.config.get_in_range("commander_grace_s", 2.0, 0.1, 10.0)),
-      rope_object_(ctx.config.get<std::string>("rope_object", "load")),
-      rope_offset_max_age_(ctx.config.get_in_range("rope_offset_max_age_s", 0.2, 0.02, 2.0)),
       config_(load_control_config(ctx.config)),
-      pose_rope_attachment_(read_rope_attachment(ctx.config, config_.crane.rope_offset_gain_per_s, rope_object_)),
+      twist_timeout_s_(config_.twist_timeout_s),
+      crane_timeout_s_(config_.crane_timeout_s),
+      pose_world_base_(read_pose_world_base(ctx.config, config_)),
+      robot_id_(config_.robot_id),
+      crane_state_timeout_(config_.crane_state_timeout_s),
+      commander_grace_(config_.commander_grace_s),
+      rope_object_(config_.rope_object),
+      rope_offset_max_age_(config_.rope_offset_max_age_s),
+      pose_rope_attachment_(read_rope_attachment(ctx.config, config_)),
       robot_(config_.robot),
       crane_(config_.crane),
       wrenches_(ctx.participant, protocol::robot::kWrench),

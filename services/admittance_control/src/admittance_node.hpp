@@ -40,25 +40,12 @@ inline constexpr const char* kFaultServoRequestInvalid = "SERVO_REQUEST_INVALID"
 /// TARGET_QUALITY_LOW, LOAD_POSE_STALE, TARGET_POSE_STALE, LOAD_POSE_INVALID, TARGET_POSE_INVALID):
 /// not latched, the mode stays, the robot stays compliant with a zero reference.
 
-/// Configuration: the keys of load_control_config() ("robot", "crane", "visual_servo"; rates are
-/// robot.rate_hz and crane.rate_hz) and these (optional):
-///   "twist_timeout_s": number in [0.002, 1], default 0.05 — timeout_s of each cmd_twist
-///   "crane_timeout_s": number in [0.02, 2], default 0.2 — timeout_s of each crane cmd_velocity
-///   "cell_file": path of the cell file (found by the rule of rigger/base/install.hpp), default
-///       none. The robot base's pose in the world is the pose of entity `robot_id` in it; without a
-///       cell file the base is taken to be the world frame.
-///   "robot_id": string, default "robot" — the robot's entity in the cell file, and the frame id of
-///       the published cmd_twist (the robot driver's base frame)
-///   "crane_state_timeout_s": number in [0.05, 5], default 0.5 — rigger/crane/state older than this
-///       in ROBOT_AND_CRANE is a CRANE_FAULT
-///   "commander_grace_s": number in [0.1, 10], default 2 — a command's source must be seen alive on
-///       rigger/system/service_state within this time, else COMMANDER_LOST
-///   "rope_object": string, default "load" — with crane.rope_offset_gain_per_s > 0, the tracked object
-///       whose rope_attachment feature (cell file) gives the measured rope offset: that point
-///       (tracker pose) minus the hook (rigger/crane/state position), horizontal part. Needs
-///       cell_file. Without a tracker pose of it at most rope_offset_max_age_s old (tracking lost,
-///       or the tracker not running continuously) the law gets no offset and runs on the force.
-///   "rope_offset_max_age_s": number in [0.02, 2], default 0.2
+/// Configuration: load_control_config()'s keys (control_settings(), docs/config-reference.md): the
+/// node's (timeouts, cell file, robot id, rope offset) and the laws' ("robot", "crane", "visual_servo").
+/// With crane.rope_offset_gain_per_s > 0 the measured rope offset is rope_object's rope_attachment point
+/// (tracker pose) minus the hook (rigger/crane/state position), horizontal part; it needs cell_file.
+/// Without a tracker pose of it at most rope_offset_max_age_s old (tracking lost, or the tracker not
+/// running continuously) the law gets no offset and runs on the force.
 /// Frames: the wrench, the robot state and cmd_twist are in the robot base frame B; tracker poses
 /// and the crane (bridge x, trolley y, hoist z) in the world frame; the crane frame is taken to be
 /// the world frame (true in the simulated cell). The published AdmittanceState is in B.
@@ -119,6 +106,7 @@ class AdmittanceNode : public dds::Node {
   bool servo_stopped() const;
 
   dds::ServiceContext& ctx_;
+  ControlConfig config_;
   double twist_timeout_s_;
   double crane_timeout_s_;
   Eigen::Isometry3d pose_world_base_;
@@ -127,7 +115,6 @@ class AdmittanceNode : public dds::Node {
   Seconds commander_grace_;
   std::string rope_object_;
   Seconds rope_offset_max_age_;
-  ControlConfig config_;
   // Where the rope hooks into rope_object_, in its frame; set when crane.rope_offset_gain_per_s > 0.
   std::optional<Eigen::Isometry3d> pose_rope_attachment_;
   RobotAdmittance robot_;

@@ -1,6 +1,7 @@
 #include "control_config.hpp"
 #include "rigger/cell_config/cell_cad.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -65,6 +66,50 @@ TEST(ControlConfig, ReadsEverySection) {
   EXPECT_NEAR(c.visual_servo.rotation_tolerance_rad, 2.0 * kPi / 180.0, 1e-15);
   EXPECT_EQ(c.visual_servo.min_quality, 0.7);
   EXPECT_EQ(c.visual_servo.max_pose_age, Seconds(0.5));
+  // Without a stop deceleration of its own, a stop ramps at the acceleration limit.
+  EXPECT_EQ(c.robot.limits.stop_deceleration, c.robot.limits.max_acceleration);
+  EXPECT_EQ(c.crane.stop_deceleration_mps2, c.crane.max_acceleration_mps2);
+}
+
+TEST(ControlConfig, ReadsTheNodesKeys) {
+  const ControlConfig d = load_control_config(Config::empty());
+  EXPECT_EQ(d.twist_timeout_s, 0.05);
+  EXPECT_FALSE(d.cell_file.has_value());
+  EXPECT_EQ(d.robot_id, "robot");
+  const ControlConfig c = load_control_config(Config::parse(R"({
+    "twist_timeout_s": 0.1, "crane_timeout_s": 0.5, "robot_id": "arm", "crane_state_timeout_s": 1,
+    "commander_grace_s": 3, "rope_object": "crate", "rope_offset_max_age_s": 0.5,
+    "robot": { "limits": { "max_acceleration": [1, 1, 1, 2, 2, 2], "stop_deceleration": [2, 2, 2, 4, 4, 4] } } })",
+                                                            "test.json"));
+  EXPECT_EQ(c.twist_timeout_s, 0.1);
+  EXPECT_EQ(c.crane_timeout_s, 0.5);
+  EXPECT_EQ(c.robot_id, "arm");
+  EXPECT_EQ(c.crane_state_timeout_s, 1.0);
+  EXPECT_EQ(c.commander_grace_s, 3.0);
+  EXPECT_EQ(c.rope_object, "crate");
+  EXPECT_EQ(c.rope_offset_max_age_s, 0.5);
+  EXPECT_EQ(c.robot.limits.stop_deceleration[3], 4.0);
+}
+
+// Every key has a row in the reference, each with its range; the nested ones under their section.
+TEST(ControlConfig, TheTableDescribesEveryKeyWithItsRange) {
+  const auto rows = describe(control_settings());
+  EXPECT_GE(rows.size(), 50u);
+  for (const auto& row : rows) {
+    if (row.type == "number" || row.type == "array of numbers") {
+      EXPECT_FALSE(row.range_text.empty()) << row.key;
+    }
+    EXPECT_FALSE(row.description.empty()) << row.key;
+  }
+  const auto find = [&](const std::string& key) {
+    for (const auto& row : rows)
+      if (row.key == key) return row;
+    return SettingInfo{};
+  };
+  EXPECT_EQ(find("robot/gains/damping").default_text, "[100, 100, 100, 10, 10, 10]");
+  EXPECT_EQ(find("robot/gains/damping").unit, "N·s/m, N·m·s/rad");
+  EXPECT_EQ(find("crane/max_acceleration_mps2").unit, "m/s²");
+  EXPECT_EQ(find("visual_servo/rotation_tolerance_deg").range_text, "[1e-06, 180]");
 }
 
 TEST(ControlConfig, ErrorsNameThePointerAndWhatWasExpected) {
@@ -74,7 +119,7 @@ TEST(ControlConfig, ErrorsNameThePointerAndWhatWasExpected) {
     const char* words;
   };
   const Case cases[] = {
-      {R"({"robot": {"gains": {"damping": [100, 100, 0, 10, 10, 10]}}})", "/robot/gains/damping/2", "> 0"},
+      {R"({"robot": {"gains": {"damping": [100, 100, 0, 10, 10, 10]}}})", "/robot/gains/damping/2", "for axis z"},
       {R"({"robot": {"gains": {"mass": [10, 10, 10]}}})", "/robot/gains/mass", "6 numbers"},
       {R"({"robot": {"frame": "world"}})", "/robot/frame", "base, tool"},
       {R"({"robot": {"selected_axes": [true, 1, true, true, true, true]}})", "/robot/selected_axes", "booleans"},
@@ -82,10 +127,12 @@ TEST(ControlConfig, ErrorsNameThePointerAndWhatWasExpected) {
       {R"({"robot": {"wrench_timeout_s": "fast"}})", "/robot/wrench_timeout_s", "a number"},
       {R"({"robot": {"rate_hz": 10}})", "/robot/rate_hz", "max_time_step_s"},
       {R"({"crane": {"robot_velocity_feedforward": 2}})", "/crane/robot_velocity_feedforward", "[0, 1]"},
-      {R"({"crane": {"gains": {"mass_kg": [150, -1, 150]}}})", "/crane/gains/mass_kg/1", "> 0"},
+      {R"({"crane": {"gains": {"mass_kg": [150, -1, 150]}}})", "/crane/gains/mass_kg/1", "for axis y"},
       {R"({"visual_servo": {"rotation_tolerance_deg": 0}})", "/visual_servo/rotation_tolerance_deg", "["},
-      {R"({"visual_servo": {"max_pose_age_s": 0}})", "/visual_servo/max_pose_age_s", "> 0"},
+      {R"({"visual_servo": {"max_pose_age_s": 0}})", "/visual_servo/max_pose_age_s", "[0.001, 60]"},
       {R"({"robot": {"dampnig": [1, 1, 1, 1, 1, 1]}})", "/robot/dampnig", "unknown key"},
+      {R"({"commander_grace_s": 20})", "/commander_grace_s", "[0.1, 10]"},
+      {R"({"robot": {"tool": {"center_of_mass_m": [0, 0, "x"]}}})", "/robot/tool/center_of_mass_m", "number"},
       {R"({"robots": {}})", "/robots", "unknown key"},
   };
   for (const Case& k : cases) {
@@ -163,14 +210,11 @@ TEST(CellFile, ErrorsNameTheFileAndTheEntity) {
 }
 
 TEST(CellFile, TheDeployedConfigurationPlacesTheBaseFromTheCellFile) {
-  // deploy/config/admittance_control.json names the cell file relative to itself; the node keys are
-  // read by the node, the laws' sections must still parse.
-  const Config config = Config::load(kSource + "/deploy/config/admittance_control.json");
-  EXPECT_EQ(config.get<std::string>("cell_file"), "../cell/simulated_cell.json");
-  EXPECT_EQ(config.get<std::string>("robot_id"), "robot");
-  for (const char* key : {"twist_timeout_s", "crane_timeout_s", "crane_state_timeout_s", "commander_grace_s"})
-    config.get<double>(key);
-  const ControlConfig c = load_control_config(config);
+  // deploy/config/admittance_control.json names the cell file relative to itself.
+  const ControlConfig c = load_control_config(Config::load(kSource + "/deploy/config/admittance_control.json"));
+  ASSERT_TRUE(c.cell_file.has_value());
+  EXPECT_TRUE(std::filesystem::equivalent(*c.cell_file, kSource + "/deploy/cell/simulated_cell.json"));
+  EXPECT_EQ(c.robot_id, "robot");
   EXPECT_EQ(c.robot.tcp_in_sensor_m, Eigen::Vector3d::Zero());  // cell_sim's wrench is about the tool point
   EXPECT_TRUE(c.crane.selected_axes[2]);                        // the insertion goes down: hoist on
 }

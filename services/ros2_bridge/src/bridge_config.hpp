@@ -1,8 +1,9 @@
 #pragma once
 /// @file
-/// The ROS 2 bridge's cell configuration (deploy/config/ros2_bridge.json, docs/ros2.md): which ROS 2
-/// topics of the robot's driver stand for which rigger topics, with which QoS, and the age checks and
-/// limits applied at the boundary. Every stream is optional; at least one must be configured.
+/// The ROS 2 bridge's cell configuration (deploy/config/ros2_bridge.json, docs/ros2.md; its keys, declared
+/// once in bridge_settings(), are listed in docs/config-reference.md#ros2_bridge): which ROS 2 topics of
+/// the robot's driver stand for which rigger topics, with which QoS, and the age checks and limits applied
+/// at the boundary. Every stream is optional; at least one must be configured.
 
 #include <chrono>
 #include <optional>
@@ -12,6 +13,7 @@
 #include "joint_states.hpp"
 #include "kinematics.hpp"
 #include "rigger/base/config.hpp"
+#include "rigger/ros2_bridge/settings.hpp"
 
 namespace rigger::ros2_bridge {
 
@@ -22,7 +24,9 @@ std::string_view ros2_qos_name(Ros2Qos qos);
 
 /// What every bridged stream has: the ROS 2 topic, its QoS, the age check, and a frame override.
 struct Stream {
-  std::string ros_topic;  ///< fully qualified ROS 2 name, e.g. "/force_torque_sensor_broadcaster/wrench"
+  /// Fully qualified ROS 2 name, e.g. "/force_torque_sensor_broadcaster/wrench" (as written in the file
+  /// until read_bridge_config() resolves it in the namespace).
+  std::string ros_topic;
   std::string dds_topic;  ///< its DDS name, "rt/force_torque_sensor_broadcaster/wrench"
   Ros2Qos qos = Ros2Qos::kSensorData;
   AgeLimits age;
@@ -67,7 +71,8 @@ struct BridgeConfig {
   std::chrono::nanoseconds refusal_log_interval{std::chrono::seconds(1)};
 };
 
-/// Reads the bridge's configuration. Does not call finish(). @throws ConfigError naming the key (e.g.
+/// Reads the bridge's configuration with bridge_settings(), then the rules that relate several keys. Does
+/// not call finish(). @throws ConfigError naming the key (e.g.
 /// "/wrench/topic: '/ft sensor' is not a valid ROS 2 topic name: …").
 BridgeConfig read_bridge_config(const Config& config);
 

@@ -122,6 +122,26 @@ TEST(BridgeConfig, ErrorsNameTheKey) {
               HasSubstr("/twist_command/topic"));
 }
 
+// The reference lists each stream's keys under its section, with the stream's own defaults.
+TEST(BridgeConfig, TheTableListsEachStreamsKeysWithItsDefaults) {
+  const auto rows = describe(bridge_settings());
+  const auto find = [&](const std::string& key) {
+    for (const auto& row : rows)
+      if (row.key == key) return row;
+    ADD_FAILURE() << "no row " << key;
+    return SettingInfo{};
+  };
+  EXPECT_EQ(find("wrench/topic").default_text, "required");
+  EXPECT_EQ(find("wrench/max_age_s").default_text, "0.05");
+  EXPECT_EQ(find("image/max_age_s").default_text, "0.2");
+  EXPECT_EQ(find("twist_command/qos").default_text, "\"reliable_default\"");
+  EXPECT_EQ(find("twist_command/max_hold_s").range_text, "[0.001, 10]");
+  EXPECT_EQ(find("joint_states/qos").default_text, "\"system_default\"");
+  EXPECT_EQ(find("joint_states/frame_id").default_text, "\"robot\"");
+  EXPECT_EQ(find("joint_states/kinematics").type, "object");
+  EXPECT_EQ(find("joint_states/moving_threshold_radps").unit, "rad/s");
+}
+
 // The shipped arm: the simulated iiwa 14 as DH rows, joint_state_broadcaster's topic and QoS, the magnet's
 // face 0.12 m from the flange (deploy/cell/simulated_cell.json's flange_to_face_m).
 TEST(BridgeConfig, TheShippedConfigurationBridgesJointStates) {

@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "rigger/admittance_control/settings.hpp"
 #include "rigger/base/settings.hpp"
 #include "rigger/cad/settings.hpp"
 #include "rigger/cell_sim/settings.hpp"
@@ -9,6 +10,7 @@
 #include "rigger/crane_gateway/settings.hpp"
 #include "rigger/echo/settings.hpp"
 #include "rigger/monitor_host/settings.hpp"
+#include "rigger/ros2_bridge/settings.hpp"
 #include "rigger/scripted_executor/settings.hpp"
 #include "rigger/scripted_operator/settings.hpp"
 #include "rigger/skill_executor/settings.hpp"
@@ -59,6 +61,18 @@ std::vector<Section> sections() {
       {"scripted_executor",
        "A skill executor without hardware: announces skills and monitors and plays scripted behaviours.",
        describe(scripted::scripted_executor_settings())},
+      {"admittance_control",
+       "The robot and crane admittance laws and the visual servo, and their node; how to tune them is in "
+       "[control.md](control.md). A key `robot/gains/mass` is `\"gains\": {\"mass\": …}` in the `robot` object. "
+       "After the keys, the rules that relate several are checked: a loop period 1/`rate_hz` within "
+       "`max_time_step_s`; `crane/rope_offset_gain_per_s` above 0 needs `cell_file`.",
+       describe(control::control_settings())},
+      {"ros2_bridge",
+       "rigger's robot interface and camera on a ROS 2 driver's topics "
+       "([ros2.md](ros2.md#the-bridge-servicesros2_bridge)). "
+       "Each stream (`wrench`, `twist_command`, `image`, `joint_states`) is bridged when its object is given; at "
+       "least one must be, each on a topic of its own.",
+       describe(ros2_bridge::bridge_settings())},
   };
 }
 
