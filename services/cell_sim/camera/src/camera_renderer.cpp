@@ -67,7 +67,6 @@ CameraRenderer::CameraRenderer(CameraModel camera, std::vector<BoxObject> object
     throw std::invalid_argument("camera renderer: unknown ArUco dictionary id " + std::to_string(dictionary));
   }
   const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(dictionary);
-  const int modules = dict->markerSize + 2;  // bits plus the one-module black border
 
   data_.resize(objects_.size());
   marker_textures_.resize(objects_.size());
@@ -116,18 +115,8 @@ CameraRenderer::CameraRenderer(CameraModel camera, std::vector<BoxObject> object
         throw std::invalid_argument("camera renderer: marker " + std::to_string(marker.id) + " of '" + object.id +
                                     "' does not lie on a face of its box facing outwards");
       }
-      cv::Mat printed;
-      dict->drawMarker(marker.id, modules, printed, 1);
-      cv::Mat with_quiet_zone;
-      cv::copyMakeBorder(printed, with_quiet_zone, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(255));
-      std::vector<cv::Mat> levels;
-      for (const int texels : kTexelsPerModule) {
-        cv::Mat magnified;
-        cv::resize(with_quiet_zone, magnified, cv::Size(), texels, texels, cv::INTER_NEAREST);
-        cv::Mat texture;
-        cv::merge(std::vector<cv::Mat>{magnified, cv::Mat(magnified.size(), CV_8UC1, cv::Scalar(255))}, texture);
-        levels.push_back(texture);
-      }
+      const std::vector<cv::Mat> levels =
+          marker_texture_levels(*dict, marker.id, {kTexelsPerModule.begin(), kTexelsPerModule.end()});
       marker_textures_[i].push_back(levels);
     }
   }
@@ -264,25 +253,10 @@ void CameraRenderer::draw_marker(const BoxObject& object, std::size_t marker_ind
   const cv::Mat& texture = levels[level];
   const double texel_m = module_m / kTexelsPerModule[level];
 
-  // Texel (u, v) has its centre at the marker-plane point (-half + (u + 0.5) t, half - (v + 0.5) t),
-  // t the texel size. Image = K [r1 r2 t] (x, y, 1).
-  Eigen::Matrix3d texture_to_plane;
-  texture_to_plane << texel_m, 0, -half_m + 0.5 * texel_m,  //
-      0, -texel_m, half_m - 0.5 * texel_m,                  //
-      0, 0, 1;
-  Eigen::Matrix3d plane_to_camera;
-  plane_to_camera.col(0) = pose_camera_marker.linear().col(0);
-  plane_to_camera.col(1) = pose_camera_marker.linear().col(1);
-  plane_to_camera.col(2) = pose_camera_marker.translation();
   Eigen::Matrix3d k;
   k << camera_.fx_px, 0, camera_.cx_px, 0, camera_.fy_px, camera_.cy_px, 0, 0, 1;
-  const Eigen::Matrix3d h = image_to_supersampled(roi, s) * k * plane_to_camera * texture_to_plane;
-  cv::Mat h_cv(3, 3, CV_64F);
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      h_cv.at<double>(r, c) = h(r, c);
-    }
-  }
+  const cv::Matx33d h_cv =
+      to_cv(image_to_supersampled(roi, s) * k * texture_to_camera(pose_camera_marker, half_m, texel_m));
   // One two-channel warp: the print (0 outside) and its coverage (255 inside, 0 outside).
   const cv::Size ss_size(roi.width * s, roi.height * s);
   cv::Mat warped;

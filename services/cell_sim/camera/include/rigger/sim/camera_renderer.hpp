@@ -78,6 +78,8 @@ enum class RenderStatus {
   kUnknownObject,
   /// A pose (camera or object) was not finite; nothing was drawn but the background.
   kInvalidPose,
+  /// The OpenGL context could not be made current (MujocoCamera only); the frame is unchanged.
+  kGlError,
 };
 
 /// Renders grey images of boxed objects with ArUco markers: flat-shaded visible faces (back faces
