@@ -162,10 +162,28 @@ void LensMap::remap_image(const cv::Mat& render, cv::Mat& target, const cv::Scal
 }
 
 void LensMap::remap_depth(const cv::Mat& window_depth, const DepthScale& scale, cv::Mat& depth_m) const {
+  // Inverse depth 1/z = 1/near - d (far - near) / (near far) is affine in the window depth d, hence
+  // in the image over a plane: bilinear interpolation of it is exact on every face. 0: nothing seen.
+  const auto slope = static_cast<float>(-(scale.far_m - scale.near_m) / (scale.near_m * scale.far_m));
+  const auto offset = static_cast<float>(1.0 / scale.near_m);
+  inverse_.create(window_depth.size(), CV_32FC1);
+  for (int y = 0; y < window_depth.rows; ++y) {
+    const auto* d = window_depth.ptr<float>(y);
+    auto* inverse = inverse_.ptr<float>(y);
+    for (int x = 0; x < window_depth.cols; ++x) {
+      inverse[x] = d[x] >= 1.0F ? 0.0F : offset + slope * d[x];
+    }
+  }
+
+  // Bilinear within one face; where the four render pixels around the sample span an edge
+  // (something not seen, or a depth range beyond what one tilted face spans between neighbouring
+  // pixels), the nearest pixel's depth.
   depth_m.create(map_x_.size(), CV_32FC1);
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  const int last_x = window_depth.cols - 1;
-  const int last_y = window_depth.rows - 1;
+  const int last_x = inverse_.cols - 1;
+  const int last_y = inverse_.rows - 1;
+  const auto edge_absolute = static_cast<float>(kDepthEdgeAbsolute_m);
+  const auto edge_relative = static_cast<float>(kDepthEdgeRelative);
   for (int v = 0; v < map_x_.rows; ++v) {
     const auto* mx = map_x_.ptr<float>(v);
     const auto* my = map_y_.ptr<float>(v);
@@ -181,21 +199,23 @@ void LensMap::remap_depth(const cv::Mat& window_depth, const DepthScale& scale, 
       const int y0 = std::min(static_cast<int>(y), last_y - 1);
       const float fx = x - x0;
       const float fy = y - y0;
-      const float* row0 = window_depth.ptr<float>(y0) + x0;
-      const float* row1 = window_depth.ptr<float>(y0 + 1) + x0;
-      const std::array<float, 4> d = {row0[0], row0[1], row1[0], row1[1]};
-      const float nearest = d[(fy >= 0.5F ? 2 : 0) + (fx >= 0.5F ? 1 : 0)];
-      const double z_near = scale.z_m(nearest);
-      const auto [lo, hi] = std::minmax_element(d.begin(), d.end());
-      const double z_lo = scale.z_m(*lo);
-      const double z_hi = scale.z_m(*hi);
-      double z = z_near;
-      if (std::isfinite(z_hi) && z_hi - z_lo <= kDepthEdgeAbsolute_m + kDepthEdgeRelative * z_lo) {
-        const float top = d[0] + fx * (d[1] - d[0]);
-        const float bottom = d[2] + fx * (d[3] - d[2]);
-        z = scale.z_m(top + fy * (bottom - top));
+      const float* row0 = inverse_.ptr<float>(y0) + x0;
+      const float* row1 = inverse_.ptr<float>(y0 + 1) + x0;
+      const float i00 = row0[0];
+      const float i01 = row0[1];
+      const float i10 = row1[0];
+      const float i11 = row1[1];
+      const float lo = std::min(std::min(i00, i01), std::min(i10, i11));  // farthest
+      const float hi = std::max(std::max(i00, i01), std::max(i10, i11));  // nearest
+      float inverse = 0.0F;
+      if (lo > 0.0F && 1.0F / lo - 1.0F / hi <= edge_absolute + edge_relative / hi) {
+        const float top = i00 + fx * (i01 - i00);
+        const float bottom = i10 + fx * (i11 - i10);
+        inverse = top + fy * (bottom - top);
+      } else {
+        inverse = fy < 0.5F ? (fx < 0.5F ? i00 : i01) : (fx < 0.5F ? i10 : i11);
       }
-      out[u] = std::isfinite(z) ? static_cast<float>(z) : nan;
+      out[u] = inverse > 0.0F ? 1.0F / inverse : nan;
     }
   }
 }

@@ -67,6 +67,7 @@ class LensMap {
   /// in the image over a plane, so it is interpolated bilinearly where the four render pixels
   /// around the sample agree to within 2 mm + 2 % (exact on every face, not one pixel's slope
   /// off as nearest sampling is on a tilted one); across an edge, the nearest pixel's depth.
+  /// Not thread safe (a scratch image).
   void remap_depth(const cv::Mat& window_depth, const DepthScale& scale, cv::Mat& depth_m) const;
 
  private:
@@ -76,6 +77,8 @@ class LensMap {
   cv::Mat fixed_xy_;  // the same as fixed point (cv::convertMaps) for the fast bilinear remap
   cv::Mat fixed_frac_;
   int unmapped_ = 0;
+  // remap_depth's scratch image (a LensMap serves one rendering thread)
+  mutable cv::Mat inverse_;  // CV_32FC1 render size: 1/z, 0 where nothing was seen
 };
 
 }  // namespace rigger::sim::detail
