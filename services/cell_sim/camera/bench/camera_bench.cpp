@@ -71,13 +71,15 @@ int run(const std::string& save_dir) {
   mj_forward(model, data);
   const std::vector<sim::ObjectPose> poses = body_poses(*model, *data, scene.objects);
 
+  sim::MujocoCameraSettings no_noise;  // both renderers without pixel noise: the same work
+  no_noise.noise_stddev = 0.0;
   double gl_ms = 0;
   double gl_distorted_ms = 0;
   int markers = 0;
   cv::Size render_size;
   cv::Size distorted_render_size;
   {
-    sim::MujocoCamera camera(*model, scene);
+    sim::MujocoCamera camera(*model, scene, no_noise);
     sim::CameraFrame frame;
     gl_ms = median_ms([&] { camera.render(*data, scene.pose_world_camera, poses, frame); });
     markers = frame.markers_drawn;
@@ -93,7 +95,7 @@ int run(const std::string& save_dir) {
   {
     sim::CameraModel distorted = scene.camera;
     distorted.distortion = {-0.2, 0.05, 0.001, -0.001, 0.0};
-    sim::MujocoCamera camera(*model, distorted, scene.objects, scene.dictionary);
+    sim::MujocoCamera camera(*model, distorted, scene.objects, scene.dictionary, no_noise);
     sim::CameraFrame frame;
     gl_distorted_ms = median_ms([&] { camera.render(*data, scene.pose_world_camera, poses, frame); });
     distorted_render_size = camera.render_size();
@@ -102,7 +104,7 @@ int run(const std::string& save_dir) {
     }
   }
   sim::RenderSettings settings;
-  settings.noise_stddev = 0.0;  // MujocoCamera adds no noise
+  settings.noise_stddev = 0.0;
   sim::CameraRenderer renderer(scene, settings);
   cv::Mat image;
   const double raster_ms = median_ms([&] { renderer.render(scene.pose_world_camera, poses, image); });

@@ -31,13 +31,12 @@ constexpr int kPolyShiftBits = 8;
 // octave of on-screen module size keeps it so from far to near.
 constexpr std::array<int, 6> kTexelsPerModule = {1, 2, 4, 8, 16, 32};
 constexpr double kRampSupersamples = 2.0;
-constexpr std::size_t kNoiseBankFrames = 4;
 
 }  // namespace
 
 CameraRenderer::CameraRenderer(CameraModel camera, std::vector<BoxObject> objects, int dictionary,
                                RenderSettings settings)
-    : camera_(std::move(camera)), objects_(std::move(objects)), settings_(std::move(settings)), rng_(settings_.seed) {
+    : camera_(std::move(camera)), objects_(std::move(objects)), settings_(std::move(settings)) {
   if (camera_.width_px <= 0 || camera_.height_px <= 0 || camera_.width_px > 8192 || camera_.height_px > 8192) {
     throw std::invalid_argument("camera renderer: image size must be within 1..8192 pixels");
   }
@@ -51,6 +50,7 @@ CameraRenderer::CameraRenderer(CameraModel camera, std::vector<BoxObject> object
     }
   }
   noise_stddev_ = settings_.noise_stddev.value_or(camera_.noise_stddev);
+  noise_ = PixelNoise(noise_stddev_, settings_.seed);
   if (!(noise_stddev_ >= 0.0) || !(settings_.blur_sigma_px >= 0.0)) {
     throw std::invalid_argument("camera renderer: noise_stddev and blur_sigma_px must be >= 0");
   }
@@ -334,32 +334,10 @@ RenderStatus CameraRenderer::render(const Eigen::Isometry3d& pose_world_camera, 
     cv::GaussianBlur(canvas_, canvas_, cv::Size(0, 0), settings_.blur_sigma_px);
   }
   if (noise_stddev_ > 0.0) {
-    add_noise();
+    noise_.add(canvas_);
   }
   canvas_.convertTo(image_mono8, CV_8UC1);
   return status;
-}
-
-void CameraRenderer::add_noise() {
-  // Drawing a million Gaussian samples per frame costs more than the rest of the frame, so frames
-  // take a window at a random offset into a bank several frames long: independent noise within a
-  // frame, a different draw in every frame.
-  const std::size_t pixels = canvas_.total();
-  if (noise_bank_.empty()) {
-    noise_bank_.create(1, static_cast<int>(kNoiseBankFrames * pixels), CV_32FC1);
-    rng_.fill(noise_bank_, cv::RNG::NORMAL, 0.0, noise_stddev_);
-  }
-  const std::size_t bank = noise_bank_.total();
-  const std::size_t offset = static_cast<std::size_t>(rng_.uniform(0, static_cast<int>(bank)));
-  const float* noise = noise_bank_.ptr<float>();
-  float* out = canvas_.ptr<float>();  // continuous: created whole
-  const std::size_t first = std::min(pixels, bank - offset);
-  for (std::size_t i = 0; i < first; ++i) {
-    out[i] += noise[offset + i];
-  }
-  for (std::size_t i = first; i < pixels; ++i) {
-    out[i] += noise[i - first];
-  }
 }
 
 bool CameraRenderer::occluded(const std::vector<Placed>& placed, std::size_t self,

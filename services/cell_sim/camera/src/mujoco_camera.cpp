@@ -22,9 +22,15 @@ bool finite(const Eigen::Isometry3d& pose) {
 
 MujocoCamera::MujocoCamera(const mjModel& model, const CameraModel& camera, std::vector<BoxObject> objects,
                            int dictionary, MujocoCameraSettings settings)
-    : model_(&model), camera_(camera), settings_(settings) {
+    : model_(&model),
+      camera_(camera),
+      settings_(settings),
+      noise_(settings.noise_stddev.value_or(camera.noise_stddev), settings.seed) {
   if (settings_.max_render_px < 16 || settings_.max_render_px > 16384) {
     throw std::invalid_argument("mujoco camera: max_render_px must be within 16..16384");
+  }
+  if (!(noise_.stddev() >= 0.0)) {
+    throw std::invalid_argument("mujoco camera: noise_stddev must be >= 0");
   }
   for (const BoxObject& object : objects) {
     object_ids_.push_back(object.id);
@@ -153,6 +159,7 @@ RenderStatus MujocoCamera::render(mjData& data, const Eigen::Isometry3d& pose_wo
   }
   cv::cvtColor(render_rgb_, render_grey_, cv::COLOR_RGB2GRAY);
   lens_->remap_image(render_grey_, frame.image_mono8, cv::Scalar::all(0));
+  noise_.add(frame.image_mono8);
 
   lens_->remap_depth(render_depth_, depth_scale, frame.depth_m);
   return status;

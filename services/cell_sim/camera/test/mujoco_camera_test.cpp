@@ -282,6 +282,38 @@ TEST_F(MujocoCameraTest, ABoxLandsWhereItsRaysSayToWithinAPixel) {
   EXPECT_EQ(cv::countNonZero((finite_depth ^ truth) & ~outline), 0);
 }
 
+TEST_F(MujocoCameraTest, AddsTheCameraModelsPixelNoiseToTheGreyImage) {
+  const Scene scene = make_scene({{camera_pose() * Eigen::Translation3d(0, 0, 1.5), Eigen::Vector3d(0.4, 0.3, 0.1)}});
+  ASSERT_TRUE(scene.model);
+  auto clean = make_camera(scene, camera_640());
+  RIGGER_REQUIRE_OR_SKIP(clean != nullptr, gl_error_);
+  CameraModel noisy_model = camera_640();
+  noisy_model.noise_stddev = 3.0;
+  auto noisy = make_camera(scene, noisy_model);  // a second context on this thread
+  ASSERT_NE(noisy, nullptr);
+  CameraFrame a;
+  CameraFrame b;
+  ASSERT_EQ(clean->render(*scene.data, camera_pose(), {}, a), RenderStatus::kOk);
+  ASSERT_EQ(noisy->render(*scene.data, camera_pose(), {}, b), RenderStatus::kOk);
+  // Where the box is (grey far from 0 and 255, so nothing saturates): the difference is the noise.
+  cv::Mat difference;
+  cv::subtract(b.image_mono8, a.image_mono8, difference, cv::noArray(), CV_32F);
+  const cv::Mat unsaturated = (a.image_mono8 > 20) & (a.image_mono8 < 235);
+  ASSERT_GT(cv::countNonZero(unsaturated), 10000);
+  cv::Scalar mean;
+  cv::Scalar stddev;
+  cv::meanStdDev(difference, mean, stddev, unsaturated);
+  EXPECT_NEAR(mean[0], 0.0, 0.1);
+  EXPECT_NEAR(stddev[0], 3.0, 0.15);  // and the rounding to grey levels: sqrt(9 + 1/12)
+  // The depth has none.
+  cv::Mat depth_a = a.depth_m.clone();
+  cv::Mat depth_b = b.depth_m.clone();
+  cv::patchNaNs(depth_a, -1.0);
+  cv::patchNaNs(depth_b, -1.0);
+  const cv::Mat same_depth = depth_a == depth_b;
+  EXPECT_EQ(cv::countNonZero(same_depth), 640 * 480);
+}
+
 TEST_F(MujocoCameraTest, RejectsANonFinitePoseAndNamesUnknownObjects) {
   const Scene scene = make_scene({{camera_pose() * Eigen::Translation3d(0, 0, 2), Eigen::Vector3d(0.1, 0.1, 0.1)}});
   ASSERT_TRUE(scene.model);

@@ -17,12 +17,15 @@
 
 #include <Eigen/Geometry>
 
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "rigger/sim/camera_renderer.hpp"
 #include "rigger/sim/camera_scene.hpp"
 #include "rigger/sim/egl_context.hpp"
+#include "rigger/sim/pixel_noise.hpp"
 
 namespace rigger::sim {
 
@@ -38,15 +41,20 @@ struct MujocoCameraSettings {
   /// Reflectance of the marker print (fractions of the face's light).
   double marker_white = 0.92;
   double marker_black = 0.05;
+  /// Gaussian noise added to the grey image, grey levels; unset: the camera model's noise_stddev.
+  std::optional<double> noise_stddev;
+  /// Seed of the noise (see PixelNoise).
+  std::uint64_t seed = 1;
   /// Largest side of the intermediate pinhole render, pixels (its focal length is lowered to fit).
   int max_render_px = 4096;
 };
 
 /// One rendered frame.
 struct CameraFrame {
-  /// CV_8UC1, width x height of the camera: the grey image the camera topic carries.
+  /// CV_8UC1, width x height of the camera: the grey image the camera topic carries, with the
+  /// pixel noise.
   cv::Mat image_mono8;
-  /// CV_8UC3 RGB, only with MujocoCameraSettings::colour; empty otherwise.
+  /// CV_8UC3 RGB, only with MujocoCameraSettings::colour (no noise); empty otherwise.
   cv::Mat image_rgb8;
   /// CV_32FC1: z of the point seen in the optical frame (metres along the optical axis, not along
   /// the ray); NaN where nothing was seen (background, beyond MuJoCo's far plane).
@@ -106,6 +114,7 @@ class MujocoCamera {
   cv::Mat render_rgb_;    // CV_8UC3, rows bottom-up
   cv::Mat render_depth_;  // CV_32FC1 window depth
   cv::Mat render_grey_;
+  PixelNoise noise_;
 };
 
 }  // namespace rigger::sim
