@@ -76,13 +76,13 @@ MujocoCamera::MujocoCamera(const mjModel& model, const CameraScene& scene, Mujoc
     : MujocoCamera(model, scene.camera, scene.objects, scene.dictionary, settings) {}
 
 MujocoCamera::~MujocoCamera() {
+  mjv_freeScene(&scene_);  // CPU memory only
   try {
     gl_.make_current();
   } catch (const GlUnavailableError&) {
     return;  // the GL objects die with the context
   }
   mjr_freeContext(&context_);
-  mjv_freeScene(&scene_);
 }
 
 cv::Size MujocoCamera::render_size() const {
