@@ -31,13 +31,12 @@ constexpr int kPolyShiftBits = 8;
 // octave of on-screen module size keeps it so from far to near.
 constexpr std::array<int, 6> kTexelsPerModule = {1, 2, 4, 8, 16, 32};
 constexpr double kRampSupersamples = 2.0;
-constexpr std::size_t kNoiseBankFrames = 4;
 
 }  // namespace
 
 CameraRenderer::CameraRenderer(CameraModel camera, std::vector<BoxObject> objects, int dictionary,
                                RenderSettings settings)
-    : camera_(std::move(camera)), objects_(std::move(objects)), settings_(std::move(settings)), rng_(settings_.seed) {
+    : camera_(std::move(camera)), objects_(std::move(objects)), settings_(std::move(settings)) {
   if (camera_.width_px <= 0 || camera_.height_px <= 0 || camera_.width_px > 8192 || camera_.height_px > 8192) {
     throw std::invalid_argument("camera renderer: image size must be within 1..8192 pixels");
   }
@@ -51,6 +50,7 @@ CameraRenderer::CameraRenderer(CameraModel camera, std::vector<BoxObject> object
     }
   }
   noise_stddev_ = settings_.noise_stddev.value_or(camera_.noise_stddev);
+  noise_ = PixelNoise(noise_stddev_, settings_.seed);
   if (!(noise_stddev_ >= 0.0) || !(settings_.blur_sigma_px >= 0.0)) {
     throw std::invalid_argument("camera renderer: noise_stddev and blur_sigma_px must be >= 0");
   }
@@ -67,7 +67,6 @@ CameraRenderer::CameraRenderer(CameraModel camera, std::vector<BoxObject> object
     throw std::invalid_argument("camera renderer: unknown ArUco dictionary id " + std::to_string(dictionary));
   }
   const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(dictionary);
-  const int modules = dict->markerSize + 2;  // bits plus the one-module black border
 
   data_.resize(objects_.size());
   marker_textures_.resize(objects_.size());
@@ -116,18 +115,8 @@ CameraRenderer::CameraRenderer(CameraModel camera, std::vector<BoxObject> object
         throw std::invalid_argument("camera renderer: marker " + std::to_string(marker.id) + " of '" + object.id +
                                     "' does not lie on a face of its box facing outwards");
       }
-      cv::Mat printed;
-      dict->drawMarker(marker.id, modules, printed, 1);
-      cv::Mat with_quiet_zone;
-      cv::copyMakeBorder(printed, with_quiet_zone, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(255));
-      std::vector<cv::Mat> levels;
-      for (const int texels : kTexelsPerModule) {
-        cv::Mat magnified;
-        cv::resize(with_quiet_zone, magnified, cv::Size(), texels, texels, cv::INTER_NEAREST);
-        cv::Mat texture;
-        cv::merge(std::vector<cv::Mat>{magnified, cv::Mat(magnified.size(), CV_8UC1, cv::Scalar(255))}, texture);
-        levels.push_back(texture);
-      }
+      const std::vector<cv::Mat> levels =
+          marker_texture_levels(*dict, marker.id, {kTexelsPerModule.begin(), kTexelsPerModule.end()});
       marker_textures_[i].push_back(levels);
     }
   }
@@ -264,25 +253,10 @@ void CameraRenderer::draw_marker(const BoxObject& object, std::size_t marker_ind
   const cv::Mat& texture = levels[level];
   const double texel_m = module_m / kTexelsPerModule[level];
 
-  // Texel (u, v) has its centre at the marker-plane point (-half + (u + 0.5) t, half - (v + 0.5) t),
-  // t the texel size. Image = K [r1 r2 t] (x, y, 1).
-  Eigen::Matrix3d texture_to_plane;
-  texture_to_plane << texel_m, 0, -half_m + 0.5 * texel_m,  //
-      0, -texel_m, half_m - 0.5 * texel_m,                  //
-      0, 0, 1;
-  Eigen::Matrix3d plane_to_camera;
-  plane_to_camera.col(0) = pose_camera_marker.linear().col(0);
-  plane_to_camera.col(1) = pose_camera_marker.linear().col(1);
-  plane_to_camera.col(2) = pose_camera_marker.translation();
   Eigen::Matrix3d k;
   k << camera_.fx_px, 0, camera_.cx_px, 0, camera_.fy_px, camera_.cy_px, 0, 0, 1;
-  const Eigen::Matrix3d h = image_to_supersampled(roi, s) * k * plane_to_camera * texture_to_plane;
-  cv::Mat h_cv(3, 3, CV_64F);
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      h_cv.at<double>(r, c) = h(r, c);
-    }
-  }
+  const cv::Matx33d h_cv =
+      to_cv(image_to_supersampled(roi, s) * k * texture_to_camera(pose_camera_marker, half_m, texel_m));
   // One two-channel warp: the print (0 outside) and its coverage (255 inside, 0 outside).
   const cv::Size ss_size(roi.width * s, roi.height * s);
   cv::Mat warped;
@@ -360,32 +334,10 @@ RenderStatus CameraRenderer::render(const Eigen::Isometry3d& pose_world_camera, 
     cv::GaussianBlur(canvas_, canvas_, cv::Size(0, 0), settings_.blur_sigma_px);
   }
   if (noise_stddev_ > 0.0) {
-    add_noise();
+    noise_.add(canvas_);
   }
   canvas_.convertTo(image_mono8, CV_8UC1);
   return status;
-}
-
-void CameraRenderer::add_noise() {
-  // Drawing a million Gaussian samples per frame costs more than the rest of the frame, so frames
-  // take a window at a random offset into a bank several frames long: independent noise within a
-  // frame, a different draw in every frame.
-  const std::size_t pixels = canvas_.total();
-  if (noise_bank_.empty()) {
-    noise_bank_.create(1, static_cast<int>(kNoiseBankFrames * pixels), CV_32FC1);
-    rng_.fill(noise_bank_, cv::RNG::NORMAL, 0.0, noise_stddev_);
-  }
-  const std::size_t bank = noise_bank_.total();
-  const std::size_t offset = static_cast<std::size_t>(rng_.uniform(0, static_cast<int>(bank)));
-  const float* noise = noise_bank_.ptr<float>();
-  float* out = canvas_.ptr<float>();  // continuous: created whole
-  const std::size_t first = std::min(pixels, bank - offset);
-  for (std::size_t i = 0; i < first; ++i) {
-    out[i] += noise[offset + i];
-  }
-  for (std::size_t i = first; i < pixels; ++i) {
-    out[i] += noise[i - first];
-  }
 }
 
 bool CameraRenderer::occluded(const std::vector<Placed>& placed, std::size_t self,

@@ -168,4 +168,45 @@ void blend_uniform(cv::Mat& canvas, const cv::Rect& roi, const cv::Mat& coverage
   }
 }
 
+std::vector<cv::Mat> marker_texture_levels(const cv::aruco::Dictionary& dictionary, int id,
+                                           const std::vector<int>& texels_per_module) {
+  const int modules = dictionary.markerSize + 2;  // bits plus the one-module black border
+  cv::Mat printed;
+  dictionary.drawMarker(id, modules, printed, 1);
+  cv::Mat with_quiet_zone;
+  cv::copyMakeBorder(printed, with_quiet_zone, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(255));
+  std::vector<cv::Mat> levels;
+  for (const int texels : texels_per_module) {
+    cv::Mat magnified;
+    cv::resize(with_quiet_zone, magnified, cv::Size(), texels, texels, cv::INTER_NEAREST);
+    cv::Mat texture;
+    cv::merge(std::vector<cv::Mat>{magnified, cv::Mat(magnified.size(), CV_8UC1, cv::Scalar(255))}, texture);
+    levels.push_back(texture);
+  }
+  return levels;
+}
+
+Eigen::Matrix3d texture_to_camera(const Eigen::Isometry3d& pose_camera_marker, double half_m, double texel_m) {
+  // Texel (u, v) has its centre at the marker-plane point (-half + (u + 0.5) t, half - (v + 0.5) t).
+  Eigen::Matrix3d texture_to_plane;
+  texture_to_plane << texel_m, 0, -half_m + 0.5 * texel_m,  //
+      0, -texel_m, half_m - 0.5 * texel_m,                  //
+      0, 0, 1;
+  Eigen::Matrix3d plane_to_camera;
+  plane_to_camera.col(0) = pose_camera_marker.linear().col(0);
+  plane_to_camera.col(1) = pose_camera_marker.linear().col(1);
+  plane_to_camera.col(2) = pose_camera_marker.translation();
+  return plane_to_camera * texture_to_plane;
+}
+
+cv::Matx33d to_cv(const Eigen::Matrix3d& m) {
+  cv::Matx33d out;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      out(r, c) = m(r, c);
+    }
+  }
+  return out;
+}
+
 }  // namespace rigger::sim::render_geometry

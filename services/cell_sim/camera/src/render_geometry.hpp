@@ -2,6 +2,7 @@
 // Internal: the camera renderer's geometry (boxes in the camera frame, which hides which, clipping) and
 // rasterization helpers (pixel bounds, supersampling, blending). Pure functions of their arguments.
 
+#include <opencv2/aruco/dictionary.hpp>
 #include <opencv2/core.hpp>
 
 #include <vector>
@@ -51,6 +52,20 @@ int supersampling_for(const cv::Rect& roi, int wanted, double budget);
 /// Maps image pixel coordinates to the coordinates of an s-times supersampled grid over roi
 /// (sample j of pixel i has its centre at i - 0.5 + (j + 0.5) / s).
 Eigen::Matrix3d image_to_supersampled(const cv::Rect& roi, int s);
+
+/// The printed marker `id` with a white quiet zone of one module, magnified to each of
+/// texels_per_module (nearest), as CV_8UC2: channel 0 the print, channel 1 all 255 (its coverage
+/// once warped, 0 outside).
+std::vector<cv::Mat> marker_texture_levels(const cv::aruco::Dictionary& dictionary, int id,
+                                           const std::vector<int>& texels_per_module);
+
+/// The homography from texture pixels (centres at integer coordinates, OpenCV's convention) of a
+/// marker texture covering [-half_m, half_m]^2 of the marker plane (x right, y up) to homogeneous
+/// optical-frame points: [r1 r2 t] A. Multiply by a camera matrix for image pixels.
+Eigen::Matrix3d texture_to_camera(const Eigen::Isometry3d& pose_camera_marker, double half_m, double texel_m);
+
+/// An Eigen 3x3 as OpenCV's.
+cv::Matx33d to_cv(const Eigen::Matrix3d& m);
 
 /// canvas = canvas * (1 - alpha) + value * alpha over roi, alpha from an 8-bit coverage image.
 void blend_uniform(cv::Mat& canvas, const cv::Rect& roi, const cv::Mat& coverage, double value);

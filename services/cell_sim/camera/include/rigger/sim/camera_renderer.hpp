@@ -5,6 +5,7 @@
 /// no DDS, no logging. The ground truth of a frame is the poses it was rendered from.
 
 #include "rigger/sim/camera_scene.hpp"
+#include "rigger/sim/pixel_noise.hpp"
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -78,6 +79,8 @@ enum class RenderStatus {
   kUnknownObject,
   /// A pose (camera or object) was not finite; nothing was drawn but the background.
   kInvalidPose,
+  /// The OpenGL context could not be made current (MujocoCamera only); the frame is unchanged.
+  kGlError,
 };
 
 /// Renders grey images of boxed objects with ArUco markers: flat-shaded visible faces (back faces
@@ -129,7 +132,6 @@ class CameraRenderer {
                    double light);
   bool occluded(const std::vector<Placed>& placed, std::size_t self, const Eigen::Vector3d& point_camera) const;
   Eigen::Vector2d project(const Eigen::Vector3d& point_camera) const;
-  void add_noise();
 
   CameraModel camera_;
   std::vector<BoxObject> objects_;
@@ -140,11 +142,10 @@ class CameraRenderer {
   /// with its quiet zone; channel 0 the print, channel 1 all 255 (warped into the marker's
   /// coverage). CV_8UC2.
   std::vector<std::vector<std::vector<cv::Mat>>> marker_textures_;
-  cv::Mat canvas_;      // CV_32FC1 radiance in grey levels
-  cv::Mat noise_bank_;  // CV_32FC1, 1 x (several frames): Gaussian noise drawn once
+  cv::Mat canvas_;  // CV_32FC1 radiance in grey levels
   cv::Mat scratch_a_;
   cv::Mat scratch_b_;
-  cv::RNG rng_;
+  PixelNoise noise_{0.0, 1};
 };
 
 }  // namespace rigger::sim
