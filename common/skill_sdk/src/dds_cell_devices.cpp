@@ -43,8 +43,10 @@ rigger_admittance_ReferenceSource to_wire(AdmittanceReference r) {
   return rigger_admittance_REFERENCE_NONE;
 }
 
-const char* mode_name(AdmittanceModeRequest m) {
-  switch (m) {
+}  // namespace
+
+const char* admittance_mode_name(AdmittanceModeRequest mode) {
+  switch (mode) {
     case AdmittanceModeRequest::kOff:
       return "OFF";
     case AdmittanceModeRequest::kRobot:
@@ -55,7 +57,17 @@ const char* mode_name(AdmittanceModeRequest m) {
   return "?";
 }
 
-}  // namespace
+const char* admittance_reference_name(AdmittanceReference reference) {
+  switch (reference) {
+    case AdmittanceReference::kNone:
+      return "NONE";
+    case AdmittanceReference::kJoystick:
+      return "JOYSTICK";
+    case AdmittanceReference::kVisualServo:
+      return "VISUAL_SERVO";
+  }
+  return "?";
+}
 
 // ---------------------------------------------------------------------------------------------------
 
@@ -304,12 +316,13 @@ OpId DdsAdmittanceController::command(const AdmittanceRequest& request, std::chr
   dds::wire_sequence(c.stiffness, stiffness);
   pending_.start(
       id, Pending{seq, request}, std::move(done), timeout, [this, seq, timeout, mode = request.mode](OpId op) {
-        pending_.finish(op, OpResult::failure("TIMEOUT", "admittance_control did not confirm command seq " +
-                                                             std::to_string(seq) + " (mode " + mode_name(mode) +
-                                                             ") within " + number_text(to_seconds(timeout)) + " s"));
+        pending_.finish(
+            op, OpResult::failure("TIMEOUT", "admittance_control did not confirm command seq " + std::to_string(seq) +
+                                                 " (mode " + admittance_mode_name(mode) + ") within " +
+                                                 number_text(to_seconds(timeout)) + " s"));
       });
   write_command(commands_, c, "admittance command");
-  log_->info("admittance command seq={} mode={}", seq, mode_name(request.mode));
+  log_->info("admittance command seq={} mode={}", seq, admittance_mode_name(request.mode));
   return id;
 }
 
@@ -326,14 +339,15 @@ void DdsAdmittanceController::on_state(const AdmittanceSnapshot& s) {
            s.crane_speed_mps > kAdmittanceRestSpeed)) {
         continue;  // OFF, still ramping down
       }
-      results.emplace_back(id, OpResult::success(std::string("admittance ") + mode_name(s.mode)));
+      results.emplace_back(id, OpResult::success(std::string("admittance ") + admittance_mode_name(s.mode)));
     } else {
       const bool ours = s.last_command_seq == p.seq;
       results.emplace_back(
           id, OpResult::failure(ours ? "ADMITTANCE_REFUSED" : "ADMITTANCE_PREEMPTED",
-                                std::string("admittance_control reports mode ") + mode_name(s.mode) + " after " +
-                                    (ours ? "our" : "a newer") + " command (requested " + mode_name(p.request.mode) +
-                                    ")" + (s.fault_code.empty() ? "" : "; fault " + s.fault_code)));
+                                std::string("admittance_control reports mode ") + admittance_mode_name(s.mode) +
+                                    " after " + (ours ? "our" : "a newer") + " command (requested " +
+                                    admittance_mode_name(p.request.mode) + ")" +
+                                    (s.fault_code.empty() ? "" : "; fault " + s.fault_code)));
     }
   }
   for (const auto& [id, r] : results) pending_.finish(id, r);

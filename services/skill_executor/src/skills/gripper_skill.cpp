@@ -51,13 +51,9 @@ GripperSkill::~GripperSkill() {
 
 bool GripperSkill::require_devices(bool robot, bool gripper, bool world) {
   const Devices& d = ctx().devices();
-  const char* missing = robot && !d.robot       ? "robot"
-                        : gripper && !d.gripper ? "gripper"
-                        : world && !d.world     ? "world model"
-                                                : nullptr;
-  if (missing == nullptr) return true;
-  fail("DEVICE_UNAVAILABLE", std::string("this executor has no ") + missing);
-  return false;
+  return Skill::require_devices({{!robot || d.robot != nullptr, "robot"},
+                                 {!gripper || d.gripper != nullptr, "gripper"},
+                                 {!world || d.world != nullptr, "world model"}});
 }
 
 void GripperSkill::start_overall_timeout(double timeout_s) {
