@@ -112,8 +112,6 @@ DdsCraneMonitor::DdsCraneMonitor(const dds::Participant& participant, dds::Event
   state_.subscribe([this](const CraneSnapshot& s) { on_state(s); });
 }
 
-DdsCraneMonitor::~DdsCraneMonitor() = default;
-
 OpId DdsCraneMonitor::check_health(std::chrono::nanoseconds max_age, std::chrono::nanoseconds timeout,
                                    OpCallback done) {
   const OpId id = next_op();
@@ -296,8 +294,6 @@ DdsAdmittanceController::DdsAdmittanceController(const dds::Participant& partici
       pending_(loop) {
   state_.subscribe([this](const AdmittanceSnapshot& s) { on_state(s); });
 }
-
-DdsAdmittanceController::~DdsAdmittanceController() = default;
 
 OpId DdsAdmittanceController::command(const AdmittanceRequest& request, std::chrono::nanoseconds timeout,
                                       OpCallback done) {

@@ -37,7 +37,6 @@ AdmittanceSnapshot to_snapshot(const rigger_admittance_AdmittanceState& s);
 class DdsCraneMonitor final : public CraneMonitor, private DdsProxy {
  public:
   DdsCraneMonitor(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
-  ~DdsCraneMonitor() override;
   OpId check_health(std::chrono::nanoseconds max_age, std::chrono::nanoseconds timeout, OpCallback done) override;
   OpId watch_health(std::chrono::nanoseconds max_silence, OpCallback on_problem) override;
   OpId request_external(std::chrono::nanoseconds timeout, OpCallback done) override;
@@ -75,7 +74,6 @@ class DdsVisionTracker final : public VisionTracker, private DdsProxy {
 class DdsAdmittanceController final : public AdmittanceController, private DdsProxy {
  public:
   DdsAdmittanceController(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
-  ~DdsAdmittanceController() override;
   OpId command(const AdmittanceRequest& request, std::chrono::nanoseconds timeout, OpCallback done) override;
   OpId watch(std::function<void(const AdmittanceSnapshot&)> on_state) override;
   void cancel(OpId id) override;

@@ -28,8 +28,6 @@ DdsRobot::DdsRobot(const dds::Participant& participant, dds::EventLoop& loop, Lo
   loop_.on_data(status_, [this] { on_status(); });
 }
 
-DdsRobot::~DdsRobot() = default;
-
 OpId DdsRobot::move(const MotionGoal& goal, std::chrono::nanoseconds timeout, OpCallback done) {
   return send(goal.kind == MotionGoal::Kind::kJoint ? rigger_robot_MOTION_JOINT : rigger_robot_MOTION_CARTESIAN, &goal,
               timeout, std::move(done));

@@ -25,7 +25,6 @@ class DdsRobot final : public RobotMotion, private DdsProxy {
  public:
   /// `source` names the commands' sender (the executor id) and prefixes motion ids.
   DdsRobot(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
-  ~DdsRobot() override;
 
   OpId move(const MotionGoal& goal, std::chrono::nanoseconds timeout, OpCallback done) override;
   OpId stop(std::chrono::nanoseconds timeout, OpCallback done) override;
