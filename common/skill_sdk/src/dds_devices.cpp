@@ -123,16 +123,17 @@ void DdsRobot::cancel(OpId id) {
 DdsGripper::DdsGripper(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source)
     : DdsProxy(loop, std::move(log), std::move(source)),
       commands_(participant, protocol::robot::kGripperCmd),
-      state_(participant, loop, protocol::robot::kGripperState, [](const rigger_robot_GripperState& s) {
-        GripperSnapshot g;
-        g.stamp = dds::to_domain(s.header.stamp);
-        g.energized = s.energized;
-        g.contact = s.contact;
-        g.holding = s.holding;
-        g.holding_force_n = s.holding_force_n;
-        g.last_command_seq = s.last_command_seq;
-        return g;
-      }) {}
+      state_(participant, loop, protocol::robot::kGripperState,
+             [](const rigger_robot_GripperState& s) {
+               GripperSnapshot g;
+               g.stamp = dds::to_domain(s.header.stamp);
+               g.energized = s.energized;
+               g.contact = s.contact;
+               g.holding = s.holding;
+               g.holding_force_n = s.holding_force_n;
+               g.last_command_seq = s.last_command_seq;
+               return g;
+             }) {}
 
 OpId DdsGripper::set_energized(bool energize, std::chrono::nanoseconds timeout, OpCallback done) {
   const std::uint64_t seq = next_seq();
