@@ -15,10 +15,6 @@ namespace rigger::skill_sdk {
 
 namespace {
 
-std::uint64_t initial_seq() {
-  return static_cast<std::uint64_t>(to_unix_ns(std::chrono::system_clock::now()));
-}
-
 std::chrono::milliseconds to_ms(std::chrono::nanoseconds d) {
   return std::max(std::chrono::milliseconds(1), std::chrono::duration_cast<std::chrono::milliseconds>(d));
 }
@@ -47,8 +43,10 @@ rigger_admittance_ReferenceSource to_wire(AdmittanceReference r) {
   return rigger_admittance_REFERENCE_NONE;
 }
 
-const char* mode_name(AdmittanceModeRequest m) {
-  switch (m) {
+}  // namespace
+
+const char* admittance_mode_name(AdmittanceModeRequest mode) {
+  switch (mode) {
     case AdmittanceModeRequest::kOff:
       return "OFF";
     case AdmittanceModeRequest::kRobot:
@@ -59,7 +57,17 @@ const char* mode_name(AdmittanceModeRequest m) {
   return "?";
 }
 
-}  // namespace
+const char* admittance_reference_name(AdmittanceReference reference) {
+  switch (reference) {
+    case AdmittanceReference::kNone:
+      return "NONE";
+    case AdmittanceReference::kJoystick:
+      return "JOYSTICK";
+    case AdmittanceReference::kVisualServo:
+      return "VISUAL_SERVO";
+  }
+  return "?";
+}
 
 // ---------------------------------------------------------------------------------------------------
 
@@ -95,37 +103,27 @@ CraneSnapshot to_snapshot(const rigger_crane_CraneState& s) {
 
 DdsCraneMonitor::DdsCraneMonitor(const dds::Participant& participant, dds::EventLoop& loop, Logger log,
                                  std::string source)
-    : loop_(loop),
-      log_(std::move(log)),
-      source_(std::move(source)),
+    : DdsProxy(loop, std::move(log), std::move(source)),
       control_(participant, protocol::crane::kControl),
       state_(participant, loop, protocol::crane::kState,
              [](const rigger_crane_CraneState& s) { return to_snapshot(s); }),
-      seq_(initial_seq()) {
+      pending_(loop),
+      watches_(loop) {
   state_.subscribe([this](const CraneSnapshot& s) { on_state(s); });
-}
-
-DdsCraneMonitor::~DdsCraneMonitor() {
-  for (auto& [id, p] : pending_) loop_.cancel(p.timer);
-  for (auto& [id, w] : watches_) loop_.cancel(w.timer);
 }
 
 OpId DdsCraneMonitor::check_health(std::chrono::nanoseconds max_age, std::chrono::nanoseconds timeout,
                                    OpCallback done) {
-  const OpId id = ++next_id_;
+  const OpId id = next_op();
   Pending p;
   p.since = std::chrono::system_clock::now() - std::chrono::duration_cast<std::chrono::system_clock::duration>(max_age);
-  p.done = std::move(done);
-  p.timer = loop_.after(timeout, [this, id, timeout] {
-    auto it = pending_.find(id);
-    if (it == pending_.end()) return;
+  pending_.start(id, std::move(p), std::move(done), timeout, [this, timeout](OpId op) {
     const std::string seconds = number_text(to_seconds(timeout));
-    finish(id, OpResult::failure(kCraneFault, it->second.link_down.empty()
-                                                  ? "no fresh rigger/crane/state within " + seconds +
-                                                        " s (crane gateway down?)"
-                                                  : it->second.link_down + " (for " + seconds + " s)"));
+    const std::string link_down = pending_.find(op)->link_down;
+    pending_.finish(op, OpResult::failure(kCraneFault, link_down.empty() ? "no fresh rigger/crane/state within " +
+                                                                               seconds + " s (crane gateway down?)"
+                                                                         : link_down + " (for " + seconds + " s)"));
   });
-  pending_.emplace(id, std::move(p));
   if (state_.latest())
     loop_.post([this, id] {
       if (state_.latest()) evaluate(id, *state_.latest());
@@ -134,15 +132,13 @@ OpId DdsCraneMonitor::check_health(std::chrono::nanoseconds max_age, std::chrono
 }
 
 OpId DdsCraneMonitor::request_external(std::chrono::nanoseconds timeout, OpCallback done) {
-  const OpId id = ++next_id_;
+  const OpId id = next_op();
   Pending p;
   p.external = true;
-  p.done = std::move(done);
-  p.timer = loop_.after(timeout, [this, id, timeout] {
-    finish(id, OpResult::failure(kCraneFault, "the crane did not grant external control within " +
-                                                  number_text(to_seconds(timeout)) + " s"));
+  pending_.start(id, std::move(p), std::move(done), timeout, [this, timeout](OpId op) {
+    pending_.finish(op, OpResult::failure(kCraneFault, "the crane did not grant external control within " +
+                                                           number_text(to_seconds(timeout)) + " s"));
   });
-  pending_.emplace(id, std::move(p));
   const auto& latest = state_.latest();
   if (latest && latest->enabled && latest->external_control && !crane_problem(*latest)) {
     loop_.post([this, id] {
@@ -152,26 +148,23 @@ OpId DdsCraneMonitor::request_external(std::chrono::nanoseconds timeout, OpCallb
   }
   rigger_crane_CraneControl c{};
   c.header.stamp = dds::wire_now();
-  c.seq = ++seq_;
+  c.seq = next_seq();
   c.kind = rigger_crane_CRANE_REQUEST_EXTERNAL;
   c.source = dds::wire_string(source_);
-  if (control_.write(c) != DDS_RETCODE_OK) log_->warn("crane control write failed seq={}", c.seq);
+  write_command(control_, c, "crane control");
   log_->info("crane external control requested seq={}", c.seq);
   return id;
 }
 
 OpId DdsCraneMonitor::watch_health(std::chrono::nanoseconds max_silence, OpCallback on_problem) {
-  const OpId id = ++next_id_;
-  Watch w{max_silence, std::move(on_problem), 0};
-  w.timer = loop_.after(max_silence, [this, id, max_silence] {
-    fire_watch(id, "no rigger/crane/state for " + number_text(to_seconds(max_silence)) + " s (crane gateway down?)");
-  });
-  watches_.emplace(id, std::move(w));
+  const OpId id = next_op();
+  watches_.start(id, max_silence, std::move(on_problem), max_silence, silence(max_silence));
   // A state received before the watch began that shows a problem counts at once.
   if (state_.latest() && crane_problem(*state_.latest())) {
     loop_.post([this, id] {
       if (state_.latest()) {
-        if (auto problem = crane_problem(*state_.latest())) fire_watch(id, *problem);
+        if (auto problem = crane_problem(*state_.latest()))
+          watches_.finish(id, OpResult::failure(kCraneFault, *problem));
       }
     });
   }
@@ -179,79 +172,51 @@ OpId DdsCraneMonitor::watch_health(std::chrono::nanoseconds max_silence, OpCallb
 }
 
 void DdsCraneMonitor::cancel(OpId id) {
-  auto p = pending_.find(id);
-  if (p != pending_.end()) {
-    loop_.cancel(p->second.timer);
-    pending_.erase(p);
-  }
-  auto w = watches_.find(id);
-  if (w != watches_.end()) {
-    loop_.cancel(w->second.timer);
-    watches_.erase(w);
-  }
+  pending_.cancel(id);
+  watches_.cancel(id);
+}
+
+PendingOps<std::chrono::nanoseconds>::OnDeadline DdsCraneMonitor::silence(std::chrono::nanoseconds max_silence) {
+  return [this, max_silence](OpId watch) {
+    watches_.finish(watch,
+                    OpResult::failure(kCraneFault, "no rigger/crane/state for " + number_text(to_seconds(max_silence)) +
+                                                       " s (crane gateway down?)"));
+  };
 }
 
 void DdsCraneMonitor::on_state(const CraneSnapshot& s) {
-  std::vector<OpId> ids;
-  for (const auto& [id, p] : pending_) ids.push_back(id);
-  for (OpId id : ids) evaluate(id, s);
+  for (OpId id : pending_.ids()) evaluate(id, s);
   const auto problem = crane_problem(s);
-  std::vector<OpId> watch_ids;
-  for (const auto& [id, w] : watches_) watch_ids.push_back(id);
-  for (OpId id : watch_ids) {
-    auto it = watches_.find(id);
-    if (it == watches_.end()) continue;
-    if (problem) {
-      fire_watch(id, *problem);
-      continue;
-    }
-    loop_.cancel(it->second.timer);
-    const auto max_silence = it->second.max_silence;
-    it->second.timer = loop_.after(max_silence, [this, id, max_silence] {
-      fire_watch(id,
-                 "no rigger/crane/state for " + number_text(to_seconds(max_silence)) + " s (crane gateway down?)");
-    });
+  for (OpId id : watches_.ids()) {
+    const std::chrono::nanoseconds* max_silence = watches_.find(id);
+    if (max_silence == nullptr) continue;
+    if (problem)
+      watches_.finish(id, OpResult::failure(kCraneFault, *problem));
+    else
+      watches_.rearm(id, *max_silence, silence(*max_silence));
   }
 }
 
 void DdsCraneMonitor::evaluate(OpId id, const CraneSnapshot& s) {
-  auto it = pending_.find(id);
-  if (it == pending_.end()) return;
+  Pending* p = pending_.find(id);
+  if (p == nullptr) return;
   const auto problem = crane_problem(s);
-  if (it->second.external) {
+  if (p->external) {
     if (problem)
-      finish(id, OpResult::failure(kCraneFault, *problem));
+      pending_.finish(id, OpResult::failure(kCraneFault, *problem));
     else if (s.enabled && s.external_control)
-      finish(id, OpResult::success("external control granted"));
+      pending_.finish(id, OpResult::success("external control granted"));
     return;
   }
-  if (s.stamp < it->second.since) return;  // too old: wait for a fresh one
+  if (s.stamp < p->since) return;  // too old: wait for a fresh one
   if (!s.link_ok) {  // the gateway is (re)connecting to the PLC: wait for the link, up to the timeout
-    it->second.link_down = *problem;
+    p->link_down = *problem;
     return;
   }
   if (problem)
-    finish(id, OpResult::failure(kCraneFault, *problem));
+    pending_.finish(id, OpResult::failure(kCraneFault, *problem));
   else
-    finish(id, OpResult::success("crane healthy"));
-}
-
-void DdsCraneMonitor::finish(OpId id, const OpResult& result) {
-  auto it = pending_.find(id);
-  if (it == pending_.end()) return;
-  loop_.cancel(it->second.timer);
-  auto done = std::move(it->second.done);
-  pending_.erase(it);
-  if (done) done(result);
-}
-
-void DdsCraneMonitor::fire_watch(OpId id, const std::string& message) {
-  auto it = watches_.find(id);
-  if (it == watches_.end()) return;
-  loop_.cancel(it->second.timer);
-  auto cb = std::move(it->second.on_problem);
-  watches_.erase(it);
-  if (cb) cb(OpResult::failure(kCraneFault, message));
+    pending_.finish(id, OpResult::success("crane healthy"));
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -269,24 +234,22 @@ TrackedObjectSample to_sample(const rigger_vision_TrackedPose& s) {
 
 DdsVisionTracker::DdsVisionTracker(const dds::Participant& participant, dds::EventLoop& loop, Logger log,
                                    std::string source)
-    : log_(std::move(log)),
-      source_(std::move(source)),
+    : DdsProxy(loop, std::move(log), std::move(source)),
       commands_(participant, protocol::vision::kTrackerCommand),
       poses_(participant, loop, protocol::vision::kTrackerPose,
-             [](const rigger_vision_TrackedPose& s) { return to_sample(s); }),
-      seq_(initial_seq()) {}
+             [](const rigger_vision_TrackedPose& s) { return to_sample(s); }) {}
 
 WallTime DdsVisionTracker::command(TrackerRequest request, const std::string& object_id) {
   const WallTime now = std::chrono::system_clock::now();
   rigger_vision_TrackerCommand c{};
   c.header.stamp = dds::to_wire(now);
-  c.seq = ++seq_;
+  c.seq = next_seq();
   c.object_id = dds::wire_string(object_id);
   c.kind = request == TrackerRequest::kOnce         ? rigger_vision_TRACK_ONCE
            : request == TrackerRequest::kContinuous ? rigger_vision_TRACK_CONTINUOUS
                                                     : rigger_vision_TRACK_STOP;
   c.source = dds::wire_string(source_);
-  if (commands_.write(c) != DDS_RETCODE_OK) log_->warn("tracker command write failed seq={}", c.seq);
+  write_command(commands_, c, "tracker command");
   log_->debug("tracker command seq={} object={} kind={}", c.seq, object_id, static_cast<int>(c.kind));
   return now;
 }
@@ -324,24 +287,18 @@ AdmittanceSnapshot to_snapshot(const rigger_admittance_AdmittanceState& s) {
 
 DdsAdmittanceController::DdsAdmittanceController(const dds::Participant& participant, dds::EventLoop& loop, Logger log,
                                                  std::string source)
-    : loop_(loop),
-      log_(std::move(log)),
-      source_(std::move(source)),
+    : DdsProxy(loop, std::move(log), std::move(source)),
       commands_(participant, protocol::admittance::kCommand),
       state_(participant, loop, protocol::admittance::kState,
              [](const rigger_admittance_AdmittanceState& s) { return to_snapshot(s); }),
-      seq_(initial_seq()) {
-  state_subscription_ = state_.subscribe([this](const AdmittanceSnapshot& s) { on_state(s); });
-}
-
-DdsAdmittanceController::~DdsAdmittanceController() {
-  for (auto& [id, p] : pending_) loop_.cancel(p.timer);
+      pending_(loop) {
+  state_.subscribe([this](const AdmittanceSnapshot& s) { on_state(s); });
 }
 
 OpId DdsAdmittanceController::command(const AdmittanceRequest& request, std::chrono::nanoseconds timeout,
                                       OpCallback done) {
-  const OpId id = ++next_id_;
-  const std::uint64_t seq = ++seq_;
+  const OpId id = next_op();
+  const std::uint64_t seq = next_seq();
   rigger_admittance_AdmittanceCommand c{};
   c.header.stamp = dds::wire_now();
   c.seq = seq;
@@ -353,21 +310,22 @@ OpId DdsAdmittanceController::command(const AdmittanceRequest& request, std::chr
   c.source = dds::wire_string(source_);
   std::vector<double> stiffness = request.stiffness;
   dds::wire_sequence(c.stiffness, stiffness);
-  Pending p{seq, request, std::move(done), 0};
-  p.timer = loop_.after(timeout, [this, id, seq, timeout, mode = request.mode] {
-    finish(id, OpResult::failure("TIMEOUT", "admittance_control did not confirm command seq " + std::to_string(seq) +
-                                                " (mode " + mode_name(mode) + ") within " +
-                                                number_text(to_seconds(timeout)) + " s"));
-  });
-  pending_.emplace(id, std::move(p));
-  if (commands_.write(c) != DDS_RETCODE_OK) log_->warn("admittance command write failed seq={}", seq);
-  log_->info("admittance command seq={} mode={}", seq, mode_name(request.mode));
+  pending_.start(
+      id, Pending{seq, request}, std::move(done), timeout, [this, seq, timeout, mode = request.mode](OpId op) {
+        pending_.finish(
+            op, OpResult::failure("TIMEOUT", "admittance_control did not confirm command seq " + std::to_string(seq) +
+                                                 " (mode " + admittance_mode_name(mode) + ") within " +
+                                                 number_text(to_seconds(timeout)) + " s"));
+      });
+  write_command(commands_, c, "admittance command");
+  log_->info("admittance command seq={} mode={}", seq, admittance_mode_name(request.mode));
   return id;
 }
 
 void DdsAdmittanceController::on_state(const AdmittanceSnapshot& s) {
   std::vector<std::pair<OpId, OpResult>> results;
-  for (const auto& [id, p] : pending_) {
+  for (OpId id : pending_.ids()) {
+    const Pending& p = *pending_.find(id);
     if (s.last_command_seq < p.seq) continue;
     const bool mode_ok = s.mode == p.request.mode;
     const bool reference_ok = p.request.mode == AdmittanceModeRequest::kOff || s.reference == p.request.reference;
@@ -377,21 +335,22 @@ void DdsAdmittanceController::on_state(const AdmittanceSnapshot& s) {
            s.crane_speed_mps > kAdmittanceRestSpeed)) {
         continue;  // OFF, still ramping down
       }
-      results.emplace_back(id, OpResult::success(std::string("admittance ") + mode_name(s.mode)));
+      results.emplace_back(id, OpResult::success(std::string("admittance ") + admittance_mode_name(s.mode)));
     } else {
       const bool ours = s.last_command_seq == p.seq;
       results.emplace_back(
           id, OpResult::failure(ours ? "ADMITTANCE_REFUSED" : "ADMITTANCE_PREEMPTED",
-                                std::string("admittance_control reports mode ") + mode_name(s.mode) + " after " +
-                                    (ours ? "our" : "a newer") + " command (requested " + mode_name(p.request.mode) +
-                                    ")" + (s.fault_code.empty() ? "" : "; fault " + s.fault_code)));
+                                std::string("admittance_control reports mode ") + admittance_mode_name(s.mode) +
+                                    " after " + (ours ? "our" : "a newer") + " command (requested " +
+                                    admittance_mode_name(p.request.mode) + ")" +
+                                    (s.fault_code.empty() ? "" : "; fault " + s.fault_code)));
     }
   }
-  for (const auto& [id, r] : results) finish(id, r);
+  for (const auto& [id, r] : results) pending_.finish(id, r);
 }
 
 OpId DdsAdmittanceController::watch(std::function<void(const AdmittanceSnapshot&)> on_state) {
-  const OpId id = ++next_id_;
+  const OpId id = next_op();
   watches_[id] = state_.subscribe(std::move(on_state));
   return id;
 }
@@ -403,31 +362,16 @@ void DdsAdmittanceController::cancel(OpId id) {
     watches_.erase(w);
     return;
   }
-  auto it = pending_.find(id);
-  if (it == pending_.end()) return;
-  loop_.cancel(it->second.timer);
-  pending_.erase(it);
-}
-
-void DdsAdmittanceController::finish(OpId id, const OpResult& result) {
-  auto it = pending_.find(id);
-  if (it == pending_.end()) return;
-  loop_.cancel(it->second.timer);
-  auto done = std::move(it->second.done);
-  pending_.erase(it);
-  if (done) done(result);
+  pending_.cancel(id);
 }
 
 // ---------------------------------------------------------------------------------------------------
 
 DdsOperatorPanel::DdsOperatorPanel(const dds::Participant& participant, dds::EventLoop& loop, Logger log,
                                    std::string source)
-    : loop_(loop),
-      log_(std::move(log)),
-      source_(std::move(source)),
+    : DdsProxy(loop, std::move(log), std::move(source)),
       prompts_(participant, protocol::operator_ui::kPrompt),
-      responses_(participant, protocol::operator_ui::kResponse),
-      seq_(initial_seq()) {
+      responses_(participant, protocol::operator_ui::kResponse) {
   loop_.on_data(responses_, [this] { on_responses(); });
 }
 
@@ -440,8 +384,8 @@ DdsOperatorPanel::~DdsOperatorPanel() {
 
 OpId DdsOperatorPanel::ask(const OperatorPromptSpec& spec, std::chrono::nanoseconds timeout,
                            std::function<void(std::optional<std::string>)> done) {
-  const OpId id = ++next_id_;
-  Prompt prompt{source_ + "-" + std::to_string(++seq_), spec, std::move(done), 0};
+  const OpId id = next_op();
+  Prompt prompt{source_ + "-" + std::to_string(next_seq()), spec, std::move(done), 0};
   prompt.timer = loop_.after(timeout, [this, id] {
     auto it = open_.find(id);
     if (it == open_.end() || !it->second.done) return;

@@ -19,11 +19,13 @@
 #include <string>
 #include <vector>
 
-#include "rigger/skill_sdk/cell_devices.hpp"
+#include "dds_proxy.hpp"
 #include "rigger/base/logging.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/skill_sdk/cell_devices.hpp"
 #include "rigger/world_client/world_client.hpp"
+#include "topic_condition.hpp"
 
 namespace rigger::skill_sdk {
 
@@ -32,51 +34,9 @@ CraneSnapshot to_snapshot(const rigger_crane_CraneState& s);
 TrackedObjectSample to_sample(const rigger_vision_TrackedPose& s);
 AdmittanceSnapshot to_snapshot(const rigger_admittance_AdmittanceState& s);
 
-/// Every sample of a topic, converted once, fanned out to subscribers until they unsubscribe.
-template <typename T, typename V>
-class TopicFanout {
- public:
-  using Convert = std::function<V(const T&)>;
-  TopicFanout(const dds::Participant& participant, dds::EventLoop& loop, const protocol::Topic<T>& topic,
-              Convert convert)
-      : reader_(participant, topic), convert_(std::move(convert)) {
-    loop.on_data(reader_, [this] { on_data(); });
-  }
-  OpId subscribe(std::function<void(const V&)> on_sample) {
-    subscribers_[++next_id_] = std::move(on_sample);
-    return next_id_;
-  }
-  void unsubscribe(OpId id) { subscribers_.erase(id); }
-  const std::optional<V>& latest() const { return latest_; }
-
- private:
-  void on_data() {
-    reader_.take([this](const T& sample, const dds_sample_info_t&) {
-      latest_ = convert_(sample);
-      const V value = *latest_;
-      // Callbacks may (un)subscribe: walk a copy of the ids and look each up.
-      std::vector<OpId> ids;
-      for (const auto& [id, cb] : subscribers_) ids.push_back(id);
-      for (OpId id : ids) {
-        auto it = subscribers_.find(id);
-        if (it == subscribers_.end()) continue;
-        auto cb = it->second;  // a copy: the callback may unsubscribe itself
-        cb(value);
-      }
-    });
-  }
-
-  dds::Reader<T> reader_;
-  Convert convert_;
-  std::map<OpId, std::function<void(const V&)>> subscribers_;
-  std::optional<V> latest_;
-  OpId next_id_ = 0;
-};
-
-class DdsCraneMonitor final : public CraneMonitor {
+class DdsCraneMonitor final : public CraneMonitor, private DdsProxy {
  public:
   DdsCraneMonitor(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
-  ~DdsCraneMonitor() override;
   OpId check_health(std::chrono::nanoseconds max_age, std::chrono::nanoseconds timeout, OpCallback done) override;
   OpId watch_health(std::chrono::nanoseconds max_silence, OpCallback on_problem) override;
   OpId request_external(std::chrono::nanoseconds timeout, OpCallback done) override;
@@ -87,31 +47,19 @@ class DdsCraneMonitor final : public CraneMonitor {
     bool external = false;  // request_external (else check_health)
     WallTime since;         // check_health: the oldest acceptable stamp
     std::string link_down;  // check_health: the link-down problem seen while waiting, if any
-    OpCallback done;
-    dds::EventLoop::TimerId timer = 0;
-  };
-  struct Watch {
-    std::chrono::nanoseconds max_silence;
-    OpCallback on_problem;
-    dds::EventLoop::TimerId timer = 0;
   };
   void on_state(const CraneSnapshot& s);
   void evaluate(OpId id, const CraneSnapshot& s);
-  void finish(OpId id, const OpResult& result);
-  void fire_watch(OpId id, const std::string& message);
+  /// The deadline of a watch: no state for `max_silence` is a problem.
+  PendingOps<std::chrono::nanoseconds>::OnDeadline silence(std::chrono::nanoseconds max_silence);
 
-  dds::EventLoop& loop_;
-  Logger log_;
-  std::string source_;
   dds::Writer<rigger_crane_CraneControl> control_;
-  TopicFanout<rigger_crane_CraneState, CraneSnapshot> state_;
-  std::map<OpId, Pending> pending_;
-  std::map<OpId, Watch> watches_;
-  OpId next_id_ = 0;
-  std::uint64_t seq_;
+  TopicCondition<rigger_crane_CraneState, CraneSnapshot> state_;
+  PendingOps<Pending> pending_;
+  PendingOps<std::chrono::nanoseconds> watches_;  // each with its max_silence; ends at the first problem
 };
 
-class DdsVisionTracker final : public VisionTracker {
+class DdsVisionTracker final : public VisionTracker, private DdsProxy {
  public:
   DdsVisionTracker(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
   WallTime command(TrackerRequest request, const std::string& object_id) override;
@@ -119,17 +67,13 @@ class DdsVisionTracker final : public VisionTracker {
   void cancel(OpId id) override { poses_.unsubscribe(id); }
 
  private:
-  Logger log_;
-  std::string source_;
   dds::Writer<rigger_vision_TrackerCommand> commands_;
-  TopicFanout<rigger_vision_TrackedPose, TrackedObjectSample> poses_;
-  std::uint64_t seq_;
+  TopicCondition<rigger_vision_TrackedPose, TrackedObjectSample> poses_;
 };
 
-class DdsAdmittanceController final : public AdmittanceController {
+class DdsAdmittanceController final : public AdmittanceController, private DdsProxy {
  public:
   DdsAdmittanceController(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
-  ~DdsAdmittanceController() override;
   OpId command(const AdmittanceRequest& request, std::chrono::nanoseconds timeout, OpCallback done) override;
   OpId watch(std::function<void(const AdmittanceSnapshot&)> on_state) override;
   void cancel(OpId id) override;
@@ -138,25 +82,16 @@ class DdsAdmittanceController final : public AdmittanceController {
   struct Pending {
     std::uint64_t seq = 0;
     AdmittanceRequest request;
-    OpCallback done;
-    dds::EventLoop::TimerId timer = 0;
   };
   void on_state(const AdmittanceSnapshot& s);
-  void finish(OpId id, const OpResult& result);
 
-  dds::EventLoop& loop_;
-  Logger log_;
-  std::string source_;
   dds::Writer<rigger_admittance_AdmittanceCommand> commands_;
-  TopicFanout<rigger_admittance_AdmittanceState, AdmittanceSnapshot> state_;
-  std::map<OpId, Pending> pending_;
-  std::map<OpId, OpId> watches_;  // our id -> fanout subscription
-  OpId next_id_ = 0;
-  OpId state_subscription_ = 0;
-  std::uint64_t seq_;
+  TopicCondition<rigger_admittance_AdmittanceState, AdmittanceSnapshot> state_;
+  PendingOps<Pending> pending_;
+  std::map<OpId, OpId> watches_;  // our id -> state_ subscription
 };
 
-class DdsOperatorPanel final : public OperatorPanel {
+class DdsOperatorPanel final : public OperatorPanel, private DdsProxy {
  public:
   DdsOperatorPanel(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
   /// Withdraws every prompt still published.
@@ -178,14 +113,9 @@ class DdsOperatorPanel final : public OperatorPanel {
   void write(const Prompt& prompt, bool active);
   void on_responses();
 
-  dds::EventLoop& loop_;
-  Logger log_;
-  std::string source_;
   dds::Writer<rigger_operator_ui_OperatorPrompt> prompts_;
   dds::Reader<rigger_operator_ui_OperatorResponse> responses_;
   std::map<OpId, Prompt> open_;
-  OpId next_id_ = 0;
-  std::uint64_t seq_;
 };
 
 class DdsWorldAccess final : public WorldAccess {

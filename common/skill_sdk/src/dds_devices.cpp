@@ -17,26 +17,15 @@ RobotSnapshot to_snapshot(const rigger_robot_RobotState& s) {
   return out;
 }
 
-// Sequence numbers start at the wall clock so that a restarted executor's commands are newer than
-// its predecessor's for every consumer that compares them.
-std::uint64_t initial_seq() { return static_cast<std::uint64_t>(to_unix_ns(std::chrono::system_clock::now())); }
-
 }  // namespace
 
 DdsRobot::DdsRobot(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source)
-    : loop_(loop),
-      log_(std::move(log)),
-      source_(std::move(source)),
+    : DdsProxy(loop, std::move(log), std::move(source)),
       commands_(participant, protocol::robot::kCmdMotion),
       status_(participant, protocol::robot::kMotionStatus),
       state_(participant, loop, protocol::robot::kState, to_snapshot),
-      seq_(initial_seq()) {
+      pending_(loop) {
   loop_.on_data(status_, [this] { on_status(); });
-}
-
-DdsRobot::~DdsRobot() {
-  for (auto& [id, p] : pending_)
-    if (p.timer != 0) loop_.cancel(p.timer);
 }
 
 OpId DdsRobot::move(const MotionGoal& goal, std::chrono::nanoseconds timeout, OpCallback done) {
@@ -50,37 +39,35 @@ OpId DdsRobot::stop(std::chrono::nanoseconds timeout, OpCallback done) {
 
 OpId DdsRobot::send(rigger_robot_MotionKind kind, const MotionGoal* goal, std::chrono::nanoseconds timeout,
                     OpCallback done) {
-  const OpId id = ++next_id_;
-  const std::string motion_id = source_ + "-" + std::to_string(++seq_);
+  const OpId id = next_op();
+  const std::uint64_t seq = next_seq();
+  const std::string motion_id = source_ + "-" + std::to_string(seq);
   rigger_robot_MotionCommand c{};
   const std::string frame = goal ? goal->frame : std::string();
   std::vector<double> joints = goal ? goal->joint_goal_rad : std::vector<double>{};
   c.header.stamp = dds::wire_now();
   c.header.frame_id = dds::wire_string(frame);
   c.motion_id = dds::wire_string(motion_id);
-  c.seq = seq_;
+  c.seq = seq;
   c.kind = kind;
   dds::wire_sequence(c.joint_goal, joints);
   c.pose_goal = dds::to_wire(goal ? goal->pose_frame_tool : Eigen::Isometry3d::Identity());
   c.speed_scale = goal ? goal->speed_scale : 1.0;
   c.timeout_s = to_seconds(timeout);
   c.source = dds::wire_string(source_);
-  Pending p{motion_id, std::move(done), 0, kind != rigger_robot_MOTION_STOP};
-  p.timer = loop_.after(timeout, [this, id] {
-    auto it = pending_.find(id);
-    if (it == pending_.end()) return;
-    it->second.timer = 0;
-    const bool stop_after = it->second.stop_on_timeout;
-    const std::string mid = it->second.motion_id;
-    complete(id, OpResult::failure("TIMEOUT", "motion " + mid + " did not end within its timeout"));
+  pending_.start(id, Pending{motion_id, kind != rigger_robot_MOTION_STOP}, std::move(done), timeout, [this](OpId op) {
+    const Pending p = *pending_.find(op);
+    pending_.finish(op, OpResult::failure("TIMEOUT", "motion " + p.motion_id + " did not end within its timeout"));
     // A motion that overran is stopped; nobody waits for that stop (the caller gets TIMEOUT).
-    if (stop_after) stop(std::chrono::seconds(5), [](const OpResult&) {});
+    if (p.stop_on_timeout) stop(std::chrono::seconds(5), [](const OpResult&) {});
   });
-  pending_.emplace(id, std::move(p));
   const dds_return_t rc = commands_.write(c);
   if (rc != DDS_RETCODE_OK) {
     // Reported from the loop, not from inside the caller's call, so callbacks never re-enter.
-    loop_.post([this, id, rc] { complete(id, OpResult::failure("MOTION_FAILED", "cmd_motion write failed: " + std::string(dds_strretcode(rc)))); });
+    loop_.post([this, id, rc] {
+      pending_.finish(
+          id, OpResult::failure("MOTION_FAILED", "cmd_motion write failed: " + std::string(dds_strretcode(rc))));
+    });
   }
   log_->debug("motion sent id={} kind={}", motion_id, static_cast<int>(kind));
   return id;
@@ -90,8 +77,8 @@ void DdsRobot::on_status() {
   std::vector<std::pair<OpId, OpResult>> results;
   status_.take([&](const rigger_robot_MotionStatus& s, const dds_sample_info_t&) {
     const std::string motion_id = dds::to_string(s.motion_id);
-    for (const auto& [id, p] : pending_) {
-      if (p.motion_id != motion_id) continue;
+    for (OpId id : pending_.ids()) {
+      if (pending_.find(id)->motion_id != motion_id) continue;
       const std::string code = dds::to_string(s.code), message = dds::to_string(s.message);
       switch (s.state) {
         case rigger_robot_MOTION_SUCCEEDED:
@@ -108,20 +95,11 @@ void DdsRobot::on_status() {
       }
     }
   });
-  for (const auto& [id, result] : results) complete(id, result);
-}
-
-void DdsRobot::complete(OpId id, const OpResult& result) {
-  auto it = pending_.find(id);
-  if (it == pending_.end()) return;
-  if (it->second.timer != 0) loop_.cancel(it->second.timer);
-  auto done = std::move(it->second.done);
-  pending_.erase(it);
-  if (done) done(result);
+  for (const auto& [id, result] : results) pending_.finish(id, result);
 }
 
 OpId DdsRobot::next_state(std::chrono::nanoseconds timeout, std::function<void(std::optional<RobotSnapshot>)> done) {
-  const OpId id = ++next_id_;
+  const OpId id = next_op();
   const WallTime since = std::chrono::system_clock::now();
   const OpId wait_id = state_.wait([since](const RobotSnapshot& s) { return s.stamp >= since; }, timeout,
                                    [this, id, done = std::move(done)](std::optional<RobotSnapshot> s) {
@@ -139,15 +117,11 @@ void DdsRobot::cancel(OpId id) {
     state_waits_.erase(w);
     return;
   }
-  auto it = pending_.find(id);
-  if (it == pending_.end()) return;
-  if (it->second.timer != 0) loop_.cancel(it->second.timer);
-  pending_.erase(it);
+  pending_.cancel(id);
 }
 
 DdsGripper::DdsGripper(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source)
-    : log_(std::move(log)),
-      source_(std::move(source)),
+    : DdsProxy(loop, std::move(log), std::move(source)),
       commands_(participant, protocol::robot::kGripperCmd),
       state_(participant, loop, protocol::robot::kGripperState,
              [](const rigger_robot_GripperState& s) {
@@ -159,11 +133,10 @@ DdsGripper::DdsGripper(const dds::Participant& participant, dds::EventLoop& loop
                g.holding_force_n = s.holding_force_n;
                g.last_command_seq = s.last_command_seq;
                return g;
-             }),
-      seq_(initial_seq()) {}
+             }) {}
 
 OpId DdsGripper::set_energized(bool energize, std::chrono::nanoseconds timeout, OpCallback done) {
-  const std::uint64_t seq = ++seq_;
+  const std::uint64_t seq = next_seq();
   rigger_robot_GripperCommand c{};
   c.header.stamp = dds::wire_now();
   c.seq = seq;
@@ -175,7 +148,7 @@ OpId DdsGripper::set_energized(bool energize, std::chrono::nanoseconds timeout, 
         if (s) done(OpResult::success(energize ? "energized" : "released"));
         else done(OpResult::failure("TIMEOUT", std::string("the gripper did not confirm ") + (energize ? "energize" : "release")));
       });
-  if (commands_.write(c) != DDS_RETCODE_OK) log_->warn("gripper command write failed seq={}", seq);
+  write_command(commands_, c, "gripper command");
   return id;
 }
 

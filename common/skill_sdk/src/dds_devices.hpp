@@ -12,19 +12,19 @@
 #include <memory>
 #include <string>
 
-#include "rigger/skill_sdk/primitives.hpp"
+#include "dds_proxy.hpp"
 #include "rigger/base/logging.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/skill_sdk/primitives.hpp"
 #include "topic_condition.hpp"
 
 namespace rigger::skill_sdk {
 
-class DdsRobot final : public RobotMotion {
+class DdsRobot final : public RobotMotion, private DdsProxy {
  public:
   /// `source` names the commands' sender (the executor id) and prefixes motion ids.
   DdsRobot(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
-  ~DdsRobot() override;
 
   OpId move(const MotionGoal& goal, std::chrono::nanoseconds timeout, OpCallback done) override;
   OpId stop(std::chrono::nanoseconds timeout, OpCallback done) override;
@@ -34,27 +34,19 @@ class DdsRobot final : public RobotMotion {
  private:
   struct Pending {
     std::string motion_id;
-    OpCallback done;
-    dds::EventLoop::TimerId timer = 0;
     bool stop_on_timeout = false;
   };
   OpId send(rigger_robot_MotionKind kind, const MotionGoal* goal, std::chrono::nanoseconds timeout, OpCallback done);
   void on_status();
-  void complete(OpId id, const OpResult& result);
 
-  dds::EventLoop& loop_;
-  Logger log_;
-  std::string source_;
   dds::Writer<rigger_robot_MotionCommand> commands_;
   dds::Reader<rigger_robot_MotionStatus> status_;
   TopicCondition<rigger_robot_RobotState, RobotSnapshot> state_;
-  std::map<OpId, Pending> pending_;
+  PendingOps<Pending> pending_;
   std::map<OpId, OpId> state_waits_;  // our id -> TopicCondition id
-  OpId next_id_ = 0;
-  std::uint64_t seq_ = 0;
 };
 
-class DdsGripper final : public Gripper {
+class DdsGripper final : public Gripper, private DdsProxy {
  public:
   DdsGripper(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string source);
   OpId set_energized(bool energize, std::chrono::nanoseconds timeout, OpCallback done) override;
@@ -63,11 +55,8 @@ class DdsGripper final : public Gripper {
   void cancel(OpId id) override { state_.cancel(id); }
 
  private:
-  Logger log_;
-  std::string source_;
   dds::Writer<rigger_robot_GripperCommand> commands_;
   TopicCondition<rigger_robot_GripperState, GripperSnapshot> state_;
-  std::uint64_t seq_ = 0;
 };
 
 }  // namespace rigger::skill_sdk

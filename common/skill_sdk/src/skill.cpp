@@ -149,6 +149,15 @@ void Skill::succeed(const std::string& message) {
   finish({SkillResult::Kind::kSuccess, "", message});
 }
 
+bool Skill::require_devices(std::initializer_list<NeededDevice> needed) {
+  for (const NeededDevice& device : needed) {
+    if (device.present) continue;
+    fail("DEVICE_UNAVAILABLE", std::string("this executor has no ") + device.name);
+    return false;
+  }
+  return true;
+}
+
 void Skill::succeed_unlocalizing(const std::string& object, const std::string& message) {
   WorldAccess* world = ctx().devices().world_access;
   if (world == nullptr) {

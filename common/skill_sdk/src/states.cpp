@@ -61,6 +61,58 @@ void CraneSkill::engage_admittance(const AdmittanceRequest& request, const std::
   track([admittance, id] { admittance->cancel(id); });
 }
 
+void CraneSkill::watch_admittance(AdmittanceModeRequest mode, AdmittanceReference reference,
+                                  std::function<void(const AdmittanceSnapshot&)> on_engaged,
+                                  std::function<bool(const std::string&)> own_fault) {
+  AdmittanceController* admittance = ctx().devices().admittance;
+  const auto cancel_fault_timer = [this] {
+    if (admittance_fault_timer_ != 0) ctx().cancel_timer(admittance_fault_timer_);
+    admittance_fault_timer_ = 0;
+  };
+  const OpId id =
+      admittance->watch(guard([this, mode, reference, on_engaged = std::move(on_engaged),
+                               own_fault = std::move(own_fault), cancel_fault_timer](const AdmittanceSnapshot& s) {
+        if (!s.fault || (own_fault && own_fault(s.fault_code))) {
+          cancel_fault_timer();
+        } else if (admittance_fault_timer_ == 0) {
+          const std::string code = admittance_fault_code(s.fault_code);
+          const std::string message = "admittance_control: " + s.fault_code + " " + s.fault_text;
+          admittance_fault_timer_ =
+              ctx().after(kAdmittanceFaultGrace, guard([this, code, message] {
+                            admittance_fault_timer_ = 0;
+                            fail(code, message + " (for " + std::to_string(kAdmittanceFaultGrace.count()) + " ms)");
+                          }));
+        }
+        if (s.mode != mode || s.reference != reference) {
+          if (s.fault) {  // the controller went OFF by itself on a latched fault (CRANE_FAULT, COMMANDER_LOST, ...)
+            fail(admittance_fault_code(s.fault_code),
+                 "admittance_control stopped with fault " + s.fault_code + " " + s.fault_text);
+            return;
+          }
+          fail("ADMITTANCE_PREEMPTED", std::string("admittance_control left ") + admittance_mode_name(mode) + "/" +
+                                           admittance_reference_name(reference) + " (another command?)");
+          return;
+        }
+        if (on_engaged) on_engaged(s);
+      }));
+  track([admittance, id] { admittance->cancel(id); });
+  track(cancel_fault_timer);
+}
+
+void CraneSkill::disengage_admittance(std::function<void()> then) {
+  AdmittanceController* admittance = ctx().devices().admittance;
+  AdmittanceRequest off;
+  off.mode = AdmittanceModeRequest::kOff;
+  const OpId id =
+      admittance->command(off, kAdmittanceStopTimeout, guard([this, then = std::move(then)](const OpResult& r) {
+                            if (r.ok)
+                              then();
+                            else
+                              fail("ADMITTANCE_FAULT", "admittance OFF not confirmed: " + r.code + ": " + r.message);
+                          }));
+  track([admittance, id] { admittance->cancel(id); });
+}
+
 void admittance_safe_stop(AdmittanceController* admittance, VisionTracker* tracker, const std::string& object,
                           const Skill::SafeStopDone& done) {
   if (tracker != nullptr) tracker->command(TrackerRequest::kStop, object);

@@ -1,9 +1,10 @@
 #pragma once
 /// @file
-/// The generic asynchronous primitive "wait for a topic condition, with a timeout": every sample of a
-/// topic is offered to the pending waits' predicates; the first sample that satisfies one ends that
-/// wait with the sample, and a wait whose timeout passes ends with std::nullopt. Driven by the
-/// EventLoop (a read condition and a timer per wait), never polled.
+/// A topic's samples, converted once, for the device proxies: the generic asynchronous primitive "wait
+/// for a topic condition, with a timeout" (every sample is offered to the pending waits' predicates; the
+/// first sample that satisfies one ends that wait with the sample, and a wait whose timeout passes ends
+/// with std::nullopt), subscriptions that see every sample until they end, and the newest sample.
+/// Driven by the EventLoop (a read condition and a timer per wait), never polled.
 ///
 /// Thread safety: the event loop thread.
 
@@ -13,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "rigger/skill_sdk/primitives.hpp"
 #include "rigger/dds/event_loop.hpp"
@@ -58,6 +60,13 @@ class TopicCondition {
     loop_.cancel(it->second.timer);
     waits_.erase(it);
   }
+  /// Calls `on_sample` with every value from now on, until unsubscribe() with the id returned.
+  OpId subscribe(std::function<void(const Value&)> on_sample) {
+    const OpId id = ++next_id_;
+    subscribers_.emplace(id, std::move(on_sample));
+    return id;
+  }
+  void unsubscribe(OpId id) { subscribers_.erase(id); }
   /// The newest value received, if any.
   const std::optional<Value>& latest() const { return latest_; }
   std::size_t pending() const { return waits_.size(); }
@@ -85,6 +94,15 @@ class TopicCondition {
       }
       const Value value = *latest_;
       for (auto& cb : ready) cb(value);
+      // Callbacks may (un)subscribe: walk a copy of the ids and look each up.
+      std::vector<OpId> ids;
+      for (const auto& [id, cb] : subscribers_) ids.push_back(id);
+      for (OpId id : ids) {
+        auto it = subscribers_.find(id);
+        if (it == subscribers_.end()) continue;
+        auto cb = it->second;  // a copy: the callback may unsubscribe itself
+        cb(value);
+      }
     });
   }
 
@@ -92,6 +110,7 @@ class TopicCondition {
   dds::Reader<T> reader_;
   Convert convert_;
   std::map<OpId, Wait> waits_;
+  std::map<OpId, std::function<void(const Value&)>> subscribers_;
   std::optional<Value> latest_;
   OpId next_id_ = 0;
 };

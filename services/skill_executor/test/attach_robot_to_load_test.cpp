@@ -3,6 +3,7 @@
 // the magnet.
 #include <gtest/gtest.h>
 
+#include "run_steps.hpp"
 #include "sdk_testing.hpp"
 #include "tool_poses.hpp"
 #include "skills/attach_robot_to_load.hpp"
@@ -75,18 +76,10 @@ class AttachTest : public ::testing::Test {
   /// enters `target` (or ends).
   static void drive_to(RunHarness& h, const std::string& target,
                        const GripperSnapshot& initial = FakeGripper::state(false, false)) {
-    for (int i = 0; i < 40 && !h.result && h.state() != target; ++i) {
-      step(h, kGrasp, initial);
-      if (::testing::Test::HasFatalFailure()) return;
-    }
-    ASSERT_FALSE(h.result) << h.describe_result();
-    ASSERT_EQ(h.state(), target);
+    run_steps::drive_to(h, target, [initial](RunHarness& r) { step(r, kGrasp, initial); }, 40);
   }
   static void run_to_end(RunHarness& h, const GripperSnapshot& initial = FakeGripper::state(false, false)) {
-    for (int i = 0; i < 40 && !h.result; ++i) {
-      step(h, kGrasp, initial);
-      if (::testing::Test::HasFatalFailure()) return;
-    }
+    run_steps::run_to_end(h, [initial](RunHarness& r) { step(r, kGrasp, initial); }, 40);
   }
 };
 
@@ -356,29 +349,15 @@ TEST_F(AttachTest, BadParamsFailBeforeAnything) {
 }
 
 TEST_F(AttachTest, ShutdownInEveryStateReachesItsSafeStopAndNeverTouchesTheMagnet) {
-  const std::vector<std::string> motion_states{"retreat", "move_approach", "approach"};
-  for (const std::string state : {"check", "resolve", "release", "retreat", "move_approach", "energize", "re_resolve",
-                                  "approach", "await_hold", "verify", "confirm"}) {
-    SCOPED_TRACE(state);
-    RunHarness h(type_, attach_params());
-    start(h);
-    const bool retry_path = state == "release" || state == "retreat";
-    drive_to(h, state, retry_path ? FakeGripper::state(true, true) : FakeGripper::state(false, false));
-    if (HasFatalFailure()) return;
-    const auto commanded = h.gripper.commanded;
-    h.run->shutdown("test");
-    const bool moving = std::find(motion_states.begin(), motion_states.end(), state) != motion_states.end();
-    if (moving) {
-      EXPECT_EQ(h.robot.stops, 1);
-      EXPECT_FALSE(h.result) << "STOPPED before the robot confirmed rest";
-      ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));
-    } else {
-      EXPECT_EQ(h.robot.stops, 0);
-    }
-    EXPECT_TRUE(h.stopped()) << h.describe_result();
-    EXPECT_EQ(h.gripper.commanded, commanded) << "a safe stop switched the magnet";
-    EXPECT_EQ(h.gripper.pending_waits(), 0u) << "a wait of the left state is still pending";
-  }
+  run_steps::expect_shutdown_in_each_state(
+      type_, attach_params(),
+      {"check", "resolve", "release", "retreat", "move_approach", "energize", "re_resolve", "approach", "await_hold",
+       "verify", "confirm"},
+      {"retreat", "move_approach", "approach"}, [](RunHarness& h, const std::string& state) {
+        start(h);
+        const bool retry_path = state == "release" || state == "retreat";
+        drive_to(h, state, retry_path ? FakeGripper::state(true, true) : FakeGripper::state(false, false));
+      });
 }
 
 TEST_F(AttachTest, AStopThatIsNotConfirmedIsSafeStopFailed) {
@@ -397,17 +376,7 @@ TEST_F(AttachTest, EveryStatesSafeStopReportsSafe) {
   EXPECT_EQ(skill.state_names(),
             (std::vector<std::string>{"check", "resolve", "release", "retreat", "move_approach", "energize",
                                       "re_resolve", "approach", "await_hold", "verify", "confirm"}));
-  for (const auto& name : skill.state_names()) {
-    std::optional<bool> safe;
-    const int stops_before = h.robot.stops;
-    skill.find_state(name)->on_shutdown([&](bool s, const std::string&) { safe = s; });
-    if (h.robot.stops > stops_before) {
-      EXPECT_FALSE(safe) << name << ": safe before the robot confirmed the stop";
-      ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));
-    }
-    ASSERT_TRUE(safe.has_value()) << name;
-    EXPECT_TRUE(*safe) << name;
-  }
+  run_steps::expect_every_safe_stop_safe(h, run_steps::confirm_robot_stop(h));
   EXPECT_EQ(h.robot.stops, 3) << "retreat, move_approach and approach command the robot";
   EXPECT_TRUE(h.gripper.commanded.empty());
 }

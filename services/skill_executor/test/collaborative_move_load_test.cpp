@@ -3,6 +3,7 @@
 // confirmed before STOPPED).
 #include <gtest/gtest.h>
 
+#include "run_steps.hpp"
 #include "sdk_testing.hpp"
 #include "rigger/skill/param_check.hpp"
 #include "rigger/skill_sdk/states.hpp"
@@ -274,18 +275,7 @@ TEST_F(CollaborativeMoveLoadTest, ShutdownInEveryStateReachesTheSafeStop) {
   // Every state's on_shutdown directly.
   RunHarness h(type_, params_);
   to_guide(h);
-  for (const auto& name : h.run->skill()->state_names()) {
-    std::optional<bool> safe;
-    const auto before = h.admittance.requests.size();
-    h.run->skill()->find_state(name)->on_shutdown([&](bool s, const std::string&) { safe = s; });
-    if (h.admittance.requests.size() > before) {
-      EXPECT_FALSE(safe) << name << ": safe before OFF was confirmed";
-      EXPECT_EQ(h.admittance.requests.back().mode, AdmittanceModeRequest::kOff);
-      ASSERT_TRUE(h.admittance.complete(OpResult::success()));
-    }
-    ASSERT_TRUE(safe.has_value()) << name;
-    EXPECT_TRUE(*safe) << name;
-  }
+  run_steps::expect_every_safe_stop_safe(h, run_steps::confirm_admittance_off(h));
 }
 
 }  // namespace

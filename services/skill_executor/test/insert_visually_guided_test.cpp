@@ -3,6 +3,7 @@
 // (admittance OFF + tracker stop, confirmed before STOPPED).
 #include <gtest/gtest.h>
 
+#include "run_steps.hpp"
 #include "sdk_testing.hpp"
 #include "rigger/skill_sdk/states.hpp"
 #include "skills/insert_visually_guided.hpp"
@@ -357,17 +358,7 @@ TEST_F(InsertTest, ShutdownInEveryStateReachesTheSafeStop) {
   RunHarness h(type_, params_);
   to_servo(h);
   EXPECT_EQ(h.run->skill()->state_names(), states);
-  for (const auto& name : h.run->skill()->state_names()) {
-    std::optional<bool> safe;
-    const auto before = h.admittance.requests.size();
-    h.run->skill()->find_state(name)->on_shutdown([&](bool s, const std::string&) { safe = s; });
-    if (h.admittance.requests.size() > before) {
-      EXPECT_FALSE(safe) << name;
-      ASSERT_TRUE(h.admittance.complete(OpResult::success()));
-    }
-    ASSERT_TRUE(safe.has_value()) << name;
-    EXPECT_TRUE(*safe) << name;
-  }
+  run_steps::expect_every_safe_stop_safe(h, run_steps::confirm_admittance_off(h));
 }
 
 TEST(InsertionGoal, AddsTheStandOffInTheTargetFrame) {

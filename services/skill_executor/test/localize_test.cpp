@@ -2,6 +2,7 @@
 // bad params, missing devices, and shutdown from every state.
 #include <gtest/gtest.h>
 
+#include "run_steps.hpp"
 #include "sdk_testing.hpp"
 #include "skills/localize.hpp"
 
@@ -159,12 +160,7 @@ TEST_F(LocalizeTest, ShutdownFromEveryStateIsStoppedAtOnceAndLeavesNothingPendin
   // every state's safe stop directly
   RunHarness h(type_, params_);
   h.run->start();
-  for (const auto& name : h.run->skill()->state_names()) {
-    std::optional<bool> safe;
-    h.run->skill()->find_state(name)->on_shutdown([&](bool s, const std::string&) { safe = s; });
-    ASSERT_TRUE(safe.has_value()) << name;
-    EXPECT_TRUE(*safe) << name;
-  }
+  run_steps::expect_every_safe_stop_safe(h);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // state reaching the safe stop.
 #include <gtest/gtest.h>
 
+#include "run_steps.hpp"
 #include "sdk_testing.hpp"
 #include "skills/move_to.hpp"
 
@@ -165,17 +166,7 @@ TEST_F(MoveToTest, EveryStatesSafeStopReachesSafety) {
   h.run->start();
   const Skill& skill = *h.run->skill();
   EXPECT_EQ(skill.state_names(), (std::vector<std::string>{"plan", "move", "verify"}));
-  for (const auto& name : skill.state_names()) {
-    std::optional<bool> safe;
-    const int stops_before = h.robot.stops;
-    skill.find_state(name)->on_shutdown([&](bool s, const std::string&) { safe = s; });
-    if (h.robot.stops > stops_before) {
-      EXPECT_FALSE(safe) << name << ": safe before the robot confirmed the stop";
-      ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));
-    }
-    ASSERT_TRUE(safe.has_value()) << name;
-    EXPECT_TRUE(*safe) << name;
-  }
+  run_steps::expect_every_safe_stop_safe(h, run_steps::confirm_robot_stop(h));
   EXPECT_EQ(h.robot.stops, 1) << "only move commands the robot";
 }
 

@@ -2,6 +2,7 @@
 // with what is commanded, each failure code, bad params, and a shutdown from every state.
 #include <gtest/gtest.h>
 
+#include "run_steps.hpp"
 #include "sdk_testing.hpp"
 #include "tool_poses.hpp"
 #include "skills/pick_place.hpp"
@@ -57,19 +58,21 @@ void start(RunHarness& h) {
 }
 
 void drive_to(RunHarness& h, const std::string& target, bool holding_at_start) {
-  for (int i = 0; i < 20 && !h.result && h.state() != target; ++i) {
-    step(h, holding_at_start);
-    if (::testing::Test::HasFatalFailure()) return;
-  }
-  ASSERT_FALSE(h.result) << h.describe_result();
-  ASSERT_EQ(h.state(), target);
+  run_steps::drive_to(h, target, [holding_at_start](RunHarness& r) { step(r, holding_at_start); });
 }
 
 void run_to_end(RunHarness& h, bool holding_at_start) {
-  for (int i = 0; i < 20 && !h.result; ++i) {
-    step(h, holding_at_start);
-    if (::testing::Test::HasFatalFailure()) return;
-  }
+  run_steps::run_to_end(h, [holding_at_start](RunHarness& r) { step(r, holding_at_start); });
+}
+
+/// Shutdown in each of `states` of a run of `type` (Pick: nothing held at the start; Place: the part held).
+void expect_shutdown_in_each_state(const SkillType& type, const nlohmann::json& params,
+                                   const std::vector<std::string>& states, bool holding_at_start) {
+  run_steps::expect_shutdown_in_each_state(type, params, states, {"move_approach", "descend", "retreat"},
+                                           [holding_at_start](RunHarness& h, const std::string& state) {
+                                             start(h);
+                                             drive_to(h, state, holding_at_start);
+                                           });
 }
 
 class PickTest : public ::testing::Test {
@@ -224,25 +227,9 @@ TEST_F(PickTest, FailureCodes) {
 }
 
 TEST_F(PickTest, ShutdownInEveryStateReachesItsSafeStop) {
-  const std::vector<std::string> moving{"move_approach", "descend", "retreat"};
-  for (const std::string state :
-       {"check", "resolve", "move_approach", "descend", "grip", "await_hold", "retreat", "verify"}) {
-    SCOPED_TRACE(state);
-    RunHarness h(type_, pick_params());
-    start(h);
-    drive_to(h, state, false);
-    if (HasFatalFailure()) return;
-    const auto commanded = h.gripper.commanded;
-    h.run->shutdown("test");
-    if (std::find(moving.begin(), moving.end(), state) != moving.end()) {
-      EXPECT_FALSE(h.result);
-      ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));
-    } else {
-      EXPECT_EQ(h.robot.stops, 0);
-    }
-    EXPECT_TRUE(h.stopped()) << h.describe_result();
-    EXPECT_EQ(h.gripper.commanded, commanded);
-  }
+  expect_shutdown_in_each_state(
+      type_, pick_params(), {"check", "resolve", "move_approach", "descend", "grip", "await_hold", "retreat", "verify"},
+      false);
 }
 
 class PlaceTest : public ::testing::Test {
@@ -372,38 +359,12 @@ TEST_F(PlaceTest, AnUnreachablePlacePoseIsPlanFailedWithoutMoving) {
 }
 
 TEST_F(PlaceTest, ShutdownInEveryStateReachesItsSafeStop) {
-  const std::vector<std::string> moving{"move_approach", "descend", "retreat"};
-  for (const std::string state : {"check", "move_approach", "descend", "release", "confirm_released", "retreat"}) {
-    SCOPED_TRACE(state);
-    RunHarness h(type_, place_params());
-    start(h);
-    drive_to(h, state, true);
-    if (HasFatalFailure()) return;
-    const auto commanded = h.gripper.commanded;
-    h.run->shutdown("test");
-    if (std::find(moving.begin(), moving.end(), state) != moving.end()) {
-      EXPECT_FALSE(h.result);
-      ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));
-    } else {
-      EXPECT_EQ(h.robot.stops, 0);
-    }
-    EXPECT_TRUE(h.stopped()) << h.describe_result();
-    EXPECT_EQ(h.gripper.commanded, commanded);
-  }
+  expect_shutdown_in_each_state(type_, place_params(),
+                                {"check", "move_approach", "descend", "release", "confirm_released", "retreat"}, true);
   // resolve (synchronous for a robot-frame pose) and every other state, through find_state.
   RunHarness h(type_, place_params());
   start(h);
-  const Skill& skill = *h.run->skill();
-  for (const auto& name : skill.state_names()) {
-    std::optional<bool> safe;
-    const int stops_before = h.robot.stops;
-    skill.find_state(name)->on_shutdown([&](bool s, const std::string&) { safe = s; });
-    if (h.robot.stops > stops_before) {
-      ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));
-    }
-    ASSERT_TRUE(safe.has_value()) << name;
-    EXPECT_TRUE(*safe) << name;
-  }
+  run_steps::expect_every_safe_stop_safe(h, run_steps::confirm_robot_stop(h));
   EXPECT_EQ(h.robot.stops, 3);
 }
 

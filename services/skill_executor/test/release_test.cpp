@@ -2,6 +2,7 @@
 // code, bad params, and a shutdown from every state.
 #include <gtest/gtest.h>
 
+#include "run_steps.hpp"
 #include "sdk_testing.hpp"
 #include "tool_poses.hpp"
 #include "skills/release.hpp"
@@ -47,14 +48,7 @@ class ReleaseTest : public ::testing::Test {
       FAIL() << "no step for state " << s;
     }
   }
-  static void drive_to(RunHarness& h, const std::string& target) {
-    for (int i = 0; i < 20 && !h.result && h.state() != target; ++i) {
-      step(h);
-      if (::testing::Test::HasFatalFailure()) return;
-    }
-    ASSERT_FALSE(h.result) << h.describe_result();
-    ASSERT_EQ(h.state(), target);
-  }
+  static void drive_to(RunHarness& h, const std::string& target) { run_steps::drive_to(h, target, step); }
 };
 
 TEST_F(ReleaseTest, ReleasesConfirmsAndRetreatsAlongTheToolMinusZ) {
@@ -190,37 +184,15 @@ TEST_F(ReleaseTest, BadParamsAndMissingDevices) {
 }
 
 TEST_F(ReleaseTest, ShutdownInEveryStateReachesItsSafeStop) {
-  for (const std::string state : {"check", "release", "confirm_released", "read_pose", "retreat"}) {
-    SCOPED_TRACE(state);
-    RunHarness h(type_, nlohmann::json::object());
-    h.run->start();
-    drive_to(h, state);
-    if (HasFatalFailure()) return;
-    const auto commanded = h.gripper.commanded;
-    h.run->shutdown("test");
-    if (state == "retreat") {
-      EXPECT_EQ(h.robot.stops, 1);
-      EXPECT_FALSE(h.result);
-      ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));
-    } else {
-      EXPECT_EQ(h.robot.stops, 0);
-    }
-    EXPECT_TRUE(h.stopped()) << h.describe_result();
-    EXPECT_EQ(h.gripper.commanded, commanded);
-  }
+  run_steps::expect_shutdown_in_each_state(type_, nlohmann::json::object(),
+                                           {"check", "release", "confirm_released", "read_pose", "retreat"},
+                                           {"retreat"}, [](RunHarness& h, const std::string& state) {
+                                             h.run->start();
+                                             drive_to(h, state);
+                                           });
   RunHarness h(type_, nlohmann::json::object());
   h.run->start();
-  const Skill& skill = *h.run->skill();
-  for (const auto& name : skill.state_names()) {
-    std::optional<bool> safe;
-    const int stops_before = h.robot.stops;
-    skill.find_state(name)->on_shutdown([&](bool s, const std::string&) { safe = s; });
-    if (h.robot.stops > stops_before) {
-      ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));
-    }
-    ASSERT_TRUE(safe.has_value()) << name;
-    EXPECT_TRUE(*safe) << name;
-  }
+  run_steps::expect_every_safe_stop_safe(h, run_steps::confirm_robot_stop(h));
   EXPECT_EQ(h.robot.stops, 1) << "only retreat commands the robot";
 }
 

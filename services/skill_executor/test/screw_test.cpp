@@ -2,6 +2,7 @@
 // hole withdrawn whenever it is left, every answer, timeouts, bad params and shutdown from every state.
 #include <gtest/gtest.h>
 
+#include "run_steps.hpp"
 #include "sdk_testing.hpp"
 #include "skills/screw.hpp"
 
@@ -163,12 +164,7 @@ TEST_F(ScrewTest, ShutdownFromEveryStateIsStoppedWithThePromptWithdrawn) {
   }
   RunHarness h(type_, params_);
   look_up(h);
-  for (const auto& name : h.run->skill()->state_names()) {
-    std::optional<bool> safe;
-    h.run->skill()->find_state(name)->on_shutdown([&](bool s, const std::string&) { safe = s; });
-    ASSERT_TRUE(safe.has_value()) << name;
-    EXPECT_TRUE(*safe) << name;
-  }
+  run_steps::expect_every_safe_stop_safe(h);
 }
 
 TEST(ScrewHoles, FindsTheHolesScrewData) {

@@ -5,15 +5,12 @@
 namespace rigger::skill_executor {
 
 const skill::SkillDescription& AttachRobotToLoadSkill::describe() {
-  static const skill::SkillDescription kDescription = [] {
-    skill::SkillDescription d;
-    d.name = "AttachRobotToLoad";
-    d.kind = skill::SkillKind::kSkill;
-    d.description =
-        "Grasps the crane-carried load with the magnetic gripper: moves the tool to the approach waypoint, energizes "
-        "the magnet, re-resolves the grasp frame (the load may sway), approaches it in a straight line at low speed "
-        "and verifies the hold for verify_s. A retry after a slip first releases and retreats to the approach pose.";
-    d.params = {
+  static const skill::SkillDescription kDescription = gripper_skill_description(
+      "AttachRobotToLoad",
+      "Grasps the crane-carried load with the magnetic gripper: moves the tool to the approach waypoint, energizes "
+      "the magnet, re-resolves the grasp frame (the load may sway), approaches it in a straight line at low speed "
+      "and verifies the hold for verify_s. A retry after a slip first releases and retreats to the approach pose.",
+      {
         params::object("object", "The crane-carried object (claimed while the skill runs).", "load"),
         params::feature("grasp").doc("Grasp frame = tool pose at the grasp (z into the face), e.g. load/grasp_side."),
         params::feature("approach").doc(
@@ -35,26 +32,20 @@ const skill::SkillDescription& AttachRobotToLoadSkill::describe() {
         params::boolean("check_crane").fallback(true).doc(
             "Refuse to move unless the crane reports healthy (rigger/crane/state)."),
         timeout_param(),
-    };
-    d.resources = {"robot", "gripper", "$object"};
-    d.pausable = true;
-    d.preconditions = {*skill::parse_predicate("localized($object)")};
-    d.postconditions = {*skill::parse_predicate("attached(robot,$object)")};
-    return d;
-  }();
+      },
+      {"localized($object)"}, {"attached(robot,$object)"});
   return kDescription;
 }
 
 AttachRobotToLoadSkill::AttachRobotToLoadSkill() {
-  const auto stop = [this](SafeStopDone done) { stop_robot(done); };
   add_state({"check", [this] { check(); }, nothing_to_stop});
   add_state({"resolve", [this] { resolve(); }, nothing_to_stop});
   add_state({"release", [this] { release(); }, nothing_to_stop});
-  add_state({"retreat", [this] { retreat(); }, stop, stop});
-  add_state({"move_approach", [this] { move_approach(); }, stop, stop});
+  add_motion_state("retreat", [this] { retreat(); });
+  add_motion_state("move_approach", [this] { move_approach(); });
   add_state({"energize", [this] { energize(); }, nothing_to_stop});
   add_state({"re_resolve", [this] { re_resolve(); }, nothing_to_stop});
-  add_state({"approach", [this] { approach(); }, stop, stop});
+  add_motion_state("approach", [this] { approach(); });
   add_state({"await_hold", [this] { await_hold(); }, nothing_to_stop});
   add_state({"verify", [this] { verify(); }, nothing_to_stop});
   add_state({"confirm", [this] { confirm(); }, nothing_to_stop});
@@ -94,12 +85,7 @@ void AttachRobotToLoadSkill::release() {
   // A retry after a slip: the magnet is still on (perhaps holding a corner). Let go first, so that the
   // approach starts from a released gripper; the load hangs from the crane.
   ctx().progress(0.1, "releasing the magnet before the retry");
-  set_magnet(false, [this] {
-    wait_gripper(
-        [](const GripperSnapshot& g) { return !g.energized && !g.holding; }, kGripperTimeout,
-        [this](const GripperSnapshot&) { transition("retreat"); },
-        [this] { fail("RELEASE_FAILED", "the gripper still reports energized or holding after the release"); });
-  });
+  set_magnet(false, [this] { wait_released([this] { transition("retreat"); }); });
 }
 
 void AttachRobotToLoadSkill::retreat() {

@@ -55,14 +55,10 @@ void CollaborativeMoveLoadSkill::safe_stop(const SafeStopDone& done) {
 
 void CollaborativeMoveLoadSkill::check_crane() {
   const Devices& devices = ctx().devices();
-  const char* missing = devices.admittance == nullptr       ? "an admittance controller"
-                        : devices.crane == nullptr          ? "a crane monitor"
-                        : devices.operator_panel == nullptr ? "an operator panel"
-                                                            : nullptr;
-  if (missing) {
-    fail("DEVICE_UNAVAILABLE", std::string("this executor has no ") + missing);
+  if (!require_devices({{devices.admittance != nullptr, "an admittance controller"},
+                        {devices.crane != nullptr, "a crane monitor"},
+                        {devices.operator_panel != nullptr, "an operator panel"}}))
     return;
-  }
   ctx().progress(0.05, "checking the crane");
   check_crane_health([this] { transition("crane_external"); });
 }
@@ -89,14 +85,7 @@ void CollaborativeMoveLoadSkill::guide() {
   ctx().progress(-1.0, "the operator guides " + object + " with the joystick; answer 'done' when it is in place");
 
   watch_crane_health();
-
-  AdmittanceController* admittance = devices.admittance;
-  const OpId admittance_watch = admittance->watch(guard([this](const AdmittanceSnapshot& s) { on_admittance(s); }));
-  track([admittance, admittance_watch] { admittance->cancel(admittance_watch); });
-  track([this] {
-    if (fault_timer_ != 0) ctx().cancel_timer(fault_timer_);
-    fault_timer_ = 0;
-  });
+  watch_admittance(AdmittanceModeRequest::kRobotAndCrane, AdmittanceReference::kJoystick);
 
   OperatorPanel* panel = devices.operator_panel;
   OperatorPromptSpec spec;
@@ -127,44 +116,12 @@ void CollaborativeMoveLoadSkill::guide() {
   }
 }
 
-void CollaborativeMoveLoadSkill::on_admittance(const AdmittanceSnapshot& s) {
-  if (!s.fault) {
-    if (fault_timer_ != 0) ctx().cancel_timer(fault_timer_);
-    fault_timer_ = 0;
-  } else if (fault_timer_ == 0) {
-    const std::string code = admittance_fault_code(s.fault_code);
-    const std::string message = "admittance_control: " + s.fault_code + " " + s.fault_text;
-    fault_timer_ =
-        ctx().after(kAdmittanceFaultGrace, guard([this, code, message] {
-                      fault_timer_ = 0;
-                      fail(code, message + " (for " + std::to_string(kAdmittanceFaultGrace.count()) + " ms)");
-                    }));
-  }
-  if (s.mode != AdmittanceModeRequest::kRobotAndCrane || s.reference != AdmittanceReference::kJoystick) {
-    if (s.fault) {  // the controller went OFF by itself on a latched fault (CRANE_FAULT, COMMANDER_LOST, ...)
-      fail(admittance_fault_code(s.fault_code),
-           "admittance_control stopped with fault " + s.fault_code + " " + s.fault_text);
-      return;
-    }
-    fail("ADMITTANCE_PREEMPTED", "admittance_control left ROBOT_AND_CRANE/JOYSTICK (another command?)");
-  }
-}
-
 void CollaborativeMoveLoadSkill::disengage() {
   ctx().progress(0.95, "admittance OFF");
-  AdmittanceController* admittance = ctx().devices().admittance;
-  AdmittanceRequest off;
-  off.mode = AdmittanceModeRequest::kOff;
-  const OpId id =
-      admittance->command(off, kAdmittanceStopTimeout, guard([this](const OpResult& r) {
-                            if (r.ok)
-                              succeed_unlocalizing(params().at("object").get<std::string>(),
-                                                   "the operator moved the load; admittance OFF, robot and crane "
-                                                   "at rest");
-                            else
-                              fail("ADMITTANCE_FAULT", "admittance OFF not confirmed: " + r.code + ": " + r.message);
-                          }));
-  track([admittance, id] { admittance->cancel(id); });
+  disengage_admittance([this] {
+    succeed_unlocalizing(params().at("object").get<std::string>(),
+                         "the operator moved the load; admittance OFF, robot and crane at rest");
+  });
 }
 
 }  // namespace rigger::skill_executor

@@ -42,11 +42,8 @@ class CollaborativeMoveLoadSkill final : public CraneSkill {
   void crane_external();
   void engage();
   void guide();
-  void on_admittance(const AdmittanceSnapshot& s);
   void disengage();
   void safe_stop(const SafeStopDone& done);
-
-  std::uint64_t fault_timer_ = 0;  // an admittance fault is being reported (see kAdmittanceFaultGrace)
 };
 
 }  // namespace rigger::skill_executor

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "rigger/skill_sdk/cell_devices.hpp"
 #include "rigger/base/text.hpp"
@@ -13,6 +14,28 @@ std::string mm(double m) { return std::to_string(static_cast<long long>(std::lro
 
 double speed_scale_for(double tool_speed_mps) {
   return std::clamp(tool_speed_mps / kRobotMaxToolSpeedMps, 0.001, 1.0);
+}
+
+skill::SkillDescription gripper_skill_description(std::string name, std::string description,
+                                                  std::vector<skill::ParamSpec> params,
+                                                  const std::vector<std::string>& preconditions,
+                                                  const std::vector<std::string>& postconditions) {
+  skill::SkillDescription d;
+  d.name = std::move(name);
+  d.kind = skill::SkillKind::kSkill;
+  d.description = std::move(description);
+  d.params = std::move(params);
+  d.resources = {"robot", "gripper", "$object"};
+  d.pausable = true;
+  const auto parse = [&d](const std::string& text) {
+    std::string error;
+    auto predicate = skill::parse_predicate(text, &error);
+    if (!predicate) throw std::logic_error(d.name + ": predicate '" + text + "': " + error);
+    return *predicate;
+  };
+  for (const auto& text : preconditions) d.preconditions.push_back(parse(text));
+  for (const auto& text : postconditions) d.postconditions.push_back(parse(text));
+  return d;
 }
 
 skill::ParamSpec max_reach_param() {
@@ -49,15 +72,16 @@ GripperSkill::~GripperSkill() {
   if (overall_timer_ != 0) ctx().cancel_timer(overall_timer_);
 }
 
+void GripperSkill::add_motion_state(std::string name, std::function<void()> on_enter) {
+  const auto stop = [this](SafeStopDone done) { stop_robot(done); };
+  add_state({std::move(name), std::move(on_enter), stop, stop});
+}
+
 bool GripperSkill::require_devices(bool robot, bool gripper, bool world) {
   const Devices& d = ctx().devices();
-  const char* missing = robot && !d.robot       ? "robot"
-                        : gripper && !d.gripper ? "gripper"
-                        : world && !d.world     ? "world model"
-                                                : nullptr;
-  if (missing == nullptr) return true;
-  fail("DEVICE_UNAVAILABLE", std::string("this executor has no ") + missing);
-  return false;
+  return Skill::require_devices({{!robot || d.robot != nullptr, "robot"},
+                                 {!gripper || d.gripper != nullptr, "gripper"},
+                                 {!world || d.world != nullptr, "world model"}});
 }
 
 void GripperSkill::start_overall_timeout(double timeout_s) {
@@ -171,6 +195,15 @@ void GripperSkill::wait_gripper(std::function<bool(const GripperSnapshot&)> pred
           on_timeout();
       }));
   track([gripper, id] { gripper->cancel(id); });
+}
+
+void GripperSkill::wait_released(std::function<void()> then) {
+  wait_gripper([](const GripperSnapshot& g) { return !g.energized && !g.holding; }, kGripperTimeout,
+               [then = std::move(then)](const GripperSnapshot&) { then(); },
+               [this] {
+                 fail("RELEASE_FAILED", "the gripper still reports energized or holding " +
+                                            std::to_string(kGripperTimeout.count()) + " s after the release");
+               });
 }
 
 void GripperSkill::wait_for_hold(double timeout_s, const std::string& since, std::function<void()> then) {

@@ -16,6 +16,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -35,6 +36,14 @@ double speed_scale_for(double tool_speed_mps);
 
 /// A length for messages, rounded to whole millimetres: "12 mm".
 std::string mm(double m);
+
+/// The description of a gripper skill: kind skill, pausable, claiming robot, gripper and $object, with
+/// `preconditions` and `postconditions` as predicate texts ("localized($object)").
+/// @throws std::logic_error naming a predicate that does not parse.
+skill::SkillDescription gripper_skill_description(std::string name, std::string description,
+                                                  std::vector<skill::ParamSpec> params,
+                                                  const std::vector<std::string>& preconditions,
+                                                  const std::vector<std::string>& postconditions);
 
 /// The parameters the gripper skills share: `max_reach_m` (m, [0.1, 5], default 1.2; farther tool poses are
 /// refused by the planner) and `timeout_s` (s, [1, 600], default 60; the whole skill).
@@ -65,6 +74,8 @@ class GripperSkill : public CraneSkill {
  protected:
   GripperSkill() = default;
 
+  /// Adds a state that may have the robot moving: its safe stop and its pause hold are stop_robot().
+  void add_motion_state(std::string name, std::function<void()> on_enter);
   /// Fails DEVICE_UNAVAILABLE naming the first missing device; true when all needed are there.
   bool require_devices(bool robot, bool gripper, bool world);
   /// Starts the overall timeout: after `timeout_s` the run fails TIMEOUT from its current state (after
@@ -93,6 +104,9 @@ class GripperSkill : public CraneSkill {
   /// Waits for a gripper state satisfying `predicate`: `on_sample` with it, `on_timeout` after `timeout`.
   void wait_gripper(std::function<bool(const GripperSnapshot&)> predicate, std::chrono::nanoseconds timeout,
                     std::function<void(const GripperSnapshot&)> on_sample, std::function<void()> on_timeout);
+  /// The magnet de-energized: `then` once a gripper state reports neither energized nor holding; else
+  /// RELEASE_FAILED after kGripperTimeout.
+  void wait_released(std::function<void()> then);
   /// The magnet reports holding within `timeout_s` → `then`; else GRASP_FAILED ("… within T s" and
   /// `since`, e.g. " of reaching the grasp frame").
   void wait_for_hold(double timeout_s, const std::string& since, std::function<void()> then);

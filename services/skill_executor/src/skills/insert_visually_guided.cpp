@@ -106,7 +106,7 @@ void InsertVisuallyGuidedSkill::rearm(std::uint64_t& slot, std::chrono::nanoseco
 }
 
 void InsertVisuallyGuidedSkill::cancel_timers() {
-  for (std::uint64_t* slot : {&lost_timer_[0], &lost_timer_[1], &servo_stop_timer_, &settle_timer_, &fault_timer_}) {
+  for (std::uint64_t* slot : {&lost_timer_[0], &lost_timer_[1], &servo_stop_timer_, &settle_timer_}) {
     if (*slot != 0) ctx().cancel_timer(*slot);
     *slot = 0;
   }
@@ -114,15 +114,11 @@ void InsertVisuallyGuidedSkill::cancel_timers() {
 
 void InsertVisuallyGuidedSkill::check_crane() {
   const Devices& devices = ctx().devices();
-  const char* missing = devices.admittance == nullptr     ? "an admittance controller"
-                        : devices.crane == nullptr        ? "a crane monitor"
-                        : devices.tracker == nullptr      ? "a vision tracker"
-                        : devices.world_access == nullptr ? "a world model"
-                                                          : nullptr;
-  if (missing) {
-    fail("DEVICE_UNAVAILABLE", std::string("this executor has no ") + missing);
+  if (!require_devices({{devices.admittance != nullptr, "an admittance controller"},
+                        {devices.crane != nullptr, "a crane monitor"},
+                        {devices.tracker != nullptr, "a vision tracker"},
+                        {devices.world_access != nullptr, "a world model"}}))
     return;
-  }
   object_ = params().at("object").get<std::string>();
   target_ = params().at("target").get<std::string>();
   min_quality_ = params().at("min_quality").get<double>();
@@ -197,10 +193,10 @@ void InsertVisuallyGuidedSkill::servo() {
   track([this] { cancel_timers(); });
 
   watch_crane_health();
-
-  AdmittanceController* admittance = devices.admittance;
-  const OpId admittance_watch = admittance->watch(guard([this](const AdmittanceSnapshot& s) { on_admittance(s); }));
-  track([admittance, admittance_watch] { admittance->cancel(admittance_watch); });
+  // The servo's stops for lack of tracking are judged here (tracking_lost_s), not as admittance faults.
+  watch_admittance(
+      AdmittanceModeRequest::kRobotAndCrane, AdmittanceReference::kVisualServo,
+      [this](const AdmittanceSnapshot& s) { on_admittance(s); }, is_tracking_stop_code);
 
   VisionTracker* tracker = devices.tracker;
   const double lost_s = params().at("tracking_lost_s").get<double>();
@@ -231,12 +227,10 @@ void InsertVisuallyGuidedSkill::on_pose(int index, const TrackedObjectSample& s)
 }
 
 void InsertVisuallyGuidedSkill::on_admittance(const AdmittanceSnapshot& s) {
-  const double lost_s = params().at("tracking_lost_s").get<double>();
   if (is_tracking_stop_code(s.fault_code)) {
     // The servo stopped its reference for lack of tracking: output zero, safe. Fail only if it lasts.
-    if (fault_timer_ != 0) ctx().cancel_timer(fault_timer_);
-    fault_timer_ = 0;
     if (servo_stop_timer_ == 0) {
+      const double lost_s = params().at("tracking_lost_s").get<double>();
       const std::string code = s.fault_code;
       rearm(servo_stop_timer_, from_seconds(lost_s), [this, code, lost_s] {
         fail("TRACKING_LOST", "the visual servo reported " + code + " for " + number_text(lost_s) + " s");
@@ -245,25 +239,6 @@ void InsertVisuallyGuidedSkill::on_admittance(const AdmittanceSnapshot& s) {
   } else {
     if (servo_stop_timer_ != 0) ctx().cancel_timer(servo_stop_timer_);
     servo_stop_timer_ = 0;
-    if (!s.fault) {
-      if (fault_timer_ != 0) ctx().cancel_timer(fault_timer_);
-      fault_timer_ = 0;
-    } else if (fault_timer_ == 0) {
-      const std::string code = admittance_fault_code(s.fault_code);
-      const std::string message = "admittance_control: " + s.fault_code + " " + s.fault_text;
-      rearm(fault_timer_, kAdmittanceFaultGrace, [this, code, message] {
-        fail(code, message + " (for " + std::to_string(kAdmittanceFaultGrace.count()) + " ms)");
-      });
-    }
-  }
-  if (s.mode != AdmittanceModeRequest::kRobotAndCrane || s.reference != AdmittanceReference::kVisualServo) {
-    if (s.fault) {  // the controller went OFF by itself on a latched fault (CRANE_FAULT, COMMANDER_LOST, ...)
-      fail(admittance_fault_code(s.fault_code),
-           "admittance_control stopped with fault " + s.fault_code + " " + s.fault_text);
-      return;
-    }
-    fail("ADMITTANCE_PREEMPTED", "admittance_control left ROBOT_AND_CRANE/VISUAL_SERVO (another command?)");
-    return;
   }
   last_error_m_ = s.servo_error_m;
   last_error_rad_ = s.servo_error_rad;
@@ -285,22 +260,11 @@ void InsertVisuallyGuidedSkill::on_admittance(const AdmittanceSnapshot& s) {
 
 void InsertVisuallyGuidedSkill::hold() {
   ctx().progress(0.95, "inserted; admittance OFF (robot and crane hold, magnet on)");
-  const Devices& devices = ctx().devices();
-  devices.tracker->command(TrackerRequest::kStop, object_);
-  AdmittanceController* admittance = devices.admittance;
-  AdmittanceRequest off;
-  off.mode = AdmittanceModeRequest::kOff;
-  const OpId id =
-      admittance->command(off, kAdmittanceStopTimeout, guard([this](const OpResult& r) {
-                            if (r.ok) {
-                              succeed("inserted " + object_ + " into " + target_ + " (servo error " +
-                                      servo_error_text(last_error_m_, last_error_rad_) +
-                                      "); admittance OFF, robot and crane hold, magnet on");
-                            } else {
-                              fail("ADMITTANCE_FAULT", "admittance OFF not confirmed: " + r.code + ": " + r.message);
-                            }
-                          }));
-  track([admittance, id] { admittance->cancel(id); });
+  ctx().devices().tracker->command(TrackerRequest::kStop, object_);
+  disengage_admittance([this] {
+    succeed("inserted " + object_ + " into " + target_ + " (servo error " +
+            servo_error_text(last_error_m_, last_error_rad_) + "); admittance OFF, robot and crane hold, magnet on");
+  });
 }
 
 }  // namespace rigger::skill_executor

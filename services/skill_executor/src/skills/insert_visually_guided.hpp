@@ -79,7 +79,6 @@ class InsertVisuallyGuidedSkill final : public CraneSkill {
   std::uint64_t lost_timer_[2] = {0, 0};
   std::uint64_t servo_stop_timer_ = 0;
   std::uint64_t settle_timer_ = 0;
-  std::uint64_t fault_timer_ = 0;  // an admittance fault is being reported (see kAdmittanceFaultGrace)
   std::optional<WallTime> last_progress_;
   double last_error_m_ = -1.0, last_error_rad_ = -1.0;
 };

@@ -24,19 +24,28 @@ skill::ParamSpec speed_scale_param() {
   return params::number("speed_scale").range(0.01, 1.0).fallback(0.2).doc(
       "Fraction of the robot's maximum speed for the transfer to the approach pose.");
 }
+
+/// Plans the straight descent onto `target` (a tool pose in the robot base frame) from the approach pose,
+/// approach_m back along the tool's -z axis, and the straight retreat of retreat_m from it: sets
+/// `approach`, returns the planner's error or std::nullopt.
+std::optional<std::string> plan_descent_and_retreat(const nlohmann::json& params, const Eigen::Isometry3d& target,
+                                                    Eigen::Isometry3d& approach) {
+  approach = along_tool_z(target, -params.at("approach_m").get<double>());
+  const double reach_m = params.at("max_reach_m").get<double>();
+  if (auto error = check_straight_approach(approach, target, reach_m, kPickPlaceMaxApproachM, 1e-6)) return error;
+  return check_straight_approach(along_tool_z(target, -params.at("retreat_m").get<double>()), target, reach_m,
+                                 kPickPlaceMaxApproachM, 1e-6);
+}
 }  // namespace
 
 // ---- Pick ---------------------------------------------------------------------------------------
 
 const skill::SkillDescription& PickSkill::describe() {
-  static const skill::SkillDescription kDescription = [] {
-    skill::SkillDescription d;
-    d.name = "Pick";
-    d.kind = skill::SkillKind::kSkill;
-    d.description =
-        "Picks an object within the robot's payload with the magnetic gripper: approach pose, straight "
-        "descent to the grasp frame, energize and confirm the hold, straight retreat.";
-    d.params = {
+  static const skill::SkillDescription kDescription = gripper_skill_description(
+      "Pick",
+      "Picks an object within the robot's payload with the magnetic gripper: approach pose, straight "
+      "descent to the grasp frame, energize and confirm the hold, straight retreat.",
+      {
         params::object("object", "The object picked (claimed while the skill runs)."),
         params::feature("grasp").doc("Grasp frame = tool pose at the grasp (z into the object), e.g. part/grasp_top."),
         approach_m_param(),
@@ -47,25 +56,19 @@ const skill::SkillDescription& PickSkill::describe() {
             "After energizing, the magnet must report holding within this time (else GRASP_FAILED)."),
         max_reach_param(),
         timeout_param(),
-    };
-    d.resources = {"robot", "gripper", "$object"};
-    d.pausable = true;
-    d.preconditions = {*skill::parse_predicate("localized($object)")};
-    d.postconditions = {*skill::parse_predicate("attached(robot,$object)")};
-    return d;
-  }();
+      },
+      {"localized($object)"}, {"attached(robot,$object)"});
   return kDescription;
 }
 
 PickSkill::PickSkill() {
-  const auto stop = [this](SafeStopDone done) { stop_robot(done); };
   add_state({"check", [this] { check(); }, nothing_to_stop});
   add_state({"resolve", [this] { resolve(); }, nothing_to_stop});
-  add_state({"move_approach", [this] { move_approach(); }, stop, stop});
-  add_state({"descend", [this] { descend(); }, stop, stop});
+  add_motion_state("move_approach", [this] { move_approach(); });
+  add_motion_state("descend", [this] { descend(); });
   add_state({"grip", [this] { grip(); }, nothing_to_stop});
   add_state({"await_hold", [this] { await_hold(); }, nothing_to_stop});
-  add_state({"retreat", [this] { retreat(); }, stop, stop});
+  add_motion_state("retreat", [this] { retreat(); });
   add_state({"verify", [this] { verify(); }, nothing_to_stop});
 }
 
@@ -85,15 +88,7 @@ void PickSkill::check() {
 void PickSkill::resolve() {
   resolve_in_robot_frame(params().at("grasp").get<std::string>(), [this](const Eigen::Isometry3d& grasp) {
     grasp_ = grasp;
-    approach_ = along_tool_z(grasp_, -params().at("approach_m").get<double>());
-    const double reach_m = params().at("max_reach_m").get<double>();
-    std::optional<std::string> error =
-        check_straight_approach(approach_, grasp_, reach_m, kPickPlaceMaxApproachM, 1e-6);
-    if (!error) {
-      error = check_straight_approach(along_tool_z(grasp_, -params().at("retreat_m").get<double>()), grasp_, reach_m,
-                                      kPickPlaceMaxApproachM, 1e-6);
-    }
-    if (error) {
+    if (auto error = plan_descent_and_retreat(params(), grasp_, approach_)) {
       fail("PLAN_FAILED", *error);
       return;
     }
@@ -143,15 +138,12 @@ void PickSkill::verify() {
 // ---- Place --------------------------------------------------------------------------------------
 
 const skill::SkillDescription& PlaceSkill::describe() {
-  static const skill::SkillDescription kDescription = [] {
-    skill::SkillDescription d;
-    d.name = "Place";
-    d.kind = skill::SkillKind::kSkill;
-    d.description =
-        "Places a held object: approach pose, straight descent to the place pose, release and confirm, "
-        "straight retreat; then the world model is told the object is no longer localized (Localize it again "
-        "before anything needs its pose).";
-    d.params = {
+  static const skill::SkillDescription kDescription = gripper_skill_description(
+      "Place",
+      "Places a held object: approach pose, straight descent to the place pose, release and confirm, "
+      "straight retreat; then the world model is told the object is no longer localized (Localize it again "
+      "before anything needs its pose).",
+      {
         params::object("object", "The object placed (claimed while the skill runs)."),
         params::pose("pose").doc(
             "Tool pose at the release (z into the support), in the robot base frame \"robot\" (the default) or "
@@ -162,26 +154,19 @@ const skill::SkillDescription& PlaceSkill::describe() {
         speed_scale_param(),
         max_reach_param(),
         timeout_param(),
-    };
-    d.resources = {"robot", "gripper", "$object"};
-    d.pausable = true;
-    d.preconditions = {*skill::parse_predicate("attached(robot,$object)")};
-    d.postconditions = {*skill::parse_predicate("!attached(robot,$object)"),
-                        *skill::parse_predicate("placed($object)"), *skill::parse_predicate("!localized($object)")};
-    return d;
-  }();
+      },
+      {"attached(robot,$object)"}, {"!attached(robot,$object)", "placed($object)", "!localized($object)"});
   return kDescription;
 }
 
 PlaceSkill::PlaceSkill() {
-  const auto stop = [this](SafeStopDone done) { stop_robot(done); };
   add_state({"check", [this] { check(); }, nothing_to_stop});
   add_state({"resolve", [this] { resolve(); }, nothing_to_stop});
-  add_state({"move_approach", [this] { move_approach(); }, stop, stop});
-  add_state({"descend", [this] { descend(); }, stop, stop});
+  add_motion_state("move_approach", [this] { move_approach(); });
+  add_motion_state("descend", [this] { descend(); });
   add_state({"release", [this] { release(); }, nothing_to_stop});
   add_state({"confirm_released", [this] { confirm_released(); }, nothing_to_stop});
-  add_state({"retreat", [this] { retreat(); }, stop, stop});
+  add_motion_state("retreat", [this] { retreat(); });
 }
 
 void PlaceSkill::check() {
@@ -214,14 +199,7 @@ void PlaceSkill::resolve() {
 
 void PlaceSkill::planned(const Eigen::Isometry3d& place) {
   place_ = place;
-  approach_ = along_tool_z(place_, -params().at("approach_m").get<double>());
-  const double reach_m = params().at("max_reach_m").get<double>();
-  std::optional<std::string> error = check_straight_approach(approach_, place_, reach_m, kPickPlaceMaxApproachM, 1e-6);
-  if (!error) {
-    error = check_straight_approach(along_tool_z(place_, -params().at("retreat_m").get<double>()), place_, reach_m,
-                                    kPickPlaceMaxApproachM, 1e-6);
-  }
-  if (error) {
+  if (auto error = plan_descent_and_retreat(params(), place_, approach_)) {
     fail("PLAN_FAILED", *error);
     return;
   }
@@ -245,14 +223,12 @@ void PlaceSkill::release() {
 }
 
 void PlaceSkill::confirm_released() {
-  wait_gripper([](const GripperSnapshot& g) { return !g.energized && !g.holding; }, kGripperTimeout,
-               [this](const GripperSnapshot&) {
-                 if (params().at("retreat_m").get<double>() <= 0.0)
-                   succeed_unlocalizing(params().at("object").get<std::string>(), "placed (no retreat)");
-                 else
-                   transition("retreat");
-               },
-               [this] { fail("RELEASE_FAILED", "the gripper still reports energized or holding after the release"); });
+  wait_released([this] {
+    if (params().at("retreat_m").get<double>() <= 0.0)
+      succeed_unlocalizing(params().at("object").get<std::string>(), "placed (no retreat)");
+    else
+      transition("retreat");
+  });
 }
 
 void PlaceSkill::retreat() {

@@ -5,14 +5,11 @@
 namespace rigger::skill_executor {
 
 const skill::SkillDescription& ReleaseSkill::describe() {
-  static const skill::SkillDescription kDescription = [] {
-    skill::SkillDescription d;
-    d.name = "Release";
-    d.kind = skill::SkillKind::kSkill;
-    d.description =
-        "De-energizes the magnetic gripper, confirms it let go and retreats the tool straight back along "
-        "its -z axis by retreat_m.";
-    d.params = {
+  static const skill::SkillDescription kDescription = gripper_skill_description(
+      "Release",
+      "De-energizes the magnetic gripper, confirms it let go and retreats the tool straight back along "
+      "its -z axis by retreat_m.",
+      {
         params::object("object", "The object let go of (claimed while the skill runs).", "load"),
         params::number("retreat_m").unit("m").range(0.0, 0.5).fallback(0.10).doc(
             "Distance of the straight retreat along the tool's -z axis (0: none)."),
@@ -24,12 +21,8 @@ const skill::SkillDescription& ReleaseSkill::describe() {
             "Refuse to let go unless the crane reports healthy (rigger/crane/state)."),
         params::number("timeout_s").unit("s").range(1.0, 600.0).fallback(30.0).doc(
             "The whole skill; TIMEOUT (after the current state's safe stop) when it takes longer."),
-    };
-    d.resources = {"robot", "gripper", "$object"};
-    d.pausable = true;
-    d.postconditions = {*skill::parse_predicate("!attached(robot,$object)")};
-    return d;
-  }();
+      },
+      {}, {"!attached(robot,$object)"});
   return kDescription;
 }
 
@@ -38,8 +31,7 @@ ReleaseSkill::ReleaseSkill() {
   add_state({"release", [this] { release(); }, nothing_to_stop});
   add_state({"confirm_released", [this] { confirm_released(); }, nothing_to_stop});
   add_state({"read_pose", [this] { read_pose(); }, nothing_to_stop});
-  const auto stop = [this](SafeStopDone done) { stop_robot(done); };
-  add_state({"retreat", [this] { retreat(); }, stop, stop});
+  add_motion_state("retreat", [this] { retreat(); });
 }
 
 void ReleaseSkill::check() {
@@ -63,17 +55,12 @@ void ReleaseSkill::release() {
 }
 
 void ReleaseSkill::confirm_released() {
-  wait_gripper([](const GripperSnapshot& g) { return !g.energized && !g.holding; }, kGripperTimeout,
-               [this](const GripperSnapshot&) {
-                 if (params().at("retreat_m").get<double>() <= 0.0)
-                   succeed("released (no retreat)");
-                 else
-                   transition("read_pose");
-               },
-               [this] {
-                 fail("RELEASE_FAILED", "the gripper still reports energized or holding " +
-                                            std::to_string(kGripperTimeout.count()) + " s after the release");
-               });
+  wait_released([this] {
+    if (params().at("retreat_m").get<double>() <= 0.0)
+      succeed("released (no retreat)");
+    else
+      transition("read_pose");
+  });
 }
 
 void ReleaseSkill::read_pose() {

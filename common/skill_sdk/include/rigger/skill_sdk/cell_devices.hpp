@@ -103,6 +103,9 @@ class VisionTracker {
 
 enum class AdmittanceModeRequest { kOff, kRobot, kRobotAndCrane };
 enum class AdmittanceReference { kNone, kJoystick, kVisualServo };
+/// The wire names, for messages: "OFF", "ROBOT", "ROBOT_AND_CRANE"; "NONE", "JOYSTICK", "VISUAL_SERVO".
+const char* admittance_mode_name(AdmittanceModeRequest mode);
+const char* admittance_reference_name(AdmittanceReference reference);
 
 /// One AdmittanceCommand (gains are left at the controller's configured defaults).
 struct AdmittanceRequest {

@@ -23,6 +23,7 @@
 
 #include <chrono>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <optional>
@@ -124,6 +125,15 @@ class Skill {
   /// when the world model cannot be told. An executor without a world model succeeds at once.
   void succeed_unlocalizing(const std::string& object, const std::string& message);
   static constexpr std::chrono::seconds kWorldUpdateTimeout{2};
+  /// A device the skill needs, for require_devices(): whether the executor has it, and its name in the
+  /// failure (e.g. "an admittance controller").
+  struct NeededDevice {
+    bool present;
+    const char* name;
+  };
+  /// Fails DEVICE_UNAVAILABLE ("this executor has no <name>") for the first of `needed` that is missing;
+  /// true when none is.
+  bool require_devices(std::initializer_list<NeededDevice> needed);
 
   /// Wraps a callback so that it runs only while the state that created it is still current (and the
   /// run has not ended or begun stopping): late events of an abandoned state are dropped.

@@ -3,9 +3,11 @@
 /// Reusable states: the crane's health check, its external control and a watch of its health (CraneSkill,
 /// for every skill that acts while the crane carries the load), and the pieces shared by the skills that
 /// move that load with robot and crane under admittance control (CollaborativeMoveLoad,
-/// InsertVisuallyGuided): the collaborative safe stop and the classification of admittance faults.
+/// InsertVisuallyGuided): engaging the admittance controller, watching it while engaged and
+/// disengaging it, the collaborative safe stop and the classification of admittance faults.
 
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -45,6 +47,21 @@ class CraneSkill : public Skill {
   /// The admittance controller switched to `request` → `then`; a refusal fails the skill with
   /// ADMITTANCE_PREEMPTED (another client took it) or ADMITTANCE_FAULT, saying "engaging `what`".
   void engage_admittance(const AdmittanceRequest& request, const std::string& what, std::function<void()> then);
+  /// For as long as the current state lasts, watches the admittance controller engaged in `mode` with
+  /// `reference`: a fault that lasts kAdmittanceFaultGrace fails the skill with admittance_fault_code();
+  /// a state in another mode or reference fails it at once (with admittance_fault_code() when the
+  /// controller went OFF on a latched fault, else ADMITTANCE_PREEMPTED). Every state still in `mode` and
+  /// `reference` goes to `on_engaged`. A fault whose code satisfies `own_fault` gets no grace timer: the
+  /// skill judges it in `on_engaged` (e.g. the visual servo's stops for lack of tracking).
+  void watch_admittance(AdmittanceModeRequest mode, AdmittanceReference reference,
+                        std::function<void(const AdmittanceSnapshot&)> on_engaged = nullptr,
+                        std::function<bool(const std::string&)> own_fault = nullptr);
+  /// Admittance OFF confirmed (robot and crane at rest; the magnet is not touched) → `then`; else fails
+  /// ADMITTANCE_FAULT ("admittance OFF not confirmed: …") after kAdmittanceStopTimeout at the latest.
+  void disengage_admittance(std::function<void()> then);
+
+ private:
+  std::uint64_t admittance_fault_timer_ = 0;  ///< a fault is being reported (see kAdmittanceFaultGrace)
 };
 
 /// The collaborative safe stop: admittance OFF (robot twist and crane velocity ramp to zero; the
