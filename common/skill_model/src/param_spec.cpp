@@ -14,7 +14,7 @@ namespace {
 
 using Json = nlohmann::json;
 
-constexpr std::array<std::pair<ParamType, std::string_view>, 8> kTypeNames{{
+constexpr std::array<std::pair<ParamType, std::string_view>, 9> kTypeNames{{
     {ParamType::kNumber, "number"},
     {ParamType::kInteger, "integer"},
     {ParamType::kBoolean, "boolean"},
@@ -23,6 +23,7 @@ constexpr std::array<std::pair<ParamType, std::string_view>, 8> kTypeNames{{
     {ParamType::kPose, "pose"},
     {ParamType::kFeatureRef, "feature_ref"},
     {ParamType::kStringList, "string_list"},
+    {ParamType::kObjectId, "object_id"},
 }};
 
 bool is_numeric(ParamType type) {
@@ -34,6 +35,14 @@ bool is_sized(ParamType type) {
 
 bool is_atom_char(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '.' || c == '-';
+}
+
+bool is_object_id(const std::string& text) {
+  if (text.empty() || text.size() > 64) return false;
+  for (const char c : text) {
+    if (!is_atom_char(c)) return false;
+  }
+  return true;
 }
 
 bool is_feature_ref(const std::string& text) {
@@ -186,7 +195,8 @@ const std::vector<std::string_view>& param_type_names() {
 }
 
 ParamSpec object_id_param(std::string name, std::string description, std::optional<std::string> default_id) {
-  ParamSpec spec{std::move(name), ParamType::kString, "", 1.0, std::nullopt, std::nullopt, {}, std::move(description)};
+  ParamSpec spec{std::move(name), ParamType::kObjectId, "", std::nullopt, std::nullopt, std::nullopt, {},
+                 std::move(description)};
   if (default_id) spec.default_value = nlohmann::json(*default_id);
   return spec;
 }
@@ -230,6 +240,8 @@ std::string describe_expectation(const ParamSpec& spec) {
       return "pose {\"position_m\": [x,y,z], \"rpy_deg\": [r,p,y] | \"quaternion_xyzw\": [x,y,z,w], \"frame\"?}";
     case ParamType::kFeatureRef:
       return "feature reference \"entity/feature\" (e.g. \"load/grasp_side\")";
+    case ParamType::kObjectId:
+      return "object id (1-64 of A-Z a-z 0-9 _ . -, e.g. \"load\")";
     case ParamType::kStringList:
       out = "array of strings";
       if (spec.min || spec.max) {
@@ -323,6 +335,13 @@ std::vector<ModelError> check_value(const ParamSpec& spec, const Json& value, co
       break;
     case ParamType::kFeatureRef:
       if (!value.is_string() || !is_feature_ref(value.get_ref<const std::string&>())) {
+        fail(expected + ", got " + detail::describe_json(value));
+      } else if (normalized != nullptr) {
+        *normalized = value;
+      }
+      break;
+    case ParamType::kObjectId:
+      if (!value.is_string() || !is_object_id(value.get_ref<const std::string&>())) {
         fail(expected + ", got " + detail::describe_json(value));
       } else if (normalized != nullptr) {
         *normalized = value;

@@ -23,7 +23,8 @@ bool is_scalar_type(ParamType type) {
 }
 
 bool is_word_type(ParamType type) {
-  return type == ParamType::kString || type == ParamType::kFeatureRef || type == ParamType::kEnum;
+  return type == ParamType::kString || type == ParamType::kFeatureRef || type == ParamType::kEnum ||
+         type == ParamType::kObjectId;
 }
 
 void parse_predicates(const Json& json, const char* key, const std::string& pointer, const SkillDescription& d,

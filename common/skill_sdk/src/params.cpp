@@ -64,7 +64,7 @@ Param speed_scale(double fallback_value) {
 }
 
 Param object(std::string name, std::string doc, std::string default_id) {
-  Param param = text(std::move(name)).at_least(1).doc(std::move(doc));
+  Param param = Param(std::move(name), skill::ParamType::kObjectId).doc(std::move(doc));
   if (!default_id.empty()) param.fallback(std::move(default_id));
   return param;
 }

@@ -22,13 +22,12 @@ TEST(ParamBuilder, WithoutFallbackTheParameterIsRequired) {
   EXPECT_EQ(params::speed_scale(0.5).spec().default_value, nlohmann::json(0.5));
 }
 
-TEST(ParamBuilder, ChoiceKeepsItsValuesAndObjectIsANonEmptyString) {
+TEST(ParamBuilder, ChoiceKeepsItsValuesAndObjectIsAnObjectId) {
   const auto mode = params::choice("mode", {"once", "continuous"}).fallback("once").spec();
   EXPECT_EQ(mode.type, skill::ParamType::kEnum);
   EXPECT_EQ(mode.enum_values, (std::vector<std::string>{"once", "continuous"}));
   const auto object = params::object("object", "The load.", "load").spec();
-  EXPECT_EQ(object.type, skill::ParamType::kString);
-  EXPECT_EQ(object.min, 1.0);
+  EXPECT_EQ(object.type, skill::ParamType::kObjectId);
   EXPECT_EQ(object.default_value, nlohmann::json("load"));
   EXPECT_TRUE(params::object("target", "The target.").spec().required());
 }

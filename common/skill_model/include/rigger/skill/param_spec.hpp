@@ -22,9 +22,10 @@ enum class ParamType {
   kPose,        ///< {"position_m": [x,y,z], "rpy_deg": [r,p,y] | "quaternion_xyzw": [x,y,z,w], "frame": "world"}
   kFeatureRef,  ///< "entity/feature[/sub…]" naming a world-model feature, e.g. "load/grasp_side"
   kStringList,  ///< an array of strings; min/max bound the number of items
+  kObjectId,    ///< a world-model object's id ("load", "target"): 1-64 of [A-Za-z0-9_.-], as the cell file's ids
 };
 
-/// "number", "integer", "boolean", "string", "enum", "pose", "feature_ref", "string_list".
+/// "number", "integer", "boolean", "string", "enum", "pose", "feature_ref", "string_list", "object_id".
 std::string_view to_string(ParamType type);
 /// Inverse of to_string(ParamType); std::nullopt for an unknown name.
 std::optional<ParamType> param_type_from_string(std::string_view name);
@@ -46,8 +47,7 @@ struct ParamSpec {
   friend bool operator==(const ParamSpec& a, const ParamSpec& b);
 };
 
-/// A world-model object id (type string, at least one character): `object`, `target`, … Required when
-/// `default_id` is empty.
+/// A world-model object id (type object_id): `load`, `target`, … Required when `default_id` is empty.
 ParamSpec object_id_param(std::string name, std::string description, std::optional<std::string> default_id = {});
 
 /// A duration in seconds in [min_s, max_s], `default_s` when not given.
