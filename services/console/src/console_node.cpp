@@ -316,6 +316,14 @@ ActionResult ConsoleNode::world_entity(const std::string& id) {
   });
 }
 
+ActionResult ConsoleNode::world_list() {
+  return on_loop([=](auto promise) {
+    world_->list(query_timeout_, [promise](const world_client::Reply& r) {
+      promise->set_value({r.ok, r.ok ? "" : r.code + ": " + r.message, r.result});
+    });
+  });
+}
+
 ActionResult ConsoleNode::cad(const std::string& kind, const std::string& model, const std::string& args_json) {
   static const std::map<std::string, rigger_cad_CadRequestKind> kinds = {{"features", rigger_cad_CAD_FEATURES},
                                                                          {"tessellation", rigger_cad_CAD_TESSELLATION},

@@ -52,6 +52,7 @@ class ConsoleNode : public dds::Node, public Backend {
                              const std::string& comment) override;
   ActionResult journal(const std::string& task_id) override;
   ActionResult world_entity(const std::string& id) override;
+  ActionResult world_list() override;
   ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) override;
   ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
                         const std::string& submitter) override;

@@ -60,6 +60,8 @@ class Backend {
   virtual ActionResult journal(const std::string& task_id) = 0;
   /// The world model's description of entity `id` (data = the entity JSON).
   virtual ActionResult world_entity(const std::string& id) = 0;
+  /// The ids of every entity of the world model (data = a JSON array of strings).
+  virtual ActionResult world_list() = 0;
   /// Asks the CAD service (docs/cad.md): `kind` is "features", "tessellation", "frame" or "derive";
   /// data = {"model_sha256", "result": <result_json parsed>, "data": <binary string, the GLB>}; a refusal
   /// is !ok with message "CODE: why".
@@ -138,6 +140,7 @@ class HttpApi {
   void get_events(const httplib::Request& req, httplib::Response& res);
   void get_plots_stream(const httplib::Request& req, httplib::Response& res);
   void get_plots(const httplib::Request& req, httplib::Response& res);
+  void get_world_entities(const httplib::Request& req, httplib::Response& res);
   void get_runs(const httplib::Request& req, httplib::Response& res);
   void get_run_plots(const httplib::Request& req, httplib::Response& res);
   void get_journal(const httplib::Request& req, httplib::Response& res);

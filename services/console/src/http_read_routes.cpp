@@ -79,6 +79,13 @@ void HttpApi::get_world_entity(const httplib::Request& req, httplib::Response& r
   send_json(res, r.data);
 }
 
+void HttpApi::get_world_entities(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kViewer)) return;
+  const auto r = backend_.world_list();
+  if (!r.ok) return send_error(res, 503, r.message, req.path);
+  send_json(res, {{"entities", r.data}});
+}
+
 void HttpApi::get_cad_model(const httplib::Request& req, httplib::Response& res) {
   if (!who(req, res, Role::kViewer)) return;
   const std::string model = req.has_param("model") ? req.get_param_value("model") : "object:target";

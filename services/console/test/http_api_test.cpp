@@ -37,6 +37,7 @@ class RecordingBackend : public Backend {
   }
   ActionResult journal(const std::string&) override { return {true, "", json::array()}; }
   ActionResult world_entity(const std::string&) override { return world_answer_; }
+  ActionResult world_list() override { return world_answer_; }
   ActionResult world_answer_{false, "no world model", {}};
   ActionResult cad(const std::string& kind, const std::string& model, const std::string& args) override {
     std::lock_guard lock(mutex_);

@@ -73,7 +73,9 @@ inline void expect_every_safe_stop_safe(testing::RunHarness& h, const std::funct
     std::optional<bool> safe;
     skill.find_state(name)->on_shutdown([&](bool s, const std::string&) { safe = s; });
     const bool reported = safe.has_value();
-    if (confirm && confirm()) EXPECT_FALSE(reported) << name << ": safe before its stop was confirmed";
+    if (confirm && confirm()) {
+      EXPECT_FALSE(reported) << name << ": safe before its stop was confirmed";
+    }
     ASSERT_TRUE(safe.has_value()) << name;
     EXPECT_TRUE(*safe) << name;
   }

@@ -28,7 +28,7 @@ try {
   await addNode('control:Sequence');
   await addNode('control:Parallel');              // into the Sequence: /root/children/0
   await addNode('skill:Localize');                // into the Parallel
-  await page.fill('#param-object', 'target');
+  await page.selectOption('#param-object', 'target');
   await select('/root/children/0');
   await addNode('monitor:YankMonitor');
   await page.fill('#param-max_yank_n_per_s', '2000');
@@ -182,7 +182,7 @@ try {
   await page.fill('[data-field="prompt"]', 'Localize the target again?');
   await addNode('skill:Localize');
   check(await page.evaluate(() => window.rigger.planner.state.selected) === '/root/children/3/options/0/child', 'Add on the decision made its first option');
-  await page.fill('#param-object', 'target');
+  await page.selectOption('#param-object', 'target');
   check(await page.locator('li[data-pointer="/root/children/3/options/0/child"]').innerText().then((t) => t.includes('“option 1” →')), 'the option\'s label is shown on its node');
   const post = await page.locator('[data-conditions="postconditions"]').innerText();
   check(post.includes('localized(target)'), `the Localize form shows its postcondition with the parameter bound: ${post}`);

@@ -36,7 +36,7 @@ try {
   await select(PARALLEL);
   await addNode('skill:Release');
   check(await selected() === SECOND_BRANCH, 'the second Release is the Parallel\'s second branch');
-  await page.fill('#param-object', 'target');
+  await page.selectOption('#param-object', 'target');
   await select(PARALLEL);
   await page.fill('[data-field="success_threshold"]', '3');  // 3 successes needed of 2 branches
 

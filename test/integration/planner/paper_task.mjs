@@ -92,9 +92,17 @@ try {
   const axe = () => page.evaluate(async () => (await window.axe.run(document)).violations.map((x) => `${x.id}: ${x.help} (${x.nodes.length}: ${x.nodes.map((n) => n.target).join(' ')})`));
   /// A number in another unit than the parameter's own: the unit chosen from its list, then the number.
   const quantity = async (param, value, unit) => { await page.selectOption(`#unit-${param}`, unit); await fill(`#param-${param}`, value); };
+  /// An object parameter by a click on the part in the 3D view ("Pick in 3D", then the part's centre).
+  const clickObject = async (param, entity) => {
+    await page.click(`[data-frame="${entity}"]`);
+    await page.click(`[data-pick-object="${param}"]`);
+    const [x, y] = await page.evaluate(([e, z]) => window.rigger.planner.screenOf(e, [0, 0, z]), [entity, entity === 'target' ? -0.02 : 0]);
+    await page.mouse.click(x, y);
+    await page.waitForFunction(([p, e]) => document.querySelector(`#param-${p}`)?.value === e, [param, entity], { timeout: 10000 });
+  };
   const insertParams = async (tolerance_mm) => {
-    await fill('#param-object', 'load');
-    await fill('#param-target', 'target');
+    await clickObject('object', 'load');
+    await clickObject('target', 'target');
     await quantity('tolerance_m', tolerance_mm, 'mm');
   };
   const monitors = async (at) => {
@@ -103,7 +111,7 @@ try {
     await add('monitor:TimerMonitor', `${at}/children/2`);
     await quantity('duration_s', 2, 'min');
   };
-  const view = (entity) => page.getByRole('button', { name: `View ${entity}` }).click();
+  const view = (entity) => page.click(`[data-frame="${entity}"]`);
 
   // --- the recipe's own fields ---
   await fill('#planner-task-id', 'crane-insert');
@@ -118,7 +126,7 @@ try {
   const emptyRetry = await axe();  // the tree draws "(empty: …)" under a decorator without a child
   check(emptyRetry.length === 0, `axe-core: no violations with an empty decorator drawn ${JSON.stringify(emptyRetry)}`);
   await add('skill:Localize', '/root/children/0/child');
-  await fill('#param-object', 'target');
+  await clickObject('object', 'target');
 
   // --- localize the load and attach with a yank monitor (retried once) ---
   await select('/root');
@@ -126,10 +134,10 @@ try {
   await fill('[data-field="max_attempts"]', 2);
   await add('control:Sequence', '/root/children/1/child');
   await add('skill:Localize', '/root/children/1/child/children/0');
-  await fill('#param-object', 'load');
+  await page.selectOption('#param-object', 'load');  // from the list of the cell's parts
   const attachPar = await add('control:Parallel', '/root/children/1/child/children/1');
   const attach = await add('skill:AttachRobotToLoad', `${attachPar}/children/0`);
-  await fill('#param-object', 'load');
+  await page.selectOption('#param-object', 'load');
 
   // The grasp: its axes picked in the 3D view. The picker shows the parts' named features.
   await page.click('#planner-pick-grasp');

@@ -1,5 +1,5 @@
-// The planner's 3D view: the cell's parts (load, target) placed where the world model has them, each
-// drawn from its STEP model's tessellation (one mesh part per B-rep face, so a picked triangle is a
+// The planner's 3D view: the cell's objects placed where the world model has them, each
+// drawn from its STEP model's tessellation (a box of the world model's size when it has none) (one mesh part per B-rep face, so a picked triangle is a
 // face with its stable reference). Faces, holes, straight edges and vertices are picked by clicking;
 // hovering highlights what a click would pick. A vertex or an edge is picked within a few pixels of it
 // (when no face is in front of it), a hole by clicking one of its faces or its opening (the ray through
@@ -89,23 +89,26 @@ export class PartsView {
   }
   render() { this.renderer.render(this.scene, this.camera); }
 
-  /// Loads `entity` (a cell object): pose from the world model, tessellation, parts and features from CAD.
-  async load(entity) {
+  /// Loads `entity` (a cell object): pose from the world model (`world`, its description, when the
+  /// caller has it), tessellation, parts and features from CAD; without a CAD model, a box of the world
+  /// model's size, which a click picks as the whole object ({entity, kind: 'object'}).
+  async load(entity, world = null) {
     const model = `object:${entity}`;
     const q = `model=${encodeURIComponent(model)}`;
-    const [world, glb, parts, features] = await Promise.all([
-      api(`/api/world/entity/${encodeURIComponent(entity)}`),
-      api(`/api/cad/model.glb?${q}`, { raw: true }).then((r) => r.arrayBuffer()),
-      api(`/api/cad/parts?${q}`),
-      api(`/api/cad/features?${q}`),
-    ]);
+    world = world || await api(`/api/world/entity/${encodeURIComponent(entity)}`);
+    let glb, parts, features;
+    try {
+      [glb, parts, features] = await Promise.all([
+        api(`/api/cad/model.glb?${q}`, { raw: true }).then((r) => r.arrayBuffer()),
+        api(`/api/cad/parts?${q}`),
+        api(`/api/cad/features?${q}`),
+      ]);
+    } catch (e) {
+      if (!world.model?.size_m) throw e;
+      return this.loadBox(entity, world);
+    }
     const gltf = await new GLTFLoader().parseAsync(glb, '');
-    const group = new THREE.Group();
-    const pose = world.pose || world.world_pose || {};
-    const p = pose.position_m || [0, 0, 0], rpy = pose.rpy_deg || [0, 0, 0];
-    group.position.set(p[0], p[1], p[2]);
-    // R = Rz(yaw) Ry(pitch) Rx(roll), as the cell file says.
-    group.rotation.set(THREE.MathUtils.degToRad(rpy[0]), THREE.MathUtils.degToRad(rpy[1]), THREE.MathUtils.degToRad(rpy[2]), 'ZYX');
+    const group = this.placed(world);
     group.add(gltf.scene);
     const faceOfPrimitive = new Map(parts.parts.map((x) => [x.primitive, x]));
     const meshes = [];
@@ -144,11 +147,59 @@ export class PartsView {
     return this.parts.get(entity);
   }
 
+  /// A group at the world model's pose of an object. R = Rz(yaw) Ry(pitch) Rx(roll), as the cell file says.
+  placed(world) {
+    const group = new THREE.Group();
+    const pose = world.pose || world.world_pose || {};
+    const p = pose.position_m || [0, 0, 0], rpy = pose.rpy_deg || [0, 0, 0];
+    group.position.set(p[0], p[1], p[2]);
+    group.rotation.set(THREE.MathUtils.degToRad(rpy[0]), THREE.MathUtils.degToRad(rpy[1]), THREE.MathUtils.degToRad(rpy[2]), 'ZYX');
+    return group;
+  }
+
+  /// An object without a CAD model: a box of its model size (frame at the box's centre, or at the centre
+  /// of its top face when the model says so).
+  loadBox(entity, world) {
+    const [x, y, z] = world.model.size_m;
+    const group = this.placed(world);
+    const mesh = new THREE.Mesh(new THREE.BoxGeometry(x, y, z),
+      new THREE.MeshStandardMaterial({ color: PART, roughness: 0.8, metalness: 0.05, transparent: true, opacity: 0.85 }));
+    if (/top/.test(world.model.frame || '')) mesh.position.z = -z / 2;
+    mesh.userData = { entity, box: true };
+    group.add(mesh);
+    this.scene.add(group);
+    group.updateMatrixWorld(true);
+    const none = { holes: [], faces: [], edges: [], vertices: [] };
+    this.parts.set(entity, { group, meshes: [{ mesh, face: -1 }], edges: [], vertices: [], features: none, parts: [], sha256: '', world, box: true });
+    this.render();
+    return this.parts.get(entity);
+  }
+
+  /// Shows or hides a part; a hidden part is not picked.
+  setVisible(entity, visible) {
+    const part = this.parts.get(entity);
+    if (!part) return;
+    part.group.visible = visible;
+    this.render();
+  }
+
+  /// The parts shown, as [entity, part] pairs.
+  shown() { return [...this.parts].filter(([, part]) => part.group.visible); }
+
   /// Puts the camera above `entity`, looking down at its top.
   frame(entity) {
     const part = this.parts.get(entity);
-    if (!part) return;
-    const box = new THREE.Box3().setFromObject(part.group);
+    if (part) this.frameBox(new THREE.Box3().setFromObject(part.group));
+  }
+
+  /// Frames every part shown.
+  frameAll() {
+    const box = new THREE.Box3();
+    for (const [, part] of this.shown()) box.expandByObject(part.group);
+    if (!box.isEmpty()) this.frameBox(box);
+  }
+
+  frameBox(box) {
     const c = box.getCenter(new THREE.Vector3());
     const size = box.getSize(new THREE.Vector3()).length();
     const look = new THREE.Vector3(c.x, c.y, box.max.z);
@@ -171,13 +222,13 @@ export class PartsView {
     const ndc = new THREE.Vector2(((x - r.left) / r.width) * 2 - 1, -((y - r.top) / r.height) * 2 + 1);
     this.raycaster.setFromCamera(ndc, this.camera);
     const ray = this.raycaster.ray;
-    const meshes = [...this.parts.values()].flatMap((p) => p.meshes.map((m) => m.mesh));
+    const meshes = this.shown().flatMap(([, p]) => p.meshes.map((m) => m.mesh));
     const hit = this.raycaster.intersectObjects(meshes, false)[0] || null;
     const fine = this.pickFine(x, y, hit);
     if (fine) return fine;
     // The opening of a hole: the ray crosses its entry disk before it hits anything else.
     let best = null;
-    for (const [entity, part] of this.parts) {
+    for (const [entity, part] of this.shown()) {
       for (const h of part.features.holes) {
         const entry = new THREE.Vector3(...h.entry_m).applyMatrix4(part.group.matrixWorld);
         const axis = new THREE.Vector3(...h.axis).transformDirection(part.group.matrixWorld);
@@ -189,6 +240,7 @@ export class PartsView {
     }
     if (best) return this.describe(best.entity, best.hole.faces[0], best.hole);
     if (!hit) return null;
+    if (hit.object.userData.box) return { entity: hit.object.userData.entity, kind: 'object' };
     const { entity, face } = hit.object.userData;
     const pick = this.describe(entity, face, this.holeOfFace(entity, face));
     if (pick.kind === 'face') {
@@ -209,7 +261,7 @@ export class PartsView {
     };
     const click = new THREE.Vector2(x, y);
     let best = null;
-    for (const [entity, part] of this.parts) {
+    for (const [entity, part] of this.shown()) {
       const m = part.group.matrixWorld;
       for (const { vertex } of part.vertices) {
         const w = new THREE.Vector3(...vertex.point_m).applyMatrix4(m);
@@ -267,6 +319,7 @@ export class PartsView {
   }
   facesOf(p) {
     if (p.kind === 'edge' || p.kind === 'vertex') return [];
+    if (p.kind === 'object') return [-1];  // a box: the whole part
     if (p.kind !== 'hole') return [p.face];
     return this.parts.get(p.entity)?.features.holes[p.hole]?.faces || [p.face];
   }

@@ -17,8 +17,8 @@ export class NodeForm {
   /// Draws the form of `state.selected` into `box`. `tree`: the TreeDocument; `describe(name)`: a
   /// leaf's skill description; `features`: the FeaturePicker; `changed(redrawForm)`: after an edit.
   /// `bindings` (set once made): the Bindings, which add their parts to pose and Screw fields.
-  constructor({ box, state, tree, describe, features, changed }) {
-    Object.assign(this, { box, state, tree, describe, features, changed, bindings: null });
+  constructor({ box, state, tree, describe, features, objects, changed }) {
+    Object.assign(this, { box, state, tree, describe, features, objects, changed, bindings: null });
   }
   /// The selected node's errors (one walk of the tree for all the fields).
   ownErrors() { return errorsByNode(this.state.doc, this.state.errors).get(this.state.selected) || []; }
@@ -27,6 +27,7 @@ export class NodeForm {
     const ptr = this.state.selected;
     const node = this.tree.selectedNode();
     this.features.formFor(ptr);
+    if (this.objects.armed && this.objects.armed.ptr !== ptr) this.objects.disarm();  // another node selected
     if (!node) return this.box.replaceChildren(el('p', { class: 'muted' }, 'Select a node.'));
     const edit = (key, value) => { this.tree.set(`${ptr}/${key}`, value); this.changed(false); };
     const parts = [el('p', {}, el('strong', {}, node.type), leafName(node) ? ` ${leafName(node)}` : '', el('code', { class: 'muted' }, ` ${ptr}`))];
@@ -87,6 +88,7 @@ export class NodeForm {
     const help = `${p.type}${range ? ` in ${range}` : ''}${req ? ', required' : `, default ${JSON.stringify(p.default)}`}. ${p.description || ''}`;
     const label = `${p.name}${req ? ' *' : ''} `;
     let input;
+    let pickObject = null;  // an object_id's "Pick in 3D"
     if (p.type === 'number' || p.type === 'integer') {
       input = quantityInput(p, cur, set);
     } else if (p.type === 'boolean' || p.type === 'enum') {
@@ -97,6 +99,10 @@ export class NodeForm {
     } else if (p.type === 'string_list') {
       input = el('input', { type: 'text', value: Array.isArray(cur) ? cur.join(', ') : '', placeholder: 'comma-separated',
         oninput: () => set(input.value.trim() === '' ? undefined : input.value.split(',').map((s) => s.trim()).filter(Boolean)) });
+    } else if (p.type === 'object_id') {
+      const chooser = this.objects.field(ptr, p.name, cur, p.default, set);
+      input = chooser.select;
+      pickObject = chooser.pick;
     } else if (p.type === 'pose') {
       input = el('textarea', { rows: '2', placeholder: '{"position_m": [x, y, z], "rpy_deg": [r, p, y], "frame": "world"}',
         oninput: () => { try { set(input.value.trim() === '' ? undefined : JSON.parse(input.value)); } catch { /* the validator says why */ } } });
@@ -109,6 +115,7 @@ export class NodeForm {
     input.id = `param-${p.name}`;
     const f = field(label, input, input.unitSelect ? '' : p.unit || '', help);
     if (input.unitSelect) input.after(input.unitSelect);
+    if (pickObject) f.append(pickObject);
     if (p.type === 'feature_ref') f.append(this.features.field(node, ptr, p.name, input));
     if (node.skill === 'Screw' && p.name === 'holes') f.append(this.bindings.screwField(node, ptr));
     if (p.type === 'pose') f.append(this.bindings.frameField(node, ptr, p.name));

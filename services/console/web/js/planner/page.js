@@ -18,12 +18,11 @@ import { RehearsalView } from '../rehearsal.js';
 import { confirmCommand, rehearseRecipe, skillLibrary, submitRecipe, validateRecipe } from './api.js';
 import { Bindings } from './bindings.js';
 import { NodeForm } from './form.js';
+import { ObjectPicker } from './objects.js';
 import { listenKeys } from './keys.js';
 import { CONTROL, DECORATORS, TreeDocument, WRAPPERS, changedOwners, emptyRecipe, errorsByNode, leafName, nodeAt, screwErrors } from './tree_document.js';
 import { TreeView } from './tree_view.js';
 import { History } from './undo.js';
-
-const ENTITIES = ['target', 'load'];
 
 export function plannerPage(main, me) {
   if (me.role !== 'programmer') {
@@ -64,6 +63,7 @@ export function plannerPage(main, me) {
   const openFile = el('input', { type: 'file', id: 'planner-open', accept: '.json,application/json', 'aria-label': 'Open a recipe',
     onchange: async () => { if (openFile.files[0]) open(await openFile.files[0].text()); } });
   const viewBox = el('div', { class: 'pview' });
+  const partsList = el('ul', { class: 'picks', id: 'planner-parts', 'aria-label': 'Parts of the cell' });
   const recipeRow = recipeFields(state, changed);
   const undoButton = el('button', { id: 'planner-undo', title: 'Ctrl+Z', onclick: () => undo() }, 'Undo');
   const redoButton = el('button', { id: 'planner-redo', title: 'Ctrl+Shift+Z or Ctrl+Y', onclick: () => redo() }, 'Redo');
@@ -80,9 +80,9 @@ export function plannerPage(main, me) {
     notice,
     el('div', { class: 'planner' },
       el('section', { class: 'panel', 'aria-labelledby': 'pv' }, el('h2', { id: 'pv' }, 'Parts'),
-        el('div', { class: 'toolbar' }, ...ENTITIES.map((e) => el('button', { onclick: () => view.frame(e) }, `View ${e}`)),
-          el('button', { id: 'planner-clear-picks', onclick: () => bindings.clearPicks() }, 'Clear picks')),
+        el('div', { class: 'toolbar' }, el('button', { id: 'planner-clear-picks', onclick: () => bindings.clearPicks() }, 'Clear picks')),
         viewBox,
+        el('details', { open: true }, el('summary', {}, 'Parts of the cell (show, frame)'), partsList),
         el('h2', {}, 'Picked'), picksList,
         el('details', {}, el('summary', {}, 'Holes of the models (click to pick)'), holesList)),
       el('section', { class: 'panel', 'aria-labelledby': 'pt' }, el('h2', { id: 'pt' }, 'Tree'),
@@ -110,10 +110,15 @@ export function plannerPage(main, me) {
     redoButton.disabled = !history.canRedo;
   } });
   const select = (pointer) => { tree.select(pointer); treeView.render(); form.render(); };
-  const view = new PartsView(viewBox, (pick) => bindings.toggle(pick));
+  const view = new PartsView(viewBox, (pick) => {
+    if (objects.take(pick)) return;
+    if (pick.kind === 'object') return say(`${pick.entity} has no CAD model: its faces and holes cannot be picked`, true);
+    bindings.toggle(pick);
+  });
+  const objects = new ObjectPicker(view, say, partsList);
   const features = new FeaturePicker(view, (node, name, f) => bindings.featureChosen(name, f));
   const treeView = new TreeView({ box: treeBox, resources: resourcesBox, errors: errorsBox, state, describe, select });
-  const form = new NodeForm({ box: formBox, state, tree, describe, features, changed });
+  const form = new NodeForm({ box: formBox, state, tree, describe, features, objects, changed });
   const bindings = new Bindings({ state, tree, view, form, picksList, holesList, say, changed,
     settle: () => history.settle(), validate });
   form.bindings = bindings;
@@ -309,12 +314,16 @@ export function plannerPage(main, me) {
     } catch (e) {
       say(`No skill library: ${e.message}`, true);
     }
-    const loaded = await Promise.allSettled(ENTITIES.map((e) => view.load(e)));
-    const failed = loaded.map((r, i) => r.status === 'rejected' ? `${ENTITIES[i]}: ${r.reason.message}` : null).filter(Boolean);
-    if (failed.length) say(`Parts not shown (${failed.join('; ')})`, true);
-    view.frame('target');
+    let ids = [];
+    try {
+      ids = await objects.load();
+    } catch (e) {
+      say(`No parts: the world model did not answer (${e.message})`, true);
+    }
+    view.frameAll();
     bindings.renderHoles();
-    await features.load(ENTITIES);
+    form.render();  // the object lists of the fields
+    await features.load(ids);
     window.rigger.planner.ready = true;
   })();
   return () => {
