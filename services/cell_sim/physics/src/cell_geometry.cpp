@@ -129,6 +129,11 @@ std::optional<Eigen::Isometry3d> CellGeometry::grasp_frame(const std::string& id
 }
 
 CellGeometry cell_geometry_from(const CellFile& file, const std::filesystem::path& model_dir) {
+  return detail::cell_geometry_with_models(file, model_dir, {});
+}
+
+CellGeometry detail::cell_geometry_with_models(const CellFile& file, const std::filesystem::path& model_dir,
+                                               const std::map<std::string, cad::Model>& read_models) {
   file.require_cad_derived("the physics");
   const std::filesystem::path parent = std::filesystem::path(file.source).parent_path();
   const std::filesystem::path models = !model_dir.empty() ? model_dir : parent.empty() ? "." : parent;
@@ -138,7 +143,7 @@ CellGeometry cell_geometry_from(const CellFile& file, const std::filesystem::pat
   cell.robot = parse_robot(file);
   cell.gripper = parse_gripper(file);
   for (const CellEntity& entity : file.entities) {
-    if (entity.kind == cell::EntityKind::kObject) cell.objects.push_back(detail::object_geometry_from(file, entity, models));
+    if (entity.kind == cell::EntityKind::kObject) cell.objects.push_back(detail::object_geometry_from(file, entity, models, read_models));
   }
   cell.load = parse_load(file, cell.objects);
   cell.target = parse_target(file, *file.find(cell.load.id), cell.objects);
@@ -152,13 +157,17 @@ CellGeometry parse_cell_geometry(const std::string& json_text, const std::string
     cell::CellFile file = cell::parse_cell_file(json_text, source);
     const std::filesystem::path parent = std::filesystem::path(source).parent_path();
     const std::filesystem::path models = !model_dir.empty() ? model_dir : parent.empty() ? "." : parent;
-    cell::derive_cad_features(file, models);
-    return cell_geometry_from(file, models);
+    const cell::CadDerivation derivation = cell::derive_cad_features(file, models);
+    return detail::cell_geometry_with_models(file, models, derivation.read_models);
   });
 }
 
 CellGeometry load_cell_geometry(const std::filesystem::path& path) {
-  return cell::rethrow_as<CellGeometryError>([&] { return cell_geometry_from(cell::load_cell_file_with_cad(path)); });
+  return cell::rethrow_as<CellGeometryError>([&] {
+    cell::CadDerivation derivation;
+    const CellFile file = cell::load_cell_file_with_cad(path, &derivation);
+    return detail::cell_geometry_with_models(file, {}, derivation.read_models);
+  });
 }
 
 }  // namespace rigger::sim

@@ -62,13 +62,15 @@ struct StepGeometry {
 };
 
 StepGeometry read_step_solids(const cell::CellFile& file, const cell::CellEntity& entity,
-                              const std::filesystem::path& model_dir) {
+                              const std::filesystem::path& model_dir,
+                              const std::map<std::string, cad::Model>& read_models) {
   const std::string pointer = entity.pointer + "/model/step";
   const std::string expected = "a STEP model of closed solids";
   const std::filesystem::path path = model_dir / entity.model->step;
   StepGeometry geometry;
   try {
-    const cad::Model model = cad::read_step_file(path);
+    const auto known = read_models.find(entity.id);
+    const cad::Model model = known != read_models.end() ? known->second : cad::read_step_file(path);
     BRepMesh_IncrementalMesh mesher(model.shape(), kLinearDeflectionM, false, kAngularDeflectionRad, true);
     int index = 0;
     for (TopExp_Explorer solids(model.shape(), TopAbs_SOLID); solids.More(); solids.Next(), ++index) {
@@ -107,7 +109,8 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> vertex_bounds(const std::vector<Obje
 }
 
 ObjectGeometry object_geometry_from(const cell::CellFile& file, const cell::CellEntity& entity,
-                                    const std::filesystem::path& model_dir) {
+                                    const std::filesystem::path& model_dir,
+                                    const std::map<std::string, cad::Model>& read_models) {
   if (!entity.model) {
     file.fail(entity.pointer + "/model", "the geometry of object \"" + entity.id + "\"", "nothing (missing key)");
   }
@@ -120,7 +123,7 @@ ObjectGeometry object_geometry_from(const cell::CellFile& file, const cell::Cell
   object.pose_object_rope_attachment = entity.features.rope_attachment;
 
   StepGeometry step;
-  if (!model.step.empty()) step = read_step_solids(file, entity, model_dir);
+  if (!model.step.empty()) step = read_step_solids(file, entity, model_dir, read_models);
   if (model.shape == "box") {
     object.box_size_m = model.size_m;
     // The box sits where the STEP model is (e.g. below a frame at the centre of its top face).
