@@ -122,12 +122,13 @@ ObjectGeometry object_geometry_from(const cell::CellFile& file, const cell::Cell
   object.is_static = model.is_static;
   object.pose_object_rope_attachment = entity.features.rope_attachment;
 
+  // The STEP model is read for the geometry (no box) or for the volume a density weighs.
+  const bool box = model.shape == "box";
   StepGeometry step;
-  if (!model.step.empty()) step = read_step_solids(file, entity, model_dir, read_models);
-  if (model.shape == "box") {
+  if (!model.step.empty() && (!box || model.density_kg_m3)) step = read_step_solids(file, entity, model_dir, read_models);
+  if (box) {
     object.box_size_m = model.size_m;
-    // The box sits where the STEP model is (e.g. below a frame at the centre of its top face).
-    if (!step.solids.empty()) object.box_centre_m = vertex_bounds(step.solids).first;
+    object.box_centre_m = cell::box_centre_in_object_frame(file, entity);
   } else {
     object.solids = std::move(step.solids);
   }

@@ -97,8 +97,8 @@ struct ObjectGeometry {
   Eigen::Isometry3d pose_world_object = Eigen::Isometry3d::Identity();
   bool is_static = false;  ///< model.static: fixed to the world
   double mass_kg = 0.0;    ///< model.mass_kg, or the STEP volume times model.density_kg_m3; 0 for a static object without either
-  /// The box shorthand: full edge lengths, and its centre in the object frame (the STEP model's bounding-box
-  /// centre when there is one, else the origin). Absent for an object whose geometry is its STEP solids.
+  /// The box shorthand: full edge lengths, and its centre in the object frame (from the model's "frame", as
+  /// cell::box_centre_in_object_frame reads it). Absent for an object whose geometry is its STEP solids.
   std::optional<Eigen::Vector3d> box_size_m;
   Eigen::Vector3d box_centre_m = Eigen::Vector3d::Zero();
   std::vector<ObjectSolid> solids;  ///< the STEP solids when there is no box
