@@ -386,10 +386,10 @@ void SimRunner::publish_due(WallTime now) {
         {physics_->pose_world_load(), physics_->pose_world_target(), physics_->pose_world_part()}, now);
   }
   if (camera_ && steps_ % camera_every_ == 0) {
-    // Every object of the cell, by its entity id, where the physics has it.
+    // Every object the camera draws (the boxes), by its entity id, where the physics has it.
     CameraSnapshot snapshot{{}, now};
     for (const sim::ObjectGeometry& object : physics_->geometry().objects) {
-      snapshot.poses.push_back({object.id, *physics_->pose_world_object(object.id)});
+      if (object.box_size_m) snapshot.poses.push_back({object.id, *physics_->pose_world_object(object.id)});
     }
     camera_->offer(std::move(snapshot));
   }

@@ -93,7 +93,8 @@ CameraScene camera_scene_from(const cell::CellFile& file, const std::string& cam
   scene.dictionary_name = "DICT_4X4_50";
   bool dictionary_set = false;
   for (const cell::CellEntity& entity : file.entities) {
-    if (entity.kind != cell::EntityKind::kObject || !entity.model) {
+    // The renderer draws boxes: an object given by its STEP model alone is not drawn (yet).
+    if (entity.kind != cell::EntityKind::kObject || !entity.model || entity.model->shape != "box") {
       continue;
     }
     if (const auto& markers = entity.features.markers) {
