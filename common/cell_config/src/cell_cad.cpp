@@ -55,6 +55,7 @@ class Deriver {
     }
     const auto total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     stats_.derive_seconds = total - stats_.read_seconds;
+    for (const auto& [id, loaded] : models_) stats_.read_models.emplace(id, loaded.model);
     return stats_;
   }
 
@@ -221,8 +222,8 @@ CadDerivation derive_cad_features(CellFile& file, const std::filesystem::path& m
 
 CellFile load_cell_file_with_cad(const std::filesystem::path& path, CadDerivation* derivation) {
   CellFile file = load_cell_file(path);
-  const CadDerivation stats = derive_cad_features(file, path.parent_path().empty() ? "." : path.parent_path());
-  if (derivation != nullptr) *derivation = stats;
+  CadDerivation stats = derive_cad_features(file, path.parent_path().empty() ? "." : path.parent_path());
+  if (derivation != nullptr) *derivation = std::move(stats);
   return file;
 }
 

@@ -110,6 +110,23 @@ std::string AttributeReader::text(std::string_view key) const {
   return Checker(file_.source).string(value(key, "a string"), pointer(key));
 }
 
+Eigen::Vector3d box_centre_in_object_frame(const CellFile& file, const CellEntity& entity) {
+  if (!entity.model || entity.model->shape != "box") {
+    file.fail(entity.pointer + "/model/shape", "\"box\" (an object with a box)", "no box");
+  }
+  const ObjectModel& model = *entity.model;
+  const std::string& frame = model.frame;
+  if (frame.empty() || frame == "box centre" || frame == "box center") return Eigen::Vector3d::Zero();
+  if (frame == "centre of the top face" || frame == "center of the top face") {
+    return Eigen::Vector3d(0, 0, -0.5 * model.size_m.z());
+  }
+  if (frame == "centre of the bottom face" || frame == "center of the bottom face") {
+    return Eigen::Vector3d(0, 0, 0.5 * model.size_m.z());
+  }
+  file.fail(entity.pointer + "/model/frame",
+            "\"box centre\", \"centre of the top face\" or \"centre of the bottom face\"", "\"" + frame + "\"");
+}
+
 CellFile load_cell_file(const std::filesystem::path& path) {
   const std::string source = path.string();
   std::ifstream file(path, std::ios::binary);

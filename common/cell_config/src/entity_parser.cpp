@@ -109,24 +109,37 @@ CameraIntrinsics EntityParser::parse_camera(const json& value, const std::string
 }
 
 ObjectModel EntityParser::parse_model(const json& value, const std::string& pointer) const {
-  check_.object(value, pointer, {"shape", "size_m", "mass_kg", "frame", "static", "step"});
+  check_.object(value, pointer, {"shape", "size_m", "mass_kg", "density_kg_m3", "frame", "static", "step"});
   ObjectModel model;
-  model.shape = check_.string(check_.require(value, pointer, "shape", "\"box\""), pointer + "/shape");
-  if (model.shape != "box") check_.fail(pointer + "/shape", "\"box\"", describe_json(value.at("shape")));
-  model.size_m =
-      check_.vector3(check_.require(value, pointer, "size_m", "[x, y, z] extents in metres"), pointer + "/size_m");
-  if ((model.size_m.array() <= 0.0).any()) {
-    check_.fail(pointer + "/size_m", "three extents > 0 m", describe_json(value.at("size_m")));
-  }
-  if (const json* mass = Checker::find(value, "mass_kg"))
-    model.mass_kg = check_.positive(*mass, pointer + "/mass_kg");
-  if (const json* frame = Checker::find(value, "frame")) model.frame = check_.string(*frame, pointer + "/frame");
-  if (const json* is_static = Checker::find(value, "static"))
-    model.is_static = check_.boolean(*is_static, pointer + "/static");
   if (const json* step = Checker::find(value, "step")) {
     model.step = check_.string(*step, pointer + "/step");
     if (model.step.empty()) check_.fail(pointer + "/step", "a STEP file path", "an empty string");
   }
+  // Geometry: the box shorthand, or the STEP model's solids alone.
+  if (const json* shape = Checker::find(value, "shape")) {
+    model.shape = check_.string(*shape, pointer + "/shape");
+    if (model.shape != "box") check_.fail(pointer + "/shape", "\"box\"", describe_json(*shape));
+    model.size_m =
+        check_.vector3(check_.require(value, pointer, "size_m", "[x, y, z] extents in metres"), pointer + "/size_m");
+    if ((model.size_m.array() <= 0.0).any()) {
+      check_.fail(pointer + "/size_m", "three extents > 0 m", describe_json(value.at("size_m")));
+    }
+  } else if (model.step.empty()) {
+    check_.fail(pointer, "a geometry: \"shape\": \"box\" with \"size_m\", or a STEP model (\"step\")",
+                "neither");
+  } else if (Checker::find(value, "size_m") != nullptr) {
+    check_.fail(pointer + "/size_m", "no size_m without \"shape\": \"box\" (the STEP model gives the size)");
+  }
+  if (const json* mass = Checker::find(value, "mass_kg"))
+    model.mass_kg = check_.positive(*mass, pointer + "/mass_kg");
+  if (const json* density = Checker::find(value, "density_kg_m3")) {
+    if (model.mass_kg) check_.fail(pointer + "/density_kg_m3", "either mass_kg or density_kg_m3, not both");
+    if (model.step.empty()) check_.fail(pointer + "/density_kg_m3", "a STEP model (\"step\") whose volume it weighs");
+    model.density_kg_m3 = check_.positive(*density, pointer + "/density_kg_m3");
+  }
+  if (const json* frame = Checker::find(value, "frame")) model.frame = check_.string(*frame, pointer + "/frame");
+  if (const json* is_static = Checker::find(value, "static"))
+    model.is_static = check_.boolean(*is_static, pointer + "/static");
   return model;
 }
 

@@ -284,6 +284,10 @@ TEST(CellFile, RejectsWrongTypesAndRanges) {
   expect_entity_error("camera", "/camera/distortion", {0, 0, 0}, "4, 5, 8, 12 or 14 numbers");
   expect_entity_error("load", "/model/size_m", {0.4, 0, 0.2}, "three extents > 0 m");
   expect_entity_error("load", "/model/shape", "mesh", "\"box\"");
+  // A geometry is the box shorthand or the STEP model alone; a mass or a density, not both.
+  expect_entity_error("load", "/model", json{{"mass_kg", 40.0}},
+                      "a geometry: \"shape\": \"box\" with \"size_m\", or a STEP model");
+  expect_entity_error("load", "/model/density_kg_m3", 7850.0, "either mass_kg or density_kg_m3, not both");
   expect_entity_error("target", "/features/screw_holes/1/torque_nm", 0, "a number > 0");
   expect_entity_error("target", "/features/screw_holes/0/screw_type", "", "non-empty screw type");
 }

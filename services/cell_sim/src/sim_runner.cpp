@@ -386,10 +386,10 @@ void SimRunner::publish_due(WallTime now) {
         {physics_->pose_world_load(), physics_->pose_world_target(), physics_->pose_world_part()}, now);
   }
   if (camera_ && steps_ % camera_every_ == 0) {
-    CameraSnapshot snapshot{{{"load", physics_->pose_world_load()}, {"target", physics_->pose_world_target()}}, now};
-    if (const auto part = physics_->pose_world_part()) {
-      snapshot.poses.push_back({"part", *part});
-      snapshot.poses.push_back({"part_fixture", *physics_->pose_world_part_fixture()});
+    // Every object the camera draws (the boxes), by its entity id, where the physics has it.
+    CameraSnapshot snapshot{{}, now};
+    for (const sim::ObjectGeometry& object : physics_->geometry().objects) {
+      if (object.box_size_m) snapshot.poses.push_back({object.id, *physics_->pose_world_object(object.id)});
     }
     camera_->offer(std::move(snapshot));
   }

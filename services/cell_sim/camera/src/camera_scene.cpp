@@ -15,26 +15,6 @@ constexpr std::size_t kPlumbBobCoefficients = 5;
 constexpr double kOnFaceTolerance_m = 1e-3;
 constexpr double kNormalAlignment = 0.999;
 
-// The box centre (axes along the edges) in the object's frame, from the model's words for its frame.
-Eigen::Isometry3d box_in_object_frame(const cell::CellFile& file, const cell::ObjectModel& model,
-                                      const std::string& pointer) {
-  Eigen::Isometry3d pose_object_box = Eigen::Isometry3d::Identity();
-  const std::string& frame = model.frame;
-  if (frame.empty() || frame == "box centre" || frame == "box center") {
-    return pose_object_box;
-  }
-  if (frame == "centre of the top face" || frame == "center of the top face") {
-    pose_object_box.translation() = Eigen::Vector3d(0, 0, -0.5 * model.size_m.z());
-    return pose_object_box;
-  }
-  if (frame == "centre of the bottom face" || frame == "center of the bottom face") {
-    pose_object_box.translation() = Eigen::Vector3d(0, 0, 0.5 * model.size_m.z());
-    return pose_object_box;
-  }
-  file.fail(pointer, "\"box centre\", \"centre of the top face\" or \"centre of the bottom face\"",
-            "\"" + frame + "\"");
-}
-
 /// Throws unless the marker lies flat on one of the box's faces and faces outwards.
 void check_marker_on_face(const cell::CellFile& file, const BoxObject& object, const MarkerSpec& marker,
                           const std::string& pointer) {
@@ -77,7 +57,7 @@ BoxObject box_object(const cell::CellFile& file, const cell::CellEntity& entity)
   BoxObject object;
   object.id = entity.id;
   object.size_m = entity.model->size_m;
-  object.pose_object_box = box_in_object_frame(file, *entity.model, entity.pointer + "/model/frame");
+  object.pose_object_box = Eigen::Isometry3d(Eigen::Translation3d(cell::box_centre_in_object_frame(file, entity)));
   object.pose_world_object = file.pose_root_entity(entity.id);
   if (entity.features.markers) {
     const std::vector<cell::Marker>& items = entity.features.markers->items;
@@ -113,7 +93,8 @@ CameraScene camera_scene_from(const cell::CellFile& file, const std::string& cam
   scene.dictionary_name = "DICT_4X4_50";
   bool dictionary_set = false;
   for (const cell::CellEntity& entity : file.entities) {
-    if (entity.kind != cell::EntityKind::kObject || !entity.model) {
+    // The renderer draws boxes: an object given by its STEP model alone is not drawn (yet).
+    if (entity.kind != cell::EntityKind::kObject || !entity.model || entity.model->shape != "box") {
       continue;
     }
     if (const auto& markers = entity.features.markers) {

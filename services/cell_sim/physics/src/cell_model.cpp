@@ -1,6 +1,7 @@
 #include "cell_model.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <sstream>
 #include <string>
@@ -16,9 +17,6 @@ constexpr std::array<const char*, kArmJointCount> kArmActuatorNames = {
 
 // Room kept between the geometry's axis ranges and the hard end stops (m).
 constexpr double kEndStopOvertravelM = 0.05;
-
-// Where the part and its table stand when the cell has no part: far outside the cell (world m).
-const Eigen::Vector3d kPartParkingWorldM(-50.0, -50.0, 0.0);
 
 class Lookup {
  public:
@@ -92,36 +90,38 @@ std::string format_range(const Eigen::Vector2d& range) {
 
 }  // namespace
 
-ModelPtr load_model(const std::filesystem::path& path) {
-  std::array<char, 1024> error{};
-  ModelPtr model(
-      mj_loadXML(path.string().c_str(), nullptr, error.data(), static_cast<int>(error.size())));
-  if (!model) {
-    throw PhysicsModelError(path.string() + ": MuJoCo cannot load the model: " + error.data());
-  }
-  return model;
-}
-
-CellModelIndex index_model(const mjModel& model, const std::filesystem::path& path) {
+CellModelIndex index_model(const mjModel& model, const std::filesystem::path& path, const CellGeometry& cell) {
   const Lookup lookup(model, path);
   CellModelIndex index;
   index.crane_body = lookup.id(mjOBJ_BODY, "crane", "body");
   index.bridge_body = lookup.id(mjOBJ_BODY, "crane_bridge", "body");
   index.hook_body = lookup.id(mjOBJ_BODY, "crane_hook", "body");
-  index.load_body = lookup.id(mjOBJ_BODY, "load", "body");
-  index.target_body = lookup.id(mjOBJ_BODY, "target", "body");
+  index.free_object_geom.assign(static_cast<std::size_t>(model.ngeom), false);
+  for (const ObjectGeometry& object : cell.objects) {
+    ObjectBody body{object.id, lookup.id(mjOBJ_BODY, object.id.c_str(), "body"), object.is_static, {}};
+    if (!object.is_static && object.id != cell.load.id) {
+      body.free = lookup.joint((object.id + "_free").c_str(), mjJNT_FREE);
+    }
+    for (int geom = 0; geom < model.ngeom; ++geom) {
+      if (model.geom_bodyid[geom] == body.body && !object.is_static) {
+        index.free_object_geom[static_cast<std::size_t>(geom)] = true;
+      }
+    }
+    if (object.id == cell.load.id) index.load_body = body.body;
+    if (object.id == cell.target.id) index.target_body = body.body;
+    if (object.id == "part") index.part_body = body.body;
+    if (object.id == "part_fixture") index.part_fixture_body = body.body;
+    index.objects.push_back(std::move(body));
+  }
   index.robot_base_body = lookup.id(mjOBJ_BODY, "robot_base", "body");
   index.gripper_body = lookup.id(mjOBJ_BODY, "gripper", "body");
-  index.part_body = lookup.id(mjOBJ_BODY, "part", "body");
-  index.part_fixture_body = lookup.id(mjOBJ_BODY, "part_fixture", "body");
 
   index.bridge = lookup.joint("crane_bridge_x", mjJNT_SLIDE);
   index.trolley = lookup.joint("crane_trolley_y", mjJNT_SLIDE);
   index.sway_x = lookup.joint("crane_sway_x", mjJNT_HINGE);
   index.sway_y = lookup.joint("crane_sway_y", mjJNT_HINGE);
   index.rope_length = lookup.joint("crane_rope_length", mjJNT_SLIDE);
-  index.load_swivel = lookup.joint("load_swivel", mjJNT_BALL);
-  index.part_free = lookup.joint("part_free", mjJNT_FREE);
+  index.load_swivel = lookup.joint((cell.load.id + "_swivel").c_str(), mjJNT_BALL);
   for (int j = 0; j < kArmJointCount; ++j) {
     index.arm[static_cast<std::size_t>(j)] =
         lookup.joint(kArmJointNames[static_cast<std::size_t>(j)], mjJNT_HINGE);
@@ -133,15 +133,10 @@ CellModelIndex index_model(const mjModel& model, const std::filesystem::path& pa
   index.trolley_actuator = lookup.id(mjOBJ_ACTUATOR, "crane_trolley_drive", "actuator");
   index.rope_actuator = lookup.id(mjOBJ_ACTUATOR, "crane_rope", "actuator");
 
-  index.load_geom = lookup.id(mjOBJ_GEOM, "load_box", "geom");
-  index.target_geom = lookup.id(mjOBJ_GEOM, "target_box", "geom");
   index.pedestal_geom = lookup.id(mjOBJ_GEOM, "robot_pedestal", "geom");
   index.gripper_face_geom = lookup.id(mjOBJ_GEOM, "gripper_face", "geom");
   index.gripper_housing_geom = lookup.id(mjOBJ_GEOM, "gripper_housing", "geom");
-  index.part_geom = lookup.id(mjOBJ_GEOM, "part_box", "geom");
-  index.part_fixture_geom = lookup.id(mjOBJ_GEOM, "part_fixture_box", "geom");
-  for (const int geom : {index.load_geom, index.target_geom, index.pedestal_geom, index.gripper_face_geom,
-                         index.part_geom, index.part_fixture_geom}) {
+  for (const int geom : {index.pedestal_geom, index.gripper_face_geom}) {
     if (model.geom_type[geom] != mjGEOM_BOX) {
       throw PhysicsModelError(path.string() + ": geom '" + mj_id2name(&model, mjOBJ_GEOM, geom) +
                               "' must be a box");
@@ -151,7 +146,7 @@ CellModelIndex index_model(const mjModel& model, const std::filesystem::path& pa
   index.flange_site = lookup.id(mjOBJ_SITE, "flange", "site");
   index.tool_site = lookup.id(mjOBJ_SITE, "tool", "site");
   index.ft_site = lookup.id(mjOBJ_SITE, "ft_sensor", "site");
-  index.load_attachment_site = lookup.id(mjOBJ_SITE, "load_rope_attachment", "site");
+  index.load_attachment_site = lookup.id(mjOBJ_SITE, (cell.load.id + "_rope_attachment").c_str(), "site");
   index.sheave_site = lookup.id(mjOBJ_SITE, "crane_sheave", "site");
 
   index.ft_force_address = lookup.sensor_address("ft_force", mjSENS_FORCE);
@@ -194,69 +189,8 @@ std::vector<mjtNum> apply_cell_geometry(mjModel& model, const CellModelIndex& in
   set_range(model, index.rope_length, std::min(0.3, 0.5 * crane.rope_length_range_m[0]),
             crane.rail_height_m - 0.02);
 
-  // Load: box size and mass, rope attachment, swivel anchor.
   const LoadGeometry& load = cell.load;
   const Eigen::Vector3d attachment = load.pose_load_rope_attachment.translation();
-  set_box_geom(model, index.load_geom, load.size_m, Eigen::Vector3d::Zero());
-  const double mass = load.mass_kg;
-  const Eigen::Vector3d size_sq = load.size_m.cwiseProduct(load.size_m);
-  model.body_mass[index.load_body] = mass;
-  model.body_inertia[3 * index.load_body + 0] = mass / 12.0 * (size_sq.y() + size_sq.z());
-  model.body_inertia[3 * index.load_body + 1] = mass / 12.0 * (size_sq.x() + size_sq.z());
-  model.body_inertia[3 * index.load_body + 2] = mass / 12.0 * (size_sq.x() + size_sq.y());
-  for (int i = 0; i < 3; ++i) {
-    model.body_ipos[3 * index.load_body + i] = 0.0;
-    model.body_pos[3 * index.load_body + i] = -attachment[i];
-    model.jnt_pos[3 * index.load_swivel.id + i] = attachment[i];
-    model.site_pos[3 * index.load_attachment_site + i] = attachment[i];
-  }
-  model.body_iquat[4 * index.load_body + 0] = 1.0;
-  for (int i = 1; i < 4; ++i) {
-    model.body_iquat[4 * index.load_body + i] = 0.0;
-  }
-  model.geom_rgba[4 * index.load_geom + 3] = 1.0f;
-
-  // Target fixture: frame = top-face centre, box below it.
-  set_body_pose(model, index.target_body, cell.target.pose_world_target);
-  set_box_geom(model, index.target_geom, cell.target.size_m,
-               Eigen::Vector3d(0.0, 0.0, -0.5 * cell.target.size_m.z()));
-
-  // Part: box size, mass and inertia about its centre; its table: frame = top-face centre, box below it.
-  // Without a part in the cell both stand far away (a free body needs somewhere to rest).
-  Eigen::Isometry3d pose_world_part = Eigen::Isometry3d::Identity();
-  {
-    Eigen::Isometry3d pose_world_fixture = Eigen::Isometry3d::Identity();
-    pose_world_fixture.translation() = kPartParkingWorldM;
-    Eigen::Vector3d part_size(2.0 * model.geom_size[3 * index.part_geom],
-                              2.0 * model.geom_size[3 * index.part_geom + 1],
-                              2.0 * model.geom_size[3 * index.part_geom + 2]);
-    double part_mass = model.body_mass[index.part_body];
-    Eigen::Vector3d fixture_size(2.0 * model.geom_size[3 * index.part_fixture_geom],
-                                 2.0 * model.geom_size[3 * index.part_fixture_geom + 1],
-                                 2.0 * model.geom_size[3 * index.part_fixture_geom + 2]);
-    if (cell.part) {
-      pose_world_fixture = cell.part->pose_world_fixture;
-      pose_world_part = cell.part->pose_world_part;
-      part_size = cell.part->size_m;
-      part_mass = cell.part->mass_kg;
-      fixture_size = cell.part->fixture_size_m;
-    } else {
-      pose_world_fixture.translation().z() = fixture_size.z();
-      pose_world_part.translation() =
-          kPartParkingWorldM + Eigen::Vector3d(0.0, 0.0, fixture_size.z() + 0.5 * part_size.z());
-    }
-    set_body_pose(model, index.part_fixture_body, pose_world_fixture);
-    set_box_geom(model, index.part_fixture_geom, fixture_size, Eigen::Vector3d(0.0, 0.0, -0.5 * fixture_size.z()));
-    set_box_geom(model, index.part_geom, part_size, Eigen::Vector3d::Zero());
-    const Eigen::Vector3d part_sq = part_size.cwiseProduct(part_size);
-    model.body_mass[index.part_body] = part_mass;
-    model.body_inertia[3 * index.part_body + 0] = part_mass / 12.0 * (part_sq.y() + part_sq.z());
-    model.body_inertia[3 * index.part_body + 1] = part_mass / 12.0 * (part_sq.x() + part_sq.z());
-    model.body_inertia[3 * index.part_body + 2] = part_mass / 12.0 * (part_sq.x() + part_sq.y());
-    for (int i = 0; i < 3; ++i) model.body_ipos[3 * index.part_body + i] = 0.0;
-    model.body_iquat[4 * index.part_body + 0] = 1.0;
-    for (int i = 1; i < 4; ++i) model.body_iquat[4 * index.part_body + i] = 0.0;
-  }
 
   // Robot base on a pedestal reaching down to the floor.
   set_body_pose(model, index.robot_base_body, cell.robot.pose_world_base);
@@ -309,14 +243,19 @@ std::vector<mjtNum> apply_cell_geometry(mjModel& model, const CellModelIndex& in
         initial_arm_rad[j];
   }
   // A free joint's qpos is the body's world position and orientation.
-  const std::size_t part_address = static_cast<std::size_t>(index.part_free.qpos);
-  const Eigen::Quaterniond part_rotation(pose_world_part.linear());
-  for (std::size_t i = 0; i < 3; ++i)
-    qpos[part_address + i] = pose_world_part.translation()[static_cast<Eigen::Index>(i)];
-  qpos[part_address + 3] = part_rotation.w();
-  qpos[part_address + 4] = part_rotation.x();
-  qpos[part_address + 5] = part_rotation.y();
-  qpos[part_address + 6] = part_rotation.z();
+  for (const ObjectBody& body : index.objects) {
+    if (body.free.id < 0) continue;
+    const auto object = std::find_if(cell.objects.begin(), cell.objects.end(),
+                                     [&](const ObjectGeometry& candidate) { return candidate.id == body.id; });
+    const Eigen::Isometry3d& pose = object->pose_world_object;
+    const Eigen::Quaterniond rotation(pose.linear());
+    const std::size_t address = static_cast<std::size_t>(body.free.qpos);
+    for (std::size_t i = 0; i < 3; ++i) qpos[address + i] = pose.translation()[static_cast<Eigen::Index>(i)];
+    qpos[address + 3] = rotation.w();
+    qpos[address + 4] = rotation.x();
+    qpos[address + 5] = rotation.y();
+    qpos[address + 6] = rotation.z();
+  }
 
   // Masses, inertias and poses changed: recompute subtree masses, dof_M0, inverse weights...
   DataPtr scratch(mj_makeData(&model));

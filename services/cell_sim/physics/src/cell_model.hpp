@@ -7,6 +7,7 @@
 #include <array>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "rigger/sim/cell_geometry.hpp"
@@ -30,6 +31,14 @@ struct JointAddress {
   int dof = -1;
 };
 
+/// The body generated for an object entity.
+struct ObjectBody {
+  std::string id;
+  int body = -1;
+  bool is_static = false;
+  JointAddress free;  ///< its free joint (free objects other than the load)
+};
+
 /// Ids of the model elements the physics reads and drives.
 struct CellModelIndex {
   int crane_body = -1;
@@ -39,8 +48,11 @@ struct CellModelIndex {
   int target_body = -1;
   int robot_base_body = -1;
   int gripper_body = -1;
-  int part_body = -1;
-  int part_fixture_body = -1;
+  int part_body = -1;          ///< the entity "part", or -1
+  int part_fixture_body = -1;  ///< the entity "part_fixture", or -1
+  std::vector<ObjectBody> objects;  ///< every object entity's body, in file order
+  /// Per geom: it belongs to a free object (the magnet may grip it).
+  std::vector<bool> free_object_geom;
 
   JointAddress bridge;
   JointAddress trolley;
@@ -48,7 +60,6 @@ struct CellModelIndex {
   JointAddress sway_y;
   JointAddress rope_length;
   JointAddress load_swivel;
-  JointAddress part_free;
   std::array<JointAddress, kArmJointCount> arm{};
 
   int bridge_actuator = -1;
@@ -56,13 +67,9 @@ struct CellModelIndex {
   int rope_actuator = -1;
   std::array<int, kArmJointCount> arm_actuator{};
 
-  int load_geom = -1;
-  int target_geom = -1;
   int pedestal_geom = -1;
   int gripper_face_geom = -1;
   int gripper_housing_geom = -1;
-  int part_geom = -1;
-  int part_fixture_geom = -1;
 
   int flange_site = -1;
   int tool_site = -1;
@@ -74,16 +81,14 @@ struct CellModelIndex {
   int ft_torque_address = -1;
 };
 
-/// Loads and compiles the MJCF.  Throws PhysicsModelError with MuJoCo's message.
-ModelPtr load_model(const std::filesystem::path& path);
+/// Looks up every named element, the devices' and the cell's objects'.  Throws PhysicsModelError naming
+/// the first missing one.
+CellModelIndex index_model(const mjModel& model, const std::filesystem::path& path, const CellGeometry& cell);
 
-/// Looks up every named element.  Throws PhysicsModelError naming the first missing one.
-CellModelIndex index_model(const mjModel& model, const std::filesystem::path& path);
-
-/// Writes the cell geometry into the model (poses, sizes, masses, ranges), then recomputes
-/// MuJoCo's derived constants.  Returns the initial qpos: the crane above the load's rope
-/// attachment, the load hanging at its JSON pose, the part resting at its JSON pose (or, without a part
-/// in the cell, on its fixture far from everything), the arm at `initial_arm_rad`.  (qpos0 stays
+/// Writes the devices' geometry into the model (crane pose and ranges, robot base, gripper), then
+/// recomputes MuJoCo's derived constants (the objects were generated into the model).  Returns the initial
+/// qpos: the crane above the load's rope attachment, the load hanging at its JSON pose, every free object
+/// at its JSON pose, the arm at `initial_arm_rad`.  (qpos0 stays
 /// the model's reference configuration: MuJoCo measures hinge and slide joints from it.)
 /// Throws CellGeometryError when the geometry does not fit the crane (e.g. the load hangs outside
 /// the bridge's range).

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "cell_mjcf.hpp"
 #include "cell_physics_impl.hpp"
 #include "rigger/base/install.hpp"
 #include "rigger/sim/iiwa14.hpp"
@@ -57,8 +58,8 @@ CellPhysics::Impl::Impl(const CellGeometry& cell_geometry,
                         const CellPhysicsOptions& physics_options)
     : cell(cell_geometry),
       options(physics_options),
-      model(detail::load_model(physics_options.model_path)),
-      index(detail::index_model(*model, physics_options.model_path)),
+      model(detail::load_cell_model(physics_options.model_path, cell_geometry)),
+      index(detail::index_model(*model, physics_options.model_path, cell_geometry)),
       arm_limits(make_arm_limits(physics_options.joint_limit_margin_rad)),
       bridge(TravelDrive::Params{}),
       trolley(TravelDrive::Params{}),
@@ -388,6 +389,21 @@ std::optional<Eigen::Isometry3d> CellPhysics::pose_world_part() const {
 std::optional<Eigen::Isometry3d> CellPhysics::pose_world_part_fixture() const {
   if (!impl_->cell.part) return std::nullopt;
   return impl_->body_pose_world(impl_->index.part_fixture_body);
+}
+
+std::optional<Eigen::Isometry3d> CellPhysics::pose_world_object(std::string_view id) const {
+  for (const detail::ObjectBody& object : impl_->index.objects) {
+    if (object.id == id) return impl_->body_pose_world(object.body);
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string> CellPhysics::object_bodies() const {
+  std::vector<std::string> names;
+  for (const detail::ObjectBody& object : impl_->index.objects) {
+    names.emplace_back(mj_id2name(impl_->model.get(), mjOBJ_BODY, object.body));
+  }
+  return names;
 }
 
 Eigen::Isometry3d CellPhysics::pose_world_target() const {

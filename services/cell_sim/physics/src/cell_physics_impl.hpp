@@ -89,7 +89,7 @@ struct CellPhysics::Impl {
   MagnetCapacity capacity;
   bool holding = false;
   bool face_in_contact = false;
-  int held_body = -1;  // the load's or the part's body while holding
+  int held_body = -1;  // the free object's body while holding
   double held_s = 0.0;  // how long the magnet has held it
   double utilisation = 0.0;
   Eigen::Vector3d anchor_load = Eigen::Vector3d::Zero();  // load frame

@@ -40,7 +40,8 @@ MagnetSpring CellPhysics::Impl::magnet_spring_for(int body) const {
   return params;
 }
 
-// The body (the load's or the part's) whose box the magnet face touches flat, or -1.
+// The free object whose geom the magnet face touches flat (a planar face: the contact normal is within the
+// grip angle of the tool z), or -1.
 int CellPhysics::Impl::aligned_face_contact() const {
   const Eigen::Vector3d tool_z = site_pose_world(index.tool_site).linear().col(2);
   const double min_cosine = std::cos(options.magnet_spring.max_contact_angle_rad);
@@ -49,7 +50,7 @@ int CellPhysics::Impl::aligned_face_contact() const {
     int other = -1;
     if (contact.geom1 == index.gripper_face_geom) other = contact.geom2;
     if (contact.geom2 == index.gripper_face_geom) other = contact.geom1;
-    if ((other == index.load_geom || other == index.part_geom) &&
+    if (other >= 0 && index.free_object_geom[static_cast<std::size_t>(other)] &&
         std::abs(tool_z.dot(vec3(contact.frame))) >= min_cosine) {
       return model->geom_bodyid[other];
     }
@@ -61,7 +62,7 @@ void CellPhysics::Impl::control_gripper(double dt_s) {
   const int touched_body = aligned_face_contact();
   face_in_contact = touched_body >= 0;
   const Eigen::Isometry3d tool = site_pose_world(index.tool_site);
-  // What the magnet holds (or is about to grip): the load or the part.
+  // What the magnet holds (or is about to grip): a free object.
   const int grip_body = holding ? held_body : touched_body;
   const Eigen::Isometry3d load = grip_body >= 0 ? body_pose_world(grip_body) : Eigen::Isometry3d::Identity();
 

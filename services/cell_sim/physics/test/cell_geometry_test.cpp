@@ -75,7 +75,18 @@ TEST(CellGeometry, ErrorsNameFileAndJsonPointer) {
   EXPECT_THAT(parse_error(shared_cell_with(R"("mass_kg": 40.0)", R"("mass_kg": -40.0)")),
               AllOf(HasSubstr("cell.json: /entities/5/model/mass_kg: expected a number > 0")));
   EXPECT_THAT(parse_error(shared_cell_with(R"("mass_kg": 40.0, )", "")),
-              HasSubstr("/entities/5/model/mass_kg: expected the load's mass in kg, got nothing"));
+              HasSubstr("/entities/5/model/mass_kg: expected the mass of a free object: mass_kg > 0, or density_kg_m3 > 0 "
+                        "with a STEP model"));
+  // An object needs a geometry: the box shorthand or a STEP model.
+  EXPECT_THAT(parse_error(shared_cell_with(R"("shape": "box", "size_m": [0.14, 0.24, 0.12], "mass_kg": 3.0, "frame": "box centre", "step": "models/part.step")",
+                                           R"("mass_kg": 3.0)")),
+              HasSubstr("cell.json: /entities/8/model: expected a geometry: \"shape\": \"box\" with \"size_m\", or a "
+                        "STEP model (\"step\"), got neither"));
+  EXPECT_THAT(parse_error(shared_cell_with(R"("mass_kg": 3.0, "frame": "box centre")", R"("density_kg_m3": 0, "frame": "box centre")")),
+              HasSubstr("cell.json: /entities/8/model/density_kg_m3: expected a number > 0"));
+  // The crane carries one load.
+  EXPECT_THAT(parse_error(shared_cell_with(R"("rope_attachment": { "position_m": [0, 0, 0.10], "rpy_deg": [0, 0, 0] },)", "")),
+              HasSubstr("cell.json: /entities: expected an object with features.rope_attachment (the crane's load)"));
   EXPECT_THAT(parse_error(shared_cell_with(R"("rail_height_m": 4.5,)", "")),
               HasSubstr("/entities/1/attributes/rail_height_m: expected a number > 0, got nothing (missing key)"));
   EXPECT_THAT(parse_error(shared_cell_with(R"("bridge_range_m": [0.0, 8.0])", R"("bridge_range_m": [8.0, 0.0])")),

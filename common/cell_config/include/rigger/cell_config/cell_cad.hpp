@@ -8,6 +8,8 @@
 /// simulated cell and the tests all call it, so they all get the same numbers.
 
 #include <filesystem>
+#include <map>
+#include <string>
 
 #include "rigger/cad/model.hpp"
 #include "rigger/cell_config/cell_file.hpp"
@@ -20,6 +22,8 @@ struct CadDerivation {
   int features = 0;          ///< CAD rules derived
   double read_seconds = 0.0;      ///< reading and classifying the models (wall time)
   double derive_seconds = 0.0;    ///< resolving the references and building the frames
+  /// The STEP models read, by entity id (copies share the B-rep): for readers that need the geometry too.
+  std::map<std::string, cad::Model> read_models;
 };
 
 /// Derives every CAD rule of `file` (features.*.cad) from the STEP models of its objects; model paths

@@ -111,6 +111,12 @@ class AttributeReader {
   const CellEntity& entity_;
 };
 
+/// Where the centre of an object's box (the box shorthand, axes along its edges) sits in the object's frame,
+/// from the model's words for its frame: "box centre" (or none), "centre of the top face", "centre of the
+/// bottom face". The one reading of those words: the physics and the camera place the box alike.
+/// @throws CellFileError at ".../model/frame" for other words, at ".../model/shape" without a box.
+Eigen::Vector3d box_centre_in_object_frame(const CellFile& file, const CellEntity& entity);
+
 /// The only format version this reader reads.
 inline constexpr int kCellVersion = 1;
 /// Inputs larger than this are refused before parsing (bytes).

@@ -130,9 +130,12 @@ struct CadFeatures {
 
 /// The geometric model of an object (what the CAD model says about its shape and mass).
 struct ObjectModel {
-  std::string shape;                                 ///< "box" (the only shape so far)
-  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();  ///< box extents along x, y, z, m
+  /// "box" (a box of size_m), or empty: the geometry is the STEP model's solids (then `step` is set).
+  std::string shape;
+  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();  ///< box extents along x, y, z, m (zero without a box)
   std::optional<double> mass_kg;                     ///< > 0 when given
+  /// > 0 when given (never with mass_kg): the mass is the STEP model's volume times this.
+  std::optional<double> density_kg_m3;
   std::string frame;                                 ///< where the entity frame sits on the model, in words
   bool is_static = false;                            ///< fixed to the floor (a target fixture)
   /// The object's STEP model ("step"), relative to the cell file's folder; empty when none. Its frame is

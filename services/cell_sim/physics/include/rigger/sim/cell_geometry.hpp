@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rigger/cell_config/cell_file.hpp"
@@ -50,9 +51,11 @@ struct GripperGeometry {
   double flange_to_face_m = 0.0;
 };
 
+/// The object the crane carries: the one object with features.rope_attachment.
 struct LoadGeometry {
-  Eigen::Isometry3d pose_world_load = Eigen::Isometry3d::Identity();  ///< box centre
-  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();                   ///< full edge lengths
+  std::string id;                                                     ///< its entity id
+  Eigen::Isometry3d pose_world_load = Eigen::Isometry3d::Identity();  ///< its entity frame
+  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();                   ///< bounding-box edge lengths
   double mass_kg = 0.0;
   Eigen::Isometry3d pose_load_rope_attachment = Eigen::Isometry3d::Identity();
   std::vector<NamedPose> grasp_frames;        ///< tool frames in the load frame
@@ -61,9 +64,12 @@ struct LoadGeometry {
   std::optional<Eigen::Isometry3d> pose_target_load_inserted;
 };
 
+/// The load's insertion target (features.insertion.target), or the entity "target" when the load has no
+/// insertion.
 struct TargetGeometry {
-  Eigen::Isometry3d pose_world_target = Eigen::Isometry3d::Identity();  ///< top-face centre
-  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();
+  std::string id;                                                       ///< its entity id
+  Eigen::Isometry3d pose_world_target = Eigen::Isometry3d::Identity();  ///< its entity frame
+  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();                     ///< bounding-box edge lengths
 };
 
 /// The small part the robot picks and places on its own (entity "part", a free box within the robot's
@@ -76,6 +82,33 @@ struct PartGeometry {
   Eigen::Vector3d fixture_size_m = Eigen::Vector3d::Zero();
 };
 
+/// One solid of an object's STEP model as the physics collides it: the vertices of its tessellation (MuJoCo
+/// collides their convex hull), in the object's frame.
+struct ObjectSolid {
+  std::vector<Eigen::Vector3d> vertices_m;
+  double volume_m3 = 0.0;  ///< the solid's own volume (B-rep), > 0
+};
+
+/// An object entity as the physics builds it: one body named by the entity id, static (fixed to the world)
+/// or free, with a box geom (the cell file's box shorthand) or one convex mesh geom per STEP solid.
+struct ObjectGeometry {
+  std::string id;
+  std::string pointer;  ///< the entity in the cell file, for messages
+  Eigen::Isometry3d pose_world_object = Eigen::Isometry3d::Identity();
+  bool is_static = false;  ///< model.static: fixed to the world
+  double mass_kg = 0.0;    ///< model.mass_kg, or the STEP volume times model.density_kg_m3; 0 for a static object without either
+  /// The box shorthand: full edge lengths, and its centre in the object frame (from the model's "frame", as
+  /// cell::box_centre_in_object_frame reads it). Absent for an object whose geometry is its STEP solids.
+  std::optional<Eigen::Vector3d> box_size_m;
+  Eigen::Vector3d box_centre_m = Eigen::Vector3d::Zero();
+  std::vector<ObjectSolid> solids;  ///< the STEP solids when there is no box
+  /// Where the crane's rope hooks (features.rope_attachment), in the object frame.
+  std::optional<Eigen::Isometry3d> pose_object_rope_attachment;
+
+  /// Bounding box of the geometry in the object frame: {centre, full size}.
+  [[nodiscard]] std::pair<Eigen::Vector3d, Eigen::Vector3d> bounds_m() const;
+};
+
 struct CellGeometry {
   std::string source;  ///< file it came from, for messages
   CraneGeometry crane;
@@ -83,8 +116,11 @@ struct CellGeometry {
   GripperGeometry gripper;
   LoadGeometry load;
   TargetGeometry target;
-  /// Absent when the cell has no entity "part" (then the model keeps its part out of the way).
+  /// Absent when the cell has no entity "part" with a "part_fixture".
   std::optional<PartGeometry> part;
+  /// Every object entity, in file order: each becomes a body of the model. The load is the one with a
+  /// rope attachment, the target the load's insertion target (or the entity "target").
+  std::vector<ObjectGeometry> objects;
 
   /// The grasp frame with this id, or nullopt.
   [[nodiscard]] std::optional<Eigen::Isometry3d> grasp_frame(const std::string& id) const;
@@ -98,9 +134,11 @@ CellGeometry load_cell_geometry(const std::filesystem::path& path);
 CellGeometry parse_cell_geometry(const std::string& json_text, const std::string& source,
                                  const std::filesystem::path& model_dir = {});
 
-/// The physics' part of a validated cell file: entities "crane", "robot", "gripper", "load" and "target"
-/// with the attributes, model and features the physics needs, and optionally "part" (a box with a mass)
-/// with its "part_fixture" (a box).  Throws cell::CellFileError.
-CellGeometry cell_geometry_from(const cell::CellFile& file);
+/// The physics' part of a validated cell file: entities "crane", "robot" and "gripper" with the attributes
+/// the physics needs, and every object (its geometry read from its STEP model, relative to `model_dir`;
+/// empty: the folder of file.source). Exactly one object carries a rope attachment (the load); the target is
+/// its insertion target or the entity "target". Throws cell::CellFileError (file, JSON pointer, expectation):
+/// an object without a mass that must move, a STEP model that cannot be read or has no closed solid.
+CellGeometry cell_geometry_from(const cell::CellFile& file, const std::filesystem::path& model_dir = {});
 
 }  // namespace rigger::sim

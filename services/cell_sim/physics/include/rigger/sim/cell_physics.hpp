@@ -12,6 +12,9 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "rigger/sim/cell_geometry.hpp"
 #include "rigger/sim/crane_drive.hpp"
@@ -27,8 +30,9 @@ class PhysicsModelError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The MJCF written for rigger (models/cell.xml of this folder), installed as cell_sim/cell.xml in the
-/// data folder (rigger/base/install.hpp), where this looks for it.
+/// The devices' MJCF written for rigger (models/cell.xml of this folder: crane, robot, gripper; the cell's
+/// objects are generated into it from the cell file), installed as cell_sim/cell.xml in the data folder
+/// (rigger/base/install.hpp), where this looks for it.
 std::filesystem::path default_model_path();
 
 /// The arm's start pose: elbow up, the tool pointing along the base's +x with tool x down, at about
@@ -173,6 +177,10 @@ class CellPhysics {
   [[nodiscard]] std::optional<Eigen::Isometry3d> pose_world_part() const;
   [[nodiscard]] std::optional<Eigen::Isometry3d> pose_world_part_fixture() const;
   [[nodiscard]] Eigen::Isometry3d pose_world_robot_base() const;
+  /// The frame of the object entity `id` (any object of the cell file); nullopt for an unknown id.
+  [[nodiscard]] std::optional<Eigen::Isometry3d> pose_world_object(std::string_view id) const;
+  /// The model's names of the objects' bodies, in the cell file's order (one per object entity).
+  [[nodiscard]] std::vector<std::string> object_bodies() const;
   [[nodiscard]] const CellGeometry& geometry() const;
 
   // ---- fault injection -------------------------------------------------------------------
