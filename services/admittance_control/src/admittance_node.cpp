@@ -88,7 +88,7 @@ std::optional<Vector6d> gains_vector(const Seq& seq) {
 
 }  // namespace
 
-AdmittanceNode::AdmittanceNode(dds::ServiceContext& ctx)
+AdmittanceNode::AdmittanceNode(service::ServiceContext& ctx)
     : ctx_(ctx),
       twist_timeout_s_(read_twist_timeout(ctx.config)),
       crane_timeout_s_(read_crane_timeout(ctx.config)),
@@ -225,7 +225,7 @@ void AdmittanceNode::check_commander() {
   if (commander_.empty() || mode_ == AdmittanceMode::kOff) return;
   const auto& services = directory_.services();
   const auto it = services.find(commander_);
-  const bool alive = it != services.end() && it->second.alive && it->second.status != dds::ServiceStatus::kStopping;
+  const bool alive = it != services.end() && it->second.alive && it->second.status != service::ServiceStatus::kStopping;
   if (alive) {
     commander_seen_ = true;
     return;

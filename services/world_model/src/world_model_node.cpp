@@ -77,7 +77,7 @@ const SettingsTable<WorldModelSettings>& world_model_settings() {
 
 WorldModelSettings read_settings(const Config& config) { return rigger::read_settings(config, world_model_settings()); }
 
-WorldModelNode::WorldModelNode(dds::ServiceContext& ctx, const WorldModelSettings& settings)
+WorldModelNode::WorldModelNode(service::ServiceContext& ctx, const WorldModelSettings& settings)
     : ctx_(ctx),
       store_(load_store(settings, ctx.config, ctx.log)),
       db_(open_database(settings, store_, ctx.log)),
