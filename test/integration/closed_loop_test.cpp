@@ -25,12 +25,12 @@
 #include "control_config.hpp"
 #include "rigger/cell_config/cell_cad.hpp"
 #include "rigger/dds/liveliness.hpp"
-#include "rigger/dds/service_state.hpp"
 #include "rigger/protocol/admittance.hpp"
 #include "rigger/protocol/crane.hpp"
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/sim.hpp"
 #include "rigger/protocol/vision.hpp"
+#include "rigger/service/service_state.hpp"
 #include "rigger/testing/require.hpp"
 
 namespace rigger::testing {
@@ -99,8 +99,8 @@ class ClosedLoopTest : public MultiProcessTest {
     admittance_writer_ =
         std::make_unique<dds::Writer<rigger_admittance_AdmittanceCommand>>(p, protocol::admittance::kCommand);
     // The test is the skill here: it announces itself, and its commands name it as their source.
-    commander_ = std::make_unique<dds::ServiceAnnouncer>(p, kCommanderId, "integration_test");
-    commander_->announce(dds::ServiceStatus::kReady);
+    commander_ = std::make_unique<service::ServiceAnnouncer>(p, kCommanderId, "integration_test");
+    commander_->announce(service::ServiceStatus::kReady);
     // As run_service does: the announcement's liveliness is asserted (MANUAL_BY_PARTICIPANT).
     liveliness_ = std::make_unique<dds::LivelinessAsserter>(p, dds::liveliness_lease() / 3, 0ms);
 
@@ -325,7 +325,7 @@ class ClosedLoopTest : public MultiProcessTest {
   std::unique_ptr<dds::Writer<rigger_crane_CraneControl>> crane_control_writer_;
   std::unique_ptr<dds::Writer<rigger_vision_TrackerCommand>> tracker_command_writer_;
   std::unique_ptr<dds::Writer<rigger_admittance_AdmittanceCommand>> admittance_writer_;
-  std::unique_ptr<dds::ServiceAnnouncer> commander_;
+  std::unique_ptr<service::ServiceAnnouncer> commander_;
   std::unique_ptr<dds::LivelinessAsserter> liveliness_;
 
   Eigen::Isometry3d pose_world_base_ = Eigen::Isometry3d::Identity();

@@ -1,5 +1,6 @@
 #include "rigger/dds/participant.hpp"
 
+#include "environment.hpp"
 #include "rigger/dds/configuration.hpp"
 
 namespace rigger::dds {
@@ -18,5 +19,10 @@ Participant::Participant(std::uint32_t domain_id)
       domain_id_(domain_id) {}
 
 void Participant::assert_liveliness() const { dds_assert_liveliness(entity_.handle()); }
+
+std::uint32_t domain_from_environment(std::uint32_t fallback) {
+  const auto v = detail::integer_from_environment("RIGGER_DOMAIN", 0, 232, "a domain id");
+  return v ? static_cast<std::uint32_t>(*v) : fallback;
+}
 
 }  // namespace rigger::dds

@@ -11,9 +11,9 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/partitions.hpp"
 #include "rigger/dds/sequences.hpp"
-#include "rigger/dds/service_state.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/safety/safe_stop.hpp"
+#include "rigger/service/service_state.hpp"
 
 namespace rigger::skill_protocol {
 namespace {
@@ -53,7 +53,7 @@ ExecutorEndpoint::ExecutorEndpoint(const dds::Participant& participant, dds::Eve
   // See ServiceAnnouncer::reannounce(): a reader that expired our lease sees us again on a new sample.
   // The same timer re-reads the command writers' liveliness while runs are active: a backstop should a
   // status change not wake the loop.
-  refresh_timer_ = loop_.every(dds::kServiceRefreshPeriod, [this] {
+  refresh_timer_ = loop_.every(service::kServiceRefreshPeriod, [this] {
     announce();
     if (!active_.empty()) on_commander_liveliness();
   });

@@ -24,6 +24,10 @@ const char* to_string(EventKind kind) {
   return "?";
 }
 
+std::string answer_name(EventKind kind, bool refused) {
+  return refused ? std::string("NOT_") + to_string(kind) : std::string(to_string(kind));
+}
+
 void to_wire(const LeafOutcome& outcome, rigger_skill_SkillEvent& event) {
   switch (outcome.kind) {
     case EventKind::kSuccess:

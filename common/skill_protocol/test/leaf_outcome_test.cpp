@@ -51,5 +51,13 @@ TEST(LeafOutcome, UnknownProgressIsNegativeOnTheWireAndNullStringsReadEmpty) {
   EXPECT_EQ(out.message, "");
 }
 
+// The names the journal gives a leaf's answer to a PAUSE or RESUME, read back by riggerctl.
+TEST(LeafOutcome, AnswerNamesSayWhetherTheLeafRefused) {
+  EXPECT_STREQ(to_string(EventKind::kPaused), "PAUSED");
+  EXPECT_EQ(answer_name(EventKind::kPaused, false), "PAUSED");
+  EXPECT_EQ(answer_name(EventKind::kPaused, true), "NOT_PAUSED");
+  EXPECT_EQ(answer_name(EventKind::kResumed, true), "NOT_RESUMED");
+}
+
 }  // namespace
 }  // namespace rigger::skill_protocol

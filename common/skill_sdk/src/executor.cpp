@@ -21,12 +21,12 @@ int describe(int argc, char** argv, const ExecutorInfo& info, const SkillRegistr
     ExecutorSettings settings;
     read_into(config, executor_settings(info.program, skills), settings);
     std::cout << skills.library_json(settings.skills).dump(2) << "\n";
-    return dds::kExitOk;
+    return service::kExitOk;
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? dds::kExitOk : dds::kExitUsage;
+    return app.exit(e) == 0 ? service::kExitOk : service::kExitUsage;
   } catch (const std::exception& e) {
     std::cerr << info.program << ": " << e.what() << "\n";
-    return dds::kExitUsage;
+    return service::kExitUsage;
   }
 }
 
@@ -37,14 +37,13 @@ int run_executor(int argc, char** argv, const ExecutorInfo& info, SkillRegistry 
     if (std::strcmp(argv[i], "--describe") == 0) return describe(argc, argv, info, skills);
   // Announced as a skill executor (the kind the controller, the console and the security grants know);
   // the program's own name heads its --help.
-  return dds::run_service(argc, argv,
-                          {"skill_executor", info.program + ": " + info.description,
-                           [](CLI::App& app) {
-                             app.add_flag("--describe", "Print the skill library JSON of --config and exit (no DDS)");
-                           },
-                           [&skills](dds::ServiceContext& ctx) {
-                             return std::make_unique<SkillExecutorNode>(ctx, std::move(skills));
-                           }});
+  return service::run_service(
+      argc, argv,
+      {"skill_executor", info.program + ": " + info.description,
+       [](CLI::App& app) { app.add_flag("--describe", "Print the skill library JSON of --config and exit (no DDS)"); },
+       [&skills](service::ServiceContext& ctx) {
+         return std::make_unique<SkillExecutorNode>(ctx, std::move(skills));
+       }});
 }
 
 }  // namespace rigger::skill_sdk

@@ -44,7 +44,7 @@ SettingsTable<ExecutorSettings> executor_settings(const std::string& service_id,
   };
 }
 
-SkillExecutorNode::SkillExecutorNode(dds::ServiceContext& ctx, SkillRegistry registry)
+SkillExecutorNode::SkillExecutorNode(service::ServiceContext& ctx, SkillRegistry registry)
     : ctx_(ctx), registry_(std::move(registry)), timers_(ctx.loop) {
   const ExecutorSettings settings = read_settings(ctx.config, executor_settings(ctx.options.id, registry_));
   const std::string& executor_id = settings.executor_id;

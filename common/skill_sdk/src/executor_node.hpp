@@ -15,7 +15,7 @@
 
 #include "dds_cell_devices.hpp"
 #include "dds_devices.hpp"
-#include "rigger/dds/service.hpp"
+#include "rigger/service/service.hpp"
 #include "rigger/skill_protocol/executor_endpoint.hpp"
 #include "rigger/skill_sdk/executor_settings.hpp"
 #include "rigger/skill_sdk/skill_registry.hpp"
@@ -38,10 +38,10 @@ class LoopTimers final : public Timers {
   dds::EventLoop& loop_;
 };
 
-class SkillExecutorNode : public dds::Node {
+class SkillExecutorNode : public service::Node {
  public:
   /// @throws ConfigError, DdsError.
-  SkillExecutorNode(dds::ServiceContext& ctx, SkillRegistry registry);
+  SkillExecutorNode(service::ServiceContext& ctx, SkillRegistry registry);
   ~SkillExecutorNode() override;
 
  private:
@@ -50,7 +50,7 @@ class SkillExecutorNode : public dds::Node {
   void on_shutdown(const skill_protocol::ShutdownRequest& request);
   skill_protocol::PauseAnswer on_pause(const skill_protocol::PauseRequest& request);
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   SkillRegistry registry_;
   LoopTimers timers_;
   std::unique_ptr<DdsRobot> robot_;

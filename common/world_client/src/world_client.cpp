@@ -4,10 +4,23 @@
 #include <utility>
 
 #include "rigger/base/bounded_json.hpp"
-#include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/world.hpp"
 
 namespace rigger::world_client {
+namespace {
+
+world_protocol::Query query_of(world_protocol::QueryKind kind, const std::string& entity, const std::string& frame,
+                               const std::string& feature, double max_age_s) {
+  world_protocol::Query q;
+  q.kind = kind;
+  q.entity_id = entity;
+  q.frame_id = frame;
+  q.feature_id = feature;
+  q.max_age_s = max_age_s;
+  return q;
+}
+
+}  // namespace
 
 WorldClient::WorldClient(const dds::Participant& participant, dds::EventLoop& loop, Logger log, std::string client_id)
     : loop_(loop),
@@ -32,39 +45,40 @@ bool WorldClient::connected() const { return queries_.matched_readers() > 0 && r
 
 std::uint64_t WorldClient::is_localized(const std::string& entity, double max_age_s, std::chrono::milliseconds timeout,
                                         Callback cb) {
-  return send_query(rigger_world_QUERY_IS_LOCALIZED, entity, "", "", max_age_s, timeout, std::move(cb));
+  return send_query(query_of(world_protocol::QueryKind::kIsLocalized, entity, "", "", max_age_s), timeout,
+                    std::move(cb));
 }
 
 std::uint64_t WorldClient::pose(const std::string& entity, const std::string& frame, std::chrono::milliseconds timeout,
                                 Callback cb) {
-  return send_query(rigger_world_QUERY_POSE, entity, frame, "", 0.0, timeout, std::move(cb));
+  return send_query(query_of(world_protocol::QueryKind::kPose, entity, frame, "", 0.0), timeout, std::move(cb));
 }
 
 std::uint64_t WorldClient::feature_pose(const std::string& entity, const std::string& feature_id,
                                         const std::string& frame, std::chrono::milliseconds timeout, Callback cb) {
-  return send_query(rigger_world_QUERY_POSE, entity, frame, feature_id, 0.0, timeout, std::move(cb));
+  return send_query(query_of(world_protocol::QueryKind::kPose, entity, frame, feature_id, 0.0), timeout, std::move(cb));
 }
 
 std::uint64_t WorldClient::features(const std::string& entity, std::chrono::milliseconds timeout, Callback cb) {
-  return send_query(rigger_world_QUERY_FEATURES, entity, "", "", 0.0, timeout, std::move(cb));
+  return send_query(query_of(world_protocol::QueryKind::kFeatures, entity, "", "", 0.0), timeout, std::move(cb));
 }
 
 std::uint64_t WorldClient::entity(const std::string& entity, std::chrono::milliseconds timeout, Callback cb) {
-  return send_query(rigger_world_QUERY_ENTITY, entity, "", "", 0.0, timeout, std::move(cb));
+  return send_query(query_of(world_protocol::QueryKind::kEntity, entity, "", "", 0.0), timeout, std::move(cb));
 }
 
 std::uint64_t WorldClient::list(std::chrono::milliseconds timeout, Callback cb) {
-  return send_query(rigger_world_QUERY_LIST, "", "", "", 0.0, timeout, std::move(cb));
+  return send_query(query_of(world_protocol::QueryKind::kList, "", "", "", 0.0), timeout, std::move(cb));
 }
 
 std::uint64_t WorldClient::update_pose(const std::string& entity, const std::string& parent_frame,
                                        const Eigen::Isometry3d& pose, WallTime stamp, double quality, bool localized,
                                        std::chrono::milliseconds timeout, Callback cb) {
-  UpdateFields u;
-  u.entity = entity;
+  world_protocol::Update u;
+  u.entity_id = entity;
   u.parent_frame = parent_frame;
-  u.pose = pose;
-  u.quality = quality;
+  u.pose = world_protocol::PoseAsSent{pose.translation(), Eigen::Quaterniond(pose.rotation())};
+  if (quality >= 0.0) u.quality = quality;
   u.localized = localized;
   u.stamp = stamp;
   return send_update(std::move(u), timeout, std::move(cb));
@@ -72,8 +86,8 @@ std::uint64_t WorldClient::update_pose(const std::string& entity, const std::str
 
 std::uint64_t WorldClient::set_localized(const std::string& entity, bool localized, WallTime stamp,
                                          std::chrono::milliseconds timeout, Callback cb) {
-  UpdateFields u;
-  u.entity = entity;
+  world_protocol::Update u;
+  u.entity_id = entity;
   u.localized = localized;
   u.stamp = stamp;
   return send_update(std::move(u), timeout, std::move(cb));
@@ -102,36 +116,27 @@ std::uint64_t WorldClient::track(std::chrono::milliseconds timeout, const char* 
   return id;
 }
 
-std::uint64_t WorldClient::send_query(int kind, const std::string& entity, const std::string& frame,
-                                      const std::string& feature, double max_age_s, std::chrono::milliseconds timeout,
-                                      Callback cb) {
+std::uint64_t WorldClient::send_query(world_protocol::Query query, std::chrono::milliseconds timeout, Callback cb) {
   const std::uint64_t id = track(timeout, protocol::world::kQuery.name, std::move(cb));
-  write_query(id, kind, entity, frame, feature, max_age_s);
+  query.client_id = client_id_;
+  query.request_id = id;
+  write_query(id, std::make_shared<const world_protocol::Query>(std::move(query)));
   return id;
 }
 
-void WorldClient::write_query(std::uint64_t id, int kind, const std::string& entity, const std::string& frame,
-                              const std::string& feature, double max_age_s) {
+void WorldClient::write_query(std::uint64_t id, std::shared_ptr<const world_protocol::Query> query) {
   auto it = pending_.find(id);
   if (it == pending_.end()) return;  // timed out or cancelled while waiting
   it->second.retry = 0;
   if (!connected()) {
     // Discovery may be a round behind a world model that has just started (or a client that has): wait
     // for the match within the request's own timeout, which then says no world model was matched.
-    it->second.retry = loop_.after(std::chrono::milliseconds(20), [this, id, kind, entity, frame, feature, max_age_s] {
-      write_query(id, kind, entity, frame, feature, max_age_s);
-    });
+    it->second.retry = loop_.after(std::chrono::milliseconds(20), [this, id, query] { write_query(id, query); });
     return;
   }
   it->second.sent = true;
   rigger_world_WorldQuery q{};
-  q.client_id = dds::wire_string(client_id_);
-  q.request_id = id;
-  q.kind = static_cast<rigger_world_QueryKind>(kind);
-  q.entity_id = dds::wire_string(entity);
-  q.frame_id = dds::wire_string(frame);
-  q.feature_id = dds::wire_string(feature);
-  q.max_age_s = max_age_s;
+  world_protocol::to_wire(*query, q);
   const dds_return_t rc = queries_.write(q);
   if (rc != DDS_RETCODE_OK) {
     log_->warn("world query write failed request_id={} rc={}", id, rc);
@@ -141,40 +146,29 @@ void WorldClient::write_query(std::uint64_t id, int kind, const std::string& ent
   // We see the world model before it sees us: a reply it writes before its reply writer has discovered this
   // client is lost (volatile). A query is a read, so it is asked again until answered or timed out; the
   // first answer wins and later ones find nothing pending.
-  it->second.retry = loop_.after(kQueryResend, [this, id, kind, entity, frame, feature, max_age_s] {
-    write_query(id, kind, entity, frame, feature, max_age_s);
-  });
+  it->second.retry = loop_.after(kQueryResend, [this, id, query] { write_query(id, query); });
 }
 
-std::uint64_t WorldClient::send_update(UpdateFields update, std::chrono::milliseconds timeout, Callback cb) {
+std::uint64_t WorldClient::send_update(world_protocol::Update update, std::chrono::milliseconds timeout, Callback cb) {
   const std::uint64_t id = track(timeout, protocol::world::kUpdate.name, std::move(cb));
-  write_update(id, std::make_shared<const UpdateFields>(std::move(update)));
+  update.source = client_id_;
+  update.seq = id;
+  write_update(id, std::make_shared<const world_protocol::Update>(std::move(update)));
   return id;
 }
 
-void WorldClient::write_update(std::uint64_t id, std::shared_ptr<const UpdateFields> fields) {
+void WorldClient::write_update(std::uint64_t id, std::shared_ptr<const world_protocol::Update> update) {
   auto it = pending_.find(id);
   if (it == pending_.end()) return;  // timed out or cancelled while waiting
   it->second.retry = 0;
   if (updates_.matched_readers() == 0 || update_results_.matched_writers() == 0) {
     // As for queries: wait for the match within the request's own timeout.
-    it->second.retry = loop_.after(std::chrono::milliseconds(20), [this, id, fields] { write_update(id, fields); });
+    it->second.retry = loop_.after(std::chrono::milliseconds(20), [this, id, update] { write_update(id, update); });
     return;
   }
   it->second.sent = true;
-  const UpdateFields& f = *fields;
   rigger_world_EntityUpdate u{};
-  u.source = dds::wire_string(client_id_);
-  u.seq = id;
-  u.entity_id = dds::wire_string(f.entity);
-  u.parent_frame = dds::wire_string(f.parent_frame);
-  u.has_pose = f.pose.has_value();
-  if (f.pose) u.pose.pose = dds::to_wire(*f.pose);
-  u.has_quality = f.quality >= 0.0;
-  u.quality = u.has_quality ? f.quality : 0.0;
-  u.has_localized = true;
-  u.localized = f.localized;
-  u.stamp = dds::to_wire(f.stamp);
+  world_protocol::to_wire(*update, u);
   const dds_return_t rc = updates_.write(u);
   if (rc != DDS_RETCODE_OK) {
     log_->warn("world update write failed request_id={} rc={}", id, rc);
@@ -202,19 +196,20 @@ void WorldClient::finish(std::uint64_t request_id, const Reply& reply) {
 
 void WorldClient::on_replies() {
   std::vector<std::pair<std::uint64_t, Reply>> done;
-  replies_.take([&](const rigger_world_WorldReply& w, const dds_sample_info_t&) {
-    if (dds::to_string(w.client_id) != client_id_ || pending_.count(w.request_id) == 0) return;
+  replies_.take([&](const rigger_world_WorldReply& wire, const dds_sample_info_t&) {
+    const world_protocol::Reply w = world_protocol::from_wire(wire);
+    if (w.client_id != client_id_ || pending_.count(w.request_id) == 0) return;
     Reply r;
     r.ok = w.ok;
-    r.code = dds::to_string(w.code);
-    r.message = dds::to_string(w.message);
+    r.code = w.code;
+    r.message = w.message;
     r.localized = w.localized;
     r.age_s = w.age_s;
     if (w.ok) {
-      r.pose = dds::to_domain(w.pose.pose);
-      r.frame = dds::to_string(w.pose.header.frame_id);
+      r.pose = w.pose_frame_entity;
+      r.frame = w.frame;
     }
-    const std::string text = dds::to_string(w.result_json);
+    const std::string& text = w.result_json;
     if (!text.empty()) {
       // From another process: parsed with bounds (an entity list or a feature set, not megabytes).
       JsonParseResult parsed = parse_json_bounded(text, {4U * 1024U * 1024U, 64});
@@ -234,13 +229,14 @@ void WorldClient::on_replies() {
 
 void WorldClient::on_update_results() {
   std::vector<std::pair<std::uint64_t, Reply>> done;
-  update_results_.take([&](const rigger_world_UpdateResult& w, const dds_sample_info_t&) {
-    if (dds::to_string(w.source) != client_id_ || pending_.count(w.seq) == 0) return;
+  update_results_.take([&](const rigger_world_UpdateResult& wire, const dds_sample_info_t&) {
+    const world_protocol::UpdateResult w = world_protocol::from_wire(wire);
+    if (w.source != client_id_ || pending_.count(w.seq) == 0) return;
     Reply r;
     r.ok = w.accepted;
-    r.code = dds::to_string(w.code);
-    r.message = dds::to_string(w.reason);
-    r.result = {{"entity_id", dds::to_string(w.entity_id)}, {"revision", w.revision}};
+    r.code = w.code;
+    r.message = w.reason;
+    r.result = {{"entity_id", w.entity_id}, {"revision", w.revision}};
     done.emplace_back(w.seq, std::move(r));
   });
   for (const auto& [id, r] : done) finish(id, r);

@@ -124,11 +124,11 @@ class NodeLoop {
   std::vector<double> lateness_us;
 
  private:
-  dds::ServiceOptions options_;
+  service::ServiceOptions options_;
   dds::Participant participant_;
   dds::EventLoop loop_;
-  dds::ServiceAnnouncer announcer_;
-  dds::ServiceContext context_;
+  service::ServiceAnnouncer announcer_;
+  service::ServiceContext context_;
   AdmittanceNode node_;
   dds::Writer<rigger_admittance_AdmittanceCommand> commands_;
   Clock::time_point deadline_{};

@@ -58,7 +58,7 @@ class NodeThread {
         liveliness_(participant_, dds::liveliness_lease() / 3, 0ms),  // as run_service asserts it
         context_{options_, null_logger(), participant_, loop_, announcer_, Config::load(config_path)},
         node_(context_) {
-    announcer_.announce(dds::ServiceStatus::kReady);
+    announcer_.announce(service::ServiceStatus::kReady);
     thread_ = std::thread([this] { loop_.run(); });
   }
   ~NodeThread() {
@@ -67,12 +67,12 @@ class NodeThread {
   }
 
  private:
-  dds::ServiceOptions options_;
+  service::ServiceOptions options_;
   dds::Participant participant_;
   dds::EventLoop loop_;
-  dds::ServiceAnnouncer announcer_;
+  service::ServiceAnnouncer announcer_;
   dds::LivelinessAsserter liveliness_;
-  dds::ServiceContext context_;
+  service::ServiceContext context_;
   AdmittanceNode node_;
   std::thread thread_;
 };

@@ -73,7 +73,7 @@ std::optional<Vector6d> gains_vector(const Seq& seq) {
 
 }  // namespace
 
-AdmittanceNode::AdmittanceNode(dds::ServiceContext& ctx)
+AdmittanceNode::AdmittanceNode(service::ServiceContext& ctx)
     : ctx_(ctx),
       config_(load_control_config(ctx.config)),
       twist_timeout_s_(config_.twist_timeout_s),
@@ -210,7 +210,7 @@ void AdmittanceNode::check_commander() {
   if (commander_.empty() || mode_ == AdmittanceMode::kOff) return;
   const auto& services = directory_.services();
   const auto it = services.find(commander_);
-  const bool alive = it != services.end() && it->second.alive && it->second.status != dds::ServiceStatus::kStopping;
+  const bool alive = it != services.end() && it->second.alive && it->second.status != service::ServiceStatus::kStopping;
   if (alive) {
     commander_seen_ = true;
     return;

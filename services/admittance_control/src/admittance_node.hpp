@@ -15,9 +15,9 @@
 #include "crane_admittance.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/dds/service.hpp"
-#include "rigger/dds/service_state.hpp"
 #include "rigger/safety/safe_stop.hpp"
+#include "rigger/service/service.hpp"
+#include "rigger/service/service_state.hpp"
 #include "robot_admittance.hpp"
 #include "visual_servo.hpp"
 
@@ -50,9 +50,9 @@ inline constexpr const char* kFaultServoRequestInvalid = "SERVO_REQUEST_INVALID"
 /// and the crane (bridge x, trolley y, hoist z) in the world frame; the crane frame is taken to be
 /// the world frame (true in the simulated cell). The published AdmittanceState is in B.
 /// @throws ConfigError (exit 2).
-class AdmittanceNode : public dds::Node {
+class AdmittanceNode : public service::Node {
  public:
-  explicit AdmittanceNode(dds::ServiceContext& ctx);
+  explicit AdmittanceNode(service::ServiceContext& ctx);
   /// Leaves the robot and the crane with a zero setpoint.
   ~AdmittanceNode() override;
 
@@ -105,7 +105,7 @@ class AdmittanceNode : public dds::Node {
   /// True while the servo runs but its reference is stopped (quality, age, invalid pose).
   bool servo_stopped() const;
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   ControlConfig config_;
   double twist_timeout_s_;
   double crane_timeout_s_;
@@ -169,7 +169,7 @@ class AdmittanceNode : public dds::Node {
   dds::Reader<rigger_sensing_TwistCommand> joystick_;
   dds::Reader<rigger_vision_TrackedPose> tracker_poses_;
   dds::Reader<rigger_crane_CraneState> crane_states_;
-  dds::ServiceDirectory directory_;
+  service::ServiceDirectory directory_;
   dds::Writer<rigger_sensing_TwistCommand> cmd_twist_;
   dds::Writer<rigger_crane_CraneVelocityCommand> crane_cmd_;
   dds::Writer<rigger_admittance_AdmittanceState> state_;

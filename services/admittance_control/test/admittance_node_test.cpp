@@ -37,7 +37,7 @@ class AdmittanceNodeTest : public ::testing::Test {
         states_(participant_, protocol::admittance::kState),
         tracker_writer_(participant_, protocol::vision::kTrackerPose),
         crane_state_writer_(participant_, protocol::crane::kState) {
-    announcer_.announce(dds::ServiceStatus::kReady);  // the commands' source ("admittance-test") is alive
+    announcer_.announce(service::ServiceStatus::kReady);  // the commands' source ("admittance-test") is alive
     node_ = std::make_unique<AdmittanceNode>(context_);
     loop_.on_data(twists_, [this] {
       twists_.take([this](const rigger_sensing_TwistCommand& t, const dds_sample_info_t&) {
@@ -170,12 +170,12 @@ class AdmittanceNodeTest : public ::testing::Test {
   }
 
   rigger::testing::DomainLease lease_;
-  dds::ServiceOptions options_{"admittance-test", 0, "", "info"};
+  service::ServiceOptions options_{"admittance-test", 0, "", "info"};
   dds::Participant participant_;
   dds::EventLoop loop_;
-  dds::ServiceAnnouncer announcer_;
+  service::ServiceAnnouncer announcer_;
   dds::LivelinessAsserter liveliness_;
-  dds::ServiceContext context_;
+  service::ServiceContext context_;
   dds::Writer<rigger_sensing_WrenchStamped> wrench_writer_;
   dds::Writer<rigger_robot_RobotState> robot_state_writer_;
   dds::Writer<rigger_admittance_AdmittanceCommand> command_writer_;
@@ -248,13 +248,13 @@ TEST_F(AdmittanceNodeCellTest, VisualServoTwistIsTurnedIntoTheBaseAndMovedToTheT
 
 TEST(AdmittanceNodeConfig, AMissingCellFileIsAConfigurationErrorNamingTheKey) {
   rigger::testing::DomainLease lease;
-  dds::ServiceOptions options{"admittance-test", 0, "", "info"};
+  service::ServiceOptions options{"admittance-test", 0, "", "info"};
   dds::Participant participant(lease.id());
   dds::EventLoop loop(participant);
-  dds::ServiceAnnouncer announcer(participant, "admittance-test", "admittance_control");
-  dds::ServiceContext context{options,     null_logger(),
-                              participant, loop,
-                              announcer,   Config::parse(R"({"cell_file": "/no/such/cell.json"})", "test.json")};
+  service::ServiceAnnouncer announcer(participant, "admittance-test", "admittance_control");
+  service::ServiceContext context{options,     null_logger(),
+                                  participant, loop,
+                                  announcer,   Config::parse(R"({"cell_file": "/no/such/cell.json"})", "test.json")};
   try {
     AdmittanceNode node(context);
     FAIL() << "no error";
@@ -405,12 +405,13 @@ TEST_F(AdmittanceNodeRopeTest, TrackedRopeOffsetMovesTheCraneOverTheLoadUntilTra
 
 TEST(AdmittanceNodeConfig, RopeOffsetGainNeedsACellFileAndAnObjectWithARopeAttachment) {
   rigger::testing::DomainLease lease;
-  dds::ServiceOptions options{"admittance-test", lease.id(), "", "warn"};
+  service::ServiceOptions options{"admittance-test", lease.id(), "", "warn"};
   dds::Participant participant(lease.id());
   dds::EventLoop loop(participant);
-  dds::ServiceAnnouncer announcer(participant, "admittance-test", "admittance_control");
+  service::ServiceAnnouncer announcer(participant, "admittance-test", "admittance_control");
   const auto error_of = [&](const std::string& json) {
-    dds::ServiceContext context{options, null_logger(), participant, loop, announcer, Config::parse(json, "ac.json")};
+    service::ServiceContext context{options, null_logger(), participant,
+                                    loop,    announcer,     Config::parse(json, "ac.json")};
     try {
       AdmittanceNode node(context);
     } catch (const ConfigError& e) {
@@ -511,8 +512,8 @@ TEST_F(AdmittanceNodeTest, VisualServoRequestWithNonUnitQuaternionIsRefused) {
 TEST_F(AdmittanceNodeTest, LostCommanderStopsTheRobot) {
   publish_robot_state();
   start_wrench_stream((Vector6d() << 20, 0, 0, 0, 0, 0).finished());
-  auto executor = std::make_unique<dds::ServiceAnnouncer>(participant_, "executor-7", "skill_executor");
-  executor->announce(dds::ServiceStatus::kReady);
+  auto executor = std::make_unique<service::ServiceAnnouncer>(participant_, "executor-7", "skill_executor");
+  executor->announce(service::ServiceStatus::kReady);
   source_ = "executor-7";
   command(rigger_admittance_ADMITTANCE_ROBOT);
   ASSERT_TRUE(loop_.run_until([&] { return !twist_log_.empty() && twist_log_.back().twist(0) > 0.05; }, 5s));

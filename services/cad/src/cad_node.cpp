@@ -36,7 +36,7 @@ const SettingsTable<CadServiceSettings>& cad_settings() {
 
 CadServiceSettings read_settings(const Config& config) { return rigger::read_settings(config, cad_settings()); }
 
-CadNode::CadNode(dds::ServiceContext& ctx, CadServiceSettings settings)
+CadNode::CadNode(service::ServiceContext& ctx, CadServiceSettings settings)
     : ctx_(ctx),
       service_(std::move(settings)),
       replies_(ctx.participant, protocol::cad::kReply),

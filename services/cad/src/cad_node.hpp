@@ -8,22 +8,22 @@
 #include "rigger/base/settings.hpp"
 #include "rigger/cad/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/dds/service.hpp"
 #include "rigger/protocol/cad.hpp"
+#include "rigger/service/service.hpp"
 
 namespace rigger::cad_service {
 
 /// Settings from the --config file, then config.finish(). @throws ConfigError.
 CadServiceSettings read_settings(const Config& config);
 
-class CadNode : public dds::Node {
+class CadNode : public service::Node {
  public:
-  CadNode(dds::ServiceContext& ctx, CadServiceSettings settings);
+  CadNode(service::ServiceContext& ctx, CadServiceSettings settings);
 
  private:
   void on_requests();
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   CadService service_;
   dds::Writer<rigger_cad_CadReply> replies_;
   dds::Reader<rigger_cad_CadRequest> requests_;

@@ -114,7 +114,7 @@ void CommandLine::add_to(CLI::App& app) {
       ->check(CLI::Range(0.0, 1000.0));
 }
 
-CellSimNode::CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_line)
+CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& command_line)
     : ctx_(ctx),
       config_(read_cell_sim_config(ctx.config)),
       twist_gate_(config_.max_command_future, config_.max_twist_timeout),

@@ -18,9 +18,9 @@
 #include "camera_worker.hpp"
 #include "command_gate.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/dds/service.hpp"
 #include "rigger/ros2/types.hpp"
 #include "rigger/safety/safe_stop.hpp"
+#include "rigger/service/service.hpp"
 #include "sim_runner.hpp"
 
 namespace rigger::cell_sim {
@@ -39,10 +39,10 @@ struct CommandLine {
 };
 
 /// Configuration: deploy/config/cell_sim.json, keys in docs/cell-sim.md.
-class CellSimNode : public dds::Node, private SimOutputs {
+class CellSimNode : public service::Node, private SimOutputs {
  public:
   /// @throws ConfigError (bad configuration, cell file or model), crane::ModbusError (port in use), DdsError.
-  CellSimNode(dds::ServiceContext& ctx, const CommandLine& command_line);
+  CellSimNode(service::ServiceContext& ctx, const CommandLine& command_line);
   /// Stops the physics thread with the arm and the crane stopped and the Modbus server closed.
   ~CellSimNode() override;
 
@@ -70,7 +70,7 @@ class CellSimNode : public dds::Node, private SimOutputs {
   void refuse_motion(const std::string& motion_id, const std::string& code, const std::string& message);
   bool log_allowed(std::chrono::steady_clock::time_point& last);
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   CellSimConfig config_;
   Eigen::Isometry3d pose_world_base_ = Eigen::Isometry3d::Identity();
   CommandGate twist_gate_;

@@ -39,7 +39,7 @@ double round4(double v) { return std::round(v * 1e4) / 1e4; }
 
 }  // namespace
 
-ConsoleNode::ConsoleNode(dds::ServiceContext& ctx)
+ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
     : ctx_(ctx),
       events_(kEventCapacity, epoch_now()),
       plots_(kPlotCapacity, events_.epoch()),

@@ -20,9 +20,7 @@
 #include "http_api.hpp"
 #include "rehearsal_link.hpp"
 #include "run_archive.hpp"
-#include "task_feed.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/dds/service.hpp"
 #include "rigger/idl/types.hpp"
 #include "rigger/protocol/admittance.hpp"
 #include "rigger/protocol/cad.hpp"
@@ -31,14 +29,16 @@
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
+#include "rigger/service/service.hpp"
 #include "rigger/world_client/world_client.hpp"
+#include "task_feed.hpp"
 
 namespace rigger::console {
 
-class ConsoleNode : public dds::Node, public Backend {
+class ConsoleNode : public service::Node, public Backend {
  public:
   /// @throws ConfigError (bad configuration, users file, port in use), DdsError.
-  explicit ConsoleNode(dds::ServiceContext& ctx);
+  explicit ConsoleNode(service::ServiceContext& ctx);
   ~ConsoleNode() override;
 
   int port() const { return http_->port(); }
@@ -68,7 +68,7 @@ class ConsoleNode : public dds::Node, public Backend {
   void sampled();
   void plot_tick();
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   std::chrono::milliseconds query_timeout_{3000};
   EventLog events_;
   EventLog plots_;

@@ -132,7 +132,7 @@ CraneStateReport summarize(const GatewayState& state) {
   return r;
 }
 
-CraneGatewayNode::CraneGatewayNode(dds::ServiceContext& ctx, const CommandLine& command_line)
+CraneGatewayNode::CraneGatewayNode(service::ServiceContext& ctx, const CommandLine& command_line)
     : ctx_(ctx),
       config_([&] {
         CraneGatewayConfig c = read_gateway_config(ctx.config);

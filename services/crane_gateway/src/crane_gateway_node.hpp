@@ -30,8 +30,8 @@
 #include "rigger/base/settings.hpp"
 #include "rigger/crane_gateway/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/dds/service.hpp"
 #include "rigger/safety/safe_stop.hpp"
+#include "rigger/service/service.hpp"
 
 namespace rigger::crane_gateway {
 
@@ -63,10 +63,10 @@ struct CraneStateReport {
 /// Mode, link and fault summary of `state` (the rest of CraneState copies the PLC's status block).
 CraneStateReport summarize(const GatewayState& state);
 
-class CraneGatewayNode : public dds::Node {
+class CraneGatewayNode : public service::Node {
  public:
   /// @throws ConfigError, DdsError.
-  CraneGatewayNode(dds::ServiceContext& ctx, const CommandLine& command_line);
+  CraneGatewayNode(service::ServiceContext& ctx, const CommandLine& command_line);
   /// Stops the cycle and releases the crane (enable and external control off, zero setpoints).
   ~CraneGatewayNode() override;
 
@@ -77,7 +77,7 @@ class CraneGatewayNode : public dds::Node {
   void publish(const GatewayState& state, WallTime now);
   void log_cycle(const CycleReport& report, const GatewayState& state);
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   CraneGatewayConfig config_;
   dds::Writer<rigger_crane_CraneState> state_;
   dds::Reader<rigger_crane_CraneVelocityCommand> commands_;

@@ -2,10 +2,11 @@
 
 int main(int argc, char** argv) {
   rigger::crane_gateway::CommandLine overrides;
-  return rigger::dds::run_service(argc, argv,
-                                  {"crane_gateway", "The only bridge to the crane PLC (Modbus TCP).",
-                                   [&overrides](CLI::App& app) { overrides.add_to(app); },
-                                   [&overrides](rigger::dds::ServiceContext& ctx) {
-                                     return std::make_unique<rigger::crane_gateway::CraneGatewayNode>(ctx, overrides);
-                                   }});
+  return rigger::service::run_service(argc, argv,
+                                      {"crane_gateway", "The only bridge to the crane PLC (Modbus TCP).",
+                                       [&overrides](CLI::App& app) { overrides.add_to(app); },
+                                       [&overrides](rigger::service::ServiceContext& ctx) {
+                                         return std::make_unique<rigger::crane_gateway::CraneGatewayNode>(ctx,
+                                                                                                          overrides);
+                                       }});
 }

@@ -23,7 +23,7 @@ const SettingsTable<EchoSettings>& echo_settings() {
   return table;
 }
 
-EchoNode::EchoNode(dds::ServiceContext& ctx, const EchoSettings& settings)
+EchoNode::EchoNode(service::ServiceContext& ctx, const EchoSettings& settings)
     : ctx_(ctx),
       max_payload_bytes_(settings.max_payload_bytes),
       publish_peer_view_(settings.publish_peer_view),

@@ -5,8 +5,8 @@
 
 #include "rigger/base/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/dds/service.hpp"
 #include "rigger/echo/settings.hpp"
+#include "rigger/service/service.hpp"
 
 namespace rigger::echo {
 
@@ -19,21 +19,21 @@ struct EchoSettings {
   bool publish_peer_view{};
 };
 
-class EchoNode : public dds::Node {
+class EchoNode : public service::Node {
  public:
-  explicit EchoNode(dds::ServiceContext& ctx) : EchoNode(ctx, read_settings(ctx.config, echo_settings())) {}
-  EchoNode(dds::ServiceContext& ctx, const EchoSettings& settings);
+  explicit EchoNode(service::ServiceContext& ctx) : EchoNode(ctx, read_settings(ctx.config, echo_settings())) {}
+  EchoNode(service::ServiceContext& ctx, const EchoSettings& settings);
 
  private:
   void on_request();
   void on_directory();
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   unsigned max_payload_bytes_;
   bool publish_peer_view_;
   dds::Reader<rigger_system_EchoSample> requests_;
   dds::Writer<rigger_system_EchoSample> replies_;
-  dds::ServiceDirectory directory_;
+  service::ServiceDirectory directory_;
   dds::Writer<rigger_system_PeerView> peer_view_;
   std::vector<std::string> last_peers_;
 };

@@ -22,7 +22,7 @@ SettingsTable<MonitorHostSettings> monitor_host_settings(const std::string& serv
   };
 }
 
-MonitorHostNode::MonitorHostNode(dds::ServiceContext& ctx, const MonitorHostSettings& settings)
+MonitorHostNode::MonitorHostNode(service::ServiceContext& ctx, const MonitorHostSettings& settings)
     : ctx_(ctx),
       max_monitors_(settings.max_monitors),
       wrench_(ctx.participant, settings.wrench_topic, dds::qos::sensor_stream()) {

@@ -19,19 +19,19 @@
 
 #include "monitor.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/dds/service.hpp"
 #include "rigger/monitor_host/settings.hpp"
 #include "rigger/protocol/robot.hpp"
+#include "rigger/service/service.hpp"
 #include "rigger/skill_protocol/executor_endpoint.hpp"
 
 namespace rigger::monitor {
 
-class MonitorHostNode : public dds::Node {
+class MonitorHostNode : public service::Node {
  public:
   /// @throws ConfigError on bad configuration, DdsError.
-  explicit MonitorHostNode(dds::ServiceContext& ctx)
+  explicit MonitorHostNode(service::ServiceContext& ctx)
       : MonitorHostNode(ctx, read_settings(ctx.config, monitor_host_settings(ctx.options.id))) {}
-  MonitorHostNode(dds::ServiceContext& ctx, const MonitorHostSettings& settings);
+  MonitorHostNode(service::ServiceContext& ctx, const MonitorHostSettings& settings);
   ~MonitorHostNode() override;
 
   /// Monitors armed now (for tests and logs).
@@ -57,7 +57,7 @@ class MonitorHostNode : public dds::Node {
   void on_timer(const RunKey& key);
   void forget(const RunKey& key);
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   std::size_t max_monitors_;
   dds::Reader<rigger_sensing_WrenchStamped> wrench_;
   std::map<RunKey, Active> active_;

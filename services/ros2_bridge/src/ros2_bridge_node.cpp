@@ -26,7 +26,7 @@ dds::Qos qos_of(Ros2Qos qos) {
 
 }  // namespace
 
-Ros2BridgeNode::Ros2BridgeNode(dds::ServiceContext& ctx) : ctx_(ctx), config_(read_bridge_config(ctx.config)) {
+Ros2BridgeNode::Ros2BridgeNode(service::ServiceContext& ctx) : ctx_(ctx), config_(read_bridge_config(ctx.config)) {
   ctx.config.finish();
   if (config_.image) {
     const ImageStream& i = *config_.image;

@@ -29,16 +29,16 @@
 #include "bridge_config.hpp"
 #include "joint_states.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/dds/service.hpp"
 #include "rigger/ros2/types.hpp"
 #include "rigger/safety/safe_stop.hpp"
+#include "rigger/service/service.hpp"
 
 namespace rigger::ros2_bridge {
 
-class Ros2BridgeNode : public dds::Node {
+class Ros2BridgeNode : public service::Node {
  public:
   /// @throws ConfigError, DdsError.
-  explicit Ros2BridgeNode(dds::ServiceContext& ctx);
+  explicit Ros2BridgeNode(service::ServiceContext& ctx);
   /// Sends a zero twist if a command is still held, so the driver does not wait for its own timeout.
   ~Ros2BridgeNode() override;
 
@@ -54,7 +54,7 @@ class Ros2BridgeNode : public dds::Node {
   /// Counts an `event` ("dropped", "clamped") on `stream` for `reason` and logs it when its counter allows.
   void count(std::string_view event, const std::string& stream, std::string_view reason, const std::string& detail);
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   BridgeConfig config_;
   std::optional<dds::Reader<geometry_msgs_msg_dds__WrenchStamped_>> ros2_wrench_;
   std::optional<dds::Writer<rigger_sensing_WrenchStamped>> rigger_wrench_;

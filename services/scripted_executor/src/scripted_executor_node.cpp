@@ -20,7 +20,7 @@ constexpr std::size_t kReceiptCapacity = 1U << 16;
 
 }  // namespace
 
-ScriptedExecutorNode::ScriptedExecutorNode(dds::ServiceContext& ctx) : ctx_(ctx) {
+ScriptedExecutorNode::ScriptedExecutorNode(service::ServiceContext& ctx) : ctx_(ctx) {
   ScriptedExecutorSettings settings = read_settings(ctx.config, scripted_executor_settings());
   nlohmann::json library = std::move(settings.library);
   const std::size_t announced = library["skills"].size();

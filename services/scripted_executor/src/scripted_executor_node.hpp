@@ -12,16 +12,16 @@
 #include <vector>
 
 #include "behaviour.hpp"
-#include "rigger/dds/service.hpp"
+#include "rigger/service/service.hpp"
 #include "rigger/skill_protocol/executor_endpoint.hpp"
 #include "scripted_settings.hpp"
 
 namespace rigger::scripted {
 
-class ScriptedExecutorNode : public dds::Node {
+class ScriptedExecutorNode : public service::Node {
  public:
   /// @throws ConfigError, DdsError.
-  explicit ScriptedExecutorNode(dds::ServiceContext& ctx);
+  explicit ScriptedExecutorNode(service::ServiceContext& ctx);
   ~ScriptedExecutorNode() override;
 
  private:
@@ -48,7 +48,7 @@ class ScriptedExecutorNode : public dds::Node {
     std::int64_t woke_wall_ns = 0;   ///< when this executor's command handler began
   };
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   std::string receipt_trace_path_;  ///< empty: no receipt trace
   std::vector<Receipt> receipts_;
   std::map<std::string, Behaviour> by_skill_;

@@ -4,7 +4,7 @@
 
 int main(int argc, char** argv) {
   auto rules = std::make_shared<std::vector<std::string>>();
-  return rigger::dds::run_service(
+  return rigger::service::run_service(
       argc, argv,
       {"scripted_operator", "Answers operator prompts by rule (the demo's and the tests' human).",
        [rules](CLI::App& app) {
@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
              ->expected(1)
              ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
        },
-       [rules](rigger::dds::ServiceContext& ctx) {
+       [rules](rigger::service::ServiceContext& ctx) {
          return std::make_unique<rigger::scripted_operator::ScriptedOperatorNode>(ctx, *rules);
        }});
 }

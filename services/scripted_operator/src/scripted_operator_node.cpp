@@ -7,7 +7,7 @@
 #include "rigger/protocol/operator.hpp"
 
 namespace rigger::scripted_operator {
-ScriptedOperatorNode::ScriptedOperatorNode(dds::ServiceContext& ctx, const std::vector<std::string>& rule_arguments)
+ScriptedOperatorNode::ScriptedOperatorNode(service::ServiceContext& ctx, const std::vector<std::string>& rule_arguments)
     : ctx_(ctx),
       prompts_(ctx.participant, protocol::operator_ui::kPrompt),
       responses_in_(ctx.participant, protocol::operator_ui::kResponse),

@@ -16,15 +16,15 @@
 #include <vector>
 
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/dds/service.hpp"
+#include "rigger/service/service.hpp"
 #include "rules.hpp"
 
 namespace rigger::scripted_operator {
 
-class ScriptedOperatorNode : public dds::Node {
+class ScriptedOperatorNode : public service::Node {
  public:
   /// @param rule_arguments the --rule texts, in order. @throws ConfigError for a bad rule (exit 2).
-  ScriptedOperatorNode(dds::ServiceContext& ctx, const std::vector<std::string>& rule_arguments);
+  ScriptedOperatorNode(service::ServiceContext& ctx, const std::vector<std::string>& rule_arguments);
   ~ScriptedOperatorNode() override;
 
  private:
@@ -40,7 +40,7 @@ class ScriptedOperatorNode : public dds::Node {
   void on_responses();
   void answer(const std::string& prompt_id);
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   std::vector<Rule> rules_;
   std::string operator_id_;
   dds::Reader<rigger_operator_ui_OperatorPrompt> prompts_;

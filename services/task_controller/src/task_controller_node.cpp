@@ -16,14 +16,14 @@ namespace {
 
 /// Offers the command writer's liveliness lease to run_service, which asserts the participant's
 /// liveliness every third of it when it is the shortest (a 100 ms lease: every 33 ms).
-std::chrono::milliseconds offered(dds::ServiceContext& ctx, std::chrono::milliseconds lease) {
+std::chrono::milliseconds offered(service::ServiceContext& ctx, std::chrono::milliseconds lease) {
   ctx.offer_liveliness_lease(lease);
   return lease;
 }
 
 }  // namespace
 
-TaskControllerNode::TaskControllerNode(dds::ServiceContext& ctx, const std::string& journal_path)
+TaskControllerNode::TaskControllerNode(service::ServiceContext& ctx, const std::string& journal_path)
     : ctx_(ctx),
       settings_(read_settings(ctx.config, journal_path)),
       journal_(settings_.journal_path, settings_.journal_sync),

@@ -50,9 +50,9 @@
 #include "recipe_admission.hpp"
 #include "resume_plan.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/dds/service.hpp"
 #include "rigger/recipe/recipe_validator.hpp"
 #include "rigger/safety/safe_stop.hpp"
+#include "rigger/service/service.hpp"
 #include "stage_trace.hpp"
 #include "status_publisher.hpp"
 #include "task_port.hpp"
@@ -63,11 +63,11 @@ class WorldClient;
 
 namespace rigger::task_controller {
 
-class TaskControllerNode : public dds::Node, private TaskHost {
+class TaskControllerNode : public service::Node, private TaskHost {
  public:
   /// `journal_path`: the journal's file instead of the configuration's journal_path (--journal), when
   /// not empty. @throws ConfigError, JournalError, DdsError.
-  explicit TaskControllerNode(dds::ServiceContext& ctx, const std::string& journal_path = "");
+  explicit TaskControllerNode(service::ServiceContext& ctx, const std::string& journal_path = "");
   ~TaskControllerNode() override;
 
  private:
@@ -135,7 +135,7 @@ class TaskControllerNode : public dds::Node, private TaskHost {
   void post_flush_if_idle();
   void forget_task(const std::string& task_id);
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   const ControllerSettings settings_;  ///< read first: the members below are built from it
   Journal journal_;
   dds::Reader<rigger_skill_ExecutorAnnouncement> announcements_;

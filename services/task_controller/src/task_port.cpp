@@ -83,11 +83,10 @@ void Task::on_event(const ReceivedEvent& e) {
   const skill_protocol::LeafOutcome& outcome = e.outcome;
   if (outcome.kind == EventKind::kPaused || outcome.kind == EventKind::kResumed) {
     // What a leaf did with a PAUSE / RESUME: for people (the journal), never for the engine.
-    const std::string answer = skill_protocol::to_string(outcome.kind);
     const std::string& code = outcome.code;
-    host_.log()->info("{} task={} node={} executor={} code={} {}", answer, id_, e.node_id, e.executor_id, code,
-                      outcome.message);
-    host_.journal({wall_now_s(), id_, e.node_id, "EVENT", code.empty() ? answer : "NOT_" + answer,
+    host_.log()->info("{} task={} node={} executor={} code={} {}", skill_protocol::to_string(outcome.kind), id_,
+                      e.node_id, e.executor_id, code, outcome.message);
+    host_.journal({wall_now_s(), id_, e.node_id, "EVENT", skill_protocol::answer_name(outcome.kind, !code.empty()),
                    code.empty() ? outcome.message : code + ": " + outcome.message});
     return;
   }
@@ -116,7 +115,8 @@ void Task::on_event(const ReceivedEvent& e) {
   if (outcome.kind == EventKind::kAccepted) {
     // Running needs no row (its events follow); a START that waits does: it explains the delay.
     if (!outcome.code.empty())
-      host_.journal({wall_now_s(), id_, e.node_id, "EVENT", "ACCEPTED", outcome.code + ": " + outcome.message});
+      host_.journal({wall_now_s(), id_, e.node_id, "EVENT", skill_protocol::to_string(outcome.kind),
+                     outcome.code + ": " + outcome.message});
     return;
   }
   bt::LeafEvent ev = to_leaf_event(outcome);
@@ -416,7 +416,7 @@ void Task::journal_progress(const std::string& node_id, const bt::LeafEvent& eve
   ++rows.journaled;
   std::string text = event.progress ? number_text(*event.progress) : std::string();
   if (!event.message.empty()) text += (text.empty() ? "" : ": ") + event.message;
-  host_.journal({wall_now_s(), id_, node_id, "EVENT", "PROGRESS", text});
+  host_.journal({wall_now_s(), id_, node_id, "EVENT", std::string(bt::to_string(event.kind)), text});
 }
 
 void Task::end_progress(const std::string& node_id) {

@@ -1,6 +1,10 @@
 #include "vision_tracker_node.hpp"
 
 int main(int argc, char** argv) {
-  return rigger::dds::run_service(argc, argv, {"vision_tracker", "Tracks the cell's marker layouts in camera images.", {},
-      [](rigger::dds::ServiceContext& ctx) { return std::make_unique<rigger::vision::VisionTrackerNode>(ctx); }});
+  return rigger::service::run_service(
+      argc, argv,
+      {"vision_tracker",
+       "Tracks the cell's marker layouts in camera images.",
+       {},
+       [](rigger::service::ServiceContext& ctx) { return std::make_unique<rigger::vision::VisionTrackerNode>(ctx); }});
 }

@@ -59,7 +59,7 @@ const SettingsTable<VisionTrackerSettings>& vision_tracker_settings() {
   return table;
 }
 
-VisionTrackerNode::VisionTrackerNode(dds::ServiceContext& ctx, const VisionTrackerSettings& settings)
+VisionTrackerNode::VisionTrackerNode(service::ServiceContext& ctx, const VisionTrackerSettings& settings)
     : ctx_(ctx),
       frame_id_(settings.frame_id),
       tracker_(make_tracker(settings, ctx.config)),

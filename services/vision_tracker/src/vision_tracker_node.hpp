@@ -10,7 +10,7 @@
 
 #include "rigger/base/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/dds/service.hpp"
+#include "rigger/service/service.hpp"
 #include "rigger/vision_tracker/settings.hpp"
 #include "tracker.hpp"
 #include "tracking_schedule.hpp"
@@ -39,11 +39,11 @@ struct VisionTrackerSettings {
 ///                     for it (stamped with the wall clock) unless it is tracked continuously
 ///   STOP              neither (a pending TRACK_ONCE is dropped without a sample)
 /// While no object is tracked, images are not looked at.
-class VisionTrackerNode : public dds::Node {
+class VisionTrackerNode : public service::Node {
  public:
-  explicit VisionTrackerNode(dds::ServiceContext& ctx)
+  explicit VisionTrackerNode(service::ServiceContext& ctx)
       : VisionTrackerNode(ctx, read_settings(ctx.config, vision_tracker_settings())) {}
-  VisionTrackerNode(dds::ServiceContext& ctx, const VisionTrackerSettings& settings);
+  VisionTrackerNode(service::ServiceContext& ctx, const VisionTrackerSettings& settings);
 
   /// What is tracked, per object. Loop thread.
   const TrackingSchedule& schedule() const { return schedule_; }
@@ -64,7 +64,7 @@ class VisionTrackerNode : public dds::Node {
   void process(const rigger_vision_Image& image);
   void publish(const ObjectTrack& track, Stamp stamp);
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   std::string frame_id_;
   Tracker tracker_;
   TrackingSchedule schedule_;

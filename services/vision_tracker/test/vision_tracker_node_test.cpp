@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "rigger/dds/conversions.hpp"
-#include "rigger/dds/service.hpp"
 #include "rigger/protocol/vision.hpp"
+#include "rigger/service/service.hpp"
 #include "rigger/testing/domain.hpp"
 #include "sim_support.hpp"
 #include "vision_tracker_node.hpp"
@@ -50,7 +50,7 @@ class VisionTrackerNodeTest : public ::testing::Test {
   /// (Re)starts the node with the deployed cell and `extra_config` keys (",\"key\": value...").
   void start(const std::string& extra_config = "") {
     node_.reset();
-    context_.reset(new dds::ServiceContext{
+    context_.reset(new service::ServiceContext{
         options_, null_logger(), participant_, loop_, announcer_,
         Config::parse(R"({"cell_file": "deploy/cell/simulated_cell.json")" + extra_config + "}", "test")});
     node_ = std::make_unique<VisionTrackerNode>(*context_);
@@ -123,11 +123,11 @@ class VisionTrackerNodeTest : public ::testing::Test {
   };
 
   rigger::testing::DomainLease lease_;
-  dds::ServiceOptions options_{"vision_tracker-test", 0, "", "info"};
+  service::ServiceOptions options_{"vision_tracker-test", 0, "", "info"};
   dds::Participant participant_;
   dds::EventLoop loop_;
-  dds::ServiceAnnouncer announcer_;
-  std::unique_ptr<dds::ServiceContext> context_;
+  service::ServiceAnnouncer announcer_;
+  std::unique_ptr<service::ServiceContext> context_;
   sim::CameraScene scene_;
   sim::CameraRenderer renderer_;
   dds::Writer<rigger_vision_Image> images_;

@@ -10,8 +10,6 @@ namespace {
 
 using nlohmann::json;
 
-std::string text(const char* s) { return s ? std::string(s) : std::string(); }
-
 DecodeError error(std::string code, std::string message) { return DecodeError{std::move(code), std::move(message)}; }
 
 // Ids are echoed in messages: clip what we quote so a megabyte of garbage makes a short reason.
@@ -31,60 +29,51 @@ std::optional<DecodeError> check_id(const std::string& field, const std::string&
 
 }  // namespace
 
-std::optional<Stamp> decode_stamp(const rigger_geometry_Time& wire) {
-  if (wire.nanosec >= 1000000000u) return std::nullopt;
-  const auto ns = std::chrono::seconds(wire.sec) + std::chrono::nanoseconds(wire.nanosec);
-  return Stamp(std::chrono::duration_cast<Stamp::duration>(ns));
+Decoded<EntityUpdate> decode_update(const rigger_world_EntityUpdate& wire) {
+  return decode_update(world_protocol::from_wire(wire));
 }
 
-Decoded<EntityUpdate> decode_update(const rigger_world_EntityUpdate& wire) {
+Decoded<EntityUpdate> decode_update(const world_protocol::Update& sent) {
   EntityUpdate u;
-  u.entity_id = text(wire.entity_id);
-  u.source = text(wire.source);
+  u.entity_id = sent.entity_id;
+  u.source = sent.source;
   if (auto e = check_id("entity_id", u.entity_id)) return *e;
   if (u.source.empty()) return error("MISSING_SOURCE", "source is empty");
   if (u.source.size() > 256) return error("BAD_ID", "source: expected at most 256 characters");
 
-  const auto stamp = decode_stamp(wire.stamp);
-  if (!stamp) return error("BAD_STAMP", "stamp.nanosec " + std::to_string(wire.stamp.nanosec) + ": expected < 1e9");
-  u.stamp = *stamp;
+  if (!sent.stamp) return error("BAD_STAMP", "stamp.nanosec: expected < 1e9");
+  u.stamp = *sent.stamp;
 
-  const std::string parent = text(wire.parent_frame);
+  const std::string& parent = sent.parent_frame;
   if (!parent.empty()) {
     if (auto e = check_id("parent_frame", parent)) return *e;
     u.parent = parent;
   }
-  if (wire.has_pose) {
-    const auto& p = wire.pose.pose;
-    const double values[7] = {p.position.x, p.position.y, p.position.z, p.orientation.x, p.orientation.y,
-                              p.orientation.z, p.orientation.w};
-    for (double v : values) {
-      if (!std::isfinite(v)) return error("NOT_FINITE", "pose of " + quote_id(u.entity_id) + ": NaN or infinity");
+  if (sent.pose) {
+    const world_protocol::PoseAsSent& p = *sent.pose;
+    if (!p.position_m.allFinite() || !p.orientation.coeffs().allFinite()) {
+      return error("NOT_FINITE", "pose of " + quote_id(u.entity_id) + ": NaN or infinity");
     }
-    PoseValue pose;
-    pose.position_m = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
     // Kept as sent (not normalised): the store rejects a non-unit quaternion with its own code.
-    pose.orientation = Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
-    u.pose = pose;
+    u.pose = PoseValue{p.position_m, p.orientation};
   }
-  if (wire.has_covariance) {
-    Covariance6d cov;
+  if (sent.covariance) {
+    const Covariance6d& cov = *sent.covariance;
     for (int i = 0; i < 36; ++i) {
-      const double v = wire.pose.covariance[i];
-      if (!std::isfinite(v)) {
+      if (!std::isfinite(cov(i / 6, i % 6))) {
         return error("NOT_FINITE", "covariance[" + std::to_string(i) + "] of " + quote_id(u.entity_id) + ": NaN or infinity");
       }
-      cov(i / 6, i % 6) = v;
     }
     u.covariance = cov;
   }
-  if (wire.has_quality) {
-    if (!std::isfinite(wire.quality)) return error("NOT_FINITE", "quality of " + quote_id(u.entity_id) + ": NaN or infinity");
-    u.quality = wire.quality;
+  if (sent.quality) {
+    if (!std::isfinite(*sent.quality))
+      return error("NOT_FINITE", "quality of " + quote_id(u.entity_id) + ": NaN or infinity");
+    u.quality = *sent.quality;
   }
-  if (wire.has_localized) u.localized = wire.localized;
+  u.localized = sent.localized;
 
-  const std::string attributes = text(wire.attributes_json);
+  const std::string& attributes = sent.attributes_json;
   if (!attributes.empty()) {
     if (attributes.size() > kMaxAttributesJsonBytes) {
       return error("BAD_ATTRIBUTES", "attributes_json: expected at most " + std::to_string(kMaxAttributesJsonBytes) +
@@ -127,21 +116,18 @@ Decoded<EntityUpdate> decode_tracked_pose(const rigger_vision_TrackedPose& wire)
 }
 
 Decoded<WorldQuery> decode_query(const rigger_world_WorldQuery& wire) {
+  return decode_query(world_protocol::from_wire(wire));
+}
+
+Decoded<WorldQuery> decode_query(const world_protocol::Query& sent) {
   WorldQuery q;
-  q.client_id = text(wire.client_id);
-  q.request_id = wire.request_id;
-  q.entity_id = text(wire.entity_id);
-  q.frame_id = text(wire.frame_id);
-  q.feature_id = text(wire.feature_id);
-  switch (wire.kind) {
-    case rigger_world_QUERY_POSE: q.kind = QueryKind::kPose; break;
-    case rigger_world_QUERY_IS_LOCALIZED: q.kind = QueryKind::kIsLocalized; break;
-    case rigger_world_QUERY_FEATURES: q.kind = QueryKind::kFeatures; break;
-    case rigger_world_QUERY_ENTITY: q.kind = QueryKind::kEntity; break;
-    case rigger_world_QUERY_LIST: q.kind = QueryKind::kList; break;
-    default:
-      return error("BAD_QUERY", "kind " + std::to_string(static_cast<long long>(wire.kind)) + ": expected 0 to 4");
-  }
+  q.client_id = sent.client_id;
+  q.request_id = sent.request_id;
+  q.entity_id = sent.entity_id;
+  q.frame_id = sent.frame_id;
+  q.feature_id = sent.feature_id;
+  if (!sent.kind) return error("BAD_QUERY", "kind " + std::to_string(sent.wire_kind) + ": expected 0 to 4");
+  q.kind = *sent.kind;
   if (q.kind != QueryKind::kList) {
     if (auto e = check_id("entity_id", q.entity_id)) return *e;
   }
@@ -151,11 +137,11 @@ Decoded<WorldQuery> decode_query(const rigger_world_WorldQuery& wire) {
       if (auto e = check_id("feature_id", q.feature_id)) return *e;
     }
   }
-  if (!std::isfinite(wire.max_age_s)) return error("BAD_QUERY", "max_age_s: expected a finite number of seconds");
-  if (q.kind == QueryKind::kIsLocalized && wire.max_age_s > 0.0) {
+  if (!std::isfinite(sent.max_age_s)) return error("BAD_QUERY", "max_age_s: expected a finite number of seconds");
+  if (q.kind == QueryKind::kIsLocalized && sent.max_age_s > 0.0) {
     // Beyond ~292 years nanoseconds overflow; such an age limit means "any age".
-    if (wire.max_age_s < 9.0e9) {
-      q.max_age = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(wire.max_age_s));
+    if (sent.max_age_s < 9.0e9) {
+      q.max_age = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(sent.max_age_s));
     }
   }
   return q;

@@ -1,14 +1,15 @@
 #pragma once
 /// @file
-/// The world model's wire boundary: `rigger/world/update` and `rigger/world/query` samples (idlc
-/// structs) become domain values here, with every check a sample can fail before it reaches the
-/// store: ids of the right form, strings and JSON within bounds, numbers finite, the stamp's
-/// nanoseconds below one second, the query kind known. Checks that need the store's state (unknown
-/// entity or frame, stamp going backwards, a non-unit quaternion, covariance shape) are the store's
-/// and the queries' (world_store.hpp, world_queries.hpp); the decoder keeps the quaternion exactly as
-/// sent so that the store can reject it.
+/// The world model's wire boundary: `rigger/world/update` and `rigger/world/query` messages (read
+/// from their samples by common/world_protocol's from_wire, which checks nothing) become store values
+/// here, with every check a sample can fail before it reaches the store: ids of the right form,
+/// strings and JSON within bounds, numbers finite, the stamp's nanoseconds below one second, the query
+/// kind known. Checks that need the store's state (unknown entity or frame, stamp going backwards, a
+/// non-unit quaternion, covariance shape) are the store's and the queries' (world_store.hpp,
+/// world_queries.hpp); the decoder keeps the quaternion exactly as sent so that the store can reject it.
 ///
-/// Never throws; any bytes in a wire struct give a value or a DecodeError.
+/// Never throws; any bytes in a wire struct give a value or a DecodeError. The overloads on a wire
+/// sample read it with world_protocol::from_wire first (the tests and fuzzers feed samples).
 
 #include <chrono>
 #include <optional>
@@ -17,6 +18,7 @@
 
 #include <rigger/idl/types.hpp>
 
+#include "rigger/world_protocol/world_protocol.hpp"
 #include "world_store.hpp"
 
 namespace rigger::world {
@@ -35,7 +37,7 @@ using Decoded = std::variant<T, DecodeError>;
 inline constexpr std::size_t kMaxAttributesJsonBytes = 64 * 1024;
 
 /// What a query asks (see idl/world.idl WorldQuery).
-enum class QueryKind { kPose, kIsLocalized, kFeatures, kEntity, kList };
+using world_protocol::QueryKind;
 
 /// A decoded query.
 struct WorldQuery {
@@ -52,10 +54,12 @@ struct WorldQuery {
 /// the parent frame (when non-empty) an identifier, the pose/covariance/quality finite when given,
 /// attributes_json (when non-empty) a JSON object within kMaxAttributesJsonBytes and
 /// kMaxAttributeDepth. Absent parts (has_* false) are absent in the result.
+Decoded<EntityUpdate> decode_update(const world_protocol::Update& update);
 Decoded<EntityUpdate> decode_update(const rigger_world_EntityUpdate& wire);
 
 /// Decodes a query: a known kind; entity_id an identifier (except kList); frame_id an identifier for
 /// kPose; feature_id empty or an identifier; max_age_s finite.
+Decoded<WorldQuery> decode_query(const world_protocol::Query& query);
 Decoded<WorldQuery> decode_query(const rigger_world_WorldQuery& wire);
 
 /// The source name of updates that come from `rigger/tracker/pose`.
@@ -66,8 +70,5 @@ inline constexpr const char* kTrackerSource = "vision_tracker";
 /// covariance[0] < 0 or all zeros (ROS: unknown), localized=true; when lost, only localized=false.
 /// Stamped with the image stamp; source kTrackerSource. Same checks as decode_update.
 Decoded<EntityUpdate> decode_tracked_pose(const rigger_vision_TrackedPose& wire);
-
-/// The wire stamp as a Stamp, or std::nullopt when nanosec >= 1e9.
-std::optional<Stamp> decode_stamp(const rigger_geometry_Time& wire);
 
 }  // namespace rigger::world

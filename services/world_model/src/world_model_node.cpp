@@ -13,13 +13,16 @@
 namespace rigger::world {
 namespace {
 
-rigger_world_EntityKind to_wire(EntityKind kind) {
+world_protocol::EntityKind protocol_kind(EntityKind kind) {
   switch (kind) {
-    case EntityKind::kObject: return rigger_world_ENTITY_OBJECT;
-    case EntityKind::kDevice: return rigger_world_ENTITY_DEVICE;
-    case EntityKind::kFrame: return rigger_world_ENTITY_FRAME;
+    case EntityKind::kObject:
+      return world_protocol::EntityKind::kObject;
+    case EntityKind::kDevice:
+      return world_protocol::EntityKind::kDevice;
+    case EntityKind::kFrame:
+      return world_protocol::EntityKind::kFrame;
   }
-  return rigger_world_ENTITY_FRAME;
+  return world_protocol::EntityKind::kFrame;
 }
 
 WorldStore load_store(const WorldModelSettings& settings, const Config& config, const Logger& log) {
@@ -77,7 +80,7 @@ const SettingsTable<WorldModelSettings>& world_model_settings() {
 
 WorldModelSettings read_settings(const Config& config) { return rigger::read_settings(config, world_model_settings()); }
 
-WorldModelNode::WorldModelNode(dds::ServiceContext& ctx, const WorldModelSettings& settings)
+WorldModelNode::WorldModelNode(service::ServiceContext& ctx, const WorldModelSettings& settings)
     : ctx_(ctx),
       store_(load_store(settings, ctx.config, ctx.log)),
       db_(open_database(settings, store_, ctx.log)),
@@ -99,23 +102,25 @@ WorldModelNode::WorldModelNode(dds::ServiceContext& ctx, const WorldModelSetting
 
 void WorldModelNode::on_updates() {
   updates_.take([this](const rigger_world_EntityUpdate& wire, const dds_sample_info_t&) {
-    const std::string source = dds::to_string(wire.source);
-    const std::string entity_id = dds::to_string(wire.entity_id);
-    auto decoded = decode_update(wire);
+    const world_protocol::Update sent = world_protocol::from_wire(wire);
+    const std::string& source = sent.source;
+    const std::string& entity_id = sent.entity_id;
+    auto decoded = decode_update(sent);
     if (auto* err = std::get_if<DecodeError>(&decoded)) {
-      ctx_.log->warn("update refused source={} seq={} code={} reason={}", source, wire.seq, err->code, err->message);
-      send_update_result(source, wire.seq, entity_id, false, err->code, err->message, store_.revision());
+      ctx_.log->warn("update refused source={} seq={} code={} reason={}", source, sent.seq, err->code, err->message);
+      send_update_result(source, sent.seq, entity_id, false, err->code, err->message, store_.revision());
       return;
     }
     const UpdateResult result = apply(std::get<EntityUpdate>(decoded));
     if (!result.accepted()) {
       const std::string code(to_code(result.status));
-      ctx_.log->info("update rejected source={} seq={} entity={} code={} reason={}", source, wire.seq, entity_id, code,
+      ctx_.log->info("update rejected source={} seq={} entity={} code={} reason={}", source, sent.seq, entity_id, code,
                      result.reason);
-      send_update_result(source, wire.seq, entity_id, false, code, result.reason, store_.revision());
+      send_update_result(source, sent.seq, entity_id, false, code, result.reason, store_.revision());
       return;
     }
-    send_update_result(source, wire.seq, entity_id, true, "ACCEPTED", "", result.change->revision);
+    send_update_result(source, sent.seq, entity_id, true, std::string(to_code(UpdateStatus::kAccepted)), "",
+                       result.change->revision);
   });
 }
 
@@ -157,82 +162,74 @@ void WorldModelNode::on_tracker_poses() {
 
 void WorldModelNode::on_queries() {
   queries_.take([this](const rigger_world_WorldQuery& wire, const dds_sample_info_t&) {
-    const std::string client_id = dds::to_string(wire.client_id);
-    auto decoded = decode_query(wire);
+    const world_protocol::Query sent = world_protocol::from_wire(wire);
+    auto decoded = decode_query(sent);
     if (auto* err = std::get_if<DecodeError>(&decoded)) {
       QueryAnswer answer;
       answer.code = err->code;
       answer.message = err->message;
-      send_reply(client_id, wire.request_id, answer);
+      send_reply(sent.client_id, sent.request_id, answer);
       return;
     }
-    send_reply(client_id, wire.request_id, answer_query(store_, std::get<WorldQuery>(decoded), std::chrono::system_clock::now()));
+    send_reply(sent.client_id, sent.request_id,
+               answer_query(store_, std::get<WorldQuery>(decoded), std::chrono::system_clock::now()));
   });
 }
 
 void WorldModelNode::publish_entity(const Entity& entity) {
-  rigger_world_EntityState s{};
-  s.entity_id = dds::wire_string(entity.id);
-  s.kind = to_wire(entity.kind);
-  s.parent_frame = dds::wire_string(entity.parent);
-  s.has_pose = entity.pose.has_value();
-  s.pose.pose = dds::to_wire(entity.pose ? entity.pose->pose_parent_entity : Eigen::Isometry3d::Identity());
-  if (entity.pose && entity.pose->covariance) dds::covariance_to_wire(*entity.pose->covariance, s.pose.covariance);
+  world_protocol::EntityState s;
+  s.entity_id = entity.id;
+  s.kind = protocol_kind(entity.kind);
+  s.parent_frame = entity.parent;
+  if (entity.pose) s.pose_parent_entity = entity.pose->pose_parent_entity;
+  if (entity.pose && entity.pose->covariance) s.covariance = *entity.pose->covariance;
   s.quality = entity.pose && entity.pose->quality ? *entity.pose->quality : 0.0;
   s.localized = entity.localized;
   s.stale = entity.stale;
-  s.stamp = dds::to_wire(entity.pose ? entity.pose->stamp : entity.stamp);
-  s.source = dds::wire_string(entity.source);
-  const std::string features = features_to_json(entity.features).dump();
-  const std::string attributes = entity.attributes.dump();
-  s.features_json = dds::wire_string(features);
-  s.attributes_json = dds::wire_string(attributes);
+  s.stamp = entity.pose ? entity.pose->stamp : entity.stamp;
+  s.source = entity.source;
+  s.features_json = features_to_json(entity.features).dump();
+  s.attributes_json = entity.attributes.dump();
   const auto rev = revisions_.find(entity.id);
   s.revision = rev == revisions_.end() ? 0 : rev->second;
-  const dds_return_t rc = entities_.write(s);
+  rigger_world_EntityState wire{};
+  world_protocol::to_wire(s, wire);
+  const dds_return_t rc = entities_.write(wire);
   if (rc != DDS_RETCODE_OK) ctx_.log->error("entity publish failed id={} rc={}", entity.id, rc);
 }
 
 void WorldModelNode::publish_change(const ChangeRecord& change) {
-  rigger_world_EntityChange c{};
-  const std::string what = change.what();
-  c.entity_id = dds::wire_string(change.entity_id);
-  c.revision = change.revision;
-  c.source = dds::wire_string(change.source);
-  c.what = dds::wire_string(what);
-  c.stamp = dds::to_wire(change.stamp);
-  changes_.write(c);
+  const world_protocol::EntityChange c{change.entity_id, change.revision, change.source, change.what(), change.stamp};
+  rigger_world_EntityChange wire{};
+  world_protocol::to_wire(c, wire);
+  changes_.write(wire);
 }
 
 void WorldModelNode::send_update_result(const std::string& source, std::uint64_t seq, const std::string& entity_id,
                                         bool accepted, const std::string& code, const std::string& reason,
                                         std::uint64_t revision) {
-  rigger_world_UpdateResult r{};
-  r.source = dds::wire_string(source);
-  r.seq = seq;
-  r.entity_id = dds::wire_string(entity_id);
-  r.accepted = accepted;
-  r.code = dds::wire_string(code);
-  r.reason = dds::wire_string(reason);
-  r.revision = revision;
-  update_results_.write(r);
+  const world_protocol::UpdateResult r{source, seq, entity_id, accepted, code, reason, revision};
+  rigger_world_UpdateResult wire{};
+  world_protocol::to_wire(r, wire);
+  update_results_.write(wire);
 }
 
 void WorldModelNode::send_reply(const std::string& client_id, std::uint64_t request_id, const QueryAnswer& answer) {
-  rigger_world_WorldReply r{};
-  const std::string result = answer.result.is_null() ? std::string() : answer.result.dump();
-  r.client_id = dds::wire_string(client_id);
+  world_protocol::Reply r;
+  r.client_id = client_id;
   r.request_id = request_id;
   r.ok = answer.ok;
-  r.code = dds::wire_string(answer.code);
-  r.message = dds::wire_string(answer.message);
-  r.pose.header.stamp = dds::to_wire(answer.stamp);
-  r.pose.header.frame_id = dds::wire_string(answer.frame);
-  r.pose.pose = dds::to_wire(answer.pose_frame_entity);
+  r.code = answer.code;
+  r.message = answer.message;
+  r.stamp = answer.stamp;
+  r.frame = answer.frame;
+  r.pose_frame_entity = answer.pose_frame_entity;
   r.localized = answer.localized;
   r.age_s = answer.age_s;
-  r.result_json = dds::wire_string(result);
-  replies_.write(r);
+  r.result_json = answer.result.is_null() ? std::string() : answer.result.dump();
+  rigger_world_WorldReply wire{};
+  world_protocol::to_wire(r, wire);
+  replies_.write(wire);
 }
 
 }  // namespace rigger::world

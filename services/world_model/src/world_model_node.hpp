@@ -14,7 +14,7 @@
 
 #include "rigger/base/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
-#include "rigger/dds/service.hpp"
+#include "rigger/service/service.hpp"
 #include "rigger/world_model/settings.hpp"
 #include "wire_decoding.hpp"
 #include "world_answers.hpp"
@@ -39,12 +39,12 @@ struct WorldModelSettings {
 WorldModelSettings read_settings(const Config& config);
 
 /// The world model node (see the file comment). Loop thread only.
-class WorldModelNode : public dds::Node {
+class WorldModelNode : public service::Node {
  public:
   /// Loads the cell configuration, opens the database and restores its state as stale, then
   /// publishes every entity. @throws ConfigError for a bad cell file (exit 2), PersistenceError for
   /// an unusable database (exit 1).
-  WorldModelNode(dds::ServiceContext& ctx, const WorldModelSettings& settings);
+  WorldModelNode(service::ServiceContext& ctx, const WorldModelSettings& settings);
 
   const WorldStore& store() const { return store_; }
 
@@ -60,7 +60,7 @@ class WorldModelNode : public dds::Node {
                           const std::string& code, const std::string& reason, std::uint64_t revision);
   void send_reply(const std::string& client_id, std::uint64_t request_id, const QueryAnswer& answer);
 
-  dds::ServiceContext& ctx_;
+  service::ServiceContext& ctx_;
   WorldStore store_;
   std::optional<WorldDatabase> db_;
   std::map<std::string, std::uint64_t, std::less<>> revisions_;  // entity id -> revision of its last change

@@ -53,7 +53,7 @@ Cell::Cell(const std::string& subfolder) {
   make_dirs(log_dir_);
   participant_ = std::make_unique<dds::Participant>(domain_.id());
   loop_ = std::make_unique<dds::EventLoop>(*participant_);
-  directory_ = std::make_unique<dds::ServiceDirectory>(*participant_);
+  directory_ = std::make_unique<service::ServiceDirectory>(*participant_);
   loop_->on_data(directory_->reader(), [this] { directory_->update(); });
 }
 

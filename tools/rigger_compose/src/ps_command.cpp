@@ -10,7 +10,7 @@
 #include "rigger/compose/status_file.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/participant.hpp"
-#include "rigger/dds/service_state.hpp"
+#include "rigger/service/service_state.hpp"
 
 namespace rigger::compose::cli {
 namespace {
@@ -40,12 +40,12 @@ struct PsRow {
   std::string note;
 };
 
-std::string dds_state(const dds::ServiceDirectory& dir, const std::string& id, int expected_pid) {
+std::string dds_state(const service::ServiceDirectory& dir, const std::string& id, int expected_pid) {
   auto it = dir.services().find(id);
   if (it == dir.services().end()) return "-";
   if (expected_pid > 0 && it->second.pid != expected_pid) return "-";  // an earlier instance's leftover
   if (!it->second.alive) return "LOST";
-  return dds::to_string(it->second.status);
+  return service::to_string(it->second.status);
 }
 
 }  // namespace
@@ -59,7 +59,7 @@ int ps(const GlobalOptions& g, bool json, double timeout_s) {
   use_dds_config(file);
   dds::Participant participant(file.domain);
   dds::EventLoop loop(participant);
-  dds::ServiceDirectory dir(participant);
+  service::ServiceDirectory dir(participant);
   loop.on_data(dir.reader(), [&dir] { dir.update(); });
   // Announcements are transient-local: they arrive right after discovery. Wait for those we expect
   // (the supervised processes), at most the timeout; with nothing to expect, give discovery the timeout.
@@ -112,7 +112,7 @@ int ps(const GlobalOptions& g, bool json, double timeout_s) {
     r.service = id;
     r.host = info.host;
     r.pid = info.pid;
-    r.state = info.alive ? dds::to_string(info.status) : "LOST";
+    r.state = info.alive ? service::to_string(info.status) : "LOST";
     r.note = "not in the compose file";
     rows.push_back(r);
   }

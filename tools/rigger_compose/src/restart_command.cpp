@@ -13,7 +13,7 @@
 #include "rigger/compose/status_file.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/participant.hpp"
-#include "rigger/dds/service_state.hpp"
+#include "rigger/service/service_state.hpp"
 
 namespace rigger::compose::cli {
 
@@ -37,7 +37,7 @@ int restart(const GlobalOptions& g, const std::string& service) {
   use_dds_config(file);
   dds::Participant participant(file.domain);
   dds::EventLoop loop(participant);
-  dds::ServiceDirectory dir(participant);
+  service::ServiceDirectory dir(participant);
   loop.on_data(dir.reader(), [&dir] { dir.update(); });
 
   const int fd = open(layout.control_fifo().c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
@@ -56,7 +56,7 @@ int restart(const GlobalOptions& g, const std::string& service) {
   const bool ok = loop.run_until(
       [&] {
         auto it = dir.services().find(service);
-        if (it == dir.services().end() || !it->second.alive || it->second.status != dds::ServiceStatus::kReady)
+        if (it == dir.services().end() || !it->second.alive || it->second.status != service::ServiceStatus::kReady)
           return false;
         if (it->second.pid == old_pid || it->second.pid <= 0) return false;
         new_pid = it->second.pid;

@@ -22,7 +22,7 @@
 #include "rigger/compose/supervision.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/participant.hpp"
-#include "rigger/dds/service_state.hpp"
+#include "rigger/service/service_state.hpp"
 
 namespace rigger::compose {
 namespace {
@@ -231,7 +231,7 @@ class SupervisorProcess {
     if (!file_.dds_config.empty()) setenv("CYCLONEDDS_URI", file_.dds_uri().c_str(), 1);
     dds::Participant participant(file_.domain);
     dds::EventLoop loop(participant);
-    dds::ServiceDirectory directory(participant);
+    service::ServiceDirectory directory(participant);
     Supervision supervision(plan);
     loop_ = &loop;
     supervision_ = &supervision;
@@ -272,7 +272,7 @@ class SupervisorProcess {
     const auto& known = directory_->services();
     for (const auto& s : supervision_->services()) {
       auto it = known.find(s.name());
-      const bool ready = it != known.end() && it->second.alive && it->second.status == dds::ServiceStatus::kReady;
+      const bool ready = it != known.end() && it->second.alive && it->second.status == service::ServiceStatus::kReady;
       if (ready)
         supervision_->announced_ready(s.name(), it->second.pid, now);
       else if (!s.local)
@@ -412,7 +412,7 @@ class SupervisorProcess {
   Notifier notify_;
   dds::EventLoop* loop_ = nullptr;
   Supervision* supervision_ = nullptr;
-  dds::ServiceDirectory* directory_ = nullptr;
+  service::ServiceDirectory* directory_ = nullptr;
   std::optional<dds::EventLoop::TimerId> timer_;
   bool ready_sent_ = false;
 };

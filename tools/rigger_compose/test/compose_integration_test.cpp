@@ -89,7 +89,7 @@ class ComposeIntegrationTest : public testing::MultiProcessTest {
   bool ready_on_dds(const std::string& id, int pid = 0) {
     const auto& known = cell_.directory().services();
     auto it = known.find(id);
-    return it != known.end() && it->second.alive && it->second.status == dds::ServiceStatus::kReady &&
+    return it != known.end() && it->second.alive && it->second.status == service::ServiceStatus::kReady &&
            (pid == 0 || it->second.pid == pid);
   }
 

@@ -2,7 +2,7 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "rigger/dds/service.hpp"
+#include "rigger/service/service.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"riggerctl: the rigger command-line client", "riggerctl"};

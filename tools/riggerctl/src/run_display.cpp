@@ -4,8 +4,12 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "rigger/protocol/task_names.hpp"
+
 namespace rigger::ctl {
 namespace {
+
+using protocol::task::is_node_state;
 
 std::vector<std::string> split_id(const std::string& id) {
   std::vector<std::string> parts;
@@ -23,8 +27,19 @@ bool all_digits(const std::string& s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](unsigned char c) { return c >= '0' && c <= '9'; });
 }
 
+// The node states by the names rigger/task/status gives them (task_names.hpp), never spelt here.
+bool running(const std::string& state) {
+  return is_node_state(state, rigger_task_NODE_RUNNING);
+}
+bool idle(const std::string& state) {
+  return is_node_state(state, rigger_task_NODE_IDLE);
+}
+bool active_state(const std::string& state) {
+  return running(state) || is_node_state(state, rigger_task_NODE_STOPPING);
+}
 bool finished_state(const std::string& state) {
-  return state == "SUCCESS" || state == "FAILURE" || state == "STOPPED";
+  return is_node_state(state, rigger_task_NODE_SUCCESS) || is_node_state(state, rigger_task_NODE_FAILURE) ||
+         is_node_state(state, rigger_task_NODE_STOPPED);
 }
 
 }  // namespace
@@ -53,7 +68,7 @@ std::string RunDisplay::line(const NodeUpdate& n) {
     std::snprintf(buf, sizeof buf, " %3.0f%%", n.progress * 100.0);
     out += buf;
   }
-  if (!n.progress_text.empty() && n.state == "RUNNING") out += " (" + n.progress_text + ")";
+  if (!n.progress_text.empty() && running(n.state)) out += " (" + n.progress_text + ")";
   if (!n.executor.empty()) out += "  @" + n.executor;
   if (!n.code.empty()) out += "  " + n.code;
   if (!n.message.empty()) out += ": " + n.message;
@@ -66,10 +81,10 @@ std::string RunDisplay::update(const NodeUpdate& node) {
   Timing& t = timing_[node.id];
   // A run begins when the node enters RUNNING (or is first seen already past it). Start times are not
   // compared: the controller converts them from its steady clock for every update, so they jitter.
-  const bool active_before = before != nullptr && (before->state == "RUNNING" || before->state == "STOPPING");
-  const bool seen_before = before != nullptr && before->state != "IDLE";
-  const bool new_run = node.started_s > 0.0 && ((node.state == "RUNNING" && !active_before) ||
-                                                (!seen_before && node.state != "IDLE" && node.state != "RUNNING"));
+  const bool active_before = before != nullptr && active_state(before->state);
+  const bool seen_before = before != nullptr && !idle(before->state);
+  const bool new_run = node.started_s > 0.0 && ((running(node.state) && !active_before) ||
+                                                (!seen_before && !idle(node.state) && !running(node.state)));
   if (new_run) {
     if (t.runs == 0) t.first_started_s = node.started_s;
     t.last_started_s = node.started_s;
@@ -84,7 +99,7 @@ std::string RunDisplay::update(const NodeUpdate& node) {
 
   std::vector<const NodeUpdate*> shown;
   for (const auto& [id, n] : last_)
-    if (n.state != "IDLE") shown.push_back(&n);
+    if (!idle(n.state)) shown.push_back(&n);
   std::sort(shown.begin(), shown.end(),
             [](const NodeUpdate* a, const NodeUpdate* b) { return tree_order_less(a->id, b->id); });
   std::string out;

@@ -3,7 +3,7 @@
 
 #include "commands.hpp"
 #include "rigger/dds/event_loop.hpp"
-#include "rigger/dds/service_state.hpp"
+#include "rigger/service/service_state.hpp"
 
 namespace rigger::ctl {
 namespace {
@@ -14,17 +14,17 @@ struct ServicesOptions {
   double timeout_s = 10;
 };
 
-void print_table(const dds::ServiceDirectory& dir) {
+void print_table(const service::ServiceDirectory& dir) {
   std::printf("%-24s %-18s %-9s %-6s %8s  %s\n", "SERVICE", "KIND", "STATE", "ALIVE", "PID", "HOST");
   for (const auto& [id, s] : dir.services())
-    std::printf("%-24s %-18s %-9s %-6s %8d  %s\n", id.c_str(), s.kind.c_str(), dds::to_string(s.status),
+    std::printf("%-24s %-18s %-9s %-6s %8d  %s\n", id.c_str(), s.kind.c_str(), service::to_string(s.status),
                 s.alive ? "yes" : "LOST", s.pid, s.host.c_str());
 }
 
 int run(const CommonOptions& common, const ServicesOptions& opt) {
   dds::Participant participant(common.domain);
   dds::EventLoop loop(participant);
-  dds::ServiceDirectory dir(participant);
+  service::ServiceDirectory dir(participant);
   const auto start = std::chrono::steady_clock::now();
   auto elapsed_ms = [&] {
     return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start).count();

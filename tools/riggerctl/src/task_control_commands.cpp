@@ -10,6 +10,7 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task_names.hpp"
+#include "rigger/skill_protocol/leaf_outcome.hpp"
 #include "task_support.hpp"
 
 namespace rigger::ctl::tasks {
@@ -104,15 +105,17 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
   // PAUSE / RESUME: what each leaf did. Each executor answers PAUSED (RESUMED), with a code when the
   // leaf runs on; which leaves were asked, the journal says (below).
   const bool leaves = kind != rigger_task_TASK_CANCEL;
-  const auto leaf_answer = kind == rigger_task_TASK_PAUSE ? rigger_skill_SKILL_EVENT_PAUSED : rigger_skill_SKILL_EVENT_RESUMED;
+  const auto leaf_answer =
+      kind == rigger_task_TASK_PAUSE ? skill_protocol::EventKind::kPaused : skill_protocol::EventKind::kResumed;
   dds::Reader<rigger_skill_SkillEvent> leaf_answers(participant, protocol::skill::kEvent);
   std::map<std::string, std::string> answered;  // by node id: what its executor answered
   if (leaves) {
     loop.on_data(leaf_answers, [&] {
       leaf_answers.take([&](const rigger_skill_SkillEvent& e, const dds_sample_info_t&) {
-        if (!sent || e.kind != leaf_answer || dds::to_string(e.task_id) != task_id) return;
-        const std::string code = dds::to_string(e.code);
-        answered[dds::to_string(e.node_id)] = (code.empty() ? "" : code + ": ") + dds::to_string(e.message);
+        if (!sent || dds::to_string(e.task_id) != task_id) return;
+        const skill_protocol::LeafOutcome outcome = skill_protocol::from_wire(e);
+        if (outcome.kind != leaf_answer) return;
+        answered[dds::to_string(e.node_id)] = (outcome.code.empty() ? "" : outcome.code + ": ") + outcome.message;
       });
     });
   }
@@ -156,7 +159,6 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
     // asked this time are the rows after the last task-level one. Answers come live on
     // rigger/skill/event, or from the journal when this reader had not yet matched an executor's writer.
     const std::string command = kind == rigger_task_TASK_PAUSE ? "PAUSE" : "RESUME";
-    const std::string answer = kind == rigger_task_TASK_PAUSE ? "PAUSED" : "RESUMED";
     std::vector<std::string> asked;
     std::uint64_t request = 2;
     const auto read_journal = [&] {
@@ -168,7 +170,8 @@ int task_command(const CommonOptions& common, const std::string& task_id, rigger
           journaled.clear();
         } else if (l.kind == "COMMAND" && l.code == command) {
           asked.push_back(l.node_id);
-        } else if (l.kind == "EVENT" && (l.code == answer || l.code == "NOT_" + answer)) {
+        } else if (l.kind == "EVENT" && (l.code == skill_protocol::answer_name(leaf_answer, false) ||
+                                         l.code == skill_protocol::answer_name(leaf_answer, true))) {
           journaled[l.node_id] = l.message;
         }
       }

@@ -9,6 +9,7 @@
 
 namespace rigger::ctl::tasks {
 
+using protocol::task::is_node_state;
 using protocol::task::node_state_name;
 
 bool task_terminal(int s) {
@@ -33,7 +34,9 @@ std::string node_line(const std::string& id, const NodeLine& n) {
   out += id + " " + n.type;
   if (!n.name.empty()) out += " \"" + n.name + "\"";
   out += "  " + n.state;
-  if (n.progress >= 0 && (n.state == "RUNNING" || n.state == "STOPPING")) {  // a finished node's is history
+  // A finished node's progress is history.
+  if (n.progress >= 0 &&
+      (is_node_state(n.state, rigger_task_NODE_RUNNING) || is_node_state(n.state, rigger_task_NODE_STOPPING))) {
     char buf[32];
     std::snprintf(buf, sizeof buf, " %3.0f%%", n.progress * 100.0);
     out += buf;

@@ -23,4 +23,8 @@ class Participant {
   std::uint32_t domain_id_;
 };
 
+/// The domain id from $RIGGER_DOMAIN, or `fallback`.
+/// @throws std::invalid_argument when $RIGGER_DOMAIN is set but is not an integer in [0, 232].
+std::uint32_t domain_from_environment(std::uint32_t fallback = 0);
+
 }  // namespace rigger::dds

@@ -2,6 +2,8 @@
 /// @file
 /// The names of the task and node states of idl/task.idl, as every tool and page shows them.
 
+#include <string_view>
+
 #include <rigger/idl/types.hpp>
 
 namespace rigger::protocol::task {
@@ -31,6 +33,12 @@ inline const char* node_state_name(int state) {
     case rigger_task_NODE_STOPPED: return "STOPPED";
     default: return "?";
   }
+}
+
+/// True when `name` is the name of node state `state` (a rigger_task_NodeState), e.g. a state read back
+/// from a status or a journal line.
+inline bool is_node_state(std::string_view name, int state) {
+  return name == node_state_name(state);
 }
 
 }  // namespace rigger::protocol::task

@@ -19,6 +19,10 @@ enum class EventKind { kSuccess, kFailure, kStopped, kProgress, kAccepted, kPaus
 /// "SUCCESS", "FAILURE", "STOPPED", "PROGRESS", "ACCEPTED", "PAUSED", "RESUMED" (the wire's names).
 const char* to_string(EventKind kind);
 
+/// How the task journal names a leaf's answer to a PAUSE or RESUME (`kind` kPaused or kResumed):
+/// to_string(kind) when it did it, "NOT_" + to_string(kind) when it refused (`refused`: a non-empty code).
+std::string answer_name(EventKind kind, bool refused);
+
 /// One event of a run: what happened, a machine-readable code (FAILURE's reason, ACCEPTED's WAITING, a
 /// refused PAUSE's NOT_PAUSABLE; "" otherwise) and a message for people.
 struct LeafOutcome {

@@ -29,6 +29,7 @@
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/participant.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/world_protocol/world_protocol.hpp"
 
 namespace rigger::world_client {
 
@@ -108,22 +109,13 @@ class WorldClient {
     bool sent = false;
   };
 
-  std::uint64_t send_query(int kind, const std::string& entity, const std::string& frame, const std::string& feature,
-                           double max_age_s, std::chrono::milliseconds timeout, Callback cb);
-  /// An update's fields, kept until a world model is matched (the wire sample borrows its strings).
-  struct UpdateFields {
-    std::string entity, parent_frame;
-    std::optional<Eigen::Isometry3d> pose;  ///< none: set_localized
-    double quality = -1.0;                  ///< negative: not given
-    bool localized = false;
-    WallTime stamp{};
-  };
-
-  std::uint64_t send_update(UpdateFields update, std::chrono::milliseconds timeout, Callback cb);
-  void write_update(std::uint64_t id, std::shared_ptr<const UpdateFields> fields);
+  // A request is kept until a world model is matched (and, for a query, until answered): the wire sample
+  // borrows its strings.
+  std::uint64_t send_query(world_protocol::Query query, std::chrono::milliseconds timeout, Callback cb);
+  std::uint64_t send_update(world_protocol::Update update, std::chrono::milliseconds timeout, Callback cb);
+  void write_update(std::uint64_t id, std::shared_ptr<const world_protocol::Update> update);
   std::uint64_t track(std::chrono::milliseconds timeout, const char* topic, Callback cb);
-  void write_query(std::uint64_t id, int kind, const std::string& entity, const std::string& frame,
-                   const std::string& feature, double max_age_s);
+  void write_query(std::uint64_t id, std::shared_ptr<const world_protocol::Query> query);
   void fail_soon(std::uint64_t request_id, const std::string& why);
   void finish(std::uint64_t request_id, const Reply& reply);
   void on_replies();

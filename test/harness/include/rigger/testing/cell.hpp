@@ -21,7 +21,7 @@
 
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/participant.hpp"
-#include "rigger/dds/service_state.hpp"
+#include "rigger/service/service_state.hpp"
 #include "rigger/testing/domain.hpp"
 #include "rigger/testing/process.hpp"
 
@@ -42,7 +42,7 @@ class Cell {
   std::uint32_t domain_id() const { return domain_.id(); }
   dds::Participant& participant() { return *participant_; }
   dds::EventLoop& loop() { return *loop_; }
-  dds::ServiceDirectory& directory() { return *directory_; }
+  service::ServiceDirectory& directory() { return *directory_; }
   const std::string& log_dir() const { return log_dir_; }
 
   /// Starts `binary` (a name in the build's bin/ or a path) as process `name` with `--domain <id>`
@@ -71,7 +71,7 @@ class Cell {
   std::string log_dir_;
   std::unique_ptr<dds::Participant> participant_;
   std::unique_ptr<dds::EventLoop> loop_;
-  std::unique_ptr<dds::ServiceDirectory> directory_;
+  std::unique_ptr<service::ServiceDirectory> directory_;
   std::map<std::string, std::unique_ptr<ChildProcess>> processes_;
   std::map<std::string, ExitStatus> ended_;
 };

@@ -11,7 +11,7 @@
 
 #include "rigger/dds/pubsub.hpp"
 
-namespace rigger::dds {
+namespace rigger::service {
 
 /// How often a service re-announces its state (see ServiceAnnouncer::reannounce()).
 inline constexpr std::chrono::milliseconds kServiceRefreshPeriod{1000};
@@ -22,8 +22,8 @@ enum class ServiceStatus { kStarting, kReady, kStopping, kFault };
 class ServiceAnnouncer {
  public:
   /// @throws DdsError.
-  ServiceAnnouncer(const Participant& participant, std::string service_id, std::string kind,
-                   std::chrono::milliseconds lease = liveliness_lease());
+  ServiceAnnouncer(const dds::Participant& participant, std::string service_id, std::string kind,
+                   std::chrono::milliseconds lease = dds::liveliness_lease());
   /// Unregisters the instance, so readers see the service leave at once rather than after the lease.
   ~ServiceAnnouncer();
   ServiceAnnouncer(const ServiceAnnouncer&) = delete;
@@ -45,7 +45,7 @@ class ServiceAnnouncer {
   std::string host_;
   ServiceStatus last_status_ = ServiceStatus::kStarting;
   std::string last_detail_;
-  Writer<rigger_system_ServiceState> writer_;
+  dds::Writer<rigger_system_ServiceState> writer_;
 };
 
 /// What a ServiceDirectory knows of one service.
@@ -64,8 +64,8 @@ struct ServiceInfo {
 class ServiceDirectory {
  public:
   /// @throws DdsError.
-  explicit ServiceDirectory(const Participant& participant);
-  const Reader<rigger_system_ServiceState>& reader() const { return reader_; }
+  explicit ServiceDirectory(const dds::Participant& participant);
+  const dds::Reader<rigger_system_ServiceState>& reader() const { return reader_; }
   /// Takes pending samples; returns true when a service appeared, changed state, or was lost.
   bool update();
   const std::map<std::string, ServiceInfo>& services() const { return services_; }
@@ -74,10 +74,10 @@ class ServiceDirectory {
   std::vector<std::string> ready_ids() const;
 
  private:
-  Reader<rigger_system_ServiceState> reader_;
+  dds::Reader<rigger_system_ServiceState> reader_;
   std::map<std::string, ServiceInfo> services_;
 };
 
 const char* to_string(ServiceStatus status);
 
-}  // namespace rigger::dds
+}  // namespace rigger::service

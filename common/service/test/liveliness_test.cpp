@@ -6,11 +6,15 @@
 #include <string>
 
 #include "rigger/dds/event_loop.hpp"
-#include "rigger/dds/service_state.hpp"
+#include "rigger/service/service_state.hpp"
 #include "rigger/testing/domain.hpp"
 
-namespace rigger::dds {
+namespace rigger::service {
 namespace {
+
+using dds::EventLoop;
+using dds::LivelinessAsserter;
+using dds::Participant;
 
 using namespace std::chrono_literals;
 
@@ -79,4 +83,4 @@ TEST_F(LivelinessAsserterTest, ALiveLoopKeepsItsLease) {
 }
 
 }  // namespace
-}  // namespace rigger::dds
+}  // namespace rigger::service

@@ -1,12 +1,15 @@
-#include "rigger/dds/service_state.hpp"
+#include "rigger/service/service_state.hpp"
 
 #include <gtest/gtest.h>
 
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/testing/domain.hpp"
 
-namespace rigger::dds {
+namespace rigger::service {
 namespace {
+
+using dds::EventLoop;
+using dds::Participant;
 
 using namespace std::chrono_literals;
 
@@ -53,4 +56,4 @@ TEST(ServiceState, SilentWriterIsLostAfterItsLease) {
 }
 
 }  // namespace
-}  // namespace rigger::dds
+}  // namespace rigger::service

@@ -1,11 +1,11 @@
-#include "rigger/dds/service_state.hpp"
+#include "rigger/service/service_state.hpp"
 
 #include <unistd.h>
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/system.hpp"
 
-namespace rigger::dds {
+namespace rigger::service {
 namespace {
 
 rigger_system_ServiceStateKind to_wire(ServiceStatus s) {
@@ -46,19 +46,19 @@ const char* to_string(ServiceStatus status) {
   return "?";
 }
 
-ServiceAnnouncer::ServiceAnnouncer(const Participant& participant, std::string service_id, std::string kind,
+ServiceAnnouncer::ServiceAnnouncer(const dds::Participant& participant, std::string service_id, std::string kind,
                                    std::chrono::milliseconds lease)
     : service_id_(std::move(service_id)),
       kind_(std::move(kind)),
       host_(host_name()),
-      writer_(participant, protocol::system::kServiceState, qos::announcements(lease)) {}
+      writer_(participant, protocol::system::kServiceState, dds::qos::announcements(lease)) {}
 
 ServiceAnnouncer::~ServiceAnnouncer() {
   rigger_system_ServiceState key{};
-  key.service_id = wire_string(service_id_);
-  key.kind = wire_string(kind_);
-  key.host = wire_string(host_);
-  key.detail = wire_string("");
+  key.service_id = dds::wire_string(service_id_);
+  key.kind = dds::wire_string(kind_);
+  key.host = dds::wire_string(host_);
+  key.detail = dds::wire_string("");
   writer_.unregister(key);
 }
 
@@ -68,42 +68,42 @@ dds_return_t ServiceAnnouncer::announce(ServiceStatus status, const std::string&
   last_status_ = status;
   last_detail_ = detail;
   rigger_system_ServiceState s{};
-  s.service_id = wire_string(service_id_);
-  s.kind = wire_string(kind_);
+  s.service_id = dds::wire_string(service_id_);
+  s.kind = dds::wire_string(kind_);
   s.state = to_wire(status);
   s.pid = static_cast<int32_t>(getpid());
-  s.host = wire_string(host_);
-  s.detail = wire_string(detail);
-  s.stamp = wire_now();
+  s.host = dds::wire_string(host_);
+  s.detail = dds::wire_string(detail);
+  s.stamp = dds::wire_now();
   return writer_.write(s);
 }
 
-ServiceDirectory::ServiceDirectory(const Participant& participant)
-    : reader_(participant, protocol::system::kServiceState, qos::state()) {}
+ServiceDirectory::ServiceDirectory(const dds::Participant& participant)
+    : reader_(participant, protocol::system::kServiceState, dds::qos::state()) {}
 
 bool ServiceDirectory::update() {
   bool changed = false;
   const auto now = std::chrono::steady_clock::now();
   reader_.take(
       [&](const rigger_system_ServiceState& s, const dds_sample_info_t& info) {
-        auto& svc = services_[to_string(s.service_id)];
+        auto& svc = services_[dds::to_string(s.service_id)];
         const bool alive = info.instance_state == DDS_IST_ALIVE;
         const auto status = to_domain(s.state);
         if (svc.alive != alive || svc.status != status || svc.id.empty()) {
           changed = true;
           svc.changed = now;
         }
-        svc.id = to_string(s.service_id);
-        svc.kind = to_string(s.kind);
-        svc.host = to_string(s.host);
-        svc.detail = to_string(s.detail);
+        svc.id = dds::to_string(s.service_id);
+        svc.kind = dds::to_string(s.kind);
+        svc.host = dds::to_string(s.host);
+        svc.detail = dds::to_string(s.detail);
         svc.pid = s.pid;
         svc.status = status;
         svc.alive = alive;
       },
       [&](const rigger_system_ServiceState& key, const dds_sample_info_t& info) {
         // Unregistered, disposed, or the writer's liveliness lease expired: the service is gone.
-        auto it = services_.find(to_string(key.service_id));
+        auto it = services_.find(dds::to_string(key.service_id));
         if (it == services_.end() || info.instance_state == DDS_IST_ALIVE) return;
         if (it->second.alive) {
           it->second.alive = false;
@@ -126,4 +126,4 @@ std::vector<std::string> ServiceDirectory::ready_ids() const {
   return out;
 }
 
-}  // namespace rigger::dds
+}  // namespace rigger::service

@@ -1,4 +1,4 @@
-#include "rigger/dds/service.hpp"
+#include "rigger/service/service.hpp"
 
 #include <pthread.h>
 #include <signal.h>
@@ -8,10 +8,9 @@
 #include <iostream>
 #include <thread>
 
-#include "environment.hpp"
 #include "rigger/dds/liveliness.hpp"
 
-namespace rigger::dds {
+namespace rigger::service {
 namespace {
 
 // Signals are taken by one dedicated thread with sigwait(): the handler-free way to turn SIGINT and
@@ -27,7 +26,7 @@ class SignalThread {
     sigaddset(&set_, SIGUSR1);
     pthread_sigmask(SIG_BLOCK, &set_, nullptr);
   }
-  void start(EventLoop& loop, const Logger& log) {
+  void start(dds::EventLoop& loop, const Logger& log) {
     thread_ = std::thread([this, &loop, log] {
       int sig = 0;
       sigwait(&set_, &sig);
@@ -51,11 +50,6 @@ class SignalThread {
 
 }  // namespace
 
-std::uint32_t domain_from_environment(std::uint32_t fallback) {
-  const auto v = detail::integer_from_environment("RIGGER_DOMAIN", 0, 232, "a domain id");
-  return v ? static_cast<std::uint32_t>(*v) : fallback;
-}
-
 int run_service(int argc, char** argv, const ServiceSpec& spec) {
   ServiceOptions options;
   CLI::App app{spec.description, spec.kind};
@@ -65,8 +59,8 @@ int run_service(int argc, char** argv, const ServiceSpec& spec) {
   app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error, critical or off");
   if (spec.add_options) spec.add_options(app);
   try {
-    options.domain = domain_from_environment(0);
-    liveliness_lease();  // a bad $RIGGER_LIVELINESS_LEASE_MS is a usage error, said here
+    options.domain = dds::domain_from_environment(0);
+    dds::liveliness_lease();  // a bad $RIGGER_LIVELINESS_LEASE_MS is a usage error, said here
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kExitOk : kExitUsage;
@@ -87,8 +81,8 @@ int run_service(int argc, char** argv, const ServiceSpec& spec) {
   SignalThread signals;  // before the participant, so Cyclone's threads inherit the blocked mask
   try {
     Config config = options.config_path.empty() ? Config::empty() : Config::load(options.config_path);
-    Participant participant(options.domain);
-    EventLoop loop(participant);
+    dds::Participant participant(options.domain);
+    dds::EventLoop loop(participant);
     ServiceAnnouncer announcer(participant, options.id, spec.kind);
     announcer.announce(ServiceStatus::kStarting);
     signals.start(loop, log);
@@ -96,17 +90,17 @@ int run_service(int argc, char** argv, const ServiceSpec& spec) {
       log->warn(
           "liveliness lost: no assertion within the lease (the work loop stalled longer than {} ms, or "
           "the machine starved the asserting thread); announcing again",
-          kLoopStallLimit.count());
+          dds::kLoopStallLimit.count());
       announcer.reannounce();
     });
 
     // Liveliness is asserted from a thread of its own every third of the shortest lease offered (two
     // assertions' margin): while the node is built, and then as long as the loop ticked within
-    // kLoopStallLimit. A killed process is seen within the lease, a hung loop within the stall limit
+    // dds::kLoopStallLimit. A killed process is seen within the lease, a hung loop within the stall limit
     // plus the lease, and a loop that stalls for less (a slow write, a starved machine) costs nobody a
     // lease.
     ServiceContext ctx{options, log, participant, loop, announcer, config};
-    LivelinessAsserter liveliness(participant, ctx.liveliness_lease / 3);
+    dds::LivelinessAsserter liveliness(participant, ctx.liveliness_lease / 3);
     std::unique_ptr<Node> node = spec.make_node(ctx);
     liveliness.set_period(ctx.liveliness_lease / 3);  // the node may have offered a shorter lease
     // The loop's own periodic work is one timer, four times per stall limit, so that an idle service
@@ -114,7 +108,7 @@ int run_service(int argc, char** argv, const ServiceSpec& spec) {
     // re-announces: a reader starved of CPU may expire a lease before it processed the liveliness
     // messages queued for it, and the instance then stays NOT_ALIVE until a new sample; one small sample
     // a second heals such a false loss.
-    const auto tick = std::min<std::chrono::milliseconds>(kLoopStallLimit / 4, kServiceRefreshPeriod);
+    const auto tick = std::min<std::chrono::milliseconds>(dds::kLoopStallLimit / 4, kServiceRefreshPeriod);
     const auto ticks_per_refresh = std::max<std::chrono::milliseconds::rep>(1, kServiceRefreshPeriod / tick);
     std::chrono::milliseconds::rep ticks = 0;
     liveliness.loop_alive();
@@ -139,4 +133,4 @@ int run_service(int argc, char** argv, const ServiceSpec& spec) {
   }
 }
 
-}  // namespace rigger::dds
+}  // namespace rigger::service

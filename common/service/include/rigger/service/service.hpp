@@ -3,8 +3,8 @@
 /// The life of every rigger process, so that each service's main() is five lines:
 ///
 ///   int main(int argc, char** argv) {
-///     return rigger::dds::run_service(argc, argv, {"echo", "Answers rigger/echo/request.", {},
-///         [](rigger::dds::ServiceContext& ctx) { return std::make_unique<rigger::echo::EchoNode>(ctx); }});
+///     return rigger::service::run_service(argc, argv, {"echo", "Answers rigger/echo/request.", {},
+///         [](rigger::service::ServiceContext& ctx) { return std::make_unique<rigger::echo::EchoNode>(ctx); }});
 ///   }
 ///
 /// run_service parses the common options (--id, --domain, --config, --log-level), sets up the logger,
@@ -13,7 +13,7 @@
 /// brings its devices to a safe state). It asserts the participant's liveliness from a thread of its
 /// own (LivelinessAsserter) every third of the shortest lease the participant's writers offer
 /// (ServiceContext::offer_liveliness_lease), while the loop shows progress: a killed process is seen
-/// by others within the lease, a hung loop within kLoopStallLimit plus the lease.
+/// by others within the lease, a hung loop within dds::kLoopStallLimit plus the lease.
 ///
 /// Exit codes: 0 clean stop; 1 runtime failure; 2 bad command line or configuration.
 
@@ -31,9 +31,9 @@
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/participant.hpp"
 #include "rigger/dds/qos.hpp"
-#include "rigger/dds/service_state.hpp"
+#include "rigger/service/service_state.hpp"
 
-namespace rigger::dds {
+namespace rigger::service {
 
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
@@ -56,8 +56,8 @@ struct ServiceOptions {
 struct ServiceContext {
   const ServiceOptions& options;
   Logger log;
-  Participant& participant;
-  EventLoop& loop;
+  dds::Participant& participant;
+  dds::EventLoop& loop;
   ServiceAnnouncer& announcer;
   Config config;  ///< the --config file (or empty); the node calls config.finish() after reading it
   /// The shortest MANUAL_BY_PARTICIPANT liveliness lease this participant's writers offer: the service
@@ -82,7 +82,4 @@ struct ServiceSpec {
 
 int run_service(int argc, char** argv, const ServiceSpec& spec);
 
-/// The domain id from $RIGGER_DOMAIN, or `fallback`.
-std::uint32_t domain_from_environment(std::uint32_t fallback = 0);
-
-}  // namespace rigger::dds
+}  // namespace rigger::service
