@@ -26,6 +26,28 @@ double percentile(std::vector<double> values, double q) {
   return values[std::min(values.size() - 1, rank == 0 ? 0 : rank - 1)];
 }
 
+Quantiles quantiles(const std::vector<double>& values) {
+  return {percentile(values, 0.50), percentile(values, 0.90), percentile(values, 0.99)};
+}
+
+Quantiles round_trip(const DdsperfLatency& ddsperf) {
+  return {ddsperf.p50_us, ddsperf.p90_us, ddsperf.p99_us};
+}
+
+Quantiles one_way(const DdsperfLatency& ddsperf) {
+  return {ddsperf.p50_us / 2, ddsperf.p90_us / 2, ddsperf.p99_us / 2};
+}
+
+void add_quantiles(performance::Report& report, const std::string& what, const Quantiles& q, const std::string& unit,
+                   const std::string& reference_name, const Quantiles& reference) {
+  const std::pair<const char*, double Quantiles::*> levels[] = {
+      {" p50", &Quantiles::p50}, {" p90", &Quantiles::p90}, {" p99", &Quantiles::p99}};
+  for (const auto& [suffix, level] : levels) {
+    report.add({what + suffix, q.*level, unit, reference_name.empty() ? "" : reference_name + suffix,
+                reference_name.empty() ? 0.0 : reference.*level});
+  }
+}
+
 int int_option(int argc, char** argv, const std::string& name, int fallback) {
   for (int i = 1; i + 1 < argc; i += 2)
     if (name == argv[i]) return std::atoi(argv[i + 1]);
@@ -95,6 +117,15 @@ std::vector<double> cpu_share(const std::vector<pid_t>& pids, const std::functio
   share.push_back(static_cast<double>(wakes_after.first - wakes_before.first) / wall);
   share.push_back(static_cast<double>(wakes_after.second - wakes_before.second) / wall);
   return share;
+}
+
+void add_cpu_share(performance::Report& report, const std::vector<std::string>& names, std::size_t reference,
+                   const std::vector<double>& share, const std::string& window) {
+  const std::string idle = names[reference] + " CPU, " + window;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (i != reference) report.add({names[i] + " CPU, " + window, share[i], "CPU s/s", idle, share[reference]});
+  report.add({names[0] + " loop wake-ups, " + window, share[names.size()], "1/s", "", 0});
+  report.add({names[0] + " wake-ups, all threads, " + window, share[names.size() + 1], "1/s", "", 0});
 }
 
 DdsperfLatency run_ddsperf_pingpong(std::uint32_t domain, int rate_hz, int payload_bytes, int seconds, bool waitset) {

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "rigger/performance/results.hpp"
 #include "rigger/testing/process.hpp"
 
 namespace rigger::bench {
@@ -24,6 +25,24 @@ struct DdsperfLatency {
   std::uint64_t count = 0;
   std::string raw;  ///< ddsperf's output, for the report when parsing fails
 };
+
+/// p50, p90 and p99 of one sample, in one unit.
+struct Quantiles {
+  double p50 = 0, p90 = 0, p99 = 0;
+};
+
+/// Of `values` (nearest rank); zeros when empty.
+Quantiles quantiles(const std::vector<double>& values);
+
+/// ddsperf's round trip in µs, or its one-way figure (half the round trip).
+Quantiles round_trip(const DdsperfLatency& ddsperf);
+Quantiles one_way(const DdsperfLatency& ddsperf);
+
+/// Adds the figures "`what` p50", "`what` p90" and "`what` p99" in `unit` to `report`, each next to the
+/// same quantile of `reference` ("`reference_name` p50", ...), or with no reference when
+/// `reference_name` is empty.
+void add_quantiles(performance::Report& report, const std::string& what, const Quantiles& q, const std::string& unit,
+                   const std::string& reference_name = "", const Quantiles& reference = {});
 
 /// Runs `ddsperf pong` and `ddsperf ping <rate>Hz size <bytes>` for `seconds` on `domain` (loopback
 /// configuration from CYCLONEDDS_URI) and returns the round-trip figures. `waitset` selects ddsperf's
@@ -65,5 +84,12 @@ std::pair<long long, long long> wake_ups(pid_t pid);
 /// CPU seconds per wall second (utime + stime) of each of `pids` while `wait()` runs, followed by the
 /// first pid's wake-ups per wall second over the same window: its main thread's, then all its threads'.
 std::vector<double> cpu_share(const std::vector<pid_t>& pids, const std::function<void()>& wait);
+
+/// Adds one window of cpu_share() (`share`, for processes named `names` in the order of its pids) to
+/// `report`: each process's CPU, but the idle participant's at index `reference`, next to that one's; then
+/// the first process's wake-ups per second (its work loop's, all its threads'). Each figure's name ends
+/// in ", `window`".
+void add_cpu_share(performance::Report& report, const std::vector<std::string>& names, std::size_t reference,
+                   const std::vector<double>& share, const std::string& window);
 
 }  // namespace rigger::bench

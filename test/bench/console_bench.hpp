@@ -1,7 +1,11 @@
 #pragma once
-// What the console benchmarks share: the console started on a private domain, and the browser they drive.
+// What the console benchmarks share: the console started on a private domain, the browser they drive
+// and the figures its scripts print.
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -10,6 +14,7 @@
 
 #include "../integration/cell_sim_test_support.hpp"
 #include "auth.hpp"
+#include "rigger/performance/results.hpp"
 #include "rigger/testing/cell.hpp"
 
 namespace rigger::bench {
@@ -53,6 +58,66 @@ inline std::string browser_modules() {
     return "";
   }
   return modules;
+}
+
+/// One row of a browser script's table of figures (test/bench/*/tree.mjs print them): its label, its
+/// count column (-1 when empty) and its figures in ms, in the table's order (p50, p90, [p99,] max; a sum
+/// row has one).
+struct BrowserRow {
+  std::string label;
+  long count = -1;
+  std::vector<double> ms;
+};
+
+/// The rows of figures in a browser script's output: a label, two spaces or more, an optional count,
+/// numbers, and an optional note after three spaces.
+inline std::vector<BrowserRow> browser_rows(const std::string& log) {
+  static const std::regex kRow(R"(^(\S.*?)\s{2,}(\d*)\s+([0-9.]+(?:\s+[0-9.]+)*)(?:\s{3}.*)?$)");
+  std::vector<BrowserRow> rows;
+  std::istringstream in(log);
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (!std::regex_match(line, m, kRow)) continue;
+    BrowserRow row{m[1], m[2].length() > 0 ? std::stol(m[2]) : -1, {}};
+    std::istringstream numbers(m[3]);
+    for (double v; numbers >> v;) row.ms.push_back(v);
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+/// A count that browser_row() takes as matching any.
+constexpr long kAnyCount = -2;
+
+/// The row of `rows` labelled `label` with count `count` (or kAnyCount) and at least `figures` figures,
+/// or nullptr, saying which on stderr.
+inline const BrowserRow* browser_row(const std::vector<BrowserRow>& rows, const std::string& label, long count,
+                                     std::size_t figures) {
+  for (const auto& r : rows)
+    if (r.label == label && (count == kAnyCount || r.count == count) && r.ms.size() >= figures) return &r;
+  std::fprintf(stderr, "the browser's output has no row '%s' for %ld with %zu figures\n", label.c_str(), count,
+               figures);
+  return nullptr;
+}
+
+/// Adds the row `label` with count `count` to `report` as "`name` <level>" in ms, one figure per entry of
+/// `levels` (the table's columns; "" for a row of one figure), each next to the same column of the row
+/// `reference_label` with count `reference_count` ("`reference_name` <level>") when `reference_name` is not empty.
+/// False when a row is missing (browser_row).
+inline bool add_browser_row(performance::Report& report, const std::vector<BrowserRow>& rows,
+                            const std::vector<std::string>& levels, const std::string& name, const std::string& label,
+                            long count, const std::string& reference_name = "", const std::string& reference_label = "",
+                            long reference_count = -1) {
+  const BrowserRow* row = browser_row(rows, label, count, levels.size());
+  const BrowserRow* reference =
+      reference_name.empty() ? nullptr : browser_row(rows, reference_label, reference_count, levels.size());
+  if (!row || (!reference_name.empty() && !reference)) return false;
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const std::string suffix = levels[i].empty() ? "" : " " + levels[i];
+    report.add({name + suffix, row->ms[i], "ms", reference ? reference_name + suffix : "",
+                reference ? reference->ms[i] : 0.0});
+  }
+  return true;
 }
 
 }  // namespace rigger::bench

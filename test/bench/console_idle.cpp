@@ -86,11 +86,16 @@ int main(int argc, char** argv) {
               seconds);
   std::printf("%-36s %10s %10s %8s %10s %8s %15s %15s\n", "", "console", "ddsperf", "ratio", "echo", "ratio",
               "console loop/s", "console all/s");
+  rigger::performance::Report results(
+      "bench_console_idle", "Idle CPU of the console (CPU s per wall s, /proc/PID/stat) with 0, 1 and 2 SSE clients, " +
+                                std::to_string(seconds) +
+                                " s per row, next to an idle DDS participant (ddsperf pong) over the same windows");
   auto row = [&](const char* label) {
     const auto s = rigger::bench::cpu_share(pids, [&] { idle(seconds); });
     std::printf("%-36s %10.4f %10.4f %7.2fx %10.4f %7.2fx %15.1f %15.1f\n", label, s[0], s[1],
                 s[0] / std::max(1e-9, s[1]), s[2], s[0] / std::max(1e-9, s[2]), s[3], s[4]);
     std::fflush(stdout);
+    rigger::bench::add_cpu_share(results, {"console", "ddsperf pong", "echo"}, 1, s, label);
   };
   row("no client");
   int failures = 0;
@@ -108,5 +113,6 @@ int main(int argc, char** argv) {
   cell.stop("ddsperf", SIGINT, 5s);
   const auto report = cell.stop_all();
   if (!report.ok) std::fprintf(stderr, "%s", report.problems.c_str());
-  return failures == 0 && report.ok ? 0 : 1;
+  if (failures != 0 || !report.ok) return 1;
+  return rigger::performance::save_for_main(results);
 }

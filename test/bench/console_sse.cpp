@@ -97,5 +97,14 @@ int main(int argc, char** argv) {
                 ref.p90_us / 2, ref.p99_us / 2);
   else
     std::printf("ddsperf reference unavailable:\n%s\n", ref.raw.c_str());
-  return static_cast<int>(latency_us.size()) == trials ? 0 : 1;
+  if (static_cast<int>(latency_us.size()) != trials) return 1;
+
+  rigger::performance::Report report(
+      "bench_console_sse", "Node status written -> console -> SSE event received, " + std::to_string(rate_hz) +
+                               " Hz, " + std::to_string(trials) +
+                               " trials, loopback, next to the DDS one-way floor (ddsperf ping/pong 512 B / 2)");
+  // Without ddsperf's figures (printed as unavailable above), the figures go without their reference.
+  rigger::bench::add_quantiles(report, "node status -> SSE event", rigger::bench::quantiles(latency_us), "us",
+                               ref.count > 0 ? "ddsperf waitset one way" : "", rigger::bench::one_way(ref));
+  return rigger::performance::save_for_main(report);
 }

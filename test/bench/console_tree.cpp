@@ -88,6 +88,44 @@ double wall_ms(std::chrono::system_clock::time_point t) {
   return std::chrono::duration<double, std::milli>(t.time_since_epoch()).count();
 }
 
+/// Saves the figures the browser script printed, the large tree's next to the 10-node one's and the
+/// page's lag next to the reference client's (`sse_lag_ms`, `sse_max_ms`); 1 when a row is missing.
+int save_figures(const std::string& browser_log, int nodes, int trials, int rate, int seconds,
+                 const rigger::bench::Quantiles& sse_lag_ms, double sse_max_ms) {
+  using rigger::bench::add_browser_row;
+  rigger::performance::Report report(
+      "bench_console_tree", "The console's Tasks page in headless chromium with a " + std::to_string(nodes) +
+                                "-node tree (" + std::to_string(trials) + " clicks), next to a 10-node tree, then " +
+                                std::to_string(rate) + " node changes per s for " + std::to_string(seconds) +
+                                " s next to a browser-less SSE client");
+  const std::vector<std::string> levels = {"p50", "p90", "p99", "max"};
+  const auto rows = rigger::bench::browser_rows(browser_log);
+  const std::string built = "click on the task -> whole tree drawn and laid out";
+  const std::string painted = "click on the task -> the frame after it (painted)";
+  const bool ok =
+      add_browser_row(report, rows, levels, "page load -> Tasks page ready",
+                      "page load -> Tasks page ready (the state of every node)", nodes + 10) &&
+      add_browser_row(report, rows, levels, "click -> tree drawn", built, nodes, "10-node tree drawn", built, 10) &&
+      add_browser_row(report, rows, levels, "click -> tree painted", painted, nodes, "10-node tree painted", painted,
+                      10);
+  const auto* dom =
+      rigger::bench::browser_row(rows, "change stamped -> in the tree (DOM)", rigger::bench::kAnyCount, 4);
+  const auto* frame = rigger::bench::browser_row(rows, "change stamped -> next frame began (painted by then)",
+                                                 rigger::bench::kAnyCount, 4);
+  if (!ok || !dom || !frame) return 1;
+  // The reference client's lag was printed as p50, p99 and max.
+  const std::pair<const char*, std::size_t> columns[] = {{"p50", 0}, {"p99", 2}, {"max", 3}};
+  const double sse[] = {sse_lag_ms.p50, sse_lag_ms.p99, sse_max_ms};
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::string level = columns[i].first;
+    report.add({"change -> in the tree (DOM) " + level, dom->ms[columns[i].second], "ms",
+                "change -> SSE client " + level, sse[i]});
+    report.add(
+        {"change -> painted " + level, frame->ms[columns[i].second], "ms", "change -> SSE client " + level, sse[i]});
+  }
+  return rigger::performance::save_for_main(report);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -274,6 +312,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "the browser script failed (log above)\n");
     return 1;
   }
-  if (!report.ok) std::fprintf(stderr, "%s", report.problems.c_str());
-  return report.ok ? 0 : 1;
+  if (!report.ok) {
+    std::fprintf(stderr, "%s", report.problems.c_str());
+    return 1;
+  }
+  return save_figures(browser.log(), nodes, trials, rate, seconds, rigger::bench::quantiles(lag), percentile(lag, 1.0));
 }

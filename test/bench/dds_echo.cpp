@@ -67,5 +67,15 @@ int main(int argc, char** argv) {
   std::printf("ratio vs ddsperf listener: p50 %.2f (target <= 1.5)  p99 %.2f (target <= 2)\n", r50 / ref.p50_us,
               r99 / ref.p99_us);
   std::printf("ratio vs ddsperf waitset:  p50 %.2f  p99 %.2f\n", r50 / ref_ws.p50_us, r99 / ref_ws.p99_us);
-  return 0;
+
+  rigger::performance::Report report(
+      "bench_dds_echo", "DDS round trip of rigger's typed layer through the echo service, " + std::to_string(opt.size) +
+                            " B at " + std::to_string(opt.rate_hz) + " Hz for " + std::to_string(opt.seconds) +
+                            " s, loopback, next to ddsperf ping/pong at the same rate and payload");
+  using rigger::bench::add_quantiles;
+  add_quantiles(report, "typed layer round trip", {r50, r90, r99}, "us", "ddsperf listener round trip",
+                rigger::bench::round_trip(ref));
+  add_quantiles(report, "ddsperf waitset round trip", rigger::bench::round_trip(ref_ws), "us",
+                "ddsperf listener round trip", rigger::bench::round_trip(ref));
+  return rigger::performance::save_for_main(report);
 }

@@ -71,5 +71,12 @@ int main(int argc, char** argv) {
   std::printf("%-44s %10.1f %10.1f %10.1f %8zu\n", "security on (deploy/cyclonedds-secure.xml)", on.p50, on.p90,
               on.p99, on.count);
   std::printf("ratio on/off: p50 %.2f  p90 %.2f  p99 %.2f\n", on.p50 / off.p50, on.p90 / off.p90, on.p99 / off.p99);
-  return 0;
+
+  rigger::performance::Report report(
+      "bench_dds_echo_security", "DDS round trip through the echo service with DDS Security on (signed), " +
+                                     std::to_string(run.size) + " B at " + std::to_string(run.rate_hz) + " Hz for " +
+                                     std::to_string(run.seconds) + " s, loopback, next to the same with security off");
+  rigger::bench::add_quantiles(report, "round trip, security on", {on.p50, on.p90, on.p99}, "us",
+                               "round trip, security off", {off.p50, off.p90, off.p99});
+  return rigger::performance::save_for_main(report);
 }

@@ -116,5 +116,13 @@ int main(int argc, char** argv) {
   std::printf("%-48s %10.1f %10.1f %10.1f\n", "  one-way floor (half of it)", ref.p50_us / 2, ref.p90_us / 2,
               ref.p99_us / 2);
   std::printf("unexpected events: %d\n", wrong);
-  return wrong == 0 && static_cast<int>(latency_us.size()) == opt.trials ? 0 : 1;
+  if (wrong != 0 || static_cast<int>(latency_us.size()) != opt.trials) return 1;
+
+  rigger::performance::Report report(
+      "bench_monitor_latency", "Force step published -> ForceMonitor FAILURE received through monitor_host (2 hops), " +
+                                   std::to_string(opt.rate_hz) + " Hz wrench stream, " + std::to_string(opt.trials) +
+                                   " trials, loopback, next to ddsperf ping/pong 128 B (waitset, 2 hops)");
+  rigger::bench::add_quantiles(report, "wrench step -> FAILURE", rigger::bench::quantiles(latency_us), "us",
+                               "ddsperf waitset round trip", rigger::bench::round_trip(ref));
+  return rigger::performance::save_for_main(report);
 }

@@ -221,6 +221,32 @@ class Runner {
   rigger::testing::Lab* lab_;
 };
 
+/// Saves each setup's figures, those of the others next to loopback's with security off.
+int save_figures(const Options& o, const std::vector<Setup>& setups, const std::vector<Samples>& samples) {
+  rigger::performance::Report report(
+      "bench_network_matrix", "Echo round trip (" + std::to_string(o.size) + " B at " + std::to_string(o.rate_hz) +
+                                  " Hz) and monitor FAILURE -> sibling SHUTDOWN reaction (" + std::to_string(o.trials) +
+                                  " trials) over loopback and two lab hosts, security off and on, " +
+                                  std::to_string(o.rounds) + " rounds, next to loopback with security off");
+  using rigger::bench::add_quantiles;
+  using rigger::bench::quantiles;
+  const std::string base = setups[0].label;
+  for (std::size_t i = 0; i < setups.size(); ++i) {
+    const std::string& label = setups[i].label;
+    const bool compared = i > 0;  // the first setup is the others' reference
+    add_quantiles(report, "echo, " + label, quantiles(samples[i].echo_us), "us", compared ? "echo, " + base : "",
+                  quantiles(samples[0].echo_us));
+    add_quantiles(report, "reaction, " + label, quantiles(samples[i].reaction_us), "us",
+                  compared ? "reaction, " + base : "", quantiles(samples[0].reaction_us));
+    report.add({"reaction trials per s, " + label, samples[i].trials_per_s, "1/s", "", 0});
+    report.add({"FAILURE -> controller p50, " + label, percentile(samples[i].to_controller_us, 0.5), "us", "", 0});
+    report.add({"controller handling p50, " + label, percentile(samples[i].in_controller_us, 0.5), "us", "", 0});
+    report.add({"SHUTDOWN -> executor p50, " + label, percentile(samples[i].to_executor_us, 0.5), "us", "", 0});
+    report.add({"stray STOPPED, " + label, static_cast<double>(samples[i].stray_stopped), "trials", "", 0});
+  }
+  return rigger::performance::save_for_main(report);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -309,7 +335,9 @@ int main(int argc, char** argv) {
     std::printf("%-26s %8.2f %8.2f %8.2f %7s | %8.2f %8.2f %8.2f\n", setups[i].label.c_str(), e.p50 / e0.p50,
                 e.p90 / e0.p90, e.p99 / e0.p99, "", r.p50 / r0.p50, r.p90 / r0.p90, r.p99 / r0.p99);
   }
-  std::printf("Where the reaction's time goes, p50 (us; the controller's stage trace and the skill executor's receipt trace):\n");
+  std::printf(
+      "Where the reaction's time goes, p50 (us; the controller's stage trace and the skill executor's receipt "
+      "trace):\n");
   std::printf("%-26s %14s %14s %14s %14s\n", "", "FAILURE->tc", "tc handling", "SHUTDOWN->exec", "stray STOPPED");
   for (std::size_t i = 0; i < setups.size(); ++i)
     std::printf("%-26s %14.1f %14.1f %14.1f %14zu\n", setups[i].label.c_str(),
@@ -318,5 +346,5 @@ int main(int argc, char** argv) {
   std::printf(
       "(stray STOPPED: trials in which the skill's executor stopped the skill on its own, e.g. when the "
       "controller's liveliness lapsed; their reaction still counts)\n");
-  return 0;
+  return save_figures(o, setups, samples);
 }

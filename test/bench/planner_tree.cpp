@@ -66,5 +66,23 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "the browser script failed (log above)\n");
     return 1;
   }
-  return 0;
+
+  rigger::performance::Report report("bench_planner_tree",
+                                     "The planner in headless chromium: edits, redraws and validation of a " +
+                                         std::to_string(nodes) + "-node tree (" + std::to_string(trials) +
+                                         " trials) next to a 10-node tree, and the screw list next to GET /api/me");
+  using rigger::bench::add_browser_row;
+  const auto rows = rigger::bench::browser_rows(browser.log());
+  const std::vector<std::string> levels = {"p50", "p90", "max"};
+  bool ok = add_browser_row(report, rows, levels, "screw list from 4 picked holes",
+                            "screw list from picked holes (POST /api/planner/screws)", 4, "GET /api/me",
+                            "reference: GET /api/me", -1);
+  for (const std::string label :
+       {"POST /api/planner/validate alone (from node)", "POST /api/planner/validate alone (from the page)",
+        "typed edit -> redrawn, laid out", "structural edit (Add) -> redrawn, laid out",
+        "validation by the controller's validator -> marked"})
+    ok = ok && add_browser_row(report, rows, levels, label, label, nodes, "10 nodes: " + label, label, 10);
+  for (const std::string label : {"typed edit + validation (p50 sum)", "structural edit + validation (p50 sum)"})
+    ok = ok && add_browser_row(report, rows, {""}, label, label, nodes, "10 nodes: " + label, label, 10);
+  return ok ? rigger::performance::save_for_main(report) : 1;
 }

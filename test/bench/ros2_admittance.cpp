@@ -243,5 +243,21 @@ int main(int argc, char** argv) {
       "no command within 200 ms: %d with the bridge, %d direct; first twist along another direction: %d; "
       "slots skipped: %d\n",
       f.lost_bridge, f.lost_direct, f.wrong_direction, f.skipped);
-  return stopped.ok ? 0 : 1;
+  if (!stopped.ok) return 1;
+
+  rigger::performance::Report report(
+      "bench_ros2_admittance",
+      "A wrench sample to the admittance command it causes, through the ROS 2 bridge both ways, " +
+          std::to_string(trials) + " trials (100 N steps, one every " + std::to_string(period.count() / 1000) +
+          " ms), loopback, next to the same chain on rigger's topics without the bridge");
+  using rigger::bench::add_quantiles;
+  using rigger::bench::quantiles;
+  add_quantiles(report, "ROS 2 wrench -> ROS 2 twist", quantiles(f.bridge_us), "us", "rigger wrench -> cmd_twist",
+                quantiles(f.direct_us));
+  add_quantiles(report, "ROS 2 wrench -> rigger cmd_twist", quantiles(f.bridge_command_us), "us");
+  add_quantiles(report, "rigger cmd_twist -> ROS 2 twist", quantiles(f.twist_leg_us), "us");
+  report.add({"trials without a command within 200 ms, with the bridge", static_cast<double>(f.lost_bridge), "trials",
+              "trials without a command within 200 ms, direct", static_cast<double>(f.lost_direct)});
+  report.add({"first twist along another direction", static_cast<double>(f.wrong_direction), "trials", "", 0});
+  return rigger::performance::save_for_main(report);
 }

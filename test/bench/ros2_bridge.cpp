@@ -125,5 +125,16 @@ int main(int argc, char** argv) {
               percentile(bridge.latency_us, 0.5) / percentile(echo_us, 0.5),
               percentile(bridge.latency_us, 0.99) / percentile(echo_us, 0.99),
               percentile(bridge.latency_us, 0.5) - percentile(echo_us, 0.5));
-  return 0;
+
+  rigger::performance::Report report(
+      "bench_ros2_bridge",
+      "A ROS 2 wrench (rt/, sensor_data) through ros2_bridge to rigger/robot/wrench, " + std::to_string(rate_hz) +
+          " Hz for " + std::to_string(seconds) +
+          " s, loopback, next to the echo service's round trip at the same rate (two hops, a copy)");
+  rigger::bench::add_quantiles(report, "wrench through the bridge", rigger::bench::quantiles(bridge.latency_us), "us",
+                               "echo round trip", rigger::bench::quantiles(echo_us));
+  report.add({"wrenches lost through the bridge",
+              bridge.sent == 0 ? 0.0 : 100.0 * (1.0 - double(bridge.latency_us.size()) / double(bridge.sent)), "%", "",
+              0});
+  return rigger::performance::save_for_main(report);
 }

@@ -229,5 +229,22 @@ int main(int argc, char** argv) {
             "executor lease " + std::to_string(rigger::dds::liveliness_lease().count()) + " ms, stop timeout " +
                 std::to_string(static_cast<int>(kStopTimeoutS * 1000)) + " ms");
   print_row("safe stop written -> robot and crane < 1 mm/s", stop_ms, "");
-  return 0;
+
+  rigger::performance::Report report(
+      "bench_safe_stop", "Stops reaching the robot and the crane carrying the 40 kg load under admittance control, " +
+                             std::to_string(trials) +
+                             " trials each, whole simulated cell on loopback, next to the leases that bound them");
+  const double lease_ms = static_cast<double>(rigger::dds::liveliness_lease().count());
+  const auto add = [&](const std::string& what, const std::vector<double>& ms, const std::string& reference) {
+    using rigger::bench::percentile;
+    const std::pair<const char*, double> levels[] = {
+        {" p50", percentile(ms, 0.5)}, {" p99", percentile(ms, 0.99)}, {" max", percentile(ms, 1.0)}};
+    for (const auto& [level, value] : levels)
+      report.add({what + level, value, "ms", reference, reference.empty() ? 0 : lease_ms});
+  };
+  add("controller SIGKILL -> at rest", kill_ms, "command lease");
+  add("executor frozen, task cancelled -> safe stop written", freeze_to_stop_ms,
+      "executor lease (stop timeout " + std::to_string(static_cast<int>(kStopTimeoutS * 1000)) + " ms)");
+  add("safe stop written -> at rest", stop_ms, "");
+  return rigger::performance::save_for_main(report);
 }

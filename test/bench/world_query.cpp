@@ -107,5 +107,14 @@ int main(int argc, char** argv) {
   std::printf("%-44s %10.1f %10.1f %10.1f %8llu\n", "ddsperf ping/pong 128 B, waitset", ref.p50_us, ref.p90_us,
               ref.p99_us, static_cast<unsigned long long>(ref.count));
   std::printf("failed queries: %d; ratio p50 %.2f  p99 %.2f\n", failures, r50 / ref.p50_us, r99 / ref.p99_us);
-  return failures == 0 ? 0 : 1;
+  if (failures != 0) return 1;
+
+  rigger::performance::Report report("bench_world_query",
+                                     "World-model pose query round trip (WorldClient.pose, one outstanding), " +
+                                         std::to_string(opt.entities) + " entities, " + std::to_string(opt.rate_hz) +
+                                         " Hz offered for " + std::to_string(opt.seconds) +
+                                         " s, loopback, next to ddsperf ping/pong 128 B (waitset)");
+  rigger::bench::add_quantiles(report, "pose query round trip", {r50, r90, r99}, "us", "ddsperf waitset round trip",
+                               rigger::bench::round_trip(ref));
+  return rigger::performance::save_for_main(report);
 }

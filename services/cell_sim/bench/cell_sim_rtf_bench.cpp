@@ -27,6 +27,7 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
+#include "rigger/performance/results.hpp"
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/sim.hpp"
 #include "rigger/protocol/vision.hpp"
@@ -147,6 +148,21 @@ int main(int argc, char** argv) {
   std::printf("  (gripper %llu, camera info %llu, motion %llu, events %llu samples)\n",
               static_cast<unsigned long long>(gripper.count), static_cast<unsigned long long>(info.count),
               static_cast<unsigned long long>(motion.count), static_cast<unsigned long long>(events.count));
-  if (!report.ok) std::cerr << report.problems;
-  return report.ok ? 0 : 1;
+  if (!report.ok) {
+    std::cerr << report.problems;
+    return 1;
+  }
+
+  rigger::performance::Report results(
+      "cell_sim_rtf_bench", "cell_sim's real-time factor, unpaced, every publisher on and read (" +
+                                std::to_string(static_cast<int>(wall_s)) +
+                                " s wall), next to a bare mj_step on models/cell.xml measured before and after");
+  results.add({"cell_sim process, all publishers", rtf, "x real time", "bare mj_step", (bare_before + bare_after) / 2});
+  results.add({"wrench taken per simulated s", (wrench.count - w0) / sim_s, "1/s", "", 0});
+  results.add({"robot state taken per simulated s", (robot.count - r0) / sim_s, "1/s", "", 0});
+  results.add({"images taken per simulated s", (image.count - i0) / sim_s, "1/s", "", 0});
+  results.add({"ground truth taken per simulated s", (truth.count - t0) / sim_s, "1/s", "", 0});
+  results.add({"images rendered per wall s", (last.frames - first.frames) / wall_s, "1/s", "", 0});
+  results.add({"images dropped per wall s", (last.dropped - first.dropped) / wall_s, "1/s", "", 0});
+  return rigger::performance::save_for_main(results);
 }

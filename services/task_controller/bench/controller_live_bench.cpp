@@ -74,7 +74,7 @@ std::vector<double> cpu_share(rigger::testing::Cell& cell, const std::vector<pid
   });
 }
 
-int measure_idle(int seconds) {
+int measure_idle(int seconds, rigger::performance::Report& report) {
   rigger::testing::Cell cell;
   const std::string dir = cell.log_dir();
   auto& tcp = cell.start("tc", "task_controller",
@@ -116,6 +116,7 @@ int measure_idle(int seconds) {
   auto row = [&](const char* label, const std::vector<double>& s) {
     std::printf("%-20s %10.4f %10.4f %7.2fx %10.4f %10.4f %14.1f %14.1f\n", label, s[0], s[1],
                 s[0] / std::max(1e-9, s[1]), s[2], s[3], s[4], s[5]);
+    rigger::bench::add_cpu_share(report, {"controller", "ddsperf pong", "echo", "scripted executor"}, 1, s, label);
   };
   row("no task", cpu_share(cell, pids, seconds));
 
@@ -146,7 +147,7 @@ int measure_idle(int seconds) {
   cell.wait_until([&] { return state["hundred"] == rigger_task_TASK_CANCELED; }, 20s);
   cell.stop("ddsperf", SIGINT, 5s);
   cell.stop_all();
-  return 0;
+  return rigger::performance::save_for_main(report);
 }
 
 }  // namespace
@@ -233,5 +234,44 @@ int main(int argc, char** argv) {
   };
   ratios("A", failure);
   ratios("B", success);
-  return measure_idle(idle_seconds);
+
+  rigger::performance::Report report(
+      "task_controller_live_bench",
+      "Skill-event reaction of the task controller across three processes, " + std::to_string(trials) +
+          " trials each, next to ddsperf's one-way latency (128 B, " + std::to_string(rate_hz) +
+          " Hz); idle CPU over " + std::to_string(idle_seconds) + " s per row next to an idle ddsperf pong");
+  using rigger::bench::add_quantiles;
+  using rigger::bench::quantiles;
+  const auto floor = rigger::bench::one_way(waitset);
+  const std::string one_way = "ddsperf waitset one way";
+  add_quantiles(report, "A SHUTDOWN received, journal normal", quantiles(failure.command_received_us), "us", one_way,
+                floor);
+  add_quantiles(report, "A SHUTDOWN written", quantiles(failure.command_written_us), "us", one_way, floor);
+  add_quantiles(report, "A STOPPED written", quantiles(failure.stopped_written_us), "us");
+  add_quantiles(report, "A SHUTDOWN received, journal_sync full", quantiles(full.command_received_us), "us",
+                "A SHUTDOWN received, journal normal", quantiles(failure.command_received_us));
+  add_quantiles(report, "B START received, journal normal", quantiles(success.command_received_us), "us", one_way,
+                floor);
+  add_quantiles(report, "B START written", quantiles(success.command_written_us), "us", one_way, floor);
+  add_quantiles(report, "ddsperf listener one way", rigger::bench::one_way(listener), "us", one_way, floor);
+  report.add({"A trials per s", failure.trials_per_s, "1/s", "", 0});
+  report.add({"B trials per s", success.trials_per_s, "1/s", "", 0});
+  const auto stage_figures = [&](const std::string& label, const Reaction& r) {
+    add_quantiles(report, label + " stage 1 event -> controller woke", quantiles(r.to_woke_us), "us");
+    add_quantiles(report, label + " stage 2 woke -> command handed to DDS", quantiles(r.to_writing_us), "us");
+    add_quantiles(report, label + " stage 3 command write call", quantiles(r.writing_us), "us");
+    add_quantiles(report, label + " stage 4 command written -> engine done", quantiles(r.to_engine_us), "us");
+    add_quantiles(report, label + " stage 5 engine done -> flushed", quantiles(r.to_flushed_us), "us");
+    add_quantiles(report, label + " stage 6 command -> executor woke", quantiles(r.command_to_seen_us), "us");
+  };
+  stage_figures("A", failure);
+  stage_figures("A full", full);
+  stage_figures("B", success);
+  const std::pair<const char*, const Reaction*> runs[] = {{"A", &failure}, {"B", &success}, {"A full", &full}};
+  for (const auto& [label, r] : runs) {
+    report.add({std::string("commands also taken by the monitors' executor, ") + label,
+                static_cast<double>(r->misrouted), "commands", "", 0});
+    report.add({std::string("STARTs sent again, ") + label, static_cast<double>(r->sent_again), "commands", "", 0});
+  }
+  return measure_idle(idle_seconds, report);
 }

@@ -3,6 +3,8 @@
 //   rigger-performance-table --convert IN OUT    turns Google Benchmark's --benchmark_out JSON into a result
 #include <fstream>
 #include <iostream>
+#include <regex>
+#include <sstream>
 #include <string>
 
 #include "rigger/performance/results.hpp"
@@ -11,7 +13,12 @@ namespace {
 
 int convert(const std::string& in_path, const std::string& out_path) {
   std::ifstream in(in_path);
-  const auto parsed = nlohmann::json::parse(in, nullptr, false);
+  std::ostringstream text;
+  text << in.rdbuf();
+  // Google Benchmark writes a counter's undefined aggregate (the cv of a counter that stayed 0) as a bare
+  // NaN, which is not JSON: such a value becomes null, and a counter that is not a number is left out.
+  static const std::regex kNotANumber(R"(:\s*-?(NaN|nan|inf|Infinity)\b)");
+  const auto parsed = nlohmann::json::parse(std::regex_replace(text.str(), kNotANumber, ": null"), nullptr, false);
   if (parsed.is_discarded()) throw std::runtime_error(in_path + ": not valid JSON");
   const auto result = rigger::performance::result_from_json(parsed, in_path);
   std::ofstream out(out_path);

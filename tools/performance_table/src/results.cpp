@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -215,6 +216,16 @@ std::filesystem::path Report::save() {
   }
   std::filesystem::rename(tmp, path);
   return path;
+}
+
+int save_for_main(Report& report) {
+  try {
+    report.save();
+    return 0;
+  } catch (const std::exception& e) {  // std::filesystem_error from the rename, too
+    std::cerr << e.what() << "\n";
+    return 1;
+  }
 }
 
 }  // namespace rigger::performance

@@ -67,4 +67,8 @@ class Report {
   BenchResult result_;
 };
 
+/// `report.save()` for a bench's main: 0 when saved (or when RIGGER_BENCH_RESULTS is not set), 1 with
+/// why on stderr when the file cannot be written.
+int save_for_main(Report& report);
+
 }  // namespace rigger::performance
