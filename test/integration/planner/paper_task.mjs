@@ -92,11 +92,18 @@ try {
   const axe = () => page.evaluate(async () => (await window.axe.run(document)).violations.map((x) => `${x.id}: ${x.help} (${x.nodes.length}: ${x.nodes.map((n) => n.target).join(' ')})`));
   /// A number in another unit than the parameter's own: the unit chosen from its list, then the number.
   const quantity = async (param, value, unit) => { await page.selectOption(`#unit-${param}`, unit); await fill(`#param-${param}`, value); };
-  /// An object parameter by a click on the part in the 3D view ("Pick in 3D", then the part's centre).
+  /// An object parameter by a click on the part in the 3D view ("Pick in 3D", then the centroid of the
+  /// part's highest upward face, which the framed view looks down on).
   const clickObject = async (param, entity) => {
     await page.click(`[data-frame="${entity}"]`);
     await page.click(`[data-pick-object="${param}"]`);
-    const [x, y] = await page.evaluate(([e, z]) => window.rigger.planner.screenOf(e, [0, 0, z]), [entity, entity === 'target' ? -0.02 : 0]);
+    await page.locator('.pview canvas').scrollIntoViewIfNeeded();  // the form's button may have scrolled it away
+    const { x, y } = await page.evaluate((e) => {
+      const faces = window.rigger.planner.view.parts.get(e).features.faces
+        .filter((f) => f.signature?.type === 'plane' && f.signature.direction[2] > 0.99);
+      const top = faces.reduce((a, b) => (b.signature.centroid_m[2] > a.signature.centroid_m[2] ? b : a));
+      return window.rigger.planner.screenOf(e, top.signature.centroid_m);
+    }, entity);
     await page.mouse.click(x, y);
     await page.waitForFunction(([p, e]) => document.querySelector(`#param-${p}`)?.value === e, [param, entity], { timeout: 10000 });
   };

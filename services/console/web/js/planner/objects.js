@@ -8,7 +8,7 @@ export class ObjectPicker {
   constructor(view, say, list) {
     Object.assign(this, { view, say, list });
     this.objects = [];  // [{id, world}] in the world model's order
-    this.armed = null;  // {ptr, name, set}: the object_id field (of node ptr) waiting for a click on a part
+    this.armed = null;  // {ptr, name, set, select}: the object_id field (of node ptr) waiting for a click on a part
   }
 
   /// Reads the world model's objects and draws each; returns the ids drawn.
@@ -38,8 +38,9 @@ export class ObjectPicker {
   /// A click in the view while a field is armed fills it; returns whether it did.
   take(pick) {
     if (!this.armed || !pick) return false;
-    const { name, set } = this.armed;
+    const { name, set, select } = this.armed;
     this.disarm();
+    select.value = pick.entity;  // the form is not drawn again for an edit of one of its fields
     set(pick.entity);
     this.say(`${name} = ${pick.entity} (clicked)`);
     return true;
@@ -62,7 +63,7 @@ export class ObjectPicker {
     }
     const pick = el('button', { type: 'button', 'data-pick-object': name,
       onclick: () => {
-        this.armed = { ptr, name, set };
+        this.armed = { ptr, name, set, select };
         this.view.renderer.domElement.classList.add('picking-object');
         this.say(`Click a part in the 3D view for ${name}.`);
       } }, 'Pick in 3D');
