@@ -39,8 +39,7 @@ void HttpApi::get_plots(const httplib::Request& req, httplib::Response& res) {
   std::string out = "[";
   bool first = true;
   for (const auto& e : plots_.retained()) {
-    // Rows start with {"t":<seconds>, ...}: read t without parsing the whole row.
-    const double t = std::strtod(e.data.c_str() + 5, nullptr);
+    const double t = plot_row_time(e.data);
     if (t < from || t > to) continue;
     if (!first) out += ",";
     out += e.data;

@@ -21,12 +21,6 @@ bool valid_task_id(const std::string& id) {
   static const std::regex kTaskId("[A-Za-z0-9][A-Za-z0-9_.-]{0,127}");
   return std::regex_match(id, kTaskId);
 }
-// A row's time: the console writes "t" first ({"t":<seconds>,...}), so it is read without parsing the row.
-double row_time(const std::string& row) {
-  if (row.rfind("{\"t\":", 0) == 0) return std::strtod(row.c_str() + 5, nullptr);
-  const json parsed = json::parse(row, nullptr, false);
-  return parsed.is_object() && parsed.contains("t") && parsed["t"].is_number() ? parsed["t"].get<double>() : 0.0;
-}
 
 // A time of run.json, 0 while it is null (a run not ended, no row yet).
 double time_of(const json& meta, const char* key) {
@@ -42,6 +36,12 @@ std::size_t count_lines(const fs::path& path, std::size_t at_most) {
 }
 
 }  // namespace
+
+double plot_row_time(const std::string& row) {
+  if (row.rfind("{\"t\":", 0) == 0) return std::strtod(row.c_str() + 5, nullptr);
+  const json parsed = json::parse(row, nullptr, false);
+  return parsed.is_object() && parsed.contains("t") && parsed["t"].is_number() ? parsed["t"].get<double>() : 0.0;
+}
 
 RunArchive::RunArchive(fs::path folder, Limits limits) : folder_(std::move(folder)), limits_(limits) {
   std::error_code ec;
@@ -90,7 +90,7 @@ void RunArchive::on_task(const std::string& task_id, const std::string& state, d
 
 void RunArchive::on_row(const std::string& row_json) {
   std::lock_guard lock(mutex_);
-  const double t = row_time(row_json);
+  const double t = plot_row_time(row_json);
   for (auto& [id, run] : runs_) {
     if (!run.rows.is_open()) continue;
     json& meta = run.meta;

@@ -27,6 +27,10 @@
 
 namespace rigger::console {
 
+/// A plot row's time (s since the epoch): the console writes "t" first ({"t":<seconds>,...}), so it is
+/// read without parsing the row; another row is parsed. 0 when the row has none.
+double plot_row_time(const std::string& row);
+
 class RunArchive {
  public:
   struct Limits {

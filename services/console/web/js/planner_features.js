@@ -87,11 +87,11 @@ export class FeaturePicker {
 
   get active() { return Boolean(this.open && this.list?.isConnected); }
 
-  /// Reads the named features of `entities` from the world model and draws their markers on the parts
-  /// the view has loaded. A part the world model does not answer for is left out (and said).
-  async load(entities) {
-    const got = await Promise.allSettled(entities.map((e) => api(`/api/world/entity/${encodeURIComponent(e)}`)));
-    this.features = got.flatMap((r, i) => (r.status === 'fulfilled' ? namedFeatures(entities[i], r.value) : []));
+  /// Draws the named features of `objects` ([{id, world}]: each with the world model's description) as
+  /// markers on the parts the view has loaded. `problem`: what the world model did not answer (said in
+  /// the list when there is no feature).
+  load(objects, problem = '') {
+    this.features = objects.flatMap(({ id, world }) => namedFeatures(id, world));
     for (const f of this.features) {
       const part = this.view.parts.get(f.entity);
       if (!part) continue;
@@ -111,8 +111,7 @@ export class FeaturePicker {
       part.group.add(g);
       this.markers.set(f.ref, { group: g, dot, entity: f.entity });
     }
-    const failed = got.find((r) => r.status === 'rejected');
-    if (failed) this.problem = failed.reason.message;
+    this.problem = problem;
   }
 
   /// Page coordinates of a feature's origin in the 3D view (tests click there, as a person would).

@@ -8,20 +8,25 @@ export class ObjectPicker {
   constructor(view, say, list) {
     Object.assign(this, { view, say, list });
     this.objects = [];  // [{id, world}] in the world model's order
+    this.problem = '';  // what the world model did not answer, for the feature list
     this.armed = null;  // {ptr, name, set, select}: the object_id field (of node ptr) waiting for a click on a part
   }
 
-  /// Reads the world model's objects and draws each; returns the ids drawn.
+  /// Reads the world model's objects (each with its description) and draws each.
   async load() {
     const { entities } = await api('/api/world/entities');
-    const described = await Promise.all(entities.map((id) =>
-      api(`/api/world/entity/${encodeURIComponent(id)}`).then((world) => ({ id, world }), () => null)));
-    this.objects = described.filter((o) => o && o.world.kind === 'object');
+    const described = await Promise.allSettled(entities.map((id) => api(`/api/world/entity/${encodeURIComponent(id)}`)));
+    const unanswered = [];
+    this.objects = [];
+    described.forEach((r, i) => {
+      if (r.status === 'rejected') unanswered.push(`${entities[i]}: ${r.reason.message}`);
+      else if (r.value.kind === 'object') this.objects.push({ id: entities[i], world: r.value });
+    });
+    this.problem = unanswered.join('; ');
     const loaded = await Promise.allSettled(this.objects.map((o) => this.view.load(o.id, o.world)));
     const failed = loaded.map((r, i) => (r.status === 'rejected' ? `${this.objects[i].id}: ${r.reason.message}` : null)).filter(Boolean);
-    if (failed.length) this.say(`Parts not shown (${failed.join('; ')})`, true);
+    if (failed.length || unanswered.length) this.say(`Parts not shown (${[...unanswered, ...failed].join('; ')})`, true);
     this.renderList();
-    return this.objects.map((o) => o.id);
   }
 
   renderList() {

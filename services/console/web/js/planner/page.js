@@ -314,16 +314,15 @@ export function plannerPage(main, me) {
     } catch (e) {
       say(`No skill library: ${e.message}`, true);
     }
-    let ids = [];
     try {
-      ids = await objects.load();
+      await objects.load();
     } catch (e) {
       say(`No parts: the world model did not answer (${e.message})`, true);
     }
     view.frameAll();
     bindings.renderHoles();
     form.render();  // the object lists of the fields
-    await features.load(ids);
+    features.load(objects.objects, objects.problem);
     window.rigger.planner.ready = true;
   })();
   return () => {
