@@ -39,15 +39,16 @@ std::optional<Eigen::Isometry3d> read_rope_attachment(const Config& config, cons
     throw ConfigError(config.file(), key,
                       "a measured rope offset needs cell_file (the rope attachment of '" + object +
                           "'); set 0 or give the cell file");
+  cell::CellFile cell;
   try {
-    const cell::CellFile cell = cell::load_cell_file(*path);
-    const cell::CellEntity& entity = cell.require(object, "rope_object, for the measured rope offset");
-    if (!entity.features.rope_attachment)
-      throw ConfigError(config.file(), config.pointer() + "/rope_object",
-                        "object '" + object + "' has no rope_attachment feature in " + path->string());
-    return *entity.features.rope_attachment;
+    cell = cell::load_cell_file(*path);
   } catch (const cell::CellFileError& e) {
     throw ConfigError(config.file(), config.pointer() + "/cell_file", e.what());
+  }
+  try {
+    return rope_attachment_in_cell(cell, path->string(), object);
+  } catch (const ConfigError& e) {
+    throw ConfigError(config.file(), config.pointer() + "/rope_object", e.what());
   }
 }
 
@@ -110,6 +111,11 @@ AdmittanceNode::AdmittanceNode(service::ServiceContext& ctx)
   ctx.loop.on_data(tracker_poses_, [this] { on_tracker_pose(); });
   ctx.loop.on_data(crane_states_, [this] { on_crane_state(); });
   ctx.loop.on_data(directory_.reader(), [this] { on_directory(); });
+  if (config_.cell_file) {
+    follower_ = std::make_unique<cell_follower::CellFollower>(
+        ctx.participant, ctx.loop, ctx.log, *config_.cell_file,
+        [this](const cell_follower::FollowedRevision& revision) { return on_revision(revision); }, &ctx.announcer);
+  }
   ctx.loop.every(period_of(config_.robot_rate_hz), [this] { robot_step(); });
   ctx.loop.every(period_of(config_.crane_rate_hz), [this] { crane_step(); });
   publish_state();
@@ -119,6 +125,33 @@ AdmittanceNode::AdmittanceNode(service::ServiceContext& ctx)
       "rpy ({:.1f}, {:.1f}, {:.1f}) deg",
       config_.robot_rate_hz, config_.crane_rate_hz, robot_id_, pose_world_base_.translation().x(),
       pose_world_base_.translation().y(), pose_world_base_.translation().z(), rpy.x(), rpy.y(), rpy.z());
+}
+
+cell_follower::Outcome AdmittanceNode::on_revision(const cell_follower::FollowedRevision& revision) {
+  const std::string source = config_.cell_file->string();
+  Eigen::Isometry3d base;
+  std::optional<Eigen::Isometry3d> rope;
+  try {
+    base = entity_pose_in_cell(revision.cell, source, robot_id_);
+    if (pose_rope_attachment_) rope = rope_attachment_in_cell(revision.cell, source, rope_object_);
+  } catch (const ConfigError& e) {
+    return cell_follower::Outcome::refuse(e.what());
+  }
+  const bool same = base.matrix() == pose_world_base_.matrix() &&
+                    (!rope || rope->matrix() == pose_rope_attachment_->matrix());
+  if (same) return cell_follower::Outcome::take();
+  if (mode_ != AdmittanceMode::kOff) {
+    return cell_follower::Outcome::refuse(
+        "admittance is on (mode " + std::string(to_string(mode_)) + ") and the revision moves the robot base '" +
+        robot_id_ + "' or the rope attachment of '" + rope_object_ +
+        "': a running law's commands would jump; apply it again when admittance is off");
+  }
+  pose_world_base_ = base;
+  pose_rope_attachment_ = rope;
+  const Eigen::Vector3d p = base.translation();
+  ctx_.log->info("cell revision {}: robot base '{}' at ({}, {}, {}) m", revision.revision, robot_id_, p.x(), p.y(),
+                 p.z());
+  return cell_follower::Outcome::take();
 }
 
 AdmittanceNode::~AdmittanceNode() {

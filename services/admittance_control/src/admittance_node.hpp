@@ -8,12 +8,14 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "control_config.hpp"
 #include "crane_admittance.hpp"
 #include "rigger/base/time.hpp"
+#include "rigger/cell_follower/cell_follower.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/safety/safe_stop.hpp"
 #include "rigger/service/service.hpp"
@@ -49,6 +51,9 @@ inline constexpr const char* kFaultServoRequestInvalid = "SERVO_REQUEST_INVALID"
 /// Frames: the wrench, the robot state and cmd_twist are in the robot base frame B; tracker poses
 /// and the crane (bridge x, trolley y, hoist z) in the world frame; the crane frame is taken to be
 /// the world frame (true in the simulated cell). The published AdmittanceState is in B.
+/// With cell_file, the node follows the cell's revisions (rigger/world/cell): a revision that moves the
+/// robot base or the rope attachment is taken while the mode is OFF, and refused while a law runs (a base
+/// that jumped under a running law would jump its commands); apply it again when admittance is off.
 /// @throws ConfigError (exit 2).
 class AdmittanceNode : public service::Node {
  public:
@@ -61,6 +66,8 @@ class AdmittanceNode : public service::Node {
   std::uint64_t crane_seq() const { return crane_seq_; }
   /// The robot base's pose in the world (from the cell file, else identity).
   const Eigen::Isometry3d& pose_world_base() const { return pose_world_base_; }
+  /// The cell revision follower; null without cell_file (loop thread).
+  const cell_follower::CellFollower* cell_follower() const { return follower_.get(); }
 
  private:
   /// The latest tracker sample of one object.
@@ -86,6 +93,7 @@ class AdmittanceNode : public service::Node {
   void on_tracker_pose();
   void on_crane_state();
   void on_directory();
+  cell_follower::Outcome on_revision(const cell_follower::FollowedRevision& revision);
   void robot_step();
   void crane_step();
   void servo_step();
@@ -174,6 +182,7 @@ class AdmittanceNode : public service::Node {
   dds::Writer<rigger_crane_CraneVelocityCommand> crane_cmd_;
   dds::Writer<rigger_admittance_AdmittanceState> state_;
   safety::SafeStopListener safe_stop_;
+  std::unique_ptr<cell_follower::CellFollower> follower_;  // last: its callback uses the members above
 };
 
 }  // namespace rigger::control

@@ -101,13 +101,29 @@ Eigen::Isometry3d entity_pose_from_cell_file(const std::string& path, const std:
   } catch (const cell::CellFileError& e) {
     throw ConfigError(path, e.pointer(), e.what());
   }
+  return entity_pose_in_cell(cell, path, entity_id);
+}
+
+Eigen::Isometry3d entity_pose_in_cell(const cell::CellFile& cell, const std::string& source,
+                                      const std::string& entity_id) {
   const cell::CellEntity* entity = cell.find(entity_id);
-  if (entity == nullptr) throw ConfigError(path, "/entities", "no entity with id '" + entity_id + "'");
+  if (entity == nullptr) throw ConfigError(source, "/entities", "no entity with id '" + entity_id + "'");
   if (entity->parent != "world")
-    throw ConfigError(path, entity->pointer + "/parent",
+    throw ConfigError(source, entity->pointer + "/parent",
                       "entity '" + entity_id + "' must have parent 'world', got '" + entity->parent + "'");
-  if (!entity->pose_parent_entity) throw ConfigError(path, entity->pointer + "/pose", "missing required key");
+  if (!entity->pose_parent_entity) throw ConfigError(source, entity->pointer + "/pose", "missing required key");
   return *entity->pose_parent_entity;
+}
+
+Eigen::Isometry3d rope_attachment_in_cell(const cell::CellFile& cell, const std::string& source,
+                                          const std::string& object) {
+  const cell::CellEntity* entity = cell.find(object);
+  if (entity == nullptr)
+    throw ConfigError(source, "/entities",
+                      "no entity with id '" + object + "' (rope_object, for the measured rope offset)");
+  if (!entity->features.rope_attachment)
+    throw ConfigError(source, entity->pointer, "object '" + object + "' has no rope_attachment feature");
+  return *entity->features.rope_attachment;
 }
 
 }  // namespace rigger::control

@@ -20,6 +20,10 @@
 #include "robot_admittance.hpp"
 #include "visual_servo.hpp"
 
+namespace rigger::cell {
+struct CellFile;
+}  // namespace rigger::cell
+
 namespace rigger::control {
 
 /// Everything the admittance_control service is configured with.
@@ -70,5 +74,14 @@ Eigen::Isometry3d insertion_offset_from_features(const nlohmann::json& features,
 /// @throws rigger::ConfigError naming `path` and the JSON pointer when the file cannot be read, the
 ///   entity is missing, has another parent or a malformed pose.
 Eigen::Isometry3d entity_pose_from_cell_file(const std::string& path, const std::string& entity_id);
+
+/// The same from a cell already read (e.g. a cell revision); errors name `source`.
+Eigen::Isometry3d entity_pose_in_cell(const cell::CellFile& cell, const std::string& source,
+                                      const std::string& entity_id);
+
+/// Where the rope hooks into `object` (its rope_attachment feature, in its frame).
+/// @throws rigger::ConfigError naming `source` when the object is missing or has no rope attachment.
+Eigen::Isometry3d rope_attachment_in_cell(const cell::CellFile& cell, const std::string& source,
+                                          const std::string& object);
 
 }  // namespace rigger::control

@@ -40,11 +40,25 @@ CadNode::CadNode(service::ServiceContext& ctx, CadServiceSettings settings)
     : ctx_(ctx),
       service_(std::move(settings)),
       replies_(ctx.participant, protocol::cad::kReply),
-      requests_(ctx.participant, protocol::cad::kRequest) {
-  for (const auto& [object, status] : service_.object_status()) {
-    ctx.log->info("object model object={} status={}", object, status);
-  }
+      requests_(ctx.participant, protocol::cad::kRequest),
+      follower_(ctx.participant, ctx.loop, ctx.log, service_.cell_file(),
+                [this](const cell_follower::FollowedRevision& revision) { return on_revision(revision); },
+                &ctx.announcer) {
+  log_objects();
   ctx.loop.on_data(requests_, [this] { on_requests(); });
+}
+
+void CadNode::log_objects() const {
+  for (const auto& [object, status] : service_.object_status()) {
+    ctx_.log->info("object model object={} status={}", object, status);
+  }
+}
+
+cell_follower::Outcome CadNode::on_revision(const cell_follower::FollowedRevision& revision) {
+  service_.follow(revision.cell, revision.model_dir);
+  ctx_.log->info("cell revision {}: {} object models", revision.revision, service_.object_status().size());
+  log_objects();
+  return cell_follower::Outcome::take();
 }
 
 void CadNode::on_requests() {

@@ -7,6 +7,7 @@
 #include "cad_service.hpp"
 #include "rigger/base/settings.hpp"
 #include "rigger/cad/settings.hpp"
+#include "rigger/cell_follower/cell_follower.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/protocol/cad.hpp"
 #include "rigger/service/service.hpp"
@@ -16,17 +17,21 @@ namespace rigger::cad_service {
 /// Settings from the --config file, then config.finish(). @throws ConfigError.
 CadServiceSettings read_settings(const Config& config);
 
+/// The node follows the cell's revisions (rigger/world/cell): the objects' models become the revision's.
 class CadNode : public service::Node {
  public:
   CadNode(service::ServiceContext& ctx, CadServiceSettings settings);
 
  private:
   void on_requests();
+  cell_follower::Outcome on_revision(const cell_follower::FollowedRevision& revision);
+  void log_objects() const;
 
   service::ServiceContext& ctx_;
   CadService service_;
   dds::Writer<rigger_cad_CadReply> replies_;
   dds::Reader<rigger_cad_CadRequest> requests_;
+  cell_follower::CellFollower follower_;  // last: its callback uses the members above
 };
 
 }  // namespace rigger::cad_service

@@ -3,7 +3,6 @@
 #include "rigger/base/bounded_json.hpp"
 #include "rigger/cad/cad_json.hpp"
 #include "rigger/cad/frames.hpp"
-#include "rigger/cell_config/cell_file.hpp"
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
@@ -75,22 +74,58 @@ bool inside(const fs::path& path, const fs::path& dir) {
 }  // namespace
 
 CadService::CadService(CadServiceSettings settings) : settings_(std::move(settings)) {
-  const cell::CellFile cell = cell::load_cell_file(settings_.cell_file);
-  const fs::path folder = settings_.cell_file.parent_path();
+  follow(cell::load_cell_file(settings_.cell_file), settings_.cell_file.parent_path());
+}
+
+void CadService::follow(const cell::CellFile& cell, const fs::path& folder) {
+  std::map<std::string, std::string> objects;
+  std::map<std::string, std::string> errors;
+  std::map<std::string, std::string> status;
+  std::map<std::string, fs::path> paths;
   for (const auto& entity : cell.entities) {
     if (!entity.model || entity.model->step.empty()) {
       continue;
     }
     const fs::path path = folder / entity.model->step;
-    settings_.allowed_dirs.push_back(path.parent_path());
+    paths[entity.id] = path;
+    if (std::find(settings_.allowed_dirs.begin(), settings_.allowed_dirs.end(), path.parent_path()) ==
+        settings_.allowed_dirs.end())
+      settings_.allowed_dirs.push_back(path.parent_path());
+    const auto loaded = objects_.find(entity.id);
+    const auto before = object_paths_.find(entity.id);
+    if (loaded != objects_.end() && before != object_paths_.end() && before->second == path &&
+        models_.count(loaded->second) != 0) {
+      objects[entity.id] = loaded->second;  // the same file as the running revision's: not read again
+      status[entity.id] = "ok " + loaded->second;
+      continue;
+    }
     try {
       Entry& entry = add(cad::read_step_file(path, settings_.limits), true);
-      objects_[entity.id] = entry.model.sha256();
-      object_status_[entity.id] = "ok " + entry.model.sha256();
+      objects[entity.id] = entry.model.sha256();
+      status[entity.id] = "ok " + entry.model.sha256();
     } catch (const cad::CadError& error) {
-      object_errors_[entity.id] = std::string(cad::to_string(error.code())) + "\t" + error.what();
-      object_status_[entity.id] = object_errors_[entity.id];
+      errors[entity.id] = std::string(cad::to_string(error.code())) + "\t" + error.what();
+      status[entity.id] = errors[entity.id];
     }
+  }
+  objects_ = std::move(objects);
+  object_errors_ = std::move(errors);
+  object_status_ = std::move(status);
+  object_paths_ = std::move(paths);
+  // A model no object names any more is kept like a requested one: evicted oldest first.
+  for (const auto& [sha, entry] : models_) {
+    const bool named = std::any_of(objects_.begin(), objects_.end(), [&](const auto& o) { return o.second == sha; });
+    if (!named && std::find(unpinned_.begin(), unpinned_.end(), sha) == unpinned_.end()) unpinned_.push_back(sha);
+  }
+  unpinned_.erase(std::remove_if(unpinned_.begin(), unpinned_.end(),
+                                 [&](const std::string& sha) {
+                                   return std::any_of(objects_.begin(), objects_.end(),
+                                                      [&](const auto& o) { return o.second == sha; });
+                                 }),
+                  unpinned_.end());
+  while (unpinned_.size() > settings_.max_models) {
+    models_.erase(unpinned_.front());
+    unpinned_.erase(unpinned_.begin());
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include "rigger/cad/features.hpp"
 #include "rigger/cad/tessellation.hpp"
+#include "rigger/cell_config/cell_file.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -55,6 +56,15 @@ class CadService {
 
   CadAnswer answer(const CadQuery& query);
 
+  /// The cell's objects become `cell`'s (a new cell revision; relative model paths resolve against
+  /// `folder`): a model already loaded from the same path is kept, the others are read as at start (a model
+  /// that cannot be read is remembered with its error); a model no object names any more is dropped like a
+  /// requested one (oldest first, beyond max_models).
+  void follow(const cell::CellFile& cell, const std::filesystem::path& folder);
+
+  /// The configured cell file.
+  const std::filesystem::path& cell_file() const { return settings_.cell_file; }
+
   /// object id -> "ok <sha256>" or the error its model gave at start (for the start-up log).
   const std::map<std::string, std::string>& object_status() const { return object_status_; }
 
@@ -76,6 +86,7 @@ class CadService {
   std::map<std::string, std::string> objects_;     // object id -> sha256
   std::map<std::string, std::string> object_errors_;  // object id -> "CODE\tmessage"
   std::map<std::string, std::string> object_status_;
+  std::map<std::string, std::filesystem::path> object_paths_;  // object id -> its STEP file
 };
 
 }  // namespace rigger::cad_service

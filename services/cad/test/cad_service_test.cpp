@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 namespace rigger::cad_service {
@@ -37,6 +38,36 @@ TEST(CadService, ObjectModelsFromTheCellFile) {
   EXPECT_EQ(f["faces"].size(), f["counts"]["faces"].get<std::size_t>());
   // The same model by its sha256.
   EXPECT_TRUE(ask(service, QueryKind::kFeatures, "sha256:" + features.model_sha256).ok);
+}
+
+TEST(CadService, ANewCellRevisionReplacesTheObjectModels) {
+  CadService service(settings());
+  const std::string target_sha = ask(service, QueryKind::kLoad, "object:target").model_sha256;
+  // The revision: `part` removed, a new object `bracket` with the target's model, `load` unchanged.
+  std::ifstream in(settings().cell_file, std::ios::binary);
+  json cell = json::parse(std::string(std::istreambuf_iterator<char>(in), {}));
+  json kept = json::array();
+  for (json& entity : cell["entities"]) {
+    if (entity["id"] == "part") continue;
+    if (entity["id"] == "target") {
+      json bracket = entity;
+      bracket["id"] = "bracket";
+      bracket["model"].erase("static");
+      bracket["model"]["mass_kg"] = 5.0;
+      bracket.erase("features");
+      kept.push_back(bracket);
+    }
+    kept.push_back(entity);
+  }
+  cell["entities"] = kept;
+  const cell::CellFile revision = cell::cell_file_from_json(cell, "revision 2");
+  service.follow(revision, settings().cell_file.parent_path());
+  EXPECT_EQ(ask(service, QueryKind::kLoad, "object:part").code, "CAD_UNKNOWN_MODEL");
+  const CadAnswer bracket = ask(service, QueryKind::kLoad, "object:bracket");
+  ASSERT_TRUE(bracket.ok) << bracket.message;
+  EXPECT_EQ(bracket.model_sha256, target_sha);
+  EXPECT_TRUE(ask(service, QueryKind::kFeatures, "object:load").ok);
+  EXPECT_EQ(service.object_status().count("bracket"), 1u);
 }
 
 TEST(CadService, TessellationOfTheTarget) {

@@ -123,4 +123,25 @@ TrackerConfig tracker_config_from_cell(const cell::CellFile& file, const std::st
   return config;
 }
 
+bool same_view(const TrackerConfig& a, const TrackerConfig& b) {
+  const CameraIntrinsics& ca = a.camera;
+  const CameraIntrinsics& cb = b.camera;
+  if (ca.width_px != cb.width_px || ca.height_px != cb.height_px || ca.fx_px != cb.fx_px || ca.fy_px != cb.fy_px ||
+      ca.cx_px != cb.cx_px || ca.cy_px != cb.cy_px || ca.distortion != cb.distortion ||
+      a.pose_world_camera.matrix() != b.pose_world_camera.matrix() || a.objects.size() != b.objects.size())
+    return false;
+  for (std::size_t i = 0; i < a.objects.size(); ++i) {
+    const ObjectLayout& oa = a.objects[i];
+    const ObjectLayout& ob = b.objects[i];
+    if (oa.object_id != ob.object_id || oa.markers.size() != ob.markers.size()) return false;
+    for (std::size_t m = 0; m < oa.markers.size(); ++m) {
+      const MarkerPlacement& ma = oa.markers[m];
+      const MarkerPlacement& mb = ob.markers[m];
+      if (ma.id != mb.id || ma.size_m != mb.size_m || ma.pose_object_marker.matrix() != mb.pose_object_marker.matrix())
+        return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace rigger::vision

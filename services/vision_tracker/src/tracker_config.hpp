@@ -115,6 +115,10 @@ struct TrackerConfig {
   std::chrono::nanoseconds lost_after{std::chrono::milliseconds(500)};
 };
 
+/// Whether two configurations see the same: the same camera (intrinsics, distortion, pose) and the same
+/// objects with the same marker layouts. Tuning is not compared.
+bool same_view(const TrackerConfig& a, const TrackerConfig& b);
+
 /// Throws TrackerConfigError naming the first bad field (e.g. "objects[1].markers[0].size_m").
 void validate(const TrackerConfig& config);
 

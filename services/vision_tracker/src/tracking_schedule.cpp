@@ -7,6 +7,20 @@ TrackingSchedule::TrackingSchedule(const std::vector<std::string>& object_ids, d
   for (const std::string& id : object_ids) objects_.emplace(id, ObjectState{});
 }
 
+std::vector<std::string> TrackingSchedule::set_objects(const std::vector<std::string>& object_ids) {
+  std::map<std::string, ObjectState> kept;
+  for (const std::string& id : object_ids) {
+    const auto found = objects_.find(id);
+    kept.emplace(id, found == objects_.end() ? ObjectState{} : found->second);
+  }
+  std::vector<std::string> dropped_once;
+  for (const auto& [id, state] : objects_) {
+    if (state.once && kept.count(id) == 0) dropped_once.push_back(id);
+  }
+  objects_ = std::move(kept);
+  return dropped_once;
+}
+
 template <typename Change>
 bool TrackingSchedule::apply(const std::string& object_id, Change change) {
   if (object_id.empty()) {

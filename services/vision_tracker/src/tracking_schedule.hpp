@@ -35,6 +35,11 @@ class TrackingSchedule {
   /// (nothing is published for it). @return false for an unknown object.
   bool stop(const std::string& object_id);
 
+  /// The objects the tracker knows become `object_ids` (a new cell revision): the state of an object kept is
+  /// kept, a new object starts idle, a removed one is dropped with its pending TRACK_ONCE. @return the
+  /// removed objects that had a TRACK_ONCE pending (to be published as not tracked).
+  std::vector<std::string> set_objects(const std::vector<std::string>& object_ids);
+
   /// True when some object is tracked: images must be processed.
   bool any_active() const;
   /// The object is tracked continuously (whatever TRACK_ONCE is pending). False for unknown objects.

@@ -62,17 +62,44 @@ const SettingsTable<VisionTrackerSettings>& vision_tracker_settings() {
 VisionTrackerNode::VisionTrackerNode(service::ServiceContext& ctx, const VisionTrackerSettings& settings)
     : ctx_(ctx),
       frame_id_(settings.frame_id),
+      camera_id_(settings.camera_id),
+      lost_after_(settings.lost_after),
       tracker_(make_tracker(settings, ctx.config)),
       schedule_(object_ids(tracker_.config()), settings.once_min_quality),
       once_timeout_(settings.once_timeout),
       images_(ctx.participant, protocol::vision::kCameraImage),
       commands_(ctx.participant, protocol::vision::kTrackerCommand),
-      poses_(ctx.participant, protocol::vision::kTrackerPose) {
+      poses_(ctx.participant, protocol::vision::kTrackerPose),
+      follower_(ctx.participant, ctx.loop, ctx.log, settings.cell_file,
+                [this](const cell_follower::FollowedRevision& revision) { return on_revision(revision); },
+                &ctx.announcer) {
   const bool continuous = settings.continuous;
   if (continuous) schedule_.track_continuous("");
   ctx.loop.on_data(images_, [this] { on_image(); });
   ctx.loop.on_data(commands_, [this] { on_command(); });
   ctx.log->info("tracking {} objects, mode {}", tracker_.config().objects.size(), continuous ? "continuous" : "idle");
+}
+
+cell_follower::Outcome VisionTrackerNode::on_revision(const cell_follower::FollowedRevision& revision) {
+  TrackerConfig config;
+  try {
+    config = tracker_config_from_cell(revision.cell, camera_id_);
+    config.lost_after = lost_after_;
+    validate(config);
+  } catch (const std::exception& e) {
+    return cell_follower::Outcome::refuse(e.what());
+  }
+  if (same_view(config, tracker_.config())) return cell_follower::Outcome::take();
+  const std::vector<std::string> ids = object_ids(config);
+  tracker_ = Tracker(std::move(config));
+  for (const std::string& id : schedule_.set_objects(ids)) {
+    ObjectTrack lost;  // its TRACK_ONCE is answered: the object is gone
+    lost.object_id = id;
+    publish(lost, std::chrono::system_clock::now());
+  }
+  ctx_.log->info("cell revision {}: the camera or the marker layouts changed; tracking {} objects afresh",
+                 revision.revision, ids.size());
+  return cell_follower::Outcome::take();
 }
 
 void VisionTrackerNode::on_command() {

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "rigger/base/settings.hpp"
+#include "rigger/cell_follower/cell_follower.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/service/service.hpp"
 #include "rigger/vision_tracker/settings.hpp"
@@ -39,6 +40,12 @@ struct VisionTrackerSettings {
 ///                     for it (stamped with the wall clock) unless it is tracked continuously
 ///   STOP              neither (a pending TRACK_ONCE is dropped without a sample)
 /// While no object is tracked, images are not looked at.
+///
+/// The node follows the cell's revisions (rigger/world/cell): a revision that changes the camera or a marker
+/// layout gives a new tracker (its tracks start afresh; what each kept object was asked to do stays, a new
+/// object starts idle, a removed object's pending TRACK_ONCE is answered with tracked=false); any other
+/// revision leaves the tracker as it is. A revision without the camera, or with layouts the tracker cannot
+/// use, is refused and the tracker keeps the running one.
 class VisionTrackerNode : public service::Node {
  public:
   explicit VisionTrackerNode(service::ServiceContext& ctx)
@@ -53,6 +60,8 @@ class VisionTrackerNode : public service::Node {
   /// Images processed by the tracker / images dropped (corrupt, refused by the tracker). Loop thread.
   std::uint64_t images_processed() const { return images_processed_; }
   std::uint64_t images_dropped() const { return images_dropped_; }
+  /// The cell revision follower. Loop thread.
+  const cell_follower::CellFollower& cell_follower() const { return follower_; }
   /// Images taken while no object was tracked (not looked at).
   std::uint64_t images_ignored() const { return images_ignored_; }
 
@@ -63,9 +72,12 @@ class VisionTrackerNode : public service::Node {
   bool apply(const rigger_vision_TrackerCommand& cmd);
   void process(const rigger_vision_Image& image);
   void publish(const ObjectTrack& track, Stamp stamp);
+  cell_follower::Outcome on_revision(const cell_follower::FollowedRevision& revision);
 
   service::ServiceContext& ctx_;
   std::string frame_id_;
+  std::string camera_id_;
+  std::chrono::nanoseconds lost_after_;
   Tracker tracker_;
   TrackingSchedule schedule_;
   std::chrono::nanoseconds once_timeout_;
@@ -77,6 +89,7 @@ class VisionTrackerNode : public service::Node {
   dds::Reader<rigger_vision_Image> images_;
   dds::Reader<rigger_vision_TrackerCommand> commands_;
   dds::Writer<rigger_vision_TrackedPose> poses_;
+  cell_follower::CellFollower follower_;  // last: its callback uses the members above
 };
 
 }  // namespace rigger::vision

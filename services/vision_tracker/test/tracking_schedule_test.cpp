@@ -89,5 +89,17 @@ TEST_F(TrackingScheduleTest, UnknownObjectsChangeNothing) {
   EXPECT_FALSE(schedule_.on_track("crane", kCommandStamp + 1s, true, 0.9));
 }
 
+TEST_F(TrackingScheduleTest, ANewCellKeepsTheStateOfKeptObjectsAndDropsRemovedOnes) {
+  ASSERT_TRUE(schedule_.track_continuous("load"));
+  ASSERT_TRUE(schedule_.track_once("target", kCommandStamp, kNow + 2s));
+  const std::vector<std::string> dropped = schedule_.set_objects({"load", "bracket"});
+  EXPECT_EQ(dropped, std::vector<std::string>{"target"}) << "its pending TRACK_ONCE ends unanswered";
+  EXPECT_TRUE(schedule_.continuous("load"));
+  EXPECT_FALSE(schedule_.continuous("bracket")) << "a new object starts idle";
+  EXPECT_FALSE(schedule_.once_pending("target"));
+  EXPECT_FALSE(schedule_.track_continuous("target")) << "a removed object is unknown";
+  EXPECT_TRUE(schedule_.track_continuous("bracket"));
+}
+
 }  // namespace
 }  // namespace rigger::vision

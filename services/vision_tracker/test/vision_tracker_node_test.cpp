@@ -8,7 +8,14 @@
 #include <memory>
 #include <vector>
 
+#include <fstream>
+#include <iterator>
+
+#include <nlohmann/json.hpp>
+
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/world.hpp"
+#include "rigger/world_protocol/cell_protocol.hpp"
 #include "rigger/protocol/vision.hpp"
 #include "rigger/service/service.hpp"
 #include "rigger/testing/domain.hpp"
@@ -295,6 +302,36 @@ TEST_F(VisionTrackerNodeTest, CommandsForUnknownObjectsAreDropped) {
   EXPECT_EQ(node_->commands_dropped(), 1u);
   EXPECT_EQ(node_->commands_applied(), 0u);
   EXPECT_FALSE(node_->schedule().any_active());
+}
+
+TEST_F(VisionTrackerNodeTest, ACellRevisionWithANewMarkedObjectIsTrackedAndKeepsWhatWasAsked) {
+  command(rigger_vision_TRACK_CONTINUOUS, "load");
+  std::ifstream in("deploy/cell/simulated_cell.json", std::ios::binary);
+  nlohmann::json cell = nlohmann::json::parse(std::string(std::istreambuf_iterator<char>(in), {}));
+  nlohmann::json copy;
+  for (const nlohmann::json& entity : cell["entities"]) {
+    if (entity["id"] == "load") copy = entity;
+  }
+  copy["id"] = "load2";
+  copy["pose"]["position_m"][0] = copy["pose"]["position_m"][0].get<double>() + 1.0;
+  for (nlohmann::json& marker : copy["features"]["markers"]["items"]) marker["id"] = marker["id"].get<int>() + 40;
+  cell["entities"].push_back(copy);
+  world_protocol::CellRevision revision;
+  revision.cell_revision = 2;
+  revision.previous_revision = 1;
+  revision.cell_json = cell.dump(2);
+  revision.sha256 = "sha-2";
+  revision.changes_json = R"({"added":["load2"]})";
+  rigger_world_CellRevision wire{};
+  world_protocol::to_wire(revision, wire);
+  dds::Writer<rigger_world_CellRevision> writer(participant_, protocol::world::kCell);
+  ASSERT_EQ(writer.write(wire), DDS_RETCODE_OK);
+  ASSERT_TRUE(loop_.run_until([&] { return node_->cell_follower().revision() == 2; }, 5s))
+      << node_->cell_follower().last_refusal();
+  EXPECT_TRUE(node_->schedule().continuous("load")) << "what was asked of a kept object stays";
+  command(rigger_vision_TRACK_CONTINUOUS, "load2");
+  EXPECT_EQ(node_->commands_dropped(), 0u) << "the new object is known";
+  EXPECT_TRUE(node_->schedule().continuous("load2"));
 }
 
 }  // namespace
