@@ -499,19 +499,16 @@ void CellSimNode::publish_motion_status(const MotionReport& report, WallTime sta
 }
 
 void CellSimNode::publish_ground_truth(const GroundTruth& truth, WallTime stamp) {
-  const auto publish = [&](const char* id, const Eigen::Isometry3d& pose) {
+  for (const ObjectTruth& object : truth.objects) {
     rigger_vision_TrackedPose w{};
     w.header.stamp = dds::to_wire(stamp);
     w.header.frame_id = const_cast<char*>(kWorldFrame);
-    w.object_id = const_cast<char*>(id);
-    w.pose.pose = dds::to_wire(pose);
+    w.object_id = const_cast<char*>(object.id.c_str());
+    w.pose.pose = dds::to_wire(object.pose_world_object);
     w.quality = 1.0;
     w.tracked = true;
     ground_truth_.write(w);
-  };
-  publish("load", truth.pose_world_load);
-  publish("target", truth.pose_world_target);
-  if (truth.pose_world_part) publish("part", *truth.pose_world_part);
+  }
 }
 
 void CellSimNode::publish_status(const StatusReport& s, WallTime stamp) {
