@@ -68,12 +68,13 @@ class CellSimCameraTest : public MultiProcessTest {
     });
   }
 
-  /// A stamp both topics carried.
-  std::optional<WallTime> common_stamp() const {
-    for (auto it = depths_.rbegin(); it != depths_.rend(); ++it) {
-      if (images_.count(it->first) != 0) return it->first;
+  /// The stamps both topics carried, oldest first.
+  std::vector<WallTime> common_stamps() const {
+    std::vector<WallTime> common;
+    for (const auto& [stamp, unused] : depths_) {
+      if (images_.count(stamp) != 0) common.push_back(stamp);
     }
-    return std::nullopt;
+    return common;
   }
 
   std::optional<dds::Reader<rigger_vision_Image>> image_;
@@ -85,9 +86,11 @@ class CellSimCameraTest : public MultiProcessTest {
 TEST_F(CellSimCameraTest, DepthOfTheTargetTopIsWithinAMillimetreWithTheImagesStampAndMarkersAreSeen) {
   subscribe();
   start("mujoco");
-  ASSERT_TRUE(cell_.wait_until([&] { return common_stamp().has_value() && images_.size() >= 3; }, 30s))
-      << images_.size() << " images, " << depths_.size() << " depth images";
-  const WallTime stamp = *common_stamp();
+  // Frames of a stream may be lost (sensor stream QoS: best effort): three frames whose grey and depth
+  // images both arrived, with equal stamps (a depth image stamped otherwise would never pair up).
+  ASSERT_TRUE(cell_.wait_until([&] { return common_stamps().size() >= 3; }, 30s))
+      << images_.size() << " images, " << depths_.size() << " depth images, none with the same stamp";
+  const WallTime stamp = common_stamps().back();
   const Frame& grey = images_.at(stamp);
   const Frame& depth = depths_.at(stamp);
   EXPECT_EQ(grey.frame_id, "camera");
@@ -96,10 +99,6 @@ TEST_F(CellSimCameraTest, DepthOfTheTargetTopIsWithinAMillimetreWithTheImagesSta
   ASSERT_EQ(depth.encoding, "32FC1");
   ASSERT_FALSE(depth.pixels.empty());
   ASSERT_EQ(depth.pixels.size(), grey.pixels.size());
-  // Every depth image has the stamp of an image: none goes out alone.
-  for (const auto& [s, unused] : depths_) {
-    if (s <= images_.rbegin()->first) EXPECT_EQ(images_.count(s), 1u) << "a depth image without its image";
-  }
 
   // The target's top face (z = 0.95 m, 0.50 x 0.40 m about (3.55, 2.25)): every pixel whose ray meets it
   // 3 cm or more inside its edges sees it at the ray's depth (z in the optical frame).
