@@ -2,6 +2,7 @@
 // renderer (MuJoCo), the depth image of a known plane (the target's top face) is within a millimetre of
 // the truth, the grey and depth images of a frame carry the same stamp and frame id, and the cell
 // file's markers facing the camera are found in the grey image. With the rasteriser, grey images only.
+// Without EGL the MuJoCo renderer stops the start (exit 2), the rasteriser runs.
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -45,11 +46,16 @@ Frame to_frame(const rigger_vision_Image& im) {
 
 class CellSimCameraTest : public MultiProcessTest {
  protected:
-  void start(const std::string& renderer) {
+  /// Starts cell_sim with `renderer` (on the test's domain); `env` adds to its environment.
+  ChildProcess& launch(const std::string& renderer, const std::map<std::string, std::string>& env = {}) {
     const std::string config = cell_.log_dir() + "/cell_sim.json";
     std::ofstream(config) << R"({"cell_file": ")" << repo_file("deploy/cell/simulated_cell.json")
                           << R"(", "plc": {"port": 0}, "camera": {"renderer": ")" << renderer << R"("}})";
-    cell_.start("cell_sim", "cell_sim", {"--config", config});
+    return cell_.start("cell_sim", "cell_sim", {"--config", config}, true, env);
+  }
+
+  void start(const std::string& renderer) {
+    launch(renderer);
     ASSERT_TRUE(cell_.wait_ready({"cell_sim"}, 30s));
   }
 
@@ -157,6 +163,26 @@ TEST_F(CellSimCameraTest, TheRasteriserPublishesGreyImagesAndNoDepth) {
   EXPECT_EQ(depth_->matched_writers(), 0u);
   EXPECT_TRUE(depths_.empty());
   EXPECT_EQ(images_.rbegin()->second.encoding, "mono8");
+}
+
+// glvnd finds no EGL vendor library: no EGL display, as on a host without Mesa's EGL.
+const std::map<std::string, std::string> kNoEgl{{"__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/egl_vendor.json"}};
+
+TEST_F(CellSimCameraTest, WithoutEglTheMujocoRendererStopsTheStartWithExitCode2) {
+  ChildProcess& refused = launch("mujoco", kNoEgl);
+  const auto status = refused.wait(30s);
+  ASSERT_TRUE(status.has_value()) << "cell_sim kept running without a renderer";
+  EXPECT_EQ(status->code, 2);
+  EXPECT_NE(refused.log().find("/camera"), std::string::npos) << refused.log();
+  EXPECT_NE(refused.log().find("raster"), std::string::npos) << refused.log();
+  expect_clean_exit_ = false;
+}
+
+TEST_F(CellSimCameraTest, WithoutEglTheRasteriserStillRuns) {
+  subscribe();
+  launch("raster", kNoEgl);
+  ASSERT_TRUE(cell_.wait_ready({"cell_sim"}, 30s));
+  EXPECT_TRUE(cell_.wait_until([&] { return images_.size() >= 3; }, 30s));
 }
 
 }  // namespace
