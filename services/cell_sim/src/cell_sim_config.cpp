@@ -191,7 +191,7 @@ const SettingsTable<CellSimConfig>& cell_sim_settings() {
             if (config.has(key)) s.camera_noise_stddev = config.get_in_range(key, 0.0, 0.0, 64.0);
           },
           "pixel noise in grey levels")),
-      camera(setting<S>("blur_sigma_px", 0.0, {0.0, 10.0}, &S::camera_blur_sigma_px, "Gaussian blur of the image")),
+      camera(setting<S>("blur_sigma_px", 0.0, {0.0, 10.0}, &S::camera_blur_sigma_px, "Gaussian blur of the image (`raster` only)")),
       own_setting<S>(
           "ros2_driver", "object", "absent", "",
           [](const Config& config, const std::string& key, S& s) {
