@@ -116,7 +116,8 @@ std::vector<Grant> build() {
                      safe_stop_listener(),
                      cell_follower(),
                      {names(robot::kWrench, robot::kState, robot::kMotionStatus, robot::kGripperState,
-                            vision::kCameraImage, vision::kCameraInfo, sim::kGroundTruth, sim::kEvent, sim::kStatus),
+                            vision::kCameraImage, vision::kCameraDepth, vision::kCameraInfo, sim::kGroundTruth,
+                            sim::kEvent, sim::kStatus),
                       names(robot::kCmdTwist, robot::kCmdMotion, robot::kGripperCmd, sim::kControl)}}));
   t.push_back(
       grant("crane_gateway", "the only bridge to the crane PLC (Modbus TCP, outside DDS)",
@@ -132,7 +133,8 @@ std::vector<Grant> build() {
       "vision_tracker", "the vision tracker",
       {service(),
        cell_follower(),
-       {names(vision::kTrackerPose), names(vision::kCameraImage, vision::kCameraInfo, vision::kTrackerCommand)}}));
+       {names(vision::kTrackerPose),
+        names(vision::kCameraImage, vision::kCameraDepth, vision::kCameraInfo, vision::kTrackerCommand)}}));
   t.push_back(grant("admittance_control", "admittance control: the only writer of robot twists and crane velocities",
                     {service(),
                      safe_stop_listener(),

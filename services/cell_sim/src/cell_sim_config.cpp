@@ -168,6 +168,14 @@ const SettingsTable<CellSimConfig>& cell_sim_settings() {
           "how far past a travel limit the limit switch trips")),
       camera(setting<S>("enabled", true, &S::camera_enabled, "render and publish camera images")),
       camera(setting<S>("id", "camera", &S::camera_id, "the camera entity in the cell file")),
+      camera(choice<S>("renderer", CameraRendererKind::kMujoco,
+                       {{"mujoco", CameraRendererKind::kMujoco}, {"raster", CameraRendererKind::kRaster}},
+                       &S::camera_renderer,
+                       "`mujoco`: MuJoCo's renderer, headless through EGL: every body the physics holds (STEP "
+                       "meshes, robot, crane), the cell file's distortion, and `rigger/camera/depth`; the process "
+                       "does not start without EGL. `raster`: the cell file's boxes and markers only, no "
+                       "distortion, no depth image; cheaper ([decision 0015](decisions/0015-cell-sim-camera-renders-"
+                       "with-mujoco.md))")),
       camera(own_setting<S>(
           "rate_hz", "number", "the cell file's", "[0.1, 60]",
           [](const Config& config, const std::string& key, S& s) {
@@ -183,7 +191,7 @@ const SettingsTable<CellSimConfig>& cell_sim_settings() {
             if (config.has(key)) s.camera_noise_stddev = config.get_in_range(key, 0.0, 0.0, 64.0);
           },
           "pixel noise in grey levels")),
-      camera(setting<S>("blur_sigma_px", 0.0, {0.0, 10.0}, &S::camera_blur_sigma_px, "Gaussian blur of the image")),
+      camera(setting<S>("blur_sigma_px", 0.0, {0.0, 10.0}, &S::camera_blur_sigma_px, "Gaussian blur of the image (`raster` only)")),
       own_setting<S>(
           "ros2_driver", "object", "absent", "",
           [](const Config& config, const std::string& key, S& s) {

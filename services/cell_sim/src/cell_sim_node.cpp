@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vector>
 
+#include "camera_renderers.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/robot.hpp"
@@ -166,23 +167,25 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
   }
 
   if (config_.camera_enabled) {
-    std::optional<sim::CameraScene> scene;
+    const bool mujoco = config_.camera_renderer == CameraRendererKind::kMujoco;
+    if (mujoco && !ros2_image_) depth_.emplace(ctx.participant, protocol::vision::kCameraDepth);
     try {
-      scene = resize_camera(sim::load_camera_scene(config_.cell_file, config_.camera_id), config_.camera_width_px,
-                            config_.camera_height_px);
+      const sim::CameraScene scene = resize_camera(sim::load_camera_scene(config_.cell_file, config_.camera_id),
+                                                   config_.camera_width_px, config_.camera_height_px);
+      camera_ = std::make_unique<CameraWorker>(
+          scene.camera, renderer_factory(config_, scene, mujoco ? runner_->copy_physics_model() : nullptr),
+          [this](const CameraImages& images, WallTime stamp) { publish_images(images, stamp); });
     } catch (const sim::CameraSceneError& e) {
       fail_config(ctx.config, "cell_file", e);
+    } catch (const sim::GlUnavailableError& e) {
+      // No silent black image: a camera that cannot render stops the start, and says how to go on.
+      ctx.config.fail("camera", std::string("the mujoco renderer cannot start: ") + e.what() +
+                                    " Without EGL, set camera/renderer to \"raster\" (the cell file's boxes only)");
     } catch (const std::invalid_argument& e) {
       ctx.config.fail("camera", e.what());
     }
-    sim::RenderSettings settings;
-    settings.noise_stddev = config_.camera_noise_stddev;
-    settings.blur_sigma_px = config_.camera_blur_sigma_px;
-    settings.albedo = {{"load", 0.62}, {"target", 0.38}};  // the two boxes apart in grey
-    camera_ = std::make_unique<CameraWorker>(
-        *scene, settings, [this](const cv::Mat& image, WallTime stamp) { publish_image(image, stamp); });
     publish_camera_info(camera_->camera());
-    runner_->set_camera(camera_.get(), config_.camera_rate_hz.value_or(scene->camera.rate_hz));
+    runner_->set_camera(camera_.get(), config_.camera_rate_hz.value_or(camera_->camera().rate_hz));
   }
 
   if (twist_) ctx.loop.on_data(*twist_, [this] { on_twist(); });
@@ -479,19 +482,16 @@ void CellSimNode::publish_motion_status(const MotionReport& report, WallTime sta
 }
 
 void CellSimNode::publish_ground_truth(const GroundTruth& truth, WallTime stamp) {
-  const auto publish = [&](const char* id, const Eigen::Isometry3d& pose) {
+  for (const ObjectTruth& object : truth.objects) {
     rigger_vision_TrackedPose w{};
     w.header.stamp = dds::to_wire(stamp);
     w.header.frame_id = const_cast<char*>(kWorldFrame);
-    w.object_id = const_cast<char*>(id);
-    w.pose.pose = dds::to_wire(pose);
+    w.object_id = const_cast<char*>(object.id.c_str());
+    w.pose.pose = dds::to_wire(object.pose_world_object);
     w.quality = 1.0;
     w.tracked = true;
     ground_truth_.write(w);
-  };
-  publish("load", truth.pose_world_load);
-  publish("target", truth.pose_world_target);
-  if (truth.pose_world_part) publish("part", *truth.pose_world_part);
+  }
 }
 
 void CellSimNode::publish_status(const StatusReport& s, WallTime stamp) {
@@ -538,17 +538,27 @@ void CellSimNode::publish_control_result(const ControlResult& result, WallTime s
   sim_event_.write(w);
 }
 
-void CellSimNode::publish_image(const cv::Mat& image_mono8, WallTime stamp) {
-  if (!image_mono8.isContinuous() || image_mono8.type() != CV_8UC1) return;  // the renderer's output is both
+rigger_vision_Image CellSimNode::wire_image(const cv::Mat& image, const char* encoding, WallTime stamp) const {
   rigger_vision_Image w{};
   w.header.stamp = dds::to_wire(stamp);
   w.header.frame_id = const_cast<char*>(config_.camera_id.c_str());
-  w.height = static_cast<std::uint32_t>(image_mono8.rows);
-  w.width = static_cast<std::uint32_t>(image_mono8.cols);
-  w.encoding = const_cast<char*>("mono8");
-  w.is_bigendian = false;
-  w.step = static_cast<std::uint32_t>(image_mono8.step[0]);
-  dds::wire_buffer(w.data, image_mono8.data, image_mono8.total());
+  w.height = static_cast<std::uint32_t>(image.rows);
+  w.width = static_cast<std::uint32_t>(image.cols);
+  w.encoding = const_cast<char*>(encoding);
+  w.is_bigendian = false;  // 32FC1: the host's floats, and rigger runs on little-endian machines
+  w.step = static_cast<std::uint32_t>(image.step[0]);
+  dds::wire_buffer(w.data, image.data, image.total() * image.elemSize());
+  return w;
+}
+
+void CellSimNode::publish_images(const CameraImages& images, WallTime stamp) {
+  const cv::Mat& image_mono8 = images.image_mono8;
+  if (!image_mono8.isContinuous() || image_mono8.type() != CV_8UC1) return;  // the renderers' output is both
+  // Depth first: a reader that has the image of a frame finds its depth already published.
+  if (depth_ && images.depth_m.isContinuous() && images.depth_m.type() == CV_32FC1) {
+    depth_->write(wire_image(images.depth_m, "32FC1", stamp));
+  }
+  const rigger_vision_Image w = wire_image(image_mono8, "mono8", stamp);
   if (!ros2_image_) {
     image_->write(w);
     return;

@@ -93,12 +93,15 @@ struct MotionReport {
   std::string message;
 };
 
-/// True poses, world frame (tests and benchmarks only).
+/// One object's true pose: its entity id and the frame the cell file gives it, world frame.
+struct ObjectTruth {
+  std::string id;
+  Eigen::Isometry3d pose_world_object = Eigen::Isometry3d::Identity();
+};
+
+/// True poses of every object of the cell, in the cell file's order (tests and benchmarks only).
 struct GroundTruth {
-  Eigen::Isometry3d pose_world_load = Eigen::Isometry3d::Identity();
-  Eigen::Isometry3d pose_world_target = Eigen::Isometry3d::Identity();
-  /// The small part Pick and Place move (box centre); absent when the cell has none.
-  std::optional<Eigen::Isometry3d> pose_world_part;
+  std::vector<ObjectTruth> objects;
 };
 
 /// The simulator's health, its PLC's registers and the crane's true state. Crane vectors in the
@@ -170,6 +173,8 @@ class SimRunner {
   /// The camera to feed `rate_hz` times per simulated second (optional; it must outlive the
   /// runner's thread). Before start().
   void set_camera(CameraWorker* camera, double rate_hz);
+  /// A copy of the physics' compiled model for the camera's renderer. Before start().
+  std::shared_ptr<const mjModel_> copy_physics_model() const { return physics_->copy_model(); }
   /// @throws crane::ModbusError when the Modbus server cannot listen (port in use).
   void start();
   /// Idempotent; leaves the devices safe.

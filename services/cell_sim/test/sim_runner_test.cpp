@@ -116,6 +116,17 @@ TEST_F(SimRunnerTest, PublishesAtTheConfiguredRatesOfSimulatedTime) {
   EXPECT_LT(out_.last_wrench.force_n.norm(), 2.0);
 }
 
+TEST_F(SimRunnerTest, GroundTruthCoversEveryObjectOfTheCellFile) {
+  runner_.step_for_test(20);
+  ASSERT_FALSE(out_.truths.empty());
+  std::vector<std::string> ids;
+  for (const ObjectTruth& object : out_.truths.back().objects) ids.push_back(object.id);
+  EXPECT_EQ(ids, (std::vector<std::string>{"load", "target", "part_fixture", "part"}));  // the file's order
+  // The target is static: exactly where the file puts it.
+  EXPECT_LT((out_.truths.back().objects[1].pose_world_object.translation() - Eigen::Vector3d(3.55, 2.25, 0.95)).norm(),
+            1e-9);
+}
+
 TEST_F(SimRunnerTest, StatusReportsTheCraneInTheModbusConvention) {
   runner_.step_for_test(100);
   const StatusReport& s = out_.status.back();

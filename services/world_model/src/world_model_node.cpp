@@ -7,6 +7,7 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/vision.hpp"
 #include "rigger/protocol/world.hpp"
+#include "step_model_bounds.hpp"
 #include "world_cell_config.hpp"
 #include "world_json.hpp"
 
@@ -31,7 +32,8 @@ WorldStore load_store(const WorldModelSettings& settings, const Config& config, 
     // The CAD features given by rules over the objects' STEP models are derived here, once, before the
     // store answers: a reference into a changed model stops the start (docs/cad.md).
     cell::CadDerivation cad;
-    const CellConfig cell = cell::load_cell_file_with_cad(path, &cad);
+    CellConfig cell = cell::load_cell_file_with_cad(path, &cad);
+    describe_step_models(cell, cad.read_models, std::filesystem::path(path).parent_path());
     log->info("cell loaded file={} entities={} cad_models={} cad_features={} cad_read_s={:.3f} cad_derive_s={:.3f}",
               path, cell.entities.size(), cad.models, cad.features, cad.read_seconds, cad.derive_seconds);
     return WorldStore::from_config(cell, std::chrono::system_clock::now());

@@ -21,7 +21,17 @@
 #include "rigger/sim/magnet_grip.hpp"
 #include "rigger/sim/physics_types.hpp"
 
+struct mjModel_;  // MuJoCo's compiled model (mujoco/mjmodel.h), for a renderer's copy
+
 namespace rigger::sim {
+
+/// What poses every body of the model: the joint positions and the mocap bodies' poses (MuJoCo's
+/// qpos, mocap_pos, mocap_quat). A renderer with its own copy of the model runs its kinematics on it.
+struct KinematicState {
+  std::vector<double> qpos;
+  std::vector<double> mocap_pos;
+  std::vector<double> mocap_quat;
+};
 
 /// The MJCF cannot be loaded or lacks an element the physics needs.  what() names the file and
 /// the element (or quotes MuJoCo's compiler message).
@@ -182,6 +192,15 @@ class CellPhysics {
   /// The model's names of the objects' bodies, in the cell file's order (one per object entity).
   [[nodiscard]] std::vector<std::string> object_bodies() const;
   [[nodiscard]] const CellGeometry& geometry() const;
+
+  // ---- rendering -------------------------------------------------------------------------
+  /// A copy of the compiled model (mj_copyModel) for a renderer on another thread: it shares
+  /// nothing with the physics, so the renderer needs no lock, only a KinematicState per frame.
+  /// Freed by mj_deleteModel when the last owner lets go.
+  [[nodiscard]] std::shared_ptr<const mjModel_> copy_model() const;
+  /// The current joint and mocap positions into `state` (its vectors are reused: no allocation
+  /// after the first call).
+  void copy_kinematic_state(KinematicState& state) const;
 
   // ---- fault injection -------------------------------------------------------------------
   /// Changes the magnet's holding force at run time (N, >= 0): a weak or failing grasp.
