@@ -22,6 +22,9 @@ namespace {
 
 constexpr std::size_t kEventCapacity = 200000;
 constexpr std::size_t kPlotCapacity = 36000;  // 30 min at 20 Hz
+// The 3D cell's changes: smooth enough to follow a moving load by eye, few enough for the event log
+// (200000 events hold 5.5 h of them) and a page on a slow link.
+constexpr double kCellRateHz = 10.0;
 
 double seconds(const rigger_geometry_Time& t) { return static_cast<double>(t.sec) + 1e-9 * t.nanosec; }
 
@@ -50,6 +53,7 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
       crane_(ctx.participant, protocol::crane::kState),
       robot_(ctx.participant, protocol::robot::kState),
       admittance_(ctx.participant, protocol::admittance::kState),
+      entities_(ctx.participant, protocol::world::kEntity),
       recipes_(ctx.participant, protocol::task::kRecipe),
       task_commands_(ctx.participant, protocol::task::kCommand),
       responses_(ctx.participant, protocol::operator_ui::kResponse),
@@ -114,6 +118,8 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
       crane_velocity_ = Eigen::Vector3d(c.velocity_mps[0], c.velocity_mps[1], c.velocity_mps[2]);
       have_crane_ = true;
       sampled();
+      cell_.hook(dds::to_string(c.header.frame_id), Eigen::Vector3d(c.position_m[0], c.position_m[1], c.position_m[2]));
+      cell_moved();
     });
   });
   ctx.loop.on_data(robot_, [this] {
@@ -121,6 +127,8 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
       robot_velocity_ = dds::to_domain(r.tool_twist.linear);
       have_robot_ = true;
       sampled();
+      cell_.tool(dds::to_string(r.header.frame_id), dds::to_domain(r.tool_pose).translation());
+      cell_moved();
     });
   });
   ctx.loop.on_data(admittance_, [this] {
@@ -129,6 +137,14 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
       servo_error_rad_ = a.servo_error_rad;
       have_admittance_ = true;
       sampled();
+    });
+  });
+  ctx.loop.on_data(entities_, [this] {
+    entities_.take([this](const rigger_world_EntityState& e, const dds_sample_info_t&) {
+      const char* kind = e.kind == rigger_world_ENTITY_OBJECT ? "object" : e.kind == rigger_world_ENTITY_DEVICE ? "device" : "frame";
+      cell_.entity(dds::to_string(e.entity_id), kind, dds::to_string(e.parent_frame),
+                   e.has_pose ? std::optional(dds::to_domain(e.pose.pose)) : std::nullopt);
+      cell_moved();
     });
   });
   plot_period_ = std::chrono::nanoseconds(static_cast<long>(1e9 / settings.plot_rate_hz));
@@ -206,6 +222,25 @@ void ConsoleNode::plot_tick() {
   std::string text = row.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
   if (runs_) runs_->on_row(text);
   plots_.append("plot", std::move(text));
+}
+
+void ConsoleNode::cell_moved() {
+  if (cell_timer_ != 0) return;
+  cell_tick();  // at once: a pose after a quiet spell is not held back
+  cell_timer_ = ctx_.loop.every(std::chrono::nanoseconds(static_cast<long>(1e9 / kCellRateHz)), [this] { cell_tick(); });
+}
+
+void ConsoleNode::cell_tick() {
+  if (!cell_.dirty()) {
+    // Nothing came since the last tick: the timer stops until something moves.
+    ctx_.loop.cancel(cell_timer_);
+    cell_timer_ = 0;
+    return;
+  }
+  const auto change = cell_.take_changes(wall_now_s());
+  if (!change) return;
+  if (runs_) runs_->on_cell(*change);
+  state_.update_cell(*change);
 }
 
 // --- the HTTP side's requests, run on the loop ---

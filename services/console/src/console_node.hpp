@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "cell_feed.hpp"
 #include "console_state.hpp"
 #include "event_log.hpp"
 #include "http_api.hpp"
@@ -29,6 +30,7 @@
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
+#include "rigger/protocol/world.hpp"
 #include "rigger/service/service.hpp"
 #include "rigger/world_client/world_client.hpp"
 #include "task_feed.hpp"
@@ -67,6 +69,9 @@ class ConsoleNode : public service::Node, public Backend {
   /// A sensor sample arrived: the plot timer runs while they do.
   void sampled();
   void plot_tick();
+  /// Something moved: the cell timer runs while things do.
+  void cell_moved();
+  void cell_tick();
 
   service::ServiceContext& ctx_;
   std::chrono::milliseconds query_timeout_{3000};
@@ -82,6 +87,7 @@ class ConsoleNode : public service::Node, public Backend {
   dds::Reader<rigger_crane_CraneState> crane_;
   dds::Reader<rigger_robot_RobotState> robot_;
   dds::Reader<rigger_admittance_AdmittanceState> admittance_;
+  dds::Reader<rigger_world_EntityState> entities_;
   dds::Writer<rigger_task_Recipe> recipes_;
   dds::Writer<rigger_task_TaskCommand> task_commands_;
   dds::Writer<rigger_operator_ui_OperatorResponse> responses_;
@@ -113,6 +119,10 @@ class ConsoleNode : public service::Node, public Backend {
   bool have_crane_ = false, have_robot_ = false, have_admittance_ = false, fresh_ = false;
   std::chrono::nanoseconds plot_period_{50000000};
   dds::EventLoop::TimerId plot_timer_ = 0;  ///< 0: stopped (no sample since the last tick)
+
+  // The pages' 3D cell: where things are, sent at most kCellRateHz times a second.
+  CellFeed cell_;
+  dds::EventLoop::TimerId cell_timer_ = 0;  ///< 0: stopped (nothing moved since the last tick)
 
   std::unique_ptr<HttpApi> http_;  // last: its threads stop first
 };

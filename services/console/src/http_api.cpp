@@ -206,6 +206,7 @@ void HttpApi::routes() {
       {Method::kGet, "/api/journal", &HttpApi::get_journal},
       {Method::kGet, "/api/runs", &HttpApi::get_runs},
       {Method::kGet, R"(/api/runs/([^/]+)/plots)", &HttpApi::get_run_plots},
+      {Method::kGet, R"(/api/runs/([^/]+)/cell)", &HttpApi::get_run_cell},
       {Method::kGet, "/api/world/entities", &HttpApi::get_world_entities},
       {Method::kGet, R"(/api/world/entity/([A-Za-z0-9_.:-]+))", &HttpApi::get_world_entity},
       {Method::kGet, "/api/cad/model.glb", &HttpApi::get_cad_model},

@@ -143,6 +143,10 @@ class HttpApi {
   void get_world_entities(const httplib::Request& req, httplib::Response& res);
   void get_runs(const httplib::Request& req, httplib::Response& res);
   void get_run_plots(const httplib::Request& req, httplib::Response& res);
+  void get_run_cell(const httplib::Request& req, httplib::Response& res);
+  /// A kept run's rows of one kind (RunArchive::rows or cell_rows), or 404.
+  void send_run_rows(const httplib::Request& req, httplib::Response& res,
+                     std::optional<std::string> (RunArchive::*read)(const std::string&) const);
   void get_journal(const httplib::Request& req, httplib::Response& res);
   void get_world_entity(const httplib::Request& req, httplib::Response& res);
   void get_cad_model(const httplib::Request& req, httplib::Response& res);

@@ -147,6 +147,7 @@ TEST_F(HttpApiTest, EveryRequestNeedsAKnownTokenAndTheRightRole) {
 TEST_F(HttpApiTest, RunsServeTheirPlotsFromDiskToViewers) {
   runs_->on_task("insert", "RUNNING", 10);
   runs_->on_row(R"({"t":10.5,"f":3.25})");
+  runs_->on_cell(json::parse(R"({"t":10.6,"hook":[1,2,3]})"));
   runs_->on_task("insert", "SUCCEEDED", 11);
   auto r = client_->Get("/api/runs", as(kVic));
   ASSERT_TRUE(r);
@@ -160,6 +161,11 @@ TEST_F(HttpApiTest, RunsServeTheirPlotsFromDiskToViewers) {
   EXPECT_EQ(r->status, 404);
   EXPECT_NE(body(r)["error"].get<std::string>().find("'other'"), std::string::npos);
   EXPECT_EQ(client_->Get("/api/runs/insert/plots")->status, 401);
+  r = client_->Get("/api/runs/insert/cell", as(kVic));
+  ASSERT_EQ(r->status, 200);
+  EXPECT_EQ(body(r), json::parse(R"([{"t":10.6,"hook":[1,2,3]}])"));
+  EXPECT_EQ(client_->Get("/api/runs/other/cell", as(kVic))->status, 404);
+  EXPECT_EQ(client_->Get("/api/runs/insert/cell")->status, 401);
 }
 
 TEST_F(HttpApiTest, PublishIsSelectThenConfirmInTimeByTheSameUser) {
