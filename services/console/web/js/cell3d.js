@@ -2,7 +2,8 @@
 // it (planner_view.js's PartsView: its STEP model through the CAD service, or its box), with the part
 // list to show, hide or frame each (planner/objects.js), moved to the poses of a picture
 // (cell_picture.js), and the robot's tool and the crane's hook as markers. A framed part's origin is
-// marked green, drawn through whatever is in front of it. Renders on demand.
+// marked green, drawn through whatever is in front of it. Renders on demand, a new picture at the next
+// animation frame: a page in the background (no frames) spends nothing on the poses it is sent.
 import * as THREE from 'three';
 import { el } from './api.js';
 import { ObjectPicker } from './planner/objects.js';
@@ -72,7 +73,9 @@ export class Cell3d {
       if (p) m.position.set(...p);
     }
     if (this.state.framed) this.markOrigin(this.state.framed);
-    this.view.render();
+    if (this.frameRequested) return;
+    this.frameRequested = true;
+    requestAnimationFrame(() => { this.frameRequested = false; this.view.render(); });
   }
 
   /// Frames the part `id` and marks its origin.
