@@ -54,6 +54,9 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
       robot_(ctx.participant, protocol::robot::kState),
       admittance_(ctx.participant, protocol::admittance::kState),
       entities_(ctx.participant, protocol::world::kEntity),
+      cell_requests_(ctx.participant, protocol::world::kCellRequest),
+      cell_replies_(ctx.participant, protocol::world::kCellReply),
+      cell_revisions_(ctx.participant, protocol::world::kCell),
       recipes_(ctx.participant, protocol::task::kRecipe),
       task_commands_(ctx.participant, protocol::task::kCommand),
       responses_(ctx.participant, protocol::operator_ui::kResponse),
@@ -106,6 +109,8 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
   ctx.loop.on_data(prompts_, [this] { on_prompts(); });
   ctx.loop.on_data(journal_replies_, [this] { on_journal_replies(); });
   ctx.loop.on_data(cad_replies_, [this] { on_cad_replies(); });
+  ctx.loop.on_data(cell_replies_, [this] { on_cell_replies(); });
+  ctx.loop.on_data(cell_revisions_, [this] { on_cell_revisions(); });
   ctx.loop.on_data(wrench_, [this] {
     wrench_.take([this](const rigger_sensing_WrenchStamped& w, const dds_sample_info_t&) {
       force_sum_ += dds::to_domain(w.wrench.force);
@@ -406,6 +411,57 @@ void ConsoleNode::on_cad_replies() {
           {true, "", json{{"model_sha256", dds::to_string(rep.model_sha256)}, {"result", std::move(result)}, {"data", std::move(data)}}});
     }
     cad_pending_.erase(it);
+  });
+}
+
+ActionResult ConsoleNode::cell_request(const world_protocol::CellRequest& request) {
+  return on_loop([=](auto promise) {
+    if (cell_requests_.matched_readers() == 0) {
+      promise->set_value({false, "no world model answers cell requests on this domain", {}});
+      return;
+    }
+    world_protocol::CellRequest q = request;
+    q.client_id = client_id_;
+    q.request_id = next_request_++;
+    rigger_world_CellRequest wire{};
+    world_protocol::to_wire(q, wire);
+    cell_requests_.write(wire);
+    const auto timer = ctx_.loop.after(query_timeout_, [this, id = q.request_id] {
+      auto it = cell_pending_.find(id);
+      if (it == cell_pending_.end()) return;
+      it->second.promise->set_value({false, "the world model did not answer the cell request in time", {}});
+      cell_pending_.erase(it);
+    });
+    cell_pending_[q.request_id] = {promise, timer};
+  });
+}
+
+void ConsoleNode::on_cell_replies() {
+  cell_replies_.take([this](const rigger_world_CellReply& w, const dds_sample_info_t&) {
+    const world_protocol::CellReply rep = world_protocol::from_wire(w);
+    if (rep.client_id != client_id_) return;
+    auto it = cell_pending_.find(rep.request_id);
+    if (it == cell_pending_.end()) return;
+    ctx_.loop.cancel(it->second.timer);
+    JsonParseResult parsed = parse_json_bounded(rep.result_json.empty() ? "{}" : rep.result_json, {16U * 1024U * 1024U, 64});
+    it->second.promise->set_value(
+        {rep.ok, rep.message,
+         json{{"code", rep.code}, {"cell_revision", rep.cell_revision}, {"result", parsed.ok() ? std::move(parsed.value) : json::object()}}});
+    cell_pending_.erase(it);
+  });
+}
+
+void ConsoleNode::on_cell_revisions() {
+  cell_revisions_.take([this](const rigger_world_CellRevision& w, const dds_sample_info_t&) {
+    const world_protocol::CellRevision r = world_protocol::from_wire(w);
+    JsonParseResult changes = parse_json_bounded(r.changes_json.empty() ? "{}" : r.changes_json, {4U * 1024U * 1024U, 16});
+    state_.update_revision({{"cell_revision", r.cell_revision},
+                            {"previous_revision", r.previous_revision},
+                            {"sha256", r.sha256},
+                            {"who", r.who},
+                            {"comment", r.comment},
+                            {"stamp", std::chrono::duration<double>(r.stamp.time_since_epoch()).count()},
+                            {"changes", changes.ok() ? std::move(changes.value) : json::object()}});
   });
 }
 

@@ -58,6 +58,7 @@ class ConsoleNode : public service::Node, public Backend {
   ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) override;
   ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
                         const std::string& submitter) override;
+  ActionResult cell_request(const world_protocol::CellRequest& request) override;
 
  private:
   /// Runs `work` on the loop; it must eventually set the promise it is given. Waits up to the query
@@ -66,6 +67,9 @@ class ConsoleNode : public service::Node, public Backend {
   void on_prompts();
   void on_journal_replies();
   void on_cad_replies();
+  void on_cell_replies();
+  /// A new revision of the cell: the pages are told (their parts and 3D views follow it).
+  void on_cell_revisions();
   /// A sensor sample arrived: the plot timer runs while they do.
   void sampled();
   void plot_tick();
@@ -88,6 +92,9 @@ class ConsoleNode : public service::Node, public Backend {
   dds::Reader<rigger_robot_RobotState> robot_;
   dds::Reader<rigger_admittance_AdmittanceState> admittance_;
   dds::Reader<rigger_world_EntityState> entities_;
+  dds::Writer<rigger_world_CellRequest> cell_requests_;
+  dds::Reader<rigger_world_CellReply> cell_replies_;
+  dds::Reader<rigger_world_CellRevision> cell_revisions_;
   dds::Writer<rigger_task_Recipe> recipes_;
   dds::Writer<rigger_task_TaskCommand> task_commands_;
   dds::Writer<rigger_operator_ui_OperatorResponse> responses_;
@@ -107,6 +114,7 @@ class ConsoleNode : public service::Node, public Backend {
   };
   std::map<std::uint64_t, PendingQuery> journal_pending_;
   std::map<std::uint64_t, PendingQuery> cad_pending_;
+  std::map<std::uint64_t, PendingQuery> cell_pending_;
 
   // Plots: the latest sample of each stream, decimated by plot_tick().
   Eigen::Vector3d force_sum_ = Eigen::Vector3d::Zero();

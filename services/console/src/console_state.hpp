@@ -32,9 +32,12 @@ class ConsoleState {
   /// A change of where things are in the cell (cell_feed.hpp): merged into the picture, and sent as a
   /// "cell" event.
   void update_cell(const nlohmann::json& change);
+  /// The cell's running revision {"cell_revision", "previous_revision", "who", "comment", "stamp",
+  /// "changes"} (rigger/world/cell): kept, and sent as a "revision" event.
+  void update_revision(const nlohmann::json& revision);
 
   /// {"epoch", "seq", "tasks": [...], "prompts": [...], "executors": [...], "nodes": {task: [...]},
-  /// "cell": {the picture of cell_feed.hpp}}; with
+  /// "cell": {the picture of cell_feed.hpp}, "revision": {the running revision} or null}; with
   /// a non-empty `task_id` only that task's nodes.
   nlohmann::json snapshot(const std::string& task_id = "") const;
   /// The open prompt `prompt_id`, or null.
@@ -50,6 +53,7 @@ class ConsoleState {
   std::map<std::string, nlohmann::json> prompts_;
   std::map<std::string, nlohmann::json> executors_;
   nlohmann::json cell_ = nlohmann::json::object();
+  nlohmann::json revision_;
 };
 
 }  // namespace rigger::console

@@ -213,6 +213,10 @@ void HttpApi::routes() {
       {Method::kGet, "/api/cad/features", &HttpApi::get_cad_features},
       {Method::kGet, "/api/cad/parts", &HttpApi::get_cad_parts},
       {Method::kGet, "/api/skills", &HttpApi::get_skills},
+      // cell revisions (http_cell_routes.cpp)
+      {Method::kGet, "/api/cell", &HttpApi::get_cell},
+      {Method::kGet, "/api/cell/history", &HttpApi::get_cell_history},
+      {Method::kPost, "/api/cell/revisions", &HttpApi::post_cell_revision},
       // the planner and the rehearsal cell (http_planner_routes.cpp)
       {Method::kPost, "/api/planner/validate", &HttpApi::post_planner_validate},
       {Method::kPost, "/api/planner/screws", &HttpApi::post_planner_screws},

@@ -119,6 +119,18 @@ TEST(ConsoleState, CellChangesAreEventsAndMergeIntoTheSnapshot) {
   EXPECT_EQ(json::parse(batch.events[0].data)["tool"][2], 1);
 }
 
+TEST(ConsoleState, ANewCellRevisionIsKeptAndTold) {
+  EventLog log(10, "1");
+  ConsoleState state(log);
+  EXPECT_TRUE(state.snapshot()["revision"].is_null());
+  state.update_revision({{"cell_revision", 4}, {"who", "console:ada"}, {"changes", {{"moved", {{{"id", "part"}}}}}}});
+  EXPECT_EQ(state.snapshot()["revision"]["cell_revision"], 4);
+  const auto batch = log.wait_after(0, 10, 0ms);
+  ASSERT_EQ(batch.events.size(), 1U);
+  EXPECT_EQ(batch.events[0].type, "revision");
+  EXPECT_EQ(json::parse(batch.events[0].data)["changes"]["moved"][0]["id"], "part");
+}
+
 TEST(ConsoleState, AStringThatIsNotUtf8IsReplacedNotThrown) {
   EventLog log(10, "1");
   ConsoleState state(log);

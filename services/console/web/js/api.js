@@ -43,6 +43,7 @@ export class Store {
     this.prompts = new Map();
     this.executors = new Map();
     this.cell = {};  // where things are (cell_picture.js)
+    this.revision = null;  // the cell's running revision (rigger/world/cell), when the console has seen one
     this.listeners = new Set();
     this.lastId = '';
     this.connected = false;
@@ -63,6 +64,7 @@ export class Store {
     for (const p of snap.prompts) this.prompts.set(p.prompt_id, p);
     for (const e of snap.executors) this.executors.set(e.executor_id, e);
     this.cell = mergeCell({}, snap.cell);
+    this.revision = snap.revision || null;
     this.lastId = snap.id;
     this.emit('load', snap);
   }
@@ -78,6 +80,8 @@ export class Store {
       if (d.alive) this.executors.set(d.executor_id, d); else this.executors.delete(d.executor_id);
     } else if (type === 'cell') {
       mergeCell(this.cell, d);
+    } else if (type === 'revision') {
+      this.revision = d;
     }
     this.emit(type, d);
   }
@@ -91,7 +95,7 @@ export class Store {
     const link = this.indicator ? document.getElementById('link') : null;
     es.onopen = () => { this.connected = true; if (link) { link.textContent = 'live'; link.className = 'link live'; } };
     es.onerror = () => { this.connected = false; if (link) { link.textContent = 'reconnecting…'; link.className = 'link down'; } };
-    for (const type of ['task', 'node', 'prompt', 'executor', 'cell']) {
+    for (const type of ['task', 'node', 'prompt', 'executor', 'cell', 'revision']) {
       es.addEventListener(type, (ev) => { this.lastId = ev.lastEventId; this.apply(type, JSON.parse(ev.data)); });
     }
     // The console restarted (or we fell too far behind): its state is the truth again.

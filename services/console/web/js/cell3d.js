@@ -5,7 +5,7 @@
 // marked green, drawn through whatever is in front of it. Renders on demand, a new picture at the next
 // animation frame: a page in the background (no frames) spends nothing on the poses it is sent.
 import * as THREE from 'three';
-import { el } from './api.js';
+import { el, store } from './api.js';
 import { ObjectPicker } from './planner/objects.js';
 import { PartsView } from './planner_view.js';
 
@@ -26,6 +26,7 @@ export class Cell3d {
     box.replaceChildren(viewBox, legend, this.list);
     this.view = new PartsView(viewBox, () => {});
     this.view.renderer.domElement.setAttribute('aria-label', '3D view of the cell: its parts where the world model has them, the robot\'s tool and the crane\'s hook');
+    this.say = say;
     this.objects = new ObjectPicker(this.view, say, this.list);
     this.tool = marker(TOOL, 0.04);
     this.hook = marker(HOOK, 0.06);
@@ -37,7 +38,7 @@ export class Cell3d {
     this.origin.renderOrder = 10;
     this.view.scene.add(this.tool, this.hook, this.origin);
     // For tests: the objects drawn, the picture shown, the framed part and the camera (as view3d.js).
-    this.state = { loaded: false, objects: [], picture: {}, framed: '', camera: null };
+    this.state = { loaded: false, objects: [], picture: {}, framed: '', camera: null, revision: store.revision?.cell_revision ?? null };
     const render = this.view.render.bind(this.view);
     this.view.render = () => { render(); this.noteCamera(); };
     this.list.addEventListener('click', (e) => {
@@ -54,13 +55,32 @@ export class Cell3d {
     this.state.camera = { view_projection: vp.elements.slice(), width: c.clientWidth, height: c.clientHeight };
   }
 
-  /// Loads every object of the world model, then shows the picture it was given meanwhile.
+  /// Loads every object of the world model, then shows the picture it was given meanwhile. A world model
+  /// that does not answer (503: starting, or its host busy) is asked again, five times in all.
   async load() {
-    await this.objects.load();
+    for (let attempt = 1; ; attempt++) {
+      try {
+        await this.objects.load();
+        break;
+      } catch (e) {
+        if (attempt >= 5 || e.status !== 503) throw e;
+        this.say(`The world model did not answer (${e.message}); asking again…`, true);
+        await new Promise((ok) => setTimeout(ok, 2000));
+      }
+    }
     this.state.objects = [...this.view.parts.keys()];
     this.show(this.picture);
     this.view.frameAll();
     this.state.loaded = true;
+  }
+
+  /// A new revision of the cell: its objects drawn afresh (added, removed, other models), at the picture.
+  async reload() {
+    this.view.clear();
+    await this.objects.load();
+    this.state.objects = [...this.view.parts.keys()];
+    this.state.revision = store.revision?.cell_revision ?? null;
+    this.show(this.picture);
   }
 
   /// Moves everything to `picture` (cell_picture.js); what it does not name stays where it is.

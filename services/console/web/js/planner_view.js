@@ -193,6 +193,13 @@ export class PartsView {
     return this.parts.get(entity);
   }
 
+  /// Takes every part out of the view (a new revision of the cell is drawn afresh).
+  clear() {
+    for (const part of this.parts.values()) this.scene.remove(part.group);
+    this.parts.clear();
+    this.render();
+  }
+
   /// Shows or hides a part; a hidden part is not picked.
   setVisible(entity, visible) {
     const part = this.parts.get(entity);

@@ -3,6 +3,7 @@
 import { api, store, el, stateBadge, fmtTime, confirmDialog } from './api.js';
 import { TreeView } from './tree.js';
 import { mergeCell } from './cell_picture.js';
+import { cellRevisionsPanel } from './cell_revisions.js';
 
 const TERMINAL = new Set(['SUCCEEDED', 'FAILED', 'CANCELED', 'REJECTED']);
 
@@ -40,7 +41,9 @@ export function tasksPage(main, me) {
     }).catch((e) => { say(`3D cell: ${e.message}`, true); return null; });
   } }, el('summary', {}, '3D cell'), cellBox);
 
-  main.replaceChildren(el('h1', {}, 'Tasks'), cellPanel, el('div', { class: 'cols' },
+  const revisions = cellRevisionsPanel(me, (text, bad) => say(text, bad));  // say is defined below
+
+  main.replaceChildren(el('h1', {}, 'Tasks'), cellPanel, revisions.panel, el('div', { class: 'cols' },
     el('section', { class: 'panel', 'aria-labelledby': 'tl' }, el('h2', { id: 'tl' }, 'Tasks'), list,
       el('h2', { id: 'rn' }, 'Running nodes'), running),
     el('section', {}, publishBox, notice, el('div', { class: 'panel' }, el('div', { class: 'toolbar' }, search,
@@ -148,6 +151,7 @@ export function tasksPage(main, me) {
   let runningScheduled = false;
   const off = store.on((type, d) => {
     if ((type === 'cell' || type === 'load') && cell) cell.then((v) => v?.show(store.cell));
+    if (type === 'revision' && cell) cell.then((v) => v?.reload());
     if (type === 'load') { trees.clear(); collectActive(); draw(); return; }
     if (type === 'node') {
       noteActive(d.task_id, d);
@@ -161,5 +165,5 @@ export function tasksPage(main, me) {
     }
   });
   window.rigger.tasksPage = { trees, selected };
-  return () => { off(); if (cell) cell.then((v) => v?.dispose()); };
+  return () => { off(); revisions.off(); if (cell) cell.then((v) => v?.dispose()); };
 }
