@@ -60,9 +60,12 @@ async function checkCell3d(page) {
   result.cell3d.target_px = { expected_px: expected, seen_px: seen.at, pixels: seen.pixels, distance_px: distance };
   check(distance <= CELL_TOLERANCE_PX, `the target's marked origin is ${distance.toFixed(1)} px from its world model position's projection`);
   await page.screenshot({ path: path.join(ART, 'tasks-cell3d.png') });
+  // The cell revisions panel answers (the history, or why the world model gave none) and is checked by axe too.
+  await page.click('summary:has-text("Cell revisions")');
+  await page.waitForFunction(() => /Running revision|Cell revisions:/.test(document.querySelector('details:has(table.revisions) [role=status]')?.textContent || ''));
   await page.addScriptTag({ path: path.join(MODULES, 'axe-core/axe.min.js') });
   const axe = await page.evaluate(async () => (await window.axe.run(document)).violations.map((x) => `${x.id}: ${x.help} (${x.nodes.length})`));
-  check(axe.length === 0, `axe-core: no violations on the Tasks page with its 3D cell open ${JSON.stringify(axe)}`);
+  check(axe.length === 0, `axe-core: no violations on the Tasks page with its 3D cell and revisions open ${JSON.stringify(axe)}`);
 }
 
 // The replay's 3D cell at each step of the slider: what it shows, for console_browser_test.cpp to compare

@@ -24,7 +24,7 @@ export function cellRevisionsPanel(me, say) {
     el('summary', {}, 'Cell revisions'), current,
     canProgram ? el('div', { class: 'toolbar' }, file, comment, el('button', { class: 'primary', onclick: () => applyFile() }, 'Apply…')) : null,
     el('table', { class: 'revisions', 'aria-label': 'Revisions of the cell' },
-      el('thead', {}, el('tr', {}, ...['Revision', 'When', 'Who', 'Comment', 'Changes', ''].map((h) => el('th', { scope: 'col' }, h)))), rows));
+      el('thead', {}, el('tr', {}, ...['Revision', 'When', 'Who', 'Comment', 'Changes', 'Roll back'].map((h) => el('th', { scope: 'col' }, h)))), rows));
 
   async function load() {
     try {

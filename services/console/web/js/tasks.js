@@ -38,7 +38,11 @@ export function tasksPage(main, me) {
       view.picture = store.cell;
       await view.load();
       return view;
-    }).catch((e) => { say(`3D cell: ${e.message}`, true); return null; });
+    }).catch((e) => {
+      say(`3D cell: ${e.message} (close and open the panel to try again)`, true);
+      cell = null;
+      return null;
+    });
   } }, el('summary', {}, '3D cell'), cellBox);
 
   const revisions = cellRevisionsPanel(me, (text, bad) => say(text, bad));  // say is defined below
