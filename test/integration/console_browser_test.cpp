@@ -2,17 +2,22 @@
 // the same private DDS domain, and headless Debian chromium driven by playwright-core
 // (console/e2e.mjs). No scripted operator runs: the four screw prompts are answered by clicks in the
 // operator station. The browser script checks what the pages show (tree, the 3D view on the CAD
-// service's geometry with each prompt's hole highlighted where its CAD position projects, replay, plots,
-// axe) and the refused requests (401, 403, 409); this test checks what the system did: the task
-// SUCCEEDED, the tree the page showed is the tree the controller published, nothing started before the
-// confirmed publish, and the plotted force and tool speed are the physics' own over the insertion.
+// service's geometry with each prompt's hole highlighted where its CAD position projects, the Tasks
+// page's 3D cell, replay, plots, axe) and the refused requests (401, 403, 409); this test checks what
+// the system did: the task SUCCEEDED, the tree the page showed is the tree the controller published,
+// nothing started before the confirmed publish, the plotted force and tool speed are the physics' own
+// over the insertion, and the replay's 3D cell has the load and the hook where the physics had them.
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 #include "auth.hpp"
+#include "console/cell_trace.hpp"
 #include "console/physics_trace.hpp"
 #include "scenario_support.hpp"
 #include "rigger/testing/require.hpp"
@@ -59,6 +64,38 @@ void expect_plots_are_the_physics(const ScenarioCell& scenario, const PhysicsTra
   EXPECT_LE(speed.median_error, 0.001) << "tool speed (m/s) row by row";
 }
 
+// The replay's 3D cell at each journaled step against the physics: the page shows the last position the
+// console sent at or before the step, and it sends at most every 0.1 s; the crane's state passes the
+// PLC and the gateway, the load's pose the camera, the tracker and the world model on its way.
+constexpr double kCellWindowS = 0.5;
+constexpr double kHookToleranceM = 0.005;
+constexpr double kLoadMedianToleranceM = 0.01;
+
+void expect_replay_cell_is_the_physics(const CellTrace& truth, const nlohmann::json& steps) {
+  std::vector<double> load, hook;
+  for (const auto& s : steps) {
+    const double t = s.at("t").get<double>();
+    const double l = truth.load_error(s.value("load", nlohmann::json()), t, kCellWindowS);
+    const double h = truth.hook_error(s.value("hook", nlohmann::json()), t, kCellWindowS);
+    if (!std::isnan(l)) load.push_back(l);
+    if (!std::isnan(h)) hook.push_back(h);
+  }
+  const auto stats = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? std::pair(0.0, 0.0) : std::pair(v[v.size() / 2], v.back());
+  };
+  const auto [load_median, load_max] = stats(load);
+  const auto [hook_median, hook_max] = stats(hook);
+  std::printf("  replay 3D cell, %zu steps (%zu physics samples): load %zu compared, median %.1f mm, max %.1f mm; "
+              "hook %zu compared, median %.1f mm, max %.1f mm\n",
+              steps.size(), truth.samples(), load.size(), 1000 * load_median, 1000 * load_max, hook.size(),
+              1000 * hook_median, 1000 * hook_max);
+  EXPECT_GE(hook.size(), steps.size() / 2) << "the replay's hook has no physics to compare with";
+  EXPECT_GE(load.size(), steps.size() / 2) << "the replay's load has no physics to compare with";
+  EXPECT_LE(hook_max, kHookToleranceM) << "the replay's hook is not where the physics had it";
+  EXPECT_LE(load_median, kLoadMedianToleranceM) << "the replay's load is not where the physics had it";
+}
+
 // Long enough for a dialog click in a loaded headless chromium (2.7 s seen), short enough to wait out.
 constexpr double kConfirmTimeoutS = 5.0;
 
@@ -79,6 +116,7 @@ TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusa
   ScenarioCell scenario(cell_, {}, /*scripted_operator=*/false);
   ASSERT_TRUE(scenario.ready()) << "the cell did not come up";
   PhysicsTrace physics(cell_);
+  CellTrace cell_truth(cell_);
   std::ifstream recipe_file(repo_file("recipes/crane_insert.json"));
   const std::string task_id = nlohmann::json::parse(recipe_file).at("task_id");
   scenario.watch(task_id);
@@ -183,6 +221,7 @@ TEST_F(ConsoleBrowserTest, ScrewPromptsAnsweredInTheBrowserTaskSucceedsAndRefusa
     EXPECT_LT(result.at("replay_plots").at("f").front().at(0).get<double>(), restart_s)
         << "the replay holds no plot row from before the console restarted";
   }
+  expect_replay_cell_is_the_physics(cell_truth, result.at("replay_cell"));
   // Every action was journaled with who did it: the console's audit log names the users.
   std::ifstream audit(dir + "/console-audit.log");
   const std::string audit_text((std::istreambuf_iterator<char>(audit)), std::istreambuf_iterator<char>());

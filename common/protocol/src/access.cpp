@@ -170,14 +170,15 @@ std::vector<Grant> build() {
   t.push_back(grant("scripted_operator", "the scripted operator (demo and tests)",
                     {service(), {names(operator_ui::kResponse), names(operator_ui::kPrompt, operator_ui::kResponse)}}));
   // The user tools.
-  t.push_back(grant(
-      "console", "the web console: its users act through this one identity",
-      {service(),
-       task_client(),
-       world_client(),
-       cell_follower(),
-       cell_client(),
-       {names(cad::kRequest), names(cad::kReply, robot::kState, robot::kWrench, crane::kState, admittance::kState)}}));
+  t.push_back(grant("console", "the web console: its users act through this one identity",
+                    {service(),
+                     task_client(),
+                     world_client(),
+                     cell_follower(),
+                     cell_client(),
+                     // world::kEntity: the 3D cell's poses.
+                     {names(cad::kRequest), names(cad::kReply, robot::kState, robot::kWrench, crane::kState,
+                                                  admittance::kState, world::kEntity)}}));
   t.push_back(grant("riggerctl",
                     "riggerctl, the operator's command line (run, cancel, operator, jog, estop, crane "
                     "reset, sim, cell); reads every topic (riggerctl echo)",

@@ -63,6 +63,8 @@ TEST(AccessTable, OnlyTheUserToolsProposeCellRevisions) {
   for (const char* reader : {"cell_sim", "vision_tracker", "admittance_control", "cad", "console"})
     EXPECT_TRUE(has(find_grant(reader)->subscribe, world::kCell.name)) << reader;
   EXPECT_TRUE(has(find_grant("world_model")->subscribe, skill::kExecutors.name));
+  // The console's 3D cell reads where the world model has every entity.
+  EXPECT_TRUE(has(find_grant("console")->subscribe, world::kEntity.name));
 }
 
 // The access rules of DDS Security (docs/security.md): who may move things and who may start or stop a task.

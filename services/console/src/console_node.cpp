@@ -22,6 +22,9 @@ namespace {
 
 constexpr std::size_t kEventCapacity = 200000;
 constexpr std::size_t kPlotCapacity = 36000;  // 30 min at 20 Hz
+// The 3D cell's changes: smooth enough to follow a moving load by eye, few enough for the event log
+// (200000 events hold 5.5 h of them) and a page on a slow link.
+constexpr double kCellRateHz = 10.0;
 
 double seconds(const rigger_geometry_Time& t) { return static_cast<double>(t.sec) + 1e-9 * t.nanosec; }
 
@@ -50,6 +53,10 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
       crane_(ctx.participant, protocol::crane::kState),
       robot_(ctx.participant, protocol::robot::kState),
       admittance_(ctx.participant, protocol::admittance::kState),
+      entities_(ctx.participant, protocol::world::kEntity),
+      cell_requests_(ctx.participant, protocol::world::kCellRequest),
+      cell_replies_(ctx.participant, protocol::world::kCellReply),
+      cell_revisions_(ctx.participant, protocol::world::kCell),
       recipes_(ctx.participant, protocol::task::kRecipe),
       task_commands_(ctx.participant, protocol::task::kCommand),
       responses_(ctx.participant, protocol::operator_ui::kResponse),
@@ -102,6 +109,8 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
   ctx.loop.on_data(prompts_, [this] { on_prompts(); });
   ctx.loop.on_data(journal_replies_, [this] { on_journal_replies(); });
   ctx.loop.on_data(cad_replies_, [this] { on_cad_replies(); });
+  ctx.loop.on_data(cell_replies_, [this] { on_cell_replies(); });
+  ctx.loop.on_data(cell_revisions_, [this] { on_cell_revisions(); });
   ctx.loop.on_data(wrench_, [this] {
     wrench_.take([this](const rigger_sensing_WrenchStamped& w, const dds_sample_info_t&) {
       force_sum_ += dds::to_domain(w.wrench.force);
@@ -114,6 +123,8 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
       crane_velocity_ = Eigen::Vector3d(c.velocity_mps[0], c.velocity_mps[1], c.velocity_mps[2]);
       have_crane_ = true;
       sampled();
+      cell_.hook(dds::to_string(c.header.frame_id), Eigen::Vector3d(c.position_m[0], c.position_m[1], c.position_m[2]));
+      cell_moved();
     });
   });
   ctx.loop.on_data(robot_, [this] {
@@ -121,6 +132,8 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
       robot_velocity_ = dds::to_domain(r.tool_twist.linear);
       have_robot_ = true;
       sampled();
+      cell_.tool(dds::to_string(r.header.frame_id), dds::to_domain(r.tool_pose).translation());
+      cell_moved();
     });
   });
   ctx.loop.on_data(admittance_, [this] {
@@ -129,6 +142,14 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
       servo_error_rad_ = a.servo_error_rad;
       have_admittance_ = true;
       sampled();
+    });
+  });
+  ctx.loop.on_data(entities_, [this] {
+    entities_.take([this](const rigger_world_EntityState& e, const dds_sample_info_t&) {
+      const char* kind = e.kind == rigger_world_ENTITY_OBJECT ? "object" : e.kind == rigger_world_ENTITY_DEVICE ? "device" : "frame";
+      cell_.entity(dds::to_string(e.entity_id), kind, dds::to_string(e.parent_frame),
+                   e.has_pose ? std::optional(dds::to_domain(e.pose.pose)) : std::nullopt);
+      cell_moved();
     });
   });
   plot_period_ = std::chrono::nanoseconds(static_cast<long>(1e9 / settings.plot_rate_hz));
@@ -206,6 +227,25 @@ void ConsoleNode::plot_tick() {
   std::string text = row.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
   if (runs_) runs_->on_row(text);
   plots_.append("plot", std::move(text));
+}
+
+void ConsoleNode::cell_moved() {
+  if (cell_timer_ != 0) return;
+  cell_tick();  // at once: a pose after a quiet spell is not held back
+  cell_timer_ = ctx_.loop.every(std::chrono::nanoseconds(static_cast<long>(1e9 / kCellRateHz)), [this] { cell_tick(); });
+}
+
+void ConsoleNode::cell_tick() {
+  if (!cell_.dirty()) {
+    // Nothing came since the last tick: the timer stops until something moves.
+    ctx_.loop.cancel(cell_timer_);
+    cell_timer_ = 0;
+    return;
+  }
+  const auto change = cell_.take_changes(wall_now_s());
+  if (!change) return;
+  if (runs_) runs_->on_cell(*change);
+  state_.update_cell(*change);
 }
 
 // --- the HTTP side's requests, run on the loop ---
@@ -371,6 +411,57 @@ void ConsoleNode::on_cad_replies() {
           {true, "", json{{"model_sha256", dds::to_string(rep.model_sha256)}, {"result", std::move(result)}, {"data", std::move(data)}}});
     }
     cad_pending_.erase(it);
+  });
+}
+
+ActionResult ConsoleNode::cell_request(const world_protocol::CellRequest& request) {
+  return on_loop([=](auto promise) {
+    if (cell_requests_.matched_readers() == 0) {
+      promise->set_value({false, "no world model answers cell requests on this domain", {}});
+      return;
+    }
+    world_protocol::CellRequest q = request;
+    q.client_id = client_id_;
+    q.request_id = next_request_++;
+    rigger_world_CellRequest wire{};
+    world_protocol::to_wire(q, wire);
+    cell_requests_.write(wire);
+    const auto timer = ctx_.loop.after(query_timeout_, [this, id = q.request_id] {
+      auto it = cell_pending_.find(id);
+      if (it == cell_pending_.end()) return;
+      it->second.promise->set_value({false, "the world model did not answer the cell request in time", {}});
+      cell_pending_.erase(it);
+    });
+    cell_pending_[q.request_id] = {promise, timer};
+  });
+}
+
+void ConsoleNode::on_cell_replies() {
+  cell_replies_.take([this](const rigger_world_CellReply& w, const dds_sample_info_t&) {
+    const world_protocol::CellReply rep = world_protocol::from_wire(w);
+    if (rep.client_id != client_id_) return;
+    auto it = cell_pending_.find(rep.request_id);
+    if (it == cell_pending_.end()) return;
+    ctx_.loop.cancel(it->second.timer);
+    JsonParseResult parsed = parse_json_bounded(rep.result_json.empty() ? "{}" : rep.result_json, {16U * 1024U * 1024U, 64});
+    it->second.promise->set_value(
+        {rep.ok, rep.message,
+         json{{"code", rep.code}, {"cell_revision", rep.cell_revision}, {"result", parsed.ok() ? std::move(parsed.value) : json::object()}}});
+    cell_pending_.erase(it);
+  });
+}
+
+void ConsoleNode::on_cell_revisions() {
+  cell_revisions_.take([this](const rigger_world_CellRevision& w, const dds_sample_info_t&) {
+    const world_protocol::CellRevision r = world_protocol::from_wire(w);
+    JsonParseResult changes = parse_json_bounded(r.changes_json.empty() ? "{}" : r.changes_json, {4U * 1024U * 1024U, 16});
+    state_.update_revision({{"cell_revision", r.cell_revision},
+                            {"previous_revision", r.previous_revision},
+                            {"sha256", r.sha256},
+                            {"who", r.who},
+                            {"comment", r.comment},
+                            {"stamp", std::chrono::duration<double>(r.stamp.time_since_epoch()).count()},
+                            {"changes", changes.ok() ? std::move(changes.value) : json::object()}});
   });
 }
 

@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "cell_feed.hpp"
 #include "console_state.hpp"
 #include "event_log.hpp"
 #include "http_api.hpp"
@@ -29,6 +30,7 @@
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/task.hpp"
+#include "rigger/protocol/world.hpp"
 #include "rigger/service/service.hpp"
 #include "rigger/world_client/world_client.hpp"
 #include "task_feed.hpp"
@@ -56,6 +58,7 @@ class ConsoleNode : public service::Node, public Backend {
   ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) override;
   ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
                         const std::string& submitter) override;
+  ActionResult cell_request(const world_protocol::CellRequest& request) override;
 
  private:
   /// Runs `work` on the loop; it must eventually set the promise it is given. Waits up to the query
@@ -64,9 +67,15 @@ class ConsoleNode : public service::Node, public Backend {
   void on_prompts();
   void on_journal_replies();
   void on_cad_replies();
+  void on_cell_replies();
+  /// A new revision of the cell: the pages are told (their parts and 3D views follow it).
+  void on_cell_revisions();
   /// A sensor sample arrived: the plot timer runs while they do.
   void sampled();
   void plot_tick();
+  /// Something moved: the cell timer runs while things do.
+  void cell_moved();
+  void cell_tick();
 
   service::ServiceContext& ctx_;
   std::chrono::milliseconds query_timeout_{3000};
@@ -82,6 +91,10 @@ class ConsoleNode : public service::Node, public Backend {
   dds::Reader<rigger_crane_CraneState> crane_;
   dds::Reader<rigger_robot_RobotState> robot_;
   dds::Reader<rigger_admittance_AdmittanceState> admittance_;
+  dds::Reader<rigger_world_EntityState> entities_;
+  dds::Writer<rigger_world_CellRequest> cell_requests_;
+  dds::Reader<rigger_world_CellReply> cell_replies_;
+  dds::Reader<rigger_world_CellRevision> cell_revisions_;
   dds::Writer<rigger_task_Recipe> recipes_;
   dds::Writer<rigger_task_TaskCommand> task_commands_;
   dds::Writer<rigger_operator_ui_OperatorResponse> responses_;
@@ -101,6 +114,7 @@ class ConsoleNode : public service::Node, public Backend {
   };
   std::map<std::uint64_t, PendingQuery> journal_pending_;
   std::map<std::uint64_t, PendingQuery> cad_pending_;
+  std::map<std::uint64_t, PendingQuery> cell_pending_;
 
   // Plots: the latest sample of each stream, decimated by plot_tick().
   Eigen::Vector3d force_sum_ = Eigen::Vector3d::Zero();
@@ -113,6 +127,10 @@ class ConsoleNode : public service::Node, public Backend {
   bool have_crane_ = false, have_robot_ = false, have_admittance_ = false, fresh_ = false;
   std::chrono::nanoseconds plot_period_{50000000};
   dds::EventLoop::TimerId plot_timer_ = 0;  ///< 0: stopped (no sample since the last tick)
+
+  // The pages' 3D cell: where things are, sent at most kCellRateHz times a second.
+  CellFeed cell_;
+  dds::EventLoop::TimerId cell_timer_ = 0;  ///< 0: stopped (nothing moved since the last tick)
 
   std::unique_ptr<HttpApi> http_;  // last: its threads stop first
 };

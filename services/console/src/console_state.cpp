@@ -1,5 +1,7 @@
 #include "console_state.hpp"
 
+#include "cell_feed.hpp"
+
 namespace rigger::console {
 
 using nlohmann::json;
@@ -42,10 +44,23 @@ void ConsoleState::update_executor(const json& executor) {
   log_.append("executor", line(executor));
 }
 
+void ConsoleState::update_cell(const json& change) {
+  std::lock_guard lock(mutex_);
+  merge_cell(cell_, change);
+  log_.append("cell", line(change));
+}
+
+void ConsoleState::update_revision(const json& revision) {
+  std::lock_guard lock(mutex_);
+  revision_ = revision;
+  log_.append("revision", line(revision));
+}
+
 json ConsoleState::snapshot(const std::string& task_id) const {
   std::lock_guard lock(mutex_);
   json out = {{"epoch", log_.epoch()}, {"seq", log_.last_seq()}, {"tasks", json::array()},
-              {"prompts", json::array()}, {"executors", json::array()}, {"nodes", json::object()}};
+              {"prompts", json::array()}, {"executors", json::array()}, {"nodes", json::object()}, {"cell", cell_},
+              {"revision", revision_}};
   out["id"] = log_.id_of(out["seq"].get<std::uint64_t>());
   for (const auto& [id, t] : tasks_) out["tasks"].push_back(t);
   for (const auto& [id, p] : prompts_) out["prompts"].push_back(p);

@@ -29,8 +29,15 @@ class ConsoleState {
   void update_prompt(const nlohmann::json& prompt);
   /// An executor's announcement {"executor_id", ...}, or its departure ({"executor_id", "alive": false}).
   void update_executor(const nlohmann::json& executor);
+  /// A change of where things are in the cell (cell_feed.hpp): merged into the picture, and sent as a
+  /// "cell" event.
+  void update_cell(const nlohmann::json& change);
+  /// The cell's running revision {"cell_revision", "previous_revision", "who", "comment", "stamp",
+  /// "changes"} (rigger/world/cell): kept, and sent as a "revision" event.
+  void update_revision(const nlohmann::json& revision);
 
-  /// {"epoch", "seq", "tasks": [...], "prompts": [...], "executors": [...], "nodes": {task: [...]}}; with
+  /// {"epoch", "seq", "tasks": [...], "prompts": [...], "executors": [...], "nodes": {task: [...]},
+  /// "cell": {the picture of cell_feed.hpp}, "revision": {the running revision} or null}; with
   /// a non-empty `task_id` only that task's nodes.
   nlohmann::json snapshot(const std::string& task_id = "") const;
   /// The open prompt `prompt_id`, or null.
@@ -45,6 +52,8 @@ class ConsoleState {
   std::map<std::string, std::map<std::string, nlohmann::json>> nodes_;
   std::map<std::string, nlohmann::json> prompts_;
   std::map<std::string, nlohmann::json> executors_;
+  nlohmann::json cell_ = nlohmann::json::object();
+  nlohmann::json revision_;
 };
 
 }  // namespace rigger::console

@@ -206,12 +206,17 @@ void HttpApi::routes() {
       {Method::kGet, "/api/journal", &HttpApi::get_journal},
       {Method::kGet, "/api/runs", &HttpApi::get_runs},
       {Method::kGet, R"(/api/runs/([^/]+)/plots)", &HttpApi::get_run_plots},
+      {Method::kGet, R"(/api/runs/([^/]+)/cell)", &HttpApi::get_run_cell},
       {Method::kGet, "/api/world/entities", &HttpApi::get_world_entities},
       {Method::kGet, R"(/api/world/entity/([A-Za-z0-9_.:-]+))", &HttpApi::get_world_entity},
       {Method::kGet, "/api/cad/model.glb", &HttpApi::get_cad_model},
       {Method::kGet, "/api/cad/features", &HttpApi::get_cad_features},
       {Method::kGet, "/api/cad/parts", &HttpApi::get_cad_parts},
       {Method::kGet, "/api/skills", &HttpApi::get_skills},
+      // cell revisions (http_cell_routes.cpp)
+      {Method::kGet, "/api/cell", &HttpApi::get_cell},
+      {Method::kGet, "/api/cell/history", &HttpApi::get_cell_history},
+      {Method::kPost, "/api/cell/revisions", &HttpApi::post_cell_revision},
       // the planner and the rehearsal cell (http_planner_routes.cpp)
       {Method::kPost, "/api/planner/validate", &HttpApi::post_planner_validate},
       {Method::kPost, "/api/planner/screws", &HttpApi::post_planner_screws},

@@ -25,6 +25,7 @@
 #include "planner.hpp"
 #include "run_archive.hpp"
 #include "rigger/base/logging.hpp"
+#include "rigger/world_protocol/cell_protocol.hpp"
 
 namespace httplib {
 class Server;
@@ -72,6 +73,10 @@ class Backend {
   /// rehearsal domain is configured, no controller reads recipes there (nothing sent) or none answered.
   virtual ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
                                 const std::string& submitter) = 0;
+  /// Asks the world model about the cell's revisions (rigger/world/cell_request; the node fills in the
+  /// client and request ids): data = {"code", "cell_revision", "result": <result_json parsed>}, also when
+  /// it refused (!ok, message = its reason); !ok without data when no world model answered.
+  virtual ActionResult cell_request(const world_protocol::CellRequest& request) = 0;
 };
 
 /// What the console reads on the rehearsal domain (RehearsalLink), apart from the cell's: the HTTP side
@@ -116,9 +121,9 @@ class HttpApi {
  private:
   struct Pending {
     std::string user;
-    std::string kind;  ///< "publish" or "resume"
-    std::string task_id;
-    std::string payload;  ///< the recipe text for publish
+    std::string kind;  ///< "publish", "resume" or "cell"
+    std::string task_id;  ///< for "cell": "apply" or "rollback <revision>"
+    std::string payload;  ///< the recipe text for publish; the cell request for "cell"
     std::chrono::steady_clock::time_point deadline;
   };
   // The routes: routes() registers the table of method + path -> handler (http_api.cpp); each handler
@@ -143,6 +148,10 @@ class HttpApi {
   void get_world_entities(const httplib::Request& req, httplib::Response& res);
   void get_runs(const httplib::Request& req, httplib::Response& res);
   void get_run_plots(const httplib::Request& req, httplib::Response& res);
+  void get_run_cell(const httplib::Request& req, httplib::Response& res);
+  /// A kept run's rows of one kind (RunArchive::rows or cell_rows), or 404.
+  void send_run_rows(const httplib::Request& req, httplib::Response& res,
+                     std::optional<std::string> (RunArchive::*read)(const std::string&) const);
   void get_journal(const httplib::Request& req, httplib::Response& res);
   void get_world_entity(const httplib::Request& req, httplib::Response& res);
   void get_cad_model(const httplib::Request& req, httplib::Response& res);
@@ -166,6 +175,14 @@ class HttpApi {
   void post_task_stop(const httplib::Request& req, httplib::Response& res);
   void task_command(const httplib::Request& req, httplib::Response& res, const std::string& kind, Role needed);
   void post_prompt_answer(const httplib::Request& req, httplib::Response& res);
+  // Cell revisions (http_cell_routes.cpp).
+  void get_cell(const httplib::Request& req, httplib::Response& res);
+  void get_cell_history(const httplib::Request& req, httplib::Response& res);
+  void post_cell_revision(const httplib::Request& req, httplib::Response& res);
+  /// Applies a confirmed cell revision (`p` from POST /api/confirm).
+  void confirm_cell(const User& user, const Pending& p, const httplib::Request& req, httplib::Response& res);
+  /// Sends the world model's answer to a cell request: 200 with its result, or its refusal as an error.
+  void send_cell_answer(const httplib::Request& req, httplib::Response& res, const ActionResult& r);
 
   HttpConfig config_;
   Users users_;

@@ -63,6 +63,7 @@ void HttpApi::post_confirm(const httplib::Request& req, httplib::Response& res) 
   // Only programmers can have selected these; check again in case of a changed users file.
   if (static_cast<int>(user->role) < static_cast<int>(Role::kProgrammer))
     return send_error(res, 403, "only a programmer may " + p.kind, req.path);
+  if (p.kind == "cell") return confirm_cell(*user, p, req, res);
   const auto r = p.kind == "publish"
                      ? backend_.publish_recipe(p.task_id, p.payload, "console:" + user->name)
                      : backend_.task_command(p.task_id, "resume", "resumed by " + user->name + " at the console",

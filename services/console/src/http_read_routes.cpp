@@ -56,9 +56,18 @@ void HttpApi::get_runs(const httplib::Request& req, httplib::Response& res) {
 }
 
 void HttpApi::get_run_plots(const httplib::Request& req, httplib::Response& res) {
+  send_run_rows(req, res, &RunArchive::rows);
+}
+
+void HttpApi::get_run_cell(const httplib::Request& req, httplib::Response& res) {
+  send_run_rows(req, res, &RunArchive::cell_rows);
+}
+
+void HttpApi::send_run_rows(const httplib::Request& req, httplib::Response& res,
+                            std::optional<std::string> (RunArchive::*read)(const std::string&) const) {
   if (!who(req, res, Role::kViewer)) return;
   const std::string task = req.matches[1];
-  const auto rows = runs_ != nullptr ? runs_->rows(task) : std::nullopt;
+  const auto rows = runs_ != nullptr ? (runs_->*read)(task) : std::nullopt;
   if (!rows) return send_error(res, 404, "no run of task '" + task + "' is kept", req.path);
   res.set_content(*rows, kJson);
 }

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "cell_feed.hpp"
+
 namespace rigger::console {
 namespace {
 
@@ -62,6 +64,8 @@ RunArchive::RunArchive(fs::path folder, Limits limits) : folder_(std::move(folde
       // The console stopped during this run: go on appending to it.
       run.meta["rows"] = count_lines(entry.path() / "plots.jsonl", limits_.max_rows);
       run.rows.open(entry.path() / "plots.jsonl", std::ios::app);
+      run.meta["cell_rows"] = count_lines(entry.path() / "cell.jsonl", limits_.max_rows);
+      run.cell.open(entry.path() / "cell.jsonl", std::ios::app);
     }
   }
   if (ec) throw std::runtime_error(folder_.string() + ": cannot read the run archive: " + ec.message());
@@ -93,17 +97,31 @@ void RunArchive::on_row(const std::string& row_json) {
   const double t = plot_row_time(row_json);
   for (auto& [id, run] : runs_) {
     if (!run.rows.is_open()) continue;
+    append(run, run.rows, "rows", row_json);
     json& meta = run.meta;
-    if (meta["rows"].get<std::size_t>() >= limits_.max_rows) {
-      meta["truncated"] = true;
-      continue;
-    }
-    run.rows << row_json << '\n';
-    run.rows.flush();
-    meta["rows"] = meta["rows"].get<std::size_t>() + 1;
     if (meta["first"].is_null()) meta["first"] = t;
     meta["last"] = t;
   }
+}
+
+void RunArchive::on_cell(const json& change) {
+  std::lock_guard lock(mutex_);
+  merge_cell(cell_, change);
+  const std::string line = change.dump(-1, ' ', false, json::error_handler_t::replace);
+  for (auto& [id, run] : runs_)
+    if (run.cell.is_open()) append(run, run.cell, "cell_rows", line);
+}
+
+void RunArchive::append(Run& run, std::ofstream& out, const char* count_key, const std::string& line) {
+  json& meta = run.meta;
+  const std::size_t n = meta.value(count_key, std::size_t{0});
+  if (n >= limits_.max_rows) {
+    meta["truncated"] = true;
+    return;
+  }
+  out << line << '\n';
+  out.flush();
+  meta[count_key] = n + 1;
 }
 
 json RunArchive::runs() const {
@@ -116,11 +134,20 @@ json RunArchive::runs() const {
 }
 
 std::optional<std::string> RunArchive::rows(const std::string& task_id) const {
+  return read_rows(task_id, "plots.jsonl", "rows");
+}
+
+std::optional<std::string> RunArchive::cell_rows(const std::string& task_id) const {
+  return read_rows(task_id, "cell.jsonl", "cell_rows");
+}
+
+std::optional<std::string> RunArchive::read_rows(const std::string& task_id, const char* file,
+                                                 const char* count_key) const {
   std::unique_lock lock(mutex_);
   if (!valid_task_id(task_id) || runs_.count(task_id) == 0) return std::nullopt;
-  const std::size_t kept = runs_.at(task_id).meta["rows"].get<std::size_t>();
+  const std::size_t kept = runs_.at(task_id).meta.value(count_key, std::size_t{0});
   lock.unlock();
-  std::ifstream in(folder_ / task_id / "plots.jsonl");
+  std::ifstream in(folder_ / task_id / file);
   std::string out = "[";
   std::size_t n = 0;
   for (std::string line; n < kept && std::getline(in, line);) {
@@ -139,10 +166,20 @@ void RunArchive::begin(const std::string& task_id, const std::string& state, dou
   fs::create_directories(dir, ec);
   Run& run = runs_[task_id];
   run.meta = {{"task_id", task_id}, {"state", state}, {"started", stamp_s}, {"ended", nullptr},
-              {"first", nullptr},   {"last", nullptr}, {"rows", 0},          {"truncated", false}};
+              {"first", nullptr},   {"last", nullptr}, {"rows", 0},          {"cell_rows", 0},
+              {"truncated", false}};
   run.rows.close();
   run.rows.clear();
   run.rows.open(dir / "plots.jsonl", std::ios::trunc);
+  run.cell.close();
+  run.cell.clear();
+  run.cell.open(dir / "cell.jsonl", std::ios::trunc);
+  // The run's first cell row: where everything was when it began (later rows are only the changes).
+  if (!cell_.empty()) {
+    json first = cell_;
+    first["t"] = stamp_s;
+    append(run, run.cell, "cell_rows", first.dump(-1, ' ', false, json::error_handler_t::replace));
+  }
   write_meta(run);
   prune();
 }
@@ -151,6 +188,7 @@ void RunArchive::finish(Run& run, const std::string& state, double stamp_s) {
   run.meta["state"] = state;
   run.meta["ended"] = stamp_s;
   run.rows.close();
+  run.cell.close();
   write_meta(run);
 }
 

@@ -15,6 +15,7 @@ namespace rigger::console {
 namespace {
 
 using namespace std::chrono_literals;
+using nlohmann::json;
 
 TEST(ConsoleAuth, Sha256MatchesTheStandardVector) {
   EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
@@ -100,6 +101,34 @@ TEST(ConsoleState, SnapshotSeqIsItsLastEventAndInactivePromptsLeave) {
   EXPECT_TRUE(state.prompt("p").is_null());
   EXPECT_TRUE(state.snapshot()["prompts"].empty());
   EXPECT_EQ(state.snapshot("other")["nodes"].size(), 0U);
+}
+
+TEST(ConsoleState, CellChangesAreEventsAndMergeIntoTheSnapshot) {
+  EventLog log(10, "1");
+  ConsoleState state(log);
+  state.update_cell({{"t", 1.0}, {"objects", {{"a", {{"position_m", {1, 0, 0}}}}, {"b", {{"position_m", {2, 0, 0}}}}}}});
+  state.update_cell({{"t", 2.0}, {"objects", {{"a", {{"position_m", {1.5, 0, 0}}}}}}, {"tool", {0, 0, 1}}});
+  const auto snap = state.snapshot();
+  EXPECT_EQ(snap["seq"], 2U);
+  EXPECT_EQ(snap["cell"]["objects"]["a"]["position_m"][0], 1.5);
+  EXPECT_EQ(snap["cell"]["objects"]["b"]["position_m"][0], 2);
+  EXPECT_EQ(snap["cell"]["tool"][2], 1);
+  const auto batch = log.wait_after(1, 10, 0ms);
+  ASSERT_EQ(batch.events.size(), 1U);
+  EXPECT_EQ(batch.events[0].type, "cell");
+  EXPECT_EQ(json::parse(batch.events[0].data)["tool"][2], 1);
+}
+
+TEST(ConsoleState, ANewCellRevisionIsKeptAndTold) {
+  EventLog log(10, "1");
+  ConsoleState state(log);
+  EXPECT_TRUE(state.snapshot()["revision"].is_null());
+  state.update_revision({{"cell_revision", 4}, {"who", "console:ada"}, {"changes", {{"moved", {{{"id", "part"}}}}}}});
+  EXPECT_EQ(state.snapshot()["revision"]["cell_revision"], 4);
+  const auto batch = log.wait_after(0, 10, 0ms);
+  ASSERT_EQ(batch.events.size(), 1U);
+  EXPECT_EQ(batch.events[0].type, "revision");
+  EXPECT_EQ(json::parse(batch.events[0].data)["changes"]["moved"][0]["id"], "part");
 }
 
 TEST(ConsoleState, AStringThatIsNotUtf8IsReplacedNotThrown) {

@@ -55,6 +55,15 @@ class RecordingBackend : public Backend {
     return rehearse_answer_;
   }
   ActionResult rehearse_answer_{true, "", {}};
+  ActionResult cell_request(const world_protocol::CellRequest& q) override {
+    const std::string op(world_protocol::to_string(*q.op));
+    record("cell " + op + (q.dry_run ? " dry" : "") + (q.revision ? " " + std::to_string(q.revision) : "") + " by " + q.who +
+           (q.cell_json.empty() ? "" : " " + q.cell_json));
+    std::lock_guard lock(mutex_);
+    return q.dry_run ? cell_check_ : cell_answer_;
+  }
+  ActionResult cell_check_{true, "", {{"code", "ACCEPTED"}, {"cell_revision", 1}, {"result", {{"moved", {{{"id", "part"}}}}}}}};
+  ActionResult cell_answer_{true, "", {{"code", "ACCEPTED"}, {"cell_revision", 2}, {"result", {{"moved", {{{"id", "part"}}}}}}}};
   std::vector<std::string> cad_requests_;
   std::vector<std::string> actions() {
     std::lock_guard lock(mutex_);
@@ -147,6 +156,7 @@ TEST_F(HttpApiTest, EveryRequestNeedsAKnownTokenAndTheRightRole) {
 TEST_F(HttpApiTest, RunsServeTheirPlotsFromDiskToViewers) {
   runs_->on_task("insert", "RUNNING", 10);
   runs_->on_row(R"({"t":10.5,"f":3.25})");
+  runs_->on_cell(json::parse(R"({"t":10.6,"hook":[1,2,3]})"));
   runs_->on_task("insert", "SUCCEEDED", 11);
   auto r = client_->Get("/api/runs", as(kVic));
   ASSERT_TRUE(r);
@@ -160,6 +170,11 @@ TEST_F(HttpApiTest, RunsServeTheirPlotsFromDiskToViewers) {
   EXPECT_EQ(r->status, 404);
   EXPECT_NE(body(r)["error"].get<std::string>().find("'other'"), std::string::npos);
   EXPECT_EQ(client_->Get("/api/runs/insert/plots")->status, 401);
+  r = client_->Get("/api/runs/insert/cell", as(kVic));
+  ASSERT_EQ(r->status, 200);
+  EXPECT_EQ(body(r), json::parse(R"([{"t":10.6,"hook":[1,2,3]}])"));
+  EXPECT_EQ(client_->Get("/api/runs/other/cell", as(kVic))->status, 404);
+  EXPECT_EQ(client_->Get("/api/runs/insert/cell")->status, 401);
 }
 
 TEST_F(HttpApiTest, PublishIsSelectThenConfirmInTimeByTheSameUser) {
@@ -182,6 +197,62 @@ TEST_F(HttpApiTest, PublishIsSelectThenConfirmInTimeByTheSameUser) {
   EXPECT_EQ(r->status, 409);
   EXPECT_NE(body(r)["error"].get<std::string>().find("expired"), std::string::npos);
   EXPECT_EQ(backend_.actions().size(), 1U) << "nothing more was published";
+}
+
+TEST_F(HttpApiTest, ACellRevisionIsCheckedThenConfirmedByAProgrammerAndAudited) {
+  const std::string cell = R"({"cell": {"cell_version": 1, "entities": []}, "comment": "part moved"})";
+  EXPECT_EQ(post("/api/cell/revisions", cell, kOlu)->status, 403);
+  EXPECT_EQ(post("/api/cell/revisions", cell, kVic)->status, 403);
+  EXPECT_EQ(post("/api/cell/revisions", R"({"cell": "not an object"})", kAda)->status, 400);
+  EXPECT_TRUE(backend_.actions().empty()) << "a refused request reached the world model";
+  auto r = post("/api/cell/revisions", cell, kAda);
+  ASSERT_EQ(r->status, 202) << r->body;
+  EXPECT_EQ(body(r)["changes"]["moved"][0]["id"], "part") << "the dry run's diff is shown before the confirmation";
+  const std::string id = body(r)["confirmation_id"];
+  EXPECT_EQ(backend_.actions(), std::vector<std::string>{R"(cell apply dry by console:ada {"cell_version":1,"entities":[]})"});
+  EXPECT_EQ(post("/api/confirm", json{{"confirmation_id", id}}.dump(), kOlu)->status, 409) << "another user's selection";
+  r = post("/api/confirm", json{{"confirmation_id", id}}.dump(), kAda);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(body(r)["cell_revision"], 2);
+  EXPECT_EQ(backend_.actions().back(), R"(cell apply by console:ada {"cell_version":1,"entities":[]})");
+  EXPECT_EQ(post("/api/confirm", json{{"confirmation_id", id}}.dump(), kAda)->status, 409) << "used once";
+  // A rollback, the same two steps.
+  r = post("/api/cell/revisions", R"({"rollback": 1})", kAda);
+  ASSERT_EQ(r->status, 202) << r->body;
+  r = post("/api/confirm", json{{"confirmation_id", body(r)["confirmation_id"]}}.dump(), kAda);
+  EXPECT_EQ(r->status, 200);
+  EXPECT_EQ(backend_.actions().back(), "cell rollback 1 by console:ada");
+  std::ifstream audit(dir_ + "/audit.log");
+  const std::string text((std::istreambuf_iterator<char>(audit)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find(R"("action":"cell apply")"), std::string::npos) << text;
+  EXPECT_NE(text.find("revision 2"), std::string::npos) << text;
+}
+
+TEST_F(HttpApiTest, TheWorldModelsCellCodesBecomeHttpStatuses) {
+  const auto refuse = [](const char* code, const char* why) { return ActionResult{false, why, {{"code", code}, {"cell_revision", 1}}}; };
+  backend_.cell_check_ = refuse("INVALID", "cell.json: /entities/3/model/mass_kg: expected a mass > 0");
+  auto r = post("/api/cell/revisions", R"({"cell": {}})", kAda);
+  EXPECT_EQ(r->status, 422);
+  EXPECT_NE(body(r)["error"].get<std::string>().find("/entities/3/model/mass_kg"), std::string::npos) << r->body;
+  backend_.cell_check_ = refuse("UNKNOWN_REVISION", "no revision 9");
+  EXPECT_EQ(post("/api/cell/revisions", R"({"rollback": 9})", kAda)->status, 404);
+  backend_.cell_check_ = ActionResult{false, "no world model answers cell requests on this domain", {}};
+  EXPECT_EQ(post("/api/cell/revisions", R"({"rollback": 1})", kAda)->status, 503);
+  // A task took hold of the part between the check and the confirmation: 409, and nothing applied.
+  backend_.cell_check_ = backend_.cell_answer_;
+  backend_.cell_answer_ = refuse("HELD_BY_TASK", "part is held by task t1, node root/2");
+  r = post("/api/cell/revisions", R"({"cell": {}})", kAda);
+  ASSERT_EQ(r->status, 202);
+  r = post("/api/confirm", json{{"confirmation_id", body(r)["confirmation_id"]}}.dump(), kAda);
+  EXPECT_EQ(r->status, 409);
+  EXPECT_NE(body(r)["error"].get<std::string>().find("HELD_BY_TASK: part is held by task t1"), std::string::npos) << r->body;
+  // The history and the running revision, for viewers.
+  backend_.cell_answer_ = {true, "", {{"code", "ACCEPTED"}, {"cell_revision", 3}, {"result", {{"revisions", json::array({{{"cell_revision", 3}}})}}}}};
+  r = client_->Get("/api/cell/history", as(kVic));
+  ASSERT_EQ(r->status, 200);
+  EXPECT_EQ(body(r)["cell_revision"], 3);
+  EXPECT_EQ(body(r)["revisions"][0]["cell_revision"], 3);
+  EXPECT_EQ(client_->Get("/api/cell/history")->status, 401);
 }
 
 TEST_F(HttpApiTest, MalformedAndOversizedBodiesAreRefusedBeforeParsing) {

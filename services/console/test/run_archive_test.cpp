@@ -108,6 +108,32 @@ TEST_F(RunArchiveTest, KeepsAtMostMaxRunsAndMaxRows) {
   EXPECT_EQ(json::parse(*archive.rows("task2")).size(), 3u);
 }
 
+TEST_F(RunArchiveTest, CellRowsBeginWithThePictureAndSurviveARestartMidRun) {
+  {
+    RunArchive archive(dir_, {10, 4});
+    archive.on_cell(json::parse(R"({"t": 5, "objects": {"a": {"position_m": [1, 0, 0]}}, "hook": [0, 0, 4]})"));
+    archive.on_cell(json::parse(R"({"t": 6, "objects": {"b": {"position_m": [2, 0, 0]}}})"));
+    archive.on_task("lift", "RUNNING", 7);
+    archive.on_cell(json::parse(R"({"t": 8, "hook": [0, 0, 3]})"));
+  }  // the console stops during the run
+  RunArchive archive(dir_, {10, 4});
+  archive.on_task("lift", "RUNNING", 7);
+  for (double t : {9.0, 10.0, 11.0}) archive.on_cell({{"t", t}, {"hook", {0, 0, 12 - t}}});
+  archive.on_task("lift", "SUCCEEDED", 12);
+  archive.on_cell(json::parse(R"({"t": 13, "hook": [0, 0, 0]})"));  // after the end: not kept
+  const json rows = json::parse(*archive.cell_rows("lift"));
+  ASSERT_EQ(rows.size(), 4u) << rows.dump();  // bounded by max_rows
+  // The first row: everything as it was when the run began, at the run's start.
+  EXPECT_EQ(rows[0]["t"], 7);
+  EXPECT_EQ(rows[0]["objects"].size(), 2u) << rows[0].dump();
+  EXPECT_EQ(rows[0]["hook"][2], 4);
+  EXPECT_EQ(rows[1]["hook"][2], 3);
+  EXPECT_EQ(rows[3]["t"], 10);
+  EXPECT_EQ(archive.runs()[0]["cell_rows"], 4);
+  EXPECT_TRUE(archive.runs()[0]["truncated"].get<bool>());
+  EXPECT_FALSE(archive.cell_rows("other"));
+}
+
 TEST_F(RunArchiveTest, IgnoresWhatItDidNotWrite) {
   fs::create_directories(dir_ / "notes");
   std::ofstream(dir_ / "notes" / "run.json") << "{\"task_id\": \"elsewhere\"}";

@@ -24,9 +24,73 @@ const CAD_HOLES = JSON.parse(env('CAD_HOLES'));
 // above the hole's entry and their near halves, larger in perspective, pull the centroid down-screen.
 // The nearest other hole of the target (0.2 m away) is about 90 px from the highlighted one on screen.
 const HOLE_TOLERANCE_PX = 5;
+// The 3D cell's origin marker: a sphere drawn at the point itself, so its centroid is the projection.
+const CELL_TOLERANCE_PX = 2;
 const result = { holes: {} };
 
 const call = (pathname, options) => consoleRequest(URL_, pathname, options);
+
+// The Tasks page's 3D cell after the task: every object of the world model drawn, each where the world
+// model has it now (the page's poses came by the event stream while the load moved), and the framed
+// target's origin marker on screen where the world model's target position projects.
+async function checkCell3d(page) {
+  const { entities } = (await call('/api/world/entities', { token: tokens.viewer })).json;
+  const world = {};
+  for (const id of entities) {
+    const e = (await call(`/api/world/entity/${encodeURIComponent(id)}`, { token: tokens.viewer })).json;
+    if (e.kind === 'object' && e.pose && e.parent === 'world') world[id] = e.pose.position_m;
+  }
+  const shown = await page.evaluate(() => ({ objects: window.rigger.cell3d.objects, picture: window.rigger.cell3d.picture }));
+  check(Object.keys(world).length >= 2 && Object.keys(world).every((id) => shown.objects.includes(id)),
+    `the 3D cell draws every object of the world model (${shown.objects.join(', ')})`);
+  result.cell3d = { objects: {} };
+  for (const [id, p] of Object.entries(world)) {
+    const q = shown.picture.objects?.[id]?.position_m;
+    const d = q ? Math.hypot(q[0] - p[0], q[1] - p[1], q[2] - p[2]) : Infinity;
+    result.cell3d.objects[id] = { world_m: p, page_m: q, distance_m: d };
+    check(d <= 0.001, `the 3D cell has ${id} within 1 mm of the world model's pose (${(d * 1000).toFixed(2)} mm)`);
+  }
+  check(shown.picture.tool && shown.picture.hook, 'the 3D cell shows the robot\'s tool and the crane\'s hook');
+  await page.click('.cell3d button[data-frame="target"]');
+  const cam = await page.evaluate(() => window.rigger.cell3d.camera);
+  const expected = project(cam.view_projection, cam.width, cam.height, world.target);
+  const seen = await highlightOnScreen(page, '.cell3d .pview canvas');
+  check(seen.at, `the target's origin is marked on screen (${seen.pixels} pixels)`);
+  const distance = Math.hypot(seen.at[0] - expected[0], seen.at[1] - expected[1]);
+  result.cell3d.target_px = { expected_px: expected, seen_px: seen.at, pixels: seen.pixels, distance_px: distance };
+  check(distance <= CELL_TOLERANCE_PX, `the target's marked origin is ${distance.toFixed(1)} px from its world model position's projection`);
+  await page.screenshot({ path: path.join(ART, 'tasks-cell3d.png') });
+  // The cell revisions panel answers (the history, or why the world model gave none) and is checked by axe too.
+  await page.click('summary:has-text("Cell revisions")');
+  await page.waitForFunction(() => /Running revision|Cell revisions:/.test(document.querySelector('details:has(table.revisions) [role=status]')?.textContent || ''));
+  await page.addScriptTag({ path: path.join(MODULES, 'axe-core/axe.min.js') });
+  const axe = await page.evaluate(async () => (await window.axe.run(document)).violations.map((x) => `${x.id}: ${x.help} (${x.nodes.length})`));
+  check(axe.length === 0, `axe-core: no violations on the Tasks page with its 3D cell and revisions open ${JSON.stringify(axe)}`);
+}
+
+// The replay's 3D cell at each step of the slider: what it shows, for console_browser_test.cpp to compare
+// with the physics at the step's journaled time.
+async function replayCell(page, journal) {
+  await page.waitForFunction(() => window.rigger.replay.cell.view?.loaded === true, null, { timeout: 60000 });
+  const rows = await page.evaluate(() => window.rigger.replay.cell.rows.length);
+  check(rows > 0, `the replay has the run's cell rows (${rows})`);
+  result.replay_cell = [];
+  const every = Math.max(1, Math.floor(journal.length / 40));
+  for (let k = 1; k <= journal.length; k += every) {
+    await page.locator('input[type=range]').fill(String(k));
+    const shown = await page.evaluate(() => {
+      const v = window.rigger.replay.cell.view;
+      return { marker: window.rigger.replay.plots.marker, load: v.picture.objects?.load?.position_m, hook: v.picture.hook, tool: v.picture.tool };
+    });
+    result.replay_cell.push({ t: shown.marker, step: k, ...shown });
+  }
+  const off = result.replay_cell.filter((s) => s.marker !== journal[s.step - 1].stamp).map((s) => s.step);
+  check(off.length === 0, `the replay's cell stands at each step's journaled time (${result.replay_cell.length} steps; off at ${off.join(', ')})`);
+  const loads = result.replay_cell.filter((s) => s.load).map((s) => s.load);
+  const spread = loads.length ? Math.max(...loads.map((p) => Math.hypot(p[0] - loads[0][0], p[1] - loads[0][1], p[2] - loads[0][2]))) : 0;
+  check(spread > 0.05, `the replay's load moves with the slider (${(spread * 1000).toFixed(0)} mm)`);
+  await page.screenshot({ path: path.join(ART, 'replay-cell3d.png'), fullPage: true });
+}
 
 // --- refused requests: nothing may reach the controller ---
 let r = await call('/api/recipes', { method: 'POST', body: recipe });
@@ -73,6 +137,10 @@ try {
   logPage('operator', op);
   await op.goto(`${URL_}/?token=${tokens.operator}#/operator`);
   await op.waitForFunction(() => window.rigger?.ready === true, null, { timeout: 60000 });
+
+  // The 3D cell on the Tasks page, open from before the task: its poses come by the event stream.
+  await prog.click('summary:has-text("3D cell")');
+  await prog.waitForFunction(() => window.rigger.cell3d?.loaded === true, null, { timeout: 60000 });
 
   // Publish from the Tasks page: select, then confirm in the dialog.
   await prog.bringToFront();
@@ -154,6 +222,7 @@ try {
   const apiTree = Object.fromEntries(st.json.nodes[TASK].map((n) => [n.node_id, n.state]));
   check(Object.keys(apiTree).every((id) => pageTree.dom[id] === apiTree[id]), `the page shows all ${Object.keys(apiTree).length} nodes in their final state`);
   result.page_tree = pageTree.dom;
+  await checkCell3d(prog);
   await prog.screenshot({ path: path.join(ART, 'tasks.png'), fullPage: true });
 
   // Replay of the finished task.
@@ -173,6 +242,7 @@ try {
   check(replayPlots.marker === journal[Math.floor(steps / 2) - 1].stamp,
     `the replay's plot line stands at the step's journaled time (${replayPlots.marker} vs ${journal[Math.floor(steps / 2) - 1].stamp})`);
   result.replay_plots = { f: await plotted(prog, '|F| (N)', 'replay'), robot_v: await plotted(prog, 'robot tool speed (m/s)', 'replay') };
+  await replayCell(prog, journal);
   await prog.screenshot({ path: path.join(ART, 'replay.png'), fullPage: true });
 
   // Plots of the finished task.

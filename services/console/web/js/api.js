@@ -1,6 +1,7 @@
 // Authentication (the login link's ?token=… kept in sessionStorage), REST calls with the bearer token,
 // and the live store: the console's state snapshot followed by its event stream (SSE), resumed with
 // Last-Event-ID after a reconnect and reloaded when the console says "reset" (restarted console).
+import { mergeCell } from './cell_picture.js';
 
 const params = new URLSearchParams(location.search);
 if (params.has('token')) {
@@ -41,6 +42,8 @@ export class Store {
     this.nodes = new Map();  // task id -> Map(node id -> node)
     this.prompts = new Map();
     this.executors = new Map();
+    this.cell = {};  // where things are (cell_picture.js)
+    this.revision = null;  // the cell's running revision (rigger/world/cell), when the console has seen one
     this.listeners = new Set();
     this.lastId = '';
     this.connected = false;
@@ -60,6 +63,8 @@ export class Store {
     }
     for (const p of snap.prompts) this.prompts.set(p.prompt_id, p);
     for (const e of snap.executors) this.executors.set(e.executor_id, e);
+    this.cell = mergeCell({}, snap.cell);
+    this.revision = snap.revision || null;
     this.lastId = snap.id;
     this.emit('load', snap);
   }
@@ -73,6 +78,10 @@ export class Store {
       if (d.active) this.prompts.set(d.prompt_id, d); else this.prompts.delete(d.prompt_id);
     } else if (type === 'executor') {
       if (d.alive) this.executors.set(d.executor_id, d); else this.executors.delete(d.executor_id);
+    } else if (type === 'cell') {
+      mergeCell(this.cell, d);
+    } else if (type === 'revision') {
+      this.revision = d;
     }
     this.emit(type, d);
   }
@@ -86,7 +95,7 @@ export class Store {
     const link = this.indicator ? document.getElementById('link') : null;
     es.onopen = () => { this.connected = true; if (link) { link.textContent = 'live'; link.className = 'link live'; } };
     es.onerror = () => { this.connected = false; if (link) { link.textContent = 'reconnecting…'; link.className = 'link down'; } };
-    for (const type of ['task', 'node', 'prompt', 'executor']) {
+    for (const type of ['task', 'node', 'prompt', 'executor', 'cell', 'revision']) {
       es.addEventListener(type, (ev) => { this.lastId = ev.lastEventId; this.apply(type, JSON.parse(ev.data)); });
     }
     // The console restarted (or we fell too far behind): its state is the truth again.

@@ -38,6 +38,19 @@ function isSeam(edge, features) {
   });
 }
 
+/// Sets `object`'s pose from {position_m, quaternion_xyzw} (the world model's) or {position_m, rpy_deg}
+/// (the cell file's: R = Rz(yaw) Ry(pitch) Rx(roll)).
+export function setPose(object, pose) {
+  const p = pose.position_m || [0, 0, 0];
+  object.position.set(p[0], p[1], p[2]);
+  if (pose.quaternion_xyzw) {
+    object.quaternion.set(...pose.quaternion_xyzw);
+  } else {
+    const rpy = (pose.rpy_deg || [0, 0, 0]).map((d) => THREE.MathUtils.degToRad(d));
+    object.rotation.set(rpy[0], rpy[1], rpy[2], 'ZYX');
+  }
+}
+
 export class PartsView {
   constructor(container, onPick) {
     this.container = container;
@@ -147,14 +160,19 @@ export class PartsView {
     return this.parts.get(entity);
   }
 
-  /// A group at the world model's pose of an object. R = Rz(yaw) Ry(pitch) Rx(roll), as the cell file says.
+  /// A group at the world model's pose of an object.
   placed(world) {
     const group = new THREE.Group();
-    const pose = world.pose || world.world_pose || {};
-    const p = pose.position_m || [0, 0, 0], rpy = pose.rpy_deg || [0, 0, 0];
-    group.position.set(p[0], p[1], p[2]);
-    group.rotation.set(THREE.MathUtils.degToRad(rpy[0]), THREE.MathUtils.degToRad(rpy[1]), THREE.MathUtils.degToRad(rpy[2]), 'ZYX');
+    setPose(group, world.pose || world.world_pose || {});
     return group;
+  }
+
+  /// Moves the loaded part `entity` to `pose` ({position_m, quaternion_xyzw | rpy_deg}, world frame).
+  place(entity, pose) {
+    const part = this.parts.get(entity);
+    if (!part) return;
+    setPose(part.group, pose);
+    part.group.updateMatrixWorld(true);
   }
 
   /// An object without a CAD model: a box of its model size (frame at the box's centre, or at the centre
@@ -173,6 +191,13 @@ export class PartsView {
     this.parts.set(entity, { group, meshes: [{ mesh, face: -1 }], edges: [], vertices: [], features: none, parts: [], sha256: '', world, box: true });
     this.render();
     return this.parts.get(entity);
+  }
+
+  /// Takes every part out of the view (a new revision of the cell is drawn afresh).
+  clear() {
+    for (const part of this.parts.values()) this.scene.remove(part.group);
+    this.parts.clear();
+    this.render();
   }
 
   /// Shows or hides a part; a hidden part is not picked.

@@ -2,6 +2,8 @@
 // running nodes, and the task commands (pause/stop: operator; cancel/resume/publish: programmer).
 import { api, store, el, stateBadge, fmtTime, confirmDialog } from './api.js';
 import { TreeView } from './tree.js';
+import { mergeCell } from './cell_picture.js';
+import { cellRevisionsPanel } from './cell_revisions.js';
 
 const TERMINAL = new Set(['SUCCEEDED', 'FAILED', 'CANCELED', 'REJECTED']);
 
@@ -24,7 +26,28 @@ export function tasksPage(main, me) {
     el('textarea', { id: 'recipe-text', rows: '6', cols: '60', 'aria-label': 'Recipe JSON' }),
     el('div', { class: 'toolbar' }, el('button', { class: 'primary', onclick: () => publish() }, 'Publish…'))) : null;
 
-  main.replaceChildren(el('h1', {}, 'Tasks'), el('div', { class: 'cols' },
+  // The 3D cell, drawn once opened (its parts come from the CAD service), then moved by the stream.
+  const cellBox = el('div', { class: 'cell3d' });
+  let cell = null;
+  const cellPanel = el('details', { class: 'panel', ontoggle: () => {
+    if (!cellPanel.open || cell) return;
+    cellBox.textContent = 'Loading the cell…';
+    cell = import('./cell3d.js').then(async ({ Cell3d }) => {
+      const view = new Cell3d(cellBox, say);
+      window.rigger.cell3d = view.state;
+      view.picture = store.cell;
+      await view.load();
+      return view;
+    }).catch((e) => {
+      say(`3D cell: ${e.message} (close and open the panel to try again)`, true);
+      cell = null;
+      return null;
+    });
+  } }, el('summary', {}, '3D cell'), cellBox);
+
+  const revisions = cellRevisionsPanel(me, (text, bad) => say(text, bad));  // say is defined below
+
+  main.replaceChildren(el('h1', {}, 'Tasks'), cellPanel, revisions.panel, el('div', { class: 'cols' },
     el('section', { class: 'panel', 'aria-labelledby': 'tl' }, el('h2', { id: 'tl' }, 'Tasks'), list,
       el('h2', { id: 'rn' }, 'Running nodes'), running),
     el('section', {}, publishBox, notice, el('div', { class: 'panel' }, el('div', { class: 'toolbar' }, search,
@@ -131,6 +154,8 @@ export function tasksPage(main, me) {
 
   let runningScheduled = false;
   const off = store.on((type, d) => {
+    if ((type === 'cell' || type === 'load') && cell) cell.then((v) => v?.show(store.cell));
+    if (type === 'revision' && cell) cell.then((v) => v?.reload());
     if (type === 'load') { trees.clear(); collectActive(); draw(); return; }
     if (type === 'node') {
       noteActive(d.task_id, d);
@@ -144,5 +169,5 @@ export function tasksPage(main, me) {
     }
   });
   window.rigger.tasksPage = { trees, selected };
-  return off;
+  return () => { off(); revisions.off(); if (cell) cell.then((v) => v?.dispose()); };
 }

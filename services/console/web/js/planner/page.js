@@ -325,8 +325,16 @@ export function plannerPage(main, me) {
     features.load(objects.objects, objects.problem);
     window.rigger.planner.ready = true;
   })();
+  // A new revision of the cell: its parts drawn afresh, the object lists with them.
+  const offRevision = store.on(async (type) => {
+    if (type !== 'revision') return;
+    view.clear();
+    try { await objects.load(); } catch (e) { say(`No parts: the world model did not answer (${e.message})`, true); }
+    form.render();
+    features.load(objects.objects, objects.problem);
+  });
   return () => {
     clearTimeout(timer); history.close(); clearTimeout(libraryTimer); offLibrary(); offKeys();
-    rehearsal.close(); delete window.rigger.planner;
+    rehearsal.close(); offRevision(); delete window.rigger.planner;
   };
 }

@@ -1,0 +1,114 @@
+// The console's cell revision routes: the running revision and the history (viewers), and a new revision
+// (a cell document, or a rollback to an earlier revision) in two steps, programmers only: the first call
+// has the world model check it without changing anything (a dry run) and answers what would change with
+// a confirmation id; POST /api/confirm applies it. The world model's refusals keep their reason.
+#include <httplib.h>
+
+#include "http_api.hpp"
+#include "http_replies.hpp"
+
+namespace rigger::console {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+namespace cell_code = world_protocol::cell_code;
+
+namespace {
+
+// The world model's codes as HTTP: a revision that touches what a running task holds conflicts with the
+// cell's state (409, as does one that changes nothing); a document that breaks a rule is unprocessable
+// (422, the message naming file and JSON pointer).
+int http_status(const std::string& code) {
+  if (code == cell_code::kHeldByTask || code == cell_code::kUnchanged) return 409;
+  if (code == cell_code::kInvalid) return 422;
+  if (code == cell_code::kUnknownRevision) return 404;
+  if (code == cell_code::kTooLarge) return 413;
+  if (code == cell_code::kBadRequest) return 400;
+  return 503;  // no world model answered
+}
+
+world_protocol::CellRequest request_of(const json& payload, const std::string& who, bool dry_run) {
+  world_protocol::CellRequest q;
+  q.op = payload.at("op") == "rollback" ? world_protocol::CellOp::kRollback : world_protocol::CellOp::kApply;
+  q.cell_json = payload.value("cell_json", "");
+  q.revision = payload.value("revision", std::uint64_t{0});
+  q.comment = payload.value("comment", "");
+  q.who = who;
+  q.dry_run = dry_run;
+  return q;
+}
+
+}  // namespace
+
+void HttpApi::send_cell_answer(const httplib::Request& req, httplib::Response& res, const ActionResult& r) {
+  if (r.ok) return send_json(res, r.data.value("result", json::object()));
+  const std::string code = r.data.is_object() ? r.data.value("code", "") : "";
+  send_error(res, http_status(code), code.empty() ? r.message : code + ": " + r.message, req.path);
+}
+
+void HttpApi::get_cell(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kViewer)) return;
+  world_protocol::CellRequest q;
+  q.op = world_protocol::CellOp::kShow;
+  send_cell_answer(req, res, backend_.cell_request(q));
+}
+
+void HttpApi::get_cell_history(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kViewer)) return;
+  world_protocol::CellRequest q;
+  q.op = world_protocol::CellOp::kHistory;
+  const auto r = backend_.cell_request(q);
+  if (!r.ok) return send_cell_answer(req, res, r);
+  json out = r.data.value("result", json::object());
+  out["cell_revision"] = r.data.value("cell_revision", std::uint64_t{0});
+  send_json(res, out);
+}
+
+void HttpApi::post_cell_revision(const httplib::Request& req, httplib::Response& res) {
+  auto user = who(req, res, Role::kProgrammer);
+  if (!user) return;
+  auto b = body(req, res);
+  if (!b) return;
+  json payload = {{"comment", text_field(*b, "comment")}};
+  std::string target;
+  if (b->contains("cell") && (*b)["cell"].is_object()) {
+    payload["op"] = "apply";
+    payload["cell_json"] = to_text((*b)["cell"]);
+    target = "apply";
+  } else if (b->contains("rollback") && (*b)["rollback"].is_number_unsigned()) {
+    payload["op"] = "rollback";
+    payload["revision"] = (*b)["rollback"];
+    target = "rollback " + std::to_string((*b)["rollback"].get<std::uint64_t>());
+  } else {
+    return send_error(res, 400, "expected {\"cell\": {<a cell document>}} or {\"rollback\": <revision number>}",
+                      req.path);
+  }
+  // The dry run: refused now, with the world model's reason, rather than after the confirmation.
+  const auto check = backend_.cell_request(request_of(payload, "console:" + user->name, true));
+  if (!check.ok) {
+    audit(*user, "select cell " + target, "cell", "refused: " + check.message);
+    return send_cell_answer(req, res, check);
+  }
+  const std::string id =
+      new_confirmation({user->name, "cell", target, to_text(payload), Clock::now() + config_.confirm_timeout});
+  audit(*user, "select cell " + target, "cell", "awaiting confirmation " + id);
+  send_json(res,
+            {{"confirmation_id", id},
+             {"action", "cell " + target},
+             {"cell_revision", check.data.value("cell_revision", std::uint64_t{0})},
+             {"changes", check.data.value("result", json::object())},
+             {"expires_in_s", std::chrono::duration<double>(config_.confirm_timeout).count()}},
+            202);
+}
+
+void HttpApi::confirm_cell(const User& user, const Pending& p, const httplib::Request& req, httplib::Response& res) {
+  const auto r = backend_.cell_request(request_of(json::parse(p.payload), "console:" + user.name, false));
+  const std::uint64_t revision = r.data.is_object() ? r.data.value("cell_revision", std::uint64_t{0}) : 0;
+  audit(user, "cell " + p.task_id, "cell", r.ok ? "revision " + std::to_string(revision) : "refused: " + r.message);
+  if (!r.ok) return send_cell_answer(req, res, r);
+  send_json(res, {{"done", "cell " + p.task_id},
+                  {"cell_revision", revision},
+                  {"changes", r.data.value("result", json::object())}});
+}
+
+}  // namespace rigger::console
