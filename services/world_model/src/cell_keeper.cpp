@@ -37,6 +37,16 @@ cell::CellFile validated(const std::string& text, const fs::path& cell_file, Sta
   return cell;
 }
 
+// The history and the replies are JSON: text that is not UTF-8 cannot go into them.
+bool utf8(const std::string& text) {
+  try {
+    (void)json(text).dump();
+    return true;
+  } catch (const json::type_error&) {
+    return false;
+  }
+}
+
 json everything_added(const cell::CellFile& cell) {
   json added = json::array();
   for (const auto& e : cell.entities) added.push_back(e.id);
@@ -126,6 +136,8 @@ CellOutcome CellKeeper::handle(const world_protocol::CellRequest& request, const
                       std::to_string(kMaxCellCommentBytes) + " bytes"),
             {}};
   }
+  if (!utf8(request.who) || !utf8(request.comment))
+    return {reply(false, code::kBadRequest, "who, comment: expected UTF-8 text"), {}};
   switch (*request.op) {
     case CellOp::kApply:
       if (request.cell_json.empty())

@@ -125,6 +125,9 @@ TEST_F(CellKeeperTest, AnInvalidRevisionIsRefusedWithTheFileAndPointerAndNothing
   unknown.op.reset();
   unknown.wire_op = 9;
   EXPECT_EQ(k.handle(unknown, {}, std::chrono::system_clock::now()).reply.code, "BAD_REQUEST");
+  CellRequest not_utf8 = request(CellOp::kApply, read_text(cell_file_));
+  not_utf8.who = "\xf9\xff";  // would make the history file unwritable JSON
+  EXPECT_EQ(k.handle(not_utf8, {}, std::chrono::system_clock::now()).reply.code, "BAD_REQUEST");
   EXPECT_EQ(k.history().revisions().size(), 1U);
 }
 

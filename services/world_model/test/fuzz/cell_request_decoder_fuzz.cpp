@@ -56,7 +56,7 @@ std::string edited_fixture(FuzzedDataProvider& in) {
       *at = in.ConsumeBool();
       break;
   }
-  return doc.dump();
+  return doc.dump(-1, ' ', false, json::error_handler_t::replace);  // an id may not be UTF-8
 }
 
 }  // namespace
