@@ -1,13 +1,15 @@
 // Cell revisions through the real world_model process and the real riggerctl, on the test's own domain:
 // apply, history, diff, rollback and a restart that comes back on the latest revision; invalid revisions
 // refused with the file and the JSON pointer, the running one untouched; a revision moving an object a
-// running skill holds (a real executor announcement) refused until the run ends.
+// running skill holds (a real executor announcement) refused until the run ends; objects added and removed
+// (their rigger/world/entity instances follow; QUERY_LIST by kind).
 #include <signal.h>
 
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <optional>
+#include <set>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -214,6 +216,46 @@ TEST_F(CellRevisionTest, AnInvalidRevisionIsRefusedWithFileAndPointerAndChangesN
   const CtlOutcome history = ctl("history", {"cell", "history", "--json"});
   EXPECT_EQ(json::parse(history.output)["revisions"].size(), 1U);
   EXPECT_EQ(latest_->cell_revision, 1U);
+}
+
+TEST_F(CellRevisionTest, ARevisionAddsAndRemovesObjectsAndTheEntityTopicFollows) {
+  start_world("wm-a");
+  ASSERT_TRUE(wait_revision(1)) << cell_.logs();
+  std::set<std::string> alive;
+  dds::Reader<rigger_world_EntityState> entities(cell_.participant(), protocol::world::kEntity);
+  cell_.loop().on_data(entities, [&] {
+    entities.take(
+        [&](const rigger_world_EntityState& e, const dds_sample_info_t&) { alive.insert(dds::to_string(e.entity_id)); },
+        [&](const rigger_world_EntityState& key, const dds_sample_info_t&) {
+          alive.erase(dds::to_string(key.entity_id));
+        });
+  });
+  ASSERT_TRUE(cell_.wait_until([&] { return alive.count("part") > 0; }, 10s));
+  json doc = json::parse(original_);
+  json part = doc["entities"][8];
+  part["id"] = "part_2";
+  part["features"].erase("markers");  // marker ids are unique across the cell
+  doc["entities"].erase(8);
+  doc["entities"].push_back(part);
+  CellRequest apply;
+  apply.op = CellOp::kApply;
+  apply.cell_json = doc.dump(2);
+  request(CellRequest{});  // a read answered first: the reply writer knows this reader
+  const CellReply reply = request(apply);
+  ASSERT_TRUE(reply.ok) << reply.code << ": " << reply.message;
+  const json changes = json::parse(reply.result_json)["changes"];
+  EXPECT_EQ(changes["added"], json::array({"part_2"}));
+  EXPECT_EQ(changes["removed"], json::array({"part"}));
+  ASSERT_TRUE(wait_revision(2));
+  EXPECT_TRUE(cell_.wait_until([&] { return alive.count("part") == 0 && alive.count("part_2") > 0; }, 10s));
+
+  world_client::WorldClient client(cell_.participant(), cell_.loop(), null_logger(), "cell-test-list");
+  std::optional<world_client::Reply> objects;
+  client.list(
+      10s, [&](const world_client::Reply& r) { objects = r; }, world_protocol::EntityKind::kObject);
+  ASSERT_TRUE(cell_.wait_until([&] { return objects.has_value(); }, 15s));
+  ASSERT_TRUE(objects->ok) << objects->message;
+  EXPECT_EQ(objects->result, json::array({"load", "part_2", "part_fixture", "target"}));
 }
 
 TEST_F(CellRevisionTest, ARevisionMovingAHeldObjectIsRefusedUntilTheRunEnds) {
