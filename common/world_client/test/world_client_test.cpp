@@ -20,6 +20,8 @@ struct SeenQuery {
   std::uint64_t request_id;
   rigger_world_QueryKind kind;
   double max_age_s;
+  bool has_kind = false;
+  rigger_world_EntityKind list_kind = rigger_world_ENTITY_OBJECT;
 };
 struct SeenUpdate {
   std::string source, entity, parent;
@@ -49,7 +51,8 @@ class WorldClientTest : public ::testing::Test {
     loop_.on_data(queries_, [this] {
       queries_.take([this](const rigger_world_WorldQuery& q, const dds_sample_info_t&) {
         seen_queries_.push_back({dds::to_string(q.client_id), dds::to_string(q.entity_id), dds::to_string(q.frame_id),
-                                 dds::to_string(q.feature_id), q.request_id, q.kind, q.max_age_s});
+                                 dds::to_string(q.feature_id), q.request_id, q.kind, q.max_age_s, q.has_kind,
+                                 q.list_kind});
       });
     });
     loop_.on_data(updates_, [this] {
@@ -115,6 +118,16 @@ TEST_F(WorldClientTest, PoseQueryCarriesTheCorrelationIdAndTheReplyReachesItsCal
   EXPECT_TRUE(got->localized);
   EXPECT_DOUBLE_EQ(got->age_s, 0.25);
   EXPECT_EQ(client_->pending(), 0u);
+}
+
+TEST_F(WorldClientTest, AListCarriesItsKindFilterOnlyWhenGiven) {
+  client_->list(2s, [](const Reply&) {});
+  client_->list(2s, [](const Reply&) {}, world_protocol::EntityKind::kDevice);
+  ASSERT_TRUE(wait_queries(2));
+  EXPECT_EQ(seen_queries_[0].kind, rigger_world_QUERY_LIST);
+  EXPECT_FALSE(seen_queries_[0].has_kind);
+  EXPECT_TRUE(seen_queries_[1].has_kind);
+  EXPECT_EQ(seen_queries_[1].list_kind, rigger_world_ENTITY_DEVICE);
 }
 
 TEST_F(WorldClientTest, RepliesForOtherClientsOrUnknownIdsAreIgnored) {
