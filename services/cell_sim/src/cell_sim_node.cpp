@@ -489,9 +489,7 @@ void CellSimNode::publish_ground_truth(const GroundTruth& truth, WallTime stamp)
     w.tracked = true;
     ground_truth_.write(w);
   };
-  publish("load", truth.pose_world_load);
-  publish("target", truth.pose_world_target);
-  if (truth.pose_world_part) publish("part", *truth.pose_world_part);
+  for (const GroundTruth::Object& object : truth.objects) publish(object.id.c_str(), object.pose_world_object);
 }
 
 void CellSimNode::publish_status(const StatusReport& s, WallTime stamp) {

@@ -40,6 +40,10 @@ const char* refusal_code(sim::CommandStatus status) {
       return "OUT_OF_RANGE";
     case sim::CommandStatus::RejectedUnreachable:
       return "UNREACHABLE";
+    case sim::CommandStatus::RejectedHeld:
+      return "HELD";
+    case sim::CommandStatus::RejectedNotFree:
+      return "NOT_FREE";
     case sim::CommandStatus::Accepted:
       break;
   }
@@ -77,6 +81,7 @@ SimRunner::SimRunner(CellSimConfig config, sim::CellGeometry geometry, SimOutput
   gripper_every_ = steps_per_period(config_.gripper_state_rate_hz, dt);
   truth_every_ = steps_per_period(config_.ground_truth_rate_hz, dt);
   status_every_ = steps_per_period(config_.status_rate_hz, dt);
+  for (const std::string& id : physics_->object_bodies()) truth_.objects.push_back({id, Eigen::Isometry3d::Identity()});
 }
 
 SimRunner::~SimRunner() {
@@ -382,8 +387,8 @@ void SimRunner::publish_due(WallTime now) {
     last_gripper_published_valid_ = true;
   }
   if (steps_ % truth_every_ == 0) {
-    outputs_.publish_ground_truth(
-        {physics_->pose_world_load(), physics_->pose_world_target(), physics_->pose_world_part()}, now);
+    for (GroundTruth::Object& object : truth_.objects) object.pose_world_object = *physics_->pose_world_object(object.id);
+    outputs_.publish_ground_truth(truth_, now);
   }
   if (camera_ && steps_ % camera_every_ == 0) {
     // Every object the camera draws (the boxes), by its entity id, where the physics has it.

@@ -93,12 +93,14 @@ struct MotionReport {
   std::string message;
 };
 
-/// True poses, world frame (tests and benchmarks only).
+/// True poses, world frame (tests and benchmarks only): every object of the cell file, by its entity id,
+/// in the cell file's order; each pose is the object's entity frame.
 struct GroundTruth {
-  Eigen::Isometry3d pose_world_load = Eigen::Isometry3d::Identity();
-  Eigen::Isometry3d pose_world_target = Eigen::Isometry3d::Identity();
-  /// The small part Pick and Place move (box centre); absent when the cell has none.
-  std::optional<Eigen::Isometry3d> pose_world_part;
+  struct Object {
+    std::string id;
+    Eigen::Isometry3d pose_world_object = Eigen::Isometry3d::Identity();
+  };
+  std::vector<Object> objects;
 };
 
 /// The simulator's health, its PLC's registers and the crane's true state. Crane vectors in the
@@ -230,6 +232,7 @@ class SimRunner {
   std::uint64_t last_gripper_command_seq_ = 0;
   bool last_gripper_published_valid_ = false;
   sim::GripperState last_gripper_published_;
+  GroundTruth truth_;  // one entry per object body, made once; poses refreshed at the truth rate
   Eigen::Vector3d load_external_force_n_ = Eigen::Vector3d::Zero();
   std::uint64_t plc_every_ = 1, wrench_every_ = 1, robot_every_ = 1, gripper_every_ = 1, truth_every_ = 1,
                 status_every_ = 1, camera_every_ = 0;

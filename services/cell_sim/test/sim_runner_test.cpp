@@ -109,6 +109,14 @@ TEST_F(SimRunnerTest, PublishesAtTheConfiguredRatesOfSimulatedTime) {
   EXPECT_EQ(out_.robot.size(), 100u);   // 100 Hz
   EXPECT_EQ(out_.status.size(), 100u);  // 100 Hz
   EXPECT_EQ(out_.truths.size(), 50u);   // 50 Hz
+  // Every object of the cell file by its id; the static target where the cell file has it.
+  std::vector<std::string> truth_ids;
+  for (const GroundTruth::Object& object : out_.truths.back().objects) {
+    truth_ids.push_back(object.id);
+    if (object.id == "target")
+      EXPECT_TRUE(object.pose_world_object.isApprox(runner_.geometry().target.pose_world_target, 1e-9));
+  }
+  EXPECT_EQ(truth_ids, (std::vector<std::string>{"load", "target", "part_fixture", "part"}));
   EXPECT_GE(out_.gripper.size(), 10u);  // 10 Hz and on change
   EXPECT_NEAR(out_.status.back().sim_time_s, 1.0, 1e-9);
   EXPECT_EQ(out_.status.back().steps, 1000u);

@@ -3,13 +3,8 @@
 // with six holes as the static target, and three loose parts on the table. The physics builds it, and what
 // it builds behaves: parts settle on the table, the bracket hangs from the rope. Bad objects are refused
 // with the file, the JSON pointer and what was expected.
-#include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
-#include <BRepPrimAPI_MakeBox.hxx>
-#include <BRepPrimAPI_MakeCylinder.hxx>
-#include <BRep_Builder.hxx>
-#include <TopTools_ListOfShape.hxx>
-#include <TopoDS_Compound.hxx>
+#include <TopoDS_Face.hxx>
 #include <gp_Pln.hxx>
 
 #include <gmock/gmock.h>
@@ -28,6 +23,7 @@
 
 #include "rigger/cad/model.hpp"
 #include "rigger/sim/cell_physics.hpp"
+#include "rigger/sim/testing/generated_cell.hpp"
 
 namespace rigger::sim {
 namespace {
@@ -36,98 +32,18 @@ using namespace std::chrono_literals;
 using ::testing::HasSubstr;
 using json = nlohmann::json;
 
-constexpr double kTableTopZ = 0.70;
+using testing::kTableTopZ;
 
-TopoDS_Shape box(const gp_Pnt& low, const gp_Pnt& high) { return BRepPrimAPI_MakeBox(low, high).Shape(); }
-
-// The L bracket: a base plate 0.40 x 0.30 x 0.03 m and a web 0.03 x 0.30 x 0.30 m standing on its -x edge,
-// as two solids (each convex: MuJoCo collides one convex hull per solid).
-TopoDS_Shape l_bracket() {
-  TopoDS_Compound compound;
-  BRep_Builder builder;
-  builder.MakeCompound(compound);
-  builder.Add(compound, box({-0.20, -0.15, 0.0}, {0.20, 0.15, 0.03}));
-  builder.Add(compound, box({-0.20, -0.15, 0.03}, {-0.17, 0.15, 0.33}));
-  return compound;
-}
-
-// The flange plate: 0.50 m across, 0.04 m thick, frame at the centre of its top face, six 22 mm through
-// holes on a 0.36 m bolt circle.
-TopoDS_Shape flange_plate() {
-  const TopoDS_Shape disc = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -0.04), gp::DZ()), 0.25, 0.04).Shape();
-  TopTools_ListOfShape arguments, tools;
-  arguments.Append(disc);
-  for (int k = 0; k < 6; ++k) {
-    const double angle = k * M_PI / 3.0;
-    tools.Append(BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0.18 * std::cos(angle), 0.18 * std::sin(angle), -0.05), gp::DZ()),
-                                          0.011, 0.06)
-                     .Shape());
-  }
-  BRepAlgoAPI_Cut cut;
-  cut.SetArguments(arguments);
-  cut.SetTools(tools);
-  cut.Build();
-  EXPECT_TRUE(cut.IsDone());
-  return cut.Shape();
-}
-
-json pose(double x, double y, double z) { return {{"position_m", {x, y, z}}, {"rpy_deg", {0, 0, 0}}}; }
-
-// A folder with the cell file (the shared cell's devices, these objects) and its models/.
+// The generated cell (rigger_generated_cell) in a folder of its own, removed after the test.
 class GeneratedCell {
  public:
-  GeneratedCell() {
-    char name[] = "/tmp/rigger_generated_cell_XXXXXX";
-    dir_ = ::mkdtemp(name);
-    std::filesystem::create_directories(dir_ / "models");
-    cad::write_step(box({-0.6, -0.4, -kTableTopZ}, {0.6, 0.4, 0.0}), "table", dir_ / "models/table.step");
-    cad::write_step(l_bracket(), "bracket", dir_ / "models/bracket.step");
-    cad::write_step(flange_plate(), "flange", dir_ / "models/flange.step");
-    cad::write_step(box({-0.05, -0.04, -0.03}, {0.05, 0.04, 0.03}), "block", dir_ / "models/block.step");
-    cad::write_step(BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -0.05), gp::DZ()), 0.04, 0.10).Shape(), "roller",
-                    dir_ / "models/roller.step");
+  GeneratedCell() : files_(temp_dir(), RIGGER_CELL_JSON) {}
+  ~GeneratedCell() { std::filesystem::remove_all(files_.dir()); }
 
-    std::ifstream shared(std::string(RIGGER_SOURCE_DIR) + "/deploy/cell/simulated_cell.json");
-    cell_ = json::parse(shared);
-    json devices = json::array();
-    for (const json& entity : cell_["entities"]) {
-      if (entity["kind"] != "object") devices.push_back(entity);
-    }
-    cell_["entities"] = devices;
-    const auto object = [&](const std::string& id, json where, json model) {
-      cell_["entities"].push_back({{"id", id}, {"kind", "object"}, {"parent", "world"}, {"pose", where}, {"model", model}});
-      return cell_["entities"].size() - 1;
-    };
-    object("fixture_table", pose(5.5, 1.0, kTableTopZ), {{"static", true}, {"step", "models/table.step"}});
-    const std::size_t bracket = object("bracket", pose(4.5, 3.5, 2.0), {{"mass_kg", 25.0}, {"step", "models/bracket.step"}});
-    cell_["entities"][bracket]["features"] = {
-        {"rope_attachment", pose(-0.08, 0.0, 0.35)},
-        {"grasp_frames", {{{"id", "grasp_web"}, {"pose", {{"position_m", {-0.20, 0.0, 0.18}}, {"rpy_deg", {0, 90, 0}}}}}}},
-        {"insertion", {{"target", "flange"}, {"pose_in_target", pose(0.0, 0.0, 0.0)}}}};
-    object("flange", pose(4.5, 3.5, 0.04), {{"static", true}, {"step", "models/flange.step"}});
-    // Dropped from 2 mm above the table top.
-    object("part_a", pose(5.2, 0.8, kTableTopZ + 0.032), {{"mass_kg", 2.0}, {"step", "models/block.step"}});
-    object("part_b", pose(5.5, 1.1, kTableTopZ + 0.052), {{"density_kg_m3", 7850.0}, {"step", "models/roller.step"}});
-    object("part_c", pose(5.8, 0.8, kTableTopZ + 0.042),
-           {{"shape", "box"}, {"size_m", {0.12, 0.10, 0.08}}, {"mass_kg", 1.5}});
-  }
-  ~GeneratedCell() { std::filesystem::remove_all(dir_); }
-
-  json& document() { return cell_; }
-  std::filesystem::path dir() const { return dir_; }
-  /// The entity index of `id` in the cell file.
-  std::size_t index_of(const std::string& id) const {
-    for (std::size_t i = 0; i < cell_["entities"].size(); ++i) {
-      if (cell_["entities"][i]["id"] == id) return i;
-    }
-    ADD_FAILURE() << "no entity " << id;
-    return 0;
-  }
-  CellGeometry load() const {
-    const std::filesystem::path path = dir_ / "cell.json";
-    std::ofstream(path) << cell_.dump(2);
-    return load_cell_geometry(path);
-  }
+  json& document() { return files_.document(); }
+  std::filesystem::path dir() const { return files_.dir(); }
+  std::size_t index_of(const std::string& id) const { return files_.index_of(id); }
+  CellGeometry load() const { return load_cell_geometry(files_.write()); }
   std::string error() const {
     try {
       load();
@@ -138,8 +54,11 @@ class GeneratedCell {
   }
 
  private:
-  std::filesystem::path dir_;
-  json cell_;
+  static std::filesystem::path temp_dir() {
+    char name[] = "/tmp/rigger_generated_cell_XXXXXX";
+    return ::mkdtemp(name);
+  }
+  testing::GeneratedCell files_;
 };
 
 TEST(GeneratedCell, HasOneBodyPerObjectPartsSettleOnTheTableAndTheBracketHangs) {
@@ -186,7 +105,47 @@ TEST(GeneratedCell, HasOneBodyPerObjectPartsSettleOnTheTableAndTheBracketHangs) 
   const Eigen::Vector3d attachment_world = bracket * cell.load.pose_load_rope_attachment.translation();
   EXPECT_LT((attachment_world - crane.position_world_hook_m).norm(), 0.01);
   EXPECT_LT(std::abs(crane.sway_angle_rad.x()) + std::abs(crane.sway_angle_rad.y()), 0.01) << "hangs still";
-  EXPECT_GT(bracket.translation().z(), 1.5) << "held above the flange";
+  EXPECT_GT(bracket.translation().z(), cell.target.pose_world_target.translation().z() + 0.1) << "held above the flange";
+  EXPECT_EQ(physics.diagnostics().mujoco_warning_count, 0);
+}
+
+// A cell revision that moves a loose part: the physics puts it there at rest, and it stays; the other
+// parts do not move. What cannot be moved so is refused with the reason: the bracket on the rope, the
+// static flange, an unknown object, a pose that is not one.
+TEST(GeneratedCell, AMovedLoosePartStaysWhereItIsPutAndTheRestIsRefused) {
+  const GeneratedCell files;
+  CellPhysics physics(files.load());
+  physics.step(1s);
+  const Eigen::Isometry3d part_b = *physics.pose_world_object("part_b");
+  Eigen::Isometry3d moved = *physics.pose_world_object("part_a");
+  moved.translation() += Eigen::Vector3d(0.08, -0.12, 0.0);
+  moved.rotate(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()));
+  const CommandResult result = physics.move_free_object("part_a", moved);
+  ASSERT_TRUE(result.ok()) << result.message;
+  EXPECT_LT((physics.pose_world_object("part_a")->translation() - moved.translation()).norm(), 1e-9);
+  physics.step(1s);
+  const Eigen::Isometry3d rests = *physics.pose_world_object("part_a");
+  std::cout << "part_a 1 s after the move: " << 1e3 * (rests.translation() - moved.translation()).norm() << " mm, "
+            << Eigen::AngleAxisd(rests.linear() * moved.linear().transpose()).angle() * 180.0 / M_PI << " deg\n";
+  EXPECT_LT((rests.translation() - moved.translation()).norm(), 1e-3);
+  EXPECT_LT(Eigen::AngleAxisd(rests.linear() * moved.linear().transpose()).angle(), 1e-3);
+  EXPECT_LT((physics.pose_world_object("part_b")->translation() - part_b.translation()).norm(), 2e-4);
+
+  const Eigen::Isometry3d bracket = physics.pose_world_load();
+  const CommandResult on_rope = physics.move_free_object("bracket", moved);
+  EXPECT_EQ(on_rope.status, CommandStatus::RejectedHeld);
+  EXPECT_THAT(on_rope.message, HasSubstr("hangs from the crane's rope"));
+  EXPECT_TRUE(physics.pose_world_load().isApprox(bracket));
+  EXPECT_EQ(physics.move_free_object("flange", moved).status, CommandStatus::RejectedNotFree);
+  EXPECT_EQ(physics.move_free_object("part_z", moved).status, CommandStatus::RejectedNotFree);
+  const Eigen::Isometry3d before_bad = *physics.pose_world_object("part_a");
+  Eigen::Isometry3d bad = moved;
+  bad.translation().x() = NAN;
+  EXPECT_EQ(physics.move_free_object("part_a", bad).status, CommandStatus::RejectedNonFinite);
+  bad = moved;
+  bad.linear() *= 2.0;
+  EXPECT_EQ(physics.move_free_object("part_a", bad).status, CommandStatus::RejectedOutOfRange);
+  EXPECT_TRUE(physics.pose_world_object("part_a")->isApprox(before_bad)) << "a refused move moved the part";
   EXPECT_EQ(physics.diagnostics().mujoco_warning_count, 0);
 }
 

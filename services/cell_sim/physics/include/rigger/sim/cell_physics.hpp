@@ -183,6 +183,15 @@ class CellPhysics {
   [[nodiscard]] std::vector<std::string> object_bodies() const;
   [[nodiscard]] const CellGeometry& geometry() const;
 
+  // ---- cell revisions --------------------------------------------------------------------
+  /// Puts the free object `id` at `pose_world_object` (its entity frame in the world), at rest: its free
+  /// joint's position set, its velocities zeroed, positions and contacts recomputed, as a person who
+  /// moves a part on the table leaves it. Refused, with the reason in the message: a non-finite pose or a
+  /// rotation that is not one (RejectedNonFinite, RejectedOutOfRange); an unknown or static object
+  /// (RejectedNotFree); the object the magnet holds or the crane's load (RejectedHeld). Not thread-safe:
+  /// call on the thread that steps the physics.
+  CommandResult move_free_object(std::string_view id, const Eigen::Isometry3d& pose_world_object);
+
   // ---- fault injection -------------------------------------------------------------------
   /// Changes the magnet's holding force at run time (N, >= 0): a weak or failing grasp.
   CommandResult set_gripper_holding_force(double holding_force_n);

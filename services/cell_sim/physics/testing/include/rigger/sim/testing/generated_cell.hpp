@@ -1,0 +1,55 @@
+#pragma once
+/// @file
+/// A cell the repository does not ship, described only by a cell file and STEP models written with
+/// OpenCascade: a fixture table, an L-shaped 25 kg bracket of two solids on the crane's rope (the load),
+/// a flange plate with six through holes on the table (the target) and three loose parts on the table.
+/// The devices (crane, robot, gripper, camera) are the shipped cell's; the objects stand where the
+/// shipped cell's load and target stand, in the robot's reach and the camera's view.
+///
+/// Every feature a skill needs is a CAD rule over the generated models, with references found by
+/// classifying the written STEP files (as `riggerctl cad inspect` shows them to an integrator):
+/// bracket/grasp_web and bracket/pre_grasp (`face` rule on the web's outer face), the bracket's insertion
+/// on the flange (`mate_faces`: the base plate's bottom on the flange's top), flange/h1..h6 (`hole`).
+/// The rope attachment and the ArUco markers (bracket: 1, 2 on the web; flange: 10, 11 on its top face)
+/// are numbers, as on any cell file.
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace rigger::sim::testing {
+
+/// World z of the fixture table's top face, metres.
+constexpr double kTableTopZ = 0.91;
+
+class GeneratedCell {
+ public:
+  /// Writes the STEP models into `dir`/models (created) and builds the cell document from the devices of
+  /// `shipped_cell` (deploy/cell/simulated_cell.json) and the generated objects. Throws std::runtime_error
+  /// (or cad::CadError) when a model cannot be written or a referenced face is not found.
+  GeneratedCell(std::filesystem::path dir, const std::filesystem::path& shipped_cell);
+
+  /// The cell document; tests may edit it before write().
+  nlohmann::json& document() { return cell_; }
+  const nlohmann::json& document() const { return cell_; }
+  const std::filesystem::path& dir() const { return dir_; }
+
+  /// Writes the document to dir()/cell.json (STEP paths in it are relative to that folder); its path.
+  std::filesystem::path write() const;
+
+  /// The position of `id` in /entities; throws std::out_of_range for an unknown id.
+  std::size_t index_of(const std::string& id) const;
+
+  /// The scenario's recipe (`demo_recipe`: recipes/crane_insert.json) for this cell: its object and
+  /// feature names replaced by the generated cell's (load → bracket, target → flange, the grasp and
+  /// approach features, the flange's six holes), no coordinate in it. task_id becomes `task_id`.
+  nlohmann::json recipe(const nlohmann::json& demo_recipe, const std::string& task_id) const;
+
+ private:
+  std::filesystem::path dir_;
+  nlohmann::json cell_;
+};
+
+}  // namespace rigger::sim::testing

@@ -1,0 +1,150 @@
+// A cell the repository does not ship (rigger_generated_cell: a fixture table, a 25 kg L bracket on the
+// crane, a flange plate with six holes, three loose parts; STEP models written with OpenCascade) brought
+// to the real processes as an integrator brings theirs: every service is given the cell file's path.
+// The simulator, the world model, the CAD service and the tracker start on it; the world model derives
+// the bracket's grasp, approach and insertion and the flange's holes from the STEP models by the cell
+// file's rules; the simulator's ground truth names every object and the loose parts rest on the table.
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "cell_sim_test_support.hpp"
+#include "rigger/dds/conversions.hpp"
+#include "rigger/dds/pubsub.hpp"
+#include "rigger/dds/qos.hpp"
+#include "rigger/protocol/sim.hpp"
+#include "rigger/sim/testing/generated_cell.hpp"
+#include "rigger/testing/cell.hpp"
+#include "world_query_support.hpp"
+
+namespace rigger::testing {
+namespace {
+
+using namespace std::chrono_literals;
+using nlohmann::json;
+using sim::testing::GeneratedCell;
+using sim::testing::kTableTopZ;
+
+Eigen::Vector3d position_of(const json& pose) {
+  const auto& p = pose.at("position_m");
+  return {p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()};
+}
+
+// R = Rz(yaw) Ry(pitch) Rx(roll), the cell file's convention.
+Eigen::Matrix3d rotation_of(const json& pose) {
+  const auto& rpy = pose.at("rpy_deg");
+  const double k = M_PI / 180.0;
+  return (Eigen::AngleAxisd(rpy.at(2).get<double>() * k, Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(rpy.at(1).get<double>() * k, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rpy.at(0).get<double>() * k, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+const json* named(const json& items, const std::string& id) {
+  for (const json& item : items)
+    if (item.value("id", "") == id) return &item;
+  return nullptr;
+}
+
+class GeneratedCellTest : public MultiProcessTest {
+ protected:
+  GeneratedCellTest()
+      : files_(cell_.log_dir() + "/generated", repo_file("deploy/cell/simulated_cell.json")),
+        cell_path_(files_.write()) {}
+
+  /// deploy/config/<name>.json on the generated cell (`key`: the service's cell-file key) with `patch`
+  /// merged in, written to the log folder; its path.
+  std::string config(const std::string& name, const char* key, const json& patch = json::object()) {
+    std::ifstream in(repo_file("deploy/config/" + name + ".json"));
+    json c = json::parse(in);
+    c[key] = cell_path_.string();
+    c.merge_patch(patch);
+    const std::string path = cell_.log_dir() + "/" + name + ".json";
+    std::ofstream(path) << c.dump(2);
+    return path;
+  }
+
+  GeneratedCell files_;
+  std::filesystem::path cell_path_;
+};
+
+TEST_F(GeneratedCellTest, TheServicesStartOnItDeriveItsFeaturesAndSimulateEveryObject) {
+  std::map<std::string, std::vector<Eigen::Isometry3d>> truth;  // every sample, per object
+  dds::Reader<rigger_vision_TrackedPose> truths(cell_.participant(), protocol::sim::kGroundTruth,
+                                                dds::qos::sensor_stream().keep_last(64));
+  cell_.loop().on_data(truths, [&] {
+    truths.take([&](const rigger_vision_TrackedPose& p, const dds_sample_info_t&) {
+      truth[dds::to_string(p.object_id)].push_back(dds::to_domain(p.pose.pose));
+    });
+  });
+  WorldQuery world(cell_);
+  const std::string port = std::to_string(free_tcp_port());
+  cell_.start("cell_sim", "cell_sim", {"--config", config("cell_sim", "cell_file"), "--plc-port", port});
+  cell_.start("world_model", "world_model",
+              {"--config", config("world_model", "cell_config"), "--db", cell_.log_dir() + "/world_model.sqlite"});
+  cell_.start("cad", "cad",
+              {"--id", "cad", "--config",
+               config("cad", "cell_config", {{"allowed_dirs", {(files_.dir() / "models").string()}}})});
+  cell_.start("vision_tracker", "vision_tracker", {"--config", config("vision_tracker", "cell_file")});
+  ASSERT_TRUE(cell_.wait_ready({"cell_sim", "world_model", "cad", "vision_tracker"}, 60s)) << cell_.logs();
+
+  // The bracket's features, derived by the world model from models/bracket.step by the cell file's rules:
+  // the grasp at the centre of the web's outer face, tool z into it (+x), tool x down; the approach 0.10 m
+  // out of the face; the insertion with the base plate's bottom on the flange's top face, centred.
+  const auto bracket = world.features("bracket");
+  ASSERT_TRUE(bracket.has_value()) << "the world model did not answer for the bracket";
+  const json* grasp = named(bracket->at("grasp_frames"), "grasp_web");
+  ASSERT_NE(grasp, nullptr) << bracket->dump();
+  EXPECT_LT((position_of(grasp->at("pose")) - Eigen::Vector3d(-0.20, 0.0, 0.18)).norm(), 1e-6) << grasp->dump();
+  const Eigen::Matrix3d tool = rotation_of(grasp->at("pose"));
+  EXPECT_LT((tool.col(2) - Eigen::Vector3d::UnitX()).norm(), 1e-6) << "tool z into the face";
+  EXPECT_LT((tool.col(0) + Eigen::Vector3d::UnitZ()).norm(), 1e-6) << "tool x down";
+  const json* approach = named(bracket->at("approach_waypoints"), "pre_grasp");
+  ASSERT_NE(approach, nullptr) << bracket->dump();
+  EXPECT_LT((position_of(approach->at("pose")) - Eigen::Vector3d(-0.30, 0.0, 0.18)).norm(), 1e-6);
+  ASSERT_TRUE(bracket->contains("insertion")) << bracket->dump();
+  EXPECT_EQ(bracket->at("insertion").at("target"), "flange");
+  const json& inserted = bracket->at("insertion").at("pose_in_target");
+  EXPECT_LT(position_of(inserted).norm(), 1e-6) << inserted.dump();
+  EXPECT_LT((rotation_of(inserted) - Eigen::Matrix3d::Identity()).norm(), 1e-6) << inserted.dump();
+  EXPECT_EQ(bracket->at("markers").at("items").size(), 2u);
+
+  // The flange's six holes, each at its entry on the top face, on the 0.36 m bolt circle, axis up.
+  const auto flange = world.features("flange");
+  ASSERT_TRUE(flange.has_value()) << "the world model did not answer for the flange";
+  ASSERT_EQ(flange->at("screw_holes").size(), 6u) << flange->dump();
+  for (int k = 0; k < 6; ++k) {
+    const json* hole = named(flange->at("screw_holes"), "h" + std::to_string(k + 1));
+    ASSERT_NE(hole, nullptr) << flange->dump();
+    const Eigen::Vector3d expected(0.18 * std::cos(k * M_PI / 3.0), 0.18 * std::sin(k * M_PI / 3.0), 0.0);
+    EXPECT_LT((position_of(hole->at("pose")) - expected).norm(), 1e-6) << hole->dump();
+    EXPECT_LT((rotation_of(hole->at("pose")).col(2) - Eigen::Vector3d::UnitZ()).norm(), 1e-6) << hole->dump();
+  }
+
+  // The simulator's truth names every object of the file. Over its first 1.5 s (75 samples at 50 Hz) the
+  // loose parts, dropped from 2 mm above the table top, come to rest on it: still over the last 0.5 s.
+  ASSERT_TRUE(cell_.wait_until([&] { return truth["part_c"].size() >= 75; }, 20s)) << "too little ground truth";
+  for (const char* id : {"fixture_table", "bracket", "flange", "part_a", "part_b", "part_c"})
+    EXPECT_GE(truth[id].size(), 50u) << id << " is missing from rigger/sim/ground_truth";
+  const std::map<std::string, double> half_heights = {{"part_a", 0.03}, {"part_b", 0.05}, {"part_c", 0.04}};
+  for (const auto& [id, half_height] : half_heights) {
+    const std::vector<Eigen::Isometry3d>& poses = truth[id];
+    ASSERT_GE(poses.size(), 50u) << id;
+    const Eigen::Vector3d now = poses.back().translation();
+    EXPECT_NEAR(now.z(), kTableTopZ + half_height, 1.5e-3) << id << " is not on the table top";
+    EXPECT_LT((now - poses[poses.size() - 25].translation()).norm(), 2e-4) << id << " still moves";
+  }
+  const Eigen::Vector3d flange_world = truth["flange"].back().translation();
+  EXPECT_LT((flange_world - Eigen::Vector3d(3.55, 2.25, kTableTopZ + 0.04)).norm(), 1e-9) << "the flange is static";
+  EXPECT_LT((truth["bracket"].back().translation().head<2>() - Eigen::Vector2d(3.55, 1.75)).norm(), 0.01);
+}
+
+}  // namespace
+}  // namespace rigger::testing
