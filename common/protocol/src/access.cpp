@@ -88,7 +88,8 @@ std::vector<Grant> build() {
   t.push_back(grant("cell_sim", "the simulated cell (robot, gripper, camera drivers; PLC emulator over Modbus)",
                     {service(), safe_stop_listener(),
                      {names(robot::kWrench, robot::kState, robot::kMotionStatus, robot::kGripperState,
-                            vision::kCameraImage, vision::kCameraInfo, sim::kGroundTruth, sim::kEvent, sim::kStatus),
+                            vision::kCameraImage, vision::kCameraDepth, vision::kCameraInfo, sim::kGroundTruth,
+                            sim::kEvent, sim::kStatus),
                       names(robot::kCmdTwist, robot::kCmdMotion, robot::kGripperCmd, sim::kControl)}}));
   t.push_back(grant("crane_gateway", "the only bridge to the crane PLC (Modbus TCP, outside DDS)",
                     {service(), safe_stop_listener(),
@@ -101,7 +102,7 @@ std::vector<Grant> build() {
   t.push_back(grant("vision_tracker", "the vision tracker",
                     {service(),
                      {names(vision::kTrackerPose),
-                      names(vision::kCameraImage, vision::kCameraInfo, vision::kTrackerCommand)}}));
+                      names(vision::kCameraImage, vision::kCameraDepth, vision::kCameraInfo, vision::kTrackerCommand)}}));
   t.push_back(grant("admittance_control", "admittance control: the only writer of robot twists and crane velocities",
                     {service(), safe_stop_listener(),
                      {names(admittance::kState, robot::kCmdTwist, crane::kCmdVelocity, crane::kControl),

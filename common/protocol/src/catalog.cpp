@@ -135,6 +135,7 @@ const std::vector<TopicInfo>& catalog() {
       info("crane", crane::kCmdVelocity),
       info("crane", crane::kControl),
       info("vision", vision::kCameraImage),
+      info("vision", vision::kCameraDepth),
       info("vision", vision::kCameraInfo),
       info("vision", vision::kTrackerPose),
       info("vision", vision::kTrackerCommand),

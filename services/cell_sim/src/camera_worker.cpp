@@ -1,6 +1,7 @@
 #include "camera_worker.hpp"
 
 #include <cmath>
+#include <exception>
 #include <stdexcept>
 #include <string>
 
@@ -28,12 +29,17 @@ sim::CameraScene resize_camera(sim::CameraScene scene, int width_px, int height_
   return scene;
 }
 
-CameraWorker::CameraWorker(const sim::CameraScene& scene, sim::RenderSettings settings, OnFrame on_frame)
-    : camera_(scene.camera),
-      pose_world_camera_(scene.pose_world_camera),
-      renderer_(scene, std::move(settings)),
-      on_frame_(std::move(on_frame)) {
-  thread_ = std::thread([this] { run(); });
+CameraWorker::CameraWorker(const sim::CameraModel& camera, RendererFactory make_renderer, OnFrame on_frame)
+    : camera_(camera), on_frame_(std::move(on_frame)) {
+  std::exception_ptr start_error;
+  thread_ = std::thread([this, &make_renderer, &start_error] { run(make_renderer, start_error); });
+  std::unique_lock<std::mutex> lock(mutex_);
+  wake_.wait(lock, [this] { return started_; });
+  if (start_error) {
+    lock.unlock();
+    thread_.join();
+    std::rethrow_exception(start_error);
+  }
 }
 
 CameraWorker::~CameraWorker() {
@@ -42,7 +48,7 @@ CameraWorker::~CameraWorker() {
     stop_ = true;
   }
   wake_.notify_all();
-  thread_.join();
+  if (thread_.joinable()) thread_.join();
 }
 
 void CameraWorker::offer(CameraSnapshot snapshot) {
@@ -51,11 +57,29 @@ void CameraWorker::offer(CameraSnapshot snapshot) {
     if (pending_) ++dropped_;
     pending_ = std::move(snapshot);
   }
-  wake_.notify_one();
+  wake_.notify_all();
 }
 
-void CameraWorker::run() {
-  cv::Mat image;
+void CameraWorker::run(const RendererFactory& make_renderer, std::exception_ptr& start_error) {
+  // The renderer is made here, not by the constructor's thread: an OpenGL context is current on
+  // the thread that made it, and MuJoCo's renderer draws with the current one.
+  std::unique_ptr<FrameRenderer> renderer;
+  try {
+    renderer = make_renderer();
+  } catch (...) {
+    start_error = std::current_exception();
+  }
+  if (!renderer && !start_error) {
+    start_error = std::make_exception_ptr(std::logic_error("camera: the renderer factory made no renderer"));
+  }
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    started_ = true;
+  }
+  wake_.notify_all();
+  if (!renderer) return;
+
+  CameraImages images;
   for (;;) {
     CameraSnapshot snapshot;
     {
@@ -65,11 +89,9 @@ void CameraWorker::run() {
       snapshot = std::move(*pending_);
       pending_.reset();
     }
-    // A pose the renderer does not know or cannot use still yields a frame (the background, or the
-    // objects it knows): a camera keeps streaming, and the tracker judges what it sees.
-    renderer_.render(pose_world_camera_, snapshot.poses, image);
+    renderer->render(snapshot, images);
     ++frames_;
-    if (on_frame_) on_frame_(image, snapshot.stamp);
+    if (on_frame_) on_frame_(images, snapshot.stamp);
   }
 }
 

@@ -1,13 +1,15 @@
 #pragma once
 /// @file
-/// The simulated camera's thread: renders a grey image of the load and the target from the poses
-/// the physics thread hands it, so that rendering never slows the physics. No DDS: the frame goes
-/// to a callback (the node publishes it).
+/// The simulated camera's thread: renders the cell from the state the physics thread hands it, so
+/// that rendering never slows the physics. What renders is a FrameRenderer made on the camera
+/// thread itself (an OpenGL context belongs to the thread that made it; camera_renderers.hpp). No
+/// DDS: the frame goes to a callback (the node publishes it).
 
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -17,14 +19,38 @@
 #include "rigger/base/time.hpp"
 #include "rigger/sim/camera_renderer.hpp"
 #include "rigger/sim/camera_scene.hpp"
+#include "rigger/sim/cell_physics.hpp"
 
 namespace rigger::cell_sim {
 
-/// What the camera should see: the object poses of one physics step and when that step happened.
+/// What the camera should see: one physics step's object poses (for the markers) and joint and
+/// mocap positions (for a renderer with its own copy of the model), and when that step happened.
 struct CameraSnapshot {
   std::vector<sim::ObjectPose> poses;  ///< world frame
+  sim::KinematicState state;           ///< empty for a renderer that draws from the poses only
   WallTime stamp{};                    ///< wall time of the physics step (the image's exposure time)
 };
+
+/// One rendered frame.
+struct CameraImages {
+  cv::Mat image_mono8;  ///< CV_8UC1, the camera's size
+  /// CV_32FC1 metres along the optical axis, NaN where nothing was seen; empty when the renderer
+  /// makes no depth image.
+  cv::Mat depth_m;
+};
+
+/// Renders frames on the camera thread. Nothing throws in render(): a pose it cannot use still
+/// yields a frame (the background, or what it knows), since a camera keeps streaming and the
+/// tracker judges what it sees.
+class FrameRenderer {
+ public:
+  virtual ~FrameRenderer() = default;
+  virtual void render(const CameraSnapshot& snapshot, CameraImages& images) = 0;
+};
+
+/// Makes the renderer, called once on the camera thread. May throw (its error fails the worker's
+/// construction).
+using RendererFactory = std::function<std::unique_ptr<FrameRenderer>()>;
 
 /// The scene as configured, with the image size changed to `width` x `height` (0: unchanged) and the
 /// intrinsics scaled with it. @throws std::invalid_argument for a size of another aspect ratio.
@@ -35,10 +61,11 @@ sim::CameraScene resize_camera(sim::CameraScene scene, int width_px, int height_
 /// Thread safety: offer(), frames() and dropped() from any thread; on_frame runs on the camera thread.
 class CameraWorker {
  public:
-  using OnFrame = std::function<void(const cv::Mat& image_mono8, WallTime stamp)>;
+  using OnFrame = std::function<void(const CameraImages& images, WallTime stamp)>;
 
-  /// @throws std::invalid_argument (bad camera or settings, from CameraRenderer).
-  CameraWorker(const sim::CameraScene& scene, sim::RenderSettings settings, OnFrame on_frame);
+  /// Starts the thread and makes the renderer there; returns once it is made.
+  /// @throws whatever make_renderer throws (the thread is joined first).
+  CameraWorker(const sim::CameraModel& camera, RendererFactory make_renderer, OnFrame on_frame);
   ~CameraWorker();
   CameraWorker(const CameraWorker&) = delete;
   CameraWorker& operator=(const CameraWorker&) = delete;
@@ -47,18 +74,16 @@ class CameraWorker {
   std::uint64_t frames() const { return frames_.load(); }
   std::uint64_t dropped() const { return dropped_.load(); }
   const sim::CameraModel& camera() const { return camera_; }
-  const Eigen::Isometry3d& pose_world_camera() const { return pose_world_camera_; }
 
  private:
-  void run();
+  void run(const RendererFactory& make_renderer, std::exception_ptr& start_error);
 
   sim::CameraModel camera_;
-  Eigen::Isometry3d pose_world_camera_;
-  sim::CameraRenderer renderer_;
   OnFrame on_frame_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::optional<CameraSnapshot> pending_;
+  bool started_ = false;
   bool stop_ = false;
   std::atomic<std::uint64_t> frames_{0};
   std::atomic<std::uint64_t> dropped_{0};

@@ -23,6 +23,12 @@ enum class WrenchSource {
   kRaw,       ///< what the sensor between flange and gripper reads, gripper weight included
 };
 
+/// Which renderer draws the camera's images (camera_renderers.hpp).
+enum class CameraRendererKind {
+  kMujoco,  ///< MuJoCo's OpenGL renderer through EGL: everything the physics holds, distortion, depth
+  kRaster,  ///< the rasteriser of the cell file's boxes and markers: no meshes, no distortion, no depth
+};
+
 /// Rates are in simulated time: at a real-time factor of 1 they are wall-clock rates.
 struct CellSimConfig {
   /// The cell description (crane limits, geometry, camera); deploy/cell/simulated_cell.json.
@@ -61,6 +67,7 @@ struct CellSimConfig {
 
   // --- camera
   bool camera_enabled = true;
+  CameraRendererKind camera_renderer = CameraRendererKind::kMujoco;
   std::string camera_id = "camera";
   /// Frames per simulated second; unset: the cell file's rate_hz.
   std::optional<double> camera_rate_hz;

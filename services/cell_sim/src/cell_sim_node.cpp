@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vector>
 
+#include "camera_renderers.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/robot.hpp"
@@ -175,12 +176,31 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
     } catch (const std::invalid_argument& e) {
       ctx.config.fail("camera", e.what());
     }
-    sim::RenderSettings settings;
-    settings.noise_stddev = config_.camera_noise_stddev;
-    settings.blur_sigma_px = config_.camera_blur_sigma_px;
-    settings.albedo = {{"load", 0.62}, {"target", 0.38}};  // the two boxes apart in grey
-    camera_ = std::make_unique<CameraWorker>(
-        *scene, settings, [this](const cv::Mat& image, WallTime stamp) { publish_image(image, stamp); });
+    RendererFactory make_renderer;
+    if (config_.camera_renderer == CameraRendererKind::kRaster) {
+      sim::RenderSettings settings;
+      settings.noise_stddev = config_.camera_noise_stddev;
+      settings.blur_sigma_px = config_.camera_blur_sigma_px;
+      settings.albedo = {{"load", 0.62}, {"target", 0.38}};  // the two boxes apart in grey
+      make_renderer = [scene = *scene, settings] { return make_raster_renderer(scene, settings); };
+    } else {
+      sim::MujocoCameraSettings settings;
+      settings.noise_stddev = config_.camera_noise_stddev;
+      make_renderer = [scene = *scene, settings, model = runner_->copy_physics_model()] {
+        return make_mujoco_renderer(model, scene, settings);
+      };
+      if (!ros2_image_) depth_.emplace(ctx.participant, protocol::vision::kCameraDepth);
+    }
+    try {
+      camera_ = std::make_unique<CameraWorker>(
+          scene->camera, make_renderer, [this](const CameraImages& images, WallTime stamp) { publish_images(images, stamp); });
+    } catch (const sim::GlUnavailableError& e) {
+      // No silent black image: a camera that cannot render stops the start, and says how to go on.
+      ctx.config.fail("camera", std::string("the mujoco renderer cannot start (") + e.what() +
+                                    "); install Mesa's EGL (libegl1, libgl1-mesa-dri) or set camera/renderer to \"raster\"");
+    } catch (const std::invalid_argument& e) {
+      ctx.config.fail("camera", e.what());
+    }
     publish_camera_info(camera_->camera());
     runner_->set_camera(camera_.get(), config_.camera_rate_hz.value_or(scene->camera.rate_hz));
   }
@@ -536,17 +556,27 @@ void CellSimNode::publish_control_result(const ControlResult& result, WallTime s
   sim_event_.write(w);
 }
 
-void CellSimNode::publish_image(const cv::Mat& image_mono8, WallTime stamp) {
-  if (!image_mono8.isContinuous() || image_mono8.type() != CV_8UC1) return;  // the renderer's output is both
+rigger_vision_Image CellSimNode::wire_image(const cv::Mat& image, const char* encoding, WallTime stamp) const {
   rigger_vision_Image w{};
   w.header.stamp = dds::to_wire(stamp);
   w.header.frame_id = const_cast<char*>(config_.camera_id.c_str());
-  w.height = static_cast<std::uint32_t>(image_mono8.rows);
-  w.width = static_cast<std::uint32_t>(image_mono8.cols);
-  w.encoding = const_cast<char*>("mono8");
-  w.is_bigendian = false;
-  w.step = static_cast<std::uint32_t>(image_mono8.step[0]);
-  dds::wire_buffer(w.data, image_mono8.data, image_mono8.total());
+  w.height = static_cast<std::uint32_t>(image.rows);
+  w.width = static_cast<std::uint32_t>(image.cols);
+  w.encoding = const_cast<char*>(encoding);
+  w.is_bigendian = false;  // 32FC1: the host's floats, and rigger runs on little-endian machines
+  w.step = static_cast<std::uint32_t>(image.step[0]);
+  dds::wire_buffer(w.data, image.data, image.total() * image.elemSize());
+  return w;
+}
+
+void CellSimNode::publish_images(const CameraImages& images, WallTime stamp) {
+  const cv::Mat& image_mono8 = images.image_mono8;
+  if (!image_mono8.isContinuous() || image_mono8.type() != CV_8UC1) return;  // the renderers' output is both
+  // Depth first: a reader that has the image of a frame finds its depth already published.
+  if (depth_ && images.depth_m.isContinuous() && images.depth_m.type() == CV_32FC1) {
+    depth_->write(wire_image(images.depth_m, "32FC1", stamp));
+  }
+  const rigger_vision_Image w = wire_image(image_mono8, "mono8", stamp);
   if (!ros2_image_) {
     image_->write(w);
     return;

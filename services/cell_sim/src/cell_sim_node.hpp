@@ -55,7 +55,10 @@ class CellSimNode : public service::Node, private SimOutputs {
   void publish_ground_truth(const GroundTruth& truth, WallTime stamp) override;
   void publish_status(const StatusReport& status, WallTime stamp) override;
   void publish_control_result(const ControlResult& result, WallTime stamp) override;
-  void publish_image(const cv::Mat& image_mono8, WallTime stamp);
+  /// The grey image and (when the renderer makes one) the depth image of one frame, same stamp (camera thread).
+  void publish_images(const CameraImages& images, WallTime stamp);
+  /// `image` on the wire (not copied: valid while `image` is), with the camera's frame id.
+  rigger_vision_Image wire_image(const cv::Mat& image, const char* encoding, WallTime stamp) const;
   void publish_camera_info(const sim::CameraModel& camera);
   void publish_joint_states(const sim::RobotState& state, WallTime stamp);
 
@@ -83,6 +86,8 @@ class CellSimNode : public service::Node, private SimOutputs {
   std::optional<dds::Writer<geometry_msgs_msg_dds__WrenchStamped_>> ros2_wrench_;
   std::optional<dds::Writer<rigger_vision_Image>> image_;
   std::optional<dds::Writer<sensor_msgs_msg_dds__Image_>> ros2_image_;
+  /// rigger/camera/depth: with the mujoco renderer on rigger's topics.
+  std::optional<dds::Writer<rigger_vision_Image>> depth_;
   std::optional<dds::Writer<rigger_robot_RobotState>> robot_state_;
   std::optional<dds::Writer<sensor_msgs_msg_dds__JointState_>> ros2_joint_states_;
   std::optional<dds::Reader<rigger_sensing_TwistCommand>> twist_;

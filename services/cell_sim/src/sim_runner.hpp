@@ -172,6 +172,8 @@ class SimRunner {
   /// The camera to feed `rate_hz` times per simulated second (optional; it must outlive the
   /// runner's thread). Before start().
   void set_camera(CameraWorker* camera, double rate_hz);
+  /// A copy of the physics' compiled model for the camera's renderer. Before start().
+  std::shared_ptr<const mjModel_> copy_physics_model() const { return physics_->copy_model(); }
   /// @throws crane::ModbusError when the Modbus server cannot listen (port in use).
   void start();
   /// Idempotent; leaves the devices safe.

@@ -5,6 +5,7 @@
 #include <condition_variable>
 #include <mutex>
 
+#include "camera_renderers.hpp"
 #include "cell_sim_config.hpp"
 
 namespace rigger::cell_sim {
@@ -46,11 +47,12 @@ class CameraWorkerTest : public ::testing::Test {
     return cv_.wait_for(lock, 10s, [&] { return sizes_.size() >= n; });
   }
   CameraWorker::OnFrame recorder() {
-    return [this](const cv::Mat& image, WallTime stamp) {
+    return [this](const CameraImages& images, WallTime stamp) {
       const std::lock_guard<std::mutex> lock(mutex_);
-      sizes_.push_back(image.size());
+      sizes_.push_back(images.image_mono8.size());
       stamps_.push_back(stamp);
-      means_.push_back(cv::mean(image)[0]);
+      means_.push_back(cv::mean(images.image_mono8)[0]);
+      depths_.push_back(images.depth_m.clone());
       cv_.notify_all();
     };
   }
@@ -59,35 +61,83 @@ class CameraWorkerTest : public ::testing::Test {
   std::vector<cv::Size> sizes_;
   std::vector<WallTime> stamps_;
   std::vector<double> means_;
+  std::vector<cv::Mat> depths_;
 };
+
+RendererFactory raster(const sim::CameraScene& scene, sim::RenderSettings settings = {}) {
+  return [scene, settings] { return make_raster_renderer(scene, settings); };
+}
 
 TEST_F(CameraWorkerTest, RendersEachSnapshotWithItsStamp) {
   const sim::CameraScene scene = resize_camera(cell_scene(), 320, 180);
   sim::RenderSettings settings;
   settings.noise_stddev = 0.0;
-  CameraWorker worker(scene, settings, recorder());
+  CameraWorker worker(scene.camera, raster(scene, settings), recorder());
   const WallTime stamp = WallTime(std::chrono::seconds(1'800'000'000));
   std::vector<sim::ObjectPose> poses;
   for (const auto& object : scene.objects) poses.push_back({object.id, object.pose_world_object});
-  worker.offer({poses, stamp});
+  worker.offer({poses, {}, stamp});
   ASSERT_TRUE(wait_frames(1));
-  worker.offer({{}, stamp + 1s});  // nothing in view: the background only
+  worker.offer({{}, {}, stamp + 1s});  // nothing in view: the background only
   ASSERT_TRUE(wait_frames(2));
   const std::lock_guard<std::mutex> lock(mutex_);
   EXPECT_EQ(sizes_[0], cv::Size(320, 180));
   EXPECT_EQ(stamps_[0], stamp);
   EXPECT_EQ(stamps_[1], stamp + 1s);
   EXPECT_NE(means_[0], means_[1]);  // the boxes changed the picture
+  EXPECT_TRUE(depths_[0].empty());   // the rasteriser makes no depth image
   EXPECT_EQ(worker.frames(), 2u);
+}
+
+TEST_F(CameraWorkerTest, ARendererThatCannotStartFailsTheConstruction) {
+  const sim::CameraScene scene = cell_scene();
+  const RendererFactory no_gl = []() -> std::unique_ptr<FrameRenderer> {
+    throw sim::GlUnavailableError("eglInitialize failed");
+  };
+  EXPECT_THROW(CameraWorker(scene.camera, no_gl, recorder()), sim::GlUnavailableError);
+  EXPECT_THROW(CameraWorker(scene.camera, [] { return std::unique_ptr<FrameRenderer>(); }, recorder()),
+               std::logic_error);
+}
+
+TEST_F(CameraWorkerTest, MujocoRendersThePhysicsStateOnItsOwnModelCopy) {
+  const sim::CameraScene scene = resize_camera(cell_scene(), 320, 180);
+  sim::CellPhysics physics(sim::load_cell_geometry(default_cell_file()));
+  sim::MujocoCameraSettings settings;
+  settings.noise_stddev = 0.0;
+  CameraWorker worker(
+      scene.camera, [&, model = physics.copy_model()] { return make_mujoco_renderer(model, scene, settings); },
+      recorder());
+  CameraSnapshot snapshot;
+  snapshot.stamp = WallTime(std::chrono::seconds(1'800'000'000));
+  physics.copy_kinematic_state(snapshot.state);
+  worker.offer(snapshot);
+  ASSERT_TRUE(wait_frames(1));
+  // The crane's hook and the load hang from the bridge: move the bridge's joint far along and the
+  // picture changes, although the physics (whose model the renderer copied) did not move.
+  CameraSnapshot moved = snapshot;
+  moved.stamp += 1s;
+  for (double& q : moved.state.qpos) q += 0.3;
+  worker.offer(moved);
+  ASSERT_TRUE(wait_frames(2));
+  const std::lock_guard<std::mutex> lock(mutex_);
+  EXPECT_EQ(sizes_[0], cv::Size(320, 180));
+  EXPECT_EQ(stamps_[1], snapshot.stamp + 1s);
+  ASSERT_EQ(depths_[0].type(), CV_32FC1);
+  EXPECT_EQ(depths_[0].size(), cv::Size(320, 180));
+  double min_m = 0.0, max_m = 0.0;
+  cv::minMaxIdx(depths_[0], &min_m, &max_m, nullptr, nullptr, depths_[0] == depths_[0]);  // finite pixels
+  EXPECT_GT(min_m, 0.1);
+  EXPECT_LT(max_m, 100.0);
+  EXPECT_NE(means_[0], means_[1]);
 }
 
 TEST_F(CameraWorkerTest, SnapshotsOfferedWhileBusyReplaceEachOther) {
   const sim::CameraScene scene = cell_scene();  // full size: slow enough to be busy
-  CameraWorker worker(scene, {}, recorder());
+  CameraWorker worker(scene.camera, raster(scene), recorder());
   std::vector<sim::ObjectPose> poses;
   for (const auto& object : scene.objects) poses.push_back({object.id, object.pose_world_object});
   constexpr int kOffers = 20;
-  for (int i = 0; i < kOffers; ++i) worker.offer({poses, WallTime(std::chrono::seconds(i))});
+  for (int i = 0; i < kOffers; ++i) worker.offer({poses, {}, WallTime(std::chrono::seconds(i))});
   // Every offer is either rendered or dropped, and the last one is always rendered.
   ASSERT_TRUE(wait_frames(1));
   std::unique_lock<std::mutex> lock(mutex_);

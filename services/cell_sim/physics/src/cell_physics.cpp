@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <vector>
 
 #include "cell_mjcf.hpp"
@@ -432,6 +433,20 @@ std::vector<std::string> CellPhysics::object_bodies() const {
     names.emplace_back(mj_id2name(impl_->model.get(), mjOBJ_BODY, object.body));
   }
   return names;
+}
+
+std::shared_ptr<const mjModel_> CellPhysics::copy_model() const {
+  mjModel* copy = mj_copyModel(nullptr, impl_->model.get());
+  if (copy == nullptr) throw std::bad_alloc();
+  return {copy, [](const mjModel* m) { mj_deleteModel(const_cast<mjModel*>(m)); }};
+}
+
+void CellPhysics::copy_kinematic_state(KinematicState& state) const {
+  const mjModel& m = *impl_->model;
+  const mjData& d = *impl_->data;
+  state.qpos.assign(d.qpos, d.qpos + m.nq);
+  state.mocap_pos.assign(d.mocap_pos, d.mocap_pos + 3 * m.nmocap);
+  state.mocap_quat.assign(d.mocap_quat, d.mocap_quat + 4 * m.nmocap);
 }
 
 Eigen::Isometry3d CellPhysics::pose_world_target() const {

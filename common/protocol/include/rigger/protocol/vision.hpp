@@ -13,6 +13,17 @@ inline constexpr Topic<rigger_vision_Image> kCameraImage{
     "rigger/camera/image", QosProfile::kSensorStream,     "", "camera driver / cell_sim",
     "vision_tracker",      "(sensor_msgs layout, mono8)", ""};
 
+/// cell_sim → tests and recorders (observer); the tracker may read it. Same type as the image.
+inline constexpr Topic<rigger_vision_Image> kCameraDepth{
+    "rigger/camera/depth",
+    QosProfile::kSensorStream,
+    "",
+    "cell_sim (`camera/renderer` mujoco)",
+    "vision_tracker (granted), observer",
+    "(32FC1: metres along the optical axis, NaN where nothing was seen; the stamp and frame id of the image of "
+    "the same frame)",
+    ""};
+
 /// camera driver / cell_sim → nothing in rigger: the tracker takes the intrinsics from the cell file.
 inline constexpr Topic<rigger_vision_CameraInfo> kCameraInfo{
     "rigger/camera/info",

@@ -21,7 +21,17 @@
 #include "rigger/sim/magnet_grip.hpp"
 #include "rigger/sim/physics_types.hpp"
 
+struct mjModel_;  // MuJoCo's compiled model (mujoco/mjmodel.h), for a renderer's copy
+
 namespace rigger::sim {
+
+/// What poses every body of the model: the joint positions and the mocap bodies' poses (MuJoCo's
+/// qpos, mocap_pos, mocap_quat). A renderer with its own copy of the model runs its kinematics on it.
+struct KinematicState {
+  std::vector<double> qpos;
+  std::vector<double> mocap_pos;
+  std::vector<double> mocap_quat;
+};
 
 /// The MJCF cannot be loaded or lacks an element the physics needs.  what() names the file and
 /// the element (or quotes MuJoCo's compiler message).
@@ -191,6 +201,15 @@ class CellPhysics {
   /// (RejectedNotFree); the object the magnet holds or the crane's load (RejectedHeld). Not thread-safe:
   /// call on the thread that steps the physics.
   CommandResult move_free_object(std::string_view id, const Eigen::Isometry3d& pose_world_object);
+
+  // ---- rendering -------------------------------------------------------------------------
+  /// A copy of the compiled model (mj_copyModel) for a renderer on another thread: it shares
+  /// nothing with the physics, so the renderer needs no lock, only a KinematicState per frame.
+  /// Freed by mj_deleteModel when the last owner lets go.
+  [[nodiscard]] std::shared_ptr<const mjModel_> copy_model() const;
+  /// The current joint and mocap positions into `state` (its vectors are reused: no allocation
+  /// after the first call).
+  void copy_kinematic_state(KinematicState& state) const;
 
   // ---- fault injection -------------------------------------------------------------------
   /// Changes the magnet's holding force at run time (N, >= 0): a weak or failing grasp.

@@ -1,0 +1,82 @@
+#include "camera_renderers.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+namespace rigger::cell_sim {
+namespace {
+
+class RasterRenderer final : public FrameRenderer {
+ public:
+  RasterRenderer(const sim::CameraScene& scene, sim::RenderSettings settings)
+      : pose_world_camera_(scene.pose_world_camera), renderer_(scene, std::move(settings)) {}
+
+  void render(const CameraSnapshot& snapshot, CameraImages& images) override {
+    renderer_.render(pose_world_camera_, snapshot.poses, images.image_mono8);
+    images.depth_m.release();
+  }
+
+ private:
+  Eigen::Isometry3d pose_world_camera_;
+  sim::CameraRenderer renderer_;
+};
+
+struct DataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+
+class MujocoRenderer final : public FrameRenderer {
+ public:
+  MujocoRenderer(std::shared_ptr<const mjModel> model, const sim::CameraScene& scene,
+                 sim::MujocoCameraSettings settings)
+      : model_(std::move(model)),
+        data_(mj_makeData(model_.get())),
+        pose_world_camera_(scene.pose_world_camera),
+        camera_(*model_, scene, settings) {
+    if (!data_) throw std::bad_alloc();
+    mj_kinematics(model_.get(), data_.get());
+  }
+
+  void render(const CameraSnapshot& snapshot, CameraImages& images) override {
+    const mjModel& m = *model_;
+    mjData& d = *data_;
+    // A state of another model (none: a snapshot without positions) leaves the bodies where they were.
+    const sim::KinematicState& s = snapshot.state;
+    if (s.qpos.size() == static_cast<std::size_t>(m.nq) &&
+        s.mocap_pos.size() == static_cast<std::size_t>(3 * m.nmocap) &&
+        s.mocap_quat.size() == static_cast<std::size_t>(4 * m.nmocap)) {
+      std::copy(s.qpos.begin(), s.qpos.end(), d.qpos);
+      std::copy(s.mocap_pos.begin(), s.mocap_pos.end(), d.mocap_pos);
+      std::copy(s.mocap_quat.begin(), s.mocap_quat.end(), d.mocap_quat);
+      // Positions only: body and geom poses, then what the lights and cameras follow.
+      mj_kinematics(&m, &d);
+      mj_comPos(&m, &d);
+      mj_camlight(&m, &d);
+    }
+    camera_.render(d, pose_world_camera_, snapshot.poses, frame_);
+    images.image_mono8 = frame_.image_mono8;
+    images.depth_m = frame_.depth_m;
+  }
+
+ private:
+  std::shared_ptr<const mjModel> model_;
+  std::unique_ptr<mjData, DataDeleter> data_;
+  Eigen::Isometry3d pose_world_camera_;
+  sim::MujocoCamera camera_;  // after the model it renders: destroyed before it
+  sim::CameraFrame frame_;
+};
+
+}  // namespace
+
+std::unique_ptr<FrameRenderer> make_raster_renderer(const sim::CameraScene& scene, sim::RenderSettings settings) {
+  return std::make_unique<RasterRenderer>(scene, std::move(settings));
+}
+
+std::unique_ptr<FrameRenderer> make_mujoco_renderer(std::shared_ptr<const mjModel> model, const sim::CameraScene& scene,
+                                                    sim::MujocoCameraSettings settings) {
+  if (!model) throw std::invalid_argument("camera: no model to render");
+  return std::make_unique<MujocoRenderer>(std::move(model), scene, settings);
+}
+
+}  // namespace rigger::cell_sim

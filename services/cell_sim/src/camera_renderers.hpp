@@ -1,0 +1,28 @@
+#pragma once
+/// @file
+/// The two renderers of the cell_sim camera (setting `camera/renderer`):
+/// - `mujoco`: MuJoCo's OpenGL renderer, headless through EGL (MujocoCamera): what the physics model
+///   holds (meshes and boxes, robot, crane), lit and shaded, with lens distortion and a depth image.
+///   It renders its own copy of the model, posed by the physics' joint positions of each frame.
+/// - `raster`: the boxes-and-markers rasteriser (CameraRenderer): the cell file's box objects only,
+///   no distortion, no depth; cheap, for box-only cells.
+/// Both are FrameRenderers for the CameraWorker; make them on the camera thread.
+
+#include <memory>
+
+#include "camera_worker.hpp"
+#include "rigger/sim/mujoco_camera.hpp"
+
+namespace rigger::cell_sim {
+
+/// The rasteriser over the scene's box objects. @throws std::invalid_argument (bad scene or settings).
+std::unique_ptr<FrameRenderer> make_raster_renderer(const sim::CameraScene& scene, sim::RenderSettings settings);
+
+/// MuJoCo's renderer over `model` (a copy no other thread uses: CellPhysics::copy_model), with its
+/// own EGL context, current on the calling thread. Each frame sets the snapshot's joint and mocap
+/// positions on its own mjData and runs the kinematics.
+/// @throws sim::GlUnavailableError without EGL or OpenGL; std::invalid_argument for a bad camera.
+std::unique_ptr<FrameRenderer> make_mujoco_renderer(std::shared_ptr<const mjModel> model, const sim::CameraScene& scene,
+                                                    sim::MujocoCameraSettings settings);
+
+}  // namespace rigger::cell_sim
