@@ -222,7 +222,7 @@ CadDerivation derive_cad_features(CellFile& file, const std::filesystem::path& m
 
 CellFile load_cell_file_with_cad(const std::filesystem::path& path, CadDerivation* derivation) {
   CellFile file = load_cell_file(path);
-  CadDerivation stats = derive_cad_features(file, path.parent_path().empty() ? "." : path.parent_path());
+  CadDerivation stats = derive_cad_features(file, cell_model_folder(path));
   if (derivation != nullptr) *derivation = std::move(stats);
   return file;
 }

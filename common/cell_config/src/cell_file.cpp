@@ -127,6 +127,10 @@ Eigen::Vector3d box_centre_in_object_frame(const CellFile& file, const CellEntit
             "\"box centre\", \"centre of the top face\" or \"centre of the bottom face\"", "\"" + frame + "\"");
 }
 
+std::filesystem::path cell_model_folder(const std::filesystem::path& cell_file) {
+  return cell_file.parent_path().empty() ? std::filesystem::path(".") : cell_file.parent_path();
+}
+
 CellFile load_cell_file(const std::filesystem::path& path) {
   const std::string source = path.string();
   std::ifstream file(path, std::ios::binary);

@@ -14,6 +14,7 @@
 #include "rigger/protocol/system.hpp"
 #include "rigger/protocol/task.hpp"
 #include "rigger/protocol/vision.hpp"
+#include "rigger/protocol/world.hpp"
 
 namespace rigger::protocol {
 namespace {
@@ -53,6 +54,17 @@ TEST(AccessTable, EveryTopicHasAWriterAndAReader) {
   }
 }
 
+// Cell revisions: proposed by the user tools only (the programmer's identities), published by the world model
+// only, read by every reader of the cell file.
+TEST(AccessTable, OnlyTheUserToolsProposeCellRevisions) {
+  EXPECT_EQ(writers_of(world::kCellRequest.name), (std::set<std::string>{"console", "riggerctl"}));
+  EXPECT_EQ(writers_of(world::kCell.name), std::set<std::string>{"world_model"});
+  EXPECT_EQ(writers_of(world::kCellReply.name), std::set<std::string>{"world_model"});
+  for (const char* reader : {"cell_sim", "vision_tracker", "admittance_control", "cad", "console"})
+    EXPECT_TRUE(has(find_grant(reader)->subscribe, world::kCell.name)) << reader;
+  EXPECT_TRUE(has(find_grant("world_model")->subscribe, skill::kExecutors.name));
+}
+
 // The access rules of DDS Security (docs/security.md): who may move things and who may start or stop a task.
 TEST(AccessTable, OnlyTheUserToolsCommandTasks) {
   const std::set<std::string> tools{"console", "riggerctl"};
@@ -73,14 +85,15 @@ TEST(AccessTable, OnlyAdmittanceAndSkillsCommandTheRobotAndTheCrane) {
 }
 
 // A real robot behind the ROS 2 bridge: the bridge is the robot's wrench and image source and the reader of the
-// twist stream (and the robot's safe stop, which it obeys), nothing else of rigger's; its rt/ topics come from the cell (deploy/security/ros2.grants).
+// twist stream (and the robot's safe stop, which it obeys), nothing else of rigger's; its rt/ topics come from the cell
+// (deploy/security/ros2.grants).
 TEST(AccessTable, TheRos2BridgeCarriesOnlyTheWrenchJointStatesAndImagesInAndTheTwistOut) {
   const auto* bridge = find_grant("ros2_bridge");
   ASSERT_NE(bridge, nullptr);
   EXPECT_EQ(bridge->publish, (std::vector<std::string>{vision::kCameraImage.name, robot::kState.name,
                                                        robot::kWrench.name, system::kServiceState.name}));
-  EXPECT_EQ(bridge->subscribe, (std::vector<std::string>{robot::kCmdTwist.name, safety::kStop.name,
-                                                         system::kServiceState.name}));
+  EXPECT_EQ(bridge->subscribe,
+            (std::vector<std::string>{robot::kCmdTwist.name, safety::kStop.name, system::kServiceState.name}));
 }
 
 TEST(AccessTable, ObserverWritesNothingButItsAnnouncement) {

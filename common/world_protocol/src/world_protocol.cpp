@@ -49,7 +49,7 @@ rigger_world_EntityKind kind_to_wire(EntityKind kind) {
   return rigger_world_ENTITY_FRAME;
 }
 
-EntityKind kind_from_wire(rigger_world_EntityKind kind) {
+std::optional<EntityKind> known_kind_from_wire(rigger_world_EntityKind kind) {
   switch (kind) {
     case rigger_world_ENTITY_OBJECT:
       return EntityKind::kObject;
@@ -58,7 +58,11 @@ EntityKind kind_from_wire(rigger_world_EntityKind kind) {
     case rigger_world_ENTITY_FRAME:
       return EntityKind::kFrame;
   }
-  return EntityKind::kFrame;
+  return std::nullopt;
+}
+
+EntityKind kind_from_wire(rigger_world_EntityKind kind) {
+  return known_kind_from_wire(kind).value_or(EntityKind::kFrame);
 }
 
 }  // namespace
@@ -71,6 +75,9 @@ void to_wire(const Query& query, rigger_world_WorldQuery& wire) {
   wire.frame_id = dds::wire_string(query.frame_id);
   wire.feature_id = dds::wire_string(query.feature_id);
   wire.max_age_s = query.max_age_s;
+  wire.has_kind = query.list_kind.has_value() || query.list_kind_unknown;
+  wire.list_kind =
+      query.list_kind ? kind_to_wire(*query.list_kind) : static_cast<rigger_world_EntityKind>(query.wire_list_kind);
 }
 
 Query from_wire(const rigger_world_WorldQuery& wire) {
@@ -83,6 +90,11 @@ Query from_wire(const rigger_world_WorldQuery& wire) {
   q.frame_id = dds::to_string(wire.frame_id);
   q.feature_id = dds::to_string(wire.feature_id);
   q.max_age_s = wire.max_age_s;
+  if (wire.has_kind) {
+    q.list_kind = known_kind_from_wire(wire.list_kind);
+    q.list_kind_unknown = !q.list_kind;
+    q.wire_list_kind = static_cast<long long>(wire.list_kind);
+  }
   return q;
 }
 

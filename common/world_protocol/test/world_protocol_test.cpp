@@ -52,6 +52,27 @@ TEST(WorldProtocol, EveryQueryKindRoundTrips) {
   }
 }
 
+TEST(WorldProtocol, AListKindFilterRoundTrips) {
+  Query q;
+  q.kind = QueryKind::kList;
+  rigger_world_WorldQuery wire{};
+  to_wire(q, wire);
+  EXPECT_FALSE(wire.has_kind);
+  EXPECT_FALSE(from_wire(wire).list_kind.has_value());
+  for (EntityKind k : {EntityKind::kObject, EntityKind::kDevice, EntityKind::kFrame}) {
+    q.list_kind = k;
+    to_wire(q, wire);
+    const Query back = from_wire(wire);
+    EXPECT_EQ(back.list_kind, k);
+    EXPECT_FALSE(back.list_kind_unknown);
+  }
+  wire.list_kind = static_cast<rigger_world_EntityKind>(12);
+  const Query unknown = from_wire(wire);
+  EXPECT_FALSE(unknown.list_kind.has_value());
+  EXPECT_TRUE(unknown.list_kind_unknown);
+  EXPECT_EQ(unknown.wire_list_kind, 12);
+}
+
 TEST(WorldProtocol, AnUnknownQueryKindIsKeptForTheMessage) {
   rigger_world_WorldQuery wire{};
   wire.kind = static_cast<rigger_world_QueryKind>(17);

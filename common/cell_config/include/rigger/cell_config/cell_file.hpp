@@ -124,6 +124,12 @@ inline constexpr std::size_t kMaxCellFileBytes = 4 * 1024 * 1024;
 /// JSON nesting deeper than this is refused while parsing.
 inline constexpr int kMaxCellFileDepth = 32;
 
+/// The folder the relative model paths (model.step) of the cell file at `cell_file` resolve against: its
+/// folder ("." when the path has none). A cell document received over DDS (a cell revision) resolves
+/// against the receiving reader's own configured cell file: models travel with the cell folder, only the
+/// document travels on the wire.
+std::filesystem::path cell_model_folder(const std::filesystem::path& cell_file);
+
 /// Reads and validates the cell file at `path`.
 /// @throws CellFileError on an unreadable file or any violation.
 CellFile load_cell_file(const std::filesystem::path& path);

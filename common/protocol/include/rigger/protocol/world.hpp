@@ -51,7 +51,8 @@ inline constexpr Topic<rigger_world_WorldQuery> kQuery{
     "client_id",
     "task_controller, skills",
     "world_model",
-    "(POSE of A — or of its feature_id — in B, IS_LOCALIZED with max age, FEATURES, ENTITY, LIST; request id)",
+    "(POSE of A — or of its feature_id — in B, IS_LOCALIZED with max age, FEATURES, ENTITY, LIST with an optional "
+    "kind; request id)",
     ""};
 
 /// world_model → the querier.
@@ -62,5 +63,38 @@ inline constexpr Topic<rigger_world_WorldReply> kReply{"rigger/world/reply",
                                                        "the querier",
                                                        "(ok or code + message; pose, localized, age, JSON result)",
                                                        ""};
+
+/// world_model → every reader of the cell file (common/cell_follower).
+inline constexpr Topic<rigger_world_CellRevision> kCell{
+    "rigger/world/cell",
+    QosProfile::kState,
+    "",
+    "world_model",
+    "cell_sim, vision_tracker, admittance_control, cad, console",
+    "(the running cell revision: the whole validated cell document, its sha256, the previous revision, what "
+    "changed by entity id, who, comment, stamp; a late joiner gets the last one)",
+    ""};
+
+/// riggerctl, console → world_model.
+inline constexpr Topic<rigger_world_CellRequest> kCellRequest{
+    "rigger/world/cell_request",
+    QosProfile::kCommands,
+    "client_id",
+    "riggerctl, console",
+    "world_model",
+    "(APPLY a cell document, optionally dry run; ROLLBACK to a revision; SHOW a revision; HISTORY; who, comment; "
+    "request id)",
+    ""};
+
+/// world_model → the requester.
+inline constexpr Topic<rigger_world_CellReply> kCellReply{
+    "rigger/world/cell_reply",
+    QosProfile::kEvents,
+    "client_id",
+    "world_model",
+    "the requester",
+    "(ok or code ACCEPTED, INVALID, HELD_BY_TASK, UNKNOWN_REVISION, UNCHANGED, TOO_LARGE, BAD_REQUEST + message; "
+    "the running revision; JSON result)",
+    ""};
 
 }  // namespace rigger::protocol::world

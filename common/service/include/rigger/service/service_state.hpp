@@ -36,6 +36,8 @@ class ServiceAnnouncer {
   /// (run_service does): a process that stalled and recovered is then visible again.
   dds_return_t reannounce();
   const std::string& service_id() const { return service_id_; }
+  /// The last announced status (kStarting before the first announcement).
+  ServiceStatus status() const { return last_status_; }
   /// The announcement writer, for its DDS_LIVELINESS_LOST_STATUS.
   dds_entity_t writer_handle() const { return writer_.handle(); }
 

@@ -42,6 +42,11 @@ struct Query {
   std::string frame_id;    ///< kPose
   std::string feature_id;  ///< kPose: empty for the entity itself
   double max_age_s = 0.0;  ///< kIsLocalized: maximum pose age, s; <= 0: any age
+  /// kList: only entities of this kind; nullopt: all (or, with `list_kind_unknown`, a kind this build does
+  /// not know, held in `wire_list_kind`).
+  std::optional<EntityKind> list_kind;
+  bool list_kind_unknown = false;
+  long long wire_list_kind = 0;
 };
 
 /// rigger/world/reply: the answer to a Query. On !ok, `code` and `message` say why.
