@@ -5,7 +5,7 @@ rigger_targets_exist(_generated_cell_ready ${_generated_cell_services})
 if(_generated_cell_ready AND TARGET rigger_generated_cell AND TARGET rigger_world_client)
   rigger_add_test(rigger_generated_cell_test
     SOURCES generated_cell_test.cpp
-    DEPS rigger_test_harness rigger_generated_cell rigger_world_client Eigen3::Eigen nlohmann_json::nlohmann_json
+    DEPS rigger_test_harness rigger_generated_cell rigger_world_client rigger_world_protocol Eigen3::Eigen nlohmann_json::nlohmann_json
     LABEL integration TIMEOUT 120)
   add_dependencies(rigger_generated_cell_test ${_generated_cell_services})
 endif()

@@ -20,8 +20,10 @@
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/qos.hpp"
 #include "rigger/protocol/sim.hpp"
+#include "rigger/protocol/world.hpp"
 #include "rigger/sim/testing/generated_cell.hpp"
 #include "rigger/testing/cell.hpp"
+#include "rigger/world_protocol/cell_protocol.hpp"
 #include "world_query_support.hpp"
 
 namespace rigger::testing {
@@ -71,8 +73,35 @@ class GeneratedCellTest : public MultiProcessTest {
     return path;
   }
 
+  /// Writes `document` on rigger/world/cell as revision `number` (changes against number - 1), as the world
+  /// model publishes a revision it accepted.
+  void publish_revision(std::uint64_t number, const json& document, const json& changes) {
+    world_protocol::CellRevision r;
+    r.cell_revision = number;
+    r.previous_revision = number - 1;
+    r.cell_json = document.dump(2);
+    r.sha256 = "revision-" + std::to_string(number);
+    r.changes_json = changes.dump();
+    r.who = "generated-cell-test";
+    rigger_world_CellRevision wire{};
+    world_protocol::to_wire(r, wire);
+    ASSERT_EQ(revisions_.write(wire), DDS_RETCODE_OK);
+  }
+
+  /// The detail cell_sim announces in its service state (the follower's outcome), once it contains `text`.
+  bool cell_sim_says(const std::string& text) {
+    return cell_.wait_until(
+        [&] {
+          cell_.directory().update();
+          const auto it = cell_.directory().services().find("cell_sim");
+          return it != cell_.directory().services().end() && it->second.detail.find(text) != std::string::npos;
+        },
+        10s);
+  }
+
   GeneratedCell files_;
   std::filesystem::path cell_path_;
+  dds::Writer<rigger_world_CellRevision> revisions_{cell_.participant(), protocol::world::kCell};
 };
 
 TEST_F(GeneratedCellTest, TheServicesStartOnItDeriveItsFeaturesAndSimulateEveryObject) {
@@ -144,6 +173,61 @@ TEST_F(GeneratedCellTest, TheServicesStartOnItDeriveItsFeaturesAndSimulateEveryO
   const Eigen::Vector3d flange_world = truth["flange"].back().translation();
   EXPECT_LT((flange_world - Eigen::Vector3d(3.55, 2.25, kTableTopZ + 0.04)).norm(), 1e-9) << "the flange is static";
   EXPECT_LT((truth["bracket"].back().translation().head<2>() - Eigen::Vector2d(3.55, 1.75)).norm(), 0.01);
+}
+
+// cell_sim follows the cell's revisions: one that moves a loose part puts it there in the physics (ground
+// truth), at rest; one that moves the bracket on the crane's rope is refused with the reason in cell_sim's
+// service state, and nothing moves.
+TEST_F(GeneratedCellTest, CellSimMovesALoosePartByARevisionAndRefusesToMoveTheBracket) {
+  std::map<std::string, Eigen::Isometry3d> truth;
+  dds::Reader<rigger_vision_TrackedPose> truths(cell_.participant(), protocol::sim::kGroundTruth,
+                                                dds::qos::sensor_stream().keep_last(64));
+  cell_.loop().on_data(truths, [&] {
+    truths.take([&](const rigger_vision_TrackedPose& p, const dds_sample_info_t&) {
+      truth[dds::to_string(p.object_id)] = dds::to_domain(p.pose.pose);
+    });
+  });
+  const std::string port = std::to_string(free_tcp_port());
+  cell_.start("cell_sim", "cell_sim", {"--config", config("cell_sim", "cell_file"), "--plc-port", port});
+  ASSERT_TRUE(cell_.wait_ready({"cell_sim"}, 60s)) << cell_.logs();
+  // Revision 1 is the file cell_sim runs on (the world model's first revision): taken as it is.
+  json cell = files_.document();
+  publish_revision(1, cell, json::object());
+  ASSERT_TRUE(cell_sim_says("cell revision 1")) << cell_.logs();
+
+  // Revision 2 puts part_a 12 cm towards the flange, turned 30 degrees, resting on the table.
+  json& part_a = cell["entities"][files_.index_of("part_a")];
+  part_a["pose"] = {{"position_m", {3.46, 2.66, kTableTopZ + 0.03}}, {"rpy_deg", {0, 0, 30}}};
+  publish_revision(2, cell, {{"moved", {{{"id", "part_a"}, {"distance_m", 0.13}, {"angle_deg", 30}}}}});
+  ASSERT_TRUE(cell_sim_says("cell revision 2")) << cell_.logs();
+  const Eigen::Vector3d goal(3.46, 2.66, kTableTopZ + 0.03);
+  // At rest where the revision put it: the contact's fraction of a millimetre, no slide, no turn.
+  ASSERT_TRUE(cell_.wait_until([&] { return truth.count("part_a") && (truth["part_a"].translation() - goal).norm() < 1e-3; }, 5s))
+      << "part_a is not where revision 2 put it";
+  const Eigen::Isometry3d placed = truth["part_a"];
+  EXPECT_NEAR(Eigen::AngleAxisd(placed.linear()).angle() * 180.0 / M_PI, 30.0, 0.1);
+  const Eigen::Isometry3d bracket = truth["bracket"];
+
+  // Revision 3 moves the bracket, which hangs from the rope: refused, nothing moves.
+  json& bracket_entity = cell["entities"][files_.index_of("bracket")];
+  bracket_entity["pose"]["position_m"][0] = 3.65;
+  publish_revision(3, cell, {{"moved", {{{"id", "bracket"}, {"distance_m", 0.1}, {"angle_deg", 0}}}}});
+  ASSERT_TRUE(cell_sim_says("refused cell revision 3")) << cell_.logs();
+  EXPECT_TRUE(cell_sim_says("hangs from the crane's rope")) << cell_.logs();
+  const std::size_t samples = 10;
+  std::size_t seen = 0;
+  Eigen::Isometry3d last_bracket = bracket;
+  dds::Reader<rigger_vision_TrackedPose> later(cell_.participant(), protocol::sim::kGroundTruth);
+  cell_.loop().on_data(later, [&] {
+    later.take([&](const rigger_vision_TrackedPose& p, const dds_sample_info_t&) {
+      if (dds::to_string(p.object_id) != "bracket") return;
+      last_bracket = dds::to_domain(p.pose.pose);
+      ++seen;
+    });
+  });
+  ASSERT_TRUE(cell_.wait_until([&] { return seen >= samples; }, 5s));
+  EXPECT_LT((last_bracket.translation() - bracket.translation()).norm(), 1e-3) << "the refused revision moved the bracket";
+  EXPECT_LT((truth["part_a"].translation() - placed.translation()).norm(), 2e-4) << "part_a moved after revision 2";
 }
 
 }  // namespace

@@ -188,6 +188,20 @@ void SimRunner::drain_mailbox(WallTime now) {
   }
 }
 
+void SimRunner::apply(const ObjectMovesCommand& command, WallTime now) {
+  (void)now;
+  // All or nothing: a revision half applied would leave the physics on no revision at all.
+  for (const ObjectMove& move : command.moves) {
+    const sim::CommandResult allowed = physics_->can_move_free_object(move.id, move.pose_world_object);
+    if (!allowed.ok()) {
+      command.done->set_value(allowed.message);
+      return;
+    }
+  }
+  for (const ObjectMove& move : command.moves) physics_->move_free_object(move.id, move.pose_world_object);
+  command.done->set_value("");
+}
+
 void SimRunner::apply(const TwistCommand& command, WallTime now) {
   (void)now;
   if (estop_) {

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <future>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "camera_worker.hpp"
+#include "cell_revisions.hpp"
 #include "cell_sim_config.hpp"
 #include "command_gate.hpp"
 #include "physics_crane_axes.hpp"
@@ -68,7 +70,14 @@ struct SimControlCommand {
   std::string source;
 };
 
-using SimCommand = std::variant<TwistCommand, MotionCommand, GripperCommand, SimControlCommand>;
+/// A cell revision's moved objects (plan_revision), applied together or not at all: `done` gets an empty
+/// string once every object is at its new pose, or which object could not be moved and why (nothing moved).
+struct ObjectMovesCommand {
+  std::vector<ObjectMove> moves;
+  std::shared_ptr<std::promise<std::string>> done;
+};
+
+using SimCommand = std::variant<TwistCommand, MotionCommand, GripperCommand, SimControlCommand, ObjectMovesCommand>;
 
 // ---- reports (outputs) -----------------------------------------------------------------------
 
@@ -205,6 +214,7 @@ class SimRunner {
   void apply(const MotionCommand& command, WallTime now);
   void apply(const GripperCommand& command, WallTime now);
   void apply(const SimControlCommand& command, WallTime now);
+  void apply(const ObjectMovesCommand& command, WallTime now);
   void set_estop(bool pressed, WallTime now);
   void reset_physics(WallTime now);
   void track_motion(const sim::RobotState& robot, WallTime now);

@@ -201,6 +201,8 @@ class CellPhysics {
   /// (RejectedNotFree); the object the magnet holds or the crane's load (RejectedHeld). Not thread-safe:
   /// call on the thread that steps the physics.
   CommandResult move_free_object(std::string_view id, const Eigen::Isometry3d& pose_world_object);
+  /// What move_free_object would answer, changing nothing.
+  [[nodiscard]] CommandResult can_move_free_object(std::string_view id, const Eigen::Isometry3d& pose_world_object) const;
 
   // ---- rendering -------------------------------------------------------------------------
   /// A copy of the compiled model (mj_copyModel) for a renderer on another thread: it shares
