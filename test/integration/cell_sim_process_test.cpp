@@ -242,7 +242,8 @@ TEST_F(CellSimProcessTest, CameraPublishesImagesInfoAndGroundTruth) {
       truths[dds::to_string(p.object_id)] = dds::to_domain(p.pose.pose).translation();
     });
   });
-  ASSERT_TRUE(cell_.wait_until([&] { return images > 0 && k && truths.size() == 3; }, 10s));  // load, target, part
+  // Every object of the cell file: load, target, part_fixture, part.
+  ASSERT_TRUE(cell_.wait_until([&] { return images > 0 && k && truths.size() == 4; }, 10s));
   const int first = images;
   cell_.wait_until([] { return false; }, 1s);
   std::cout << "camera: " << images - first << " images in 1 s, " << width << "x" << height << " " << encoding << "\n";
@@ -260,6 +261,8 @@ TEST_F(CellSimProcessTest, CameraPublishesImagesInfoAndGroundTruth) {
   EXPECT_LT((truths["load"] - Eigen::Vector3d(3.55, 1.75, 1.20)).norm(), 0.05);
   // The part of Pick and Place rests on its table (settling into the contact: well under a millimetre).
   EXPECT_LT((truths["part"] - Eigen::Vector3d(3.05, 1.55, 0.66)).norm(), 0.001);
+  EXPECT_LT((truths["part_fixture"] - Eigen::Vector3d(2.90, 1.50, 0.60)).norm(), 1e-6);  // static: exact
+  EXPECT_EQ(truths.size(), 4u);
 }
 
 TEST_F(CellSimProcessTest, MotionAndGripperCommandsAreReported) {

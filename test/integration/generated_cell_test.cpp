@@ -21,7 +21,7 @@
 #include "rigger/dds/qos.hpp"
 #include "rigger/protocol/sim.hpp"
 #include "rigger/protocol/world.hpp"
-#include "rigger/sim/testing/generated_cell.hpp"
+#include "rigger/sim/generated_cell.hpp"
 #include "rigger/testing/cell.hpp"
 #include "rigger/world_protocol/cell_protocol.hpp"
 #include "world_query_support.hpp"
@@ -31,8 +31,8 @@ namespace {
 
 using namespace std::chrono_literals;
 using nlohmann::json;
-using sim::testing::GeneratedCell;
-using sim::testing::kTableTopZ;
+using sim::GeneratedCell;
+constexpr double kTableTopZ = GeneratedCell::kTableTopZ;
 
 Eigen::Vector3d position_of(const json& pose) {
   const auto& p = pose.at("position_m");

@@ -79,4 +79,18 @@ std::unique_ptr<FrameRenderer> make_mujoco_renderer(std::shared_ptr<const mjMode
   return std::make_unique<MujocoRenderer>(std::move(model), scene, settings);
 }
 
+RendererFactory renderer_factory(const CellSimConfig& config, const sim::CameraScene& scene,
+                                 std::shared_ptr<const mjModel> model) {
+  if (config.camera_renderer == CameraRendererKind::kRaster) {
+    sim::RenderSettings settings;
+    settings.noise_stddev = config.camera_noise_stddev;
+    settings.blur_sigma_px = config.camera_blur_sigma_px;
+    settings.albedo = {{"load", 0.62}, {"target", 0.38}};  // the demo cell's two boxes apart in grey
+    return [scene, settings] { return make_raster_renderer(scene, settings); };
+  }
+  sim::MujocoCameraSettings settings;
+  settings.noise_stddev = config.camera_noise_stddev;
+  return [scene, settings, model = std::move(model)] { return make_mujoco_renderer(model, scene, settings); };
+}
+
 }  // namespace rigger::cell_sim

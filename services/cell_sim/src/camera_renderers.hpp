@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "camera_worker.hpp"
+#include "cell_sim_config.hpp"
 #include "rigger/sim/mujoco_camera.hpp"
 
 namespace rigger::cell_sim {
@@ -24,5 +25,10 @@ std::unique_ptr<FrameRenderer> make_raster_renderer(const sim::CameraScene& scen
 /// @throws sim::GlUnavailableError without EGL or OpenGL; std::invalid_argument for a bad camera.
 std::unique_ptr<FrameRenderer> make_mujoco_renderer(std::shared_ptr<const mjModel> model, const sim::CameraScene& scene,
                                                     sim::MujocoCameraSettings settings);
+
+/// The factory of the configured renderer (camera/renderer) with the configured noise (and, for the
+/// rasteriser, blur and the demo cell's albedos). `model`: the physics' copy, for `mujoco` only.
+RendererFactory renderer_factory(const CellSimConfig& config, const sim::CameraScene& scene,
+                                 std::shared_ptr<const mjModel> model);
 
 }  // namespace rigger::cell_sim

@@ -174,7 +174,8 @@ const SettingsTable<CellSimConfig>& cell_sim_settings() {
                        "`mujoco`: MuJoCo's renderer, headless through EGL: every body the physics holds (STEP "
                        "meshes, robot, crane), the cell file's distortion, and `rigger/camera/depth`; the process "
                        "does not start without EGL. `raster`: the cell file's boxes and markers only, no "
-                       "distortion, no depth image; cheaper")),
+                       "distortion, no depth image; cheaper ([decision 0015](decisions/0015-cell-sim-camera-renders-"
+                       "with-mujoco.md))")),
       camera(own_setting<S>(
           "rate_hz", "number", "the cell file's", "[0.1, 60]",
           [](const Config& config, const std::string& key, S& s) {

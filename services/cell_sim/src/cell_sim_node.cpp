@@ -108,42 +108,25 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
   }
 
   if (config_.camera_enabled) {
-    std::optional<sim::CameraScene> scene;
+    const bool mujoco = config_.camera_renderer == CameraRendererKind::kMujoco;
+    if (mujoco && !ros2_image_) depth_.emplace(ctx.participant, protocol::vision::kCameraDepth);
     try {
-      scene = resize_camera(sim::load_camera_scene(config_.cell_file, config_.camera_id), config_.camera_width_px,
-                            config_.camera_height_px);
+      const sim::CameraScene scene = resize_camera(sim::load_camera_scene(config_.cell_file, config_.camera_id),
+                                                   config_.camera_width_px, config_.camera_height_px);
+      camera_ = std::make_unique<CameraWorker>(
+          scene.camera, renderer_factory(config_, scene, mujoco ? runner_->copy_physics_model() : nullptr),
+          [this](const CameraImages& images, WallTime stamp) { publish_images(images, stamp); });
     } catch (const sim::CameraSceneError& e) {
       fail_config(ctx.config, "cell_file", e);
-    } catch (const std::invalid_argument& e) {
-      ctx.config.fail("camera", e.what());
-    }
-    RendererFactory make_renderer;
-    if (config_.camera_renderer == CameraRendererKind::kRaster) {
-      sim::RenderSettings settings;
-      settings.noise_stddev = config_.camera_noise_stddev;
-      settings.blur_sigma_px = config_.camera_blur_sigma_px;
-      settings.albedo = {{"load", 0.62}, {"target", 0.38}};  // the two boxes apart in grey
-      make_renderer = [scene = *scene, settings] { return make_raster_renderer(scene, settings); };
-    } else {
-      sim::MujocoCameraSettings settings;
-      settings.noise_stddev = config_.camera_noise_stddev;
-      make_renderer = [scene = *scene, settings, model = runner_->copy_physics_model()] {
-        return make_mujoco_renderer(model, scene, settings);
-      };
-      if (!ros2_image_) depth_.emplace(ctx.participant, protocol::vision::kCameraDepth);
-    }
-    try {
-      camera_ = std::make_unique<CameraWorker>(
-          scene->camera, make_renderer, [this](const CameraImages& images, WallTime stamp) { publish_images(images, stamp); });
     } catch (const sim::GlUnavailableError& e) {
       // No silent black image: a camera that cannot render stops the start, and says how to go on.
-      ctx.config.fail("camera", std::string("the mujoco renderer cannot start (") + e.what() +
-                                    "); install Mesa's EGL (libegl1, libgl1-mesa-dri) or set camera/renderer to \"raster\"");
+      ctx.config.fail("camera", std::string("the mujoco renderer cannot start: ") + e.what() +
+                                    " Without EGL, set camera/renderer to \"raster\" (the cell file's boxes only)");
     } catch (const std::invalid_argument& e) {
       ctx.config.fail("camera", e.what());
     }
     publish_camera_info(camera_->camera());
-    runner_->set_camera(camera_.get(), config_.camera_rate_hz.value_or(scene->camera.rate_hz));
+    runner_->set_camera(camera_.get(), config_.camera_rate_hz.value_or(camera_->camera().rate_hz));
   }
 
   if (twist_) ctx.loop.on_data(*twist_, [this] { on_twist(); });

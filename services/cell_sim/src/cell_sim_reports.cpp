@@ -170,7 +170,7 @@ void CellSimNode::publish_ground_truth(const GroundTruth& truth, WallTime stamp)
     w.tracked = true;
     ground_truth_.write(w);
   };
-  for (const GroundTruth::Object& object : truth.objects) publish(object.id.c_str(), object.pose_world_object);
+  for (const ObjectTruth& object : truth.objects) publish(object.id.c_str(), object.pose_world_object);
 }
 
 void CellSimNode::publish_status(const StatusReport& s, WallTime stamp) {

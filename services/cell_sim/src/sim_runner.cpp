@@ -401,7 +401,7 @@ void SimRunner::publish_due(WallTime now) {
     last_gripper_published_valid_ = true;
   }
   if (steps_ % truth_every_ == 0) {
-    for (GroundTruth::Object& object : truth_.objects) object.pose_world_object = *physics_->pose_world_object(object.id);
+    for (ObjectTruth& object : truth_.objects) object.pose_world_object = *physics_->pose_world_object(object.id);
     outputs_.publish_ground_truth(truth_, now);
   }
   if (camera_ && steps_ % camera_every_ == 0) {

@@ -102,14 +102,15 @@ struct MotionReport {
   std::string message;
 };
 
-/// True poses, world frame (tests and benchmarks only): every object of the cell file, by its entity id,
-/// in the cell file's order; each pose is the object's entity frame.
+/// One object's true pose: its entity id and the frame the cell file gives it, world frame.
+struct ObjectTruth {
+  std::string id;
+  Eigen::Isometry3d pose_world_object = Eigen::Isometry3d::Identity();
+};
+
+/// True poses of every object of the cell, in the cell file's order (tests and benchmarks only).
 struct GroundTruth {
-  struct Object {
-    std::string id;
-    Eigen::Isometry3d pose_world_object = Eigen::Isometry3d::Identity();
-  };
-  std::vector<Object> objects;
+  std::vector<ObjectTruth> objects;
 };
 
 /// The simulator's health, its PLC's registers and the crane's true state. Crane vectors in the

@@ -108,7 +108,7 @@ class SimRunnerTest : public ::testing::Test {
 TEST_F(SimRunnerTest, ACellRevisionsMovesAreAppliedTogetherOrNotAtAll) {
   runner_.step_for_test(200);
   const auto truth_of = [&](const std::string& id) {
-    for (const GroundTruth::Object& object : out_.truths.back().objects)
+    for (const ObjectTruth& object : out_.truths.back().objects)
       if (object.id == id) return object.pose_world_object;
     ADD_FAILURE() << "no ground truth of " << id;
     return Eigen::Isometry3d::Identity();
@@ -143,7 +143,7 @@ TEST_F(SimRunnerTest, PublishesAtTheConfiguredRatesOfSimulatedTime) {
   EXPECT_EQ(out_.truths.size(), 50u);   // 50 Hz
   // Every object of the cell file by its id; the static target where the cell file has it.
   std::vector<std::string> truth_ids;
-  for (const GroundTruth::Object& object : out_.truths.back().objects) {
+  for (const ObjectTruth& object : out_.truths.back().objects) {
     truth_ids.push_back(object.id);
     if (object.id == "target") {
       EXPECT_TRUE(object.pose_world_object.isApprox(runner_.geometry().target.pose_world_target, 1e-9));
@@ -155,6 +155,17 @@ TEST_F(SimRunnerTest, PublishesAtTheConfiguredRatesOfSimulatedTime) {
   EXPECT_EQ(out_.status.back().steps, 1000u);
   // The external wrench excludes the gripper's weight: at rest, holding nothing, it is about zero.
   EXPECT_LT(out_.last_wrench.force_n.norm(), 2.0);
+}
+
+TEST_F(SimRunnerTest, GroundTruthCoversEveryObjectOfTheCellFile) {
+  runner_.step_for_test(20);
+  ASSERT_FALSE(out_.truths.empty());
+  std::vector<std::string> ids;
+  for (const ObjectTruth& object : out_.truths.back().objects) ids.push_back(object.id);
+  EXPECT_EQ(ids, (std::vector<std::string>{"load", "target", "part_fixture", "part"}));  // the file's order
+  // The target is static: exactly where the file puts it.
+  EXPECT_LT((out_.truths.back().objects[1].pose_world_object.translation() - Eigen::Vector3d(3.55, 2.25, 0.95)).norm(),
+            1e-9);
 }
 
 TEST_F(SimRunnerTest, StatusReportsTheCraneInTheModbusConvention) {

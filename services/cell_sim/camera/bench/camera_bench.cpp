@@ -1,17 +1,18 @@
 // One frame of the demo cell's camera (deploy/cell/simulated_cell.json, 1280 x 720) rendered by
-// MujocoCamera (MuJoCo headless through EGL, the physics' MJCF models/cell.xml at its reference
-// pose), next to CameraRenderer (the boxes-and-markers rasteriser) on the same poses in the same
+// MujocoCamera (MuJoCo headless through EGL, the physics' model of the cell, models/cell.xml with the
+// cell file's objects, at its reference pose), next to CameraRenderer (the boxes-and-markers rasteriser) on the same poses in the same
 // run; and MujocoCamera again with lens distortion (k1 = -0.2), whose pinhole render is larger.
 // Not a test. Figures: median of kFrames frames after one warm-up frame, wall time, milliseconds.
 // `camera_bench DIR` also writes the frames to DIR (mujoco.png, mujoco_distorted.png, depth.png with
 // 1 grey level per 2 cm, rasteriser.png) to look at.
 //
-// The markers sit on the bodies named as the cell file's objects: in models/cell.xml a body's
+// The markers sit on the bodies named as the cell file's objects: in the physics' model a body's
 // frame is its object's frame.
 
 #include "rigger/performance/results.hpp"
 #include "rigger/sim/camera_renderer.hpp"
 #include "rigger/sim/camera_scene.hpp"
+#include "rigger/sim/cell_physics.hpp"
 #include "rigger/sim/mujoco_camera.hpp"
 
 #include <opencv2/imgcodecs.hpp>
@@ -21,6 +22,7 @@
 #include <cstdio>
 #include <exception>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -61,12 +63,10 @@ std::vector<sim::ObjectPose> body_poses(const mjModel& model, const mjData& data
 
 int run(const std::string& save_dir) {
   const sim::CameraScene scene = sim::load_camera_scene(RIGGER_DEMO_CELL_JSON);
-  char error[1000] = "";
-  mjModel* model = mj_loadXML(RIGGER_DEMO_CELL_MJCF, nullptr, error, sizeof error);
-  if (model == nullptr) {
-    std::fprintf(stderr, "camera_bench: %s: %s\n", RIGGER_DEMO_CELL_MJCF, error);
-    return 1;
-  }
+  // The model as the physics generates it (the objects are not in models/cell.xml itself).
+  const std::shared_ptr<const mjModel> model_copy =
+      sim::CellPhysics(sim::load_cell_geometry(RIGGER_DEMO_CELL_JSON)).copy_model();
+  const mjModel* model = model_copy.get();
   mjData* data = mj_makeData(model);
   mj_forward(model, data);
   const std::vector<sim::ObjectPose> poses = body_poses(*model, *data, scene.objects);
@@ -112,7 +112,6 @@ int run(const std::string& save_dir) {
     cv::imwrite(save_dir + "/rasteriser.png", image);
   }
   mj_deleteData(data);
-  mj_deleteModel(model);
 
   std::printf("demo cell %d x %d, %zu objects, %d markers drawn\n", scene.camera.width_px, scene.camera.height_px,
               poses.size(), markers);

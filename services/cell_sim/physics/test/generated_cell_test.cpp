@@ -1,4 +1,4 @@
-// A cell the repository does not ship, described only by a cell file and STEP models written here with
+// A cell the repository does not ship, described only by a cell file and STEP models written with
 // OpenCascade: a fixture table, an L-shaped 25 kg bracket on the crane's rope (two solids), a flange plate
 // with six holes as the static target, and three loose parts on the table. The physics builds it, and what
 // it builds behaves: parts settle on the table, the bracket hangs from the rope. Bad objects are refused
@@ -13,17 +13,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <string>
-#include <unistd.h>
 
 #include "rigger/cad/model.hpp"
 #include "rigger/sim/cell_physics.hpp"
-#include "rigger/sim/testing/generated_cell.hpp"
+#include "rigger/sim/generated_cell.hpp"
 
 namespace rigger::sim {
 namespace {
@@ -32,34 +28,7 @@ using namespace std::chrono_literals;
 using ::testing::HasSubstr;
 using json = nlohmann::json;
 
-using testing::kTableTopZ;
-
-// The generated cell (rigger_generated_cell) in a folder of its own, removed after the test.
-class GeneratedCell {
- public:
-  GeneratedCell() : files_(temp_dir(), RIGGER_CELL_JSON) {}
-  ~GeneratedCell() { std::filesystem::remove_all(files_.dir()); }
-
-  json& document() { return files_.document(); }
-  std::filesystem::path dir() const { return files_.dir(); }
-  std::size_t index_of(const std::string& id) const { return files_.index_of(id); }
-  CellGeometry load() const { return load_cell_geometry(files_.write()); }
-  std::string error() const {
-    try {
-      load();
-    } catch (const CellGeometryError& error) {
-      return error.what();
-    }
-    return "";
-  }
-
- private:
-  static std::filesystem::path temp_dir() {
-    char name[] = "/tmp/rigger_generated_cell_XXXXXX";
-    return ::mkdtemp(name);
-  }
-  testing::GeneratedCell files_;
-};
+constexpr double kTableTopZ = GeneratedCell::kTableTopZ;
 
 TEST(GeneratedCell, HasOneBodyPerObjectPartsSettleOnTheTableAndTheBracketHangs) {
   const GeneratedCell files;

@@ -1,4 +1,6 @@
-#include "rigger/sim/testing/generated_cell.hpp"
+#include "rigger/sim/generated_cell.hpp"
+
+#include <stdlib.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
@@ -19,7 +21,7 @@
 #include "rigger/cad/features.hpp"
 #include "rigger/cad/model.hpp"
 
-namespace rigger::sim::testing {
+namespace rigger::sim {
 namespace {
 
 using json = nlohmann::json;
@@ -146,8 +148,27 @@ void rename(json& node) {
 
 }  // namespace
 
-GeneratedCell::GeneratedCell(std::filesystem::path dir, const std::filesystem::path& shipped_cell)
+GeneratedCell::GeneratedCell() : GeneratedCell(std::string(RIGGER_SOURCE_DIR) + "/deploy/cell/simulated_cell.json") {}
+
+GeneratedCell::GeneratedCell(const std::filesystem::path& shared_cell_json) : remove_dir_(true) {
+  char name[] = "/tmp/rigger_generated_cell_XXXXXX";
+  if (::mkdtemp(name) == nullptr) throw std::runtime_error("generated cell: cannot make a folder under /tmp");
+  dir_ = name;
+  build(shared_cell_json);
+}
+
+GeneratedCell::GeneratedCell(std::filesystem::path dir, const std::filesystem::path& shared_cell_json)
     : dir_(std::move(dir)) {
+  build(shared_cell_json);
+}
+
+GeneratedCell::~GeneratedCell() {
+  if (!remove_dir_) return;
+  std::error_code ignored;
+  std::filesystem::remove_all(dir_, ignored);
+}
+
+void GeneratedCell::build(const std::filesystem::path& shipped_cell) {
   const std::filesystem::path models = dir_ / "models";
   std::filesystem::create_directories(models);
   cad::write_step(box({-0.35, -0.5, -kTableTopZ}, {0.35, 0.5, 0.0}), "table", models / "table.step");
@@ -242,6 +263,17 @@ std::filesystem::path GeneratedCell::write() const {
   return path;
 }
 
+CellGeometry GeneratedCell::load() const { return load_cell_geometry(write()); }
+
+std::string GeneratedCell::error() const {
+  try {
+    load();
+  } catch (const CellGeometryError& error) {
+    return error.what();
+  }
+  return "";
+}
+
 std::size_t GeneratedCell::index_of(const std::string& id) const {
   for (std::size_t i = 0; i < cell_["entities"].size(); ++i) {
     if (cell_["entities"][i]["id"] == id) return i;
@@ -269,4 +301,4 @@ nlohmann::json GeneratedCell::recipe(const nlohmann::json& demo_recipe, const st
   return recipe;
 }
 
-}  // namespace rigger::sim::testing
+}  // namespace rigger::sim

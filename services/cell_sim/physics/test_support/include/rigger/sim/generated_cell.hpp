@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// A cell the repository does not ship, described only by a cell file and STEP models written with
+/// A cell the repository does not ship, for tests and benchmarks, described only by a cell file and STEP models written with
 /// OpenCascade: a fixture table, an L-shaped 25 kg bracket of two solids on the crane's rope (the load),
 /// a flange plate with six through holes on the table (the target) and three loose parts on the table.
 /// The devices (crane, robot, gripper, camera) are the shipped cell's; the objects stand where the
@@ -19,17 +19,26 @@
 
 #include <nlohmann/json.hpp>
 
-namespace rigger::sim::testing {
+#include "rigger/sim/cell_geometry.hpp"
 
-/// World z of the fixture table's top face, metres.
-constexpr double kTableTopZ = 0.91;
+namespace rigger::sim {
 
 class GeneratedCell {
  public:
-  /// Writes the STEP models into `dir`/models (created) and builds the cell document from the devices of
-  /// `shipped_cell` (deploy/cell/simulated_cell.json) and the generated objects. Throws std::runtime_error
-  /// (or cad::CadError) when a model cannot be written or a referenced face is not found.
-  GeneratedCell(std::filesystem::path dir, const std::filesystem::path& shipped_cell);
+  /// World z of the fixture table's top face, metres.
+  static constexpr double kTableTopZ = 0.91;
+
+  /// Writes the STEP models into a new folder under /tmp (removed with this object) and builds the cell
+  /// document from the devices of `shared_cell_json` (default: the repository's
+  /// deploy/cell/simulated_cell.json) and the generated objects. Throws std::runtime_error (or
+  /// cad::CadError) when a model cannot be written or a referenced face is not found.
+  GeneratedCell();
+  explicit GeneratedCell(const std::filesystem::path& shared_cell_json);
+  /// The same into `dir`/models (created), which stays: a test's log folder.
+  GeneratedCell(std::filesystem::path dir, const std::filesystem::path& shared_cell_json);
+  ~GeneratedCell();
+  GeneratedCell(const GeneratedCell&) = delete;
+  GeneratedCell& operator=(const GeneratedCell&) = delete;
 
   /// The cell document; tests may edit it before write().
   nlohmann::json& document() { return cell_; }
@@ -41,6 +50,10 @@ class GeneratedCell {
 
   /// The position of `id` in /entities; throws std::out_of_range for an unknown id.
   std::size_t index_of(const std::string& id) const;
+  /// write(), then the physics' reading of it. @throws CellGeometryError
+  CellGeometry load() const;
+  /// The CellGeometryError load() throws, or "" when it loads.
+  std::string error() const;
 
   /// The scenario's recipe (`demo_recipe`: recipes/crane_insert.json) for this cell: its object and
   /// feature names replaced by the generated cell's (load → bracket, target → flange, the grasp and
@@ -48,8 +61,11 @@ class GeneratedCell {
   nlohmann::json recipe(const nlohmann::json& demo_recipe, const std::string& task_id) const;
 
  private:
+  void build(const std::filesystem::path& shared_cell_json);
+
   std::filesystem::path dir_;
+  bool remove_dir_ = false;
   nlohmann::json cell_;
 };
 
-}  // namespace rigger::sim::testing
+}  // namespace rigger::sim
