@@ -41,7 +41,9 @@ WorldClient::~WorldClient() {
   }
 }
 
-bool WorldClient::connected() const { return queries_.matched_readers() > 0 && replies_.matched_writers() > 0; }
+bool WorldClient::connected() const {
+  return queries_.matched_readers() > 0 && replies_.matched_writers() > 0;
+}
 
 std::uint64_t WorldClient::is_localized(const std::string& entity, double max_age_s, std::chrono::milliseconds timeout,
                                         Callback cb) {
@@ -67,8 +69,11 @@ std::uint64_t WorldClient::entity(const std::string& entity, std::chrono::millis
   return send_query(query_of(world_protocol::QueryKind::kEntity, entity, "", "", 0.0), timeout, std::move(cb));
 }
 
-std::uint64_t WorldClient::list(std::chrono::milliseconds timeout, Callback cb) {
-  return send_query(query_of(world_protocol::QueryKind::kList, "", "", "", 0.0), timeout, std::move(cb));
+std::uint64_t WorldClient::list(std::chrono::milliseconds timeout, Callback cb,
+                                std::optional<world_protocol::EntityKind> kind) {
+  world_protocol::Query q = query_of(world_protocol::QueryKind::kList, "", "", "", 0.0);
+  q.list_kind = kind;
+  return send_query(std::move(q), timeout, std::move(cb));
 }
 
 std::uint64_t WorldClient::update_pose(const std::string& entity, const std::string& parent_frame,

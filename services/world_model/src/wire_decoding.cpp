@@ -10,7 +10,9 @@ namespace {
 
 using nlohmann::json;
 
-DecodeError error(std::string code, std::string message) { return DecodeError{std::move(code), std::move(message)}; }
+DecodeError error(std::string code, std::string message) {
+  return DecodeError{std::move(code), std::move(message)};
+}
 
 // Ids are echoed in messages: clip what we quote so a megabyte of garbage makes a short reason.
 std::string quote_id(const std::string& s) {
@@ -61,7 +63,8 @@ Decoded<EntityUpdate> decode_update(const world_protocol::Update& sent) {
     const Covariance6d& cov = *sent.covariance;
     for (int i = 0; i < 36; ++i) {
       if (!std::isfinite(cov(i / 6, i % 6))) {
-        return error("NOT_FINITE", "covariance[" + std::to_string(i) + "] of " + quote_id(u.entity_id) + ": NaN or infinity");
+        return error("NOT_FINITE",
+                     "covariance[" + std::to_string(i) + "] of " + quote_id(u.entity_id) + ": NaN or infinity");
       }
     }
     u.covariance = cov;
@@ -135,6 +138,22 @@ Decoded<WorldQuery> decode_query(const world_protocol::Query& sent) {
     if (auto e = check_id("frame_id", q.frame_id)) return *e;
     if (!q.feature_id.empty()) {
       if (auto e = check_id("feature_id", q.feature_id)) return *e;
+    }
+  }
+  if (sent.list_kind_unknown) {
+    return error("BAD_QUERY", "list_kind " + std::to_string(sent.wire_list_kind) + ": expected 0 to 2");
+  }
+  if (sent.list_kind) {
+    switch (*sent.list_kind) {
+      case world_protocol::EntityKind::kObject:
+        q.list_kind = EntityKind::kObject;
+        break;
+      case world_protocol::EntityKind::kDevice:
+        q.list_kind = EntityKind::kDevice;
+        break;
+      case world_protocol::EntityKind::kFrame:
+        q.list_kind = EntityKind::kFrame;
+        break;
     }
   }
   if (!std::isfinite(sent.max_age_s)) return error("BAD_QUERY", "max_age_s: expected a finite number of seconds");

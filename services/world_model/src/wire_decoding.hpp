@@ -48,6 +48,7 @@ struct WorldQuery {
   std::string frame_id;    ///< kPose
   std::string feature_id;  ///< kPose: empty for the entity itself
   std::optional<std::chrono::nanoseconds> max_age;  ///< kIsLocalized: absent when max_age_s <= 0
+  std::optional<EntityKind> list_kind;              ///< kList: only entities of this kind
 };
 
 /// Decodes an update: entity_id and source must be identifiers, the stamp valid (nanosec < 1e9),

@@ -90,7 +90,7 @@ QueryAnswer answer_query(const WorldStore& store, const WorldQuery& query, Stamp
       case QueryKind::kList: {
         a.ok = true;
         a.code = "OK";
-        a.result = list_entities(store);
+        a.result = list_entities(store, query.list_kind);
         return a;
       }
     }

@@ -4,9 +4,12 @@
 
 #include "rigger/base/install.hpp"
 #include "rigger/cell_config/cell_cad.hpp"
+#include "rigger/cell_config/cell_diff.hpp"
 #include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/vision.hpp"
 #include "rigger/protocol/world.hpp"
+#include "rigger/skill_protocol/executor_endpoint.hpp"
 #include "world_cell_config.hpp"
 #include "world_json.hpp"
 
@@ -25,18 +28,28 @@ world_protocol::EntityKind protocol_kind(EntityKind kind) {
   return world_protocol::EntityKind::kFrame;
 }
 
-WorldStore load_store(const WorldModelSettings& settings, const Config& config, const Logger& log) {
-  const std::string& path = settings.cell_config;
+std::string history_folder(const WorldModelSettings& settings) {
+  if (!settings.cell_history.empty()) return settings.cell_history;
+  return settings.database.empty() ? std::string() : settings.database + ".cells";
+}
+
+CellKeeper start_keeper(const WorldModelSettings& settings, const Config& config, const Logger& log) {
+  const auto started = std::chrono::steady_clock::now();
   try {
     // The CAD features given by rules over the objects' STEP models are derived here, once, before the
     // store answers: a reference into a changed model stops the start (docs/cad.md).
-    cell::CadDerivation cad;
-    const CellConfig cell = cell::load_cell_file_with_cad(path, &cad);
-    log->info("cell loaded file={} entities={} cad_models={} cad_features={} cad_read_s={:.3f} cad_derive_s={:.3f}",
-              path, cell.entities.size(), cad.models, cad.features, cad.read_seconds, cad.derive_seconds);
-    return WorldStore::from_config(cell, std::chrono::system_clock::now());
+    CellKeeper keeper({settings.cell_config, history_folder(settings), settings.max_cell_revisions},
+                      std::chrono::system_clock::now());
+    const CellRevisionRecord& r = keeper.running().record;
+    log->info("cell loaded file={} revision={} as=\"{}\" entities={} history={} load_s={:.3f}", settings.cell_config,
+              r.revision, keeper.started_new() ? "a new revision of the file" : "the history's latest",
+              keeper.running().cell.entities.size(), history_folder(settings),
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+    return keeper;
   } catch (const CellConfigError& e) {
     throw ConfigError(config.file(), "/cell_config", e.what());
+  } catch (const CellHistoryError& e) {
+    throw ConfigError(config.file(), "/cell_history", e.what());
   }
 }
 
@@ -74,30 +87,46 @@ const SettingsTable<WorldModelSettings>& world_model_settings() {
       setting<S>("max_change_log_rows", 100000u, {100u, 10000000u}, &S::max_change_log_rows,
                  "change-log rows kept, pruned every 256 saves; the latest states are always kept"),
       setting<S>("follow_tracker", true, &S::follow_tracker, "apply `rigger/tracker/pose` samples as updates"),
+      setting<S>("cell_history", "", &S::cell_history,
+                 "the folder of the cell revisions (one file each); `\"\"`: `<database>.cells`, or in memory when "
+                 "`database` is `\"\"`"),
+      setting<S>("max_cell_revisions", 100u, {1u, 100000u}, &S::max_cell_revisions,
+                 "cell revisions kept in the history; the oldest go first"),
   };
   return table;
 }
 
-WorldModelSettings read_settings(const Config& config) { return rigger::read_settings(config, world_model_settings()); }
+WorldModelSettings read_settings(const Config& config) {
+  return rigger::read_settings(config, world_model_settings());
+}
 
 WorldModelNode::WorldModelNode(service::ServiceContext& ctx, const WorldModelSettings& settings)
     : ctx_(ctx),
-      store_(load_store(settings, ctx.config, ctx.log)),
+      keeper_(start_keeper(settings, ctx.config, ctx.log)),
+      store_(WorldStore::from_config(keeper_.running().cell, std::chrono::system_clock::now())),
       db_(open_database(settings, store_, ctx.log)),
       entities_(ctx.participant, protocol::world::kEntity),
       changes_(ctx.participant, protocol::world::kChange),
       update_results_(ctx.participant, protocol::world::kUpdateResult),
       replies_(ctx.participant, protocol::world::kReply),
       updates_(ctx.participant, protocol::world::kUpdate),
-      queries_(ctx.participant, protocol::world::kQuery) {
+      queries_(ctx.participant, protocol::world::kQuery),
+      cells_(ctx.participant, protocol::world::kCell),
+      cell_replies_(ctx.participant, protocol::world::kCellReply),
+      cell_requests_(ctx.participant, protocol::world::kCellRequest),
+      executors_(ctx.participant, protocol::skill::kExecutors, dds::qos::state()) {
   for (const auto& [id, entity] : store_.entities()) publish_entity(entity);
+  publish_cell();
+  ctx.loop.on_data(cell_requests_, [this] { on_cell_requests(); });
+  ctx.loop.on_data(executors_, [this] { on_executors(); });
   ctx.loop.on_data(updates_, [this] { on_updates(); });
   ctx.loop.on_data(queries_, [this] { on_queries(); });
   if (settings.follow_tracker) {
     tracker_poses_.emplace(ctx.participant, protocol::vision::kTrackerPose);
     ctx.loop.on_data(*tracker_poses_, [this] { on_tracker_poses(); });
   }
-  ctx.log->info("world model ready entities={} revision={}", store_.entities().size(), store_.revision());
+  ctx.log->info("world model ready entities={} revision={} cell_revision={}", store_.entities().size(),
+                store_.revision(), keeper_.running().record.revision);
 }
 
 void WorldModelNode::on_updates() {

@@ -5,13 +5,21 @@
 /// each accepted change, publishes who changed what on `rigger/world/change`, answers updates on
 /// `rigger/world/update_result` and queries on `rigger/world/reply`. Bad samples are answered with a
 /// reason and change nothing; nothing a peer sends can crash it.
+///
+/// Cell revisions (cell_keeper.hpp): it publishes the running revision on `rigger/world/cell` (state QoS),
+/// answers `rigger/world/cell_request` on `rigger/world/cell_reply`, and follows the runs the executors
+/// announce on `rigger/skill/executors` to refuse a revision touching what a running skill holds. A new
+/// revision is applied to the store, saved and published entity by entity, then as a whole. Validating
+/// one (the CAD derivation reads STEP models in a child process) takes the loop for its duration.
 
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "cell_keeper.hpp"
 #include "rigger/base/settings.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/service/service.hpp"
@@ -33,6 +41,10 @@ struct WorldModelSettings {
   std::string database;     ///< the SQLite file (its folder is created); "" keeps no state across restarts
   std::size_t max_change_log_rows{};
   bool follow_tracker{};  ///< apply `rigger/tracker/pose` samples as updates
+  /// The cell revisions' folder; "" puts it next to the database ("<database>.cells"), or keeps the
+  /// history in memory when the database is "" too.
+  std::string cell_history;
+  std::size_t max_cell_revisions{};
 };
 
 /// Reads the settings from `config` (and calls config.finish()). @throws ConfigError.
@@ -49,6 +61,12 @@ class WorldModelNode : public service::Node {
   const WorldStore& store() const { return store_; }
 
  private:
+  void on_cell_requests();
+  void on_executors();
+  /// Applies a revision the keeper made to the store; saves and publishes each change, then the revision.
+  void apply_revision(const RunningCell& revision);
+  void publish_cell();
+  std::vector<HeldResource> held_resources() const;
   void on_updates();
   void on_queries();
   void on_tracker_poses();
@@ -61,6 +79,7 @@ class WorldModelNode : public service::Node {
   void send_reply(const std::string& client_id, std::uint64_t request_id, const QueryAnswer& answer);
 
   service::ServiceContext& ctx_;
+  CellKeeper keeper_;
   WorldStore store_;
   std::optional<WorldDatabase> db_;
   std::map<std::string, std::uint64_t, std::less<>> revisions_;  // entity id -> revision of its last change
@@ -71,6 +90,11 @@ class WorldModelNode : public service::Node {
   dds::Reader<rigger_world_EntityUpdate> updates_;
   dds::Reader<rigger_world_WorldQuery> queries_;
   std::optional<dds::Reader<rigger_vision_TrackedPose>> tracker_poses_;
+  dds::Writer<rigger_world_CellRevision> cells_;
+  dds::Writer<rigger_world_CellReply> cell_replies_;
+  dds::Reader<rigger_world_CellRequest> cell_requests_;
+  dds::Reader<rigger_skill_ExecutorAnnouncement> executors_;
+  std::map<std::string, std::vector<HeldResource>> held_;  ///< by executor id: what its runs hold
 };
 
 }  // namespace rigger::world

@@ -110,6 +110,12 @@ std::string_view to_string(ChangedField field) {
       return "stale";
     case ChangedField::kAttributes:
       return "attributes";
+    case ChangedField::kAdded:
+      return "added";
+    case ChangedField::kRemoved:
+      return "removed";
+    case ChangedField::kConfiguration:
+      return "configuration";
   }
   return "unknown";
 }
@@ -288,6 +294,62 @@ UpdateResult WorldStore::apply(const EntityUpdate& update) {
   change.stamp = update.stamp;
   change.after = std::move(next);
   return UpdateResult{UpdateStatus::kAccepted, {}, std::move(change)};
+}
+
+std::vector<ChangeRecord> WorldStore::apply_revision(const CellConfig& next, const std::set<std::string>& moved,
+                                                     const std::set<std::string>& changed, Stamp now,
+                                                     const std::string& source) {
+  WorldStore revised = from_config(next, now);  // every entity as the revision describes it
+  std::vector<ChangeRecord> records;
+  const auto record = [&](const Entity& after, std::vector<ChangedField> fields) {
+    ChangeRecord c;
+    c.revision = ++revision_;
+    c.entity_id = after.id;
+    c.source = source;
+    c.stamp = now;
+    c.changed = std::move(fields);
+    c.after = after;
+    records.push_back(std::move(c));
+  };
+  for (auto it = entities_.begin(); it != entities_.end();) {
+    if (revised.entities_.count(it->first) > 0) {
+      ++it;
+      continue;
+    }
+    const Entity gone = it->second;
+    it = entities_.erase(it);
+    record(gone, {ChangedField::kRemoved});
+  }
+  for (auto& [id, configured] : revised.entities_) {
+    const auto it = entities_.find(id);
+    if (it == entities_.end()) {
+      entities_.emplace(id, configured);
+      record(configured, {ChangedField::kAdded});
+      continue;
+    }
+    Entity& entity = it->second;
+    entity.features = configured.features;
+    entity.model = configured.model;
+    entity.camera = configured.camera;
+    std::vector<ChangedField> fields;
+    if (moved.count(id) > 0) {
+      if (entity.parent != configured.parent) fields.push_back(ChangedField::kParent);
+      fields.push_back(ChangedField::kPose);
+      entity.parent = configured.parent;
+      entity.pose = configured.pose;
+      entity.localized = configured.localized;
+      entity.stale = false;
+    }
+    if (changed.count(id) > 0) {
+      entity.attributes = configured.attributes;
+      fields.push_back(ChangedField::kConfiguration);
+    }
+    if (fields.empty()) continue;
+    entity.stamp = now;
+    entity.source = source;
+    record(entity, std::move(fields));
+  }
+  return records;
 }
 
 RestoreReport WorldStore::restore_stale(const PersistedWorld& persisted) {

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -63,8 +64,21 @@ enum class UpdateStatus {
 std::string_view to_code(UpdateStatus status);
 
 /// One part of an entity that an accepted update changed.
-enum class ChangedField { kParent, kPose, kCovariance, kQuality, kLocalized, kStale, kAttributes };
-/// "parent", "pose", "covariance", "quality", "localized", "stale", "attributes".
+/// kAdded, kRemoved and kConfiguration (features, model, camera, attributes) come from cell revisions.
+enum class ChangedField {
+  kParent,
+  kPose,
+  kCovariance,
+  kQuality,
+  kLocalized,
+  kStale,
+  kAttributes,
+  kAdded,
+  kRemoved,
+  kConfiguration
+};
+/// "parent", "pose", "covariance", "quality", "localized", "stale", "attributes", "added", "removed",
+/// "configuration".
 std::string_view to_string(ChangedField field);
 
 /// What an accepted update did: who, what, when, and the entity's state afterwards.
@@ -118,6 +132,15 @@ class WorldStore {
 
   /// Validates and applies an update (all or nothing). Never throws; on rejection the store is unchanged.
   UpdateResult apply(const EntityUpdate& update);
+
+  /// Applies a cell revision (validated, CAD derived; docs/world-model.md "Cell revisions"): adds the
+  /// entities it adds, removes the ones it lacks; for the `moved` ids takes parent, pose and localized
+  /// from it (the person who moved it in the document says where it is); for the `changed` ids takes
+  /// attributes from it; every entity takes features, model and camera from it. The other entities keep
+  /// their current pose estimate. One ChangeRecord per entity added, removed, moved or changed, by
+  /// `source`, stamped `now`. Never throws.
+  std::vector<ChangeRecord> apply_revision(const CellConfig& next, const std::set<std::string>& moved,
+                                           const std::set<std::string>& changed, Stamp now, const std::string& source);
 
   /// Brings back the state saved before a restart (see world_persistence.hpp). Each persisted entity
   /// still in the configuration gets its parent, pose, stamps, source and attributes back, marked

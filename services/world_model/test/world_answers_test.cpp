@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "cell_fixture.hpp"
+#include "wire_decoding.hpp"
 #include "world_cell_config.hpp"
 
 namespace rigger::world {
@@ -98,6 +99,25 @@ TEST_F(WorldAnswersTest, FeaturesEntityAndList) {
   const auto l = answer_query(store_, query(QueryKind::kList, ""), kLoadedAt);
   ASSERT_TRUE(l.ok);
   EXPECT_EQ(l.result, nlohmann::json({"camera", "crane", "gripper", "load", "robot", "target", "world"}));
+  WorldQuery objects = query(QueryKind::kList, "");
+  objects.list_kind = EntityKind::kObject;
+  EXPECT_EQ(answer_query(store_, objects, kLoadedAt).result, nlohmann::json({"load", "target"}));
+}
+
+TEST(WireDecoding, AListKindIsDecodedAndAnUnknownOneRefused) {
+  world_protocol::Query sent;
+  sent.client_id = "c";
+  sent.kind = QueryKind::kList;
+  sent.list_kind = world_protocol::EntityKind::kDevice;
+  const auto decoded = decode_query(sent);
+  ASSERT_TRUE(std::holds_alternative<WorldQuery>(decoded));
+  EXPECT_EQ(std::get<WorldQuery>(decoded).list_kind, EntityKind::kDevice);
+  sent.list_kind.reset();
+  sent.list_kind_unknown = true;
+  sent.wire_list_kind = 7;
+  const auto refused = decode_query(sent);
+  ASSERT_TRUE(std::holds_alternative<DecodeError>(refused));
+  EXPECT_EQ(std::get<DecodeError>(refused).code, "BAD_QUERY");
 }
 
 }  // namespace

@@ -57,6 +57,12 @@ void add_crane_command(CLI::App& app, const CommonOptions& common, int& exit_cod
 /// their rate). Exit codes: 0 ok; 1 no writer within --timeout; 2 usage or unknown topic.
 void add_topic_commands(CLI::App& app, const CommonOptions& common, int& exit_code);
 
+/// `cell apply FILE [--comment T] [--dry-run]`, `cell show [REV]`, `cell history`, `cell diff A B`,
+/// `cell rollback REV [--comment T]` [--json] [--timeout S]: the cell's revisions, kept by the world model
+/// (docs/world-model.md). `who` is riggerctl_source(). Exit codes: 0 done; 1 refused (the code and the
+/// world model's message are printed) or unanswered; 2 usage or an unreadable FILE; 3 no world model.
+void add_cell_command(CLI::App& app, const CommonOptions& common, int& exit_code);
+
 /// `cad inspect FILE [--json [--entities]]`, `cad frame FILE (--point X,Y,Z --edges E1,E2 | --face F
 /// --point X,Y,Z | --hole H) [--json]`: offline STEP inspection (docs/cad.md). Exit codes: 0 ok; 1 the
 /// file cannot be read or the picks make no frame (the CAD_* code is printed); 2 usage.

@@ -80,8 +80,10 @@ class WorldClient {
   std::uint64_t features(const std::string& entity, std::chrono::milliseconds timeout, Callback cb);
   /// The full description of `entity` in `result` (see world_json.hpp entity_to_json).
   std::uint64_t entity(const std::string& entity, std::chrono::milliseconds timeout, Callback cb);
-  /// The ids of all entities in `result` (a JSON array of strings).
-  std::uint64_t list(std::chrono::milliseconds timeout, Callback cb);
+  /// The ids of all entities (or, with `kind`, of the entities of that kind) in `result` (a JSON array of
+  /// strings).
+  std::uint64_t list(std::chrono::milliseconds timeout, Callback cb,
+                     std::optional<world_protocol::EntityKind> kind = std::nullopt);
 
   /// Pose update (validated by the world model; ok=true with code "ACCEPTED" when applied, else ok=false
   /// with the rejection code). `pose` is T_parent_entity in `parent_frame` (re-parents when it differs
