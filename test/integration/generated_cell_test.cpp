@@ -4,6 +4,7 @@
 // The simulator, the world model, the CAD service and the tracker start on it; the world model derives
 // the bracket's grasp, approach and insertion and the flange's holes from the STEP models by the cell
 // file's rules; the simulator's ground truth names every object and the loose parts rest on the table.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
+#include <opencv2/aruco.hpp>
 
 #include "cell_sim_test_support.hpp"
 #include "rigger/dds/conversions.hpp"
@@ -54,6 +56,16 @@ Eigen::Matrix3d rotation_of(const json& pose) {
           Eigen::AngleAxisd(rpy.at(1).get<double>() * k, Eigen::Vector3d::UnitY()) *
           Eigen::AngleAxisd(rpy.at(0).get<double>() * k, Eigen::Vector3d::UnitX()))
       .toRotationMatrix();
+}
+
+// A wire image copied into `out` as `type` (CV_8UC1 grey, CV_32FC1 depth); false when its data is not whole.
+bool copy_image(const rigger_vision_Image& frame, int type, cv::Mat& out) {
+  const auto bytes = dds::elements(frame.data);
+  if (bytes.size() != static_cast<std::size_t>(frame.height) * frame.step) return false;
+  cv::Mat(static_cast<int>(frame.height), static_cast<int>(frame.width), type, const_cast<std::uint8_t*>(bytes.data()),
+          frame.step)
+      .copyTo(out);
+  return true;
 }
 
 const json* named(const json& items, const std::string& id) {
@@ -133,6 +145,11 @@ TEST_F(GeneratedCellTest, TheServicesStartOnItDeriveItsFeaturesAndSimulateEveryO
       truth[dds::to_string(p.object_id)].push_back(dds::to_domain(p.pose.pose));
     });
   });
+  cv::Mat image;  // the latest grey image
+  dds::Reader<rigger_vision_Image> images(cell_.participant(), protocol::vision::kCameraImage);
+  cell_.loop().on_data(images, [&] {
+    images.take([&](const rigger_vision_Image& frame, const dds_sample_info_t&) { copy_image(frame, CV_8UC1, image); });
+  });
   WorldQuery world(cell_);
   const std::string port = std::to_string(free_tcp_port());
   cell_.start("cell_sim", "cell_sim", {"--config", config("cell_sim", "cell_file"), "--plc-port", port});
@@ -193,6 +210,17 @@ TEST_F(GeneratedCellTest, TheServicesStartOnItDeriveItsFeaturesAndSimulateEveryO
   const Eigen::Vector3d flange_world = truth["flange"].back().translation();
   EXPECT_LT((flange_world - Eigen::Vector3d(3.55, 2.25, kTableTopZ + 0.04)).norm(), 1e-9) << "the flange is static";
   EXPECT_LT((truth["bracket"].back().translation().head<2>() - Eigen::Vector2d(3.55, 1.75)).norm(), 0.01);
+
+  // The camera renders the STEP meshes with their markers: the bracket's (1, 2, on its web) and the
+  // flange's (10, 11, on its top face) are found in the image by OpenCV's detector, as the tracker finds them.
+  ASSERT_TRUE(cell_.wait_until([&] { return !image.empty(); }, 10s)) << "no camera image";
+  std::vector<int> ids;
+  std::vector<std::vector<cv::Point2f>> corners;
+  cv::aruco::detectMarkers(image, cv::aruco::getPredefinedDictionary(cv::aruco::DICT_4X4_50), corners, ids);
+  std::string seen;
+  for (const int id : ids) seen += std::to_string(id) + " ";
+  std::printf("  markers in the camera image: %s\n", seen.c_str());
+  for (const int id : {1, 2, 10, 11}) EXPECT_NE(std::find(ids.begin(), ids.end(), id), ids.end()) << "marker " << id;
 }
 
 // cell_sim follows the cell's revisions: one that moves a loose part puts it there in the physics (ground
@@ -254,13 +282,8 @@ TEST_F(GeneratedCellTest, ARevisionAppliedWhileTheCellRunsReachesPhysicsCameraAn
   std::uint64_t depth_frames = 0;
   dds::Reader<rigger_vision_Image> depths(cell_.participant(), protocol::vision::kCameraDepth);
   cell_.loop().on_data(depths, [&] {
-    depths.take([&](const rigger_vision_Image& image, const dds_sample_info_t&) {
-      const auto bytes = dds::elements(image.data);
-      if (bytes.size() != static_cast<std::size_t>(image.height) * image.step) return;
-      cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), CV_32FC1,
-              const_cast<std::uint8_t*>(bytes.data()), image.step)
-          .copyTo(depth);
-      ++depth_frames;
+    depths.take([&](const rigger_vision_Image& frame, const dds_sample_info_t&) {
+      if (copy_image(frame, CV_32FC1, depth)) ++depth_frames;
     });
   });
   WorldQuery world(cell_);

@@ -405,13 +405,13 @@ void SimRunner::publish_due(WallTime now) {
     outputs_.publish_ground_truth(truth_, now);
   }
   if (camera_ && steps_ % camera_every_ == 0) {
-    // Every box object (the rasteriser's shapes, the markers' faces), by its entity id, where the physics
-    // has it, and the positions of every body (what the MuJoCo renderer draws): a copy of a few hundred numbers.
+    // Every object (the rasteriser's boxes, the markers' faces: a renderer skips the ids it does not draw),
+    // by its entity id, where the physics has it, and the positions of every body (what the MuJoCo renderer
+    // draws): a copy of a few hundred numbers.
     CameraSnapshot snapshot;
     snapshot.stamp = now;
-    for (const sim::ObjectGeometry& object : physics_->geometry().objects) {
-      if (object.box_size_m) snapshot.poses.push_back({object.id, *physics_->pose_world_object(object.id)});
-    }
+    for (const ObjectTruth& object : truth_.objects)
+      snapshot.poses.push_back({object.id, *physics_->pose_world_object(object.id)});
     physics_->copy_kinematic_state(snapshot.state);
     camera_->offer(std::move(snapshot));
   }
