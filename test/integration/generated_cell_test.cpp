@@ -16,21 +16,21 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
-#include <opencv2/core.hpp>
 #include <opencv2/aruco.hpp>
+#include <opencv2/core.hpp>
 
 #include "cell_sim_test_support.hpp"
+#include "rigger/cell_config/cell_file.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/qos.hpp"
+#include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/sim.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/vision.hpp"
 #include "rigger/protocol/world.hpp"
-#include "rigger/skill_protocol/executor_endpoint.hpp"
-#include "rigger/cell_config/cell_file.hpp"
-#include "rigger/dds/sequences.hpp"
 #include "rigger/sim/generated_cell.hpp"
+#include "rigger/skill_protocol/executor_endpoint.hpp"
 #include "rigger/testing/cell.hpp"
 #include "rigger/world_protocol/cell_protocol.hpp"
 #include "world_query_support.hpp"
@@ -243,7 +243,8 @@ TEST_F(GeneratedCellTest, CellSimMovesALoosePartByARevisionAndRefusesToMoveTheBr
   ASSERT_TRUE(cell_sim_says("cell revision 2")) << cell_.logs();
   const Eigen::Vector3d goal(3.46, 2.66, kTableTopZ + 0.03);
   // At rest where the revision put it: the contact's fraction of a millimetre, no slide, no turn.
-  ASSERT_TRUE(cell_.wait_until([&] { return truth.count("part_a") && (truth["part_a"].translation() - goal).norm() < 1e-3; }, 5s))
+  ASSERT_TRUE(cell_.wait_until(
+      [&] { return truth.count("part_a") && (truth["part_a"].translation() - goal).norm() < 1e-3; }, 5s))
       << "part_a is not where revision 2 put it";
   const Eigen::Isometry3d placed = truth["part_a"];
   EXPECT_NEAR(Eigen::AngleAxisd(placed.linear()).angle() * 180.0 / M_PI, 30.0, 0.1);
@@ -267,7 +268,8 @@ TEST_F(GeneratedCellTest, CellSimMovesALoosePartByARevisionAndRefusesToMoveTheBr
     });
   });
   ASSERT_TRUE(cell_.wait_until([&] { return seen >= samples; }, 5s));
-  EXPECT_LT((last_bracket.translation() - bracket.translation()).norm(), 1e-3) << "the refused revision moved the bracket";
+  EXPECT_LT((last_bracket.translation() - bracket.translation()).norm(), 1e-3)
+      << "the refused revision moved the bracket";
   EXPECT_LT((truth["part_a"].translation() - placed.translation()).norm(), 2e-4) << "part_a moved after revision 2";
 }
 
@@ -298,7 +300,7 @@ TEST_F(GeneratedCellTest, ARevisionAppliedWhileTheCellRunsReachesPhysicsCameraAn
   json cell = files_.document();
   const Eigen::Vector3d goal(3.46, 2.66, kTableTopZ + 0.03);
   cell["entities"][files_.index_of("part_a")]["pose"] = {{"position_m", {goal.x(), goal.y(), goal.z()}},
-                                                          {"rpy_deg", {0, 0, 30}}};
+                                                         {"rpy_deg", {0, 0, 30}}};
   const std::string moved = cell_.log_dir() + "/moved.json";
   std::ofstream(moved) << cell.dump(2);
   const CtlResult applied = run_riggerctl(cell_, "apply", {"cell", "apply", moved, "--comment", "part_a moved"});
@@ -329,7 +331,8 @@ TEST_F(GeneratedCellTest, ARevisionAppliedWhileTheCellRunsReachesPhysicsCameraAn
   ASSERT_TRUE(u >= 0 && v >= 0 && u < depth.cols && v < depth.rows) << "part_a is outside the image: " << u << "," << v;
   const double z = depth.at<float>(v, u);
   ASSERT_TRUE(std::isfinite(z)) << "the camera saw nothing at part_a's new place";
-  const Eigen::Vector3d seen = pose_world_camera * Eigen::Vector3d((u - k.cx_px) / k.fx_px * z, (v - k.cy_px) / k.fy_px * z, z);
+  const Eigen::Vector3d seen =
+      pose_world_camera * Eigen::Vector3d((u - k.cx_px) / k.fx_px * z, (v - k.cy_px) / k.fy_px * z, z);
   std::printf("  camera: pixel (%d, %d) sees %.1f mm above part_a's top face, %.1f mm from its centre\n", u, v,
               1e3 * (seen.z() - physics.z() - 0.03), 1e3 * (seen - physics).head<2>().norm());
   EXPECT_LT(std::abs(seen.z() - (physics.z() + 0.03)), 1e-3) << "the camera does not see part_a's top face there";
@@ -372,7 +375,8 @@ TEST_F(GeneratedCellTest, ARevisionAppliedWhileTheCellRunsReachesPhysicsCameraAn
   // The refused revision would have put it 100 mm along x; hanging from the rope it still bounces by a
   // millimetre or so from the start, so the physics' bracket is compared within 5 mm.
   const double bracket_moved_m = (truth["bracket"].translation() - bracket.translation()).norm();
-  std::printf("  bracket after the refused revision: %.2f mm from before (the revision: 100 mm)\n", 1e3 * bracket_moved_m);
+  std::printf("  bracket after the refused revision: %.2f mm from before (the revision: 100 mm)\n",
+              1e3 * bracket_moved_m);
   EXPECT_LT(bracket_moved_m, 5e-3) << "the physics' bracket moved";
 }
 

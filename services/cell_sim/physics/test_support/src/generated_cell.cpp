@@ -263,7 +263,9 @@ std::filesystem::path GeneratedCell::write() const {
   return path;
 }
 
-CellGeometry GeneratedCell::load() const { return load_cell_geometry(write()); }
+CellGeometry GeneratedCell::load() const {
+  return load_cell_geometry(write());
+}
 
 std::string GeneratedCell::error() const {
   try {

@@ -1,10 +1,10 @@
 #pragma once
 /// @file
-/// A cell the repository does not ship, for tests and benchmarks, described only by a cell file and STEP models written with
-/// OpenCascade: a fixture table, an L-shaped 25 kg bracket of two solids on the crane's rope (the load),
-/// a flange plate with six through holes on the table (the target) and three loose parts on the table.
-/// The devices (crane, robot, gripper, camera) are the shipped cell's; the objects stand where the
-/// shipped cell's load and target stand, in the robot's reach and the camera's view.
+/// A cell the repository does not ship, for tests and benchmarks, described only by a cell file and STEP models written
+/// with OpenCascade: a fixture table, an L-shaped 25 kg bracket of two solids on the crane's rope (the load), a flange
+/// plate with six through holes on the table (the target) and three loose parts on the table. The devices (crane,
+/// robot, gripper, camera) are the shipped cell's; the objects stand where the shipped cell's load and target stand, in
+/// the robot's reach and the camera's view.
 ///
 /// Every feature a skill needs is a CAD rule over the generated models, with references found by
 /// classifying the written STEP files (as `riggerctl cad inspect` shows them to an integrator):
