@@ -118,6 +118,22 @@ TEST(GeneratedCell, AMovedLoosePartStaysWhereItIsPutAndTheRestIsRefused) {
   EXPECT_EQ(physics.diagnostics().mujoco_warning_count, 0);
 }
 
+// The scenario's recipe for this cell: the demo's names replaced by the cell's, every hole of the flange
+// screwed, and no name of the shipped cell's objects left.
+TEST(GeneratedCell, TheScenariosRecipeNamesTheGeneratedCellsObjectsAndFeatures) {
+  const GeneratedCell files;
+  std::ifstream demo(std::string(RIGGER_SOURCE_DIR) + "/recipes/crane_insert.json");
+  const json recipe = files.recipe(json::parse(demo), "generated-insert");
+  const std::string text = recipe.dump();
+  EXPECT_EQ(recipe["task_id"], "generated-insert");
+  EXPECT_EQ(recipe["assumptions"], json::array({"hooked(crane,bracket)"}));
+  for (const char* name : {"\"bracket/grasp_web\"", "\"bracket/pre_grasp\"", "\"object\":\"bracket\"",
+                           "\"target\":\"flange\"", "\"flange/h6\""})
+    EXPECT_NE(text.find(name), std::string::npos) << name << " missing from " << text;
+  for (const char* name : {"\"load\"", "\"target\"", "\"load/", "\"target/"})
+    EXPECT_EQ(text.find(std::string(":") + name), std::string::npos) << name << " left in " << text;
+}
+
 TEST(GeneratedCell, RefusesObjectsWithoutGeometryOrMass) {
   GeneratedCell files;
   const std::string part_a = "/entities/" + std::to_string(files.index_of("part_a"));
