@@ -27,6 +27,24 @@ class WorldQuery {
     return reply->localized;
   }
 
+  /// The pose of `entity` in `frame` the world model answers (QUERY_POSE); nullopt when it did not answer in
+  /// 5 s, refused or has no pose.
+  std::optional<Eigen::Isometry3d> pose(const std::string& entity, const std::string& frame = "world") {
+    std::optional<world_client::Reply> reply;
+    client_.pose(entity, frame, std::chrono::seconds(5), [&](const world_client::Reply& r) { reply = r; });
+    if (!cell_.wait_until([&] { return reply.has_value(); }, std::chrono::seconds(6)) || !reply->ok) return std::nullopt;
+    return reply->pose;
+  }
+
+  /// The CAD features the world model serves for `entity` (QUERY_FEATURES: the cell file's features format,
+  /// the rules' poses derived); nullopt when it did not answer in 5 s or refused.
+  std::optional<nlohmann::json> features(const std::string& entity) {
+    std::optional<world_client::Reply> reply;
+    client_.features(entity, std::chrono::seconds(5), [&](const world_client::Reply& r) { reply = r; });
+    if (!cell_.wait_until([&] { return reply.has_value(); }, std::chrono::seconds(6)) || !reply->ok) return std::nullopt;
+    return reply->result;
+  }
+
  private:
   Cell& cell_;
   world_client::WorldClient client_;

@@ -16,7 +16,9 @@
 #include <CLI/CLI.hpp>
 
 #include "camera_worker.hpp"
+#include "cell_revisions.hpp"
 #include "command_gate.hpp"
+#include "rigger/cell_follower/cell_follower.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/ros2/types.hpp"
 #include "rigger/safety/safe_stop.hpp"
@@ -70,6 +72,8 @@ class CellSimNode : public service::Node, private SimOutputs {
   void on_motion();
   void on_gripper();
   void on_sim_control();
+  /// A cell revision (rigger/world/cell): its moved free objects put at their new poses, or refused.
+  cell_follower::Outcome on_revision(const cell_follower::FollowedRevision& next);
   void refuse_motion(const std::string& motion_id, const std::string& code, const std::string& message);
   bool log_allowed(std::chrono::steady_clock::time_point& last);
 
@@ -109,6 +113,8 @@ class CellSimNode : public service::Node, private SimOutputs {
   // Destroyed before the writers they publish through: first the runner (physics thread), then the camera.
   std::unique_ptr<CameraWorker> camera_;
   std::unique_ptr<SimRunner> runner_;
+  /// Follows the cell's revisions on the event loop; destroyed first (its callback uses the runner).
+  std::unique_ptr<cell_follower::CellFollower> follower_;
 };
 
 }  // namespace rigger::cell_sim

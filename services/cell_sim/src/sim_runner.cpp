@@ -40,6 +40,10 @@ const char* refusal_code(sim::CommandStatus status) {
       return "OUT_OF_RANGE";
     case sim::CommandStatus::RejectedUnreachable:
       return "UNREACHABLE";
+    case sim::CommandStatus::RejectedHeld:
+      return "HELD";
+    case sim::CommandStatus::RejectedNotFree:
+      return "NOT_FREE";
     case sim::CommandStatus::Accepted:
       break;
   }
@@ -77,6 +81,7 @@ SimRunner::SimRunner(CellSimConfig config, sim::CellGeometry geometry, SimOutput
   gripper_every_ = steps_per_period(config_.gripper_state_rate_hz, dt);
   truth_every_ = steps_per_period(config_.ground_truth_rate_hz, dt);
   status_every_ = steps_per_period(config_.status_rate_hz, dt);
+  for (const std::string& id : physics_->object_bodies()) truth_.objects.push_back({id, Eigen::Isometry3d::Identity()});
 }
 
 SimRunner::~SimRunner() {
@@ -181,6 +186,20 @@ void SimRunner::drain_mailbox(WallTime now) {
   for (const SimCommand& command : commands) {
     std::visit([&](const auto& c) { apply(c, now); }, command);
   }
+}
+
+void SimRunner::apply(const ObjectMovesCommand& command, WallTime now) {
+  (void)now;
+  // All or nothing: a revision half applied would leave the physics on no revision at all.
+  for (const ObjectMove& move : command.moves) {
+    const sim::CommandResult allowed = physics_->can_move_free_object(move.id, move.pose_world_object);
+    if (!allowed.ok()) {
+      command.done->set_value(allowed.message);
+      return;
+    }
+  }
+  for (const ObjectMove& move : command.moves) physics_->move_free_object(move.id, move.pose_world_object);
+  command.done->set_value("");
 }
 
 void SimRunner::apply(const TwistCommand& command, WallTime now) {
@@ -382,20 +401,17 @@ void SimRunner::publish_due(WallTime now) {
     last_gripper_published_valid_ = true;
   }
   if (steps_ % truth_every_ == 0) {
-    GroundTruth truth;
-    for (const sim::ObjectGeometry& object : physics_->geometry().objects) {
-      truth.objects.push_back({object.id, *physics_->pose_world_object(object.id)});
-    }
-    outputs_.publish_ground_truth(truth, now);
+    for (ObjectTruth& object : truth_.objects) object.pose_world_object = *physics_->pose_world_object(object.id);
+    outputs_.publish_ground_truth(truth_, now);
   }
   if (camera_ && steps_ % camera_every_ == 0) {
-    // Every box object (the rasteriser's shapes, the markers' faces), by its entity id, where the physics
-    // has it, and the positions of every body (what the MuJoCo renderer draws): a copy of a few hundred numbers.
+    // Every object (the rasteriser's boxes, the markers' faces: a renderer skips the ids it does not draw),
+    // by its entity id, where the physics has it, and the positions of every body (what the MuJoCo renderer
+    // draws): a copy of a few hundred numbers.
     CameraSnapshot snapshot;
     snapshot.stamp = now;
-    for (const sim::ObjectGeometry& object : physics_->geometry().objects) {
-      if (object.box_size_m) snapshot.poses.push_back({object.id, *physics_->pose_world_object(object.id)});
-    }
+    for (const ObjectTruth& object : truth_.objects)
+      snapshot.poses.push_back({object.id, *physics_->pose_world_object(object.id)});
     physics_->copy_kinematic_state(snapshot.state);
     camera_->offer(std::move(snapshot));
   }

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <future>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "camera_worker.hpp"
+#include "cell_revisions.hpp"
 #include "cell_sim_config.hpp"
 #include "command_gate.hpp"
 #include "physics_crane_axes.hpp"
@@ -68,7 +70,14 @@ struct SimControlCommand {
   std::string source;
 };
 
-using SimCommand = std::variant<TwistCommand, MotionCommand, GripperCommand, SimControlCommand>;
+/// A cell revision's moved objects (plan_revision), applied together or not at all: `done` gets an empty
+/// string once every object is at its new pose, or which object could not be moved and why (nothing moved).
+struct ObjectMovesCommand {
+  std::vector<ObjectMove> moves;
+  std::shared_ptr<std::promise<std::string>> done;
+};
+
+using SimCommand = std::variant<TwistCommand, MotionCommand, GripperCommand, SimControlCommand, ObjectMovesCommand>;
 
 // ---- reports (outputs) -----------------------------------------------------------------------
 
@@ -206,6 +215,7 @@ class SimRunner {
   void apply(const MotionCommand& command, WallTime now);
   void apply(const GripperCommand& command, WallTime now);
   void apply(const SimControlCommand& command, WallTime now);
+  void apply(const ObjectMovesCommand& command, WallTime now);
   void set_estop(bool pressed, WallTime now);
   void reset_physics(WallTime now);
   void track_motion(const sim::RobotState& robot, WallTime now);
@@ -235,6 +245,7 @@ class SimRunner {
   std::uint64_t last_gripper_command_seq_ = 0;
   bool last_gripper_published_valid_ = false;
   sim::GripperState last_gripper_published_;
+  GroundTruth truth_;  // one entry per object body, made once; poses refreshed at the truth rate
   Eigen::Vector3d load_external_force_n_ = Eigen::Vector3d::Zero();
   std::uint64_t plc_every_ = 1, wrench_every_ = 1, robot_every_ = 1, gripper_every_ = 1, truth_every_ = 1,
                 status_every_ = 1, camera_every_ = 0;

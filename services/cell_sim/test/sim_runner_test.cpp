@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <condition_variable>
+#include <future>
 #include <mutex>
 
 #include "rigger/crane_protocol/register_map.hpp"
@@ -103,12 +104,52 @@ class SimRunnerTest : public ::testing::Test {
   std::uint64_t seq_ = 0;
 };
 
+// A cell revision's moved objects: applied together, or none of them when one cannot be moved.
+TEST_F(SimRunnerTest, ACellRevisionsMovesAreAppliedTogetherOrNotAtAll) {
+  runner_.step_for_test(200);
+  const auto truth_of = [&](const std::string& id) {
+    for (const ObjectTruth& object : out_.truths.back().objects)
+      if (object.id == id) return object.pose_world_object;
+    ADD_FAILURE() << "no ground truth of " << id;
+    return Eigen::Isometry3d::Identity();
+  };
+  const auto move = [&](std::vector<ObjectMove> moves) {
+    ObjectMovesCommand command{std::move(moves), std::make_shared<std::promise<std::string>>()};
+    std::future<std::string> done = command.done->get_future();
+    runner_.submit(std::move(command));
+    runner_.step_for_test(20);
+    EXPECT_EQ(done.wait_for(0s), std::future_status::ready) << "the physics thread did not answer";
+    return done.get();
+  };
+  const Eigen::Isometry3d part = truth_of("part");
+  Eigen::Isometry3d moved = part;
+  moved.translation().x() -= 0.05;  // still on its table
+  Eigen::Isometry3d load = truth_of("load");
+  load.translation().y() += 0.1;
+
+  const std::string refusal = move({{"part", moved}, {"load", load}});
+  EXPECT_NE(refusal.find("hangs from the crane's rope"), std::string::npos) << refusal;
+  EXPECT_LT((truth_of("part").translation() - part.translation()).norm(), 2e-4) << "a refused revision moved the part";
+
+  EXPECT_EQ(move({{"part", moved}}), "");
+  EXPECT_LT((truth_of("part").translation() - moved.translation()).norm(), 1e-3);
+}
+
 TEST_F(SimRunnerTest, PublishesAtTheConfiguredRatesOfSimulatedTime) {
   runner_.step_for_test(1000);
   EXPECT_EQ(out_.wrenches, 1000u);      // 1 kHz
   EXPECT_EQ(out_.robot.size(), 100u);   // 100 Hz
   EXPECT_EQ(out_.status.size(), 100u);  // 100 Hz
   EXPECT_EQ(out_.truths.size(), 50u);   // 50 Hz
+  // Every object of the cell file by its id; the static target where the cell file has it.
+  std::vector<std::string> truth_ids;
+  for (const ObjectTruth& object : out_.truths.back().objects) {
+    truth_ids.push_back(object.id);
+    if (object.id == "target") {
+      EXPECT_TRUE(object.pose_world_object.isApprox(runner_.geometry().target.pose_world_target, 1e-9));
+    }
+  }
+  EXPECT_EQ(truth_ids, (std::vector<std::string>{"load", "target", "part_fixture", "part"}));
   EXPECT_GE(out_.gripper.size(), 10u);  // 10 Hz and on change
   EXPECT_NEAR(out_.status.back().sim_time_s, 1.0, 1e-9);
   EXPECT_EQ(out_.status.back().steps, 1000u);

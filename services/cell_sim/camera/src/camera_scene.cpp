@@ -93,10 +93,10 @@ CameraScene camera_scene_from(const cell::CellFile& file, const std::string& cam
   scene.dictionary_name = "DICT_4X4_50";
   bool dictionary_set = false;
   for (const cell::CellEntity& entity : file.entities) {
-    // The renderer draws boxes: an object given by its STEP model alone is not drawn (yet).
-    if (entity.kind != cell::EntityKind::kObject || !entity.model || entity.model->shape != "box") {
-      continue;
-    }
+    if (entity.kind != cell::EntityKind::kObject || !entity.model) continue;
+    const bool box = entity.model->shape == "box";
+    // An object given by its STEP model alone: only its markers are the scene's (the model draws the rest).
+    if (!box && !entity.features.markers) continue;
     if (const auto& markers = entity.features.markers) {
       if (dictionary_set && markers->dictionary != scene.dictionary_name) {
         file.fail(entity.pointer + "/features/markers/dictionary",
@@ -106,7 +106,16 @@ CameraScene camera_scene_from(const cell::CellFile& file, const std::string& cam
       scene.dictionary_name = markers->dictionary;
       dictionary_set = true;
     }
-    scene.objects.push_back(box_object(file, entity));
+    if (box) {
+      scene.objects.push_back(box_object(file, entity));
+      continue;
+    }
+    BoxObject mesh;
+    mesh.id = entity.id;
+    mesh.pose_world_object = file.pose_root_entity(entity.id);
+    for (const cell::Marker& item : entity.features.markers->items)
+      mesh.markers.push_back({item.id, item.size_m, item.pose_entity_marker});
+    scene.mesh_objects.push_back(std::move(mesh));
   }
   scene.dictionary = cell::marker_dictionary(scene.dictionary_name)->opencv_id;  // the reader knows the name
   return scene;

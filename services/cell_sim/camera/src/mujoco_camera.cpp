@@ -72,8 +72,17 @@ MujocoCamera::MujocoCamera(const mjModel& model, const CameraModel& camera, std:
   render_depth_.create(render.height_px, render.width_px, CV_32FC1);
 }
 
+namespace {
+// The markers MuJoCo's render carries: the boxes' and those of objects given by their STEP model alone.
+std::vector<BoxObject> marked_objects(const CameraScene& scene) {
+  std::vector<BoxObject> objects = scene.objects;
+  objects.insert(objects.end(), scene.mesh_objects.begin(), scene.mesh_objects.end());
+  return objects;
+}
+}  // namespace
+
 MujocoCamera::MujocoCamera(const mjModel& model, const CameraScene& scene, MujocoCameraSettings settings)
-    : MujocoCamera(model, scene.camera, scene.objects, scene.dictionary, settings) {}
+    : MujocoCamera(model, scene.camera, marked_objects(scene), scene.dictionary, settings) {}
 
 MujocoCamera::~MujocoCamera() {
   mjv_freeScene(&scene_);  // CPU memory only

@@ -399,6 +399,43 @@ std::optional<Eigen::Isometry3d> CellPhysics::pose_world_object(std::string_view
   return std::nullopt;
 }
 
+CommandResult CellPhysics::can_move_free_object(std::string_view id, const Eigen::Isometry3d& pose_world_object) const {
+  const Impl& impl = *impl_;
+  if (!pose_world_object.matrix().allFinite()) return {CommandStatus::RejectedNonFinite, "the pose is not finite", 0};
+  const Eigen::Matrix3d rotation = pose_world_object.linear();
+  if (!(rotation.transpose() * rotation).isIdentity(1e-6) || rotation.determinant() < 0.0)
+    return {CommandStatus::RejectedOutOfRange, "the pose's rotation is not a rotation", 0};
+  const auto object = std::find_if(impl.index.objects.begin(), impl.index.objects.end(),
+                                   [&](const detail::ObjectBody& o) { return o.id == id; });
+  const std::string name(id);
+  if (object == impl.index.objects.end()) return {CommandStatus::RejectedNotFree, "no object \"" + name + "\"", 0};
+  if (object->body == impl.index.load_body)
+    return {CommandStatus::RejectedHeld, "\"" + name + "\" hangs from the crane's rope", 0};
+  if (object->is_static || object->free.qpos < 0)
+    return {CommandStatus::RejectedNotFree, "\"" + name + "\" is static: it moves only with the model built anew", 0};
+  if (impl.holding && impl.held_body == object->body)
+    return {CommandStatus::RejectedHeld, "the magnet holds \"" + name + "\"", 0};
+  return {CommandStatus::Accepted, "", 0};
+}
+
+CommandResult CellPhysics::move_free_object(std::string_view id, const Eigen::Isometry3d& pose_world_object) {
+  const CommandResult allowed = can_move_free_object(id, pose_world_object);
+  if (!allowed.ok()) return allowed;
+  Impl& impl = *impl_;
+  const auto object = std::find_if(impl.index.objects.begin(), impl.index.objects.end(),
+                                   [&](const detail::ObjectBody& o) { return o.id == id; });
+  mjtNum* qpos = impl.data->qpos + object->free.qpos;
+  const Eigen::Quaterniond q(pose_world_object.linear());
+  for (int i = 0; i < 3; ++i) qpos[i] = pose_world_object.translation()[i];
+  qpos[3] = q.w();
+  qpos[4] = q.x();
+  qpos[5] = q.y();
+  qpos[6] = q.z();
+  for (int i = 0; i < 6; ++i) impl.data->qvel[object->free.dof + i] = 0.0;
+  mj_forward(impl.model.get(), impl.data.get());
+  return allowed;
+}
+
 std::vector<std::string> CellPhysics::object_bodies() const {
   std::vector<std::string> names;
   for (const detail::ObjectBody& object : impl_->index.objects) {

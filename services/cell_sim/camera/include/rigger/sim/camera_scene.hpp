@@ -61,6 +61,10 @@ struct CameraScene {
   int dictionary = 0;
   std::string dictionary_name;
   std::vector<BoxObject> objects;
+  /// The objects given by their STEP model alone that carry markers: size_m zero, their markers not
+  /// checked against a box. The MuJoCo camera draws such a marker only where a geom of the model lies
+  /// under it (within 5 mm); the rasteriser, which draws boxes, does not draw them.
+  std::vector<BoxObject> mesh_objects;
 };
 
 /// Reads the camera scene from a cell configuration file.

@@ -193,6 +193,17 @@ class CellPhysics {
   [[nodiscard]] std::vector<std::string> object_bodies() const;
   [[nodiscard]] const CellGeometry& geometry() const;
 
+  // ---- cell revisions --------------------------------------------------------------------
+  /// Puts the free object `id` at `pose_world_object` (its entity frame in the world), at rest: its free
+  /// joint's position set, its velocities zeroed, positions and contacts recomputed, as a person who
+  /// moves a part on the table leaves it. Refused, with the reason in the message: a non-finite pose or a
+  /// rotation that is not one (RejectedNonFinite, RejectedOutOfRange); an unknown or static object
+  /// (RejectedNotFree); the object the magnet holds or the crane's load (RejectedHeld). Not thread-safe:
+  /// call on the thread that steps the physics.
+  CommandResult move_free_object(std::string_view id, const Eigen::Isometry3d& pose_world_object);
+  /// What move_free_object would answer, changing nothing.
+  [[nodiscard]] CommandResult can_move_free_object(std::string_view id, const Eigen::Isometry3d& pose_world_object) const;
+
   // ---- rendering -------------------------------------------------------------------------
   /// A copy of the compiled model (mj_copyModel) for a renderer on another thread: it shares
   /// nothing with the physics, so the renderer needs no lock, only a KinematicState per frame.

@@ -35,6 +35,8 @@ enum class CommandStatus {
   RejectedNonFinite,    ///< NaN or infinite number in the command
   RejectedOutOfRange,   ///< outside joint limits, axis range or a sane magnitude
   RejectedUnreachable,  ///< no joint configuration reaches the pose (IK failed)
+  RejectedHeld,         ///< the object is held (by the magnet) or carried (on the crane's rope)
+  RejectedNotFree,      ///< the object is unknown or static: it moves only with a model built anew
 };
 
 /// Result of a command: status and a human-readable reason when refused.

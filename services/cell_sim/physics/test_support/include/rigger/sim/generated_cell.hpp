@@ -1,9 +1,17 @@
 #pragma once
 /// @file
-/// A cell the repository does not ship, for tests and benchmarks: a folder with a cell file (the shared
-/// demo cell's devices and camera) and STEP models written with OpenCascade: a fixture table, an
-/// L-shaped 25 kg bracket on the crane's rope (two solids), a flange plate with six holes as the static
-/// target, and three loose parts on the table (a STEP block, a STEP roller, a box shorthand).
+/// A cell the repository does not ship, for tests and benchmarks, described only by a cell file and STEP models written
+/// with OpenCascade: a fixture table, an L-shaped 25 kg bracket of two solids on the crane's rope (the load), a flange
+/// plate with six through holes on the table (the target) and three loose parts on the table. The devices (crane,
+/// robot, gripper, camera) are the shipped cell's; the objects stand where the shipped cell's load and target stand, in
+/// the robot's reach and the camera's view.
+///
+/// Every feature a skill needs is a CAD rule over the generated models, with references found by
+/// classifying the written STEP files (as `riggerctl cad inspect` shows them to an integrator):
+/// bracket/grasp_web and bracket/pre_grasp (`face` rule on the web's outer face), the bracket's insertion
+/// on the flange (`mate_faces`: the base plate's bottom on the flange's top), flange/h1..h6 (`hole`).
+/// The rope attachment and the ArUco markers (bracket: 1, 2 on the web; flange: 10, 11 on its top face)
+/// are numbers, as on any cell file.
 
 #include <cstddef>
 #include <filesystem>
@@ -17,34 +25,46 @@ namespace rigger::sim {
 
 class GeneratedCell {
  public:
-  /// The table's top face, world z (m).
-  static constexpr double kTableTopZ = 0.70;
+  /// World z of the fixture table's top face, metres.
+  static constexpr double kTableTopZ = 0.91;
 
-  /// Writes the STEP models into a new folder under /tmp and builds the cell file in memory from
-  /// `shared_cell_json`'s devices (default: the repository's deploy/cell/simulated_cell.json).
-  /// @throws std::runtime_error when a model cannot be made or written.
+  /// Writes the STEP models into a new folder under /tmp (removed with this object) and builds the cell
+  /// document from the devices of `shared_cell_json` (default: the repository's
+  /// deploy/cell/simulated_cell.json) and the generated objects. Throws std::runtime_error (or
+  /// cad::CadError) when a model cannot be written or a referenced face is not found.
   GeneratedCell();
   explicit GeneratedCell(const std::filesystem::path& shared_cell_json);
-  /// Removes the folder.
+  /// The same into `dir`/models (created), which stays: a test's log folder.
+  GeneratedCell(std::filesystem::path dir, const std::filesystem::path& shared_cell_json);
   ~GeneratedCell();
   GeneratedCell(const GeneratedCell&) = delete;
   GeneratedCell& operator=(const GeneratedCell&) = delete;
 
-  /// The cell file, to change before write() or load().
+  /// The cell document; tests may edit it before write().
   nlohmann::json& document() { return cell_; }
   const nlohmann::json& document() const { return cell_; }
   const std::filesystem::path& dir() const { return dir_; }
-  /// The entity index of `id` in the cell file. @throws std::out_of_range
-  std::size_t index_of(const std::string& id) const;
-  /// Writes the cell file as dir()/cell.json and returns its path.
+
+  /// Writes the document to dir()/cell.json (STEP paths in it are relative to that folder); its path.
   std::filesystem::path write() const;
+
+  /// The position of `id` in /entities; throws std::out_of_range for an unknown id.
+  std::size_t index_of(const std::string& id) const;
   /// write(), then the physics' reading of it. @throws CellGeometryError
   CellGeometry load() const;
   /// The CellGeometryError load() throws, or "" when it loads.
   std::string error() const;
 
+  /// The scenario's recipe (`demo_recipe`: recipes/crane_insert.json) for this cell: its object and
+  /// feature names replaced by the generated cell's (load → bracket, target → flange, the grasp and
+  /// approach features, the flange's six holes), no coordinate in it. task_id becomes `task_id`.
+  nlohmann::json recipe(const nlohmann::json& demo_recipe, const std::string& task_id) const;
+
  private:
+  void build(const std::filesystem::path& shared_cell_json);
+
   std::filesystem::path dir_;
+  bool remove_dir_ = false;
   nlohmann::json cell_;
 };
 
