@@ -1,13 +1,15 @@
 // Cell revisions: the world model's start-up on the demo cell (process start to READY, its STEP models'
-// CAD rules derived) next to its start-up on a one-frame cell; and a revision's apply (request written to
+// CAD rules derived) next to its start-up on a one-frame cell; a revision's apply (request written to
 // the CellRevision received, the demo cell's load moved each time) next to a world query round trip
-// measured in the same run.
+// measured in the same run; and the same apply until every reader of the cell (cell_sim, vision_tracker,
+// admittance_control, cad) says in its service state that it runs on the new revision.
 //
 //   build/bench/bench_cell_revision [--starts 5] [--applies 30] [--queries 500]
 #include <signal.h>
 
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <iterator>
 #include <optional>
@@ -17,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_util.hpp"
+#include "cell_sim_test_support.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/protocol/world.hpp"
 #include "rigger/testing/cell.hpp"
@@ -58,6 +61,17 @@ std::vector<double> start_ups(rigger::testing::Cell& cell, const std::string& ce
   return ms;
 }
 
+// deploy/config/<name>.json with its cell file replaced by `cell_file`, written next to the logs.
+std::string reader_config(rigger::testing::Cell& cell, const std::string& name, const fs::path& cell_file) {
+  json c = json::parse(read_text(fs::path(RIGGER_SOURCE_DIR) / "deploy/config" / (name + ".json")));
+  for (const char* key : {"cell_file", "cell_config"}) {
+    if (c.contains(key)) c[key] = cell_file.string();
+  }
+  const std::string path = cell.log_dir() + "/" + name + ".json";
+  std::ofstream(path) << c.dump(2);
+  return path;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -95,28 +109,40 @@ int main(int argc, char** argv) {
     return 1;
   }
   const json original = json::parse(read_text(folder / "cell.json"));
-  std::vector<double> apply_ms;
-  for (int i = 1; i <= applies; ++i) {
-    json doc = original;
-    doc["entities"][5]["pose"]["position_m"][0] = doc["entities"][5]["pose"]["position_m"][0].get<double>() + 0.001 * i;
-    rigger::world_protocol::CellRequest q;
-    q.client_id = "bench";
-    q.request_id = static_cast<std::uint64_t>(i);
-    q.op = rigger::world_protocol::CellOp::kApply;
-    q.cell_json = doc.dump();
-    q.who = "bench";
-    rigger_world_CellRequest wire{};
-    rigger::world_protocol::to_wire(q, wire);
-    const auto t0 = Clock::now();
-    requests.write(wire);
-    const std::uint64_t expected = latest + 1;
-    if (!cell.wait_until([&] { return latest == expected; }, 30s)) {
-      std::fprintf(stderr, "revision %llu not received\n%s", static_cast<unsigned long long>(expected),
-                   cell.logs().c_str());
-      return 1;
+  // Revisions that move object `id` by i mm along x in the i-th; `done(revision)` says when one is through.
+  // The milliseconds from each request written to done.
+  std::uint64_t request_id = 0;
+  const auto apply_all = [&](const std::string& id, int count, const std::function<bool(std::uint64_t)>& done) {
+    std::vector<double> ms;
+    for (int i = 1; i <= count; ++i) {
+      json doc = original;
+      for (json& entity : doc["entities"]) {
+        if (entity["id"] != id) continue;
+        json& x = entity["pose"]["position_m"][0];
+        x = x.get<double>() + 0.001 * i;
+      }
+      rigger::world_protocol::CellRequest q;
+      q.client_id = "bench";
+      q.request_id = ++request_id;
+      q.op = rigger::world_protocol::CellOp::kApply;
+      q.cell_json = doc.dump();
+      q.who = "bench";
+      rigger_world_CellRequest wire{};
+      rigger::world_protocol::to_wire(q, wire);
+      const auto t0 = Clock::now();
+      requests.write(wire);
+      const std::uint64_t expected = latest + 1;
+      if (!cell.wait_until([&] { return latest == expected && done(expected); }, 30s)) {
+        std::fprintf(stderr, "revision %llu not through\n%s", static_cast<unsigned long long>(expected),
+                     cell.logs().c_str());
+        return std::vector<double>{};
+      }
+      ms.push_back(ms_since(t0));
     }
-    apply_ms.push_back(ms_since(t0));
-  }
+    return ms;
+  };
+  const std::vector<double> apply_ms = apply_all("load", applies, [](std::uint64_t) { return true; });
+  if (apply_ms.empty()) return 1;
   std::vector<double> query_ms;
   for (int i = 0; i < queries; ++i) {
     bool done = false;
@@ -125,11 +151,35 @@ int main(int argc, char** argv) {
     cell.wait_until([&] { return done; }, 3s);
     query_ms.push_back(ms_since(t0));
   }
+  // The load back where the file has it (it hangs on the rope: cell_sim refuses to move it), then every
+  // reader of the cell on the same file: from the request until each says it runs on the revision.
+  if (apply_all("", 1, [](std::uint64_t) { return true; }).empty()) return 1;
+  const std::vector<std::string> readers = {"cell_sim", "vision_tracker", "admittance_control", "cad"};
+  const fs::path cell_file = folder / "cell.json";
+  cell.start("cell_sim", "cell_sim",
+             {"--config", reader_config(cell, "cell_sim", cell_file), "--plc-port", "0"});
+  for (const char* name : {"vision_tracker", "admittance_control", "cad"})
+    cell.start(name, name, {"--config", reader_config(cell, name, cell_file)});
+  const auto all_on = [&](std::uint64_t revision) {
+    const std::string on = "cell revision " + std::to_string(revision);
+    for (const std::string& id : readers) {
+      const auto it = cell.directory().services().find(id);
+      if (it == cell.directory().services().end() || it->second.detail != on) return false;
+    }
+    return true;
+  };
+  if (!cell.wait_ready(readers, 60s) || !cell.wait_until([&] { return all_on(latest); }, 30s)) {
+    std::fprintf(stderr, "the readers did not start on revision %llu\n%s", static_cast<unsigned long long>(latest),
+                 cell.logs().c_str());
+    return 1;
+  }
+  const std::vector<double> everyone_ms = apply_all("part", applies, all_on);  // a loose part: the load hangs on the rope
+  if (everyone_ms.empty()) return 1;
   cell.stop_all();
 
   using rigger::bench::quantiles;
   const auto demo = quantiles(demo_ms), small = quantiles(minimal_ms), apply = quantiles(apply_ms),
-             query = quantiles(query_ms);
+             query = quantiles(query_ms), everyone = quantiles(everyone_ms);
   std::printf(
       "World model start-up (process start to READY, %d runs) and cell revision apply (%d revisions of the "
       "demo cell, the load moved each time), loopback, domain %u\n",
@@ -140,14 +190,18 @@ int main(int argc, char** argv) {
   std::printf("%-52s %10.1f %10.1f %10.1f\n", "start-up, one-frame cell", small.p50, small.p90, small.p99);
   std::printf("%-52s %10.1f %10.1f %10.1f\n", "revision apply -> CellRevision received", apply.p50, apply.p90,
               apply.p99);
+  std::printf("%-52s %10.1f %10.1f %10.1f\n", "revision apply -> every reader on it (4 services)", everyone.p50,
+              everyone.p90, everyone.p99);
   std::printf("%-52s %10.3f %10.3f %10.3f\n", "world query round trip (pose load in robot)", query.p50, query.p90,
               query.p99);
 
   rigger::performance::Report report(
       "bench_cell_revision",
       "World model start-up (process start to READY) on the demo cell next to a one-frame cell; a cell revision's "
-      "apply (request to CellRevision received, demo cell, load moved) next to a world query round trip, loopback");
+      "apply (request to CellRevision received, demo cell, load moved) next to a world query round trip, and to every reader of the cell on the new revision, loopback");
   rigger::bench::add_quantiles(report, "start-up demo cell", demo, "ms", "start-up one-frame cell", small);
   rigger::bench::add_quantiles(report, "revision apply", apply, "ms", "world query round trip", query);
+  rigger::bench::add_quantiles(report, "revision apply to every reader (cell_sim, tracker, admittance, cad)", everyone,
+                               "ms", "revision apply to the world model's CellRevision", apply);
   return rigger::performance::save_for_main(report);
 }

@@ -27,7 +27,8 @@ RevisionReading read_revision(const world_protocol::CellRevision& sent, const st
   taken.stamp = sent.stamp;
   try {
     taken.cell = cell::parse_cell_file(sent.cell_json, cell_file.string());
-  } catch (const cell::CellFileError& error) {
+    taken.document = nlohmann::json::parse(sent.cell_json);  // bounded and valid: parse_cell_file read it
+  } catch (const std::exception& error) {
     return refuse(sent.cell_revision, error.what());
   }
   // The models travel with the cell folder, not on the wire: a model this reader's folder lacks is named.

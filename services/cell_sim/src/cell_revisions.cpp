@@ -23,13 +23,7 @@ RevisionPlan refuse(std::string why) {
 
 }  // namespace
 
-RevisionPlan plan_revision(const cell_follower::FollowedRevision& next, std::uint64_t running_revision) {
-  const json& changes = next.changes;
-  if (next.previous_revision != running_revision)
-    return refuse(
-        "it changes revision " + std::to_string(next.previous_revision) + ", cell_sim runs on " +
-        (running_revision == 0 ? std::string("its cell file") : "revision " + std::to_string(running_revision)) +
-        ": restart cell_sim on the new cell");
+RevisionPlan plan_revision(const json& changes, const cell::CellFile& next) {
   try {
     const json none = json::array();
     const json& added = changes.contains("added") ? changes.at("added") : none;
@@ -48,15 +42,15 @@ RevisionPlan plan_revision(const cell_follower::FollowedRevision& next, std::uin
     RevisionPlan plan;
     for (const json& moved : changes.value("moved", none)) {
       const std::string id = moved.at("id").get<std::string>();
-      const cell::CellEntity* entity = next.cell.find(id);
+      const cell::CellEntity* entity = next.find(id);
       if (entity == nullptr) return refuse("it moves " + id + ", which it does not hold");
       if (entity->kind != cell::EntityKind::kObject)
         return refuse("it moves the device or frame " + id + ": cell_sim places devices at start; restart it");
-      plan.moves.push_back({id, next.cell.pose_root_entity(id)});
+      plan.moves.push_back({id, next.pose_root_entity(id)});
     }
     return plan;
   } catch (const std::exception& e) {
-    return refuse(std::string("its changes_json is not the expected form: ") + e.what());
+    return refuse(std::string("its changes are not in the expected form: ") + e.what());
   }
 }
 

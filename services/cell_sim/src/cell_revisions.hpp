@@ -4,9 +4,9 @@
 /// objects it moves (each put at its new pose at rest, on the physics thread), or why it cannot take the
 /// revision. Pure: no DDS, no physics.
 ///
-/// Taken: a revision against the one cell_sim runs on that moves objects, or changes only what the
+/// Taken: a revision that, against the cell cell_sim runs on, moves objects, or changes only what the
 /// physics does not use (`localized`, `comment`, `description`, `attributes`). Refused, with the reason:
-/// a revision against another revision than the running one, one that moves a device, or adds, removes
+/// one that moves a device, or adds, removes
 /// or reshapes an object (the model is built at start: cell_sim takes such a cell when restarted on it).
 /// Whether each moved object can be moved (free, not on the rope, not in the magnet) is the physics'
 /// to say when it applies the moves.
@@ -33,7 +33,9 @@ struct RevisionPlan {
   std::string refusal;
 };
 
-/// Plans `next` for a cell_sim running on revision `running_revision` (0: its configured file).
-RevisionPlan plan_revision(const cell_follower::FollowedRevision& next, std::uint64_t running_revision);
+/// Plans the move to `next` given what changed from the cell cell_sim runs on (`changes`, in the form of
+/// cell::diff_cells; cell_sim diffs against its own running cell, so that it can follow from any revision,
+/// also after a restart on its cell file).
+RevisionPlan plan_revision(const nlohmann::json& changes, const cell::CellFile& next);
 
 }  // namespace rigger::cell_sim

@@ -1,9 +1,11 @@
 #include "cell_sim_node.hpp"
 
 #include <cmath>
+#include <fstream>
 #include <vector>
 
 #include "camera_renderers.hpp"
+#include "rigger/cell_config/cell_diff.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/robot.hpp"
@@ -156,6 +158,13 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
         runner_->submit(stop);
       });
   runner_->start();
+  try {
+    running_cell_ = cell::load_cell_file(config_.cell_file);
+    std::ifstream in(config_.cell_file, std::ios::binary);
+    running_doc_ = nlohmann::json::parse(in);  // valid and bounded: load_cell_file read it
+  } catch (const std::exception& e) {
+    fail_config(ctx.config, "cell_file", e);
+  }
   follower_ = std::make_unique<cell_follower::CellFollower>(
       ctx.participant, ctx.loop, ctx.log, config_.cell_file,
       [this](const cell_follower::FollowedRevision& next) { return on_revision(next); }, &ctx.announcer);
@@ -173,9 +182,10 @@ CellSimNode::~CellSimNode() {
 // The physics thread applies the moves at its next step (1 ms of simulated time): the loop waits for it, so
 // the follower reports what the physics did, not what it was asked.
 cell_follower::Outcome CellSimNode::on_revision(const cell_follower::FollowedRevision& next) {
-  const RevisionPlan plan = plan_revision(next, follower_->revision());
+  const RevisionPlan plan =
+      plan_revision(cell::diff_cells(running_cell_, running_doc_, next.cell, next.document), next.cell);
   if (!plan.refusal.empty()) return cell_follower::Outcome::refuse(plan.refusal);
-  if (plan.moves.empty()) return cell_follower::Outcome::take();
+  if (plan.moves.empty()) return take(next);
   ObjectMovesCommand command{plan.moves, std::make_shared<std::promise<std::string>>()};
   std::future<std::string> done = command.done->get_future();
   runner_->submit(std::move(command));
@@ -188,6 +198,12 @@ cell_follower::Outcome CellSimNode::on_revision(const cell_follower::FollowedRev
     ctx_.log->info("object moved by cell revision {} id={} position_m=[{:.4f}, {:.4f}, {:.4f}]", next.revision, move.id,
                    p.x(), p.y(), p.z());
   }
+  return take(next);
+}
+
+cell_follower::Outcome CellSimNode::take(const cell_follower::FollowedRevision& next) {
+  running_cell_ = next.cell;
+  running_doc_ = next.document;
   return cell_follower::Outcome::take();
 }
 

@@ -74,6 +74,8 @@ class CellSimNode : public service::Node, private SimOutputs {
   void on_sim_control();
   /// A cell revision (rigger/world/cell): its moved free objects put at their new poses, or refused.
   cell_follower::Outcome on_revision(const cell_follower::FollowedRevision& next);
+  /// The revision becomes the running cell.
+  cell_follower::Outcome take(const cell_follower::FollowedRevision& next);
   void refuse_motion(const std::string& motion_id, const std::string& code, const std::string& message);
   bool log_allowed(std::chrono::steady_clock::time_point& last);
 
@@ -113,6 +115,10 @@ class CellSimNode : public service::Node, private SimOutputs {
   // Destroyed before the writers they publish through: first the runner (physics thread), then the camera.
   std::unique_ptr<CameraWorker> camera_;
   std::unique_ptr<SimRunner> runner_;
+  /// The cell the physics runs on (its file, then each revision taken) and its document: a revision is
+  /// diffed against it, whatever revision it says it changes.
+  cell::CellFile running_cell_;
+  nlohmann::json running_doc_;
   /// Follows the cell's revisions on the event loop; destroyed first (its callback uses the runner).
   std::unique_ptr<cell_follower::CellFollower> follower_;
 };

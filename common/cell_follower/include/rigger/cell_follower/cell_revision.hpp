@@ -24,6 +24,7 @@ struct FollowedRevision {
   std::uint64_t revision = 0;
   std::uint64_t previous_revision = 0;
   cell::CellFile cell;
+  nlohmann::json document;  ///< cell_json parsed: the revision's document (for an object-level diff)
   std::filesystem::path model_dir;  ///< where the cell's relative model paths resolve (this reader's cell folder)
   nlohmann::json changes = nlohmann::json::object();  ///< changes_json parsed (see world_protocol::CellRevision)
   std::string sha256;
