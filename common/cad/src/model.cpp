@@ -2,7 +2,13 @@
 
 #include "step_io.hpp"
 
+#include <BRepCheck_Analyzer.hxx>
+#include <BRep_Tool.hxx>
 #include <BinTools.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
 #include <openssl/evp.h>
 
 #include <fstream>
@@ -104,6 +110,22 @@ Model model_from_shape(const TopoDS_Shape& shape_m, const std::string& name) {
   ProductNode product;
   product.name = name;
   return Model(shape_m, std::move(product), sha256_hex(out.str()), name);
+}
+
+std::string solid_problem(const Model& model) {
+  int index = 0;
+  for (TopExp_Explorer solids(model.shape(), TopAbs_SOLID); solids.More(); solids.Next(), ++index) {
+    const TopoDS_Solid& solid = TopoDS::Solid(solids.Current());
+    bool any_shell = false;
+    bool closed = true;
+    for (TopExp_Explorer shells(solid, TopAbs_SHELL); shells.More() && closed; shells.Next()) {
+      any_shell = true;
+      closed = BRep_Tool::IsClosed(TopoDS::Shell(shells.Current()));
+    }
+    if (!any_shell || !closed || !BRepCheck_Analyzer(solid).IsValid())
+      return "solid " + std::to_string(index) + " is not closed (or not a valid solid)";
+  }
+  return index == 0 ? "no solid (faces or shells only)" : "";
 }
 
 }  // namespace rigger::cad

@@ -9,7 +9,13 @@
 #include "rigger/cad/tessellation.hpp"
 
 #include <BRepGProp.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRep_Builder.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
 #include <GProp_GProps.hxx>
 #include <STEPCAFControl_Writer.hxx>
 #include <TDocStd_Document.hxx>
@@ -436,6 +442,23 @@ TEST_F(CadTest, TessellationIsGlbInMetresWithOnePrimitivePerFace) {
   const auto json = tessellation_json(features, mesh);
   EXPECT_EQ(json["parts"].size(), features.faces.size());
   EXPECT_EQ(json["parts"][3]["face"], mesh.primitive_face[3]);
+}
+
+TEST(SolidProblem, ClosedSolidsPassAFaceOrAnOpenShellDoesNot) {
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(0.4, 0.3, 0.2).Shape();
+  EXPECT_EQ(solid_problem(model_from_shape(box, "box")), "");
+  TopExp_Explorer faces(box, TopAbs_FACE);
+  EXPECT_EQ(solid_problem(model_from_shape(faces.Current(), "face")), "no solid (faces or shells only)");
+  // The box's shell without its last face, made a solid: open.
+  TopoDS_Shell open;
+  BRep_Builder builder;
+  builder.MakeShell(open);
+  int count = 0;
+  for (TopExp_Explorer f(box, TopAbs_FACE); f.More(); f.Next()) {
+    if (++count < 6) builder.Add(open, f.Current());
+  }
+  const TopoDS_Solid solid = BRepBuilderAPI_MakeSolid(open).Solid();
+  EXPECT_EQ(solid_problem(model_from_shape(solid, "open")), "solid 0 is not closed (or not a valid solid)");
 }
 
 }  // namespace

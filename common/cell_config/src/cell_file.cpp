@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 #include <initializer_list>
+#include <limits>
 #include <map>
 #include <set>
 #include <utility>
@@ -16,6 +17,57 @@
 
 namespace rigger::cell {
 namespace {
+
+/// How far two boxes (centre pose, half extents) reach into each other: the smallest overlap of their
+/// projections over the 15 separating axes of two boxes; <= 0 when they are apart or only touch.
+double box_penetration(const Eigen::Isometry3d& a, const Eigen::Vector3d& half_a, const Eigen::Isometry3d& b,
+                       const Eigen::Vector3d& half_b) {
+  const Eigen::Matrix3d ra = a.linear();
+  const Eigen::Matrix3d rb = b.linear();
+  const Eigen::Vector3d t = b.translation() - a.translation();
+  double least = std::numeric_limits<double>::infinity();
+  const auto test = [&](Eigen::Vector3d axis) {
+    if (axis.norm() < 1e-9) return;  // parallel edges: the face axes cover it
+    axis.normalize();
+    double reach = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      reach += half_a(i) * std::abs(ra.col(i).dot(axis)) + half_b(i) * std::abs(rb.col(i).dot(axis));
+    }
+    least = std::min(least, reach - std::abs(t.dot(axis)));
+  };
+  for (int i = 0; i < 3; ++i) {
+    test(ra.col(i));
+    test(rb.col(i));
+    for (int j = 0; j < 3; ++j) test(ra.col(i).cross(rb.col(j)));
+  }
+  return least;
+}
+
+/// Static objects with a box may touch, not overlap (by more than 1 mm): the physics cannot push fixed
+/// bodies apart, so an overlap would be a drawing error that shows only as objects jumping off them.
+void check_static_boxes_apart(const CellFile& file) {
+  constexpr double kTolerance_m = 0.001;
+  std::vector<const CellEntity*> boxes;
+  for (const CellEntity& e : file.entities) {
+    if (e.model && e.model->is_static && e.model->shape == "box") boxes.push_back(&e);
+  }
+  for (std::size_t j = 1; j < boxes.size(); ++j) {
+    for (std::size_t i = 0; i < j; ++i) {
+      const CellEntity& a = *boxes[i];
+      const CellEntity& b = *boxes[j];
+      const Eigen::Isometry3d box_a =
+          file.pose_root_entity(a.id) * Eigen::Translation3d(box_centre_in_object_frame(file, a));
+      const Eigen::Isometry3d box_b =
+          file.pose_root_entity(b.id) * Eigen::Translation3d(box_centre_in_object_frame(file, b));
+      const double depth = box_penetration(box_a, 0.5 * a.model->size_m, box_b, 0.5 * b.model->size_m);
+      if (depth > kTolerance_m) {
+        file.fail(b.pointer + "/pose", "static objects apart (they may touch, not overlap)",
+                  "its box overlaps static object \"" + a.id + "\" (" + a.pointer + ") by " +
+                      std::to_string(static_cast<int>(std::round(depth * 1000.0))) + " mm");
+      }
+    }
+  }
+}
 
 std::string format_error(const std::string& file, const std::string& pointer, const std::string& expected,
                          const std::string& got) {
@@ -240,6 +292,7 @@ CellFile cell_file_from_json(const json& document, const std::string& source) {
       parent = file.entities[index_of.at(parent)].parent;
     }
   }
+  check_static_boxes_apart(file);
   return file;
 }
 

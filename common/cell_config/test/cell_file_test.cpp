@@ -242,6 +242,22 @@ TEST(CellFile, RejectsACycleInTheFrameTree) {
   expect_entity_error("robot", "/parent", "robot", "the entity itself");
 }
 
+TEST(CellFile, StaticBoxesMayTouchButNotOverlap) {
+  json cell = shipped_cell();
+  const std::size_t target = index_of(cell, "target");
+  // A second static box like the target (0.95 m high, its frame at the centre of its top face) on top of it.
+  json stand = cell["entities"][target];
+  stand["id"] = "stand";
+  stand.erase("features");
+  stand["pose"]["position_m"][2] = stand["pose"]["position_m"][2].get<double>() + 0.95;
+  cell["entities"].push_back(stand);
+  EXPECT_NO_THROW(cell_file_from_json(cell, "cell.json")) << "the stand touches the target";
+  json& pose = cell["entities"].back()["pose"];
+  pose["position_m"][2] = pose["position_m"][2].get<double>() - 0.1;
+  expect_error(cell, "/entities/" + std::to_string(cell["entities"].size() - 1) + "/pose",
+               "overlaps static object \"target\" (/entities/" + std::to_string(target) + ") by 100 mm");
+}
+
 TEST(CellFile, RejectsUnknownKeysEverywhere) {
   json cell = shipped_cell();
   cell["entitys"] = json::array();

@@ -16,6 +16,9 @@ void describe_step_models(CellConfig& cell, const std::map<std::string, cad::Mod
     try {
       const auto read = read_models.find(entity.id);
       const cad::Model loaded = read != read_models.end() ? read->second : cad::read_step_file(model_dir / model.step);
+      // The physics holds closed solids only: the same model is refused here, before any service takes it.
+      if (const std::string problem = cad::solid_problem(loaded); !problem.empty())
+        cell.fail(pointer, "a STEP model of closed solids", (model_dir / model.step).string() + ": " + problem);
       // The geometry's own box, not widened by the shape's tolerances.
       BRepBndLib::AddOptimal(loaded.shape(), box, false, false);
     } catch (const cad::CadError& error) {

@@ -2,7 +2,6 @@
 // tessellated for MuJoCo's convex mesh geoms, and the mass.
 #include "object_geometry.hpp"
 
-#include <BRepCheck_Analyzer.hxx>
 #include <BRepGProp.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRep_Tool.hxx>
@@ -29,16 +28,6 @@ namespace {
 // (0.5 mm, 0.5 rad) is exact on planar solids and within 0.5 mm on curved ones.
 constexpr double kLinearDeflectionM = 0.0005;
 constexpr double kAngularDeflectionRad = 0.5;
-
-// A solid is closed when every shell is closed (each edge bounds two faces).
-bool closed_solid(const TopoDS_Solid& solid) {
-  bool any_shell = false;
-  for (TopExp_Explorer shells(solid, TopAbs_SHELL); shells.More(); shells.Next()) {
-    any_shell = true;
-    if (!BRep_Tool::IsClosed(TopoDS::Shell(shells.Current()))) return false;
-  }
-  return any_shell && BRepCheck_Analyzer(solid).IsValid();
-}
 
 // The distinct tessellation nodes of a solid's faces (after BRepMesh), in the model's frame.
 std::vector<Eigen::Vector3d> solid_vertices(const TopoDS_Solid& solid) {
@@ -71,12 +60,13 @@ StepGeometry read_step_solids(const cell::CellFile& file, const cell::CellEntity
   try {
     const auto known = read_models.find(entity.id);
     const cad::Model model = known != read_models.end() ? known->second : cad::read_step_file(path);
+    if (const std::string problem = cad::solid_problem(model); !problem.empty())
+      file.fail(pointer, expected, path.string() + ": " + problem);
     BRepMesh_IncrementalMesh mesher(model.shape(), kLinearDeflectionM, false, kAngularDeflectionRad, true);
     int index = 0;
     for (TopExp_Explorer solids(model.shape(), TopAbs_SOLID); solids.More(); solids.Next(), ++index) {
       const TopoDS_Solid& solid = TopoDS::Solid(solids.Current());
       const std::string which = path.string() + ": solid " + std::to_string(index);
-      if (!closed_solid(solid)) file.fail(pointer, expected, which + " is not closed (or not a valid solid)");
       GProp_GProps properties;
       BRepGProp::VolumeProperties(solid, properties);
       ObjectSolid object_solid{solid_vertices(solid), properties.Mass()};
@@ -85,7 +75,6 @@ StepGeometry read_step_solids(const cell::CellFile& file, const cell::CellEntity
       geometry.volume_m3 += object_solid.volume_m3;
       geometry.solids.push_back(std::move(object_solid));
     }
-    if (geometry.solids.empty()) file.fail(pointer, expected, path.string() + ": no solid (faces or shells only)");
   } catch (const cad::CadError& error) {
     file.fail(pointer, expected, error.what());
   } catch (const Standard_Failure& failure) {

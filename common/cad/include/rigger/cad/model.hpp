@@ -97,6 +97,11 @@ Model model_from_shape(const TopoDS_Shape& shape_m, const std::string& name);
 /// Throws CadError(kWriteFailed).
 void write_step(const TopoDS_Shape& shape_m, const std::string& product, const std::filesystem::path& path);
 
+/// Why `model` is not a body the physics can hold: "" when it is made of valid closed solids (every shell
+/// of every solid closed, each edge bounding two faces); else what is wrong, naming the first bad solid by
+/// its index ("solid 2 is not closed (or not a valid solid)", "no solid (faces or shells only)").
+std::string solid_problem(const Model& model);
+
 /// Hex sha256 of bytes.
 std::string sha256_hex(std::string_view bytes);
 
