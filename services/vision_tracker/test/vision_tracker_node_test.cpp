@@ -306,7 +306,7 @@ TEST_F(VisionTrackerNodeTest, CommandsForUnknownObjectsAreDropped) {
 
 TEST_F(VisionTrackerNodeTest, ACellRevisionWithANewMarkedObjectIsTrackedAndKeepsWhatWasAsked) {
   command(rigger_vision_TRACK_CONTINUOUS, "load");
-  std::ifstream in("deploy/cell/simulated_cell.json", std::ios::binary);
+  std::ifstream in(testing::deployed_cell_json_path(), std::ios::binary);
   nlohmann::json cell = nlohmann::json::parse(std::string(std::istreambuf_iterator<char>(in), {}));
   nlohmann::json copy;
   for (const nlohmann::json& entity : cell["entities"]) {
