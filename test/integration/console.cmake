@@ -34,3 +34,14 @@ rigger_console_browser_test(rigger_planner_paper_task_test planner_paper_task_te
 rigger_console_browser_test(rigger_rehearsal_browser_test rehearsal_browser_test.cpp
   console cell_sim crane_gateway world_model vision_tracker admittance_control monitor_host skill_executor
   task_controller scripted_operator scripted_executor)
+# A cell the repository does not ship (rigger/sim/generated_cell.hpp) in the console: its six objects in
+# the Planner from their STEP models, a part picked by a click, a flange hole on the operator station and
+# a cell revision from the Tasks page against the real world model.
+if(TARGET rigger_generated_cell AND TARGET rigger_world_client)
+  rigger_console_browser_test(rigger_generated_cell_browser_test generated_cell_browser_test.cpp
+    console cad world_model scripted_executor)
+  if(TARGET rigger_generated_cell_browser_test)
+    target_link_libraries(rigger_generated_cell_browser_test PRIVATE rigger_generated_cell rigger_world_client
+                          rigger_operator_protocol)
+  endif()
+endif()

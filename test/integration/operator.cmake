@@ -3,7 +3,7 @@
 if(TARGET scripted_operator AND TARGET riggerctl)
   rigger_add_test(rigger_operator_test
     SOURCES operator_test.cpp
-    DEPS rigger_test_harness nlohmann_json::nlohmann_json LABEL integration TIMEOUT 60)
+    DEPS rigger_test_harness rigger_operator_protocol nlohmann_json::nlohmann_json LABEL integration TIMEOUT 60)
   add_dependencies(rigger_operator_test scripted_operator riggerctl)
 endif()
 # The shipped scripted operator answering the real task controller's OperatorDecision.

@@ -23,6 +23,7 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/protocol/operator.hpp"
+#include "rigger/operator_protocol/prompt.hpp"
 #include "rigger/testing/cell.hpp"
 
 namespace rigger::testing {
@@ -76,21 +77,17 @@ class OperatorTest : public MultiProcessTest {
 
   void write_prompt(const std::string& id, const std::string& kind, std::vector<std::string> options,
                     const nlohmann::json& details, bool active = true) {
-    rigger_operator_ui_OperatorPrompt p{};
-    const std::string task = "test-task", node = "root/1", title = "Title of " + id, text = "Text of " + id;
-    const std::string details_text = details.is_null() ? "" : details.dump();
-    std::vector<char*> storage;
-    p.prompt_id = dds::wire_string(id);
-    p.task_id = dds::wire_string(task);
-    p.node_id = dds::wire_string(node);
-    p.kind = dds::wire_string(kind);
-    p.title = dds::wire_string(title);
-    p.text = dds::wire_string(text);
-    dds::wire_string_sequence(p.options, options, storage);
-    p.details_json = dds::wire_string(details_text);
+    operator_protocol::Prompt p;
+    p.prompt_id = id;
+    p.task_id = "test-task";
+    p.node_id = "root/1";
+    p.kind = kind;
+    p.title = "Title of " + id;
+    p.text = "Text of " + id;
+    p.options = std::move(options);
+    p.details_json = details.is_null() ? "" : details.dump();
     p.active = active;
-    p.stamp = dds::wire_now();
-    ASSERT_EQ(prompts_->write(p), DDS_RETCODE_OK);
+    ASSERT_EQ(operator_protocol::write_prompt(*prompts_, p), DDS_RETCODE_OK);
   }
   void write_screw(const std::string& id, const std::string& hole, bool active = true) {
     write_prompt(id, "screw", {"done", "failed", "abort"},

@@ -38,6 +38,14 @@ world_protocol::CellRequest request_of(const json& payload, const std::string& w
   return q;
 }
 
+/// What a revision changes (added, removed, moved, changed) from the world model's answer, whose result
+/// holds it as "changes" beside the revision's number, sha256 and summary.
+json changes_of(const json& answer) {
+  if (!answer.is_object()) return json::object();
+  const json result = answer.value("result", json::object());
+  return result.is_object() ? result.value("changes", json::object()) : json::object();
+}
+
 }  // namespace
 
 void HttpApi::send_cell_answer(const httplib::Request& req, httplib::Response& res, const ActionResult& r) {
@@ -96,7 +104,7 @@ void HttpApi::post_cell_revision(const httplib::Request& req, httplib::Response&
             {{"confirmation_id", id},
              {"action", "cell " + target},
              {"cell_revision", check.data.value("cell_revision", std::uint64_t{0})},
-             {"changes", check.data.value("result", json::object())},
+             {"changes", changes_of(check.data)},
              {"expires_in_s", std::chrono::duration<double>(config_.confirm_timeout).count()}},
             202);
 }
@@ -106,9 +114,7 @@ void HttpApi::confirm_cell(const User& user, const Pending& p, const httplib::Re
   const std::uint64_t revision = r.data.is_object() ? r.data.value("cell_revision", std::uint64_t{0}) : 0;
   audit(user, "cell " + p.task_id, "cell", r.ok ? "revision " + std::to_string(revision) : "refused: " + r.message);
   if (!r.ok) return send_cell_answer(req, res, r);
-  send_json(res, {{"done", "cell " + p.task_id},
-                  {"cell_revision", revision},
-                  {"changes", r.data.value("result", json::object())}});
+  send_json(res, {{"done", "cell " + p.task_id}, {"cell_revision", revision}, {"changes", changes_of(r.data)}});
 }
 
 }  // namespace rigger::console

@@ -62,8 +62,17 @@ class RecordingBackend : public Backend {
     std::lock_guard lock(mutex_);
     return q.dry_run ? cell_check_ : cell_answer_;
   }
-  ActionResult cell_check_{true, "", {{"code", "ACCEPTED"}, {"cell_revision", 1}, {"result", {{"moved", {{{"id", "part"}}}}}}}};
-  ActionResult cell_answer_{true, "", {{"code", "ACCEPTED"}, {"cell_revision", 2}, {"result", {{"moved", {{{"id", "part"}}}}}}}};
+  // As the world model answers (cell_keeper.cpp): the diff is the result's "changes", beside its summary.
+  ActionResult cell_check_{true,
+                           "",
+                           {{"code", "ACCEPTED"},
+                            {"cell_revision", 1},
+                            {"result", {{"summary", "moved part"}, {"changes", {{"moved", {{{"id", "part"}}}}}}}}}};
+  ActionResult cell_answer_{true,
+                            "",
+                            {{"code", "ACCEPTED"},
+                             {"cell_revision", 2},
+                             {"result", {{"summary", "moved part"}, {"changes", {{"moved", {{{"id", "part"}}}}}}}}}};
   std::vector<std::string> cad_requests_;
   std::vector<std::string> actions() {
     std::lock_guard lock(mutex_);

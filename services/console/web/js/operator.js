@@ -21,14 +21,24 @@ export function operatorPage(main, me) {
   let viewReady = null;
   const say = (text, bad = false) => { notice.textContent = text; notice.className = bad ? 'error' : ''; };
 
-  async function ensureView(entity = 'target') {
+  // The part in the 3D view: the one owning the prompted hole. Loads run one after another, so the part
+  // asked for last is the one shown; without a prompt yet, "target" (the shipped cell's).
+  let viewEntity = null;
+  async function ensureView(entity) {
     if (!viewReady) {
-      viewReady = import('./view3d.js').then(async ({ TargetView }) => {
+      viewReady = import('./view3d.js').then(({ TargetView }) => {
         view = new TargetView(viewBox);
         window.rigger.view3d = view.state;
-        try { await view.load(entity); } catch (e) { view.state.error = e.message; say(`3D view: ${e.message}`, true); }
       });
     }
+    if (entity === undefined && viewEntity !== null) return viewReady;
+    const wanted = entity ?? 'target';
+    if (wanted === viewEntity) return viewReady;
+    viewEntity = wanted;
+    viewReady = viewReady.then(async () => {
+      if (viewEntity !== wanted) return;  // a later prompt asked for another part meanwhile
+      try { await view.load(wanted); view.state.entity = wanted; } catch (e) { view.state.error = e.message; say(`3D view: ${e.message}`, true); }
+    });
     return viewReady;
   }
 
