@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -283,6 +284,13 @@ std::size_t GeneratedCell::index_of(const std::string& id) const {
   throw std::out_of_range("generated cell: no entity \"" + id + "\"");
 }
 
+namespace {
+// The skills whose `object` (defaulting to "load") or `target` (defaulting to "target") names a cell object.
+const std::set<std::string> kObjectSkills = {"AttachRobotToLoad", "CollaborativeMoveLoad", "InsertVisuallyGuided",
+                                             "Release", "Screw"};
+const std::set<std::string> kTargetSkills = {"InsertVisuallyGuided", "Screw"};
+}  // namespace
+
 nlohmann::json GeneratedCell::recipe(const nlohmann::json& demo_recipe, const std::string& task_id) const {
   json recipe = demo_recipe;
   rename(recipe);
@@ -296,6 +304,14 @@ nlohmann::json GeneratedCell::recipe(const nlohmann::json& demo_recipe, const st
     json& node = *pending.back();
     pending.pop_back();
     if (node.is_object() && node.value("skill", "") == "Screw") node["params"]["holes"] = holes;
+    // A skill's object and target default to the shipped cell's names ("load", "target"): a recipe for
+    // another cell names its objects in every skill that has them, or the conditions name objects it lacks.
+    if (node.is_object() && node.value("type", "") == "Skill") {
+      const std::string skill = node.value("skill", "");
+      json& params = node["params"];
+      if (kObjectSkills.count(skill) != 0 && !params.contains("object")) params["object"] = "bracket";
+      if (kTargetSkills.count(skill) != 0 && !params.contains("target")) params["target"] = "flange";
+    }
     if (node.is_object() || node.is_array()) {
       for (json& child : node) pending.push_back(&child);
     }
