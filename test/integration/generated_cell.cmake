@@ -11,3 +11,11 @@ if(_generated_cell_ready AND TARGET rigger_generated_cell AND TARGET rigger_worl
   target_include_directories(rigger_generated_cell_test SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
   add_dependencies(rigger_generated_cell_test ${_generated_cell_services})
 endif()
+# The scenario's recipe on the generated cell, on every process of the scenario (as rigger_scenario_test).
+if(_generated_cell_ready AND _scenario_ready AND TARGET rigger_generated_cell)
+  rigger_add_test(rigger_generated_cell_scenario_test
+    SOURCES generated_cell_scenario_test.cpp
+    DEPS rigger_test_harness rigger_generated_cell rigger_cell_cad Eigen3::Eigen nlohmann_json::nlohmann_json
+    LABEL integration TIMEOUT 420 RUN_SERIAL)
+  add_dependencies(rigger_generated_cell_scenario_test ${_scenario_services})
+endif()

@@ -212,7 +212,7 @@ TEST_F(GeneratedCellTest, TheServicesStartOnItDeriveItsFeaturesAndSimulateEveryO
   EXPECT_LT((truth["bracket"].back().translation().head<2>() - Eigen::Vector2d(3.55, 1.75)).norm(), 0.01);
 
   // The camera renders the STEP meshes with their markers: the bracket's (1, 2, on its web) and the
-  // flange's (10, 11, on its top face) are found in the image by OpenCV's detector, as the tracker finds them.
+  // flange's (10, 11, on the lug on its rim) are found in the image by OpenCV's detector, as the tracker finds them.
   ASSERT_TRUE(cell_.wait_until([&] { return !image.empty(); }, 10s)) << "no camera image";
   std::vector<int> ids;
   std::vector<std::vector<cv::Point2f>> corners;

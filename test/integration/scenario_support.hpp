@@ -24,7 +24,6 @@
 #include <Eigen/Geometry>
 
 #include <nlohmann/json.hpp>
-#include "rigger/cell_config/cell_cad.hpp"
 
 #include "cell_sim_test_support.hpp"
 #include "rigger/dds/conversions.hpp"
@@ -41,6 +40,7 @@
 #include "rigger/protocol/task.hpp"
 #include "rigger/protocol/task_names.hpp"
 #include "rigger/testing/cell.hpp"
+#include "scenario_cell_files.hpp"
 #include "scenario_report_support.hpp"
 #include "stop_timeline_support.hpp"
 
@@ -76,6 +76,11 @@ class ScenarioCell {
     return std::unique_ptr<ScenarioCell>(new ScenarioCell(cell, {}, false, std::move(service_ids)));
   }
 
+  /// The cell on `setup`'s cell file, its load and target named by it (ScenarioSetup).
+  static std::unique_ptr<ScenarioCell> on(Cell& cell, ScenarioSetup setup) {
+    return std::unique_ptr<ScenarioCell>(new ScenarioCell(cell, {}, true, {}, false, "", std::move(setup)));
+  }
+
   /// The robot and the camera behind the ROS 2 bridge: cell_sim plays their ROS 2 drivers (its
   /// ros2_driver configuration: rt/ topics, ROS 2 types and QoS) and ros2_bridge, with the shipped
   /// deploy/config/ros2_bridge.json, carries the wrench, the joint states (as the robot state), the twist and
@@ -106,8 +111,11 @@ class ScenarioCell {
   }
 
   ScenarioCell(Cell& cell, std::vector<std::string> operator_rules, bool scripted_operator,
-               std::vector<std::string> started_elsewhere, bool behind_ros2_bridge = false, std::string pki_dir = "")
+               std::vector<std::string> started_elsewhere, bool behind_ros2_bridge = false, std::string pki_dir = "",
+               ScenarioSetup setup = {})
       : cell_(cell),
+        setup_(std::move(setup)),
+        insertion_offset_(insertion_offset(setup_)),
         scripted_operator_(scripted_operator),
         behind_ros2_bridge_(behind_ros2_bridge),
         pki_dir_(std::move(pki_dir)),
@@ -323,20 +331,20 @@ class ScenarioCell {
   /// The load's true pose relative to where the insertion puts it: target · insertion offset (the cell
   /// file's `insertion.pose_in_target` of the load).
   std::optional<std::pair<double, double>> insertion_error() const {
-    const auto load = truth("load");
-    const auto target = truth("target");
+    const auto load = truth(setup_.load_id);
+    const auto target = truth(setup_.target_id);
     if (!load || !target) return std::nullopt;
-    return pose_error(*target * insertion_offset(), *load);
+    return pose_error(*target * insertion_offset_, *load);
   }
 
   /// The insertion error (as insertion_error()) by the truth at `t`: the latest sample stamped at or before
   /// `t`, at most kTruthBefore before it; nullopt when the test's loop saw no such sample (it did not run
   /// then, and the reader's keep-last 1 kept only a later sample).
   std::optional<std::pair<double, double>> insertion_error_at(WallTime t) const {
-    const auto load = truth_at("load", t);
-    const auto target = truth_at("target", t);
+    const auto load = truth_at(setup_.load_id, t);
+    const auto target = truth_at(setup_.target_id, t);
     if (!load || !target) return std::nullopt;
-    return pose_error(*target * insertion_offset(), *load);
+    return pose_error(*target * insertion_offset_, *load);
   }
 
   /// The insertion error (as insertion_error()) by the truth at the stamp at which the node named `name`
@@ -439,29 +447,8 @@ class ScenarioCell {
     return std::nullopt;
   }
 
-  // The load's insertion as every process gets it: derived from the STEP models (rigger_cell_cad).
-  static Eigen::Isometry3d insertion_offset() {
-    const cell::CellFile cell = cell::load_cell_file_with_cad(repo_file("deploy/cell/simulated_cell.json"));
-    const auto& insertion = cell.require("load", "the scenario's insertion error").features.insertion;
-    if (!insertion) throw std::runtime_error("the cell file has no load with an insertion feature");
-    return insertion->pose_target_entity;
-  }
-
-  /// deploy/config/<name>.json with `patch` merged in, written to the log folder (relative paths in the
-  /// shipped file are relative to the repository root or to deploy/config; the copies use absolute ones).
   std::string config(const std::string& name, const nlohmann::json& patch = nlohmann::json::object()) {
-    std::ifstream in(repo_file("deploy/config/" + name + ".json"));
-    nlohmann::json c = nlohmann::json::parse(in);
-    for (const char* key : {"cell_file", "cell_config"}) {
-      if (!c.contains(key)) continue;
-      std::string path = c[key].get<std::string>();
-      if (path.rfind("../", 0) == 0) path = "deploy/config/" + path;
-      c[key] = repo_file(path);
-    }
-    c.merge_patch(patch);
-    const std::string path = cell_.log_dir() + "/" + name + ".json";
-    std::ofstream(path) << c.dump(2);
-    return path;
+    return service_config(cell_.log_dir(), setup_, name, patch);
   }
 
   // Starts one service of the cell as process (and log) `name`; secured, as DDS identity `identity`
@@ -531,6 +518,8 @@ class ScenarioCell {
 
  private:
   Cell& cell_;
+  ScenarioSetup setup_;
+  Eigen::Isometry3d insertion_offset_;  // the load in the target's frame when inserted (from the STEP models)
   bool scripted_operator_ = true;
   bool behind_ros2_bridge_ = false;
   std::string pki_dir_;                // empty: DDS Security off

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -29,6 +30,8 @@ using json = nlohmann::json;
 // The bolt circle of the flange's six holes and their radius, metres.
 constexpr double kBoltCircleRadius = 0.18;
 constexpr double kHoleRadius = 0.011;
+// The inner face of the flange's marker lug (x in the flange's frame), 3 cm beyond the bracket's base plate.
+constexpr double kLugInnerX = 0.23;
 
 TopoDS_Shape box(const gp_Pnt& low, const gp_Pnt& high) {
   return BRepPrimAPI_MakeBox(low, high).Shape();
@@ -47,7 +50,10 @@ TopoDS_Shape l_bracket() {
 }
 
 // The flange plate: 0.50 m across, 0.04 m thick, frame at the centre of its top face, six 22 mm through
-// holes on a 0.36 m bolt circle.
+// holes on a 0.36 m bolt circle; on its +x rim (the camera's side) a marker lug 0.02 x 0.24 x 0.12 m standing
+// on the top face, as a second solid: the camera looks down at about 23 degrees, so markers on the top face
+// were seen at 67 degrees from their normal, past the tracker's good viewing angle, and the tracker lost the
+// flange during the insertion.
 TopoDS_Shape flange_plate() {
   const TopoDS_Shape disc = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -0.04), gp::DZ()), 0.25, 0.04).Shape();
   TopTools_ListOfShape arguments, tools;
@@ -62,7 +68,12 @@ TopoDS_Shape flange_plate() {
   cut.SetTools(tools);
   cut.Build();
   if (!cut.IsDone()) throw std::runtime_error("generated cell: OpenCascade could not cut the flange's holes");
-  return cut.Shape();
+  TopoDS_Compound compound;
+  BRep_Builder builder;
+  builder.MakeCompound(compound);
+  builder.Add(compound, cut.Shape());
+  builder.Add(compound, box({kLugInnerX, -0.12, 0.0}, {kLugInnerX + 0.02, 0.12, 0.12}));
+  return compound;
 }
 
 json pose(double x, double y, double z, double roll = 0, double pitch = 0, double yaw = 0) {
@@ -225,7 +236,7 @@ void GeneratedCell::build(const std::filesystem::path& shipped_cell) {
            flange_model.reference(cad::EntityKind::kFace, "plane", {0.0, 0.0, 0.0}, {0.0, 0.0, 1.0})}}}}}};
 
   // The flange lies on the table, its top face where the shipped cell's target has its top face; its markers
-  // lie on the top face beside the bracket's footprint, clear of the holes.
+  // are on the lug's outer face, facing the camera as the shipped target's do.
   json& flange =
       object("flange", pose(3.55, 2.25, kTableTopZ + 0.04), {{"static", true}, {"step", "models/flange.step"}});
   flange["localized"] = false;
@@ -240,12 +251,13 @@ void GeneratedCell::build(const std::filesystem::path& shipped_cell) {
          {"screw_type", "M20x60"},
          {"torque_nm", 120}});
   }
-  flange["features"] = {{"screw_holes", holes},
-                        {"markers",
-                         {{"dictionary", "DICT_4X4_50"},
-                          {"items",
-                           {{{"id", 10}, {"size_m", 0.08}, {"pose", pose(0.0, -0.20, 0.0)}},
-                            {{"id", 11}, {"size_m", 0.08}, {"pose", pose(0.0, 0.20, 0.0)}}}}}}};
+  flange["features"] = {
+      {"screw_holes", holes},
+      {"markers",
+       {{"dictionary", "DICT_4X4_50"},
+        {"items",
+         {{{"id", 10}, {"size_m", 0.08}, {"pose", pose(kLugInnerX + 0.02, -0.06, 0.06, 90, 0, 90)}},
+          {{"id", 11}, {"size_m", 0.08}, {"pose", pose(kLugInnerX + 0.02, 0.06, 0.06, 90, 0, 90)}}}}}}};
 
   // Dropped from 2 mm above the table top, on the half of the table the bracket never passes over.
   object("part_a", pose(3.40, 2.78, kTableTopZ + 0.032), {{"mass_kg", 2.0}, {"step", "models/block.step"}});
@@ -283,6 +295,13 @@ std::size_t GeneratedCell::index_of(const std::string& id) const {
   throw std::out_of_range("generated cell: no entity \"" + id + "\"");
 }
 
+namespace {
+// The skills whose `object` (defaulting to "load") or `target` (defaulting to "target") names a cell object.
+const std::set<std::string> kObjectSkills = {"AttachRobotToLoad", "CollaborativeMoveLoad", "InsertVisuallyGuided",
+                                             "Release", "Screw"};
+const std::set<std::string> kTargetSkills = {"InsertVisuallyGuided", "Screw"};
+}  // namespace
+
 nlohmann::json GeneratedCell::recipe(const nlohmann::json& demo_recipe, const std::string& task_id) const {
   json recipe = demo_recipe;
   rename(recipe);
@@ -296,6 +315,14 @@ nlohmann::json GeneratedCell::recipe(const nlohmann::json& demo_recipe, const st
     json& node = *pending.back();
     pending.pop_back();
     if (node.is_object() && node.value("skill", "") == "Screw") node["params"]["holes"] = holes;
+    // A skill's object and target default to the shipped cell's names ("load", "target"): a recipe for
+    // another cell names its objects in every skill that has them, or the conditions name objects it lacks.
+    if (node.is_object() && node.value("type", "") == "Skill") {
+      const std::string skill = node.value("skill", "");
+      json& params = node["params"];
+      if (kObjectSkills.count(skill) != 0 && !params.contains("object")) params["object"] = "bracket";
+      if (kTargetSkills.count(skill) != 0 && !params.contains("target")) params["target"] = "flange";
+    }
     if (node.is_object() || node.is_array()) {
       for (json& child : node) pending.push_back(&child);
     }

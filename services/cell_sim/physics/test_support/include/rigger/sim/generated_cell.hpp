@@ -10,8 +10,8 @@
 /// classifying the written STEP files (as `riggerctl cad inspect` shows them to an integrator):
 /// bracket/grasp_web and bracket/pre_grasp (`face` rule on the web's outer face), the bracket's insertion
 /// on the flange (`mate_faces`: the base plate's bottom on the flange's top), flange/h1..h6 (`hole`).
-/// The rope attachment and the ArUco markers (bracket: 1, 2 on the web; flange: 10, 11 on its top face)
-/// are numbers, as on any cell file.
+/// The rope attachment and the ArUco markers (bracket: 1, 2 on the web; flange: 10, 11 on a lug on its rim,
+/// facing the camera) are numbers, as on any cell file.
 
 #include <cstddef>
 #include <filesystem>
