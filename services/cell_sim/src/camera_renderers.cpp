@@ -1,6 +1,8 @@
 #include "camera_renderers.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -12,7 +14,7 @@ class RasterRenderer final : public FrameRenderer {
   RasterRenderer(const sim::CameraScene& scene, sim::RenderSettings settings)
       : pose_world_camera_(scene.pose_world_camera), renderer_(scene, std::move(settings)) {}
 
-  void render(const CameraSnapshot& snapshot, CameraImages& images) override {
+  void render(const CameraSnapshot& snapshot, const CameraDemand& /*demand*/, CameraImages& images) override {
     renderer_.render(pose_world_camera_, snapshot.poses, images.image_mono8);
     images.depth_m.release();
   }
@@ -38,7 +40,14 @@ class MujocoRenderer final : public FrameRenderer {
     mj_kinematics(model_.get(), data_.get());
   }
 
-  void render(const CameraSnapshot& snapshot, CameraImages& images) override {
+  void render(const CameraSnapshot& snapshot, const CameraDemand& demand, CameraImages& images) override {
+    // A scene that has not moved since the last frame (and needs no depth that frame lacked) is not
+    // rendered again: most of a cell's time is spent waiting, and a render costs tens of ms.
+    if (still(snapshot) && (!demand.depth || !frame_.depth_m.empty()) && camera_.repeat(frame_)) {
+      publish(demand, images);
+      return;
+    }
+    last_ = snapshot;
     const mjModel& m = *model_;
     mjData& d = *data_;
     // A state of another model (none: a snapshot without positions) leaves the bodies where they were.
@@ -54,17 +63,46 @@ class MujocoRenderer final : public FrameRenderer {
       mj_comPos(&m, &d);
       mj_camlight(&m, &d);
     }
-    camera_.render(d, pose_world_camera_, snapshot.poses, frame_);
-    images.image_mono8 = frame_.image_mono8;
-    images.depth_m = frame_.depth_m;
+    camera_.render(d, pose_world_camera_, snapshot.poses, frame_, demand.depth);
+    publish(demand, images);
   }
 
  private:
+  void publish(const CameraDemand& demand, CameraImages& images) const {
+    images.image_mono8 = frame_.image_mono8;
+    if (demand.depth) {
+      images.depth_m = frame_.depth_m;
+    } else {
+      images.depth_m.release();
+    }
+  }
+
+  /// Whether `snapshot` poses everything as the last rendered one did, to far below a pixel.
+  bool still(const CameraSnapshot& snapshot) const {
+    constexpr double kStill = 1e-7;  // metres, radians and quaternion components
+    const auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
+      if (a.size() != b.size()) return false;
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        if (!(std::abs(a[i] - b[i]) <= kStill)) return false;
+      }
+      return true;
+    };
+    if (!last_ || last_->poses.size() != snapshot.poses.size()) return false;
+    for (std::size_t i = 0; i < snapshot.poses.size(); ++i) {
+      const sim::ObjectPose& a = last_->poses[i];
+      const sim::ObjectPose& b = snapshot.poses[i];
+      if (a.object_id != b.object_id || !a.pose_world_object.isApprox(b.pose_world_object, kStill)) return false;
+    }
+    return same(last_->state.qpos, snapshot.state.qpos) && same(last_->state.mocap_pos, snapshot.state.mocap_pos) &&
+           same(last_->state.mocap_quat, snapshot.state.mocap_quat);
+  }
+
   std::shared_ptr<const mjModel> model_;
   std::unique_ptr<mjData, DataDeleter> data_;
   Eigen::Isometry3d pose_world_camera_;
   sim::MujocoCamera camera_;  // after the model it renders: destroyed before it
   sim::CameraFrame frame_;
+  std::optional<CameraSnapshot> last_;  // what frame_ shows
 };
 
 }  // namespace
@@ -79,9 +117,17 @@ std::unique_ptr<FrameRenderer> make_mujoco_renderer(std::shared_ptr<const mjMode
   return std::make_unique<MujocoRenderer>(std::move(model), scene, settings);
 }
 
-RendererFactory renderer_factory(const CellSimConfig& config, const sim::CameraScene& scene,
+CameraRendererKind resolve_renderer(CameraRendererKind configured, const sim::CellGeometry& geometry) {
+  if (configured != CameraRendererKind::kAuto) return configured;
+  const bool boxes_only = std::all_of(geometry.objects.begin(), geometry.objects.end(),
+                                      [](const sim::ObjectGeometry& object) { return object.box_size_m.has_value(); });
+  return boxes_only ? CameraRendererKind::kRaster : CameraRendererKind::kMujoco;
+}
+
+RendererFactory renderer_factory(CameraRendererKind kind, const CellSimConfig& config, const sim::CameraScene& scene,
                                  std::shared_ptr<const mjModel> model) {
-  if (config.camera_renderer == CameraRendererKind::kRaster) {
+  if (kind == CameraRendererKind::kAuto) throw std::logic_error("renderer_factory: resolve `auto` first");
+  if (kind == CameraRendererKind::kRaster) {
     sim::RenderSettings settings;
     settings.noise_stddev = config.camera_noise_stddev;
     settings.blur_sigma_px = config.camera_blur_sigma_px;

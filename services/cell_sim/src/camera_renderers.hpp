@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// The two renderers of the cell_sim camera (setting `camera/renderer`):
+/// The two renderers of the cell_sim camera (setting `camera/renderer`; `auto` picks one by the cell):
 /// - `mujoco`: MuJoCo's OpenGL renderer, headless through EGL (MujocoCamera): what the physics model
 ///   holds (meshes and boxes, robot, crane), lit and shaded, with lens distortion and a depth image.
 ///   It renders its own copy of the model, posed by the physics' joint positions of each frame.
@@ -12,6 +12,7 @@
 
 #include "camera_worker.hpp"
 #include "cell_sim_config.hpp"
+#include "rigger/sim/cell_geometry.hpp"
 #include "rigger/sim/mujoco_camera.hpp"
 
 namespace rigger::cell_sim {
@@ -26,9 +27,13 @@ std::unique_ptr<FrameRenderer> make_raster_renderer(const sim::CameraScene& scen
 std::unique_ptr<FrameRenderer> make_mujoco_renderer(std::shared_ptr<const mjModel> model, const sim::CameraScene& scene,
                                                     sim::MujocoCameraSettings settings);
 
-/// The factory of the configured renderer (camera/renderer) with the configured noise (and, for the
+/// The renderer `auto` stands for: the rasteriser when every object of the cell is a box (all it
+/// draws), MuJoCo's otherwise; any other kind as it is.
+CameraRendererKind resolve_renderer(CameraRendererKind configured, const sim::CellGeometry& geometry);
+
+/// The factory of renderer `kind` (resolved: not kAuto) with the configured noise (and, for the
 /// rasteriser, blur and the demo cell's albedos). `model`: the physics' copy, for `mujoco` only.
-RendererFactory renderer_factory(const CellSimConfig& config, const sim::CameraScene& scene,
+RendererFactory renderer_factory(CameraRendererKind kind, const CellSimConfig& config, const sim::CameraScene& scene,
                                  std::shared_ptr<const mjModel> model);
 
 }  // namespace rigger::cell_sim

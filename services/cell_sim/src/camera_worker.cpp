@@ -29,8 +29,9 @@ sim::CameraScene resize_camera(sim::CameraScene scene, int width_px, int height_
   return scene;
 }
 
-CameraWorker::CameraWorker(const sim::CameraModel& camera, RendererFactory make_renderer, OnFrame on_frame)
-    : camera_(camera), on_frame_(std::move(on_frame)) {
+CameraWorker::CameraWorker(const sim::CameraModel& camera, RendererFactory make_renderer, OnFrame on_frame,
+                           Demand demand)
+    : camera_(camera), on_frame_(std::move(on_frame)), demand_(std::move(demand)) {
   std::exception_ptr start_error;
   thread_ = std::thread([this, &make_renderer, &start_error] { run(make_renderer, start_error); });
   std::unique_lock<std::mutex> lock(mutex_);
@@ -89,7 +90,9 @@ void CameraWorker::run(const RendererFactory& make_renderer, std::exception_ptr&
       snapshot = std::move(*pending_);
       pending_.reset();
     }
-    renderer->render(snapshot, images);
+    const CameraDemand demand = demand_ ? demand_() : CameraDemand{};
+    if (!demand.image && !demand.depth) continue;
+    renderer->render(snapshot, demand, images);
     ++frames_;
     if (on_frame_) on_frame_(images, snapshot.stamp);
   }

@@ -31,6 +31,13 @@ struct CameraSnapshot {
   WallTime stamp{};                    ///< wall time of the physics step (the image's exposure time)
 };
 
+/// What the frame is for: the images somebody reads. Nobody reading either: the frame is not rendered
+/// (an unwatched MuJoCo camera would cost most of a core for nothing).
+struct CameraDemand {
+  bool image = true;
+  bool depth = true;  ///< a renderer without depth ignores it
+};
+
 /// One rendered frame.
 struct CameraImages {
   cv::Mat image_mono8;  ///< CV_8UC1, the camera's size
@@ -45,7 +52,9 @@ struct CameraImages {
 class FrameRenderer {
  public:
   virtual ~FrameRenderer() = default;
-  virtual void render(const CameraSnapshot& snapshot, CameraImages& images) = 0;
+  /// Fills images.image_mono8, and images.depth_m when `demand.depth` and the renderer makes depth
+  /// (otherwise depth_m is empty).
+  virtual void render(const CameraSnapshot& snapshot, const CameraDemand& demand, CameraImages& images) = 0;
 };
 
 /// Makes the renderer, called once on the camera thread. May throw (its error fails the worker's
@@ -57,15 +66,19 @@ using RendererFactory = std::function<std::unique_ptr<FrameRenderer>()>;
 sim::CameraScene resize_camera(sim::CameraScene scene, int width_px, int height_px);
 
 /// Renders on a thread of its own. offer() never blocks: a snapshot that arrives while a frame is
-/// being rendered replaces the waiting one, and the replaced one counts as dropped.
-/// Thread safety: offer(), frames() and dropped() from any thread; on_frame runs on the camera thread.
+/// being rendered replaces the waiting one, and the replaced one counts as dropped. Before each frame
+/// the worker asks `demand` what is read; a frame nobody reads is skipped (and counted as neither).
+/// Thread safety: offer(), frames() and dropped() from any thread; on_frame and demand run on the
+/// camera thread.
 class CameraWorker {
  public:
   using OnFrame = std::function<void(const CameraImages& images, WallTime stamp)>;
+  using Demand = std::function<CameraDemand()>;
 
-  /// Starts the thread and makes the renderer there; returns once it is made.
+  /// Starts the thread and makes the renderer there; returns once it is made. Without `demand`,
+  /// every frame is rendered with depth.
   /// @throws whatever make_renderer throws (the thread is joined first).
-  CameraWorker(const sim::CameraModel& camera, RendererFactory make_renderer, OnFrame on_frame);
+  CameraWorker(const sim::CameraModel& camera, RendererFactory make_renderer, OnFrame on_frame, Demand demand = {});
   ~CameraWorker();
   CameraWorker(const CameraWorker&) = delete;
   CameraWorker& operator=(const CameraWorker&) = delete;
@@ -80,6 +93,7 @@ class CameraWorker {
 
   sim::CameraModel camera_;
   OnFrame on_frame_;
+  Demand demand_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::optional<CameraSnapshot> pending_;

@@ -25,6 +25,7 @@ enum class WrenchSource {
 
 /// Which renderer draws the camera's images (camera_renderers.hpp).
 enum class CameraRendererKind {
+  kAuto,    ///< kRaster when every object of the cell file is a box, kMujoco otherwise (resolve_renderer)
   kMujoco,  ///< MuJoCo's OpenGL renderer through EGL: everything the physics holds, distortion, depth
   kRaster,  ///< the rasteriser of the cell file's boxes and markers: no meshes, no distortion, no depth
 };
@@ -67,7 +68,7 @@ struct CellSimConfig {
 
   // --- camera
   bool camera_enabled = true;
-  CameraRendererKind camera_renderer = CameraRendererKind::kMujoco;
+  CameraRendererKind camera_renderer = CameraRendererKind::kAuto;
   std::string camera_id = "camera";
   /// Frames per simulated second; unset: the cell file's rate_hz.
   std::optional<double> camera_rate_hz;

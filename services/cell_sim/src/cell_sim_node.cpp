@@ -109,15 +109,18 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
     fail_config(ctx.config, "cell_file", e);
   }
 
+  std::string camera_text = "off";
   if (config_.camera_enabled) {
-    const bool mujoco = config_.camera_renderer == CameraRendererKind::kMujoco;
+    const CameraRendererKind renderer = resolve_renderer(config_.camera_renderer, geometry);
+    const bool mujoco = renderer == CameraRendererKind::kMujoco;
     if (mujoco && !ros2_image_) depth_.emplace(ctx.participant, protocol::vision::kCameraDepth);
     try {
       const sim::CameraScene scene = resize_camera(sim::load_camera_scene(config_.cell_file, config_.camera_id),
                                                    config_.camera_width_px, config_.camera_height_px);
       camera_ = std::make_unique<CameraWorker>(
-          scene.camera, renderer_factory(config_, scene, mujoco ? runner_->copy_physics_model() : nullptr),
-          [this](const CameraImages& images, WallTime stamp) { publish_images(images, stamp); });
+          scene.camera, renderer_factory(renderer, config_, scene, mujoco ? runner_->copy_physics_model() : nullptr),
+          [this](const CameraImages& images, WallTime stamp) { publish_images(images, stamp); },
+          [this] { return camera_demand(); });
     } catch (const sim::CameraSceneError& e) {
       fail_config(ctx.config, "cell_file", e);
     } catch (const sim::GlUnavailableError& e) {
@@ -128,6 +131,8 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
       ctx.config.fail("camera", e.what());
     }
     publish_camera_info(camera_->camera());
+    camera_text = std::to_string(camera_->camera().width_px) + "x" + std::to_string(camera_->camera().height_px) +
+                  (mujoco ? " mujoco" : " raster");
     runner_->set_camera(camera_.get(), config_.camera_rate_hz.value_or(camera_->camera().rate_hz));
   }
 
@@ -170,8 +175,7 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
       [this](const cell_follower::FollowedRevision& next) { return on_revision(next); }, &ctx.announcer);
   ctx.log->info("cell_sim started cell_file={} plc={}:{} real_time_factor={} camera={}", config_.cell_file.string(),
                 config_.plc.server.address, runner_->plc_port(), config_.real_time_factor,
-                camera_ ? std::to_string(camera_->camera().width_px) + "x" + std::to_string(camera_->camera().height_px)
-                        : std::string("off"));
+                camera_text);
 }
 
 CellSimNode::~CellSimNode() {

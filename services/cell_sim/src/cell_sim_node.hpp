@@ -57,6 +57,8 @@ class CellSimNode : public service::Node, private SimOutputs {
   void publish_ground_truth(const GroundTruth& truth, WallTime stamp) override;
   void publish_status(const StatusReport& status, WallTime stamp) override;
   void publish_control_result(const ControlResult& result, WallTime stamp) override;
+  /// What the camera thread renders: the image while a reader of it is matched, depth likewise.
+  CameraDemand camera_demand() const;
   /// The grey image and (when the renderer makes one) the depth image of one frame, same stamp (camera thread).
   void publish_images(const CameraImages& images, WallTime stamp);
   /// `image` on the wire (not copied: valid while `image` is), with the camera's frame id.

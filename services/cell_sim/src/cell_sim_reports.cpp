@@ -230,11 +230,18 @@ rigger_vision_Image CellSimNode::wire_image(const cv::Mat& image, const char* en
   return w;
 }
 
+CameraDemand CellSimNode::camera_demand() const {
+  CameraDemand demand;
+  demand.image = ros2_image_ ? ros2_image_->matched_readers() > 0 : image_->matched_readers() > 0;
+  demand.depth = depth_ && depth_->matched_readers() > 0;
+  return demand;
+}
+
 void CellSimNode::publish_images(const CameraImages& images, WallTime stamp) {
   const cv::Mat& image_mono8 = images.image_mono8;
   if (!image_mono8.isContinuous() || image_mono8.type() != CV_8UC1) return;  // the renderers' output is both
   // Depth first: a reader that has the image of a frame finds its depth already published.
-  if (depth_ && images.depth_m.isContinuous() && images.depth_m.type() == CV_32FC1) {
+  if (depth_ && !images.depth_m.empty() && images.depth_m.isContinuous() && images.depth_m.type() == CV_32FC1) {
     depth_->write(wire_image(images.depth_m, "32FC1", stamp));
   }
   const rigger_vision_Image w = wire_image(image_mono8, "mono8", stamp);

@@ -39,6 +39,16 @@ TEST(ResizeCamera, RefusesAnotherAspectRatio) {
   EXPECT_THROW(resize_camera(cell_scene(), 640, 0), std::invalid_argument);
 }
 
+TEST(ResolveRenderer, AutoIsTheRasteriserForBoxesAndMujocoForAnythingElse) {
+  sim::CellGeometry geometry = sim::load_cell_geometry(default_cell_file());  // the demo cell: boxes
+  ASSERT_FALSE(geometry.objects.empty());
+  EXPECT_EQ(resolve_renderer(CameraRendererKind::kAuto, geometry), CameraRendererKind::kRaster);
+  EXPECT_EQ(resolve_renderer(CameraRendererKind::kMujoco, geometry), CameraRendererKind::kMujoco);
+  geometry.objects.back().box_size_m.reset();  // given by its STEP solids: the rasteriser cannot draw it
+  EXPECT_EQ(resolve_renderer(CameraRendererKind::kAuto, geometry), CameraRendererKind::kMujoco);
+  EXPECT_EQ(resolve_renderer(CameraRendererKind::kRaster, geometry), CameraRendererKind::kRaster);
+}
+
 class CameraWorkerTest : public ::testing::Test {
  protected:
   /// Waits until `n` frames arrived.
@@ -129,6 +139,50 @@ TEST_F(CameraWorkerTest, MujocoRendersThePhysicsStateOnItsOwnModelCopy) {
   EXPECT_GT(min_m, 0.1);
   EXPECT_LT(max_m, 100.0);
   EXPECT_NE(means_[0], means_[1]);
+}
+
+TEST_F(CameraWorkerTest, RendersOnlyWhatIsReadAndNothingWhileNobodyReads) {
+  const sim::CameraScene scene = resize_camera(cell_scene(), 320, 180);
+  sim::CellPhysics physics(sim::load_cell_geometry(default_cell_file()));
+  std::mutex asked_mutex;
+  std::condition_variable asked_cv;
+  int asked = 0;
+  CameraDemand wanted{false, false};
+  const CameraWorker::Demand demand = [&] {
+    const std::lock_guard<std::mutex> lock(asked_mutex);
+    ++asked;
+    asked_cv.notify_all();
+    return wanted;
+  };
+  const auto offer_and_wait_asked = [&](CameraWorker& worker, const CameraSnapshot& snapshot, CameraDemand next) {
+    std::unique_lock<std::mutex> lock(asked_mutex);
+    wanted = next;
+    const int before = asked;
+    lock.unlock();
+    worker.offer(snapshot);
+    lock.lock();
+    return asked_cv.wait_for(lock, 10s, [&] { return asked > before; });
+  };
+  CameraWorker worker(
+      scene.camera, [&, model = physics.copy_model()] { return make_mujoco_renderer(model, scene, {}); }, recorder(),
+      demand);
+  CameraSnapshot snapshot;
+  physics.copy_kinematic_state(snapshot.state);
+  snapshot.stamp = WallTime(std::chrono::seconds(1));
+  ASSERT_TRUE(offer_and_wait_asked(worker, snapshot, {false, false}));  // nobody reads: not rendered
+  snapshot.stamp = WallTime(std::chrono::seconds(2));
+  ASSERT_TRUE(offer_and_wait_asked(worker, snapshot, {true, false}));
+  ASSERT_TRUE(wait_frames(1));
+  snapshot.stamp = WallTime(std::chrono::seconds(3));
+  ASSERT_TRUE(offer_and_wait_asked(worker, snapshot, {false, true}));
+  ASSERT_TRUE(wait_frames(2));
+  const std::lock_guard<std::mutex> lock(mutex_);
+  ASSERT_EQ(stamps_.size(), 2u);
+  EXPECT_EQ(stamps_[0], WallTime(std::chrono::seconds(2)));
+  EXPECT_TRUE(depths_[0].empty());  // the image alone: no depth resampled
+  EXPECT_EQ(stamps_[1], WallTime(std::chrono::seconds(3)));
+  EXPECT_EQ(depths_[1].type(), CV_32FC1);
+  EXPECT_EQ(worker.frames(), 2u);
 }
 
 TEST_F(CameraWorkerTest, SnapshotsOfferedWhileBusyReplaceEachOther) {

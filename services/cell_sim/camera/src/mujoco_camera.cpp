@@ -103,7 +103,7 @@ double MujocoCamera::render_focal_px() const {
 }
 
 RenderStatus MujocoCamera::render(mjData& data, const Eigen::Isometry3d& pose_world_camera,
-                                  const std::vector<ObjectPose>& poses, CameraFrame& frame) {
+                                  const std::vector<ObjectPose>& poses, CameraFrame& frame, bool depth) {
   if (!finite(pose_world_camera)) {
     return RenderStatus::kInvalidPose;
   }
@@ -167,11 +167,23 @@ RenderStatus MujocoCamera::render(mjData& data, const Eigen::Isometry3d& pose_wo
     frame.image_rgb8.release();
   }
   cv::cvtColor(render_rgb_, render_grey_, cv::COLOR_RGB2GRAY);
-  lens_->remap_image(render_grey_, frame.image_mono8, cv::Scalar::all(0));
+  lens_->remap_image(render_grey_, clean_mono8_, cv::Scalar::all(0));
+  clean_mono8_.copyTo(frame.image_mono8);
   noise_.add(frame.image_mono8);
 
-  lens_->remap_depth(render_depth_, depth_scale, frame.depth_m);
+  if (depth) {
+    lens_->remap_depth(render_depth_, depth_scale, frame.depth_m);
+  } else {
+    frame.depth_m.release();
+  }
   return status;
+}
+
+bool MujocoCamera::repeat(CameraFrame& frame) {
+  if (clean_mono8_.empty()) return false;
+  clean_mono8_.copyTo(frame.image_mono8);
+  noise_.add(frame.image_mono8);
+  return true;
 }
 
 }  // namespace rigger::sim

@@ -102,6 +102,21 @@ cv::Mat pixel_rays(const CameraModel& camera) {
   return cv::Mat(rays, true).reshape(2, camera.height_px);
 }
 
+/// Mean and standard deviation of `a - b` where `b` is unsaturated (grey within 21..234), in grey
+/// levels; {NaN, NaN} (failing any bound) when fewer than 10000 such pixels are left.
+std::pair<double, double> difference_stats(const cv::Mat& a, const cv::Mat& b) {
+  cv::Mat difference;
+  cv::subtract(a, b, difference, cv::noArray(), CV_32F);
+  const cv::Mat unsaturated = (b > 20) & (b < 235);
+  if (cv::countNonZero(unsaturated) < 10000) {
+    return {std::nan(""), std::nan("")};
+  }
+  cv::Scalar mean;
+  cv::Scalar stddev;
+  cv::meanStdDev(difference, mean, stddev, unsaturated);
+  return {mean[0], stddev[0]};
+}
+
 class MujocoCameraTest : public ::testing::Test {
  protected:
   /// The camera, or nullptr with gl_error_ set when this machine has no headless OpenGL.
@@ -296,15 +311,9 @@ TEST_F(MujocoCameraTest, AddsTheCameraModelsPixelNoiseToTheGreyImage) {
   ASSERT_EQ(clean->render(*scene.data, camera_pose(), {}, a), RenderStatus::kOk);
   ASSERT_EQ(noisy->render(*scene.data, camera_pose(), {}, b), RenderStatus::kOk);
   // Where the box is (grey far from 0 and 255, so nothing saturates): the difference is the noise.
-  cv::Mat difference;
-  cv::subtract(b.image_mono8, a.image_mono8, difference, cv::noArray(), CV_32F);
-  const cv::Mat unsaturated = (a.image_mono8 > 20) & (a.image_mono8 < 235);
-  ASSERT_GT(cv::countNonZero(unsaturated), 10000);
-  cv::Scalar mean;
-  cv::Scalar stddev;
-  cv::meanStdDev(difference, mean, stddev, unsaturated);
-  EXPECT_NEAR(mean[0], 0.0, 0.1);
-  EXPECT_NEAR(stddev[0], 3.0, 0.15);  // and the rounding to grey levels: sqrt(9 + 1/12)
+  const auto [mean, stddev] = difference_stats(b.image_mono8, a.image_mono8);
+  EXPECT_NEAR(mean, 0.0, 0.1);
+  EXPECT_NEAR(stddev, 3.0, 0.15);  // and the rounding to grey levels: sqrt(9 + 1/12)
   // The depth has none.
   cv::Mat depth_a = a.depth_m.clone();
   cv::Mat depth_b = b.depth_m.clone();
@@ -312,6 +321,27 @@ TEST_F(MujocoCameraTest, AddsTheCameraModelsPixelNoiseToTheGreyImage) {
   cv::patchNaNs(depth_b, -1.0);
   const cv::Mat same_depth = depth_a == depth_b;
   EXPECT_EQ(cv::countNonZero(same_depth), 640 * 480);
+}
+
+TEST_F(MujocoCameraTest, RepeatGivesTheLastImageWithFreshNoiseAndDepthCanBeLeftOut) {
+  const Scene scene = make_scene({{camera_pose() * Eigen::Translation3d(0, 0, 1.5), Eigen::Vector3d(0.4, 0.3, 0.1)}});
+  ASSERT_TRUE(scene.model);
+  CameraModel noisy_model = camera_640();
+  noisy_model.noise_stddev = 3.0;
+  auto camera = make_camera(scene, noisy_model);
+  RIGGER_REQUIRE_OR_SKIP(camera != nullptr, gl_error_);
+  CameraFrame first;
+  EXPECT_FALSE(camera->repeat(first));  // nothing rendered yet
+  EXPECT_TRUE(first.image_mono8.empty());
+  ASSERT_EQ(camera->render(*scene.data, camera_pose(), {}, first, /*depth=*/false), RenderStatus::kOk);
+  EXPECT_TRUE(first.depth_m.empty());
+  CameraFrame again;
+  ASSERT_TRUE(camera->repeat(again));
+  ASSERT_EQ(again.image_mono8.size(), first.image_mono8.size());
+  // The same picture under new noise: the difference of two noise draws, sqrt(2) x 3 grey levels.
+  const auto [mean, stddev] = difference_stats(again.image_mono8, first.image_mono8);
+  EXPECT_NEAR(mean, 0.0, 0.1);
+  EXPECT_NEAR(stddev, 3.0 * std::sqrt(2.0), 0.3);
 }
 
 TEST_F(MujocoCameraTest, RejectsANonFinitePoseAndNamesUnknownObjects) {

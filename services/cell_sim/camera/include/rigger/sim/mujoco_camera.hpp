@@ -89,8 +89,14 @@ class MujocoCamera {
   /// y down), with the markers of the objects listed in `poses`. Nothing throws: kInvalidPose for
   /// a non-finite pose (frame left unchanged), kUnknownObject when a pose names an object without
   /// markers here (the rest is drawn), kGlError when the context cannot be made current.
+  /// Without `depth`, frame.depth_m is left empty (its resampling is a third of a frame's time).
   RenderStatus render(mjData& data, const Eigen::Isometry3d& pose_world_camera, const std::vector<ObjectPose>& poses,
-                      CameraFrame& frame);
+                      CameraFrame& frame, bool depth = true);
+
+  /// The last rendered grey image again, with fresh pixel noise, and nothing else of `frame`
+  /// changed: for a scene that has not moved (a real camera's images of a still scene differ by
+  /// their noise alone). False before the first render.
+  bool repeat(CameraFrame& frame);
 
   const CameraModel& camera() const { return camera_; }
   /// The intermediate pinhole render's size and focal length (pixels).
@@ -114,6 +120,7 @@ class MujocoCamera {
   cv::Mat render_rgb_;    // CV_8UC3, rows bottom-up
   cv::Mat render_depth_;  // CV_32FC1 window depth
   cv::Mat render_grey_;
+  cv::Mat clean_mono8_;  // the last grey image at the camera's size, before the noise
   PixelNoise noise_;
 };
 
