@@ -30,6 +30,7 @@ std::string_view to_string(ErrorCode code) {
     case ErrorCode::kBadReference: return "CAD_BAD_REFERENCE";
     case ErrorCode::kStaleReference: return "CAD_STALE_REFERENCE";
     case ErrorCode::kNotAFrame: return "CAD_NOT_A_FRAME";
+    case ErrorCode::kNoUnits: return "CAD_NO_UNITS";
   }
   return "CAD_ERROR";
 }

@@ -8,6 +8,7 @@
 #include <STEPCAFControl_Reader.hxx>
 #include <STEPCAFControl_Writer.hxx>
 #include <STEPControl_Reader.hxx>
+#include <TColStd_SequenceOfAsciiString.hxx>
 #include <Standard_Failure.hxx>
 #include <Standard_OutOfMemory.hxx>
 #include <TCollection_AsciiString.hxx>
@@ -203,6 +204,20 @@ StepContent read_step_in_process(std::string_view bytes, const std::string& sour
     // shape healing three times slower (its tolerances are tuned for millimetres). Scaled after.
     if (!reader.Transfer(document)) {
       throw CadError(ErrorCode::kNotStep, "STEP input " + source + " holds no product OCCT can transfer");
+    }
+    // A length unit is part of every representation context STEP defines; a file without one leaves its
+    // numbers to be guessed (OCCT would take millimetres), and a wrong guess is a part 25 or 1000 times off.
+    TColStd_SequenceOfAsciiString length_units;
+    TColStd_SequenceOfAsciiString angle_units;
+    TColStd_SequenceOfAsciiString solid_angle_units;
+    reader.ChangeReader().FileUnits(length_units, angle_units, solid_angle_units);
+    bool has_length_unit = false;  // OCCT lists an empty name for a context with other units only
+    for (const TCollection_AsciiString& name : length_units) has_length_unit = has_length_unit || !name.IsEmpty();
+    if (!has_length_unit) {
+      XCAFApp_Application::GetApplication()->Close(document);
+      throw CadError(ErrorCode::kNoUnits, "STEP input " + source +
+                                              " declares no length unit (expected a LENGTH_UNIT in the "
+                                              "GLOBAL_UNIT_ASSIGNED_CONTEXT of its geometric representation context)");
     }
     Handle(XCAFDoc_ShapeTool) shapes = XCAFDoc_DocumentTool::ShapeTool(document->Main());
     TDF_LabelSequence roots;

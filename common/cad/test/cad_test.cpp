@@ -193,6 +193,16 @@ TEST_F(CadTest, BadInputGivesAClearError) {
   const std::string screw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const ErrorCode truncated = code_of(write_text("truncated.step", screw.substr(0, screw.size() * 2 / 5)));
   EXPECT_TRUE(truncated == ErrorCode::kNotStep || truncated == ErrorCode::kNoGeometry) << to_string(truncated);
+  // Without a length unit (the representation context's unit assignment cut out), or with the angle
+  // unit alone: the numbers could be anything.
+  const std::string units = "GLOBAL_UNIT_ASSIGNED_CONTEXT((#1237,#1238)) ";
+  ASSERT_NE(screw.find(units), std::string::npos);
+  std::string unitless = screw;
+  unitless.replace(unitless.find(units), units.size(), "");
+  EXPECT_EQ(code_of(write_text("unitless.step", unitless)), ErrorCode::kNoUnits);
+  std::string angle_only = screw;
+  angle_only.replace(angle_only.find(units), units.size(), "GLOBAL_UNIT_ASSIGNED_CONTEXT((#1238)) ");
+  EXPECT_EQ(code_of(write_text("angle_only.step", angle_only)), ErrorCode::kNoUnits);
   // A header and no data.
   EXPECT_EQ(code_of(write_text("nodata.step", screw.substr(0, screw.find("DATA;") + 5) + "\nENDSEC;\nEND-ISO-10303-21;\n")),
             ErrorCode::kNotStep);

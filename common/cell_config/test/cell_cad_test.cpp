@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
+#include <regex>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -182,6 +184,21 @@ TEST(CellCad, AnUnreadableStepFileIsNamed) {
   const std::string error = copy.load_error();
   EXPECT_NE(error.find("CAD_NOT_STEP"), std::string::npos) << error;
   EXPECT_NE(error.find("\"target\""), std::string::npos) << error;
+}
+
+TEST(CellCad, AStepFileWithoutALengthUnitIsRefusedNotGuessed) {
+  CellCopy copy;
+  const fs::path target = copy.dir() / "models/target.step";
+  std::ifstream in(target, std::ios::binary);
+  const std::string step((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  const std::string unitless = std::regex_replace(step, std::regex(R"(GLOBAL_UNIT_ASSIGNED_CONTEXT\s*\(\([^)]*\)\))"), "");
+  ASSERT_NE(unitless, step);
+  std::ofstream(target, std::ios::binary | std::ios::trunc) << unitless;
+  const std::string error = copy.load_error();
+  EXPECT_NE(error.find("CAD_NO_UNITS"), std::string::npos) << error;
+  EXPECT_NE(error.find("\"target\""), std::string::npos) << error;
+  EXPECT_NE(error.find("length unit"), std::string::npos) << error;
 }
 
 TEST(CellCad, AMovedIndexWithAUniqueSignatureIsFollowed) {

@@ -30,6 +30,7 @@ enum class ErrorCode {
   kBadReference,      ///< a face/edge/vertex/hole index or reference that does not exist
   kStaleReference,    ///< a reference whose signature no longer matches the model
   kNotAFrame,         ///< picks that cannot make a frame (not perpendicular, point off the face...)
+  kNoUnits,           ///< a STEP file that declares no length unit (its numbers could be mm, inches or m)
 };
 
 /// "CAD_FILE_NOT_FOUND", "CAD_TOO_LARGE", ...
@@ -83,7 +84,7 @@ class Model {
   std::string source_;
 };
 
-/// Reads a STEP file. Throws CadError (kFileNotFound, kTooLarge, kEmpty, kNotStep, kNoGeometry,
+/// Reads a STEP file. Throws CadError (kFileNotFound, kTooLarge, kEmpty, kNotStep, kNoGeometry, kNoUnits,
 /// kTooDeep, kTimeout, kCrashed) with the path in the message.
 Model read_step_file(const std::filesystem::path& path, const ReadLimits& limits = {});
 
