@@ -117,11 +117,13 @@ std::unique_ptr<FrameRenderer> make_mujoco_renderer(std::shared_ptr<const mjMode
   return std::make_unique<MujocoRenderer>(std::move(model), scene, settings);
 }
 
-CameraRendererKind resolve_renderer(CameraRendererKind configured, const sim::CellGeometry& geometry) {
+CameraRendererKind resolve_renderer(CameraRendererKind configured, const sim::CellGeometry& geometry,
+                                    const sim::CameraModel& camera) {
   if (configured != CameraRendererKind::kAuto) return configured;
   const bool boxes_only = std::all_of(geometry.objects.begin(), geometry.objects.end(),
                                       [](const sim::ObjectGeometry& object) { return object.box_size_m.has_value(); });
-  return boxes_only ? CameraRendererKind::kRaster : CameraRendererKind::kMujoco;
+  const bool pinhole = std::all_of(camera.distortion.begin(), camera.distortion.end(), [](double k) { return k == 0.0; });
+  return boxes_only && pinhole ? CameraRendererKind::kRaster : CameraRendererKind::kMujoco;
 }
 
 RendererFactory renderer_factory(CameraRendererKind kind, const CellSimConfig& config, const sim::CameraScene& scene,

@@ -27,9 +27,10 @@ std::unique_ptr<FrameRenderer> make_raster_renderer(const sim::CameraScene& scen
 std::unique_ptr<FrameRenderer> make_mujoco_renderer(std::shared_ptr<const mjModel> model, const sim::CameraScene& scene,
                                                     sim::MujocoCameraSettings settings);
 
-/// The renderer `auto` stands for: the rasteriser when every object of the cell is a box (all it
-/// draws), MuJoCo's otherwise; any other kind as it is.
-CameraRendererKind resolve_renderer(CameraRendererKind configured, const sim::CellGeometry& geometry);
+/// The renderer `auto` stands for: the rasteriser when every object of the cell is a box and the lens
+/// has no distortion (all it draws), MuJoCo's otherwise; any other kind as it is.
+CameraRendererKind resolve_renderer(CameraRendererKind configured, const sim::CellGeometry& geometry,
+                                    const sim::CameraModel& camera);
 
 /// The factory of renderer `kind` (resolved: not kAuto) with the configured noise (and, for the
 /// rasteriser, blur and the demo cell's albedos). `model`: the physics' copy, for `mujoco` only.

@@ -177,7 +177,7 @@ const SettingsTable<CellSimConfig>& cell_sim_settings() {
                        "meshes, robot, crane), the cell file's distortion, and `rigger/camera/depth`; the process "
                        "does not start without EGL. `raster`: the cell file's boxes and markers only, no "
                        "distortion, no depth image; a tenth of the CPU. `auto`: `raster` when every object of the "
-                       "cell file is a box, `mujoco` otherwise ([decision 0018](decisions/0018-the-camera-renders-"
+                       "cell file is a box and the lens has no distortion, `mujoco` otherwise ([decision 0018](decisions/0018-the-camera-renders-"
                        "with-mujoco-when-the-cell-needs-it.md))")),
       camera(own_setting<S>(
           "rate_hz", "number", "the cell file's", "[0.1, 60]",

@@ -25,7 +25,7 @@ enum class WrenchSource {
 
 /// Which renderer draws the camera's images (camera_renderers.hpp).
 enum class CameraRendererKind {
-  kAuto,    ///< kRaster when every object of the cell file is a box, kMujoco otherwise (resolve_renderer)
+  kAuto,    ///< kRaster for boxes through an undistorted lens, kMujoco otherwise (resolve_renderer)
   kMujoco,  ///< MuJoCo's OpenGL renderer through EGL: everything the physics holds, distortion, depth
   kRaster,  ///< the rasteriser of the cell file's boxes and markers: no meshes, no distortion, no depth
 };

@@ -111,12 +111,13 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
 
   std::string camera_text = "off";
   if (config_.camera_enabled) {
-    const CameraRendererKind renderer = resolve_renderer(config_.camera_renderer, geometry);
-    const bool mujoco = renderer == CameraRendererKind::kMujoco;
-    if (mujoco && !ros2_image_) depth_.emplace(ctx.participant, protocol::vision::kCameraDepth);
+    bool mujoco = false;
     try {
       const sim::CameraScene scene = resize_camera(sim::load_camera_scene(config_.cell_file, config_.camera_id),
                                                    config_.camera_width_px, config_.camera_height_px);
+      const CameraRendererKind renderer = resolve_renderer(config_.camera_renderer, geometry, scene.camera);
+      mujoco = renderer == CameraRendererKind::kMujoco;
+      if (mujoco && !ros2_image_) depth_.emplace(ctx.participant, protocol::vision::kCameraDepth);
       camera_ = std::make_unique<CameraWorker>(
           scene.camera, renderer_factory(renderer, config_, scene, mujoco ? runner_->copy_physics_model() : nullptr),
           [this](const CameraImages& images, WallTime stamp) { publish_images(images, stamp); },

@@ -39,14 +39,18 @@ TEST(ResizeCamera, RefusesAnotherAspectRatio) {
   EXPECT_THROW(resize_camera(cell_scene(), 640, 0), std::invalid_argument);
 }
 
-TEST(ResolveRenderer, AutoIsTheRasteriserForBoxesAndMujocoForAnythingElse) {
+TEST(ResolveRenderer, AutoIsTheRasteriserForBoxesThroughAPinholeAndMujocoForAnythingElse) {
   sim::CellGeometry geometry = sim::load_cell_geometry(default_cell_file());  // the demo cell: boxes
+  sim::CameraModel camera = cell_scene().camera;                                // no distortion
   ASSERT_FALSE(geometry.objects.empty());
-  EXPECT_EQ(resolve_renderer(CameraRendererKind::kAuto, geometry), CameraRendererKind::kRaster);
-  EXPECT_EQ(resolve_renderer(CameraRendererKind::kMujoco, geometry), CameraRendererKind::kMujoco);
+  EXPECT_EQ(resolve_renderer(CameraRendererKind::kAuto, geometry, camera), CameraRendererKind::kRaster);
+  EXPECT_EQ(resolve_renderer(CameraRendererKind::kMujoco, geometry, camera), CameraRendererKind::kMujoco);
+  camera.distortion = {-0.1, 0.0, 0.0, 0.0, 0.0};  // the rasteriser refuses a distorting lens
+  EXPECT_EQ(resolve_renderer(CameraRendererKind::kAuto, geometry, camera), CameraRendererKind::kMujoco);
+  camera.distortion = {0.0, 0.0, 0.0, 0.0};
   geometry.objects.back().box_size_m.reset();  // given by its STEP solids: the rasteriser cannot draw it
-  EXPECT_EQ(resolve_renderer(CameraRendererKind::kAuto, geometry), CameraRendererKind::kMujoco);
-  EXPECT_EQ(resolve_renderer(CameraRendererKind::kRaster, geometry), CameraRendererKind::kRaster);
+  EXPECT_EQ(resolve_renderer(CameraRendererKind::kAuto, geometry, camera), CameraRendererKind::kMujoco);
+  EXPECT_EQ(resolve_renderer(CameraRendererKind::kRaster, geometry, camera), CameraRendererKind::kRaster);
 }
 
 class CameraWorkerTest : public ::testing::Test {
