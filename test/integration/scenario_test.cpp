@@ -4,6 +4,7 @@
 //
 // Each test prints what it measured (durations, final errors, a stop's timeline). The stop tests assert the
 // safety targets; they are timing tests (TIMING in scenario.cmake): test/run runs them alone.
+#include <array>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -11,6 +12,7 @@
 
 #include <sqlite3.h>
 
+#include "rigger/protocol/vision.hpp"
 #include "scenario_support.hpp"
 
 namespace rigger::testing::scenario {
@@ -233,6 +235,14 @@ TEST_F(ScenarioTest, CraneInsertSucceedsWithTheRobotAndCameraBehindTheRos2Bridge
   dds::Reader<rigger_robot_RobotState> robot_states(cell_.participant(), protocol::robot::kState);
   ASSERT_TRUE(robot_states.wait_for_writers(1, 10s));
   EXPECT_EQ(robot_states.matched_writers(), 1u) << "rigger/robot/state has a writer besides the bridge";
+  // The camera's intrinsics as the driver (cell_sim) sends them beside its images, bridged: the cell file's.
+  dds::Reader<rigger_vision_CameraInfo> camera_info(cell_.participant(), protocol::vision::kCameraInfo);
+  std::optional<std::array<double, 3>> intrinsics;  // fx, cx, width
+  cell_.loop().on_data(camera_info, [&] {
+    camera_info.take([&](const rigger_vision_CameraInfo& i, const dds_sample_info_t&) {
+      intrinsics = std::array<double, 3>{i.k[0], i.k[2], static_cast<double>(i.width)};
+    });
+  });
   ASSERT_TRUE(s->submit("recipes/crane_insert.json"));
   ASSERT_TRUE(s->wait_task_end(kTaskTimeout)) << "the task did not end in time: " << s->task_summary();
   print_report(*s, "crane insert behind the ROS 2 bridge");
@@ -247,6 +257,9 @@ TEST_F(ScenarioTest, CraneInsertSucceedsWithTheRobotAndCameraBehindTheRos2Bridge
   EXPECT_EQ(log.find("twist_forwarded=0 "), std::string::npos) << log;
   EXPECT_EQ(log.find("image_forwarded=0 "), std::string::npos) << log;
   EXPECT_EQ(log.find("state_forwarded=0\n"), std::string::npos) << log;
+  EXPECT_NE(log.find("camera_info_forwarded=1 "), std::string::npos) << "the driver's intrinsics never changed";
+  ASSERT_TRUE(intrinsics.has_value()) << "no rigger/camera/info came through the bridge";
+  EXPECT_EQ(*intrinsics, (std::array<double, 3>{1000.0, 640.0, 1280.0}));  // simulated_cell.json's camera
   const std::size_t counts = log.find("bridge stopped");
   if (counts != std::string::npos) std::printf("  %s\n", log.substr(counts, log.find('\n', counts) - counts).c_str());
 }

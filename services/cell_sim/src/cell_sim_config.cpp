@@ -51,6 +51,7 @@ CellSimConfig::Ros2Driver read_ros2_driver(const Config& c) {
   out.wrench_dds_topic = dds_name("wrench_topic", "/force_torque_sensor_broadcaster/wrench");
   out.twist_dds_topic = dds_name("twist_topic", "/servo_node/delta_twist_cmds");
   out.image_dds_topic = dds_name("image_topic", "/camera/image_raw");
+  out.camera_info_dds_topic = dds_name("camera_info_topic", "/camera/camera_info");
   out.joint_states_dds_topic = dds_name("joint_states_topic", "/joint_states");
   out.joint_names = c.get<std::vector<std::string>>("joint_names", out.joint_names);
   if (out.joint_names.size() != static_cast<std::size_t>(sim::kArmJointCount))
@@ -209,7 +210,9 @@ const SettingsTable<CellSimConfig>& cell_sim_settings() {
           "`geometry_msgs/TwistStamped` read on `twist_topic` (default `/servo_node/delta_twist_cmds`, "
           "reliable; each drives for `twist_timeout_ms`, default 100, in frame `base_frame`, default "
           "`base_link`); `sensor_msgs/Image` mono8 written on `image_topic` (default `/camera/image_raw`, "
-          "sensor_data). Motions and the gripper stay on rigger's topics"),
+          "sensor_data), each followed by its `sensor_msgs/CameraInfo` (plumb_bob, the image's stamp and frame) "
+          "on `camera_info_topic` (default `/camera/camera_info`, sensor_data) instead of `rigger/camera/info`. "
+          "Motions and the gripper stay on rigger's topics"),
   };
   return table;
 }

@@ -90,6 +90,7 @@ struct CellSimConfig {
                                          "joint_a5", "joint_a6", "joint_a7"};
     std::string twist_dds_topic;   ///< geometry_msgs/TwistStamped read (reliable, as MoveIt Servo)
     std::string image_dds_topic;   ///< sensor_msgs/Image mono8 written (sensor_data)
+    std::string camera_info_dds_topic;  ///< sensor_msgs/CameraInfo written with each image (sensor_data)
     std::string base_frame = "base_link";  ///< the twist's frame_id that means the robot base
     std::chrono::milliseconds twist_timeout{100};  ///< how long one TwistStamped drives (Servo's command timeout)
   };

@@ -64,7 +64,6 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
       twist_gate_(config_.max_command_future, config_.max_twist_timeout),
       motion_status_(ctx.participant, protocol::robot::kMotionStatus),
       gripper_state_(ctx.participant, protocol::robot::kGripperState),
-      camera_info_(ctx.participant, protocol::vision::kCameraInfo),
       ground_truth_(ctx.participant, protocol::sim::kGroundTruth),
       sim_event_(ctx.participant, protocol::sim::kEvent),
       sim_status_(ctx.participant, protocol::sim::kStatus),
@@ -83,14 +82,18 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
     const CellSimConfig::Ros2Driver& r = *config_.ros2_driver;
     ros2_wrench_.emplace(ctx.participant, r.wrench_dds_topic, written_by_physics(ros2::qos::sensor_data()));
     ros2_image_.emplace(ctx.participant, r.image_dds_topic, ros2::qos::sensor_data());
+    ros2_camera_info_.emplace(ctx.participant, r.camera_info_dds_topic, ros2::qos::sensor_data());
     ros2_twist_.emplace(ctx.participant, r.twist_dds_topic, ros2::qos::reliable_default());
     ros2_joint_states_.emplace(ctx.participant, r.joint_states_dds_topic, ros2::qos::system_default());
-    ctx.log->info("robot and camera as ROS 2 drivers: wrench={} joint_states={} twist={} image={} base_frame={}",
-                  r.wrench_dds_topic, r.joint_states_dds_topic, r.twist_dds_topic, r.image_dds_topic, r.base_frame);
+    ctx.log->info(
+        "robot and camera as ROS 2 drivers: wrench={} joint_states={} twist={} image={} camera_info={} base_frame={}",
+        r.wrench_dds_topic, r.joint_states_dds_topic, r.twist_dds_topic, r.image_dds_topic, r.camera_info_dds_topic,
+        r.base_frame);
   } else {
     wrench_.emplace(ctx.participant, protocol::robot::kWrench, written_by_physics(dds::qos::sensor_stream()));
     robot_state_.emplace(ctx.participant, protocol::robot::kState, written_by_physics(dds::qos::sensor_stream()));
     image_.emplace(ctx.participant, protocol::vision::kCameraImage);
+    camera_info_.emplace(ctx.participant, protocol::vision::kCameraInfo);
     twist_.emplace(ctx.participant, protocol::robot::kCmdTwist);
   }
 

@@ -103,7 +103,10 @@ class CellSimNode : public service::Node, private SimOutputs {
   std::uint64_t ros2_twist_seq_ = 0;
   dds::Writer<rigger_robot_MotionStatus> motion_status_;
   dds::Writer<rigger_robot_GripperState> gripper_state_;
-  dds::Writer<rigger_vision_CameraInfo> camera_info_;
+  std::optional<dds::Writer<rigger_vision_CameraInfo>> camera_info_;  // on rigger's topics
+  std::optional<dds::Writer<sensor_msgs_msg_dds__CameraInfo_>> ros2_camera_info_;  // as a ROS 2 driver
+  rigger_vision_CameraInfo camera_info_wire_{};  // the camera's intrinsics; d borrows camera_info_d_
+  std::vector<double> camera_info_d_;
   dds::Writer<rigger_vision_TrackedPose> ground_truth_;
   dds::Writer<rigger_sim_SimEvent> sim_event_;
   dds::Writer<rigger_sim_SimStatus> sim_status_;
