@@ -61,6 +61,29 @@ CellSimConfig::Ros2Driver read_ros2_driver(const Config& c) {
   return out;
 }
 
+Eigen::Vector3d bounded_vector3(const Config& c, const std::string& key, double bound) {
+  if (!c.has(key)) return Eigen::Vector3d::Zero();
+  const auto v = c.get<std::vector<double>>(key);
+  if (v.size() != 3 || !(std::abs(v[0]) <= bound) || !(std::abs(v[1]) <= bound) || !(std::abs(v[2]) <= bound)) {
+    c.fail(key, "expected 3 numbers, each within ±" + std::to_string(bound));
+  }
+  return {v[0], v[1], v[2]};
+}
+
+Eigen::Isometry3d read_pose_error(const Config& c) {
+  const Eigen::Vector3d position = bounded_vector3(c, "position_m", 0.5);
+  const Eigen::Vector3d rpy_deg = bounded_vector3(c, "rpy_deg", 45.0);
+  return cell::pose_from_position_rpy_deg(position, rpy_deg);
+}
+
+sim::DepthNoiseSettings read_depth_noise(const Config& c) {
+  sim::DepthNoiseSettings out;
+  out.stddev_at_1m_m = c.get_in_range("stddev_at_1m_m", 0.0, 0.0, 0.05);
+  out.grazing_deg = c.get_in_range("grazing_deg", 0.0, 0.0, 89.0);
+  out.edge_gap_m = c.get_in_range("edge_gap_m", 0.0, 0.0, 1.0);
+  return out;
+}
+
 }  // namespace
 
 const SettingsTable<CellSimConfig>& cell_sim_settings() {
@@ -196,6 +219,24 @@ const SettingsTable<CellSimConfig>& cell_sim_settings() {
           },
           "pixel noise in grey levels")),
       camera(setting<S>("blur_sigma_px", 0.0, {0.0, 10.0}, &S::camera_blur_sigma_px, "Gaussian blur of the image (`raster` only)")),
+      camera(own_setting<S>(
+          "pose_error", "object", "none", "",
+          [](const Config& config, const std::string& key, S& s) {
+            if (config.has(key)) s.camera_pose_error = read_pose_error(config.child(key));
+          },
+          "where the simulated camera really is against the cell file: `{\"position_m\": [x, y, z], "
+          "\"rpy_deg\": [r, p, y]}` in the camera's optical frame as the file places it (each at most 0.5 m "
+          "and 45°); the images are rendered from there, the cell file and `rigger/camera/info` are not "
+          "changed (what a camera mounted off its drawing does)")),
+      camera(own_setting<S>(
+          "depth_noise", "object", "none", "",
+          [](const Config& config, const std::string& key, S& s) {
+            if (config.has(key)) s.camera_depth_noise = read_depth_noise(config.child(key));
+          },
+          "what a structured-light sensor does to `rigger/camera/depth` (`mujoco` only): `stddev_at_1m_m` "
+          "(noise growing with the square of the distance, [0, 0.05]), `grazing_deg` (a hole where the "
+          "surface is seen further than this from its normal, [0, 89]; 0: none), `edge_gap_m` (holes on "
+          "both sides of a depth step larger than this, [0, 1]; 0: none)")),
       own_setting<S>(
           "ros2_driver", "object", "absent", "",
           [](const Config& config, const std::string& key, S& s) {

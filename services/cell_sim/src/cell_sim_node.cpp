@@ -116,8 +116,10 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
   if (config_.camera_enabled) {
     bool mujoco = false;
     try {
-      const sim::CameraScene scene = resize_camera(sim::load_camera_scene(config_.cell_file, config_.camera_id),
-                                                   config_.camera_width_px, config_.camera_height_px);
+      sim::CameraScene scene = resize_camera(sim::load_camera_scene(config_.cell_file, config_.camera_id),
+                                             config_.camera_width_px, config_.camera_height_px);
+      // Rendered from where the camera really is (camera/pose_error); what the file says stays the cell's.
+      scene.pose_world_camera = scene.pose_world_camera * config_.camera_pose_error;
       const CameraRendererKind renderer = resolve_renderer(config_.camera_renderer, geometry, scene.camera);
       mujoco = renderer == CameraRendererKind::kMujoco;
       if (mujoco && !ros2_image_) depth_.emplace(ctx.participant, protocol::vision::kCameraDepth);
@@ -137,6 +139,12 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
     publish_camera_info(camera_->camera());
     camera_text = std::to_string(camera_->camera().width_px) + "x" + std::to_string(camera_->camera().height_px) +
                   (mujoco ? " mujoco" : " raster");
+    if (!config_.camera_pose_error.isApprox(Eigen::Isometry3d::Identity())) {
+      const Eigen::Isometry3d& e = config_.camera_pose_error;
+      ctx.log->warn("camera is off its cell-file pose by {:.1f} mm and {:.2f} deg (camera/pose_error)",
+                    1000.0 * e.translation().norm(),
+                    Eigen::AngleAxisd(e.rotation()).angle() * 180.0 / 3.14159265358979323846);
+    }
     runner_->set_camera(camera_.get(), config_.camera_rate_hz.value_or(camera_->camera().rate_hz));
   }
 
