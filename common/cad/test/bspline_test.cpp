@@ -31,7 +31,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 using BsplineTest = StepFileTest;
 
-// A plate with holes of two diameters: through and blind along z, one blind along -x from the side.
+// A plate with holes of three diameters: through and blind along z, one blind along -x from the side.
 std::vector<parts::DrilledHole> two_diameter_holes() {
   const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
   return {{{0.030, 0.030, 0.012}, z, 0.008, 0.012, true},
