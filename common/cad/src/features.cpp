@@ -98,9 +98,12 @@ bool elementary(GeomAbs_SurfaceType type) {
 // the axis from the cylinder's location, its U parameter the angle.
 detail::FittedCylinder analytic_cylinder(const BRepAdaptor_Surface& surface) {
   const gp_Cylinder cylinder = surface.Cylinder();
-  return {to_eigen(cylinder.Location()),        to_eigen(cylinder.Axis().Direction()),
-          cylinder.Radius(),                    surface.LastUParameter() - surface.FirstUParameter(),
-          surface.FirstVParameter(),            surface.LastVParameter()};
+  return {to_eigen(cylinder.Location()),
+          to_eigen(cylinder.Axis().Direction()),
+          cylinder.Radius(),
+          surface.LastUParameter() - surface.FirstUParameter(),
+          surface.FirstVParameter(),
+          surface.LastVParameter()};
 }
 
 FaceInfo face_info(const TopoDS_Face& face, int index) {

@@ -129,7 +129,7 @@ bool on_cylinder(const FittedCylinder& cylinder, const std::vector<SurfaceSample
 // The face's angular span and axial extent, from its boundary edges (not its parameter box, which a
 // trimmed face need not fill): a face with a seam goes round the full circle; otherwise it spans the
 // circle less the largest gap between its boundary points.
-void measure_extent(const BRepAdaptor_Surface& surface, FittedCylinder& cylinder) {
+bool measure_extent(const BRepAdaptor_Surface& surface, FittedCylinder& cylinder) {
   const Eigen::Vector3d e1 = cylinder.axis.unitOrthogonal(), e2 = cylinder.axis.cross(e1);
   std::vector<double> angles;
   double lo = 1e300, hi = -1e300;
@@ -152,11 +152,14 @@ void measure_extent(const BRepAdaptor_Surface& surface, FittedCylinder& cylinder
       angles.push_back(std::atan2(d.dot(e2), d.dot(e1)));
     }
   }
+  if (angles.empty()) {
+    return false;  // no boundary: no extent to measure
+  }
   cylinder.axial_min = lo;
   cylinder.axial_max = hi;
   if (seam || angles.size() < 2) {
     cylinder.angle_rad = 2 * kPi;
-    return;
+    return true;
   }
   std::sort(angles.begin(), angles.end());
   double gap = angles.front() + 2 * kPi - angles.back();
@@ -164,6 +167,7 @@ void measure_extent(const BRepAdaptor_Surface& surface, FittedCylinder& cylinder
     gap = std::max(gap, angles[k] - angles[k - 1]);
   }
   cylinder.angle_rad = 2 * kPi - gap;
+  return true;
 }
 
 std::vector<Eigen::Vector3d> sample(const BRepAdaptor_Curve& curve, int n) {
@@ -217,7 +221,9 @@ std::optional<FittedCylinder> fit_cylinder(const BRepAdaptor_Surface& surface) {
   if (!cylinder || !on_cylinder(*cylinder, fine)) {
     return std::nullopt;
   }
-  measure_extent(surface, *cylinder);
+  if (!measure_extent(surface, *cylinder)) {
+    return std::nullopt;
+  }
   return cylinder;
 }
 

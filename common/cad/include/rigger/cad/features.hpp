@@ -19,11 +19,11 @@ std::string_view to_string(EntityKind kind);
 
 /// What an entity looks like, independent of its index: detects a reference into an edited model.
 /// type: "plane", "cylinder", "cone", "sphere", "torus", "bspline", "other" (faces); "line", "circle",
-/// "other", "degenerate" (edges); "vertex". A B-spline or Bezier face or edge whose every sample lies
-/// within 0.01 mm of a plane, cylinder, line or circle has that type (and `recognised` set), its
-/// direction and radius from the fitted shape, so that it has the signature of the analytic one. direction: a plane's outward normal, a cylinder's, cone's or
+/// "other", "degenerate" (edges); "vertex". direction: a plane's outward normal, a cylinder's, cone's or
 /// circle's axis, a line's direction (axes and lines with a canonical sign: first non-zero component
-/// positive); zero when none. radius_m: cylinders, circles, spheres; 0 otherwise.
+/// positive); zero when none. radius_m: cylinders, circles, spheres; 0 otherwise. A B-spline or Bezier
+/// face or edge within 0.01 mm of a plane, cylinder, line or circle has that type (and `recognised`
+/// set), its direction and radius from the fitted shape: the signature of the analytic one.
 struct Signature {
   std::string type;
   Eigen::Vector3d centroid_m = Eigen::Vector3d::Zero();
@@ -52,7 +52,7 @@ struct FaceInfo {
   double angle_rad = 0.0;         ///< cylinders: angular span of the face
   double axial_min = 0.0, axial_max = 0.0;  ///< cylinders: extent along `signature.direction` from axis_point_m
   int solid = -1;                 ///< index of the solid holding the face (-1: none)
-  bool recognised = false;  ///< a B-spline or Bezier face taken for the plane or cylinder of its signature
+  bool recognised = false;        ///< a B-spline or Bezier face taken for the plane or cylinder of its signature
 };
 
 struct EdgeInfo {
