@@ -6,8 +6,11 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/QR>
+#include <IntCurvesFace_ShapeIntersector.hxx>
+#include <Precision.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
+#include <gp_Lin.hxx>
 
 #include <algorithm>
 #include <cmath>
@@ -272,6 +275,40 @@ std::optional<FittedCircle> fit_circle(const BRepAdaptor_Curve& curve) {
     }
   }
   return FittedCircle{centre, axis, radius};
+}
+
+std::optional<bool> outside_along(const TopoDS_Shape& solid, const Eigen::Vector3d& point_m,
+                                  const Eigen::Vector3d& direction) {
+  IntCurvesFace_ShapeIntersector intersector;
+  intersector.Load(solid, 1e-7);
+  intersector.PerformNearest(gp_Lin(to_gp_pnt(point_m), gp_Dir(direction.x(), direction.y(), direction.z())), 1e-7,
+                             Precision::Infinite());
+  if (!intersector.IsDone()) {
+    return std::nullopt;
+  }
+  if (intersector.NbPnt() == 0) {
+    return true;
+  }
+  if (intersector.State(1) != TopAbs_IN) {
+    return std::nullopt;  // on an edge or a vertex: the crossing's side is not the face's alone
+  }
+  const TopoDS_Face& face = intersector.Face(1);
+  const BRepAdaptor_Surface surface(face, false);
+  gp_Pnt p;
+  gp_Vec du, dv;
+  surface.D1(intersector.UParameter(1), intersector.VParameter(1), p, du, dv);
+  gp_Vec normal = du.Crossed(dv);
+  if (normal.Magnitude() < 1e-300) {
+    return std::nullopt;
+  }
+  if (face.Orientation() == TopAbs_REVERSED) {
+    normal.Reverse();
+  }
+  const double along = to_eigen(normal.Normalized()).dot(direction);
+  if (std::abs(along) < 1e-6) {
+    return std::nullopt;  // tangent
+  }
+  return along < 0;  // the ray enters the material first: the point is outside
 }
 
 }  // namespace rigger::cad::detail

@@ -5,6 +5,7 @@
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <Eigen/Core>
+#include <TopoDS_Shape.hxx>
 
 #include <optional>
 
@@ -53,5 +54,12 @@ std::optional<FittedCylinder> fit_cylinder(const BRepAdaptor_Surface& surface);
 /// Whether B-spline or Bezier `curve` is a straight line, or a circle, within kRecognitionTolerance_m.
 std::optional<FittedLine> fit_line(const BRepAdaptor_Curve& curve);
 std::optional<FittedCircle> fit_circle(const BRepAdaptor_Curve& curve);
+
+/// Whether `point_m` is outside `solid`, from the first face the ray from it along unit `direction` crosses
+/// (inside when the ray leaves the material there; outside when it crosses none or enters). nullopt when
+/// the ray first meets a face on its boundary or tangentially: ask OCCT's solid classifier. For B-spline
+/// solids, on which the classifier spends about a second per point on its ray's extrema with every edge.
+std::optional<bool> outside_along(const TopoDS_Shape& solid, const Eigen::Vector3d& point_m,
+                                  const Eigen::Vector3d& direction);
 
 }  // namespace rigger::cad::detail
