@@ -61,6 +61,16 @@ void CameraWorker::offer(CameraSnapshot snapshot) {
   wake_.notify_all();
 }
 
+void CameraWorker::replace_renderer(RendererFactory make_renderer) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  pending_renderer_ = std::move(make_renderer);
+}
+
+std::string CameraWorker::replace_error() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return replace_error_;
+}
+
 void CameraWorker::run(const RendererFactory& make_renderer, std::exception_ptr& start_error) {
   // The renderer is made here, not by the constructor's thread: an OpenGL context is current on
   // the thread that made it, and MuJoCo's renderer draws with the current one.
@@ -83,12 +93,28 @@ void CameraWorker::run(const RendererFactory& make_renderer, std::exception_ptr&
   CameraImages images;
   for (;;) {
     CameraSnapshot snapshot;
+    RendererFactory make_next;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [this] { return stop_ || pending_.has_value(); });
       if (stop_) return;
       snapshot = std::move(*pending_);
       pending_.reset();
+      make_next.swap(pending_renderer_);
+    }
+    if (make_next) {
+      // Made before the old one goes, so that a renderer that cannot be made leaves the camera streaming
+      // (each MuJoCo renderer makes its own EGL context current for every frame).
+      std::string error;
+      try {
+        std::unique_ptr<FrameRenderer> next = make_next();
+        if (!next) throw std::logic_error("the renderer factory made no renderer");
+        renderer = std::move(next);
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      const std::lock_guard<std::mutex> lock(mutex_);
+      replace_error_ = error;
     }
     const CameraDemand demand = demand_ ? demand_() : CameraDemand{};
     if (!demand.image && !demand.depth) continue;
