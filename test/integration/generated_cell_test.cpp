@@ -19,6 +19,7 @@
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 
+#include "cell_revision_support.hpp"
 #include "cell_sim_test_support.hpp"
 #include "rigger/cell_config/cell_file.hpp"
 #include "rigger/dds/conversions.hpp"
@@ -93,31 +94,12 @@ class GeneratedCellTest : public MultiProcessTest {
     return path;
   }
 
-  /// Writes `document` on rigger/world/cell as revision `number` (changes against number - 1), as the world
-  /// model publishes a revision it accepted.
   void publish_revision(std::uint64_t number, const json& document, const json& changes) {
-    world_protocol::CellRevision r;
-    r.cell_revision = number;
-    r.previous_revision = number - 1;
-    r.cell_json = document.dump(2);
-    r.sha256 = "revision-" + std::to_string(number);
-    r.changes_json = changes.dump();
-    r.who = "generated-cell-test";
-    rigger_world_CellRevision wire{};
-    world_protocol::to_wire(r, wire);
-    ASSERT_EQ(revisions_.write(wire), DDS_RETCODE_OK);
+    ASSERT_EQ(publish_cell_revision(revisions_, number, document, changes), DDS_RETCODE_OK);
   }
 
   /// The detail cell_sim announces in its service state (the follower's outcome), once it contains `text`.
-  bool cell_sim_says(const std::string& text) {
-    return cell_.wait_until(
-        [&] {
-          cell_.directory().update();
-          const auto it = cell_.directory().services().find("cell_sim");
-          return it != cell_.directory().services().end() && it->second.detail.find(text) != std::string::npos;
-        },
-        10s);
-  }
+  bool cell_sim_says(const std::string& text) { return service_detail_says(cell_, "cell_sim", text); }
 
   /// The simulator's latest true pose of every object, by id, kept up to date on the test's loop.
   std::map<std::string, Eigen::Isometry3d>& follow_truth() {
