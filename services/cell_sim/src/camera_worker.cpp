@@ -66,11 +66,6 @@ void CameraWorker::replace_renderer(RendererFactory make_renderer) {
   pending_renderer_ = std::move(make_renderer);
 }
 
-std::string CameraWorker::replace_error() const {
-  const std::lock_guard<std::mutex> lock(mutex_);
-  return replace_error_;
-}
-
 void CameraWorker::run(const RendererFactory& make_renderer, std::exception_ptr& start_error) {
   // The renderer is made here, not by the constructor's thread: an OpenGL context is current on
   // the thread that made it, and MuJoCo's renderer draws with the current one.
@@ -105,16 +100,12 @@ void CameraWorker::run(const RendererFactory& make_renderer, std::exception_ptr&
     if (make_next) {
       // Made before the old one goes, so that a renderer that cannot be made leaves the camera streaming
       // (each MuJoCo renderer makes its own EGL context current for every frame).
-      std::string error;
       try {
         std::unique_ptr<FrameRenderer> next = make_next();
-        if (!next) throw std::logic_error("the renderer factory made no renderer");
-        renderer = std::move(next);
-      } catch (const std::exception& e) {
-        error = e.what();
+        if (next) renderer = std::move(next);
+      } catch (const std::exception&) {
+        // The factory's caller hears of it from the factory; the camera goes on with what it has.
       }
-      const std::lock_guard<std::mutex> lock(mutex_);
-      replace_error_ = error;
     }
     const CameraDemand demand = demand_ ? demand_() : CameraDemand{};
     if (!demand.image && !demand.depth) continue;

@@ -12,7 +12,6 @@
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <string>
 #include <thread>
 
 #include <opencv2/core.hpp>
@@ -86,11 +85,9 @@ class CameraWorker {
 
   void offer(CameraSnapshot snapshot);
   /// Renders the frames of snapshots offered from now on with a renderer `make_renderer` makes on the
-  /// camera thread (the cell's model was built anew). A factory that throws leaves the current renderer on,
-  /// and the error in replace_error(). Thread-safe; never blocks on a frame.
+  /// camera thread before the next frame (the cell's model was built anew). A factory that throws leaves the
+  /// current renderer on (the factory reports its own error). Thread-safe; never blocks on a frame.
   void replace_renderer(RendererFactory make_renderer);
-  /// What the last failed replacement threw; empty when none failed. Thread-safe.
-  std::string replace_error() const;
   std::uint64_t frames() const { return frames_.load(); }
   std::uint64_t dropped() const { return dropped_.load(); }
   const sim::CameraModel& camera() const { return camera_; }
@@ -101,11 +98,10 @@ class CameraWorker {
   sim::CameraModel camera_;
   OnFrame on_frame_;
   Demand demand_;
-  mutable std::mutex mutex_;
+  std::mutex mutex_;
   std::condition_variable wake_;
   std::optional<CameraSnapshot> pending_;
   RendererFactory pending_renderer_;  ///< made before the next frame
-  std::string replace_error_;
   bool started_ = false;
   bool stop_ = false;
   std::atomic<std::uint64_t> frames_{0};

@@ -214,6 +214,8 @@ cell_follower::Outcome CellSimNode::rebuild(const cell_follower::FollowedRevisio
   const auto build_start = SteadyClock::now();
   ModelSwapCommand command;
   std::string kept_out;  // objects the rasteriser does not draw
+  const auto camera_made = std::make_shared<std::promise<std::string>>();
+  std::future<std::string> camera_renderer = camera_made->get_future();
   try {
     command.geometry = sim::parse_cell_geometry(next.document.dump(), next.cell.source, next.model_dir);
     command.physics = std::make_shared<sim::CellPhysics>(command.geometry, config_.physics);
@@ -223,9 +225,21 @@ cell_follower::Outcome CellSimNode::rebuild(const cell_follower::FollowedRevisio
       for (const sim::ObjectGeometry& object : command.geometry.objects) {
         if (!object.box_size_m) kept_out += (kept_out.empty() ? "" : ", ") + object.id;
       }
+      // Made on the camera thread before its next frame; what became of it comes back here.
       command.camera_renderer =
-          renderer_factory(camera_kind_, config_, scene,
-                           camera_kind_ == CameraRendererKind::kMujoco ? command.physics->copy_model() : nullptr);
+          [make =
+               renderer_factory(camera_kind_, config_, scene,
+                                camera_kind_ == CameraRendererKind::kMujoco ? command.physics->copy_model() : nullptr),
+           made = camera_made]() {
+            try {
+              std::unique_ptr<FrameRenderer> renderer = make();
+              made->set_value("");
+              return renderer;
+            } catch (const std::exception& e) {
+              made->set_value(e.what());
+              throw;
+            }
+          };
     }
   } catch (const std::exception& e) {
     return cell_follower::Outcome::refuse(std::string("cell_sim cannot build the new cell's model: ") + e.what());
@@ -242,6 +256,20 @@ cell_follower::Outcome CellSimNode::rebuild(const cell_follower::FollowedRevisio
   const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
   ctx_.log->info("cell model built anew by cell revision {}: {} build_ms={:.1f} swap_step_ms={:.2f}", next.revision,
                  plan.rebuild_reason, ms(build), ms(result.swap_step));
+  if (camera_) {
+    // The physics runs the new cell whatever the camera does; a camera left on the old model is said.
+    const auto camera_start = SteadyClock::now();
+    if (camera_renderer.wait_for(std::chrono::seconds(5)) != std::future_status::ready) {
+      ctx_.log->warn("camera renderer for cell revision {} not made within 5 s: the camera shows the old model",
+                     next.revision);
+    } else if (const std::string error = camera_renderer.get(); !error.empty()) {
+      ctx_.log->error("camera renderer for cell revision {} cannot be made: {}: the camera shows the old model",
+                      next.revision, error);
+    } else {
+      ctx_.log->info("camera renders cell revision {} ready_after_ms={:.1f}", next.revision,
+                     ms(SteadyClock::now() - camera_start));
+    }
+  }
   if (camera_kind_ == CameraRendererKind::kRaster && !kept_out.empty()) {
     ctx_.log->warn(
         "camera renderer stays raster (chosen at start): it does not draw {}, given by STEP models; "
