@@ -121,6 +121,7 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
       // Rendered from where the camera really is (camera/pose_error); what the file says stays the cell's.
       scene.pose_world_camera = scene.pose_world_camera * config_.camera_pose_error;
       const CameraRendererKind renderer = resolve_renderer(config_.camera_renderer, geometry, scene.camera);
+      camera_kind_ = renderer;
       mujoco = renderer == CameraRendererKind::kMujoco;
       if (mujoco && !ros2_image_) depth_.emplace(ctx.participant, protocol::vision::kCameraDepth);
       camera_ = std::make_unique<CameraWorker>(
@@ -199,8 +200,9 @@ CellSimNode::~CellSimNode() {
 // the follower reports what the physics did, not what it was asked.
 cell_follower::Outcome CellSimNode::on_revision(const cell_follower::FollowedRevision& next) {
   const RevisionPlan plan =
-      plan_revision(cell::diff_cells(running_cell_, running_doc_, next.cell, next.document), next.cell);
+      plan_revision(cell::diff_cells(running_cell_, running_doc_, next.cell, next.document), running_cell_, next.cell);
   if (!plan.refusal.empty()) return cell_follower::Outcome::refuse(plan.refusal);
+  if (plan.rebuild) return rebuild(next, plan);
   if (plan.moves.empty()) return take(next);
   ObjectMovesCommand command{plan.moves, std::make_shared<std::promise<std::string>>()};
   std::future<std::string> done = command.done->get_future();
@@ -213,6 +215,77 @@ cell_follower::Outcome CellSimNode::on_revision(const cell_follower::FollowedRev
     const Eigen::Vector3d p = move.pose_world_object.translation();
     ctx_.log->info("object moved by cell revision {} id={} position_m=[{:.4f}, {:.4f}, {:.4f}]", next.revision, move.id,
                    p.x(), p.y(), p.z());
+  }
+  return take(next);
+}
+
+// Building the model (STEP models read, MuJoCo compiling, the camera's model copied) takes a while: it happens
+// here, on the event loop, while the physics runs on; the physics thread only swaps at its next step.
+cell_follower::Outcome CellSimNode::rebuild(const cell_follower::FollowedRevision& next, const RevisionPlan& plan) {
+  const auto build_start = SteadyClock::now();
+  ModelSwapCommand command;
+  std::string kept_out;  // objects the rasteriser does not draw
+  const auto camera_made = std::make_shared<std::promise<std::string>>();
+  std::future<std::string> camera_renderer = camera_made->get_future();
+  try {
+    command.geometry = sim::parse_cell_geometry(next.document.dump(), next.cell.source, next.model_dir);
+    command.physics = std::make_shared<sim::CellPhysics>(command.geometry, config_.physics);
+    if (camera_) {
+      const sim::CameraScene scene = resize_camera(sim::camera_scene_from(next.cell, config_.camera_id),
+                                                   config_.camera_width_px, config_.camera_height_px);
+      for (const sim::ObjectGeometry& object : command.geometry.objects) {
+        if (!object.box_size_m) kept_out += (kept_out.empty() ? "" : ", ") + object.id;
+      }
+      // Made on the camera thread before its next frame; what became of it comes back here.
+      command.camera_renderer =
+          [make =
+               renderer_factory(camera_kind_, config_, scene,
+                                camera_kind_ == CameraRendererKind::kMujoco ? command.physics->copy_model() : nullptr),
+           made = camera_made]() {
+            try {
+              std::unique_ptr<FrameRenderer> renderer = make();
+              made->set_value("");
+              return renderer;
+            } catch (const std::exception& e) {
+              made->set_value(e.what());
+              throw;
+            }
+          };
+    }
+  } catch (const std::exception& e) {
+    return cell_follower::Outcome::refuse(std::string("cell_sim cannot build the new cell's model: ") + e.what());
+  }
+  command.moves = plan.moves;
+  command.done = std::make_shared<std::promise<ModelSwapResult>>();
+  std::future<ModelSwapResult> done = command.done->get_future();
+  const auto build = SteadyClock::now() - build_start;
+  runner_->submit(std::move(command));
+  if (done.wait_for(std::chrono::seconds(2)) != std::future_status::ready)
+    return cell_follower::Outcome::refuse("the physics thread did not swap the model within 2 s");
+  const ModelSwapResult result = done.get();
+  if (!result.refusal.empty()) return cell_follower::Outcome::refuse(result.refusal);
+  const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
+  ctx_.log->info("cell model built anew by cell revision {}: {} build_ms={:.1f} swap_step_ms={:.2f}", next.revision,
+                 plan.rebuild_reason, ms(build), ms(result.swap_step));
+  if (camera_) {
+    // The physics runs the new cell whatever the camera does; a camera left on the old model is said.
+    const auto camera_start = SteadyClock::now();
+    if (camera_renderer.wait_for(std::chrono::seconds(5)) != std::future_status::ready) {
+      ctx_.log->warn("camera renderer for cell revision {} not made within 5 s: the camera shows the old model",
+                     next.revision);
+    } else if (const std::string error = camera_renderer.get(); !error.empty()) {
+      ctx_.log->error("camera renderer for cell revision {} cannot be made: {}: the camera shows the old model",
+                      next.revision, error);
+    } else {
+      ctx_.log->info("camera renders cell revision {} ready_after_ms={:.1f}", next.revision,
+                     ms(SteadyClock::now() - camera_start));
+    }
+  }
+  if (camera_kind_ == CameraRendererKind::kRaster && !kept_out.empty()) {
+    ctx_.log->warn(
+        "camera renderer stays raster (chosen at start): it does not draw {}, given by STEP models; "
+        "set camera/renderer to \"mujoco\" to see them",
+        kept_out);
   }
   return take(next);
 }

@@ -76,6 +76,9 @@ class CellSimNode : public service::Node, private SimOutputs {
   void on_sim_control();
   /// A cell revision (rigger/world/cell): its moved free objects put at their new poses, or refused.
   cell_follower::Outcome on_revision(const cell_follower::FollowedRevision& next);
+  /// A revision that needs the model built anew: the physics (and the camera's renderer) built from it here,
+  /// swapped in by the physics thread, or refused.
+  cell_follower::Outcome rebuild(const cell_follower::FollowedRevision& next, const RevisionPlan& plan);
   /// The revision becomes the running cell.
   cell_follower::Outcome take(const cell_follower::FollowedRevision& next);
   void refuse_motion(const std::string& motion_id, const std::string& code, const std::string& message);
@@ -119,6 +122,8 @@ class CellSimNode : public service::Node, private SimOutputs {
 
   // Destroyed before the writers they publish through: first the runner (physics thread), then the camera.
   std::unique_ptr<CameraWorker> camera_;
+  /// The renderer chosen at start (`auto` resolved then): kept for the process' life, whatever the cell becomes.
+  CameraRendererKind camera_kind_ = CameraRendererKind::kRaster;
   std::unique_ptr<SimRunner> runner_;
   /// The cell the physics runs on (its file, then each revision taken) and its document: a revision is
   /// diffed against it, whatever revision it says it changes.

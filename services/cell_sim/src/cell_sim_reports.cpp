@@ -171,6 +171,12 @@ void CellSimNode::publish_ground_truth(const GroundTruth& truth, WallTime stamp)
     ground_truth_.write(w);
   };
   for (const ObjectTruth& object : truth.objects) publish(object.id.c_str(), object.pose_world_object);
+  // A removed object's instance is disposed: readers see it gone, not standing at its last pose.
+  for (const std::string& id : truth.removed) {
+    rigger_vision_TrackedPose w{};
+    w.object_id = const_cast<char*>(id.c_str());
+    ground_truth_.dispose(w);
+  }
 }
 
 void CellSimNode::publish_status(const StatusReport& s, WallTime stamp) {
