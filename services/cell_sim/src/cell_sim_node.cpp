@@ -116,10 +116,7 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
   if (config_.camera_enabled) {
     bool mujoco = false;
     try {
-      sim::CameraScene scene = resize_camera(sim::load_camera_scene(config_.cell_file, config_.camera_id),
-                                             config_.camera_width_px, config_.camera_height_px);
-      // Rendered from where the camera really is (camera/pose_error); what the file says stays the cell's.
-      scene.pose_world_camera = scene.pose_world_camera * config_.camera_pose_error;
+      const sim::CameraScene scene = as_rendered(sim::load_camera_scene(config_.cell_file, config_.camera_id));
       const CameraRendererKind renderer = resolve_renderer(config_.camera_renderer, geometry, scene.camera);
       camera_kind_ = renderer;
       mujoco = renderer == CameraRendererKind::kMujoco;
@@ -191,6 +188,13 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
                 camera_text);
 }
 
+sim::CameraScene CellSimNode::as_rendered(sim::CameraScene scene) const {
+  scene = resize_camera(std::move(scene), config_.camera_width_px, config_.camera_height_px);
+  // Rendered from where the camera really is (camera/pose_error); what the file says stays the cell's.
+  scene.pose_world_camera = scene.pose_world_camera * config_.camera_pose_error;
+  return scene;
+}
+
 CellSimNode::~CellSimNode() {
   runner_->stop();
   ctx_.log->info("cell_sim stopped: arm stopped, crane stopped, Modbus server closed");
@@ -231,8 +235,7 @@ cell_follower::Outcome CellSimNode::rebuild(const cell_follower::FollowedRevisio
     command.geometry = sim::parse_cell_geometry(next.document.dump(), next.cell.source, next.model_dir);
     command.physics = std::make_shared<sim::CellPhysics>(command.geometry, config_.physics);
     if (camera_) {
-      const sim::CameraScene scene = resize_camera(sim::camera_scene_from(next.cell, config_.camera_id),
-                                                   config_.camera_width_px, config_.camera_height_px);
+      const sim::CameraScene scene = as_rendered(sim::camera_scene_from(next.cell, config_.camera_id));
       for (const sim::ObjectGeometry& object : command.geometry.objects) {
         if (!object.box_size_m) kept_out += (kept_out.empty() ? "" : ", ") + object.id;
       }

@@ -57,6 +57,9 @@ class CellSimNode : public service::Node, private SimOutputs {
   void publish_ground_truth(const GroundTruth& truth, WallTime stamp) override;
   void publish_status(const StatusReport& status, WallTime stamp) override;
   void publish_control_result(const ControlResult& result, WallTime stamp) override;
+  /// The camera scene as configured (camera/width, height) and as the camera really is (camera/pose_error).
+  /// @throws std::invalid_argument for a size of another aspect ratio.
+  sim::CameraScene as_rendered(sim::CameraScene scene) const;
   /// What the camera thread renders: the image while a reader of it is matched, depth likewise.
   CameraDemand camera_demand() const;
   /// The grey image and (when the renderer makes one) the depth image of one frame, same stamp (camera thread).
