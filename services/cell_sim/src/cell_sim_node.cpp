@@ -208,10 +208,14 @@ cell_follower::Outcome CellSimNode::on_revision(const cell_follower::FollowedRev
   if (!plan.refusal.empty()) return cell_follower::Outcome::refuse(plan.refusal);
   if (plan.rebuild) return rebuild(next, plan);
   if (plan.moves.empty()) return take(next);
-  ObjectMovesCommand command{plan.moves, std::make_shared<std::promise<std::string>>()};
+  ObjectMovesCommand command;
+  command.moves = plan.moves;
+  command.done = std::make_shared<std::promise<std::string>>();
+  const std::shared_ptr<CommandClaim> claim = command.claim;
   std::future<std::string> done = command.done->get_future();
   runner_->submit(std::move(command));
-  if (done.wait_for(std::chrono::seconds(2)) != std::future_status::ready)
+  // Once the physics thread has taken the moves it finishes them within its step: wait for that.
+  if (done.wait_for(std::chrono::seconds(2)) != std::future_status::ready && claim->withdraw())
     return cell_follower::Outcome::refuse("the physics thread did not apply the moves within 2 s");
   const std::string refusal = done.get();
   if (!refusal.empty()) return cell_follower::Outcome::refuse(refusal);
@@ -260,10 +264,12 @@ cell_follower::Outcome CellSimNode::rebuild(const cell_follower::FollowedRevisio
   }
   command.moves = plan.moves;
   command.done = std::make_shared<std::promise<ModelSwapResult>>();
+  const std::shared_ptr<CommandClaim> claim = command.claim;
   std::future<ModelSwapResult> done = command.done->get_future();
   const auto build = SteadyClock::now() - build_start;
   runner_->submit(std::move(command));
-  if (done.wait_for(std::chrono::seconds(2)) != std::future_status::ready)
+  // Once the physics thread has taken the swap it finishes it within its step: wait for that.
+  if (done.wait_for(std::chrono::seconds(2)) != std::future_status::ready && claim->withdraw())
     return cell_follower::Outcome::refuse("the physics thread did not swap the model within 2 s");
   const ModelSwapResult result = done.get();
   if (!result.refusal.empty()) return cell_follower::Outcome::refuse(result.refusal);

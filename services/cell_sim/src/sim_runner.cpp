@@ -208,6 +208,7 @@ void SimRunner::drain_mailbox(WallTime now) {
 
 void SimRunner::apply(const ObjectMovesCommand& command, WallTime now) {
   (void)now;
+  if (!command.claim->take()) return;  // its sender gave up waiting and reported it refused
   // All or nothing: a revision half applied would leave the physics on no revision at all.
   for (const ObjectMove& move : command.moves) {
     const sim::CommandResult allowed = physics_->can_move_free_object(move.id, move.pose_world_object);
@@ -234,6 +235,7 @@ std::string SimRunner::prepare_swap(const ModelSwapCommand& command) const {
 
 void SimRunner::apply(const ModelSwapCommand& command, WallTime now) {
   (void)now;
+  if (!command.claim->take()) return;  // its sender gave up waiting and reported it refused
   swap_started_ = SteadyClock::now();
   const std::string refusal = prepare_swap(command);
   if (!refusal.empty()) {

@@ -72,9 +72,29 @@ struct SimControlCommand {
 
 /// A cell revision's moved objects (plan_revision), applied together or not at all: `done` gets an empty
 /// string once every object is at its new pose, or which object could not be moved and why (nothing moved).
+/// Settles who has a command its sender waits for: the physics thread takes it when it comes to it, or the
+/// sender withdraws it when it gave up waiting. Exactly one of the two succeeds, so a command reported
+/// refused for a timeout is never applied afterwards, and one the physics took is waited for to its end.
+class CommandClaim {
+ public:
+  /// The physics thread: true when the command is still wanted (and now the physics thread's).
+  bool take() { return settle(kTaken); }
+  /// The sender: true when the physics thread had not taken it (it never will now).
+  bool withdraw() { return settle(kWithdrawn); }
+
+ private:
+  enum State : int { kPending, kTaken, kWithdrawn };
+  bool settle(State to) {
+    int expected = kPending;
+    return state_.compare_exchange_strong(expected, to);
+  }
+  std::atomic<int> state_{kPending};
+};
+
 struct ObjectMovesCommand {
   std::vector<ObjectMove> moves;
   std::shared_ptr<std::promise<std::string>> done;
+  std::shared_ptr<CommandClaim> claim = std::make_shared<CommandClaim>();
 };
 
 /// What became of a ModelSwapCommand: empty `refusal` when the new model runs.
@@ -95,6 +115,7 @@ struct ModelSwapCommand {
   std::vector<ObjectMove> moves;
   RendererFactory camera_renderer;
   std::shared_ptr<std::promise<ModelSwapResult>> done;
+  std::shared_ptr<CommandClaim> claim = std::make_shared<CommandClaim>();
 };
 
 using SimCommand =

@@ -123,7 +123,9 @@ TEST_F(SimRunnerTest, ACellRevisionsMovesAreAppliedTogetherOrNotAtAll) {
   runner_.step_for_test(200);
   const auto truth_of = [&](const std::string& id) { return latest_truth(out_, id); };
   const auto move = [&](std::vector<ObjectMove> moves) {
-    ObjectMovesCommand command{std::move(moves), std::make_shared<std::promise<std::string>>()};
+    ObjectMovesCommand command;
+    command.moves = std::move(moves);
+    command.done = std::make_shared<std::promise<std::string>>();
     std::future<std::string> done = command.done->get_future();
     runner_.submit(std::move(command));
     runner_.step_for_test(20);
@@ -142,6 +144,19 @@ TEST_F(SimRunnerTest, ACellRevisionsMovesAreAppliedTogetherOrNotAtAll) {
 
   EXPECT_EQ(move({{"part", moved}}), "");
   EXPECT_LT((truth_of("part").translation() - moved.translation()).norm(), 1e-3);
+
+  // Moves their sender withdrew (it gave up waiting and reported them refused) are never applied later.
+  ObjectMovesCommand late;
+  late.moves = {{"part", part}};
+  late.done = std::make_shared<std::promise<std::string>>();
+  std::future<std::string> late_done = late.done->get_future();
+  ASSERT_TRUE(late.claim->withdraw());
+  const std::shared_ptr<CommandClaim> claim = late.claim;
+  runner_.submit(std::move(late));
+  runner_.step_for_test(20);
+  EXPECT_THROW(late_done.get(), std::future_error) << "a withdrawn command was answered";  // dropped unanswered
+  EXPECT_FALSE(claim->take());
+  EXPECT_LT((truth_of("part").translation() - moved.translation()).norm(), 1e-3) << "a withdrawn move was applied";
 }
 
 // The shipped cell's document with `edit` applied, as the physics builds it (STEP models beside the file).
