@@ -189,7 +189,8 @@ TEST_F(CadTest, BadInputGivesAClearError) {
   unitless.replace(unitless.find(units), units.size(), "");
   EXPECT_EQ(code_of(write_text("unitless.step", unitless)), ErrorCode::kNoUnits);
   std::string angle_only = screw;
-  angle_only.replace(angle_only.find(units), units.size(), "GLOBAL_UNIT_ASSIGNED_CONTEXT((#1238)) ");
+  const std::string angle_unit = units.substr(units.find(',') + 1, units.find(')') - units.find(',') - 1);
+  angle_only.replace(angle_only.find(units), units.size(), "GLOBAL_UNIT_ASSIGNED_CONTEXT((" + angle_unit + ")) ");
   EXPECT_EQ(code_of(write_text("angle_only.step", angle_only)), ErrorCode::kNoUnits);
   // A header and no data.
   EXPECT_EQ(code_of(write_text("nodata.step", screw.substr(0, screw.find("DATA;") + 5) + "\nENDSEC;\nEND-ISO-10303-21;\n")),
