@@ -112,7 +112,10 @@ int measure_idle(int seconds, rigger::performance::Report& report) {
     return 1;
   }
   Observer obs(cell);
-  if (!obs.recipes.wait_for_readers(1, 10s)) return 1;
+  if (!obs.recipes.wait_for_readers(1, 10s)) {
+    std::fprintf(stderr, "this process's recipe writer did not match the controller's reader within 10 s\n");
+    return 1;
+  }
   std::size_t starts = 0;
   dds::Reader<rigger_skill_SkillCommand> commands(cell.participant(), rigger::protocol::skill::kCommand,
                                                   dds::qos::all_commands());
@@ -145,7 +148,12 @@ int measure_idle(int seconds, rigger::performance::Report& report) {
   }
   row("1 running leaf", cpu_share(cell, pids, seconds));
   obs.cancel("one");
-  if (!cell.wait_until([&] { return state["one"] == rigger_task_TASK_CANCELED; }, 20s)) return 1;
+  if (!cell.wait_until([&] { return state["one"] == rigger_task_TASK_CANCELED; }, 20s)) {
+    // E.g. its executor stopped the skill on its own (CONTROLLER_LOST: the controller's liveliness lapsed
+    // on a loaded machine): the task then ended FAILED before the cancel.
+    std::fprintf(stderr, "task one did not end CANCELED (state %d)\n%s", state["one"], cell.logs().c_str());
+    return 1;
+  }
 
   json children = json::array({skill});
   for (int i = 0; i < 99; ++i)
