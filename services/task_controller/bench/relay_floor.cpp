@@ -89,6 +89,7 @@ class Relay {
       }
       if (n == 0) write_unanswered_again();
     }
+    dds_delete(readable);
     dds_delete(waitset);
     return true;
   }
