@@ -86,8 +86,9 @@ const SettingsTable<ControllerSettings>& controller_settings() {
           "max_age_s)` asks for less)"),
       setting<S>("stage_trace_path", "", &S::stage_trace_path,
                  "empty: off. Record, per executor event, when it was received, its first command written, the "
-                 "engine done and its journal rows flushed, and write them to this file when the controller stops "
-                 "(`task_controller_live_bench` reads it)"),
+                 "engine done and its journal rows flushed, and write them to this file when the controller stops; "
+                 "and every dispatch of its work loop (and each flush) to this file + `.loop` "
+                 "(`task_controller_live_bench` reads both)"),
   };
   return table;
 }
