@@ -84,6 +84,18 @@ sim::DepthNoiseSettings read_depth_noise(const Config& c) {
   return out;
 }
 
+// A key whose value is an object, read by `read` into `field` when the file has the key.
+template <typename Field, typename Read>
+Setting<CellSimConfig> object_setting(const std::string& key, const std::string& default_text,
+                                      Field CellSimConfig::*field, Read read, std::string doc) {
+  return own_setting<CellSimConfig>(
+      key, "object", default_text, "",
+      [field, read](const Config& config, const std::string& k, CellSimConfig& s) {
+        if (config.has(k)) s.*field = read(config.child(k));
+      },
+      std::move(doc));
+}
+
 }  // namespace
 
 const SettingsTable<CellSimConfig>& cell_sim_settings() {
@@ -219,29 +231,20 @@ const SettingsTable<CellSimConfig>& cell_sim_settings() {
           },
           "pixel noise in grey levels")),
       camera(setting<S>("blur_sigma_px", 0.0, {0.0, 10.0}, &S::camera_blur_sigma_px, "Gaussian blur of the image (`raster` only)")),
-      camera(own_setting<S>(
-          "pose_error", "object", "none", "",
-          [](const Config& config, const std::string& key, S& s) {
-            if (config.has(key)) s.camera_pose_error = read_pose_error(config.child(key));
-          },
+      camera(object_setting(
+          "pose_error", "none", &S::camera_pose_error, read_pose_error,
           "where the simulated camera really is against the cell file: `{\"position_m\": [x, y, z], "
           "\"rpy_deg\": [r, p, y]}` in the camera's optical frame as the file places it (each at most 0.5 m "
           "and 45°); the images are rendered from there, the cell file and `rigger/camera/info` are not "
           "changed (what a camera mounted off its drawing does)")),
-      camera(own_setting<S>(
-          "depth_noise", "object", "none", "",
-          [](const Config& config, const std::string& key, S& s) {
-            if (config.has(key)) s.camera_depth_noise = read_depth_noise(config.child(key));
-          },
+      camera(object_setting(
+          "depth_noise", "none", &S::camera_depth_noise, read_depth_noise,
           "what a structured-light sensor does to `rigger/camera/depth` (`mujoco` only): `stddev_at_1m_m` "
           "(noise growing with the square of the distance, [0, 0.05]), `grazing_deg` (a hole where the "
           "surface is seen further than this from its normal, [0, 89]; 0: none), `edge_gap_m` (holes on "
           "both sides of a depth step larger than this, [0, 1]; 0: none)")),
-      own_setting<S>(
-          "ros2_driver", "object", "absent", "",
-          [](const Config& config, const std::string& key, S& s) {
-            if (config.has(key)) s.ros2_driver = read_ros2_driver(config.child(key));
-          },
+      object_setting(
+          "ros2_driver", "absent", &S::ros2_driver, read_ros2_driver,
           "present (even `{}`): the robot's wrench, state and twist input and the camera's images are on ROS 2 "
           "drivers' topics instead of rigger's, for running the cell behind `ros2_bridge` ([ros2.md](ros2.md)): "
           "`geometry_msgs/WrenchStamped` written on `wrench_topic` (default "
