@@ -15,6 +15,7 @@ import { PartsView } from '../planner_view.js';
 import { FeaturePicker } from '../planner_features.js';
 import { recipeFields } from '../planner_recipe.js';
 import { RehearsalView } from '../rehearsal.js';
+import { Effort } from './effort.js';
 import { confirmCommand, rehearseRecipe, skillLibrary, submitRecipe, validateRecipe } from './api.js';
 import { Bindings } from './bindings.js';
 import { NodeForm } from './form.js';
@@ -49,6 +50,9 @@ export function plannerPage(main, me) {
   const resourcesBox = el('div', { id: 'planner-resources' });
   const notice = el('p', { id: 'planner-notice', role: 'status', 'aria-live': 'polite' });
   const say = (text, bad = false) => { notice.textContent = text; notice.className = bad ? 'error' : ''; };
+  const effortLine = el('p', { id: 'planner-effort', class: 'muted small' });
+  const effort = new Effort(main, (e) => { effortLine.textContent = e.text(); });
+  effortLine.textContent = effort.text();
   const addSelect = el('select', { id: 'planner-add-kind', 'aria-label': 'Node to add' });
   const taskId = el('input', { type: 'text', id: 'planner-task-id', 'aria-label': 'Task id', value: state.doc.task_id,
     oninput: () => { tree.set('/task_id', taskId.value); changed(false); } });
@@ -77,6 +81,7 @@ export function plannerPage(main, me) {
       el('button', { id: 'planner-publish', class: 'primary', onclick: () => publish() }, 'Publish…'),
       el('label', {}, 'Open ', openFile)),
     recipeRow.row,
+    effortLine,
     notice,
     el('div', { class: 'planner' },
       el('section', { class: 'panel', 'aria-labelledby': 'pv' }, el('h2', { id: 'pv' }, 'Parts'),
@@ -299,7 +304,7 @@ export function plannerPage(main, me) {
 
   // Test hook: state, and screen positions of model points (to click holes like a person would).
   window.rigger.planner = {
-    state, view, history, validate, features, rehearsal,
+    state, view, history, validate, features, rehearsal, effort,
     screenOf: (entity, point) => view.screenOf(entity, point),
     holes: (entity) => view.parts.get(entity)?.features.holes || [],
   };
@@ -335,6 +340,6 @@ export function plannerPage(main, me) {
   });
   return () => {
     clearTimeout(timer); history.close(); clearTimeout(libraryTimer); offLibrary(); offKeys();
-    rehearsal.close(); offRevision(); delete window.rigger.planner;
+    rehearsal.close(); offRevision(); effort.close(); delete window.rigger.planner;
   };
 }
