@@ -84,6 +84,11 @@ struct Reaction {
   /// With ReactionSetup::tail_fraction: the slowest trials' timelines (the controller's stages, every
   /// dispatch of its loop near them), then what overlapped the event's way in, counted over them.
   std::string tail;
+  /// The controller's peak resident memory (VmHWM) and its resident memory at the end of the trials, KiB.
+  long controller_peak_kib = 0;
+  long controller_rss_kib = 0;
+  /// Nodes of the recipe as run.
+  int tree_nodes = 0;
   bool ok = false;
 };
 
@@ -106,6 +111,9 @@ struct ReactionSetup {
   bool relay = false;
   /// > 0: Reaction::tail holds the timelines of this fraction of the trials, the slowest (0.01: 1 %).
   double tail_fraction = 0;
+  /// > 0: the recipe has about this many nodes: Fallback[the pattern's tree, Sequence[leaves…]], the
+  /// leaves never started (the pattern's tree succeeds). How the cost grows with the tree.
+  int tree_nodes = 0;
 };
 
 /// Runs `trials` trials of `pattern`. The Cell (and so this process's participant) is made here, with
