@@ -16,6 +16,7 @@ import { FeaturePicker } from '../planner_features.js';
 import { recipeFields } from '../planner_recipe.js';
 import { RehearsalView } from '../rehearsal.js';
 import { Effort } from './effort.js';
+import { PlacePanel } from './place.js';
 import { confirmCommand, rehearseRecipe, skillLibrary, submitRecipe, validateRecipe } from './api.js';
 import { Bindings } from './bindings.js';
 import { NodeForm } from './form.js';
@@ -67,6 +68,7 @@ export function plannerPage(main, me) {
   const openFile = el('input', { type: 'file', id: 'planner-open', accept: '.json,application/json', 'aria-label': 'Open a recipe',
     onchange: async () => { if (openFile.files[0]) open(await openFile.files[0].text()); } });
   const viewBox = el('div', { class: 'pview' });
+  const placeBox = el('div', { id: 'planner-place-box' });
   const partsList = el('ul', { class: 'picks', id: 'planner-parts', 'aria-label': 'Parts of the cell' });
   const recipeRow = recipeFields(state, changed);
   const undoButton = el('button', { id: 'planner-undo', title: 'Ctrl+Z', onclick: () => undo() }, 'Undo');
@@ -88,7 +90,7 @@ export function plannerPage(main, me) {
         el('div', { class: 'toolbar' }, el('button', { id: 'planner-clear-picks', onclick: () => bindings.clearPicks() }, 'Clear picks')),
         viewBox,
         el('details', { open: true }, el('summary', {}, 'Parts of the cell (show, frame)'), partsList),
-        el('h2', {}, 'Picked'), picksList,
+        el('h2', {}, 'Picked'), picksList, placeBox,
         el('details', {}, el('summary', {}, 'Holes of the models (click to pick)'), holesList)),
       el('section', { class: 'panel', 'aria-labelledby': 'pt' }, el('h2', { id: 'pt' }, 'Tree'),
         el('div', { class: 'toolbar' }, addSelect,
@@ -127,6 +129,9 @@ export function plannerPage(main, me) {
   const bindings = new Bindings({ state, tree, view, form, picksList, holesList, say, changed,
     settle: () => history.settle(), validate });
   form.bindings = bindings;
+  const place = new PlacePanel({ state, say, clearPicks: () => bindings.clearPicks() });
+  bindings.onPicks = () => place.refresh();
+  placeBox.replaceChildren(place.root);
 
   // --- the library ---
   async function loadLibrary() {
