@@ -76,6 +76,7 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
   http.tls_key = settings.tls_key;
   http.confirm_timeout = settings.confirm_timeout;
   http.max_body_bytes = settings.max_body_bytes;
+  http.max_streams = settings.max_streams;
   query_timeout_ = settings.query_timeout;
   const std::optional<std::uint32_t> rehearsal_domain = settings.rehearsal_domain;
   if (rehearsal_domain && *rehearsal_domain == ctx.participant.domain_id())

@@ -26,6 +26,10 @@ const SettingsTable<ConsoleSettings>& console_settings() {
                  "how long a selected publish/resume waits for its confirmation"),
       setting<S>("max_body_bytes", 4u * 1024u * 1024u, {1024u, 100u * 1024u * 1024u}, &S::max_body_bytes,
                  "larger request bodies are refused with 413 before they are read"),
+      setting<S>("max_streams", 100, {1, 1000}, &S::max_streams,
+                 "live streams (a page's events, plots or rehearsal; each browser tab opens one or two) served at "
+                 "once, each on an HTTP worker thread of its own; one more is refused with 503 and `Retry-After`, "
+                 "so that the pages' requests always find a free worker"),
       setting<S>("plot_rate_hz", 20.0, {1.0, 100.0}, &S::plot_rate_hz,
                  "plot rows per second while sensor samples come (the average force over the interval; the "
                  "latest state of the others)"),

@@ -54,6 +54,7 @@ HttpApi::HttpApi(HttpConfig config, Users users, ConsoleState& state, EventLog& 
                  Backend& backend, SkillCatalog& skills, Logger log, std::optional<RehearsalFeed> rehearsal,
                  const RunArchive* runs)
     : config_(std::move(config)),
+      streams_(config_.max_streams),
       users_(std::move(users)),
       state_(state),
       events_(events),
@@ -75,7 +76,7 @@ void HttpApi::start() {
   } else {
     server_ = std::make_unique<httplib::Server>();
   }
-  const int threads = config_.threads;
+  const int threads = config_.max_streams + HttpConfig::kRequestThreads;
   server_->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
   server_->set_payload_max_length(config_.max_body_bytes);
   // A worker holds an idle keep-alive connection, or a connection the browser opened ahead and has sent

@@ -22,6 +22,7 @@
 #include "auth.hpp"
 #include "console_state.hpp"
 #include "event_log.hpp"
+#include "http_replies.hpp"
 #include "planner.hpp"
 #include "run_archive.hpp"
 #include "rigger/base/logging.hpp"
@@ -95,7 +96,9 @@ struct HttpConfig {
   std::size_t max_body_bytes = 4U * 1024U * 1024U;
   std::chrono::milliseconds confirm_timeout{5000};
   std::string audit_log;              ///< JSON lines of every action; empty: log only
-  int threads = 32;                   ///< HTTP worker threads (every open SSE stream holds one)
+  int max_streams = 100;              ///< live (SSE) streams at once; each holds a worker thread
+  /// Worker threads besides the streams': the requests of the pages always find one free.
+  static constexpr int kRequestThreads = 16;
   std::string config_file;            ///< named in configuration errors
 };
 
@@ -192,6 +195,7 @@ class HttpApi {
   void send_cell_answer(const httplib::Request& req, httplib::Response& res, const ActionResult& r);
 
   HttpConfig config_;
+  StreamSlots streams_;
   Users users_;
   ConsoleState& state_;
   EventLog& events_;

@@ -130,7 +130,7 @@ void HttpApi::get_rehearsal_state(const httplib::Request& req, httplib::Response
 void HttpApi::get_rehearsal_events(const httplib::Request& req, httplib::Response& res) {
   if (!who(req, res, Role::kViewer, true)) return;
   if (!rehearsal_) return no_rehearsal(req, res);
-  stream_events(rehearsal_->events, req, res, rehearsal_->events.last_seq());
+  stream_events(rehearsal_->events, req, res, rehearsal_->events.last_seq(), streams_);
 }
 
 // Nothing real moves in a rehearsal, so it is one step (no confirmation), but journaled like a publish.

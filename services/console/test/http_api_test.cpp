@@ -5,7 +5,9 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <thread>
 #include <mutex>
@@ -101,12 +103,15 @@ class HttpApiTest : public ::testing::Test {
     config.audit_log = dir_ + "/audit.log";
     config.confirm_timeout = 300ms;
     config.max_body_bytes = 64 * 1024;
+    configure(config);
     runs_ = std::make_unique<RunArchive>(dir_ + "/runs", RunArchive::Limits{});
     api_ = std::make_unique<HttpApi>(config, Users::load(dir_ + "/users.json"), state_, events_, plots_, backend_,
                                      skills_, null_logger(), rehearsal(), runs_.get());
     api_->start();
     client_ = std::make_unique<httplib::Client>("127.0.0.1", api_->port());
   }
+  /// The configuration's changes of a derived fixture.
+  virtual void configure(HttpConfig&) {}
   /// The rehearsal cell's side the HTTP side gets (none here).
   virtual std::optional<RehearsalFeed> rehearsal() { return std::nullopt; }
   void TearDown() override {
@@ -311,6 +316,71 @@ TEST_F(HttpApiTest, TheEventStreamResumesAfterLastEventIdAndResetsForAnotherRun)
   EXPECT_NE(got.find("id: 42:3"), std::string::npos);
   r = client_->Get(("/api/state?token=" + created_[kVic].token).c_str());
   EXPECT_EQ(r->status, 401);
+}
+
+class HttpApiFewStreamsTest : public HttpApiTest {
+ protected:
+  void configure(HttpConfig& config) override { config.max_streams = 2; }
+};
+
+// Every live stream holds a worker thread: one more than max_streams is refused with 503 and Retry-After
+// rather than queued behind the others (where it would wait for ever), the pages' requests are still
+// served, and a stream that ends gives its slot back.
+TEST_F(HttpApiFewStreamsTest, StreamsBeyondTheLimitAreRefusedAndRequestsStillServed) {
+  struct Stream {
+    std::unique_ptr<httplib::Client> client;
+    std::atomic<bool> open{false}, stop{false}, ended{false};
+    std::thread reader;
+  };
+  const auto open_stream = [&](Stream& s) {
+    s.client = std::make_unique<httplib::Client>("127.0.0.1", api_->port());
+    s.reader = std::thread([&] {
+      s.client->Get("/api/events", as(kVic), [&](const char*, std::size_t) {
+        s.open = true;
+        return !s.stop.load();
+      });
+      s.ended = true;
+    });
+  };
+  // Events keep flowing, so that each stream writes (and notices a closed client) in its own time.
+  int seq = 0;
+  const auto until = [&](const std::function<bool()>& done) {
+    for (const auto deadline = std::chrono::steady_clock::now() + 10s; std::chrono::steady_clock::now() < deadline;) {
+      state_.update_node({{"task_id", "t"}, {"node_id", "n" + std::to_string(++seq)}, {"state", "RUNNING"}});
+      if (done()) return true;
+      std::this_thread::yield();
+    }
+    return false;
+  };
+  Stream a, b;
+  open_stream(a);
+  open_stream(b);
+  ASSERT_TRUE(until([&] { return a.open && b.open; })) << "two streams within the limit";
+  const auto third = client_->Get("/api/events", as(kVic));
+  ASSERT_TRUE(third);
+  EXPECT_EQ(third->status, 503);
+  EXPECT_NE(third->body.find("at most 2 live streams at once (max_streams)"), std::string::npos) << third->body;
+  EXPECT_EQ(third->get_header_value("Retry-After"), "5");
+  const auto me = client_->Get("/api/me", as(kVic));
+  ASSERT_TRUE(me);
+  EXPECT_EQ(me->status, 200) << "a page's request is served while the streams are open";
+  // One stream ends: its slot comes back (a stream that opens receives data; a refusal does not).
+  a.stop = true;
+  EXPECT_TRUE(until([&] {
+    bool streamed = false;
+    client_->Get(
+        "/api/events", as(kVic),
+        [&](const httplib::Response& r) {
+          streamed = r.status == 200;
+          return false;
+        },
+        [](const char*, std::size_t) { return false; });
+    return streamed;
+  })) << "a stream opens again once one has ended";
+  b.stop = true;
+  EXPECT_TRUE(until([&] { return a.ended && b.ended; }));
+  a.reader.join();
+  b.reader.join();
 }
 
 // cpp-httplib 0.11 compresses with brotli at quality 11 whenever a client accepts br, as every

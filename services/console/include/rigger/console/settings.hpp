@@ -29,6 +29,7 @@ struct ConsoleSettings {
   std::optional<std::uint32_t> rehearsal_domain;  ///< none: no rehearsal
   std::string runs_dir;                           ///< empty: runs are not kept
   std::size_t max_runs{};
+  int max_streams{};  ///< live (SSE) streams served at once
 };
 
 /// The console's configuration keys.
