@@ -143,6 +143,7 @@ TEST_F(PlannerBrowserTest, APartPlacedByPicksBecomesACellRevisionWithItsFaceOnTh
   EXPECT_NEAR((load->linear() * vector(result.at("own").at("normal")))
                   .dot(target->linear() * vector(result.at("onto").at("normal"))),
               -1.0, 1e-9);
+  EXPECT_EQ(world.localized("load"), std::optional<bool>(true)) << "placed as known, no Localize needed";
   // A quarter turn about the target's top face: the load's x lies along the target's y.
   EXPECT_NEAR((load->linear() * Eigen::Vector3d::UnitX()).dot(target->linear() * Eigen::Vector3d::UnitY()), 1.0, 1e-9);
   const std::string audit_text = audit_log();

@@ -104,7 +104,8 @@ void HttpApi::post_planner_place(const httplib::Request& req, httplib::Response&
     const Eigen::Isometry3d support_T_object =
         placed_on(frame_from_cad(onto.data.value("result", json::object())),
                   frame_from_cad(own.data.value("result", json::object())), request.turn_deg);
-    const json placed = cell_with_placement(cell, request.own.entity, request.onto.entity, support_T_object);
+    const json placed =
+        cell_with_placement(cell, request.own.entity, request.onto.entity, support_T_object, request.localized);
     json pose = position_rpy(support_T_object);
     pose["frame"] = request.onto.entity;
     const std::string comment = request.comment.empty()

@@ -76,6 +76,12 @@ PlaceRequest parse_place_request(const json& body) {
       throw PlannerError{"/turn_deg", "expected the turn about the support's normal in degrees, -360 to 360"};
     r.turn_deg = turn->get<double>();
   }
+  const auto localized = body.find("localized");
+  if (localized != body.end()) {
+    if (!localized->is_boolean())
+      throw PlannerError{"/localized", "expected true (the pose is known) or false (a Localize skill finds it at run time)"};
+    r.localized = localized->get<bool>();
+  }
   const auto comment = body.find("comment");
   if (comment != body.end() && comment->is_string()) r.comment = comment->get<std::string>().substr(0, 500);
   return r;
@@ -130,7 +136,7 @@ json position_rpy(const Eigen::Isometry3d& pose) {
 }
 
 json cell_with_placement(const json& cell, const std::string& entity, const std::string& support,
-                         const Eigen::Isometry3d& support_T_entity) {
+                         const Eigen::Isometry3d& support_T_entity, std::optional<bool> localized) {
   const json* moved = entity_in(cell, entity);
   if (moved == nullptr) throw PlannerError{"/model", "the running cell has no entity \"" + entity + "\""};
   std::vector<std::string> support_chain;
@@ -143,7 +149,10 @@ json cell_with_placement(const json& cell, const std::string& entity, const std:
   const Eigen::Isometry3d parent_T_entity = world_T_parent.inverse() * world_T_support * support_T_entity;
   json out = cell;
   for (json& e : out["entities"])
-    if (e.is_object() && e.value("id", "") == entity) e["pose"] = position_rpy(parent_T_entity);
+    if (e.is_object() && e.value("id", "") == entity) {
+      e["pose"] = position_rpy(parent_T_entity);
+      if (localized) e["localized"] = *localized;
+    }
   return out;
 }
 

@@ -5,6 +5,7 @@
 /// turned `turn_deg` about the support's normal from the support face's x. The CAD service gives both
 /// face frames (its `face` frame rule); this computes the object's new pose in its parent's frame and the
 /// cell document of the revision that puts it there. Free of HTTP and DDS, unit-tested.
+#include <optional>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -20,6 +21,9 @@ struct PlaceRequest {
   FrameRequest own;   ///< the object's face (rule "face")
   FrameRequest onto;  ///< the support's face (rule "face")
   double turn_deg = 0.0;
+  /// true: the pose is known (no Localize needed); false: found by a Localize skill at run time, this
+  /// being where the simulator starts it; none: as the cell said.
+  std::optional<bool> localized;
   std::string comment;
 };
 /// @throws PlannerError naming the field (the support's under "/onto").
@@ -37,10 +41,12 @@ Eigen::Isometry3d placed_on(const Eigen::Isometry3d& onto_face, const Eigen::Iso
 nlohmann::json position_rpy(const Eigen::Isometry3d& pose);
 
 /// The cell document `cell` with `entity` moved to `support_T_entity` (in `support`'s frame): its pose
-/// written in its own parent's frame, the chain of parents resolved through the document's poses.
+/// written in its own parent's frame, the chain of parents resolved through the document's poses, and
+/// its `localized` set when given.
 /// @throws PlannerError when an entity is missing, an object is placed on itself or on what it carries,
 /// or a parent chain does not reach "world".
 nlohmann::json cell_with_placement(const nlohmann::json& cell, const std::string& entity, const std::string& support,
-                                   const Eigen::Isometry3d& support_T_entity);
+                                   const Eigen::Isometry3d& support_T_entity,
+                                   std::optional<bool> localized = std::nullopt);
 
 }  // namespace rigger::console

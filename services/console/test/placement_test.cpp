@@ -71,6 +71,10 @@ TEST(Placement, TheNewPoseIsWrittenInTheObjectsParentFrame) {
   // What the part carries keeps its pose relative to it; the rest of the document is untouched.
   EXPECT_EQ(placed["entities"][2], cell()["entities"][2]);
   EXPECT_EQ(placed["entities"][0], cell()["entities"][0]);
+  // Known here, or found by Localize at run time: the part's `localized` as asked, else as it was.
+  EXPECT_FALSE(placed["entities"][1].contains("localized"));
+  EXPECT_EQ(cell_with_placement(cell(), "part", "table", on_table, true)["entities"][1]["localized"], true);
+  EXPECT_EQ(cell_with_placement(cell(), "part", "table", on_table, false)["entities"][1]["localized"], false);
   // The pin (parent: the part) placed on the table: written in the part's frame.
   const json pinned = cell_with_placement(cell(), "pin", "table", on_table);
   EXPECT_TRUE(pose_in(pinned, "pin").translation().isApprox(Eigen::Vector3d(1.8, 1.3, 0.85), 1e-9));
@@ -100,6 +104,9 @@ TEST(Placement, BadRequestsAreRefusedWithWhereAndWhat) {
   b = ok;
   b["turn_deg"] = 1000;
   EXPECT_EQ(refusal(b).rfind("/turn_deg: ", 0), 0u) << refusal(b);
+  b = ok;
+  b["localized"] = "yes";
+  EXPECT_EQ(refusal(b).rfind("/localized: ", 0), 0u) << refusal(b);
   b = ok;
   b["face"] = "top";
   EXPECT_EQ(refusal(b).rfind("/face: ", 0), 0u) << refusal(b);

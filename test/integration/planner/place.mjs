@@ -1,7 +1,7 @@
 // A part placed by picks, run by planner_browser_test.cpp (the world model and the CAD service on the
 // simulated cell's file and STEP models, the console): headless Debian chromium through playwright-core.
 // The person hides the target, orbits the view to look at the load from below (a drag, as with the
-// mouse), clicks its bottom face, orbits back, shows the target, clicks the target's top face off its centre, turns it a quarter and places
+// mouse), clicks its bottom face, orbits back, shows the target, clicks the target's top face off its centre, turns it a quarter, marks its pose known and places
 // it: the page says what would change, the confirmation applies it as a cell revision and the 3D view
 // redraws the load there. Two faces of one part are refused on the page. No coordinate is typed.
 // Synchronisation is on the page's state, never a sleep; a failed check exits 1. RESULT: the picks and
@@ -72,11 +72,12 @@ try {
 
   // --- a quarter turn, Place, the changes confirmed ---
   await page.selectOption('#planner-place-turn', '90');
+  await page.click('#planner-place-known');  // its pose is known there: no Localize needed
   await page.click('#planner-place');
   await page.waitForFunction(() => document.querySelector('#confirm[open]') || document.querySelector('#planner-notice.error'), null, { timeout: 20000 });
   check(await page.locator('#confirm[open]').count() === 1, `the console asked to confirm (${await page.locator('#planner-notice').innerText()})`);
   const question = await page.locator('#confirm-text').innerText();
-  check(/moved load \d+ mm, 90\.0°/.test(question), `the confirmation says what changes: ${question}`);
+  check(/known there: .*moved load \d+ mm, 90\.0°/.test(question), `the confirmation says what changes: ${question}`);
   await page.click('#confirm-yes');
   await page.waitForFunction(() => /^Placed load on target: cell revision \d+/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 20000 });
   result.notice = await page.locator('#planner-notice').innerText();

@@ -15,10 +15,14 @@ export class PlacePanel {
     Object.assign(this, { state, say, clearPicks });
     this.turn = el('select', { id: 'planner-place-turn' }, ...TURNS_DEG.map((d) => el('option', { value: String(d) }, `${d}°`)));
     this.button = el('button', { id: 'planner-place', onclick: () => this.place() }, 'Place…');
+    // Known where it is placed, or found by a Localize skill at run time (the simulator starts it here).
+    this.known = el('input', { type: 'checkbox', id: 'planner-place-known' });
     this.hint = el('p', { id: 'planner-place-hint', class: 'muted small' });
     this.root = el('div', { role: 'group', 'aria-labelledby': 'planner-place-title' },
       el('h2', { id: 'planner-place-title' }, 'Place a part'),
-      el('div', { class: 'toolbar' }, el('label', {}, 'Turn about the face ', this.turn), this.button), this.hint);
+      el('div', { class: 'toolbar' }, el('label', {}, 'Turn about the face ', this.turn),
+        el('label', { title: 'Unchecked: a Localize skill finds it at run time; the simulator starts it here' }, this.known, ' known here'),
+        this.button), this.hint);
     this.refresh();
   }
 
@@ -33,9 +37,11 @@ export class PlacePanel {
     const { error, summary, ...body } = placeFromPicks(this.state.picks);
     if (error) return this.say(error, true);
     body.turn_deg = Number(this.turn.value);
+    body.localized = this.known.checked;
     try {
       const sel = await api('/api/planner/place', { method: 'POST', body });
-      const question = `${summary}, turned ${body.turn_deg}°: ${describeChanges(sel.changes)}. Every service follows the new cell revision.`;
+      const where = body.localized ? 'known there' : 'found by Localize at run time (the simulator starts it there)';
+      const question = `${summary}, turned ${body.turn_deg}°, ${where}: ${describeChanges(sel.changes)}. Every service follows the new cell revision.`;
       if (!(await confirmDialog('Place the part?', question, 'Place'))) return this.say('Placement not confirmed: the cell is unchanged.');
       const done = await api('/api/confirm', { method: 'POST', body: { confirmation_id: sel.confirmation_id } });
       this.clearPicks();
