@@ -133,9 +133,10 @@ int main(int argc, char** argv) {
   for (std::size_t k = 0; k < client_counts.size(); ++k)
     std::printf("%8d %10.1f %10.1f %10.1f %8zu\n", client_counts[k], percentile(latencies[k], 0.5),
                 percentile(latencies[k], 0.9), percentile(latencies[k], 0.99), latencies[k].size());
-  const double growth = percentile(latencies.back(), 0.99) / percentile(latencies.front(), 0.99);
-  std::printf("p99 with %d streams / with 1: %.2fx (%s)\n", client_counts.back(), growth,
-              growth <= 1.2 ? "flat" : growth <= client_counts.back() ? "linear or better" : "worse than linear");
+  std::printf("p99, 1 -> %d streams: %s\n", client_counts.back(),
+              rigger::bench::growth_verdict(percentile(latencies.front(), 0.99), percentile(latencies.back(), 0.99),
+                                            client_counts.back())
+                  .c_str());
   for (std::size_t k = 0; k < client_counts.size(); ++k)
     if (static_cast<int>(latencies[k].size()) != trials * client_counts[k]) return 1;
 

@@ -157,9 +157,10 @@ int main(int argc, char** argv) {
               "clients", "queries/s", "p50 us", "p99 us");
   for (const Load& l : loads)
     std::printf("%8d %12.0f %10.1f %10.1f\n", l.clients, l.qps, percentile(l.rtt_us, 0.5), percentile(l.rtt_us, 0.99));
-  const double p99_growth = percentile(loads.back().rtt_us, 0.99) / percentile(loads.front().rtt_us, 0.99);
-  std::printf("p99 with %d clients / with 1: %.2fx (%s); queries/s %.2fx\n", loads.back().clients, p99_growth,
-              p99_growth <= 1.2 ? "flat" : p99_growth <= loads.back().clients ? "linear or better" : "worse than linear",
+  std::printf("p99, 1 -> %d clients: %s; queries/s %.2fx\n", loads.back().clients,
+              rigger::bench::growth_verdict(percentile(loads.front().rtt_us, 0.99), percentile(loads.back().rtt_us, 0.99),
+                                            loads.back().clients)
+                  .c_str(),
               loads.back().qps / loads.front().qps);
   if (failures != 0) return 1;
 

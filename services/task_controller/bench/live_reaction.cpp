@@ -51,31 +51,6 @@ bool terminal(int s) {
          s == rigger_task_TASK_CANCELED;
 }
 
-/// One line of scripted_executor's receipt trace.
-struct Receipt {
-  std::string executor_id, task_id, node_id;
-  int kind = 0;
-  std::int64_t stamp_wall_ns = 0, woke_wall_ns = 0;
-};
-
-std::vector<Receipt> read_receipts(const std::string& path) {
-  std::vector<Receipt> out;
-  std::ifstream in(path);
-  std::string line;
-  if (!std::getline(in, line)) return out;  // the header
-  while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    Receipt r;
-    std::string kind;
-    if (std::getline(fields, r.executor_id, '\t') && std::getline(fields, kind, '\t') &&
-        std::getline(fields, r.task_id, '\t') && std::getline(fields, r.node_id, '\t') &&
-        fields >> r.stamp_wall_ns >> r.woke_wall_ns) {
-      r.kind = std::stoi(kind);
-      out.push_back(std::move(r));
-    }
-  }
-  return out;
-}
 
 /// One run's causes (from a stage trace) and the commands they caused (from a receipt trace), in order.
 /// Trials run one after the other, so the i-th cause and the i-th command belong to trial i: the
@@ -222,6 +197,25 @@ std::string tail_report(const Trials& t, std::size_t n, const std::vector<tc::Lo
 }
 
 }  // namespace
+
+std::vector<Receipt> read_receipts(const std::string& path) {
+  std::vector<Receipt> out;
+  std::ifstream in(path);
+  std::string line;
+  if (!std::getline(in, line)) return out;  // the header
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    Receipt r;
+    std::string kind;
+    if (std::getline(fields, r.executor_id, '\t') && std::getline(fields, kind, '\t') &&
+        std::getline(fields, r.task_id, '\t') && std::getline(fields, r.node_id, '\t') &&
+        fields >> r.stamp_wall_ns >> r.woke_wall_ns) {
+      r.kind = std::stoi(kind);
+      out.push_back(std::move(r));
+    }
+  }
+  return out;
+}
 
 std::string write_file(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;

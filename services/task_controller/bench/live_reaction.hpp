@@ -25,6 +25,16 @@
 
 namespace rigger::bench {
 
+/// One line of scripted_executor's receipt trace: a command it took, or an event it wrote (kind 100 +
+/// the event's kind, stamped as written).
+struct Receipt {
+  std::string executor_id, task_id, node_id;
+  int kind = 0;
+  std::int64_t stamp_wall_ns = 0, woke_wall_ns = 0;
+};
+/// The receipt trace at `path` (empty when missing).
+std::vector<Receipt> read_receipts(const std::string& path);
+
 /// Writes `text` to `path` and returns `path`.
 std::string write_file(const std::string& path, const std::string& text);
 

@@ -33,17 +33,8 @@ struct Point {
   Reaction a, b;
 };
 
-/// "flat" (last / first <= 1.2), "linear" (grows no faster than the size) or "worse than linear".
 std::string verdict(const std::vector<double>& figures, const std::vector<int>& sizes) {
-  const double first = figures.front(), last = figures.back();
-  if (!(first > 0)) return "no figure";
-  const double growth = last / first;
-  const double size_growth = static_cast<double>(sizes.back()) / sizes.front();
-  char text[96];
-  std::snprintf(text, sizeof text, "%.2fx over %.0fx the nodes: ", growth, size_growth);
-  if (growth <= 1.2) return std::string(text) + "flat";
-  if (growth <= 1.2 * size_growth) return std::string(text) + "linear or better";
-  return std::string(text) + "worse than linear";
+  return rigger::bench::growth_verdict(figures.front(), figures.back(), static_cast<double>(sizes.back()) / sizes.front());
 }
 
 }  // namespace
