@@ -77,6 +77,7 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
   http.confirm_timeout = settings.confirm_timeout;
   http.max_body_bytes = settings.max_body_bytes;
   http.max_streams = settings.max_streams;
+  http.max_import_bytes = settings.max_import_bytes;
   query_timeout_ = settings.query_timeout;
   const std::optional<std::uint32_t> rehearsal_domain = settings.rehearsal_domain;
   if (rehearsal_domain && *rehearsal_domain == ctx.participant.domain_id())
@@ -372,7 +373,19 @@ ActionResult ConsoleNode::cad(const std::string& kind, const std::string& model,
                                                                          {"derive", rigger_cad_CAD_DERIVE}};
   const auto k = kinds.find(kind);
   if (k == kinds.end()) return {false, "no CAD request kind " + kind, {}};
-  return on_loop([=, wire_kind = k->second](auto promise) {
+  return cad_request(k->second, model, args_json, {}, query_timeout_);
+}
+
+ActionResult ConsoleNode::cad_load(const std::string& name, std::string step) {
+  // Reading a large STEP file takes the CAD service seconds (a minute for the largest it accepts).
+  return cad_request(rigger_cad_CAD_LOAD, name, "{}", std::move(step), std::max(query_timeout_, kCadLoadTimeout));
+}
+
+ActionResult ConsoleNode::cad_request(rigger_cad_CadRequestKind kind, const std::string& model, const std::string& args_json,
+                                      std::string content, std::chrono::milliseconds timeout) {
+  auto bytes = std::make_shared<std::vector<std::uint8_t>>(content.begin(), content.end());
+  content.clear();
+  return on_loop([=](auto promise) {
     if (cad_requests_.matched_readers() == 0) {
       promise->set_value({false, "no CAD service on this domain", {}});
       return;
@@ -381,11 +394,12 @@ ActionResult ConsoleNode::cad(const std::string& kind, const std::string& model,
     rigger_cad_CadRequest q{};
     q.client_id = dds::wire_string(client_id_);
     q.request_id = id;
-    q.kind = wire_kind;
+    q.kind = kind;
     q.model = dds::wire_string(model);
     q.args_json = dds::wire_string(args_json);
+    dds::wire_sequence(q.content, *bytes);
     cad_requests_.write(q);
-    const auto timer = ctx_.loop.after(query_timeout_, [this, id] {
+    const auto timer = ctx_.loop.after(timeout, [this, id] {
       auto it = cad_pending_.find(id);
       if (it == cad_pending_.end()) return;
       it->second.promise->set_value({false, "the CAD service did not answer in time", {}});

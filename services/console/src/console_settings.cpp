@@ -26,6 +26,10 @@ const SettingsTable<ConsoleSettings>& console_settings() {
                  "how long a selected publish/resume waits for its confirmation"),
       setting<S>("max_body_bytes", 4u * 1024u * 1024u, {1024u, 100u * 1024u * 1024u}, &S::max_body_bytes,
                  "larger request bodies are refused with 413 before they are read"),
+      setting<S>("max_import_mib", 64.0, {0.001, 1024.0},
+                 [](S& s, double mib) { s.max_import_bytes = static_cast<std::size_t>(mib * (1 << 20)); },
+                 "a STEP file sent to the Planner's Import (`POST /api/planner/import`); larger ones are refused "
+                 "with 413 before they are read. The CAD service has its own bound, `max_file_mib`"),
       setting<S>("max_streams", 100, {1, 1000}, &S::max_streams,
                  "live streams (a page's events, plots or rehearsal; each browser tab opens one or two) served at "
                  "once, each on an HTTP worker thread of its own; one more is refused with 503 and `Retry-After`, "

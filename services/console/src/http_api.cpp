@@ -78,7 +78,9 @@ void HttpApi::start() {
   }
   const int threads = config_.max_streams + HttpConfig::kRequestThreads;
   server_->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
-  server_->set_payload_max_length(config_.max_body_bytes);
+  // A STEP file sent to the Planner's import may be larger than any other body: the pre-routing handler
+  // (routes()) refuses the others above max_body_bytes before they are read.
+  server_->set_payload_max_length(std::max(config_.max_body_bytes, config_.max_import_bytes));
   // A worker holds an idle keep-alive connection, or a connection the browser opened ahead and has sent
   // nothing on, until these run out, and stop() waits for every worker: with 30 s (and the library's
   // 5 s read timeout) the console took 7-10 s to stop. Reconnecting on a LAN costs far less.
@@ -183,9 +185,16 @@ void HttpApi::routes() {
       default: send_error(res, res.status, "request failed", req.path); break;
     }
   });
-  s.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
+  s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     res.set_header("X-Content-Type-Options", "nosniff");
     if (req.path.rfind("/api/", 0) == 0) res.set_header("Cache-Control", "no-store");
+    const std::size_t limit = req.path == kImportPath ? config_.max_import_bytes : config_.max_body_bytes;
+    if (req.get_header_value<std::uint64_t>("Content-Length") > limit) {
+      res.set_header("Connection", "close");
+      send_error(res, 413,
+                 "the body is larger than the console accepts here (" + std::to_string(limit) + " bytes)", req.path);
+      return httplib::Server::HandlerResponse::Handled;
+    }
     return httplib::Server::HandlerResponse::Unhandled;
   });
 
@@ -223,6 +232,7 @@ void HttpApi::routes() {
       {Method::kPost, "/api/planner/screws", &HttpApi::post_planner_screws},
       {Method::kPost, "/api/planner/frame", &HttpApi::post_planner_frame},
       {Method::kPost, "/api/planner/place", &HttpApi::post_planner_place},
+      {Method::kPost, kImportPath, &HttpApi::post_planner_import},
       {Method::kGet, "/api/rehearsal/state", &HttpApi::get_rehearsal_state},
       {Method::kGet, "/api/rehearsal/events", &HttpApi::get_rehearsal_events},
       {Method::kPost, "/api/planner/rehearse", &HttpApi::post_planner_rehearse},

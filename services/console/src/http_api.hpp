@@ -68,6 +68,9 @@ class Backend {
   /// data = {"model_sha256", "result": <result_json parsed>, "data": <binary string, the GLB>}; a refusal
   /// is !ok with message "CODE: why".
   virtual ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) = 0;
+  /// Has the CAD service read a STEP file sent as bytes (CAD_LOAD with content; `name` is what it is
+  /// called in messages): data as cad()'s, the result being CAD_LOAD's (product tree, counts, holes).
+  virtual ActionResult cad_load(const std::string& name, std::string step) = 0;
   /// Publishes a recipe on the rehearsal domain (the simulated cell where a recipe runs first) and waits
   /// for the rehearsal controller's verdict: data = its first status of the task ({"state": "ACCEPTED"
   /// or "RUNNING" ...}, ok; {"state": "REJECTED", "errors": [...]}, !ok); !ok without data when no
@@ -88,6 +91,9 @@ struct RehearsalFeed {
   EventLog& events;
 };
 
+/// Where the Planner sends a STEP file to import (its body's limit is max_import_bytes, not max_body_bytes).
+inline constexpr const char* kImportPath = "/api/planner/import";
+
 struct HttpConfig {
   std::string address = "127.0.0.1";
   int port = 8080;
@@ -96,6 +102,7 @@ struct HttpConfig {
   std::size_t max_body_bytes = 4U * 1024U * 1024U;
   std::chrono::milliseconds confirm_timeout{5000};
   std::string audit_log;              ///< JSON lines of every action; empty: log only
+  std::size_t max_import_bytes = 64U * 1024U * 1024U;  ///< a STEP file sent to POST /api/planner/import
   int max_streams = 100;              ///< live (SSE) streams at once; each holds a worker thread
   /// Worker threads besides the streams': the requests of the pages always find one free.
   static constexpr int kRequestThreads = 16;
@@ -167,6 +174,7 @@ class HttpApi {
   void post_planner_screws(const httplib::Request& req, httplib::Response& res);
   void post_planner_frame(const httplib::Request& req, httplib::Response& res);
   void post_planner_place(const httplib::Request& req, httplib::Response& res);
+  void post_planner_import(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_state(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_events(const httplib::Request& req, httplib::Response& res);
   void post_planner_rehearse(const httplib::Request& req, httplib::Response& res);

@@ -119,6 +119,35 @@ void HttpApi::post_planner_place(const httplib::Request& req, httplib::Response&
   }
 }
 
+// A STEP file to import, sent as the body (any content type): read by the CAD service (its bounded reader,
+// in a child process), answered with what the Planner shows before the part enters the cell: its model
+// id (sha256:<hex>, for the features and the tessellation), units, product tree, counts and holes. A file
+// the CAD service refuses (not STEP, no length unit, no solid, too large) is the request's fault: 400 with
+// its code and reason. Nothing changes in the cell.
+void HttpApi::post_planner_import(const httplib::Request& req, httplib::Response& res) {
+  auto user = who(req, res, Role::kProgrammer);
+  if (!user) return;
+  std::string name = req.has_param("name") ? req.get_param_value("name") : "upload.step";
+  if (name.empty() || name.size() > 255 || name.find_first_of("/\\") != std::string::npos)
+    return send_error(res, 400, "name: expected the file's name (1 to 255 characters, no folder)", req.path + "#name");
+  if (req.body.empty()) return send_error(res, 400, "the body is empty: send the STEP file's bytes", req.path);
+  const std::size_t size = req.body.size();
+  const auto loaded = backend_.cad_load(name, req.body);
+  if (!loaded.ok) {
+    audit(*user, "import STEP", name, "refused: " + loaded.message);
+    return send_cad_refusal(res, req, loaded.message, "");
+  }
+  const std::string sha = loaded.data.value("model_sha256", "");
+  audit(*user, "import STEP", name, "read as sha256:" + sha);
+  json out = loaded.data.value("result", json::object());
+  out.erase("source");  // the CAD service's name for bytes it was sent, not a file anyone can open
+  out["name"] = name;
+  out["bytes"] = size;
+  out["model"] = "sha256:" + sha;
+  out["model_sha256"] = sha;
+  send_json(res, out);
+}
+
 // Its state and stream are /api/state's and /api/events' of that domain, kept apart from the cell's.
 void HttpApi::get_rehearsal_state(const httplib::Request& req, httplib::Response& res) {
   if (!who(req, res, Role::kViewer)) return;

@@ -30,6 +30,7 @@ struct ConsoleSettings {
   std::string runs_dir;                           ///< empty: runs are not kept
   std::size_t max_runs{};
   int max_streams{};  ///< live (SSE) streams served at once
+  std::size_t max_import_bytes{};  ///< a STEP file sent to the Planner's import
 };
 
 /// The console's configuration keys.

@@ -17,6 +17,7 @@ import { recipeFields } from '../planner_recipe.js';
 import { RehearsalView } from '../rehearsal.js';
 import { Effort } from './effort.js';
 import { PlacePanel } from './place.js';
+import { ImportPanel } from './import.js';
 import { confirmCommand, rehearseRecipe, skillLibrary, submitRecipe, validateRecipe } from './api.js';
 import { Bindings } from './bindings.js';
 import { NodeForm } from './form.js';
@@ -69,6 +70,7 @@ export function plannerPage(main, me) {
     onchange: async () => { if (openFile.files[0]) open(await openFile.files[0].text()); } });
   const viewBox = el('div', { class: 'pview' });
   const placeBox = el('div', { id: 'planner-place-box' });
+  const importBox = el('div', { id: 'planner-import-box' });
   const partsList = el('ul', { class: 'picks', id: 'planner-parts', 'aria-label': 'Parts of the cell' });
   const recipeRow = recipeFields(state, changed);
   const undoButton = el('button', { id: 'planner-undo', title: 'Ctrl+Z', onclick: () => undo() }, 'Undo');
@@ -90,6 +92,7 @@ export function plannerPage(main, me) {
         el('div', { class: 'toolbar' }, el('button', { id: 'planner-clear-picks', onclick: () => bindings.clearPicks() }, 'Clear picks')),
         viewBox,
         el('details', { open: true }, el('summary', {}, 'Parts of the cell (show, frame)'), partsList),
+        importBox,
         el('h2', {}, 'Picked'), picksList, placeBox,
         el('details', {}, el('summary', {}, 'Holes of the models (click to pick)'), holesList)),
       el('section', { class: 'panel', 'aria-labelledby': 'pt' }, el('h2', { id: 'pt' }, 'Tree'),
@@ -132,6 +135,8 @@ export function plannerPage(main, me) {
   const place = new PlacePanel({ state, say, clearPicks: () => bindings.clearPicks() });
   bindings.onPicks = () => place.refresh();
   placeBox.replaceChildren(place.root);
+  const importer = new ImportPanel({ view, say });
+  importBox.replaceChildren(importer.root);
 
   // --- the library ---
   async function loadLibrary() {
@@ -309,7 +314,7 @@ export function plannerPage(main, me) {
 
   // Test hook: state, and screen positions of model points (to click holes like a person would).
   window.rigger.planner = {
-    state, view, history, validate, features, rehearsal, effort,
+    state, view, history, validate, features, rehearsal, effort, importer,
     screenOf: (entity, point) => view.screenOf(entity, point),
     holes: (entity) => view.parts.get(entity)?.features.holes || [],
   };

@@ -27,6 +27,7 @@ export function frameFromPicks(picks) {
 /// with a `summary`; or {error} saying what to pick.
 export function placeFromPicks(picks) {
   const what = 'pick a face of the part to place, then the face to place it on (of another part)';
+  if (picks.some((p) => p.entity === 'imported')) return { error: 'to place: the imported file is not a part of the cell yet' };
   if (picks.length !== 2 || picks.some((p) => p.kind !== 'face')) return { error: `to place: ${what}` };
   const [own, onto] = picks;
   if (own.entity === onto.entity) return { error: `to place: both faces are of ${own.entity}; ${what}` };
