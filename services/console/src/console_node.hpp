@@ -58,6 +58,7 @@ class ConsoleNode : public service::Node, public Backend {
   ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) override;
   ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
                         const std::string& submitter) override;
+  ActionResult rehearsal_cell() override;
   ActionResult cell_request(const world_protocol::CellRequest& request) override;
 
  private:

@@ -41,7 +41,8 @@ std::string text_field(const json& body, const char* key) {
   return it != body.end() && it->is_string() ? it->get<std::string>() : "";
 }
 
-void stream_events(EventLog& log, const httplib::Request& req, httplib::Response& res, std::uint64_t start) {
+void stream_events(EventLog& log, const httplib::Request& req, httplib::Response& res, std::uint64_t start,
+                   std::shared_ptr<void> hold) {
   std::string last = req.get_header_value("Last-Event-ID");
   if (last.empty() && req.has_param("last_event_id")) last = req.get_param_value("last_event_id");
   auto from = std::make_shared<std::uint64_t>(start);
@@ -52,7 +53,7 @@ void stream_events(EventLog& log, const httplib::Request& req, httplib::Response
   }
   res.set_header("Cache-Control", "no-store");
   res.set_header("X-Accel-Buffering", "no");
-  res.set_chunked_content_provider("text/event-stream", [&log, from, reset](std::size_t, httplib::DataSink& sink) {
+  res.set_chunked_content_provider("text/event-stream", [&log, from, reset, hold](std::size_t, httplib::DataSink& sink) {
     if (log.closed()) return false;
     std::string out;
     if (*reset) {

@@ -3,6 +3,7 @@
 /// What the console's HTTP routes answer with: JSON bodies and errors, and Server-Sent Event streams of
 /// an EventLog. Used by HttpApi's handlers only.
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -40,6 +41,8 @@ std::string text_field(const nlohmann::json& body, const char* key);
 
 /// Streams `log` as Server-Sent Events from the client's Last-Event-ID (header, or last_event_id in
 /// the query), or from `start` when it has none. The stream ends when `log` is closed.
-void stream_events(EventLog& log, const httplib::Request& req, httplib::Response& res, std::uint64_t start);
+/// `hold` is kept as long as the stream is open (a watcher count's guard).
+void stream_events(EventLog& log, const httplib::Request& req, httplib::Response& res, std::uint64_t start,
+                   std::shared_ptr<void> hold = nullptr);
 
 }  // namespace rigger::console

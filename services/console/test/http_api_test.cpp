@@ -55,6 +55,7 @@ class RecordingBackend : public Backend {
     return rehearse_answer_;
   }
   ActionResult rehearse_answer_{true, "", {}};
+  ActionResult rehearsal_cell() override { return {true, "", {{"phase", "starting"}, {"log", "/tmp/cell.log"}}}; }
   ActionResult cell_request(const world_protocol::CellRequest& q) override {
     const std::string op(world_protocol::to_string(*q.op));
     record("cell " + op + (q.dry_run ? " dry" : "") + (q.revision ? " " + std::to_string(q.revision) : "") + " by " + q.who +
@@ -436,7 +437,8 @@ TEST_F(HttpApiTest, RehearseWithoutARehearsalDomainIsRefusedSayingWhatToConfigur
 
 class HttpApiRehearsalTest : public HttpApiTest {
  protected:
-  std::optional<RehearsalFeed> rehearsal() override { return RehearsalFeed{7, rehearsal_state_, rehearsal_events_}; }
+  std::optional<RehearsalFeed> rehearsal() override { return RehearsalFeed{7, rehearsal_state_, rehearsal_events_, watchers_}; }
+  std::atomic<int> watchers_{0};
   EventLog rehearsal_events_{1000, "42"};
   ConsoleState rehearsal_state_{rehearsal_events_};
 };
@@ -484,6 +486,25 @@ TEST_F(HttpApiRehearsalTest, RehearseIsOneStepJournaledWithWhoAndAnswersWithTheR
   EXPECT_EQ(audit[2]["target"], "r1");
   EXPECT_EQ(audit[2]["result"], "sent to rehearsal domain 7");
   EXPECT_NE(audit[1]["result"].get<std::string>().find("refused"), std::string::npos);
+}
+
+// No controller yet, a start command configured: 202, nothing sent, the start journaled with who; the
+// page follows /api/rehearsal/cell.
+TEST_F(HttpApiRehearsalTest, RehearseStartingTheRehearsalCellAnswers202AndSendsNothing) {
+  backend_.rehearse_answer_ = {
+      false, "starting", {{"starting", true}, {"started", true}, {"cell", {{"phase", "starting"}, {"log", "/tmp/cell.log"}}}}};
+  auto r = post("/api/planner/rehearse", kLocalize, kAda);
+  ASSERT_EQ(r->status, 202) << r->body;
+  EXPECT_EQ(body(r)["starting"], true);
+  EXPECT_EQ(body(r)["cell"]["log"], "/tmp/cell.log");
+  EXPECT_TRUE(backend_.actions().empty());
+  const auto audit = audit_entries(dir_ + "/audit.log");
+  ASSERT_EQ(audit.size(), 1u);
+  EXPECT_EQ(audit[0]["user"], "ada");
+  EXPECT_NE(audit[0]["result"].get<std::string>().find("started the rehearsal cell"), std::string::npos) << audit[0];
+  r = client_->Get("/api/rehearsal/cell", as(kVic));
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(body(r)["phase"], "starting");
 }
 
 TEST_F(HttpApiRehearsalTest, TheRehearsalsStateAndStreamAreItsOwnNotTheCells) {
