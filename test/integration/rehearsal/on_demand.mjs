@@ -1,0 +1,61 @@
+// Rehearse with no rehearsal cell running (run by rehearsal_on_demand_browser_test.cpp): the console has a
+// start command for it and a short idle stop. The planner opens recipes/crane_insert.json, Rehearse is
+// clicked, the page says it is starting the rehearsal cell, then shows the run to its end; back on the
+// plan nobody watches, and the console stops the cell. Every wait is on a condition; a failed check ends
+// the script with exit code 1.
+import fs from 'node:fs';
+import { consoleRequest, env, launchChromium, logPage, timedCheck } from '../browser.mjs';
+
+const URL_ = env('CONSOLE_URL');
+const TOKEN = env('TOKEN_PROGRAMMER');
+const DOMAIN = Number(env('REHEARSAL_DOMAIN'));
+const check = timedCheck();
+const result = {};
+const cell = async () => (await consoleRequest(URL_, '/api/rehearsal/cell', { token: TOKEN })).json;
+
+let c = await cell();
+check(c.phase === 'idle' && c.domain === DOMAIN, `before Rehearse the rehearsal cell is idle ${JSON.stringify(c)}`);
+
+const browser = await launchChromium(env('NODE_PATH'));
+try {
+  const page = await browser.context.newPage();
+  logPage('planner', page);
+  await page.goto(`${URL_}/?token=${TOKEN}#/planner`);
+  await page.waitForFunction(() => window.rigger?.ready === true && window.rigger.planner?.ready === true, null, { timeout: 90000 });
+  await page.setInputFiles('#planner-open', env('RECIPE'));
+  await page.waitForFunction(() => window.rigger.planner.state.validation, null, { timeout: 30000 });
+  await page.click('#planner-rehearse');
+  const status = '#planner-editor p[role="status"]';
+  await page.waitForFunction((sel) => /Starting the rehearsal cell/.test(document.querySelector(sel)?.textContent || ''), status,
+    { timeout: 30000, polling: 50 });
+  result.starting_notice = await page.locator(status).innerText();
+  check(true, `the page says "${result.starting_notice}"`);
+  result.cell_started = await cell();
+  check(['starting', 'ready'].includes(result.cell_started.phase) && result.cell_started.pid > 0,
+    `the console runs the start command ${JSON.stringify(result.cell_started)}`);
+
+  await page.waitForFunction((sel) => !document.querySelector('#rehearsal').hidden
+    || /Not rehearsed/.test(document.querySelector(sel)?.textContent || ''), status, { timeout: 60000, polling: 200 });
+  check(await page.locator('#rehearsal').isVisible(), `the recipe was sent once the controller was there (${await page.locator(status).innerText()})`);
+  await page.waitForFunction(() => window.rigger.planner.rehearsal.ended(), null, { timeout: 60000, polling: 200 });
+  result.task_state = await page.evaluate(() => window.rigger.planner.rehearsal.state());
+  check(result.task_state === 'SUCCEEDED', `the rehearsal ended ${result.task_state}`);
+  c = await cell();
+  check(c.phase === 'ready', `watched after its run, the cell stays up ${JSON.stringify(c)}`);
+
+  // Back to the plan: the rehearsal's stream closes, nothing runs, so the idle stop comes.
+  await page.click('#rehearsal-back');
+  const idleFrom = Date.now();
+  for (const deadline = Date.now() + 30000; ;) {
+    c = await cell();
+    if (c.phase === 'idle') break;
+    if (Date.now() > deadline) check(false, `the cell stops within 30 s of the last watcher (${JSON.stringify(c)})`);
+    await new Promise((ok) => setTimeout(ok, 200));
+  }
+  result.cell_after = c;
+  result.idle_to_stopped_s = (Date.now() - idleFrom) / 1000;
+  check(c.error === '', `stopped when idle after ${result.idle_to_stopped_s} s, no error ${JSON.stringify(c)}`);
+} finally {
+  fs.writeFileSync(env('RESULT'), JSON.stringify(result, null, 2));
+  await browser.close();
+}
