@@ -74,8 +74,10 @@ int run_cli(int argc, char** argv) {
     action = [&] { return config(g); };
   });
 
-  auto* sup_cmd = app.add_subcommand("supervise", "");  // internal: the daemon `up` starts
-  sup_cmd->group("");
+  // What `up` starts as a daemon; in the foreground it is a process its caller owns (the console's
+  // rehearsal cell on demand): SIGTERM or SIGINT stops every service, in reverse order, and then it.
+  auto* sup_cmd = app.add_subcommand(
+      "supervise", "Run the supervisor in the foreground until SIGTERM/SIGINT, which stops every service");
   auto sup_services = std::make_shared<std::vector<std::string>>();
   auto sup_fd = std::make_shared<int>(-1);
   sup_cmd->add_option("services", *sup_services);
