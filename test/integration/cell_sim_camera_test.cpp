@@ -6,8 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
-#include <map>
 #include <fstream>
+#include <map>
+#include <optional>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -47,16 +48,27 @@ Frame to_frame(const rigger_vision_Image& im) {
 class CellSimCameraTest : public MultiProcessTest {
  protected:
   /// Starts cell_sim with `renderer` (on the test's domain); `env` adds to its environment.
-  ChildProcess& launch(const std::string& renderer, const std::map<std::string, std::string>& env = {}) {
+  /// `camera_keys`: more keys of the camera section (JSON members, e.g. `"pose_error": {...}`).
+  ChildProcess& launch(const std::string& renderer, const std::map<std::string, std::string>& env = {},
+                       const std::string& camera_keys = "") {
     const std::string config = cell_.log_dir() + "/cell_sim.json";
     std::ofstream(config) << R"({"cell_file": ")" << repo_file("deploy/cell/simulated_cell.json")
-                          << R"(", "plc": {"port": 0}, "camera": {"renderer": ")" << renderer << R"("}})";
+                          << R"(", "plc": {"port": 0}, "camera": {"renderer": ")" << renderer << R"(")"
+                          << (camera_keys.empty() ? "" : ", " + camera_keys) << "}}";
     return cell_.start("cell_sim", "cell_sim", {"--config", config}, true, env);
   }
 
-  void start(const std::string& renderer) {
-    launch(renderer);
+  void start(const std::string& renderer, const std::string& camera_keys = "") {
+    launch(renderer, {}, camera_keys);
     ASSERT_TRUE(cell_.wait_ready({"cell_sim"}, 30s));
+  }
+
+  /// The newest frame whose grey and depth images both arrived (their stamps equal), within 30 s.
+  std::optional<WallTime> paired_frame() {
+    // Frames of a stream may be lost (sensor stream QoS: best effort): three frames whose grey and depth
+    // images both arrived, with equal stamps (a depth image stamped otherwise would never pair up).
+    if (!cell_.wait_until([&] { return common_stamps().size() >= 3; }, 30s)) return std::nullopt;
+    return common_stamps().back();
   }
 
   void subscribe() {
@@ -89,16 +101,51 @@ class CellSimCameraTest : public MultiProcessTest {
   std::map<WallTime, Frame> depths_;
 };
 
+/// How far the depth image is from the target's top face (z = 0.95 m, 0.50 x 0.40 m about (3.55, 2.25)) seen
+/// from `pose_world_camera`: for every other pixel whose ray meets the face 3 cm or more inside its edges,
+/// |seen - the ray's depth (z in the optical frame)|, sorted; `nan_on_face` counts such pixels without depth.
+std::vector<double> target_top_errors(const cv::Mat& depth, const sim::CameraModel& c,
+                                      const Eigen::Isometry3d& pose_world_camera, int& nan_on_face) {
+  const Eigen::Isometry3d& pose = pose_world_camera;
+  const cv::Matx33d k(c.fx_px, 0, c.cx_px, 0, c.fy_px, c.cy_px, 0, 0, 1);
+  std::vector<cv::Point2f> pixels;
+  for (int v = 0; v < depth.rows; v += 2) {
+    for (int u = 0; u < depth.cols; u += 2) pixels.emplace_back(static_cast<float>(u), static_cast<float>(v));
+  }
+  std::vector<cv::Point2f> rays;
+  cv::undistortPoints(pixels, rays, k, c.distortion);
+  std::vector<double> errors_m;
+  nan_on_face = 0;
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    const Eigen::Vector3d ray_world = pose.linear() * Eigen::Vector3d(rays[i].x, rays[i].y, 1.0);
+    const double s = (0.95 - pose.translation().z()) / ray_world.z();  // optical z of the hit
+    if (!(s > 0.0)) continue;
+    const Eigen::Vector3d hit = pose.translation() + s * ray_world;
+    if (std::abs(hit.x() - 3.55) > 0.22 || std::abs(hit.y() - 2.25) > 0.17) continue;
+    const float seen = depth.at<float>(static_cast<int>(pixels[i].y), static_cast<int>(pixels[i].x));
+    if (std::isnan(seen)) {
+      ++nan_on_face;
+      continue;
+    }
+    errors_m.push_back(std::abs(seen - s));
+  }
+  std::sort(errors_m.begin(), errors_m.end());
+  return errors_m;
+}
+
+int nan_count(const cv::Mat& depth) {
+  int n = 0;
+  for (auto it = depth.begin<float>(); it != depth.end<float>(); ++it) n += std::isnan(*it) ? 1 : 0;
+  return n;
+}
+
 TEST_F(CellSimCameraTest, DepthOfTheTargetTopIsWithinAMillimetreWithTheImagesStampAndMarkersAreSeen) {
   subscribe();
   start("mujoco");
-  // Frames of a stream may be lost (sensor stream QoS: best effort): three frames whose grey and depth
-  // images both arrived, with equal stamps (a depth image stamped otherwise would never pair up).
-  ASSERT_TRUE(cell_.wait_until([&] { return common_stamps().size() >= 3; }, 30s))
-      << images_.size() << " images, " << depths_.size() << " depth images, none with the same stamp";
-  const WallTime stamp = common_stamps().back();
-  const Frame& grey = images_.at(stamp);
-  const Frame& depth = depths_.at(stamp);
+  const std::optional<WallTime> stamp = paired_frame();
+  ASSERT_TRUE(stamp) << images_.size() << " images, " << depths_.size() << " depth images, none with the same stamp";
+  const Frame& grey = images_.at(*stamp);
+  const Frame& depth = depths_.at(*stamp);
   EXPECT_EQ(grey.frame_id, "camera");
   EXPECT_EQ(depth.frame_id, grey.frame_id);
   EXPECT_EQ(grey.encoding, "mono8");
@@ -106,36 +153,11 @@ TEST_F(CellSimCameraTest, DepthOfTheTargetTopIsWithinAMillimetreWithTheImagesSta
   ASSERT_FALSE(depth.pixels.empty());
   ASSERT_EQ(depth.pixels.size(), grey.pixels.size());
 
-  // The target's top face (z = 0.95 m, 0.50 x 0.40 m about (3.55, 2.25)): every pixel whose ray meets it
-  // 3 cm or more inside its edges sees it at the ray's depth (z in the optical frame).
   const sim::CameraScene scene = sim::load_camera_scene(repo_file("deploy/cell/simulated_cell.json"));
-  const sim::CameraModel& c = scene.camera;
-  const Eigen::Isometry3d& pose = scene.pose_world_camera;
-  const cv::Matx33d k(c.fx_px, 0, c.cx_px, 0, c.fy_px, c.cy_px, 0, 0, 1);
-  std::vector<cv::Point2f> pixels;
-  for (int v = 0; v < depth.pixels.rows; v += 2) {
-    for (int u = 0; u < depth.pixels.cols; u += 2) pixels.emplace_back(static_cast<float>(u), static_cast<float>(v));
-  }
-  std::vector<cv::Point2f> rays;
-  cv::undistortPoints(pixels, rays, k, c.distortion);
-  std::vector<double> errors_m;
   int nan_on_face = 0;
-  for (std::size_t i = 0; i < pixels.size(); ++i) {
-    const Eigen::Vector3d ray_world = pose.linear() * Eigen::Vector3d(rays[i].x, rays[i].y, 1.0);
-    const double s = (0.95 - pose.translation().z()) / ray_world.z();  // optical z of the hit
-    if (!(s > 0.0)) continue;
-    const Eigen::Vector3d hit = pose.translation() + s * ray_world;
-    if (std::abs(hit.x() - 3.55) > 0.22 || std::abs(hit.y() - 2.25) > 0.17) continue;
-    const float seen = depth.pixels.at<float>(static_cast<int>(pixels[i].y), static_cast<int>(pixels[i].x));
-    if (std::isnan(seen)) {
-      ++nan_on_face;
-      continue;
-    }
-    errors_m.push_back(std::abs(seen - s));
-  }
+  const std::vector<double> errors_m = target_top_errors(depth.pixels, scene.camera, scene.pose_world_camera, nan_on_face);
   ASSERT_GT(errors_m.size(), 200u);
   EXPECT_EQ(nan_on_face, 0);
-  std::sort(errors_m.begin(), errors_m.end());
   const double p50 = errors_m[errors_m.size() / 2];
   const double p95 = errors_m[errors_m.size() * 95 / 100];
   std::cout << "target top: " << errors_m.size() << " pixels, depth error p50 " << p50 * 1e3 << " mm, p95 "
@@ -143,7 +165,7 @@ TEST_F(CellSimCameraTest, DepthOfTheTargetTopIsWithinAMillimetreWithTheImagesSta
   EXPECT_LT(p95, 0.001);
   // The floor (an infinite plane) fills the rest of the view, nearer than the far plane: every pixel saw
   // something, so no NaN (NaN where nothing was seen is MujocoCameraTest's).
-  EXPECT_EQ(cv::countNonZero(depth.pixels != depth.pixels), 0);
+  EXPECT_EQ(nan_count(depth.pixels), 0);
 
   // The markers on the faces turned to the camera: the load's (1, 2) and the target's (10, 11).
   std::vector<int> ids;
@@ -151,6 +173,36 @@ TEST_F(CellSimCameraTest, DepthOfTheTargetTopIsWithinAMillimetreWithTheImagesSta
   cv::aruco::detectMarkers(grey.pixels, cv::aruco::getPredefinedDictionary(scene.dictionary), corners, ids);
   const std::set<int> found(ids.begin(), ids.end());
   for (const int id : {1, 2, 10, 11}) EXPECT_EQ(found.count(id), 1u) << "marker " << id << " not found";
+}
+
+TEST_F(CellSimCameraTest, ACameraOffItsDrawingSeesFromWhereItReallyIsAndItsDepthHasHoles) {
+  // 2 cm along its optical axis and 1.5 degrees about it: the images come from there, the file is unchanged.
+  subscribe();
+  start("mujoco", R"("pose_error": {"position_m": [0, 0, 0.02], "rpy_deg": [0, 0, 1.5]},
+                      "depth_noise": {"edge_gap_m": 0.02})");
+  EXPECT_NE(cell_.process("cell_sim").log().find("camera is off its cell-file pose by 20.0 mm and 1.50 deg"),
+            std::string::npos);
+  const std::optional<WallTime> stamp = paired_frame();
+  ASSERT_TRUE(stamp) << images_.size() << " images, " << depths_.size() << " depth images";
+  const cv::Mat& depth = depths_.at(*stamp).pixels;
+  const sim::CameraScene scene = sim::load_camera_scene(repo_file("deploy/cell/simulated_cell.json"));
+  const Eigen::Isometry3d truth =
+      scene.pose_world_camera * Eigen::Translation3d(0, 0, 0.02) *
+      Eigen::AngleAxisd(1.5 * 3.14159265358979323846 / 180.0, Eigen::Vector3d::UnitZ());
+  int nan_from_truth = 0;
+  int nan_from_file = 0;
+  const std::vector<double> from_truth = target_top_errors(depth, scene.camera, truth, nan_from_truth);
+  const std::vector<double> from_file = target_top_errors(depth, scene.camera, scene.pose_world_camera, nan_from_file);
+  ASSERT_GT(from_truth.size(), 200u);
+  ASSERT_GT(from_file.size(), 200u);
+  const double truth_p95 = from_truth[from_truth.size() * 95 / 100];
+  const double file_p50 = from_file[from_file.size() / 2];
+  std::cout << "target top, camera 20 mm / 1.5 deg off: depth error p95 " << truth_p95 * 1e3
+            << " mm from the true pose, p50 " << file_p50 * 1e3 << " mm from the file's\n";
+  EXPECT_LT(truth_p95, 0.001);
+  EXPECT_GT(file_p50, 0.015);
+  // The depth steps (the target's and the load's outlines against the floor) are holes now.
+  EXPECT_GT(nan_count(depth), 500);
 }
 
 TEST_F(CellSimCameraTest, TheRasteriserPublishesGreyImagesAndNoDepth) {

@@ -7,11 +7,16 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 
+#include "cell_revision_support.hpp"
 #include "cell_sim_test_support.hpp"
+#include "rigger/dds/qos.hpp"
 #include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/sim.hpp"
@@ -331,6 +336,83 @@ TEST_F(CellSimProcessTest, MotionAndGripperCommandsAreReported) {
   g.energize = true;
   gripper.write(g);
   EXPECT_TRUE(cell_.wait_until([&] { return energized && gripper_seq == 42; }, 5s));
+}
+
+// The magnet holds the part (the arm put it on its top face and energized): a cell revision that adds an
+// object, which needs the model built anew, is refused by cell_sim with the reason, and the physics gains
+// nothing and keeps the part in the magnet.
+TEST_F(CellSimProcessTest, ARevisionAddingAnObjectIsRefusedWhileTheMagnetHolds) {
+  start();
+  dds::Writer<rigger_robot_MotionCommand> motion(cell_.participant(), protocol::robot::kCmdMotion);
+  dds::Reader<rigger_robot_MotionStatus> status(cell_.participant(), protocol::robot::kMotionStatus);
+  dds::Writer<rigger_robot_GripperCommand> gripper(cell_.participant(), protocol::robot::kGripperCmd);
+  dds::Reader<rigger_robot_GripperState> gripper_state(cell_.participant(), protocol::robot::kGripperState);
+  dds::Reader<rigger_vision_TrackedPose> truths(cell_.participant(), protocol::sim::kGroundTruth,
+                                                dds::qos::sensor_stream().keep_last(16));
+  dds::Writer<rigger_world_CellRevision> revisions(cell_.participant(), protocol::world::kCell);
+  std::map<std::string, rigger_robot_MotionState> motions;
+  cell_.loop().on_data(status, [&] {
+    status.take([&](const rigger_robot_MotionStatus& s, const dds_sample_info_t&) {
+      motions[dds::to_string(s.motion_id)] = s.state;
+    });
+  });
+  bool holding = false;
+  cell_.loop().on_data(gripper_state, [&] {
+    gripper_state.take([&](const rigger_robot_GripperState& s, const dds_sample_info_t&) { holding = s.holding; });
+  });
+  std::map<std::string, Eigen::Vector3d> truth;
+  cell_.loop().on_data(truths, [&] {
+    truths.take([&](const rigger_vision_TrackedPose& p, const dds_sample_info_t&) {
+      truth[dds::to_string(p.object_id)] = dds::to_domain(p.pose.pose).translation();
+    });
+  });
+  ASSERT_TRUE(motion.wait_for_readers(1, 5s));
+  ASSERT_TRUE(gripper.wait_for_readers(1, 5s));
+  ASSERT_TRUE(status.wait_for_writers(1, 5s));
+  // The tool on the part's top face (its centre 6 cm above the part's, 0.72 m): tool z down, tool x along
+  // the part's x (the world's -x), first 10 cm above it, then down to 1 mm above it, energized.
+  Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();
+  tool.linear() << -1, 0, 0, 0, 1, 0, 0, 0, -1;
+  const auto move_to = [&](const char* id, double z, double speed) {
+    tool.translation() = Eigen::Vector3d(3.05, 1.55, z);
+    rigger_robot_MotionCommand c{};
+    c.header.stamp = dds::to_wire(std::chrono::system_clock::now());
+    c.header.frame_id = const_cast<char*>("world");
+    c.motion_id = const_cast<char*>(id);
+    c.kind = rigger_robot_MOTION_CARTESIAN;
+    c.pose_goal = dds::to_wire(tool);
+    c.speed_scale = speed;
+    c.timeout_s = 20.0;
+    ASSERT_EQ(motion.write(c), DDS_RETCODE_OK);
+    ASSERT_TRUE(
+        cell_.wait_until([&] { return motions.count(id) && motions[id] > rigger_robot_MOTION_EXECUTING; }, 30s));
+    ASSERT_EQ(motions[id], rigger_robot_MOTION_SUCCEEDED) << id;
+  };
+  ASSERT_NO_FATAL_FAILURE(move_to("above-part", 0.82, 0.5));
+  rigger_robot_GripperCommand g{};
+  g.header.stamp = dds::wire_now();
+  g.seq = 1;
+  g.energize = true;
+  gripper.write(g);
+  ASSERT_NO_FATAL_FAILURE(move_to("on-part", 0.721, 0.1));
+  ASSERT_TRUE(cell_.wait_until([&] { return holding; }, 5s)) << "the magnet did not grip the part";
+
+  std::ifstream in(repo_file("deploy/cell/simulated_cell.json"), std::ios::binary);
+  nlohmann::json cell = nlohmann::json::parse(in);
+  ASSERT_EQ(publish_cell_revision(revisions, 1, cell, nlohmann::json::object()), DDS_RETCODE_OK);
+  ASSERT_TRUE(service_detail_says(cell_, "cell_sim", "cell revision 1")) << cell_.logs();
+  cell["entities"].push_back(nlohmann::json::parse(R"({"id": "crate", "kind": "object", "parent": "world",
+      "pose": {"position_m": [2.77, 1.40, 0.651], "rpy_deg": [0, 0, 0]},
+      "model": {"shape": "box", "size_m": [0.1, 0.1, 0.1], "mass_kg": 2.0, "frame": "box centre"}})"));
+  ASSERT_EQ(publish_cell_revision(revisions, 2, cell, nlohmann::json::parse(R"({"added":["crate"]})")), DDS_RETCODE_OK);
+  ASSERT_TRUE(service_detail_says(cell_, "cell_sim",
+                                  "refused cell revision 2: the magnet holds something: the model is built anew only "
+                                  "with it empty"))
+      << cell_.logs();
+  truth.clear();
+  ASSERT_TRUE(cell_.wait_until([&] { return truth.count("part") > 0; }, 5s));
+  EXPECT_EQ(truth.count("crate"), 0u) << "the refused revision added the crate";
+  EXPECT_TRUE(holding) << "the magnet let go of the part";
 }
 
 TEST_F(CellSimProcessTest, FaultInjectionIsAcknowledgedAndBadControlsRefused) {

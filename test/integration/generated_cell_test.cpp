@@ -19,12 +19,14 @@
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 
+#include "cell_revision_support.hpp"
 #include "cell_sim_test_support.hpp"
 #include "rigger/cell_config/cell_file.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/dds/qos.hpp"
 #include "rigger/dds/sequences.hpp"
+#include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/sim.hpp"
 #include "rigger/protocol/skill.hpp"
 #include "rigger/protocol/vision.hpp"
@@ -92,31 +94,12 @@ class GeneratedCellTest : public MultiProcessTest {
     return path;
   }
 
-  /// Writes `document` on rigger/world/cell as revision `number` (changes against number - 1), as the world
-  /// model publishes a revision it accepted.
   void publish_revision(std::uint64_t number, const json& document, const json& changes) {
-    world_protocol::CellRevision r;
-    r.cell_revision = number;
-    r.previous_revision = number - 1;
-    r.cell_json = document.dump(2);
-    r.sha256 = "revision-" + std::to_string(number);
-    r.changes_json = changes.dump();
-    r.who = "generated-cell-test";
-    rigger_world_CellRevision wire{};
-    world_protocol::to_wire(r, wire);
-    ASSERT_EQ(revisions_.write(wire), DDS_RETCODE_OK);
+    ASSERT_EQ(publish_cell_revision(revisions_, number, document, changes), DDS_RETCODE_OK);
   }
 
   /// The detail cell_sim announces in its service state (the follower's outcome), once it contains `text`.
-  bool cell_sim_says(const std::string& text) {
-    return cell_.wait_until(
-        [&] {
-          cell_.directory().update();
-          const auto it = cell_.directory().services().find("cell_sim");
-          return it != cell_.directory().services().end() && it->second.detail.find(text) != std::string::npos;
-        },
-        10s);
-  }
+  bool cell_sim_says(const std::string& text) { return service_detail_says(cell_, "cell_sim", text); }
 
   /// The simulator's latest true pose of every object, by id, kept up to date on the test's loop.
   std::map<std::string, Eigen::Isometry3d>& follow_truth() {
@@ -129,8 +112,44 @@ class GeneratedCellTest : public MultiProcessTest {
     return truth_;
   }
 
+  /// cell_sim and the world model on the generated cell, ready, cell_sim on the world model's first revision.
+  void start_cell_sim_and_world_model() {
+    const std::string port = std::to_string(free_tcp_port());
+    cell_.start("cell_sim", "cell_sim", {"--config", config("cell_sim", "cell_file"), "--plc-port", port});
+    cell_.start("world_model", "world_model",
+                {"--config", config("world_model", "cell_config"), "--db", cell_.log_dir() + "/world_model.sqlite"});
+    ASSERT_TRUE(cell_.wait_ready({"cell_sim", "world_model"}, 60s)) << cell_.logs();
+    ASSERT_TRUE(cell_sim_says("cell revision 1")) << "cell_sim did not take the world model's first revision";
+  }
+
+  /// Keeps `depth` the camera's latest depth image (metres) and counts the frames, on the test's loop.
+  void follow_depth(cv::Mat& depth, std::uint64_t& frames) {
+    depths_.emplace(cell_.participant(), protocol::vision::kCameraDepth);
+    cell_.loop().on_data(*depths_, [this, &depth, &frames] {
+      depths_->take([&](const rigger_vision_Image& frame, const dds_sample_info_t&) {
+        if (copy_image(frame, CV_32FC1, depth)) ++frames;
+      });
+    });
+  }
+
+  /// The world point the depth image sees at the pixel where `point_world` projects; nullopt outside the
+  /// image or where it sees nothing.
+  std::optional<Eigen::Vector3d> seen_at(const cv::Mat& depth, const Eigen::Vector3d& point_world) const {
+    const cell::CellFile parsed = cell::load_cell_file(cell_path_);
+    const Eigen::Isometry3d pose_world_camera = parsed.pose_root_entity("camera");
+    const cell::CameraIntrinsics& k = *parsed.require("camera", "the depth check").camera;
+    const Eigen::Vector3d p = pose_world_camera.inverse() * point_world;
+    const int u = static_cast<int>(std::lround(k.fx_px * p.x() / p.z() + k.cx_px));
+    const int v = static_cast<int>(std::lround(k.fy_px * p.y() / p.z() + k.cy_px));
+    if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) return std::nullopt;
+    const double z = depth.at<float>(v, u);
+    if (!std::isfinite(z)) return std::nullopt;
+    return pose_world_camera * Eigen::Vector3d((u - k.cx_px) / k.fx_px * z, (v - k.cy_px) / k.fy_px * z, z);
+  }
+
   GeneratedCell files_;
   std::filesystem::path cell_path_;
+  std::optional<dds::Reader<rigger_vision_Image>> depths_;
   std::map<std::string, Eigen::Isometry3d> truth_;
   std::optional<dds::Reader<rigger_vision_TrackedPose>> truths_;
   dds::Writer<rigger_world_CellRevision> revisions_{cell_.participant(), protocol::world::kCell};
@@ -282,19 +301,9 @@ TEST_F(GeneratedCellTest, ARevisionAppliedWhileTheCellRunsReachesPhysicsCameraAn
   std::map<std::string, Eigen::Isometry3d>& truth = follow_truth();
   cv::Mat depth;  // the latest depth image, metres
   std::uint64_t depth_frames = 0;
-  dds::Reader<rigger_vision_Image> depths(cell_.participant(), protocol::vision::kCameraDepth);
-  cell_.loop().on_data(depths, [&] {
-    depths.take([&](const rigger_vision_Image& frame, const dds_sample_info_t&) {
-      if (copy_image(frame, CV_32FC1, depth)) ++depth_frames;
-    });
-  });
+  follow_depth(depth, depth_frames);
   WorldQuery world(cell_);
-  const std::string port = std::to_string(free_tcp_port());
-  cell_.start("cell_sim", "cell_sim", {"--config", config("cell_sim", "cell_file"), "--plc-port", port});
-  cell_.start("world_model", "world_model",
-              {"--config", config("world_model", "cell_config"), "--db", cell_.log_dir() + "/world_model.sqlite"});
-  ASSERT_TRUE(cell_.wait_ready({"cell_sim", "world_model"}, 60s)) << cell_.logs();
-  ASSERT_TRUE(cell_sim_says("cell revision 1")) << "cell_sim did not take the world model's first revision";
+  ASSERT_NO_FATAL_FAILURE(start_cell_sim_and_world_model());
 
   // riggerctl cell apply: part_a 12 cm towards the flange, turned 30 degrees, resting on the table.
   json cell = files_.document();
@@ -322,18 +331,10 @@ TEST_F(GeneratedCellTest, ARevisionAppliedWhileTheCellRunsReachesPhysicsCameraAn
 
   // The camera sees part_a's top face at its new place: the depth at the pixel of the top face's centre,
   // taken back into the world, lies on that face (it was the table top, 6 cm lower, before the move).
-  const cell::CellFile parsed = cell::load_cell_file(cell_path_);
-  const Eigen::Isometry3d pose_world_camera = parsed.pose_root_entity("camera");
-  const cell::CameraIntrinsics& k = *parsed.require("camera", "the depth check").camera;
-  const Eigen::Vector3d top_camera = pose_world_camera.inverse() * (physics + Eigen::Vector3d(0, 0, 0.03));
-  const int u = static_cast<int>(std::lround(k.fx_px * top_camera.x() / top_camera.z() + k.cx_px));
-  const int v = static_cast<int>(std::lround(k.fy_px * top_camera.y() / top_camera.z() + k.cy_px));
-  ASSERT_TRUE(u >= 0 && v >= 0 && u < depth.cols && v < depth.rows) << "part_a is outside the image: " << u << "," << v;
-  const double z = depth.at<float>(v, u);
-  ASSERT_TRUE(std::isfinite(z)) << "the camera saw nothing at part_a's new place";
-  const Eigen::Vector3d seen =
-      pose_world_camera * Eigen::Vector3d((u - k.cx_px) / k.fx_px * z, (v - k.cy_px) / k.fy_px * z, z);
-  std::printf("  camera: pixel (%d, %d) sees %.1f mm above part_a's top face, %.1f mm from its centre\n", u, v,
+  const std::optional<Eigen::Vector3d> seen_there = seen_at(depth, physics + Eigen::Vector3d(0, 0, 0.03));
+  ASSERT_TRUE(seen_there.has_value()) << "the camera sees nothing at part_a's new place";
+  const Eigen::Vector3d seen = *seen_there;
+  std::printf("  camera: sees %.1f mm above part_a's top face, %.1f mm from its centre\n",
               1e3 * (seen.z() - physics.z() - 0.03), 1e3 * (seen - physics).head<2>().norm());
   EXPECT_LT(std::abs(seen.z() - (physics.z() + 0.03)), 1e-3) << "the camera does not see part_a's top face there";
   EXPECT_LT((seen - physics).head<2>().norm(), 0.035) << "what the camera sees there is not on part_a";
@@ -378,6 +379,90 @@ TEST_F(GeneratedCellTest, ARevisionAppliedWhileTheCellRunsReachesPhysicsCameraAn
   std::printf("  bracket after the refused revision: %.2f mm from before (the revision: 100 mm)\n",
               1e3 * bracket_moved_m);
   EXPECT_LT(bracket_moved_m, 5e-3) << "the physics' bracket moved";
+}
+
+// A revision that adds an object while the cell runs (the Planner importing a product): cell_sim builds its
+// model anew and swaps it in, so the ground truth has the object where the revision put it and the camera's
+// depth image sees it; the revision that removes it takes it out of both. One that adds an object while the
+// arm runs a motion is refused by cell_sim with the reason, and the physics stays as it was.
+TEST_F(GeneratedCellTest, ARevisionAddingOrRemovingAnObjectIsBuiltIntoTheRunningModel) {
+  std::map<std::string, Eigen::Isometry3d>& truth = follow_truth();
+  cv::Mat depth;
+  std::uint64_t depth_frames = 0;
+  follow_depth(depth, depth_frames);
+  ASSERT_NO_FATAL_FAILURE(start_cell_sim_and_world_model());
+  const auto apply = [&](const json& document, const std::string& name) {
+    const std::string path = cell_.log_dir() + "/" + name + ".json";
+    std::ofstream(path) << document.dump(2);
+    const CtlResult applied = run_riggerctl(cell_, name, {"cell", "apply", path, "--comment", name});
+    ASSERT_EQ(applied.code(), 0) << applied.output;
+  };
+  const auto frames_after = [&](std::uint64_t frames) {
+    const std::uint64_t before = depth_frames;
+    return cell_.wait_until([&] { return depth_frames >= before + frames; }, 20s);
+  };
+  // A 12 cm box between the flange and the loose parts, on the table, its centre 1 mm above its resting height.
+  const Eigen::Vector3d crate(3.88, 2.55, kTableTopZ + 0.06);
+  const json crate_entity = {
+      {"id", "crate"},
+      {"kind", "object"},
+      {"parent", "world"},
+      {"pose", {{"position_m", {crate.x(), crate.y(), crate.z() + 0.001}}, {"rpy_deg", {0, 0, 0}}}},
+      {"model", {{"shape", "box"}, {"size_m", {0.12, 0.12, 0.12}}, {"mass_kg", 2.0}, {"frame", "box centre"}}}};
+  ASSERT_TRUE(frames_after(3)) << "no depth images";
+  const std::optional<Eigen::Vector3d> table_seen = seen_at(depth, crate + Eigen::Vector3d(0, 0, 0.06));
+  ASSERT_TRUE(table_seen.has_value());
+  EXPECT_LT(table_seen->z(), kTableTopZ + 0.01) << "something stands where the crate goes";
+
+  json cell = files_.document();
+  cell["entities"].push_back(crate_entity);
+  apply(cell, "add-crate");
+  ASSERT_TRUE(cell_sim_says("cell revision 2")) << cell_.logs();
+  ASSERT_TRUE(cell_.wait_until([&] { return truth.count("crate") > 0; }, 5s)) << "no ground truth of the crate";
+  ASSERT_TRUE(frames_after(3)) << "no depth images after the revision";
+  const Eigen::Vector3d physics = truth["crate"].translation();
+  std::printf("  crate: physics %.2f mm from where the revision put it\n", 1e3 * (physics - crate).norm());
+  EXPECT_LT((physics - crate).norm(), 1e-3);
+  const std::optional<Eigen::Vector3d> top = seen_at(depth, physics + Eigen::Vector3d(0, 0, 0.06));
+  ASSERT_TRUE(top.has_value()) << "the camera sees nothing at the crate";
+  std::printf("  camera: sees %.2f mm above the crate's top face\n", 1e3 * (top->z() - physics.z() - 0.06));
+  EXPECT_LT(std::abs(top->z() - (physics.z() + 0.06)), 1e-3) << "the camera does not see the crate's top face";
+  // The rest of the cell went on: part_a where it lay.
+  const Eigen::Isometry3d part_a = truth["part_a"];
+
+  apply(files_.document(), "remove-crate");
+  ASSERT_TRUE(cell_sim_says("cell revision 3")) << cell_.logs();
+  truth.erase("crate");
+  truth.erase("part_a");
+  ASSERT_TRUE(cell_.wait_until([&] { return truth.count("part_a") > 0; }, 5s));
+  ASSERT_TRUE(frames_after(3));
+  EXPECT_EQ(truth.count("crate"), 0u) << "the removed crate is still in the ground truth";
+  EXPECT_LT((truth["part_a"].translation() - part_a.translation()).norm(), 2e-4) << "part_a moved";
+  const std::optional<Eigen::Vector3d> after = seen_at(depth, crate + Eigen::Vector3d(0, 0, 0.06));
+  ASSERT_TRUE(after.has_value());
+  EXPECT_LT(std::abs(after->z() - table_seen->z()), 1e-3) << "the camera still sees the crate";
+
+  // The arm turns slowly; while it does, a revision adding the crate again is refused by cell_sim.
+  dds::Writer<rigger_robot_MotionCommand> motion(cell_.participant(), protocol::robot::kCmdMotion);
+  ASSERT_TRUE(motion.wait_for_readers(1, 5s));
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  std::vector<double> turned{-20 * kDeg, 22.5 * kDeg, 0, -113.8 * kDeg, 0, -46.3 * kDeg, 0};
+  rigger_robot_MotionCommand c{};
+  c.header.stamp = dds::to_wire(std::chrono::system_clock::now());
+  c.motion_id = const_cast<char*>("slow-turn");
+  c.kind = rigger_robot_MOTION_JOINT;
+  dds::wire_sequence(c.joint_goal, turned);
+  c.pose_goal.orientation.w = 1.0;
+  c.speed_scale = 0.05;
+  c.timeout_s = 60.0;
+  ASSERT_EQ(motion.write(c), DDS_RETCODE_OK);
+  cell["entities"].back()["id"] = "crate_2";
+  apply(cell, "add-while-moving");
+  ASSERT_TRUE(cell_sim_says("refused cell revision 4: motion slow-turn runs")) << cell_.logs();
+  truth.erase("part_a");
+  ASSERT_TRUE(cell_.wait_until([&] { return truth.count("part_a") > 0; }, 5s));
+  EXPECT_EQ(truth.count("crate_2"), 0u) << "the refused revision added crate_2";
+  EXPECT_EQ(truth.count("crate"), 0u);
 }
 
 }  // namespace

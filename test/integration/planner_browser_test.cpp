@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "planner_test_support.hpp"
+#include "world_query_support.hpp"
 #include "rigger/protocol/task.hpp"
 #include "rigger/protocol/task_names.hpp"
 #include "rigger/testing/require.hpp"
@@ -121,6 +122,33 @@ TEST_F(PlannerBrowserTest, EditingErrorsShownOnTheirNodesAndFieldsAndPublishRefu
   EXPECT_EQ(audit_text.find("publish"), std::string::npos) << audit_text;
   EXPECT_EQ(task_states_.count(task_id), 0u) << protocol::task::task_state_name(task_states_[task_id]);
   std::printf("browser artifacts in %s\n", cell_.log_dir().c_str());
+}
+
+// A part placed by picks (planner/place.mjs): the load's bottom face, clicked from below, laid on the
+// target's top face at a point off its centre, turned a quarter, confirmed. The world model's new poses
+// put the two picked points together with the faces' normals opposite and the load turned a quarter;
+// the console audited the selection and the revision.
+TEST_F(PlannerBrowserTest, APartPlacedByPicksBecomesACellRevisionWithItsFaceOnTheOther) {
+  RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
+  WorldQuery world(cell_);
+  json result;
+  ASSERT_TRUE(run_script("test/integration/planner/place.mjs", "planner-place-result.json", std::chrono::minutes(3), result));
+  const auto vector = [](const json& v) { return Eigen::Vector3d(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()); };
+  const auto load = world.pose("load");
+  const auto target = world.pose("target");
+  ASSERT_TRUE(load && target);
+  const Eigen::Vector3d own = *load * vector(result.at("own").at("point_m"));
+  const Eigen::Vector3d onto = *target * vector(result.at("onto").at("point_m"));
+  EXPECT_LT((own - onto).norm(), 1e-6) << own.transpose() << " vs " << onto.transpose();
+  EXPECT_NEAR((load->linear() * vector(result.at("own").at("normal")))
+                  .dot(target->linear() * vector(result.at("onto").at("normal"))),
+              -1.0, 1e-9);
+  // A quarter turn about the target's top face: the load's x lies along the target's y.
+  EXPECT_NEAR((load->linear() * Eigen::Vector3d::UnitX()).dot(target->linear() * Eigen::Vector3d::UnitY()), 1.0, 1e-9);
+  const std::string audit_text = audit_log();
+  EXPECT_NE(audit_text.find(R"("action":"select cell place load")"), std::string::npos) << audit_text;
+  EXPECT_NE(audit_text.find(R"("action":"cell place load")"), std::string::npos) << audit_text;
+  std::printf("%s; browser artifacts in %s\n", result.value("notice", "").c_str(), cell_.log_dir().c_str());
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -72,6 +73,33 @@ class WorldModelTest : public MultiProcessTest {
     return p;
   }
 
+  /// Raw updates from `source`, written without a WorldClient, and the results the world model
+  /// writes for them (code, revision), in order. Construct after start_world.
+  struct RawUpdates {
+    RawUpdates(WorldModelTest& test, const std::string& source_id)
+        : source(source_id),
+          writer(test.cell_.participant(), protocol::world::kUpdate),
+          results(test.cell_.participant(), protocol::world::kUpdateResult) {
+      EXPECT_TRUE(writer.wait_for_readers(1, 5s));
+      EXPECT_TRUE(test.cell_.wait_until([&] { return results.matched_writers() > 0; }, 5s));
+      test.cell_.loop().on_data(results, [this] {
+        results.take([&](const rigger_world_UpdateResult& r, const dds_sample_info_t&) {
+          if (dds::to_string(r.source) == source) answers.emplace_back(r.seq, dds::to_string(r.code), r.revision);
+        });
+      });
+      sample.source = dds::wire_string(source);
+      sample.entity_id = dds::wire_string(entity);
+      sample.parent_frame = dds::wire_string(world);
+      sample.attributes_json = dds::wire_string(empty);
+    }
+    std::string source;
+    const std::string entity = "load", world = "world", empty;
+    dds::Writer<rigger_world_EntityUpdate> writer;
+    dds::Reader<rigger_world_UpdateResult> results;
+    rigger_world_EntityUpdate sample{};  ///< entity "load" in "world"; the test sets the rest
+    std::vector<std::tuple<std::uint64_t, std::string, std::uint64_t>> answers;  ///< seq, code, revision
+  };
+
   std::unique_ptr<WorldClient> client_;
 };
 
@@ -124,35 +152,24 @@ TEST_F(WorldModelTest, RejectedUpdatesSayWhyAndChangeNothing) {
   EXPECT_FALSE(unknown.message.empty());
 
   // A non-unit quaternion cannot come out of an Isometry3d: send the raw sample.
-  dds::Writer<rigger_world_EntityUpdate> raw(cell_.participant(), protocol::world::kUpdate);
-  dds::Reader<rigger_world_UpdateResult> results(cell_.participant(), protocol::world::kUpdateResult);
-  ASSERT_TRUE(raw.wait_for_readers(1, 5s));
-  ASSERT_TRUE(cell_.wait_until([&] { return results.matched_writers() > 0; }, 5s));
-  std::map<std::uint64_t, std::string> codes;
-  cell_.loop().on_data(results, [&] {
-    results.take([&](const rigger_world_UpdateResult& r, const dds_sample_info_t&) {
-      if (dds::to_string(r.source) == "raw") codes[r.seq] = dds::to_string(r.code);
-    });
-  });
-  const std::string source = "raw", id = "load", empty;
-  rigger_world_EntityUpdate u{};
-  u.source = dds::wire_string(source);
-  u.entity_id = dds::wire_string(id);
-  u.parent_frame = dds::wire_string(empty);
-  u.attributes_json = dds::wire_string(empty);
+  RawUpdates raw(*this, "raw");
+  rigger_world_EntityUpdate& u = raw.sample;
+  u.parent_frame = dds::wire_string(raw.empty);
   u.has_pose = true;
   u.pose.pose.orientation = {0.0, 0.0, 0.5, 0.5};
   u.stamp = dds::to_wire(t0 + 2s);
   u.seq = 1;
-  ASSERT_EQ(raw.write(u), DDS_RETCODE_OK);
+  ASSERT_EQ(raw.writer.write(u), DDS_RETCODE_OK);
   u.pose.pose.orientation = {0.0, 0.0, 0.0, 1.0};
   u.stamp.nanosec = 2000000000u;  // not a time
   u.seq = 2;
-  ASSERT_EQ(raw.write(u), DDS_RETCODE_OK);
+  ASSERT_EQ(raw.writer.write(u), DDS_RETCODE_OK);
   u.entity_id = nullptr;  // a null string on the wire
   u.seq = 3;
-  ASSERT_EQ(raw.write(u), DDS_RETCODE_OK);
-  ASSERT_TRUE(cell_.wait_until([&] { return codes.size() == 3; }, 5s));
+  ASSERT_EQ(raw.writer.write(u), DDS_RETCODE_OK);
+  ASSERT_TRUE(cell_.wait_until([&] { return raw.answers.size() == 3; }, 5s));
+  std::map<std::uint64_t, std::string> codes;
+  for (const auto& [seq, code, revision] : raw.answers) codes[seq] = code;
   EXPECT_EQ(codes[1], "NON_UNIT_QUATERNION");
   EXPECT_EQ(codes[2], "BAD_STAMP");
   EXPECT_EQ(codes[3], "BAD_ID");
@@ -161,6 +178,31 @@ TEST_F(WorldModelTest, RejectedUpdatesSayWhyAndChangeNothing) {
   ASSERT_TRUE(after.ok);
   EXPECT_EQ(after.result, baseline.result);  // nothing changed, not even the stamp
   EXPECT_TRUE(cell_.process("wm-a").running());
+}
+
+TEST_F(WorldModelTest, AnUpdateSentAgainIsAnsweredWithItsResultAndAppliedOnce) {
+  // A client that hears no result sends its update again with the same seq (the result may have been
+  // written before the world model discovered it): the repeat gets the first result, nothing changes.
+  start_world("wm-a");
+  RawUpdates again(*this, "again");
+  rigger_world_EntityUpdate& u = again.sample;
+  u.has_pose = true;
+  u.pose.pose.position = {3.5, 2.0, 1.2};
+  u.pose.pose.orientation = {0.0, 0.0, 0.0, 1.0};
+  u.stamp = dds::to_wire(std::chrono::system_clock::now());
+  u.seq = 1;
+  ASSERT_EQ(again.writer.write(u), DDS_RETCODE_OK);
+  ASSERT_TRUE(cell_.wait_until([&] { return again.answers.size() == 1; }, 5s));
+  const Reply applied = entity("load");
+  ASSERT_TRUE(applied.ok);
+  u.pose.pose.position = {3.0, 2.0, 1.2};  // not read: the update is known by its source and seq
+  ASSERT_EQ(again.writer.write(u), DDS_RETCODE_OK);
+  ASSERT_TRUE(cell_.wait_until([&] { return again.answers.size() == 2; }, 5s));
+  EXPECT_EQ(std::get<1>(again.answers[0]), "ACCEPTED");
+  EXPECT_EQ(again.answers[1], again.answers[0]);
+  const Reply after = entity("load");
+  ASSERT_TRUE(after.ok);
+  EXPECT_EQ(after.result, applied.result);
 }
 
 TEST_F(WorldModelTest, LateJoinerSeesEveryEntityAtOnceAndTheChangeStreamSaysWhoChangedWhat) {

@@ -71,7 +71,10 @@ function checkShape(value, fields, where) {
       if (field.type === "time") checkShape(e, [{ name: "sec" }, { name: "nanosec" }], at);
       else if (field.isComplex === true) checkShape(e, definitionOf(field.type).definitions, at);
       else if (field.type === "string" && typeof e !== "string") throw new Error(`${at}: not a string`);
-      else if (field.type !== "string" && typeof e !== "number") throw new Error(`${at}: not a number`);
+      else if (field.type === "bool" && typeof e !== "boolean") throw new Error(`${at}: not a boolean`);
+      else if (field.type !== "string" && field.type !== "bool" && typeof e !== "number") {
+        throw new Error(`${at}: not a number`);
+      }
     }
   }
 }
@@ -158,6 +161,10 @@ function sameValue(decoded, original, where) {
   }
   if (typeof original === "string") {
     if (decoded !== original) throw new Error(`${where}: decoded string differs`);
+    return;
+  }
+  if (typeof original === "boolean") {
+    if (decoded !== original) throw new Error(`${where}: decoded ${decoded}, sent ${original}`);
     return;
   }
   if (Array.isArray(original)) {

@@ -51,6 +51,15 @@ void fill(std::uint8_t& s, const ordered_json& j) {
 void fill(double& s, const ordered_json& j) {
   s = j.get<double>();
 }
+void fill(bool& s, const ordered_json& j) {
+  s = j.get<bool>();
+}
+/// A fixed-size IDL array from a JSON array of exactly that many elements.
+template <typename T, std::size_t N>
+void fill(T (&array)[N], const ordered_json& j) {
+  if (j.size() != N) throw std::runtime_error("a fixed array of " + std::to_string(N) + " elements, got " + j.dump());
+  for (std::size_t i = 0; i < N; ++i) fill(array[i], j[i]);
+}
 void fill(char*& s, const ordered_json& j) {
   s = dds_string_dup(j.get<std::string>().c_str());
 }
@@ -62,6 +71,7 @@ void fill(geometry_msgs_msg_dds__Quaternion_& s, const ordered_json& j);
 void fill(geometry_msgs_msg_dds__Pose_& s, const ordered_json& j);
 void fill(geometry_msgs_msg_dds__Twist_& s, const ordered_json& j);
 void fill(geometry_msgs_msg_dds__Wrench_& s, const ordered_json& j);
+void fill(sensor_msgs_msg_dds__RegionOfInterest_& s, const ordered_json& j);
 
 /// An idlc sequence from a JSON array, owning its elements (dds_sample_free frees them).
 template <typename Seq>
@@ -115,6 +125,17 @@ void fill(sensor_msgs_msg_dds__JointState_& s, const ordered_json& j) {
   fill_sequence(s.position_, j.at("position"));
   fill_sequence(s.velocity_, j.at("velocity"));
   fill_sequence(s.effort_, j.at("effort"));
+}
+void fill(sensor_msgs_msg_dds__RegionOfInterest_& s, const ordered_json& j) {
+  fill_members(j, "x_offset", s.x_offset_, "y_offset", s.y_offset_, "height", s.height_, "width", s.width_,
+               "do_rectify", s.do_rectify_);
+}
+void fill(sensor_msgs_msg_dds__CameraInfo_& s, const ordered_json& j) {
+  fill_members(j, "header", s.header_, "height", s.height_, "width", s.width_, "distortion_model",
+               s.distortion_model_);
+  fill_sequence(s.d_, j.at("d"));
+  fill_members(j, "k", s.k_, "r", s.r_, "p", s.p_, "binning_x", s.binning_x_, "binning_y", s.binning_y_, "roi",
+               s.roi_);
 }
 void fill(sensor_msgs_msg_dds__Image_& s, const ordered_json& j) {
   fill_members(j, "header", s.header_, "height", s.height_, "width", s.width_, "encoding", s.encoding_, "is_bigendian",
@@ -328,6 +349,31 @@ std::vector<Case> cases() {
   }
   c.push_back({"image odd sizes big endian", "sensor_msgs/msg/Image",
                image(header(kInt32Min, kUint32Max, "cam"), 1, 3, "mono16", 1, 7, {1, 2, 3, 4, 5, 6, 255})});
+  const auto roi = [](std::uint32_t x, std::uint32_t y, std::uint32_t h, std::uint32_t w, bool rectify) {
+    return ordered_json{{"x_offset", x}, {"y_offset", y}, {"height", h}, {"width", w}, {"do_rectify", rectify}};
+  };
+  const auto camera_info = [](const ordered_json& hdr, std::uint32_t height, std::uint32_t width,
+                              const std::string& model, const std::vector<double>& d, std::uint32_t binning,
+                              const ordered_json& region) {
+    const double fx = 1000.0, fy = 1005.5, cx = 639.5, cy = 359.25;
+    return ordered_json{{"header", hdr},
+                        {"height", height},
+                        {"width", width},
+                        {"distortion_model", model},
+                        {"d", d},
+                        {"k", {fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0}},
+                        {"r", {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0}},
+                        {"p", {fx, 0.0, cx, 0.0, 0.0, fy, cy, 0.0, 0.0, 0.0, 1.0, 0.0}},
+                        {"binning_x", binning},
+                        {"binning_y", binning},
+                        {"roi", region}};
+  };
+  // As cell_sim publishes it beside each image, and as the ros2_bridge reads a driver's.
+  c.push_back({"camera info plumb_bob 1280x720", "sensor_msgs/msg/CameraInfo",
+               camera_info(header(1700000000, 7, "camera"), 720, 1280, "plumb_bob", {-0.2, 0.05, 0.001, -0.001, 0.0},
+                           0, roi(0, 0, 0, 0, false))});
+  c.push_back({"camera info no distortion binned with a region", "sensor_msgs/msg/CameraInfo",
+               camera_info(header(0, 0, ""), 360, 640, "", {}, 2, roi(10, 20, 300, 400, true))});
   return c;
 }
 
@@ -391,6 +437,8 @@ std::vector<unsigned char> serialize(CycloneSerializer& cyclone, const Case& c) 
       idl<geometry_msgs_msg_dds__WrenchStamped_>(geometry_msgs_msg_dds__WrenchStamped__desc),
       idl<sensor_msgs_msg_dds__JointState_>(sensor_msgs_msg_dds__JointState__desc),
       idl<sensor_msgs_msg_dds__Image_>(sensor_msgs_msg_dds__Image__desc),
+      idl<sensor_msgs_msg_dds__RegionOfInterest_>(sensor_msgs_msg_dds__RegionOfInterest__desc),
+      idl<sensor_msgs_msg_dds__CameraInfo_>(sensor_msgs_msg_dds__CameraInfo__desc),
   };
   for (const IdlType& t : kTypes) {
     if (ros2_name(*t.desc) == c.type) return (cyclone.*t.serialize)(*t.desc, c.value);

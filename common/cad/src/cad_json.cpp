@@ -1,5 +1,7 @@
 #include "rigger/cad/cad_json.hpp"
 
+#include <algorithm>
+
 namespace rigger::cad {
 namespace {
 
@@ -58,17 +60,22 @@ nlohmann::json to_json(const Eigen::Isometry3d& frame) {
 }
 
 nlohmann::json features_json(const Features& features, bool entities) {
-  nlohmann::json counts{{"solids", features.solids},
-                        {"faces", features.faces.size()},
-                        {"planar_faces", features.count_faces("plane")},
-                        {"cylindrical_faces", features.count_faces("cylinder")},
-                        {"other_faces", features.faces.size() - static_cast<std::size_t>(features.count_faces("plane") +
-                                                                                          features.count_faces("cylinder"))},
-                        {"edges", features.edges.size()},
-                        {"line_edges", features.count_edges("line")},
-                        {"circular_edges", features.count_edges("circle")},
-                        {"vertices", features.vertices.size()},
-                        {"holes", features.holes.size()}};
+  nlohmann::json counts{
+      {"solids", features.solids},
+      {"faces", features.faces.size()},
+      {"planar_faces", features.count_faces("plane")},
+      {"cylindrical_faces", features.count_faces("cylinder")},
+      {"other_faces", features.faces.size() -
+                          static_cast<std::size_t>(features.count_faces("plane") + features.count_faces("cylinder"))},
+      {"edges", features.edges.size()},
+      {"line_edges", features.count_edges("line")},
+      {"circular_edges", features.count_edges("circle")},
+      {"faces_from_bspline",
+       std::count_if(features.faces.begin(), features.faces.end(), [](const FaceInfo& f) { return f.recognised; })},
+      {"edges_from_bspline",
+       std::count_if(features.edges.begin(), features.edges.end(), [](const EdgeInfo& e) { return e.recognised; })},
+      {"vertices", features.vertices.size()},
+      {"holes", features.holes.size()}};
   nlohmann::json json{{"model_sha256", features.model_sha256}, {"units", "m"}, {"counts", counts}};
   json["holes"] = nlohmann::json::array();
   for (const auto& hole : features.holes) {
@@ -86,15 +93,22 @@ nlohmann::json features_json(const Features& features, bool entities) {
     if (face.signature.type == "cylinder") {
       f["material_outside"] = face.material_outside;
     }
+    if (face.recognised) {
+      f["recognised_from"] = "bspline";
+    }
     json["faces"].push_back(std::move(f));
   }
   json["edges"] = nlohmann::json::array();
   for (const auto& edge : features.edges) {
-    json["edges"].push_back({{"index", edge.index},
-                             {"signature", to_json(edge.signature)},
-                             {"length_m", edge.length_m},
-                             {"start_m", vec(edge.start_m)},
-                             {"end_m", vec(edge.end_m)}});
+    nlohmann::json e{{"index", edge.index},
+                     {"signature", to_json(edge.signature)},
+                     {"length_m", edge.length_m},
+                     {"start_m", vec(edge.start_m)},
+                     {"end_m", vec(edge.end_m)}};
+    if (edge.recognised) {
+      e["recognised_from"] = "bspline";
+    }
+    json["edges"].push_back(std::move(e));
   }
   json["vertices"] = nlohmann::json::array();
   for (const auto& vertex : features.vertices) {

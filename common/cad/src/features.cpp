@@ -1,6 +1,7 @@
 #include "rigger/cad/features.hpp"
 
 #include "occt_util.hpp"
+#include "recognise.hpp"
 
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
@@ -86,18 +87,44 @@ Eigen::Vector3d outward_normal(const TopoDS_Face& face, const BRepAdaptor_Surfac
 // Relative error bound on the area of a face that is not an elementary surface (B-spline, Bezier,
 // revolution, extrusion, offset), integrated adaptively.
 constexpr double kFreeformAreaTolerance = 1e-3;
+constexpr double kRecognisedAreaTolerance = 1e-6;
 
 bool elementary(GeomAbs_SurfaceType type) {
   return type == GeomAbs_Plane || type == GeomAbs_Cylinder || type == GeomAbs_Cone || type == GeomAbs_Sphere ||
          type == GeomAbs_Torus;
 }
 
+// The cylinder of an analytic face in the terms of a fitted one: its V parameter is the distance along
+// the axis from the cylinder's location, its U parameter the angle.
+detail::FittedCylinder analytic_cylinder(const BRepAdaptor_Surface& surface) {
+  const gp_Cylinder cylinder = surface.Cylinder();
+  return {to_eigen(cylinder.Location()),
+          to_eigen(cylinder.Axis().Direction()),
+          cylinder.Radius(),
+          surface.LastUParameter() - surface.FirstUParameter(),
+          surface.FirstVParameter(),
+          surface.LastVParameter()};
+}
+
 FaceInfo face_info(const TopoDS_Face& face, int index) {
   FaceInfo info;
   info.index = index;
   const BRepAdaptor_Surface surface(face);
+  // A B-spline or Bezier face that is a plane or a cylinder within 0.01 mm is classified as one: many
+  // exporters write every surface as a B-spline, and its holes and planar faces are still holes and faces.
+  GeomAbs_SurfaceType type = surface.GetType();
+  std::optional<detail::FittedCylinder> cylinder;
+  if (detail::fit_plane(surface)) {
+    type = GeomAbs_Plane;
+    info.recognised = true;
+  } else if ((cylinder = detail::fit_cylinder(surface))) {
+    type = GeomAbs_Cylinder;
+    info.recognised = true;
+  }
   GProp_GProps props;
-  if (elementary(surface.GetType())) {
+  if (info.recognised) {
+    BRepGProp::SurfaceProperties(face, props, kRecognisedAreaTolerance);
+  } else if (elementary(surface.GetType())) {
     // OCCT's fixed-order Gauss integration: cheap on these surfaces (the shipped cell's references were
     // taken with it, and keep matching to the last bit).
     BRepGProp::SurfaceProperties(face, props);
@@ -110,26 +137,26 @@ FaceInfo face_info(const TopoDS_Face& face, int index) {
   }
   info.area_m2 = props.Mass();
   info.signature.centroid_m = to_eigen(props.CentreOfMass());
-  info.signature.type = surface_type(surface.GetType());
-  switch (surface.GetType()) {
+  info.signature.type = surface_type(type);
+  switch (type) {
     case GeomAbs_Plane:
       info.normal = outward_normal(face, surface, nullptr);
       info.signature.direction = info.normal;
       break;
     case GeomAbs_Cylinder: {
-      const gp_Cylinder cylinder = surface.Cylinder();
-      const Eigen::Vector3d axis = to_eigen(cylinder.Axis().Direction());
-      const Eigen::Vector3d origin = to_eigen(cylinder.Location());
+      const detail::FittedCylinder c = cylinder ? *cylinder : analytic_cylinder(surface);
+      const Eigen::Vector3d& axis = c.axis;
+      const Eigen::Vector3d& origin = c.axis_point_m;
       info.signature.direction = canonical(axis);
-      info.signature.radius_m = cylinder.Radius();
+      info.signature.radius_m = c.radius_m;
       Eigen::Vector3d point;
       const Eigen::Vector3d normal = outward_normal(face, surface, &point);
       const Eigen::Vector3d radial = (point - origin) - (point - origin).dot(axis) * axis;
       info.material_outside = normal.dot(radial) < 0;
-      info.angle_rad = surface.LastUParameter() - surface.FirstUParameter();
+      info.angle_rad = c.angle_rad;
       // Extent along the canonical axis, measured from the foot of the origin.
       const double sign = axis.dot(info.signature.direction);
-      const double a = sign * surface.FirstVParameter(), b = sign * surface.LastVParameter();
+      const double a = sign * c.axial_min, b = sign * c.axial_max;
       info.axis_point_m = origin;
       info.axial_min = std::min(a, b);
       info.axial_max = std::max(a, b);
@@ -183,7 +210,22 @@ EdgeInfo edge_info(const TopoDS_Edge& edge, int index) {
       // A circle's centroid is off its centre when it is an arc; the signature keeps the centre.
       info.signature.centroid_m = to_eigen(curve.Circle().Location());
       break;
-    default: info.signature.type = "other"; break;
+    default:
+      // A B-spline or Bezier edge that is a line or a circle within 0.01 mm, as for faces.
+      if (const auto line = detail::fit_line(curve)) {
+        info.signature.type = "line";
+        info.signature.direction = canonical(line->direction);
+        info.recognised = true;
+      } else if (const auto circle = detail::fit_circle(curve)) {
+        info.signature.type = "circle";
+        info.signature.direction = canonical(circle->axis);
+        info.signature.radius_m = circle->radius_m;
+        info.signature.centroid_m = circle->centre_m;
+        info.recognised = true;
+      } else {
+        info.signature.type = "other";
+      }
+      break;
   }
   return info;
 }
@@ -278,11 +320,12 @@ Features classify(const Model& model) {
 
   // Whether a point is outside solid `s`. A point outside the solid's bounding box (from the geometry,
   // not a triangulation, so that the answer does not depend on meshing) is outside: the probes beyond a
-  // hole's ends usually are, and building OCCT's classifier of a B-spline solid costs tens of ms. Else
-  // one classifier per solid, built when first needed.
+  // hole's ends usually are, and building OCCT's classifier of a B-spline solid costs tens of ms. For a
+  // hole recognised from B-spline faces, the first face crossed going `away` along the axis (the classifier
+  // took about 1.5 s per point on such a solid). Else one classifier per solid, built when first needed.
   std::vector<std::optional<Bnd_Box>> solid_boxes(static_cast<std::size_t>(solids.Extent()));
   std::vector<std::unique_ptr<BRepClass3d_SolidClassifier>> classifiers(static_cast<std::size_t>(solids.Extent()));
-  const auto outside = [&](int s, const Eigen::Vector3d& point) {
+  const auto outside = [&](int s, const Eigen::Vector3d& point, const Eigen::Vector3d& away, bool bspline) {
     const auto at = static_cast<std::size_t>(s);
     if (!solid_boxes[at]) {
       solid_boxes[at].emplace();
@@ -291,6 +334,11 @@ Features classify(const Model& model) {
     }
     if (solid_boxes[at]->IsOut(to_gp_pnt(point))) {
       return true;
+    }
+    if (bspline) {
+      if (const auto answer = detail::outside_along(solids(s + 1), point, away)) {
+        return *answer;
+      }
     }
     if (!classifiers[at]) {
       classifiers[at] = std::make_unique<BRepClass3d_SolidClassifier>(solids(s + 1));
@@ -353,8 +401,8 @@ Features classify(const Model& model) {
     bool open_lo = true, open_hi = true;
     if (first.solid >= 0) {
       const double probe = 0.75 * radius;
-      open_lo = outside(first.solid, end_lo - probe * axis);
-      open_hi = outside(first.solid, end_hi + probe * axis);
+      open_lo = outside(first.solid, end_lo - probe * axis, -axis, first.recognised);
+      open_hi = outside(first.solid, end_hi + probe * axis, axis, first.recognised);
     }
     Hole hole;
     hole.index = static_cast<int>(features.holes.size());

@@ -9,6 +9,7 @@
 
 #include "rigger/cad/features.hpp"
 #include "rigger/cad/frames.hpp"
+#include "static_overlap.hpp"
 
 namespace rigger::cell {
 namespace {
@@ -53,6 +54,9 @@ class Deriver {
         features.insertion->pose_target_entity = derive_insertion(entity, *features.insertion);
       }
     }
+    detail::check_static_solids_apart(file_, [this](const CellEntity& entity) -> const cad::Model& {
+      return model_of(entity).model;
+    });
     const auto total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     stats_.derive_seconds = total - stats_.read_seconds;
     for (const auto& [id, loaded] : models_) stats_.read_models.emplace(id, loaded.model);

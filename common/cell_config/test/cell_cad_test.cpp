@@ -201,6 +201,22 @@ TEST(CellCad, AStepFileWithoutALengthUnitIsRefusedNotGuessed) {
   EXPECT_NE(error.find("length unit"), std::string::npos) << error;
 }
 
+TEST(CellCad, StaticObjectsGivenByTheirStepModelsMayTouchButNotOverlap) {
+  // The target given by its STEP model alone, static beside the static part fixture (a box): apart.
+  CellCopy copy;
+  json& target = entity_json(copy.cell, "target")["model"];
+  target.erase("shape");
+  target.erase("size_m");
+  target.erase("frame");
+  EXPECT_EQ(copy.load_error(), "");
+  // The fixture moved onto the target: refused at the fixture's pose, naming the target.
+  entity_json(copy.cell, "part_fixture")["pose"]["position_m"] = {3.55, 2.25, 0.95};
+  const std::string error = copy.load_error();
+  EXPECT_NE(error.find("static objects apart"), std::string::npos) << error;
+  EXPECT_NE(error.find("cm³ with static object \"target\""), std::string::npos) << error;
+  EXPECT_NE(copy.pointer().find("/pose"), std::string::npos) << copy.pointer();
+}
+
 TEST(CellCad, AMovedIndexWithAUniqueSignatureIsFollowed) {
   // The reference's index is wrong but its signature names exactly one edge of the model: that edge.
   CellCopy copy;

@@ -36,8 +36,8 @@ EventLoop::~EventLoop() {
   dds_waitset_detach(waitset_.handle(), guard_.handle());
 }
 
-void EventLoop::attach(dds_entity_t entity, uint32_t status_mask, Handler handler) {
-  attachments_.push_back({entity, status_mask, std::move(handler)});
+void EventLoop::attach(dds_entity_t entity, uint32_t status_mask, Handler handler, dds_entity_t source) {
+  attachments_.push_back({entity, status_mask, std::move(handler), source});
   check(dds_waitset_attach(waitset_.handle(), entity, static_cast<dds_attach_t>(attachments_.size())),
         "attach to waitset");
 }
@@ -48,7 +48,17 @@ void EventLoop::on_data(dds_entity_t reader, Handler handler) {
   Entity cond(dds_create_readcondition(reader, DDS_ANY_STATE), "create read condition");
   const auto handle = cond.handle();
   read_conditions_.push_back(std::move(cond));
-  attach(handle, 0, std::move(handler));
+  attach(handle, 0, std::move(handler), reader);
+}
+
+void EventLoop::dispatch(Dispatch what, dds_entity_t entity, const Handler& handler) {
+  if (!observer_) {
+    handler();
+    return;
+  }
+  observer_(what, entity, true);
+  handler();
+  observer_(what, entity, false);
 }
 
 void EventLoop::on_data_now(dds_entity_t reader, Handler handler) {
@@ -79,7 +89,7 @@ void EventLoop::on_available(dds_entity_t /*reader*/, void* arg) {
     std::lock_guard<std::mutex> held(loop.dispatch_, std::adopt_lock);
     const Dispatching mark(&loop);
     if (loop.stop_) return;
-    im->handler();
+    loop.dispatch(Dispatch::kListener, im->reader, im->handler);
     // A timer the handler set may be due before the loop's wake-up: wake it to wait less.
     if (!loop.deadlines_.empty() && loop.deadlines_.begin()->first < loop.waiting_until_) {
       loop.waiting_until_ = loop.deadlines_.begin()->first;
@@ -98,13 +108,14 @@ void EventLoop::run_immediates(bool sweep) {
     // every pass of the loop (at least every liveliness period in a service), so that no sample waits
     // on a listener call that did not come. Deleted readers (their endpoint gone) are skipped.
     const bool pending = im->pending.exchange(false);
-    if ((pending || (sweep && dds_triggered(im->condition) > 0)) && dds_get_parent(im->reader) > 0) im->handler();
+    if ((pending || (sweep && dds_triggered(im->condition) > 0)) && dds_get_parent(im->reader) > 0)
+      dispatch(Dispatch::kPending, im->reader, im->handler);
   }
 }
 
 void EventLoop::on_status(dds_entity_t entity, uint32_t mask, Handler handler) {
   check(dds_set_status_mask(entity, mask), "set status mask");
-  attach(entity, mask, std::move(handler));
+  attach(entity, mask, std::move(handler), entity);
 }
 
 EventLoop::TimerId EventLoop::add_timer(Clock::time_point deadline, std::chrono::nanoseconds period,
@@ -153,7 +164,7 @@ void EventLoop::run_due_timers() {
     } else {
       timers_.erase(it);
     }
-    handler();
+    dispatch(Dispatch::kTimer, 0, handler);
   }
 }
 
@@ -165,7 +176,7 @@ void EventLoop::run_posted() {
   }
   for (auto& h : work) {
     if (stop_) return;
-    h();
+    dispatch(Dispatch::kPosted, 0, h);
   }
 }
 
@@ -191,6 +202,7 @@ bool EventLoop::run_once_locked(std::unique_lock<std::mutex>& lock, std::chrono:
   lock.lock();
   const Dispatching mark(this);
   waiting_until_ = Clock::time_point::min();  // busy: a listener that gets the lock wakes nobody
+  if (observer_) observer_(Dispatch::kWoke, 0, true);
   if (n < 0) return !stop_;
   for (dds_return_t i = 0; i < n && !stop_; ++i) {
     const auto index = static_cast<size_t>(triggered[i]);
@@ -204,7 +216,7 @@ bool EventLoop::run_once_locked(std::unique_lock<std::mutex>& lock, std::chrono:
     if (index > attachments_.size()) continue;
     // Copy: the handler may attach more entities, reallocating the vector.
     const Attachment a = attachments_[index - 1];
-    a.handler();
+    dispatch(a.status_mask == 0 ? Dispatch::kData : Dispatch::kStatus, a.source, a.handler);
     if (a.status_mask != 0) {
       uint32_t ignored;
       dds_take_status(a.entity, &ignored, a.status_mask);

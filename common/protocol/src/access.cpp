@@ -145,11 +145,12 @@ std::vector<Grant> build() {
   // A real robot's driver behind ROS 2 (services/ros2_bridge): the bridge's own ROS 2 topics (rt/…) depend on
   // the cell's configuration and are granted from deploy/security/ros2.grants (make-pki --extra).
   t.push_back(grant("ros2_bridge",
-                    "the ROS 2 bridge: a ROS 2 driver's wrench, joint states and camera images in, rigger's twist out "
-                    "to MoveIt Servo",
+                    "the ROS 2 bridge: a ROS 2 driver's wrench, joint states, camera images and camera info in, "
+                    "rigger's twist out to MoveIt Servo",
                     {service(),
                      safe_stop_listener(),
-                     {names(robot::kWrench, robot::kState, vision::kCameraImage), names(robot::kCmdTwist)}}));
+                     {names(robot::kWrench, robot::kState, vision::kCameraImage, vision::kCameraInfo),
+                      names(robot::kCmdTwist)}}));
   t.push_back(
       grant("monitor_host", "the monitors (timer, force, yank)", {service(), executor(), {{}, names(robot::kWrench)}}));
   t.push_back(grant("robot-skills", "the robot's skill executor (deploy/config/robot-skills.json)",

@@ -89,11 +89,12 @@ TEST(AccessTable, OnlyAdmittanceAndSkillsCommandTheRobotAndTheCrane) {
 // A real robot behind the ROS 2 bridge: the bridge is the robot's wrench and image source and the reader of the
 // twist stream (and the robot's safe stop, which it obeys), nothing else of rigger's; its rt/ topics come from the cell
 // (deploy/security/ros2.grants).
-TEST(AccessTable, TheRos2BridgeCarriesOnlyTheWrenchJointStatesAndImagesInAndTheTwistOut) {
+TEST(AccessTable, TheRos2BridgeCarriesOnlyTheWrenchJointStatesAndCameraInAndTheTwistOut) {
   const auto* bridge = find_grant("ros2_bridge");
   ASSERT_NE(bridge, nullptr);
-  EXPECT_EQ(bridge->publish, (std::vector<std::string>{vision::kCameraImage.name, robot::kState.name,
-                                                       robot::kWrench.name, system::kServiceState.name}));
+  EXPECT_EQ(bridge->publish,
+            (std::vector<std::string>{vision::kCameraImage.name, vision::kCameraInfo.name, robot::kState.name,
+                                      robot::kWrench.name, system::kServiceState.name}));
   EXPECT_EQ(bridge->subscribe,
             (std::vector<std::string>{robot::kCmdTwist.name, safety::kStop.name, system::kServiceState.name}));
 }

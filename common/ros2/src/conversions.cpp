@@ -1,5 +1,8 @@
 #include "rigger/ros2/conversions.hpp"
 
+#include <algorithm>
+#include <iterator>
+
 #include "rigger/dds/conversions.hpp"
 
 namespace rigger::ros2 {
@@ -60,6 +63,40 @@ sensor_msgs_msg_dds__JointState_ to_ros2_joint_state(const rigger_geometry_Heade
   dds::wire_sequence(out.position_, position);
   dds::wire_sequence(out.velocity_, velocity);
   dds::wire_sequence(out.effort_, effort);
+  return out;
+}
+
+namespace {
+// The same sequence, borrowed: the copy does not own (or free) the buffer.
+dds_sequence_double borrow(const dds_sequence_double& d) {
+  dds_sequence_double out = d;
+  out._release = false;
+  return out;
+}
+
+// The three matrices, the same numbers in both layouts under other names.
+void copy_matrices(const double (&k)[9], const double (&r)[9], const double (&p)[12], double (&to_k)[9],
+                   double (&to_r)[9], double (&to_p)[12]) {
+  std::copy(std::begin(k), std::end(k), std::begin(to_k));
+  std::copy(std::begin(r), std::end(r), std::begin(to_r));
+  std::copy(std::begin(p), std::end(p), std::begin(to_p));
+}
+}  // namespace
+
+rigger_vision_CameraInfo to_rigger(const sensor_msgs_msg_dds__CameraInfo_& c) {
+  rigger_vision_CameraInfo out{to_rigger(c.header_), c.height_, c.width_, c.distortion_model_, borrow(c.d_), {}, {}, {}};
+  copy_matrices(c.k_, c.r_, c.p_, out.k, out.r, out.p);
+  return out;
+}
+
+sensor_msgs_msg_dds__CameraInfo_ to_ros2(const rigger_vision_CameraInfo& c) {
+  sensor_msgs_msg_dds__CameraInfo_ out{};  // no binning, the full image as region of interest
+  out.header_ = to_ros2(c.header);
+  out.height_ = c.height;
+  out.width_ = c.width;
+  out.distortion_model_ = c.distortion_model;
+  out.d_ = borrow(c.d);
+  copy_matrices(c.k, c.r, c.p, out.k_, out.r_, out.p_);
   return out;
 }
 

@@ -77,5 +77,36 @@ TEST(Ros2Conversions, JointStateBorrowsTheNamesAndArraysInTheirOrder) {
   EXPECT_FALSE(ros.name_._release || ros.position_._release || ros.velocity_._release || ros.effort_._release);
 }
 
+TEST(Ros2Conversions, CameraInfoRoundTripsAndBorrowsItsStringsAndCoefficients) {
+  char frame[] = "camera";
+  char model[] = "plumb_bob";
+  double d[5] = {-0.2, 0.05, 0.001, -0.001, 0.0};
+  rigger_vision_CameraInfo in{};
+  in.header = {{1700000000, 5}, frame};
+  in.height = 720;
+  in.width = 1280;
+  in.distortion_model = model;
+  in.d = {5, 5, d, false};
+  for (int i = 0; i < 9; ++i) in.k[i] = in.r[i] = i + 0.5;
+  for (int i = 0; i < 12; ++i) in.p[i] = -i - 0.25;
+  const sensor_msgs_msg_dds__CameraInfo_ ros = to_ros2(in);
+  EXPECT_EQ(ros.header_.frame_id_, frame);
+  EXPECT_EQ(ros.distortion_model_, model);
+  EXPECT_EQ(ros.d_._buffer, d);
+  EXPECT_FALSE(ros.d_._release);
+  EXPECT_EQ(ros.d_._length, 5u);
+  EXPECT_EQ(ros.height_, 720u);
+  EXPECT_EQ(ros.binning_x_, 0u);  // unbinned, the full image
+  EXPECT_EQ(ros.roi_.width_, 0u);
+  EXPECT_FALSE(ros.roi_.do_rectify_);
+  const rigger_vision_CameraInfo back = to_rigger(ros);
+  EXPECT_EQ(std::memcmp(back.k, in.k, sizeof in.k), 0);
+  EXPECT_EQ(std::memcmp(back.r, in.r, sizeof in.r), 0);
+  EXPECT_EQ(std::memcmp(back.p, in.p, sizeof in.p), 0);
+  EXPECT_EQ(back.width, 1280u);
+  EXPECT_EQ(back.d._buffer, d);
+  EXPECT_STREQ(back.distortion_model, "plumb_bob");
+}
+
 }  // namespace
 }  // namespace rigger::ros2

@@ -32,6 +32,8 @@ TEST(Ros2Types, NamesKeysAndEncodingAreRos2s) {
       {&geometry_msgs_msg_dds__WrenchStamped__desc, "geometry_msgs::msg::dds_::WrenchStamped_"},
       {&sensor_msgs_msg_dds__JointState__desc, "sensor_msgs::msg::dds_::JointState_"},
       {&sensor_msgs_msg_dds__Image__desc, "sensor_msgs::msg::dds_::Image_"},
+      {&sensor_msgs_msg_dds__RegionOfInterest__desc, "sensor_msgs::msg::dds_::RegionOfInterest_"},
+      {&sensor_msgs_msg_dds__CameraInfo__desc, "sensor_msgs::msg::dds_::CameraInfo_"},
   };
   for (const Expected& t : types) {
     SCOPED_TRACE(t.type_name);

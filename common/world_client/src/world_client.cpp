@@ -178,7 +178,12 @@ void WorldClient::write_update(std::uint64_t id, std::shared_ptr<const world_pro
   if (rc != DDS_RETCODE_OK) {
     log_->warn("world update write failed request_id={} rc={}", id, rc);
     loop_.post([this, id, rc] { fail_soon(id, "writing the update failed: " + std::string(dds_strretcode(rc))); });
+    return;
   }
+  // As for a query, the result may be lost on a world model that has not yet discovered this client: sent
+  // again until answered. The world model knows the update by (source, seq) and answers a repeat with the
+  // result it had, without applying it twice.
+  it->second.retry = loop_.after(kQueryResend, [this, id, update] { write_update(id, update); });
 }
 
 void WorldClient::fail_soon(std::uint64_t request_id, const std::string& why) {

@@ -138,6 +138,7 @@ RendererFactory renderer_factory(CameraRendererKind kind, const CellSimConfig& c
   }
   sim::MujocoCameraSettings settings;
   settings.noise_stddev = config.camera_noise_stddev;
+  settings.depth_noise = config.camera_depth_noise;
   return [scene, settings, model = std::move(model)] { return make_mujoco_renderer(model, scene, settings); };
 }
 

@@ -61,6 +61,11 @@ void CameraWorker::offer(CameraSnapshot snapshot) {
   wake_.notify_all();
 }
 
+void CameraWorker::replace_renderer(RendererFactory make_renderer) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  pending_renderer_ = std::move(make_renderer);
+}
+
 void CameraWorker::run(const RendererFactory& make_renderer, std::exception_ptr& start_error) {
   // The renderer is made here, not by the constructor's thread: an OpenGL context is current on
   // the thread that made it, and MuJoCo's renderer draws with the current one.
@@ -83,12 +88,24 @@ void CameraWorker::run(const RendererFactory& make_renderer, std::exception_ptr&
   CameraImages images;
   for (;;) {
     CameraSnapshot snapshot;
+    RendererFactory make_next;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [this] { return stop_ || pending_.has_value(); });
       if (stop_) return;
       snapshot = std::move(*pending_);
       pending_.reset();
+      make_next.swap(pending_renderer_);
+    }
+    if (make_next) {
+      // Made before the old one goes, so that a renderer that cannot be made leaves the camera streaming
+      // (each MuJoCo renderer makes its own EGL context current for every frame).
+      try {
+        std::unique_ptr<FrameRenderer> next = make_next();
+        if (next) renderer = std::move(next);
+      } catch (const std::exception&) {
+        // The factory's caller hears of it from the factory; the camera goes on with what it has.
+      }
     }
     const CameraDemand demand = demand_ ? demand_() : CameraDemand{};
     if (!demand.image && !demand.depth) continue;

@@ -84,6 +84,10 @@ class CameraWorker {
   CameraWorker& operator=(const CameraWorker&) = delete;
 
   void offer(CameraSnapshot snapshot);
+  /// Renders the frames of snapshots offered from now on with a renderer `make_renderer` makes on the
+  /// camera thread before the next frame (the cell's model was built anew). A factory that throws leaves the
+  /// current renderer on (the factory reports its own error). Thread-safe; never blocks on a frame.
+  void replace_renderer(RendererFactory make_renderer);
   std::uint64_t frames() const { return frames_.load(); }
   std::uint64_t dropped() const { return dropped_.load(); }
   const sim::CameraModel& camera() const { return camera_; }
@@ -97,6 +101,7 @@ class CameraWorker {
   std::mutex mutex_;
   std::condition_variable wake_;
   std::optional<CameraSnapshot> pending_;
+  RendererFactory pending_renderer_;  ///< made before the next frame
   bool started_ = false;
   bool stop_ = false;
   std::atomic<std::uint64_t> frames_{0};

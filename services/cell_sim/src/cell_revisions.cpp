@@ -11,43 +11,87 @@ using nlohmann::json;
 // Entity keys the physics and the camera never read: a revision changing only these needs nothing.
 constexpr std::array<const char*, 4> kIgnoredKeys = {"localized", "comment", "description", "attributes"};
 
-std::string ids_of(const json& list) {
-  std::string text;
-  for (const json& id : list) text += (text.empty() ? "" : ", ") + id.get<std::string>();
-  return text;
-}
+constexpr const char* kRestart = ": cell_sim places devices at start; restart it on the new cell";
 
 RevisionPlan refuse(std::string why) {
-  return {{}, std::move(why)};
+  RevisionPlan plan;
+  plan.refusal = std::move(why);
+  return plan;
+}
+
+bool is_object(const cell::CellEntity* entity) {
+  return entity != nullptr && entity->kind == cell::EntityKind::kObject;
+}
+
+bool is_static(const cell::CellEntity* entity) {
+  return is_object(entity) && entity->model && entity->model->is_static;
+}
+
+// The crane's load: the object with a rope attachment (cell_geometry checks that there is one).
+const cell::CellEntity* load_of(const cell::CellFile& file) {
+  for (const cell::CellEntity& entity : file.entities) {
+    if (is_object(&entity) && entity.features.rope_attachment) return &entity;
+  }
+  return nullptr;
+}
+
+void note(std::string& reason, const std::string& what, const std::string& id) {
+  reason += (reason.empty() ? "" : "; ") + what + " " + id;
 }
 
 }  // namespace
 
-RevisionPlan plan_revision(const json& changes, const cell::CellFile& next) {
+RevisionPlan plan_revision(const json& changes, const cell::CellFile& running, const cell::CellFile& next) {
   try {
     const json none = json::array();
-    const json& added = changes.contains("added") ? changes.at("added") : none;
-    const json& removed = changes.contains("removed") ? changes.at("removed") : none;
-    if (!added.empty() || !removed.empty())
-      return refuse("it adds or removes " + ids_of(added) + (added.empty() || removed.empty() ? "" : ", ") +
-                    ids_of(removed) + ": cell_sim builds its model at start; restart it on the new cell");
+    RevisionPlan plan;
+    const cell::CellEntity* load = load_of(running);
+    const std::string load_id = load != nullptr ? load->id : std::string();
+    const cell::CellEntity* next_load = load_of(next);
+    if (load != nullptr && (next_load == nullptr || next_load->id != load_id))
+      return refuse("it takes the crane's load " + load_id + " off the rope" +
+                    (next_load != nullptr ? " for " + next_load->id : std::string()) +
+                    ": cell_sim hangs the load at start; restart it on the new cell");
+    for (const json& id_json : changes.value("added", none)) {
+      const std::string id = id_json.get<std::string>();
+      if (!is_object(next.find(id))) return refuse("it adds the device or frame " + id + kRestart);
+      note(plan.rebuild_reason, "adds", id);
+    }
+    for (const json& id_json : changes.value("removed", none)) {
+      const std::string id = id_json.get<std::string>();
+      if (!is_object(running.find(id))) return refuse("it removes the device or frame " + id + kRestart);
+      note(plan.rebuild_reason, "removes", id);
+    }
     for (const json& changed : changes.value("changed", none)) {
+      const std::string id = changed.at("id").get<std::string>();
       for (const json& key : changed.at("keys")) {
         const std::string k = key.get<std::string>();
         if (std::find(kIgnoredKeys.begin(), kIgnoredKeys.end(), k) != kIgnoredKeys.end()) continue;
-        return refuse("it changes " + k + " of " + changed.at("id").get<std::string>() +
-                      ": cell_sim builds its model at start; restart it on the new cell");
+        if (!is_object(next.find(id))) return refuse("it changes " + k + " of the device or frame " + id + kRestart);
+        if (id == load_id && k == "model")
+          return refuse("it reshapes the crane's load " + id +
+                        ", which hangs from the rope: cell_sim hangs the load at start; restart it on the new cell");
+        if (id == load_id && k == "features" &&
+            !next_load->features.rope_attachment->isApprox(*load->features.rope_attachment, 1e-9))
+          return refuse("it moves the rope attachment of the crane's load " + id +
+                        ": cell_sim hangs the load at start; restart it on the new cell");
+        note(plan.rebuild_reason, "changes " + k + " of", id);
       }
     }
-    RevisionPlan plan;
     for (const json& moved : changes.value("moved", none)) {
       const std::string id = moved.at("id").get<std::string>();
       const cell::CellEntity* entity = next.find(id);
       if (entity == nullptr) return refuse("it moves " + id + ", which it does not hold");
       if (entity->kind != cell::EntityKind::kObject)
         return refuse("it moves the device or frame " + id + ": cell_sim places devices at start; restart it");
-      plan.moves.push_back({id, next.pose_root_entity(id)});
+      // A static object is where the model puts it: built anew; a free one is put there after.
+      if (is_static(entity)) {
+        note(plan.rebuild_reason, "moves the static", id);
+      } else {
+        plan.moves.push_back({id, next.pose_root_entity(id)});
+      }
     }
+    plan.rebuild = !plan.rebuild_reason.empty();
     return plan;
   } catch (const std::exception& e) {
     return refuse(std::string("its changes are not in the expected form: ") + e.what());

@@ -1,15 +1,17 @@
 #pragma once
 /// @file
 /// What cell_sim does with a revision of the cell (rigger/world/cell, common/cell_follower): the free
-/// objects it moves (each put at its new pose at rest, on the physics thread), or why it cannot take the
-/// revision. Pure: no DDS, no physics.
+/// objects it moves (each put at its new pose at rest, on the physics thread), whether the physics model is
+/// built anew from the revision (objects added, removed or reshaped), or why it cannot take the revision.
+/// Pure: no DDS, no physics.
 ///
-/// Taken: a revision that, against the cell cell_sim runs on, moves objects, or changes only what the
-/// physics does not use (`localized`, `comment`, `description`, `attributes`). Refused, with the reason:
-/// one that moves a device, or adds, removes
-/// or reshapes an object (the model is built at start: cell_sim takes such a cell when restarted on it).
-/// Whether each moved object can be moved (free, not on the rope, not in the magnet) is the physics'
-/// to say when it applies the moves.
+/// Taken: a revision that, against the cell cell_sim runs on, moves objects, adds, removes or reshapes
+/// objects (their model, features or markers), moves a static object, or changes only what the physics
+/// does not use (`localized`, `comment`, `description`, `attributes`). Refused, with the reason: one that
+/// moves or changes a device, adds or removes one, or removes, reshapes or replaces the crane's load (it
+/// hangs from the rope). Whether the model can be swapped now (the arm at rest, the magnet holding nothing)
+/// and each moved object moved (free, not on the rope, not in the magnet) is the physics' to say when it
+/// applies the plan.
 
 #include <cstdint>
 #include <string>
@@ -27,15 +29,19 @@ struct ObjectMove {
   Eigen::Isometry3d pose_world_object = Eigen::Isometry3d::Identity();
 };
 
-/// The moves to make, or (refusal not empty) why the revision is refused.
+/// The moves to make (free objects of the next cell), whether the model is built anew from the next cell
+/// first, or (refusal not empty) why the revision is refused.
 struct RevisionPlan {
   std::vector<ObjectMove> moves;
+  bool rebuild = false;
+  /// What makes the rebuild, for the log: "adds part_b; removes part; reshapes bracket".
+  std::string rebuild_reason;
   std::string refusal;
 };
 
-/// Plans the move to `next` given what changed from the cell cell_sim runs on (`changes`, in the form of
-/// cell::diff_cells; cell_sim diffs against its own running cell, so that it can follow from any revision,
-/// also after a restart on its cell file).
-RevisionPlan plan_revision(const nlohmann::json& changes, const cell::CellFile& next);
+/// Plans the move from `running` to `next` given what changed (`changes`, in the form of cell::diff_cells;
+/// cell_sim diffs against its own running cell, so that it can follow from any revision, also after a
+/// restart on its cell file).
+RevisionPlan plan_revision(const nlohmann::json& changes, const cell::CellFile& running, const cell::CellFile& next);
 
 }  // namespace rigger::cell_sim

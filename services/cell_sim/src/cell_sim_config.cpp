@@ -51,6 +51,7 @@ CellSimConfig::Ros2Driver read_ros2_driver(const Config& c) {
   out.wrench_dds_topic = dds_name("wrench_topic", "/force_torque_sensor_broadcaster/wrench");
   out.twist_dds_topic = dds_name("twist_topic", "/servo_node/delta_twist_cmds");
   out.image_dds_topic = dds_name("image_topic", "/camera/image_raw");
+  out.camera_info_dds_topic = dds_name("camera_info_topic", "/camera/camera_info");
   out.joint_states_dds_topic = dds_name("joint_states_topic", "/joint_states");
   out.joint_names = c.get<std::vector<std::string>>("joint_names", out.joint_names);
   if (out.joint_names.size() != static_cast<std::size_t>(sim::kArmJointCount))
@@ -58,6 +59,41 @@ CellSimConfig::Ros2Driver read_ros2_driver(const Config& c) {
   out.base_frame = c.get<std::string>("base_frame", out.base_frame);
   out.twist_timeout = std::chrono::milliseconds(c.get_in_range<int>("twist_timeout_ms", 100, 1, 10000));
   return out;
+}
+
+Eigen::Vector3d bounded_vector3(const Config& c, const std::string& key, double bound) {
+  if (!c.has(key)) return Eigen::Vector3d::Zero();
+  const auto v = c.get<std::vector<double>>(key);
+  if (v.size() != 3 || !(std::abs(v[0]) <= bound) || !(std::abs(v[1]) <= bound) || !(std::abs(v[2]) <= bound)) {
+    c.fail(key, "expected 3 numbers, each within ±" + std::to_string(bound));
+  }
+  return {v[0], v[1], v[2]};
+}
+
+Eigen::Isometry3d read_pose_error(const Config& c) {
+  const Eigen::Vector3d position = bounded_vector3(c, "position_m", 0.5);
+  const Eigen::Vector3d rpy_deg = bounded_vector3(c, "rpy_deg", 45.0);
+  return cell::pose_from_position_rpy_deg(position, rpy_deg);
+}
+
+sim::DepthNoiseSettings read_depth_noise(const Config& c) {
+  sim::DepthNoiseSettings out;
+  out.stddev_at_1m_m = c.get_in_range("stddev_at_1m_m", 0.0, 0.0, 0.05);
+  out.grazing_deg = c.get_in_range("grazing_deg", 0.0, 0.0, 89.0);
+  out.edge_gap_m = c.get_in_range("edge_gap_m", 0.0, 0.0, 1.0);
+  return out;
+}
+
+// A key whose value is an object, read by `read` into `field` when the file has the key.
+template <typename Field, typename Read>
+Setting<CellSimConfig> object_setting(const std::string& key, const std::string& default_text,
+                                      Field CellSimConfig::*field, Read read, std::string doc) {
+  return own_setting<CellSimConfig>(
+      key, "object", default_text, "",
+      [field, read](const Config& config, const std::string& k, CellSimConfig& s) {
+        if (config.has(k)) s.*field = read(config.child(k));
+      },
+      std::move(doc));
 }
 
 }  // namespace
@@ -195,11 +231,20 @@ const SettingsTable<CellSimConfig>& cell_sim_settings() {
           },
           "pixel noise in grey levels")),
       camera(setting<S>("blur_sigma_px", 0.0, {0.0, 10.0}, &S::camera_blur_sigma_px, "Gaussian blur of the image (`raster` only)")),
-      own_setting<S>(
-          "ros2_driver", "object", "absent", "",
-          [](const Config& config, const std::string& key, S& s) {
-            if (config.has(key)) s.ros2_driver = read_ros2_driver(config.child(key));
-          },
+      camera(object_setting(
+          "pose_error", "none", &S::camera_pose_error, read_pose_error,
+          "where the simulated camera really is against the cell file: `{\"position_m\": [x, y, z], "
+          "\"rpy_deg\": [r, p, y]}` in the camera's optical frame as the file places it (each at most 0.5 m "
+          "and 45°); the images are rendered from there, the cell file and `rigger/camera/info` are not "
+          "changed (what a camera mounted off its drawing does)")),
+      camera(object_setting(
+          "depth_noise", "none", &S::camera_depth_noise, read_depth_noise,
+          "what a structured-light sensor does to `rigger/camera/depth` (`mujoco` only): `stddev_at_1m_m` "
+          "(noise growing with the square of the distance, [0, 0.05]), `grazing_deg` (a hole where the "
+          "surface is seen further than this from its normal, [0, 89]; 0: none), `edge_gap_m` (holes on "
+          "both sides of a depth step larger than this, [0, 1]; 0: none)")),
+      object_setting(
+          "ros2_driver", "absent", &S::ros2_driver, read_ros2_driver,
           "present (even `{}`): the robot's wrench, state and twist input and the camera's images are on ROS 2 "
           "drivers' topics instead of rigger's, for running the cell behind `ros2_bridge` ([ros2.md](ros2.md)): "
           "`geometry_msgs/WrenchStamped` written on `wrench_topic` (default "
@@ -209,7 +254,9 @@ const SettingsTable<CellSimConfig>& cell_sim_settings() {
           "`geometry_msgs/TwistStamped` read on `twist_topic` (default `/servo_node/delta_twist_cmds`, "
           "reliable; each drives for `twist_timeout_ms`, default 100, in frame `base_frame`, default "
           "`base_link`); `sensor_msgs/Image` mono8 written on `image_topic` (default `/camera/image_raw`, "
-          "sensor_data). Motions and the gripper stay on rigger's topics"),
+          "sensor_data), each followed by its `sensor_msgs/CameraInfo` (plumb_bob, the image's stamp and frame) "
+          "on `camera_info_topic` (default `/camera/camera_info`, sensor_data) instead of `rigger/camera/info`. "
+          "Motions and the gripper stay on rigger's topics"),
   };
   return table;
 }

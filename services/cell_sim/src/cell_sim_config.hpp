@@ -10,10 +10,13 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "rigger/base/config.hpp"
 #include "rigger/cell_sim/settings.hpp"
 #include "rigger/plc/plc_emulator.hpp"
 #include "rigger/sim/cell_physics.hpp"
+#include "rigger/sim/depth_noise.hpp"
 
 namespace rigger::cell_sim {
 
@@ -78,6 +81,10 @@ struct CellSimConfig {
   /// Pixel noise in grey levels; unset: the cell file's noise_stddev.
   std::optional<double> camera_noise_stddev;
   double camera_blur_sigma_px = 0.0;
+  /// Where the simulated camera really is, in the optical frame the cell file gives it: the true pose
+  /// is the file's times this (identity: exactly where the file says). The tracker is not told.
+  Eigen::Isometry3d camera_pose_error = Eigen::Isometry3d::Identity();
+  sim::DepthNoiseSettings camera_depth_noise;  ///< the depth image's (the MuJoCo renderer's only)
 
   // --- ROS 2 drivers (optional): the simulated robot's wrench, joint states and twist input and the camera's
   // images on a ROS 2 driver's topics (rt/…, ROS 2 types and QoS) instead of rigger's, for running the cell
@@ -90,6 +97,7 @@ struct CellSimConfig {
                                          "joint_a5", "joint_a6", "joint_a7"};
     std::string twist_dds_topic;   ///< geometry_msgs/TwistStamped read (reliable, as MoveIt Servo)
     std::string image_dds_topic;   ///< sensor_msgs/Image mono8 written (sensor_data)
+    std::string camera_info_dds_topic;  ///< sensor_msgs/CameraInfo written with each image (sensor_data)
     std::string base_frame = "base_link";  ///< the twist's frame_id that means the robot base
     std::chrono::milliseconds twist_timeout{100};  ///< how long one TwistStamped drives (Servo's command timeout)
   };

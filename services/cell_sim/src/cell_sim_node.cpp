@@ -64,7 +64,6 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
       twist_gate_(config_.max_command_future, config_.max_twist_timeout),
       motion_status_(ctx.participant, protocol::robot::kMotionStatus),
       gripper_state_(ctx.participant, protocol::robot::kGripperState),
-      camera_info_(ctx.participant, protocol::vision::kCameraInfo),
       ground_truth_(ctx.participant, protocol::sim::kGroundTruth),
       sim_event_(ctx.participant, protocol::sim::kEvent),
       sim_status_(ctx.participant, protocol::sim::kStatus),
@@ -83,14 +82,18 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
     const CellSimConfig::Ros2Driver& r = *config_.ros2_driver;
     ros2_wrench_.emplace(ctx.participant, r.wrench_dds_topic, written_by_physics(ros2::qos::sensor_data()));
     ros2_image_.emplace(ctx.participant, r.image_dds_topic, ros2::qos::sensor_data());
+    ros2_camera_info_.emplace(ctx.participant, r.camera_info_dds_topic, ros2::qos::sensor_data());
     ros2_twist_.emplace(ctx.participant, r.twist_dds_topic, ros2::qos::reliable_default());
     ros2_joint_states_.emplace(ctx.participant, r.joint_states_dds_topic, ros2::qos::system_default());
-    ctx.log->info("robot and camera as ROS 2 drivers: wrench={} joint_states={} twist={} image={} base_frame={}",
-                  r.wrench_dds_topic, r.joint_states_dds_topic, r.twist_dds_topic, r.image_dds_topic, r.base_frame);
+    ctx.log->info(
+        "robot and camera as ROS 2 drivers: wrench={} joint_states={} twist={} image={} camera_info={} base_frame={}",
+        r.wrench_dds_topic, r.joint_states_dds_topic, r.twist_dds_topic, r.image_dds_topic, r.camera_info_dds_topic,
+        r.base_frame);
   } else {
     wrench_.emplace(ctx.participant, protocol::robot::kWrench, written_by_physics(dds::qos::sensor_stream()));
     robot_state_.emplace(ctx.participant, protocol::robot::kState, written_by_physics(dds::qos::sensor_stream()));
     image_.emplace(ctx.participant, protocol::vision::kCameraImage);
+    camera_info_.emplace(ctx.participant, protocol::vision::kCameraInfo);
     twist_.emplace(ctx.participant, protocol::robot::kCmdTwist);
   }
 
@@ -113,9 +116,9 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
   if (config_.camera_enabled) {
     bool mujoco = false;
     try {
-      const sim::CameraScene scene = resize_camera(sim::load_camera_scene(config_.cell_file, config_.camera_id),
-                                                   config_.camera_width_px, config_.camera_height_px);
+      const sim::CameraScene scene = as_rendered(sim::load_camera_scene(config_.cell_file, config_.camera_id));
       const CameraRendererKind renderer = resolve_renderer(config_.camera_renderer, geometry, scene.camera);
+      camera_kind_ = renderer;
       mujoco = renderer == CameraRendererKind::kMujoco;
       if (mujoco && !ros2_image_) depth_.emplace(ctx.participant, protocol::vision::kCameraDepth);
       camera_ = std::make_unique<CameraWorker>(
@@ -134,6 +137,12 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
     publish_camera_info(camera_->camera());
     camera_text = std::to_string(camera_->camera().width_px) + "x" + std::to_string(camera_->camera().height_px) +
                   (mujoco ? " mujoco" : " raster");
+    if (!config_.camera_pose_error.isApprox(Eigen::Isometry3d::Identity())) {
+      const Eigen::Isometry3d& e = config_.camera_pose_error;
+      ctx.log->warn("camera is off its cell-file pose by {:.1f} mm and {:.2f} deg (camera/pose_error)",
+                    1000.0 * e.translation().norm(),
+                    Eigen::AngleAxisd(e.rotation()).angle() * 180.0 / 3.14159265358979323846);
+    }
     runner_->set_camera(camera_.get(), config_.camera_rate_hz.value_or(camera_->camera().rate_hz));
   }
 
@@ -179,6 +188,13 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
                 camera_text);
 }
 
+sim::CameraScene CellSimNode::as_rendered(sim::CameraScene scene) const {
+  scene = resize_camera(std::move(scene), config_.camera_width_px, config_.camera_height_px);
+  // Rendered from where the camera really is (camera/pose_error); what the file says stays the cell's.
+  scene.pose_world_camera = scene.pose_world_camera * config_.camera_pose_error;
+  return scene;
+}
+
 CellSimNode::~CellSimNode() {
   runner_->stop();
   ctx_.log->info("cell_sim stopped: arm stopped, crane stopped, Modbus server closed");
@@ -188,13 +204,18 @@ CellSimNode::~CellSimNode() {
 // the follower reports what the physics did, not what it was asked.
 cell_follower::Outcome CellSimNode::on_revision(const cell_follower::FollowedRevision& next) {
   const RevisionPlan plan =
-      plan_revision(cell::diff_cells(running_cell_, running_doc_, next.cell, next.document), next.cell);
+      plan_revision(cell::diff_cells(running_cell_, running_doc_, next.cell, next.document), running_cell_, next.cell);
   if (!plan.refusal.empty()) return cell_follower::Outcome::refuse(plan.refusal);
+  if (plan.rebuild) return rebuild(next, plan);
   if (plan.moves.empty()) return take(next);
-  ObjectMovesCommand command{plan.moves, std::make_shared<std::promise<std::string>>()};
+  ObjectMovesCommand command;
+  command.moves = plan.moves;
+  command.done = std::make_shared<std::promise<std::string>>();
+  const std::shared_ptr<CommandClaim> claim = command.claim;
   std::future<std::string> done = command.done->get_future();
   runner_->submit(std::move(command));
-  if (done.wait_for(std::chrono::seconds(2)) != std::future_status::ready)
+  // Once the physics thread has taken the moves it finishes them within its step: wait for that.
+  if (done.wait_for(std::chrono::seconds(2)) != std::future_status::ready && claim->withdraw())
     return cell_follower::Outcome::refuse("the physics thread did not apply the moves within 2 s");
   const std::string refusal = done.get();
   if (!refusal.empty()) return cell_follower::Outcome::refuse(refusal);
@@ -202,6 +223,78 @@ cell_follower::Outcome CellSimNode::on_revision(const cell_follower::FollowedRev
     const Eigen::Vector3d p = move.pose_world_object.translation();
     ctx_.log->info("object moved by cell revision {} id={} position_m=[{:.4f}, {:.4f}, {:.4f}]", next.revision, move.id,
                    p.x(), p.y(), p.z());
+  }
+  return take(next);
+}
+
+// Building the model (STEP models read, MuJoCo compiling, the camera's model copied) takes a while: it happens
+// here, on the event loop, while the physics runs on; the physics thread only swaps at its next step.
+cell_follower::Outcome CellSimNode::rebuild(const cell_follower::FollowedRevision& next, const RevisionPlan& plan) {
+  const auto build_start = SteadyClock::now();
+  ModelSwapCommand command;
+  std::string kept_out;  // objects the rasteriser does not draw
+  const auto camera_made = std::make_shared<std::promise<std::string>>();
+  std::future<std::string> camera_renderer = camera_made->get_future();
+  try {
+    command.geometry = sim::parse_cell_geometry(next.document.dump(), next.cell.source, next.model_dir);
+    command.physics = std::make_shared<sim::CellPhysics>(command.geometry, config_.physics);
+    if (camera_) {
+      const sim::CameraScene scene = as_rendered(sim::camera_scene_from(next.cell, config_.camera_id));
+      for (const sim::ObjectGeometry& object : command.geometry.objects) {
+        if (!object.box_size_m) kept_out += (kept_out.empty() ? "" : ", ") + object.id;
+      }
+      // Made on the camera thread before its next frame; what became of it comes back here.
+      command.camera_renderer =
+          [make =
+               renderer_factory(camera_kind_, config_, scene,
+                                camera_kind_ == CameraRendererKind::kMujoco ? command.physics->copy_model() : nullptr),
+           made = camera_made]() {
+            try {
+              std::unique_ptr<FrameRenderer> renderer = make();
+              made->set_value("");
+              return renderer;
+            } catch (const std::exception& e) {
+              made->set_value(e.what());
+              throw;
+            }
+          };
+    }
+  } catch (const std::exception& e) {
+    return cell_follower::Outcome::refuse(std::string("cell_sim cannot build the new cell's model: ") + e.what());
+  }
+  command.moves = plan.moves;
+  command.done = std::make_shared<std::promise<ModelSwapResult>>();
+  const std::shared_ptr<CommandClaim> claim = command.claim;
+  std::future<ModelSwapResult> done = command.done->get_future();
+  const auto build = SteadyClock::now() - build_start;
+  runner_->submit(std::move(command));
+  // Once the physics thread has taken the swap it finishes it within its step: wait for that.
+  if (done.wait_for(std::chrono::seconds(2)) != std::future_status::ready && claim->withdraw())
+    return cell_follower::Outcome::refuse("the physics thread did not swap the model within 2 s");
+  const ModelSwapResult result = done.get();
+  if (!result.refusal.empty()) return cell_follower::Outcome::refuse(result.refusal);
+  const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
+  ctx_.log->info("cell model built anew by cell revision {}: {} build_ms={:.1f} swap_step_ms={:.2f}", next.revision,
+                 plan.rebuild_reason, ms(build), ms(result.swap_step));
+  if (camera_) {
+    // The physics runs the new cell whatever the camera does; a camera left on the old model is said.
+    const auto camera_start = SteadyClock::now();
+    if (camera_renderer.wait_for(std::chrono::seconds(5)) != std::future_status::ready) {
+      ctx_.log->warn("camera renderer for cell revision {} not made within 5 s: the camera shows the old model",
+                     next.revision);
+    } else if (const std::string error = camera_renderer.get(); !error.empty()) {
+      ctx_.log->error("camera renderer for cell revision {} cannot be made: {}: the camera shows the old model",
+                      next.revision, error);
+    } else {
+      ctx_.log->info("camera renders cell revision {} ready_after_ms={:.1f}", next.revision,
+                     ms(SteadyClock::now() - camera_start));
+    }
+  }
+  if (camera_kind_ == CameraRendererKind::kRaster && !kept_out.empty()) {
+    ctx_.log->warn(
+        "camera renderer stays raster (chosen at start): it does not draw {}, given by STEP models; "
+        "set camera/renderer to \"mujoco\" to see them",
+        kept_out);
   }
   return take(next);
 }

@@ -57,6 +57,9 @@ class CellSimNode : public service::Node, private SimOutputs {
   void publish_ground_truth(const GroundTruth& truth, WallTime stamp) override;
   void publish_status(const StatusReport& status, WallTime stamp) override;
   void publish_control_result(const ControlResult& result, WallTime stamp) override;
+  /// The camera scene as configured (camera/width, height) and as the camera really is (camera/pose_error).
+  /// @throws std::invalid_argument for a size of another aspect ratio.
+  sim::CameraScene as_rendered(sim::CameraScene scene) const;
   /// What the camera thread renders: the image while a reader of it is matched, depth likewise.
   CameraDemand camera_demand() const;
   /// The grey image and (when the renderer makes one) the depth image of one frame, same stamp (camera thread).
@@ -76,6 +79,9 @@ class CellSimNode : public service::Node, private SimOutputs {
   void on_sim_control();
   /// A cell revision (rigger/world/cell): its moved free objects put at their new poses, or refused.
   cell_follower::Outcome on_revision(const cell_follower::FollowedRevision& next);
+  /// A revision that needs the model built anew: the physics (and the camera's renderer) built from it here,
+  /// swapped in by the physics thread, or refused.
+  cell_follower::Outcome rebuild(const cell_follower::FollowedRevision& next, const RevisionPlan& plan);
   /// The revision becomes the running cell.
   cell_follower::Outcome take(const cell_follower::FollowedRevision& next);
   void refuse_motion(const std::string& motion_id, const std::string& code, const std::string& message);
@@ -103,7 +109,10 @@ class CellSimNode : public service::Node, private SimOutputs {
   std::uint64_t ros2_twist_seq_ = 0;
   dds::Writer<rigger_robot_MotionStatus> motion_status_;
   dds::Writer<rigger_robot_GripperState> gripper_state_;
-  dds::Writer<rigger_vision_CameraInfo> camera_info_;
+  std::optional<dds::Writer<rigger_vision_CameraInfo>> camera_info_;  // on rigger's topics
+  std::optional<dds::Writer<sensor_msgs_msg_dds__CameraInfo_>> ros2_camera_info_;  // as a ROS 2 driver
+  rigger_vision_CameraInfo camera_info_wire_{};  // the camera's intrinsics; d borrows camera_info_d_
+  std::vector<double> camera_info_d_;
   dds::Writer<rigger_vision_TrackedPose> ground_truth_;
   dds::Writer<rigger_sim_SimEvent> sim_event_;
   dds::Writer<rigger_sim_SimStatus> sim_status_;
@@ -116,6 +125,8 @@ class CellSimNode : public service::Node, private SimOutputs {
 
   // Destroyed before the writers they publish through: first the runner (physics thread), then the camera.
   std::unique_ptr<CameraWorker> camera_;
+  /// The renderer chosen at start (`auto` resolved then): kept for the process' life, whatever the cell becomes.
+  CameraRendererKind camera_kind_ = CameraRendererKind::kRaster;
   std::unique_ptr<SimRunner> runner_;
   /// The cell the physics runs on (its file, then each revision taken) and its document: a revision is
   /// diffed against it, whatever revision it says it changes.

@@ -171,6 +171,12 @@ void CellSimNode::publish_ground_truth(const GroundTruth& truth, WallTime stamp)
     ground_truth_.write(w);
   };
   for (const ObjectTruth& object : truth.objects) publish(object.id.c_str(), object.pose_world_object);
+  // A removed object's instance is disposed: readers see it gone, not standing at its last pose.
+  for (const std::string& id : truth.removed) {
+    rigger_vision_TrackedPose w{};
+    w.object_id = const_cast<char*>(id.c_str());
+    ground_truth_.dispose(w);
+  }
 }
 
 void CellSimNode::publish_status(const StatusReport& s, WallTime stamp) {
@@ -258,26 +264,32 @@ void CellSimNode::publish_images(const CameraImages& images, WallTime stamp) {
   r.step_ = w.step;
   dds::wire_buffer(r.data_, image_mono8.data, image_mono8.total());
   ros2_image_->write(r);
+  // As a ROS 2 camera driver does: the intrinsics of this image, with its stamp and frame.
+  rigger_vision_CameraInfo info = camera_info_wire_;
+  info.header = w.header;
+  ros2_camera_info_->write(ros2::to_ros2(info));
 }
 
 void CellSimNode::publish_camera_info(const sim::CameraModel& camera) {
   // plumb_bob carries five coefficients; a cell file may give four (k3 = 0) or none.
-  std::vector<double> d = camera.distortion;
-  d.resize(5, 0.0);
-  rigger_vision_CameraInfo w{};
+  camera_info_d_ = camera.distortion;
+  camera_info_d_.resize(5, 0.0);
+  rigger_vision_CameraInfo& w = camera_info_wire_;
   w.header.stamp = dds::wire_now();
   w.header.frame_id = const_cast<char*>(config_.camera_id.c_str());
   w.height = static_cast<std::uint32_t>(camera.height_px);
   w.width = static_cast<std::uint32_t>(camera.width_px);
   w.distortion_model = const_cast<char*>("plumb_bob");
-  dds::wire_sequence(w.d, d);
+  w.d = {static_cast<std::uint32_t>(camera_info_d_.size()), static_cast<std::uint32_t>(camera_info_d_.size()),
+         camera_info_d_.data(), false};
   const double k[9] = {camera.fx_px, 0, camera.cx_px, 0, camera.fy_px, camera.cy_px, 0, 0, 1};
   const double r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
   const double p[12] = {camera.fx_px, 0, camera.cx_px, 0, 0, camera.fy_px, camera.cy_px, 0, 0, 0, 1, 0};
   std::copy(std::begin(k), std::end(k), std::begin(w.k));
   std::copy(std::begin(r), std::end(r), std::begin(w.r));
   std::copy(std::begin(p), std::end(p), std::begin(w.p));
-  camera_info_.write(w);
+  // On rigger's topics once (state QoS); as a ROS 2 driver with each image instead (publish_images).
+  if (camera_info_) camera_info_->write(w);
 }
 
 }  // namespace rigger::cell_sim

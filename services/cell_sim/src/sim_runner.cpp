@@ -81,7 +81,13 @@ SimRunner::SimRunner(CellSimConfig config, sim::CellGeometry geometry, SimOutput
   gripper_every_ = steps_per_period(config_.gripper_state_rate_hz, dt);
   truth_every_ = steps_per_period(config_.ground_truth_rate_hz, dt);
   status_every_ = steps_per_period(config_.status_rate_hz, dt);
+  index_truth({});
+}
+
+void SimRunner::index_truth(std::vector<std::string> removed) {
+  truth_.objects.clear();
   for (const std::string& id : physics_->object_bodies()) truth_.objects.push_back({id, Eigen::Isometry3d::Identity()});
+  truth_.removed = std::move(removed);
 }
 
 SimRunner::~SimRunner() {
@@ -165,6 +171,18 @@ void SimRunner::run() {
 
 void SimRunner::one_step(WallTime now) {
   drain_mailbox(now);
+  if (swap_done_) {
+    // The step that swapped is timed whole (what the pacing sees), and reported once done.
+    const std::shared_ptr<std::promise<ModelSwapResult>> done = std::move(swap_done_);
+    swap_done_.reset();
+    step_and_publish(now);
+    done->set_value({"", SteadyClock::now() - swap_started_});
+    return;
+  }
+  step_and_publish(now);
+}
+
+void SimRunner::step_and_publish(WallTime now) {
   if (twist_ && now >= twist_->expires) {
     // No fresh twist within its timeout: the arm stops.
     physics_->stop_robot();
@@ -190,6 +208,7 @@ void SimRunner::drain_mailbox(WallTime now) {
 
 void SimRunner::apply(const ObjectMovesCommand& command, WallTime now) {
   (void)now;
+  if (!command.claim->take()) return;  // its sender gave up waiting and reported it refused
   // All or nothing: a revision half applied would leave the physics on no revision at all.
   for (const ObjectMove& move : command.moves) {
     const sim::CommandResult allowed = physics_->can_move_free_object(move.id, move.pose_world_object);
@@ -200,6 +219,42 @@ void SimRunner::apply(const ObjectMovesCommand& command, WallTime now) {
   }
   for (const ObjectMove& move : command.moves) physics_->move_free_object(move.id, move.pose_world_object);
   command.done->set_value("");
+}
+
+std::string SimRunner::prepare_swap(const ModelSwapCommand& command) const {
+  if (twist_) return "a twist command drives the robot: the model is built anew only while the arm holds still";
+  if (motion_) return "motion " + motion_->motion_id + " runs: the model is built anew only while the arm holds still";
+  const sim::CommandResult continued = command.physics->continue_from(*physics_);
+  if (!continued.ok()) return continued.message;
+  for (const ObjectMove& move : command.moves) {
+    const sim::CommandResult moved = command.physics->move_free_object(move.id, move.pose_world_object);
+    if (!moved.ok()) return moved.message;
+  }
+  return "";
+}
+
+void SimRunner::apply(const ModelSwapCommand& command, WallTime now) {
+  (void)now;
+  if (!command.claim->take()) return;  // its sender gave up waiting and reported it refused
+  swap_started_ = SteadyClock::now();
+  const std::string refusal = prepare_swap(command);
+  if (!refusal.empty()) {
+    command.done->set_value({refusal, SteadyClock::now() - swap_started_});
+    return;
+  }
+  std::vector<std::string> removed;
+  const std::vector<std::string> kept = command.physics->object_bodies();
+  for (const ObjectTruth& object : truth_.objects) {
+    if (std::find(kept.begin(), kept.end(), object.id) == kept.end()) removed.push_back(object.id);
+  }
+  physics_ = command.physics;
+  axes_.attach(*physics_);
+  geometry_ = command.geometry;
+  index_truth(std::move(removed));
+  // Queued before the first snapshot of the new model is offered: the camera renders it with its renderer.
+  if (camera_ && command.camera_renderer) camera_->replace_renderer(command.camera_renderer);
+  last_gripper_published_valid_ = false;
+  swap_done_ = command.done;
 }
 
 void SimRunner::apply(const TwistCommand& command, WallTime now) {
@@ -403,6 +458,7 @@ void SimRunner::publish_due(WallTime now) {
   if (steps_ % truth_every_ == 0) {
     for (ObjectTruth& object : truth_.objects) object.pose_world_object = *physics_->pose_world_object(object.id);
     outputs_.publish_ground_truth(truth_, now);
+    truth_.removed.clear();
   }
   if (camera_ && steps_ % camera_every_ == 0) {
     // Every object (the rasteriser's boxes, the markers' faces: a renderer skips the ids it does not draw),

@@ -72,12 +72,54 @@ struct SimControlCommand {
 
 /// A cell revision's moved objects (plan_revision), applied together or not at all: `done` gets an empty
 /// string once every object is at its new pose, or which object could not be moved and why (nothing moved).
+/// Settles who has a command its sender waits for: the physics thread takes it when it comes to it, or the
+/// sender withdraws it when it gave up waiting. Exactly one of the two succeeds, so a command reported
+/// refused for a timeout is never applied afterwards, and one the physics took is waited for to its end.
+class CommandClaim {
+ public:
+  /// The physics thread: true when the command is still wanted (and now the physics thread's).
+  bool take() { return settle(kTaken); }
+  /// The sender: true when the physics thread had not taken it (it never will now).
+  bool withdraw() { return settle(kWithdrawn); }
+
+ private:
+  enum State : int { kPending, kTaken, kWithdrawn };
+  bool settle(State to) {
+    int expected = kPending;
+    return state_.compare_exchange_strong(expected, to);
+  }
+  std::atomic<int> state_{kPending};
+};
+
 struct ObjectMovesCommand {
   std::vector<ObjectMove> moves;
   std::shared_ptr<std::promise<std::string>> done;
+  std::shared_ptr<CommandClaim> claim = std::make_shared<CommandClaim>();
 };
 
-using SimCommand = std::variant<TwistCommand, MotionCommand, GripperCommand, SimControlCommand, ObjectMovesCommand>;
+/// What became of a ModelSwapCommand: empty `refusal` when the new model runs.
+struct ModelSwapResult {
+  std::string refusal;
+  /// Wall time the physics thread spent in the step that swapped (the swap and the step after it).
+  std::chrono::nanoseconds swap_step{0};
+};
+
+/// A cell revision that needs the model built anew (plan_revision's rebuild): `physics`, built from the new
+/// cell off the physics thread, replaces the running one between two steps, continuing its state
+/// (CellPhysics::continue_from), then `moves` are made on it; all or nothing. Refused while a motion or twist
+/// runs or stops, and for whatever continue_from or a move refuses. `camera_renderer` (optional) renders the
+/// new model from the first snapshot of it on.
+struct ModelSwapCommand {
+  std::shared_ptr<sim::CellPhysics> physics;
+  sim::CellGeometry geometry;
+  std::vector<ObjectMove> moves;
+  RendererFactory camera_renderer;
+  std::shared_ptr<std::promise<ModelSwapResult>> done;
+  std::shared_ptr<CommandClaim> claim = std::make_shared<CommandClaim>();
+};
+
+using SimCommand =
+    std::variant<TwistCommand, MotionCommand, GripperCommand, SimControlCommand, ObjectMovesCommand, ModelSwapCommand>;
 
 // ---- reports (outputs) -----------------------------------------------------------------------
 
@@ -111,6 +153,9 @@ struct ObjectTruth {
 /// True poses of every object of the cell, in the cell file's order (tests and benchmarks only).
 struct GroundTruth {
   std::vector<ObjectTruth> objects;
+  /// Objects the model no longer has since the last publication (a revision removed them): their
+  /// instances are disposed.
+  std::vector<std::string> removed;
 };
 
 /// The simulator's health, its PLC's registers and the crane's true state. Crane vectors in the
@@ -210,12 +255,17 @@ class SimRunner {
 
   void run();
   void one_step(WallTime now);
+  void step_and_publish(WallTime now);
   void drain_mailbox(WallTime now);
   void apply(const TwistCommand& command, WallTime now);
   void apply(const MotionCommand& command, WallTime now);
   void apply(const GripperCommand& command, WallTime now);
   void apply(const SimControlCommand& command, WallTime now);
   void apply(const ObjectMovesCommand& command, WallTime now);
+  void apply(const ModelSwapCommand& command, WallTime now);
+  /// Why `command` cannot be swapped in now (empty: it can), after continue_from and the moves on it.
+  std::string prepare_swap(const ModelSwapCommand& command) const;
+  void index_truth(std::vector<std::string> removed);
   void set_estop(bool pressed, WallTime now);
   void reset_physics(WallTime now);
   void track_motion(const sim::RobotState& robot, WallTime now);
@@ -231,7 +281,7 @@ class SimRunner {
   Logger log_;
 
   // Owned by the physics thread (or the caller of step_for_test while it does not run).
-  std::unique_ptr<sim::CellPhysics> physics_;
+  std::shared_ptr<sim::CellPhysics> physics_;  // shared: a swap hands it over in a copyable command
   PhysicsCraneAxes axes_;
   std::unique_ptr<plc::PlcEmulator> plc_;  // thread-safe itself
   sim::RealTimePacer pacer_;
@@ -255,6 +305,9 @@ class SimRunner {
   double measured_rate_ = 0.0;
   std::chrono::steady_clock::time_point last_lag_log_{};
   std::chrono::steady_clock::time_point last_refusal_log_{};
+  /// A swap in this step: its promise is kept once the step is done (with the step's wall time).
+  std::shared_ptr<std::promise<ModelSwapResult>> swap_done_;
+  std::chrono::steady_clock::time_point swap_started_{};
 
   mutable std::mutex mailbox_mutex_;
   std::vector<SimCommand> mailbox_;

@@ -103,6 +103,36 @@ TEST_F(CameraWorkerTest, RendersEachSnapshotWithItsStamp) {
   EXPECT_EQ(worker.frames(), 2u);
 }
 
+// A renderer that paints every frame one grey level.
+class FlatRenderer final : public FrameRenderer {
+ public:
+  explicit FlatRenderer(int grey) : grey_(grey) {}
+  void render(const CameraSnapshot&, const CameraDemand&, CameraImages& images) override {
+    images.image_mono8 = cv::Mat(4, 4, CV_8UC1, cv::Scalar(grey_));
+    images.depth_m.release();
+  }
+
+ private:
+  int grey_;
+};
+
+// The cell's model built anew: the renderer made for it draws the next frame; one that cannot be made leaves
+// the camera streaming with the old one.
+TEST_F(CameraWorkerTest, AReplacedRendererDrawsTheNextFrameAndOneThatCannotBeMadeLeavesTheOld) {
+  CameraWorker worker(
+      cell_scene().camera, [] { return std::make_unique<FlatRenderer>(10); }, recorder());
+  worker.offer(CameraSnapshot{});
+  ASSERT_TRUE(wait_frames(1));
+  worker.replace_renderer([] { return std::make_unique<FlatRenderer>(200); });
+  worker.offer(CameraSnapshot{});
+  ASSERT_TRUE(wait_frames(2));
+  worker.replace_renderer([]() -> std::unique_ptr<FrameRenderer> { throw std::invalid_argument("no such scene"); });
+  worker.offer(CameraSnapshot{});
+  ASSERT_TRUE(wait_frames(3));
+  const std::lock_guard<std::mutex> lock(mutex_);
+  EXPECT_EQ(means_, (std::vector<double>{10.0, 200.0, 200.0}));
+}
+
 TEST_F(CameraWorkerTest, ARendererThatCannotStartFailsTheConstruction) {
   const sim::CameraScene scene = cell_scene();
   const RendererFactory no_gl = []() -> std::unique_ptr<FrameRenderer> {

@@ -1,6 +1,7 @@
-// What cell_sim takes of a cell revision: moved objects become moves at their new world poses; a moved
-// device, an added, removed or reshaped object are refused with the reason. The changes are cell_sim's own
-// diff against the cell it runs on, whichever revision that is.
+// What cell_sim takes of a cell revision: moved objects become moves at their new world poses; added, removed
+// or reshaped objects and a moved static one have the model built anew; a moved or changed device and a
+// removed or reshaped crane load are refused with the reason. The changes are cell_sim's own diff against the
+// cell it runs on, whichever revision that is.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -20,7 +21,9 @@ const std::string kShipped = std::string(RIGGER_SOURCE_DIR) + "/deploy/cell/simu
 
 cell::CellFile shipped() { return cell::load_cell_file(kShipped); }
 
-RevisionPlan plan(const json& changes) { return plan_revision(changes, shipped()); }
+RevisionPlan plan(const json& changes) {
+  return plan_revision(changes, shipped(), shipped());
+}
 
 TEST(PlanRevision, AMovedObjectIsMovedToItsWorldPoseInTheRevision) {
   // The running cell is the shipped one with `part` elsewhere (e.g. cell_sim restarted on an older file).
@@ -32,7 +35,7 @@ TEST(PlanRevision, AMovedObjectIsMovedToItsWorldPoseInTheRevision) {
   }
   const cell::CellFile running = cell::cell_file_from_json(running_doc, "running");
   const cell::CellFile next = shipped();
-  const RevisionPlan p = plan_revision(cell::diff_cells(running, running_doc, next, next_doc), next);
+  const RevisionPlan p = plan_revision(cell::diff_cells(running, running_doc, next, next_doc), running, next);
   ASSERT_EQ(p.refusal, "");
   ASSERT_EQ(p.moves.size(), 1u);
   EXPECT_EQ(p.moves[0].id, "part");
@@ -43,13 +46,57 @@ TEST(PlanRevision, WhatThePhysicsDoesNotReadIsTakenWithoutMoves) {
   const RevisionPlan p = plan(json::parse(R"({"changed":[{"id":"part","keys":["localized","comment"]}]})"));
   EXPECT_EQ(p.refusal, "");
   EXPECT_TRUE(p.moves.empty());
+  EXPECT_FALSE(p.rebuild);
 }
 
-TEST(PlanRevision, RefusesWhatNeedsTheModelBuiltAnewOrAnotherBase) {
-  EXPECT_THAT(plan(json::parse(R"({"added":["part_b"],"removed":["part"]})")).refusal,
-              HasSubstr("it adds or removes part_b, part: cell_sim builds its model at start"));
-  EXPECT_THAT(plan(json::parse(R"({"changed":[{"id":"part","keys":["model"]}]})")).refusal,
-              HasSubstr("it changes model of part"));
+TEST(PlanRevision, AddedRemovedOrReshapedObjectsHaveTheModelBuiltAnew) {
+  std::ifstream in(kShipped, std::ios::binary);
+  json next_doc = json::parse(in);
+  next_doc["entities"].push_back(json::parse(R"({"id": "part_b", "kind": "object", "parent": "world",
+      "pose": {"position_m": [2.8, 1.4, 0.66], "rpy_deg": [0, 0, 0]},
+      "model": {"shape": "box", "size_m": [0.1, 0.1, 0.1], "mass_kg": 1.0, "frame": "box centre"}})"));
+  const RevisionPlan p = plan_revision(
+      json::parse(R"({"added":["part_b"],"removed":["part"],"changed":[{"id":"target","keys":["model","comment"]}]})"),
+      shipped(), cell::cell_file_from_json(next_doc, "next"));
+  EXPECT_EQ(p.refusal, "");
+  EXPECT_TRUE(p.rebuild);
+  EXPECT_EQ(p.rebuild_reason, "adds part_b; removes part; changes model of target");
+  EXPECT_TRUE(p.moves.empty());
+}
+
+TEST(PlanRevision, AMovedStaticObjectIsBuiltWhereItStandsAndAMovedFreeOneIsMovedAfter) {
+  const RevisionPlan p = plan(json::parse(
+      R"({"moved":[{"id":"part_fixture"},{"id":"part"}],"changed":[{"id":"part_fixture","keys":["model"]}]})"));
+  EXPECT_EQ(p.refusal, "");
+  EXPECT_TRUE(p.rebuild);
+  EXPECT_EQ(p.rebuild_reason, "changes model of part_fixture; moves the static part_fixture");
+  ASSERT_EQ(p.moves.size(), 1u);
+  EXPECT_EQ(p.moves[0].id, "part");
+}
+
+TEST(PlanRevision, RefusesWhatTouchesTheLoadOnTheRopeOrADevice) {
+  EXPECT_THAT(plan(json::parse(R"({"changed":[{"id":"load","keys":["model"]}]})")).refusal,
+              HasSubstr("it reshapes the crane's load load, which hangs from the rope"));
+  EXPECT_THAT(plan(json::parse(R"({"added":["camera"]})")).refusal,
+              HasSubstr("it adds the device or frame camera: cell_sim places devices at start"));
+  EXPECT_THAT(plan(json::parse(R"({"removed":["nothing"]})")).refusal,
+              HasSubstr("it removes the device or frame nothing"));
+  EXPECT_THAT(plan(json::parse(R"({"changed":[{"id":"crane","keys":["camera"]}]})")).refusal,
+              HasSubstr("it changes camera of the device or frame crane"));
+  // A cell whose rope hooks another object.
+  std::ifstream in(kShipped, std::ios::binary);
+  json next_doc = json::parse(in);
+  for (json& entity : next_doc["entities"]) {
+    if (entity["id"] == "part")
+      entity["features"]["rope_attachment"] = json::parse(R"({"position_m":[0,0,0.06],"rpy_deg":[0,0,0]})");
+    if (entity["id"] == "load") entity["features"].erase("rope_attachment");
+  }
+  const cell::CellFile next = cell::cell_file_from_json(next_doc, "next");
+  EXPECT_THAT(plan_revision(json::parse(R"({"changed":[{"id":"load","keys":["features"]}]})"), shipped(), next).refusal,
+              HasSubstr("it takes the crane's load load off the rope for part"));
+}
+
+TEST(PlanRevision, RefusesAMovedDeviceAndWhatItCannotRead) {
   EXPECT_THAT(plan(json::parse(R"({"moved":[{"id":"robot"}]})")).refusal,
               HasSubstr("it moves the device or frame robot"));
   EXPECT_THAT(plan(json::parse(R"({"moved":[{"id":"nothing"}]})")).refusal,

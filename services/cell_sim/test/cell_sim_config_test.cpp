@@ -81,6 +81,26 @@ TEST(CellSimConfig, ReadsEveryKey) {
   EXPECT_EQ(*c.camera_noise_stddev, 0.0);
 }
 
+TEST(CellSimConfig, AnImperfectCameraIsReadAndItsBoundsNamed) {
+  const CellSimConfig perfect = read_cell_sim_config(Config::empty());
+  EXPECT_TRUE(perfect.camera_pose_error.isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_FALSE(perfect.camera_depth_noise.any());
+  const CellSimConfig c = read_cell_sim_config(Config::parse(
+      R"({"camera": {"pose_error": {"position_m": [0.02, 0, 0], "rpy_deg": [0, 1.5, 0]},
+                     "depth_noise": {"stddev_at_1m_m": 0.0005, "grazing_deg": 75, "edge_gap_m": 0.02}}})",
+      "test.json"));
+  EXPECT_NEAR(c.camera_pose_error.translation().x(), 0.02, 1e-12);
+  EXPECT_NEAR(Eigen::AngleAxisd(c.camera_pose_error.rotation()).angle(), 1.5 * M_PI / 180.0, 1e-12);
+  EXPECT_DOUBLE_EQ(c.camera_depth_noise.stddev_at_1m_m, 0.0005);
+  EXPECT_DOUBLE_EQ(c.camera_depth_noise.grazing_deg, 75.0);
+  EXPECT_DOUBLE_EQ(c.camera_depth_noise.edge_gap_m, 0.02);
+  EXPECT_NE(error_of(R"({"camera": {"pose_error": {"position_m": [1, 0, 0]}}})").find("/camera/pose_error/position_m"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"camera": {"pose_error": {"rpy_deg": [0, 90, 0]}}})").find("within ±45"), std::string::npos);
+  EXPECT_NE(error_of(R"({"camera": {"depth_noise": {"grazing_deg": 90}}})").find("/camera/depth_noise/grazing_deg"),
+            std::string::npos);
+}
+
 TEST(CellSimConfig, BadValuesNameTheKeyAndTheExpectation) {
   EXPECT_NE(error_of(R"({"real_time_factor": -1})").find("/real_time_factor"), std::string::npos);
   EXPECT_NE(error_of(R"({"real_time_factor": 0.01})").find("0 (unpaced)"), std::string::npos);

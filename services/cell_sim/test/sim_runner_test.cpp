@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <condition_variable>
+#include <cstdio>
+#include <fstream>
+#include <functional>
 #include <future>
 #include <mutex>
 
@@ -62,6 +66,16 @@ class RecordingOutputs : public SimOutputs {
   std::vector<ControlResult> controls;
 };
 
+/// The latest ground truth's pose of `id` (a failure when it has none).
+Eigen::Isometry3d latest_truth(const RecordingOutputs& out, const std::string& id) {
+  if (!out.truths.empty()) {
+    for (const ObjectTruth& object : out.truths.back().objects)
+      if (object.id == id) return object.pose_world_object;
+  }
+  ADD_FAILURE() << "no ground truth of " << id;
+  return Eigen::Isometry3d::Identity();
+}
+
 CellSimConfig test_config() {
   CellSimConfig c = read_cell_sim_config(Config::parse(
       R"({"plc": {"port": 0, "link_up": false}, "camera": {"enabled": false}, "robot": {"gripper_state_rate_hz": 10}})",
@@ -107,14 +121,11 @@ class SimRunnerTest : public ::testing::Test {
 // A cell revision's moved objects: applied together, or none of them when one cannot be moved.
 TEST_F(SimRunnerTest, ACellRevisionsMovesAreAppliedTogetherOrNotAtAll) {
   runner_.step_for_test(200);
-  const auto truth_of = [&](const std::string& id) {
-    for (const ObjectTruth& object : out_.truths.back().objects)
-      if (object.id == id) return object.pose_world_object;
-    ADD_FAILURE() << "no ground truth of " << id;
-    return Eigen::Isometry3d::Identity();
-  };
+  const auto truth_of = [&](const std::string& id) { return latest_truth(out_, id); };
   const auto move = [&](std::vector<ObjectMove> moves) {
-    ObjectMovesCommand command{std::move(moves), std::make_shared<std::promise<std::string>>()};
+    ObjectMovesCommand command;
+    command.moves = std::move(moves);
+    command.done = std::make_shared<std::promise<std::string>>();
     std::future<std::string> done = command.done->get_future();
     runner_.submit(std::move(command));
     runner_.step_for_test(20);
@@ -133,6 +144,149 @@ TEST_F(SimRunnerTest, ACellRevisionsMovesAreAppliedTogetherOrNotAtAll) {
 
   EXPECT_EQ(move({{"part", moved}}), "");
   EXPECT_LT((truth_of("part").translation() - moved.translation()).norm(), 1e-3);
+
+  // Moves their sender withdrew (it gave up waiting and reported them refused) are never applied later.
+  ObjectMovesCommand late;
+  late.moves = {{"part", part}};
+  late.done = std::make_shared<std::promise<std::string>>();
+  std::future<std::string> late_done = late.done->get_future();
+  ASSERT_TRUE(late.claim->withdraw());
+  const std::shared_ptr<CommandClaim> claim = late.claim;
+  runner_.submit(std::move(late));
+  runner_.step_for_test(20);
+  EXPECT_THROW(late_done.get(), std::future_error) << "a withdrawn command was answered";  // dropped unanswered
+  EXPECT_FALSE(claim->take());
+  EXPECT_LT((truth_of("part").translation() - moved.translation()).norm(), 1e-3) << "a withdrawn move was applied";
+}
+
+// The shipped cell's document with `edit` applied, as the physics builds it (STEP models beside the file).
+sim::CellGeometry revised_geometry(const CellSimConfig& config, const std::function<void(nlohmann::json&)>& edit) {
+  std::ifstream in(config.cell_file, std::ios::binary);
+  nlohmann::json doc = nlohmann::json::parse(in);
+  edit(doc);
+  return sim::parse_cell_geometry(doc.dump(), config.cell_file.string(), config.cell_file.parent_path());
+}
+
+// Two objects on the part's table beside the part: a box, and one given by its STEP model alone (part.step,
+// the box centre its origin), turned a quarter round; each 1 mm above the table top (z 0.6 m).
+void add_two_objects(nlohmann::json& doc) {
+  doc["entities"].push_back(nlohmann::json::parse(R"({"id": "crate", "kind": "object", "parent": "world",
+      "pose": {"position_m": [2.77, 1.40, 0.651], "rpy_deg": [0, 0, 0]},
+      "model": {"shape": "box", "size_m": [0.1, 0.1, 0.1], "mass_kg": 2.0, "frame": "box centre"}})"));
+  doc["entities"].push_back(nlohmann::json::parse(R"({"id": "part_b", "kind": "object", "parent": "world",
+      "pose": {"position_m": [2.80, 1.60, 0.661], "rpy_deg": [0, 0, 90]},
+      "model": {"step": "models/part.step", "mass_kg": 3.0}})"));
+}
+
+std::vector<std::string> truth_ids(const GroundTruth& truth) {
+  std::vector<std::string> ids;
+  for (const ObjectTruth& object : truth.objects) ids.push_back(object.id);
+  return ids;
+}
+
+// A revision that adds a box and a STEP-only object, then one that removes the box: the model is built anew
+// and swapped in between two steps. The cell goes on as if nothing happened (checked against a twin runner
+// that never swaps, the load swinging on its rope): arm, crane and load where the twin has them; the new
+// objects come to rest where they were put.
+TEST_F(SimRunnerTest, AModelBuiltAnewContinuesTheCellAndRestsTheNewObjectsWherePut) {
+  RecordingOutputs twin_out;
+  SimRunner twin(config_, sim::load_cell_geometry(config_.cell_file), twin_out, null_logger());
+  for (SimRunner* runner : {&runner_, &twin}) {
+    SimControlCommand push = control(ControlKind::kSetLoadForce);
+    push.vector = {60.0, -40.0, 0.0};
+    runner->submit(push);
+    runner->step_for_test(300);
+    runner->submit(control(ControlKind::kSetLoadForce));  // zero: the load swings freely
+    runner->step_for_test(200);
+  }
+  const auto swap = [&](sim::CellGeometry geometry) {
+    ModelSwapCommand command;
+    command.physics = std::make_shared<sim::CellPhysics>(geometry, config_.physics);
+    command.geometry = std::move(geometry);
+    command.done = std::make_shared<std::promise<ModelSwapResult>>();
+    std::future<ModelSwapResult> done = command.done->get_future();
+    runner_.submit(std::move(command));
+    runner_.step_for_test(1);
+    EXPECT_EQ(done.wait_for(0s), std::future_status::ready) << "the physics thread did not answer";
+    return done.get();
+  };
+  const auto longest_step = [&](int steps) {
+    std::chrono::nanoseconds longest{0};
+    for (int i = 0; i < steps; ++i) {
+      const auto t0 = std::chrono::steady_clock::now();
+      runner_.step_for_test(1);
+      longest = std::max<std::chrono::nanoseconds>(longest, std::chrono::steady_clock::now() - t0);
+    }
+    return longest;
+  };
+  const std::chrono::nanoseconds before = longest_step(99);
+  twin.step_for_test(99);
+  const ModelSwapResult added = swap(revised_geometry(config_, add_two_objects));
+  ASSERT_EQ(added.refusal, "");
+  const std::chrono::nanoseconds after = longest_step(100);
+  twin.step_for_test(101);
+  const auto ms = [](std::chrono::nanoseconds d) { return std::chrono::duration<double, std::milli>(d).count(); };
+  std::printf("[ figures  ] longest step before the swap %.3f ms, the swap's step %.3f ms, longest after %.3f ms\n",
+              ms(before), ms(added.swap_step), ms(after));
+
+  // Nothing jumped: the same simulated time, arm, crane and swinging load as the twin's (to the solver's
+  // tolerance: the new objects' contacts share its iterations).
+  const StatusReport& s = out_.status.back();
+  const StatusReport& t = twin_out.status.back();
+  EXPECT_EQ(s.steps, t.steps);
+  EXPECT_DOUBLE_EQ(s.sim_time_s, t.sim_time_s);
+  EXPECT_LT((s.crane_position_m - t.crane_position_m).norm(), 1e-6);
+  EXPECT_GT(t.crane_sway_rad.norm(), 1e-3) << "the load should swing";
+  EXPECT_LT((s.crane_sway_rad - t.crane_sway_rad).norm(), 1e-6);
+  EXPECT_LT((out_.robot.back().state.position_rad - twin_out.robot.back().state.position_rad).norm(), 1e-6);
+  EXPECT_LT((out_.truths.back().objects[0].pose_world_object.translation() -
+             twin_out.truths.back().objects[0].pose_world_object.translation())
+                .norm(),
+            1e-5);
+  EXPECT_EQ(truth_ids(out_.truths.back()),
+            (std::vector<std::string>{"load", "target", "part_fixture", "part", "crate", "part_b"}));
+
+  // The new objects rest where they were put (1 mm above the table: they settle on it).
+  runner_.step_for_test(1000);
+  const auto truth_of = [&](const std::string& id) { return latest_truth(out_, id); };
+  EXPECT_LT((truth_of("crate").translation() - Eigen::Vector3d(2.77, 1.40, 0.65)).norm(), 1e-3);
+  EXPECT_LT((truth_of("part_b").translation() - Eigen::Vector3d(2.80, 1.60, 0.66)).norm(), 1e-3);
+
+  // Removed: gone from the ground truth, and named once for its readers to dispose.
+  const ModelSwapResult removed = swap(revised_geometry(config_, [](nlohmann::json& doc) {
+    add_two_objects(doc);
+    doc["entities"].erase(doc["entities"].end() - 2);  // the crate
+  }));
+  ASSERT_EQ(removed.refusal, "");
+  runner_.step_for_test(20);
+  EXPECT_EQ(truth_ids(out_.truths.back()),
+            (std::vector<std::string>{"load", "target", "part_fixture", "part", "part_b"}));
+  std::size_t disposals = 0;
+  for (const GroundTruth& truth : out_.truths)
+    disposals += std::count(truth.removed.begin(), truth.removed.end(), "crate");
+  EXPECT_EQ(disposals, 1u);
+  EXPECT_LT((truth_of("part_b").translation() - Eigen::Vector3d(2.80, 1.60, 0.66)).norm(), 1e-3);
+}
+
+// While the arm runs a motion the model is not swapped: refused with the reason, the cell unchanged.
+TEST_F(SimRunnerTest, AModelIsNotSwappedWhileTheArmMoves) {
+  MotionCommand move;
+  move.motion_id = "m1";
+  move.kind = MotionKind::kJoint;
+  move.joint_goal_rad = sim::ready_joint_positions();
+  move.joint_goal_rad[0] += 0.3;
+  runner_.submit(move);
+  runner_.step_for_test(50);
+  ModelSwapCommand command;
+  command.geometry = revised_geometry(config_, add_two_objects);
+  command.physics = std::make_shared<sim::CellPhysics>(command.geometry, config_.physics);
+  command.done = std::make_shared<std::promise<ModelSwapResult>>();
+  std::future<ModelSwapResult> done = command.done->get_future();
+  runner_.submit(std::move(command));
+  runner_.step_for_test(20);
+  ASSERT_EQ(done.wait_for(0s), std::future_status::ready);
+  EXPECT_EQ(done.get().refusal, "motion m1 runs: the model is built anew only while the arm holds still");
+  EXPECT_EQ(truth_ids(out_.truths.back()), (std::vector<std::string>{"load", "target", "part_fixture", "part"}));
 }
 
 TEST_F(SimRunnerTest, PublishesAtTheConfiguredRatesOfSimulatedTime) {

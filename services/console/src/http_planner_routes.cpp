@@ -4,10 +4,14 @@
 #include <memory>
 #include <string>
 
+// Eigen before httplib.h, whose system headers define names Eigen uses.
+#include "placement.hpp"
+
 #include <httplib.h>
 
 #include "http_api.hpp"
 #include "http_replies.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 namespace rigger::console {
 
@@ -72,6 +76,45 @@ void HttpApi::post_planner_frame(const httplib::Request& req, httplib::Response&
     send_json(res, {{"model", request.model}, {"model_sha256", framed.data.value("model_sha256", "")},
                     {"args", request.args}, {"frame", result.value("frame", json())},
                     {"pose", pose_from_cad_frame(result, request.entity)}});
+  } catch (const PlannerError& e) {
+    send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
+  }
+}
+
+// An object placed by picks: a face of it on a face of another object (both frames from the CAD service's
+// face rule), its new pose written into the running cell document, and that document as a revision in
+// two steps (the world model's dry run now, POST /api/confirm applies it).
+void HttpApi::post_planner_place(const httplib::Request& req, httplib::Response& res) {
+  auto user = who(req, res, Role::kProgrammer);
+  if (!user) return;
+  auto b = body(req, res);
+  if (!b) return;
+  try {
+    const PlaceRequest request = parse_place_request(*b);
+    const auto own = backend_.cad("frame", request.own.model, request.own.args.dump());
+    if (!own.ok) return send_cad_refusal(res, req, own.message, "");
+    const auto onto = backend_.cad("frame", request.onto.model, request.onto.args.dump());
+    if (!onto.ok) return send_cad_refusal(res, req, onto.message, "#/onto");
+    world_protocol::CellRequest show;
+    show.op = world_protocol::CellOp::kShow;
+    const auto running = backend_.cell_request(show);
+    if (!running.ok) return send_cell_answer(req, res, running);
+    const JsonParseResult running_cell = parse_json_bounded(
+        running.data.value("result", json::object()).value("cell_json", std::string("{}")), {16U * 1024U * 1024U, 64});
+    if (!running_cell.ok()) return send_error(res, 503, "the world model's running cell does not parse", req.path);
+    const json& cell = running_cell.value;
+    const Eigen::Isometry3d support_T_object =
+        placed_on(frame_from_cad(onto.data.value("result", json::object())),
+                  frame_from_cad(own.data.value("result", json::object())), request.turn_deg);
+    const json placed = cell_with_placement(cell, request.own.entity, request.onto.entity, support_T_object);
+    json pose = position_rpy(support_T_object);
+    pose["frame"] = request.onto.entity;
+    const std::string comment = request.comment.empty()
+                                    ? "place " + request.own.entity + " on " + request.onto.entity
+                                    : request.comment;
+    const json payload = {{"op", "apply"}, {"cell_json", to_text(placed)}, {"comment", comment}};
+    select_cell_revision(*user, payload, "place " + request.own.entity, req, res,
+                         {{"pose_on_support", pose}, {"object", request.own.entity}, {"support", request.onto.entity}});
   } catch (const PlannerError& e) {
     send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
   }

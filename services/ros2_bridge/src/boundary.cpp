@@ -1,7 +1,6 @@
 #include "boundary.hpp"
 
 #include <algorithm>
-
 #include <cmath>
 
 namespace rigger::ros2_bridge {
@@ -65,6 +64,43 @@ std::string_view image_verdict_name(ImageVerdict verdict) {
     case ImageVerdict::kLayout: return "layout";
   }
   return "unknown";
+}
+
+std::string_view camera_info_verdict_name(CameraInfoVerdict verdict) {
+  switch (verdict) {
+    case CameraInfoVerdict::kOk: return "ok";
+    case CameraInfoVerdict::kModel: return "distortion_model";
+    case CameraInfoVerdict::kCoefficients: return "coefficients";
+    case CameraInfoVerdict::kSize: return "size";
+    case CameraInfoVerdict::kNotFinite: return "not_finite";
+    case CameraInfoVerdict::kCropped: return "binned_or_cropped";
+  }
+  return "unknown";
+}
+
+CameraInfoVerdict check_camera_info(const CameraInfoFields& info) {
+  const bool undistorted = info.distortion_model.empty() && info.d_count == 0;
+  if (info.distortion_model != "plumb_bob" && !undistorted) return CameraInfoVerdict::kModel;
+  if (info.d_count != 0 && info.d_count != 4 && info.d_count != 5) return CameraInfoVerdict::kCoefficients;
+  if (info.width == 0 || info.height == 0 || info.width > kMaxImageSide || info.height > kMaxImageSide) {
+    return CameraInfoVerdict::kSize;
+  }
+  const auto finite = [](const double* v, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(v[i])) return false;
+    }
+    return true;
+  };
+  if (!finite(info.d, info.d_count) || !finite(info.k, 9) || !finite(info.p, 12) || !(info.k[0] > 0.0) ||
+      !(info.k[4] > 0.0)) {
+    return CameraInfoVerdict::kNotFinite;
+  }
+  const bool binned = info.binning_x > 1 || info.binning_y > 1;
+  const bool full_roi = info.roi_width == 0 || info.roi_height == 0 ||
+                        (info.roi_x == 0 && info.roi_y == 0 && info.roi_width == info.width &&
+                         info.roi_height == info.height);
+  if (binned || !full_roi) return CameraInfoVerdict::kCropped;
+  return CameraInfoVerdict::kOk;
 }
 
 ImageVerdict to_mono8(std::string_view encoding, std::uint32_t width, std::uint32_t height, std::uint32_t step,

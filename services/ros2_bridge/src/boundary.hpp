@@ -91,6 +91,34 @@ inline constexpr std::uint32_t kMaxImageSide = 16384;
 ImageVerdict to_mono8(std::string_view encoding, std::uint32_t width, std::uint32_t height, std::uint32_t step,
                       const std::uint8_t* data, std::size_t size, std::vector<std::uint8_t>& out);
 
+/// What a camera driver's sensor_msgs/CameraInfo must be for rigger to take it as rigger/camera/info.
+enum class CameraInfoVerdict {
+  kOk,
+  kModel,         ///< distortion_model is not plumb_bob (the one model rigger's camera model has)
+  kCoefficients,  ///< plumb_bob with other than 0, 4 or 5 coefficients (k1 k2 p1 p2 [k3])
+  kSize,          ///< width or height 0 or above kMaxImageSide
+  kNotFinite,     ///< a coefficient or matrix entry is NaN or infinite, or the focal lengths are not positive
+  kCropped,       ///< binned, or a region of interest other than the full image: rigger's images are full
+};
+std::string_view camera_info_verdict_name(CameraInfoVerdict verdict);
+
+/// The fields of a sensor_msgs/CameraInfo the check reads.
+struct CameraInfoFields {
+  std::string_view distortion_model;
+  const double* d = nullptr;
+  std::size_t d_count = 0;
+  const double* k = nullptr;  ///< 9, row-major
+  const double* p = nullptr;  ///< 12, row-major
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  std::uint32_t binning_x = 0;
+  std::uint32_t binning_y = 0;
+  std::uint32_t roi_x = 0, roi_y = 0, roi_width = 0, roi_height = 0;
+};
+/// Whether rigger can take these intrinsics: plumb_bob (an empty model with no coefficients counts as an
+/// undistorted plumb_bob), finite, positive focal lengths, unbinned, the full image.
+CameraInfoVerdict check_camera_info(const CameraInfoFields& info);
+
 /// Counts refusals and says when one may be logged: at most once per `interval`, reporting how many
 /// were refused since the last log line.
 class RefusalCounter {

@@ -48,7 +48,13 @@ struct TwistStream : Stream {
 
 /// A ROS 2 camera driver's sensor_msgs/Image → rigger/camera/image as 8-bit grey (boundary.hpp to_mono8).
 /// Defaults: sensor_data, max age 200 ms.
-struct ImageStream : Stream {};
+struct ImageStream : Stream {
+  /// The driver's sensor_msgs/CameraInfo beside the images (same QoS and age check) → rigger/camera/info,
+  /// written when it changes. As written in the file (empty: `camera_info` beside the image topic, as
+  /// image_transport places it), then resolved like the image topic.
+  std::string camera_info_ros_topic;
+  std::string camera_info_dds_topic;
+};
 
 /// A ROS 2 driver's sensor_msgs/JointState (joint_state_broadcaster: /joint_states) → rigger/robot/state,
 /// with the flange and tool poses and the tool twist computed from the arm's kinematics. Defaults:

@@ -213,8 +213,14 @@ const SettingsTable<BridgeConfig>& bridge_settings() {
     add_stream(t, "wrench", &S::wrench,
                stream_settings<WrenchStream>(Ros2Qos::kSensorData, 0.05, frame_override<WrenchStream>("wrenches")));
     add_stream(t, "twist_command", &S::twist, twist_settings());
-    add_stream(t, "image", &S::image,
-               stream_settings<ImageStream>(Ros2Qos::kSensorData, 0.2, frame_override<ImageStream>("images")));
+    std::vector<Setting<ImageStream>> image =
+        stream_settings<ImageStream>(Ros2Qos::kSensorData, 0.2, frame_override<ImageStream>("images"));
+    image.push_back(setting<ImageStream>(
+        "camera_info_topic", "", [](ImageStream& s, const std::string& v) { s.camera_info_ros_topic = v; },
+        "the driver's `sensor_msgs/CameraInfo` (same QoS and age check), bridged to `rigger/camera/info` when it "
+        "changes; empty: `camera_info` beside the image topic (image_transport's place). Refused unless "
+        "plumb_bob (or no model and no coefficients), finite, unbinned and of the full image"));
+    add_stream(t, "image", &S::image, std::move(image));
     add_stream(t, "joint_states", &S::joint_states, joint_states_settings());
     return t;
   }();

@@ -35,6 +35,11 @@ Ros2BridgeNode::Ros2BridgeNode(service::ServiceContext& ctx) : ctx_(ctx), config
     ctx.loop.on_data(*ros2_image_, [this] { on_ros2_image(); });
     ctx.log->info("bridging image from={} dds_topic={} qos={} to={} as mono8 max_age_s={}", i.ros_topic, i.dds_topic,
                   ros2_qos_name(i.qos), protocol::vision::kCameraImage.name, to_seconds(i.age.max_age));
+    rigger_camera_info_.emplace(ctx.participant, protocol::vision::kCameraInfo);
+    ros2_camera_info_.emplace(ctx.participant, i.camera_info_dds_topic, qos_of(i.qos));
+    ctx.loop.on_data(*ros2_camera_info_, [this] { on_ros2_camera_info(); });
+    ctx.log->info("bridging camera_info from={} dds_topic={} to={} when it changes", i.camera_info_ros_topic,
+                  i.camera_info_dds_topic, protocol::vision::kCameraInfo.name);
   }
   if (config_.wrench) {
     const WrenchStream& w = *config_.wrench;
@@ -97,10 +102,65 @@ void Ros2BridgeNode::on_ros2_image() {
   });
 }
 
+void Ros2BridgeNode::on_ros2_camera_info() {
+  const ImageStream& cfg = *config_.image;
+  ros2_camera_info_->take([&](const sensor_msgs_msg_dds__CameraInfo_& in, const dds_sample_info_t&) {
+    if (!fresh("camera_info", ros2::to_rigger(in.header_.stamp_), cfg.age)) return;
+    const auto d = dds::elements(in.d_);
+    CameraInfoFields fields;
+    fields.distortion_model = in.distortion_model_ == nullptr ? "" : in.distortion_model_;
+    fields.d = d.data();
+    fields.d_count = d.size();
+    fields.k = in.k_;
+    fields.p = in.p_;
+    fields.width = in.width_;
+    fields.height = in.height_;
+    fields.binning_x = in.binning_x_;
+    fields.binning_y = in.binning_y_;
+    fields.roi_x = in.roi_.x_offset_;
+    fields.roi_y = in.roi_.y_offset_;
+    fields.roi_width = in.roi_.width_;
+    fields.roi_height = in.roi_.height_;
+    const CameraInfoVerdict verdict = check_camera_info(fields);
+    if (verdict != CameraInfoVerdict::kOk) {
+      count("dropped", "camera_info", camera_info_verdict_name(verdict),
+            fmt::format("distortion_model={} coefficients={} width={} height={} binning={}x{}", fields.distortion_model,
+                        d.size(), in.width_, in.height_, in.binning_x_, in.binning_y_));
+      return;
+    }
+    rigger_vision_CameraInfo out = ros2::to_rigger(in);
+    if (!cfg.frame_id.empty()) out.header.frame_id = const_cast<char*>(cfg.frame_id.c_str());
+    std::vector<double> coefficients(d.begin(), d.end());
+    coefficients.resize(5, 0.0);  // rigger's plumb_bob: k1 k2 p1 p2 k3, k3 = 0 when left out
+    out.distortion_model = const_cast<char*>("plumb_bob");
+    out.d = {5, 5, coefficients.data(), false};
+    // A driver repeats its intrinsics with every image; rigger/camera/info is state: written when they change.
+    std::vector<std::uint8_t> key;
+    const auto add = [&key](const void* bytes, std::size_t n) {
+      key.insert(key.end(), static_cast<const std::uint8_t*>(bytes), static_cast<const std::uint8_t*>(bytes) + n);
+    };
+    const std::string frame = out.header.frame_id == nullptr ? "" : out.header.frame_id;
+    add(frame.data(), frame.size() + 1);
+    add(&out.width, sizeof out.width);
+    add(&out.height, sizeof out.height);
+    add(coefficients.data(), coefficients.size() * sizeof(double));
+    add(out.k, sizeof out.k);
+    add(out.r, sizeof out.r);
+    add(out.p, sizeof out.p);
+    if (key == last_camera_info_) return;
+    if (rigger_camera_info_->write(out) == DDS_RETCODE_OK) {
+      last_camera_info_ = std::move(key);
+      ++camera_info_forwarded_;
+    }
+  });
+}
+
 Ros2BridgeNode::~Ros2BridgeNode() {
   if (hold_timer_) send_zero_twist("bridge stopping");
-  ctx_.log->info("bridge stopped wrench_forwarded={} twist_forwarded={} image_forwarded={} state_forwarded={}",
-                 wrench_forwarded_, twist_forwarded_, image_forwarded_, state_forwarded_);
+  ctx_.log->info(
+      "bridge stopped wrench_forwarded={} twist_forwarded={} image_forwarded={} camera_info_forwarded={} "
+      "state_forwarded={}",
+      wrench_forwarded_, twist_forwarded_, image_forwarded_, camera_info_forwarded_, state_forwarded_);
 }
 
 bool Ros2BridgeNode::fresh(const std::string& stream, const rigger_geometry_Time& wire_stamp, const AgeLimits& limits) {

@@ -46,6 +46,7 @@ class Ros2BridgeNode : public service::Node {
   void on_ros2_wrench();
   void on_rigger_twist();
   void on_ros2_image();
+  void on_ros2_camera_info();
   void on_ros2_joint_states();
   void send_zero_twist(const std::string& why);
   void on_safe_stop(const safety::StopState& stop);
@@ -65,6 +66,10 @@ class Ros2BridgeNode : public service::Node {
   std::optional<dds::Writer<rigger_vision_Image>> rigger_image_;
   std::vector<std::uint8_t> grey_;  // the image being forwarded (its rows tight)
   std::uint64_t image_forwarded_ = 0;
+  std::optional<dds::Reader<sensor_msgs_msg_dds__CameraInfo_>> ros2_camera_info_;
+  std::optional<dds::Writer<rigger_vision_CameraInfo>> rigger_camera_info_;
+  std::vector<std::uint8_t> last_camera_info_;  // the intrinsics last written (their bytes, stamp left out)
+  std::uint64_t camera_info_forwarded_ = 0;
   std::optional<dds::Reader<sensor_msgs_msg_dds__JointState_>> ros2_joint_states_;
   std::optional<dds::Writer<rigger_robot_RobotState>> rigger_state_;
   std::optional<JointMap> joint_map_;

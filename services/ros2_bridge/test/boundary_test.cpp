@@ -1,6 +1,7 @@
 #include "boundary.hpp"
 
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -127,4 +128,43 @@ TEST(ToMono8, WhatCannotBeReadIsRefusedAndLeavesTheOutputAlone) {
 }
 
 }  // namespace
+TEST(CheckCameraInfo, TakesAFullPlumbBobCameraAndSaysWhyItRefusesAnyOther) {
+  const double d[5] = {-0.2, 0.05, 0.001, -0.001, 0.0};
+  const double k[9] = {1000, 0, 639.5, 0, 1000, 359.5, 0, 0, 1};
+  const double nan_k[9] = {std::nan(""), 0, 639.5, 0, 1000, 359.5, 0, 0, 1};
+  const double zero_f[9] = {0, 0, 639.5, 0, 1000, 359.5, 0, 0, 1};
+  const double p[12] = {1000, 0, 639.5, 0, 0, 1000, 359.5, 0, 0, 0, 1, 0};
+  const CameraInfoFields good{"plumb_bob", d, 5, k, p, 1280, 720};
+  // The verdict on the good camera changed by `change`.
+  const auto verdict = [&](const std::function<void(CameraInfoFields&)>& change) {
+    CameraInfoFields info = good;
+    change(info);
+    return check_camera_info(info);
+  };
+  EXPECT_EQ(verdict([](CameraInfoFields&) {}), CameraInfoVerdict::kOk);
+  EXPECT_EQ(verdict([](CameraInfoFields& i) { i.d_count = 4; }), CameraInfoVerdict::kOk);  // k3 left out
+  // An undistorted camera that names no model, with the full image as its region.
+  EXPECT_EQ(verdict([](CameraInfoFields& i) {
+              i.distortion_model = "";
+              i.d_count = 0;
+              i.roi_width = 1280;
+              i.roi_height = 720;
+            }),
+            CameraInfoVerdict::kOk);
+  EXPECT_EQ(verdict([](CameraInfoFields& i) { i.distortion_model = "rational_polynomial"; }),
+            CameraInfoVerdict::kModel);
+  EXPECT_EQ(verdict([](CameraInfoFields& i) { i.d_count = 3; }), CameraInfoVerdict::kCoefficients);
+  EXPECT_EQ(verdict([](CameraInfoFields& i) { i.width = 0; }), CameraInfoVerdict::kSize);
+  EXPECT_EQ(verdict([&](CameraInfoFields& i) { i.k = nan_k; }), CameraInfoVerdict::kNotFinite);
+  EXPECT_EQ(verdict([&](CameraInfoFields& i) { i.k = zero_f; }), CameraInfoVerdict::kNotFinite);
+  EXPECT_EQ(verdict([](CameraInfoFields& i) { i.binning_x = 2; }), CameraInfoVerdict::kCropped);
+  EXPECT_EQ(verdict([](CameraInfoFields& i) {
+              i.roi_x = 10;
+              i.roi_width = 640;
+              i.roi_height = 360;
+            }),
+            CameraInfoVerdict::kCropped);
+  EXPECT_EQ(camera_info_verdict_name(CameraInfoVerdict::kCropped), "binned_or_cropped");
+}
+
 }  // namespace rigger::ros2_bridge

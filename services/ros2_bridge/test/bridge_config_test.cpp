@@ -93,7 +93,21 @@ TEST(BridgeConfig, TheShippedSecurityGrantsNameTheShippedTopics) {
                 "ros2_bridge subscribe " + b.wrench->dds_topic, "ros2_bridge subscribe " + b.joint_states->dds_topic,
                 "ros2_driver publish " + b.joint_states->dds_topic, "ros2_bridge publish " + b.twist->dds_topic,
                 "ros2_bridge subscribe " + b.image->dds_topic, "ros2_driver publish " + b.wrench->dds_topic,
-                "ros2_driver subscribe " + b.twist->dds_topic, "ros2_driver publish " + b.image->dds_topic}));
+                "ros2_driver subscribe " + b.twist->dds_topic, "ros2_driver publish " + b.image->dds_topic,
+                "ros2_bridge subscribe " + b.image->camera_info_dds_topic,
+                "ros2_driver publish " + b.image->camera_info_dds_topic}));
+}
+
+TEST(BridgeConfig, TheCameraInfoSitsBesideTheImageUnlessNamed) {
+  const auto beside = read(R"({"image": {"topic": "/camera/image_raw"}})");
+  EXPECT_EQ(beside.image->camera_info_ros_topic, "/camera/camera_info");
+  EXPECT_EQ(beside.image->camera_info_dds_topic, "rt/camera/camera_info");
+  const auto relative = read(R"({"ros_namespace": "/cell1", "image": {"topic": "image_raw"}})");
+  EXPECT_EQ(relative.image->camera_info_ros_topic, "/cell1/camera_info");
+  const auto named = read(R"({"image": {"topic": "/cam/image", "camera_info_topic": "/cam/info"}})");
+  EXPECT_EQ(named.image->camera_info_dds_topic, "rt/cam/info");
+  EXPECT_THAT(error_of(R"({"image": {"topic": "/cam/image", "camera_info_topic": "/cam info"}})"),
+              HasSubstr("/image/camera_info_topic"));
 }
 
 TEST(BridgeConfig, QosIsChosenPerTopic) {

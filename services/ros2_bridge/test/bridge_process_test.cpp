@@ -170,6 +170,64 @@ TEST(Ros2BridgeImageTest, ARos2CameraImageArrivesAsGreyWithItsStampAndAStaleOneD
   cell.stop_all();
 }
 
+TEST(Ros2BridgeImageTest, TheDriversCameraInfoBecomesRiggersOnceAndARationalPolynomialOneDoesNot) {
+  Cell cell;
+  ASSERT_TRUE(start_shipped_bridge(cell)) << cell.logs();
+  dds::Writer<sensor_msgs_msg_dds__CameraInfo_> driver(cell.participant(), "rt/camera/camera_info",
+                                                       ros2::qos::sensor_data());
+  dds::Reader<rigger_vision_CameraInfo> infos(cell.participant(), protocol::vision::kCameraInfo);
+  ASSERT_TRUE(driver.wait_for_readers(1, 5s) && infos.wait_for_writers(1, 5s));
+  struct Got {
+    std::string model, frame;
+    std::vector<double> d;
+    double fx, cy;
+    std::uint32_t width;
+  };
+  std::vector<Got> got;
+  cell.loop().on_data(infos, [&] {
+    infos.take([&](const rigger_vision_CameraInfo& i, const dds_sample_info_t&) {
+      got.push_back({dds::to_string(i.distortion_model), dds::to_string(i.header.frame_id),
+                     dds::to_vector<double>(i.d), i.k[0], i.k[5], i.width});
+    });
+  });
+  std::vector<double> d4 = {-0.2, 0.05, 0.001, -0.001};  // k3 left out
+  std::vector<double> d8 = {0.1, 0.2, 0.0, 0.0, 0.3, 0.4, 0.5, 0.6};
+  const auto send = [&](const char* model, std::vector<double>& d, double fx) {
+    sensor_msgs_msg_dds__CameraInfo_ info{};
+    rigger_geometry_Header header{dds::to_wire(std::chrono::system_clock::now()), const_cast<char*>("camera_optical")};
+    info.header_ = ros2::to_ros2(header);
+    info.height_ = 720;
+    info.width_ = 1280;
+    info.distortion_model_ = const_cast<char*>(model);
+    info.d_ = {static_cast<std::uint32_t>(d.size()), static_cast<std::uint32_t>(d.size()), d.data(), false};
+    const double k[9] = {fx, 0, 639.5, 0, fx, 359.5, 0, 0, 1};
+    const double p[12] = {fx, 0, 639.5, 0, 0, fx, 359.5, 0, 0, 0, 1, 0};
+    std::copy(std::begin(k), std::end(k), std::begin(info.k_));
+    info.r_[0] = info.r_[4] = info.r_[8] = 1.0;
+    std::copy(std::begin(p), std::end(p), std::begin(info.p_));
+    return driver.write(info);
+  };
+  // A driver repeats its info with every image (best effort: repeated until one crossed); the rigger topic
+  // is state: it changes once. Then a model rigger's camera model does not have: refused, nothing written.
+  const auto timer = cell.loop().every(50ms, [&] {
+    send("plumb_bob", d4, 1000.0);
+    send("rational_polynomial", d8, 900.0);
+  });
+  const auto dropped_model = [&] {
+    return cell.process("ros2_bridge").log().find("dropped camera_info reason=distortion_model") != std::string::npos;
+  };
+  ASSERT_TRUE(cell.wait_until([&] { return !got.empty() && dropped_model(); }, 10s)) << cell.logs();
+  cell.loop().cancel(timer);
+  ASSERT_EQ(got.size(), 1u) << "rigger/camera/info is written when the intrinsics change, not with each image";
+  EXPECT_EQ(got[0].model, "plumb_bob");
+  EXPECT_EQ(got[0].d, (std::vector<double>{-0.2, 0.05, 0.001, -0.001, 0.0}));
+  EXPECT_EQ(got[0].fx, 1000.0);
+  EXPECT_EQ(got[0].cy, 359.5);
+  EXPECT_EQ(got[0].width, 1280u);
+  EXPECT_EQ(got[0].frame, "camera_optical");
+  cell.stop_all();
+}
+
 void expect_same(const rigger_geometry_Pose& got, const rigger_geometry_Pose& want, const char* what) {
   const double g[7] = {got.position.x,    got.position.y,    got.position.z,   got.orientation.x,
                        got.orientation.y, got.orientation.z, got.orientation.w};

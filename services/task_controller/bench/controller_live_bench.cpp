@@ -26,13 +26,24 @@
 //     main thread: one voluntary context switch per waitset wait that blocks) and all its threads
 //     (Cyclone's included), from voluntary_ctxt_switches in /proc/PID/task/TID/status.
 //
+//  3. The relay floor (relay_floor.cpp): after the controller, in the same cell, against the same executors
+//     and receipt traces, a relay that reads the event and writes the command it causes and does
+//     nothing else runs the same trials of A and B: p50 and p99 of rigger and of the relay, rigger / relay.
+//  4. With --tail: the slowest 1 % of B's hand-overs, each with every dispatch of the controller's loop
+//     near it (its stage trace's loop marks), and what overlapped the event's way in, counted.
+//
 //   build/bench/task_controller_live_bench [--trials 1000] [--period-ms 10] [--idle-seconds 60]
-//                                          [--ddsperf-seconds 10]
+//                                          [--ddsperf-seconds 10] [--tail]
+//
+// Exit 0 when every run paired all its trials (each cause its command: none lost), the controller's and
+// the relay's alike, and every task succeeded; the ratios are figures, not checks.
 //
 // The reaction's processes and measurement are in live_reaction.* (shared with test/bench's
 // bench_network_matrix, which runs them across two lab hosts and with DDS Security).
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -74,6 +85,12 @@ std::vector<double> cpu_share(rigger::testing::Cell& cell, const std::vector<pid
   });
 }
 
+double load_average() {
+  double one_minute = -1;
+  std::ifstream("/proc/loadavg") >> one_minute;
+  return one_minute;
+}
+
 int measure_idle(int seconds, rigger::performance::Report& report) {
   rigger::testing::Cell cell;
   const std::string dir = cell.log_dir();
@@ -95,7 +112,10 @@ int measure_idle(int seconds, rigger::performance::Report& report) {
     return 1;
   }
   Observer obs(cell);
-  if (!obs.recipes.wait_for_readers(1, 10s)) return 1;
+  if (!obs.recipes.wait_for_readers(1, 10s)) {
+    std::fprintf(stderr, "this process's recipe writer did not match the controller's reader within 10 s\n");
+    return 1;
+  }
   std::size_t starts = 0;
   dds::Reader<rigger_skill_SkillCommand> commands(cell.participant(), rigger::protocol::skill::kCommand,
                                                   dds::qos::all_commands());
@@ -128,7 +148,12 @@ int measure_idle(int seconds, rigger::performance::Report& report) {
   }
   row("1 running leaf", cpu_share(cell, pids, seconds));
   obs.cancel("one");
-  if (!cell.wait_until([&] { return state["one"] == rigger_task_TASK_CANCELED; }, 20s)) return 1;
+  if (!cell.wait_until([&] { return state["one"] == rigger_task_TASK_CANCELED; }, 20s)) {
+    // E.g. its executor stopped the skill on its own (CONTROLLER_LOST: the controller's liveliness lapsed
+    // on a loaded machine): the task then ended FAILED before the cancel.
+    std::fprintf(stderr, "task one did not end CANCELED (state %d)\n%s", state["one"], cell.logs().c_str());
+    return 1;
+  }
 
   json children = json::array({skill});
   for (int i = 0; i < 99; ++i)
@@ -159,6 +184,8 @@ int main(int argc, char** argv) {
   const int period_ms = std::max(1, int_option(argc, argv, "--period-ms", 10));
   const int idle_seconds = int_option(argc, argv, "--idle-seconds", 60);
   const int ddsperf_seconds = int_option(argc, argv, "--ddsperf-seconds", 10);
+  const bool tail =
+      std::find_if(argv + 1, argv + argc, [](const char* a) { return std::strcmp(a, "--tail") == 0; }) != argv + argc;
 
   // ddsperf at the rate the trials run (one per period plus the reaction, ~90 Hz at 10 ms), on the same
   // payload order (a SkillEvent is ~150 B). Half of its time before the reactions and half after, pooled:
@@ -182,10 +209,25 @@ int main(int argc, char** argv) {
     pool(listener, rigger::bench::run_ddsperf_pingpong(lease.id(), rate_hz, 128, half, false));
   };
   reference();
-  const Reaction failure = measure_reaction(Pattern::kMonitorFailure, "normal", trials, period_ms);
-  const Reaction success = measure_reaction(Pattern::kSuccessNext, "normal", trials, period_ms);
+  const double load_before = load_average();
+  rigger::bench::ReactionSetup with_relay;
+  with_relay.relay = true;
+  const Reaction failure = measure_reaction(Pattern::kMonitorFailure, "normal", trials, period_ms, with_relay);
+  if (tail) with_relay.tail_fraction = 0.01;
+  const Reaction success = measure_reaction(Pattern::kSuccessNext, "normal", trials, period_ms, with_relay);
   const Reaction full = measure_reaction(Pattern::kMonitorFailure, "full", std::max(1, trials / 5), period_ms);
+  const double load_after = load_average();
   if (!failure.ok || !success.ok || !full.ok) return 1;
+  // Every trial paired, the controller's and the relay's: A pairs each FAILURE, B each SUCCESS but the
+  // last of the task, with the command it caused; a lost command leaves its trial unpaired.
+  const std::size_t a_trials = static_cast<std::size_t>(trials), b_trials = 2 * std::max(1, trials / 2) - 1;
+  if (failure.command_received_us.size() != a_trials || failure.relay.command_received_us.size() != a_trials ||
+      success.command_received_us.size() != b_trials || success.relay.command_received_us.size() != b_trials) {
+    std::fprintf(stderr, "trials paired: A %zu and relay %zu of %zu, B %zu and relay %zu of %zu\n",
+                 failure.command_received_us.size(), failure.relay.command_received_us.size(), a_trials,
+                 success.command_received_us.size(), success.relay.command_received_us.size(), b_trials);
+    return 1;
+  }
   reference();
   if (waitset.count == 0 || listener.count == 0) {
     std::fprintf(stderr, "could not parse ddsperf output:\n%s\n%s\n", waitset.raw.c_str(), listener.raw.c_str());
@@ -234,12 +276,33 @@ int main(int argc, char** argv) {
   };
   ratios("A", failure);
   ratios("B", success);
+  std::printf(
+      "\nRigger next to the relay floor (relay_floor.cpp: the same hop, nothing else; same executors,\n"
+      "same receipt traces, right after the controller; load average %.2f before, %.2f after):\n",
+      load_before, load_after);
+  std::printf("%-44s %9s %9s %7s %9s %9s %7s\n", "", "rigger50", "relay50", "ratio", "rigger99", "relay99", "ratio");
+  const auto versus = [](const char* label, const std::vector<double>& rigger, const std::vector<double>& relay) {
+    const double r50 = percentile(rigger, 0.5), f50 = percentile(relay, 0.5);
+    const double r99 = percentile(rigger, 0.99), f99 = percentile(relay, 0.99);
+    std::printf("%-44s %9.1f %9.1f %6.2fx %9.1f %9.1f %6.2fx\n", label, r50, f50, r50 / std::max(1e-9, f50), r99, f99,
+                r99 / std::max(1e-9, f99));
+  };
+  versus("A SHUTDOWN received (2 hops + handling)", failure.command_received_us, failure.relay.command_received_us);
+  versus("A SHUTDOWN written (1 hop + handling)", failure.command_written_us, failure.relay.command_written_us);
+  versus("A event written -> woke (1 hop)", failure.to_woke_us, failure.relay.to_woke_us);
+  versus("B START received (2 hops + handling)", success.command_received_us, success.relay.command_received_us);
+  versus("B START written (1 hop + handling)", success.command_written_us, success.relay.command_written_us);
+  versus("B event written -> woke (1 hop)", success.to_woke_us, success.relay.to_woke_us);
+  print_row("relay A: woke -> SHUTDOWN write returned", failure.relay.handling_us);
+  print_row("relay B: woke -> START write returned", success.relay.handling_us);
+  if (tail) std::printf("\nB, journal normal. %s", success.tail.c_str());
 
   rigger::performance::Report report(
       "task_controller_live_bench",
       "Skill-event reaction of the task controller across three processes, " + std::to_string(trials) +
           " trials each, next to ddsperf's one-way latency (128 B, " + std::to_string(rate_hz) +
-          " Hz); idle CPU over " + std::to_string(idle_seconds) + " s per row next to an idle ddsperf pong");
+          " Hz) and to a bare relay floor (the same hop, nothing else); idle CPU over " + std::to_string(idle_seconds) +
+          " s per row next to an idle ddsperf pong");
   using rigger::bench::add_quantiles;
   using rigger::bench::quantiles;
   const auto floor = rigger::bench::one_way(waitset);
@@ -254,6 +317,16 @@ int main(int argc, char** argv) {
                 floor);
   add_quantiles(report, "B START written", quantiles(success.command_written_us), "us", one_way, floor);
   add_quantiles(report, "ddsperf listener one way", rigger::bench::one_way(listener), "us", one_way, floor);
+  add_quantiles(report, "A SHUTDOWN received, rigger", quantiles(failure.command_received_us), "us",
+                "A SHUTDOWN received, relay floor", quantiles(failure.relay.command_received_us));
+  add_quantiles(report, "A SHUTDOWN written, rigger", quantiles(failure.command_written_us), "us",
+                "A SHUTDOWN written, relay floor", quantiles(failure.relay.command_written_us));
+  add_quantiles(report, "B START received, rigger", quantiles(success.command_received_us), "us",
+                "B START received, relay floor", quantiles(success.relay.command_received_us));
+  add_quantiles(report, "B START written, rigger", quantiles(success.command_written_us), "us",
+                "B START written, relay floor", quantiles(success.relay.command_written_us));
+  report.add({"load average (1 min) before the reactions", load_before, "", "", 0});
+  report.add({"load average (1 min) after the reactions", load_after, "", "", 0});
   report.add({"A trials per s", failure.trials_per_s, "1/s", "", 0});
   report.add({"B trials per s", success.trials_per_s, "1/s", "", 0});
   const auto stage_figures = [&](const std::string& label, const Reaction& r) {

@@ -73,6 +73,22 @@ struct Reaction {
   /// START_SENT_AGAIN rows): 0 when no command was lost.
   std::size_t sent_again = 0;
   std::size_t stray_stopped = 0;  ///< STOPPED without a SHUTDOWN (only with ReactionSetup::allow_stray_stopped)
+  /// The relay floor's figures (ReactionSetup::relay): the same trials through bench/relay_floor.cpp, which
+  /// does the hop and nothing else, against the same executors and receipt traces, after the controller's.
+  struct Floor {
+    std::vector<double> command_written_us;   ///< event stamp → the relay's command stamp
+    std::vector<double> command_received_us;  ///< event stamp → the executor's command handler began
+    std::vector<double> to_woke_us;           ///< event stamp → the relay's waitset returned
+    std::vector<double> handling_us;          ///< the relay woke → its write returned (take, write)
+  } relay;
+  /// With ReactionSetup::tail_fraction: the slowest trials' timelines (the controller's stages, every
+  /// dispatch of its loop near them), then what overlapped the event's way in, counted over them.
+  std::string tail;
+  /// The controller's peak resident memory (VmHWM) and its resident memory at the end of the trials, KiB.
+  long controller_peak_kib = 0;
+  long controller_rss_kib = 0;
+  /// Nodes of the recipe as run.
+  int tree_nodes = 0;
   bool ok = false;
 };
 
@@ -90,6 +106,14 @@ struct ReactionSetup {
   /// lapsed on a loaded machine): more STOPPED than FAILURE then still gives the FAILURE -> SHUTDOWN
   /// figures, counts the extra ones and leaves stopped_written_us empty. false: such a run fails.
   bool allow_stray_stopped = false;
+  /// After the controller's trials, stop the controller and run the same trials through the relay floor
+  /// (Reaction::relay). Needs task_controller_relay_floor in the build's bin/.
+  bool relay = false;
+  /// > 0: Reaction::tail holds the timelines of this fraction of the trials, the slowest (0.01: 1 %).
+  double tail_fraction = 0;
+  /// > 0: the recipe has about this many nodes: Fallback[the pattern's tree, Sequence[leaves…]], the
+  /// leaves never started (the pattern's tree succeeds). How the cost grows with the tree.
+  int tree_nodes = 0;
 };
 
 /// Runs `trials` trials of `pattern`. The Cell (and so this process's participant) is made here, with

@@ -57,12 +57,17 @@ void Task::send_start(const bt::NodeSpec& spec, bt::Activation activation) {
 }
 
 void Task::arm_resend(const std::string& node_id, std::uint64_t start_seq, unsigned sent_again) {
+  if (auto r = resends_.find(node_id); r != resends_.end()) {
+    host_.loop().cancel(r->second);  // a START sent before (a fired id is ignored)
+    resends_.erase(r);
+  }
   if (sent_again >= kStartResends) return;
   TaskHost* host = &host_;
   const std::string task_id = id_;
-  host_.loop().after(host_.start_resend() * (1u << sent_again), [host, task_id, node_id, start_seq, sent_again] {
-    if (Task* t = host->find_task(task_id)) t->resend_start(node_id, start_seq, sent_again);
-  });
+  resends_[node_id] =
+      host_.loop().after(host_.start_resend() * (1u << sent_again), [host, task_id, node_id, start_seq, sent_again] {
+        if (Task* t = host->find_task(task_id)) t->resend_start(node_id, start_seq, sent_again);
+      });
 }
 
 const bt::NodeSpec* Task::unanswered_and_running(const std::string& node_id, std::uint64_t start_seq) const {

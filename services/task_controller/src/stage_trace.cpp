@@ -21,6 +21,10 @@ StageTrace::StageTrace(std::size_t capacity) : capacity_(capacity) {
   records_.reserve(capacity);
 }
 
+void StageTrace::mark(const char* what, char phase) {
+  if (marks_.size() < capacity_) marks_.push_back({ns_of(Clock::now()), what, phase});
+}
+
 void StageTrace::woke() {
   woke_ns_ = ns_of(Clock::now());
   woke_wall_ns_ = wall_ns();
@@ -59,7 +63,29 @@ bool StageTrace::write(const std::string& path) const {
     out << r.executor_id << '\t' << r.kind << '\t' << r.stamp_wall_ns << '\t' << r.woke_wall_ns << '\t' << r.woke_ns
         << '\t' << r.writing_ns << '\t' << r.command_ns << '\t' << r.engine_ns << '\t' << r.flushed_ns << '\n';
   out.flush();
-  return static_cast<bool>(out);
+  if (marks_.empty()) return static_cast<bool>(out);
+  std::ofstream loop(path + ".loop");
+  loop << "ns\twhat\tphase\n";
+  for (const auto& m : marks_) loop << m.ns << '\t' << m.what << '\t' << m.phase << '\n';
+  loop.flush();
+  return out && loop;
+}
+
+std::vector<LoopMark> StageTrace::read_marks(const std::string& path) {
+  std::vector<LoopMark> out;
+  std::ifstream in(path + ".loop");
+  std::string line;
+  if (!std::getline(in, line)) return out;  // the header
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    LoopMark m;
+    std::string ns;
+    if (std::getline(fields, ns, '\t') && std::getline(fields, m.what, '\t') && fields >> m.phase) {
+      m.ns = std::stoll(ns);
+      out.push_back(std::move(m));
+    }
+  }
+  return out;
 }
 
 std::vector<StageRecord> StageTrace::read(const std::string& path) {

@@ -30,6 +30,15 @@ struct StageRecord {
   std::int64_t flushed_ns = 0;     ///< its journal rows and node statuses were written
 };
 
+/// Something else the controller's loop did, near the events: its thread woke, a handler (of events,
+/// announcements, a timer, posted work) or a flush began or ended. For the tail of the reaction: what
+/// lands between an event and the command it causes.
+struct LoopMark {
+  std::int64_t ns = 0;  ///< steady clock, as StageRecord's
+  std::string what;     ///< e.g. "woke", "listener events", "timer", "flush"
+  char phase = '.';     ///< 'b' began, 'e' ended, '.' an instant
+};
+
 class StageTrace {
  public:
   using Clock = std::chrono::steady_clock;
@@ -50,15 +59,23 @@ class StageTrace {
   /// The queued side effects were written: every traced event not yet flushed was.
   void flushed();
 
+  /// Notes what the loop does now (LoopMark), up to the same capacity; `what` is short (no allocation).
+  void mark(const char* what, char phase);
+
   const std::vector<StageRecord>& records() const { return records_; }
-  /// Writes one tab-separated line per record (a header line first). Returns false on an I/O error.
+  const std::vector<LoopMark>& marks() const { return marks_; }
+  /// Writes one tab-separated line per record (a header line first) to `path`, and the loop marks, if
+  /// any, to `path` + ".loop". Returns false on an I/O error.
   bool write(const std::string& path) const;
   /// Reads a file written by write(); empty when it cannot be read.
   static std::vector<StageRecord> read(const std::string& path);
+  /// Reads the loop marks write() wrote beside `path`; empty when there are none.
+  static std::vector<LoopMark> read_marks(const std::string& path);
 
  private:
   std::size_t capacity_;
   std::vector<StageRecord> records_;
+  std::vector<LoopMark> marks_;
   std::size_t unflushed_ = 0;  ///< index of the first record not flushed yet
   bool open_ = false;          ///< between begin() and engine_done(), within capacity
   std::int64_t woke_ns_ = 0, woke_wall_ns_ = 0;

@@ -45,6 +45,7 @@ TaskControllerNode::TaskControllerNode(service::ServiceContext& ctx, const std::
   }
   world_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log,
                                                        "task_controller-" + ctx.options.id);
+  if (trace_) trace_loop(ctx.loop);
 
   ctx.loop.on_data(announcements_, [this] { on_announcements(); });
   // A lease expiry also shows as a NOT_ALIVE instance, but waking on the status makes sure we look.
@@ -138,6 +139,32 @@ void TaskControllerNode::task_finished(const std::string& id, int state, const s
   ctx_.loop.post([this, id] { forget_task(id); });
 }
 
+void TaskControllerNode::trace_loop(dds::EventLoop& loop) {
+  // Labels are string literals: a mark costs a clock read and a push_back into reserved memory.
+  using D = dds::EventLoop::Dispatch;
+  const dds_entity_t events = endpoint_.events().handle(), announcements = announcements_.handle();
+  loop.observe_dispatch([trace = trace_.get(), events, announcements](D what, dds_entity_t entity, bool begin) {
+    const char phase = begin ? 'b' : 'e';
+    const bool ours = entity == events;
+    switch (what) {
+      case D::kWoke:
+        return trace->mark("woke", '.');
+      case D::kListener:
+        return trace->mark(ours ? "listener events" : "listener other", phase);
+      case D::kPending:
+        return trace->mark(ours ? "pending events" : "pending other", phase);
+      case D::kData:
+        return trace->mark(entity == announcements ? "announcements" : "data other", phase);
+      case D::kStatus:
+        return trace->mark(entity == announcements ? "announcement status" : "status other", phase);
+      case D::kTimer:
+        return trace->mark("timer", phase);
+      case D::kPosted:
+        return trace->mark("posted", phase);
+    }
+  });
+}
+
 void TaskControllerNode::post_flush_if_idle() {
   // The first queued item schedules the flush; later ones ride along with it.
   if (flush_pending_) return;
@@ -156,6 +183,8 @@ void TaskControllerNode::flush_side_effects() {
   if (flush_timer_ != 0) ctx_.loop.cancel(flush_timer_);
   flush_timer_ = 0;
   flush_pending_ = false;
+  const bool traced = trace_ && (!status_backlog_.empty() || !journal_backlog_.empty());
+  if (traced) trace_->mark("flush", 'b');
   for (const auto& row : status_backlog_)
     if (!status_.node(row)) ctx_.log->error("node status write failed task={} node={}", row.task_id, row.node_id);
   status_backlog_.clear();
@@ -163,6 +192,7 @@ void TaskControllerNode::flush_side_effects() {
     ctx_.log->error("journal write failed: {} rows lost, first task={} kind={}: {}", journal_backlog_.size(),
                     journal_backlog_.front().task_id, journal_backlog_.front().kind, journal_.last_error());
   journal_backlog_.clear();
+  if (traced) trace_->mark("flush", 'e');
   if (trace_) trace_->flushed();
 }
 

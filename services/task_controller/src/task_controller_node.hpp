@@ -133,6 +133,8 @@ class TaskControllerNode : public service::Node, private TaskHost {
   /// queued item), and before anything that reads the journal or writes a task row.
   void flush_side_effects();
   void post_flush_if_idle();
+  /// Has the loop note each dispatch in the stage trace (its loop marks), naming the event reader's.
+  void trace_loop(dds::EventLoop& loop);
   void forget_task(const std::string& task_id);
 
   service::ServiceContext& ctx_;

@@ -51,6 +51,7 @@ Task::Task(TaskHost& host, recipe::ValidatedRecipe recipe, std::string id)
 Task::~Task() {
   for (const auto& [engine_timer, loop_timer] : timers_) host_.loop().cancel(loop_timer);
   for (const auto& [node_id, loop_timer] : unanswered_) host_.loop().cancel(loop_timer);
+  for (const auto& [node_id, loop_timer] : resends_) host_.loop().cancel(loop_timer);
   for (const auto& [node_id, held] : held_)
     if (held.deadline != 0) host_.loop().cancel(held.deadline);
 }
@@ -107,10 +108,15 @@ void Task::on_event(const ReceivedEvent& e) {
       return;
     case RunMatch::kCurrent: break;
   }
-  // Any event of the current run answers its START.
+  // Any event of the current run answers its START: neither its answer timer nor its resend wakes the
+  // loop later (one wake-up per START otherwise, start_resend_s after it, for nothing).
   if (auto u = unanswered_.find(e.node_id); u != unanswered_.end()) {
     host_.loop().cancel(u->second);
     unanswered_.erase(u);
+  }
+  if (auto r = resends_.find(e.node_id); r != resends_.end()) {
+    host_.loop().cancel(r->second);
+    resends_.erase(r);
   }
   if (outcome.kind == EventKind::kAccepted) {
     // Running needs no row (its events follow); a START that waits does: it explains the delay.

@@ -222,6 +222,7 @@ class Task : public bt::Port {
   std::vector<std::string> params_text_;  ///< indexed like engine_->spec().nodes; "" for non-leaves
   std::map<std::string, LeafRun> runs_;   ///< by node id: the last START sent
   std::map<std::string, dds::EventLoop::TimerId> unanswered_;  ///< by node id: STARTs not answered yet
+  std::map<std::string, dds::EventLoop::TimerId> resends_;     ///< by node id: their next resend (arm_resend)
   std::map<std::string, Held> held_;                           ///< by node id: STARTs not sent yet
   std::map<std::string, bt::Activation> paused_;               ///< by node id: leaves sent PAUSE, not RESUME
   std::map<std::string, ProgressRows> progress_rows_;          ///< by node id, for its current run

@@ -1,5 +1,5 @@
 // The stage trace: each stage once per event, in order; the first command counts; a flush covers every
-// event before it; the capacity bounds it; the file reads back as written.
+// event before it; the capacity bounds it; the file reads back as written, the loop marks beside it.
 
 #include "stage_trace.hpp"
 
@@ -94,6 +94,25 @@ TEST(StageTrace, ReadsBackWhatItWrote) {
   EXPECT_EQ(b.engine_ns, a.engine_ns);
   EXPECT_EQ(b.flushed_ns, a.flushed_ns);
   EXPECT_TRUE(StageTrace::read(path).empty());  // gone: nothing to read
+}
+
+TEST(StageTrace, LoopMarksReadBackBesideTheRecordsUpToCapacity) {
+  StageTrace t(2);
+  t.mark("woke", '.');
+  t.mark("flush", 'b');
+  t.mark("flush", 'e');  // over capacity: left out
+  ASSERT_EQ(t.marks().size(), 2U);
+  EXPECT_LE(t.marks()[0].ns, t.marks()[1].ns);
+  const std::string path = ::testing::TempDir() + "stage_trace_marks_" + std::to_string(::getpid()) + ".tsv";
+  ASSERT_TRUE(t.write(path));
+  const auto back = StageTrace::read_marks(path);
+  std::remove(path.c_str());
+  std::remove((path + ".loop").c_str());
+  ASSERT_EQ(back.size(), 2U);
+  EXPECT_EQ(back[1].ns, t.marks()[1].ns);
+  EXPECT_EQ(back[1].what, "flush");
+  EXPECT_EQ(back[1].phase, 'b');
+  EXPECT_TRUE(StageTrace::read_marks(path).empty());
 }
 
 }  // namespace

@@ -134,6 +134,12 @@ void WorldModelNode::on_updates() {
     const world_protocol::Update sent = world_protocol::from_wire(wire);
     const std::string& source = sent.source;
     const std::string& entity_id = sent.entity_id;
+    if (const world_protocol::UpdateResult* known = update_memory_.find(source, sent.seq)) {
+      // Sent again: its sender did not hear the result. Answered as before, not applied twice.
+      ctx_.log->debug("update repeated source={} seq={}: answered with its result", source, sent.seq);
+      send_update_result(*known);
+      return;
+    }
     auto decoded = decode_update(sent);
     if (auto* err = std::get_if<DecodeError>(&decoded)) {
       ctx_.log->warn("update refused source={} seq={} code={} reason={}", source, sent.seq, err->code, err->message);
@@ -238,6 +244,11 @@ void WorldModelNode::send_update_result(const std::string& source, std::uint64_t
                                         bool accepted, const std::string& code, const std::string& reason,
                                         std::uint64_t revision) {
   const world_protocol::UpdateResult r{source, seq, entity_id, accepted, code, reason, revision};
+  update_memory_.remember(r);
+  send_update_result(r);
+}
+
+void WorldModelNode::send_update_result(const world_protocol::UpdateResult& r) {
   rigger_world_UpdateResult wire{};
   world_protocol::to_wire(r, wire);
   update_results_.write(wire);

@@ -24,6 +24,7 @@
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/service/service.hpp"
 #include "rigger/world_model/settings.hpp"
+#include "update_memory.hpp"
 #include "wire_decoding.hpp"
 #include "world_answers.hpp"
 #include "world_persistence.hpp"
@@ -76,6 +77,8 @@ class WorldModelNode : public service::Node {
   void publish_change(const ChangeRecord& change);
   void send_update_result(const std::string& source, std::uint64_t seq, const std::string& entity_id, bool accepted,
                           const std::string& code, const std::string& reason, std::uint64_t revision);
+  /// Writes a result (one remembered for a repeated update as it is).
+  void send_update_result(const world_protocol::UpdateResult& result);
   void send_reply(const std::string& client_id, std::uint64_t request_id, const QueryAnswer& answer);
 
   service::ServiceContext& ctx_;
@@ -83,6 +86,7 @@ class WorldModelNode : public service::Node {
   WorldStore store_;
   std::optional<WorldDatabase> db_;
   std::map<std::string, std::uint64_t, std::less<>> revisions_;  // entity id -> revision of its last change
+  UpdateMemory update_memory_;  // results of the last updates, for senders that ask again
   dds::Writer<rigger_world_EntityState> entities_;
   dds::Writer<rigger_world_EntityChange> changes_;
   dds::Writer<rigger_world_UpdateResult> update_results_;

@@ -2,6 +2,7 @@
 // bounded) and prints its product tree and features, or the frame a pick rule makes. Offline: no DDS.
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -58,6 +59,30 @@ bool parse_numbers(const std::string& text, std::size_t count, std::vector<doubl
   return out.size() == count;
 }
 
+// The B-spline faces and edges classified as planes, cylinders, lines or circles, by type.
+void print_recognised(const cad::Features& features) {
+  std::map<std::string, std::vector<int>> faces, edges;
+  for (const auto& face : features.faces) {
+    if (face.recognised) faces[face.signature.type].push_back(face.index);
+  }
+  for (const auto& edge : features.edges) {
+    if (edge.recognised) edges[edge.signature.type].push_back(edge.index);
+  }
+  if (faces.empty() && edges.empty()) {
+    return;
+  }
+  std::printf("\nrecognised from B-spline (within 0.01 mm):\n");
+  for (const auto& [kind, by_type] : {std::pair{"face", &faces}, std::pair{"edge", &edges}}) {
+    for (const auto& [type, indices] : *by_type) {
+      std::printf("  %s %ss (%zu):", type.c_str(), kind, indices.size());
+      for (int index : indices) {
+        std::printf(" %d", index);
+      }
+      std::printf("\n");
+    }
+  }
+}
+
 int inspect(const CadArgs& args) {
   const cad::Model model = cad::read_step_file(args.file);
   const cad::Features features = cad::classify(model);
@@ -75,6 +100,7 @@ int inspect(const CadArgs& args) {
   for (const auto& [kind, count] : counts.items()) {
     std::printf("  %-18s %s\n", kind.c_str(), count.dump().c_str());
   }
+  print_recognised(features);
   if (!features.holes.empty()) {
     std::printf("\nholes (m):\n");
   }

@@ -1,11 +1,18 @@
-// `riggerctl cad` as a user runs it: the real binary on the cell's STEP files and on a bad file.
+// `riggerctl cad` as a user runs it: the real binary on the cell's STEP files, on a part written as B-splines
+// and on a bad file.
+
+#include "rigger/cad/model.hpp"
+#include "rigger/cad/parts.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
+#include <BRepBuilderAPI_NurbsConvert.hxx>
 
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -18,7 +25,8 @@ struct CtlRun {
 
 CtlRun riggerctl(const std::string& args) {
   const char* bin = std::getenv("RIGGER_BIN_DIR");
-  const std::string command = std::string(bin != nullptr ? bin : RIGGER_BINARY_DIR "/bin") + "/riggerctl " + args + " 2>&1";
+  const std::string command =
+      std::string(bin != nullptr ? bin : RIGGER_BINARY_DIR "/bin") + "/riggerctl " + args + " 2>&1";
   CtlRun run;
   FILE* pipe = ::popen(command.c_str(), "r");
   std::array<char, 4096> buffer{};
@@ -60,6 +68,26 @@ TEST(RiggerctlCad, FrameFromAHoleAndRefusalsWithReasons) {
   run = riggerctl("cad inspect /nonexistent.step");
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_NE(run.out.find("CAD_FILE_NOT_FOUND"), std::string::npos) << run.out;
+}
+
+// The plate written as B-splines only: inspect finds its holes and says which faces and edges it took
+// for planes, cylinders, lines and circles.
+TEST(RiggerctlCad, InspectSaysWhatWasRecognisedFromBspline) {
+  const std::string path =
+      std::filesystem::temp_directory_path() / ("riggerctl_bspline_" + std::to_string(::getpid()) + ".step");
+  rigger::cad::write_step(BRepBuilderAPI_NurbsConvert(rigger::cad::parts::plate(), true).Shape(), "plate", path);
+  CtlRun run = riggerctl("cad inspect --json " + path);
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const auto counts = nlohmann::json::parse(run.out)["counts"];
+  EXPECT_EQ(counts["holes"], rigger::cad::parts::plate_holes().size());
+  EXPECT_EQ(counts["faces_from_bspline"], counts["faces"]);
+  EXPECT_EQ(counts["cylindrical_faces"], 3);
+  EXPECT_EQ(counts["planar_faces"], 6);
+  run = riggerctl("cad inspect " + path);
+  EXPECT_NE(run.out.find("recognised from B-spline (within 0.01 mm):\n  cylinder faces (3):"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("  plane faces (6):"), std::string::npos) << run.out;
+  std::filesystem::remove(path);
 }
 
 }  // namespace

@@ -25,7 +25,8 @@ MujocoCamera::MujocoCamera(const mjModel& model, const CameraModel& camera, std:
     : model_(&model),
       camera_(camera),
       settings_(settings),
-      noise_(settings.noise_stddev.value_or(camera.noise_stddev), settings.seed) {
+      noise_(settings.noise_stddev.value_or(camera.noise_stddev), settings.seed),
+      depth_noise_(camera, settings.depth_noise, settings.seed + 1) {
   if (settings_.max_render_px < 16 || settings_.max_render_px > 16384) {
     throw std::invalid_argument("mujoco camera: max_render_px must be within 16..16384");
   }
@@ -173,6 +174,7 @@ RenderStatus MujocoCamera::render(mjData& data, const Eigen::Isometry3d& pose_wo
 
   if (depth) {
     lens_->remap_depth(render_depth_, depth_scale, frame.depth_m);
+    depth_noise_.apply(frame.depth_m);
   } else {
     frame.depth_m.release();
   }

@@ -83,6 +83,32 @@ void ArmController::reset(const JointVector& q_rad) {
   settling_ = false;
 }
 
+void ArmController::continue_from(const ArmController& other) {
+  limits_ = other.limits_;
+  cartesian_limits_ = other.cartesian_limits_;
+  rate_limits_ = other.rate_limits_;
+  twist_timeout_s_ = other.twist_timeout_s_;
+  q_ref_ = other.q_ref_;
+  qd_ref_ = other.qd_ref_;
+  qdd_ref_ = other.qdd_ref_;
+  mode_ = other.mode_;
+  motion_ = other.motion_;
+  last_motion_id_ = other.last_motion_id_;
+  pending_ = other.pending_;
+  goal_ = other.goal_;
+  profile_ = other.profile_;
+  profile_time_s_ = other.profile_time_s_;
+  joint_start_ = other.joint_start_;
+  tool_start_ = other.tool_start_;
+  tool_rotation_ = other.tool_rotation_;
+  path_end_time_s_ = other.path_end_time_s_;
+  settling_ = other.settling_;
+  settle_time_s_ = other.settle_time_s_;
+  twist_command_ = other.twist_command_;
+  twist_reference_ = other.twist_reference_;
+  twist_time_s_ = other.twist_time_s_;
+}
+
 IkResult ArmController::solve_ik(const Eigen::Isometry3d& goal_base_tool,
                                  const JointVector* seed) const {
   // The caller's seed (or the current reference) first, so that the nearest solution wins; then

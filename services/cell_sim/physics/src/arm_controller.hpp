@@ -20,6 +20,9 @@ class ArmController {
 
   /// Hold still at q.
   void reset(const JointVector& q_rad);
+  /// Takes over `other`'s state (reference, mode, motion and its numbering), for a model built anew with the
+  /// same arm; the kinematics stay this controller's.
+  void continue_from(const ArmController& other);
 
   CommandResult move_joints(const JointVector& goal_rad, double speed_fraction);
   CommandResult move_tool(const Eigen::Isometry3d& goal_base_tool, double speed_fraction);

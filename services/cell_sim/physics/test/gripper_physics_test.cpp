@@ -179,6 +179,31 @@ TEST(GripperPhysics, GripsAcrossASmallAirGapButNotWhenTilted) {
   EXPECT_EQ(tilted.gripper_state().phase, GripperPhase::Searching);
 }
 
+// A model built anew (a cell revision adding an object) does not take over while the magnet holds the load:
+// refused with the reason, the running physics untouched; once released, it does, the magnet still energized.
+TEST(GripperPhysics, AModelBuiltAnewDoesNotTakeOverWhileTheMagnetHolds) {
+  CellPhysics physics(reachable_cell());
+  grasp_load(physics);
+  const std::chrono::nanoseconds time = physics.sim_time();
+  CellPhysics rebuilt(reachable_cell());
+  const CommandResult held = rebuilt.continue_from(physics);
+  EXPECT_EQ(held.status, CommandStatus::RejectedHeld);
+  EXPECT_EQ(held.message, "the magnet holds something: the model is built anew only with it empty");
+  EXPECT_TRUE(physics.gripper_state().holding);
+  EXPECT_EQ(physics.sim_time(), time);
+  EXPECT_EQ(rebuilt.sim_time(), std::chrono::nanoseconds(0));
+
+  physics.set_gripper_energized(false);
+  physics.step(100ms);
+  ASSERT_FALSE(physics.gripper_state().holding);
+  physics.set_gripper_energized(true);
+  ASSERT_TRUE(rebuilt.continue_from(physics).ok());
+  EXPECT_EQ(rebuilt.sim_time(), physics.sim_time());
+  EXPECT_TRUE(rebuilt.gripper_state().energized);
+  EXPECT_LT((rebuilt.robot_state().position_rad - physics.robot_state().position_rad).norm(), 1e-12);
+  EXPECT_LT((rebuilt.pose_world_load().translation() - physics.pose_world_load().translation()).norm(), 1e-12);
+}
+
 TEST(GripperPhysics, DeEnergizingReleasesTheLoad) {
   CellPhysics physics(reachable_cell());
   grasp_load(physics);

@@ -21,7 +21,9 @@ std::string_view to_string(EntityKind kind);
 /// type: "plane", "cylinder", "cone", "sphere", "torus", "bspline", "other" (faces); "line", "circle",
 /// "other", "degenerate" (edges); "vertex". direction: a plane's outward normal, a cylinder's, cone's or
 /// circle's axis, a line's direction (axes and lines with a canonical sign: first non-zero component
-/// positive); zero when none. radius_m: cylinders, circles, spheres; 0 otherwise.
+/// positive); zero when none. radius_m: cylinders, circles, spheres; 0 otherwise. A B-spline or Bezier
+/// face or edge within 0.01 mm of a plane, cylinder, line or circle has that type (and `recognised`
+/// set), its direction and radius from the fitted shape: the signature of the analytic one.
 struct Signature {
   std::string type;
   Eigen::Vector3d centroid_m = Eigen::Vector3d::Zero();
@@ -50,6 +52,7 @@ struct FaceInfo {
   double angle_rad = 0.0;         ///< cylinders: angular span of the face
   double axial_min = 0.0, axial_max = 0.0;  ///< cylinders: extent along `signature.direction` from axis_point_m
   int solid = -1;                 ///< index of the solid holding the face (-1: none)
+  bool recognised = false;        ///< a B-spline or Bezier face taken for the plane or cylinder of its signature
 };
 
 struct EdgeInfo {
@@ -58,6 +61,7 @@ struct EdgeInfo {
   double length_m = 0.0;
   Eigen::Vector3d start_m = Eigen::Vector3d::Zero();  ///< first vertex (edge orientation)
   Eigen::Vector3d end_m = Eigen::Vector3d::Zero();
+  bool recognised = false;  ///< a B-spline or Bezier edge taken for the line or circle of its signature
 };
 
 struct VertexInfo {

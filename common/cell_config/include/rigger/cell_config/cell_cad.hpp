@@ -33,7 +33,8 @@ struct CadDerivation {
 ///   at ".../model/step" for a missing, unreadable or invalid STEP file; at the reference
 ///   (".../cad/face", ".../cad/x_edge", ".../cad/hole", ".../cad/target_face") for an index that does not
 ///   exist, a signature that no longer matches the model (CAD_STALE_REFERENCE: the model changed), or picks
-///   that make no frame.
+///   that make no frame; at ".../pose" for a static object given by its STEP model whose solid overlaps
+///   another static object (they may touch; sharing more than 1 cm³ is refused).
 CadDerivation derive_cad_features(CellFile& file, const std::filesystem::path& model_dir,
                                   const cad::ReadLimits& limits = {});
 

@@ -77,6 +77,17 @@ class EventLoop {
   /// Waits once for an event (at most `timeout`) and dispatches it. Returns false when stop() was called.
   bool run_once(std::chrono::nanoseconds timeout);
 
+  /// What the loop runs, for a trace of its work (observe_dispatch): its thread returned from waiting
+  /// (kWoke); an on_data / on_status handler; an on_data_now handler run by its listener (kListener) or,
+  /// the loop being busy then, by the loop thread (kPending); a timer; posted work.
+  enum class Dispatch { kWoke, kData, kStatus, kListener, kPending, kTimer, kPosted };
+  /// `entity`: the reader (kData, kListener, kPending) or the entity whose status changed (kStatus), else 0.
+  using DispatchObserver = std::function<void(Dispatch what, dds_entity_t entity, bool begin)>;
+  /// Calls `observer` before (begin) and after (!begin) every handler the loop runs, and once (begin) each
+  /// time its thread returns from waiting, always holding the dispatch lock, so calls never overlap.
+  /// Empty (the default): one test per dispatch. Set it before run(), on the loop's thread.
+  void observe_dispatch(DispatchObserver observer) { observer_ = std::move(observer); }
+
  private:
   struct Timer {
     Clock::time_point deadline;
@@ -87,6 +98,7 @@ class EventLoop {
     dds_entity_t entity;
     uint32_t status_mask;  // 0 for read conditions
     Handler handler;
+    dds_entity_t source;  // the reader of a read condition, else entity
   };
   struct Immediate {  // an on_data_now reader; the listener's argument
     EventLoop* loop = nullptr;
@@ -102,7 +114,8 @@ class EventLoop {
   bool run_once_locked(std::unique_lock<std::mutex>& lock, std::chrono::nanoseconds timeout);
 
   TimerId add_timer(Clock::time_point deadline, std::chrono::nanoseconds period, Handler handler);
-  void attach(dds_entity_t entity, uint32_t status_mask, Handler handler);
+  void attach(dds_entity_t entity, uint32_t status_mask, Handler handler, dds_entity_t source);
+  void dispatch(Dispatch what, dds_entity_t entity, const Handler& handler);
   void run_due_timers();
   void run_posted();
 
@@ -122,6 +135,7 @@ class EventLoop {
   Clock::time_point waiting_until_ = Clock::time_point::max();  // the loop's next wake-up (dispatch_)
   std::mutex posted_mutex_;
   std::vector<Handler> posted_;
+  DispatchObserver observer_;
 };
 
 }  // namespace rigger::dds

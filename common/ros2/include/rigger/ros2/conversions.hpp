@@ -43,4 +43,11 @@ sensor_msgs_msg_dds__JointState_ to_ros2_joint_state(const rigger_geometry_Heade
                                                      std::vector<double>& position, std::vector<double>& velocity,
                                                      std::vector<double>& effort);
 
+/// A camera driver's intrinsics as rigger's camera info (binning and region of interest are not carried:
+/// rigger's images are full and unbinned; the caller checks them). Borrows frame_id, distortion_model and
+/// the coefficients.
+rigger_vision_CameraInfo to_rigger(const sensor_msgs_msg_dds__CameraInfo_& c);
+/// With no binning and the full image as region of interest. Borrows as to_rigger.
+sensor_msgs_msg_dds__CameraInfo_ to_ros2(const rigger_vision_CameraInfo& c);
+
 }  // namespace rigger::ros2

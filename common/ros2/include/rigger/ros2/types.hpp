@@ -17,5 +17,6 @@ RIGGER_IDL_TYPE(geometry_msgs_msg_dds__TwistStamped_)
 RIGGER_IDL_TYPE(geometry_msgs_msg_dds__WrenchStamped_)
 RIGGER_IDL_TYPE(sensor_msgs_msg_dds__JointState_)
 RIGGER_IDL_TYPE(sensor_msgs_msg_dds__Image_)
+RIGGER_IDL_TYPE(sensor_msgs_msg_dds__CameraInfo_)
 
 }  // namespace rigger::idl

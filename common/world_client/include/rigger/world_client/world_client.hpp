@@ -6,9 +6,10 @@
 /// one callback: the world model's answer, or ok=false with code "WORLD_UNREACHABLE" after the
 /// timeout. A request made before a world model is matched waits for the match within that timeout
 /// (discovery may be a round behind a service that has just started; checked every 20 ms on the
-/// owner's EventLoop) and then says no world model was matched on its topic. A query unanswered after
-/// kQueryResend is asked again (a read; its reply may have been written before the world model had
-/// discovered this client); updates are sent once.
+/// owner's EventLoop) and then says no world model was matched on its topic. A request unanswered after
+/// kQueryResend is sent again (its answer may have been written before the world model had discovered
+/// this client): a query is a read, and an update keeps its seq, by which the world model answers a
+/// repeat with the result it had instead of applying it twice.
 ///
 /// Thread safety: none. Construct, call and destroy on the owner's EventLoop thread (or before run());
 /// callbacks run on that thread, never inside a call. The client must be destroyed before its loop.
@@ -35,7 +36,7 @@ namespace rigger::world_client {
 
 /// Code of a reply synthesised by the client: no world model answered in time (or none is matched).
 inline constexpr const char* kUnreachable = "WORLD_UNREACHABLE";
-/// How long a query waits for its answer before it is asked again.
+/// How long a query or update waits for its answer before it is sent again.
 inline constexpr std::chrono::milliseconds kQueryResend{500};
 /// Code of a reply synthesised by the client: the world model's result_json did not parse.
 inline constexpr const char* kBadReply = "BAD_REPLY";

@@ -15,6 +15,8 @@ import { PartsView } from '../planner_view.js';
 import { FeaturePicker } from '../planner_features.js';
 import { recipeFields } from '../planner_recipe.js';
 import { RehearsalView } from '../rehearsal.js';
+import { Effort } from './effort.js';
+import { PlacePanel } from './place.js';
 import { confirmCommand, rehearsalCell, rehearseRecipe, skillLibrary, submitRecipe, validateRecipe } from './api.js';
 import { Bindings } from './bindings.js';
 import { NodeForm } from './form.js';
@@ -49,6 +51,9 @@ export function plannerPage(main, me) {
   const resourcesBox = el('div', { id: 'planner-resources' });
   const notice = el('p', { id: 'planner-notice', role: 'status', 'aria-live': 'polite' });
   const say = (text, bad = false) => { notice.textContent = text; notice.className = bad ? 'error' : ''; };
+  const effortLine = el('p', { id: 'planner-effort', class: 'muted small' });
+  const effort = new Effort(main, (e) => { effortLine.textContent = e.text(); });
+  effortLine.textContent = effort.text();
   const addSelect = el('select', { id: 'planner-add-kind', 'aria-label': 'Node to add' });
   const taskId = el('input', { type: 'text', id: 'planner-task-id', 'aria-label': 'Task id', value: state.doc.task_id,
     oninput: () => { tree.set('/task_id', taskId.value); changed(false); } });
@@ -63,6 +68,7 @@ export function plannerPage(main, me) {
   const openFile = el('input', { type: 'file', id: 'planner-open', accept: '.json,application/json', 'aria-label': 'Open a recipe',
     onchange: async () => { if (openFile.files[0]) open(await openFile.files[0].text()); } });
   const viewBox = el('div', { class: 'pview' });
+  const placeBox = el('div', { id: 'planner-place-box' });
   const partsList = el('ul', { class: 'picks', id: 'planner-parts', 'aria-label': 'Parts of the cell' });
   const recipeRow = recipeFields(state, changed);
   const undoButton = el('button', { id: 'planner-undo', title: 'Ctrl+Z', onclick: () => undo() }, 'Undo');
@@ -77,13 +83,14 @@ export function plannerPage(main, me) {
       el('button', { id: 'planner-publish', class: 'primary', onclick: () => publish() }, 'Publish…'),
       el('label', {}, 'Open ', openFile)),
     recipeRow.row,
+    effortLine,
     notice,
     el('div', { class: 'planner' },
       el('section', { class: 'panel', 'aria-labelledby': 'pv' }, el('h2', { id: 'pv' }, 'Parts'),
         el('div', { class: 'toolbar' }, el('button', { id: 'planner-clear-picks', onclick: () => bindings.clearPicks() }, 'Clear picks')),
         viewBox,
         el('details', { open: true }, el('summary', {}, 'Parts of the cell (show, frame)'), partsList),
-        el('h2', {}, 'Picked'), picksList,
+        el('h2', {}, 'Picked'), picksList, placeBox,
         el('details', {}, el('summary', {}, 'Holes of the models (click to pick)'), holesList)),
       el('section', { class: 'panel', 'aria-labelledby': 'pt' }, el('h2', { id: 'pt' }, 'Tree'),
         el('div', { class: 'toolbar' }, addSelect,
@@ -123,6 +130,9 @@ export function plannerPage(main, me) {
   const bindings = new Bindings({ state, tree, view, form, picksList, holesList, say, changed,
     settle: () => history.settle(), validate });
   form.bindings = bindings;
+  const place = new PlacePanel({ state, say, clearPicks: () => bindings.clearPicks() });
+  bindings.onPicks = () => place.refresh();
+  placeBox.replaceChildren(place.root);
 
   // --- the library ---
   async function loadLibrary() {
@@ -320,7 +330,7 @@ export function plannerPage(main, me) {
 
   // Test hook: state, and screen positions of model points (to click holes like a person would).
   window.rigger.planner = {
-    state, view, history, validate, features, rehearsal,
+    state, view, history, validate, features, rehearsal, effort,
     screenOf: (entity, point) => view.screenOf(entity, point),
     holes: (entity) => view.parts.get(entity)?.features.holes || [],
   };
@@ -356,6 +366,6 @@ export function plannerPage(main, me) {
   });
   return () => {
     clearTimeout(timer); history.close(); clearTimeout(libraryTimer); offLibrary(); offKeys();
-    rehearsal.close(); offRevision(); delete window.rigger.planner;
+    rehearsal.close(); offRevision(); effort.close(); delete window.rigger.planner;
   };
 }

@@ -21,3 +21,18 @@ export function frameFromPicks(picks) {
   if (faces.length === 1 && picks.length === 1) return { model, rule: 'face', face: faces[0].ref, point_m: faces[0].point_m, summary: `face ${faces[0].face} at the picked point` };
   return { error: `${picks.length} picks (${picks.map((p) => p.kind).join(', ')}): pick a point (a vertex or a face) and two perpendicular edges, or one face, or one hole` };
 }
+
+/// The placement two face picks make (POST /api/planner/place): the first pick's part, that face at the
+/// picked point, laid on the second pick's face at its point (normals opposite), as the request's fields
+/// with a `summary`; or {error} saying what to pick.
+export function placeFromPicks(picks) {
+  const what = 'pick a face of the part to place, then the face to place it on (of another part)';
+  if (picks.length !== 2 || picks.some((p) => p.kind !== 'face')) return { error: `to place: ${what}` };
+  const [own, onto] = picks;
+  if (own.entity === onto.entity) return { error: `to place: both faces are of ${own.entity}; ${what}` };
+  return {
+    model: `object:${own.entity}`, face: own.ref, point_m: own.point_m,
+    onto: { model: `object:${onto.entity}`, face: onto.ref, point_m: onto.point_m },
+    summary: `${own.entity} (face ${own.face}) on ${onto.entity} (face ${onto.face})`,
+  };
+}

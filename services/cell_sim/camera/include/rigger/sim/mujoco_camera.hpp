@@ -24,6 +24,7 @@
 
 #include "rigger/sim/camera_renderer.hpp"
 #include "rigger/sim/camera_scene.hpp"
+#include "rigger/sim/depth_noise.hpp"
 #include "rigger/sim/egl_context.hpp"
 #include "rigger/sim/pixel_noise.hpp"
 
@@ -47,6 +48,8 @@ struct MujocoCameraSettings {
   std::uint64_t seed = 1;
   /// Largest side of the intermediate pinhole render, pixels (its focal length is lowered to fit).
   int max_render_px = 4096;
+  /// What a structured-light sensor does to the depth image (none by default: the perfect depth).
+  DepthNoiseSettings depth_noise;
 };
 
 /// One rendered frame.
@@ -122,6 +125,7 @@ class MujocoCamera {
   cv::Mat render_grey_;
   cv::Mat clean_mono8_;  // the last grey image at the camera's size, before the noise
   PixelNoise noise_;
+  DepthNoise depth_noise_;
 };
 
 }  // namespace rigger::sim

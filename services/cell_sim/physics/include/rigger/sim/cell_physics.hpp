@@ -204,6 +204,19 @@ class CellPhysics {
   /// What move_free_object would answer, changing nothing.
   [[nodiscard]] CommandResult can_move_free_object(std::string_view id, const Eigen::Isometry3d& pose_world_object) const;
 
+  // ---- a model built anew (a revision that adds, removes or reshapes objects) -----------------
+  /// Continues the cell where `running` (its physics until now, built from the cell before) stands, so that
+  /// this physics, built from the new cell, can replace it between two steps: simulated time, every joint
+  /// both models have by name (arm, crane axes, sway, rope, load swivel, each persisting free object: position
+  /// and velocity), the crane's drives, rope and load cell, the arm's controller, the gripper's state and
+  /// holding force, injected forces, the wrist sensor's last reading and noise, MuJoCo's warning counts.
+  /// Objects only this model has stay at their pose of the new cell, at rest; static objects are where the
+  /// new cell puts them. Refused, changing nothing here or in `running`: while the arm moves or brakes (not
+  /// holding still), while the magnet holds something, when the crane's load is another object, or when the
+  /// robot's base or the crane stands elsewhere (RejectedHeld, RejectedOutOfRange). Call on the thread that
+  /// steps `running`; `running` is left as it was (the caller drops it).
+  CommandResult continue_from(const CellPhysics& running);
+
   // ---- rendering -------------------------------------------------------------------------
   /// A copy of the compiled model (mj_copyModel) for a renderer on another thread: it shares
   /// nothing with the physics, so the renderer needs no lock, only a KinematicState per frame.
