@@ -1,19 +1,27 @@
 // Rehearse with no rehearsal cell running: the console starts it. The console's cell is the planner's
 // (world model, CAD, scripted executors, a controller); its configuration has a rehearsal domain and a
-// start command — a shell script that runs a task controller and scripted executors announcing the real
-// skill library on $RIGGER_DOMAIN, writing their PIDs — with a 3 s idle stop. Headless chromium
-// (rehearsal/on_demand.mjs) opens recipes/crane_insert.json on the planner and clicks Rehearse: the page
-// says it is starting the rehearsal cell, then shows the run to SUCCEEDED; back on the plan, nobody
-// watches, and the console stops the cell. This test checks that every process of that cell is gone (by
-// PID) and that the audit log has the start (by the user) and the stop.
+// start command — a shell script that runs a world model on the cell's file, a task controller and
+// scripted executors announcing the real skill library on $RIGGER_DOMAIN, writing their PIDs — with a
+// 3 s idle stop. Headless chromium (rehearsal/on_demand.mjs) first moves the target by a cell revision
+// on the console's domain, then opens recipes/crane_insert.json on the planner and clicks Rehearse: the
+// page says it is starting the rehearsal cell, then shows the run to SUCCEEDED; back on the plan, nobody
+// watches, and the console stops the cell. This test checks on the rehearsal domain that its world model
+// reported the real cell's revision (by sha256, applied by the user) before the controller gave the task
+// a status, that every process of that cell is gone (by PID) and that the audit log has the start (by
+// the user) and the stop.
 #include <signal.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "planner_test_support.hpp"
+#include "rigger/dds/conversions.hpp"
+#include "rigger/protocol/task.hpp"
+#include "rigger/protocol/world.hpp"
 #include "rigger/testing/require.hpp"
+#include "rigger/world_protocol/cell_protocol.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -45,16 +53,19 @@ TEST_F(RehearsalOnDemandTest, RehearseStartsTheRehearsalCellAndItStopsWhenIdle) 
                                                    {"skills", {"TimerMonitor", "ForceMonitor", "YankMonitor"}},
                                                    {"default", {{"mode", "run"}}}});
   const std::string controller = config("task_controller", {{"journal_path", dir + "/journal.sqlite"}});
+  const std::string world =
+      config("world_model", {{"cell_config", repo_file("deploy/cell/simulated_cell.json")}});
   const std::string pids = dir + "/cell.pids";
   const std::string script = dir + "/rehearsal-cell.sh";
   {
     std::ofstream out(script);
     out << "#!/bin/sh\n# The test's rehearsal cell: a controller and scripted executors on $RIGGER_DOMAIN.\n";
-    for (const auto& [id, binary, file] : std::vector<std::tuple<std::string, std::string, std::string>>{
+    for (const auto& [id, binary, args] : std::vector<std::tuple<std::string, std::string, std::string>>{
+             {"world_model", "world_model", world + " --db " + dir + "/world_model.sqlite"},
              {"skills", "scripted_executor", skills},
              {"monitors", "scripted_executor", monitors},
              {"task_controller", "task_controller", controller}})
-      out << bin_dir() << "/" << binary << " --id " << id << " --config " << file << " & echo $! >> " << pids << "\n";
+      out << bin_dir() << "/" << binary << " --id " << id << " --config " << args << " & echo $! >> " << pids << "\n";
     out << "wait\n";
   }
 
@@ -65,11 +76,28 @@ TEST_F(RehearsalOnDemandTest, RehearseStartsTheRehearsalCellAndItStopsWhenIdle) 
          {"start_timeout_s", 40}, {"stop_timeout_s", 10}}}}));
   ASSERT_FALSE(std::filesystem::exists(pids)) << "nothing runs on the rehearsal domain before Rehearse";
 
+  // What the rehearsal domain sees, in its order: the world model's revisions and the task's statuses.
+  std::vector<std::string> seen;
+  dds::Reader<rigger_world_CellRevision> revisions(rehearsal_.participant(), protocol::world::kCell);
+  dds::Reader<rigger_task_TaskStatus> statuses(rehearsal_.participant(), protocol::task::kStatus);
+  rehearsal_.loop().on_data(revisions, [&] {
+    revisions.take([&](const rigger_world_CellRevision& w, const dds_sample_info_t&) {
+      const auto r = world_protocol::from_wire(w);
+      seen.push_back("revision " + r.sha256 + " by " + r.who);
+    });
+  });
+  rehearsal_.loop().on_data(statuses, [&] {
+    statuses.take([&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
+      seen.push_back("task " + dds::to_string(s.task_id));
+    });
+  });
+
   const std::string result_file = cell_.log_dir() + "/on-demand-result.json";
   const auto t0 = std::chrono::steady_clock::now();
   ASSERT_TRUE(run_browser_script("test/integration/rehearsal/on_demand.mjs", result_file, 150s,
                                  {{"RECIPE", repo_file("recipes/crane_insert.json")},
-                                  {"REHEARSAL_DOMAIN", std::to_string(rehearsal_.domain_id())}}));
+                                  {"REHEARSAL_DOMAIN", std::to_string(rehearsal_.domain_id())}},
+                                 &rehearsal_));
   std::printf("browser script (Rehearse, the cell started, the run, the idle stop): %.1f s\n",
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   const nlohmann::json result = nlohmann::json::parse(text_of(result_file));
@@ -79,11 +107,21 @@ TEST_F(RehearsalOnDemandTest, RehearseStartsTheRehearsalCellAndItStopsWhenIdle) 
   EXPECT_EQ(result.at("task_state"), "SUCCEEDED");
   EXPECT_EQ(result.at("cell_after").at("phase"), "idle");
 
-  // Every process the start command ran is gone: the script (the group's leader) and its three.
+  // The rehearsal world model took the real cell's revision before the controller heard of the task.
+  const std::string applied = "revision " + result.at("real_revision").at("sha256").get<std::string>() + " by console:ada";
+  const auto revision_at = std::find(seen.begin(), seen.end(), applied);
+  const auto task_at = std::find(seen.begin(), seen.end(), "task crane-insert");
+  std::string order;
+  for (const auto& s : seen) order += s + "\n";
+  ASSERT_NE(revision_at, seen.end()) << order;
+  ASSERT_NE(task_at, seen.end()) << order;
+  EXPECT_LT(revision_at, task_at) << order;
+
+  // Every process the start command ran is gone: the script (the group's leader) and its four.
   std::istringstream listed(text_of(pids));
   std::vector<pid_t> started;
   for (pid_t pid = 0; listed >> pid;) started.push_back(pid);
-  ASSERT_EQ(started.size(), 3u) << text_of(pids);
+  ASSERT_EQ(started.size(), 4u) << text_of(pids);
   for (const pid_t pid : started) EXPECT_NE(kill(pid, 0), 0) << "pid " << pid << " of the rehearsal cell still runs";
   const pid_t leader = result.at("cell_started").at("pid");
   EXPECT_GT(leader, 0);

@@ -292,9 +292,19 @@ ActionResult ConsoleNode::publish_recipe(const std::string& task_id, const std::
 
 ActionResult ConsoleNode::rehearse(const std::string& task_id, const std::string& recipe_json,
                                    const std::string& submitter) {
+  // The real cell's running revision, which the rehearsal cell is brought to first; unknown (nothing
+  // applied) when no world model answers on the cell's domain.
+  CellTarget cell;
+  if (rehearsal_) {
+    world_protocol::CellRequest show;
+    show.op = world_protocol::CellOp::kShow;
+    const ActionResult shown = cell_request(show);
+    const json result = shown.ok ? shown.data.value("result", json::object()) : json::object();
+    cell = {result.value("cell_revision", std::uint64_t{0}), result.value("sha256", ""), result.value("cell_json", "")};
+  }
   return on_loop([=](auto promise) {
     if (rehearsal_)
-      rehearsal_->publish(task_id, recipe_json, submitter, promise);
+      rehearsal_->publish(task_id, recipe_json, submitter, cell, promise);
     else
       promise->set_value({false, "no rehearsal domain is configured", {}});
   });

@@ -184,6 +184,9 @@ void HttpApi::post_planner_rehearse(const httplib::Request& req, httplib::Respon
   }
   const bool rejected = r.data.is_object() && r.data.value("state", "") == "REJECTED";
   if (rejected) return refuse(409, r.message, r.data.value("errors", json::array()));
+  // The rehearsal cell is not on the cell's running revision (its world model refused it, is not there,
+  // or did not report it in time): not rehearsed on a cell other than the real one.
+  if (r.data.is_object() && r.data.value("cell_refused", false)) return refuse(409, r.message);
   if (!r.ok) return refuse(503, r.message);
   audit(*user, "rehearse", task_id, "sent to rehearsal domain " + domain);
   send_json(res, {{"done", "rehearse"}, {"task_id", task_id}, {"domain", rehearsal_->domain_id},

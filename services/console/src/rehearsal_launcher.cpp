@@ -197,21 +197,21 @@ CellChange RehearsalLauncher::begin_stop(Clock::time_point now, std::string why,
   return CellChange{phase_, "stopping (pid " + std::to_string(pid_) + "): " + why, failed};
 }
 
-std::optional<CellChange> RehearsalLauncher::step(Clock::time_point now, bool controller, bool busy) {
+std::optional<CellChange> RehearsalLauncher::step(Clock::time_point now, bool there, bool busy) {
   if (phase_ == CellPhase::kIdle) return std::nullopt;
   const bool gone = reap();
   const std::string pid = std::to_string(pid_);
   switch (phase_) {
     case CellPhase::kStarting:
       if (!leader_alive_) {
-        const std::string why = "the start command " + leader_end_ + " before a task controller was there";
+        const std::string why = "the start command " + leader_end_ + " before the rehearsal cell was there";
         if (!gone) return begin_stop(now, why, true);
         error_ = why + "; see " + command_.log_file;
         phase_ = CellPhase::kIdle;
         pid_ = 0;
         return CellChange{phase_, error_, true};
       }
-      if (controller) {
+      if (there) {
         phase_ = CellPhase::kReady;
         since_ = now;
         return CellChange{phase_, "ready after " + one_decimal(seconds(now - started_at_)) + " s (pid " + pid + ")",
@@ -219,7 +219,8 @@ std::optional<CellChange> RehearsalLauncher::step(Clock::time_point now, bool co
       }
       if (now - started_at_ >= times_.start_timeout)
         return begin_stop(now,
-                          "no task controller read recipes within " +
+                          "the rehearsal cell (a task controller reading recipes, a world model answering cell "
+                          "requests) was not there within " +
                               one_decimal(seconds(times_.start_timeout)) + " s of the start",
                           true);
       return std::nullopt;

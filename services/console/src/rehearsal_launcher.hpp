@@ -7,8 +7,8 @@
 /// to the leader (`rigger-compose supervise` stops its services in order on it), SIGTERM to whatever of
 /// the group outlived it, SIGKILL to the group after the stop timeout.
 ///
-/// Pure POSIX, no DDS: the owner says at each step() whether a controller reads recipes on the
-/// rehearsal domain and whether a rehearsal runs or is watched. Not thread-safe: one thread (the
+/// Pure POSIX, no DDS: the owner says at each step() whether the cell is there (a controller reads
+/// recipes and a world model answers cell requests on the rehearsal domain) and whether a rehearsal runs or is watched. Not thread-safe: one thread (the
 /// console's loop) calls everything.
 #include <sys/types.h>
 
@@ -31,7 +31,7 @@ struct LaunchCommand {
 };
 
 struct LaunchTimes {
-  std::chrono::milliseconds start_timeout{120000};  ///< from the start to a controller on the domain
+  std::chrono::milliseconds start_timeout{120000};  ///< from the start to the cell being there
   std::chrono::milliseconds idle_stop{120000};      ///< ready, no rehearsal running or watched: stop
   std::chrono::milliseconds stop_timeout{30000};    ///< SIGTERM, then SIGKILL to the group
 };
@@ -61,9 +61,9 @@ class RehearsalLauncher {
   /// Starts the command when idle (nothing when it is already starting or ready; a failed change when
   /// it is still stopping or cannot be spawned).
   std::optional<CellChange> start(Clock::time_point now);
-  /// Advances the state machine: `controller` — a controller reads recipes on the rehearsal domain;
+  /// Advances the state machine: `there` — the cell is there (see above), it is ready;
   /// `busy` — a rehearsal runs or someone watches one (the idle time restarts).
-  std::optional<CellChange> step(Clock::time_point now, bool controller, bool busy);
+  std::optional<CellChange> step(Clock::time_point now, bool there, bool busy);
 
   CellPhase phase() const { return phase_; }
   /// {"phase", "pid" (0: none), "log", "error" (why the last start failed, "" otherwise),

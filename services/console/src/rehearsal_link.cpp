@@ -1,5 +1,7 @@
 #include "rehearsal_link.hpp"
 
+#include <unistd.h>
+
 #include "rigger/protocol/task.hpp"
 
 namespace rigger::console {
@@ -8,6 +10,9 @@ namespace {
 constexpr std::size_t kEventCapacity = 50000;  // a rehearsal is one task at a time
 // How often a started cell is looked at: a controller's arrival, the end of its command, the idle time.
 constexpr std::chrono::milliseconds kCellStep{250};
+// From a revision's APPLY to the rehearsal world model's report of it: it validates the document (its
+// CAD models among it), seconds rather than a query's fraction of one.
+constexpr std::chrono::milliseconds kRevisionTimeout{30000};
 }  // namespace
 
 RehearsalLink::RehearsalLink(std::uint32_t domain_id, dds::EventLoop& loop, const std::string& epoch,
@@ -20,6 +25,7 @@ RehearsalLink::RehearsalLink(std::uint32_t domain_id, dds::EventLoop& loop, cons
       state_(events_),
       tasks_(participant_, state_, skills_),
       recipes_(participant_, protocol::task::kRecipe),
+      revision_(participant_, loop, "console-rehearsal-" + std::to_string(::getpid()), kRevisionTimeout),
       verdict_timeout_(verdict_timeout),
       journal_(std::move(journal)) {
   if (launch) {
@@ -29,6 +35,7 @@ RehearsalLink::RehearsalLink(std::uint32_t domain_id, dds::EventLoop& loop, cons
   dds_listener_t* listener = dds_create_listener(this);
   dds_lset_data_available(listener, [](dds_entity_t, void* self) { static_cast<RehearsalLink*>(self)->wake(); });
   for (const dds_entity_t reader : tasks_.readers()) dds_set_listener(reader, listener);
+  for (const dds_entity_t reader : revision_.readers()) dds_set_listener(reader, listener);
   dds_delete_listener(listener);
   wake();  // samples that arrived before the listeners were set
 }
@@ -37,6 +44,7 @@ RehearsalLink::~RehearsalLink() {
   // dds_set_listener waits for a callback in progress: none runs once this returns. Work already posted
   // to the loop never runs: the console is destroyed after its loop ended.
   for (const dds_entity_t reader : tasks_.readers()) dds_set_listener(reader, nullptr);
+  for (const dds_entity_t reader : revision_.readers()) dds_set_listener(reader, nullptr);
   events_.close();
   if (launcher_ && launcher_->phase() != CellPhase::kIdle) {
     const std::string pid = std::to_string(launcher_->status().value("pid", 0));
@@ -54,11 +62,12 @@ void RehearsalLink::take() {
   tasks_.take_task_status();
   tasks_.take_node_status();
   tasks_.take_executors();
+  revision_.take();
   settle_verdicts();
 }
 
 void RehearsalLink::publish(const std::string& task_id, const std::string& recipe_json, const std::string& submitter,
-                            std::shared_ptr<std::promise<ActionResult>> answer) {
+                            const CellTarget& cell, std::shared_ptr<std::promise<ActionResult>> answer) {
   const std::string domain = std::to_string(participant_.domain_id());
   if (recipes_.matched_readers() == 0 && launcher_) {
     const auto change = launcher_->start(RehearsalLauncher::Clock::now());
@@ -80,10 +89,25 @@ void RehearsalLink::publish(const std::string& task_id, const std::string& recip
                        {}});
     return;
   }
-  if (verdicts_.count(task_id) > 0) {
+  if (verdicts_.count(task_id) > 0 || bringing_.count(task_id) > 0) {
     answer->set_value({false, "a rehearsal of " + task_id + " is being sent already", {}});
     return;
   }
+  if (cell.sha256.empty()) return send(task_id, recipe_json, submitter, std::move(answer));
+  bringing_.insert(task_id);
+  revision_.bring_to(cell, submitter, [this, task_id, recipe_json, submitter, answer](const std::string& error) {
+    bringing_.erase(task_id);
+    if (!error.empty()) {
+      answer->set_value({false, error + "; nothing was sent", {{"cell_refused", true}}});
+      return;
+    }
+    send(task_id, recipe_json, submitter, answer);
+  });
+}
+
+void RehearsalLink::send(const std::string& task_id, const std::string& recipe_json, const std::string& submitter,
+                         std::shared_ptr<std::promise<ActionResult>> answer) {
+  const std::string domain = std::to_string(participant_.domain_id());
   const dds_return_t rc = write_recipe(recipes_, task_id, recipe_json, submitter);
   if (rc != DDS_RETCODE_OK) {
     answer->set_value({false, std::string("publishing failed: ") + dds_strretcode(rc), {}});
@@ -112,8 +136,9 @@ nlohmann::json RehearsalLink::cell_status() const {
 }
 
 void RehearsalLink::step_cell() {
-  const bool busy = watchers_ > 0 || state_.running_tasks() > 0 || !verdicts_.empty();
-  const auto change = launcher_->step(RehearsalLauncher::Clock::now(), recipes_.matched_readers() > 0, busy);
+  const bool busy = watchers_ > 0 || state_.running_tasks() > 0 || !verdicts_.empty() || !bringing_.empty();
+  const bool ready = recipes_.matched_readers() > 0 && revision_.world_model();
+  const auto change = launcher_->step(RehearsalLauncher::Clock::now(), ready, busy);
   if (change && journal_) journal_(*change, "console");
   if (launcher_->phase() == CellPhase::kIdle) {
     loop_.cancel(cell_timer_);

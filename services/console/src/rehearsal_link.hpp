@@ -8,8 +8,10 @@
 /// rehearsal controller's verdict (its first status of the task), so its validator has the last word.
 ///
 /// With a start command (configuration `rehearsal/start`), a rehearsal that finds no controller there
-/// starts the rehearsal cell (RehearsalLauncher) instead of failing, and the cell is stopped again after
-/// `rehearsal/idle_stop_s` without a rehearsal running or a page watching one.
+/// starts the rehearsal cell (RehearsalLauncher) instead of failing; it is ready once a controller reads
+/// recipes and a world model answers cell requests there, and it is stopped again after
+/// `rehearsal/idle_stop_s` without a rehearsal running or a page watching one. Each rehearsal runs on the
+/// real cell's running revision (RehearsalRevision).
 ///
 /// The console stays one process with one work loop: a waitset holds only entities of its own
 /// participant, so this participant's readers get a data-available listener that only wakes that loop
@@ -19,8 +21,9 @@
 #include <cstdint>
 #include <functional>
 #include <future>
-#include <optional>
 #include <map>
+#include <optional>
+#include <set>
 #include <memory>
 #include <string>
 
@@ -29,6 +32,7 @@
 #include "http_api.hpp"
 #include "planner.hpp"
 #include "rehearsal_launcher.hpp"
+#include "rehearsal_revision.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/participant.hpp"
 #include "rigger/dds/pubsub.hpp"
@@ -54,15 +58,19 @@ class RehearsalLink {
   /// What the HTTP side reads (valid as long as this link).
   RehearsalFeed feed() { return {participant_.domain_id(), state_, events_, watchers_}; }
 
-  /// Publishes the recipe on the rehearsal domain and sets `answer` to the rehearsal controller's verdict:
+  /// Brings the rehearsal world model to `cell`, the real cell's running revision (RehearsalRevision;
+  /// nothing to do when its sha256 is unknown), then publishes the recipe on the rehearsal domain and
+  /// sets `answer` to the rehearsal controller's verdict:
   /// ok with its first status of the task as data (ACCEPTED, RUNNING, ...); !ok with that status as data
   /// when it REJECTED the recipe (with its errors); !ok with no data when no controller reads recipes
   /// there (nothing sent) or none answered within the verdict timeout. With a launcher and no controller:
   /// nothing is sent, the rehearsal cell is started, and the answer is !ok with data {"starting": true,
   /// "started": whether this call started it, "cell": its status()} (a start that fails at once: !ok with
-  /// the reason). Loop thread only.
+  /// the reason). When the rehearsal world model is not brought to `cell` (it refused the document, it
+  /// is not there, it did not report the revision in time): !ok with data {"cell_refused": true}, nothing
+  /// sent. Loop thread only.
   void publish(const std::string& task_id, const std::string& recipe_json, const std::string& submitter,
-               std::shared_ptr<std::promise<ActionResult>> answer);
+               const CellTarget& cell, std::shared_ptr<std::promise<ActionResult>> answer);
 
   /// The started rehearsal cell: RehearsalLauncher::status() with "domain", or {"phase": "none"} without a
   /// start command. Loop thread only.
@@ -72,6 +80,8 @@ class RehearsalLink {
   void wake();  // any thread (a listener's): the loop takes the samples
   void take();
   void settle_verdicts();  // answers the publishes whose task the controller has given a status
+  void send(const std::string& task_id, const std::string& recipe_json, const std::string& submitter,
+            std::shared_ptr<std::promise<ActionResult>> answer);  // the recipe, once the cell runs the revision
   void step_cell();        // the launcher's state machine, every kCellStep while the cell is not idle
 
   dds::Participant participant_;  // first: destroyed last
@@ -81,6 +91,8 @@ class RehearsalLink {
   SkillCatalog skills_;
   TaskFeed tasks_;
   dds::Writer<rigger_task_Recipe> recipes_;
+  RehearsalRevision revision_;
+  std::set<std::string> bringing_;  ///< task ids held while the rehearsal cell is brought to the revision
   std::atomic<bool> wake_pending_{false};
   std::chrono::milliseconds verdict_timeout_;
   struct Verdict {

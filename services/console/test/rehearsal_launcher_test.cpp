@@ -116,7 +116,7 @@ TEST_F(RehearsalLauncherTest, ACommandThatExitsBeforeAControllerIsThereIsAFailed
   const auto changes = step_until(l, CellPhase::kIdle, Clock::now(), false, false);
   ASSERT_EQ(changes.size(), 1u);
   EXPECT_TRUE(changes[0].failed);
-  EXPECT_NE(changes[0].what.find("exited with code 3 before a task controller was there"), std::string::npos)
+  EXPECT_NE(changes[0].what.find("exited with code 3 before the rehearsal cell was there"), std::string::npos)
       << changes[0].what;
   const std::string error = l.status()["error"];
   EXPECT_NE(error.find(dir_ + "/cell.log"), std::string::npos) << error;
@@ -132,7 +132,7 @@ TEST_F(RehearsalLauncherTest, NoControllerWithinTheStartTimeoutStopsTheCellAndFa
   const auto stopping = l.step(t0 + 10s, false, false);
   ASSERT_TRUE(stopping);
   EXPECT_TRUE(stopping->failed);
-  EXPECT_NE(stopping->what.find("no task controller read recipes within 10.0 s"), std::string::npos) << stopping->what;
+  EXPECT_NE(stopping->what.find("was not there within 10.0 s of the start"), std::string::npos) << stopping->what;
   step_until(l, CellPhase::kIdle, t0 + 11s, false, false);
   EXPECT_FALSE(alive(child));
   EXPECT_NE(l.status()["error"].get<std::string>().find("see " + dir_ + "/cell.log"), std::string::npos);

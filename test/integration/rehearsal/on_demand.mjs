@@ -1,7 +1,9 @@
 // Rehearse with no rehearsal cell running (run by rehearsal_on_demand_browser_test.cpp): the console has a
-// start command for it and a short idle stop. The planner opens recipes/crane_insert.json, Rehearse is
-// clicked, the page says it is starting the rehearsal cell, then shows the run to its end; back on the
-// plan nobody watches, and the console stops the cell. Every wait is on a condition; a failed check ends
+// start command for it and a short idle stop. First the real cell moves on: a revision on the console's
+// own domain moves the target 2 cm, so the rehearsal cell, started from the file, must be brought to it.
+// The planner opens recipes/crane_insert.json, Rehearse is clicked, the page says it is starting the
+// rehearsal cell, then shows the run to its end; back on the plan nobody watches, and the console stops
+// the cell. Every wait is on a condition; a failed check ends
 // the script with exit code 1.
 import fs from 'node:fs';
 import { consoleRequest, env, launchChromium, logPage, timedCheck } from '../browser.mjs';
@@ -15,6 +17,17 @@ const cell = async () => (await consoleRequest(URL_, '/api/rehearsal/cell', { to
 
 let c = await cell();
 check(c.phase === 'idle' && c.domain === DOMAIN, `before Rehearse the rehearsal cell is idle ${JSON.stringify(c)}`);
+
+const running = (await consoleRequest(URL_, '/api/cell', { token: TOKEN })).json;
+const doc = JSON.parse(running.cell_json);
+doc.entities.find((e) => e.id === 'target').pose.position_m[1] += 0.02;
+let r = await consoleRequest(URL_, '/api/cell/revisions', { token: TOKEN, method: 'POST', body: { cell: doc, comment: 'the target 2 cm along y' } });
+check(r.status === 202, `the moved target proposed on the cell's domain (${r.status} ${JSON.stringify(r.json)})`);
+r = await consoleRequest(URL_, '/api/confirm', { token: TOKEN, method: 'POST', body: { confirmation_id: r.json.confirmation_id } });
+check(r.status === 200, `and applied (${r.status} ${JSON.stringify(r.json)})`);
+result.real_revision = (await consoleRequest(URL_, '/api/cell', { token: TOKEN })).json;
+delete result.real_revision.cell_json;
+check(result.real_revision.sha256 !== running.sha256, `the cell runs revision ${result.real_revision.cell_revision} (${result.real_revision.sha256})`);
 
 const browser = await launchChromium(env('NODE_PATH'));
 try {
