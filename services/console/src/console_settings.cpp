@@ -52,8 +52,9 @@ const SettingsTable<ConsoleSettings>& console_settings() {
                            "where the start command's output is appended (the page names it when a start "
                            "fails); its folder is made")),
       rehearsal(setting<S>("start_timeout_s", 120.0, {1.0, 3600.0}, &S::rehearsal_start_timeout,
-                           "how long the start may take until a task controller reads recipes on the rehearsal "
-                           "domain; then it is stopped and the rehearsal refused")),
+                           "how long the start may take until a task controller reads recipes and a world model "
+                           "answers cell requests on the rehearsal domain; then it is stopped and the rehearsal "
+                           "refused")),
       rehearsal(setting<S>("idle_stop_s", 120.0, {1.0, 86400.0}, &S::rehearsal_idle_stop,
                            "the started cell is stopped after so long without a rehearsal running or a page "
                            "watching one")),
