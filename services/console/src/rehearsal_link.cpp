@@ -69,7 +69,9 @@ void RehearsalLink::take() {
 void RehearsalLink::publish(const std::string& task_id, const std::string& recipe_json, const std::string& submitter,
                             const CellTarget& cell, std::shared_ptr<std::promise<ActionResult>> answer) {
   const std::string domain = std::to_string(participant_.domain_id());
-  if (recipes_.matched_readers() == 0 && launcher_) {
+  // A started cell is waited for until it is ready (its world model too), even when its controller is
+  // there already.
+  if (launcher_ && (recipes_.matched_readers() == 0 || launcher_->phase() == CellPhase::kStarting)) {
     const auto change = launcher_->start(RehearsalLauncher::Clock::now());
     if (change && journal_) journal_(*change, submitter);
     if (change && change->failed) {
