@@ -4,10 +4,11 @@
 // scripted executors announcing the real skill library on $RIGGER_DOMAIN, writing their PIDs — with a
 // 3 s idle stop. Headless chromium (rehearsal/on_demand.mjs) first moves the target by a cell revision
 // on the console's domain, then opens recipes/crane_insert.json on the planner and clicks Rehearse: the
-// page says it is starting the rehearsal cell, then shows the run to SUCCEEDED; back on the plan, nobody
-// watches, and the console stops the cell. This test checks on the rehearsal domain that its world model
-// reported the real cell's revision (by sha256, applied by the user) before the controller gave the task
-// a status, that every process of that cell is gone (by PID) and that the audit log has the start (by
+// page says it is starting the rehearsal cell, then shows the run to SUCCEEDED; the target moves again
+// and the recipe is rehearsed once more (over HTTP, a new task id) while the cell is up; back on the plan,
+// nobody watches, and the console stops the cell. This test checks on the rehearsal domain that its
+// world model reported each of the real cell's revisions (by sha256, applied by the user) before the
+// controller gave the task rehearsed on it a status, that every process of that cell is gone (by PID) and that the audit log has the start (by
 // the user) and the stop.
 #include <signal.h>
 
@@ -107,15 +108,19 @@ TEST_F(RehearsalOnDemandTest, RehearseStartsTheRehearsalCellAndItStopsWhenIdle) 
   EXPECT_EQ(result.at("task_state"), "SUCCEEDED");
   EXPECT_EQ(result.at("cell_after").at("phase"), "idle");
 
-  // The rehearsal world model took the real cell's revision before the controller heard of the task.
-  const std::string applied = "revision " + result.at("real_revision").at("sha256").get<std::string>() + " by console:ada";
-  const auto revision_at = std::find(seen.begin(), seen.end(), applied);
-  const auto task_at = std::find(seen.begin(), seen.end(), "task crane-insert");
+  // The rehearsal world model took the real cell's revision before the controller heard of the task,
+  // and the next one, taken while the rehearsal cell was up, before the second rehearsal.
   std::string order;
   for (const auto& s : seen) order += s + "\n";
-  ASSERT_NE(revision_at, seen.end()) << order;
-  ASSERT_NE(task_at, seen.end()) << order;
-  EXPECT_LT(revision_at, task_at) << order;
+  for (const auto& [revision, task] : std::vector<std::pair<std::string, std::string>>{
+           {"real_revision", "crane-insert"}, {"second_revision", "crane-insert-again"}}) {
+    const std::string applied = "revision " + result.at(revision).at("sha256").get<std::string>() + " by console:ada";
+    const auto revision_at = std::find(seen.begin(), seen.end(), applied);
+    const auto task_at = std::find(seen.begin(), seen.end(), "task " + task);
+    ASSERT_NE(revision_at, seen.end()) << revision << "\n" << order;
+    ASSERT_NE(task_at, seen.end()) << task << "\n" << order;
+    EXPECT_LT(revision_at, task_at) << order;
+  }
 
   // Every process the start command ran is gone: the script (the group's leader) and its four.
   std::istringstream listed(text_of(pids));

@@ -18,16 +18,22 @@ const cell = async () => (await consoleRequest(URL_, '/api/rehearsal/cell', { to
 let c = await cell();
 check(c.phase === 'idle' && c.domain === DOMAIN, `before Rehearse the rehearsal cell is idle ${JSON.stringify(c)}`);
 
-const running = (await consoleRequest(URL_, '/api/cell', { token: TOKEN })).json;
-const doc = JSON.parse(running.cell_json);
-doc.entities.find((e) => e.id === 'target').pose.position_m[1] += 0.02;
-let r = await consoleRequest(URL_, '/api/cell/revisions', { token: TOKEN, method: 'POST', body: { cell: doc, comment: 'the target 2 cm along y' } });
-check(r.status === 202, `the moved target proposed on the cell's domain (${r.status} ${JSON.stringify(r.json)})`);
-r = await consoleRequest(URL_, '/api/confirm', { token: TOKEN, method: 'POST', body: { confirmation_id: r.json.confirmation_id } });
-check(r.status === 200, `and applied (${r.status} ${JSON.stringify(r.json)})`);
-result.real_revision = (await consoleRequest(URL_, '/api/cell', { token: TOKEN })).json;
-delete result.real_revision.cell_json;
-check(result.real_revision.sha256 !== running.sha256, `the cell runs revision ${result.real_revision.cell_revision} (${result.real_revision.sha256})`);
+/// Moves the target 2 cm along y by a cell revision on the console's own domain, in two steps as a
+/// programmer does; the cell's running revision afterwards (without its document).
+async function moveTarget() {
+  const running = (await consoleRequest(URL_, '/api/cell', { token: TOKEN })).json;
+  const doc = JSON.parse(running.cell_json);
+  doc.entities.find((e) => e.id === 'target').pose.position_m[1] += 0.02;
+  let r = await consoleRequest(URL_, '/api/cell/revisions', { token: TOKEN, method: 'POST', body: { cell: doc, comment: 'the target 2 cm along y' } });
+  check(r.status === 202, `the moved target proposed on the cell's domain (${r.status} ${JSON.stringify(r.json)})`);
+  r = await consoleRequest(URL_, '/api/confirm', { token: TOKEN, method: 'POST', body: { confirmation_id: r.json.confirmation_id } });
+  check(r.status === 200, `and applied (${r.status} ${JSON.stringify(r.json)})`);
+  const now = (await consoleRequest(URL_, '/api/cell', { token: TOKEN })).json;
+  delete now.cell_json;
+  check(now.sha256 !== running.sha256, `the cell runs revision ${now.cell_revision} (${now.sha256})`);
+  return now;
+}
+result.real_revision = await moveTarget();
 
 const browser = await launchChromium(env('NODE_PATH'));
 try {
@@ -55,6 +61,13 @@ try {
   check(result.task_state === 'SUCCEEDED', `the rehearsal ended ${result.task_state}`);
   c = await cell();
   check(c.phase === 'ready', `watched after its run, the cell stays up ${JSON.stringify(c)}`);
+
+  // The cell moves on while the rehearsal cell is up: the next rehearsal runs on that revision too.
+  result.second_revision = await moveTarget();
+  const again = JSON.parse(fs.readFileSync(env('RECIPE'), 'utf8'));
+  again.task_id = 'crane-insert-again';
+  const r = await consoleRequest(URL_, '/api/planner/rehearse', { token: TOKEN, method: 'POST', body: again });
+  check(r.status === 200, `rehearsed again on the cell's revision ${result.second_revision.cell_revision} (${r.status} ${JSON.stringify(r.json)})`);
 
   // Back to the plan: the rehearsal's stream closes, nothing runs, so the idle stop comes.
   await page.click('#rehearsal-back');
