@@ -8,8 +8,8 @@
 // and the recipe is rehearsed once more (over HTTP, a new task id) while the cell is up; back on the plan,
 // nobody watches, and the console stops the cell. This test checks on the rehearsal domain that its
 // world model reported each of the real cell's revisions (by sha256, applied by the user) before the
-// controller gave the task rehearsed on it a status, that every process of that cell is gone (by PID) and that the audit log has the start (by
-// the user) and the stop.
+// controller gave the task rehearsed on it a status, that every process of that cell is gone (by PID)
+// and that the audit log has the start (by the user) and the stop.
 #include <signal.h>
 
 #include <algorithm>

@@ -8,8 +8,8 @@
 /// the group outlived it, SIGKILL to the group after the stop timeout.
 ///
 /// Pure POSIX, no DDS: the owner says at each step() whether the cell is there (a controller reads
-/// recipes and a world model answers cell requests on the rehearsal domain) and whether a rehearsal runs or is watched. Not thread-safe: one thread (the
-/// console's loop) calls everything.
+/// recipes and a world model answers cell requests on the rehearsal domain) and whether a rehearsal
+/// runs or is watched. Not thread-safe: one thread (the console's loop) calls everything.
 #include <sys/types.h>
 
 #include <chrono>

@@ -497,7 +497,8 @@ TEST_F(HttpApiRehearsalTest, RehearseIsOneStepJournaledWithWhoAndAnswersWithTheR
   EXPECT_EQ(audit[3]["target"], "r1");
   EXPECT_EQ(audit[3]["result"], "sent to rehearsal domain 7");
   EXPECT_NE(audit[1]["result"].get<std::string>().find("refused"), std::string::npos);
-  EXPECT_NE(audit[2]["result"].get<std::string>().find("refused: the rehearsal world model refused"), std::string::npos);
+  EXPECT_NE(audit[2]["result"].get<std::string>().find("refused: the rehearsal world model refused"),
+            std::string::npos);
 }
 
 // No controller yet, a start command configured: 202, nothing sent, the start journaled with who; the

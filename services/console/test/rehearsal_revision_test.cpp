@@ -74,8 +74,9 @@ TEST_F(RehearsalRevisionTest, ARefusedRevisionIsNotRunWithTheWorldModelsReason) 
   EXPECT_FALSE(seen_.back().dry_run);
   reply(false, "INVALID", "/entities/2/pose: expected position_m");
   ASSERT_TRUE(loop_.run_until([&] { return done.has_value(); }, 5s));
-  EXPECT_EQ(*done, "the rehearsal world model refused the cell's revision 3: INVALID: /entities/2/pose: expected "
-                   "position_m");
+  EXPECT_EQ(*done,
+            "the rehearsal world model refused the cell's revision 3: INVALID: /entities/2/pose: expected "
+            "position_m");
 }
 
 TEST_F(RehearsalRevisionTest, AnAcceptedRevisionRunsOnlyOnceTheWorldModelReportsIt) {
