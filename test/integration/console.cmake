@@ -38,6 +38,10 @@ rigger_console_browser_test(rigger_planner_paper_task_test planner_paper_task_te
 rigger_console_browser_test(rigger_rehearsal_browser_test rehearsal_browser_test.cpp
   console cell_sim crane_gateway world_model vision_tracker admittance_control monitor_host skill_executor
   task_controller scripted_operator scripted_executor)
+# Rehearse with no rehearsal cell running: the console starts it (a controller and scripted executors run
+# by a shell script on a second domain), the page says so and shows the run; idle, the console stops it.
+rigger_console_browser_test(rigger_rehearsal_on_demand_browser_test rehearsal_on_demand_browser_test.cpp
+  console cad world_model scripted_executor task_controller)
 # A cell the repository does not ship (rigger/sim/generated_cell.hpp) in the console: its six objects in
 # the Planner from their STEP models, a part picked by a click, a flange hole on the operator station and
 # a cell revision from the Tasks page against the real world model.

@@ -59,6 +59,7 @@ class ConsoleNode : public service::Node, public Backend {
   ActionResult cad_load(const std::string& name, std::string step) override;
   ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
                         const std::string& submitter) override;
+  ActionResult rehearsal_cell() override;
   ActionResult cell_request(const world_protocol::CellRequest& request) override;
 
  private:

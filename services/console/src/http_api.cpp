@@ -118,12 +118,22 @@ void HttpApi::stop() {
 void HttpApi::audit(const User& user, const std::string& action, const std::string& target, const std::string& result) {
   log_->info("action user={} role={} action={} target={} result={}", user.name, role_name(user.role), action, target,
              result);
+  append_audit(json{{"time", utc_now()}, {"user", user.name}, {"role", role_name(user.role)}, {"action", action},
+                    {"target", target}, {"result", result}});
+}
+
+void HttpApi::audit_system(const std::string& action, const std::string& target, const std::string& result,
+                           const std::string& who) {
+  log_->info("action user=console role=system action={} target={} result={} by={}", action, target, result, who);
+  append_audit(json{{"time", utc_now()}, {"user", "console"}, {"role", "system"}, {"action", action},
+                    {"target", target}, {"result", result}, {"by", who}});
+}
+
+void HttpApi::append_audit(const json& line) {
   if (config_.audit_log.empty()) return;
   std::lock_guard lock(audit_mutex_);
   std::ofstream out(config_.audit_log, std::ios::app);
-  out << to_text(json{{"time", utc_now()}, {"user", user.name}, {"role", role_name(user.role)}, {"action", action},
-                      {"target", target}, {"result", result}})
-      << "\n";
+  out << to_text(line) << "\n";
 }
 
 std::string HttpApi::new_confirmation(Pending p) {
@@ -236,6 +246,7 @@ void HttpApi::routes() {
       {Method::kGet, "/api/rehearsal/state", &HttpApi::get_rehearsal_state},
       {Method::kGet, "/api/rehearsal/events", &HttpApi::get_rehearsal_events},
       {Method::kPost, "/api/planner/rehearse", &HttpApi::post_planner_rehearse},
+      {Method::kGet, "/api/rehearsal/cell", &HttpApi::get_rehearsal_cell},
       // commands (http_command_routes.cpp)
       {Method::kPost, "/api/recipes", &HttpApi::post_recipe},
       {Method::kPost, R"(/api/tasks/([^/]+)/resume)", &HttpApi::post_task_resume},

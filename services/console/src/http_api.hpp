@@ -77,6 +77,9 @@ class Backend {
   /// rehearsal domain is configured, no controller reads recipes there (nothing sent) or none answered.
   virtual ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
                                 const std::string& submitter) = 0;
+  /// The rehearsal cell the console starts on demand: data = RehearsalLink::cell_status(); !ok without a
+  /// rehearsal domain.
+  virtual ActionResult rehearsal_cell() = 0;
   /// Asks the world model about the cell's revisions (rigger/world/cell_request; the node fills in the
   /// client and request ids): data = {"code", "cell_revision", "result": <result_json parsed>}, also when
   /// it refused (!ok, message = its reason); !ok without data when no world model answered.
@@ -89,6 +92,7 @@ struct RehearsalFeed {
   std::uint32_t domain_id = 0;
   ConsoleState& state;
   EventLog& events;
+  std::atomic<int>& watchers;  ///< open /api/rehearsal/events streams: the started cell is not idle
 };
 
 /// Where the Planner sends a STEP file to import (its body's limit is max_import_bytes, not max_body_bytes).
@@ -127,6 +131,10 @@ class HttpApi {
   /// The bound port (after start()).
   int port() const { return port_; }
   bool tls() const { return !config_.tls_cert.empty(); }
+  /// Journals what the console did by itself (user "console", role "system"), `who` having caused it
+  /// ("console" when nobody did). Any thread.
+  void audit_system(const std::string& action, const std::string& target, const std::string& result,
+                    const std::string& who);
 
  private:
   struct Pending {
@@ -142,6 +150,7 @@ class HttpApi {
   using Handler = void (HttpApi::*)(const httplib::Request&, httplib::Response&);
   void routes();
   void audit(const User& user, const std::string& action, const std::string& target, const std::string& result);
+  void append_audit(const nlohmann::json& line);
   std::string new_confirmation(Pending p);
   // Who is asking, and may they? Sends 401/403 and returns nullopt when not. Only the event streams
   // take the token from the query (?token=) or the rigger_token cookie: EventSource cannot set headers.
@@ -178,6 +187,7 @@ class HttpApi {
   void get_rehearsal_state(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_events(const httplib::Request& req, httplib::Response& res);
   void post_planner_rehearse(const httplib::Request& req, httplib::Response& res);
+  void get_rehearsal_cell(const httplib::Request& req, httplib::Response& res);
   // Commands.
   void post_recipe(const httplib::Request& req, httplib::Response& res);
   void post_task_resume(const httplib::Request& req, httplib::Response& res);

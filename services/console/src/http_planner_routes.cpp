@@ -1,5 +1,7 @@
 // The console's planner routes (validation, screws and frames from CAD picks) and the rehearsal cell's:
 // the simulated cell on a domain of its own, where a recipe runs first.
+#include <atomic>
+#include <memory>
 #include <string>
 
 // Eigen before httplib.h, whose system headers define names Eigen uses.
@@ -160,7 +162,20 @@ void HttpApi::get_rehearsal_state(const httplib::Request& req, httplib::Response
 void HttpApi::get_rehearsal_events(const httplib::Request& req, httplib::Response& res) {
   if (!who(req, res, Role::kViewer, true)) return;
   if (!rehearsal_) return no_rehearsal(req, res);
-  stream_events(rehearsal_->events, req, res, rehearsal_->events.last_seq(), streams_);
+  // A page watching the rehearsal keeps a started rehearsal cell from its idle stop.
+  std::atomic<int>& watchers = rehearsal_->watchers;
+  ++watchers;
+  std::shared_ptr<void> watching(nullptr, [&watchers](void*) { --watchers; });
+  stream_events(rehearsal_->events, req, res, rehearsal_->events.last_seq(), streams_, std::move(watching));
+}
+
+// The rehearsal cell the console starts on demand: its phase, and why its last start failed.
+void HttpApi::get_rehearsal_cell(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kViewer)) return;
+  if (!rehearsal_) return no_rehearsal(req, res);
+  const auto r = backend_.rehearsal_cell();
+  if (!r.ok) return send_error(res, 503, r.message, req.path);
+  send_json(res, r.data);
 }
 
 // Nothing real moves in a rehearsal, so it is one step (no confirmation), but journaled like a publish.
@@ -188,8 +203,20 @@ void HttpApi::post_planner_rehearse(const httplib::Request& req, httplib::Respon
                            " and a controller takes a task id once: rehearse under a new task id");
   // The rehearsal controller's own verdict (its validator, against the library its executors announce).
   const auto r = backend_.rehearse(task_id, req.body, "console:" + user->name);
+  if (r.data.is_object() && r.data.value("starting", false)) {
+    // No controller yet: the cell is being started; the page follows /api/rehearsal/cell and sends again.
+    const json cell = r.data.value("cell", json::object());
+    audit(*user, "rehearse", task_id,
+          "held: " + std::string(r.data.value("started", false) ? "started" : "starting") + " the rehearsal cell of domain " +
+              domain + " (log " + cell.value("log", "") + "); nothing was sent");
+    return send_json(res, {{"starting", true}, {"task_id", task_id}, {"domain", rehearsal_->domain_id}, {"cell", cell}},
+                     202);
+  }
   const bool rejected = r.data.is_object() && r.data.value("state", "") == "REJECTED";
   if (rejected) return refuse(409, r.message, r.data.value("errors", json::array()));
+  // The rehearsal cell is not on the cell's running revision (its world model refused it, is not there,
+  // or did not report it in time): not rehearsed on a cell other than the real one.
+  if (r.data.is_object() && r.data.value("cell_refused", false)) return refuse(409, r.message);
   if (!r.ok) return refuse(503, r.message);
   audit(*user, "rehearse", task_id, "sent to rehearsal domain " + domain);
   send_json(res, {{"done", "rehearse"}, {"task_id", task_id}, {"domain", rehearsal_->domain_id},

@@ -53,7 +53,7 @@ std::shared_ptr<void> StreamSlots::take() {
 }
 
 void stream_events(EventLog& log, const httplib::Request& req, httplib::Response& res, std::uint64_t start,
-                   StreamSlots& slots) {
+                   StreamSlots& slots, std::shared_ptr<void> hold) {
   std::shared_ptr<void> slot = slots.take();
   if (!slot) {
     res.set_header("Retry-After", "5");
@@ -72,7 +72,7 @@ void stream_events(EventLog& log, const httplib::Request& req, httplib::Response
   }
   res.set_header("Cache-Control", "no-store");
   res.set_header("X-Accel-Buffering", "no");
-  res.set_chunked_content_provider("text/event-stream", [&log, from, reset, slot](std::size_t, httplib::DataSink& sink) {
+  res.set_chunked_content_provider("text/event-stream", [&log, from, reset, slot, hold](std::size_t, httplib::DataSink& sink) {
     if (log.closed()) return false;
     std::string out;
     if (*reset) {

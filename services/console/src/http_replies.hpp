@@ -57,8 +57,8 @@ class StreamSlots {
 
 /// Streams `log` as Server-Sent Events from the client's Last-Event-ID (header, or last_event_id in
 /// the query), or from `start` when it has none, in one of `slots` (503 when none is free). The stream
-/// ends when `log` is closed.
+/// ends when `log` is closed. `hold` is kept as long as the stream is open (a watcher count's guard).
 void stream_events(EventLog& log, const httplib::Request& req, httplib::Response& res, std::uint64_t start,
-                   StreamSlots& slots);
+                   StreamSlots& slots, std::shared_ptr<void> hold = nullptr);
 
 }  // namespace rigger::console

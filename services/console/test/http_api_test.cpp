@@ -309,7 +309,8 @@ TEST_F(HttpApiTest, RehearseWithoutARehearsalDomainIsRefusedSayingWhatToConfigur
 
 class HttpApiRehearsalTest : public HttpApiTest {
  protected:
-  std::optional<RehearsalFeed> rehearsal() override { return RehearsalFeed{7, rehearsal_state_, rehearsal_events_}; }
+  std::optional<RehearsalFeed> rehearsal() override { return RehearsalFeed{7, rehearsal_state_, rehearsal_events_, watchers_}; }
+  std::atomic<int> watchers_{0};
   EventLog rehearsal_events_{1000, "42"};
   ConsoleState rehearsal_state_{rehearsal_events_};
 };
@@ -330,6 +331,16 @@ TEST_F(HttpApiRehearsalTest, RehearseIsOneStepJournaledWithWhoAndAnswersWithTheR
   r = post("/api/planner/rehearse", kLocalize, kAda);
   ASSERT_EQ(r->status, 409) << r->body;
   EXPECT_EQ(body(r)["errors"][0]["pointer"], "/root/skill") << r->body;
+  // The rehearsal world model refuses the cell's running revision: 409 with its reason, nothing sent.
+  backend_.rehearse_answer_ = {false,
+                               "the rehearsal world model refused the cell's revision 3: INVALID: /entities/2/pose: "
+                               "expected position_m; nothing was sent",
+                               {{"cell_refused", true}}};
+  r = post("/api/planner/rehearse", kLocalize, kAda);
+  ASSERT_EQ(r->status, 409) << r->body;
+  EXPECT_NE(body(r)["error"].get<std::string>().find("refused the cell's revision 3: INVALID: /entities/2/pose"),
+            std::string::npos)
+      << r->body;
   EXPECT_TRUE(backend_.actions().empty());
   // Viewers and operators may not; bad bodies are refused before anything is sent.
   EXPECT_EQ(post("/api/planner/rehearse", kLocalize, kVic)->status, 403);
@@ -351,12 +362,34 @@ TEST_F(HttpApiRehearsalTest, RehearseIsOneStepJournaledWithWhoAndAnswersWithTheR
   EXPECT_NE(body(r)["error"].get<std::string>().find("new task id"), std::string::npos);
   EXPECT_EQ(backend_.actions().size(), 1u);
   const auto audit = audit_entries(dir_ + "/audit.log");
-  ASSERT_EQ(audit.size(), 4u);  // the 503, the 409 by the controller, the rehearsal, the refused repeat
-  EXPECT_EQ(audit[2]["user"], "ada");
-  EXPECT_EQ(audit[2]["action"], "rehearse");
-  EXPECT_EQ(audit[2]["target"], "r1");
-  EXPECT_EQ(audit[2]["result"], "sent to rehearsal domain 7");
+  // The 503, the 409 by the controller, the 409 by the world model, the rehearsal, the refused repeat.
+  ASSERT_EQ(audit.size(), 5u);
+  EXPECT_EQ(audit[3]["user"], "ada");
+  EXPECT_EQ(audit[3]["action"], "rehearse");
+  EXPECT_EQ(audit[3]["target"], "r1");
+  EXPECT_EQ(audit[3]["result"], "sent to rehearsal domain 7");
   EXPECT_NE(audit[1]["result"].get<std::string>().find("refused"), std::string::npos);
+  EXPECT_NE(audit[2]["result"].get<std::string>().find("refused: the rehearsal world model refused"),
+            std::string::npos);
+}
+
+// No controller yet, a start command configured: 202, nothing sent, the start journaled with who; the
+// page follows /api/rehearsal/cell.
+TEST_F(HttpApiRehearsalTest, RehearseStartingTheRehearsalCellAnswers202AndSendsNothing) {
+  backend_.rehearse_answer_ = {
+      false, "starting", {{"starting", true}, {"started", true}, {"cell", {{"phase", "starting"}, {"log", "/tmp/cell.log"}}}}};
+  auto r = post("/api/planner/rehearse", kLocalize, kAda);
+  ASSERT_EQ(r->status, 202) << r->body;
+  EXPECT_EQ(body(r)["starting"], true);
+  EXPECT_EQ(body(r)["cell"]["log"], "/tmp/cell.log");
+  EXPECT_TRUE(backend_.actions().empty());
+  const auto audit = audit_entries(dir_ + "/audit.log");
+  ASSERT_EQ(audit.size(), 1u);
+  EXPECT_EQ(audit[0]["user"], "ada");
+  EXPECT_NE(audit[0]["result"].get<std::string>().find("started the rehearsal cell"), std::string::npos) << audit[0];
+  r = client_->Get("/api/rehearsal/cell", as(kVic));
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(body(r)["phase"], "starting");
 }
 
 TEST_F(HttpApiRehearsalTest, TheRehearsalsStateAndStreamAreItsOwnNotTheCells) {

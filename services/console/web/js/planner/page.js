@@ -18,7 +18,7 @@ import { RehearsalView } from '../rehearsal.js';
 import { Effort } from './effort.js';
 import { PlacePanel } from './place.js';
 import { ImportPanel } from './import.js';
-import { confirmCommand, rehearseRecipe, skillLibrary, submitRecipe, validateRecipe } from './api.js';
+import { confirmCommand, rehearsalCell, rehearseRecipe, skillLibrary, submitRecipe, validateRecipe } from './api.js';
 import { Bindings } from './bindings.js';
 import { NodeForm } from './form.js';
 import { ObjectPicker } from './objects.js';
@@ -111,7 +111,8 @@ export function plannerPage(main, me) {
         treeBox, el('h2', {}, 'Validation'), errorsBox, el('h2', {}, 'Resources'), resourcesBox),
       el('section', { class: 'panel', 'aria-labelledby': 'pf' }, el('h2', { id: 'pf' }, 'Node'), formBox)));
   // The rehearsal's live view takes the editor's place; "Back to the plan" brings the plan back as it was.
-  const rehearsal = new RehearsalView(() => { rehearsal.hide(); editor.hidden = false; });
+  // Closing its stream tells the console nobody watches the rehearsal any more (its cell may stop when idle).
+  const rehearsal = new RehearsalView(() => { rehearsal.close(); rehearsal.hide(); editor.hidden = false; });
   main.replaceChildren(el('h1', {}, 'Planner'), editor, rehearsal.root);
 
   const describe = (name) => state.library.find((s) => s.name === name);
@@ -290,12 +291,32 @@ export function plannerPage(main, me) {
     const local = [...screwErrors(state.doc), ...state.staleBindings];
     if (local.length) return say(`Not rehearsed: ${local[0].message}`, true);
     try {
-      const r = await rehearseRecipe(JSON.parse(v.canonical));
+      const recipe = JSON.parse(v.canonical);
+      let r = await rehearseRecipe(recipe);
+      if (r.starting) r = await rehearseOnceStarted(recipe, r);
       say(`Rehearsing ${r.task_id} on the simulated cell of domain ${r.domain}.`);
       editor.hidden = true;
       await rehearsal.show(r.task_id, r.domain);
     } catch (e) {
       say(`Not rehearsed: ${e.message}`, true);
+    }
+  }
+  /// The console is starting the rehearsal cell (`r` its 202 answer): follows it until a controller is
+  /// there, then sends the recipe; rejects with the console's reason (and its log) when the start fails.
+  async function rehearseOnceStarted(recipe, r) {
+    const deadline = Date.now() + ((r.cell?.start_timeout_s || 120) + 30) * 1000;
+    for (;;) {
+      say(`Starting the rehearsal cell of domain ${r.domain}… (its log: ${r.cell?.log || '?'})`);
+      await new Promise((done) => setTimeout(done, 500));
+      const cell = await rehearsalCell();
+      if (cell.error) throw new Error(`the rehearsal cell of domain ${cell.domain} did not start: ${cell.error}`);
+      if (cell.phase === 'ready') {
+        r = await rehearseRecipe(recipe);
+        if (!r.starting) return r;
+      } else if (cell.phase !== 'starting') {
+        throw new Error(`the rehearsal cell of domain ${cell.domain} is ${cell.phase}; see ${cell.log}`);
+      }
+      if (Date.now() > deadline) throw new Error(`the rehearsal cell did not come up; see ${cell.log}`);
     }
   }
   async function publish() {
