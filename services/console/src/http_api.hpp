@@ -163,6 +163,7 @@ class HttpApi {
   void post_planner_validate(const httplib::Request& req, httplib::Response& res);
   void post_planner_screws(const httplib::Request& req, httplib::Response& res);
   void post_planner_frame(const httplib::Request& req, httplib::Response& res);
+  void post_planner_declare(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_state(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_events(const httplib::Request& req, httplib::Response& res);
   void post_planner_rehearse(const httplib::Request& req, httplib::Response& res);
@@ -179,6 +180,10 @@ class HttpApi {
   void get_cell(const httplib::Request& req, httplib::Response& res);
   void get_cell_history(const httplib::Request& req, httplib::Response& res);
   void post_cell_revision(const httplib::Request& req, httplib::Response& res);
+  /// The first step of a cell revision (`payload`: op, cell_json or revision, comment): the world model's
+  /// dry run, then 202 with a confirmation id and the changes, `extra`'s keys added; or its refusal.
+  void propose_cell(const User& user, const nlohmann::json& payload, const std::string& target,
+                    const httplib::Request& req, httplib::Response& res, const nlohmann::json& extra = nlohmann::json::object());
   /// Applies a confirmed cell revision (`p` from POST /api/confirm).
   void confirm_cell(const User& user, const Pending& p, const httplib::Request& req, httplib::Response& res);
   /// Sends the world model's answer to a cell request: 200 with its result, or its refusal as an error.

@@ -91,22 +91,27 @@ void HttpApi::post_cell_revision(const httplib::Request& req, httplib::Response&
     return send_error(res, 400, "expected {\"cell\": {<a cell document>}} or {\"rollback\": <revision number>}",
                       req.path);
   }
+  propose_cell(*user, payload, target, req, res);
+}
+
+void HttpApi::propose_cell(const User& user, const json& payload, const std::string& target, const httplib::Request& req,
+                           httplib::Response& res, const json& extra) {
   // The dry run: refused now, with the world model's reason, rather than after the confirmation.
-  const auto check = backend_.cell_request(request_of(payload, "console:" + user->name, true));
+  const auto check = backend_.cell_request(request_of(payload, "console:" + user.name, true));
   if (!check.ok) {
-    audit(*user, "select cell " + target, "cell", "refused: " + check.message);
+    audit(user, "select cell " + target, "cell", "refused: " + check.message);
     return send_cell_answer(req, res, check);
   }
   const std::string id =
-      new_confirmation({user->name, "cell", target, to_text(payload), Clock::now() + config_.confirm_timeout});
-  audit(*user, "select cell " + target, "cell", "awaiting confirmation " + id);
-  send_json(res,
-            {{"confirmation_id", id},
-             {"action", "cell " + target},
-             {"cell_revision", check.data.value("cell_revision", std::uint64_t{0})},
-             {"changes", changes_of(check.data)},
-             {"expires_in_s", std::chrono::duration<double>(config_.confirm_timeout).count()}},
-            202);
+      new_confirmation({user.name, "cell", target, to_text(payload), Clock::now() + config_.confirm_timeout});
+  audit(user, "select cell " + target, "cell", "awaiting confirmation " + id);
+  json answer = {{"confirmation_id", id},
+                 {"action", "cell " + target},
+                 {"cell_revision", check.data.value("cell_revision", std::uint64_t{0})},
+                 {"changes", changes_of(check.data)},
+                 {"expires_in_s", std::chrono::duration<double>(config_.confirm_timeout).count()}};
+  for (const auto& [key, value] : extra.items()) answer[key] = value;
+  send_json(res, answer, 202);
 }
 
 void HttpApi::confirm_cell(const User& user, const Pending& p, const httplib::Request& req, httplib::Response& res) {
