@@ -17,6 +17,7 @@ import { recipeFields } from '../planner_recipe.js';
 import { RehearsalView } from '../rehearsal.js';
 import { confirmCommand, rehearseRecipe, skillLibrary, submitRecipe, validateRecipe } from './api.js';
 import { Bindings } from './bindings.js';
+import { DeclarePanel } from './declare.js';
 import { NodeForm } from './form.js';
 import { ObjectPicker } from './objects.js';
 import { listenKeys } from './keys.js';
@@ -43,6 +44,7 @@ export function plannerPage(main, me) {
   const tree = new TreeDocument(state);
   const treeBox = el('div', { class: 'ptree', role: 'tree', 'aria-label': 'Behaviour tree' });
   const formBox = el('div', { class: 'pform' });
+  const declarePanel = new DeclarePanel(state, (text, bad) => say(text, bad));
   const picksList = el('ol', { class: 'picks', 'aria-label': 'Picked faces and holes' });
   const holesList = el('ul', { class: 'picks', 'aria-label': 'Holes of the models' });
   const errorsBox = el('div', { class: 'perrors', role: 'status', 'aria-live': 'polite' });
@@ -84,7 +86,8 @@ export function plannerPage(main, me) {
         viewBox,
         el('details', { open: true }, el('summary', {}, 'Parts of the cell (show, frame)'), partsList),
         el('h2', {}, 'Picked'), picksList,
-        el('details', {}, el('summary', {}, 'Holes of the models (click to pick)'), holesList)),
+        el('details', {}, el('summary', {}, 'Holes of the models (click to pick)'), holesList),
+        declarePanel.root),
       el('section', { class: 'panel', 'aria-labelledby': 'pt' }, el('h2', { id: 'pt' }, 'Tree'),
         el('div', { class: 'toolbar' }, addSelect,
           el('button', { id: 'planner-add', onclick: () => { if (addSelect.value) edit(() => tree.add(addSelect.value)); } }, 'Add'),
