@@ -10,6 +10,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
@@ -171,6 +172,32 @@ TEST_F(PlannerBrowserTest, AStepFileImportedInThePlannerIsShownDrawnAndPickable)
   EXPECT_NE(audit_text.find(R"("action":"import STEP","result":"read as sha256:)"), std::string::npos) << audit_text;
   EXPECT_NE(audit_text.find(R"("action":"import STEP","result":"refused: CAD_)"), std::string::npos) << audit_text;
   std::printf("%s; browser artifacts in %s\n", result.value("summary", "").c_str(), cell_.log_dir().c_str());
+// Features declared by picks (planner/declare.mjs): screw holes "all like" a picked hole and a grasp
+// frame from the top face and an edge of it, each a confirmed cell revision; a taken name refused first.
+// This test checks what the world model serves afterwards: the rules it derived from the committed document.
+TEST_F(PlannerBrowserTest, FeaturesDeclaredByPicksAreServedByTheWorldModel) {
+  RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
+  json result;
+  ASSERT_TRUE(run_script("test/integration/planner/declare.mjs", "planner-declare-result.json", std::chrono::minutes(4), result));
+  EXPECT_EQ(result.at("revision_after"), result.at("revision_before").get<std::uint64_t>() + 2) << result.dump(2);
+  const json& features = result.at("world_features");
+  std::map<std::string, json> holes;
+  for (const auto& h : features.at("screw_holes")) holes[h.at("id")] = h;
+  for (const char* id : {"m1", "m2", "m3", "m4"}) {
+    ASSERT_EQ(holes.count(id), 1u) << id << " " << features.dump(2);
+    EXPECT_EQ(holes[id].at("screw_type"), "M12x40");
+  }
+  // The same four holes as the target's own h1..h4, as the world model derives them.
+  std::set<std::string> ours, declared;
+  for (const auto& [id, h] : holes) (id[0] == 'h' ? ours : declared).insert((h.contains("pose") ? h.at("pose") : h).at("position_m").dump());
+  EXPECT_EQ(declared, ours);
+  bool grasp = false;
+  for (const auto& g : features.at("grasp_frames")) grasp = grasp || g.at("id") == "grasp_declared";
+  EXPECT_TRUE(grasp) << features.dump(2);
+  const std::string audit_text = audit_log();
+  EXPECT_NE(audit_text.find("declare screw_holes target/m"), std::string::npos) << audit_text;
+  EXPECT_EQ(audit_text.find("declare screw_holes target/h"), std::string::npos) << "the taken name reached the world model";
+  std::printf("browser artifacts in %s\n", cell_.log_dir().c_str());
 }
 
 }  // namespace

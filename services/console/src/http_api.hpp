@@ -184,6 +184,7 @@ class HttpApi {
   void post_planner_frame(const httplib::Request& req, httplib::Response& res);
   void post_planner_place(const httplib::Request& req, httplib::Response& res);
   void post_planner_import(const httplib::Request& req, httplib::Response& res);
+  void post_planner_declare(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_state(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_events(const httplib::Request& req, httplib::Response& res);
   void post_planner_rehearse(const httplib::Request& req, httplib::Response& res);

@@ -11,6 +11,7 @@
 
 #include "http_api.hpp"
 #include "http_replies.hpp"
+#include "planner_declare.hpp"
 #include "rigger/base/bounded_json.hpp"
 
 namespace rigger::console {
@@ -148,6 +149,37 @@ void HttpApi::post_planner_import(const httplib::Request& req, httplib::Response
   out["model"] = "sha256:" + sha;
   out["model_sha256"] = sha;
   send_json(res, out);
+}
+
+// A feature declared by picks: the rule built here from the CAD service's references, added to the running
+// revision's document, which goes to the world model as a revision dry run (confirmed by POST /api/confirm).
+void HttpApi::post_planner_declare(const httplib::Request& req, httplib::Response& res) {
+  auto user = who(req, res, Role::kProgrammer);
+  if (!user) return;
+  auto b = body(req, res);
+  if (!b) return;
+  try {
+    const DeclareRequest request = parse_declare_request(*b);
+    world_protocol::CellRequest show;
+    show.op = world_protocol::CellOp::kShow;
+    const auto running = backend_.cell_request(show);
+    if (!running.ok) return send_cell_answer(req, res, running);
+    const json result = running.data.value("result", json::object());
+    const json cell = json::parse(result.value("cell_json", std::string("{}")), nullptr, false);
+    if (!cell.is_object()) return send_error(res, 503, "the world model's running revision is not a JSON document", req.path);
+    const auto features = backend_.cad("features", request.model, "{}");
+    if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
+    const json declared = declare_feature(request, cell, features.data.value("result", json::object()));
+    const std::string what = "declare " + request.kind + " " + request.entity + "/" + request.name;
+    const json payload = {{"op", "apply"}, {"cell_json", to_text(declared["cell"])}, {"comment", what}};
+    select_cell_revision(*user, payload, "apply (" + what + ")", req, res,
+                 {{"features", declared["features"]}, {"rule", declared["rule"]},
+                  {"base_revision", running.data.value("cell_revision", std::uint64_t{0})}});
+  } catch (const PlannerError& e) {
+    send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
+  } catch (const json::exception& e) {
+    send_error(res, 503, std::string("the CAD service's features are not of the expected form: ") + e.what(), req.path);
+  }
 }
 
 // Its state and stream are /api/state's and /api/events' of that domain, kept apart from the cell's.

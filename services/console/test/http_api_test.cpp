@@ -139,6 +139,38 @@ TEST_F(HttpApiTest, TheWorldModelsCellCodesBecomeHttpStatuses) {
   EXPECT_EQ(client_->Get("/api/cell/history")->status, 401);
 }
 
+TEST_F(HttpApiTest, AFeatureDeclaredByPicksIsARevisionDryRunOfTheRunningDocument) {
+  const json running = {{"cell_version", 1}, {"entities", {{{"id", "target"}}}}};
+  backend_.cell_answer_ = {true, "", {{"code", "OK"}, {"cell_revision", 4}, {"result", {{"cell_json", running.dump()}}}}};
+  const json face = {{"index", 0}, {"normal", {0, 0, 1}},
+                     {"signature", {{"type", "plane"}, {"centroid_m", {0, 0, 0.02}}, {"direction", {0, 0, 1}}, {"radius_m", 0}}}};
+  const json edge = {{"index", 0}, {"signature", {{"type", "line"}, {"centroid_m", {0, 0.1, 0.02}}, {"direction", {0, 0, 1}}, {"radius_m", 0}}}};
+  backend_.cad_answer_ = {true, "", {{"model_sha256", "ab"}, {"result", {{"faces", {face}}, {"edges", {edge}}, {"holes", json::array()}}}}};
+  const json declare = {{"model", "object:target"}, {"kind", "grasp_frame"}, {"name", "g"}, {"face", 0}};
+  EXPECT_EQ(post("/api/planner/declare", declare.dump(), kOlu)->status, 403);
+  auto r = post("/api/planner/declare", declare.dump(), kAda);
+  ASSERT_EQ(r->status, 202) << r->body;
+  EXPECT_EQ(body(r)["features"], json({"target/g"}));
+  EXPECT_EQ(body(r)["base_revision"], 4);
+  EXPECT_EQ(backend_.cad_requests().back(), "features object:target {}");
+  const std::string dry = backend_.actions().back();
+  EXPECT_EQ(dry.rfind("cell apply dry by console:ada ", 0), 0u) << dry;
+  EXPECT_NE(dry.find(R"("grasp_frames":[{"cad":{"face":{"index":0,"kind":"face")"), std::string::npos) << dry;
+  // Picks that make no frame: 400 at the field, and no dry run.
+  json bad = declare;
+  bad["x_edge"] = 0;  // along the face's normal
+  const std::size_t before = backend_.actions().size();
+  r = post("/api/planner/declare", bad.dump(), kAda);
+  EXPECT_EQ(r->status, 400);
+  EXPECT_EQ(body(r)["where"], "/api/planner/declare#/x_edge") << r->body;
+  EXPECT_EQ(backend_.actions().size(), before + 1) << "only the running revision was read";
+  // A task holds the object: the world model's dry run refuses, 409 with its reason.
+  backend_.cell_check_ = {false, "target is held by task t1", {{"code", "HELD_BY_TASK"}, {"cell_revision", 4}}};
+  r = post("/api/planner/declare", declare.dump(), kAda);
+  EXPECT_EQ(r->status, 409);
+  EXPECT_NE(body(r)["error"].get<std::string>().find("HELD_BY_TASK: target is held by task t1"), std::string::npos) << r->body;
+}
+
 TEST_F(HttpApiTest, MalformedAndOversizedBodiesAreRefusedBeforeParsing) {
   auto r = post("/api/recipes", R"({"task_id": 5)", kAda);
   EXPECT_EQ(r->status, 400);

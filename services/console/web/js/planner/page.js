@@ -20,6 +20,7 @@ import { PlacePanel } from './place.js';
 import { ImportPanel } from './import.js';
 import { confirmCommand, rehearsalCell, rehearseRecipe, skillLibrary, submitRecipe, validateRecipe } from './api.js';
 import { Bindings } from './bindings.js';
+import { DeclarePanel } from './declare.js';
 import { NodeForm } from './form.js';
 import { ObjectPicker } from './objects.js';
 import { listenKeys } from './keys.js';
@@ -46,6 +47,7 @@ export function plannerPage(main, me) {
   const tree = new TreeDocument(state);
   const treeBox = el('div', { class: 'ptree', role: 'tree', 'aria-label': 'Behaviour tree' });
   const formBox = el('div', { class: 'pform' });
+  const declarePanel = new DeclarePanel(state, (text, bad) => say(text, bad));
   const picksList = el('ol', { class: 'picks', 'aria-label': 'Picked faces and holes' });
   const holesList = el('ul', { class: 'picks', 'aria-label': 'Holes of the models' });
   const errorsBox = el('div', { class: 'perrors', role: 'status', 'aria-live': 'polite' });
@@ -94,7 +96,8 @@ export function plannerPage(main, me) {
         el('details', { open: true }, el('summary', {}, 'Parts of the cell (show, frame)'), partsList),
         importBox,
         el('h2', {}, 'Picked'), picksList, placeBox,
-        el('details', {}, el('summary', {}, 'Holes of the models (click to pick)'), holesList)),
+        el('details', {}, el('summary', {}, 'Holes of the models (click to pick)'), holesList),
+        declarePanel.root),
       el('section', { class: 'panel', 'aria-labelledby': 'pt' }, el('h2', { id: 'pt' }, 'Tree'),
         el('div', { class: 'toolbar' }, addSelect,
           el('button', { id: 'planner-add', onclick: () => { if (addSelect.value) edit(() => tree.add(addSelect.value)); } }, 'Add'),
