@@ -172,6 +172,8 @@ TEST_F(PlannerBrowserTest, AStepFileImportedInThePlannerIsShownDrawnAndPickable)
   EXPECT_NE(audit_text.find(R"("action":"import STEP","result":"read as sha256:)"), std::string::npos) << audit_text;
   EXPECT_NE(audit_text.find(R"("action":"import STEP","result":"refused: CAD_)"), std::string::npos) << audit_text;
   std::printf("%s; browser artifacts in %s\n", result.value("summary", "").c_str(), cell_.log_dir().c_str());
+}
+
 // Features declared by picks (planner/declare.mjs): screw holes "all like" a picked hole and a grasp
 // frame from the top face and an edge of it, each a confirmed cell revision; a taken name refused first.
 // This test checks what the world model serves afterwards: the rules it derived from the committed document.
