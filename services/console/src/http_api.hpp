@@ -210,6 +210,14 @@ class HttpApi {
                             nlohmann::json extra = nlohmann::json::object());
   /// Applies a confirmed cell revision (`p` from POST /api/confirm).
   void confirm_cell(const User& user, const Pending& p, const httplib::Request& req, httplib::Response& res);
+  /// The world model's running cell revision: its number and document (bounded parse).
+  struct RunningCell {
+    std::uint64_t revision = 0;
+    nlohmann::json document;
+  };
+  /// The running cell, or none after answering why (the world model's refusal, or 503 when the document
+  /// does not parse).
+  std::optional<RunningCell> running_cell(const httplib::Request& req, httplib::Response& res);
   /// Sends the world model's answer to a cell request: 200 with its result, or its refusal as an error.
   void send_cell_answer(const httplib::Request& req, httplib::Response& res, const ActionResult& r);
 

@@ -6,6 +6,7 @@
 
 #include "http_api.hpp"
 #include "http_replies.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 namespace rigger::console {
 
@@ -59,6 +60,23 @@ void HttpApi::get_cell(const httplib::Request& req, httplib::Response& res) {
   world_protocol::CellRequest q;
   q.op = world_protocol::CellOp::kShow;
   send_cell_answer(req, res, backend_.cell_request(q));
+}
+
+std::optional<HttpApi::RunningCell> HttpApi::running_cell(const httplib::Request& req, httplib::Response& res) {
+  world_protocol::CellRequest show;
+  show.op = world_protocol::CellOp::kShow;
+  const auto running = backend_.cell_request(show);
+  if (!running.ok) {
+    send_cell_answer(req, res, running);
+    return std::nullopt;
+  }
+  JsonParseResult parsed = parse_json_bounded(
+      running.data.value("result", json::object()).value("cell_json", std::string("{}")), {16U * 1024U * 1024U, 64});
+  if (!parsed.ok() || !parsed.value.is_object()) {
+    send_error(res, 503, "the world model's running revision is not a JSON document", req.path);
+    return std::nullopt;
+  }
+  return RunningCell{running.data.value("cell_revision", std::uint64_t{0}), std::move(parsed.value)};
 }
 
 void HttpApi::get_cell_history(const httplib::Request& req, httplib::Response& res) {

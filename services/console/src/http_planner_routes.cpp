@@ -96,14 +96,9 @@ void HttpApi::post_planner_place(const httplib::Request& req, httplib::Response&
     if (!own.ok) return send_cad_refusal(res, req, own.message, "");
     const auto onto = backend_.cad("frame", request.onto.model, request.onto.args.dump());
     if (!onto.ok) return send_cad_refusal(res, req, onto.message, "#/onto");
-    world_protocol::CellRequest show;
-    show.op = world_protocol::CellOp::kShow;
-    const auto running = backend_.cell_request(show);
-    if (!running.ok) return send_cell_answer(req, res, running);
-    const JsonParseResult running_cell = parse_json_bounded(
-        running.data.value("result", json::object()).value("cell_json", std::string("{}")), {16U * 1024U * 1024U, 64});
-    if (!running_cell.ok()) return send_error(res, 503, "the world model's running cell does not parse", req.path);
-    const json& cell = running_cell.value;
+    const auto running = running_cell(req, res);
+    if (!running) return;
+    const json& cell = running->document;
     const Eigen::Isometry3d support_T_object =
         placed_on(frame_from_cad(onto.data.value("result", json::object())),
                   frame_from_cad(own.data.value("result", json::object())), request.turn_deg);
@@ -160,13 +155,9 @@ void HttpApi::post_planner_declare(const httplib::Request& req, httplib::Respons
   if (!b) return;
   try {
     const DeclareRequest request = parse_declare_request(*b);
-    world_protocol::CellRequest show;
-    show.op = world_protocol::CellOp::kShow;
-    const auto running = backend_.cell_request(show);
-    if (!running.ok) return send_cell_answer(req, res, running);
-    const json result = running.data.value("result", json::object());
-    const json cell = json::parse(result.value("cell_json", std::string("{}")), nullptr, false);
-    if (!cell.is_object()) return send_error(res, 503, "the world model's running revision is not a JSON document", req.path);
+    const auto running = running_cell(req, res);
+    if (!running) return;
+    const json& cell = running->document;
     const auto features = backend_.cad("features", request.model, "{}");
     if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
     const json declared = declare_feature(request, cell, features.data.value("result", json::object()));
@@ -174,7 +165,7 @@ void HttpApi::post_planner_declare(const httplib::Request& req, httplib::Respons
     const json payload = {{"op", "apply"}, {"cell_json", to_text(declared["cell"])}, {"comment", what}};
     select_cell_revision(*user, payload, "apply (" + what + ")", req, res,
                  {{"features", declared["features"]}, {"rule", declared["rule"]},
-                  {"base_revision", running.data.value("cell_revision", std::uint64_t{0})}});
+                  {"base_revision", running->revision}});
   } catch (const PlannerError& e) {
     send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
   } catch (const json::exception& e) {
