@@ -44,7 +44,7 @@ try {
   await page.setInputFiles('#planner-open', env('RECIPE'));
   await page.waitForFunction(() => window.rigger.planner.state.validation, null, { timeout: 30000 });
   await page.click('#planner-rehearse');
-  const status = '#planner-editor p[role="status"]';
+  const status = '#planner-notice';
   await page.waitForFunction((sel) => /Starting the rehearsal cell/.test(document.querySelector(sel)?.textContent || ''), status,
     { timeout: 30000, polling: 50 });
   result.starting_notice = await page.locator(status).innerText();
