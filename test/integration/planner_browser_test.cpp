@@ -157,7 +157,8 @@ TEST_F(PlannerBrowserTest, APartPlacedByPicksBecomesACellRevisionWithItsFaceOnTh
 
 // A STEP file the repository does not ship imported in the planner (planner/import.mjs): the generated
 // cell's flange plate, written with OpenCascade here. The page showed what it holds and drew it, a click
-// picked its face; a file that is not STEP was refused on the page. The console audited both reads.
+// picked its face; a file that is not STEP was refused on the page; the file became a cell object (its
+// bytes sent with the revision) and was placed by picks. The console audited the reads and revisions.
 TEST_F(PlannerBrowserTest, AStepFileImportedInThePlannerIsShownDrawnAndPickable) {
   RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   const sim::GeneratedCell generated(cell_.log_dir() + "/generated", repo_file("deploy/cell/simulated_cell.json"));
@@ -171,6 +172,10 @@ TEST_F(PlannerBrowserTest, AStepFileImportedInThePlannerIsShownDrawnAndPickable)
   const std::string audit_text = audit_log();
   EXPECT_NE(audit_text.find(R"("action":"import STEP","result":"read as sha256:)"), std::string::npos) << audit_text;
   EXPECT_NE(audit_text.find(R"("action":"import STEP","result":"refused: CAD_)"), std::string::npos) << audit_text;
+  // Made a cell object and placed: two confirmed revisions, the taken name refused before either.
+  EXPECT_EQ(result.at("revision_after"), result.at("revision_before").get<std::uint64_t>() + 2) << result.dump(2);
+  EXPECT_NE(audit_text.find("cell add flange_imported"), std::string::npos) << audit_text;
+  EXPECT_EQ(audit_text.find("cell add part\""), std::string::npos) << "the taken name reached the world model";
   std::printf("%s; browser artifacts in %s\n", result.value("summary", "").c_str(), cell_.log_dir().c_str());
 }
 

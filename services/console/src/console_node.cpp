@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "rigger/base/bounded_json.hpp"
+#include "rigger/cell_config/cell_file.hpp"
 #include "rigger/console/settings.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/sequences.hpp"
@@ -57,6 +58,7 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
       cell_requests_(ctx.participant, protocol::world::kCellRequest),
       cell_replies_(ctx.participant, protocol::world::kCellReply),
       cell_revisions_(ctx.participant, protocol::world::kCell),
+      cell_models_(ctx.participant, protocol::world::kCellModel),
       recipes_(ctx.participant, protocol::task::kRecipe),
       task_commands_(ctx.participant, protocol::task::kCommand),
       responses_(ctx.participant, protocol::operator_ui::kResponse),
@@ -131,6 +133,7 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
   ctx.loop.on_data(cad_replies_, [this] { on_cad_replies(); });
   ctx.loop.on_data(cell_replies_, [this] { on_cell_replies(); });
   ctx.loop.on_data(cell_revisions_, [this] { on_cell_revisions(); });
+  ctx.loop.on_data(cell_models_, [this] { on_cell_models(); });
   ctx.loop.on_data(wrench_, [this] {
     wrench_.take([this](const rigger_sensing_WrenchStamped& w, const dds_sample_info_t&) {
       force_sum_ += dds::to_domain(w.wrench.force);
@@ -302,13 +305,27 @@ ActionResult ConsoleNode::rehearse(const std::string& task_id, const std::string
     show.op = world_protocol::CellOp::kShow;
     const ActionResult shown = cell_request(show);
     const json result = shown.ok ? shown.data.value("result", json::object()) : json::object();
-    cell = {result.value("cell_revision", std::uint64_t{0}), result.value("sha256", ""), result.value("cell_json", "")};
+    cell.revision = result.value("cell_revision", std::uint64_t{0});
+    cell.sha256 = result.value("sha256", "");
+    cell.cell_json = result.value("cell_json", "");
   }
   return on_loop([=](auto promise) {
-    if (rehearsal_)
-      rehearsal_->publish(task_id, recipe_json, submitter, cell, promise);
-    else
+    if (!rehearsal_) {
       promise->set_value({false, "no rehearsal domain is configured", {}});
+      return;
+    }
+    // The models the document pins go with it: the rehearsal world model's folder may lack them.
+    CellTarget target = cell;
+    const JsonParseResult doc = parse_json_bounded(target.cell_json.empty() ? "{}" : target.cell_json,
+                                                   {cell::kMaxCellFileBytes, cell::kMaxCellFileDepth});
+    for (const json& e : doc.ok() ? doc.value.value("entities", json::array()) : json::array()) {
+      const json model = e.is_object() ? e.value("model", json::object()) : json::object();
+      const auto kept = model.is_object() && model.value("sha256", json()).is_string()
+                            ? models_by_sha_.find(model["sha256"].get<std::string>())
+                            : models_by_sha_.end();
+      if (kept != models_by_sha_.end()) target.models.push_back(kept->second);
+    }
+    rehearsal_->publish(task_id, recipe_json, submitter, target, promise);
   });
 }
 
@@ -474,8 +491,12 @@ ActionResult ConsoleNode::cell_request(const world_protocol::CellRequest& reques
     q.client_id = client_id_;
     q.request_id = next_request_++;
     rigger_world_CellRequest wire{};
-    world_protocol::to_wire(q, wire);
-    cell_requests_.write(wire);
+    std::vector<rigger_world_CellModel> models;
+    world_protocol::to_wire(q, wire, models);
+    if (const dds_return_t rc = cell_requests_.write(wire); rc != DDS_RETCODE_OK) {
+      promise->set_value({false, std::string("the cell request was not sent: ") + dds_strretcode(rc), {}});
+      return;
+    }
     const auto timer = ctx_.loop.after(query_timeout_, [this, id = q.request_id] {
       auto it = cell_pending_.find(id);
       if (it == cell_pending_.end()) return;
@@ -484,6 +505,23 @@ ActionResult ConsoleNode::cell_request(const world_protocol::CellRequest& reques
     });
     cell_pending_[q.request_id] = {promise, timer};
   });
+}
+
+void ConsoleNode::on_cell_models() {
+  // The world model publishes only the running revision's pinned models and disposes the others.
+  static constexpr std::size_t kMaxModels = 64;
+  cell_models_.take(
+      [this](const rigger_world_CellModel& w, const dds_sample_info_t&) {
+        world_protocol::CellModel m = world_protocol::from_wire(w);
+        if (models_by_sha_.size() >= kMaxModels && models_by_sha_.count(m.sha256) == 0) {
+          ctx_.log->warn("cell model not kept for rehearsals: {} models kept already sha256={}", kMaxModels, m.sha256);
+          return;
+        }
+        models_by_sha_[m.sha256] = std::move(m);
+      },
+      [this](const rigger_world_CellModel& key, const dds_sample_info_t&) {
+        models_by_sha_.erase(dds::to_string(key.sha256));
+      });
 }
 
 void ConsoleNode::on_cell_replies() {

@@ -70,6 +70,7 @@ class ConsoleNode : public service::Node, public Backend {
   void on_journal_replies();
   void on_cad_replies();
   void on_cell_replies();
+  void on_cell_models();
   /// A new revision of the cell: the pages are told (their parts and 3D views follow it).
   void on_cell_revisions();
   /// A sensor sample arrived: the plot timer runs while they do.
@@ -101,6 +102,9 @@ class ConsoleNode : public service::Node, public Backend {
   dds::Writer<rigger_world_CellRequest> cell_requests_;
   dds::Reader<rigger_world_CellReply> cell_replies_;
   dds::Reader<rigger_world_CellRevision> cell_revisions_;
+  /// The STEP models the cell's running revision pins (rigger/world/cell_model), for the rehearsal cell.
+  dds::Reader<rigger_world_CellModel> cell_models_;
+  std::map<std::string, world_protocol::CellModel> models_by_sha_;
   dds::Writer<rigger_task_Recipe> recipes_;
   dds::Writer<rigger_task_TaskCommand> task_commands_;
   dds::Writer<rigger_operator_ui_OperatorResponse> responses_;

@@ -244,6 +244,7 @@ void HttpApi::routes() {
       {Method::kPost, "/api/planner/place", &HttpApi::post_planner_place},
       {Method::kPost, kImportPath, &HttpApi::post_planner_import},
       {Method::kPost, "/api/planner/declare", &HttpApi::post_planner_declare},
+      {Method::kPost, "/api/planner/add", &HttpApi::post_planner_add},
       {Method::kGet, "/api/rehearsal/state", &HttpApi::get_rehearsal_state},
       {Method::kGet, "/api/rehearsal/events", &HttpApi::get_rehearsal_events},
       {Method::kPost, "/api/planner/rehearse", &HttpApi::post_planner_rehearse},

@@ -23,6 +23,7 @@
 #include "console_state.hpp"
 #include "event_log.hpp"
 #include "http_replies.hpp"
+#include "imported_models.hpp"
 #include "planner.hpp"
 #include "run_archive.hpp"
 #include "rigger/base/logging.hpp"
@@ -185,6 +186,7 @@ class HttpApi {
   void post_planner_place(const httplib::Request& req, httplib::Response& res);
   void post_planner_import(const httplib::Request& req, httplib::Response& res);
   void post_planner_declare(const httplib::Request& req, httplib::Response& res);
+  void post_planner_add(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_state(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_events(const httplib::Request& req, httplib::Response& res);
   void post_planner_rehearse(const httplib::Request& req, httplib::Response& res);
@@ -220,6 +222,8 @@ class HttpApi {
   std::optional<RunningCell> running_cell(const httplib::Request& req, httplib::Response& res);
   /// Sends the world model's answer to a cell request: 200 with its result, or its refusal as an error.
   void send_cell_answer(const httplib::Request& req, httplib::Response& res, const ActionResult& r);
+  /// 409: a revision pins an imported file the console no longer keeps.
+  void imported_file_gone(const httplib::Request& req, httplib::Response& res, const std::string& sha256);
 
   HttpConfig config_;
   StreamSlots streams_;
@@ -231,6 +235,7 @@ class HttpApi {
   SkillCatalog& skills_;
   Logger log_;
   std::optional<RehearsalFeed> rehearsal_;
+  ImportedModels imports_;  ///< STEP files imported in the Planner, until a revision adds them
   const RunArchive* runs_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;

@@ -137,6 +137,7 @@ void HttpApi::post_planner_import(const httplib::Request& req, httplib::Response
   }
   const std::string sha = loaded.data.value("model_sha256", "");
   audit(*user, "import STEP", name, "read as sha256:" + sha);
+  imports_.keep(sha, name, req.body);
   json out = loaded.data.value("result", json::object());
   out.erase("source");  // the CAD service's name for bytes it was sent, not a file anyone can open
   out["name"] = name;
@@ -144,6 +145,35 @@ void HttpApi::post_planner_import(const httplib::Request& req, httplib::Response
   out["model"] = "sha256:" + sha;
   out["model_sha256"] = sha;
   send_json(res, out);
+}
+
+// An imported STEP file made a cell object: named, of a material (or fixed), standing on the floor beside
+// the cell, its model pinned by sha256 and sent with the revision (the world model keeps it and publishes
+// it to every service). The revision goes to the world model as a dry run, confirmed by POST /api/confirm;
+// Place then puts the object where it belongs.
+void HttpApi::post_planner_add(const httplib::Request& req, httplib::Response& res) {
+  auto user = who(req, res, Role::kProgrammer);
+  if (!user) return;
+  auto b = body(req, res);
+  if (!b) return;
+  try {
+    const AddRequest request = parse_add_request(*b);
+    if (!imports_.find(request.sha256)) return imported_file_gone(req, res, request.sha256);
+    const auto features = backend_.cad("features", "sha256:" + request.sha256, "{}");
+    if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
+    const double lowest_z = lowest_vertex_z(features.data.value("result", json::object()));
+    const auto running = running_cell(req, res);
+    if (!running) return;
+    const json added = cell_with_new_object(running->document, request, lowest_z);
+    const std::string comment = request.comment.empty() ? "add " + request.id + " (imported)" : request.comment;
+    const json payload = {
+        {"op", "apply"}, {"cell_json", to_text(added)}, {"comment", comment},
+        {"models", json::array({{{"sha256", request.sha256}, {"name", imported_model_name(request.id)}}})}};
+    select_cell_revision(*user, payload, "add " + request.id, req, res,
+                         {{"object", request.id}, {"material", request.material}});
+  } catch (const PlannerError& e) {
+    send_error(res, e.pointer == "/id" ? 409 : 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
+  }
 }
 
 // A feature declared by picks: the rule built here from the CAD service's references, added to the running

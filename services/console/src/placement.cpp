@@ -156,4 +156,81 @@ json cell_with_placement(const json& cell, const std::string& entity, const std:
   return out;
 }
 
+namespace {
+
+/// kg/m³ of the materials a loose imported part may be made of.
+std::optional<double> density_of(const std::string& material) {
+  if (material == "steel") return 7850.0;
+  if (material == "aluminium") return 2700.0;
+  if (material == "plastic") return 1200.0;
+  return std::nullopt;
+}
+
+bool plain_id(const std::string& id) {
+  if (id.empty() || id.size() > 64) return false;
+  return std::all_of(id.begin(), id.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+  });
+}
+
+}  // namespace
+
+AddRequest parse_add_request(const json& body) {
+  if (!body.is_object()) throw PlannerError{"", "expected a JSON object {model, id, material}"};
+  AddRequest r;
+  const std::string model = body.value("model", json()).is_string() ? body["model"].get<std::string>() : "";
+  if (model.rfind("sha256:", 0) != 0 || model.size() != 7 + 64)
+    throw PlannerError{"/model", "expected \"sha256:<hex>\", the imported file's model"};
+  r.sha256 = model.substr(7);
+  r.id = body.value("id", json()).is_string() ? body["id"].get<std::string>() : "";
+  if (!plain_id(r.id))
+    throw PlannerError{"/id", "expected a name of 1 to 64 letters, digits, '_' or '-', got \"" + r.id.substr(0, 64) + "\""};
+  r.material = body.value("material", json()).is_string() ? body["material"].get<std::string>() : "";
+  if (r.material != "fixed" && !density_of(r.material))
+    throw PlannerError{"/material", "expected \"steel\", \"aluminium\", \"plastic\" or \"fixed\", got \"" +
+                                        r.material.substr(0, 32) + "\""};
+  r.comment = body.value("comment", json()).is_string() ? body["comment"].get<std::string>() : "";
+  return r;
+}
+
+std::string imported_model_name(const std::string& id) { return "imported/" + id + ".step"; }
+
+double lowest_vertex_z(const json& features) {
+  std::optional<double> lowest;
+  for (const json& v : features.value("vertices", json::array())) {
+    const json p = v.value("point_m", json());
+    if (p.is_array() && p.size() == 3 && p[2].is_number())
+      lowest = std::min(lowest.value_or(p[2].get<double>()), p[2].get<double>());
+  }
+  if (!lowest) throw PlannerError{"/model", "the CAD service gave no vertex of the model: its lowest point is unknown"};
+  return *lowest;
+}
+
+json cell_with_new_object(const json& cell, const AddRequest& request, double lowest_z_m) {
+  if (entity_in(cell, request.id) != nullptr)
+    throw PlannerError{"/id", "the cell has an entity \"" + request.id + "\" already: choose another name"};
+  double beyond_x = 0.0;
+  for (const json& e : cell.value("entities", json::array())) {
+    if (!e.is_object() || e.value("parent", "world") != "world" || !e.contains("pose")) continue;
+    beyond_x = std::max(beyond_x, pose_of(e).translation().x());
+  }
+  json model = {{"frame", "the STEP file's origin"},
+                {"step", imported_model_name(request.id)},
+                {"sha256", request.sha256}};
+  const std::optional<double> density = density_of(request.material);
+  if (density) {
+    model["density_kg_m3"] = *density;
+  } else {
+    model["static"] = true;
+  }
+  const double z = -lowest_z_m + (density ? 1e-3 : 0.0);
+  json out = cell;
+  out["entities"].push_back({{"id", request.id},
+                             {"kind", "object"},
+                             {"parent", "world"},
+                             {"pose", {{"position_m", {beyond_x + 1.0, 0.0, z}}, {"rpy_deg", {0, 0, 0}}}},
+                             {"model", model}});
+  return out;
+}
+
 }  // namespace rigger::console

@@ -49,4 +49,29 @@ nlohmann::json cell_with_placement(const nlohmann::json& cell, const std::string
                                    const Eigen::Isometry3d& support_T_entity,
                                    std::optional<bool> localized = std::nullopt);
 
+/// POST /api/planner/add: {"model": "sha256:<hex>" (an imported file), "id": "<the new object's id>",
+/// "material": "steel" | "aluminium" | "plastic" (loose, its mass the model's volume times the density)
+/// | "fixed" (static, fixed to the floor), "comment"?}.
+struct AddRequest {
+  std::string sha256;
+  std::string id;
+  std::string material;
+  std::string comment;
+};
+/// @throws PlannerError naming the field.
+AddRequest parse_add_request(const nlohmann::json& body);
+
+/// The model.step of the object an imported file becomes: "imported/<id>.step".
+std::string imported_model_name(const std::string& id);
+
+/// The lowest z of the vertices in the CAD service's features answer (entities included), in the model's
+/// frame. @throws PlannerError when the answer has no vertex.
+double lowest_vertex_z(const nlohmann::json& features);
+
+/// The cell document `cell` with a new object: the imported model as `imported/<id>.step` pinned by its
+/// sha256, standing on the floor (its lowest point `lowest_z_m` at z = 0; 1 mm above when loose) 1 m
+/// beyond every entity placed in the world along x, where Place can then put it.
+/// @throws PlannerError at "/id" when an entity of that id exists.
+nlohmann::json cell_with_new_object(const nlohmann::json& cell, const AddRequest& request, double lowest_z_m);
+
 }  // namespace rigger::console

@@ -36,8 +36,10 @@ void RehearsalRevision::bring_to(const CellTarget& target, const std::string& wh
   q.comment = "the cell's revision " + std::to_string(target.revision) + ", for a rehearsal";
   q.client_id = client_id_;
   q.request_id = next_request_++;
+  q.models = target.models;
   rigger_world_CellRequest wire{};
-  world_protocol::to_wire(q, wire);
+  std::vector<rigger_world_CellModel> models;
+  world_protocol::to_wire(q, wire, models);
   const dds_return_t rc = requests_.write(wire);
   if (rc != DDS_RETCODE_OK) return done(std::string("the cell request was not sent: ") + dds_strretcode(rc));
   const auto timer = loop_.after(timeout_, [this, id = q.request_id] {

@@ -13,12 +13,14 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/participant.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/idl/types.hpp"
 #include "rigger/protocol/world.hpp"
+#include "rigger/world_protocol/cell_protocol.hpp"
 
 namespace rigger::console {
 
@@ -27,6 +29,9 @@ struct CellTarget {
   std::uint64_t revision = 0;
   std::string sha256;     ///< empty: unknown (no world model answers on the cell's domain)
   std::string cell_json;  ///< the document's text
+  /// The STEP models the document pins, as the cell's world model published them (rigger/world/cell_model):
+  /// the rehearsal world model's folder may lack them.
+  std::vector<world_protocol::CellModel> models;
 };
 
 class RehearsalRevision {

@@ -60,7 +60,7 @@ class RehearsalRevisionTest : public ::testing::Test {
   dds::Writer<rigger_world_CellReply> replies_{participant_, protocol::world::kCellReply};
   dds::Writer<rigger_world_CellRevision> revisions_{participant_, protocol::world::kCell};
   std::vector<world_protocol::CellRequest> seen_;
-  const CellTarget target_{3, "sha-of-3", R"({"cell_version": 1})"};
+  const CellTarget target_{3, "sha-of-3", R"({"cell_version": 1})", {}};
 };
 
 TEST_F(RehearsalRevisionTest, ARefusedRevisionIsNotRunWithTheWorldModelsReason) {

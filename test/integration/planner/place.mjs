@@ -6,35 +6,17 @@
 // redraws the load there. Two faces of one part are refused on the page. No coordinate is typed.
 // Synchronisation is on the page's state, never a sleep; a failed check exits 1. RESULT: the picks and
 // the answers, for the C++ side to check the world model's new pose.
-import { call, check, closeBrowser, launchBrowser, openPlanner } from './harness.mjs';
+import { call, check, closeBrowser, viewGestures, launchBrowser, openPlanner } from './harness.mjs';
 
 const result = {};
 const browser = await launchBrowser();
 try {
   const page = await openPlanner(browser);
   const state = (fn, arg) => page.evaluate(fn, arg);
-  const canvas = page.locator('.pview canvas');
-  await canvas.scrollIntoViewIfNeeded();
-  const box = await canvas.boundingBox();
-  /// Orbits the view by dragging from the canvas's centre by `dy` pixels (up: negative, the view goes under).
-  const orbit = async (dy) => {
-    const x = box.x + box.width / 2, y = box.y + box.height / 2;
-    await page.mouse.move(x, y);
-    await page.mouse.down();
-    for (let i = 1; i <= 10; ++i) await page.mouse.move(x, y + (dy * i) / 10);
-    await page.mouse.up();
-  };
+  const { box, orbit, clickAt } = await viewGestures(page);
   /// The plane face of `entity` whose outward normal is `n`, from the CAD features the page holds.
   const faceFacing = (entity, n) => state(([e, d]) => window.rigger.planner.view.parts.get(e).features.faces
     .find((f) => f.signature?.type === 'plane' && f.signature.direction.every((v, i) => Math.abs(v - d[i]) < 1e-6)), [entity, n]);
-  /// Clicks `entity`'s model point `p` where the page draws it; returns the pick the page made.
-  const clickAt = async (entity, p) => {
-    const n = await state(() => window.rigger.planner.state.picks.length);
-    const q = await state(([e, pt]) => window.rigger.planner.screenOf(e, pt), [entity, p]);
-    await page.mouse.click(q.x, q.y);
-    await page.waitForFunction((k) => window.rigger.planner.state.picks.length === k + 1, n, { timeout: 10000 });
-    return state(() => window.rigger.planner.state.picks.at(-1));
-  };
 
   // --- two faces of one part: refused on the page, nothing sent ---
   await page.click('[data-frame="target"]');
