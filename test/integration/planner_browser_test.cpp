@@ -172,8 +172,15 @@ TEST_F(PlannerBrowserTest, AStepFileImportedInThePlannerIsShownDrawnAndPickable)
   const std::string audit_text = audit_log();
   EXPECT_NE(audit_text.find(R"("action":"import STEP","result":"read as sha256:)"), std::string::npos) << audit_text;
   EXPECT_NE(audit_text.find(R"("action":"import STEP","result":"refused: CAD_)"), std::string::npos) << audit_text;
-  // Made a cell object and placed: two confirmed revisions, the taken name refused before either.
-  EXPECT_EQ(result.at("revision_after"), result.at("revision_before").get<std::uint64_t>() + 2) << result.dump(2);
+  // Made a cell object, placed, its insertion declared: three confirmed revisions, the taken name refused
+  // before any.
+  EXPECT_EQ(result.at("revision_after"), result.at("revision_before").get<std::uint64_t>() + 3) << result.dump(2);
+  // The insertion the world model derived: the flange's bottom face (at z = b in its own frame) on the
+  // target's top face (the target's frame), so the flange's frame sits -b above the target's.
+  const json& insertion = result.at("insertion");
+  EXPECT_NEAR(insertion.at("pose_in_target").at("position_m").at(2).get<double>(),
+              -result.at("bottom_z").get<double>(), 1e-6)
+      << insertion.dump(2);
   EXPECT_NE(audit_text.find("cell add flange_imported"), std::string::npos) << audit_text;
   EXPECT_EQ(audit_text.find("cell add part\""), std::string::npos) << "the taken name reached the world model";
   std::printf("%s; browser artifacts in %s\n", result.value("summary", "").c_str(), cell_.log_dir().c_str());

@@ -190,7 +190,13 @@ void HttpApi::post_planner_declare(const httplib::Request& req, httplib::Respons
     const json& cell = running->document;
     const auto features = backend_.cad("features", request.model, "{}");
     if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
-    const json declared = declare_feature(request, cell, features.data.value("result", json::object()));
+    json target_features = json::object();
+    if (!request.target.empty()) {
+      const auto target = backend_.cad("features", "object:" + request.target, "{}");
+      if (!target.ok) return send_cad_refusal(res, req, target.message, "#/target/model");
+      target_features = target.data.value("result", json::object());
+    }
+    const json declared = declare_feature(request, cell, features.data.value("result", json::object()), target_features);
     const std::string what = "declare " + request.kind + " " + request.entity + "/" + request.name;
     const json payload = {{"op", "apply"}, {"cell_json", to_text(declared["cell"])}, {"comment", what}};
     select_cell_revision(*user, payload, "apply (" + what + ")", req, res,

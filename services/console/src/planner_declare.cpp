@@ -135,6 +135,26 @@ json screw_hole_rules(const DeclareRequest& r, const json& cad) {
   return out;
 }
 
+/// The insertion: the picked face of this object lies on the picked face of the target (the cell file's
+/// `mate_faces` rule); both planes.
+json insertion_rule(const DeclareRequest& r, const json& cad, const json& target_cad) {
+  const json& p = r.picks;
+  const auto plane = [&](const json& features, const json& index, const std::string& pointer, const std::string& model) -> const json& {
+    const json& face = entry(features, "faces", index, pointer, model);
+    if (face.at("signature").value("type", "") != "plane")
+      throw PlannerError{pointer, "face " + face.at("index").dump() + " of " + model + " is a " +
+                                      face.at("signature").value("type", "?") + ", not a plane: faces that mate are planes"};
+    return face;
+  };
+  if (!p.contains("face")) throw PlannerError{"/face", "expected the picked face of " + r.entity + " that mates"};
+  if (!p.contains("target") || !p["target"].is_object() || !p["target"].contains("face"))
+    throw PlannerError{"/target/face", "expected the picked face of the part it is inserted into"};
+  const json& own = plane(cad, p["face"], "/face", r.model);
+  const json& onto = plane(target_cad, p["target"]["face"], "/target/face", "object:" + r.target);
+  return {{"target", r.target},
+          {"cad", {{"rule", "mate_faces"}, {"face", reference("face", own)}, {"target_face", reference("face", onto)}}}};
+}
+
 }  // namespace
 
 DeclareRequest parse_declare_request(const json& body) {
@@ -147,17 +167,28 @@ DeclareRequest parse_declare_request(const json& body) {
     throw PlannerError{"/model", "expected the model as \"object:<entity id>\", e.g. \"object:target\""};
   r.model = *model;
   r.entity = r.model.substr(prefix.size());
+  r.picks = body;
   r.kind = body.value("kind", json()).is_string() ? body["kind"].get<std::string>() : "";
-  if (r.kind != "grasp_frame" && r.kind != "approach_waypoint" && r.kind != "screw_holes")
-    throw PlannerError{"/kind", "expected the kind: \"grasp_frame\", \"approach_waypoint\" or \"screw_holes\""};
-  r.name = body.value("name", json()).is_string() ? body["name"].get<std::string>() : "";
+  if (r.kind != "grasp_frame" && r.kind != "approach_waypoint" && r.kind != "screw_holes" && r.kind != "insertion")
+    throw PlannerError{"/kind", "expected the kind: \"grasp_frame\", \"approach_waypoint\", \"screw_holes\" or "
+                                "\"insertion\""};
+  if (r.kind == "insertion") {
+    const json target = body.value("target", json::object());
+    const json tm = target.is_object() ? target.value("model", json()) : json();
+    if (!tm.is_string() || tm.get<std::string>().rfind(prefix, 0) != 0 || tm.get<std::string>().size() == prefix.size() ||
+        tm.get<std::string>().size() > 200)
+      throw PlannerError{"/target/model", "expected the part it is inserted into as \"object:<entity id>\""};
+    r.target = tm.get<std::string>().substr(prefix.size());
+    if (r.target == r.entity) throw PlannerError{"/target/model", "a part is not inserted into itself: pick a face of another part"};
+    if (!body.contains("name")) r.picks["name"] = "insertion";  // one per object: its name is its kind
+  }
+  r.name = r.picks.value("name", json()).is_string() ? r.picks["name"].get<std::string>() : "";
   if (!valid_name(r.name))
     throw PlannerError{"/name", "expected a name of 1 to 64 letters, digits, '_' or '-'"};
-  r.picks = body;
   return r;
 }
 
-json declare_feature(const DeclareRequest& r, const json& cell, const json& cad) {
+json declare_feature(const DeclareRequest& r, const json& cell, const json& cad, const json& target_cad) {
   json doc = cell;
   json* entity = nullptr;
   if (doc.contains("entities") && doc["entities"].is_array())
@@ -172,6 +203,15 @@ json declare_feature(const DeclareRequest& r, const json& cell, const json& cad)
       for (const json& f : list)
         if (f.is_object() && f.contains("id") && f["id"].is_string()) taken.insert(f["id"].get<std::string>());
 
+  if (r.kind == "insertion") {
+    if (features.contains("insertion")) {
+      throw PlannerError{"/kind", "\"" + r.entity + "\" has an insertion already (into \"" +
+                                      features["insertion"].value("target", "?") + "\"): roll back its revision first"};
+    }
+    const json rule = insertion_rule(r, cad, target_cad);
+    features["insertion"] = rule;
+    return {{"cell", std::move(doc)}, {"features", {r.entity + "/insertion"}}, {"rule", json::array({rule})}};
+  }
   json added = json::array();
   std::string list;
   if (r.kind == "screw_holes") {

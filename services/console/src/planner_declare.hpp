@@ -19,12 +19,15 @@ namespace rigger::console {
 ///   "screw_holes":       "hole" (a hole's index in the CAD features), "like" (bool: every hole of the
 ///                        same diameter and axis on the same face as well), "screw" {"screw_type",
 ///                        "torque_nm"} for each, optional "screws" [{...}] one per hole in hole order
+///   "insertion":         "face" (this object's planar face that mates) and "target" {"model":
+///                        "object:<target>", "face"} (the target's); "name" may be left out
 /// A screw-hole name is a prefix: the holes become <name>1, <name>2, ...
 struct DeclareRequest {
   std::string model;   ///< "object:target"
   std::string entity;  ///< "target"
   std::string kind;
   std::string name;
+  std::string target;    ///< insertion: the entity it is inserted into
   nlohmann::json picks;  ///< the body, checked for the kind's fields
 };
 /// @throws PlannerError naming the field.
@@ -36,7 +39,11 @@ DeclareRequest parse_declare_request(const nlohmann::json& body);
 /// entries]}.
 /// @throws PlannerError when the picks make no such feature (not a plane, an edge not in the face, a
 /// hole pattern of mixed diameters, an index the model does not have) or the name is taken.
+/// An insertion ({"face", "target": {"model": "object:<target>", "face"}}) mates a face of the object on a
+/// face of the target (`target_cad_features`: the target model's) as the `mate_faces` rule; an object has
+/// one insertion.
 nlohmann::json declare_feature(const DeclareRequest& request, const nlohmann::json& cell,
-                               const nlohmann::json& cad_features);
+                               const nlohmann::json& cad_features,
+                               const nlohmann::json& target_cad_features = nlohmann::json::object());
 
 }  // namespace rigger::console

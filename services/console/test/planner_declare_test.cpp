@@ -128,3 +128,53 @@ TEST(PlannerDeclare, BadPicksAreRefusedAtTheirField) {
 
 }  // namespace
 }  // namespace rigger::console
+
+namespace rigger::console {
+namespace {
+
+// The load's bottom face (face 0 of this fake, a plane) on the target's top face (face 0 of the plate).
+json load_features() {
+  return {{"faces", {{{"index", 0}, {"signature", sig("plane", {0, 0, -0.1}, {0, 0, -1})}, {"normal", {0, 0, -1}}},
+                     {{"index", 1}, {"signature", sig("cylinder", {0, 0, 0}, {0, 0, 1}, 0.01)}}}},
+          {"edges", json::array()},
+          {"holes", json::array()}};
+}
+
+json cell_with_load() {
+  json c = cell();
+  c["entities"].push_back({{"id", "load"}});
+  return c;
+}
+
+TEST(PlannerDeclare, AnInsertionMatesAPickedFaceOfThePartOnAPickedFaceOfTheTarget) {
+  const json body = {{"model", "object:load"}, {"kind", "insertion"}, {"face", 0},
+                     {"target", {{"model", "object:target"}, {"face", 0}}}};
+  const json out = declare_feature(parse_declare_request(body), cell_with_load(), load_features(), plate());
+  const json& insertion = out.at("cell").at("entities").at(1).at("features").at("insertion");
+  EXPECT_EQ(insertion.at("target"), "target");
+  EXPECT_EQ(insertion.at("cad").at("rule"), "mate_faces");
+  EXPECT_EQ(insertion.at("cad").at("face").at("signature").at("direction"), json({0, 0, -1}));
+  EXPECT_EQ(insertion.at("cad").at("target_face").at("index"), 0);
+  EXPECT_EQ(out.at("features"), json({"load/insertion"}));
+
+  // One insertion per part; a face that is no plane; the part into itself; no target.
+  EXPECT_THROW(declare_feature(parse_declare_request(body), out.at("cell"), load_features(), plate()), PlannerError);
+  json cylinder = body;
+  cylinder["face"] = 1;
+  try {
+    declare_feature(parse_declare_request(cylinder), cell_with_load(), load_features(), plate());
+    ADD_FAILURE() << "a cylinder mated";
+  } catch (const PlannerError& e) {
+    EXPECT_EQ(e.pointer, "/face");
+    EXPECT_NE(e.message.find("not a plane"), std::string::npos) << e.message;
+  }
+  json itself = body;
+  itself["target"]["model"] = "object:load";
+  EXPECT_EQ(refusal(itself).substr(0, 14), "/target/model:");
+  json none = body;
+  none.erase("target");
+  EXPECT_EQ(refusal(none).substr(0, 14), "/target/model:");
+}
+
+}  // namespace
+}  // namespace rigger::console

@@ -5,7 +5,8 @@
 // beside the cell, and a click on it picks its face with the imported model's reference. A file that is
 // not STEP is refused on the page with the CAD service's reason. Then it becomes a cell object by name
 // and material (a taken name refused first), its bytes going with the revision, so the CAD service draws
-// it from its own copy; and it is placed by picks on the part fixture. Synchronisation is on the page's state,
+// it from its own copy; it is placed by picks on the part fixture and its insertion into the target is
+// declared by picks. Synchronisation is on the page's state,
 // never a sleep; a failed check exits 1. RESULT: what the page showed.
 import { call, check, closeBrowser, viewGestures, env, launchBrowser, openPlanner } from './harness.mjs';
 
@@ -140,6 +141,31 @@ try {
   const gap = zOf(placed) + bottom.z - zOf(fixture);
   check(Math.abs(gap) < 1e-6, `the new object's bottom face lies on the fixture's top face (gap ${gap} m)`);
   result.placed_pose = placed.world_pose || placed.pose;
+
+  // --- its insertion declared by picks: its bottom face (the fixture hidden, seen from below) on the
+  //     target's top face ---
+  await page.click('#planner-clear-picks');
+  await page.click('[data-part="part_fixture"]');
+  await page.click('[data-frame="flange_imported"]');
+  await orbit(-0.3 * box.height);
+  const mating = await clickAt('flange_imported', bottom.point);
+  check(mating.entity === 'flange_imported' && mating.face === bottom.index, `picked the bottom face again (got ${mating.entity} ${mating.face})`);
+  await orbit(0.3 * box.height);
+  await page.click('[data-part="part_fixture"]');
+  await page.click('[data-frame="target"]');
+  const into = await clickAt('target', [-0.1, 0.05, 0]);
+  check(into.entity === 'target' && into.kind === 'face', `picked the target's top face (got ${into.entity} ${into.kind})`);
+  await page.click('#planner-declare summary');
+  await page.selectOption('#planner-declare-kind', 'insertion');
+  await page.click('#planner-declare-submit');
+  await page.waitForSelector('#confirm-yes', { state: 'visible', timeout: 20000 });
+  await page.click('#confirm-yes');
+  await page.waitForFunction(() => /^Declared flange_imported\/insertion/.test(document.querySelector('#planner-declare-status').textContent), null, { timeout: 30000 });
+  const inserted = (await call('/api/world/entity/flange_imported')).json;
+  const insertion = inserted.features?.insertion;
+  check(insertion?.target === 'target', `the world model serves the insertion into the target ${JSON.stringify(insertion)}`);
+  result.insertion = insertion;
+  result.bottom_z = bottom.z;
   result.revision_before = revisionBefore;
   result.revision_after = (await call('/api/cell')).json.cell_revision;
 } finally {

@@ -72,6 +72,13 @@ describe('declareFromPicks', () => {
     assert.equal(declareFromPicks([face], { kind: 'approach_waypoint', name: 'a', standoff_mm: '100' }).standoff_m, 0.1);
     assert.match(declareFromPicks([face], { kind: 'approach_waypoint', name: 'a', standoff_mm: '' }).error, /stand-off/);
   });
+  it('makes the insertion of the first picked face onto the second part\'s face', () => {
+    const onto = { kind: 'face', entity: 'plate', face: 5 };
+    assert.deepEqual(declareFromPicks([face, onto], { kind: 'insertion' }),
+      { model: 'object:target', kind: 'insertion', face: 2, target: { model: 'object:plate', face: 5 } });
+    assert.match(declareFromPicks([face, { ...face, face: 3 }], { kind: 'insertion' }).error, /face of the part it goes into/);
+    assert.match(declareFromPicks([face, hole], { kind: 'insertion' }).error, /face of the part it goes into/);
+  });
   it('makes screw holes of one picked hole and the screw', () => {
     assert.deepEqual(declareFromPicks([hole], { kind: 'screw_holes', name: 'm', like: true, screw_type: 'M10x30', torque_nm: '45' }),
       { model: 'object:target', kind: 'screw_holes', name: 'm', hole: 1, like: true, screw: { screw_type: 'M10x30', torque_nm: 45 } });

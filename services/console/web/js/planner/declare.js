@@ -1,5 +1,5 @@
 // The Planner's "Declare a feature" panel (docs/console.md, "Declare a feature"): a grasp frame, an
-// approach waypoint or screw holes from the picks, as a new cell revision. The console builds the rule
+// approach waypoint, screw holes or the insertion from the picks, as a new cell revision. The console builds the rule
 // from the CAD service's references (POST /api/planner/declare: the world model's dry run), the person
 // confirms the changes, and the new revision's features come back through the page's "revision" event.
 // After a commit the panel offers the undo: the rollback to the revision it was declared on.
@@ -8,7 +8,7 @@ import { describeChanges } from '../cell_revisions.js';
 import { DECLARE_KINDS, declareFromPicks } from './picks.js';
 
 const LABELS = { grasp_frame: 'grasp frame (a face, an edge of it for x)', approach_waypoint: 'approach waypoint (a face, a stand-off)',
-  screw_holes: 'screw holes (a hole)' };
+  screw_holes: 'screw holes (a hole)', insertion: 'insertion (a face of the part, then the face it mates)' };
 
 export class DeclarePanel {
   /// `state`: the page's (`picks`); `say(text, bad)`: the page's notice.
@@ -43,8 +43,8 @@ export class DeclarePanel {
   /// Shows the kind's own fields only.
   render() {
     const k = this.kind.value;
-    const shown = { x_reversed: k !== 'screw_holes', standoff_mm: k === 'approach_waypoint', like: k === 'screw_holes',
-      screw_type: k === 'screw_holes', torque_nm: k === 'screw_holes' };
+    const shown = { name: k !== 'insertion', x_reversed: k !== 'screw_holes' && k !== 'insertion', standoff_mm: k === 'approach_waypoint',
+      like: k === 'screw_holes', screw_type: k === 'screw_holes', torque_nm: k === 'screw_holes' };
     for (const [key, on] of Object.entries(shown)) this.fields[key].hidden = !on;
   }
 
@@ -58,7 +58,8 @@ export class DeclarePanel {
     const fields = Object.fromEntries(Object.keys(this.fields).map((k) => [k, this.value(k)]));
     const request = declareFromPicks(this.state.picks, { kind: this.kind.value, ...fields });
     if (request.error) return this.tell(`Nothing declared: ${request.error}.`, true);
-    const what = `${this.kind.value.replace('_', ' ')} ${request.name} on ${request.model.slice(7)}`;
+    const what = request.target ? `the insertion of ${request.model.slice(7)} into ${request.target.model.slice(7)}`
+      : `${this.kind.value.replace('_', ' ')} ${request.name} on ${request.model.slice(7)}`;
     try {
       const sel = await api('/api/planner/declare', { method: 'POST', body: request });
       this.status.textContent = `${what}: ${sel.features.join(', ')} — ${describeChanges(sel.changes)}`;

@@ -39,7 +39,7 @@ export function placeFromPicks(picks) {
 }
 
 /// The features the Planner declares by picks (POST /api/planner/declare; docs/console.md, "Declare a feature").
-export const DECLARE_KINDS = ['grasp_frame', 'approach_waypoint', 'screw_holes'];
+export const DECLARE_KINDS = ['grasp_frame', 'approach_waypoint', 'screw_holes', 'insertion'];
 
 /// The declare request the picks and the panel's fields make ({kind, name, standoff_m, like, screw_type,
 /// torque_nm}), or {error} saying what to pick or fill in. The console builds the rule from the CAD
@@ -47,6 +47,13 @@ export const DECLARE_KINDS = ['grasp_frame', 'approach_waypoint', 'screw_holes']
 export function declareFromPicks(picks, fields) {
   const { kind, name } = fields;
   if (!DECLARE_KINDS.includes(kind)) return { error: `choose what to declare: ${DECLARE_KINDS.join(', ')}` };
+  if (kind === 'insertion') {
+    // The part's face first, then the face of the part it goes into.
+    if (picks.length !== 2 || picks.some((p) => p.kind !== 'face') || picks[0].entity === picks[1].entity)
+      return { error: 'pick the face of the part that mates, then the face of the part it goes into' };
+    return { model: `object:${picks[0].entity}`, kind, face: picks[0].face,
+      target: { model: `object:${picks[1].entity}`, face: picks[1].face } };
+  }
   if (!/^[A-Za-z0-9_-]{1,64}$/.test(name || '')) return { error: 'give it a name of letters, digits, _ or -' };
   const entities = new Set(picks.map((p) => p.entity));
   if (entities.size > 1) return { error: `the picks are on ${[...entities].join(' and ')}: pick on one part` };
