@@ -172,9 +172,13 @@ TEST_F(PlannerBrowserTest, AStepFileImportedInThePlannerIsShownDrawnAndPickable)
   const std::string audit_text = audit_log();
   EXPECT_NE(audit_text.find(R"("action":"import STEP","result":"read as sha256:)"), std::string::npos) << audit_text;
   EXPECT_NE(audit_text.find(R"("action":"import STEP","result":"refused: CAD_)"), std::string::npos) << audit_text;
-  // Made a cell object, placed, its insertion declared: three confirmed revisions, the taken name refused
-  // before any.
-  EXPECT_EQ(result.at("revision_after"), result.at("revision_before").get<std::uint64_t>() + 3) << result.dump(2);
+  // Made a cell object, placed, its insertion, a marker and its rope attachment declared: five confirmed
+  // revisions, the taken name and the marker too large for its face refused before they reached any.
+  EXPECT_EQ(result.at("revision_after"), result.at("revision_before").get<std::uint64_t>() + 5) << result.dump(2);
+  // The rope hooks at the picked hole's entry.
+  const json& rope = result.at("rope_attachment");
+  for (int i = 0; i < 3; ++i)
+    EXPECT_NEAR(rope.at("position_m").at(i).get<double>(), result.at("hole_entry").at(i).get<double>(), 1e-6) << rope.dump();
   // The insertion the world model derived: the flange's bottom face (at z = b in its own frame) on the
   // target's top face (the target's frame), so the flange's frame sits -b above the target's.
   const json& insertion = result.at("insertion");

@@ -6,6 +6,7 @@
 
 // Eigen before httplib.h, whose system headers define names Eigen uses.
 #include "placement.hpp"
+#include "planner_declare_frames.hpp"
 
 #include <httplib.h>
 
@@ -188,15 +189,34 @@ void HttpApi::post_planner_declare(const httplib::Request& req, httplib::Respons
     const auto running = running_cell(req, res);
     if (!running) return;
     const json& cell = running->document;
-    const auto features = backend_.cad("features", request.model, "{}");
-    if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
-    json target_features = json::object();
-    if (!request.target.empty()) {
-      const auto target = backend_.cad("features", "object:" + request.target, "{}");
-      if (!target.ok) return send_cad_refusal(res, req, target.message, "#/target/model");
-      target_features = target.data.value("result", json::object());
+    json declared;
+    if (request.kind == "rope_attachment" || request.kind == "marker") {
+      const auto frame = backend_.cad("frame", request.model, frame_args(request).dump());
+      if (!frame.ok) return send_cad_refusal(res, req, frame.message, request.picks.contains("hole") ? "#/hole" : "#/face");
+      const Eigen::Isometry3d at = frame_from_cad(frame.data.value("result", json::object()));
+      if (request.kind == "marker") {
+        // The whole square on the face: each corner is a point of it.
+        for (const Eigen::Vector3d& corner : marker_corners(request, at)) {
+          const json args = {{"rule", "face"}, {"face", request.picks["face"]}, {"point_m", {corner.x(), corner.y(), corner.z()}}};
+          const auto on_face = backend_.cad("frame", request.model, args.dump());
+          if (!on_face.ok)
+            throw PlannerError{"/size_m", "a marker of " + std::to_string(std::lround(request.picks.value("size_m", 0.0) * 1000)) +
+                                              " mm does not fit on face " + request.picks["face"].dump() +
+                                              " at that point: a corner is off the face (" + on_face.message + ")"};
+        }
+      }
+      declared = declare_at_frame(request, cell, at);
+    } else {
+      const auto features = backend_.cad("features", request.model, "{}");
+      if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
+      json target_features = json::object();
+      if (!request.target.empty()) {
+        const auto target = backend_.cad("features", "object:" + request.target, "{}");
+        if (!target.ok) return send_cad_refusal(res, req, target.message, "#/target/model");
+        target_features = target.data.value("result", json::object());
+      }
+      declared = declare_feature(request, cell, features.data.value("result", json::object()), target_features);
     }
-    const json declared = declare_feature(request, cell, features.data.value("result", json::object()), target_features);
     const std::string what = "declare " + request.kind + " " + request.entity + "/" + request.name;
     const json payload = {{"op", "apply"}, {"cell_json", to_text(declared["cell"])}, {"comment", what}};
     select_cell_revision(*user, payload, "apply (" + what + ")", req, res,

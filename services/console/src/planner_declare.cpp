@@ -169,9 +169,13 @@ DeclareRequest parse_declare_request(const json& body) {
   r.entity = r.model.substr(prefix.size());
   r.picks = body;
   r.kind = body.value("kind", json()).is_string() ? body["kind"].get<std::string>() : "";
-  if (r.kind != "grasp_frame" && r.kind != "approach_waypoint" && r.kind != "screw_holes" && r.kind != "insertion")
-    throw PlannerError{"/kind", "expected the kind: \"grasp_frame\", \"approach_waypoint\", \"screw_holes\" or "
-                                "\"insertion\""};
+  static const std::set<std::string> kKinds = {"grasp_frame", "approach_waypoint", "screw_holes", "insertion",
+                                               "rope_attachment", "marker"};
+  if (kKinds.count(r.kind) == 0)
+    throw PlannerError{"/kind", "expected the kind: \"grasp_frame\", \"approach_waypoint\", \"screw_holes\", "
+                                "\"insertion\", \"rope_attachment\" or \"marker\""};
+  // One of each per object, or named by their own fields: their name is their kind.
+  if ((r.kind == "rope_attachment" || r.kind == "marker") && !body.contains("name")) r.picks["name"] = r.kind;
   if (r.kind == "insertion") {
     const json target = body.value("target", json::object());
     const json tm = target.is_object() ? target.value("model", json()) : json();

@@ -21,6 +21,8 @@ namespace rigger::console {
 ///                        "torque_nm"} for each, optional "screws" [{...}] one per hole in hole order
 ///   "insertion":         "face" (this object's planar face that mates) and "target" {"model":
 ///                        "object:<target>", "face"} (the target's); "name" may be left out
+///   "rope_attachment":   "hole", or "face" and "point_m" (planner_declare_frames.hpp)
+///   "marker":            "face", "point_m", "dictionary", "marker_id", "size_m" (planner_declare_frames.hpp)
 /// A screw-hole name is a prefix: the holes become <name>1, <name>2, ...
 struct DeclareRequest {
   std::string model;   ///< "object:target"

@@ -122,7 +122,7 @@ TEST(PlannerDeclare, BadPicksAreRefusedAtTheirField) {
   EXPECT_NE(refusal(screws).find("/screws: expected one screw per hole (3)"), std::string::npos) << refusal(screws);
   EXPECT_EQ(refusal({{"model", "object:crane"}, {"kind", "grasp_frame"}, {"name", "g"}, {"face", 0}}),
             "/model: the running cell revision has no entity \"crane\"");
-  EXPECT_EQ(refusal({{"model", "object:target"}, {"kind", "marker"}, {"name", "g"}}).substr(0, 6), "/kind:");
+  EXPECT_EQ(refusal({{"model", "object:target"}, {"kind", "pin"}, {"name", "g"}}).substr(0, 6), "/kind:");
   EXPECT_EQ(refusal({{"model", "object:target"}, {"kind", "grasp_frame"}, {"name", "a b"}}).substr(0, 6), "/name:");
 }
 

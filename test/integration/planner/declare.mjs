@@ -5,7 +5,7 @@
 // first: screw holes named so that they take the names of the target's own (h1…), refused in the panel
 // with nothing committed. Any failed check ends the script with exit code 1.
 import path from 'node:path';
-import { ART, call, check, closeBrowser, launchBrowser, openPlanner } from './harness.mjs';
+import { ART, call, check, closeBrowser, launchBrowser, openPlanner, waitForDrawnRevision } from './harness.mjs';
 
 const result = {};
 const features = (await call('/api/cad/features?model=object:target')).json;
@@ -47,6 +47,7 @@ try {
   await page.waitForFunction(() => /^Declared/.test(document.querySelector('#planner-declare-status').textContent), null, { timeout: 30000 });
   result.holes = await page.locator('#planner-declare-status').innerText();
   check(/target\/m1, target\/m2, target\/m3, target\/m4/.test(result.holes), `four screw holes declared: ${result.holes}`);
+  await waitForDrawnRevision(page, Number(/cell revision (\d+)/.exec(result.holes)[1]));
   console.log(`ok: ${result.holes}`);
 
   // --- a grasp frame: the top face and a straight edge of it whose middle is in view ---

@@ -102,3 +102,9 @@ export async function viewGestures(page) {
   };
   return { box, orbit, clickAt };
 }
+
+/// Waits until the Planner has drawn the parts of cell revision `n` (or a later one): after a confirmed
+/// revision the page clears and reloads its parts, and a click before that lands on nothing.
+export async function waitForDrawnRevision(page, n) {
+  await page.waitForFunction((k) => (window.rigger.planner.drawnRevision || 0) >= k, n, { timeout: 30000 });
+}

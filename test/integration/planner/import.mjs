@@ -8,7 +8,7 @@
 // it from its own copy; it is placed by picks on the part fixture and its insertion into the target is
 // declared by picks. Synchronisation is on the page's state,
 // never a sleep; a failed check exits 1. RESULT: what the page showed.
-import { call, check, closeBrowser, viewGestures, env, launchBrowser, openPlanner } from './harness.mjs';
+import { call, check, closeBrowser, viewGestures, env, launchBrowser, openPlanner, waitForDrawnRevision } from './harness.mjs';
 
 const result = {};
 const browser = await launchBrowser();
@@ -96,6 +96,7 @@ try {
   await page.click('#confirm-yes');
   await page.waitForFunction(() => /^Added flange_imported to the cell: cell revision \d+/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 30000 });
   result.added = await notice();
+  await waitForDrawnRevision(page, Number(/cell revision (\d+)/.exec(result.added)[1]));
   await page.waitForFunction(() => window.rigger.planner.view.parts.get('flange_imported')?.features?.faces?.length > 0, null, { timeout: 60000 });
   const cellPart = await state(() => {
     const p = window.rigger.planner.view.parts.get('flange_imported');
@@ -135,6 +136,7 @@ try {
   await page.click('#confirm-yes');
   await page.waitForFunction(() => /^Placed flange_imported on part_fixture: cell revision \d+/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 20000 });
   result.placed = await notice();
+  await waitForDrawnRevision(page, Number(/cell revision (\d+)/.exec(result.placed)[1]));
   const placed = (await call('/api/world/entity/flange_imported')).json;
   const fixture = (await call('/api/world/entity/part_fixture')).json;
   const zOf = (e) => (e.world_pose || e.pose).position_m[2];
@@ -161,11 +163,82 @@ try {
   await page.waitForSelector('#confirm-yes', { state: 'visible', timeout: 20000 });
   await page.click('#confirm-yes');
   await page.waitForFunction(() => /^Declared flange_imported\/insertion/.test(document.querySelector('#planner-declare-status').textContent), null, { timeout: 30000 });
+  await waitForDrawnRevision(page, Number(/cell revision (\d+)/.exec(await page.locator('#planner-declare-status').innerText())[1]));
   const inserted = (await call('/api/world/entity/flange_imported')).json;
   const insertion = inserted.features?.insertion;
   check(insertion?.target === 'target', `the world model serves the insertion into the target ${JSON.stringify(insertion)}`);
   result.insertion = insertion;
   result.bottom_z = bottom.z;
+
+  // --- a marker on its top face: one too large for the face refused, then one that fits ---
+  const declareAndConfirm = async (status) => {
+    const before = await page.locator('#planner-declare-status').innerText();
+    await page.click('#planner-declare-submit');
+    await page.waitForFunction((b) => document.querySelector('#confirm[open]')
+      || (/^Nothing declared/.test(document.querySelector('#planner-declare-status').textContent) && document.querySelector('#planner-declare-status').textContent !== b), before, { timeout: 20000 });
+    check(await page.locator('#confirm[open]').count() === 1, `the console asked to confirm (${await page.locator('#planner-declare-status').innerText()})`);
+    await page.click('#confirm-yes');
+    await page.waitForFunction((re) => new RegExp(re).test(document.querySelector('#planner-declare-status').textContent), status, { timeout: 30000 });
+    await waitForDrawnRevision(page, Number(/cell revision (\d+)/.exec(await page.locator('#planner-declare-status').innerText())[1]));
+  };
+  await page.click('#planner-clear-picks');
+  await page.click('[data-frame="flange_imported"]');
+  // Where a 40 mm marker lies whole on an upward face: its centre and four corners all pick that face.
+  const spot = await state(() => {
+    const planner = window.rigger.planner;
+    const part = planner.view.parts.get('flange_imported').features;
+    const fits = (face, p) => {
+      const q = planner.screenOf('flange_imported', p);
+      const hit = planner.view.pickAt(q.x, q.y);
+      return hit && hit.entity === 'flange_imported' && hit.kind === 'face' && hit.face === face;
+    };
+    const reach = Math.max(...part.edges.map((e) => Math.max(e.signature.radius_m || 0,
+      ...[e.start_m, e.end_m].map((p) => Math.hypot(p[0], p[1])))));
+    for (const f of part.faces.filter((g) => g.signature?.type === 'plane' && g.signature.direction[2] > 0.99)) {
+      const z = f.signature.centroid_m[2];
+      for (let x = -reach; x <= reach; x += 0.01) {
+        for (let y = -reach; y <= reach; y += 0.01) {
+          if ([[0, 0], [-1, -1], [1, -1], [1, 1], [-1, 1]].every(([i, j]) => fits(f.index, [x + 0.025 * i, y + 0.025 * j, z])))
+            return { face: f.index, point: [x, y, z] };
+        }
+      }
+    }
+    return null;
+  });
+  check(spot, 'an upward face has room for a 40 mm marker in view');
+  const onTop = await clickAt('flange_imported', spot.point);
+  check(onTop.kind === 'face' && onTop.face === spot.face, `picked the new object's upward face ${spot.face} (got ${onTop.kind} ${onTop.face})`);
+  await page.selectOption('#planner-declare-kind', 'marker');
+  await page.selectOption('#planner-declare-dictionary', 'DICT_4X4_50');
+  await page.fill('#planner-declare-marker-id', '30');  // 20 is the part's
+  await page.fill('#planner-declare-marker-size', '600');
+  const revisionNow = (await call('/api/cell')).json.cell_revision;
+  await page.click('#planner-declare-submit');
+  await page.waitForFunction(() => /^Nothing declared/.test(document.querySelector('#planner-declare-status').textContent), null, { timeout: 20000 });
+  const tooLarge = await page.locator('#planner-declare-status').innerText();
+  check(/does not fit on face/.test(tooLarge) && /#\/size_m/.test(tooLarge), `a marker larger than its face is refused at /size_m: ${tooLarge}`);
+  check((await call('/api/cell')).json.cell_revision === revisionNow, 'nothing was committed');
+  result.marker_too_large = tooLarge;
+  await page.fill('#planner-declare-marker-size', '40');
+  await declareAndConfirm('^Declared flange_imported/marker 30');
+
+  // --- the rope attachment at one of its holes ---
+  await page.click('#planner-clear-picks');
+  const holeEntry = await state(() => window.rigger.planner.view.parts.get('flange_imported').features.holes
+    .find((h) => h.axis[2] > 0.99).entry_m);
+  const atHole = await state((p) => window.rigger.planner.screenOf('flange_imported', p), holeEntry);
+  await page.mouse.click(atHole.x, atHole.y);
+  await page.waitForFunction(() => window.rigger.planner.state.picks.length === 1, null, { timeout: 10000 });
+  const holePick = await state(() => window.rigger.planner.state.picks[0]);
+  check(holePick.kind === 'hole', `picked a hole of the new object (got ${holePick.kind})`);
+  await page.selectOption('#planner-declare-kind', 'rope_attachment');
+  await declareAndConfirm('^Declared flange_imported/rope_attachment');
+  const served = (await call('/api/world/entity/flange_imported')).json.features;
+  check(served.markers?.items?.some((m) => m.id === 30 && m.size_m === 0.04), `the world model serves the marker ${JSON.stringify(served.markers)}`);
+  check(served.rope_attachment, `the world model serves the rope attachment ${JSON.stringify(served.rope_attachment)}`);
+  result.marker = served.markers;
+  result.rope_attachment = served.rope_attachment;
+  result.hole_entry = holeEntry;
   result.revision_before = revisionBefore;
   result.revision_after = (await call('/api/cell')).json.cell_revision;
 } finally {

@@ -79,6 +79,15 @@ describe('declareFromPicks', () => {
     assert.match(declareFromPicks([face, { ...face, face: 3 }], { kind: 'insertion' }).error, /face of the part it goes into/);
     assert.match(declareFromPicks([face, hole], { kind: 'insertion' }).error, /face of the part it goes into/);
   });
+  it('places a marker or the rope attachment at the picked point of a face, or the rope at a hole', () => {
+    const at = { ...face, point_m: [0.2, 0, 0.05] };
+    assert.deepEqual(declareFromPicks([at], { kind: 'marker', dictionary: 'DICT_4X4_50', marker_id: '12', marker_size_mm: '80' }),
+      { model: 'object:target', kind: 'marker', face: 2, point_m: [0.2, 0, 0.05], dictionary: 'DICT_4X4_50', marker_id: 12, size_m: 0.08 });
+    assert.match(declareFromPicks([at], { kind: 'marker', dictionary: 'DICT_4X4_50', marker_id: '', marker_size_mm: '80' }).error, /id and size/);
+    assert.match(declareFromPicks([hole], { kind: 'marker' }).error, /point on a face/);
+    assert.deepEqual(declareFromPicks([hole], { kind: 'rope_attachment' }), { model: 'object:target', kind: 'rope_attachment', hole: 1 });
+    assert.deepEqual(declareFromPicks([at], { kind: 'rope_attachment' }), { model: 'object:target', kind: 'rope_attachment', face: 2, point_m: [0.2, 0, 0.05] });
+  });
   it('makes screw holes of one picked hole and the screw', () => {
     assert.deepEqual(declareFromPicks([hole], { kind: 'screw_holes', name: 'm', like: true, screw_type: 'M10x30', torque_nm: '45' }),
       { model: 'object:target', kind: 'screw_holes', name: 'm', hole: 1, like: true, screw: { screw_type: 'M10x30', torque_nm: 45 } });

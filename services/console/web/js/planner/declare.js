@@ -1,5 +1,6 @@
 // The Planner's "Declare a feature" panel (docs/console.md, "Declare a feature"): a grasp frame, an
-// approach waypoint, screw holes or the insertion from the picks, as a new cell revision. The console builds the rule
+// approach waypoint, screw holes, the insertion, the rope attachment or a marker from the picks, as a new
+// cell revision. The console builds the rule
 // from the CAD service's references (POST /api/planner/declare: the world model's dry run), the person
 // confirms the changes, and the new revision's features come back through the page's "revision" event.
 // After a commit the panel offers the undo: the rollback to the revision it was declared on.
@@ -8,7 +9,9 @@ import { describeChanges } from '../cell_revisions.js';
 import { DECLARE_KINDS, declareFromPicks } from './picks.js';
 
 const LABELS = { grasp_frame: 'grasp frame (a face, an edge of it for x)', approach_waypoint: 'approach waypoint (a face, a stand-off)',
-  screw_holes: 'screw holes (a hole)', insertion: 'insertion (a face of the part, then the face it mates)' };
+  screw_holes: 'screw holes (a hole)', insertion: 'insertion (a face of the part, then the face it mates)',
+  rope_attachment: 'rope attachment (a hole, or a point on a face)', marker: 'marker (a point on a face)' };
+const DICTIONARIES = ['DICT_4X4_50', 'DICT_4X4_100', 'DICT_4X4_250', 'DICT_5X5_50', 'DICT_5X5_100', 'DICT_6X6_50'];
 
 export class DeclarePanel {
   /// `state`: the page's (`picks`); `say(text, bad)`: the page's notice.
@@ -25,6 +28,10 @@ export class DeclarePanel {
       like: input('like', 'All holes like this one', { type: 'checkbox' }),
       screw_type: input('screw-type', 'Screw', { type: 'text', placeholder: 'M12x40' }),
       torque_nm: input('torque', 'Torque (N·m)', { type: 'number', min: '0', step: '1' }),
+      dictionary: el('label', {}, 'Dictionary ', el('select', { id: 'planner-declare-dictionary', 'aria-label': 'Marker dictionary' },
+        ...DICTIONARIES.map((d) => el('option', { value: d }, d)))),
+      marker_id: input('marker-id', 'Marker id', { type: 'number', min: '0', step: '1' }),
+      marker_size_mm: input('marker-size', 'Marker size (mm)', { type: 'number', min: '10', step: '1' }),
     };
     this.status = el('p', { id: 'planner-declare-status', role: 'status', 'aria-live': 'polite', class: 'small' });
     this.undoBox = el('div', { class: 'toolbar' });
@@ -36,15 +43,17 @@ export class DeclarePanel {
   }
 
   value(key) {
-    const box = this.fields[key].querySelector('input');
+    const box = this.fields[key].querySelector('input, select');
     return box.type === 'checkbox' ? box.checked : box.value.trim();
   }
 
   /// Shows the kind's own fields only.
   render() {
     const k = this.kind.value;
-    const shown = { name: k !== 'insertion', x_reversed: k !== 'screw_holes' && k !== 'insertion', standoff_mm: k === 'approach_waypoint',
-      like: k === 'screw_holes', screw_type: k === 'screw_holes', torque_nm: k === 'screw_holes' };
+    const framed = k === 'grasp_frame' || k === 'approach_waypoint';
+    const shown = { name: framed || k === 'screw_holes', x_reversed: framed, standoff_mm: k === 'approach_waypoint',
+      like: k === 'screw_holes', screw_type: k === 'screw_holes', torque_nm: k === 'screw_holes',
+      dictionary: k === 'marker', marker_id: k === 'marker', marker_size_mm: k === 'marker' };
     for (const [key, on] of Object.entries(shown)) this.fields[key].hidden = !on;
   }
 
@@ -59,7 +68,7 @@ export class DeclarePanel {
     const request = declareFromPicks(this.state.picks, { kind: this.kind.value, ...fields });
     if (request.error) return this.tell(`Nothing declared: ${request.error}.`, true);
     const what = request.target ? `the insertion of ${request.model.slice(7)} into ${request.target.model.slice(7)}`
-      : `${this.kind.value.replace('_', ' ')} ${request.name} on ${request.model.slice(7)}`;
+      : `${this.kind.value.replace('_', ' ')}${request.name ? ` ${request.name}` : ''}${request.marker_id !== undefined ? ` ${request.marker_id}` : ''} on ${request.model.slice(7)}`;
     try {
       const sel = await api('/api/planner/declare', { method: 'POST', body: request });
       this.status.textContent = `${what}: ${sel.features.join(', ')} — ${describeChanges(sel.changes)}`;

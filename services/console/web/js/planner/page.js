@@ -365,12 +365,13 @@ export function plannerPage(main, me) {
     window.rigger.planner.ready = true;
   })();
   // A new revision of the cell: its parts drawn afresh, the object lists with them.
-  const offRevision = store.on(async (type) => {
+  const offRevision = store.on(async (type, d) => {
     if (type !== 'revision') return;
     view.clear();
     try { await objects.load(); } catch (e) { say(`No parts: the world model did not answer (${e.message})`, true); }
     form.render();
     features.load(objects.objects, objects.problem);
+    window.rigger.planner.drawnRevision = Math.max(window.rigger.planner.drawnRevision || 0, d?.cell_revision || 0);
   });
   return () => {
     clearTimeout(timer); history.close(); clearTimeout(libraryTimer); offLibrary(); offKeys();

@@ -39,7 +39,7 @@ export function placeFromPicks(picks) {
 }
 
 /// The features the Planner declares by picks (POST /api/planner/declare; docs/console.md, "Declare a feature").
-export const DECLARE_KINDS = ['grasp_frame', 'approach_waypoint', 'screw_holes', 'insertion'];
+export const DECLARE_KINDS = ['grasp_frame', 'approach_waypoint', 'screw_holes', 'insertion', 'rope_attachment', 'marker'];
 
 /// The declare request the picks and the panel's fields make ({kind, name, standoff_m, like, screw_type,
 /// torque_nm}), or {error} saying what to pick or fill in. The console builds the rule from the CAD
@@ -53,6 +53,18 @@ export function declareFromPicks(picks, fields) {
       return { error: 'pick the face of the part that mates, then the face of the part it goes into' };
     return { model: `object:${picks[0].entity}`, kind, face: picks[0].face,
       target: { model: `object:${picks[1].entity}`, face: picks[1].face } };
+  }
+  if (kind === 'rope_attachment' || kind === 'marker') {
+    const [p] = picks;
+    const model = p ? `object:${p.entity}` : '';
+    if (kind === 'rope_attachment' && picks.length === 1 && p.kind === 'hole') return { model, kind, hole: p.hole };
+    if (picks.length !== 1 || p.kind !== 'face')
+      return { error: kind === 'marker' ? 'pick the point on a face where the marker goes' : 'pick a hole, or the point on a face where the rope hooks' };
+    if (kind === 'rope_attachment') return { model, kind, face: p.face, point_m: p.point_m };
+    const id = Number(fields.marker_id), size = Number(fields.marker_size_mm) / 1000;
+    if (!fields.dictionary || !Number.isInteger(id) || fields.marker_id === '' || !(size > 0))
+      return { error: 'give the marker\'s dictionary, id and size (mm)' };
+    return { model, kind, face: p.face, point_m: p.point_m, dictionary: fields.dictionary, marker_id: id, size_m: size };
   }
   if (!/^[A-Za-z0-9_-]{1,64}$/.test(name || '')) return { error: 'give it a name of letters, digits, _ or -' };
   const entities = new Set(picks.map((p) => p.entity));

@@ -1,0 +1,90 @@
+#include "planner_declare_frames.hpp"
+
+#include <string>
+
+#include "placement.hpp"
+#include "rigger/cell_config/cell_types.hpp"
+
+namespace rigger::console {
+
+using nlohmann::json;
+
+namespace {
+
+double size_of(const DeclareRequest& r) {
+  const json size = r.picks.value("size_m", json());
+  if (!size.is_number() || !(size.get<double>() >= 0.01) || size.get<double>() > 1.0)
+    throw PlannerError{"/size_m", "expected the marker's side in metres, at least 0.01 and at most 1"};
+  return size.get<double>();
+}
+
+json* entity_of(json& doc, const std::string& id) {
+  if (doc.contains("entities") && doc["entities"].is_array())
+    for (json& e : doc["entities"])
+      if (e.is_object() && e.value("id", "") == id) return &e;
+  return nullptr;
+}
+
+}  // namespace
+
+json frame_args(const DeclareRequest& r) {
+  const json& p = r.picks;
+  if (r.kind == "rope_attachment" && p.contains("hole")) {
+    if (!p["hole"].is_number_integer() || p["hole"].get<long long>() < 0)
+      throw PlannerError{"/hole", "expected the picked hole's index (integer ≥ 0)"};
+    return {{"rule", "hole"}, {"hole", p["hole"]}};
+  }
+  const json point = p.value("point_m", json());
+  if (!p.contains("face") || !p["face"].is_number_integer() || !point.is_array() || point.size() != 3 ||
+      !point[0].is_number() || !point[1].is_number() || !point[2].is_number())
+    throw PlannerError{r.kind == "marker" ? "/face" : "/hole",
+                       r.kind == "marker" ? "expected the picked face and the point on it (\"face\", \"point_m\")"
+                                          : "expected a picked hole, or a face and the point on it"};
+  return {{"rule", "face"}, {"face", p["face"]}, {"point_m", point}};
+}
+
+std::array<Eigen::Vector3d, 4> marker_corners(const DeclareRequest& r, const Eigen::Isometry3d& at) {
+  const double h = size_of(r) / 2;
+  std::array<Eigen::Vector3d, 4> corners;
+  const double signs[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  for (int i = 0; i < 4; ++i) corners[i] = at * Eigen::Vector3d(signs[i][0] * h, signs[i][1] * h, 0);
+  return corners;
+}
+
+json declare_at_frame(const DeclareRequest& r, const json& cell, const Eigen::Isometry3d& at) {
+  json doc = cell;
+  json* entity = entity_of(doc, r.entity);
+  if (entity == nullptr) throw PlannerError{"/model", "the running cell revision has no entity \"" + r.entity + "\""};
+  json& features = (*entity)["features"];
+  if (!features.is_object()) features = json::object();
+  const json pose = position_rpy(at);
+  if (r.kind == "rope_attachment") {
+    if (features.contains("rope_attachment"))
+      throw PlannerError{"/kind", "\"" + r.entity + "\" has a rope attachment already: roll back its revision first"};
+    features["rope_attachment"] = pose;
+    return {{"cell", std::move(doc)}, {"features", {r.entity + "/rope_attachment"}}, {"rule", json::array({pose})}};
+  }
+  const std::string dictionary = r.picks.value("dictionary", json()).is_string() ? r.picks["dictionary"].get<std::string>() : "";
+  const std::optional<cell::MarkerDictionary> known = cell::marker_dictionary(dictionary);
+  if (!known) throw PlannerError{"/dictionary", "expected an ArUco dictionary such as \"DICT_4X4_50\", got \"" + dictionary.substr(0, 32) + "\""};
+  const json id = r.picks.value("marker_id", json());
+  if (!id.is_number_integer() || id.get<long long>() < 0 || id.get<long long>() >= known->size)
+    throw PlannerError{"/marker_id", "expected a marker id of " + dictionary + ", 0 to " + std::to_string(known->size - 1)};
+  for (const json& e : doc["entities"]) {
+    const json markers = e.is_object() && e.contains("features") && e["features"].is_object()
+                             ? e["features"].value("markers", json::object())
+                             : json::object();
+    for (const json& m : markers.value("items", json::array()))
+      if (m.value("id", -1) == id.get<long long>())
+        throw PlannerError{"/marker_id", "marker " + id.dump() + " is on \"" + e.value("id", "") + "\" already: the tracker tells objects apart by their ids"};
+  }
+  json& markers = features["markers"];
+  if (!markers.is_object()) markers = {{"dictionary", dictionary}, {"items", json::array()}};
+  if (markers.value("dictionary", "") != dictionary)
+    throw PlannerError{"/dictionary", "the markers of \"" + r.entity + "\" are of " + markers.value("dictionary", "?") + ": one dictionary per object"};
+  const json item = {{"id", id}, {"size_m", size_of(r)}, {"pose", pose}};
+  markers["items"].push_back(item);
+  return {{"cell", std::move(doc)}, {"features", {r.entity + "/marker " + id.dump()}}, {"rule", json::array({item})}};
+}
+
+}  // namespace rigger::console
