@@ -160,6 +160,15 @@ void HttpApi::post_planner_add(const httplib::Request& req, httplib::Response& r
   try {
     const AddRequest request = parse_add_request(*b);
     if (!imports_.find(request.sha256)) return imported_file_gone(req, res, request.sha256);
+    // A new object is built into the simulator's running physics: not while a task moves the cell.
+    if (const std::size_t running = state_.running_tasks(); running > 0) {
+      audit(*user, "select cell add " + request.id, "cell", "refused: a task runs");
+      return send_error(res, 409,
+                        std::to_string(running) + " task" + (running == 1 ? " runs" : "s run") +
+                            " on the cell: add the part once " + (running == 1 ? "it has" : "they have") +
+                            " ended; nothing was changed",
+                        req.path);
+    }
     const auto features = backend_.cad("features", "sha256:" + request.sha256, "{}");
     if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
     const double lowest_z = lowest_vertex_z(features.data.value("result", json::object()));

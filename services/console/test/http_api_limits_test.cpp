@@ -114,6 +114,27 @@ TEST_F(HttpApiImportTest, AStepFileIsReadByTheCadServiceWithinItsOwnLimit) {
   EXPECT_NE(text.find(R"("action":"import STEP","result":"read as sha256:ab12")"), std::string::npos) << text;
 }
 
+// An imported file made a cell object: refused while a task runs on the cell (the simulator would build
+// it into the running physics), and when the console no longer keeps the file; nothing reaches the world
+// model either way.
+TEST_F(HttpApiImportTest, AnImportedPartIsNotAddedWhileATaskRunsOrWhenItsFileIsGone) {
+  backend_.cad_answer_ = {true, "", json{{"model_sha256", std::string(64, 'a')}, {"result", {{"units", "m"}}}}};
+  ASSERT_EQ(client_->Post("/api/planner/import?name=plate.step", as(kAda), std::string(1000, 'x'),
+                          "application/octet-stream")->status, 200);
+  const json add = {{"model", "sha256:" + std::string(64, 'a')}, {"id", "plate"}, {"material", "steel"}};
+  state_.update_task({{"task_id", "t1"}, {"state", "RUNNING"}});
+  auto r = post("/api/planner/add", add.dump(), kAda);
+  EXPECT_EQ(r->status, 409) << r->body;
+  EXPECT_NE(body(r)["error"].get<std::string>().find("1 task runs on the cell"), std::string::npos) << r->body;
+  json gone = add;
+  gone["model"] = "sha256:" + std::string(64, 'b');
+  r = post("/api/planner/add", gone.dump(), kAda);
+  EXPECT_EQ(r->status, 409) << r->body;
+  EXPECT_NE(body(r)["error"].get<std::string>().find("import it again"), std::string::npos) << r->body;
+  EXPECT_EQ(post("/api/planner/add", add.dump(), kVic)->status, 403);
+  EXPECT_TRUE(backend_.actions().empty()) << "nothing reached the world model";
+}
+
 // cpp-httplib 0.11 compresses with brotli at quality 11 whenever a client accepts br, as every
 // browser does (1.8 s of CPU for three.js per page load): JSON and JavaScript go out uncompressed.
 }  // namespace

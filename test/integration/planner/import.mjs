@@ -8,13 +8,16 @@
 // it from its own copy; it is placed by picks on the part fixture and its insertion into the target is
 // declared by picks. Synchronisation is on the page's state,
 // never a sleep; a failed check exits 1. RESULT: what the page showed.
-import { call, check, closeBrowser, viewGestures, env, launchBrowser, openPlanner, waitForDrawnRevision } from './harness.mjs';
+import path from 'node:path';
+import { ART, call, check, closeBrowser, viewGestures, env, launchBrowser, openPlanner, waitForDrawnRevision } from './harness.mjs';
 
 const result = {};
 const browser = await launchBrowser();
 try {
   const page = await openPlanner(browser);
   const state = (fn, arg) => page.evaluate(fn, arg);
+  // The walkthrough's pictures (docs/console.md, "Your own product"), in the test's artifacts.
+  const picture = (name, selector) => page.locator(selector).first().screenshot({ path: path.join(ART, `your-product-${name}.png`) });
   const imported = async (file) => {
     await page.setInputFiles('#planner-import', file);
     await page.waitForFunction(() => {
@@ -43,6 +46,7 @@ try {
   });
   check(drawn && `sha256:${drawn.sha}` === drawn.model, `the 3D view draws the imported model ${JSON.stringify(drawn)}`);
   check(summary.includes(`${drawn.faces} faces`), `the drawing has the file's ${drawn.faces} faces`);
+  await picture('1-imported', '.pview');
   result.summary = summary;
   result.products = products;
   result.model = drawn.model;
@@ -91,6 +95,7 @@ try {
   await page.waitForFunction((before) => document.querySelector('#confirm[open]')
     || (document.querySelector('#planner-notice.error') && document.querySelector('#planner-notice').textContent !== before), taken, { timeout: 30000 });
   check(await page.locator('#confirm[open]').count() === 1, `the console asked to confirm (${await notice()})`);
+  await picture('2-add', '#confirm');
   const question = await page.locator('#confirm-text').innerText();
   check(/becomes the object flange_imported, loose, of steel.*added flange_imported/.test(question), `the confirmation says what changes: ${question}`);
   await page.click('#confirm-yes');
@@ -137,6 +142,8 @@ try {
   await page.waitForFunction(() => /^Placed flange_imported on part_fixture: cell revision \d+/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 20000 });
   result.placed = await notice();
   await waitForDrawnRevision(page, Number(/cell revision (\d+)/.exec(result.placed)[1]));
+  await page.click('[data-frame="flange_imported"]');
+  await picture('3-placed', '.pview');
   const placed = (await call('/api/world/entity/flange_imported')).json;
   const fixture = (await call('/api/world/entity/part_fixture')).json;
   const zOf = (e) => (e.world_pose || e.pose).position_m[2];
@@ -220,6 +227,7 @@ try {
   check((await call('/api/cell')).json.cell_revision === revisionNow, 'nothing was committed');
   result.marker_too_large = tooLarge;
   await page.fill('#planner-declare-marker-size', '40');
+  await picture('4-marker', '#planner-declare');
   await declareAndConfirm('^Declared flange_imported/marker 30');
 
   // --- the rope attachment at one of its holes ---
