@@ -100,9 +100,30 @@ void HttpApi::post_planner_place(const httplib::Request& req, httplib::Response&
     const auto running = running_cell(req, res);
     if (!running) return;
     const json& cell = running->document;
+    const Eigen::Isometry3d own_face = frame_from_cad(own.data.value("result", json::object()));
+    const Eigen::Isometry3d onto_face = frame_from_cad(onto.data.value("result", json::object()));
+    double turn_deg = request.turn_deg;
+    std::optional<Eigen::Vector3d> onto_edge;
+    if (request.own_edge && request.onto_edge) {
+      // The edges' directions, from the CAD service's features of each model.
+      const auto direction = [&](const FrameRequest& at, int edge, const std::string& pointer) {
+        const auto features = backend_.cad("features", at.model, "{}");
+        if (!features.ok) throw PlannerError{pointer, features.message};
+        const json edges = features.data.value("result", json::object()).value("edges", json::array());
+        if (edge >= static_cast<int>(edges.size()))
+          throw PlannerError{pointer, at.model + " has " + std::to_string(edges.size()) + " edges, no edge " + std::to_string(edge)};
+        const json sig = edges[static_cast<std::size_t>(edge)].value("signature", json::object());
+        if (sig.value("type", "") != "line")
+          throw PlannerError{pointer, "edge " + std::to_string(edge) + " is a " + sig.value("type", "?") + ", not a straight edge"};
+        const json d = sig.at("direction");
+        return Eigen::Vector3d(d[0].get<double>(), d[1].get<double>(), d[2].get<double>());
+      };
+      const Eigen::Vector3d own_dir = direction(request.own, *request.own_edge, "/edge");
+      onto_edge = direction(request.onto, *request.onto_edge, "/onto/edge");
+      turn_deg += edge_turn_deg(onto_face, *onto_edge, own_face, own_dir);
+    }
     const Eigen::Isometry3d support_T_object =
-        placed_on(frame_from_cad(onto.data.value("result", json::object())),
-                  frame_from_cad(own.data.value("result", json::object())), request.turn_deg);
+        placed_on(offset_along(onto_face, onto_edge, request.offset_m), own_face, turn_deg);
     const json placed =
         cell_with_placement(cell, request.own.entity, request.onto.entity, support_T_object, request.localized);
     json pose = position_rpy(support_T_object);

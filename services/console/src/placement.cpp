@@ -76,6 +76,23 @@ PlaceRequest parse_place_request(const json& body) {
       throw PlannerError{"/turn_deg", "expected the turn about the support's normal in degrees, -360 to 360"};
     r.turn_deg = turn->get<double>();
   }
+  const auto edge = [](const json& at, const std::string& pointer) -> std::optional<int> {
+    const auto e = at.find("edge");
+    if (e == at.end() || e->is_null()) return std::nullopt;
+    if (!e->is_number_integer() || e->get<long long>() < 0 || e->get<long long>() > 1'000'000)
+      throw PlannerError{pointer, "expected the picked edge's index in the model (integer ≥ 0)"};
+    return e->get<int>();
+  };
+  r.own_edge = edge(body, "/edge");
+  r.onto_edge = edge(*onto, "/onto/edge");
+  if (r.own_edge.has_value() != r.onto_edge.has_value())
+    throw PlannerError{r.own_edge ? "/onto/edge" : "/edge", "expected an edge of each part, or none"};
+  const auto offset = body.find("offset_m");
+  if (offset != body.end()) {
+    if (!offset->is_number() || !std::isfinite(offset->get<double>()) || std::abs(offset->get<double>()) > 10.0)
+      throw PlannerError{"/offset_m", "expected the distance along the support's face in metres, -10 to 10"};
+    r.offset_m = offset->get<double>();
+  }
   const auto localized = body.find("localized");
   if (localized != body.end()) {
     if (!localized->is_boolean())
@@ -113,6 +130,42 @@ Eigen::Isometry3d placed_on(const Eigen::Isometry3d& onto_face, const Eigen::Iso
   const Eigen::Isometry3d turn(Eigen::AngleAxisd(turn_deg * kDeg, Eigen::Vector3d::UnitZ()));
   const Eigen::Isometry3d flip(Eigen::AngleAxisd(180.0 * kDeg, Eigen::Vector3d::UnitX()));
   return onto_face * turn * flip * own_face.inverse();
+}
+
+namespace {
+
+// The angle (rad) of `direction` in the xy plane of `face`, or a PlannerError at `pointer` when it leaves
+// the plane by more than a milliradian.
+double angle_in_face(const Eigen::Isometry3d& face, const Eigen::Vector3d& direction, const std::string& pointer) {
+  const Eigen::Vector3d d = face.linear().transpose() * direction.normalized();
+  if (std::abs(d.z()) > std::sin(1e-3))
+    throw PlannerError{pointer, "the edge does not lie in the picked face's plane (" +
+                                    std::to_string(std::asin(std::min(1.0, std::abs(d.z()))) / kDeg).substr(0, 5) +
+                                    "° out of it): pick an edge of that face"};
+  return std::atan2(d.y(), d.x());
+}
+
+}  // namespace
+
+double edge_turn_deg(const Eigen::Isometry3d& onto_face, const Eigen::Vector3d& onto_edge,
+                     const Eigen::Isometry3d& own_face, const Eigen::Vector3d& own_edge) {
+  // The flip about x mirrors the object's face angles (a -> -a); the turn brings -a_own onto a_onto.
+  const double onto = angle_in_face(onto_face, onto_edge, "/onto/edge");
+  const double own = angle_in_face(own_face, own_edge, "/edge");
+  return std::remainder(onto + own, 2 * 3.14159265358979323846) / kDeg;
+}
+
+Eigen::Isometry3d offset_along(const Eigen::Isometry3d& onto_face, const std::optional<Eigen::Vector3d>& direction,
+                               double offset_m) {
+  Eigen::Vector3d d = onto_face.linear().col(0);
+  if (direction) {
+    const Eigen::Vector3d n = onto_face.linear().col(2);
+    const Eigen::Vector3d in_plane = *direction - direction->dot(n) * n;
+    if (in_plane.norm() > 1e-9) d = in_plane.normalized();
+  }
+  Eigen::Isometry3d moved = onto_face;
+  moved.translation() += offset_m * d;
+  return moved;
 }
 
 json position_rpy(const Eigen::Isometry3d& pose) {

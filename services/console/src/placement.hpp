@@ -20,7 +20,13 @@ namespace rigger::console {
 struct PlaceRequest {
   FrameRequest own;   ///< the object's face (rule "face")
   FrameRequest onto;  ///< the support's face (rule "face")
+  /// Picked edges ("edge", "onto.edge": indices in the models' features), both or neither: the object is
+  /// turned so that its edge lies along the support's, then by `turn_deg`.
+  std::optional<int> own_edge, onto_edge;
   double turn_deg = 0.0;
+  /// Moved this far along the support's face ("offset_m", at most 10 m either way): along its picked
+  /// edge, else along the face's x.
+  double offset_m = 0.0;
   /// true: the pose is known (no Localize needed); false: found by a Localize skill at run time, this
   /// being where the simulator starts it; none: as the cell said.
   std::optional<bool> localized;
@@ -36,6 +42,17 @@ Eigen::Isometry3d frame_from_cad(const nlohmann::json& cad_result);
 /// The object's pose in the support's frame: its face frame `own_face` (in the object's frame) on the
 /// support's `onto_face` (in the support's frame), normals opposite, turned about the support's normal.
 Eigen::Isometry3d placed_on(const Eigen::Isometry3d& onto_face, const Eigen::Isometry3d& own_face, double turn_deg);
+
+/// The turn about the support's normal (degrees) that lays the object's edge (direction `own_edge` in its
+/// model frame) along the support's edge (`onto_edge`, in the support's frame) once the faces mate.
+/// @throws PlannerError at "/edge" or "/onto/edge" when an edge does not lie in its face's plane.
+double edge_turn_deg(const Eigen::Isometry3d& onto_face, const Eigen::Vector3d& onto_edge,
+                     const Eigen::Isometry3d& own_face, const Eigen::Vector3d& own_edge);
+
+/// The support's face frame moved `offset_m` along `direction` (in the support's frame, projected on the
+/// face; none: the face's x).
+Eigen::Isometry3d offset_along(const Eigen::Isometry3d& onto_face, const std::optional<Eigen::Vector3d>& direction,
+                               double offset_m);
 
 /// {"position_m", "rpy_deg"} of a pose (R = Rz Ry Rx, the cell file's), nanometres and micro-degrees.
 nlohmann::json position_rpy(const Eigen::Isometry3d& pose);

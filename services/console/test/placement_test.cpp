@@ -125,3 +125,56 @@ TEST(Placement, BadRequestsAreRefusedWithWhereAndWhat) {
 
 }  // namespace
 }  // namespace rigger::console
+
+namespace rigger::console {
+namespace {
+
+// Picked edges: the object turned so that its edge lies along the support's, for faces of any pose.
+TEST(Placement, PickedEdgesLieAlongEachOtherOnceTheFacesMate) {
+  const Eigen::Isometry3d onto_face =
+      Eigen::Translation3d(0.3, -0.2, 0.9) * Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.2, 1, 0.3).normalized());
+  const Eigen::Isometry3d own_face =
+      Eigen::Translation3d(0.05, 0.0, -0.1) * Eigen::AngleAxisd(2.0, Eigen::Vector3d(1, -0.4, 0.1).normalized());
+  for (const double a_onto : {0.0, 0.7, 2.5}) {
+    for (const double a_own : {0.0, 1.2, -2.0}) {
+      const Eigen::Vector3d onto_edge = onto_face.linear() * Eigen::Vector3d(std::cos(a_onto), std::sin(a_onto), 0);
+      const Eigen::Vector3d own_edge = own_face.linear() * Eigen::Vector3d(std::cos(a_own), std::sin(a_own), 0);
+      const double turn = edge_turn_deg(onto_face, onto_edge, own_face, own_edge);
+      const Eigen::Isometry3d placed = placed_on(onto_face, own_face, turn);
+      EXPECT_NEAR((placed.linear() * own_edge).dot(onto_edge), 1.0, 1e-9) << a_onto << " " << a_own;
+      // A further half turn lays it the other way along the same line.
+      EXPECT_NEAR((placed_on(onto_face, own_face, turn + 180).linear() * own_edge).dot(onto_edge), -1.0, 1e-9);
+    }
+  }
+  // An edge that leaves its face's plane is refused at its field.
+  try {
+    edge_turn_deg(onto_face, onto_face.linear().col(2), own_face, own_face.linear().col(0));
+    ADD_FAILURE() << "an edge along the normal";
+  } catch (const PlannerError& e) {
+    EXPECT_EQ(e.pointer, "/onto/edge");
+  }
+}
+
+TEST(Placement, AnOffsetMovesTheContactAlongTheSupportsEdgeOrItsX) {
+  const Eigen::Isometry3d face = Eigen::Translation3d(1, 2, 0.5) * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ());
+  const Eigen::Vector3d edge = face.linear() * Eigen::Vector3d(0, 1, 0) + 0.3 * face.linear().col(2);  // a bit off-plane
+  EXPECT_TRUE((offset_along(face, edge, 0.25).translation() - (face.translation() + 0.25 * face.linear().col(1))).norm() < 1e-12);
+  EXPECT_TRUE((offset_along(face, std::nullopt, -0.1).translation() - (face.translation() - 0.1 * face.linear().col(0))).norm() < 1e-12);
+  EXPECT_TRUE(offset_along(face, edge, 0.25).linear().isApprox(face.linear()));
+  // Parsed: both edges or neither, a bounded offset.
+  const json body = {{"model", "object:load"}, {"face", 4}, {"point_m", {0, 0, -0.1}}, {"edge", 3}, {"offset_m", 0.05},
+                     {"onto", {{"model", "object:target"}, {"face", 2}, {"point_m", {0, 0, 0}}, {"edge", 7}}}};
+  const PlaceRequest r = parse_place_request(body);
+  EXPECT_EQ(r.own_edge, 3);
+  EXPECT_EQ(r.onto_edge, 7);
+  EXPECT_EQ(r.offset_m, 0.05);
+  json one = body;
+  one["onto"].erase("edge");
+  EXPECT_THROW(parse_place_request(one), PlannerError);
+  json far = body;
+  far["offset_m"] = 11;
+  EXPECT_THROW(parse_place_request(far), PlannerError);
+}
+
+}  // namespace
+}  // namespace rigger::console

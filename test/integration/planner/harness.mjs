@@ -87,7 +87,10 @@ export async function viewGestures(page) {
   await canvas.scrollIntoViewIfNeeded();
   const box = await canvas.boundingBox();
   const orbit = async (dy) => {
-    const x = box.x + box.width / 2, y = box.y + box.height / 2;
+    // Where the canvas is now: a screenshot or a click may have scrolled the page since.
+    await canvas.scrollIntoViewIfNeeded();
+    const now = await canvas.boundingBox();
+    const x = now.x + now.width / 2, y = now.y + now.height / 2;
     await page.mouse.move(x, y);
     await page.mouse.down();
     for (let i = 1; i <= 10; ++i) await page.mouse.move(x, y + (dy * i) / 10);

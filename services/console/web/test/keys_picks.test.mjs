@@ -4,7 +4,7 @@ import assert from 'node:assert/strict';
 import { describe, it } from 'node:test';
 
 import { keyCommand } from '../js/planner/keys.js';
-import { declareFromPicks, frameFromPicks } from '../js/planner/picks.js';
+import { declareFromPicks, frameFromPicks, placeFromPicks } from '../js/planner/picks.js';
 
 describe('keyCommand', () => {
   const press = (key, mods = {}, { selected = true, textSelected = false } = {}) =>
@@ -97,5 +97,25 @@ describe('declareFromPicks', () => {
     assert.match(declareFromPicks([edge], { kind: 'grasp_frame', name: 'g' }).error, /one face/);
     assert.match(declareFromPicks([face, { ...edge, entity: 'load' }], { kind: 'grasp_frame', name: 'g' }).error, /target and load/);
     assert.match(declareFromPicks([face], { kind: 'grasp_frame', name: 'a b' }).error, /name/);
+  });
+});
+
+describe('placeFromPicks', () => {
+  const face = (entity, f) => ({ kind: 'face', entity, face: f, ref: { index: f }, point_m: [0, 0, 0] });
+  const edge = (entity, e) => ({ kind: 'edge', entity, edge: e });
+  it('places the first picked part on the second, lined up by an edge of each when picked', () => {
+    const plain = placeFromPicks([face('load', 4), face('target', 2)]);
+    assert.equal(plain.model, 'object:load');
+    assert.equal(plain.onto.model, 'object:target');
+    assert.equal(plain.edge, undefined);
+    const lined = placeFromPicks([face('load', 4), edge('load', 3), face('target', 2), edge('target', 7)]);
+    assert.equal(lined.edge, 3);
+    assert.equal(lined.onto.edge, 7);
+    assert.match(lined.summary, /edge 3 along edge 7/);
+  });
+  it('says what to pick otherwise', () => {
+    assert.match(placeFromPicks([face('load', 4), edge('load', 3), face('target', 2)]).error, /one edge of load and one of target/);
+    assert.match(placeFromPicks([face('load', 4), face('load', 5)]).error, /both faces are of load/);
+    assert.match(placeFromPicks([face('load', 4)]).error, /pick a face/);
   });
 });

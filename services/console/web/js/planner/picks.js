@@ -26,16 +26,26 @@ export function frameFromPicks(picks) {
 /// picked point, laid on the second pick's face at its point (normals opposite), as the request's fields
 /// with a `summary`; or {error} saying what to pick.
 export function placeFromPicks(picks) {
-  const what = 'pick a face of the part to place, then the face to place it on (of another part)';
+  const what = 'pick a face of the part to place, then the face to place it on (of another part); an edge of each to line them up';
   if (picks.some((p) => p.entity === 'imported')) return { error: 'to place: the imported file is not a part of the cell yet' };
-  if (picks.length !== 2 || picks.some((p) => p.kind !== 'face')) return { error: `to place: ${what}` };
-  const [own, onto] = picks;
+  const faces = picks.filter((p) => p.kind === 'face'), edges = picks.filter((p) => p.kind === 'edge');
+  if (faces.length !== 2 || faces.length + edges.length !== picks.length) return { error: `to place: ${what}` };
+  const [own, onto] = faces;
   if (own.entity === onto.entity) return { error: `to place: both faces are of ${own.entity}; ${what}` };
-  return {
+  const edgeOf = (entity) => edges.filter((e) => e.entity === entity);
+  if (edges.length && (edges.length !== 2 || edgeOf(own.entity).length !== 1 || edgeOf(onto.entity).length !== 1))
+    return { error: `to place: pick one edge of ${own.entity} and one of ${onto.entity} to line them up, or none` };
+  const request = {
     model: `object:${own.entity}`, face: own.ref, point_m: own.point_m,
     onto: { model: `object:${onto.entity}`, face: onto.ref, point_m: onto.point_m },
     summary: `${own.entity} (face ${own.face}) on ${onto.entity} (face ${onto.face})`,
   };
+  if (edges.length) {
+    request.edge = edgeOf(own.entity)[0].edge;
+    request.onto.edge = edgeOf(onto.entity)[0].edge;
+    request.summary += `, edge ${request.edge} along edge ${request.onto.edge}`;
+  }
+  return request;
 }
 
 /// The features the Planner declares by picks (POST /api/planner/declare; docs/console.md, "Declare a feature").

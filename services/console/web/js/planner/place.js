@@ -17,10 +17,13 @@ export class PlacePanel {
     this.button = el('button', { id: 'planner-place', onclick: () => this.place() }, 'Place…');
     // Known where it is placed, or found by a Localize skill at run time (the simulator starts it here).
     this.known = el('input', { type: 'checkbox', id: 'planner-place-known' });
+    // A distance along the support's face (along its picked edge, else its x): one number, not a coordinate.
+    this.offset = el('input', { type: 'number', id: 'planner-place-offset', step: '1', value: '0', 'aria-label': 'Offset along the face (mm)' });
     this.hint = el('p', { id: 'planner-place-hint', class: 'muted small' });
     this.root = el('div', { role: 'group', 'aria-labelledby': 'planner-place-title' },
       el('h2', { id: 'planner-place-title' }, 'Place a part'),
       el('div', { class: 'toolbar' }, el('label', {}, 'Turn about the face ', this.turn),
+        el('label', {}, 'Offset (mm) ', this.offset),
         el('label', { title: 'Unchecked: a Localize skill finds it at run time; the simulator starts it here' }, this.known, ' known here'),
         this.button), this.hint);
     this.refresh();
@@ -37,11 +40,15 @@ export class PlacePanel {
     const { error, summary, ...body } = placeFromPicks(this.state.picks);
     if (error) return this.say(error, true);
     body.turn_deg = Number(this.turn.value);
+    const offset = Number(this.offset.value || 0) / 1000;
+    if (!Number.isFinite(offset)) return this.say('Place: the offset is a number of millimetres', true);
+    if (offset) body.offset_m = offset;
     body.localized = this.known.checked;
     try {
       const sel = await api('/api/planner/place', { method: 'POST', body });
       const where = body.localized ? 'known there' : 'found by Localize at run time (the simulator starts it there)';
-      const question = `${summary}, turned ${body.turn_deg}°, ${where}: ${describeChanges(sel.changes)}. Every service follows the new cell revision.`;
+      const shifted = body.offset_m ? `, ${Math.round(body.offset_m * 1000)} mm along the face` : '';
+      const question = `${summary}, turned ${body.turn_deg}°${shifted}, ${where}: ${describeChanges(sel.changes)}. Every service follows the new cell revision.`;
       if (!(await confirmDialog('Place the part?', question, 'Place'))) return this.say('Placement not confirmed: the cell is unchanged.');
       const done = await api('/api/confirm', { method: 'POST', body: { confirmation_id: sel.confirmation_id } });
       this.clearPicks();
