@@ -2,9 +2,11 @@
 // CAD rules derived) next to its start-up on a one-frame cell; a revision's apply (request written to
 // the CellRevision received, the demo cell's load moved each time) next to a world query round trip
 // measured in the same run; and the same apply until every reader of the cell (cell_sim, vision_tracker,
-// admittance_control, cad) says in its service state that it runs on the new revision.
+// admittance_control, cad) says in its service state that it runs on the new revision; and a revision
+// that adds a part whose STEP model only the request carries (a drilled plate written by OpenCascade,
+// different bytes each time) until every reader has the model and runs on the revision.
 //
-//   build/bench/bench_cell_revision [--starts 5] [--applies 30] [--queries 500]
+//   build/bench/bench_cell_revision [--starts 5] [--applies 30] [--queries 500] [--uploads 5]
 #include <signal.h>
 
 #include <cstdio>
@@ -12,6 +14,7 @@
 #include <functional>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,6 +23,9 @@
 
 #include "bench_util.hpp"
 #include "cell_sim_test_support.hpp"
+#include "rigger/base/sha256.hpp"
+#include "rigger/cad/model.hpp"
+#include "rigger/cad/parts.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/protocol/world.hpp"
 #include "rigger/testing/cell.hpp"
@@ -77,7 +83,7 @@ std::string reader_config(rigger::testing::Cell& cell, const std::string& name, 
 int main(int argc, char** argv) {
   using rigger::bench::int_option;
   const int starts = int_option(argc, argv, "--starts", 5), applies = int_option(argc, argv, "--applies", 30),
-            queries = int_option(argc, argv, "--queries", 500);
+            queries = int_option(argc, argv, "--queries", 500), uploads = int_option(argc, argv, "--uploads", 5);
   rigger::testing::Cell cell;
   const fs::path folder = fs::path(cell.log_dir()) / "cell";
   fs::create_directories(folder);
@@ -112,6 +118,8 @@ int main(int argc, char** argv) {
   // Revisions that move object `id` by i mm along x in the i-th; `done(revision)` says when one is through.
   // The milliseconds from each request written to done.
   std::uint64_t request_id = 0;
+  // When set, the i-th request of apply_all is changed by it (a part and its model added).
+  std::function<void(int, json&, rigger::world_protocol::CellRequest&)> upload;
   const auto apply_all = [&](const std::string& id, int count, const std::function<bool(std::uint64_t)>& done) {
     std::vector<double> ms;
     for (int i = 1; i <= count; ++i) {
@@ -127,8 +135,10 @@ int main(int argc, char** argv) {
       q.op = rigger::world_protocol::CellOp::kApply;
       q.cell_json = doc.dump();
       q.who = "bench";
+      if (upload) upload(i, doc, q);
       rigger_world_CellRequest wire{};
-      rigger::world_protocol::to_wire(q, wire);
+      std::vector<rigger_world_CellModel> models;
+      rigger::world_protocol::to_wire(q, wire, models);
       const auto t0 = Clock::now();
       requests.write(wire);
       const std::uint64_t expected = latest + 1;
@@ -175,11 +185,56 @@ int main(int argc, char** argv) {
   }
   const std::vector<double> everyone_ms = apply_all("part", applies, all_on);  // a loose part: the load hangs on the rope
   if (everyone_ms.empty()) return 1;
+  // A 0.6 x 0.4 m plate with 200 drilled holes: a STEP file of the size a real part's has.
+  std::vector<rigger::cad::parts::DrilledHole> holes;
+  for (int i = 0; i < 200; ++i)
+    holes.push_back({Eigen::Vector3d(-0.28 + 0.0285 * (i % 20), -0.18 + 0.04 * (i / 20), 0.01), Eigen::Vector3d::UnitZ(),
+                     0.008, 0.01, true});
+  const fs::path plate = fs::path(cell.log_dir()) / "plate.step";
+  rigger::cad::write_step(
+      rigger::cad::parts::drilled_box(Eigen::Vector3d(-0.3, -0.2, 0), Eigen::Vector3d(0.3, 0.2, 0.01), holes), "plate", plate);
+  const std::string plate_bytes = read_text(plate);
+  upload = [&](int i, json& doc, rigger::world_protocol::CellRequest& q) {
+    // Other bytes each time (a STEP comment), so that every reader receives the model anew.
+    std::string bytes = plate_bytes;
+    bytes.insert(bytes.find("HEADER;"), "/* upload " + std::to_string(i) + " */\n");
+    const std::string sha = rigger::sha256_hex(bytes);
+    doc["entities"].push_back({{"id", "upload"},
+                               {"kind", "object"},
+                               {"parent", "world"},
+                               {"pose", {{"position_m", {6.0, -2.0, 0.0}}, {"rpy_deg", {0, 0, 0}}}},
+                               {"model", {{"frame", "the plate's bottom face"}, {"static", true},
+                                          {"step", "imported/upload.step"}, {"sha256", sha}}}});
+    q.cell_json = doc.dump();
+    q.models = {{sha, "imported/upload.step", std::move(bytes)}};
+  };
+  // Per reader: when it first said it runs on the revision (the predicate is polled on every wake-up).
+  std::map<std::string, std::vector<double>> reader_ms;
+  std::map<std::string, bool> reader_on;
+  Clock::time_point upload_start = Clock::now();
+  std::uint64_t upload_revision = 0;
+  const auto each_on = [&](std::uint64_t revision) {
+    if (revision != upload_revision) {
+      upload_revision = revision;
+      upload_start = Clock::now();  // not the write, but within a loop wake-up of it
+      reader_on.clear();
+    }
+    const std::string on = "cell revision " + std::to_string(revision);
+    for (const std::string& id : readers) {
+      const auto it = cell.directory().services().find(id);
+      if (reader_on[id] || it == cell.directory().services().end() || it->second.detail != on) continue;
+      reader_on[id] = true;
+      reader_ms[id].push_back(ms_since(upload_start));
+    }
+    return all_on(revision);
+  };
+  const std::vector<double> upload_ms = apply_all("", uploads, each_on);
+  if (upload_ms.empty()) return 1;
   cell.stop_all();
 
   using rigger::bench::quantiles;
   const auto demo = quantiles(demo_ms), small = quantiles(minimal_ms), apply = quantiles(apply_ms),
-             query = quantiles(query_ms), everyone = quantiles(everyone_ms);
+             query = quantiles(query_ms), everyone = quantiles(everyone_ms), uploaded = quantiles(upload_ms);
   std::printf(
       "World model start-up (process start to READY, %d runs) and cell revision apply (%d revisions of the "
       "demo cell, the load moved each time), loopback, domain %u\n",
@@ -194,6 +249,14 @@ int main(int argc, char** argv) {
               everyone.p90, everyone.p99);
   std::printf("%-52s %10.3f %10.3f %10.3f\n", "world query round trip (pose load in robot)", query.p50, query.p90,
               query.p99);
+  std::printf("%-52s %10.1f %10.1f %10.1f\n", "revision + its STEP model -> every reader on it", uploaded.p50,
+              uploaded.p90, uploaded.p99);
+  std::printf("  (a part added with its model, %zu KiB, %d revisions, different bytes each); per reader:\n",
+              plate_bytes.size() / 1024, uploads);
+  for (const auto& [id, ms] : reader_ms) {
+    const auto q = quantiles(ms);
+    std::printf("  %-50s %10.1f %10.1f %10.1f\n", id.c_str(), q.p50, q.p90, q.p99);
+  }
 
   rigger::performance::Report report(
       "bench_cell_revision",
@@ -203,5 +266,9 @@ int main(int argc, char** argv) {
   rigger::bench::add_quantiles(report, "revision apply", apply, "ms", "world query round trip", query);
   rigger::bench::add_quantiles(report, "revision apply to every reader (cell_sim, tracker, admittance, cad)", everyone,
                                "ms", "revision apply to the world model's CellRevision", apply);
+  rigger::bench::add_quantiles(report,
+                               "revision adding a part with its " + std::to_string(plate_bytes.size() / 1024) +
+                                   " KiB STEP model to every reader",
+                               uploaded, "ms", "revision moving a part to every reader", everyone);
   return rigger::performance::save_for_main(report);
 }
