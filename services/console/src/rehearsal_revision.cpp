@@ -1,5 +1,6 @@
 #include "rehearsal_revision.hpp"
 
+#include "rigger/dds/conversions.hpp"
 #include "rigger/world_protocol/cell_protocol.hpp"
 
 namespace rigger::console {
@@ -16,6 +17,7 @@ RehearsalRevision::RehearsalRevision(const dds::Participant& participant, dds::E
       requests_(participant, protocol::world::kCellRequest),
       replies_(participant, protocol::world::kCellReply),
       revisions_(participant, protocol::world::kCell),
+      states_(participant, protocol::system::kServiceState),
       client_id_(std::move(client_id)),
       timeout_(timeout) {}
 
@@ -24,7 +26,12 @@ RehearsalRevision::~RehearsalRevision() {
 }
 
 void RehearsalRevision::bring_to(const CellTarget& target, const std::string& who, Done done) {
-  if (target.sha256 == running_sha256_) return done("");
+  if (target.sha256 == running_sha256_) {
+    // The world model runs it already; the simulator may still be refusing it.
+    const std::uint64_t id = next_request_++;
+    pending_[id] = {target.sha256, target.revision, true, std::move(done), expire_after_timeout(id)};
+    return settle();
+  }
   if (!world_model()) {
     return done("no world model answers cell requests on the rehearsal domain, so the cell's revision " +
                 std::to_string(target.revision) + " cannot be applied there");
@@ -42,20 +49,34 @@ void RehearsalRevision::bring_to(const CellTarget& target, const std::string& wh
   world_protocol::to_wire(q, wire, models);
   const dds_return_t rc = requests_.write(wire);
   if (rc != DDS_RETCODE_OK) return done(std::string("the cell request was not sent: ") + dds_strretcode(rc));
-  const auto timer = loop_.after(timeout_, [this, id = q.request_id] {
+  pending_[q.request_id] = {target.sha256, target.revision, false, std::move(done), expire_after_timeout(q.request_id)};
+}
+
+dds::EventLoop::TimerId RehearsalRevision::expire_after_timeout(std::uint64_t id) {
+  return loop_.after(timeout_, [this, id] {
     auto it = pending_.find(id);
     if (it == pending_.end()) return;
     const Done late = std::move(it->second.done);
-    const std::string what = it->second.applied ? "did not report the revision it accepted" : "did not answer";
+    const bool reported = it->second.applied && it->second.sha256 == running_sha256_;
+    const std::string what = reported ? "the rehearsal cell's simulator did not take the revision (it says: " +
+                                            simulator_detail_ + ")"
+                             : it->second.applied ? "the rehearsal world model did not report the revision it accepted"
+                                                  : "the rehearsal world model did not answer";
     pending_.erase(it);
-    late("the rehearsal world model " + what + " within " + seconds_text(timeout_));
+    late(what + " within " + seconds_text(timeout_));
   });
-  pending_[q.request_id] = {target.sha256, target.revision, false, std::move(done), timer};
 }
 
 void RehearsalRevision::take() {
   revisions_.take([this](const rigger_world_CellRevision& w, const dds_sample_info_t&) {
-    running_sha256_ = world_protocol::from_wire(w).sha256;
+    const world_protocol::CellRevision r = world_protocol::from_wire(w);
+    running_sha256_ = r.sha256;
+    running_revision_ = r.cell_revision;
+  });
+  states_.take([this](const rigger_system_ServiceState& w, const dds_sample_info_t&) {
+    if (dds::to_string(w.kind) != "cell_sim") return;
+    simulator_seen_ = true;
+    simulator_detail_ = dds::to_string(w.detail);
   });
   replies_.take([this](const rigger_world_CellReply& w, const dds_sample_info_t&) {
     const world_protocol::CellReply rep = world_protocol::from_wire(w);
@@ -79,15 +100,25 @@ void RehearsalRevision::take() {
 }
 
 void RehearsalRevision::settle() {
+  const std::string on = "cell revision " + std::to_string(running_revision_);
+  const std::string refused = "refused " + on + ":";
   for (auto it = pending_.begin(); it != pending_.end();) {
     if (!it->second.applied || it->second.sha256 != running_sha256_) {
+      ++it;
+      continue;
+    }
+    // The simulator follows the world model: wait for its word on the same revision, when it has one.
+    std::string error;
+    if (simulator_seen_ && simulator_detail_.rfind(refused, 0) == 0) {
+      error = "the rehearsal cell's simulator " + simulator_detail_ + " (nothing was rehearsed)";
+    } else if (simulator_seen_ && simulator_detail_ != on) {
       ++it;
       continue;
     }
     loop_.cancel(it->second.timer);
     const Done done = std::move(it->second.done);
     it = pending_.erase(it);
-    done("");
+    done(error);
   }
 }
 

@@ -19,6 +19,7 @@
 #include "rigger/dds/participant.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/idl/types.hpp"
+#include "rigger/protocol/system.hpp"
 #include "rigger/protocol/world.hpp"
 #include "rigger/world_protocol/cell_protocol.hpp"
 
@@ -49,28 +50,38 @@ class RehearsalRevision {
   RehearsalRevision& operator=(const RehearsalRevision&) = delete;
 
   /// The readers whose data must wake the loop to call take().
-  std::array<dds_entity_t, 2> readers() const { return {replies_.handle(), revisions_.handle()}; }
+  std::array<dds_entity_t, 3> readers() const { return {replies_.handle(), revisions_.handle(), states_.handle()}; }
   void take();
 
   /// A world model reads cell requests on the rehearsal domain.
   bool world_model() const { return requests_.matched_readers() > 0; }
   /// The rehearsal world model's running revision's sha256 ("" before it said).
   const std::string& running_sha256() const { return running_sha256_; }
+  /// What the rehearsal cell's simulator last said of its cell revision ("" before it said).
+  const std::string& simulator_detail() const { return simulator_detail_; }
 
-  /// Brings the rehearsal world model to `target` (journaled there as `who`), then calls `done`.
+  /// Brings the rehearsal world model to `target` (journaled there as `who`), then calls `done` once the
+  /// rehearsal cell's simulator (a service of kind cell_sim, when there is one) says it runs on that
+  /// revision too; when it refused it (a revision that reshapes the crane's load needs its restart),
+  /// `done` gets its reason: a rehearsal on other physics than the revision's would prove nothing.
   void bring_to(const CellTarget& target, const std::string& who, Done done);
 
  private:
   void settle();  // calls `done` for the applied revisions the world model now reports
+  dds::EventLoop::TimerId expire_after_timeout(std::uint64_t id);  // fails pending `id` after the timeout
 
   dds::EventLoop& loop_;
   dds::Writer<rigger_world_CellRequest> requests_;
   dds::Reader<rigger_world_CellReply> replies_;
   dds::Reader<rigger_world_CellRevision> revisions_;
+  dds::Reader<rigger_system_ServiceState> states_;
   std::string client_id_;
   std::chrono::milliseconds timeout_;
   std::uint64_t next_request_ = 1;
   std::string running_sha256_;
+  std::uint64_t running_revision_ = 0;  ///< the rehearsal world model's number of it
+  std::string simulator_detail_;        ///< what the rehearsal cell_sim last said of its cell revision
+  bool simulator_seen_ = false;
   struct Pending {
     std::string sha256;
     std::uint64_t revision = 0;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "rehearsal_revision.hpp"
+#include "rigger/protocol/system.hpp"
 #include "rigger/testing/domain.hpp"
 #include "rigger/world_protocol/cell_protocol.hpp"
 
@@ -32,9 +33,9 @@ class RehearsalRevisionTest : public ::testing::Test {
     world_protocol::to_wire(r, wire);
     ASSERT_EQ(replies_.write(wire), DDS_RETCODE_OK);
   }
-  void report(const std::string& sha256) {
+  void report(const std::string& sha256, std::uint64_t number = 1) {
     world_protocol::CellRevision r;
-    r.cell_revision = 1;
+    r.cell_revision = number;
     r.cell_json = "{}";
     r.sha256 = sha256;
     rigger_world_CellRevision wire{};
@@ -97,6 +98,44 @@ TEST_F(RehearsalRevisionTest, AnAcceptedRevisionRunsOnlyOnceTheWorldModelReports
   ASSERT_TRUE(done.has_value());
   EXPECT_EQ(*done, "");
   EXPECT_EQ(seen_.size(), 1u);
+}
+
+// The simulator of the rehearsal cell follows the world model: the rehearsal runs once it says it runs on
+// the same revision, and not at all when it refused it (a revision that reshapes the crane's load).
+TEST_F(RehearsalRevisionTest, ARevisionTheSimulatorRefusedIsNotRehearsed) {
+  dds::Writer<rigger_system_ServiceState> states(participant_, protocol::system::kServiceState);
+  const auto simulator_says = [&](const std::string& detail) {
+    rigger_system_ServiceState s{};
+    s.service_id = const_cast<char*>("cell_sim");
+    s.kind = const_cast<char*>("cell_sim");
+    s.detail = const_cast<char*>(detail.c_str());
+    ASSERT_EQ(states.write(s), DDS_RETCODE_OK);
+  };
+  start_world_model();
+  simulator_says("cell revision 1");
+  std::optional<std::string> done;
+  revision_.bring_to(target_, "console:ada", [&](const std::string& error) { done = error; });
+  ASSERT_TRUE(loop_.run_until([&] { return !seen_.empty(); }, 5s));
+  reply(true, "ACCEPTED", "revision 2");
+  report(target_.sha256, 2);
+  EXPECT_FALSE(loop_.run_until([&] { return done.has_value(); }, 300ms)) << "the simulator has not said yet";
+  simulator_says("refused cell revision 2: it reshapes the crane's load load: restart it on the new cell");
+  ASSERT_TRUE(loop_.run_until([&] { return done.has_value(); }, 5s));
+  EXPECT_NE(done->find("the rehearsal cell's simulator refused cell revision 2: it reshapes the crane's load"),
+            std::string::npos) << *done;
+  // Asked again while the world model runs it: still refused, nothing sent.
+  done.reset();
+  revision_.bring_to(target_, "console:ada", [&](const std::string& error) { done = error; });
+  ASSERT_TRUE(loop_.run_until([&] { return done.has_value(); }, 5s));
+  EXPECT_NE(done->find("refused cell revision 2"), std::string::npos) << *done;
+  EXPECT_EQ(seen_.size(), 1u);
+  // Once it runs on it, the rehearsal goes ahead.
+  simulator_says("cell revision 2");
+  ASSERT_TRUE(loop_.run_until([&] { return revision_.simulator_detail() == "cell revision 2"; }, 5s));
+  done.reset();
+  revision_.bring_to(target_, "console:ada", [&](const std::string& error) { done = error; });
+  ASSERT_TRUE(loop_.run_until([&] { return done.has_value(); }, 5s));
+  EXPECT_EQ(*done, "");
 }
 
 TEST_F(RehearsalRevisionTest, NoWorldModelOrNoReportIsNotRunEither) {
