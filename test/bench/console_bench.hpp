@@ -26,17 +26,21 @@ struct BenchConsole {
   testing::ChildProcess* process = nullptr;
 };
 
-/// Starts the console as process "console" of `cell` on a free port, with `users` and no audit log
-/// (configuration and users file in the cell's log folder). Does not wait for it to be ready.
-inline BenchConsole start_console(testing::Cell& cell, const std::vector<console::NewUser>& users) {
+/// Starts the console as process and service `name` of `cell` on a free port, with `users`, no audit log
+/// and the settings of `extra` (configuration and users file in the cell's log folder). Does not wait
+/// for it to be ready.
+inline BenchConsole start_console(testing::Cell& cell, const std::vector<console::NewUser>& users,
+                                  const std::string& name = "console",
+                                  const nlohmann::json& extra = nlohmann::json::object()) {
   const std::string dir = cell.log_dir();
+  const std::string config = dir + "/" + name + ".json", users_file = dir + "/" + name + "-users.json";
   BenchConsole out;
-  out.users = console::make_users(dir + "/users.json", users);
+  out.users = console::make_users(users_file, users);
   out.port = testing::free_tcp_port();
-  std::ofstream(dir + "/console.json") << nlohmann::json{{"port", out.port}, {"users_file", dir + "/users.json"},
-                                                         {"audit_log", ""}, {"runs_dir", ""}}.dump();
-  out.process = &cell.start("console", "console",
-                            {"--id", "console", "--config", dir + "/console.json", "--log-level", "warn"});
+  nlohmann::json settings{{"port", out.port}, {"users_file", users_file}, {"audit_log", ""}, {"runs_dir", ""}};
+  settings.update(extra);
+  std::ofstream(config) << settings.dump();
+  out.process = &cell.start(name, "console", {"--id", name, "--config", config, "--log-level", "warn"});
   return out;
 }
 
