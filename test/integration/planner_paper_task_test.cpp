@@ -184,8 +184,8 @@ TEST_F(PlannerBrowserTest, ThePapersTaskBuiltByClicksAndCadPicksMatchesTheShippe
   std::ifstream in(result_file);
   const json result = json::parse(in);
   expect_the_shipped_task(result, shipped_file);
-  std::printf("browser timings (ms): %s; artifacts in %s\n", result.at("timings_ms").dump().c_str(),
-              cell_.log_dir().c_str());
+  std::printf("browser timings (ms): %s; programming effort: %s; artifacts in %s\n", result.at("timings_ms").dump().c_str(),
+              result.value("effort", json::object()).dump().c_str(), cell_.log_dir().c_str());
 }
 
 // The whole of the planner's acceptance in one run: the paper's task built by clicks and CAD picks as above,

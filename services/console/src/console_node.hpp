@@ -56,8 +56,10 @@ class ConsoleNode : public service::Node, public Backend {
   ActionResult world_entity(const std::string& id) override;
   ActionResult world_list() override;
   ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) override;
+  ActionResult cad_load(const std::string& name, std::string step) override;
   ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
                         const std::string& submitter) override;
+  ActionResult rehearsal_cell() override;
   ActionResult cell_request(const world_protocol::CellRequest& request) override;
 
  private:
@@ -79,6 +81,10 @@ class ConsoleNode : public service::Node, public Backend {
 
   service::ServiceContext& ctx_;
   std::chrono::milliseconds query_timeout_{3000};
+  static constexpr std::chrono::milliseconds kCadLoadTimeout{120000};
+  /// One CAD request (`content`: the STEP bytes of a LOAD, else empty), answered within `timeout`.
+  ActionResult cad_request(rigger_cad_CadRequestKind kind, const std::string& model, const std::string& args_json,
+                           std::string content, std::chrono::milliseconds timeout);
   EventLog events_;
   EventLog plots_;
   std::unique_ptr<RunArchive> runs_;  ///< null: runs are not kept

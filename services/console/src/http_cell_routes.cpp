@@ -6,6 +6,7 @@
 
 #include "http_api.hpp"
 #include "http_replies.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 namespace rigger::console {
 
@@ -61,6 +62,23 @@ void HttpApi::get_cell(const httplib::Request& req, httplib::Response& res) {
   send_cell_answer(req, res, backend_.cell_request(q));
 }
 
+std::optional<HttpApi::RunningCell> HttpApi::running_cell(const httplib::Request& req, httplib::Response& res) {
+  world_protocol::CellRequest show;
+  show.op = world_protocol::CellOp::kShow;
+  const auto running = backend_.cell_request(show);
+  if (!running.ok) {
+    send_cell_answer(req, res, running);
+    return std::nullopt;
+  }
+  JsonParseResult parsed = parse_json_bounded(
+      running.data.value("result", json::object()).value("cell_json", std::string("{}")), {16U * 1024U * 1024U, 64});
+  if (!parsed.ok() || !parsed.value.is_object()) {
+    send_error(res, 503, "the world model's running revision is not a JSON document", req.path);
+    return std::nullopt;
+  }
+  return RunningCell{running.data.value("cell_revision", std::uint64_t{0}), std::move(parsed.value)};
+}
+
 void HttpApi::get_cell_history(const httplib::Request& req, httplib::Response& res) {
   if (!who(req, res, Role::kViewer)) return;
   world_protocol::CellRequest q;
@@ -91,22 +109,27 @@ void HttpApi::post_cell_revision(const httplib::Request& req, httplib::Response&
     return send_error(res, 400, "expected {\"cell\": {<a cell document>}} or {\"rollback\": <revision number>}",
                       req.path);
   }
+  select_cell_revision(*user, payload, target, req, res);
+}
+
+void HttpApi::select_cell_revision(const User& user, const json& payload, const std::string& target,
+                                   const httplib::Request& req, httplib::Response& res, json extra) {
   // The dry run: refused now, with the world model's reason, rather than after the confirmation.
-  const auto check = backend_.cell_request(request_of(payload, "console:" + user->name, true));
+  const auto check = backend_.cell_request(request_of(payload, "console:" + user.name, true));
   if (!check.ok) {
-    audit(*user, "select cell " + target, "cell", "refused: " + check.message);
+    audit(user, "select cell " + target, "cell", "refused: " + check.message);
     return send_cell_answer(req, res, check);
   }
   const std::string id =
-      new_confirmation({user->name, "cell", target, to_text(payload), Clock::now() + config_.confirm_timeout});
-  audit(*user, "select cell " + target, "cell", "awaiting confirmation " + id);
-  send_json(res,
-            {{"confirmation_id", id},
-             {"action", "cell " + target},
-             {"cell_revision", check.data.value("cell_revision", std::uint64_t{0})},
-             {"changes", changes_of(check.data)},
-             {"expires_in_s", std::chrono::duration<double>(config_.confirm_timeout).count()}},
-            202);
+      new_confirmation({user.name, "cell", target, to_text(payload), Clock::now() + config_.confirm_timeout});
+  audit(user, "select cell " + target, "cell", "awaiting confirmation " + id);
+  json answer = {{"confirmation_id", id},
+                 {"action", "cell " + target},
+                 {"cell_revision", check.data.value("cell_revision", std::uint64_t{0})},
+                 {"changes", changes_of(check.data)},
+                 {"expires_in_s", std::chrono::duration<double>(config_.confirm_timeout).count()}};
+  if (extra.is_object()) answer.update(extra);
+  send_json(res, answer, 202);
 }
 
 void HttpApi::confirm_cell(const User& user, const Pending& p, const httplib::Request& req, httplib::Response& res) {

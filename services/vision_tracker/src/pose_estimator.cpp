@@ -145,10 +145,23 @@ EstimateStatus PoseEstimator::estimate(const ObjectLayout& layout, const std::ve
     coplanar = coplanar && std::abs((p - plane_point).dot(plane_normal)) < kCoplanarTolerance_m;
   }
 
+  // IPPE is given a planar layout in its plane's own frame (z = 0 there): a plane that does not pass
+  // through the object's origin, or is not normal to its z, gives it wrong poses.
+  Eigen::Isometry3d pose_object_plane = Eigen::Isometry3d::Identity();
+  if (coplanar) {
+    const Eigen::Vector3d helper = std::abs(plane_normal.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d x = (helper - helper.dot(plane_normal) * plane_normal).normalized();
+    pose_object_plane.linear().col(0) = x;
+    pose_object_plane.linear().col(1) = plane_normal.cross(x);
+    pose_object_plane.linear().col(2) = plane_normal;
+    pose_object_plane.translation() = plane_point;
+  }
+  const Eigen::Isometry3d pose_plane_object = pose_object_plane.inverse();
   std::vector<cv::Point3d> cv_object;
   std::vector<cv::Point2d> cv_image;
   for (std::size_t i = 0; i < object_points.size(); ++i) {
-    cv_object.emplace_back(object_points[i].x(), object_points[i].y(), object_points[i].z());
+    const Eigen::Vector3d q = pose_plane_object * object_points[i];
+    cv_object.emplace_back(q.x(), q.y(), q.z());
     cv_image.emplace_back(image_points[i].x(), image_points[i].y());
   }
   const cv::Mat k =
@@ -175,7 +188,7 @@ EstimateStatus PoseEstimator::estimate(const ObjectLayout& layout, const std::ve
     cv::Mat tvec;
     rvecs[s].convertTo(rvec, CV_64F);
     tvecs[s].convertTo(tvec, CV_64F);
-    Eigen::Isometry3d pose = to_isometry(rvec, tvec);
+    Eigen::Isometry3d pose = to_isometry(rvec, tvec) * pose_plane_object;
     bool in_front = pose.matrix().allFinite();
     for (const Eigen::Vector3d& p : object_points) {
       in_front = in_front && (pose * p).z() > 0.0;

@@ -74,6 +74,26 @@ TEST_F(PoseEstimatorTest, RecoversTheExactPoseFromExactCorners) {
   EXPECT_NEAR(estimate.max_viewing_angle_rad, 40.0 * kDeg, 2.0 * kDeg);
 }
 
+// A planar layout whose plane is normal to the object's z but does not pass through its origin (markers
+// on the top face of a box whose frame is its centre): OpenCV's IPPE takes such points for z = 0 ones
+// unless they are given in their plane's frame.
+TEST_F(PoseEstimatorTest, RecoversThePoseOfALayoutOnAPlaneOffTheObjectsOrigin) {
+  layout_.markers.clear();
+  for (int i = 0; i < 4; ++i) {
+    MarkerPlacement marker;
+    marker.id = 10 + i;
+    marker.size_m = 0.07;
+    marker.pose_object_marker = pose({0.1 * (i % 2) - 0.05, 0.1 * (i / 2) - 0.05, 0.05}, Eigen::Vector3d::UnitZ(), 0.0);
+    layout_.markers.push_back(marker);
+  }
+  const Eigen::Isometry3d truth = pose({0.05, 0.1, 1.4}, Eigen::Vector3d(1, 0.3, 0), 160.0);
+  PoseEstimate estimate;
+  ASSERT_EQ(estimator_.estimate(layout_, observe(truth), std::nullopt, estimate), EstimateStatus::kOk);
+  EXPECT_LT((estimate.pose_camera_object.translation() - truth.translation()).norm(), 1e-7);
+  EXPECT_LT(rotation_angle_between(estimate.pose_camera_object.linear(), truth.linear()), 1e-7);
+  EXPECT_LT(estimate.reprojection_rms_px, 1e-6);
+}
+
 TEST_F(PoseEstimatorTest, IgnoresMarkersOfOtherLayouts) {
   std::vector<DetectedMarker> markers = observe(truth_);
   DetectedMarker stranger = markers[0];

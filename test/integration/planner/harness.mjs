@@ -46,3 +46,34 @@ export async function openPlanner(browser) {
   await page.waitForFunction(() => window.rigger?.ready === true && window.rigger.planner?.ready === true, null, { timeout: 90000 });
   return page;
 }
+
+/// `page` with its person-like actions counted as the planner's Effort counts them (effort.js): a click
+/// (page.click, page.mouse.click), a choice from a list (selectOption), a field typed (fill) with its
+/// characters. Returns [the counting page, the counts so far].
+export function countActions(page) {
+  const acts = { clicks: 0, choices: 0, fields_typed: 0, characters: 0 };
+  const mouse = new Proxy(page.mouse, {
+    get(target, key) {
+      const v = Reflect.get(target, key);
+      if (key === 'click') return (...a) => { acts.clicks += 1; return v.apply(target, a); };
+      return typeof v === 'function' ? v.bind(target) : v;
+    },
+  });
+  const counting = new Proxy(page, {
+    get(target, key) {
+      const v = Reflect.get(target, key);
+      if (key === 'mouse') return mouse;
+      if (key === 'click') return (...a) => { acts.clicks += 1; return v.apply(target, a); };
+      if (key === 'selectOption') return (...a) => { acts.choices += 1; return v.apply(target, a); };
+      if (key === 'fill') {
+        return (selector, value, ...rest) => {
+          acts.fields_typed += 1;
+          acts.characters += String(value).length;
+          return v.call(target, selector, value, ...rest);
+        };
+      }
+      return typeof v === 'function' ? v.bind(target) : v;
+    },
+  });
+  return [counting, acts];
+}

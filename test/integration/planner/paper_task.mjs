@@ -13,7 +13,7 @@
 // Synchronisation is on the page's state (waitForFunction), never a sleep; a failed check exits 1.
 import fs from 'node:fs';
 import path from 'node:path';
-import { ART, MODULES, call, check, closeBrowser, env, launchBrowser, openPlanner, waitForSkills } from './harness.mjs';
+import { ART, MODULES, call, check, closeBrowser, countActions, env, launchBrowser, openPlanner, waitForSkills } from './harness.mjs';
 
 const shipped = JSON.parse(fs.readFileSync(env('SHIPPED'), 'utf8'));
 const result = { timings_ms: {} };
@@ -51,8 +51,8 @@ async function rehearse(page) {
   const tRun = Date.now();
   await page.click('#planner-rehearse');
   await page.waitForFunction(() => !document.querySelector('#rehearsal').hidden
-    || /Not rehearsed/.test(document.querySelector('#planner-editor p[role="status"]')?.textContent || ''), null, { timeout: 30000 });
-  check(await page.locator('#rehearsal').isVisible(), `the planned recipe's rehearsal was accepted (${await page.locator('#planner-editor p[role="status"]').innerText()})`);
+    || /Not rehearsed/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 30000 });
+  check(await page.locator('#rehearsal').isVisible(), `the planned recipe's rehearsal was accepted (${await page.locator('#planner-notice').innerText()})`);
   // Polled twice a second: chromium's software rendering must not starve the cell's real-time loops.
   await page.waitForFunction(() => window.rigger.planner.rehearsal.ended(), null, { timeout: 5 * 60000, polling: 500 });
   await page.waitForFunction(() => {
@@ -69,7 +69,7 @@ async function rehearse(page) {
 
 const browser = await launchBrowser();
 try {
-  const page = await openPlanner(browser);
+  const [page, acts] = countActions(await openPlanner(browser));
   check(await page.evaluate(() => window.rigger.planner.state.doc.root === null), 'the tree starts empty');
   result.timings_ms.page_ready = Date.now() - t0;
   const tBuild = Date.now();
@@ -252,6 +252,13 @@ try {
   const finalViolations = await axe();
   check(finalViolations.length === 0, `axe-core: no violations with the whole tree drawn ${JSON.stringify(finalViolations)}`);
   await page.screenshot({ path: path.join(ART, 'paper-task.png'), fullPage: true });
+  // What programming the task cost, as the page counted it and shows it: every action of this script.
+  const effort = await state(() => ({ counts: window.rigger.planner.effort.counts(), shown: document.querySelector('#planner-effort').textContent }));
+  result.effort = effort.counts;
+  console.log(`programming effort: ${effort.shown}`);
+  check(JSON.stringify(effort.counts) === JSON.stringify(acts),
+    `the page counted the session's actions as they were made: ${JSON.stringify(effort.counts)}, made ${JSON.stringify(acts)}`);
+  check(effort.shown.includes(`${acts.clicks} clicks`) && effort.shown.includes(`${acts.fields_typed} fields typed`), `the page shows the count: ${effort.shown}`);
 
   // --- export (download); the console validates the same text ---
   const [download] = await Promise.all([page.waitForEvent('download'), page.click('#planner-export')]);

@@ -1,0 +1,65 @@
+// What a programming session cost its programmer, counted on the page as it happens: the clicks (on
+// buttons, list entries, the 3D view), the choices made from lists (a select's change), and the fields
+// typed into — one per stretch of typing in one field, however many characters — with the characters.
+// Shown under the Planner's toolbar and read by the tests, which print it: the figure the Planner is
+// judged by is how little a person has to do, and how little of it is typing.
+
+/// Whether typing into `t` is typing a value (a text, number or search field, or a text area).
+function typedInto(t) {
+  if (t instanceof HTMLTextAreaElement) return true;
+  return t instanceof HTMLInputElement && ['text', 'number', 'search', ''].includes(t.type);
+}
+
+export class Effort {
+  /// Counts what happens inside `root` until close(); `onChange(effort)` after every count.
+  constructor(root, onChange = () => {}) {
+    this.clicks = 0;
+    this.choices = 0;
+    this.fieldsTyped = 0;
+    this.characters = 0;
+    this.typing = null;  // the field of the current stretch of typing
+    this.root = root;
+    this.onChange = onChange;
+    // Capture: a handler that re-renders the form must not hide the event from the count.
+    this.listeners = {
+      click: (e) => {
+        // A click the page makes itself (a label forwarding to its control, a script) is not the person's.
+        if (!e.isTrusted) return;
+        this.clicks += 1;
+        this.typing = null;
+        this.onChange(this);
+      },
+      change: (e) => {
+        if (!(e.target instanceof HTMLSelectElement)) return;
+        this.choices += 1;
+        this.typing = null;
+        this.onChange(this);
+      },
+      input: (e) => {
+        if (!typedInto(e.target)) return;
+        if (this.typing !== e.target) this.fieldsTyped += 1;
+        this.typing = e.target;
+        this.characters += typeof e.data === 'string' ? e.data.length : 0;
+        this.onChange(this);
+      },
+      focusin: (e) => { if (e.target !== this.typing) this.typing = null; },
+    };
+    for (const [type, fn] of Object.entries(this.listeners)) root.addEventListener(type, fn, true);
+  }
+
+  /// {clicks, choices, fields_typed, characters}: what the tests print.
+  counts() {
+    return { clicks: this.clicks, choices: this.choices, fields_typed: this.fieldsTyped, characters: this.characters };
+  }
+
+  /// One line for the page.
+  text() {
+    const n = (k, one, many) => `${k} ${k === 1 ? one : many}`;
+    return `This session: ${n(this.clicks, 'click', 'clicks')}, ${n(this.choices, 'choice from a list', 'choices from lists')}, `
+      + `${n(this.fieldsTyped, 'field typed', 'fields typed')} (${n(this.characters, 'character', 'characters')})`;
+  }
+
+  close() {
+    for (const [type, fn] of Object.entries(this.listeners)) this.root.removeEventListener(type, fn, true);
+  }
+}
