@@ -1,10 +1,13 @@
 #pragma once
 /// @file
 /// Markerless localization: where a rigid part is, from a depth image and the part's triangle mesh
-/// (the CAD service's tessellation of its STEP model). Global registration by point pair features
-/// (OpenCV surface_matching PPF3DDetector), refined by point-to-plane ICP; with a prior pose, ICP
-/// from the prior first and the global search only when that does not fit. Pure C++, no DDS, no
-/// logging.
+/// (the CAD service's tessellation of its STEP model). The global search places the part on each
+/// connected surface of the image at 2560 orientations spread over all of them, scores each by how
+/// the image sees its camera-facing points, and refines the best by point-to-plane ICP (each model
+/// point paired with the pixel it projects to); with a prior pose, ICP from the prior first and the
+/// global search only when that does not fit. A pose is reported only when it fits from both sides
+/// (the image's points near it lie on it, and the image does not see through it); otherwise a
+/// status says why. Pure C++, no DDS, no logging.
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -41,26 +44,33 @@ struct DepthFrame {
 
 /// Bounds and acceptance thresholds.
 struct LocalizeOptions {
-  /// Points kept of the scene (the rest is subsampled away) and of the model.
+  /// Points of the scene judged per pose (the rest is subsampled away) and of the model refined.
   int max_scene_points = 3000;
-  int max_model_points = 2000;
+  int max_model_points = 1500;
   /// Scene points at or below this world height are dropped (the support under the part); unset: none.
   std::optional<double> min_height_world_m;
-  /// A scene point is an inlier within this distance of the fitted model surface.
-  double inlier_distance_m = 0.004;
-  /// A fit is accepted with an RMS residual (over inliers) at most this and an inlier ratio (of the
-  /// scene points near the fitted part) at least this; otherwise kLowFit.
-  double max_rms_m = 0.0025;
-  double min_inlier_ratio = 0.7;
-  /// At least this many scene points must lie on the fitted part (else the part is not seen).
+  /// A scene point is an inlier within this distance of the fitted model surface (about twice the
+  /// depth noise's standard deviation at the working distance).
+  double inlier_distance_m = 0.005;
+  /// A fit is accepted with an RMS residual (over inliers) at most this, an inlier ratio (of the
+  /// points of the connected surface it was fitted to) at least this, and a model support (of the part's points
+  /// facing the camera, the share the image sees rather than sees through) at least this; otherwise
+  /// kLowFit.
+  double max_rms_m = 0.003;
+  double min_inlier_ratio = 0.9;
+  double min_model_support = 0.98;
+  /// And the same inlier ratio, over the scene points whose normals point one way in the object's
+  /// frame (6 ways: the dominant axis and its sign; ways with under 2 % of the points not judged),
+  /// at least this in every way: a pose sliding along an edge leaves one face unexplained.
+  double min_direction_ratio = 0.5;
+  /// At least this many scene points must lie on the fitted part (else the part is not seen); also
+  /// the smallest connected surface of the image searched.
   int min_supporting_points = 150;
-  /// The global search stops trying hypotheses once this is spent.
-  std::chrono::milliseconds time_budget{400};
 };
 
 enum class LocalizeStatus {
   kFound,
-  kNotFound,          ///< no hypothesis fits: the part is not in view or not recognisable
+  kNotFound,          ///< no hypothesis fits, or every surface seen is wider than the part
   kAmbiguous,         ///< two poses that are not symmetric equivalents fit equally well
   kLowFit,            ///< the best pose fits worse than the thresholds
   kBadDepth,          ///< empty image, wrong type, or no finite depth at all
@@ -78,6 +88,7 @@ struct LocalizeResult {
   double rms_m = 0.0;
   double inlier_ratio = 0.0;
   int supporting_points = 0;
+  double model_support = 0.0;
   /// The part's symmetries (e.g. "2-fold about x, y, z"), empty for none; among the equivalent
   /// poses the one nearest the prior is reported, or without a prior the one nearest the world axes.
   std::string symmetry;
@@ -85,7 +96,7 @@ struct LocalizeResult {
   std::chrono::microseconds elapsed{0};
 };
 
-/// Localizes one part. Construction samples and trains the model once (tens of milliseconds);
+/// Localizes one part. Construction samples the mesh once (milliseconds, no training);
 /// localize() may then be called for many frames. Not thread safe: one per thread.
 class Localizer {
  public:
