@@ -306,8 +306,8 @@ struct Localizer::Impl {
   Eigen::Isometry3d slide(const DepthGrid& grid, const Eigen::Isometry3d& pose,
                           const Eigen::Matrix3d& information) const {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(information);
-    if (eigen.info() != Eigen::Success || eigen.eigenvalues()(0) > 0.1 * eigen.eigenvalues()(2)) {
-      return pose;  // every direction well fixed
+    if (eigen.info() != Eigen::Success || eigen.eigenvalues()(0) > 0.5 * eigen.eigenvalues()(2)) {
+      return pose;  // no direction fixed less than half as well as the best
     }
     const Eigen::Vector3d direction = eigen.eigenvectors().col(0);
     const int steps = static_cast<int>(std::ceil(kSlideM / kSlideStepM));

@@ -248,11 +248,11 @@ const std::vector<PartBox> kBracket = {{Eigen::Vector3d(0.0, 0.0, 0.01), Eigen::
                                        {Eigen::Vector3d(-0.09, 0.0, 0.07), Eigen::Vector3d(0.01, 0.06, 0.05)}};
 
 TEST_F(LocalizeTest, ReportsNoWrongPoseOfTheDemoLoadAtFiftyPoses) {
-  check_accuracy("demo load", kLoad, 0.10, Eigen::Vector3d::Zero(), 20);
+  check_accuracy("demo load", kLoad, 0.10, Eigen::Vector3d::Zero(), 36);
 }
 
 TEST_F(LocalizeTest, ReportsNoWrongPoseOfAnLBracketAtFiftyPoses) {
-  check_accuracy("L-bracket", kBracket, 0.0, Eigen::Vector3d(-0.02, 0.0, 0.03), 18);
+  check_accuracy("L-bracket", kBracket, 0.0, Eigen::Vector3d(-0.02, 0.0, 0.03), 20);
 }
 
 TEST_F(LocalizeTest, FindsTheLoadsThreeHalfTurnsAndNoneOfTheBracket) {
