@@ -48,6 +48,16 @@ void add_quantiles(performance::Report& report, const std::string& what, const Q
   }
 }
 
+std::string growth_verdict(double first, double last, double scale) {
+  if (!(first > 0)) return "no figure";
+  const double growth = last / first;
+  char text[96];
+  std::snprintf(text, sizeof text, "%.2fx over %.0fx: ", growth, scale);
+  if (growth <= 1.2) return std::string(text) + "flat";
+  if (growth <= 1.2 * scale) return std::string(text) + "linear or better";
+  return std::string(text) + "worse than linear";
+}
+
 int int_option(int argc, char** argv, const std::string& name, int fallback) {
   for (int i = 1; i + 1 < argc; i += 2)
     if (name == argv[i]) return std::atoi(argv[i + 1]);

@@ -16,6 +16,10 @@ namespace rigger::bench {
 /// The q-quantile (0..1) of `values` (nearest rank); 0 when empty.
 double percentile(std::vector<double> values, double q);
 
+/// How a cost grew from `first` to `last` while the work grew `scale` times: "1.05x over 10x: flat"
+/// (<= 1.2x), "… linear or better" (<= 1.2 x scale) or "… worse than linear".
+std::string growth_verdict(double first, double last, double scale);
+
 /// Latency summary as ddsperf prints it for one run: the count-weighted mean of its per-second
 /// percentiles, converted to round trips (ddsperf prints half the round trip).
 struct DdsperfLatency {

@@ -1,11 +1,16 @@
 // World-model query round trip: a world_model process holding 1,000 entities answers pose
 // queries (A in the frame of B, through the frame tree) from a WorldClient, one request outstanding at
-// a time; printed next to ddsperf's ping/pong round trip measured in the same run.
+// a time; printed next to ddsperf's ping/pong round trip measured in the same run. Then the load curve:
+// 1 and 10 clients (as 10 skills asking at once), each asking again as soon as it has its answer, for
+// --seconds each: queries per second and the round trip's p50/p99, and whether it stays flat.
 //
 //   build/bench/bench_world_query [--rate 1000] [--seconds 10] [--entities 1000]
 #include <cstdio>
 #include <cstdlib>
+#include <algorithm>
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -90,6 +95,47 @@ int main(int argc, char** argv) {
     });
   });
   loop.run_until([&] { return Clock::now() >= end; }, end - Clock::now() + 3s);
+
+  // The load curve: n clients in a closed loop (each asks again when answered).
+  struct Load {
+    int clients = 0;
+    double qps = 0;
+    std::vector<double> rtt_us;
+  };
+  std::vector<Load> loads;
+  for (const int n : {1, 10}) {
+    std::vector<std::unique_ptr<rigger::world_client::WorldClient>> clients;
+    for (int i = 0; i < n; ++i)
+      clients.push_back(std::make_unique<rigger::world_client::WorldClient>(
+          cell.participant(), loop, rigger::null_logger(), "bench-load-" + std::to_string(n) + "-" + std::to_string(i)));
+    if (!cell.wait_until([&] { return std::all_of(clients.begin(), clients.end(), [](auto& c) { return c->connected(); }); }, 10s)) {
+      std::fprintf(stderr, "%d world clients not matched\n", n);
+      return 1;
+    }
+    Load load;
+    load.clients = n;
+    const auto from = Clock::now() + 1s;  // a second of warm-up
+    const auto until = from + std::chrono::seconds(opt.seconds);
+    int answered = 0, in_flight = 0;
+    std::function<void(rigger::world_client::WorldClient&)> ask = [&](rigger::world_client::WorldClient& c) {
+      if (Clock::now() >= until) return;
+      ++in_flight;
+      const auto sent = Clock::now();
+      c.pose(objects[pick(rng)], objects[pick(rng)], 2s, [&, sent](const rigger::world_client::Reply& r) {
+        --in_flight;
+        if (!r.ok) ++failures;
+        if (sent >= from && Clock::now() <= until) {
+          ++answered;
+          load.rtt_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - sent).count());
+        }
+        ask(c);
+      });
+    };
+    for (auto& c : clients) ask(*c);
+    loop.run_until([&] { return Clock::now() >= until && in_flight == 0; }, until - Clock::now() + 5s);
+    load.qps = answered / static_cast<double>(opt.seconds);
+    loads.push_back(std::move(load));
+  }
   cell.stop_all();
 
   using rigger::bench::percentile;
@@ -107,6 +153,15 @@ int main(int argc, char** argv) {
   std::printf("%-44s %10.1f %10.1f %10.1f %8llu\n", "ddsperf ping/pong 128 B, waitset", ref.p50_us, ref.p90_us,
               ref.p99_us, static_cast<unsigned long long>(ref.count));
   std::printf("failed queries: %d; ratio p50 %.2f  p99 %.2f\n", failures, r50 / ref.p50_us, r99 / ref.p99_us);
+  std::printf("\nClosed loop (each client asks again when answered), %d s each:\n%8s %12s %10s %10s\n", opt.seconds,
+              "clients", "queries/s", "p50 us", "p99 us");
+  for (const Load& l : loads)
+    std::printf("%8d %12.0f %10.1f %10.1f\n", l.clients, l.qps, percentile(l.rtt_us, 0.5), percentile(l.rtt_us, 0.99));
+  std::printf("p99, 1 -> %d clients: %s; queries/s %.2fx\n", loads.back().clients,
+              rigger::bench::growth_verdict(percentile(loads.front().rtt_us, 0.99), percentile(loads.back().rtt_us, 0.99),
+                                            loads.back().clients)
+                  .c_str(),
+              loads.back().qps / loads.front().qps);
   if (failures != 0) return 1;
 
   rigger::performance::Report report("bench_world_query",
@@ -116,5 +171,12 @@ int main(int argc, char** argv) {
                                          " s, loopback, next to ddsperf ping/pong 128 B (waitset)");
   rigger::bench::add_quantiles(report, "pose query round trip", {r50, r90, r99}, "us", "ddsperf waitset round trip",
                                rigger::bench::round_trip(ref));
+  for (const Load& l : loads) {
+    const std::string who = std::to_string(l.clients) + (l.clients == 1 ? " client" : " clients");
+    rigger::bench::add_quantiles(report, "pose query round trip, closed loop, " + who,
+                                 {percentile(l.rtt_us, 0.5), percentile(l.rtt_us, 0.9), percentile(l.rtt_us, 0.99)}, "us",
+                                 "pose query round trip", {r50, r90, r99});
+    report.add({"pose queries per second, closed loop, " + who, l.qps, "1/s", "", 0});
+  }
   return rigger::performance::save_for_main(report);
 }

@@ -33,6 +33,9 @@ export function check(cond, what) {
   console.log(`ok: ${what}`);
 }
 
+/// check() with the seconds since `t0` in each line.
+export const timedCheck = (t0 = Date.now()) => (cond, what) => check(cond, `(${((Date.now() - t0) / 1000).toFixed(1)} s) ${what}`);
+
 /// An environment variable the test must set; a missing one ends the script naming it.
 export const env = (k) => { if (!process.env[k]) throw new Error(`${k} is not set`); return process.env[k]; };
 

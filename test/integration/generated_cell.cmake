@@ -19,3 +19,14 @@ if(_generated_cell_ready AND _scenario_ready AND TARGET rigger_generated_cell)
     LABEL integration TIMEOUT 420 RUN_SERIAL)
   add_dependencies(rigger_generated_cell_scenario_test ${_scenario_services})
 endif()
+# STEP models carried with a cell revision over DDS: a part only the applying side has reaches the world
+# model, the CAD service and cell_sim, each on a cell folder of its own.
+set(_cell_model_services cell_sim world_model cad riggerctl)
+rigger_targets_exist(_cell_model_ready ${_cell_model_services})
+if(_cell_model_ready AND TARGET rigger_cad_parts)
+  rigger_add_test(rigger_cell_model_transport_test
+    SOURCES cell_model_transport_test.cpp
+    DEPS rigger_test_harness rigger_world_protocol rigger_cad_parts Eigen3::Eigen nlohmann_json::nlohmann_json
+    LABEL integration TIMEOUT 120)
+  add_dependencies(rigger_cell_model_transport_test ${_cell_model_services})
+endif()

@@ -10,10 +10,13 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
 #include "planner_test_support.hpp"
+#include "rigger/sim/generated_cell.hpp"
+#include "world_query_support.hpp"
 #include "rigger/protocol/task.hpp"
 #include "rigger/protocol/task_names.hpp"
 #include "rigger/testing/require.hpp"
@@ -30,7 +33,8 @@ class PlannerBrowserTest : public PlannerCellTest {
  protected:
   /// Starts the services, runs `script` and reads its result (RESULT, `result_name` in the log folder).
   ::testing::AssertionResult run_script(const std::string& script, const std::string& result_name,
-                                        std::chrono::milliseconds timeout, json& result) {
+                                        std::chrono::milliseconds timeout, json& result,
+                                        std::map<std::string, std::string> env = {}) {
     status_ = std::make_unique<dds::Reader<rigger_task_TaskStatus>>(cell_.participant(), protocol::task::kStatus);
     cell_.loop().on_data(*status_, [this] {
       status_->take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
@@ -39,7 +43,7 @@ class PlannerBrowserTest : public PlannerCellTest {
     });
     if (auto started = start_planner_services(); !started) return started;
     const std::string result_file = cell_.log_dir() + "/" + result_name;
-    if (auto ran = run_browser_script(script, result_file, timeout); !ran) return ran;
+    if (auto ran = run_browser_script(script, result_file, timeout, std::move(env)); !ran) return ran;
     std::ifstream in(result_file);
     result = json::parse(in);
     return ::testing::AssertionSuccess();
@@ -120,6 +124,93 @@ TEST_F(PlannerBrowserTest, EditingErrorsShownOnTheirNodesAndFieldsAndPublishRefu
   const std::string audit_text = audit_log();
   EXPECT_EQ(audit_text.find("publish"), std::string::npos) << audit_text;
   EXPECT_EQ(task_states_.count(task_id), 0u) << protocol::task::task_state_name(task_states_[task_id]);
+  std::printf("browser artifacts in %s\n", cell_.log_dir().c_str());
+}
+
+// A part placed by picks (planner/place.mjs): the load's bottom face, clicked from below, laid on the
+// target's top face at a point off its centre, turned a quarter, confirmed. The world model's new poses
+// put the two picked points together with the faces' normals opposite and the load turned a quarter;
+// the console audited the selection and the revision.
+TEST_F(PlannerBrowserTest, APartPlacedByPicksBecomesACellRevisionWithItsFaceOnTheOther) {
+  RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
+  WorldQuery world(cell_);
+  json result;
+  ASSERT_TRUE(run_script("test/integration/planner/place.mjs", "planner-place-result.json", std::chrono::minutes(3), result));
+  const auto vector = [](const json& v) { return Eigen::Vector3d(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()); };
+  const auto load = world.pose("load");
+  const auto target = world.pose("target");
+  ASSERT_TRUE(load && target);
+  const Eigen::Vector3d own = *load * vector(result.at("own").at("point_m"));
+  const Eigen::Vector3d onto = *target * vector(result.at("onto").at("point_m"));
+  EXPECT_LT((own - onto).norm(), 1e-6) << own.transpose() << " vs " << onto.transpose();
+  EXPECT_NEAR((load->linear() * vector(result.at("own").at("normal")))
+                  .dot(target->linear() * vector(result.at("onto").at("normal"))),
+              -1.0, 1e-9);
+  EXPECT_EQ(world.localized("load"), std::optional<bool>(true)) << "placed as known, no Localize needed";
+  // A quarter turn about the target's top face: the load's x lies along the target's y.
+  EXPECT_NEAR((load->linear() * Eigen::Vector3d::UnitX()).dot(target->linear() * Eigen::Vector3d::UnitY()), 1.0, 1e-9);
+  const std::string audit_text = audit_log();
+  EXPECT_NE(audit_text.find(R"("action":"select cell place load")"), std::string::npos) << audit_text;
+  EXPECT_NE(audit_text.find(R"("action":"cell place load")"), std::string::npos) << audit_text;
+  std::printf("%s; browser artifacts in %s\n", result.value("notice", "").c_str(), cell_.log_dir().c_str());
+}
+
+// A STEP file the repository does not ship imported in the planner (planner/import.mjs): the generated
+// cell's flange plate, written with OpenCascade here. The page showed what it holds and drew it, a click
+// picked its face; a file that is not STEP was refused on the page; the file became a cell object (its
+// bytes sent with the revision) and was placed by picks. The console audited the reads and revisions.
+TEST_F(PlannerBrowserTest, AStepFileImportedInThePlannerIsShownDrawnAndPickable) {
+  RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
+  const sim::GeneratedCell generated(cell_.log_dir() + "/generated", repo_file("deploy/cell/simulated_cell.json"));
+  const std::string not_step = cell_.log_dir() + "/notes.step";
+  std::ofstream(not_step) << "these are notes, not a STEP file\n";
+  json result;
+  ASSERT_TRUE(run_script("test/integration/planner/import.mjs", "planner-import-result.json", std::chrono::minutes(3),
+                         result, {{"FLANGE", (generated.dir() / "models/flange.step").string()}, {"NOT_STEP", not_step}}));
+  EXPECT_EQ(result.at("model").get<std::string>().rfind("sha256:", 0), 0u) << result.dump(2);
+  EXPECT_EQ(result.at("pick").at("sha256").get<std::string>(), result.at("model").get<std::string>().substr(7));
+  const std::string audit_text = audit_log();
+  EXPECT_NE(audit_text.find(R"("action":"import STEP","result":"read as sha256:)"), std::string::npos) << audit_text;
+  EXPECT_NE(audit_text.find(R"("action":"import STEP","result":"refused: CAD_)"), std::string::npos) << audit_text;
+  // Made a cell object, placed, its insertion declared: three confirmed revisions, the taken name refused
+  // before any.
+  EXPECT_EQ(result.at("revision_after"), result.at("revision_before").get<std::uint64_t>() + 3) << result.dump(2);
+  // The insertion the world model derived: the flange's bottom face (at z = b in its own frame) on the
+  // target's top face (the target's frame), so the flange's frame sits -b above the target's.
+  const json& insertion = result.at("insertion");
+  EXPECT_NEAR(insertion.at("pose_in_target").at("position_m").at(2).get<double>(),
+              -result.at("bottom_z").get<double>(), 1e-6)
+      << insertion.dump(2);
+  EXPECT_NE(audit_text.find("cell add flange_imported"), std::string::npos) << audit_text;
+  EXPECT_EQ(audit_text.find("cell add part\""), std::string::npos) << "the taken name reached the world model";
+  std::printf("%s; browser artifacts in %s\n", result.value("summary", "").c_str(), cell_.log_dir().c_str());
+}
+
+// Features declared by picks (planner/declare.mjs): screw holes "all like" a picked hole and a grasp
+// frame from the top face and an edge of it, each a confirmed cell revision; a taken name refused first.
+// This test checks what the world model serves afterwards: the rules it derived from the committed document.
+TEST_F(PlannerBrowserTest, FeaturesDeclaredByPicksAreServedByTheWorldModel) {
+  RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
+  json result;
+  ASSERT_TRUE(run_script("test/integration/planner/declare.mjs", "planner-declare-result.json", std::chrono::minutes(4), result));
+  EXPECT_EQ(result.at("revision_after"), result.at("revision_before").get<std::uint64_t>() + 2) << result.dump(2);
+  const json& features = result.at("world_features");
+  std::map<std::string, json> holes;
+  for (const auto& h : features.at("screw_holes")) holes[h.at("id")] = h;
+  for (const char* id : {"m1", "m2", "m3", "m4"}) {
+    ASSERT_EQ(holes.count(id), 1u) << id << " " << features.dump(2);
+    EXPECT_EQ(holes[id].at("screw_type"), "M12x40");
+  }
+  // The same four holes as the target's own h1..h4, as the world model derives them.
+  std::set<std::string> ours, declared;
+  for (const auto& [id, h] : holes) (id[0] == 'h' ? ours : declared).insert((h.contains("pose") ? h.at("pose") : h).at("position_m").dump());
+  EXPECT_EQ(declared, ours);
+  bool grasp = false;
+  for (const auto& g : features.at("grasp_frames")) grasp = grasp || g.at("id") == "grasp_declared";
+  EXPECT_TRUE(grasp) << features.dump(2);
+  const std::string audit_text = audit_log();
+  EXPECT_NE(audit_text.find("declare screw_holes target/m"), std::string::npos) << audit_text;
+  EXPECT_EQ(audit_text.find("declare screw_holes target/h"), std::string::npos) << "the taken name reached the world model";
   std::printf("browser artifacts in %s\n", cell_.log_dir().c_str());
 }
 

@@ -9,7 +9,6 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
-#include <openssl/evp.h>
 
 #include <fstream>
 #include <sstream>
@@ -37,19 +36,6 @@ std::string_view to_string(ErrorCode code) {
 
 Model::Model(TopoDS_Shape shape_m, ProductNode product, std::string sha256, std::string source)
     : shape_(std::move(shape_m)), product_(std::move(product)), sha256_(std::move(sha256)), source_(std::move(source)) {}
-
-std::string sha256_hex(std::string_view bytes) {
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int length = 0;
-  EVP_Digest(bytes.data(), bytes.size(), digest, &length, EVP_sha256(), nullptr);
-  static constexpr char kHex[] = "0123456789abcdef";
-  std::string text;
-  for (unsigned int i = 0; i < length; ++i) {
-    text += kHex[digest[i] >> 4];
-    text += kHex[digest[i] & 0xf];
-  }
-  return text;
-}
 
 namespace {
 

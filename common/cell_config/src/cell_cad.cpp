@@ -76,6 +76,10 @@ class Deriver {
     const auto read_start = std::chrono::steady_clock::now();
     try {
       cad::Model model = cad::read_step_file(model_dir_ / step, limits_);
+      if (const std::string stale = stale_model_problem(*entity.model, model.sha256()); !stale.empty()) {
+        file_.fail(entity.pointer + "/model/sha256", "the pinned bytes of \"" + step + "\" for \"" + entity.id + "\"",
+                   stale);
+      }
       cad::Features features = cad::classify(model);
       stats_.read_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
       ++stats_.models;

@@ -19,6 +19,12 @@ std::string_view to_string(EntityKind kind) {
   return "unknown";
 }
 
+std::string stale_model_problem(const ObjectModel& model, std::string_view actual_sha256) {
+  if (model.step_sha256.empty() || model.step_sha256 == actual_sha256) return {};
+  return "CAD_STALE_MODEL: " + model.step + " has sha256 " + std::string(actual_sha256) + ", the cell file pins " +
+         model.step_sha256 + " (model.sha256)";
+}
+
 std::optional<EntityKind> entity_kind_from_string(std::string_view text) {
   if (text == "object") return EntityKind::kObject;
   if (text == "device") return EntityKind::kDevice;

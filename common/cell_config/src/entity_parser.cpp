@@ -1,6 +1,7 @@
 #include "entity_parser.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <set>
 #include <utility>
@@ -151,11 +152,21 @@ CameraIntrinsics EntityParser::parse_camera(const json& value, const std::string
 }
 
 ObjectModel EntityParser::parse_model(const json& value, const std::string& pointer) const {
-  check_.object(value, pointer, {"shape", "size_m", "mass_kg", "density_kg_m3", "frame", "static", "step"});
+  check_.object(value, pointer, {"shape", "size_m", "mass_kg", "density_kg_m3", "frame", "static", "step", "sha256"});
   ObjectModel model;
   if (const json* step = Checker::find(value, "step")) {
     model.step = check_.string(*step, pointer + "/step");
     if (model.step.empty()) check_.fail(pointer + "/step", "a STEP file path", "an empty string");
+  }
+  if (const json* sha256 = Checker::find(value, "sha256")) {
+    if (model.step.empty()) check_.fail(pointer + "/sha256", "a STEP model (\"step\") whose bytes it pins");
+    model.step_sha256 = check_.string(*sha256, pointer + "/sha256");
+    std::transform(model.step_sha256.begin(), model.step_sha256.end(), model.step_sha256.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (model.step_sha256.size() != 64 ||
+        model.step_sha256.find_first_not_of("0123456789abcdef") != std::string::npos) {
+      check_.fail(pointer + "/sha256", "64 hex digits (the sha256 of the STEP file's bytes)", describe_json(*sha256));
+    }
   }
   // Geometry: the box shorthand, or the STEP model's solids alone.
   if (const json* shape = Checker::find(value, "shape")) {

@@ -169,6 +169,25 @@ TEST(CellCad, AChangedModelIsDetected) {
   EXPECT_NE(copy.pointer().find("/cad/"), std::string::npos) << copy.pointer();
 }
 
+std::string file_sha256(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return cad::sha256_hex(std::string(std::istreambuf_iterator<char>(in), {}));
+}
+
+TEST(CellCad, APinnedModelIsReadWithExactlyItsBytes) {
+  CellCopy copy;
+  const std::string load_sha = file_sha256(copy.dir() / "models/load.step");
+  entity_json(copy.cell, "load")["model"]["sha256"] = load_sha;
+  EXPECT_EQ(copy.load_error(), "");
+  // Other bytes under the same name (another host's file, an edit): refused at the pin, naming both digests.
+  fs::copy_file(copy.dir() / "models/part.step", copy.dir() / "models/load.step", fs::copy_options::overwrite_existing);
+  const std::string error = copy.load_error();
+  EXPECT_NE(error.find("CAD_STALE_MODEL"), std::string::npos) << error;
+  EXPECT_NE(error.find(load_sha), std::string::npos) << error;
+  EXPECT_NE(error.find(file_sha256(copy.dir() / "models/part.step")), std::string::npos) << error;
+  EXPECT_EQ(copy.pointer(), "/entities/5/model/sha256") << error;
+}
+
 TEST(CellCad, AMissingStepFileIsNamed) {
   CellCopy copy;
   fs::remove(copy.dir() / "models/load.step");
@@ -290,6 +309,17 @@ TEST(CellCadSchema, RulesAreCheckedWhenTheFileIsRead) {
     json cell = shipped;
     entity_json(cell, "load")["features"]["grasp_frames"][0]["cad"]["face"]["kind"] = "edge";
     expect_error(cell, "/entities/5/features/grasp_frames/0/cad/face/kind", "\"face\"");
+  }
+  {  // a pin that is no sha256
+    json cell = shipped;
+    entity_json(cell, "load")["model"]["sha256"] = "abc";
+    expect_error(cell, "/entities/5/model/sha256", "64 hex digits");
+  }
+  {  // a pin without a STEP model
+    json cell = shipped;
+    entity_json(cell, "load")["model"] = {
+        {"shape", "box"}, {"size_m", {0.1, 0.1, 0.1}}, {"sha256", std::string(64, 'a')}};
+    expect_error(cell, "/entities/5/model/sha256", "a STEP model");
   }
   {  // an insertion target without a STEP model
     json cell = shipped;

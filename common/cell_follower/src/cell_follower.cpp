@@ -1,9 +1,12 @@
 #include "rigger/cell_follower/cell_follower.hpp"
 
+#include <unistd.h>
+
 #include <fstream>
 #include <iterator>
 #include <utility>
 
+#include "rigger/base/sha256.hpp"
 #include "rigger/protocol/world.hpp"
 
 namespace rigger::cell_follower {
@@ -16,6 +19,13 @@ std::string read_text(const std::filesystem::path& path) {
   return text.size() > cell::kMaxCellFileBytes ? std::string() : text;
 }
 
+// A folder of this follower's own for the models it receives.
+std::filesystem::path own_models_root() {
+  static unsigned counter = 0;
+  return std::filesystem::temp_directory_path() /
+         ("rigger-cell-models-" + std::to_string(::getpid()) + "-" + std::to_string(++counter));
+}
+
 }  // namespace
 
 CellFollower::CellFollower(const dds::Participant& participant, dds::EventLoop& loop, Logger log,
@@ -26,8 +36,44 @@ CellFollower::CellFollower(const dds::Participant& participant, dds::EventLoop& 
       file_text_(read_text(cell_file_)),
       on_revision_(std::move(on_revision)),
       announcer_(announcer),
-      reader_(participant, protocol::world::kCell) {
+      loop_(loop),
+      reader_(participant, protocol::world::kCell),
+      models_reader_(participant, protocol::world::kCellModel),
+      models_root_(own_models_root()),
+      models_(models_root_ / "store") {
+  loop.on_data(models_reader_, [this] { on_models(); });
   loop.on_data(reader_, [this] { on_data(); });
+}
+
+CellFollower::~CellFollower() {
+  if (wait_timer_ != 0) loop_.cancel(wait_timer_);
+  std::error_code error;
+  std::filesystem::remove_all(models_root_, error);
+}
+
+void CellFollower::on_models() {
+  bool stored = false;
+  models_reader_.take([&](const rigger_world_CellModel& wire, const dds_sample_info_t&) {
+    const world_protocol::CellModel m = world_protocol::from_wire(wire);
+    if (!models_.find(m.sha256).empty()) return;
+    const std::string problem = cell::model_name_problem(m.name);
+    if (!problem.empty() || m.step.size() > cell::kMaxModelBytes || sha256_hex(m.step) != m.sha256) {
+      log_->error("cell model refused model=\"{}\" sha256={} bytes={}: {}", m.name.substr(0, 255), m.sha256,
+                  m.step.size(), problem.empty() ? "its bytes do not have its sha256 or are too many" : problem);
+      return;
+    }
+    try {
+      models_.put(m.step);
+      stored = true;
+      log_->info("cell model received model={} sha256={} bytes={}", m.name, m.sha256, m.step.size());
+    } catch (const std::exception& e) {
+      log_->error("cell model not kept model={} sha256={}: {}", m.name, m.sha256, e.what());
+    }
+  });
+  if (stored && waiting_) {
+    const world_protocol::CellRevision sent = *waiting_;
+    decide(sent, read_revision(sent, cell_file_, {&models_, models_root_ / "folders"}));
+  }
 }
 
 void CellFollower::on_data() {
@@ -51,7 +97,28 @@ void CellFollower::offer(const world_protocol::CellRevision& sent) {
     report("cell revision " + std::to_string(revision_));
     return;
   }
-  RevisionReading reading = read_revision(sent, cell_file_);
+  decide(sent, read_revision(sent, cell_file_, {&models_, models_root_ / "folders"}));
+}
+
+void CellFollower::decide(const world_protocol::CellRevision& sent, RevisionReading reading) {
+  if (wait_timer_ != 0) loop_.cancel(wait_timer_);
+  wait_timer_ = 0;
+  waiting_.reset();
+  if (!reading.revision && !reading.missing.empty()) {
+    // Its models may still be on their way: wait for them, bounded.
+    waiting_ = sent;
+    log_->info("cell revision waits for {} model(s) revision={} first={} sha256={}", reading.missing.size(),
+               sent.cell_revision, reading.missing.front().name, reading.missing.front().sha256);
+    wait_timer_ = loop_.after(kModelWait, [this, refusal = reading.refusal] {
+      wait_timer_ = 0;
+      if (!waiting_) return;
+      const world_protocol::CellRevision late = *waiting_;
+      RevisionReading gave_up;
+      gave_up.refusal = refusal + " within " + std::to_string(kModelWait.count()) + " s";
+      decide(late, std::move(gave_up));
+    });
+    return;
+  }
   Outcome outcome = reading.revision ? on_revision_(*reading.revision) : Outcome::refuse(reading.refusal);
   if (!outcome.taken) {
     last_refusal_ = outcome.reason.rfind("cell revision ", 0) == 0

@@ -15,7 +15,8 @@ RevisionReading refuse(std::uint64_t revision, const std::string& why) {
 
 }  // namespace
 
-RevisionReading read_revision(const world_protocol::CellRevision& sent, const std::filesystem::path& cell_file) {
+RevisionReading read_revision(const world_protocol::CellRevision& sent, const std::filesystem::path& cell_file,
+                              const ReceivedModels& received) {
   if (sent.cell_revision == 0) return refuse(0, "expected a revision number >= 1");
   FollowedRevision taken;
   taken.revision = sent.cell_revision;
@@ -31,9 +32,28 @@ RevisionReading read_revision(const world_protocol::CellRevision& sent, const st
   } catch (const std::exception& error) {
     return refuse(sent.cell_revision, error.what());
   }
-  // The models travel with the cell folder, not on the wire: a model this reader's folder lacks is named.
+  // A pinned model comes from the cell folder when it holds those bytes, else from the received ones.
+  try {
+    const cell::ModelStore none{{}};
+    cell::ModelFolder folder = cell::resolve_models(taken.cell, taken.model_dir,
+                                                    received.store != nullptr ? *received.store : none,
+                                                    received.links_root);
+    if (!folder.missing.empty()) {
+      RevisionReading waiting;
+      waiting.missing = std::move(folder.missing);
+      waiting.refusal = "cell revision " + std::to_string(sent.cell_revision) + ": " + cell_file.string() + ": " +
+                        waiting.missing.front().pointer + "/sha256: expected the STEP model \"" +
+                        waiting.missing.front().name + "\" with sha256 " + waiting.missing.front().sha256 +
+                        " in this reader's cell folder or on rigger/world/cell_model, got neither";
+      return waiting;
+    }
+    taken.model_dir = std::move(folder.dir);
+  } catch (const std::exception& error) {
+    return refuse(sent.cell_revision, error.what());
+  }
+  // An unpinned model travels with the cell folder, not on the wire: one this reader's folder lacks is named.
   for (const cell::CellEntity& entity : taken.cell.entities) {
-    if (!entity.model || entity.model->step.empty()) continue;
+    if (!entity.model || entity.model->step.empty() || !entity.model->step_sha256.empty()) continue;
     const std::filesystem::path path = taken.model_dir / entity.model->step;
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error)) {

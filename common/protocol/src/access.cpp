@@ -60,7 +60,7 @@ Part world_client() {
 }
 // common/cell_follower: a reader of the cell file that follows its revisions (rigger/world/cell).
 Part cell_follower() {
-  return {{}, names(world::kCell)};
+  return {{}, names(world::kCell, world::kCellModel)};
 }
 // Who may propose cell revisions (riggerctl cell, the console's programmer).
 Part cell_client() {
@@ -125,7 +125,8 @@ std::vector<Grant> build() {
   t.push_back(grant(
       "world_model", "the world model",
       {service(),
-       {names(world::kEntity, world::kChange, world::kReply, world::kUpdateResult, world::kCell, world::kCellReply),
+       {names(world::kEntity, world::kChange, world::kReply, world::kUpdateResult, world::kCell, world::kCellModel,
+              world::kCellReply),
         names(world::kQuery, world::kUpdate, world::kCellRequest, vision::kTrackerPose, skill::kExecutors)}}));
   t.push_back(
       grant("cad", "the CAD service", {service(), cell_follower(), {names(cad::kReply), names(cad::kRequest)}}));

@@ -125,6 +125,7 @@ const std::vector<TopicInfo>& catalog() {
       info("world", world::kQuery),
       info("world", world::kReply),
       info("world", world::kCell),
+      info("world", world::kCellModel),
       info("world", world::kCellRequest),
       info("world", world::kCellReply),
       info("robot", robot::kWrench),

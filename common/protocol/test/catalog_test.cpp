@@ -35,12 +35,13 @@ TEST(Catalog, EveryTopicOnceWithItsType) {
     EXPECT_FALSE(t.writers.empty()) << t.name;
     EXPECT_FALSE(t.readers.empty()) << t.name;
   }
-  EXPECT_EQ(names.size(), 49u);
+  EXPECT_EQ(names.size(), 50u);
   ASSERT_NE(find_topic("rigger/operator/prompt"), nullptr);
   EXPECT_EQ(find_topic("rigger/operator/prompt")->idl_type, "rigger::operator_ui::OperatorPrompt");
   EXPECT_EQ(find_topic("rigger/robot/wrench")->idl_type, "rigger::sensing::WrenchStamped");
   EXPECT_EQ(find_topic("rigger/cad/request")->idl_type, "rigger::cad::CadRequest");
   EXPECT_EQ(find_topic("rigger/world/cell")->idl_type, "rigger::world::CellRevision");
+  EXPECT_EQ(find_topic("rigger/world/cell_model")->idl_type, "rigger::world::CellModel");
   ASSERT_NE(find_topic("rigger/camera/depth"), nullptr);
   EXPECT_EQ(find_topic("rigger/camera/depth")->idl_type, "rigger::vision::Image");
   EXPECT_EQ(find_topic("rigger/no/such"), nullptr);

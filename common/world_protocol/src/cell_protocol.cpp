@@ -1,6 +1,9 @@
 #include "rigger/world_protocol/cell_protocol.hpp"
 
+#include <stdexcept>
+
 #include "rigger/dds/conversions.hpp"
+#include "rigger/dds/sequences.hpp"
 
 namespace rigger::world_protocol {
 namespace {
@@ -17,6 +20,17 @@ rigger_world_CellOp op_to_wire(CellOp op) {
       return rigger_world_CELL_HISTORY;
   }
   return rigger_world_CELL_HISTORY;
+}
+
+void request_fields_to_wire(const CellRequest& request, rigger_world_CellRequest& wire) {
+  wire.client_id = dds::wire_string(request.client_id);
+  wire.request_id = request.request_id;
+  wire.op = request.op ? op_to_wire(*request.op) : static_cast<rigger_world_CellOp>(request.wire_op);
+  wire.cell_json = dds::wire_string(request.cell_json);
+  wire.revision = request.revision;
+  wire.dry_run = request.dry_run;
+  wire.who = dds::wire_string(request.who);
+  wire.comment = dds::wire_string(request.comment);
 }
 
 std::optional<CellOp> op_from_wire(rigger_world_CellOp op) {
@@ -73,15 +87,35 @@ CellRevision from_wire(const rigger_world_CellRevision& wire) {
   return r;
 }
 
+void to_wire(const CellModel& model, rigger_world_CellModel& wire) {
+  wire.sha256 = dds::wire_string(model.sha256);
+  wire.name = dds::wire_string(model.name);
+  // Borrowed, never written through: the writer serialises the bytes.
+  dds::wire_buffer(wire.step, reinterpret_cast<std::uint8_t*>(const_cast<char*>(model.step.data())),
+                   model.step.size());
+}
+
+CellModel from_wire(const rigger_world_CellModel& wire) {
+  CellModel m;
+  m.sha256 = dds::to_string(wire.sha256);
+  m.name = dds::to_string(wire.name);
+  const auto bytes = dds::elements(wire.step);
+  m.step.assign(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  return m;
+}
+
+void to_wire(const CellRequest& request, rigger_world_CellRequest& wire,
+             std::vector<rigger_world_CellModel>& storage) {
+  request_fields_to_wire(request, wire);
+  storage.assign(request.models.size(), rigger_world_CellModel{});
+  for (std::size_t i = 0; i < request.models.size(); ++i) to_wire(request.models[i], storage[i]);
+  dds::wire_sequence(wire.models, storage);
+}
+
 void to_wire(const CellRequest& request, rigger_world_CellRequest& wire) {
-  wire.client_id = dds::wire_string(request.client_id);
-  wire.request_id = request.request_id;
-  wire.op = request.op ? op_to_wire(*request.op) : static_cast<rigger_world_CellOp>(request.wire_op);
-  wire.cell_json = dds::wire_string(request.cell_json);
-  wire.revision = request.revision;
-  wire.dry_run = request.dry_run;
-  wire.who = dds::wire_string(request.who);
-  wire.comment = dds::wire_string(request.comment);
+  if (!request.models.empty())
+    throw std::invalid_argument("a cell request with models needs the storage of their wire form");
+  request_fields_to_wire(request, wire);
 }
 
 CellRequest from_wire(const rigger_world_CellRequest& wire) {
@@ -95,6 +129,7 @@ CellRequest from_wire(const rigger_world_CellRequest& wire) {
   r.dry_run = wire.dry_run;
   r.who = dds::to_string(wire.who);
   r.comment = dds::to_string(wire.comment);
+  for (const rigger_world_CellModel& m : dds::elements(wire.models)) r.models.push_back(from_wire(m));
   return r;
 }
 

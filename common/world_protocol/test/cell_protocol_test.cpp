@@ -1,5 +1,8 @@
 #include "rigger/world_protocol/cell_protocol.hpp"
 
+#include <stdexcept>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 namespace rigger::world_protocol {
@@ -51,6 +54,31 @@ TEST(CellProtocol, EveryRequestOpRoundTrips) {
     EXPECT_EQ(back.who, "ada");
     EXPECT_EQ(back.comment, "c");
   }
+}
+
+TEST(CellProtocol, TheModelsOfARequestRoundTripWithTheirBytes) {
+  CellRequest q;
+  q.client_id = "console";
+  q.op = CellOp::kApply;
+  q.cell_json = "{}";
+  // Bytes a STEP file may hold: any octet, NUL included.
+  const std::string bytes("ISO-10303-21;\0\xff\x01 END-ISO-10303-21;", 37);
+  q.models = {{"ab12", "imported/plate.step", bytes}, {"cd34", "b.stp", ""}};
+  rigger_world_CellRequest wire{};
+  std::vector<rigger_world_CellModel> storage;
+  to_wire(q, wire, storage);
+  const CellRequest back = from_wire(wire);
+  ASSERT_EQ(back.models.size(), 2U);
+  EXPECT_EQ(back.models[0].sha256, "ab12");
+  EXPECT_EQ(back.models[0].name, "imported/plate.step");
+  EXPECT_EQ(back.models[0].step, bytes);
+  EXPECT_EQ(back.models[1].step, "");
+  EXPECT_EQ(back.cell_json, "{}");
+  rigger_world_CellRequest plain{};
+  EXPECT_THROW(to_wire(q, plain), std::invalid_argument) << "models without their storage";
+  rigger_world_CellModel one{};
+  to_wire(q.models[0], one);
+  EXPECT_EQ(from_wire(one).step, bytes);
 }
 
 TEST(CellProtocol, AnUnknownOpIsKeptForTheMessage) {

@@ -94,13 +94,20 @@ void CadService::follow(const cell::CellFile& cell, const fs::path& folder) {
     const auto loaded = objects_.find(entity.id);
     const auto before = object_paths_.find(entity.id);
     if (loaded != objects_.end() && before != object_paths_.end() && before->second == path &&
-        models_.count(loaded->second) != 0) {
+        models_.count(loaded->second) != 0 &&
+        (entity.model->step_sha256.empty() || entity.model->step_sha256 == loaded->second)) {
       objects[entity.id] = loaded->second;  // the same file as the running revision's: not read again
       status[entity.id] = "ok " + loaded->second;
       continue;
     }
     try {
-      Entry& entry = add(cad::read_step_file(path, settings_.limits), true);
+      cad::Model model = cad::read_step_file(path, settings_.limits);
+      if (const std::string stale = cell::stale_model_problem(*entity.model, model.sha256()); !stale.empty()) {
+        errors[entity.id] = "CAD_STALE_MODEL\t" + stale;
+        status[entity.id] = errors[entity.id];
+        continue;
+      }
+      Entry& entry = add(std::move(model), true);
       objects[entity.id] = entry.model.sha256();
       status[entity.id] = "ok " + entry.model.sha256();
     } catch (const cad::CadError& error) {

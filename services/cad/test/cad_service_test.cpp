@@ -70,6 +70,27 @@ TEST(CadService, ANewCellRevisionReplacesTheObjectModels) {
   EXPECT_EQ(service.object_status().count("bracket"), 1u);
 }
 
+TEST(CadService, APinnedObjectModelIsServedOnlyWithItsBytes) {
+  CadService service(settings());
+  const std::string load_sha = ask(service, QueryKind::kLoad, "object:load").model_sha256;
+  const std::string target_sha = ask(service, QueryKind::kLoad, "object:target").model_sha256;
+  // The revision pins the target to its own bytes and the load to the target's: the load file already
+  // loaded is not taken as it is, it is refused.
+  std::ifstream in(settings().cell_file, std::ios::binary);
+  json cell = json::parse(std::string(std::istreambuf_iterator<char>(in), {}));
+  for (json& entity : cell["entities"]) {
+    if (entity["id"] == "target") entity["model"]["sha256"] = target_sha;
+    if (entity["id"] == "load") entity["model"]["sha256"] = target_sha;
+  }
+  service.follow(cell::cell_file_from_json(cell, "revision 2"), settings().cell_file.parent_path());
+  const CadAnswer load = ask(service, QueryKind::kLoad, "object:load");
+  EXPECT_EQ(load.code, "CAD_STALE_MODEL") << load.message;
+  EXPECT_NE(load.message.find(load_sha), std::string::npos) << load.message;
+  const CadAnswer target = ask(service, QueryKind::kLoad, "object:target");
+  ASSERT_TRUE(target.ok) << target.message;
+  EXPECT_EQ(target.model_sha256, target_sha);
+}
+
 TEST(CadService, TessellationOfTheTarget) {
   CadService service(settings());
   const CadAnswer mesh = ask(service, QueryKind::kTessellation, "object:target");

@@ -60,13 +60,18 @@ CellFigures measure(const std::filesystem::path& cell_file) {
     snapshot.poses.push_back({object.id, *physics.pose_world_object(object.id)});
   }
   physics.copy_kinematic_state(snapshot.state);
+  // Every frame a moving scene (the first object 1 um one way or the other): a renderer that re-sends
+  // the frame of a still scene must render each of these.
   const auto frame_ms = [&](cell_sim::FrameRenderer& renderer) {
     cell_sim::CameraImages images;
-    renderer.render(snapshot, images);  // warm-up: first-use allocations, shader compilation
+    const cell_sim::CameraDemand both;  // the image and the depth
+    renderer.render(snapshot, both, images);  // warm-up: first-use allocations, shader compilation
     std::vector<double> ms;
     for (int i = 0; i < kFrames; ++i) {
+      cell_sim::CameraSnapshot moved = snapshot;
+      if (!moved.poses.empty()) moved.poses.front().pose_world_object.translation().x() += (i % 2 ? 1e-6 : -1e-6);
       const auto start = Clock::now();
-      renderer.render(snapshot, images);
+      renderer.render(moved, both, images);
       ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
     }
     return median(ms);

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "rigger/base/bounded_json.hpp"
+#include "rigger/cell_config/cell_file.hpp"
 #include "rigger/console/settings.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/sequences.hpp"
@@ -57,6 +58,7 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
       cell_requests_(ctx.participant, protocol::world::kCellRequest),
       cell_replies_(ctx.participant, protocol::world::kCellReply),
       cell_revisions_(ctx.participant, protocol::world::kCell),
+      cell_models_(ctx.participant, protocol::world::kCellModel),
       recipes_(ctx.participant, protocol::task::kRecipe),
       task_commands_(ctx.participant, protocol::task::kCommand),
       responses_(ctx.participant, protocol::operator_ui::kResponse),
@@ -76,6 +78,8 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
   http.tls_key = settings.tls_key;
   http.confirm_timeout = settings.confirm_timeout;
   http.max_body_bytes = settings.max_body_bytes;
+  http.max_streams = settings.max_streams;
+  http.max_import_bytes = settings.max_import_bytes;
   query_timeout_ = settings.query_timeout;
   const std::optional<std::uint32_t> rehearsal_domain = settings.rehearsal_domain;
   if (rehearsal_domain && *rehearsal_domain == ctx.participant.domain_id())
@@ -102,7 +106,25 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
   tasks_.attach(ctx.loop);
   std::optional<RehearsalFeed> rehearsal_feed;
   if (rehearsal_domain) {
-    rehearsal_ = std::make_unique<RehearsalLink>(*rehearsal_domain, ctx.loop, events_.epoch(), query_timeout_);
+    std::optional<std::pair<LaunchCommand, LaunchTimes>> launch;
+    if (!settings.rehearsal_start.empty()) {
+      const auto folder = [](const std::filesystem::path& p) { return p.parent_path().string(); };
+      std::error_code ec;
+      const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+      launch.emplace(LaunchCommand{settings.rehearsal_start, settings.rehearsal_env,
+                                   folder(std::filesystem::absolute(ctx.options.config_path)),
+                                   settings.rehearsal_log, ec ? "" : folder(self)},
+                     LaunchTimes{settings.rehearsal_start_timeout, settings.rehearsal_idle_stop,
+                                 settings.rehearsal_stop_timeout});
+      // A folder that cannot be made is said at the first start, which cannot open the log.
+      std::filesystem::create_directories(std::filesystem::path(settings.rehearsal_log).parent_path(), ec);
+    }
+    rehearsal_ = std::make_unique<RehearsalLink>(
+        *rehearsal_domain, ctx.loop, events_.epoch(), query_timeout_, std::move(launch),
+        [this, domain = *rehearsal_domain](const CellChange& change, const std::string& who) {
+          ctx_.log->info("rehearsal_cell domain={} phase={} what={}", domain, phase_name(change.phase), change.what);
+          if (http_) http_->audit_system("rehearsal_cell", "domain " + std::to_string(domain), change.what, who);
+        });
     rehearsal_feed.emplace(rehearsal_->feed());
     ctx.log->info("rehearsal domain={}", *rehearsal_domain);
   }
@@ -111,6 +133,7 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
   ctx.loop.on_data(cad_replies_, [this] { on_cad_replies(); });
   ctx.loop.on_data(cell_replies_, [this] { on_cell_replies(); });
   ctx.loop.on_data(cell_revisions_, [this] { on_cell_revisions(); });
+  ctx.loop.on_data(cell_models_, [this] { on_cell_models(); });
   ctx.loop.on_data(wrench_, [this] {
     wrench_.take([this](const rigger_sensing_WrenchStamped& w, const dds_sample_info_t&) {
       force_sum_ += dds::to_domain(w.wrench.force);
@@ -165,6 +188,7 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
 
 ConsoleNode::~ConsoleNode() {
   http_->stop();  // before the readers and the loop's handlers go away
+  rehearsal_.reset();  // its started cell stops now, journaled while the audit log is still there
 }
 
 // --- reading ---
@@ -273,11 +297,41 @@ ActionResult ConsoleNode::publish_recipe(const std::string& task_id, const std::
 
 ActionResult ConsoleNode::rehearse(const std::string& task_id, const std::string& recipe_json,
                                    const std::string& submitter) {
+  // The real cell's running revision, which the rehearsal cell is brought to first; unknown (nothing
+  // applied) when no world model answers on the cell's domain.
+  CellTarget cell;
+  if (rehearsal_) {
+    world_protocol::CellRequest show;
+    show.op = world_protocol::CellOp::kShow;
+    const ActionResult shown = cell_request(show);
+    const json result = shown.ok ? shown.data.value("result", json::object()) : json::object();
+    cell.revision = result.value("cell_revision", std::uint64_t{0});
+    cell.sha256 = result.value("sha256", "");
+    cell.cell_json = result.value("cell_json", "");
+  }
   return on_loop([=](auto promise) {
-    if (rehearsal_)
-      rehearsal_->publish(task_id, recipe_json, submitter, promise);
-    else
+    if (!rehearsal_) {
       promise->set_value({false, "no rehearsal domain is configured", {}});
+      return;
+    }
+    // The models the document pins go with it: the rehearsal world model's folder may lack them.
+    CellTarget target = cell;
+    const JsonParseResult doc = parse_json_bounded(target.cell_json.empty() ? "{}" : target.cell_json,
+                                                   {cell::kMaxCellFileBytes, cell::kMaxCellFileDepth});
+    for (const json& e : doc.ok() ? doc.value.value("entities", json::array()) : json::array()) {
+      const json model = e.is_object() ? e.value("model", json::object()) : json::object();
+      const auto kept = model.is_object() && model.value("sha256", json()).is_string()
+                            ? models_by_sha_.find(model["sha256"].get<std::string>())
+                            : models_by_sha_.end();
+      if (kept != models_by_sha_.end()) target.models.push_back(kept->second);
+    }
+    rehearsal_->publish(task_id, recipe_json, submitter, target, promise);
+  });
+}
+
+ActionResult ConsoleNode::rehearsal_cell() {
+  return on_loop([this](auto promise) {
+    promise->set_value({rehearsal_ != nullptr, "", rehearsal_ ? rehearsal_->cell_status() : nlohmann::json()});
   });
 }
 
@@ -371,7 +425,19 @@ ActionResult ConsoleNode::cad(const std::string& kind, const std::string& model,
                                                                          {"derive", rigger_cad_CAD_DERIVE}};
   const auto k = kinds.find(kind);
   if (k == kinds.end()) return {false, "no CAD request kind " + kind, {}};
-  return on_loop([=, wire_kind = k->second](auto promise) {
+  return cad_request(k->second, model, args_json, {}, query_timeout_);
+}
+
+ActionResult ConsoleNode::cad_load(const std::string& name, std::string step) {
+  // Reading a large STEP file takes the CAD service seconds (a minute for the largest it accepts).
+  return cad_request(rigger_cad_CAD_LOAD, name, "{}", std::move(step), std::max(query_timeout_, kCadLoadTimeout));
+}
+
+ActionResult ConsoleNode::cad_request(rigger_cad_CadRequestKind kind, const std::string& model, const std::string& args_json,
+                                      std::string content, std::chrono::milliseconds timeout) {
+  auto bytes = std::make_shared<std::vector<std::uint8_t>>(content.begin(), content.end());
+  content.clear();
+  return on_loop([=](auto promise) {
     if (cad_requests_.matched_readers() == 0) {
       promise->set_value({false, "no CAD service on this domain", {}});
       return;
@@ -380,11 +446,12 @@ ActionResult ConsoleNode::cad(const std::string& kind, const std::string& model,
     rigger_cad_CadRequest q{};
     q.client_id = dds::wire_string(client_id_);
     q.request_id = id;
-    q.kind = wire_kind;
+    q.kind = kind;
     q.model = dds::wire_string(model);
     q.args_json = dds::wire_string(args_json);
+    dds::wire_sequence(q.content, *bytes);
     cad_requests_.write(q);
-    const auto timer = ctx_.loop.after(query_timeout_, [this, id] {
+    const auto timer = ctx_.loop.after(timeout, [this, id] {
       auto it = cad_pending_.find(id);
       if (it == cad_pending_.end()) return;
       it->second.promise->set_value({false, "the CAD service did not answer in time", {}});
@@ -424,8 +491,12 @@ ActionResult ConsoleNode::cell_request(const world_protocol::CellRequest& reques
     q.client_id = client_id_;
     q.request_id = next_request_++;
     rigger_world_CellRequest wire{};
-    world_protocol::to_wire(q, wire);
-    cell_requests_.write(wire);
+    std::vector<rigger_world_CellModel> models;
+    world_protocol::to_wire(q, wire, models);
+    if (const dds_return_t rc = cell_requests_.write(wire); rc != DDS_RETCODE_OK) {
+      promise->set_value({false, std::string("the cell request was not sent: ") + dds_strretcode(rc), {}});
+      return;
+    }
     const auto timer = ctx_.loop.after(query_timeout_, [this, id = q.request_id] {
       auto it = cell_pending_.find(id);
       if (it == cell_pending_.end()) return;
@@ -434,6 +505,23 @@ ActionResult ConsoleNode::cell_request(const world_protocol::CellRequest& reques
     });
     cell_pending_[q.request_id] = {promise, timer};
   });
+}
+
+void ConsoleNode::on_cell_models() {
+  // The world model publishes only the running revision's pinned models and disposes the others.
+  static constexpr std::size_t kMaxModels = 64;
+  cell_models_.take(
+      [this](const rigger_world_CellModel& w, const dds_sample_info_t&) {
+        world_protocol::CellModel m = world_protocol::from_wire(w);
+        if (models_by_sha_.size() >= kMaxModels && models_by_sha_.count(m.sha256) == 0) {
+          ctx_.log->warn("cell model not kept for rehearsals: {} models kept already sha256={}", kMaxModels, m.sha256);
+          return;
+        }
+        models_by_sha_[m.sha256] = std::move(m);
+      },
+      [this](const rigger_world_CellModel& key, const dds_sample_info_t&) {
+        models_by_sha_.erase(dds::to_string(key.sha256));
+      });
 }
 
 void ConsoleNode::on_cell_replies() {

@@ -56,8 +56,10 @@ class ConsoleNode : public service::Node, public Backend {
   ActionResult world_entity(const std::string& id) override;
   ActionResult world_list() override;
   ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) override;
+  ActionResult cad_load(const std::string& name, std::string step) override;
   ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
                         const std::string& submitter) override;
+  ActionResult rehearsal_cell() override;
   ActionResult cell_request(const world_protocol::CellRequest& request) override;
 
  private:
@@ -68,6 +70,7 @@ class ConsoleNode : public service::Node, public Backend {
   void on_journal_replies();
   void on_cad_replies();
   void on_cell_replies();
+  void on_cell_models();
   /// A new revision of the cell: the pages are told (their parts and 3D views follow it).
   void on_cell_revisions();
   /// A sensor sample arrived: the plot timer runs while they do.
@@ -79,6 +82,10 @@ class ConsoleNode : public service::Node, public Backend {
 
   service::ServiceContext& ctx_;
   std::chrono::milliseconds query_timeout_{3000};
+  static constexpr std::chrono::milliseconds kCadLoadTimeout{120000};
+  /// One CAD request (`content`: the STEP bytes of a LOAD, else empty), answered within `timeout`.
+  ActionResult cad_request(rigger_cad_CadRequestKind kind, const std::string& model, const std::string& args_json,
+                           std::string content, std::chrono::milliseconds timeout);
   EventLog events_;
   EventLog plots_;
   std::unique_ptr<RunArchive> runs_;  ///< null: runs are not kept
@@ -95,6 +102,9 @@ class ConsoleNode : public service::Node, public Backend {
   dds::Writer<rigger_world_CellRequest> cell_requests_;
   dds::Reader<rigger_world_CellReply> cell_replies_;
   dds::Reader<rigger_world_CellRevision> cell_revisions_;
+  /// The STEP models the cell's running revision pins (rigger/world/cell_model), for the rehearsal cell.
+  dds::Reader<rigger_world_CellModel> cell_models_;
+  std::map<std::string, world_protocol::CellModel> models_by_sha_;
   dds::Writer<rigger_task_Recipe> recipes_;
   dds::Writer<rigger_task_TaskCommand> task_commands_;
   dds::Writer<rigger_operator_ui_OperatorResponse> responses_;

@@ -4,6 +4,7 @@ namespace rigger::console {
 
 const SettingsTable<ConsoleSettings>& console_settings() {
   using S = ConsoleSettings;
+  const auto rehearsal = [](Setting<S> s) { return nested("rehearsal", std::move(s)); };
   static const SettingsTable<S> table{
       setting<S>("address", "127.0.0.1", &S::address,
                  "the address to listen on (only this host by default; `0.0.0.0` for every interface — then use "
@@ -26,6 +27,14 @@ const SettingsTable<ConsoleSettings>& console_settings() {
                  "how long a selected publish/resume waits for its confirmation"),
       setting<S>("max_body_bytes", 4u * 1024u * 1024u, {1024u, 100u * 1024u * 1024u}, &S::max_body_bytes,
                  "larger request bodies are refused with 413 before they are read"),
+      setting<S>("max_import_mib", 64.0, {0.001, 1024.0},
+                 [](S& s, double mib) { s.max_import_bytes = static_cast<std::size_t>(mib * (1 << 20)); },
+                 "a STEP file sent to the Planner's Import (`POST /api/planner/import`); larger ones are refused "
+                 "with 413 before they are read. The CAD service has its own bound, `max_file_mib`"),
+      setting<S>("max_streams", 100, {1, 1000}, &S::max_streams,
+                 "live streams (a page's events, plots or rehearsal; each browser tab opens one or two) served at "
+                 "once, each on an HTTP worker thread of its own; one more is refused with 503 and `Retry-After`, "
+                 "so that the pages' requests always find a free worker"),
       setting<S>("plot_rate_hz", 20.0, {1.0, 100.0}, &S::plot_rate_hz,
                  "plot rows per second while sensor samples come (the average force over the interval; the "
                  "latest state of the others)"),
@@ -39,6 +48,26 @@ const SettingsTable<ConsoleSettings>& console_settings() {
           },
           "the DDS domain of the rehearsal cell, where the Planner's Rehearse runs a recipe first "
           "([console.md](console.md#rehearsal)); none: no rehearsal. Must differ from the console's own domain"),
+      rehearsal(setting<S>(
+          "start", std::vector<std::string>{}, &S::rehearsal_start,
+          "the command (program and arguments) that brings up the rehearsal cell, in the foreground, when a "
+          "Rehearse finds no controller on `rehearsal_domain`; it runs in the folder of this file with "
+          "`RIGGER_DOMAIN` set to `rehearsal_domain`, a program without a `/` is looked up beside the console, "
+          "then in `PATH` ([console.md](console.md#the-rehearsal-cell-on-demand)); `[]`: the rehearsal cell is started by hand")),
+      rehearsal(setting<S>("env", std::vector<std::string>{}, &S::rehearsal_env,
+                           "`NAME=value` entries added to the start command's environment")),
+      rehearsal(setting<S>("log_file", "/var/tmp/rigger/console-rehearsal-cell.log", &S::rehearsal_log,
+                           "where the start command's output is appended (the page names it when a start "
+                           "fails); its folder is made")),
+      rehearsal(setting<S>("start_timeout_s", 120.0, {1.0, 3600.0}, &S::rehearsal_start_timeout,
+                           "how long the start may take until a task controller reads recipes and a world model "
+                           "answers cell requests on the rehearsal domain; then it is stopped and the rehearsal "
+                           "refused")),
+      rehearsal(setting<S>("idle_stop_s", 120.0, {1.0, 86400.0}, &S::rehearsal_idle_stop,
+                           "the started cell is stopped after so long without a rehearsal running or a page "
+                           "watching one")),
+      rehearsal(setting<S>("stop_timeout_s", 30.0, {1.0, 600.0}, &S::rehearsal_stop_timeout,
+                           "SIGTERM to the start command, then SIGKILL to its process group after so long")),
       path_setting<S>(
           "web_dir", "web", [](S& s, const std::filesystem::path& p) { s.web_dir = p.string(); },
           "the pages and their `node_modules/`: relative to this file, then to the data folder (the "
@@ -51,6 +80,14 @@ ConsoleSettings read_console_settings(const Config& config) {
   ConsoleSettings s = read_settings(config, console_settings());
   if (s.tls_cert.empty() != s.tls_key.empty())
     throw ConfigError(config.file(), "/tls_key", "give both tls_cert and tls_key, or neither");
+  if (!s.rehearsal_start.empty() && !s.rehearsal_domain)
+    throw ConfigError(config.file(), "/rehearsal/start", "a start command needs rehearsal_domain, the domain it runs on");
+  for (std::size_t i = 0; i < s.rehearsal_env.size(); ++i) {
+    const auto eq = s.rehearsal_env[i].find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw ConfigError(config.file(), "/rehearsal/env/" + std::to_string(i),
+                        "expected NAME=value, got \"" + s.rehearsal_env[i] + "\"");
+  }
   return s;
 }
 

@@ -1,5 +1,7 @@
 #include "console_state.hpp"
 
+#include <set>
+
 #include "cell_feed.hpp"
 
 namespace rigger::console {
@@ -16,6 +18,14 @@ void ConsoleState::update_task(const json& task) {
   std::lock_guard lock(mutex_);
   tasks_[text(task, "task_id")] = task;
   log_.append("task", line(task));
+}
+
+std::size_t ConsoleState::running_tasks() const {
+  static const std::set<std::string> kRunning = {"ACCEPTED", "RUNNING", "PAUSED"};
+  std::lock_guard lock(mutex_);
+  std::size_t n = 0;
+  for (const auto& [id, task] : tasks_) n += kRunning.count(text(task, "state"));
+  return n;
 }
 
 void ConsoleState::update_node(const json& node) {

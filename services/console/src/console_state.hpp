@@ -44,6 +44,8 @@ class ConsoleState {
   nlohmann::json prompt(const std::string& prompt_id) const;
   /// The last status of task `task_id`, or null.
   nlohmann::json task(const std::string& task_id) const;
+  /// How many tasks run: their last state is ACCEPTED, RUNNING or PAUSED.
+  std::size_t running_tasks() const;
 
  private:
   EventLog& log_;

@@ -54,6 +54,7 @@ HttpApi::HttpApi(HttpConfig config, Users users, ConsoleState& state, EventLog& 
                  Backend& backend, SkillCatalog& skills, Logger log, std::optional<RehearsalFeed> rehearsal,
                  const RunArchive* runs)
     : config_(std::move(config)),
+      streams_(config_.max_streams),
       users_(std::move(users)),
       state_(state),
       events_(events),
@@ -75,9 +76,11 @@ void HttpApi::start() {
   } else {
     server_ = std::make_unique<httplib::Server>();
   }
-  const int threads = config_.threads;
+  const int threads = config_.max_streams + HttpConfig::kRequestThreads;
   server_->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
-  server_->set_payload_max_length(config_.max_body_bytes);
+  // A STEP file sent to the Planner's import may be larger than any other body: the pre-routing handler
+  // (routes()) refuses the others above max_body_bytes before they are read.
+  server_->set_payload_max_length(std::max(config_.max_body_bytes, config_.max_import_bytes));
   // A worker holds an idle keep-alive connection, or a connection the browser opened ahead and has sent
   // nothing on, until these run out, and stop() waits for every worker: with 30 s (and the library's
   // 5 s read timeout) the console took 7-10 s to stop. Reconnecting on a LAN costs far less.
@@ -115,12 +118,22 @@ void HttpApi::stop() {
 void HttpApi::audit(const User& user, const std::string& action, const std::string& target, const std::string& result) {
   log_->info("action user={} role={} action={} target={} result={}", user.name, role_name(user.role), action, target,
              result);
+  append_audit(json{{"time", utc_now()}, {"user", user.name}, {"role", role_name(user.role)}, {"action", action},
+                    {"target", target}, {"result", result}});
+}
+
+void HttpApi::audit_system(const std::string& action, const std::string& target, const std::string& result,
+                           const std::string& who) {
+  log_->info("action user=console role=system action={} target={} result={} by={}", action, target, result, who);
+  append_audit(json{{"time", utc_now()}, {"user", "console"}, {"role", "system"}, {"action", action},
+                    {"target", target}, {"result", result}, {"by", who}});
+}
+
+void HttpApi::append_audit(const json& line) {
   if (config_.audit_log.empty()) return;
   std::lock_guard lock(audit_mutex_);
   std::ofstream out(config_.audit_log, std::ios::app);
-  out << to_text(json{{"time", utc_now()}, {"user", user.name}, {"role", role_name(user.role)}, {"action", action},
-                      {"target", target}, {"result", result}})
-      << "\n";
+  out << to_text(line) << "\n";
 }
 
 std::string HttpApi::new_confirmation(Pending p) {
@@ -182,9 +195,16 @@ void HttpApi::routes() {
       default: send_error(res, res.status, "request failed", req.path); break;
     }
   });
-  s.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
+  s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     res.set_header("X-Content-Type-Options", "nosniff");
     if (req.path.rfind("/api/", 0) == 0) res.set_header("Cache-Control", "no-store");
+    const std::size_t limit = req.path == kImportPath ? config_.max_import_bytes : config_.max_body_bytes;
+    if (req.get_header_value<std::uint64_t>("Content-Length") > limit) {
+      res.set_header("Connection", "close");
+      send_error(res, 413,
+                 "the body is larger than the console accepts here (" + std::to_string(limit) + " bytes)", req.path);
+      return httplib::Server::HandlerResponse::Handled;
+    }
     return httplib::Server::HandlerResponse::Unhandled;
   });
 
@@ -221,9 +241,14 @@ void HttpApi::routes() {
       {Method::kPost, "/api/planner/validate", &HttpApi::post_planner_validate},
       {Method::kPost, "/api/planner/screws", &HttpApi::post_planner_screws},
       {Method::kPost, "/api/planner/frame", &HttpApi::post_planner_frame},
+      {Method::kPost, "/api/planner/place", &HttpApi::post_planner_place},
+      {Method::kPost, kImportPath, &HttpApi::post_planner_import},
+      {Method::kPost, "/api/planner/declare", &HttpApi::post_planner_declare},
+      {Method::kPost, "/api/planner/add", &HttpApi::post_planner_add},
       {Method::kGet, "/api/rehearsal/state", &HttpApi::get_rehearsal_state},
       {Method::kGet, "/api/rehearsal/events", &HttpApi::get_rehearsal_events},
       {Method::kPost, "/api/planner/rehearse", &HttpApi::post_planner_rehearse},
+      {Method::kGet, "/api/rehearsal/cell", &HttpApi::get_rehearsal_cell},
       // commands (http_command_routes.cpp)
       {Method::kPost, "/api/recipes", &HttpApi::post_recipe},
       {Method::kPost, R"(/api/tasks/([^/]+)/resume)", &HttpApi::post_task_resume},

@@ -22,6 +22,8 @@
 #include "auth.hpp"
 #include "console_state.hpp"
 #include "event_log.hpp"
+#include "http_replies.hpp"
+#include "imported_models.hpp"
 #include "planner.hpp"
 #include "run_archive.hpp"
 #include "rigger/base/logging.hpp"
@@ -67,12 +69,18 @@ class Backend {
   /// data = {"model_sha256", "result": <result_json parsed>, "data": <binary string, the GLB>}; a refusal
   /// is !ok with message "CODE: why".
   virtual ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) = 0;
+  /// Has the CAD service read a STEP file sent as bytes (CAD_LOAD with content; `name` is what it is
+  /// called in messages): data as cad()'s, the result being CAD_LOAD's (product tree, counts, holes).
+  virtual ActionResult cad_load(const std::string& name, std::string step) = 0;
   /// Publishes a recipe on the rehearsal domain (the simulated cell where a recipe runs first) and waits
   /// for the rehearsal controller's verdict: data = its first status of the task ({"state": "ACCEPTED"
   /// or "RUNNING" ...}, ok; {"state": "REJECTED", "errors": [...]}, !ok); !ok without data when no
   /// rehearsal domain is configured, no controller reads recipes there (nothing sent) or none answered.
   virtual ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
                                 const std::string& submitter) = 0;
+  /// The rehearsal cell the console starts on demand: data = RehearsalLink::cell_status(); !ok without a
+  /// rehearsal domain.
+  virtual ActionResult rehearsal_cell() = 0;
   /// Asks the world model about the cell's revisions (rigger/world/cell_request; the node fills in the
   /// client and request ids): data = {"code", "cell_revision", "result": <result_json parsed>}, also when
   /// it refused (!ok, message = its reason); !ok without data when no world model answered.
@@ -85,7 +93,11 @@ struct RehearsalFeed {
   std::uint32_t domain_id = 0;
   ConsoleState& state;
   EventLog& events;
+  std::atomic<int>& watchers;  ///< open /api/rehearsal/events streams: the started cell is not idle
 };
+
+/// Where the Planner sends a STEP file to import (its body's limit is max_import_bytes, not max_body_bytes).
+inline constexpr const char* kImportPath = "/api/planner/import";
 
 struct HttpConfig {
   std::string address = "127.0.0.1";
@@ -95,7 +107,10 @@ struct HttpConfig {
   std::size_t max_body_bytes = 4U * 1024U * 1024U;
   std::chrono::milliseconds confirm_timeout{5000};
   std::string audit_log;              ///< JSON lines of every action; empty: log only
-  int threads = 32;                   ///< HTTP worker threads (every open SSE stream holds one)
+  std::size_t max_import_bytes = 64U * 1024U * 1024U;  ///< a STEP file sent to POST /api/planner/import
+  int max_streams = 100;              ///< live (SSE) streams at once; each holds a worker thread
+  /// Worker threads besides the streams': the requests of the pages always find one free.
+  static constexpr int kRequestThreads = 16;
   std::string config_file;            ///< named in configuration errors
 };
 
@@ -117,6 +132,10 @@ class HttpApi {
   /// The bound port (after start()).
   int port() const { return port_; }
   bool tls() const { return !config_.tls_cert.empty(); }
+  /// Journals what the console did by itself (user "console", role "system"), `who` having caused it
+  /// ("console" when nobody did). Any thread.
+  void audit_system(const std::string& action, const std::string& target, const std::string& result,
+                    const std::string& who);
 
  private:
   struct Pending {
@@ -132,6 +151,7 @@ class HttpApi {
   using Handler = void (HttpApi::*)(const httplib::Request&, httplib::Response&);
   void routes();
   void audit(const User& user, const std::string& action, const std::string& target, const std::string& result);
+  void append_audit(const nlohmann::json& line);
   std::string new_confirmation(Pending p);
   // Who is asking, and may they? Sends 401/403 and returns nullopt when not. Only the event streams
   // take the token from the query (?token=) or the rigger_token cookie: EventSource cannot set headers.
@@ -163,9 +183,14 @@ class HttpApi {
   void post_planner_validate(const httplib::Request& req, httplib::Response& res);
   void post_planner_screws(const httplib::Request& req, httplib::Response& res);
   void post_planner_frame(const httplib::Request& req, httplib::Response& res);
+  void post_planner_place(const httplib::Request& req, httplib::Response& res);
+  void post_planner_import(const httplib::Request& req, httplib::Response& res);
+  void post_planner_declare(const httplib::Request& req, httplib::Response& res);
+  void post_planner_add(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_state(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_events(const httplib::Request& req, httplib::Response& res);
   void post_planner_rehearse(const httplib::Request& req, httplib::Response& res);
+  void get_rehearsal_cell(const httplib::Request& req, httplib::Response& res);
   // Commands.
   void post_recipe(const httplib::Request& req, httplib::Response& res);
   void post_task_resume(const httplib::Request& req, httplib::Response& res);
@@ -179,12 +204,29 @@ class HttpApi {
   void get_cell(const httplib::Request& req, httplib::Response& res);
   void get_cell_history(const httplib::Request& req, httplib::Response& res);
   void post_cell_revision(const httplib::Request& req, httplib::Response& res);
+  /// The first step of a cell revision (`payload`: {"op", "cell_json" or "revision", "comment"}): the
+  /// world model's dry run, then 202 with a confirmation id, what would change and `extra`'s keys; or
+  /// the world model's refusal. Audited as "select cell <target>".
+  void select_cell_revision(const User& user, const nlohmann::json& payload, const std::string& target,
+                            const httplib::Request& req, httplib::Response& res,
+                            nlohmann::json extra = nlohmann::json::object());
   /// Applies a confirmed cell revision (`p` from POST /api/confirm).
   void confirm_cell(const User& user, const Pending& p, const httplib::Request& req, httplib::Response& res);
+  /// The world model's running cell revision: its number and document (bounded parse).
+  struct RunningCell {
+    std::uint64_t revision = 0;
+    nlohmann::json document;
+  };
+  /// The running cell, or none after answering why (the world model's refusal, or 503 when the document
+  /// does not parse).
+  std::optional<RunningCell> running_cell(const httplib::Request& req, httplib::Response& res);
   /// Sends the world model's answer to a cell request: 200 with its result, or its refusal as an error.
   void send_cell_answer(const httplib::Request& req, httplib::Response& res, const ActionResult& r);
+  /// 409: a revision pins an imported file the console no longer keeps.
+  void imported_file_gone(const httplib::Request& req, httplib::Response& res, const std::string& sha256);
 
   HttpConfig config_;
+  StreamSlots streams_;
   Users users_;
   ConsoleState& state_;
   EventLog& events_;
@@ -193,6 +235,7 @@ class HttpApi {
   SkillCatalog& skills_;
   Logger log_;
   std::optional<RehearsalFeed> rehearsal_;
+  ImportedModels imports_;  ///< STEP files imported in the Planner, until a revision adds them
   const RunArchive* runs_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;

@@ -6,6 +6,7 @@
 
 #include "http_api.hpp"
 #include "http_replies.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 namespace rigger::console {
 
@@ -27,8 +28,21 @@ int http_status(const std::string& code) {
   return 503;  // no world model answered
 }
 
-world_protocol::CellRequest request_of(const json& payload, const std::string& who, bool dry_run) {
+// The request a selected revision makes; the imported STEP files its document pins go with it (payload
+// "models": [{"sha256", "name"}], the name as the document's model.step). Empty
+// `missing` when every one of them is still kept, else the first one that is not.
+world_protocol::CellRequest request_of(const json& payload, const std::string& who, bool dry_run,
+                                       const ImportedModels& imports, std::string& missing) {
   world_protocol::CellRequest q;
+  for (const json& wanted : payload.value("models", json::array())) {
+    std::optional<world_protocol::CellModel> model = imports.find(wanted.value("sha256", ""));
+    if (!model) {
+      missing = wanted.value("sha256", "");
+      break;
+    }
+    model->name = wanted.value("name", "");  // as the document names it, not as the file was called
+    q.models.push_back(std::move(*model));
+  }
   q.op = payload.at("op") == "rollback" ? world_protocol::CellOp::kRollback : world_protocol::CellOp::kApply;
   q.cell_json = payload.value("cell_json", "");
   q.revision = payload.value("revision", std::uint64_t{0});
@@ -48,6 +62,14 @@ json changes_of(const json& answer) {
 
 }  // namespace
 
+void HttpApi::imported_file_gone(const httplib::Request& req, httplib::Response& res, const std::string& sha256) {
+  send_error(res, 409,
+             "the imported STEP file sha256:" + sha256.substr(0, 12) +
+                 "… is no longer kept by the console (it keeps the last " +
+                 std::to_string(ImportedModels::kMaxImports) + " imports): import it again",
+             req.path);
+}
+
 void HttpApi::send_cell_answer(const httplib::Request& req, httplib::Response& res, const ActionResult& r) {
   if (r.ok) return send_json(res, r.data.value("result", json::object()));
   const std::string code = r.data.is_object() ? r.data.value("code", "") : "";
@@ -59,6 +81,23 @@ void HttpApi::get_cell(const httplib::Request& req, httplib::Response& res) {
   world_protocol::CellRequest q;
   q.op = world_protocol::CellOp::kShow;
   send_cell_answer(req, res, backend_.cell_request(q));
+}
+
+std::optional<HttpApi::RunningCell> HttpApi::running_cell(const httplib::Request& req, httplib::Response& res) {
+  world_protocol::CellRequest show;
+  show.op = world_protocol::CellOp::kShow;
+  const auto running = backend_.cell_request(show);
+  if (!running.ok) {
+    send_cell_answer(req, res, running);
+    return std::nullopt;
+  }
+  JsonParseResult parsed = parse_json_bounded(
+      running.data.value("result", json::object()).value("cell_json", std::string("{}")), {16U * 1024U * 1024U, 64});
+  if (!parsed.ok() || !parsed.value.is_object()) {
+    send_error(res, 503, "the world model's running revision is not a JSON document", req.path);
+    return std::nullopt;
+  }
+  return RunningCell{running.data.value("cell_revision", std::uint64_t{0}), std::move(parsed.value)};
 }
 
 void HttpApi::get_cell_history(const httplib::Request& req, httplib::Response& res) {
@@ -91,26 +130,38 @@ void HttpApi::post_cell_revision(const httplib::Request& req, httplib::Response&
     return send_error(res, 400, "expected {\"cell\": {<a cell document>}} or {\"rollback\": <revision number>}",
                       req.path);
   }
+  select_cell_revision(*user, payload, target, req, res);
+}
+
+void HttpApi::select_cell_revision(const User& user, const json& payload, const std::string& target,
+                                   const httplib::Request& req, httplib::Response& res, json extra) {
   // The dry run: refused now, with the world model's reason, rather than after the confirmation.
-  const auto check = backend_.cell_request(request_of(payload, "console:" + user->name, true));
+  std::string missing;
+  const world_protocol::CellRequest request = request_of(payload, "console:" + user.name, true, imports_, missing);
+  if (!missing.empty()) return imported_file_gone(req, res, missing);
+  const auto check = backend_.cell_request(request);
   if (!check.ok) {
-    audit(*user, "select cell " + target, "cell", "refused: " + check.message);
+    audit(user, "select cell " + target, "cell", "refused: " + check.message);
     return send_cell_answer(req, res, check);
   }
   const std::string id =
-      new_confirmation({user->name, "cell", target, to_text(payload), Clock::now() + config_.confirm_timeout});
-  audit(*user, "select cell " + target, "cell", "awaiting confirmation " + id);
-  send_json(res,
-            {{"confirmation_id", id},
-             {"action", "cell " + target},
-             {"cell_revision", check.data.value("cell_revision", std::uint64_t{0})},
-             {"changes", changes_of(check.data)},
-             {"expires_in_s", std::chrono::duration<double>(config_.confirm_timeout).count()}},
-            202);
+      new_confirmation({user.name, "cell", target, to_text(payload), Clock::now() + config_.confirm_timeout});
+  audit(user, "select cell " + target, "cell", "awaiting confirmation " + id);
+  json answer = {{"confirmation_id", id},
+                 {"action", "cell " + target},
+                 {"cell_revision", check.data.value("cell_revision", std::uint64_t{0})},
+                 {"changes", changes_of(check.data)},
+                 {"expires_in_s", std::chrono::duration<double>(config_.confirm_timeout).count()}};
+  if (extra.is_object()) answer.update(extra);
+  send_json(res, answer, 202);
 }
 
 void HttpApi::confirm_cell(const User& user, const Pending& p, const httplib::Request& req, httplib::Response& res) {
-  const auto r = backend_.cell_request(request_of(json::parse(p.payload), "console:" + user.name, false));
+  std::string missing;
+  const world_protocol::CellRequest request =
+      request_of(json::parse(p.payload), "console:" + user.name, false, imports_, missing);
+  if (!missing.empty()) return imported_file_gone(req, res, missing);
+  const auto r = backend_.cell_request(request);
   const std::uint64_t revision = r.data.is_object() ? r.data.value("cell_revision", std::uint64_t{0}) : 0;
   audit(user, "cell " + p.task_id, "cell", r.ok ? "revision " + std::to_string(revision) : "refused: " + r.message);
   if (!r.ok) return send_cell_answer(req, res, r);

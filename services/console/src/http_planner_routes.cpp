@@ -1,11 +1,18 @@
 // The console's planner routes (validation, screws and frames from CAD picks) and the rehearsal cell's:
 // the simulated cell on a domain of its own, where a recipe runs first.
+#include <atomic>
+#include <memory>
 #include <string>
+
+// Eigen before httplib.h, whose system headers define names Eigen uses.
+#include "placement.hpp"
 
 #include <httplib.h>
 
 #include "http_api.hpp"
 #include "http_replies.hpp"
+#include "planner_declare.hpp"
+#include "rigger/base/bounded_json.hpp"
 
 namespace rigger::console {
 
@@ -75,6 +82,133 @@ void HttpApi::post_planner_frame(const httplib::Request& req, httplib::Response&
   }
 }
 
+// An object placed by picks: a face of it on a face of another object (both frames from the CAD service's
+// face rule), its new pose written into the running cell document, and that document as a revision in
+// two steps (the world model's dry run now, POST /api/confirm applies it).
+void HttpApi::post_planner_place(const httplib::Request& req, httplib::Response& res) {
+  auto user = who(req, res, Role::kProgrammer);
+  if (!user) return;
+  auto b = body(req, res);
+  if (!b) return;
+  try {
+    const PlaceRequest request = parse_place_request(*b);
+    const auto own = backend_.cad("frame", request.own.model, request.own.args.dump());
+    if (!own.ok) return send_cad_refusal(res, req, own.message, "");
+    const auto onto = backend_.cad("frame", request.onto.model, request.onto.args.dump());
+    if (!onto.ok) return send_cad_refusal(res, req, onto.message, "#/onto");
+    const auto running = running_cell(req, res);
+    if (!running) return;
+    const json& cell = running->document;
+    const Eigen::Isometry3d support_T_object =
+        placed_on(frame_from_cad(onto.data.value("result", json::object())),
+                  frame_from_cad(own.data.value("result", json::object())), request.turn_deg);
+    const json placed =
+        cell_with_placement(cell, request.own.entity, request.onto.entity, support_T_object, request.localized);
+    json pose = position_rpy(support_T_object);
+    pose["frame"] = request.onto.entity;
+    const std::string comment = request.comment.empty()
+                                    ? "place " + request.own.entity + " on " + request.onto.entity
+                                    : request.comment;
+    const json payload = {{"op", "apply"}, {"cell_json", to_text(placed)}, {"comment", comment}};
+    select_cell_revision(*user, payload, "place " + request.own.entity, req, res,
+                         {{"pose_on_support", pose}, {"object", request.own.entity}, {"support", request.onto.entity}});
+  } catch (const PlannerError& e) {
+    send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
+  }
+}
+
+// A STEP file to import, sent as the body (any content type): read by the CAD service (its bounded reader,
+// in a child process), answered with what the Planner shows before the part enters the cell: its model
+// id (sha256:<hex>, for the features and the tessellation), units, product tree, counts and holes. A file
+// the CAD service refuses (not STEP, no length unit, no solid, too large) is the request's fault: 400 with
+// its code and reason. Nothing changes in the cell.
+void HttpApi::post_planner_import(const httplib::Request& req, httplib::Response& res) {
+  auto user = who(req, res, Role::kProgrammer);
+  if (!user) return;
+  std::string name = req.has_param("name") ? req.get_param_value("name") : "upload.step";
+  if (name.empty() || name.size() > 255 || name.find_first_of("/\\") != std::string::npos)
+    return send_error(res, 400, "name: expected the file's name (1 to 255 characters, no folder)", req.path + "#name");
+  if (req.body.empty()) return send_error(res, 400, "the body is empty: send the STEP file's bytes", req.path);
+  const std::size_t size = req.body.size();
+  const auto loaded = backend_.cad_load(name, req.body);
+  if (!loaded.ok) {
+    audit(*user, "import STEP", name, "refused: " + loaded.message);
+    return send_cad_refusal(res, req, loaded.message, "");
+  }
+  const std::string sha = loaded.data.value("model_sha256", "");
+  audit(*user, "import STEP", name, "read as sha256:" + sha);
+  imports_.keep(sha, name, req.body);
+  json out = loaded.data.value("result", json::object());
+  out.erase("source");  // the CAD service's name for bytes it was sent, not a file anyone can open
+  out["name"] = name;
+  out["bytes"] = size;
+  out["model"] = "sha256:" + sha;
+  out["model_sha256"] = sha;
+  send_json(res, out);
+}
+
+// An imported STEP file made a cell object: named, of a material (or fixed), standing on the floor beside
+// the cell, its model pinned by sha256 and sent with the revision (the world model keeps it and publishes
+// it to every service). The revision goes to the world model as a dry run, confirmed by POST /api/confirm;
+// Place then puts the object where it belongs.
+void HttpApi::post_planner_add(const httplib::Request& req, httplib::Response& res) {
+  auto user = who(req, res, Role::kProgrammer);
+  if (!user) return;
+  auto b = body(req, res);
+  if (!b) return;
+  try {
+    const AddRequest request = parse_add_request(*b);
+    if (!imports_.find(request.sha256)) return imported_file_gone(req, res, request.sha256);
+    const auto features = backend_.cad("features", "sha256:" + request.sha256, "{}");
+    if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
+    const double lowest_z = lowest_vertex_z(features.data.value("result", json::object()));
+    const auto running = running_cell(req, res);
+    if (!running) return;
+    const json added = cell_with_new_object(running->document, request, lowest_z);
+    const std::string comment = request.comment.empty() ? "add " + request.id + " (imported)" : request.comment;
+    const json payload = {
+        {"op", "apply"}, {"cell_json", to_text(added)}, {"comment", comment},
+        {"models", json::array({{{"sha256", request.sha256}, {"name", imported_model_name(request.id)}}})}};
+    select_cell_revision(*user, payload, "add " + request.id, req, res,
+                         {{"object", request.id}, {"material", request.material}});
+  } catch (const PlannerError& e) {
+    send_error(res, e.pointer == "/id" ? 409 : 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
+  }
+}
+
+// A feature declared by picks: the rule built here from the CAD service's references, added to the running
+// revision's document, which goes to the world model as a revision dry run (confirmed by POST /api/confirm).
+void HttpApi::post_planner_declare(const httplib::Request& req, httplib::Response& res) {
+  auto user = who(req, res, Role::kProgrammer);
+  if (!user) return;
+  auto b = body(req, res);
+  if (!b) return;
+  try {
+    const DeclareRequest request = parse_declare_request(*b);
+    const auto running = running_cell(req, res);
+    if (!running) return;
+    const json& cell = running->document;
+    const auto features = backend_.cad("features", request.model, "{}");
+    if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
+    json target_features = json::object();
+    if (!request.target.empty()) {
+      const auto target = backend_.cad("features", "object:" + request.target, "{}");
+      if (!target.ok) return send_cad_refusal(res, req, target.message, "#/target/model");
+      target_features = target.data.value("result", json::object());
+    }
+    const json declared = declare_feature(request, cell, features.data.value("result", json::object()), target_features);
+    const std::string what = "declare " + request.kind + " " + request.entity + "/" + request.name;
+    const json payload = {{"op", "apply"}, {"cell_json", to_text(declared["cell"])}, {"comment", what}};
+    select_cell_revision(*user, payload, "apply (" + what + ")", req, res,
+                 {{"features", declared["features"]}, {"rule", declared["rule"]},
+                  {"base_revision", running->revision}});
+  } catch (const PlannerError& e) {
+    send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
+  } catch (const json::exception& e) {
+    send_error(res, 503, std::string("the CAD service's features are not of the expected form: ") + e.what(), req.path);
+  }
+}
+
 // Its state and stream are /api/state's and /api/events' of that domain, kept apart from the cell's.
 void HttpApi::get_rehearsal_state(const httplib::Request& req, httplib::Response& res) {
   if (!who(req, res, Role::kViewer)) return;
@@ -87,7 +221,20 @@ void HttpApi::get_rehearsal_state(const httplib::Request& req, httplib::Response
 void HttpApi::get_rehearsal_events(const httplib::Request& req, httplib::Response& res) {
   if (!who(req, res, Role::kViewer, true)) return;
   if (!rehearsal_) return no_rehearsal(req, res);
-  stream_events(rehearsal_->events, req, res, rehearsal_->events.last_seq());
+  // A page watching the rehearsal keeps a started rehearsal cell from its idle stop.
+  std::atomic<int>& watchers = rehearsal_->watchers;
+  ++watchers;
+  std::shared_ptr<void> watching(nullptr, [&watchers](void*) { --watchers; });
+  stream_events(rehearsal_->events, req, res, rehearsal_->events.last_seq(), streams_, std::move(watching));
+}
+
+// The rehearsal cell the console starts on demand: its phase, and why its last start failed.
+void HttpApi::get_rehearsal_cell(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kViewer)) return;
+  if (!rehearsal_) return no_rehearsal(req, res);
+  const auto r = backend_.rehearsal_cell();
+  if (!r.ok) return send_error(res, 503, r.message, req.path);
+  send_json(res, r.data);
 }
 
 // Nothing real moves in a rehearsal, so it is one step (no confirmation), but journaled like a publish.
@@ -115,8 +262,20 @@ void HttpApi::post_planner_rehearse(const httplib::Request& req, httplib::Respon
                            " and a controller takes a task id once: rehearse under a new task id");
   // The rehearsal controller's own verdict (its validator, against the library its executors announce).
   const auto r = backend_.rehearse(task_id, req.body, "console:" + user->name);
+  if (r.data.is_object() && r.data.value("starting", false)) {
+    // No controller yet: the cell is being started; the page follows /api/rehearsal/cell and sends again.
+    const json cell = r.data.value("cell", json::object());
+    audit(*user, "rehearse", task_id,
+          "held: " + std::string(r.data.value("started", false) ? "started" : "starting") + " the rehearsal cell of domain " +
+              domain + " (log " + cell.value("log", "") + "); nothing was sent");
+    return send_json(res, {{"starting", true}, {"task_id", task_id}, {"domain", rehearsal_->domain_id}, {"cell", cell}},
+                     202);
+  }
   const bool rejected = r.data.is_object() && r.data.value("state", "") == "REJECTED";
   if (rejected) return refuse(409, r.message, r.data.value("errors", json::array()));
+  // The rehearsal cell is not on the cell's running revision (its world model refused it, is not there,
+  // or did not report it in time): not rehearsed on a cell other than the real one.
+  if (r.data.is_object() && r.data.value("cell_refused", false)) return refuse(409, r.message);
   if (!r.ok) return refuse(503, r.message);
   audit(*user, "rehearse", task_id, "sent to rehearsal domain " + domain);
   send_json(res, {{"done", "rehearse"}, {"task_id", task_id}, {"domain", rehearsal_->domain_id},

@@ -20,11 +20,11 @@ void HttpApi::get_state(const httplib::Request& req, httplib::Response& res) {
 }
 
 void HttpApi::get_events(const httplib::Request& req, httplib::Response& res) {
-  if (who(req, res, Role::kViewer, true)) stream_events(events_, req, res, events_.last_seq());
+  if (who(req, res, Role::kViewer, true)) stream_events(events_, req, res, events_.last_seq(), streams_);
 }
 
 void HttpApi::get_plots_stream(const httplib::Request& req, httplib::Response& res) {
-  if (who(req, res, Role::kViewer, true)) stream_events(plots_, req, res, plots_.last_seq());
+  if (who(req, res, Role::kViewer, true)) stream_events(plots_, req, res, plots_.last_seq(), streams_);
 }
 
 void HttpApi::get_plots(const httplib::Request& req, httplib::Response& res) {

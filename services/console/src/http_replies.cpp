@@ -41,7 +41,27 @@ std::string text_field(const json& body, const char* key) {
   return it != body.end() && it->is_string() ? it->get<std::string>() : "";
 }
 
-void stream_events(EventLog& log, const httplib::Request& req, httplib::Response& res, std::uint64_t start) {
+std::shared_ptr<void> StreamSlots::take() {
+  if (open_.fetch_add(1) >= max_) {
+    open_.fetch_sub(1);
+    return nullptr;
+  }
+  return std::shared_ptr<int>(new int(0), [this](int* p) {
+    delete p;
+    open_.fetch_sub(1);
+  });
+}
+
+void stream_events(EventLog& log, const httplib::Request& req, httplib::Response& res, std::uint64_t start,
+                   StreamSlots& slots, std::shared_ptr<void> hold) {
+  std::shared_ptr<void> slot = slots.take();
+  if (!slot) {
+    res.set_header("Retry-After", "5");
+    return send_error(res, 503,
+                      "the console serves at most " + std::to_string(slots.max()) +
+                          " live streams at once (max_streams): close a page or raise max_streams",
+                      req.path);
+  }
   std::string last = req.get_header_value("Last-Event-ID");
   if (last.empty() && req.has_param("last_event_id")) last = req.get_param_value("last_event_id");
   auto from = std::make_shared<std::uint64_t>(start);
@@ -52,7 +72,7 @@ void stream_events(EventLog& log, const httplib::Request& req, httplib::Response
   }
   res.set_header("Cache-Control", "no-store");
   res.set_header("X-Accel-Buffering", "no");
-  res.set_chunked_content_provider("text/event-stream", [&log, from, reset](std::size_t, httplib::DataSink& sink) {
+  res.set_chunked_content_provider("text/event-stream", [&log, from, reset, slot, hold](std::size_t, httplib::DataSink& sink) {
     if (log.closed()) return false;
     std::string out;
     if (*reset) {

@@ -2,7 +2,9 @@
 /// @file
 /// What the console's HTTP routes answer with: JSON bodies and errors, and Server-Sent Event streams of
 /// an EventLog. Used by HttpApi's handlers only.
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -38,8 +40,25 @@ void send_json(httplib::Response& res, const nlohmann::json& body, int status = 
 /// `body[key]` when it is a string, else "".
 std::string text_field(const nlohmann::json& body, const char* key);
 
+/// The live streams open at once, bounded: each holds one of the HTTP server's worker threads until it
+/// ends, and the requests of every page must still find a free one. Thread-safe.
+class StreamSlots {
+ public:
+  explicit StreamSlots(int max) : max_(max) {}
+  /// A slot, held until the returned handle is dropped; empty when all `max` are taken.
+  std::shared_ptr<void> take();
+  int open() const { return open_.load(); }
+  int max() const { return max_; }
+
+ private:
+  std::atomic<int> open_{0};
+  int max_;
+};
+
 /// Streams `log` as Server-Sent Events from the client's Last-Event-ID (header, or last_event_id in
-/// the query), or from `start` when it has none. The stream ends when `log` is closed.
-void stream_events(EventLog& log, const httplib::Request& req, httplib::Response& res, std::uint64_t start);
+/// the query), or from `start` when it has none, in one of `slots` (503 when none is free). The stream
+/// ends when `log` is closed. `hold` is kept as long as the stream is open (a watcher count's guard).
+void stream_events(EventLog& log, const httplib::Request& req, httplib::Response& res, std::uint64_t start,
+                   StreamSlots& slots, std::shared_ptr<void> hold = nullptr);
 
 }  // namespace rigger::console

@@ -1,4 +1,5 @@
 #include "planner.hpp"
+#include "placement.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -206,30 +207,9 @@ FrameRequest parse_frame_request(const json& body) {
 }
 
 json pose_from_cad_frame(const json& cad_result, const std::string& entity) {
-  const json frame = cad_result.value("frame", json());
-  const json position = frame.is_object() ? frame.value("position_m", json()) : json();
-  const json rotation = frame.is_object() ? frame.value("rotation", json()) : json();
-  bool ok = is_point(position) && rotation.is_array() && rotation.size() == 3;
-  for (std::size_t i = 0; ok && i < 3; ++i) ok = is_point(rotation[i]);
-  if (!ok) throw PlannerError{"", "the CAD service's answer holds no frame (position_m and a 3x3 rotation)"};
-  const auto R = [&](int i, int j) { return rotation[i][j].get<double>(); };
-  constexpr double kDeg = 180.0 / 3.14159265358979323846;
-  // R = Rz(yaw) Ry(pitch) Rx(roll): R20 = -sin(pitch); away from ±90° roll and yaw follow.
-  const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
-  double roll = 0.0, yaw = 0.0;
-  if (std::abs(R(2, 0)) < 1.0 - 1e-12) {
-    roll = std::atan2(R(2, 1), R(2, 2));
-    yaw = std::atan2(R(1, 0), R(0, 0));
-  } else {
-    yaw = std::atan2(-R(0, 1), R(1, 1));  // gimbal lock: only roll ∓ yaw is defined; roll = 0
-  }
-  // Whole-micro-degree and nanometre rounding keeps 1e-17 noise (and -0) out of the recipe text; dividing
-  // the rounded integer by the scale gives the double nearest the decimal (0.3, not 0.30000000000000004).
-  const auto tidy = [](double v, double scale) { const double r = std::round(v * scale) / scale; return r == 0.0 ? 0.0 : r; };
-  json p = json::array(), rpy = json::array();
-  for (int i = 0; i < 3; ++i) p.push_back(tidy(position[i].get<double>(), 1e9));
-  for (double a : {roll, pitch, yaw}) rpy.push_back(tidy(a * kDeg, 1e6));
-  return {{"position_m", p}, {"rpy_deg", rpy}, {"frame", entity}};
+  json pose = position_rpy(frame_from_cad(cad_result));
+  pose["frame"] = entity;
+  return pose;
 }
 
 }  // namespace rigger::console

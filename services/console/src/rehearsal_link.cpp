@@ -1,25 +1,41 @@
 #include "rehearsal_link.hpp"
 
+#include <unistd.h>
+
 #include "rigger/protocol/task.hpp"
 
 namespace rigger::console {
 
 namespace {
 constexpr std::size_t kEventCapacity = 50000;  // a rehearsal is one task at a time
+// How often a started cell is looked at: a controller's arrival, the end of its command, the idle time.
+constexpr std::chrono::milliseconds kCellStep{250};
+// From a revision's APPLY to the rehearsal world model's report of it: it validates the document (its
+// CAD models among it), seconds rather than a query's fraction of one.
+constexpr std::chrono::milliseconds kRevisionTimeout{30000};
 }  // namespace
 
 RehearsalLink::RehearsalLink(std::uint32_t domain_id, dds::EventLoop& loop, const std::string& epoch,
-                             std::chrono::milliseconds verdict_timeout)
+                             std::chrono::milliseconds verdict_timeout,
+                             std::optional<std::pair<LaunchCommand, LaunchTimes>> launch,
+                             std::function<void(const CellChange&, const std::string&)> journal)
     : participant_(domain_id),
       loop_(loop),
       events_(kEventCapacity, epoch),
       state_(events_),
       tasks_(participant_, state_, skills_),
       recipes_(participant_, protocol::task::kRecipe),
-      verdict_timeout_(verdict_timeout) {
+      revision_(participant_, loop, "console-rehearsal-" + std::to_string(::getpid()), kRevisionTimeout),
+      verdict_timeout_(verdict_timeout),
+      journal_(std::move(journal)) {
+  if (launch) {
+    launch->first.env.push_back("RIGGER_DOMAIN=" + std::to_string(domain_id));
+    launcher_ = std::make_unique<RehearsalLauncher>(std::move(launch->first), launch->second);
+  }
   dds_listener_t* listener = dds_create_listener(this);
   dds_lset_data_available(listener, [](dds_entity_t, void* self) { static_cast<RehearsalLink*>(self)->wake(); });
   for (const dds_entity_t reader : tasks_.readers()) dds_set_listener(reader, listener);
+  for (const dds_entity_t reader : revision_.readers()) dds_set_listener(reader, listener);
   dds_delete_listener(listener);
   wake();  // samples that arrived before the listeners were set
 }
@@ -28,7 +44,13 @@ RehearsalLink::~RehearsalLink() {
   // dds_set_listener waits for a callback in progress: none runs once this returns. Work already posted
   // to the loop never runs: the console is destroyed after its loop ended.
   for (const dds_entity_t reader : tasks_.readers()) dds_set_listener(reader, nullptr);
+  for (const dds_entity_t reader : revision_.readers()) dds_set_listener(reader, nullptr);
   events_.close();
+  if (launcher_ && launcher_->phase() != CellPhase::kIdle) {
+    const std::string pid = std::to_string(launcher_->status().value("pid", 0));
+    launcher_.reset();  // waits for the cell to stop, at most its stop timeout
+    if (journal_) journal_({CellPhase::kIdle, "stopped (pid " + pid + ", the console stops)", false}, "console");
+  }
 }
 
 void RehearsalLink::wake() {
@@ -40,12 +62,27 @@ void RehearsalLink::take() {
   tasks_.take_task_status();
   tasks_.take_node_status();
   tasks_.take_executors();
+  revision_.take();
   settle_verdicts();
 }
 
 void RehearsalLink::publish(const std::string& task_id, const std::string& recipe_json, const std::string& submitter,
-                            std::shared_ptr<std::promise<ActionResult>> answer) {
+                            const CellTarget& cell, std::shared_ptr<std::promise<ActionResult>> answer) {
   const std::string domain = std::to_string(participant_.domain_id());
+  // A started cell is waited for until it is ready (its world model too), even when its controller is
+  // there already.
+  if (launcher_ && (recipes_.matched_readers() == 0 || launcher_->phase() == CellPhase::kStarting)) {
+    const auto change = launcher_->start(RehearsalLauncher::Clock::now());
+    if (change && journal_) journal_(*change, submitter);
+    if (change && change->failed) {
+      answer->set_value({false, "the rehearsal cell of domain " + domain + " was not started: " + change->what, {}});
+      return;
+    }
+    if (cell_timer_ == 0) cell_timer_ = loop_.every(kCellStep, [this] { step_cell(); });
+    answer->set_value({false, "starting the rehearsal cell of domain " + domain,
+                       {{"starting", true}, {"started", change.has_value()}, {"cell", cell_status()}}});
+    return;
+  }
   if (recipes_.matched_readers() == 0) {
     answer->set_value({false,
                        "no task controller reads recipes on the rehearsal domain " + domain +
@@ -54,10 +91,25 @@ void RehearsalLink::publish(const std::string& task_id, const std::string& recip
                        {}});
     return;
   }
-  if (verdicts_.count(task_id) > 0) {
+  if (verdicts_.count(task_id) > 0 || bringing_.count(task_id) > 0) {
     answer->set_value({false, "a rehearsal of " + task_id + " is being sent already", {}});
     return;
   }
+  if (cell.sha256.empty()) return send(task_id, recipe_json, submitter, std::move(answer));
+  bringing_.insert(task_id);
+  revision_.bring_to(cell, submitter, [this, task_id, recipe_json, submitter, answer](const std::string& error) {
+    bringing_.erase(task_id);
+    if (!error.empty()) {
+      answer->set_value({false, error + "; nothing was sent", {{"cell_refused", true}}});
+      return;
+    }
+    send(task_id, recipe_json, submitter, answer);
+  });
+}
+
+void RehearsalLink::send(const std::string& task_id, const std::string& recipe_json, const std::string& submitter,
+                         std::shared_ptr<std::promise<ActionResult>> answer) {
+  const std::string domain = std::to_string(participant_.domain_id());
   const dds_return_t rc = write_recipe(recipes_, task_id, recipe_json, submitter);
   if (rc != DDS_RETCODE_OK) {
     answer->set_value({false, std::string("publishing failed: ") + dds_strretcode(rc), {}});
@@ -76,6 +128,24 @@ void RehearsalLink::publish(const std::string& task_id, const std::string& recip
   });
   verdicts_[task_id] = {std::move(answer), timer};
   settle_verdicts();
+}
+
+nlohmann::json RehearsalLink::cell_status() const {
+  if (!launcher_) return {{"phase", "none"}, {"domain", participant_.domain_id()}};
+  nlohmann::json status = launcher_->status();
+  status["domain"] = participant_.domain_id();
+  return status;
+}
+
+void RehearsalLink::step_cell() {
+  const bool busy = watchers_ > 0 || state_.running_tasks() > 0 || !verdicts_.empty() || !bringing_.empty();
+  const bool ready = recipes_.matched_readers() > 0 && revision_.world_model();
+  const auto change = launcher_->step(RehearsalLauncher::Clock::now(), ready, busy);
+  if (change && journal_) journal_(*change, "console");
+  if (launcher_->phase() == CellPhase::kIdle) {
+    loop_.cancel(cell_timer_);
+    cell_timer_ = 0;
+  }
 }
 
 void RehearsalLink::settle_verdicts() {

@@ -60,5 +60,26 @@ TEST(ConsoleSettingsTest, RefusesOutOfRangeUnknownKeysAndALoneCertificate) {
   EXPECT_NE(error_of(R"({"web_dir": ".", "tls_cert": "c.pem"})").find("tls_key"), std::string::npos);
 }
 
+TEST(ConsoleSettingsTest, TheRehearsalCellOnDemand) {
+  const ConsoleSettings none = read_console_settings(Config::parse(R"({"web_dir": "."})", "console.json"));
+  EXPECT_TRUE(none.rehearsal_start.empty()) << "no start command by default: nothing is started";
+  const ConsoleSettings s = read_console_settings(Config::parse(R"({"web_dir": ".", "rehearsal_domain": 7,
+    "rehearsal": {"start": ["rigger-compose", "supervise"], "env": ["RIGGER_PLC_PORT=1509"], "log_file": "/tmp/r.log",
+                  "start_timeout_s": 60, "idle_stop_s": 2.5, "stop_timeout_s": 4}})",
+                                                                  "console.json"));
+  EXPECT_EQ(s.rehearsal_start, (std::vector<std::string>{"rigger-compose", "supervise"}));
+  EXPECT_EQ(s.rehearsal_env, std::vector<std::string>{"RIGGER_PLC_PORT=1509"});
+  EXPECT_EQ(s.rehearsal_log, "/tmp/r.log");
+  EXPECT_EQ(s.rehearsal_start_timeout, 60s);
+  EXPECT_EQ(s.rehearsal_idle_stop, 2500ms);
+  EXPECT_EQ(s.rehearsal_stop_timeout, 4s);
+  // A start command without a domain to run on, an environment entry that is not NAME=value: refused there.
+  const std::string lone = error_of(R"({"web_dir": ".", "rehearsal": {"start": ["x"]}})");
+  EXPECT_NE(lone.find("/rehearsal/start"), std::string::npos) << lone;
+  const std::string env = error_of(R"({"web_dir": ".", "rehearsal_domain": 7, "rehearsal": {"env": ["A=1", "=2"]}})");
+  EXPECT_NE(env.find("/rehearsal/env/1"), std::string::npos) << env;
+  EXPECT_NE(error_of(R"({"web_dir": ".", "rehearsal": {"idle_stop_s": 0}})").find("idle_stop_s"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace rigger::console

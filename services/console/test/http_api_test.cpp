@@ -1,138 +1,13 @@
 // The console's HTTP side over real loopback HTTP (cpp-httplib's client), with a recording Backend in
 // place of DDS: who may do what, the two-step confirmation, bounded bodies, and the event stream's
 // resume from Last-Event-ID.
-#include <httplib.h>
+#include "http_api_fixture.hpp"
 
-#include <unistd.h>
-
-#include <filesystem>
-#include <fstream>
-#include <thread>
-#include <mutex>
-
-#include <gtest/gtest.h>
-
-#include "http_api.hpp"
-#include "rigger/base/logging.hpp"
-
-namespace rigger::console {
+namespace rigger::console::testing {
 namespace {
 
 using nlohmann::json;
 using namespace std::chrono_literals;
-
-/// Records what the HTTP side asked for; answers ok.
-class RecordingBackend : public Backend {
- public:
-  ActionResult publish_recipe(const std::string& task_id, const std::string&, const std::string& submitter) override {
-    return record("publish " + task_id + " by " + submitter);
-  }
-  ActionResult task_command(const std::string& task_id, const std::string& kind, const std::string&,
-                            const std::string& issuer) override {
-    return record(kind + " " + task_id + " by " + issuer);
-  }
-  ActionResult answer_prompt(const std::string& prompt_id, const std::string& answer, const std::string& who,
-                             const std::string&) override {
-    return record("answer " + prompt_id + " " + answer + " by " + who);
-  }
-  ActionResult journal(const std::string&) override { return {true, "", json::array()}; }
-  ActionResult world_entity(const std::string&) override { return world_answer_; }
-  ActionResult world_list() override { return world_answer_; }
-  ActionResult world_answer_{false, "no world model", {}};
-  ActionResult cad(const std::string& kind, const std::string& model, const std::string& args) override {
-    std::lock_guard lock(mutex_);
-    cad_requests_.push_back(kind + " " + model + " " + args);
-    return cad_answer_;
-  }
-  std::vector<std::string> cad_requests() {
-    std::lock_guard lock(mutex_);
-    return cad_requests_;
-  }
-  ActionResult cad_answer_{false, "no CAD service on this domain", {}};
-  ActionResult rehearse(const std::string& task_id, const std::string&, const std::string& submitter) override {
-    if (!rehearse_answer_.ok) return rehearse_answer_;
-    record("rehearse " + task_id + " by " + submitter);
-    return rehearse_answer_;
-  }
-  ActionResult rehearse_answer_{true, "", {}};
-  ActionResult cell_request(const world_protocol::CellRequest& q) override {
-    const std::string op(world_protocol::to_string(*q.op));
-    record("cell " + op + (q.dry_run ? " dry" : "") + (q.revision ? " " + std::to_string(q.revision) : "") + " by " + q.who +
-           (q.cell_json.empty() ? "" : " " + q.cell_json));
-    std::lock_guard lock(mutex_);
-    return q.dry_run ? cell_check_ : cell_answer_;
-  }
-  // As the world model answers (cell_keeper.cpp): the diff is the result's "changes", beside its summary.
-  ActionResult cell_check_{true,
-                           "",
-                           {{"code", "ACCEPTED"},
-                            {"cell_revision", 1},
-                            {"result", {{"summary", "moved part"}, {"changes", {{"moved", {{{"id", "part"}}}}}}}}}};
-  ActionResult cell_answer_{true,
-                            "",
-                            {{"code", "ACCEPTED"},
-                             {"cell_revision", 2},
-                             {"result", {{"summary", "moved part"}, {"changes", {{"moved", {{{"id", "part"}}}}}}}}}};
-  std::vector<std::string> cad_requests_;
-  std::vector<std::string> actions() {
-    std::lock_guard lock(mutex_);
-    return actions_;
-  }
-
- private:
-  ActionResult record(std::string what) {
-    std::lock_guard lock(mutex_);
-    actions_.push_back(std::move(what));
-    return {true, "", {}};
-  }
-  std::mutex mutex_;
-  std::vector<std::string> actions_;
-};
-
-class HttpApiTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = ::testing::TempDir() + "/console-http-" + std::to_string(::getpid());
-    created_ = make_users(dir_ + "/users.json", {{"ada", Role::kProgrammer}, {"olu", Role::kOperator}, {"vic", Role::kViewer}});
-    std::filesystem::create_directories(dir_ + "/web");
-    HttpConfig config;
-    config.port = 0;
-    config.web_dir = dir_ + "/web";
-    config.audit_log = dir_ + "/audit.log";
-    config.confirm_timeout = 300ms;
-    config.max_body_bytes = 64 * 1024;
-    runs_ = std::make_unique<RunArchive>(dir_ + "/runs", RunArchive::Limits{});
-    api_ = std::make_unique<HttpApi>(config, Users::load(dir_ + "/users.json"), state_, events_, plots_, backend_,
-                                     skills_, null_logger(), rehearsal(), runs_.get());
-    api_->start();
-    client_ = std::make_unique<httplib::Client>("127.0.0.1", api_->port());
-  }
-  /// The rehearsal cell's side the HTTP side gets (none here).
-  virtual std::optional<RehearsalFeed> rehearsal() { return std::nullopt; }
-  void TearDown() override {
-    api_->stop();
-    std::filesystem::remove_all(dir_);
-  }
-  httplib::Headers as(int user) const { return {{"Authorization", "Bearer " + created_[user].token}}; }
-  httplib::Result post(const std::string& path, const std::string& body, int user = -1) {
-    return user < 0 ? client_->Post(path.c_str(), body, "application/json")
-                    : client_->Post(path.c_str(), as(user), body, "application/json");
-  }
-  static json body(const httplib::Result& r) { return json::parse(r->body); }
-
-  std::string dir_;
-  std::vector<CreatedUser> created_;
-  EventLog events_{1000, "42"};
-  EventLog plots_{100, "42"};
-  ConsoleState state_{events_};
-  RecordingBackend backend_;
-  SkillCatalog skills_;
-  std::unique_ptr<RunArchive> runs_;
-  std::unique_ptr<HttpApi> api_;
-  std::unique_ptr<httplib::Client> client_;
-};
-
-constexpr int kAda = 0, kOlu = 1, kVic = 2;
 
 TEST_F(HttpApiTest, EveryRequestNeedsAKnownTokenAndTheRightRole) {
   auto r = client_->Get("/api/me");
@@ -264,6 +139,38 @@ TEST_F(HttpApiTest, TheWorldModelsCellCodesBecomeHttpStatuses) {
   EXPECT_EQ(client_->Get("/api/cell/history")->status, 401);
 }
 
+TEST_F(HttpApiTest, AFeatureDeclaredByPicksIsARevisionDryRunOfTheRunningDocument) {
+  const json running = {{"cell_version", 1}, {"entities", {{{"id", "target"}}}}};
+  backend_.cell_answer_ = {true, "", {{"code", "OK"}, {"cell_revision", 4}, {"result", {{"cell_json", running.dump()}}}}};
+  const json face = {{"index", 0}, {"normal", {0, 0, 1}},
+                     {"signature", {{"type", "plane"}, {"centroid_m", {0, 0, 0.02}}, {"direction", {0, 0, 1}}, {"radius_m", 0}}}};
+  const json edge = {{"index", 0}, {"signature", {{"type", "line"}, {"centroid_m", {0, 0.1, 0.02}}, {"direction", {0, 0, 1}}, {"radius_m", 0}}}};
+  backend_.cad_answer_ = {true, "", {{"model_sha256", "ab"}, {"result", {{"faces", {face}}, {"edges", {edge}}, {"holes", json::array()}}}}};
+  const json declare = {{"model", "object:target"}, {"kind", "grasp_frame"}, {"name", "g"}, {"face", 0}};
+  EXPECT_EQ(post("/api/planner/declare", declare.dump(), kOlu)->status, 403);
+  auto r = post("/api/planner/declare", declare.dump(), kAda);
+  ASSERT_EQ(r->status, 202) << r->body;
+  EXPECT_EQ(body(r)["features"], json({"target/g"}));
+  EXPECT_EQ(body(r)["base_revision"], 4);
+  EXPECT_EQ(backend_.cad_requests().back(), "features object:target {}");
+  const std::string dry = backend_.actions().back();
+  EXPECT_EQ(dry.rfind("cell apply dry by console:ada ", 0), 0u) << dry;
+  EXPECT_NE(dry.find(R"("grasp_frames":[{"cad":{"face":{"index":0,"kind":"face")"), std::string::npos) << dry;
+  // Picks that make no frame: 400 at the field, and no dry run.
+  json bad = declare;
+  bad["x_edge"] = 0;  // along the face's normal
+  const std::size_t before = backend_.actions().size();
+  r = post("/api/planner/declare", bad.dump(), kAda);
+  EXPECT_EQ(r->status, 400);
+  EXPECT_EQ(body(r)["where"], "/api/planner/declare#/x_edge") << r->body;
+  EXPECT_EQ(backend_.actions().size(), before + 1) << "only the running revision was read";
+  // A task holds the object: the world model's dry run refuses, 409 with its reason.
+  backend_.cell_check_ = {false, "target is held by task t1", {{"code", "HELD_BY_TASK"}, {"cell_revision", 4}}};
+  r = post("/api/planner/declare", declare.dump(), kAda);
+  EXPECT_EQ(r->status, 409);
+  EXPECT_NE(body(r)["error"].get<std::string>().find("HELD_BY_TASK: target is held by task t1"), std::string::npos) << r->body;
+}
+
 TEST_F(HttpApiTest, MalformedAndOversizedBodiesAreRefusedBeforeParsing) {
   auto r = post("/api/recipes", R"({"task_id": 5)", kAda);
   EXPECT_EQ(r->status, 400);
@@ -313,8 +220,6 @@ TEST_F(HttpApiTest, TheEventStreamResumesAfterLastEventIdAndResetsForAnotherRun)
   EXPECT_EQ(r->status, 401);
 }
 
-// cpp-httplib 0.11 compresses with brotli at quality 11 whenever a client accepts br, as every
-// browser does (1.8 s of CPU for three.js per page load): JSON and JavaScript go out uncompressed.
 TEST_F(HttpApiTest, JsonAndJavaScriptGoOutUncompressedEvenToAClientThatAcceptsBrotli) {
   const std::string script(64 * 1024, 'x');  // as compressible as text gets
   std::ofstream(dir_ + "/web/app.js") << script;
@@ -436,7 +341,8 @@ TEST_F(HttpApiTest, RehearseWithoutARehearsalDomainIsRefusedSayingWhatToConfigur
 
 class HttpApiRehearsalTest : public HttpApiTest {
  protected:
-  std::optional<RehearsalFeed> rehearsal() override { return RehearsalFeed{7, rehearsal_state_, rehearsal_events_}; }
+  std::optional<RehearsalFeed> rehearsal() override { return RehearsalFeed{7, rehearsal_state_, rehearsal_events_, watchers_}; }
+  std::atomic<int> watchers_{0};
   EventLog rehearsal_events_{1000, "42"};
   ConsoleState rehearsal_state_{rehearsal_events_};
 };
@@ -457,6 +363,16 @@ TEST_F(HttpApiRehearsalTest, RehearseIsOneStepJournaledWithWhoAndAnswersWithTheR
   r = post("/api/planner/rehearse", kLocalize, kAda);
   ASSERT_EQ(r->status, 409) << r->body;
   EXPECT_EQ(body(r)["errors"][0]["pointer"], "/root/skill") << r->body;
+  // The rehearsal world model refuses the cell's running revision: 409 with its reason, nothing sent.
+  backend_.rehearse_answer_ = {false,
+                               "the rehearsal world model refused the cell's revision 3: INVALID: /entities/2/pose: "
+                               "expected position_m; nothing was sent",
+                               {{"cell_refused", true}}};
+  r = post("/api/planner/rehearse", kLocalize, kAda);
+  ASSERT_EQ(r->status, 409) << r->body;
+  EXPECT_NE(body(r)["error"].get<std::string>().find("refused the cell's revision 3: INVALID: /entities/2/pose"),
+            std::string::npos)
+      << r->body;
   EXPECT_TRUE(backend_.actions().empty());
   // Viewers and operators may not; bad bodies are refused before anything is sent.
   EXPECT_EQ(post("/api/planner/rehearse", kLocalize, kVic)->status, 403);
@@ -478,12 +394,34 @@ TEST_F(HttpApiRehearsalTest, RehearseIsOneStepJournaledWithWhoAndAnswersWithTheR
   EXPECT_NE(body(r)["error"].get<std::string>().find("new task id"), std::string::npos);
   EXPECT_EQ(backend_.actions().size(), 1u);
   const auto audit = audit_entries(dir_ + "/audit.log");
-  ASSERT_EQ(audit.size(), 4u);  // the 503, the 409 by the controller, the rehearsal, the refused repeat
-  EXPECT_EQ(audit[2]["user"], "ada");
-  EXPECT_EQ(audit[2]["action"], "rehearse");
-  EXPECT_EQ(audit[2]["target"], "r1");
-  EXPECT_EQ(audit[2]["result"], "sent to rehearsal domain 7");
+  // The 503, the 409 by the controller, the 409 by the world model, the rehearsal, the refused repeat.
+  ASSERT_EQ(audit.size(), 5u);
+  EXPECT_EQ(audit[3]["user"], "ada");
+  EXPECT_EQ(audit[3]["action"], "rehearse");
+  EXPECT_EQ(audit[3]["target"], "r1");
+  EXPECT_EQ(audit[3]["result"], "sent to rehearsal domain 7");
   EXPECT_NE(audit[1]["result"].get<std::string>().find("refused"), std::string::npos);
+  EXPECT_NE(audit[2]["result"].get<std::string>().find("refused: the rehearsal world model refused"),
+            std::string::npos);
+}
+
+// No controller yet, a start command configured: 202, nothing sent, the start journaled with who; the
+// page follows /api/rehearsal/cell.
+TEST_F(HttpApiRehearsalTest, RehearseStartingTheRehearsalCellAnswers202AndSendsNothing) {
+  backend_.rehearse_answer_ = {
+      false, "starting", {{"starting", true}, {"started", true}, {"cell", {{"phase", "starting"}, {"log", "/tmp/cell.log"}}}}};
+  auto r = post("/api/planner/rehearse", kLocalize, kAda);
+  ASSERT_EQ(r->status, 202) << r->body;
+  EXPECT_EQ(body(r)["starting"], true);
+  EXPECT_EQ(body(r)["cell"]["log"], "/tmp/cell.log");
+  EXPECT_TRUE(backend_.actions().empty());
+  const auto audit = audit_entries(dir_ + "/audit.log");
+  ASSERT_EQ(audit.size(), 1u);
+  EXPECT_EQ(audit[0]["user"], "ada");
+  EXPECT_NE(audit[0]["result"].get<std::string>().find("started the rehearsal cell"), std::string::npos) << audit[0];
+  r = client_->Get("/api/rehearsal/cell", as(kVic));
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(body(r)["phase"], "starting");
 }
 
 TEST_F(HttpApiRehearsalTest, TheRehearsalsStateAndStreamAreItsOwnNotTheCells) {
@@ -514,4 +452,4 @@ TEST_F(HttpApiRehearsalTest, TheRehearsalsStateAndStreamAreItsOwnNotTheCells) {
 }
 
 }  // namespace
-}  // namespace rigger::console
+}  // namespace rigger::console::testing

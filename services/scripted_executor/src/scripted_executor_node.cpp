@@ -15,8 +15,13 @@
 namespace rigger::scripted {
 namespace {
 
-/// The receipt trace holds at most this many commands (a benchmark's thousands of trials fit).
-constexpr std::size_t kReceiptCapacity = 1U << 16;
+/// The receipt trace holds at most this many commands and events (a benchmark's thousands of trials fit).
+constexpr std::size_t kReceiptCapacity = 1U << 18;
+
+std::int64_t wall_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
 
 }  // namespace
 
@@ -148,6 +153,11 @@ void ScriptedExecutorNode::finish(const Key& key, skill_protocol::EventKind kind
   const skill_protocol::LeafRun run = it->second.run;
   for (auto t : it->second.timers) ctx_.loop.cancel(t);
   active_.erase(it);
+  // In the receipt trace as kind kEventKindBase + the event's kind, stamped just before it is written.
+  if (!receipt_trace_path_.empty() && receipts_.size() < kReceiptCapacity) {
+    const std::int64_t now = wall_ns();
+    receipts_.push_back({ctx_.options.id, kEventKindBase + static_cast<int>(kind), run.task_id, run.node_id, now, now});
+  }
   endpoint_->report(run, kind, code, message);  // code/message are copies: they may have lived in the erased entry
 }
 

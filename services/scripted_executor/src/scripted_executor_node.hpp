@@ -38,14 +38,18 @@ class ScriptedExecutorNode : public service::Node {
   void finish(const Key& key, skill_protocol::EventKind kind, std::string code, std::string message);
   const Behaviour& behaviour_for(const std::string& skill, const std::string& node_id) const;
 
-  /// One command taken (receipt_trace_path): for benchmarks that time a command's way to its executor.
+  /// The receipt trace's kind of an event this executor wrote: this + skill_protocol::EventKind (a
+  /// command's kind is its SkillCommandKind, below it).
+  static constexpr int kEventKindBase = 100;
+  /// One command taken or event written (receipt_trace_path): for benchmarks that time a command's way
+  /// to its executor, and the hand-over from an event to the command it causes.
   struct Receipt {
-    std::string executor_id;  ///< whom the command names
-    int kind = 0;             ///< rigger_skill_SkillCommandKind
+    std::string executor_id;  ///< whom the command names (an event: this executor)
+    int kind = 0;             ///< rigger_skill_SkillCommandKind, or kEventKindBase + the event's kind
     std::string task_id;
     std::string node_id;
-    std::int64_t stamp_wall_ns = 0;  ///< the controller's stamp
-    std::int64_t woke_wall_ns = 0;   ///< when this executor's command handler began
+    std::int64_t stamp_wall_ns = 0;  ///< the controller's stamp (an event: as it was written)
+    std::int64_t woke_wall_ns = 0;   ///< when this executor's command handler began (an event: its stamp)
   };
 
   service::ServiceContext& ctx_;

@@ -85,8 +85,9 @@ const SettingsTable<ScriptedExecutorSettings>& scripted_executor_settings() {
           "a recipe node's own behaviour (`\"root/0/1\"`), over its skill's"),
       setting<S>("receipt_trace_path", "", &S::receipt_trace_path,
                  "stamp each command taken (whom it names, kind, task, node, the controller's stamp, when the "
-                 "command handler began) and write them to this file when the executor stops "
-                 "(task_controller_live_bench reads it); `\"\"`: off"),
+                 "command handler began) and each event written (kind 100 + the event's: 100 SUCCESS, 101 "
+                 "FAILURE, 102 STOPPED; stamped as it is written) and write them to this file when the executor "
+                 "stops (task_controller_live_bench reads it); `\"\"`: off"),
   };
   return table;
 }

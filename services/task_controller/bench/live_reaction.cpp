@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 #include <utility>
 
 #include "rigger/dds/conversions.hpp"
@@ -23,36 +24,33 @@ using nlohmann::json;
 namespace tc = rigger::task_controller;
 namespace dds = rigger::dds;
 
+/// Nodes of a recipe tree (children, a decorator's child, a decision's options' children).
+int count_nodes(const json& node) {
+  int n = 1;
+  if (node.contains("children"))
+    for (const json& c : node["children"]) n += count_nodes(c);
+  if (node.contains("child")) n += count_nodes(node["child"]);
+  if (node.contains("options"))
+    for (const json& o : node["options"]) n += count_nodes(o["child"]);
+  return n;
+}
+
+/// VmHWM and VmRSS of `pid` from /proc/PID/status, KiB (0 when unreadable).
+std::pair<long, long> memory_kib(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  long peak = 0, rss = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("VmHWM:", 0) == 0) peak = std::stol(line.substr(6));
+    if (line.rfind("VmRSS:", 0) == 0) rss = std::stol(line.substr(6));
+  }
+  return {peak, rss};
+}
+
 bool terminal(int s) {
   return s == rigger_task_TASK_REJECTED || s == rigger_task_TASK_SUCCEEDED || s == rigger_task_TASK_FAILED ||
          s == rigger_task_TASK_CANCELED;
 }
 
-/// One line of scripted_executor's receipt trace.
-struct Receipt {
-  std::string executor_id, task_id, node_id;
-  int kind = 0;
-  std::int64_t stamp_wall_ns = 0, woke_wall_ns = 0;
-};
-
-std::vector<Receipt> read_receipts(const std::string& path) {
-  std::vector<Receipt> out;
-  std::ifstream in(path);
-  std::string line;
-  if (!std::getline(in, line)) return out;  // the header
-  while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    Receipt r;
-    std::string kind;
-    if (std::getline(fields, r.executor_id, '\t') && std::getline(fields, kind, '\t') &&
-        std::getline(fields, r.task_id, '\t') && std::getline(fields, r.node_id, '\t') &&
-        fields >> r.stamp_wall_ns >> r.woke_wall_ns) {
-      r.kind = std::stoi(kind);
-      out.push_back(std::move(r));
-    }
-  }
-  return out;
-}
 
 /// One run's causes (from a stage trace) and the commands they caused (from a receipt trace), in order.
 /// Trials run one after the other, so the i-th cause and the i-th command belong to trial i: the
@@ -200,6 +198,25 @@ std::string tail_report(const Trials& t, std::size_t n, const std::vector<tc::Lo
 
 }  // namespace
 
+std::vector<Receipt> read_receipts(const std::string& path) {
+  std::vector<Receipt> out;
+  std::ifstream in(path);
+  std::string line;
+  if (!std::getline(in, line)) return out;  // the header
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    Receipt r;
+    std::string kind;
+    if (std::getline(fields, r.executor_id, '\t') && std::getline(fields, kind, '\t') &&
+        std::getline(fields, r.task_id, '\t') && std::getline(fields, r.node_id, '\t') &&
+        fields >> r.stamp_wall_ns >> r.woke_wall_ns) {
+      r.kind = std::stoi(kind);
+      out.push_back(std::move(r));
+    }
+  }
+  return out;
+}
+
 std::string write_file(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
   return path;
@@ -251,7 +268,9 @@ Reaction measure_reaction(Pattern pattern, const std::string& journal_sync, int 
         {"--id", "tc", "--log-level", "warn", "--config",
          write_file(dir + "/tc.json", json{{"journal_path", dir + "/journal-" + tag + ".sqlite"},
                                            {"journal_sync", journal_sync},
-                                           {"stage_trace_path", trace_path}}
+                                           {"stage_trace_path", trace_path},
+                                           {"max_recipe_bytes", 64U * 1024U * 1024U},
+                                           {"max_recipe_nodes", std::max(50000, 2 * setup.tree_nodes)}}
                                           .dump())});
   const json skill_behaviour = pattern == Pattern::kMonitorFailure
                                    ? json{{"mode", "run"}}
@@ -307,8 +326,25 @@ Reaction measure_reaction(Pattern pattern, const std::string& journal_sync, int 
               {"repetitions", std::max(1, repetitions / 2)},
               {"child", {{"type", "Sequence"}, {"children", {pick, pick}}}}};
     }
+    out.tree_nodes = count_nodes(root);
+    if (setup.tree_nodes > out.tree_nodes + 2) {
+      // Leaves that never start, after the pattern's tree in a Fallback: the tree is as large as asked,
+      // the trials as they were.
+      const json idle = {{"type", "Skill"}, {"skill", "Pick"}, {"params", {{"object", "load"}, {"grasp", "load/grasp_top"}}}};
+      // Sequences of at most 1000 leaves (a node may have 10000 children).
+      json rest = {{"type", "Sequence"}, {"children", json::array()}};
+      for (int i = out.tree_nodes + 2; i < setup.tree_nodes;) {
+        json part = {{"type", "Sequence"}, {"children", json::array()}};
+        ++i;
+        for (int k = 0; k < 1000 && i < setup.tree_nodes; ++k, ++i) part["children"].push_back(idle);
+        rest["children"].push_back(std::move(part));
+      }
+      root = {{"type", "Fallback"}, {"children", {root, rest}}};
+      out.tree_nodes = count_nodes(root);
+    }
     json r = {{"recipe_version", 1}, {"task_id", task_id}, {"root", root}};
-    if (pattern == Pattern::kSuccessNext) r["assumptions"] = {"localized(load)"};  // Pick's precondition
+    // Pick's precondition (B's leaves and the idle ones of a large tree).
+    if (pattern == Pattern::kSuccessNext || setup.tree_nodes > 0) r["assumptions"] = {"localized(load)"};
     return r;
   };
   // Runs task `task_id` to its end; false (and why on stderr) unless it SUCCEEDED.
@@ -335,6 +371,7 @@ Reaction measure_reaction(Pattern pattern, const std::string& journal_sync, int 
   if (!run("reaction", trials)) return out;
   out.trials_per_s = trials / std::chrono::duration<double>(Clock::now() - t0).count();
   const std::string relay_trace = dir + "/relay-" + tag + ".tsv";
+  std::tie(out.controller_peak_kib, out.controller_rss_kib) = memory_kib(cell.process("tc").pid());
   if (setup.relay) {
     // The controller writes its stage trace as it stops; the relay then has the executors to itself.
     const auto tc_status = cell.stop("tc", SIGINT, 10s);

@@ -25,6 +25,16 @@
 
 namespace rigger::bench {
 
+/// One line of scripted_executor's receipt trace: a command it took, or an event it wrote (kind 100 +
+/// the event's kind, stamped as written).
+struct Receipt {
+  std::string executor_id, task_id, node_id;
+  int kind = 0;
+  std::int64_t stamp_wall_ns = 0, woke_wall_ns = 0;
+};
+/// The receipt trace at `path` (empty when missing).
+std::vector<Receipt> read_receipts(const std::string& path);
+
 /// Writes `text` to `path` and returns `path`.
 std::string write_file(const std::string& path, const std::string& text);
 
@@ -84,6 +94,11 @@ struct Reaction {
   /// With ReactionSetup::tail_fraction: the slowest trials' timelines (the controller's stages, every
   /// dispatch of its loop near them), then what overlapped the event's way in, counted over them.
   std::string tail;
+  /// The controller's peak resident memory (VmHWM) and its resident memory at the end of the trials, KiB.
+  long controller_peak_kib = 0;
+  long controller_rss_kib = 0;
+  /// Nodes of the recipe as run.
+  int tree_nodes = 0;
   bool ok = false;
 };
 
@@ -106,6 +121,9 @@ struct ReactionSetup {
   bool relay = false;
   /// > 0: Reaction::tail holds the timelines of this fraction of the trials, the slowest (0.01: 1 %).
   double tail_fraction = 0;
+  /// > 0: the recipe has about this many nodes: Fallback[the pattern's tree, Sequence[leaves…]], the
+  /// leaves never started (the pattern's tree succeeds). How the cost grows with the tree.
+  int tree_nodes = 0;
 };
 
 /// Runs `trials` trials of `pattern`. The Cell (and so this process's participant) is made here, with

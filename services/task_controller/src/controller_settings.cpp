@@ -34,6 +34,9 @@ const SettingsTable<ControllerSettings>& controller_settings() {
       setting<S>(
           "max_recipe_depth", 128U, {8U, 1024U}, [](S& s, unsigned v) { s.validator.limits.max_depth = v; },
           "a recipe's nesting, bounded while parsing"),
+      setting<S>(
+          "max_recipe_nodes", 50000U, {100U, 1000000U}, [](S& s, unsigned v) { s.validator.limits.max_nodes = v; },
+          "a recipe's behaviour-tree nodes, bounded while parsing"),
       setting<S>("executor_wait_s", 2.0, {0.0, 600.0}, &S::executor_wait,
                  "how long a recipe naming a skill no live executor offers waits for one to appear (re-validated "
                  "on every new announcement) before it is rejected"),

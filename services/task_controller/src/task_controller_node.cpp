@@ -185,13 +185,15 @@ void TaskControllerNode::flush_side_effects() {
   flush_pending_ = false;
   const bool traced = trace_ && (!status_backlog_.empty() || !journal_backlog_.empty());
   if (traced) trace_->mark("flush", 'b');
-  for (const auto& row : status_backlog_)
-    if (!status_.node(row)) ctx_.log->error("node status write failed task={} node={}", row.task_id, row.node_id);
-  status_backlog_.clear();
+  // The journal first: a node status a watcher sees is already journaled, so a controller killed right
+  // after a watcher saw a node start resumes knowing that it started.
   if (!journal_backlog_.empty() && !journal_.add_records(journal_backlog_))
     ctx_.log->error("journal write failed: {} rows lost, first task={} kind={}: {}", journal_backlog_.size(),
                     journal_backlog_.front().task_id, journal_backlog_.front().kind, journal_.last_error());
   journal_backlog_.clear();
+  for (const auto& row : status_backlog_)
+    if (!status_.node(row)) ctx_.log->error("node status write failed task={} node={}", row.task_id, row.node_id);
+  status_backlog_.clear();
   if (traced) trace_->mark("flush", 'e');
   if (trace_) trace_->flushed();
 }

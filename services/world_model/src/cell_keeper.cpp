@@ -1,9 +1,13 @@
 #include "cell_keeper.hpp"
 
+#include <unistd.h>
+
 #include <fstream>
 #include <iterator>
 #include <utility>
 
+#include "rigger/base/bounded_json.hpp"
+#include "rigger/base/sha256.hpp"
 #include "rigger/cad/model.hpp"
 #include "rigger/cell_config/cell_cad.hpp"
 #include "rigger/cell_config/cell_diff.hpp"
@@ -30,14 +34,11 @@ std::string read_text(const fs::path& path) {
   return text;
 }
 
-// What the start goes through: the rules, the CAD derivation from the configured folder's models, the store.
-cell::CellFile validated(const std::string& text, const fs::path& cell_file, Stamp now) {
-  cell::CellFile cell = cell::parse_cell_file(text, cell_file.string());
-  const fs::path model_dir = cell::cell_model_folder(cell_file);
-  const cell::CadDerivation cad = cell::derive_cad_features(cell, model_dir);
-  describe_step_models(cell, cad.read_models, model_dir);
-  WorldStore::from_config(cell, now);
-  return cell;
+// Where the uploaded models live: beside the history, or, with the history in memory, in a folder of this
+// process's own.
+fs::path model_root(const fs::path& history_folder) {
+  if (!history_folder.empty()) return history_folder;
+  return fs::temp_directory_path() / ("rigger-world-models-" + std::to_string(::getpid()));
 }
 
 // The history and the replies are JSON: text that is not UTF-8 cannot go into them.
@@ -72,17 +73,21 @@ json summary_of(const CellRevisionRecord& r) {
 CellKeeper::CellKeeper(Settings settings, Stamp now)
     : settings_(std::move(settings)),
       cell_file_(fs::absolute(settings_.cell_file).lexically_normal().string()),
+      models_(model_root(settings_.history_folder) / "models"),
+      links_root_(model_root(settings_.history_folder) / "model-folders"),
       history_(settings_.history_folder, settings_.max_revisions) {
   const std::string file_text = read_text(settings_.cell_file);
   const std::string file_sha256 = cad::sha256_hex(file_text);
   const CellRevisionRecord* latest = history_.latest_of(cell_file_);
   if (latest != nullptr && latest->file_sha256 == file_sha256) {
-    running_ = {*latest, validated(latest->cell_json, settings_.cell_file, now)};
+    running_ = validated(latest->cell_json, now);
+    running_.record = *latest;
     running_doc_ = json::parse(latest->cell_json);
     return;
   }
   CellRevisionRecord record;
-  cell::CellFile cell = validated(file_text, settings_.cell_file, now);
+  RunningCell checked = validated(file_text, now);
+  cell::CellFile& cell = checked.cell;
   json doc = json::parse(file_text);
   record.revision = history_.next_revision();
   record.cell_json = file_text;
@@ -103,9 +108,88 @@ CellKeeper::CellKeeper(Settings settings, Stamp now)
   }
   const std::string error = history_.append(record);
   if (!error.empty()) throw CellHistoryError("the first cell revision was not saved: " + error);
-  running_ = {std::move(record), std::move(cell)};
+  checked.record = std::move(record);
+  running_ = std::move(checked);
   running_doc_ = std::move(doc);
   started_new_ = true;
+}
+
+RunningCell CellKeeper::validated(const std::string& text, Stamp now) const {
+  RunningCell checked;
+  checked.cell = cell::parse_cell_file(text, settings_.cell_file.string());
+  const cell::ModelFolder models = cell::resolve_models(
+      checked.cell, cell::cell_model_folder(settings_.cell_file), models_, links_root_);
+  if (!models.missing.empty()) {
+    const cell::MissingModel& m = models.missing.front();
+    throw cell::CellFileError(settings_.cell_file.string(), m.pointer + "/sha256",
+                              "the STEP model \"" + m.name + "\" with these bytes in the cell folder or sent with "
+                              "the request (riggerctl cell apply --with-models)",
+                              "neither: sha256 " + m.sha256);
+  }
+  checked.model_dir = models.dir;
+  const cell::CadDerivation cad = cell::derive_cad_features(checked.cell, checked.model_dir);
+  describe_step_models(checked.cell, cad.read_models, checked.model_dir);
+  WorldStore::from_config(checked.cell, now);
+  return checked;
+}
+
+std::string CellKeeper::store_models(const world_protocol::CellRequest& request, const json& doc,
+                                     std::vector<std::string>& added) {
+  if (request.models.size() > cell::kMaxModelsPerRequest) {
+    return "models: expected at most " + std::to_string(cell::kMaxModelsPerRequest) + ", got " +
+           std::to_string(request.models.size());
+  }
+  // What the document pins: model.step -> model.sha256.
+  std::map<std::string, std::string> pinned;
+  for (const json& entity : doc.value("entities", json::array())) {
+    const json model = entity.is_object() ? entity.value("model", json::object()) : json::object();
+    if (model.is_object() && model.contains("step") && model.contains("sha256") && model["step"].is_string() &&
+        model["sha256"].is_string())
+      pinned[model["step"].get<std::string>()] = model["sha256"].get<std::string>();
+  }
+  for (std::size_t i = 0; i < request.models.size(); ++i) {
+    const world_protocol::CellModel& m = request.models[i];
+    const std::string where = "models/" + std::to_string(i) + " (\"" + m.name.substr(0, 255) + "\")";
+    if (const std::string problem = cell::model_name_problem(m.name); !problem.empty()) return where + ": " + problem;
+    if (m.step.size() > cell::kMaxModelBytes) {
+      return where + ": expected at most " + std::to_string(cell::kMaxModelBytes) + " bytes, got " +
+             std::to_string(m.step.size());
+    }
+    const std::string sha256 = sha256_hex(m.step);
+    if (!m.sha256.empty() && m.sha256 != sha256)
+      return where + ": its sha256 says " + m.sha256 + ", its bytes are " + sha256;
+    const auto pin = pinned.find(m.name);
+    if (pin == pinned.end() || pin->second != sha256) {
+      return where + ": expected an object of the document whose model has step \"" + m.name + "\" and sha256 " +
+             sha256 + ", found " + (pin == pinned.end() ? "none" : "sha256 " + pin->second);
+    }
+    const bool known = !models_.find(sha256).empty();
+    try {
+      models_.put(m.step);
+    } catch (const std::exception& e) {
+      return where + ": " + e.what();
+    }
+    if (!known) added.push_back(sha256);
+  }
+  return {};
+}
+
+std::vector<world_protocol::CellModel> CellKeeper::pinned_models(std::vector<std::string>* problems) const {
+  std::vector<world_protocol::CellModel> out;
+  std::set<std::string> seen;
+  for (const cell::CellEntity& entity : running_.cell.entities) {
+    if (!entity.model || entity.model->step_sha256.empty() || !seen.insert(entity.model->step_sha256).second) continue;
+    const fs::path path = running_.model_dir / entity.model->step;
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes;
+    if (in) bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in || sha256_hex(bytes) != entity.model->step_sha256) {
+      if (problems != nullptr) problems->push_back(path.string() + ": no longer holds the pinned bytes");
+      continue;
+    }
+    out.push_back({entity.model->step_sha256, entity.model->step, std::move(bytes)});
+  }
+  return out;
 }
 
 world_protocol::CellReply CellKeeper::reply(bool ok, const char* c, std::string message, json result) const {
@@ -168,12 +252,30 @@ CellOutcome CellKeeper::handle(const world_protocol::CellRequest& request, const
 
 CellOutcome CellKeeper::propose(const std::string& text, const world_protocol::CellRequest& request,
                                 const std::vector<HeldResource>& held, Stamp now) {
-  cell::CellFile cell;
+  // Models new to the store leave it again unless this request makes the revision that pins them.
+  std::vector<std::string> added;
+  struct Forget {
+    const cell::ModelStore& store;
+    std::vector<std::string>& shas;
+    bool keep = false;
+    ~Forget() {
+      std::error_code error;
+      if (!keep)
+        for (const std::string& sha : shas) fs::remove(store.find(sha), error);
+    }
+  } forget{models_, added};
+  RunningCell checked;
   try {
-    cell = validated(text, settings_.cell_file, now);
+    if (!request.models.empty()) {
+      const JsonParseResult parsed = parse_json_bounded(text, {cell::kMaxCellFileBytes, cell::kMaxCellFileDepth});
+      const std::string refused = store_models(request, parsed.ok() ? parsed.value : json(), added);
+      if (!refused.empty()) return {reply(false, code::kInvalid, refused), {}};
+    }
+    checked = validated(text, now);
   } catch (const std::exception& e) {
     return {reply(false, code::kInvalid, e.what()), {}};
   }
+  cell::CellFile& cell = checked.cell;
   const json doc = json::parse(text);
   const json changes = cell::diff_cells(running_.cell, running_doc_, cell, doc);
   if (cell::no_changes(changes) && doc == running_doc_) {
@@ -215,7 +317,9 @@ CellOutcome CellKeeper::propose(const std::string& text, const world_protocol::C
   }
   const std::string error = history_.append(record);
   if (!error.empty()) return {reply(false, kCellNotSaved, "the revision was not saved: " + error), {}};
-  running_ = {std::move(record), std::move(cell)};
+  forget.keep = true;
+  checked.record = std::move(record);
+  running_ = std::move(checked);
   running_doc_ = doc;
   CellOutcome outcome{reply(true, code::kAccepted, "revision " + std::to_string(running_.record.revision), result),
                       running_};

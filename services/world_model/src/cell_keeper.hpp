@@ -10,7 +10,9 @@
 /// revision (the first, or one on top of the history when the file was edited since).
 ///
 /// A proposed document goes through what the start goes through (the cell file rules, the CAD
-/// derivation from the STEP models in the configured cell file's folder, the store built from it), then
+/// derivation from the STEP models in the configured cell file's folder or, for a model the document pins
+/// by sha256 and the folder lacks, from the models uploaded with a request (kept by sha256 in `models/`
+/// of the history folder), the store built from it), then
 /// the diff against the running revision and the held resources: all or nothing, and nothing changes on
 /// a refusal.
 ///
@@ -26,6 +28,7 @@
 
 #include "cell_history.hpp"
 #include "rigger/cell_config/cell_file.hpp"
+#include "rigger/cell_config/cell_models.hpp"
 #include "rigger/world_protocol/cell_protocol.hpp"
 
 namespace rigger::world {
@@ -49,6 +52,7 @@ struct HeldResource {
 struct RunningCell {
   CellRevisionRecord record;
   cell::CellFile cell;
+  std::filesystem::path model_dir;  ///< where its model paths resolve (cell::resolve_models)
 };
 
 /// What a request did. `reply` lacks client_id and request_id (the node fills them). `revision` is set
@@ -79,9 +83,19 @@ class CellKeeper {
   /// Answers one request (bounds, op, document, rules, held resources). Never throws.
   CellOutcome handle(const world_protocol::CellRequest& request, const std::vector<HeldResource>& held, Stamp now);
 
+  /// The models the running revision pins, with their bytes, for rigger/world/cell_model. A model that
+  /// cannot be read any more is left out and named in `problems`.
+  std::vector<world_protocol::CellModel> pinned_models(std::vector<std::string>* problems = nullptr) const;
+
  private:
   CellOutcome propose(const std::string& text, const world_protocol::CellRequest& request,
                       const std::vector<HeldResource>& held, Stamp now);
+  /// The rules, the models resolved (cell folder, then the store), the CAD derivation, the store built.
+  /// @throws cell::CellFileError, naming a pinned model nobody sent at its model's pointer.
+  RunningCell validated(const std::string& text, Stamp now) const;
+  /// Stores the request's models; "" or why they are refused. `added`: the ones new to the store.
+  std::string store_models(const world_protocol::CellRequest& request, const nlohmann::json& doc,
+                           std::vector<std::string>& added);
   CellOutcome show(std::uint64_t revision) const;
   CellOutcome list() const;
   world_protocol::CellReply reply(bool ok, const char* code, std::string message,
@@ -89,6 +103,8 @@ class CellKeeper {
 
   Settings settings_;
   std::string cell_file_;  ///< absolute, as the records name it
+  cell::ModelStore models_;          ///< models uploaded with revisions, by sha256
+  std::filesystem::path links_root_;  ///< folders of links for revisions that read from the store
   CellHistory history_;
   RunningCell running_;
   nlohmann::json running_doc_;

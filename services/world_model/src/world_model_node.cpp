@@ -112,6 +112,7 @@ WorldModelNode::WorldModelNode(service::ServiceContext& ctx, const WorldModelSet
       updates_(ctx.participant, protocol::world::kUpdate),
       queries_(ctx.participant, protocol::world::kQuery),
       cells_(ctx.participant, protocol::world::kCell),
+      cell_models_(ctx.participant, protocol::world::kCellModel),
       cell_replies_(ctx.participant, protocol::world::kCellReply),
       cell_requests_(ctx.participant, protocol::world::kCellRequest),
       executors_(ctx.participant, protocol::skill::kExecutors, dds::qos::state()) {

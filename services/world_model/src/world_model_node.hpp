@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,7 @@ class WorldModelNode : public service::Node {
   /// Applies a revision the keeper made to the store; saves and publishes each change, then the revision.
   void apply_revision(const RunningCell& revision);
   void publish_cell();
+  void publish_models();  ///< rigger/world/cell_model: the running revision's pinned models, the others disposed
   std::vector<HeldResource> held_resources() const;
   void on_updates();
   void on_queries();
@@ -95,6 +97,8 @@ class WorldModelNode : public service::Node {
   dds::Reader<rigger_world_WorldQuery> queries_;
   std::optional<dds::Reader<rigger_vision_TrackedPose>> tracker_poses_;
   dds::Writer<rigger_world_CellRevision> cells_;
+  dds::Writer<rigger_world_CellModel> cell_models_;
+  std::set<std::string> published_models_;  ///< sha256 of the rigger/world/cell_model instances alive
   dds::Writer<rigger_world_CellReply> cell_replies_;
   dds::Reader<rigger_world_CellRequest> cell_requests_;
   dds::Reader<rigger_skill_ExecutorAnnouncement> executors_;

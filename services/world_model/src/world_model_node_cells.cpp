@@ -83,7 +83,36 @@ void WorldModelNode::apply_revision(const RunningCell& revision) {
   publish_cell();
 }
 
+void WorldModelNode::publish_models() {
+  // Before the revision that pins them, so that a follower missing one mostly has it when the revision comes.
+  std::vector<std::string> problems;
+  const std::vector<world_protocol::CellModel> models = keeper_.pinned_models(&problems);
+  for (const std::string& problem : problems) ctx_.log->error("cell model not published: {}", problem);
+  std::set<std::string> now;
+  for (const world_protocol::CellModel& m : models) {
+    now.insert(m.sha256);
+    if (published_models_.count(m.sha256) != 0) continue;
+    rigger_world_CellModel wire{};
+    world_protocol::to_wire(m, wire);
+    const dds_return_t rc = cell_models_.write(wire);
+    if (rc != DDS_RETCODE_OK) {
+      ctx_.log->error("cell model publish failed model={} sha256={} rc={}", m.name, m.sha256, rc);
+      now.erase(m.sha256);
+      continue;
+    }
+    ctx_.log->info("cell model published model={} sha256={} bytes={}", m.name, m.sha256, m.step.size());
+  }
+  for (const std::string& gone : published_models_) {
+    if (now.count(gone) != 0) continue;
+    rigger_world_CellModel key{};
+    key.sha256 = dds::wire_string(gone);
+    cell_models_.dispose(key);
+  }
+  published_models_ = std::move(now);
+}
+
 void WorldModelNode::publish_cell() {
+  publish_models();
   const CellRevisionRecord& r = keeper_.running().record;
   world_protocol::CellRevision c;
   c.cell_revision = r.revision;

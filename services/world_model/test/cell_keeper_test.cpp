@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "cell_fixture.hpp"
+#include "rigger/base/sha256.hpp"
 #include "rigger/cell_config/cell_diff.hpp"
 #include "world_store.hpp"
 
@@ -207,6 +208,95 @@ TEST_F(CellKeeperTest, TheStoreFollowsARevision) {
   EXPECT_NEAR(store.find("load")->pose->pose_parent_entity.translation().x(),
               out.revision->cell.find("load")->pose_parent_entity->translation().x(), 1e-12);
   EXPECT_EQ(records.size(), 3U);  // removed, moved (and changed), added
+}
+
+}  // namespace
+}  // namespace rigger::world
+
+namespace rigger::world {
+namespace {
+
+// A part whose STEP model the world model's folder lacks: sent with the request, pinned by the document.
+class CellKeeperModelsTest : public CellKeeperTest {
+ protected:
+  CellKeeperModelsTest() : step_(read_text(fs::path(RIGGER_SOURCE_DIR) / "deploy/cell/models/part.step")) {}
+
+  json with_extra(const std::string& pinned_sha256) const {
+    json doc = document();
+    doc["entities"].push_back({{"id", "extra"},
+                               {"kind", "object"},
+                               {"parent", "world"},
+                               {"pose", {{"position_m", {8.0, 8.0, 0.2}}, {"rpy_deg", {0, 0, 0}}}},
+                               {"model",
+                                {{"frame", "box centre"},
+                                 {"mass_kg", 3.0},
+                                 {"step", "imported/extra.step"},
+                                 {"sha256", pinned_sha256}}}});
+    return doc;
+  }
+
+  CellRequest apply_with(const json& doc, std::vector<world_protocol::CellModel> models, bool dry_run = false) const {
+    CellRequest r = request(CellOp::kApply, doc.dump());
+    r.models = std::move(models);
+    r.dry_run = dry_run;
+    return r;
+  }
+
+  std::string step_;
+};
+
+TEST_F(CellKeeperModelsTest, AModelSentWithTheRequestIsStoredOnlyWhenItsRevisionIsMade) {
+  const std::string sha = sha256_hex(step_);
+  const fs::path stored = folder_ / "history/models" / (sha + ".step");
+  CellKeeper k = keeper();
+  const auto now = std::chrono::system_clock::now();
+
+  const CellOutcome unsent = k.handle(apply_with(with_extra(sha), {}), {}, now);
+  EXPECT_FALSE(unsent.reply.ok);
+  EXPECT_NE(unsent.reply.message.find("/entities/7/model/sha256"), std::string::npos) << unsent.reply.message;
+  EXPECT_NE(unsent.reply.message.find("imported/extra.step"), std::string::npos) << unsent.reply.message;
+
+  const CellOutcome dry = k.handle(apply_with(with_extra(sha), {{sha, "imported/extra.step", step_}}, true), {}, now);
+  ASSERT_TRUE(dry.reply.ok) << dry.reply.message;
+  EXPECT_FALSE(fs::exists(stored)) << "a dry run keeps nothing";
+
+  const CellOutcome made = k.handle(apply_with(with_extra(sha), {{"", "imported/extra.step", step_}}), {}, now);
+  ASSERT_TRUE(made.reply.ok) << made.reply.message;
+  ASSERT_TRUE(made.revision.has_value());
+  EXPECT_TRUE(fs::exists(stored));
+  const std::vector<world_protocol::CellModel> pinned = k.pinned_models();
+  ASSERT_EQ(pinned.size(), 1U);
+  EXPECT_EQ(pinned[0].sha256, sha);
+  EXPECT_EQ(pinned[0].name, "imported/extra.step");
+  EXPECT_EQ(pinned[0].step, step_);
+
+  // A restart runs it again from the store.
+  CellKeeper again = keeper();
+  EXPECT_EQ(again.running().record.revision, 2U);
+  EXPECT_EQ(again.pinned_models().size(), 1U);
+}
+
+TEST_F(CellKeeperModelsTest, ModelsThatDoNotMatchTheirPinOrLeaveTheFolderAreRefusedAndNothingIsKept) {
+  const std::string sha = sha256_hex(step_);
+  CellKeeper k = keeper();
+  const auto now = std::chrono::system_clock::now();
+  const auto refused = [&](const CellRequest& r, const std::string& says) {
+    const CellOutcome out = k.handle(r, {}, now);
+    EXPECT_FALSE(out.reply.ok);
+    EXPECT_EQ(out.reply.code, world_protocol::cell_code::kInvalid);
+    EXPECT_NE(out.reply.message.find(says), std::string::npos) << out.reply.message;
+    EXPECT_EQ(k.running().record.revision, 1U);
+  };
+  // Other bytes than the document pins.
+  refused(apply_with(with_extra(sha), {{"", "imported/extra.step", step_ + " "}}), "found sha256 " + sha);
+  // Bytes that are not what the request says they are.
+  refused(apply_with(with_extra(sha), {{sha256_hex("other"), "imported/extra.step", step_}}),
+          "its sha256 says " + sha256_hex("other"));
+  // A model no object pins.
+  refused(apply_with(with_extra(sha), {{"", "imported/other.step", step_}}), "found none");
+  // A name outside the cell folder.
+  refused(apply_with(with_extra(sha), {{"", "../extra.step", step_}}), "inside the cell folder");
+  EXPECT_FALSE(fs::exists(folder_ / "history/models" / (sha + ".step")));
 }
 
 }  // namespace

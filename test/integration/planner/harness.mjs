@@ -77,3 +77,28 @@ export function countActions(page) {
   });
   return [counting, acts];
 }
+
+/// The 3D view's mouse gestures on `page`: `orbit(dy)` drags from the canvas's centre by `dy` pixels
+/// (up: negative, the view goes under); `clickAt(entity, p)` clicks `entity`'s model point `p` where the
+/// page draws it and returns the pick the page made.
+export async function viewGestures(page) {
+  const state = (fn, arg) => page.evaluate(fn, arg);
+  const canvas = page.locator('.pview canvas');
+  await canvas.scrollIntoViewIfNeeded();
+  const box = await canvas.boundingBox();
+  const orbit = async (dy) => {
+    const x = box.x + box.width / 2, y = box.y + box.height / 2;
+    await page.mouse.move(x, y);
+    await page.mouse.down();
+    for (let i = 1; i <= 10; ++i) await page.mouse.move(x, y + (dy * i) / 10);
+    await page.mouse.up();
+  };
+  const clickAt = async (entity, p) => {
+    const n = await state(() => window.rigger.planner.state.picks.length);
+    const q = await state(([e, pt]) => window.rigger.planner.screenOf(e, pt), [entity, p]);
+    await page.mouse.click(q.x, q.y);
+    await page.waitForFunction((k) => window.rigger.planner.state.picks.length === k + 1, n, { timeout: 10000 });
+    return state(() => window.rigger.planner.state.picks.at(-1));
+  };
+  return { box, orbit, clickAt };
+}

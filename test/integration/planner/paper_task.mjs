@@ -51,8 +51,8 @@ async function rehearse(page) {
   const tRun = Date.now();
   await page.click('#planner-rehearse');
   await page.waitForFunction(() => !document.querySelector('#rehearsal').hidden
-    || /Not rehearsed/.test(document.querySelector('#planner-editor p[role="status"]')?.textContent || ''), null, { timeout: 30000 });
-  check(await page.locator('#rehearsal').isVisible(), `the planned recipe's rehearsal was accepted (${await page.locator('#planner-editor p[role="status"]').innerText()})`);
+    || /Not rehearsed/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 30000 });
+  check(await page.locator('#rehearsal').isVisible(), `the planned recipe's rehearsal was accepted (${await page.locator('#planner-notice').innerText()})`);
   // Polled twice a second: chromium's software rendering must not starve the cell's real-time loops.
   await page.waitForFunction(() => window.rigger.planner.rehearsal.ended(), null, { timeout: 5 * 60000, polling: 500 });
   await page.waitForFunction(() => {

@@ -68,8 +68,8 @@ try {
   await page.click('#planner-rehearse');
   // The answer is the rehearsal controller's verdict: the view, or a refusal under the toolbar.
   await page.waitForFunction(() => !document.querySelector('#rehearsal').hidden
-    || /Not rehearsed/.test(document.querySelector('#planner-editor p[role="status"]')?.textContent || ''), null, { timeout: 30000 });
-  check(await page.locator('#rehearsal').isVisible(), `the rehearsal was accepted (${await page.locator('#planner-editor p[role="status"]').innerText()})`);
+    || /Not rehearsed/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 30000 });
+  check(await page.locator('#rehearsal').isVisible(), `the rehearsal was accepted (${await page.locator('#planner-notice').innerText()})`);
   const title = await page.locator('#rehearsal-title').innerText();
   check(title === `Rehearsal — simulated cell, domain ${DOMAIN}`, `the view is labelled "${title}"`);
   check(await page.locator('#planner-editor').isHidden(), 'the plan makes room for the rehearsal view');
@@ -109,15 +109,15 @@ try {
   await page.waitForSelector('dialog[open]');
   check(true, 'Publish after the rehearsal asks for confirmation');
   await page.click('#confirm-no');
-  await page.waitForFunction(() => /Publish not confirmed/.test(document.querySelector('#planner-editor p[role="status"]')?.textContent || ''), null, { timeout: 30000 });
+  await page.waitForFunction(() => /Publish not confirmed/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 30000 });
   check(true, 'cancelled: not published');
 
   // Last, so that the run above starts after one page load, not two (the cell runs in real time).
   // --- no rehearsal domain: the page says so and stays on the plan ---
   await openRecipe(PLAIN);
   await page.click('#planner-rehearse');
-  await page.waitForFunction(() => /rehearsal_domain/.test(document.querySelector('#planner-editor p[role="status"]')?.textContent || ''), null, { timeout: 30000 });
-  const plainNotice = await page.locator('#planner-editor p[role="status"]').innerText();
+  await page.waitForFunction(() => /rehearsal_domain/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 30000 });
+  const plainNotice = await page.locator('#planner-notice').innerText();
   check(/Not rehearsed/.test(plainNotice) && await page.locator('#rehearsal').isHidden(), `the page says what is missing: "${plainNotice}"`);
   result.no_domain_notice = plainNotice;
   await page.screenshot({ path: path.join(ART, 'rehearsal-no-domain.png'), fullPage: true });

@@ -60,6 +60,6 @@ int logs(const GlobalOptions& g, const std::string& service, bool follow, int la
 int restart(const GlobalOptions& g, const std::string& service);
 int demo(const GlobalOptions& g, const std::string& recipe_arg, const std::string& operator_mode);
 int config(const GlobalOptions& g);
-int supervise(const GlobalOptions& g, const std::vector<std::string>& services, int notify_fd);
+int supervise(const GlobalOptions& g, const std::vector<std::string>& services, int notify_fd, bool in_group);
 
 }  // namespace rigger::compose::cli

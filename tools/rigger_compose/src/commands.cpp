@@ -74,13 +74,19 @@ int run_cli(int argc, char** argv) {
     action = [&] { return config(g); };
   });
 
-  auto* sup_cmd = app.add_subcommand("supervise", "");  // internal: the daemon `up` starts
-  sup_cmd->group("");
+  // What `up` starts as a daemon; in the foreground it is a process its caller owns (the console's
+  // rehearsal cell on demand): SIGTERM or SIGINT stops every service, in reverse order, and then it.
+  auto* sup_cmd = app.add_subcommand(
+      "supervise", "Run the supervisor in the foreground until SIGTERM/SIGINT, which stops every service");
   auto sup_services = std::make_shared<std::vector<std::string>>();
   auto sup_fd = std::make_shared<int>(-1);
+  auto sup_in_group = std::make_shared<bool>(false);
   sup_cmd->add_option("services", *sup_services);
   sup_cmd->add_option("--notify-fd", *sup_fd);
-  sup_cmd->callback([&] { action = [&] { return supervise(g, *sup_services, *sup_fd); }; });
+  sup_cmd->add_flag("--in-group", *sup_in_group,
+                    "Keep the services in the supervisor's process group, so that its caller ends them with it "
+                    "by that group's id even when the supervisor was killed (run it as a group leader)");
+  sup_cmd->callback([&] { action = [&] { return supervise(g, *sup_services, *sup_fd, *sup_in_group); }; });
 
   try {
     app.parse(argc, argv);

@@ -1,4 +1,5 @@
-// rigger-compose supervise: the daemon `up` starts (not for users): runs the supervisor, telling `up`
+// rigger-compose supervise: the daemon `up` starts, or a foreground supervisor its caller owns (the
+// console's rehearsal cell, with --in-group): runs the supervisor, telling `up`
 // its progress on the notify fd.
 #include <fcntl.h>
 #include <unistd.h>
@@ -12,7 +13,7 @@
 
 namespace rigger::compose::cli {
 
-int supervise(const GlobalOptions& g, const std::vector<std::string>& services, int notify_fd) {
+int supervise(const GlobalOptions& g, const std::vector<std::string>& services, int notify_fd, bool in_group) {
   if (notify_fd >= 0) fcntl(notify_fd, F_SETFD, FD_CLOEXEC);
   Logger log;
   try {
@@ -37,6 +38,7 @@ int supervise(const GlobalOptions& g, const std::vector<std::string>& services, 
   options.this_host_names = this_host_names(host_option(g));
   options.host = host_option(g);
   options.notify_fd = notify_fd;
+  options.services_in_group = in_group;
   return run_supervisor(file, options, log);
 }
 

@@ -377,7 +377,9 @@ class SupervisorProcess {
     if (!file_.dds_config.empty()) req.env["CYCLONEDDS_URI"] = file_.dds_uri();
     req.log_path = layout_.service_log(name);
     req.cwd = file_.root;
-    req.new_process_group = true;  // a Ctrl-C meant for a foreground supervisor must not bypass the stop order
+    // A Ctrl-C meant for a foreground supervisor must not bypass the stop order; in its caller's group,
+    // the caller ends them with it (SupervisorOptions::services_in_group).
+    req.new_process_group = !options_.services_in_group;
     std::string command_line = req.path;
     for (const auto& a : req.args) command_line += " " + a;
     append_line(req.log_path, "===== rigger-compose " + local_time_text() + ": starting " + name +

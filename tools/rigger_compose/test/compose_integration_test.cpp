@@ -6,6 +6,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <fstream>
@@ -355,6 +356,34 @@ TEST_F(ComposeIntegrationTest, DownStopsTheServicesOfAKilledSupervisor) {
               HasSubstr("echo-b (pid " + std::to_string(st.find("echo-b")->pid) + ") outlived its supervisor"));
   EXPECT_FALSE(process_alive(st.find("echo-a")->pid));
   EXPECT_FALSE(process_alive(st.find("echo-b")->pid));
+  EXPECT_THAT(processes_on_our_domain(), ::testing::IsEmpty());
+}
+
+// The console's way (its rehearsal cell on demand): `supervise --in-group` run as the leader of a group of
+// its own keeps its services in that group, so that its caller, here the test, ends every one of them by
+// the group's id after the supervisor was SIGKILLed and could not stop them.
+TEST_F(ComposeIntegrationTest, SuperviseInGroupLeavesItsCallerTheGroupToEnd) {
+  write_compose("  echo-a: {binary: echo}\n  echo-b: {binary: echo, depends_on: [echo-a]}\n");
+  SpawnRequest req;
+  req.path = testing::bin_dir() + "/rigger-compose";
+  req.args = {"--file", compose_path_, "supervise", "--in-group"};
+  req.log_path = cell_.log_dir() + "/supervise-in-group.out";
+  req.new_process_group = true;
+  const pid_t supervisor = spawn_process(req);
+  ASSERT_TRUE(cell_.wait_until([&] { return ready_on_dds("echo-a") && ready_on_dds("echo-b"); }, 60s))
+      << read_text_file(req.log_path).value_or("");
+  const int a = cell_.directory().services().at("echo-a").pid;
+  const int b = cell_.directory().services().at("echo-b").pid;
+  EXPECT_EQ(getpgid(a), supervisor);
+  EXPECT_EQ(getpgid(b), supervisor);
+
+  ASSERT_EQ(kill(supervisor, SIGKILL), 0);
+  int status = 0;
+  ASSERT_EQ(waitpid(supervisor, &status, 0), supervisor);
+  EXPECT_TRUE(process_alive(a)) << "a SIGKILLed supervisor stops nothing itself";
+  ASSERT_EQ(kill(-supervisor, SIGTERM), 0) << "its services keep the group alive under its id";
+  EXPECT_TRUE(wait_for_exit(a, 10s)) << "echo-a (pid " << a << ") outlived the group's SIGTERM";
+  EXPECT_TRUE(wait_for_exit(b, 10s)) << "echo-b (pid " << b << ") outlived the group's SIGTERM";
   EXPECT_THAT(processes_on_our_domain(), ::testing::IsEmpty());
 }
 

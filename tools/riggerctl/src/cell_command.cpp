@@ -4,8 +4,10 @@
 
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,9 +16,12 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "rigger/base/bounded_json.hpp"
+#include "rigger/base/sha256.hpp"
 #include "rigger/base/text.hpp"
 #include "rigger/base/time.hpp"
 #include "rigger/cell_config/cell_diff.hpp"
+#include "rigger/cell_config/cell_models.hpp"
 #include "rigger/dds/event_loop.hpp"
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/protocol/world.hpp"
@@ -39,6 +44,7 @@ struct CellOptions {
   std::string file;
   std::string comment;
   bool dry_run = false;
+  bool with_models = false;
   bool as_json = false;
   std::uint64_t revision = 0;
   std::uint64_t other = 0;  // diff: the second revision
@@ -77,7 +83,8 @@ class CellSession {
     const auto deadline = std::chrono::steady_clock::now() + from_seconds(timeout_s);
     do {
       rigger_world_CellRequest wire{};
-      world_protocol::to_wire(request, wire);
+      std::vector<rigger_world_CellModel> models;
+      world_protocol::to_wire(request, wire, models);
       if (const dds_return_t rc = requests_.write(wire); rc != DDS_RETCODE_OK) {
         std::fprintf(stderr, "riggerctl cell: sending the request failed: %s\n", dds_strretcode(rc));
         return std::nullopt;
@@ -151,6 +158,57 @@ int refused(const char* what, const CellReply& reply) {
   return kExitRefused;
 }
 
+// --with-models: the STEP model of every object that is new or whose model changed against `running` (the
+// running revision's document) goes with the request, pinned by its sha256 (a pin the file has must match
+// the bytes), so that a world model and services without those files can run the revision. Objects whose
+// model is as running are left as they are: their pins (or their absence) do not change.
+// "" or what is wrong, naming the file and the JSON pointer.
+std::string attach_models(const std::string& file, CellRequest& request, const json& running) {
+  std::map<std::string, json> running_models;
+  for (const json& e : running.value("entities", json::array()))
+    if (e.is_object() && e.value("id", json()).is_string() && e.contains("model"))
+      running_models[e["id"].get<std::string>()] = e["model"];
+  const JsonParseResult parsed = parse_json_bounded(request.cell_json, {cell::kMaxCellFileBytes, cell::kMaxCellFileDepth});
+  if (!parsed.ok()) return file + ": " + parsed.error->to_string();
+  json doc = parsed.value;
+  if (!doc.is_object() || !doc.value("entities", json()).is_array()) return file + ": /entities: expected an array";
+  const std::filesystem::path folder = cell::cell_model_folder(file);
+  bool pinned = false;
+  json& entities = doc["entities"];
+  for (std::size_t i = 0; i < entities.size(); ++i) {
+    json* model = entities[i].is_object() && entities[i].contains("model") ? &entities[i]["model"] : nullptr;
+    if (model == nullptr || !model->is_object() || !model->value("step", json()).is_string()) continue;
+    const auto as_running = running_models.find(entities[i].value("id", ""));
+    if (as_running != running_models.end() && as_running->second == *model) continue;
+    const std::string pointer = "/entities/" + std::to_string(i) + "/model";
+    const std::string name = model->at("step");
+    if (const std::string problem = cell::model_name_problem(name); !problem.empty())
+      return file + ": " + pointer + "/step: " + problem;
+    std::ifstream in(folder / name, std::ios::binary);
+    std::string bytes;
+    if (in) bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in.eof() && !in) return file + ": " + pointer + "/step: " + (folder / name).string() + ": cannot read it";
+    if (bytes.size() > cell::kMaxModelBytes)
+      return file + ": " + pointer + "/step: " + (folder / name).string() + ": larger than 64 MiB";
+    const std::string sha256 = sha256_hex(bytes);
+    if (model->contains("sha256") && model->at("sha256") != sha256) {
+      return file + ": " + pointer + "/sha256: pins " + model->at("sha256").dump() + ", but " +
+             (folder / name).string() + " has " + sha256;
+    }
+    if (!model->contains("sha256")) {
+      (*model)["sha256"] = sha256;
+      pinned = true;
+    }
+    bool sent = false;
+    for (const world_protocol::CellModel& m : request.models) sent = sent || m.sha256 == sha256;
+    if (!sent) request.models.push_back({sha256, name, std::move(bytes)});
+  }
+  if (request.models.size() > cell::kMaxModelsPerRequest)
+    return file + ": names " + std::to_string(request.models.size()) + " STEP models, at most 16 go with a request";
+  if (pinned) request.cell_json = doc.dump(2) + "\n";
+  return {};
+}
+
 int propose(CellSession& session, const CellOptions& o) {
   CellRequest request;
   request.op = o.op;
@@ -167,10 +225,22 @@ int propose(CellSession& session, const CellOptions& o) {
     request.cell_json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
   // A read first, asked until answered: then the world model's reply writer knows this process, and the
-  // proposal (sent once: it is not a read) cannot be answered into the void.
+  // proposal (sent once: it is not a read) cannot be answered into the void. With --with-models, the read
+  // is the running revision, against which the models to send are chosen.
   CellRequest hello;
-  hello.op = CellOp::kHistory;
-  if (!session.ask(hello, o.timeout_s, true)) return kExitNoWorldModel;
+  hello.op = o.with_models && o.op == CellOp::kApply ? CellOp::kShow : CellOp::kHistory;
+  const std::optional<CellReply> answered = session.ask(hello, o.timeout_s, true);
+  if (!answered) return kExitNoWorldModel;
+  if (o.with_models && o.op == CellOp::kApply) {
+    const json shown = result_of(*answered);
+    const JsonParseResult running =
+        parse_json_bounded(shown.value("cell_json", "{}"), {cell::kMaxCellFileBytes, cell::kMaxCellFileDepth});
+    if (const std::string problem = attach_models(o.file, request, running.ok() ? running.value : json::object());
+        !problem.empty()) {
+      std::fprintf(stderr, "riggerctl cell apply: %s\n", problem.c_str());
+      return kExitUsage;
+    }
+  }
   const std::optional<CellReply> reply = session.ask(request, o.timeout_s, false);
   if (!reply) return kExitRefused;
   if (!reply->ok) return refused(what, *reply);
@@ -300,6 +370,9 @@ void add_cell_command(CLI::App& app, const CommonOptions& common, int& exit_code
   apply->add_option("file", o->file, "the cell file")->required();
   apply->add_option("--comment", o->comment, "Why (kept in the history)");
   apply->add_flag("--dry-run", o->dry_run, "Validate and show what would change; change nothing");
+  apply->add_flag("--with-models", o->with_models,
+                  "Send the STEP models FILE names with it, each pinned by its sha256 (for a world model and services "
+                  "whose cell folder lacks them)");
   apply->callback([o] { o->op = CellOp::kApply; });
   auto* show = cell->add_subcommand("show", "Print a revision's document (default: the running one)");
   show->add_option("revision", o->revision, "the revision");

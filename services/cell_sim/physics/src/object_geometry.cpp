@@ -60,6 +60,8 @@ StepGeometry read_step_solids(const cell::CellFile& file, const cell::CellEntity
   try {
     const auto known = read_models.find(entity.id);
     const cad::Model model = known != read_models.end() ? known->second : cad::read_step_file(path);
+    if (const std::string stale = cell::stale_model_problem(*entity.model, model.sha256()); !stale.empty())
+      file.fail(entity.pointer + "/model/sha256", "the pinned bytes of " + path.string(), stale);
     if (const std::string problem = cad::solid_problem(model); !problem.empty())
       file.fail(pointer, expected, path.string() + ": " + problem);
     BRepMesh_IncrementalMesh mesher(model.shape(), kLinearDeflectionM, false, kAngularDeflectionRad, true);

@@ -19,10 +19,12 @@ export class ApiError extends Error {
   }
 }
 
-export async function api(path, { method = 'GET', body, raw = false } = {}) {
+/// `body`: sent as JSON; `bytes`: sent as they are (a file's ArrayBuffer or Blob); `raw`: the Response.
+export async function api(path, { method = 'GET', body, bytes, raw = false } = {}) {
   const headers = { Authorization: `Bearer ${token()}` };
   if (body !== undefined) headers['Content-Type'] = 'application/json';
-  const res = await fetch(path, { method, headers, body: body === undefined ? undefined : JSON.stringify(body) });
+  if (bytes !== undefined) headers['Content-Type'] = 'application/octet-stream';
+  const res = await fetch(path, { method, headers, body: bytes !== undefined ? bytes : body === undefined ? undefined : JSON.stringify(body) });
   if (!res.ok) {
     let err = {};
     try { err = await res.json(); } catch { /* not JSON */ }

@@ -105,8 +105,9 @@ export class PartsView {
   /// Loads `entity` (a cell object): pose from the world model (`world`, its description, when the
   /// caller has it), tessellation, parts and features from CAD; without a CAD model, a box of the world
   /// model's size, which a click picks as the whole object ({entity, kind: 'object'}).
-  async load(entity, world = null) {
-    const model = `object:${entity}`;
+  /// `model`: another CAD model than the entity's own (an imported file's `sha256:<hex>`, drawn at
+  /// `world.pose` before it is a cell object).
+  async load(entity, world = null, model = `object:${entity}`) {
     const q = `model=${encodeURIComponent(model)}`;
     world = world || await api(`/api/world/entity/${encodeURIComponent(entity)}`);
     let glb, parts, features;

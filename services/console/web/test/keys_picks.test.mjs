@@ -4,7 +4,7 @@ import assert from 'node:assert/strict';
 import { describe, it } from 'node:test';
 
 import { keyCommand } from '../js/planner/keys.js';
-import { frameFromPicks } from '../js/planner/picks.js';
+import { declareFromPicks, frameFromPicks } from '../js/planner/picks.js';
 
 describe('keyCommand', () => {
   const press = (key, mods = {}, { selected = true, textSelected = false } = {}) =>
@@ -56,5 +56,37 @@ describe('frameFromPicks', () => {
     assert.equal(frameFromPicks([vertex, { ...edge(1), entity: 'load' }]).error, 'the picks are on target and load: pick on one part');
     assert.match(frameFromPicks([vertex, edge(1)]).error, /^2 picks \(vertex, edge\): pick a point/);
     assert.match(frameFromPicks([hole, face]).error, /^2 picks \(hole, face\)/);
+  });
+});
+
+describe('declareFromPicks', () => {
+  const face = { kind: 'face', entity: 'target', face: 2 };
+  const edge = { kind: 'edge', entity: 'target', edge: 7 };
+  const hole = { kind: 'hole', entity: 'target', hole: 1 };
+
+  it('makes a grasp frame of a face and an edge of it, by indices only', () => {
+    assert.deepEqual(declareFromPicks([face, edge], { kind: 'grasp_frame', name: 'g', x_reversed: true }),
+      { model: 'object:target', kind: 'grasp_frame', name: 'g', face: 2, x_edge: 7, x_reversed: true });
+  });
+  it('takes the stand-off in millimetres', () => {
+    assert.equal(declareFromPicks([face], { kind: 'approach_waypoint', name: 'a', standoff_mm: '100' }).standoff_m, 0.1);
+    assert.match(declareFromPicks([face], { kind: 'approach_waypoint', name: 'a', standoff_mm: '' }).error, /stand-off/);
+  });
+  it('makes the insertion of the first picked face onto the second part\'s face', () => {
+    const onto = { kind: 'face', entity: 'plate', face: 5 };
+    assert.deepEqual(declareFromPicks([face, onto], { kind: 'insertion' }),
+      { model: 'object:target', kind: 'insertion', face: 2, target: { model: 'object:plate', face: 5 } });
+    assert.match(declareFromPicks([face, { ...face, face: 3 }], { kind: 'insertion' }).error, /face of the part it goes into/);
+    assert.match(declareFromPicks([face, hole], { kind: 'insertion' }).error, /face of the part it goes into/);
+  });
+  it('makes screw holes of one picked hole and the screw', () => {
+    assert.deepEqual(declareFromPicks([hole], { kind: 'screw_holes', name: 'm', like: true, screw_type: 'M10x30', torque_nm: '45' }),
+      { model: 'object:target', kind: 'screw_holes', name: 'm', hole: 1, like: true, screw: { screw_type: 'M10x30', torque_nm: 45 } });
+  });
+  it('says what to pick', () => {
+    assert.match(declareFromPicks([hole, face], { kind: 'screw_holes', name: 'm', screw_type: 'M', torque_nm: 1 }).error, /one hole/);
+    assert.match(declareFromPicks([edge], { kind: 'grasp_frame', name: 'g' }).error, /one face/);
+    assert.match(declareFromPicks([face, { ...edge, entity: 'load' }], { kind: 'grasp_frame', name: 'g' }).error, /target and load/);
+    assert.match(declareFromPicks([face], { kind: 'grasp_frame', name: 'a b' }).error, /name/);
   });
 });

@@ -14,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "rigger/base/sha256.hpp"
+
 namespace rigger::cad {
 
 /// Why a CAD operation failed; to_string() gives the code the service puts in CadReply::code.
@@ -103,7 +105,7 @@ void write_step(const TopoDS_Shape& shape_m, const std::string& product, const s
 /// its index ("solid 2 is not closed (or not a valid solid)", "no solid (faces or shells only)").
 std::string solid_problem(const Model& model);
 
-/// Hex sha256 of bytes.
-std::string sha256_hex(std::string_view bytes);
+/// Hex sha256 of bytes (rigger/base/sha256.hpp).
+using rigger::sha256_hex;
 
 }  // namespace rigger::cad

@@ -149,7 +149,15 @@ struct ObjectModel {
   /// The object's STEP model ("step"), relative to the cell file's folder; empty when none. Its frame is
   /// the entity frame (docs/cad.md).
   std::string step;
+  /// Hex sha256 (lower case) of the STEP file's bytes ("sha256", with `step`); empty when not pinned. When
+  /// set, every reader of the model uses exactly these bytes: other bytes under `step` are refused
+  /// (stale_model_problem), so a revision means the same geometry on every host.
+  std::string step_sha256;
 };
+
+/// Empty when `model` pins no bytes (no step_sha256) or `actual_sha256` (hex sha256 of the bytes read
+/// under `model.step`) is the pinned one; otherwise the CAD_STALE_MODEL problem naming both digests.
+std::string stale_model_problem(const ObjectModel& model, std::string_view actual_sha256);
 
 /// A camera's intrinsics as in sensor_msgs/CameraInfo: a pinhole with OpenCV's lens distortion. The one
 /// camera model of the project (cell file, world model, simulated camera, tracker). Pixel (0, 0) is the

@@ -11,6 +11,11 @@
 /// A revision already taken or refused (same number and sha256, e.g. re-delivered after a world model
 /// restart) is ignored.
 ///
+/// Models: a revision that pins a STEP model (model.sha256) this reader's cell folder lacks takes it from
+/// rigger/world/cell_model, where the world model publishes the running revision's pinned models. Received
+/// models are checked against their sha256 and kept in a folder of this follower's own (removed with
+/// it); a revision waits for its models up to `model_wait` (30 s), then is refused naming the model.
+///
 /// Reporting: every outcome is logged (taken at info, refused at error, with the reason), and, when the
 /// follower is given the service's announcer, put in the service state's detail with the current status
 /// unchanged ("cell revision 4" or "refused cell revision 5: ..."), so `rigger-compose ps` and the
@@ -19,9 +24,11 @@
 /// Thread safety: none. Construct, use and destroy on the owner's EventLoop thread; the callback runs on
 /// it, never inside a DDS callback. Destroy before the loop.
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "rigger/base/logging.hpp"
@@ -59,11 +66,18 @@ class CellFollower {
   /// Why the last refused revision was refused; empty when none was, or a later one was taken.
   const std::string& last_refusal() const { return last_refusal_; }
 
+  ~CellFollower();
+
   /// Reads one revision as if it had arrived (the DDS path calls this; tests may too).
   void offer(const world_protocol::CellRevision& sent);
 
+  /// How long a revision waits for a pinned model on rigger/world/cell_model before it is refused.
+  static constexpr std::chrono::seconds kModelWait{30};
+
  private:
   void on_data();
+  void on_models();
+  void decide(const world_protocol::CellRevision& sent, RevisionReading reading);
   void report(const std::string& detail);
 
   Logger log_;
@@ -71,7 +85,13 @@ class CellFollower {
   std::string file_text_;  ///< the configured file's bytes, empty when unreadable
   OnRevision on_revision_;
   service::ServiceAnnouncer* announcer_;
+  dds::EventLoop& loop_;
   dds::Reader<rigger_world_CellRevision> reader_;
+  dds::Reader<rigger_world_CellModel> models_reader_;
+  std::filesystem::path models_root_;  ///< this follower's own: store/ and folders/
+  cell::ModelStore models_;
+  std::optional<world_protocol::CellRevision> waiting_;  ///< a revision whose pinned models have not come yet
+  dds::EventLoop::TimerId wait_timer_ = 0;
   std::uint64_t revision_ = 0;
   std::uint64_t seen_revision_ = 0;
   std::string seen_sha256_;

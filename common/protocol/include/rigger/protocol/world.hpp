@@ -75,6 +75,16 @@ inline constexpr Topic<rigger_world_CellRevision> kCell{
     "changed by entity id, who, comment, stamp; a late joiner gets the last one)",
     ""};
 
+/// world_model → every reader of the cell file whose folder lacks a pinned model's bytes.
+inline constexpr Topic<rigger_world_CellModel> kCellModel{
+    "rigger/world/cell_model",
+    QosProfile::kState,
+    "sha256",
+    "world_model",
+    "cell_sim, vision_tracker, admittance_control, cad, console",
+    "(a STEP model pinned by the running revision: its sha256, its name, its bytes; a late joiner gets them)",
+    ""};
+
 /// riggerctl, console → world_model.
 inline constexpr Topic<rigger_world_CellRequest> kCellRequest{
     "rigger/world/cell_request",
@@ -82,7 +92,7 @@ inline constexpr Topic<rigger_world_CellRequest> kCellRequest{
     "client_id",
     "riggerctl, console",
     "world_model",
-    "(APPLY a cell document, optionally dry run; ROLLBACK to a revision; SHOW a revision; HISTORY; who, comment; "
+    "(APPLY a cell document with the STEP models it pins, optionally dry run; ROLLBACK to a revision; SHOW a revision; HISTORY; who, comment; "
     "request id)",
     ""};
 

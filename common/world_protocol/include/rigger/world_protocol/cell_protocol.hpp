@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <rigger/idl/types.hpp>
 
@@ -50,6 +51,13 @@ struct CellRevision {
   WallTime stamp{};
 };
 
+/// A STEP model as bytes: an upload of CellRequest::models, or a sample of rigger/world/cell_model.
+struct CellModel {
+  std::string sha256;  ///< hex SHA-256 of `step`, as the document's model.sha256 pins it
+  std::string name;    ///< the object's model.step (a path relative to the cell folder)
+  std::string step;    ///< the STEP file's bytes
+};
+
 /// rigger/world/cell_request: answered on rigger/world/cell_reply with (client_id, request_id).
 struct CellRequest {
   std::string client_id;
@@ -62,6 +70,7 @@ struct CellRequest {
   bool dry_run = false;        ///< kApply, kRollback: validate and diff, change nothing
   std::string who;             ///< the person (or identity) behind it, journaled
   std::string comment;
+  std::vector<CellModel> models;  ///< kApply: models the world model's folder may lack (pinned by cell_json)
 };
 
 /// rigger/world/cell_reply: the answer to a CellRequest. On !ok, `code` and `message` say why.
@@ -78,7 +87,14 @@ struct CellReply {
 void to_wire(const CellRevision& revision, rigger_world_CellRevision& wire);
 CellRevision from_wire(const rigger_world_CellRevision& wire);
 
+/// to_wire borrows `model`'s bytes; the wire form must not outlive it.
+void to_wire(const CellModel& model, rigger_world_CellModel& wire);
+CellModel from_wire(const rigger_world_CellModel& wire);
+
+/// A request without models (throws std::invalid_argument when it has some).
 void to_wire(const CellRequest& request, rigger_world_CellRequest& wire);
+/// `wire.models` points into `storage`, which to_wire fills: keep both alive together.
+void to_wire(const CellRequest& request, rigger_world_CellRequest& wire, std::vector<rigger_world_CellModel>& storage);
 CellRequest from_wire(const rigger_world_CellRequest& wire);
 
 void to_wire(const CellReply& reply, rigger_world_CellReply& wire);

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "rigger/base/settings.hpp"
 
@@ -27,8 +28,17 @@ struct ConsoleSettings {
   double plot_rate_hz{};
   std::chrono::milliseconds query_timeout{};
   std::optional<std::uint32_t> rehearsal_domain;  ///< none: no rehearsal
+  // The rehearsal cell on demand (rehearsal_launcher.hpp): none without a start command.
+  std::vector<std::string> rehearsal_start;  ///< argv; empty: the rehearsal cell is started by hand
+  std::vector<std::string> rehearsal_env;    ///< "NAME=value" for the start command
+  std::string rehearsal_log;
+  std::chrono::milliseconds rehearsal_start_timeout{};
+  std::chrono::milliseconds rehearsal_idle_stop{};
+  std::chrono::milliseconds rehearsal_stop_timeout{};
   std::string runs_dir;                           ///< empty: runs are not kept
   std::size_t max_runs{};
+  int max_streams{};  ///< live (SSE) streams served at once
+  std::size_t max_import_bytes{};  ///< a STEP file sent to the Planner's import
 };
 
 /// The console's configuration keys.

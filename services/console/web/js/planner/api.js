@@ -12,8 +12,11 @@ export const validateRecipe = (recipe) => post('/api/planner/validate', recipe);
 export const deriveScrews = (request) => post('/api/planner/screws', request);
 /// A pose from picks by a CAD frame rule ({model, rule, …}): {model, model_sha256, args, pose}.
 export const deriveFrame = (request) => post('/api/planner/frame', request);
-/// Runs `recipe` on the rehearsal cell: {task_id, domain, state}.
+/// Runs `recipe` on the rehearsal cell: {task_id, domain, state}; or, when the console is starting the
+/// rehearsal cell first (nothing sent): {starting: true, task_id, domain, cell}.
 export const rehearseRecipe = (recipe) => post('/api/planner/rehearse', recipe);
+/// The rehearsal cell the console starts on demand: {phase, error, log, pid, domain, start_timeout_s, …}.
+export const rehearsalCell = () => api('/api/rehearsal/cell');
 /// The first of publishing's two steps: {confirmation_id}.
 export const submitRecipe = (recipe) => post('/api/recipes', recipe);
 /// The second step, once the programmer confirmed.

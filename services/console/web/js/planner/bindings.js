@@ -141,6 +141,7 @@ export class Bindings {
       el('code', { class: 'sig' }, JSON.stringify(p.ref.signature)), ' ',
       el('button', { 'aria-label': `unpick ${i + 1}`, onclick: () => { this.state.picks.splice(i, 1); this.renderPicks(); } }, '✕'))));
     if (this.state.selected) this.form.render();
+    this.onPicks?.();
   }
   /// Every hole of the drawn parts' CAD features, as a button that picks it.
   renderHoles() {

@@ -16,8 +16,11 @@ import { FeaturePicker } from '../planner_features.js';
 import { recipeFields } from '../planner_recipe.js';
 import { RehearsalView } from '../rehearsal.js';
 import { Effort } from './effort.js';
-import { confirmCommand, rehearseRecipe, skillLibrary, submitRecipe, validateRecipe } from './api.js';
+import { PlacePanel } from './place.js';
+import { ImportPanel } from './import.js';
+import { confirmCommand, rehearsalCell, rehearseRecipe, skillLibrary, submitRecipe, validateRecipe } from './api.js';
 import { Bindings } from './bindings.js';
+import { DeclarePanel } from './declare.js';
 import { NodeForm } from './form.js';
 import { ObjectPicker } from './objects.js';
 import { listenKeys } from './keys.js';
@@ -44,6 +47,7 @@ export function plannerPage(main, me) {
   const tree = new TreeDocument(state);
   const treeBox = el('div', { class: 'ptree', role: 'tree', 'aria-label': 'Behaviour tree' });
   const formBox = el('div', { class: 'pform' });
+  const declarePanel = new DeclarePanel(state, (text, bad) => say(text, bad));
   const picksList = el('ol', { class: 'picks', 'aria-label': 'Picked faces and holes' });
   const holesList = el('ul', { class: 'picks', 'aria-label': 'Holes of the models' });
   const errorsBox = el('div', { class: 'perrors', role: 'status', 'aria-live': 'polite' });
@@ -67,6 +71,8 @@ export function plannerPage(main, me) {
   const openFile = el('input', { type: 'file', id: 'planner-open', accept: '.json,application/json', 'aria-label': 'Open a recipe',
     onchange: async () => { if (openFile.files[0]) open(await openFile.files[0].text()); } });
   const viewBox = el('div', { class: 'pview' });
+  const placeBox = el('div', { id: 'planner-place-box' });
+  const importBox = el('div', { id: 'planner-import-box' });
   const partsList = el('ul', { class: 'picks', id: 'planner-parts', 'aria-label': 'Parts of the cell' });
   const recipeRow = recipeFields(state, changed);
   const undoButton = el('button', { id: 'planner-undo', title: 'Ctrl+Z', onclick: () => undo() }, 'Undo');
@@ -88,8 +94,10 @@ export function plannerPage(main, me) {
         el('div', { class: 'toolbar' }, el('button', { id: 'planner-clear-picks', onclick: () => bindings.clearPicks() }, 'Clear picks')),
         viewBox,
         el('details', { open: true }, el('summary', {}, 'Parts of the cell (show, frame)'), partsList),
-        el('h2', {}, 'Picked'), picksList,
-        el('details', {}, el('summary', {}, 'Holes of the models (click to pick)'), holesList)),
+        importBox,
+        el('h2', {}, 'Picked'), picksList, placeBox,
+        el('details', {}, el('summary', {}, 'Holes of the models (click to pick)'), holesList),
+        declarePanel.root),
       el('section', { class: 'panel', 'aria-labelledby': 'pt' }, el('h2', { id: 'pt' }, 'Tree'),
         el('div', { class: 'toolbar' }, addSelect,
           el('button', { id: 'planner-add', onclick: () => { if (addSelect.value) edit(() => tree.add(addSelect.value)); } }, 'Add'),
@@ -106,7 +114,8 @@ export function plannerPage(main, me) {
         treeBox, el('h2', {}, 'Validation'), errorsBox, el('h2', {}, 'Resources'), resourcesBox),
       el('section', { class: 'panel', 'aria-labelledby': 'pf' }, el('h2', { id: 'pf' }, 'Node'), formBox)));
   // The rehearsal's live view takes the editor's place; "Back to the plan" brings the plan back as it was.
-  const rehearsal = new RehearsalView(() => { rehearsal.hide(); editor.hidden = false; });
+  // Closing its stream tells the console nobody watches the rehearsal any more (its cell may stop when idle).
+  const rehearsal = new RehearsalView(() => { rehearsal.close(); rehearsal.hide(); editor.hidden = false; });
   main.replaceChildren(el('h1', {}, 'Planner'), editor, rehearsal.root);
 
   const describe = (name) => state.library.find((s) => s.name === name);
@@ -127,6 +136,11 @@ export function plannerPage(main, me) {
   const bindings = new Bindings({ state, tree, view, form, picksList, holesList, say, changed,
     settle: () => history.settle(), validate });
   form.bindings = bindings;
+  const place = new PlacePanel({ state, say, clearPicks: () => bindings.clearPicks() });
+  bindings.onPicks = () => place.refresh();
+  placeBox.replaceChildren(place.root);
+  const importer = new ImportPanel({ view, say });
+  importBox.replaceChildren(importer.root);
 
   // --- the library ---
   async function loadLibrary() {
@@ -280,12 +294,32 @@ export function plannerPage(main, me) {
     const local = [...screwErrors(state.doc), ...state.staleBindings];
     if (local.length) return say(`Not rehearsed: ${local[0].message}`, true);
     try {
-      const r = await rehearseRecipe(JSON.parse(v.canonical));
+      const recipe = JSON.parse(v.canonical);
+      let r = await rehearseRecipe(recipe);
+      if (r.starting) r = await rehearseOnceStarted(recipe, r);
       say(`Rehearsing ${r.task_id} on the simulated cell of domain ${r.domain}.`);
       editor.hidden = true;
       await rehearsal.show(r.task_id, r.domain);
     } catch (e) {
       say(`Not rehearsed: ${e.message}`, true);
+    }
+  }
+  /// The console is starting the rehearsal cell (`r` its 202 answer): follows it until a controller is
+  /// there, then sends the recipe; rejects with the console's reason (and its log) when the start fails.
+  async function rehearseOnceStarted(recipe, r) {
+    const deadline = Date.now() + ((r.cell?.start_timeout_s || 120) + 30) * 1000;
+    for (;;) {
+      say(`Starting the rehearsal cell of domain ${r.domain}… (its log: ${r.cell?.log || '?'})`);
+      await new Promise((done) => setTimeout(done, 500));
+      const cell = await rehearsalCell();
+      if (cell.error) throw new Error(`the rehearsal cell of domain ${cell.domain} did not start: ${cell.error}`);
+      if (cell.phase === 'ready') {
+        r = await rehearseRecipe(recipe);
+        if (!r.starting) return r;
+      } else if (cell.phase !== 'starting') {
+        throw new Error(`the rehearsal cell of domain ${cell.domain} is ${cell.phase}; see ${cell.log}`);
+      }
+      if (Date.now() > deadline) throw new Error(`the rehearsal cell did not come up; see ${cell.log}`);
     }
   }
   async function publish() {
@@ -304,7 +338,7 @@ export function plannerPage(main, me) {
 
   // Test hook: state, and screen positions of model points (to click holes like a person would).
   window.rigger.planner = {
-    state, view, history, validate, features, rehearsal, effort,
+    state, view, history, validate, features, rehearsal, effort, importer,
     screenOf: (entity, point) => view.screenOf(entity, point),
     holes: (entity) => view.parts.get(entity)?.features.holes || [],
   };

@@ -21,3 +21,61 @@ export function frameFromPicks(picks) {
   if (faces.length === 1 && picks.length === 1) return { model, rule: 'face', face: faces[0].ref, point_m: faces[0].point_m, summary: `face ${faces[0].face} at the picked point` };
   return { error: `${picks.length} picks (${picks.map((p) => p.kind).join(', ')}): pick a point (a vertex or a face) and two perpendicular edges, or one face, or one hole` };
 }
+
+/// The placement two face picks make (POST /api/planner/place): the first pick's part, that face at the
+/// picked point, laid on the second pick's face at its point (normals opposite), as the request's fields
+/// with a `summary`; or {error} saying what to pick.
+export function placeFromPicks(picks) {
+  const what = 'pick a face of the part to place, then the face to place it on (of another part)';
+  if (picks.some((p) => p.entity === 'imported')) return { error: 'to place: the imported file is not a part of the cell yet' };
+  if (picks.length !== 2 || picks.some((p) => p.kind !== 'face')) return { error: `to place: ${what}` };
+  const [own, onto] = picks;
+  if (own.entity === onto.entity) return { error: `to place: both faces are of ${own.entity}; ${what}` };
+  return {
+    model: `object:${own.entity}`, face: own.ref, point_m: own.point_m,
+    onto: { model: `object:${onto.entity}`, face: onto.ref, point_m: onto.point_m },
+    summary: `${own.entity} (face ${own.face}) on ${onto.entity} (face ${onto.face})`,
+  };
+}
+
+/// The features the Planner declares by picks (POST /api/planner/declare; docs/console.md, "Declare a feature").
+export const DECLARE_KINDS = ['grasp_frame', 'approach_waypoint', 'screw_holes', 'insertion'];
+
+/// The declare request the picks and the panel's fields make ({kind, name, standoff_m, like, screw_type,
+/// torque_nm}), or {error} saying what to pick or fill in. The console builds the rule from the CAD
+/// service's references of the picked indices; nothing here is a coordinate.
+export function declareFromPicks(picks, fields) {
+  const { kind, name } = fields;
+  if (!DECLARE_KINDS.includes(kind)) return { error: `choose what to declare: ${DECLARE_KINDS.join(', ')}` };
+  if (kind === 'insertion') {
+    // The part's face first, then the face of the part it goes into.
+    if (picks.length !== 2 || picks.some((p) => p.kind !== 'face') || picks[0].entity === picks[1].entity)
+      return { error: 'pick the face of the part that mates, then the face of the part it goes into' };
+    return { model: `object:${picks[0].entity}`, kind, face: picks[0].face,
+      target: { model: `object:${picks[1].entity}`, face: picks[1].face } };
+  }
+  if (!/^[A-Za-z0-9_-]{1,64}$/.test(name || '')) return { error: 'give it a name of letters, digits, _ or -' };
+  const entities = new Set(picks.map((p) => p.entity));
+  if (entities.size > 1) return { error: `the picks are on ${[...entities].join(' and ')}: pick on one part` };
+  const of = (k) => picks.filter((p) => p.kind === k);
+  const model = picks.length ? `object:${picks[0].entity}` : '';
+  if (kind === 'screw_holes') {
+    const holes = of('hole');
+    if (holes.length !== 1 || picks.length !== 1) return { error: 'pick one hole (and tick "all like this one" for its pattern)' };
+    const torque = Number(fields.torque_nm);
+    if (!fields.screw_type || !(torque > 0)) return { error: 'give the screw type and its torque (N·m, > 0)' };
+    return { model, kind, name, hole: holes[0].hole, like: Boolean(fields.like),
+      screw: { screw_type: fields.screw_type, torque_nm: torque } };
+  }
+  const faces = of('face'), edges = of('edge');
+  if (faces.length !== 1 || edges.length > 1 || picks.length !== faces.length + edges.length)
+    return { error: 'pick one face, and a straight edge of it for x if you like' };
+  const request = { model, kind, name, face: faces[0].face };
+  if (edges.length) Object.assign(request, { x_edge: edges[0].edge, x_reversed: Boolean(fields.x_reversed) });
+  if (kind === 'approach_waypoint') {
+    const standoff = Number(fields.standoff_mm) / 1000;
+    if (!(standoff > 0)) return { error: 'give the stand-off out of the face (mm, > 0)' };
+    request.standoff_m = standoff;
+  }
+  return request;
+}

@@ -23,6 +23,11 @@ struct SupervisorOptions {
   /// Where progress goes for the `up` command waiting on it: lines "I text", "W text", "E text",
   /// then "OK" once every service is READY (the descriptor is then closed). -1: none.
   int notify_fd = -1;
+  /// The services stay in the supervisor's process group instead of each leading one: whoever made that
+  /// group (the console, for its rehearsal cell) ends every service with it by the group id, also when the
+  /// supervisor was SIGKILLed and could not stop them. Only for a supervisor that leads a group of its
+  /// own: a terminal's Ctrl-C would then reach the services past the stop order.
+  bool services_in_group = false;
 };
 
 /// Runs until every service has stopped. Returns 0 after a clean stop, 1 when the bring-up failed or

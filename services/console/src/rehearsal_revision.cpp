@@ -1,0 +1,94 @@
+#include "rehearsal_revision.hpp"
+
+#include "rigger/world_protocol/cell_protocol.hpp"
+
+namespace rigger::console {
+
+namespace {
+std::string seconds_text(std::chrono::milliseconds d) {
+  return std::to_string(d.count() / 1000.0).substr(0, 4) + " s";
+}
+}  // namespace
+
+RehearsalRevision::RehearsalRevision(const dds::Participant& participant, dds::EventLoop& loop, std::string client_id,
+                                     std::chrono::milliseconds timeout)
+    : loop_(loop),
+      requests_(participant, protocol::world::kCellRequest),
+      replies_(participant, protocol::world::kCellReply),
+      revisions_(participant, protocol::world::kCell),
+      client_id_(std::move(client_id)),
+      timeout_(timeout) {}
+
+RehearsalRevision::~RehearsalRevision() {
+  for (auto& [id, p] : pending_) loop_.cancel(p.timer);
+}
+
+void RehearsalRevision::bring_to(const CellTarget& target, const std::string& who, Done done) {
+  if (target.sha256 == running_sha256_) return done("");
+  if (!world_model()) {
+    return done("no world model answers cell requests on the rehearsal domain, so the cell's revision " +
+                std::to_string(target.revision) + " cannot be applied there");
+  }
+  world_protocol::CellRequest q;
+  q.op = world_protocol::CellOp::kApply;
+  q.cell_json = target.cell_json;
+  q.who = who;
+  q.comment = "the cell's revision " + std::to_string(target.revision) + ", for a rehearsal";
+  q.client_id = client_id_;
+  q.request_id = next_request_++;
+  q.models = target.models;
+  rigger_world_CellRequest wire{};
+  std::vector<rigger_world_CellModel> models;
+  world_protocol::to_wire(q, wire, models);
+  const dds_return_t rc = requests_.write(wire);
+  if (rc != DDS_RETCODE_OK) return done(std::string("the cell request was not sent: ") + dds_strretcode(rc));
+  const auto timer = loop_.after(timeout_, [this, id = q.request_id] {
+    auto it = pending_.find(id);
+    if (it == pending_.end()) return;
+    const Done late = std::move(it->second.done);
+    const std::string what = it->second.applied ? "did not report the revision it accepted" : "did not answer";
+    pending_.erase(it);
+    late("the rehearsal world model " + what + " within " + seconds_text(timeout_));
+  });
+  pending_[q.request_id] = {target.sha256, target.revision, false, std::move(done), timer};
+}
+
+void RehearsalRevision::take() {
+  revisions_.take([this](const rigger_world_CellRevision& w, const dds_sample_info_t&) {
+    running_sha256_ = world_protocol::from_wire(w).sha256;
+  });
+  replies_.take([this](const rigger_world_CellReply& w, const dds_sample_info_t&) {
+    const world_protocol::CellReply rep = world_protocol::from_wire(w);
+    if (rep.client_id != client_id_) return;
+    auto it = pending_.find(rep.request_id);
+    if (it == pending_.end() || it->second.applied) return;
+    // The same document under another text (whitespace, key order) runs already: nothing to wait for.
+    if (rep.ok || rep.code == world_protocol::cell_code::kUnchanged) {
+      it->second.applied = true;
+      if (!rep.ok) it->second.sha256 = running_sha256_;
+      return;
+    }
+    loop_.cancel(it->second.timer);
+    const Done refused = std::move(it->second.done);
+    const std::uint64_t revision = it->second.revision;
+    pending_.erase(it);
+    refused("the rehearsal world model refused the cell's revision " + std::to_string(revision) + ": " + rep.code +
+            ": " + rep.message);
+  });
+  settle();
+}
+
+void RehearsalRevision::settle() {
+  for (auto it = pending_.begin(); it != pending_.end();) {
+    if (!it->second.applied || it->second.sha256 != running_sha256_) {
+      ++it;
+      continue;
+    }
+    loop_.cancel(it->second.timer);
+    const Done done = std::move(it->second.done);
+    it = pending_.erase(it);
+    done("");
+  }
+}
+
+}  // namespace rigger::console

@@ -1,0 +1,120 @@
+// The console's HTTP side at its limits: live streams beyond max_streams, and the Planner's STEP import
+// with a body limit of its own (see http_api_fixture.hpp for the recording Backend in place of DDS).
+#include "http_api_fixture.hpp"
+
+namespace rigger::console::testing {
+namespace {
+
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+class HttpApiFewStreamsTest : public HttpApiTest {
+ protected:
+  void configure(HttpConfig& config) override { config.max_streams = 2; }
+};
+
+// Every live stream holds a worker thread: one more than max_streams is refused with 503 and Retry-After
+// rather than queued behind the others (where it would wait for ever), the pages' requests are still
+// served, and a stream that ends gives its slot back.
+TEST_F(HttpApiFewStreamsTest, StreamsBeyondTheLimitAreRefusedAndRequestsStillServed) {
+  struct Stream {
+    std::unique_ptr<httplib::Client> client;
+    std::atomic<bool> open{false}, stop{false}, ended{false};
+    std::thread reader;
+  };
+  const auto open_stream = [&](Stream& s) {
+    s.client = std::make_unique<httplib::Client>("127.0.0.1", api_->port());
+    s.reader = std::thread([&] {
+      s.client->Get("/api/events", as(kVic), [&](const char*, std::size_t) {
+        s.open = true;
+        return !s.stop.load();
+      });
+      s.ended = true;
+    });
+  };
+  // Events keep flowing, so that each stream writes (and notices a closed client) in its own time.
+  int seq = 0;
+  const auto until = [&](const std::function<bool()>& done) {
+    for (const auto deadline = std::chrono::steady_clock::now() + 10s; std::chrono::steady_clock::now() < deadline;) {
+      state_.update_node({{"task_id", "t"}, {"node_id", "n" + std::to_string(++seq)}, {"state", "RUNNING"}});
+      if (done()) return true;
+      std::this_thread::yield();
+    }
+    return false;
+  };
+  Stream a, b;
+  open_stream(a);
+  open_stream(b);
+  ASSERT_TRUE(until([&] { return a.open && b.open; })) << "two streams within the limit";
+  const auto third = client_->Get("/api/events", as(kVic));
+  ASSERT_TRUE(third);
+  EXPECT_EQ(third->status, 503);
+  EXPECT_NE(third->body.find("at most 2 live streams at once (max_streams)"), std::string::npos) << third->body;
+  EXPECT_EQ(third->get_header_value("Retry-After"), "5");
+  const auto me = client_->Get("/api/me", as(kVic));
+  ASSERT_TRUE(me);
+  EXPECT_EQ(me->status, 200) << "a page's request is served while the streams are open";
+  // One stream ends: its slot comes back (a stream that opens receives data; a refusal does not).
+  a.stop = true;
+  EXPECT_TRUE(until([&] {
+    bool streamed = false;
+    client_->Get(
+        "/api/events", as(kVic),
+        [&](const httplib::Response& r) {
+          streamed = r.status == 200;
+          return false;
+        },
+        [](const char*, std::size_t) { return false; });
+    return streamed;
+  })) << "a stream opens again once one has ended";
+  b.stop = true;
+  EXPECT_TRUE(until([&] { return a.ended && b.ended; }));
+  a.reader.join();
+  b.reader.join();
+}
+
+class HttpApiImportTest : public HttpApiTest {
+ protected:
+  void configure(HttpConfig& config) override { config.max_import_bytes = 256 * 1024; }
+};
+
+// A STEP file to import goes to the CAD service as bytes, bounded by its own limit (larger than a JSON
+// body's, smaller here); the CAD service's refusal keeps its code; programmers only; audited.
+TEST_F(HttpApiImportTest, AStepFileIsReadByTheCadServiceWithinItsOwnLimit) {
+  const auto send = [&](const std::string& path, const std::string& bytes, int user) {
+    return client_->Post(path.c_str(), as(user), bytes, "application/octet-stream");
+  };
+  const std::string file(100 * 1024, 'x');  // above max_body_bytes (64 KiB), within the import's limit
+  EXPECT_EQ(send("/api/planner/import?name=bracket.step", file, kVic)->status, 403);
+  EXPECT_EQ(send("/api/planner/import?name=bracket.step", "", kAda)->status, 400);
+  EXPECT_EQ(send("/api/planner/import?name=a/b.step", file, kAda)->status, 400);
+  auto r = send("/api/planner/import?name=bracket.step", std::string(300 * 1024, 'x'), kAda);
+  EXPECT_EQ(r->status, 413) << r->body;
+  EXPECT_TRUE(backend_.cad_requests().empty()) << "nothing reached the CAD service";
+
+  backend_.cad_answer_ = {false, "CAD_NO_UNITS: bracket.step: the file declares no length unit", {}};
+  r = send("/api/planner/import?name=bracket.step", file, kAda);
+  EXPECT_EQ(r->status, 400);
+  EXPECT_NE(body(r)["error"].get<std::string>().find("CAD_NO_UNITS"), std::string::npos) << r->body;
+  EXPECT_EQ(backend_.cad_requests().back(), "load bracket.step 102400 bytes");
+
+  backend_.cad_answer_ = {true, "", json{{"model_sha256", "ab12"},
+                                        {"result", {{"units", "m"}, {"source", "content"},
+                                                    {"product", {{"name", "BRACKET"}, {"assembly", false}}}}}}};
+  r = send("/api/planner/import?name=bracket.step", file, kAda);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(body(r)["model"], "sha256:ab12");
+  EXPECT_EQ(body(r)["product"]["name"], "BRACKET");
+  EXPECT_EQ(body(r)["bytes"], 102400);
+  EXPECT_FALSE(body(r).contains("source"));
+  // JSON endpoints keep their own, smaller limit.
+  EXPECT_EQ(post("/api/planner/validate", std::string(100 * 1024, ' '), kAda)->status, 413);
+  std::ifstream audit(dir_ + "/audit.log");
+  const std::string text{std::istreambuf_iterator<char>(audit), std::istreambuf_iterator<char>()};
+  EXPECT_NE(text.find(R"("action":"import STEP","result":"read as sha256:ab12")"), std::string::npos) << text;
+}
+
+// cpp-httplib 0.11 compresses with brotli at quality 11 whenever a client accepts br, as every
+// browser does (1.8 s of CPU for three.js per page load): JSON and JavaScript go out uncompressed.
+}  // namespace
+}  // namespace rigger::console::testing

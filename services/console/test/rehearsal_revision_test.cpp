@@ -1,0 +1,118 @@
+// The rehearsal cell brought to the real cell's revision, in-process on a private domain: a fake world
+// model (the test's reader of rigger/world/cell_request, writers of cell_reply and cell) refuses a
+// revision, accepts one and reports it later, and is missing; RehearsalRevision says when it may send.
+#include <optional>
+
+#include <gtest/gtest.h>
+
+#include "rehearsal_revision.hpp"
+#include "rigger/testing/domain.hpp"
+#include "rigger/world_protocol/cell_protocol.hpp"
+
+namespace rigger::console {
+namespace {
+
+using namespace std::chrono_literals;
+
+class RehearsalRevisionTest : public ::testing::Test {
+ protected:
+  RehearsalRevisionTest() {
+    for (const dds_entity_t reader : revision_.readers()) loop_.on_data(reader, [this] { revision_.take(); });
+  }
+
+  /// Answers the last request seen as a world model would.
+  void reply(bool ok, const std::string& code, const std::string& message) {
+    world_protocol::CellReply r;
+    r.client_id = seen_.back().client_id;
+    r.request_id = seen_.back().request_id;
+    r.ok = ok;
+    r.code = code;
+    r.message = message;
+    rigger_world_CellReply wire{};
+    world_protocol::to_wire(r, wire);
+    ASSERT_EQ(replies_.write(wire), DDS_RETCODE_OK);
+  }
+  void report(const std::string& sha256) {
+    world_protocol::CellRevision r;
+    r.cell_revision = 1;
+    r.cell_json = "{}";
+    r.sha256 = sha256;
+    rigger_world_CellRevision wire{};
+    world_protocol::to_wire(r, wire);
+    ASSERT_EQ(revisions_.write(wire), DDS_RETCODE_OK);
+  }
+  /// The world model's reader of cell requests appears (discovery then matches it).
+  void start_world_model() {
+    requests_ = dds::Reader<rigger_world_CellRequest>(participant_, protocol::world::kCellRequest);
+    loop_.on_data(requests_, [this] {
+      requests_.take([this](const rigger_world_CellRequest& w, const dds_sample_info_t&) {
+        seen_.push_back(world_protocol::from_wire(w));
+      });
+    });
+    ASSERT_TRUE(loop_.run_until([&] { return revision_.world_model(); }, 5s));
+  }
+
+  testing::DomainLease lease_;
+  dds::Participant participant_{lease_.id()};
+  dds::EventLoop loop_{participant_};
+  RehearsalRevision revision_{participant_, loop_, "console-test", 2s};
+  dds::Reader<rigger_world_CellRequest> requests_;
+  dds::Writer<rigger_world_CellReply> replies_{participant_, protocol::world::kCellReply};
+  dds::Writer<rigger_world_CellRevision> revisions_{participant_, protocol::world::kCell};
+  std::vector<world_protocol::CellRequest> seen_;
+  const CellTarget target_{3, "sha-of-3", R"({"cell_version": 1})", {}};
+};
+
+TEST_F(RehearsalRevisionTest, ARefusedRevisionIsNotRunWithTheWorldModelsReason) {
+  start_world_model();
+  std::optional<std::string> done;
+  revision_.bring_to(target_, "console:ada", [&](const std::string& error) { done = error; });
+  ASSERT_TRUE(loop_.run_until([&] { return !seen_.empty(); }, 5s));
+  EXPECT_EQ(seen_.back().op, world_protocol::CellOp::kApply);
+  EXPECT_EQ(seen_.back().cell_json, target_.cell_json);
+  EXPECT_EQ(seen_.back().who, "console:ada");
+  EXPECT_FALSE(seen_.back().dry_run);
+  reply(false, "INVALID", "/entities/2/pose: expected position_m");
+  ASSERT_TRUE(loop_.run_until([&] { return done.has_value(); }, 5s));
+  EXPECT_EQ(*done,
+            "the rehearsal world model refused the cell's revision 3: INVALID: /entities/2/pose: expected "
+            "position_m");
+}
+
+TEST_F(RehearsalRevisionTest, AnAcceptedRevisionRunsOnlyOnceTheWorldModelReportsIt) {
+  start_world_model();
+  report("sha-of-the-file");
+  ASSERT_TRUE(loop_.run_until([&] { return revision_.running_sha256() == "sha-of-the-file"; }, 5s));
+  std::optional<std::string> done;
+  revision_.bring_to(target_, "console:ada", [&](const std::string& error) { done = error; });
+  ASSERT_TRUE(loop_.run_until([&] { return !seen_.empty(); }, 5s));
+  reply(true, "ACCEPTED", "revision 2");
+  EXPECT_FALSE(loop_.run_until([&] { return done.has_value(); }, 300ms)) << "accepted, not yet reported";
+  report(target_.sha256);
+  ASSERT_TRUE(loop_.run_until([&] { return done.has_value(); }, 5s));
+  EXPECT_EQ(*done, "");
+  // Already running it: the next rehearsal sends nothing to the world model.
+  done.reset();
+  revision_.bring_to(target_, "console:ada", [&](const std::string& error) { done = error; });
+  ASSERT_TRUE(done.has_value());
+  EXPECT_EQ(*done, "");
+  EXPECT_EQ(seen_.size(), 1u);
+}
+
+TEST_F(RehearsalRevisionTest, NoWorldModelOrNoReportIsNotRunEither) {
+  std::optional<std::string> done;
+  revision_.bring_to(target_, "console:ada", [&](const std::string& error) { done = error; });
+  ASSERT_TRUE(done.has_value());
+  EXPECT_NE(done->find("no world model answers cell requests on the rehearsal domain"), std::string::npos) << *done;
+
+  start_world_model();
+  done.reset();
+  revision_.bring_to(target_, "console:ada", [&](const std::string& error) { done = error; });
+  ASSERT_TRUE(loop_.run_until([&] { return !seen_.empty(); }, 5s));
+  reply(true, "ACCEPTED", "revision 2");
+  ASSERT_TRUE(loop_.run_until([&] { return done.has_value(); }, 10s));
+  EXPECT_EQ(*done, "the rehearsal world model did not report the revision it accepted within 2.00 s");
+}
+
+}  // namespace
+}  // namespace rigger::console

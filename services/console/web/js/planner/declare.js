@@ -1,0 +1,88 @@
+// The Planner's "Declare a feature" panel (docs/console.md, "Declare a feature"): a grasp frame, an
+// approach waypoint, screw holes or the insertion from the picks, as a new cell revision. The console builds the rule
+// from the CAD service's references (POST /api/planner/declare: the world model's dry run), the person
+// confirms the changes, and the new revision's features come back through the page's "revision" event.
+// After a commit the panel offers the undo: the rollback to the revision it was declared on.
+import { api, confirmDialog, el } from '../api.js';
+import { describeChanges } from '../cell_revisions.js';
+import { DECLARE_KINDS, declareFromPicks } from './picks.js';
+
+const LABELS = { grasp_frame: 'grasp frame (a face, an edge of it for x)', approach_waypoint: 'approach waypoint (a face, a stand-off)',
+  screw_holes: 'screw holes (a hole)', insertion: 'insertion (a face of the part, then the face it mates)' };
+
+export class DeclarePanel {
+  /// `state`: the page's (`picks`); `say(text, bad)`: the page's notice.
+  constructor(state, say) {
+    this.state = state;
+    this.say = say;
+    const input = (id, label, attrs = {}) => el('label', {}, `${label} `, el('input', { id: `planner-declare-${id}`, 'aria-label': label, ...attrs }));
+    this.kind = el('select', { id: 'planner-declare-kind', 'aria-label': 'Feature kind', onchange: () => this.render() },
+      ...DECLARE_KINDS.map((k) => el('option', { value: k }, LABELS[k])));
+    this.fields = {
+      name: input('name', 'Name', { type: 'text', placeholder: 'grasp_top, or m for m1, m2, …' }),
+      x_reversed: input('xrev', 'x reversed', { type: 'checkbox' }),
+      standoff_mm: input('standoff', 'Stand-off (mm)', { type: 'number', min: '0', step: '1' }),
+      like: input('like', 'All holes like this one', { type: 'checkbox' }),
+      screw_type: input('screw-type', 'Screw', { type: 'text', placeholder: 'M12x40' }),
+      torque_nm: input('torque', 'Torque (N·m)', { type: 'number', min: '0', step: '1' }),
+    };
+    this.status = el('p', { id: 'planner-declare-status', role: 'status', 'aria-live': 'polite', class: 'small' });
+    this.undoBox = el('div', { class: 'toolbar' });
+    this.root = el('details', { id: 'planner-declare' }, el('summary', {}, 'Declare a feature (a new cell revision)'),
+      el('div', { class: 'toolbar' }, this.kind, ...Object.values(this.fields),
+        el('button', { id: 'planner-declare-submit', onclick: () => this.declare() }, 'Declare…')),
+      this.status, this.undoBox);
+    this.render();
+  }
+
+  value(key) {
+    const box = this.fields[key].querySelector('input');
+    return box.type === 'checkbox' ? box.checked : box.value.trim();
+  }
+
+  /// Shows the kind's own fields only.
+  render() {
+    const k = this.kind.value;
+    const shown = { name: k !== 'insertion', x_reversed: k !== 'screw_holes' && k !== 'insertion', standoff_mm: k === 'approach_waypoint',
+      like: k === 'screw_holes', screw_type: k === 'screw_holes', torque_nm: k === 'screw_holes' };
+    for (const [key, on] of Object.entries(shown)) this.fields[key].hidden = !on;
+  }
+
+  tell(text, bad = false) {
+    this.status.textContent = text;
+    this.status.className = `small${bad ? ' error' : ''}`;
+    this.say(text, bad);
+  }
+
+  async declare() {
+    const fields = Object.fromEntries(Object.keys(this.fields).map((k) => [k, this.value(k)]));
+    const request = declareFromPicks(this.state.picks, { kind: this.kind.value, ...fields });
+    if (request.error) return this.tell(`Nothing declared: ${request.error}.`, true);
+    const what = request.target ? `the insertion of ${request.model.slice(7)} into ${request.target.model.slice(7)}`
+      : `${this.kind.value.replace('_', ' ')} ${request.name} on ${request.model.slice(7)}`;
+    try {
+      const sel = await api('/api/planner/declare', { method: 'POST', body: request });
+      this.status.textContent = `${what}: ${sel.features.join(', ')} — ${describeChanges(sel.changes)}`;
+      if (!(await confirmDialog('Declare the feature?', `${what} (${sel.features.join(', ')}): ${describeChanges(sel.changes)}. `
+        + 'Every service follows the new revision.', 'Declare'))) return this.tell('Feature not declared (not confirmed).');
+      const done = await api('/api/confirm', { method: 'POST', body: { confirmation_id: sel.confirmation_id } });
+      this.tell(`Declared ${sel.features.join(', ')}: cell revision ${done.cell_revision}.`);
+      this.offerUndo(sel.base_revision, sel.features);
+    } catch (e) {
+      this.tell(`Nothing declared (${what}): ${e.message}${e.where ? ` at ${e.where}` : ''}`, true);
+    }
+  }
+
+  /// The undo of a declaration: the rollback to the revision it was declared on, in the same two steps.
+  offerUndo(revision, features) {
+    this.undoBox.replaceChildren(el('button', { id: 'planner-declare-undo', onclick: async () => {
+      try {
+        const sel = await api('/api/cell/revisions', { method: 'POST', body: { rollback: revision, comment: `undo ${features.join(', ')}` } });
+        if (!(await confirmDialog('Undo the declaration?', `roll back to revision ${revision}: ${describeChanges(sel.changes)}.`, 'Roll back'))) return;
+        const done = await api('/api/confirm', { method: 'POST', body: { confirmation_id: sel.confirmation_id } });
+        this.tell(`Rolled back to revision ${revision} (now revision ${done.cell_revision}).`);
+        this.undoBox.replaceChildren();
+      } catch (e) { this.tell(`Undo failed: ${e.message}`, true); }
+    } }, `Undo (roll back to revision ${revision})…`));
+  }
+}

@@ -1,0 +1,106 @@
+// Import a STEP file (docs/console.md, "Import a STEP file"): the file goes to the console
+// (POST /api/planner/import), whose CAD service reads it with the same bounded reader as the cell's
+// models; the page shows what it holds — units, solids, faces, holes and the product tree (assemblies,
+// parts and their instances, as the file names them) — and draws it beside the cell, where its faces,
+// edges and holes can be picked. A file the CAD service refuses (not STEP, no length unit, no solid,
+// too large) is said with its reason; nothing changes in the cell. "Add to the cell…" makes it an object
+// of the cell: named, of a material (or fixed to the floor), standing on the floor beside the cell; the
+// console sends its bytes with the revision, so every service gets them (POST /api/planner/add, then the
+// confirmation). Place then puts it where it belongs.
+import { api, el, confirmDialog } from '../api.js';
+import { describeChanges } from '../cell_revisions.js';
+
+/// The 3D view's id of the imported model (not a cell entity).
+export const IMPORTED = 'imported';
+
+/// The product tree as nested lists: "name (assembly)" or "name", an instance's own name beside its part's.
+function productList(node) {
+  if (!node) return el('p', { class: 'muted' }, 'no product structure');
+  const label = (n) => `${n.name || '(unnamed)'}${n.assembly ? ' (assembly)' : ''}${n.instance && n.instance !== n.name ? ` — instance ${n.instance}` : ''}`;
+  const item = (n) => el('li', { 'data-product': n.name || '' }, label(n),
+    ...(n.children?.length ? [el('ul', {}, ...n.children.map(item))] : []));
+  return el('ul', { class: 'product-tree', 'aria-label': 'Product tree of the imported file' }, item(node));
+}
+
+export class ImportPanel {
+  /// `view`: the PartsView; `say(text, bad)`: the page's notice.
+  constructor({ view, say }) {
+    Object.assign(this, { view, say });
+    this.file = el('input', { type: 'file', id: 'planner-import', accept: '.step,.stp,.STEP,.STP', onchange: () => this.read() });
+    this.result = el('div', { id: 'planner-imported', role: 'status', 'aria-live': 'polite' });
+    this.name = el('input', { id: 'planner-add-name', type: 'text', maxlength: '64', pattern: '[A-Za-z0-9_-]+', autocomplete: 'off' });
+    this.material = el('select', { id: 'planner-add-material' },
+      ...[['steel', 'steel (loose)'], ['aluminium', 'aluminium (loose)'], ['plastic', 'plastic (loose)'], ['fixed', 'fixed to the floor']]
+        .map(([value, label]) => el('option', { value }, label)));
+    this.addButton = el('button', { id: 'planner-add-object', onclick: () => this.add() }, 'Add to the cell…');
+    this.addForm = el('div', { class: 'toolbar', hidden: true }, el('label', {}, 'Name ', this.name),
+      el('label', {}, 'Material ', this.material), this.addButton);
+    this.root = el('div', { role: 'group', 'aria-labelledby': 'planner-import-title' },
+      el('h2', { id: 'planner-import-title' }, 'Import a STEP file'),
+      el('label', {}, 'STEP file ', this.file), this.result, this.addForm);
+    this.imported = null;  // the CAD service's answer for the last file read
+  }
+
+  async read() {
+    const f = this.file.files?.[0];
+    if (!f) return;
+    this.result.replaceChildren(el('p', {}, `Reading ${f.name} (${(f.size / 1024).toFixed(0)} KiB)…`));
+    try {
+      const r = await api(`/api/planner/import?name=${encodeURIComponent(f.name)}`, { method: 'POST', bytes: f });
+      this.imported = r;
+      const c = r.counts || {};
+      this.result.replaceChildren(
+        el('p', { id: 'planner-imported-summary' },
+          `${r.name}: units ${r.units}, ${c.solids} solid${c.solids === 1 ? '' : 's'}, ${c.faces} faces, ${c.holes} hole${c.holes === 1 ? '' : 's'}`,
+          c.faces_from_bspline ? ` (${c.faces_from_bspline} faces recognised from B-splines)` : '', '. ',
+          el('code', {}, r.model.slice(0, 19) + '…')),
+        productList(r.product));
+      await this.draw(r);
+      // A name for the object it may become: the file's, as an id.
+      this.name.value = r.name.replace(/\.(step|stp)$/i, '').replace(/[^A-Za-z0-9_-]+/g, '_').slice(0, 64) || 'part';
+      this.addForm.hidden = false;
+      this.say(`Imported ${r.name}: drawn beside the cell; its faces and holes can be picked.`);
+    } catch (e) {
+      this.imported = null;
+      this.addForm.hidden = true;
+      this.result.replaceChildren(el('p', { class: 'error', id: 'planner-import-error' }, `${f.name}: ${e.message}`));
+      this.say(`Import of ${f.name} refused: ${e.message}`, true);
+    }
+  }
+
+  /// The imported part as a new object of the cell, after the person confirmed what the world model said.
+  async add() {
+    const r = this.imported;
+    if (!r) return this.say('Import a STEP file first.', true);
+    const body = { model: r.model, id: this.name.value.trim(), material: this.material.value };
+    try {
+      const sel = await api('/api/planner/add', { method: 'POST', body });
+      const how = body.material === 'fixed' ? 'fixed to the floor' : `loose, of ${body.material}`;
+      const question = `${r.name} becomes the object ${sel.object}, ${how}, standing on the floor beside the cell: ${describeChanges(sel.changes)}. Every service gets its model with the new cell revision.`;
+      if (!(await confirmDialog('Add the part to the cell?', question, 'Add'))) return this.say('Not added: the cell is unchanged.');
+      const done = await api('/api/confirm', { method: 'POST', body: { confirmation_id: sel.confirmation_id } });
+      const old = this.view.parts.get(IMPORTED);
+      if (old) { this.view.scene.remove(old.group); this.view.parts.delete(IMPORTED); }
+      this.addForm.hidden = true;
+      this.say(`Added ${sel.object} to the cell: cell revision ${done.cell_revision} (${describeChanges(done.changes)}). Place it by picks.`);
+    } catch (e) {
+      this.say(`Add to the cell: ${e.message}${e.where ? ` at ${e.where}` : ''}`, true);
+    }
+  }
+
+  /// Draws the imported model beside the cell's parts (0.5 m past them along x, at their lowest z).
+  async draw(r) {
+    const old = this.view.parts.get(IMPORTED);
+    if (old) { this.view.scene.remove(old.group); this.view.parts.delete(IMPORTED); }
+    let x = 0, z = 0;
+    for (const [, part] of this.view.parts) {
+      part.group.updateMatrixWorld(true);
+      const p = part.group.position;
+      x = Math.max(x, p.x);
+      z = Math.min(z, p.z);
+    }
+    const world = { pose: { position_m: [x + 1.0, 0, z], rpy_deg: [0, 0, 0] } };
+    await this.view.load(IMPORTED, world, r.model);
+    this.view.frame(IMPORTED);
+  }
+}

@@ -1,0 +1,173 @@
+// A STEP file imported in the planner, run by planner_browser_test.cpp (the CAD service, the world model
+// and the console of the simulated cell): headless Debian chromium through playwright-core. The person
+// chooses a file the repository does not ship (the generated cell's flange plate, written with OpenCascade
+// by the C++ side: STEP), and the page shows its units, solids, faces, holes and product tree, draws it
+// beside the cell, and a click on it picks its face with the imported model's reference. A file that is
+// not STEP is refused on the page with the CAD service's reason. Then it becomes a cell object by name
+// and material (a taken name refused first), its bytes going with the revision, so the CAD service draws
+// it from its own copy; it is placed by picks on the part fixture and its insertion into the target is
+// declared by picks. Synchronisation is on the page's state,
+// never a sleep; a failed check exits 1. RESULT: what the page showed.
+import { call, check, closeBrowser, viewGestures, env, launchBrowser, openPlanner } from './harness.mjs';
+
+const result = {};
+const browser = await launchBrowser();
+try {
+  const page = await openPlanner(browser);
+  const state = (fn, arg) => page.evaluate(fn, arg);
+  const imported = async (file) => {
+    await page.setInputFiles('#planner-import', file);
+    await page.waitForFunction(() => {
+      const t = document.querySelector('#planner-imported')?.textContent || '';
+      return !/^Reading/.test(t) && (document.querySelector('#planner-imported-summary') || document.querySelector('#planner-import-error'));
+    }, null, { timeout: 60000 });
+  };
+
+  // --- not a STEP file: refused with the reason, nothing drawn ---
+  await imported(env('NOT_STEP'));
+  const error = await page.locator('#planner-import-error').innerText();
+  check(/CAD_/.test(error), `a file that is not STEP is refused with the CAD service's code: ${error}`);
+  check(!(await state(() => window.rigger.planner.view.parts.has('imported'))), 'nothing is drawn for it');
+  result.error = error;
+
+  // --- the flange: what it holds, drawn beside the cell ---
+  await imported(env('FLANGE'));
+  const summary = await page.locator('#planner-imported-summary').innerText();
+  check(/^flange\.step: units m, \d+ solids?, \d+ faces, 6 holes/.test(summary), `the page says what the file holds: ${summary}`);
+  const products = await page.$$eval('.product-tree li', (lis) => lis.map((li) => li.dataset.product));
+  check(products.includes('flange'), `the product tree names the part: ${JSON.stringify(products)}`);
+  await page.waitForFunction(() => window.rigger.planner.view.parts.has('imported'), null, { timeout: 60000 });
+  const drawn = await state(() => {
+    const p = window.rigger.planner.view.parts.get('imported');
+    return p && { faces: p.features.faces.length, sha: p.sha256, model: window.rigger.planner.importer.imported.model };
+  });
+  check(drawn && `sha256:${drawn.sha}` === drawn.model, `the 3D view draws the imported model ${JSON.stringify(drawn)}`);
+  check(summary.includes(`${drawn.faces} faces`), `the drawing has the file's ${drawn.faces} faces`);
+  result.summary = summary;
+  result.products = products;
+  result.model = drawn.model;
+
+  // --- a click on its top face picks it, with the imported model's reference ---
+  const top = await state(() => window.rigger.planner.view.parts.get('imported').features.faces
+    .filter((f) => f.signature?.type === 'plane' && f.signature.direction[2] > 0.99)
+    .reduce((a, b) => (b.signature.centroid_m[2] > a.signature.centroid_m[2] ? b : a)));
+  // Off the centroid: the plate's centre may be a hole.
+  const at = await state((f) => {
+    const faces = window.rigger.planner.view.parts.get('imported').features;
+    const hole = (p) => faces.holes.some((h) => Math.hypot(h.entry_m[0] - p[0], h.entry_m[1] - p[1]) < h.diameter_m);
+    for (const r of [0.0, 0.02, 0.04, 0.06, 0.08]) {
+      const p = [f.signature.centroid_m[0] + r, f.signature.centroid_m[1] + r / 2, f.signature.centroid_m[2]];
+      if (!hole(p)) return p;
+    }
+    return f.signature.centroid_m;
+  }, top);
+  const q = await state((p) => window.rigger.planner.screenOf('imported', p), at);
+  await page.mouse.click(q.x, q.y);
+  await page.waitForFunction(() => window.rigger.planner.state.picks.length === 1, null, { timeout: 10000 });
+  const pick = await state(() => window.rigger.planner.state.picks[0]);
+  check(pick.entity === 'imported' && pick.kind === 'face' && pick.face === top.index && pick.ref.model_sha256 === drawn.sha,
+    `the click picked the imported model's top face ${top.index} (${pick.entity} ${pick.kind} ${pick.face})`);
+  const hint = await page.locator('#planner-place-hint').innerText();
+  check(/not a part of the cell yet/.test(hint), `Place says the imported file is not a cell part yet: ${hint}`);
+  result.pick = { face: pick.face, sha256: pick.ref.model_sha256 };
+  await page.click('#planner-clear-picks');
+
+  // --- made a cell object: a name the cell has is refused on the page, nothing committed ---
+  const notice = () => page.locator('#planner-notice').innerText();
+  const revisionBefore = (await call('/api/cell')).json.cell_revision;
+  check(await page.locator('#planner-add-name').isVisible(), 'the page offers to add the imported part to the cell');
+  await page.fill('#planner-add-name', 'part');
+  await page.click('#planner-add-object');
+  await page.waitForFunction(() => /^Add to the cell: /.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 20000 });
+  const taken = await notice();
+  check(/"part" already/.test(taken), `a taken name is refused: ${taken}`);
+  check((await call('/api/cell')).json.cell_revision === revisionBefore, 'nothing was committed');
+  result.taken = taken;
+
+  // --- added: its bytes go with the revision; the 3D view draws it from the CAD service's copy ---
+  await page.fill('#planner-add-name', 'flange_imported');
+  await page.selectOption('#planner-add-material', 'steel');
+  await page.click('#planner-add-object');
+  await page.waitForFunction((before) => document.querySelector('#confirm[open]')
+    || (document.querySelector('#planner-notice.error') && document.querySelector('#planner-notice').textContent !== before), taken, { timeout: 30000 });
+  check(await page.locator('#confirm[open]').count() === 1, `the console asked to confirm (${await notice()})`);
+  const question = await page.locator('#confirm-text').innerText();
+  check(/becomes the object flange_imported, loose, of steel.*added flange_imported/.test(question), `the confirmation says what changes: ${question}`);
+  await page.click('#confirm-yes');
+  await page.waitForFunction(() => /^Added flange_imported to the cell: cell revision \d+/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 30000 });
+  result.added = await notice();
+  await page.waitForFunction(() => window.rigger.planner.view.parts.get('flange_imported')?.features?.faces?.length > 0, null, { timeout: 60000 });
+  const cellPart = await state(() => {
+    const p = window.rigger.planner.view.parts.get('flange_imported');
+    return { sha: p.sha256, faces: p.features.faces.length, imported: window.rigger.planner.view.parts.has('imported') };
+  });
+  check(cellPart.sha === drawn.sha && cellPart.faces === drawn.faces && !cellPart.imported,
+    `the cell's new object is drawn from the same bytes, in place of the import ${JSON.stringify(cellPart)}`);
+  const added = (await call('/api/world/entity/flange_imported')).json;
+  check(added && added.kind === 'object', `the world model serves the new object ${JSON.stringify(added).slice(0, 200)}`);
+
+  // --- placed by picks: its bottom face on the part fixture's top face, away from the part on it ---
+  const { box, orbit, clickAt } = await viewGestures(page);
+  const bottom = await state(() => {
+    const part = window.rigger.planner.view.parts.get('flange_imported').features;
+    const down = part.faces.filter((f) => f.signature?.type === 'plane' && f.signature.direction[2] < -0.99);
+    const f = down.reduce((a, b) => (b.signature.centroid_m[2] < a.signature.centroid_m[2] ? b : a));
+    const hole = (p) => part.holes.some((h) => Math.hypot(h.entry_m[0] - p[0], h.entry_m[1] - p[1]) < h.diameter_m);
+    for (const r of [0.0, 0.02, 0.04, 0.06, 0.08]) {
+      const p = [f.signature.centroid_m[0] + r, f.signature.centroid_m[1] + r / 2, f.signature.centroid_m[2]];
+      if (!hole(p)) return { index: f.index, point: p, z: f.signature.centroid_m[2] };
+    }
+    return { index: f.index, point: f.signature.centroid_m, z: f.signature.centroid_m[2] };
+  });
+  await page.click('[data-frame="flange_imported"]');
+  await orbit(-0.3 * box.height);
+  const own = await clickAt('flange_imported', bottom.point);
+  check(own.entity === 'flange_imported' && own.kind === 'face' && own.face === bottom.index,
+    `the click from below picked the new object's bottom face ${bottom.index} (got ${own.entity} ${own.kind} ${own.face})`);
+  await orbit(0.3 * box.height);
+  await page.click('[data-frame="part_fixture"]');
+  const onto = await clickAt('part_fixture', [-0.15, -0.1, 0]);
+  check(onto.entity === 'part_fixture' && onto.kind === 'face', `picked the part fixture's top face (got ${onto.entity} ${onto.kind})`);
+  await page.click('#planner-place-known');
+  await page.click('#planner-place');
+  await page.waitForFunction(() => document.querySelector('#confirm[open]') || document.querySelector('#planner-notice.error'), null, { timeout: 20000 });
+  check(await page.locator('#confirm[open]').count() === 1, `the console asked to confirm the placement (${await notice()})`);
+  await page.click('#confirm-yes');
+  await page.waitForFunction(() => /^Placed flange_imported on part_fixture: cell revision \d+/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 20000 });
+  result.placed = await notice();
+  const placed = (await call('/api/world/entity/flange_imported')).json;
+  const fixture = (await call('/api/world/entity/part_fixture')).json;
+  const zOf = (e) => (e.world_pose || e.pose).position_m[2];
+  const gap = zOf(placed) + bottom.z - zOf(fixture);
+  check(Math.abs(gap) < 1e-6, `the new object's bottom face lies on the fixture's top face (gap ${gap} m)`);
+  result.placed_pose = placed.world_pose || placed.pose;
+
+  // --- its insertion declared by picks: its bottom face (the fixture hidden, seen from below) on the
+  //     target's top face ---
+  await page.click('#planner-clear-picks');
+  await page.click('[data-part="part_fixture"]');
+  await page.click('[data-frame="flange_imported"]');
+  await orbit(-0.3 * box.height);
+  const mating = await clickAt('flange_imported', bottom.point);
+  check(mating.entity === 'flange_imported' && mating.face === bottom.index, `picked the bottom face again (got ${mating.entity} ${mating.face})`);
+  await orbit(0.3 * box.height);
+  await page.click('[data-part="part_fixture"]');
+  await page.click('[data-frame="target"]');
+  const into = await clickAt('target', [-0.1, 0.05, 0]);
+  check(into.entity === 'target' && into.kind === 'face', `picked the target's top face (got ${into.entity} ${into.kind})`);
+  await page.click('#planner-declare summary');
+  await page.selectOption('#planner-declare-kind', 'insertion');
+  await page.click('#planner-declare-submit');
+  await page.waitForSelector('#confirm-yes', { state: 'visible', timeout: 20000 });
+  await page.click('#confirm-yes');
+  await page.waitForFunction(() => /^Declared flange_imported\/insertion/.test(document.querySelector('#planner-declare-status').textContent), null, { timeout: 30000 });
+  const inserted = (await call('/api/world/entity/flange_imported')).json;
+  const insertion = inserted.features?.insertion;
+  check(insertion?.target === 'target', `the world model serves the insertion into the target ${JSON.stringify(insertion)}`);
+  result.insertion = insertion;
+  result.bottom_z = bottom.z;
+  result.revision_before = revisionBefore;
+  result.revision_after = (await call('/api/cell')).json.cell_revision;
+} finally {
+  await closeBrowser(browser, result);
+}
