@@ -264,10 +264,11 @@ CellFile cell_file_from_json(const json& document, const std::string& source) {
                    "\"" + target + "\" without one");
       }
     }
-    if (entity.features.markers) {
-      const MarkerLayout& layout = *entity.features.markers;
+    // Objects' markers and calibration boards' markers share one id space per dictionary: the tracker
+    // must know which entity a detected marker belongs to.
+    const auto claim_markers = [&](const MarkerLayout& layout, const std::string& layout_pointer) {
       for (std::size_t m = 0; m < layout.items.size(); ++m) {
-        const std::string marker_pointer = pointer + "/features/markers/items/" + std::to_string(m) + "/id";
+        const std::string marker_pointer = layout_pointer + "/items/" + std::to_string(m) + "/id";
         const auto [it, inserted] =
             marker_owner.emplace(std::make_pair(layout.dictionary, layout.items[m].id), marker_pointer);
         if (!inserted) {
@@ -275,7 +276,10 @@ CellFile cell_file_from_json(const json& document, const std::string& source) {
                      std::to_string(layout.items[m].id) + ", already used at " + it->second);
         }
       }
-    }
+    };
+    if (entity.features.markers) claim_markers(*entity.features.markers, pointer + "/features/markers");
+    if (entity.calibration_board)
+      claim_markers(entity.calibration_board->markers, pointer + "/calibration_board/markers");
   }
   for (std::size_t i = 0; i < file.entities.size(); ++i) {
     std::vector<std::string> chain{file.entities[i].id};

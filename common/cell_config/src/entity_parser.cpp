@@ -11,7 +11,8 @@ namespace rigger::cell {
 CellEntity EntityParser::parse(const json& value, const std::string& pointer) {
   check_.object(
       value, pointer,
-      {"id", "kind", "parent", "pose", "localized", "attributes", "camera", "model", "features", "description"});
+      {"id", "kind", "parent", "pose", "localized", "attributes", "camera", "model", "features", "description",
+       "calibration_board"});
   CellEntity entity;
   entity.pointer = pointer;
   entity.id = check_.identifier(check_.require(value, pointer, "id", "an entity id"), pointer + "/id");
@@ -69,7 +70,48 @@ CellEntity EntityParser::parse(const json& value, const std::string& pointer) {
     const bool has_step = entity.model && !entity.model->step.empty();
     entity.features = parse_features(*features, pointer + "/features", has_step);
   }
+  if (const json* board = Checker::find(value, "calibration_board")) {
+    if (entity.kind != EntityKind::kDevice)
+      check_.fail(pointer + "/calibration_board", "a calibration board only on a device (a robot)", kind_text);
+    entity.calibration_board = parse_board(*board, pointer + "/calibration_board");
+  }
   return entity;
+}
+
+CalibrationBoard EntityParser::parse_board(const json& value, const std::string& pointer) const {
+  check_.object(value, pointer, {"mount", "size_m", "markers"});
+  CalibrationBoard board;
+  board.pose_tool_board = check_.pose(
+      check_.require(value, pointer, "mount", "the board's pose in the tool frame"), pointer + "/mount");
+  board.size_m = check_.vector3(
+      check_.require(value, pointer, "size_m", "[width, height, thickness] in metres"), pointer + "/size_m");
+  if ((board.size_m.array() <= 0.0).any())
+    check_.fail(pointer + "/size_m", "three extents > 0 m", describe_json(value.at("size_m")));
+  board.markers = parse_markers(check_.require(value, pointer, "markers", "the board's markers"),
+                                pointer + "/markers");
+  if (board.markers.items.empty()) check_.fail(pointer + "/markers/items", "at least one marker", "none");
+  // A marker lies on the printed face: at z = thickness / 2, facing out, inside the face's outline.
+  constexpr double kTolerance_m = 1e-4;
+  const double cos_tolerance = std::cos(0.5 * EIGEN_PI / 180.0);
+  for (std::size_t i = 0; i < board.markers.items.size(); ++i) {
+    const Marker& marker = board.markers.items[i];
+    const Eigen::Vector3d centre = marker.pose_entity_marker.translation();
+    const double half = 0.5 * marker.size_m;
+    const bool on_face = std::abs(centre.z() - 0.5 * board.size_m.z()) <= kTolerance_m &&
+                         marker.pose_entity_marker.linear().col(2).z() >= cos_tolerance &&
+                         std::abs(centre.x()) + half <= 0.5 * board.size_m.x() + kTolerance_m &&
+                         std::abs(centre.y()) + half <= 0.5 * board.size_m.y() + kTolerance_m;
+    if (!on_face) {
+      const std::string item_pointer = pointer + "/markers/items/" + std::to_string(i) + "/pose";
+      check_.fail(item_pointer,
+                  "a marker on the board's face (z = thickness / 2 = " + std::to_string(0.5 * board.size_m.z()) +
+                      " m, facing +z, inside the " + std::to_string(board.size_m.x()) + " x " +
+                      std::to_string(board.size_m.y()) + " m outline)",
+                  "a marker at [" + std::to_string(centre.x()) + ", " + std::to_string(centre.y()) + ", " +
+                      std::to_string(centre.z()) + "] m");
+    }
+  }
+  return board;
 }
 
 CameraIntrinsics EntityParser::parse_camera(const json& value, const std::string& pointer) const {

@@ -36,6 +36,7 @@ class EntityParser {
   std::vector<NamedPose> parse_named_poses(const json& value, const std::string& pointer);
   std::vector<ScrewHole> parse_screw_holes(const json& value, const std::string& pointer);
   MarkerLayout parse_markers(const json& value, const std::string& pointer) const;
+  CalibrationBoard parse_board(const json& value, const std::string& pointer) const;
 
   const Checker& check_;
   std::map<std::string, std::string> feature_ids_;  // id -> pointer of its first use

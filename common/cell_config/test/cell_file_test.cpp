@@ -438,6 +438,69 @@ TEST(AttributeReader, ErrorsNameFilePointerAndExpectation) {
             crane + "max_accel_mps2: expected a string, got array [0.5,0.5,0.3]");
 }
 
+// A 3x3 board of 70 mm markers (ids 30..38, unused by the cell's objects) 100 mm apart on a 0.32 m plate.
+json calibration_board() {
+  json items = json::array();
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 3; ++col) {
+      items.push_back({{"id", 30 + 3 * row + col},
+                       {"size_m", 0.07},
+                       {"pose", {{"position_m", {0.1 * (col - 1), 0.1 * (1 - row), 0.003}}, {"rpy_deg", {0, 0, 0}}}}});
+    }
+  }
+  return {{"mount", {{"position_m", {0.0, 0.0, 0.05}}, {"rpy_deg", {0, 0, 0}}}},
+          {"size_m", {0.32, 0.32, 0.006}},
+          {"markers", {{"dictionary", "DICT_4X4_50"}, {"items", items}}}};
+}
+
+TEST(CellFile, ReadsACalibrationBoardOnTheRobot) {
+  json cell = shipped_cell();
+  cell["entities"][index_of(cell, "robot")]["calibration_board"] = calibration_board();
+  const CellFile file = cell_file_from_json(cell, "cell.json");
+  const auto& board = file.require("robot", "the test").calibration_board;
+  ASSERT_TRUE(board.has_value());
+  EXPECT_TRUE(board->pose_tool_board.translation().isApprox(Eigen::Vector3d(0, 0, 0.05)));
+  EXPECT_TRUE(board->size_m.isApprox(Eigen::Vector3d(0.32, 0.32, 0.006)));
+  EXPECT_EQ(board->markers.dictionary, "DICT_4X4_50");
+  ASSERT_EQ(board->markers.items.size(), 9u);
+  EXPECT_EQ(board->markers.items[8].id, 38);
+  EXPECT_FALSE(file.require("camera", "the test").calibration_board.has_value());
+}
+
+// Puts `board` on the robot of the shipped cell and expects the error at `path` under the board.
+void expect_board_error(const json& board, const std::string& path, const std::string& expected) {
+  json cell = shipped_cell();
+  const std::string robot = "/entities/" + std::to_string(index_of(cell, "robot"));
+  cell["entities"][index_of(cell, "robot")]["calibration_board"] = board;
+  expect_error(cell, robot + "/calibration_board" + path, expected);
+}
+
+TEST(CellFile, RejectsABoardWhoseMarkersAreOffItOrTakenByObjects) {
+  const json cell = shipped_cell();
+  const std::string load_markers = "/entities/" + std::to_string(index_of(cell, "load")) + "/features/markers";
+  json board = calibration_board();
+  board["markers"]["items"][4]["id"] = 2;  // the load's marker 2; the robot comes first in the file
+  json with_board = cell;
+  with_board["entities"][index_of(cell, "robot")]["calibration_board"] = board;
+  expect_error(with_board, load_markers + "/items/1/id",
+               "unique in the cell for dictionary DICT_4X4_50, got 2, already used at /entities/" +
+                   std::to_string(index_of(cell, "robot")) + "/calibration_board/markers/items/4/id");
+  board = calibration_board();
+  board["markers"]["items"][2]["pose"]["position_m"] = {0.13, 0.1, 0.003};  // overhangs the right edge
+  expect_board_error(board, "/markers/items/2/pose", "a marker on the board's face");
+  board = calibration_board();
+  board["markers"]["items"][0]["pose"]["position_m"] = {-0.1, 0.1, 0.0};  // inside the plate
+  expect_board_error(board, "/markers/items/0/pose", "z = thickness / 2");
+  board = calibration_board();
+  board["markers"]["items"][0]["pose"]["rpy_deg"] = {180, 0, 0};  // printed on the back
+  expect_board_error(board, "/markers/items/0/pose", "facing +z");
+  board = calibration_board();
+  board["size_m"] = {0.32, 0.32, 0};
+  expect_board_error(board, "/size_m", "three extents > 0 m");
+  expect_board_error(json{{"size_m", {0.32, 0.32, 0.006}}}, "/mount", "the board's pose in the tool frame");
+  expect_entity_error("load", "/calibration_board", calibration_board(), "a calibration board only on a device");
+}
+
 TEST(CellFile, RethrowAsGivesTheCallersErrorTypeWithTheSameText) {
   const auto read = [] { return parse_cell_file("{", "cell.json"); };
   try {

@@ -9,6 +9,7 @@
 #include "rigger/crane_protocol/modbus_context.hpp"
 #include "rigger/crane_protocol/register_map.hpp"
 #include "rigger/base/text.hpp"
+#include "rigger/cell_config/calibration_board.hpp"
 
 namespace rigger::cell_sim {
 namespace {
@@ -468,6 +469,10 @@ void SimRunner::publish_due(WallTime now) {
     snapshot.stamp = now;
     for (const ObjectTruth& object : truth_.objects)
       snapshot.poses.push_back({object.id, *physics_->pose_world_object(object.id)});
+    if (const auto& board = geometry_.robot.calibration_board) {
+      snapshot.poses.push_back(
+          {cell::calibration_board_id("robot"), physics_->robot_state().pose_world_tool * board->pose_tool_board});
+    }
     physics_->copy_kinematic_state(snapshot.state);
     camera_->offer(std::move(snapshot));
   }

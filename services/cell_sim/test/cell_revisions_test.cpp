@@ -105,5 +105,22 @@ TEST(PlanRevision, RefusesAMovedDeviceAndWhatItCannotRead) {
               HasSubstr("not in the expected form"));
 }
 
+// The board is drawn on the tool of a model built at start: a revision that mounts or changes it is in the
+// diff (a changed key of the robot) and cell_sim asks for a restart.
+TEST(PlanRevision, ACalibrationBoardMountedOnTheRobotIsAChangeThatNeedsARestart) {
+  std::ifstream in(kShipped, std::ios::binary);
+  const json running_doc = json::parse(in);
+  json next_doc = running_doc;
+  std::ifstream board(std::string(RIGGER_SOURCE_DIR) + "/test/data/calibration_board.json");
+  for (json& entity : next_doc["entities"])
+    if (entity["id"] == "robot") entity["calibration_board"] = json::parse(board);
+  const cell::CellFile running = shipped();
+  const cell::CellFile next = cell::cell_file_from_json(next_doc, "next");
+  const json changes = cell::diff_cells(running, running_doc, next, next_doc);
+  EXPECT_EQ(changes["changed"], json::parse(R"([{"id":"robot","keys":["calibration_board"]}])"));
+  EXPECT_THAT(plan_revision(changes, running, next).refusal,
+              HasSubstr("it changes calibration_board of the device or frame robot"));
+}
+
 }  // namespace
 }  // namespace rigger::cell_sim

@@ -7,6 +7,8 @@
 #include <map>
 #include <string>
 
+#include "rigger/cell_config/calibration_board.hpp"
+
 namespace rigger::vision {
 namespace {
 
@@ -104,20 +106,29 @@ TrackerConfig tracker_config_from_cell(const cell::CellFile& file, const std::st
   config.camera = *camera.camera;
   config.pose_world_camera = file.pose_root_entity(camera_id);
 
+  // Every marker layout (the objects', and the calibration boards on robots' tools under their own ids) in
+  // one dictionary.
   std::string dictionary;
-  for (const cell::CellEntity& entity : file.entities) {
-    if (!entity.features.markers) continue;
-    const cell::MarkerLayout& layout = *entity.features.markers;
+  const auto add = [&](const std::string& id, const cell::MarkerLayout& layout, const std::string& pointer) {
     if (!dictionary.empty() && layout.dictionary != dictionary) {
-      file.fail(entity.pointer + "/features/markers/dictionary", "the dictionary of every other layout (" + dictionary + ")",
+      file.fail(pointer + "/dictionary", "the dictionary of every other layout (" + dictionary + ")",
                 "\"" + layout.dictionary + "\"");
     }
     dictionary = layout.dictionary;
-    ObjectLayout object{entity.id, {}};
+    ObjectLayout object{id, {}};
     for (const cell::Marker& marker : layout.items) {
       object.markers.push_back({marker.id, marker.size_m, marker.pose_entity_marker});
     }
     config.objects.push_back(std::move(object));
+  };
+  for (const cell::CellEntity& entity : file.entities) {
+    if (entity.features.markers) add(entity.id, *entity.features.markers, entity.pointer + "/features/markers");
+  }
+  for (const cell::CellEntity& entity : file.entities) {
+    if (entity.calibration_board) {
+      add(cell::calibration_board_id(entity.id), entity.calibration_board->markers,
+          entity.pointer + "/calibration_board/markers");
+    }
   }
   if (!dictionary.empty()) config.detector.dictionary = cell::marker_dictionary(dictionary)->opencv_id;
   return config;

@@ -122,9 +122,10 @@ bool same_view(const TrackerConfig& a, const TrackerConfig& b);
 /// Throws TrackerConfigError naming the first bad field (e.g. "objects[1].markers[0].size_m").
 void validate(const TrackerConfig& config);
 
-/// The camera `camera_id` (intrinsics, pose in the root frame) and every object with markers of a
-/// validated cell file; tuning keeps its defaults. Throws cell::CellFileError naming the file and the
-/// JSON pointer (no such camera, no intrinsics, layouts in different dictionaries).
+/// The camera `camera_id` (intrinsics, pose in the root frame), every object with markers of a validated
+/// cell file and, after them, every device's calibration board (by cell::calibration_board_id); tuning keeps its
+/// defaults. Throws cell::CellFileError naming the file and the JSON pointer (no such camera, no intrinsics, layouts in
+/// different dictionaries).
 TrackerConfig tracker_config_from_cell(const cell::CellFile& file, const std::string& camera_id);
 
 }  // namespace rigger::vision

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "rigger/base/install.hpp"
+#include "rigger/cell_config/calibration_board.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/vision.hpp"
@@ -197,12 +198,21 @@ void VisionTrackerNode::process(const rigger_vision_Image& image) {
 void VisionTrackerNode::publish(const ObjectTrack& track, Stamp stamp) {
   rigger_vision_TrackedPose out{};
   out.header.stamp = dds::to_wire(stamp);  // the image's stamp; a lost object says so with tracked=false
-  out.header.frame_id = dds::wire_string(frame_id_);
+  // A calibration board is measured to find where the camera is: in the camera's frame, not through the
+  // camera pose the cell file gives.
+  const bool board = cell::is_calibration_board_id(track.object_id);
+  out.header.frame_id = dds::wire_string(board ? camera_id_ : frame_id_);
   out.object_id = dds::wire_string(track.object_id);
   out.tracked = track.detected;
   if (track.detected) {
-    out.pose.pose = dds::to_wire(track.pose_world_object);
-    dds::covariance_to_wire(track.covariance_world, out.pose.covariance);
+    out.pose.pose = dds::to_wire(board ? track.pose_camera_object : track.pose_world_object);
+    Eigen::Matrix<double, 6, 6> rotate = Eigen::Matrix<double, 6, 6>::Identity();
+    if (board) {
+      const Eigen::Matrix3d r_camera_world = tracker_.config().pose_world_camera.linear().transpose();
+      rotate.topLeftCorner<3, 3>() = r_camera_world;
+      rotate.bottomRightCorner<3, 3>() = r_camera_world;
+    }
+    dds::covariance_to_wire(rotate * track.covariance_world * rotate.transpose(), out.pose.covariance);
     out.quality = track.quality;
     out.markers_used = static_cast<std::uint32_t>(track.markers_used);
     out.reprojection_error_px = track.reprojection_rms_px;

@@ -40,6 +40,9 @@ struct VisionTrackerSettings {
 ///                     for it (stamped with the wall clock) unless it is tracked continuously
 ///   STOP              neither (a pending TRACK_ONCE is dropped without a sample)
 /// While no object is tracked, images are not looked at.
+/// A robot's calibration board (cell file calibration_board) is an object too, by cell::calibration_board_id
+/// ("robot/calibration_board"); its poses are in the camera's optical frame (header.frame_id the camera id), so
+/// that the camera's pose can be solved from them whatever the cell file says it is.
 ///
 /// The node follows the cell's revisions (rigger/world/cell): a revision that changes the camera or a marker
 /// layout gives a new tracker (its tracks start afresh; what each kept object was asked to do stays, a new

@@ -119,6 +119,28 @@ TEST(TrackerConfigFromCell, NamesWhatItCannotUse) {
                                              "every other layout (DICT_4X4_50)"));
 }
 
+nlohmann::json calibration_board() {
+  std::ifstream file(std::string(RIGGER_SOURCE_DIR) + "/test/data/calibration_board.json");
+  return nlohmann::json::parse(file);
+}
+
+// The board on the robot's tool is measured like an object, under its own id, after the objects.
+TEST(TrackerConfigFromCell, TakesTheCalibrationBoardOnTheRobotsTool) {
+  nlohmann::json cell = deployed_cell();
+  cell["entities"][2]["calibration_board"] = calibration_board();
+  const TrackerConfig config = tracker_config_from_cell(cell::cell_file_from_json(cell, "cell.json"), "camera");
+  ASSERT_EQ(config.objects.size(), 4u);
+  EXPECT_EQ(config.objects[3].object_id, "robot/calibration_board");
+  ASSERT_EQ(config.objects[3].markers.size(), 9u);
+  EXPECT_EQ(config.objects[3].markers[8].id, 38);
+  EXPECT_TRUE(
+      config.objects[3].markers[8].pose_object_marker.translation().isApprox(Eigen::Vector3d(0.1, -0.1, 0.003)));
+  EXPECT_NO_THROW(validate(config));
+  cell["entities"][2]["calibration_board"]["markers"]["dictionary"] = "DICT_5X5_50";
+  EXPECT_THAT(cell_error_of(cell), HasSubstr("/entities/2/calibration_board/markers/dictionary: expected the "
+                                             "dictionary of every other layout (DICT_4X4_50)"));
+}
+
 // Every count the cell file accepts (OpenCV's) reaches the detector: a calibration with the rational model
 // (8 coefficients) or the thin-prism and tilt terms (12, 14) is used as it is, not refused.
 TEST(TrackerConfigFromCell, TakesEveryDistortionModelTheCellFileAccepts) {

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rigger/cell_config/cell_file.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/protocol/world.hpp"
 #include "rigger/world_protocol/cell_protocol.hpp"
@@ -118,6 +119,27 @@ class VisionTrackerNodeTest : public ::testing::Test {
     cv::Mat image;
     EXPECT_EQ(renderer_.render(scene_.pose_world_camera, poses, image), sim::RenderStatus::kOk);
     return image;
+  }
+
+  static nlohmann::json deployed_cell() {
+    std::ifstream in(testing::deployed_cell_json_path(), std::ios::binary);
+    return nlohmann::json::parse(std::string(std::istreambuf_iterator<char>(in), {}));
+  }
+
+  /// Publishes `cell` as revision 2 and waits until the node follows it.
+  void revise(const nlohmann::json& cell, const std::string& changes_json) {
+    world_protocol::CellRevision revision;
+    revision.cell_revision = 2;
+    revision.previous_revision = 1;
+    revision.cell_json = cell.dump(2);
+    revision.sha256 = "sha-2";
+    revision.changes_json = changes_json;
+    rigger_world_CellRevision wire{};
+    world_protocol::to_wire(revision, wire);
+    dds::Writer<rigger_world_CellRevision> writer(participant_, protocol::world::kCell);
+    ASSERT_EQ(writer.write(wire), DDS_RETCODE_OK);
+    ASSERT_TRUE(loop_.run_until([&] { return node_->cell_follower().revision() == 2; }, 5s))
+        << node_->cell_follower().last_refusal();
   }
 
   struct Received {
@@ -306,8 +328,7 @@ TEST_F(VisionTrackerNodeTest, CommandsForUnknownObjectsAreDropped) {
 
 TEST_F(VisionTrackerNodeTest, ACellRevisionWithANewMarkedObjectIsTrackedAndKeepsWhatWasAsked) {
   command(rigger_vision_TRACK_CONTINUOUS, "load");
-  std::ifstream in(testing::deployed_cell_json_path(), std::ios::binary);
-  nlohmann::json cell = nlohmann::json::parse(std::string(std::istreambuf_iterator<char>(in), {}));
+  nlohmann::json cell = deployed_cell();
   nlohmann::json copy;
   for (const nlohmann::json& entity : cell["entities"]) {
     if (entity["id"] == "load") copy = entity;
@@ -316,22 +337,45 @@ TEST_F(VisionTrackerNodeTest, ACellRevisionWithANewMarkedObjectIsTrackedAndKeeps
   copy["pose"]["position_m"][0] = copy["pose"]["position_m"][0].get<double>() + 1.0;
   for (nlohmann::json& marker : copy["features"]["markers"]["items"]) marker["id"] = marker["id"].get<int>() + 40;
   cell["entities"].push_back(copy);
-  world_protocol::CellRevision revision;
-  revision.cell_revision = 2;
-  revision.previous_revision = 1;
-  revision.cell_json = cell.dump(2);
-  revision.sha256 = "sha-2";
-  revision.changes_json = R"({"added":["load2"]})";
-  rigger_world_CellRevision wire{};
-  world_protocol::to_wire(revision, wire);
-  dds::Writer<rigger_world_CellRevision> writer(participant_, protocol::world::kCell);
-  ASSERT_EQ(writer.write(wire), DDS_RETCODE_OK);
-  ASSERT_TRUE(loop_.run_until([&] { return node_->cell_follower().revision() == 2; }, 5s))
-      << node_->cell_follower().last_refusal();
+  revise(cell, R"({"added":["load2"]})");
   EXPECT_TRUE(node_->schedule().continuous("load")) << "what was asked of a kept object stays";
   command(rigger_vision_TRACK_CONTINUOUS, "load2");
   EXPECT_EQ(node_->commands_dropped(), 0u) << "the new object is known";
   EXPECT_TRUE(node_->schedule().continuous("load2"));
+}
+
+// A revision puts the calibration board on the robot's tool; asked for once, its pose comes in the camera's
+// optical frame (the board is there to find where the camera is, so not through the cell file's camera pose).
+TEST_F(VisionTrackerNodeTest, TheCalibrationBoardIsReportedInTheCameraFrame) {
+  nlohmann::json cell = deployed_cell();
+  std::ifstream board(std::string(RIGGER_SOURCE_DIR) + "/test/data/calibration_board.json");
+  for (nlohmann::json& entity : cell["entities"]) {
+    if (entity["id"] == "robot") entity["calibration_board"] = nlohmann::json::parse(board);
+  }
+  revise(cell, R"({"changed":[{"id":"robot","keys":["calibration_board"]}]})");
+  const sim::CameraScene scene = sim::camera_scene_from(cell::cell_file_from_json(cell, "cell with a board"));
+  ASSERT_EQ(scene.boards.size(), 1u);
+  sim::CameraRenderer renderer(scene, testing::render_settings(2.0));
+  // 1.2 m in front of the camera, facing it, tilted.
+  const Eigen::Isometry3d pose_camera_board =
+      Eigen::Translation3d(0.05, -0.03, 1.2) * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()) *
+      Eigen::AngleAxisd(0.35, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ());
+  cv::Mat image;
+  ASSERT_EQ(renderer.render(scene.pose_world_camera,
+                            {{"robot/calibration_board", scene.pose_world_camera * pose_camera_board}}, image),
+            sim::RenderStatus::kOk);
+  command(rigger_vision_TRACK_ONCE, "robot/calibration_board");
+  send(image, next_stamp());
+  ASSERT_TRUE(loop_.run_until([&] { return received_.count("robot/calibration_board") == 1; }, 5s));
+  const Received& r = received_["robot/calibration_board"].front();
+  EXPECT_TRUE(r.tracked);
+  EXPECT_EQ(r.frame, "camera");
+  EXPECT_EQ(r.markers_used, 9u);
+  const double error_m = testing::translation_error_m(r.pose, pose_camera_board);
+  const double error_rad = testing::rotation_error_rad(r.pose, pose_camera_board);
+  std::printf("board: translation error %.3f mm, rotation error %.3f deg\n", error_m * 1e3, error_rad * 180.0 / M_PI);
+  EXPECT_LT(error_m, 0.002);
+  EXPECT_LT(error_rad, 0.3 * M_PI / 180.0);
 }
 
 }  // namespace

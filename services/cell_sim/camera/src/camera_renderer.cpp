@@ -122,8 +122,17 @@ CameraRenderer::CameraRenderer(CameraModel camera, std::vector<BoxObject> object
   }
 }
 
+namespace {
+// The rasteriser draws boxes: the box objects and the calibration boards.
+std::vector<BoxObject> boxes(const CameraScene& scene) {
+  std::vector<BoxObject> objects = scene.objects;
+  objects.insert(objects.end(), scene.boards.begin(), scene.boards.end());
+  return objects;
+}
+}  // namespace
+
 CameraRenderer::CameraRenderer(const CameraScene& scene, RenderSettings settings)
-    : CameraRenderer(scene.camera, scene.objects, scene.dictionary, std::move(settings)) {}
+    : CameraRenderer(scene.camera, boxes(scene), scene.dictionary, std::move(settings)) {}
 
 Eigen::Vector2d CameraRenderer::project(const Eigen::Vector3d& p) const {
   return camera_.project(p);

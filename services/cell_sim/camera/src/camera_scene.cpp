@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rigger/cell_config/calibration_board.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -116,6 +118,24 @@ CameraScene camera_scene_from(const cell::CellFile& file, const std::string& cam
     for (const cell::Marker& item : entity.features.markers->items)
       mesh.markers.push_back({item.id, item.size_m, item.pose_entity_marker});
     scene.mesh_objects.push_back(std::move(mesh));
+  }
+  for (const cell::CellEntity& entity : file.entities) {
+    if (!entity.calibration_board) continue;
+    const cell::CalibrationBoard& board = *entity.calibration_board;
+    if (dictionary_set && board.markers.dictionary != scene.dictionary_name) {
+      file.fail(entity.pointer + "/calibration_board/markers/dictionary",
+                "the dictionary of the objects' markers (" + scene.dictionary_name + ")",
+                "\"" + board.markers.dictionary + "\"");
+    }
+    scene.dictionary_name = board.markers.dictionary;
+    dictionary_set = true;
+    BoxObject object;
+    object.id = cell::calibration_board_id(entity.id);
+    object.size_m = board.size_m;
+    object.pose_world_object = file.pose_root_entity(entity.id);
+    for (const cell::Marker& item : board.markers.items)
+      object.markers.push_back({item.id, item.size_m, item.pose_entity_marker});
+    scene.boards.push_back(std::move(object));
   }
   scene.dictionary = cell::marker_dictionary(scene.dictionary_name)->opencv_id;  // the reader knows the name
   return scene;

@@ -74,10 +74,12 @@ MujocoCamera::MujocoCamera(const mjModel& model, const CameraModel& camera, std:
 }
 
 namespace {
-// The markers MuJoCo's render carries: the boxes' and those of objects given by their STEP model alone.
+// The markers MuJoCo's render carries: the boxes', those of objects given by their STEP model alone and
+// the calibration boards'.
 std::vector<BoxObject> marked_objects(const CameraScene& scene) {
   std::vector<BoxObject> objects = scene.objects;
   objects.insert(objects.end(), scene.mesh_objects.begin(), scene.mesh_objects.end());
+  objects.insert(objects.end(), scene.boards.begin(), scene.boards.end());
   return objects;
 }
 }  // namespace

@@ -46,6 +46,7 @@ RobotGeometry parse_robot(const CellFile& file) {
               "\"" + robot.model + "\"");
   }
   robot.tool_length_m = attributes.positive("tool_length_m");
+  robot.calibration_board = entity.calibration_board;
   return robot;
 }
 

@@ -15,6 +15,7 @@ namespace {
 constexpr std::string_view kAssetMarker = "<!-- rigger:object assets -->";
 constexpr std::string_view kHookMarker = "<!-- rigger:hooked object -->";
 constexpr std::string_view kWorldMarker = "<!-- rigger:objects -->";
+constexpr std::string_view kBoardMarker = "<!-- rigger:calibration board -->";
 
 // Name under which the generated MJCF is compiled (MuJoCo's messages quote it).
 constexpr const char* kVfsName = "rigger_cell.xml";
@@ -84,6 +85,20 @@ void write_geoms(const ObjectGeometry& object, std::ostream& bodies, std::ostrea
   }
 }
 
+// The calibration board on the tool, in the gripper body (its frame the flange's; the tool frame is the
+// magnet's face, flange_to_face_m along z): drawn, massless, colliding with nothing, so that the arm's
+// dynamics and the wrist sensor are the same with it as without.
+std::string board_geom(const CellGeometry& cell) {
+  if (!cell.robot.calibration_board) return "";
+  const cell::CalibrationBoard& board = *cell.robot.calibration_board;
+  const Eigen::Isometry3d pose_gripper_board =
+      Eigen::Translation3d(0.0, 0.0, cell.gripper.flange_to_face_m) * board.pose_tool_board;
+  return "<geom name=\"calibration_board\" class=\"visual\" type=\"box\" pos=\"" +
+         numbers(Eigen::Vector3d(pose_gripper_board.translation())) + "\" quat=\"" +
+         numbers(Eigen::Quaterniond(pose_gripper_board.linear())) + "\" size=\"" +
+         numbers(Eigen::Vector3d(0.5 * board.size_m)) + "\" rgba=\"0.92 0.92 0.92 1\"/>";
+}
+
 void replace_marker(std::string& xml, std::string_view marker, const std::string& text,
                     const std::filesystem::path& device_path) {
   const std::size_t at = xml.find(marker);
@@ -133,6 +148,7 @@ std::string cell_mjcf(std::string device_xml, const CellGeometry& cell, const st
                  device_path);
   replace_marker(device_xml, kHookMarker, hooked.str(), device_path);
   replace_marker(device_xml, kWorldMarker, world.str(), device_path);
+  replace_marker(device_xml, kBoardMarker, board_geom(cell), device_path);
   return device_xml;
 }
 

@@ -60,6 +60,7 @@ struct CellEntity {
   std::optional<ObjectModel> model;                      ///< objects only
   std::optional<CameraIntrinsics> camera;                ///< devices only
   CadFeatures features;                                  ///< not on frames
+  std::optional<CalibrationBoard> calibration_board;     ///< devices only: a board on the tool
   std::string pointer;                                   ///< where it is in the file, e.g. "/entities/3"
 };
 

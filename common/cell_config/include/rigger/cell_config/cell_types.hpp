@@ -93,6 +93,14 @@ struct MarkerLayout {
   std::vector<Marker> items;
 };
 
+/// A flat calibration board carried by a robot's tool: a box of size_m whose frame is at its centre, z out
+/// of the printed face; its markers lie on that face (z = thickness / 2, their z along the board's z).
+struct CalibrationBoard {
+  Eigen::Isometry3d pose_tool_board = Eigen::Isometry3d::Identity();  ///< the mount, in the tool frame
+  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();                   ///< width, height, thickness, m
+  MarkerLayout markers;                                               ///< in the board's frame
+};
+
 /// An OpenCV predefined marker dictionary.
 struct MarkerDictionary {
   int opencv_id = 0;  ///< cv::aruco::PREDEFINED_DICTIONARY_NAME value

@@ -65,6 +65,11 @@ struct CameraScene {
   /// checked against a box. The MuJoCo camera draws such a marker only where a geom of the model lies
   /// under it (within 5 mm); the rasteriser, which draws boxes, does not draw them.
   std::vector<BoxObject> mesh_objects;
+  /// The calibration boards robots carry on their tools (cell file key calibration_board), each by
+  /// cell::calibration_board_id(robot): a box centred on its frame, its markers on its +z face. Their
+  /// pose_world_object is the robot's base (where the board is before the physics poses the tool). Both
+  /// renderers draw them; the MuJoCo model holds the board's geom on the tool (CellPhysics).
+  std::vector<BoxObject> boards;
 };
 
 /// Reads the camera scene from a cell configuration file.

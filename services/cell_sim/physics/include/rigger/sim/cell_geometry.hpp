@@ -44,6 +44,9 @@ struct RobotGeometry {
   Eigen::Isometry3d pose_world_base = Eigen::Isometry3d::Identity();
   std::string model;
   double tool_length_m = 0.0;
+  /// A calibration board on the tool (the robot entity's calibration_board): a massless geom of the
+  /// gripper that nothing collides with, for the camera to see.
+  std::optional<cell::CalibrationBoard> calibration_board;
 };
 
 struct GripperGeometry {
