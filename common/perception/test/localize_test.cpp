@@ -169,7 +169,7 @@ double percentile(std::vector<double> values, double fraction) {
   return values[static_cast<std::size_t>(std::ceil(fraction * values.size())) - 1];
 }
 
-class LocalizeTest : public ::testing::Test {
+class MarkerlessLocalizeTest : public ::testing::Test {
  protected:
   std::unique_ptr<sim::MujocoCamera> make_camera(const Cell& cell) {
     try {
@@ -247,22 +247,22 @@ const std::vector<PartBox> kLoad = {{Eigen::Vector3d::Zero(), Eigen::Vector3d(0.
 const std::vector<PartBox> kBracket = {{Eigen::Vector3d(0.0, 0.0, 0.01), Eigen::Vector3d(0.10, 0.06, 0.01)},
                                        {Eigen::Vector3d(-0.09, 0.0, 0.07), Eigen::Vector3d(0.01, 0.06, 0.05)}};
 
-TEST_F(LocalizeTest, ReportsNoWrongPoseOfTheDemoLoadAtFiftyPoses) {
+TEST_F(MarkerlessLocalizeTest, ReportsNoWrongPoseOfTheDemoLoadAtFiftyPoses) {
   check_accuracy("demo load", kLoad, 0.10, Eigen::Vector3d::Zero(), 36);
 }
 
-TEST_F(LocalizeTest, ReportsNoWrongPoseOfAnLBracketAtFiftyPoses) {
+TEST_F(MarkerlessLocalizeTest, ReportsNoWrongPoseOfAnLBracketAtFiftyPoses) {
   check_accuracy("L-bracket", kBracket, 0.0, Eigen::Vector3d(-0.02, 0.0, 0.03), 20);
 }
 
-TEST_F(LocalizeTest, FindsTheLoadsThreeHalfTurnsAndNoneOfTheBracket) {
+TEST_F(MarkerlessLocalizeTest, FindsTheLoadsThreeHalfTurnsAndNoneOfTheBracket) {
   const Localizer load(mesh_of(kLoad));
   EXPECT_EQ(load.symmetries().size(), 4U);
   const Localizer bracket(mesh_of(kBracket));
   EXPECT_EQ(bracket.symmetries().size(), 1U);  // its mirror image is not a turn
 }
 
-TEST_F(LocalizeTest, AllNanOrEmptyDepthIsBadDepth) {
+TEST_F(MarkerlessLocalizeTest, AllNanOrEmptyDepthIsBadDepth) {
   Localizer localizer(mesh_of(kLoad), table_options());
   const cv::Mat nan(720, 1280, CV_32FC1, cv::Scalar(std::nan("")));
   EXPECT_EQ(localizer.localize(frame_of(nan)).status, LocalizeStatus::kBadDepth);
@@ -271,7 +271,7 @@ TEST_F(LocalizeTest, AllNanOrEmptyDepthIsBadDepth) {
   EXPECT_EQ(localizer.localize(frame_of(wrong_type)).status, LocalizeStatus::kBadDepth);
 }
 
-TEST_F(LocalizeTest, APartOutOfViewIsAFailureCodeNeverAPose) {
+TEST_F(MarkerlessLocalizeTest, APartOutOfViewIsAFailureCodeNeverAPose) {
   Cell cell = make_cell(kLoad);
   ASSERT_TRUE(cell.model);
   auto camera = make_camera(cell);
@@ -288,7 +288,7 @@ TEST_F(LocalizeTest, APartOutOfViewIsAFailureCodeNeverAPose) {
   EXPECT_NE(result.status, LocalizeStatus::kFound) << result.message;
 }
 
-TEST_F(LocalizeTest, RefinesFromAPriorAndReportsTheEquivalentNearestIt) {
+TEST_F(MarkerlessLocalizeTest, RefinesFromAPriorAndReportsTheEquivalentNearestIt) {
   Cell cell = make_cell(kLoad);
   ASSERT_TRUE(cell.model);
   auto camera = make_camera(cell);
