@@ -174,11 +174,16 @@ std::string CellKeeper::store_models(const world_protocol::CellRequest& request,
   return {};
 }
 
-std::vector<world_protocol::CellModel> CellKeeper::pinned_models(std::vector<std::string>* problems) const {
+std::vector<world_protocol::CellModel> CellKeeper::pinned_models(std::vector<std::string>* problems,
+                                                              const std::set<std::string>& published) const {
   std::vector<world_protocol::CellModel> out;
   std::set<std::string> seen;
   for (const cell::CellEntity& entity : running_.cell.entities) {
     if (!entity.model || entity.model->step_sha256.empty() || !seen.insert(entity.model->step_sha256).second) continue;
+    if (published.count(entity.model->step_sha256) != 0) {
+      out.push_back({entity.model->step_sha256, entity.model->step, {}});
+      continue;
+    }
     const fs::path path = running_.model_dir / entity.model->step;
     std::ifstream in(path, std::ios::binary);
     std::string bytes;

@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -84,8 +85,10 @@ class CellKeeper {
   CellOutcome handle(const world_protocol::CellRequest& request, const std::vector<HeldResource>& held, Stamp now);
 
   /// The models the running revision pins, with their bytes, for rigger/world/cell_model. A model that
-  /// cannot be read any more is left out and named in `problems`.
-  std::vector<world_protocol::CellModel> pinned_models(std::vector<std::string>* problems = nullptr) const;
+  /// cannot be read any more is left out and named in `problems`. The ones in `published` (by sha256) are
+  /// listed without their bytes, which are not read again.
+  std::vector<world_protocol::CellModel> pinned_models(std::vector<std::string>* problems = nullptr,
+                                                       const std::set<std::string>& published = {}) const;
 
  private:
   CellOutcome propose(const std::string& text, const world_protocol::CellRequest& request,

@@ -86,7 +86,8 @@ void WorldModelNode::apply_revision(const RunningCell& revision) {
 void WorldModelNode::publish_models() {
   // Before the revision that pins them, so that a follower missing one mostly has it when the revision comes.
   std::vector<std::string> problems;
-  const std::vector<world_protocol::CellModel> models = keeper_.pinned_models(&problems);
+  // Those published already are still pinned but neither read nor written again.
+  const std::vector<world_protocol::CellModel> models = keeper_.pinned_models(&problems, published_models_);
   for (const std::string& problem : problems) ctx_.log->error("cell model not published: {}", problem);
   std::set<std::string> now;
   for (const world_protocol::CellModel& m : models) {

@@ -269,6 +269,11 @@ TEST_F(CellKeeperModelsTest, AModelSentWithTheRequestIsStoredOnlyWhenItsRevision
   EXPECT_EQ(pinned[0].sha256, sha);
   EXPECT_EQ(pinned[0].name, "imported/extra.step");
   EXPECT_EQ(pinned[0].step, step_);
+  // Published already: listed, its bytes not read again.
+  const std::vector<world_protocol::CellModel> again_listed = k.pinned_models(nullptr, {sha});
+  ASSERT_EQ(again_listed.size(), 1U);
+  EXPECT_EQ(again_listed[0].sha256, sha);
+  EXPECT_TRUE(again_listed[0].step.empty());
 
   // A restart runs it again from the store.
   CellKeeper again = keeper();
