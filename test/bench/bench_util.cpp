@@ -64,6 +64,12 @@ int int_option(int argc, char** argv, const std::string& name, int fallback) {
   return fallback;
 }
 
+std::string string_option(int argc, char** argv, const std::string& name, const std::string& fallback) {
+  for (int i = 1; i + 1 < argc; i += 2)
+    if (name == argv[i]) return argv[i + 1];
+  return fallback;
+}
+
 std::string run_command(const std::string& command) {
   std::string out;
   FILE* p = popen(command.c_str(), "r");

@@ -55,6 +55,8 @@ DdsperfLatency run_ddsperf_pingpong(std::uint32_t domain, int rate_hz, int paylo
 
 /// The integer after `--name` in argv ("--name value" pairs), or `fallback` when absent.
 int int_option(int argc, char** argv, const std::string& name, int fallback);
+/// The value after `name` on the command line, or `fallback`.
+std::string string_option(int argc, char** argv, const std::string& name, const std::string& fallback);
 
 /// Runs a shell command and returns its stdout.
 std::string run_command(const std::string& command);

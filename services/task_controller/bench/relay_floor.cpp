@@ -6,11 +6,14 @@
 // same scripted executors as the controller (task_controller_live_bench runs it after the controller).
 //
 //   task_controller_relay_floor --pattern failure|success --trials N --trace PATH [--domain D]
+//   task_controller_relay_floor --pattern tasks --tasks N --executors E --trials H --trace PATH
 //
 // failure (the live bench's pattern A): per trial, START Localize on "skills" and TimerMonitor on
 //   "monitors"; the monitor's FAILURE -> SHUTDOWN of Localize; its STOPPED -> the next trial.
 // success (pattern B): START Pick; its SUCCESS -> START of the next Pick, trials / 2 pairs of them.
-// Task id "relay". The trace is the controller's stage-trace file format (stage_trace.hpp), written at
+// tasks (task_controller_tasks_scale_bench's tasks): N tasks t0..t<N-1> at once, task k on executor
+//   ex<k % E> running Step<k % E>; each SUCCESS -> the task's next START, H STARTs per task.
+// Task id "relay" (tasks: t0..). The trace is the controller's stage-trace file format (stage_trace.hpp), written at
 // the end, so the bench pairs the relay's causes and commands as it pairs the controller's.
 // Until an executor has answered once, a START to it is written again every kTick: a volatile reader
 // that has not matched our writer yet drops it. Nothing is written again after that; a lost command
@@ -22,6 +25,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <dds/dds.h>
 
@@ -57,26 +61,37 @@ dds::Writer<rigger_skill_SkillCommand> command_writer(const dds::Participant& p,
   return dds::Writer<rigger_skill_SkillCommand>(p, skill::kCommand, q);
 }
 
+enum class Pattern { kFailure, kSuccess, kTasks };
+
 class Relay {
  public:
-  Relay(const dds::Participant& p, bool failure, int trials)
-      : participant_(p),
-        failure_(failure),
-        trials_(failure ? trials : 2 * std::max(1, trials / 2)),
-        skills_(command_writer(p, "skills")),
-        monitors_(command_writer(p, "monitors")),
-        events_(p, skill::kEvent) {}
+  /// failure/success: `trials` as the live bench counts them; tasks: `trials` STARTs per task.
+  Relay(const dds::Participant& p, Pattern pattern, int trials, int tasks = 1, int executors = 1)
+      : participant_(p), pattern_(pattern), events_(p, skill::kEvent) {
+    if (pattern == Pattern::kTasks) {
+      for (int e = 0; e < executors; ++e) add_executor("ex" + std::to_string(e));
+      for (int k = 0; k < tasks; ++k)
+        tasks_.push_back({"t" + std::to_string(k), "ex" + std::to_string(k % executors),
+                          "Step" + std::to_string(k % executors), 0});
+      trials_ = trials;
+    } else {
+      add_executor("skills");
+      if (pattern == Pattern::kFailure) add_executor("monitors");
+      trials_ = pattern == Pattern::kFailure ? trials : 2 * std::max(1, trials / 2);
+    }
+  }
 
   /// Runs every trial; false when the executors did not match within 10 s.
   bool run(rigger::task_controller::StageTrace& trace) {
-    if (!skills_.wait_for_readers(1, 10s) || !monitors_.wait_for_readers(1, 10s) || !events_.wait_for_writers(2, 10s))
-      return false;
+    for (auto& [id, writer] : writers_)
+      if (!writer.wait_for_readers(1, 10s)) return false;
+    if (!events_.wait_for_writers(static_cast<std::uint32_t>(writers_.size()), 10s)) return false;
     const dds_entity_t waitset = dds_create_waitset(participant_.handle());
     const dds_entity_t readable = dds_create_readcondition(events_.handle(), DDS_ANY_STATE);
     dds_waitset_attach(waitset, readable, 0);
     start_trial();
     auto asserted = Clock::now();
-    while (done_ < trials_) {
+    while (!finished()) {
       const dds_return_t n =
           dds_waitset_wait(waitset, nullptr, 0, std::chrono::duration_cast<std::chrono::nanoseconds>(kTick).count());
       if (n > 0) {
@@ -95,9 +110,23 @@ class Relay {
   }
 
  private:
+  struct Task {
+    std::string id, executor, skill;
+    int started;  ///< STARTs written
+  };
+
+  void add_executor(const std::string& id) { writers_.emplace(id, command_writer(participant_, id)); }
+
+  bool finished() const {
+    if (pattern_ != Pattern::kTasks) return done_ >= trials_;
+    return done_ >= static_cast<int>(tasks_.size());  // tasks whose last START succeeded
+  }
+
   void on_event(const rigger_skill_SkillEvent& e, rigger::task_controller::StageTrace& trace) {
     const std::string executor = dds::to_string(e.executor_id);
-    if (dds::to_string(e.task_id) != kTask) return;
+    const std::string task = dds::to_string(e.task_id);
+    Task* const t = find_task(task);
+    if (pattern_ == Pattern::kTasks ? t == nullptr : task != kTask) return;
     answered_.insert(executor);
     const char* kind = e.kind == rigger_skill_SKILL_EVENT_SUCCESS   ? "SUCCESS"
                        : e.kind == rigger_skill_SKILL_EVENT_FAILURE ? "FAILURE"
@@ -105,87 +134,102 @@ class Relay {
                                                                     : nullptr;
     if (kind == nullptr) return;  // ACCEPTED, PROGRESS: nothing to relay
     trace.begin(executor, kind, static_cast<std::int64_t>(e.stamp.sec) * 1000000000LL + e.stamp.nanosec);
-    const auto write = [&](rigger_skill_SkillCommandKind k, const std::string& to, const char* node, const char* sk,
-                           const char* params) {
+    const auto write = [&](rigger_skill_SkillCommandKind k, const std::string& to, const std::string& task_id,
+                           const char* node, const char* sk, const char* params) {
       trace.command_writing();
-      send(k, to, node, sk, params);
+      send(k, to, task_id, node, sk, params);
       trace.command_written();
     };
-    if (failure_ && e.kind == rigger_skill_SKILL_EVENT_FAILURE && executor == "monitors") {
-      write(rigger_skill_SKILL_SHUTDOWN, "skills", "skill", "Localize", "");
-    } else if (failure_ && e.kind == rigger_skill_SKILL_EVENT_STOPPED && executor == "skills") {
+    if (pattern_ == Pattern::kTasks) {
+      if (e.kind == rigger_skill_SKILL_EVENT_SUCCESS && t->started < trials_)
+        write(rigger_skill_SKILL_START, t->executor, t->id, ++t->started % 2 ? "step-1" : "step-2",
+              t->skill.c_str(), "{}");
+      else if (e.kind == rigger_skill_SKILL_EVENT_SUCCESS)
+        ++done_;
+    } else if (pattern_ == Pattern::kFailure && e.kind == rigger_skill_SKILL_EVENT_FAILURE && executor == "monitors") {
+      write(rigger_skill_SKILL_SHUTDOWN, "skills", kTask, "skill", "Localize", "");
+    } else if (pattern_ == Pattern::kFailure && e.kind == rigger_skill_SKILL_EVENT_STOPPED && executor == "skills") {
       if (++done_ < trials_) start_trial();
-    } else if (!failure_ && e.kind == rigger_skill_SKILL_EVENT_SUCCESS && executor == "skills") {
-      if (++done_ < trials_) write(rigger_skill_SKILL_START, "skills", done_ % 2 ? "pick-2" : "pick-1", "Pick", kPick);
+    } else if (pattern_ == Pattern::kSuccess && e.kind == rigger_skill_SKILL_EVENT_SUCCESS && executor == "skills") {
+      if (++done_ < trials_) write(rigger_skill_SKILL_START, "skills", kTask, done_ % 2 ? "pick-2" : "pick-1", "Pick", kPick);
     }
     trace.engine_done();
     trace.flushed();
   }
 
-  void start_trial() {
-    if (!failure_) {
-      send(rigger_skill_SKILL_START, "skills", "pick-1", "Pick", kPick);
-      return;
-    }
-    send(rigger_skill_SKILL_START, "skills", "skill", "Localize", R"({"object":"load"})");
-    send(rigger_skill_SKILL_START, "monitors", "monitor", "TimerMonitor", R"({"max_duration_s":3600})");
+  Task* find_task(const std::string& id) {
+    for (Task& t : tasks_)
+      if (t.id == id) return &t;
+    return nullptr;
   }
 
-  void send(rigger_skill_SkillCommandKind kind, const std::string& executor, const char* node, const char* skill_name,
-            const char* params) {
+  void start_trial() {
+    switch (pattern_) {
+      case Pattern::kTasks:
+        for (Task& t : tasks_) {
+          ++t.started;
+          send(rigger_skill_SKILL_START, t.executor, t.id, "step-1", t.skill.c_str(), "{}");
+        }
+        return;
+      case Pattern::kSuccess:
+        send(rigger_skill_SKILL_START, "skills", kTask, "pick-1", "Pick", kPick);
+        return;
+      case Pattern::kFailure:
+        send(rigger_skill_SKILL_START, "skills", kTask, "skill", "Localize", R"({"object":"load"})");
+        send(rigger_skill_SKILL_START, "monitors", kTask, "monitor", "TimerMonitor", R"({"max_duration_s":3600})");
+        return;
+    }
+  }
+
+  void send(rigger_skill_SkillCommandKind kind, const std::string& executor, const std::string& task, const char* node,
+            const char* skill_name, const char* params) {
+    Unanswered u{executor, task, node, skill_name, params, ++seq_, dds::wire_now()};
+    write_command(kind, u);
+    if (kind == rigger_skill_SKILL_START && answered_.count(executor) == 0) unanswered_[executor + "\t" + task] = u;
+  }
+
+  struct Unanswered {
+    std::string executor, task, node, skill, params;
+    std::uint64_t seq;
+    rigger_geometry_Time stamp;
+  };
+
+  void write_command(rigger_skill_SkillCommandKind kind, const Unanswered& u) {
     rigger_skill_SkillCommand c{};
-    c.executor_id = dds::wire_string(executor);
-    c.task_id = dds::wire_string(kTask);
-    c.node_id = const_cast<char*>(node);
-    c.skill = const_cast<char*>(skill_name);
+    c.executor_id = dds::wire_string(u.executor);
+    c.task_id = dds::wire_string(u.task);
+    c.node_id = const_cast<char*>(u.node.c_str());
+    c.skill = const_cast<char*>(u.skill.c_str());
     c.kind = kind;
-    c.params_json = const_cast<char*>(params);
+    c.params_json = const_cast<char*>(u.params.c_str());
     c.reason = const_cast<char*>("");
-    c.seq = ++seq_;
-    c.stamp = dds::wire_now();
-    (executor == "skills" ? skills_ : monitors_).write(c);
-    if (kind == rigger_skill_SKILL_START && answered_.count(executor) == 0)
-      unanswered_[executor] = {executor, node, skill_name, params, c.seq, c.stamp};
+    c.seq = u.seq;
+    c.stamp = u.stamp;
+    writers_.at(u.executor).write(c);
   }
 
   /// The same sample again (same seq and stamp): the executor drops it if the first one came through.
   void write_unanswered_again() {
     for (auto it = unanswered_.begin(); it != unanswered_.end();) {
-      if (answered_.count(it->first)) {
+      if (answered_.count(it->second.executor)) {
         it = unanswered_.erase(it);
         continue;
       }
-      const Unanswered& u = it->second;
-      rigger_skill_SkillCommand c{};
-      c.executor_id = dds::wire_string(u.executor);
-      c.task_id = dds::wire_string(kTask);
-      c.node_id = const_cast<char*>(u.node);
-      c.skill = const_cast<char*>(u.skill);
-      c.kind = rigger_skill_SKILL_START;
-      c.params_json = const_cast<char*>(u.params);
-      c.reason = const_cast<char*>("");
-      c.seq = u.seq;
-      c.stamp = u.stamp;
-      (u.executor == "skills" ? skills_ : monitors_).write(c);
+      write_command(rigger_skill_SKILL_START, it->second);
       ++it;
     }
   }
 
   static constexpr const char* kPick = R"({"object":"load","grasp":"load/grasp_top"})";
-  struct Unanswered {
-    std::string executor;
-    const char *node, *skill, *params;
-    std::uint64_t seq;
-    rigger_geometry_Time stamp;
-  };
 
   const dds::Participant& participant_;
-  const bool failure_;
-  const int trials_;  ///< failure: trials; success: events (each SUCCESS but the last causes a START)
-  dds::Writer<rigger_skill_SkillCommand> skills_, monitors_;
+  const Pattern pattern_;
+  int trials_ = 0;  ///< failure: trials; success: events (each SUCCESS but the last causes a START); tasks: per task
+  std::map<std::string, dds::Writer<rigger_skill_SkillCommand>> writers_;
   dds::Reader<rigger_skill_SkillEvent> events_;
-  std::set<std::string> answered_;  ///< executors that sent an event for task "relay"
-  std::map<std::string, Unanswered> unanswered_;
+  std::vector<Task> tasks_;
+  std::set<std::string> answered_;  ///< executors that sent an event for the relay's tasks
+  std::map<std::string, Unanswered> unanswered_;  ///< by executor and task
   std::uint64_t seq_ = 0;
   int done_ = 0;
 };
@@ -195,15 +239,22 @@ class Relay {
 int main(int argc, char** argv) {
   const std::string pattern = option(argc, argv, "--pattern", "");
   const int trials = std::atoi(option(argc, argv, "--trials", "0"));
+  const int tasks = std::atoi(option(argc, argv, "--tasks", "1"));
+  const int executors = std::atoi(option(argc, argv, "--executors", "1"));
   const std::string trace_path = option(argc, argv, "--trace", "");
-  if ((pattern != "failure" && pattern != "success") || trials < 1 || trace_path.empty()) {
-    std::fprintf(stderr, "usage: %s --pattern failure|success --trials N (>= 1) --trace PATH [--domain D]\n", argv[0]);
+  if ((pattern != "failure" && pattern != "success" && pattern != "tasks") || trials < 1 || tasks < 1 ||
+      executors < 1 || trace_path.empty()) {
+    std::fprintf(stderr,
+                 "usage: %s --pattern failure|success|tasks --trials N (>= 1) [--tasks N --executors E] --trace PATH "
+                 "[--domain D]\n",
+                 argv[0]);
     return 2;
   }
   try {
     // The cell passes the domain both as --domain and as $RIGGER_DOMAIN; the environment is enough.
     const dds::Participant participant(dds::domain_from_environment());
-    Relay relay(participant, pattern == "failure", trials);
+    const Pattern p = pattern == "failure" ? Pattern::kFailure : pattern == "success" ? Pattern::kSuccess : Pattern::kTasks;
+    Relay relay(participant, p, trials, tasks, executors);
     rigger::task_controller::StageTrace trace;
     if (!relay.run(trace)) {
       std::fprintf(stderr, "relay_floor: the executors' endpoints did not match within 10 s\n");
