@@ -68,9 +68,9 @@ const SettingsTable<ControllerSettings>& controller_settings() {
                  "asserted from a thread of its own every third of this lease or of the service lease (150 ms), "
                  "whichever is shorter ([dds.md](dds.md))"),
       setting<S>("flush_delay_us", 1000U, {0U, 100000U}, &S::flush_delay,
-                 "the journal rows and node statuses an event causes are written this long after its commands, in "
-                 "one transaction with those of every event that comes meanwhile; 0: right after the handler. A "
-                 "kill loses at most the last group "
+                 "the journal rows and node statuses an event causes are handed to the controller's writer thread "
+                 "this long after its commands, in one transaction with those of every event that comes meanwhile; "
+                 "0: right after the handler. A kill loses at most the groups not yet written (normally the last) "
                  "([where the time goes](behavior-tree.md#where-the-time-goes))"),
       setting<S>("condition_timeout_ms", 1000U, {10U, 60000U}, &S::condition_timeout,
                  "how long a Condition, the pose journaled after a localization, and the resume's re-check of the "

@@ -78,6 +78,11 @@ Journal::~Journal() {
 }
 
 std::string Journal::last_error() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return error_text();
+}
+
+std::string Journal::error_text() const {
   if (!rollback_error_.empty()) return rollback_error_;
   return db_ ? sqlite3_errmsg(db_) : "journal not open";
 }
@@ -88,17 +93,19 @@ bool Journal::exec(const char* sql) {
 }
 
 bool Journal::add_task(const std::string& task_id, const std::string& recipe_json, double stamp_s) {
+  std::lock_guard<std::mutex> lock(mutex_);
   auto s = prepare(db_, "INSERT INTO tasks(task_id, state, submitted, recipe) VALUES(?, 'RUNNING', ?, ?);");
   if (!s) return false;
   bind_text(s.get(), 1, task_id);
   sqlite3_bind_double(s.get(), 2, stamp_s);
   bind_text(s.get(), 3, recipe_json);
   if (sqlite3_step(s.get()) != SQLITE_DONE) return false;
-  return add_record({stamp_s, task_id, "", "RECIPE", "ACCEPTED", "recipe accepted"});
+  return insert_record({stamp_s, task_id, "", "RECIPE", "ACCEPTED", "recipe accepted"});
 }
 
 bool Journal::finish_task(const std::string& task_id, const std::string& state, const std::string& code,
                           const std::string& message, double stamp_s) {
+  std::lock_guard<std::mutex> lock(mutex_);
   auto s = prepare(db_, "UPDATE tasks SET state=?, finished=?, code=?, message=? WHERE task_id=?;");
   if (!s) return false;
   bind_text(s.get(), 1, state);
@@ -107,18 +114,24 @@ bool Journal::finish_task(const std::string& task_id, const std::string& state, 
   bind_text(s.get(), 4, message);
   bind_text(s.get(), 5, task_id);
   if (sqlite3_step(s.get()) != SQLITE_DONE) return false;
-  return add_record({stamp_s, task_id, "", "TASK", state, code.empty() ? message : code + ": " + message});
+  return insert_record({stamp_s, task_id, "", "TASK", state, code.empty() ? message : code + ": " + message});
 }
 
 bool Journal::reopen_task(const std::string& task_id, const std::string& message, double stamp_s) {
+  std::lock_guard<std::mutex> lock(mutex_);
   auto s = prepare(db_, "UPDATE tasks SET state='RUNNING', finished=NULL, code=NULL, message=NULL WHERE task_id=?;");
   if (!s) return false;
   bind_text(s.get(), 1, task_id);
   if (sqlite3_step(s.get()) != SQLITE_DONE) return false;
-  return add_record({stamp_s, task_id, "", "TASK", "RUNNING", message});
+  return insert_record({stamp_s, task_id, "", "TASK", "RUNNING", message});
 }
 
-bool Journal::add_record(const JournalRecord& r) {
+bool Journal::add_record(const JournalRecord& record) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return insert_record(record);
+}
+
+bool Journal::insert_record(const JournalRecord& r) {
   sqlite3_stmt* s = insert_record_;
   sqlite3_reset(s);
   sqlite3_bind_double(s, 1, r.stamp_s);
@@ -130,20 +143,26 @@ bool Journal::add_record(const JournalRecord& r) {
   return sqlite3_step(s) == SQLITE_DONE;
 }
 
-bool Journal::add_records(const std::vector<JournalRecord>& records) {
-  if (!exec("BEGIN;")) return false;
+bool Journal::add_records(const std::vector<JournalRecord>& records, std::string* why) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto failed = [&] {
+    if (why) *why = error_text();
+    return false;
+  };
+  if (!exec("BEGIN;")) return failed();
   for (const auto& r : records) {
-    if (!add_record(r)) {
-      std::string why = sqlite3_errmsg(db_);  // ROLLBACK overwrites SQLite's message
+    if (!insert_record(r)) {
+      std::string error = sqlite3_errmsg(db_);  // ROLLBACK overwrites SQLite's message
       exec("ROLLBACK;");
-      rollback_error_ = std::move(why);
-      return false;
+      rollback_error_ = std::move(error);
+      return failed();
     }
   }
-  return exec("COMMIT;");
+  return exec("COMMIT;") || failed();
 }
 
 std::vector<JournalTask> Journal::unfinished_tasks() const {
+  std::lock_guard<std::mutex> lock(mutex_);
   std::vector<JournalTask> out;
   auto s = prepare(db_, "SELECT task_id, state, submitted, recipe FROM tasks WHERE state='RUNNING' ORDER BY submitted;");
   if (!s) return out;
@@ -154,6 +173,7 @@ std::vector<JournalTask> Journal::unfinished_tasks() const {
 }
 
 JournalTask Journal::task(const std::string& task_id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
   auto s = prepare(db_, "SELECT task_id, state, submitted, recipe FROM tasks WHERE task_id=?;");
   if (!s) return {};
   bind_text(s.get(), 1, task_id);
@@ -162,6 +182,7 @@ JournalTask Journal::task(const std::string& task_id) const {
 }
 
 bool Journal::has_task(const std::string& task_id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
   auto s = prepare(db_, "SELECT 1 FROM tasks WHERE task_id=?;");
   if (!s) return false;
   bind_text(s.get(), 1, task_id);
@@ -169,6 +190,7 @@ bool Journal::has_task(const std::string& task_id) const {
 }
 
 std::vector<JournalRecord> Journal::timeline(const std::string& task_id, std::size_t max_entries) const {
+  std::lock_guard<std::mutex> lock(mutex_);
   std::vector<JournalRecord> out;
   auto s = prepare(db_, "SELECT stamp, task_id, node_id, kind, code, message FROM records WHERE task_id=? "
                         "ORDER BY id LIMIT ?;");
@@ -182,6 +204,7 @@ std::vector<JournalRecord> Journal::timeline(const std::string& task_id, std::si
 }
 
 std::vector<JournalTask> Journal::tasks(std::size_t max_tasks) const {
+  std::lock_guard<std::mutex> lock(mutex_);
   std::vector<JournalTask> out;
   auto s = prepare(db_, "SELECT task_id, state, submitted, recipe FROM tasks ORDER BY submitted DESC LIMIT ?;");
   if (!s) return out;

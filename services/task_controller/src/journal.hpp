@@ -9,14 +9,16 @@
 ///    commits (never corrupt the file).
 ///  - kFull: an fsync per commit; every row also survives a power cut.
 /// The controller writes a recipe (add_task) before acting on it, and an event's rows in one
-/// add_records() transaction right after it sent the commands the event caused (so an fsync is never
-/// between a monitor's FAILURE and the sibling's SHUTDOWN). Measured with task_controller_live_bench:
-/// monitor FAILURE -> sibling SHUTDOWN received p50 0.19 ms with kNormal and 0.18 ms with kFull.
+/// add_records() transaction after it sent the commands the event caused, on its side-effect thread
+/// (side_effect_writer.hpp: so neither an fsync nor a WAL checkpoint is ever between a monitor's FAILURE
+/// and the sibling's SHUTDOWN).
 ///
-/// Thread safety: none; one owner thread (the controller's event loop). Errors at open throw
+/// Thread safety: every member locks the journal, so the controller's loop and its side-effect
+/// thread may share it. Errors at open throw
 /// JournalError; in steady state write errors are returned (false) so the caller can log them.
 
 #include <cstdint>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -72,7 +74,8 @@ class Journal {
   /// Appends one timeline line.
   bool add_record(const JournalRecord& record);
   /// Appends `records` in one transaction: all or none (one commit, so one fsync with kFull).
-  bool add_records(const std::vector<JournalRecord>& records);
+  /// `why`, when given, receives the error of a failed call (read under the same lock).
+  bool add_records(const std::vector<JournalRecord>& records, std::string* why = nullptr);
 
   /// Tasks whose state is still RUNNING (the controller died while they ran).
   std::vector<JournalTask> unfinished_tasks() const;
@@ -90,6 +93,9 @@ class Journal {
 
  private:
   bool exec(const char* sql);
+  bool insert_record(const JournalRecord& record);  ///< the lock held
+  std::string error_text() const;                   ///< the lock held
+  mutable std::mutex mutex_;
   sqlite3* db_ = nullptr;
   sqlite3_stmt* insert_record_ = nullptr;
   std::string rollback_error_;  ///< why the last add_records() rolled back, until the next exec()  ///< prepared once: add_record() runs for every event

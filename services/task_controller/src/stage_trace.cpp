@@ -1,5 +1,6 @@
 #include "stage_trace.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -23,6 +24,10 @@ StageTrace::StageTrace(std::size_t capacity) : capacity_(capacity) {
 
 void StageTrace::mark(const char* what, char phase) {
   if (marks_.size() < capacity_) marks_.push_back({ns_of(Clock::now()), what, phase});
+}
+
+void StageTrace::mark_at(std::int64_t ns, const char* what, char phase) {
+  if (marks_.size() < capacity_) marks_.push_back({ns, what, phase});
 }
 
 void StageTrace::woke() {
@@ -56,6 +61,10 @@ void StageTrace::flushed() {
   for (; unflushed_ < records_.size(); ++unflushed_) records_[unflushed_].flushed_ns = now;
 }
 
+void StageTrace::flushed_upto(std::size_t count, std::int64_t ns) {
+  for (; unflushed_ < std::min(count, records_.size()); ++unflushed_) records_[unflushed_].flushed_ns = ns;
+}
+
 bool StageTrace::write(const std::string& path) const {
   std::ofstream out(path);
   out << "executor\tkind\tstamp_wall_ns\twoke_wall_ns\twoke_ns\twriting_ns\tcommand_ns\tengine_ns\tflushed_ns\n";
@@ -66,7 +75,9 @@ bool StageTrace::write(const std::string& path) const {
   if (marks_.empty()) return static_cast<bool>(out);
   std::ofstream loop(path + ".loop");
   loop << "ns\twhat\tphase\n";
-  for (const auto& m : marks_) loop << m.ns << '\t' << m.what << '\t' << m.phase << '\n';
+  std::vector<LoopMark> marks = marks_;
+  std::stable_sort(marks.begin(), marks.end(), [](const LoopMark& a, const LoopMark& b) { return a.ns < b.ns; });
+  for (const auto& m : marks) loop << m.ns << '\t' << m.what << '\t' << m.phase << '\n';
   loop.flush();
   return out && loop;
 }

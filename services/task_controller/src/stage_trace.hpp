@@ -58,9 +58,14 @@ class StageTrace {
   void engine_done();
   /// The queued side effects were written: every traced event not yet flushed was.
   void flushed();
+  /// The records before index `count` not flushed yet were flushed at `ns` (the side-effect thread's
+  /// time, applied afterwards by the loop thread).
+  void flushed_upto(std::size_t count, std::int64_t ns);
 
   /// Notes what the loop does now (LoopMark), up to the same capacity; `what` is short (no allocation).
   void mark(const char* what, char phase);
+  /// The same at `ns`, for what another thread did (write() puts the marks in time order).
+  void mark_at(std::int64_t ns, const char* what, char phase);
 
   const std::vector<StageRecord>& records() const { return records_; }
   const std::vector<LoopMark>& marks() const { return marks_; }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/operator_protocol/prompt.hpp"
@@ -43,6 +44,7 @@ TaskControllerNode::TaskControllerNode(service::ServiceContext& ctx, const std::
     StageTrace* trace = trace_.get();
     endpoint_.trace_writes([trace] { trace->command_writing(); }, [trace] { trace->command_written(); });
   }
+  writer_ = std::make_unique<SideEffectWriter>(journal_, status_, ctx.log, trace_ != nullptr);
   world_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log,
                                                        "task_controller-" + ctx.options.id);
   if (trace_) trace_loop(ctx.loop);
@@ -73,8 +75,7 @@ TaskControllerNode::~TaskControllerNode() {
   tasks_.clear();
   for (auto& [id, p] : pending_) ctx_.loop.cancel(p.timer);
   flush_side_effects();
-  if (trace_ && !trace_->write(settings_.stage_trace_path))
-    ctx_.log->error("stage trace not written path={}", settings_.stage_trace_path);
+  if (trace_) write_stage_trace();
 }
 
 // --- TaskHost ---
@@ -166,36 +167,44 @@ void TaskControllerNode::trace_loop(dds::EventLoop& loop) {
 }
 
 void TaskControllerNode::post_flush_if_idle() {
-  // The first queued item schedules the flush; later ones ride along with it.
+  // The first queued item schedules the hand-over; later ones ride along with it.
   if (flush_pending_) return;
   flush_pending_ = true;
   if (settings_.flush_delay.count() == 0) {
-    ctx_.loop.post([this] { flush_side_effects(); });
+    ctx_.loop.post([this] { hand_over_side_effects(); });
     return;
   }
   flush_timer_ = ctx_.loop.after(settings_.flush_delay, [this] {
     flush_timer_ = 0;
-    flush_side_effects();
+    hand_over_side_effects();
   });
 }
 
-void TaskControllerNode::flush_side_effects() {
+void TaskControllerNode::hand_over_side_effects() {
   if (flush_timer_ != 0) ctx_.loop.cancel(flush_timer_);
   flush_timer_ = 0;
   flush_pending_ = false;
-  const bool traced = trace_ && (!status_backlog_.empty() || !journal_backlog_.empty());
-  if (traced) trace_->mark("flush", 'b');
-  // The journal first: a node status a watcher sees is already journaled, so a controller killed right
-  // after a watcher saw a node start resumes knowing that it started.
-  if (!journal_backlog_.empty() && !journal_.add_records(journal_backlog_))
-    ctx_.log->error("journal write failed: {} rows lost, first task={} kind={}: {}", journal_backlog_.size(),
-                    journal_backlog_.front().task_id, journal_backlog_.front().kind, journal_.last_error());
-  journal_backlog_.clear();
-  for (const auto& row : status_backlog_)
-    if (!status_.node(row)) ctx_.log->error("node status write failed task={} node={}", row.task_id, row.node_id);
-  status_backlog_.clear();
-  if (traced) trace_->mark("flush", 'e');
-  if (trace_) trace_->flushed();
+  if (journal_backlog_.empty() && status_backlog_.empty()) return;
+  if (trace_) traced_upto_.push_back(trace_->records().size());
+  writer_->hand_over(std::exchange(journal_backlog_, {}), std::exchange(status_backlog_, {}));
+}
+
+void TaskControllerNode::flush_side_effects() {
+  hand_over_side_effects();
+  writer_->drain();
+}
+
+void TaskControllerNode::write_stage_trace() {
+  // Each batch's write, done on the writer's thread, enters the trace now: its records flushed when it
+  // ended, and a "flush" span among the loop's marks.
+  const std::vector<SideEffectWriter::Times> times = writer_->times();
+  for (std::size_t i = 0; i < times.size() && i < traced_upto_.size(); ++i) {
+    trace_->flushed_upto(traced_upto_[i], times[i].ended_ns);
+    trace_->mark_at(times[i].began_ns, "flush", 'b');
+    trace_->mark_at(times[i].ended_ns, "flush", 'e');
+  }
+  if (!trace_->write(settings_.stage_trace_path))
+    ctx_.log->error("stage trace not written path={}", settings_.stage_trace_path);
 }
 
 // --- executors ---

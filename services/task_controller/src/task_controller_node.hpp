@@ -53,6 +53,7 @@
 #include "rigger/recipe/recipe_validator.hpp"
 #include "rigger/safety/safe_stop.hpp"
 #include "rigger/service/service.hpp"
+#include "side_effect_writer.hpp"
 #include "stage_trace.hpp"
 #include "status_publisher.hpp"
 #include "task_port.hpp"
@@ -128,11 +129,16 @@ class TaskControllerNode : public service::Node, private TaskHost {
   void answer_resume(const PromptId& id, const std::string& answer, const std::string& by);
   void reject(const std::string& task_id, RejectCode code, const std::string& message,
               const std::vector<recipe::Error>& errors = {});
-  /// Writes the queued node statuses and journal rows (one transaction). A handler sends its commands
-  /// (START, SHUTDOWN) first; this runs once it returned, on the loop's next turn (posted by the first
-  /// queued item), and before anything that reads the journal or writes a task row.
+  /// Hands the queued journal rows and node statuses to the side-effect writer, which writes them on its
+  /// own thread (the rows in one transaction, then the statuses). A handler sends its commands (START,
+  /// SHUTDOWN) first; this runs flush_delay after the first queued item (post_flush_if_idle).
+  void hand_over_side_effects();
+  /// The same, and waits until everything handed over is written: before anything that reads the
+  /// journal or writes a task row.
   void flush_side_effects();
   void post_flush_if_idle();
+  /// Writes the stage trace, with when each batch of side effects was written.
+  void write_stage_trace();
   /// Has the loop note each dispatch in the stage trace (its loop marks), naming the event reader's.
   void trace_loop(dds::EventLoop& loop);
   void forget_task(const std::string& task_id);
@@ -185,6 +191,9 @@ class TaskControllerNode : public service::Node, private TaskHost {
   bool flush_pending_ = false;                 ///< a flush of the backlogs is scheduled
   dds::EventLoop::TimerId flush_timer_ = 0;    ///< its timer (0: none, or a posted flush)
   std::unique_ptr<StageTrace> trace_;  ///< nullptr unless stage_trace_path is set
+  std::vector<std::size_t> traced_upto_;  ///< per batch handed over: trace_'s record count then
+  /// Writes the backlogs off the loop thread; declared last, so it ends (writing what is queued) first.
+  std::unique_ptr<SideEffectWriter> writer_;
 };
 
 }  // namespace rigger::task_controller
