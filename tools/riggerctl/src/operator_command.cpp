@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -85,6 +86,11 @@ class PromptBoard {
     auto it = pending_.find(id);
     return it == pending_.end() ? nullptr : &it->second;
   }
+  /// The participant that asked `id` (its prompt's writer), if it is still known.
+  std::optional<dds_guid_t> asked_by(const std::string& id) const {
+    auto it = asker_.find(id);
+    return it == asker_.end() ? std::nullopt : std::optional<dds_guid_t>(it->second);
+  }
   /// Whether `id` was seen withdrawn (and not re-activated since).
   bool withdrawn(const std::string& id) const { return withdrawn_.count(id) > 0; }
   /// Who answered `id`, if anyone did.
@@ -100,9 +106,14 @@ class PromptBoard {
  private:
   std::vector<Event> take_prompts() {
     std::vector<Event> events;
-    prompts_.take([&](const rigger_operator_ui_OperatorPrompt& p, const dds_sample_info_t&) {
+    prompts_.take([&](const rigger_operator_ui_OperatorPrompt& p, const dds_sample_info_t& info) {
       PromptView v = operator_protocol::from_wire(p);
       const std::string id = v.prompt_id;
+      if (dds_builtintopic_endpoint_t* writer = dds_get_matched_publication_data(prompts_.handle(),
+                                                                                 info.publication_handle)) {
+        asker_[id] = writer->participant_key;
+        dds_builtintopic_free_endpoint(writer);
+      }
       if (!v.active) {
         withdrawn_.insert(id);
         if (pending_.count(id)) events.push_back({Change::kWithdrawn, id, ""});
@@ -141,6 +152,7 @@ class PromptBoard {
   std::vector<std::string> order_;
   std::set<std::string> withdrawn_;
   std::map<std::string, std::string> answered_;
+  std::map<std::string, dds_guid_t> asker_;  ///< by prompt id: the participant of the prompt's writer
 };
 
 class ResponseWriter {
@@ -156,6 +168,21 @@ class ResponseWriter {
     if (rc != DDS_RETCODE_OK) std::fprintf(stderr, "riggerctl: writing the answer failed: %s\n", dds_strretcode(rc));
     return rc == DDS_RETCODE_OK;
   }
+  /// Whether a response reader of `participant` (the prompt's asker) matched this writer. An answer
+  /// written before that would not reach it: the asker's reader may match later than its prompt did.
+  bool reaches(const dds_guid_t& participant) const {
+    dds_instance_handle_t handles[64];
+    const dds_return_t n = dds_get_matched_subscriptions(writer_.handle(), handles, 64);
+    for (dds_return_t i = 0; i < std::min<dds_return_t>(n, 64); ++i) {
+      dds_builtintopic_endpoint_t* reader = dds_get_matched_subscription_data(writer_.handle(), handles[i]);
+      if (reader == nullptr) continue;
+      const bool same = std::memcmp(&reader->participant_key, &participant, sizeof participant) == 0;
+      dds_builtintopic_free_endpoint(reader);
+      if (same) return true;
+    }
+    return false;
+  }
+  dds_entity_t handle() const { return writer_.handle(); }
   /// Waits until every matched reader acknowledged what was written (before the process exits).
   void flush(std::chrono::nanoseconds timeout) { dds_wait_for_acks(writer_.handle(), timeout.count()); }
   const std::string& operator_id() const { return operator_id_; }
@@ -206,6 +233,7 @@ int run_answers(const CommonOptions& common, const OperatorOptions& opt) {
   PromptBoard board(participant);
   board.attach(loop, [](const PromptBoard::Event&) {});
   ResponseWriter writer(participant, opt.operator_id, opt.comment);
+  loop.on_status(writer.handle(), DDS_PUBLICATION_MATCHED_STATUS, [] {});  // wakes run_until on a match
   const double timeout_s = opt.timeout_s < 0 ? 10.0 : opt.timeout_s;
   int exit_code = 0;
   for (const auto& [id, input] : wanted) {
@@ -228,6 +256,14 @@ int run_answers(const CommonOptions& common, const OperatorOptions& opt) {
     if (!answer) {
       std::fprintf(stderr, "riggerctl: '%s' is not an option of prompt '%s' (options: %s)\n", input.c_str(),
                    prompt_id.c_str(), join(p->options).c_str());
+      exit_code = 1;
+      continue;
+    }
+    // The asker's reader may not have matched this writer yet (it saw the prompt's writer first).
+    if (const auto asker = board.asked_by(prompt_id);
+        asker && !loop.run_until([&] { return writer.reaches(*asker); }, from_seconds(timeout_s))) {
+      std::fprintf(stderr, "riggerctl: the asker of prompt '%s' does not read answers after %.1f s\n",
+                   prompt_id.c_str(), timeout_s);
       exit_code = 1;
       continue;
     }
