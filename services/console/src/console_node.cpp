@@ -1,5 +1,6 @@
 #include "console_node.hpp"
 
+#include <algorithm>
 #include <unistd.h>
 
 #include <cmath>
@@ -504,6 +505,27 @@ ActionResult ConsoleNode::cell_request(const world_protocol::CellRequest& reques
       cell_pending_.erase(it);
     });
     cell_pending_[q.request_id] = {promise, timer};
+  });
+}
+
+ActionResult ConsoleNode::cell_models(const std::string& sha256) {
+  return on_loop([this, sha256](auto promise) {
+    if (sha256.empty()) {
+      std::vector<const world_protocol::CellModel*> kept;
+      for (const auto& [sha, m] : models_by_sha_) kept.push_back(&m);
+      std::sort(kept.begin(), kept.end(), [](const auto* a, const auto* b) { return a->name < b->name; });
+      nlohmann::json list = nlohmann::json::array();
+      for (const auto* m : kept) list.push_back({{"name", m->name}, {"sha256", m->sha256}, {"bytes", m->step.size()}});
+      promise->set_value({true, "", std::move(list)});
+      return;
+    }
+    const auto it = models_by_sha_.find(sha256);
+    if (it == models_by_sha_.end()) {
+      promise->set_value({false, "the cell's running revision pins no model of sha256 " + sha256, {}});
+      return;
+    }
+    const world_protocol::CellModel& m = it->second;
+    promise->set_value({true, "", {{"name", m.name}, {"sha256", m.sha256}, {"step", m.step}}});
   });
 }
 

@@ -61,6 +61,7 @@ class ConsoleNode : public service::Node, public Backend {
                         const std::string& submitter) override;
   ActionResult rehearsal_cell() override;
   ActionResult cell_request(const world_protocol::CellRequest& request) override;
+  ActionResult cell_models(const std::string& sha256) override;
 
  private:
   /// Runs `work` on the loop; it must eventually set the promise it is given. Waits up to the query

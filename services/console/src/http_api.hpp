@@ -85,6 +85,10 @@ class Backend {
   /// client and request ids): data = {"code", "cell_revision", "result": <result_json parsed>}, also when
   /// it refused (!ok, message = its reason); !ok without data when no world model answered.
   virtual ActionResult cell_request(const world_protocol::CellRequest& request) = 0;
+  /// The STEP models the cell's running revision pins, as the world model published them
+  /// (rigger/world/cell_model): `sha256` empty, data = [{"name", "sha256", "bytes"}] by name; else that
+  /// model, data = {"name", "sha256", "step": <binary string>}, !ok when the cell has none of it.
+  virtual ActionResult cell_models(const std::string& sha256) = 0;
 };
 
 /// What the console reads on the rehearsal domain (RehearsalLink), apart from the cell's: the HTTP side
@@ -185,6 +189,7 @@ class HttpApi {
   void post_planner_frame(const httplib::Request& req, httplib::Response& res);
   void post_planner_place(const httplib::Request& req, httplib::Response& res);
   void post_planner_import(const httplib::Request& req, httplib::Response& res);
+  void get_planner_cell_models(const httplib::Request& req, httplib::Response& res);
   void post_planner_declare(const httplib::Request& req, httplib::Response& res);
   void post_planner_add(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_state(const httplib::Request& req, httplib::Response& res);

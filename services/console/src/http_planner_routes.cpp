@@ -147,19 +147,33 @@ void HttpApi::post_planner_place(const httplib::Request& req, httplib::Response&
 void HttpApi::post_planner_import(const httplib::Request& req, httplib::Response& res) {
   auto user = who(req, res, Role::kProgrammer);
   if (!user) return;
+  // ?model=<sha256>: one of the cell's own models (GET /api/planner/cell_models), e.g. for a second
+  // object of a part the cell holds already; else the body is the STEP file the person chose.
+  std::string step;
   std::string name = req.has_param("name") ? req.get_param_value("name") : "upload.step";
+  if (req.has_param("model")) {
+    if (!req.body.empty())
+      return send_error(res, 400, "send either a model of the cell (model=) or a file's bytes, not both", req.path);
+    const ActionResult kept = backend_.cell_models(req.get_param_value("model"));
+    if (!kept.ok) return send_error(res, 404, kept.message, req.path + "#model");
+    step = kept.data.at("step").get<std::string>();
+    const std::string path = kept.data.at("name").get<std::string>();
+    name = path.substr(path.find_last_of('/') + 1);
+  } else {
+    step = req.body;
+  }
   if (name.empty() || name.size() > 255 || name.find_first_of("/\\") != std::string::npos)
     return send_error(res, 400, "name: expected the file's name (1 to 255 characters, no folder)", req.path + "#name");
-  if (req.body.empty()) return send_error(res, 400, "the body is empty: send the STEP file's bytes", req.path);
-  const std::size_t size = req.body.size();
-  const auto loaded = backend_.cad_load(name, req.body);
+  if (step.empty()) return send_error(res, 400, "the body is empty: send the STEP file's bytes", req.path);
+  const std::size_t size = step.size();
+  const auto loaded = backend_.cad_load(name, step);
   if (!loaded.ok) {
     audit(*user, "import STEP", name, "refused: " + loaded.message);
     return send_cad_refusal(res, req, loaded.message, "");
   }
   const std::string sha = loaded.data.value("model_sha256", "");
   audit(*user, "import STEP", name, "read as sha256:" + sha);
-  imports_.keep(sha, name, req.body);
+  imports_.keep(sha, name, std::move(step));
   json out = loaded.data.value("result", json::object());
   out.erase("source");  // the CAD service's name for bytes it was sent, not a file anyone can open
   out["name"] = name;
@@ -167,6 +181,14 @@ void HttpApi::post_planner_import(const httplib::Request& req, httplib::Response
   out["model"] = "sha256:" + sha;
   out["model_sha256"] = sha;
   send_json(res, out);
+}
+
+// The models of the cell's running revision, to import one of them again as a new object.
+void HttpApi::get_planner_cell_models(const httplib::Request& req, httplib::Response& res) {
+  if (!who(req, res, Role::kProgrammer)) return;
+  const ActionResult list = backend_.cell_models("");
+  if (!list.ok) return send_error(res, 503, list.message, req.path);
+  send_json(res, list.data);
 }
 
 // An imported STEP file made a cell object: named, of a material (or fixed), standing on the floor beside

@@ -63,6 +63,19 @@ class RecordingBackend : public Backend {
     return rehearse_answer_;
   }
   ActionResult rehearse_answer_{true, "", {}};
+  /// The cell's models (rigger/world/cell_model), by sha256.
+  ActionResult cell_models(const std::string& sha256) override {
+    std::lock_guard lock(mutex_);
+    if (sha256.empty()) {
+      json list = json::array();
+      for (const auto& [sha, m] : cell_models_) list.push_back({{"name", m.name}, {"sha256", sha}, {"bytes", m.step.size()}});
+      return {true, "", list};
+    }
+    const auto it = cell_models_.find(sha256);
+    if (it == cell_models_.end()) return {false, "the cell's running revision pins no model of sha256 " + sha256, {}};
+    return {true, "", {{"name", it->second.name}, {"sha256", sha256}, {"step", it->second.step}}};
+  }
+  std::map<std::string, world_protocol::CellModel> cell_models_;
   ActionResult cell_request(const world_protocol::CellRequest& q) override {
     const std::string op(world_protocol::to_string(*q.op));
     record("cell " + op + (q.dry_run ? " dry" : "") + (q.revision ? " " + std::to_string(q.revision) : "") + " by " + q.who +

@@ -114,6 +114,32 @@ TEST_F(HttpApiImportTest, AStepFileIsReadByTheCadServiceWithinItsOwnLimit) {
   EXPECT_NE(text.find(R"("action":"import STEP","result":"read as sha256:ab12")"), std::string::npos) << text;
 }
 
+// One of the cell's own models imported again, by its sha256: the CAD service reads the cell's bytes,
+// named as the cell names the file; a model the cell does not pin is not found, and a request that also
+// sends bytes is refused before anything is read.
+TEST_F(HttpApiImportTest, AModelOfTheCellIsImportedByItsSha256) {
+  const std::string sha(64, 'c');
+  backend_.cell_models_[sha] = {sha, "models/flange.step", std::string(2000, 's')};
+  auto r = client_->Get("/api/planner/cell_models", as(kAda));
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(body(r), json::parse(R"([{"name":"models/flange.step","sha256":")" + sha + R"(","bytes":2000}])"));
+  EXPECT_EQ(client_->Get("/api/planner/cell_models", as(kVic))->status, 403);
+
+  backend_.cad_answer_ = {true, "", json{{"model_sha256", sha}, {"result", {{"units", "m"}}}}};
+  const auto send = [&](const std::string& path, const std::string& bytes) {
+    return client_->Post(path.c_str(), as(kAda), bytes, "application/octet-stream");
+  };
+  r = send("/api/planner/import?model=" + std::string(64, 'd'), "");
+  EXPECT_EQ(r->status, 404) << r->body;
+  EXPECT_EQ(send("/api/planner/import?model=" + sha, "bytes too")->status, 400);
+  EXPECT_TRUE(backend_.cad_requests().empty()) << "nothing reached the CAD service";
+  r = send("/api/planner/import?model=" + sha, "");
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(body(r)["name"], "flange.step");
+  EXPECT_EQ(body(r)["model_sha256"], sha);
+  EXPECT_EQ(backend_.cad_requests().back(), "load flange.step 2000 bytes");
+}
+
 // An imported file made a cell object: refused while a task runs on the cell (the simulator would build
 // it into the running physics), and when the console no longer keeps the file; nothing reaches the world
 // model either way.

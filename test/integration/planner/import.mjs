@@ -249,6 +249,17 @@ try {
   result.hole_entry = holeEntry;
   result.revision_before = revisionBefore;
   result.revision_after = (await call('/api/cell')).json.cell_revision;
+
+  // --- one of the cell's own models imported again, for a second object of the same part ---
+  const listed = await state(() => [...document.querySelectorAll('#planner-cell-model option')].map((o) => ({ value: o.value, text: o.textContent })));
+  const mine = listed.find((o) => o.value === drawn.sha);
+  check(mine && /flange_imported/.test(mine.text), `the cell's models list the added part's model ${JSON.stringify(listed)}`);
+  await page.selectOption('#planner-cell-model', drawn.sha);
+  await page.click('#planner-import-cell-model');
+  await page.waitForFunction((sha) => window.rigger.planner.view.parts.get('imported')?.sha256 === sha, drawn.sha, { timeout: 30000 });
+  const again = await page.locator('#planner-imported-summary').innerText();
+  check(again.includes(drawn.sha.slice(0, 12)) && /^flange_imported\.step: /.test(again), `imported again from the cell's copy: ${again}`);
+  result.imported_from_cell = again;
 } finally {
   await closeBrowser(browser, result);
 }

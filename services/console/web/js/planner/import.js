@@ -1,5 +1,6 @@
 // Import a STEP file (docs/console.md, "Import a STEP file"): the file goes to the console
-// (POST /api/planner/import), whose CAD service reads it with the same bounded reader as the cell's
+// (POST /api/planner/import) — or one of the cell's own models is chosen (GET /api/planner/cell_models,
+// then POST /api/planner/import?model=<sha256>), e.g. for a second object of a part — whose CAD service reads it with the same bounded reader as the cell's
 // models; the page shows what it holds — units, solids, faces, holes and the product tree (assemblies,
 // parts and their instances, as the file names them) — and draws it beside the cell, where its faces,
 // edges and holes can be picked. A file the CAD service refuses (not STEP, no length unit, no solid,
@@ -35,18 +36,48 @@ export class ImportPanel {
     this.addButton = el('button', { id: 'planner-add-object', onclick: () => this.add() }, 'Add to the cell…');
     this.addForm = el('div', { class: 'toolbar', hidden: true }, el('label', {}, 'Name ', this.name),
       el('label', {}, 'Material ', this.material), this.addButton);
+    this.cellModel = el('select', { id: 'planner-cell-model' }, el('option', { value: '' }, '(none)'));
+    this.cellModelButton = el('button', { id: 'planner-import-cell-model', onclick: () => this.readCellModel() }, 'Import');
     this.root = el('div', { role: 'group', 'aria-labelledby': 'planner-import-title' },
       el('h2', { id: 'planner-import-title' }, 'Import a STEP file'),
-      el('label', {}, 'STEP file ', this.file), this.result, this.addForm);
+      el('label', {}, 'STEP file ', this.file),
+      el('div', { class: 'toolbar' }, el('label', {}, 'or a model of the cell ', this.cellModel), this.cellModelButton),
+      this.result, this.addForm);
     this.imported = null;  // the CAD service's answer for the last file read
+  }
+
+  /// The cell's models, for the "or a model of the cell" list (called when the cell's revision changes).
+  async loadCellModels() {
+    try {
+      const models = await api('/api/planner/cell_models');
+      const chosen = this.cellModel.value;
+      this.cellModel.replaceChildren(el('option', { value: '' }, models.length ? '(choose)' : '(the cell pins no model)'),
+        ...models.map((m) => el('option', { value: m.sha256 }, `${m.name} (${(m.bytes / 1024).toFixed(0)} KiB)`)));
+      if (models.some((m) => m.sha256 === chosen)) this.cellModel.value = chosen;
+    } catch (e) {
+      this.cellModel.replaceChildren(el('option', { value: '' }, `(no list: ${e.message})`));
+    }
   }
 
   async read() {
     const f = this.file.files?.[0];
     if (!f) return;
     this.result.replaceChildren(el('p', {}, `Reading ${f.name} (${(f.size / 1024).toFixed(0)} KiB)…`));
+    await this.show(f.name, () => api(`/api/planner/import?name=${encodeURIComponent(f.name)}`, { method: 'POST', bytes: f }));
+  }
+
+  async readCellModel() {
+    const sha = this.cellModel.value;
+    if (!sha) return this.say('Choose a model of the cell first.', true);
+    const label = this.cellModel.selectedOptions[0]?.textContent || sha;
+    this.result.replaceChildren(el('p', {}, `Reading ${label}…`));
+    await this.show(label, () => api(`/api/planner/import?model=${encodeURIComponent(sha)}`, { method: 'POST' }));
+  }
+
+  /// What the CAD service read (`ask()` returns it), shown and drawn; `label`: the file, for messages.
+  async show(label, ask) {
     try {
-      const r = await api(`/api/planner/import?name=${encodeURIComponent(f.name)}`, { method: 'POST', bytes: f });
+      const r = await ask();
       this.imported = r;
       const c = r.counts || {};
       this.result.replaceChildren(
@@ -63,8 +94,8 @@ export class ImportPanel {
     } catch (e) {
       this.imported = null;
       this.addForm.hidden = true;
-      this.result.replaceChildren(el('p', { class: 'error', id: 'planner-import-error' }, `${f.name}: ${e.message}`));
-      this.say(`Import of ${f.name} refused: ${e.message}`, true);
+      this.result.replaceChildren(el('p', { class: 'error', id: 'planner-import-error' }, `${label}: ${e.message}`));
+      this.say(`Import of ${label} refused: ${e.message}`, true);
     }
   }
 

@@ -141,6 +141,7 @@ export function plannerPage(main, me) {
   placeBox.replaceChildren(place.root);
   const importer = new ImportPanel({ view, say });
   importBox.replaceChildren(importer.root);
+  importer.loadCellModels();
 
   // --- the library ---
   async function loadLibrary() {
@@ -371,6 +372,7 @@ export function plannerPage(main, me) {
     try { await objects.load(); } catch (e) { say(`No parts: the world model did not answer (${e.message})`, true); }
     form.render();
     features.load(objects.objects, objects.problem);
+    await importer.loadCellModels();
     window.rigger.planner.drawnRevision = Math.max(window.rigger.planner.drawnRevision || 0, d?.cell_revision || 0);
   });
   return () => {
