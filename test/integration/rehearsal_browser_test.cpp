@@ -3,8 +3,9 @@
 // (cell_sim, crane gateway, admittance, tracker, world model, the real skill executors, the scripted
 // operator, a controller) on a second domain of its own, which the console joins through
 // rehearsal_domain. Headless Debian chromium (rehearsal/e2e.mjs, playwright-core) opens
-// recipes/crane_insert.json on the planner, clicks Rehearse, and follows the run in the rehearsal view
-// to its end. This test checks on DDS that the task SUCCEEDED on the rehearsal domain with the node
+// recipes/examples/attach_load.json on the planner, clicks Rehearse, and follows the run in the
+// rehearsal view to its end. (The paper's whole task is rehearsed by PlannerRehearsalTest, built by
+// clicks; what this test checks does not depend on the recipe, so it rehearses a short one.) This test checks on DDS that the task SUCCEEDED on the rehearsal domain with the node
 // states the page showed, and that nothing at all was published on the cell's domain; the browser
 // script also checks the refusals (no rehearsal domain configured, a viewer).
 #include <unistd.h>
@@ -23,7 +24,7 @@ namespace {
 
 using RehearsalBrowserTest = WithRehearsalCell<PlannerCellTest>;
 
-TEST_F(RehearsalBrowserTest, CraneInsertRehearsedOnTheSimulatedCellSucceedsLiveInThePageAndNothingReachesTheCell) {
+TEST_F(RehearsalBrowserTest, AnAttachRehearsedOnTheSimulatedCellSucceedsLiveInThePageAndNothingReachesTheCell) {
   RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   ASSERT_NE(cell_.domain_id(), rehearsal_.domain_id());
   const std::string dir = cell_.log_dir();
@@ -36,7 +37,7 @@ TEST_F(RehearsalBrowserTest, CraneInsertRehearsedOnTheSimulatedCellSucceedsLiveI
   // The rehearsal cell, as the scenario tests run it, with the scripted operator answering the screws.
   ScenarioCell sim(rehearsal_);
   ASSERT_TRUE(sim.ready()) << "the rehearsal cell did not come up\n" << rehearsal_.logs();
-  std::ifstream recipe_file(repo_file("recipes/crane_insert.json"));
+  std::ifstream recipe_file(repo_file("recipes/examples/attach_load.json"));
   const std::string task_id = nlohmann::json::parse(recipe_file).at("task_id");
   sim.watch(task_id);
 
@@ -75,7 +76,7 @@ TEST_F(RehearsalBrowserTest, CraneInsertRehearsedOnTheSimulatedCellSucceedsLiveI
                         {"TOKEN_PROGRAMMER", users[0].token},
                         {"TOKEN_VIEWER", users[1].token},
                         {"REHEARSAL_DOMAIN", std::to_string(rehearsal_.domain_id())},
-                        {"RECIPE", repo_file("recipes/crane_insert.json")},
+                        {"RECIPE", repo_file("recipes/examples/attach_load.json")},
                         {"ARTIFACTS", dir},
                         {"RESULT", result_file},
                         {"NODE_PATH", repo_file("services/console/web/node_modules")}},

@@ -2,7 +2,7 @@
 // simulated cell on the rehearsal domain, a controller with scripted executors on the console's own
 // domain, a console with rehearsal_domain and one without). Headless Debian chromium through
 // playwright-core, launched as the planner's browser test does. The refusals over HTTP first (a viewer;
-// a console without a rehearsal domain), then recipes/crane_insert.json opened on the planner, Rehearse
+// a console without a rehearsal domain), then the recipe RECIPE opened on the planner, Rehearse
 // clicked, and the run followed in the rehearsal view to its end state; a Publish afterwards still asks
 // for confirmation (cancelled here: nothing may reach the cell); last, the console without a rehearsal
 // domain says so in its page. Any failed check
@@ -18,6 +18,7 @@ const MODULES = env('NODE_PATH');
 const TOKEN = env('TOKEN_PROGRAMMER');
 const VIEWER = env('TOKEN_VIEWER');
 const RECIPE = env('RECIPE');
+const TASK_ID = JSON.parse(fs.readFileSync(RECIPE, 'utf8')).task_id;
 const DOMAIN = Number(env('REHEARSAL_DOMAIN'));
 const result = {};
 const t0 = Date.now();
@@ -58,7 +59,7 @@ try {
     await page.waitForFunction(() => window.rigger?.ready === true && window.rigger.planner?.ready === true, null, { timeout: 90000 });
     await page.setInputFiles('#planner-open', RECIPE);
     await page.waitForFunction(() => window.rigger.planner.state.bindingsChecked > 0 && window.rigger.planner.state.validation, null, { timeout: 30000 });
-    check(await page.evaluate(() => window.rigger.planner.state.doc.task_id) === 'crane-insert', 'recipes/crane_insert.json opened on the planner');
+    check(await page.evaluate(() => window.rigger.planner.state.doc.task_id) === TASK_ID, `${RECIPE} opened on the planner`);
   };
 
   // --- Rehearse on the console with a rehearsal domain: the live view of the run, to its end ---
@@ -91,19 +92,19 @@ try {
   result.shown = await page.$$eval('#rehearsal li[data-node]', (lis) => Object.fromEntries(lis.map((li) => [li.dataset.node, li.querySelector(':scope > .row').dataset.state])));
   const status = await page.locator('#rehearsal-status').innerText();
   check(result.task_state === 'SUCCEEDED' && /ended SUCCEEDED/.test(status), `the rehearsal ended ${result.task_state}: "${status}" after ${result.run_s} s`);
-  check(Object.keys(result.shown).length > 10 && result.shown.root === 'SUCCESS', `every node's final state shown (${Object.keys(result.shown).length} nodes)`);
+  check(Object.keys(result.shown).length > 3 && result.shown.root === 'SUCCESS', `every node's final state shown (${Object.keys(result.shown).length} nodes)`);
   await page.screenshot({ path: path.join(ART, 'rehearsal-succeeded.png'), fullPage: true });
   await page.addScriptTag({ path: path.join(MODULES, 'axe-core/axe.min.js') });
   const axe = await page.evaluate(async () => (await window.axe.run(document)).violations.map((x) => `${x.id}: ${x.help} (${x.nodes.length})`));
   check(axe.length === 0, `axe-core: no violations on the rehearsal view ${JSON.stringify(axe)}`);
-  r = await call(URL_, '/api/rehearsal/state?task=crane-insert');
-  check(r.json.tasks.some((t) => t.task_id === 'crane-insert' && t.state === 'SUCCEEDED'), 'GET /api/rehearsal/state has the rehearsal\'s task');
+  r = await call(URL_, `/api/rehearsal/state?task=${TASK_ID}`);
+  check(r.json.tasks.some((t) => t.task_id === TASK_ID && t.state === 'SUCCEEDED'), 'GET /api/rehearsal/state has the rehearsal\'s task');
   r = await call(URL_, '/api/state');
   check(r.json.tasks.length === 0, 'the cell\'s own state has no task');
 
   // --- back to the plan; a Publish is still two steps (cancelled: nothing reaches the cell) ---
   await page.click('#rehearsal-back');
-  check(await page.locator('#planner-editor').isVisible() && await page.evaluate(() => window.rigger.planner.state.doc.task_id) === 'crane-insert',
+  check(await page.locator('#planner-editor').isVisible() && await page.evaluate(() => window.rigger.planner.state.doc.task_id) === TASK_ID,
     'Back to the plan: the plan as it was');
   await page.click('#planner-publish');
   await page.waitForSelector('dialog[open]');
