@@ -99,6 +99,11 @@ try {
   await tasks.click('summary:text("3D cell")');
   await tasks.waitForFunction(() => window.rigger.cell3d?.loaded === true, null, { timeout: 60000 });
   await tasks.click('summary:text("Cell revisions")');
+  // The cell panel says how each camera stands: this cell's was never calibrated.
+  await tasks.waitForSelector('ul.calibrations li[data-camera]', { timeout: 30000 });
+  const calibration = await tasks.locator('ul.calibrations li[data-camera]').first().innerText();
+  check(/^Camera \S+: as drawn \(no calibration recorded\)$/.test(calibration), `the cell panel says the camera is as drawn: ${calibration}`);
+  result.calibration = calibration;
   await tasks.setInputFiles('input[type=file][aria-label="Cell file (JSON)"]', MOVED_CELL);
   await tasks.fill('input[aria-label="Comment on the revision"]', `move ${MOVED}`);
   await tasks.click('button:text("Apply…")');

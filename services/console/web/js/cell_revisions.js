@@ -3,6 +3,7 @@
 // (the world model's dry run says what would change, the person confirms). A new revision (the store's
 // "revision" event) redraws the history; the 3D views follow it by themselves.
 import { api, store, el, fmtTime, confirmDialog } from './api.js';
+import { cameraCalibrations } from './calibration.js';
 
 /// "added a; removed b; moved part 120 mm, 0.0°; changed load (mass_kg)" from a revision's changes.
 export function describeChanges(c = {}) {
@@ -17,11 +18,12 @@ export function describeChanges(c = {}) {
 export function cellRevisionsPanel(me, say) {
   const canProgram = me.role === 'programmer';
   const current = el('p', { role: 'status' });
+  const cameras = el('ul', { class: 'calibrations', 'aria-label': 'Camera calibrations' });
   const rows = el('tbody');
   const file = el('input', { type: 'file', accept: '.json,application/json', 'aria-label': 'Cell file (JSON)' });
   const comment = el('input', { type: 'text', placeholder: 'Comment', 'aria-label': 'Comment on the revision' });
   const panel = el('details', { class: 'panel', ontoggle: () => { if (panel.open) load(); } },
-    el('summary', {}, 'Cell revisions'), current,
+    el('summary', {}, 'Cell revisions'), current, cameras,
     canProgram ? el('div', { class: 'toolbar' }, file, comment, el('button', { class: 'primary', onclick: () => applyFile() }, 'Apply…')) : null,
     el('table', { class: 'revisions', 'aria-label': 'Revisions of the cell' },
       el('thead', {}, el('tr', {}, ...['Revision', 'When', 'Who', 'Comment', 'Changes', 'Roll back'].map((h) => el('th', { scope: 'col' }, h)))), rows));
@@ -37,6 +39,13 @@ export function cellRevisionsPanel(me, say) {
           ? el('button', { 'data-rollback': r.cell_revision, onclick: () => submit({ rollback: r.cell_revision }, `roll back to revision ${r.cell_revision}`) }, 'Roll back…')
           : ''))));
     } catch (e) { current.textContent = `Cell revisions: ${e.message}`; }
+    try {
+      const running = await api('/api/cell');
+      cameras.replaceChildren(...cameraCalibrations(JSON.parse(running.cell_json || '{}'))
+        .map((c) => el('li', { 'data-camera': c.id, 'data-calibrated': String(c.calibrated) }, c.text)));
+    } catch (e) {
+      cameras.replaceChildren(el('li', {}, `Camera calibration: ${e.message}`));
+    }
   }
 
   async function applyFile() {
