@@ -24,6 +24,7 @@ double unseen_share(const perception::Mesh& mesh, const Eigen::Isometry3d& pose_
                     const perception::DepthFrame& frame) {
   constexpr double kSpacingM = 0.004;
   constexpr double kSeenM = 0.005;
+  constexpr double kMinFacing = 0.34;  // cos 70°
   const Eigen::Isometry3d pose_camera_object = frame.pose_world_camera.inverse() * pose_world_object;
   const perception::DepthIntrinsics& k = frame.intrinsics;
   // Outward normals whichever way the mesh is wound: the sign of its volume says which way that is.
@@ -50,17 +51,12 @@ double unseen_share(const perception::Mesh& mesh, const Eigen::Isometry3d& pose_
       if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
       const Eigen::Vector3d p = a + u * (b - a) + v * (c - a);
       const double facing = -n.dot(p.normalized());
-      if (facing <= 0.0) continue;  // faces away: hidden by the part itself
-      if (p.z() <= 0.0) {
-        unseen += facing;
-        continue;
-      }
+      // Faces away (hidden by the part itself), or seen so obliquely that a sensor leaves holes there anyway.
+      if (facing < kMinFacing) continue;
+      if (p.z() <= 0.0) continue;
       const int px = static_cast<int>(std::lround(k.fx_px * p.x() / p.z() + k.cx_px));
       const int py = static_cast<int>(std::lround(k.fy_px * p.y() / p.z() + k.cy_px));
-      if (px < 0 || py < 0 || px >= frame.depth_m.cols || py >= frame.depth_m.rows) {
-        unseen += facing;
-        continue;
-      }
+      if (px < 0 || py < 0 || px >= frame.depth_m.cols || py >= frame.depth_m.rows) continue;  // out of view
       const float z = frame.depth_m.at<float>(py, px);
       if (!std::isfinite(z) || z <= 0.0F) {
         unseen += facing;

@@ -33,9 +33,9 @@ struct ModelLocalization {
 /// The status code of a localizer status ("FOUND", "NOT_FOUND", ...).
 std::string status_code(perception::LocalizeStatus status);
 
-/// Of the part's surface facing the camera at `pose_world_object` (sampled every few millimetres, each
-/// sample weighted by how squarely it faces the camera, so a grazing face counts little), the share that
-/// lands where the image has no depth (NaN) or outside it; hidden samples (something nearer) do not count.
+/// Of the part's surface facing the camera at `pose_world_object` within 70° of its normal (sampled every
+/// few millimetres, each sample weighted by how squarely it faces the camera), the share that
+/// lands where the image has no depth (NaN); samples out of view or hidden (something nearer) do not count.
 /// A part slid along the edge of its two seen faces into a strip without depth (a face seen edge-on, the
 /// sensor's holes at a depth step) keeps every other fit measure; this one grows with the slide.
 double unseen_share(const perception::Mesh& mesh, const Eigen::Isometry3d& pose_world_object,
