@@ -26,6 +26,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <utility>
 
 namespace rigger::cad {
 namespace {
@@ -44,6 +45,39 @@ double deflection(const Model& model, const TessellationOptions& options) {
 
 void mesh(const Model& model, const TessellationOptions& options) {
   BRepMesh_IncrementalMesh mesher(model.shape(), deflection(model, options), false, options.angular_deflection_rad, true);
+}
+
+TriangleMesh triangle_mesh(const Model& model, const TessellationOptions& options) {
+  TriangleMesh out;
+  try {
+    BRepMesh_IncrementalMesh mesher(model.shape(), deflection(model, options), false, options.angular_deflection_rad, true);
+    TopTools_IndexedMapOfShape faces;
+    TopExp::MapShapes(model.shape(), TopAbs_FACE, faces);
+    for (int i = 1; i <= faces.Extent(); ++i) {
+      const TopoDS_Face& face = TopoDS::Face(faces(i));
+      TopLoc_Location location;
+      const Handle(Poly_Triangulation) triangles = BRep_Tool::Triangulation(face, location);
+      if (triangles.IsNull()) continue;
+      const int base = static_cast<int>(out.vertices_m.size());
+      for (int n = 1; n <= triangles->NbNodes(); ++n) {
+        const gp_Pnt p = triangles->Node(n).Transformed(location.Transformation());
+        out.vertices_m.emplace_back(p.X(), p.Y(), p.Z());
+      }
+      // A reversed face's triangles are stored with the surface's own orientation: flip them so that
+      // every triangle faces out of the solid.
+      const bool reversed = face.Orientation() == TopAbs_REVERSED;
+      for (int t = 1; t <= triangles->NbTriangles(); ++t) {
+        int a = 0, b = 0, c = 0;
+        triangles->Triangle(t).Get(a, b, c);
+        if (reversed) std::swap(b, c);
+        out.triangles.emplace_back(base + a - 1, base + b - 1, base + c - 1);
+      }
+    }
+  } catch (const Standard_Failure& failure) {
+    throw CadError(ErrorCode::kWriteFailed,
+                   "meshing model " + model.source() + " failed: " + failure.GetMessageString());
+  }
+  return out;
 }
 
 Tessellation tessellate(const Model& model, const TessellationOptions& options) {

@@ -135,7 +135,8 @@ std::vector<Grant> build() {
       {service(),
        cell_follower(),
        {names(vision::kTrackerPose),
-        names(vision::kCameraImage, vision::kCameraDepth, vision::kCameraInfo, vision::kTrackerCommand)}}));
+        names(vision::kCameraImage, vision::kCameraDepth, vision::kCameraInfo, vision::kTrackerCommand,
+              world::kEntity)}}));
   t.push_back(grant("admittance_control", "admittance control: the only writer of robot twists and crane velocities",
                     {service(),
                      safe_stop_listener(),

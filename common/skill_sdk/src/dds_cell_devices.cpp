@@ -229,6 +229,8 @@ TrackedObjectSample to_sample(const rigger_vision_TrackedPose& s) {
   out.tracked = s.tracked;
   out.quality = s.quality;
   if (s.tracked) out.pose = dds::to_domain(s.pose.pose);
+  out.status = dds::to_string(s.status);
+  out.detail = dds::to_string(s.detail);
   return out;
 }
 
@@ -245,9 +247,10 @@ WallTime DdsVisionTracker::command(TrackerRequest request, const std::string& ob
   c.header.stamp = dds::to_wire(now);
   c.seq = next_seq();
   c.object_id = dds::wire_string(object_id);
-  c.kind = request == TrackerRequest::kOnce         ? rigger_vision_TRACK_ONCE
-           : request == TrackerRequest::kContinuous ? rigger_vision_TRACK_CONTINUOUS
-                                                    : rigger_vision_TRACK_STOP;
+  c.kind = request == TrackerRequest::kOnce          ? rigger_vision_TRACK_ONCE
+           : request == TrackerRequest::kContinuous  ? rigger_vision_TRACK_CONTINUOUS
+           : request == TrackerRequest::kOnceByModel ? rigger_vision_TRACK_ONCE_MODEL
+                                                     : rigger_vision_TRACK_STOP;
   c.source = dds::wire_string(source_);
   write_command(commands_, c, "tracker command");
   log_->debug("tracker command seq={} object={} kind={}", c.seq, object_id, static_cast<int>(c.kind));

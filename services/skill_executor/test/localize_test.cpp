@@ -113,10 +113,62 @@ TEST_F(LocalizeTest, StampBackwardsDetectsAgainAFewTimesThenFails) {
   EXPECT_NE(h.result->message.find("STAMP_BACKWARDS"), std::string::npos);
 }
 
+TEST_F(LocalizeTest, ByModelAsksTheTrackerAgainAfterEachRefusalAndStoresTheFittingPose) {
+  params_["method"] = "model";
+  params_["timeout_s"] = 10.0;
+  RunHarness h(type_, params_);
+  h.run->start();
+  ASSERT_EQ(h.tracker.count(TrackerRequest::kOnceByModel), 1);
+  EXPECT_EQ(h.tracker.count(TrackerRequest::kOnce), 0) << "no marker request";
+  TrackedObjectSample refused = h.tracker.sample("load", false, 0.0);
+  refused.status = "LOW_FIT";
+  h.tracker.publish(refused);
+  EXPECT_EQ(h.state(), "detect");
+  EXPECT_EQ(h.tracker.count(TrackerRequest::kOnceByModel), 2) << "each answer ends a request: ask again";
+  // Unanswered, the request is repeated only after the tracker's own timeout could have answered it.
+  h.timers.advance(LocalizeSkill::kRetryPeriod);
+  EXPECT_EQ(h.tracker.count(TrackerRequest::kOnceByModel), 2);
+  h.timers.advance(LocalizeSkill::kModelRetryPeriod);
+  EXPECT_EQ(h.tracker.count(TrackerRequest::kOnceByModel), 3);
+  TrackedObjectSample found = h.tracker.sample("load", true, 0.95);
+  found.status = "FOUND";
+  h.tracker.publish(found);
+  EXPECT_EQ(h.state(), "update");
+  ASSERT_TRUE(h.world.answer_update(OpResult::success("ACCEPTED")));
+  EXPECT_TRUE(h.succeeded());
+}
+
+TEST_F(LocalizeTest, ByModelFailsWithTheTrackersLastCodeAtTheTimeout) {
+  params_["method"] = "model";
+  RunHarness h(type_, params_);
+  h.run->start();
+  TrackedObjectSample refused = h.tracker.sample("load", false, 0.0);
+  refused.status = "AMBIGUOUS";
+  refused.detail = "two poses fit within 3 %";
+  h.tracker.publish(refused);
+  h.timers.advance(3s);
+  ASSERT_TRUE(h.failed_with("AMBIGUOUS")) << (h.result ? h.result->code : "no result");
+  EXPECT_NE(h.result->message.find("two poses fit"), std::string::npos) << h.result->message;
+  EXPECT_EQ(h.timers.pending(), 0u);
+}
+
+TEST_F(LocalizeTest, ByModelFailsAtOnceWhenTheObjectHasNoModel) {
+  params_["method"] = "model";
+  RunHarness h(type_, params_);
+  h.run->start();
+  TrackedObjectSample none = h.tracker.sample("load", false, 0.0);
+  none.status = "NO_MODEL";
+  none.detail = "'load' is no object of the cell with a STEP model (model.step)";
+  h.tracker.publish(none);
+  ASSERT_TRUE(h.failed_with("NO_MODEL")) << (h.result ? h.result->code : "no result");
+  EXPECT_EQ(h.timers.pending(), 0u);
+}
+
 TEST_F(LocalizeTest, BadParamsFailBeforeAnythingIsCommanded) {
   for (const auto& params :
        {nlohmann::json{{"object", ""}}, nlohmann::json{{"object", "load"}, {"min_quality", 1.5}},
-        nlohmann::json{{"min_quality", 0.5}}, nlohmann::json{{"object", "load"}, {"timeout_s", -1}}}) {
+        nlohmann::json{{"min_quality", 0.5}}, nlohmann::json{{"object", "load"}, {"timeout_s", -1}},
+        nlohmann::json{{"object", "load"}, {"method", "depth"}}}) {
     RunHarness h(type_, params);
     h.run->start();
     ASSERT_TRUE(h.failed_with("BAD_PARAMS")) << params.dump();

@@ -7,14 +7,23 @@
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/sequences.hpp"
 #include "rigger/protocol/vision.hpp"
+#include "rigger/protocol/world.hpp"
 
 namespace rigger::vision {
 
 namespace {
 
-Tracker make_tracker(const VisionTrackerSettings& settings, const Config& config) {
+cell::CellFile load_cell(const VisionTrackerSettings& settings, const Config& config) {
   try {
-    TrackerConfig tracker_config = tracker_config_from_cell(cell::load_cell_file(settings.cell_file), settings.camera_id);
+    return cell::load_cell_file(settings.cell_file);
+  } catch (const std::exception& e) {
+    throw ConfigError(config.file(), config.pointer() + "/cell_file", e.what());
+  }
+}
+
+Tracker make_tracker(const cell::CellFile& cell_file, const VisionTrackerSettings& settings, const Config& config) {
+  try {
+    TrackerConfig tracker_config = tracker_config_from_cell(cell_file, settings.camera_id);
     tracker_config.lost_after = settings.lost_after;
     return Tracker(std::move(tracker_config));
   } catch (const std::exception& e) {
@@ -61,14 +70,20 @@ const SettingsTable<VisionTrackerSettings>& vision_tracker_settings() {
 }
 
 VisionTrackerNode::VisionTrackerNode(service::ServiceContext& ctx, const VisionTrackerSettings& settings)
+    : VisionTrackerNode(ctx, settings, load_cell(settings, ctx.config)) {}
+
+VisionTrackerNode::VisionTrackerNode(service::ServiceContext& ctx, const VisionTrackerSettings& settings,
+                                     const cell::CellFile& cell_file)
     : ctx_(ctx),
       frame_id_(settings.frame_id),
       camera_id_(settings.camera_id),
       lost_after_(settings.lost_after),
-      tracker_(make_tracker(settings, ctx.config)),
+      tracker_(make_tracker(cell_file, settings, ctx.config)),
       schedule_(object_ids(tracker_.config()), settings.once_min_quality),
       once_timeout_(settings.once_timeout),
       images_(ctx.participant, protocol::vision::kCameraImage),
+      depth_(ctx.participant, protocol::vision::kCameraDepth),
+      entities_(ctx.participant, protocol::world::kEntity),
       commands_(ctx.participant, protocol::vision::kTrackerCommand),
       poses_(ctx.participant, protocol::vision::kTrackerPose),
       follower_(ctx.participant, ctx.loop, ctx.log, settings.cell_file,
@@ -76,7 +91,10 @@ VisionTrackerNode::VisionTrackerNode(service::ServiceContext& ctx, const VisionT
                 &ctx.announcer) {
   const bool continuous = settings.continuous;
   if (continuous) schedule_.track_continuous("");
+  model_localizer_.set_cell(cell_file, cell::cell_model_folder(settings.cell_file));
   ctx.loop.on_data(images_, [this] { on_image(); });
+  ctx.loop.on_data(depth_, [this] { on_depth(); });
+  ctx.loop.on_data(entities_, [this] { on_entities(); });
   ctx.loop.on_data(commands_, [this] { on_command(); });
   ctx.log->info("tracking {} objects, mode {}", tracker_.config().objects.size(), continuous ? "continuous" : "idle");
 }
@@ -90,6 +108,7 @@ cell_follower::Outcome VisionTrackerNode::on_revision(const cell_follower::Follo
   } catch (const std::exception& e) {
     return cell_follower::Outcome::refuse(e.what());
   }
+  model_localizer_.set_cell(revision.cell, revision.model_dir);  // models may change with the view unchanged
   if (same_view(config, tracker_.config())) return cell_follower::Outcome::take();
   const std::vector<std::string> ids = object_ids(config);
   tracker_ = Tracker(std::move(config));
@@ -130,6 +149,11 @@ bool VisionTrackerNode::apply(const rigger_vision_TrackerCommand& cmd) {
       if (known) ctx_.loop.after(once_timeout_, [this] { on_once_deadline(); });
       break;
     }
+    case rigger_vision_TRACK_ONCE_MODEL: {
+      const Stamp sent = dds::to_domain(cmd.header.stamp);
+      known = request_by_model(object_id, sent > Stamp{} ? sent : std::chrono::system_clock::now());
+      break;
+    }
     case rigger_vision_TRACK_CONTINUOUS: known = schedule_.track_continuous(object_id); break;
     case rigger_vision_TRACK_STOP: known = schedule_.stop(object_id); break;
     default:
@@ -137,7 +161,7 @@ bool VisionTrackerNode::apply(const rigger_vision_TrackerCommand& cmd) {
                      static_cast<int>(cmd.kind));
       return false;
   }
-  if (!known) {
+  if (!known && cmd.kind != rigger_vision_TRACK_ONCE_MODEL) {  // request_by_model() says why itself
     ctx_.log->warn("command dropped seq={} source={}: unknown object \"{}\"", cmd.seq, dds::to_string(cmd.source),
                    object_id);
   }

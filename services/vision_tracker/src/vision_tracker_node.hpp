@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include "rigger/base/settings.hpp"
@@ -13,6 +14,7 @@
 #include "rigger/dds/pubsub.hpp"
 #include "rigger/service/service.hpp"
 #include "rigger/vision_tracker/settings.hpp"
+#include "model_localizer.hpp"
 #include "tracker.hpp"
 #include "tracking_schedule.hpp"
 
@@ -39,7 +41,15 @@ struct VisionTrackerSettings {
 ///                     back to what it did before; after once_timeout_s without one, publish tracked=false
 ///                     for it (stamped with the wall clock) unless it is tracked continuously
 ///   STOP              neither (a pending TRACK_ONCE is dropped without a sample)
-/// While no object is tracked, images are not looked at.
+///   TRACK_ONCE_MODEL  without markers: the first depth image (rigger/camera/depth) stamped after the
+///                     command is searched for the object by its STEP model (ModelLocalizer), starting
+///                     from its pose in the world model (rigger/world/entity) when the world model has
+///                     one in frame_id; exactly one sample answers it: tracked=true with status FOUND, or
+///                     tracked=false with the status code saying why (NO_MODEL at once for an object
+///                     without a model, NO_DEPTH after once_timeout_s without a depth image). The
+///                     search runs on the loop thread (a fraction of a second per request).
+/// While no object is tracked, images are not looked at; depth images only while a TRACK_ONCE_MODEL is
+/// pending.
 /// A robot's calibration board (cell file calibration_board) is an object too, by cell::calibration_board_id
 /// ("robot/calibration_board"); its poses are in the camera's optical frame (header.frame_id the camera id), so
 /// that the camera's pose can be solved from them whatever the cell file says it is.
@@ -54,6 +64,7 @@ class VisionTrackerNode : public service::Node {
   explicit VisionTrackerNode(service::ServiceContext& ctx)
       : VisionTrackerNode(ctx, read_settings(ctx.config, vision_tracker_settings())) {}
   VisionTrackerNode(service::ServiceContext& ctx, const VisionTrackerSettings& settings);
+  VisionTrackerNode(service::ServiceContext& ctx, const VisionTrackerSettings& settings, const cell::CellFile& cell_file);
 
   /// What is tracked, per object. Loop thread.
   const TrackingSchedule& schedule() const { return schedule_; }
@@ -75,6 +86,12 @@ class VisionTrackerNode : public service::Node {
   bool apply(const rigger_vision_TrackerCommand& cmd);
   void process(const rigger_vision_Image& image);
   void publish(const ObjectTrack& track, Stamp stamp);
+  void on_depth();
+  void on_entities();
+  bool request_by_model(const std::string& object_id, Stamp fresh_after);
+  void localize_by_model(const rigger_vision_Image& depth);
+  void on_model_deadline();
+  void publish_model(const std::string& object_id, Stamp stamp, const ModelLocalization& result);
   cell_follower::Outcome on_revision(const cell_follower::FollowedRevision& revision);
 
   service::ServiceContext& ctx_;
@@ -89,7 +106,18 @@ class VisionTrackerNode : public service::Node {
   std::uint64_t images_processed_ = 0;
   std::uint64_t images_dropped_ = 0;
   std::uint64_t images_ignored_ = 0;
+  /// A pending TRACK_ONCE_MODEL: answered by the first depth image stamped after fresh_after.
+  struct ModelRequest {
+    Stamp fresh_after;
+    dds::EventLoop::Clock::time_point deadline;
+  };
+  std::map<std::string, ModelRequest> model_requests_;
+  ModelLocalizer model_localizer_;
+  /// The world model's poses of the objects in frame_id (the priors of TRACK_ONCE_MODEL).
+  std::map<std::string, Eigen::Isometry3d> world_poses_;
   dds::Reader<rigger_vision_Image> images_;
+  dds::Reader<rigger_vision_Image> depth_;
+  dds::Reader<rigger_world_EntityState> entities_;
   dds::Reader<rigger_vision_TrackerCommand> commands_;
   dds::Writer<rigger_vision_TrackedPose> poses_;
   cell_follower::CellFollower follower_;  // last: its callback uses the members above

@@ -48,6 +48,8 @@ class VisionTrackerNodeTest : public ::testing::Test {
         r.quality = p.quality;
         r.markers_used = p.markers_used;
         r.pose = dds::to_domain(p.pose.pose);
+        r.status = dds::to_string(p.status);
+        r.detail = dds::to_string(p.detail);
         received_[dds::to_string(p.object_id)].push_back(r);
       });
     });
@@ -149,6 +151,7 @@ class VisionTrackerNodeTest : public ::testing::Test {
     double quality = 0;
     std::uint32_t markers_used = 0;
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    std::string status, detail;
   };
 
   rigger::testing::DomainLease lease_;
@@ -192,6 +195,46 @@ TEST_F(VisionTrackerNodeTest, PublishesTheRenderedObjectsPosesWithTheImageStamp)
     EXPECT_LT(error_m, 0.002) << t.object_id;
     EXPECT_LT(error_rad, 0.5 * M_PI / 180.0) << t.object_id;
   }
+}
+
+TEST_F(VisionTrackerNodeTest, TrackOnceModelIsAnsweredOnceWithACodeWhenThereIsNoPoseToGive) {
+  start(R"(, "once_timeout_s": 0.3)");
+  dds::Writer<rigger_vision_Image> depth(participant_, protocol::vision::kCameraDepth);
+  // A device has no model: answered at once.
+  command(rigger_vision_TRACK_ONCE_MODEL, "robot");
+  ASSERT_TRUE(loop_.run_until([&] { return received_.count("robot") != 0; }, 5s));
+  EXPECT_EQ(received_["robot"].back().status, "NO_MODEL");
+  EXPECT_FALSE(received_["robot"].back().tracked);
+  // "" (every object) is refused: one object at a time.
+  const auto dropped = node_->commands_dropped();
+  command(rigger_vision_TRACK_ONCE_MODEL, "");
+  EXPECT_EQ(node_->commands_dropped(), dropped + 1);
+  // A depth image that is not the camera's: BAD_DEPTH, never a pose.
+  const WallTime asked = command(rigger_vision_TRACK_ONCE_MODEL, "load");
+  const std::vector<float> floats(4 * 3, 1.0F);
+  rigger_vision_Image msg{};
+  msg.header.stamp = dds::to_wire(asked + 1ms);
+  msg.width = 4;
+  msg.height = 3;
+  msg.step = 16;
+  msg.encoding = dds::wire_string("32FC1");
+  std::vector<std::uint8_t> bytes(reinterpret_cast<const std::uint8_t*>(floats.data()),
+                                  reinterpret_cast<const std::uint8_t*>(floats.data()) + 48);
+  dds::wire_sequence(msg.data, bytes);
+  ASSERT_TRUE(depth.wait_for_readers(1, 5s));
+  ASSERT_EQ(depth.write(msg), DDS_RETCODE_OK);
+  ASSERT_TRUE(loop_.run_until([&] { return received_.count("load") != 0; }, 5s));
+  EXPECT_EQ(received_["load"].back().status, "BAD_DEPTH");
+  EXPECT_NE(received_["load"].back().detail.find("size"), std::string::npos) << received_["load"].back().detail;
+  EXPECT_FALSE(received_["load"].back().tracked);
+  EXPECT_DOUBLE_EQ(received_["load"].back().quality, 0.0);
+  // No depth image at all: NO_DEPTH after once_timeout_s, and nothing more.
+  command(rigger_vision_TRACK_ONCE_MODEL, "target");
+  ASSERT_TRUE(loop_.run_until([&] { return received_.count("target") != 0; }, 5s));
+  EXPECT_EQ(received_["target"].back().status, "NO_DEPTH");
+  loop_.run_until([] { return false; }, 400ms);
+  EXPECT_EQ(received_["target"].size(), 1u);
+  EXPECT_EQ(received_["load"].size(), 1u) << "one answer per request";
 }
 
 TEST_F(VisionTrackerNodeTest, CorruptImagesAreDroppedAndTheNodeKeepsWorking) {

@@ -15,9 +15,16 @@
 /// postcondition localized(object) holds when it succeeds (the world model may also follow the tracker
 /// topic by itself; the equal stamp is accepted).
 ///
+/// method "model": TRACK_ONCE_MODEL instead (the tracker answers each with one sample from a depth
+/// image: a pose that fits the object's STEP model, or tracked=false with a status code); asked again
+/// after each answer and every kModelRetryPeriod until the timeout, which fails with the last answer's
+/// code (NOT_FOUND, LOW_FIT, AMBIGUOUS, BAD_DEPTH, NO_VISIBLE_SURFACE, NO_DEPTH); NO_MODEL fails at once.
+///
 /// Safe stops: nothing moves in either state (the tracker goes idle by itself after TRACK_ONCE).
-/// Params: object, min_quality (0–1, default 0.5), timeout_s (0.1–60 s, default 5). Claims "camera".
-/// Failure codes: DEVICE_UNAVAILABLE, NOT_DETECTED, WORLD_UPDATE_REJECTED, WORLD_UNREACHABLE.
+/// Params: object, method (markers | model), min_quality (0–1, default 0.5), timeout_s (0.1–60 s, default 5).
+/// Claims "camera".
+/// Failure codes: DEVICE_UNAVAILABLE, NOT_DETECTED, WORLD_UPDATE_REJECTED, WORLD_UNREACHABLE, and with
+/// method "model" the tracker's codes above.
 
 #include <optional>
 #include <string>
@@ -35,6 +42,9 @@ class LocalizeSkill final : public Skill {
 
   /// TRACK_ONCE is repeated this often while no good pose arrived (a best-effort pose may be lost).
   static constexpr std::chrono::milliseconds kRetryPeriod{500};
+  /// With method "model": the tracker answers every request (at the latest after its once_timeout_s, 2 s
+  /// by default), so the request is repeated without an answer only this late.
+  static constexpr std::chrono::milliseconds kModelRetryPeriod{3000};
   /// How long the world model may take to answer the update.
   static constexpr std::chrono::seconds kUpdateTimeout{2};
   /// Updates refused with STAMP_BACKWARDS are retried with a fresh detection this often at most.
@@ -48,6 +58,7 @@ class LocalizeSkill final : public Skill {
 
   std::string object_;
   double min_quality_ = 0.5;
+  bool by_model_ = false;
   std::optional<WallTime> first_command_;
   WallTime last_command_;
   std::optional<TrackedObjectSample> last_seen_;

@@ -6,6 +6,8 @@
 
 #include "rigger/cad/model.hpp"
 
+#include <Eigen/Core>
+
 #include <cstdint>
 #include <vector>
 
@@ -30,5 +32,16 @@ Tessellation tessellate(const Model& model, const TessellationOptions& options =
 
 /// Meshes the model only (what tessellate() does before writing).
 void mesh(const Model& model, const TessellationOptions& options = {});
+
+/// Every face's triangles in one indexed mesh, metres, in the model's own axes; vertices are not shared
+/// between faces (each face keeps its own, as BRepMesh makes them).
+struct TriangleMesh {
+  std::vector<Eigen::Vector3d> vertices_m;
+  std::vector<Eigen::Vector3i> triangles;
+};
+
+/// Meshes the model and collects its triangles, wound as the faces are oriented.
+/// Throws CadError(kWriteFailed) when OpenCascade fails.
+TriangleMesh triangle_mesh(const Model& model, const TessellationOptions& options = {});
 
 }  // namespace rigger::cad

@@ -13,13 +13,13 @@ inline constexpr Topic<rigger_vision_Image> kCameraImage{
     "rigger/camera/image", QosProfile::kSensorStream,     "", "camera driver / cell_sim",
     "vision_tracker",      "(sensor_msgs layout, mono8)", ""};
 
-/// cell_sim → tests and recorders (observer); the tracker may read it. Same type as the image.
+/// cell_sim → vision_tracker (TRACK_ONCE_MODEL), tests and recorders. Same type as the image.
 inline constexpr Topic<rigger_vision_Image> kCameraDepth{
     "rigger/camera/depth",
     QosProfile::kSensorStream,
     "",
     "cell_sim (`camera/renderer` mujoco)",
-    "vision_tracker (granted), observer",
+    "vision_tracker (markerless TRACK_ONCE_MODEL), observer",
     "(32FC1: metres along the optical axis, NaN where nothing was seen; the stamp and frame id of the image of "
     "the same frame)",
     ""};
@@ -40,7 +40,7 @@ inline constexpr Topic<rigger_vision_TrackedPose> kTrackerPose{"rigger/tracker/p
                                                                "object_id",
                                                                "vision_tracker",
                                                                "world_model, admittance_control",
-                                                               "(pose with covariance, quality, tracked, image stamp)",
+                                                               "(pose with covariance, quality, tracked, image stamp; a TRACK_ONCE_MODEL's status code and detail)",
                                                                ""};
 
 /// skills → vision_tracker.
@@ -49,7 +49,7 @@ inline constexpr Topic<rigger_vision_TrackerCommand> kTrackerCommand{"rigger/tra
                                                                      "",
                                                                      "skills",
                                                                      "vision_tracker",
-                                                                     "(TRACK_ONCE, TRACK_CONTINUOUS, STOP)",
+                                                                     "(TRACK_ONCE, TRACK_CONTINUOUS, STOP, TRACK_ONCE_MODEL)",
                                                                      ""};
 
 }  // namespace rigger::protocol::vision

@@ -74,7 +74,8 @@ class CraneMonitor {
 // ---------------------------------------------------------------------------------------------------
 // Vision tracker (rigger/tracker/command, rigger/tracker/pose)
 
-enum class TrackerRequest { kOnce, kContinuous, kStop };
+/// kOnceByModel: TRACK_ONCE_MODEL, once from the next depth image by the object's STEP model, no markers.
+enum class TrackerRequest { kOnce, kContinuous, kStop, kOnceByModel };
 
 /// One rigger/tracker/pose sample.
 struct TrackedObjectSample {
@@ -84,6 +85,10 @@ struct TrackedObjectSample {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< T_frame_object, m; identity when !tracked
   double quality = 0.0;                                    ///< [0, 1]; 0 when !tracked
   bool tracked = false;
+  /// Empty from the marker tracker; the answer to a kOnceByModel: "FOUND" or why no pose is given
+  /// (NOT_FOUND, LOW_FIT, AMBIGUOUS, BAD_DEPTH, NO_VISIBLE_SURFACE, NO_MODEL, NO_DEPTH), detail in words.
+  std::string status;
+  std::string detail;
 };
 
 class VisionTracker {
