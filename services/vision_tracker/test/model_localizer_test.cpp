@@ -60,9 +60,9 @@ perception::DepthFrame render_box(const Eigen::Isometry3d& pose_world_box, const
   const cv::Mat seen = frame.depth_m.clone();
   for (int v = 1; v + 1 < 720; ++v) {
     for (int u = 1; u + 1 < 1280; ++u) {
-      const float z = seen.at<float>(v, u);
+      const float here = seen.at<float>(v, u);
       for (const auto& [dv, du] : {std::pair{0, 1}, std::pair{0, -1}, std::pair{1, 0}, std::pair{-1, 0}}) {
-        if (!(std::abs(seen.at<float>(v + dv, u + du) - z) <= 0.01F)) frame.depth_m.at<float>(v, u) = NAN;
+        if (!(std::abs(seen.at<float>(v + dv, u + du) - here) <= 0.01F)) frame.depth_m.at<float>(v, u) = NAN;
       }
     }
   }
