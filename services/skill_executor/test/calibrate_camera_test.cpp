@@ -87,7 +87,7 @@ class CalibrateCameraTest : public ::testing::Test {
         return;
       }
       if (!seen_(measured_++)) {
-        h.timers.advance(3100ms);
+        h.timers.advance(6100ms);
         return;
       }
       TrackedObjectSample s = h.tracker.sample(kBoard, true, 0.9);

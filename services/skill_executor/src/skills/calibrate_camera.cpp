@@ -62,7 +62,7 @@ const skill::SkillDescription& CalibrateCameraSkill::describe() {
         params::number("view_timeout_s")
             .unit("s")
             .range(0.5, 30.0)
-            .fallback(3.0)
+            .fallback(6.0)
             .doc("How long each pose waits for the tracker to see the board before it is skipped."),
         params::speed_scale(0.3),
         params::text("requested_by")

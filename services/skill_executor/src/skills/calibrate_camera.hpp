@@ -10,7 +10,7 @@
 /// board turned to face the camera, then tilted about varied axes in its plane, spun and shifted), each
 /// in the camera's view. move: a Cartesian motion to the next pose; a pose the arm refuses as UNREACHABLE
 /// is skipped. measure: the arm's tool pose (its state after the motion) and TRACK_ONCE of the board
-/// (robot/calibration_board, measured in the camera's frame), asked again every 500 ms and after each image
+/// (robot/calibration_board, measured in the camera's frame), asked again every 2.5 s and after each image
 /// in which the board was not found, for at most view_timeout_s; a pose where it is not seen is skipped.
 /// return: the arm back where it started. solve: the camera's pose and the board's mount by least squares
 /// over the pose pairs. check: the new document (the camera's pose, and attributes.calibration, the record)
@@ -46,7 +46,10 @@ class CalibrateCameraSkill final : public Skill {
   static const skill::SkillDescription& describe();
   CalibrateCameraSkill();
 
-  static constexpr std::chrono::milliseconds kRetryPeriod{500};
+  /// TRACK_ONCE is sent again after this long without an answer (a pose lost on the best-effort topic). Longer
+  /// than the tracker's own 2 s wait for a TRACK_ONCE, which it ends with a not-tracked pose (answered at once):
+  /// sent more often, each command restarted that wait.
+  static constexpr std::chrono::milliseconds kRetryPeriod{2500};
   static constexpr std::chrono::seconds kWorldTimeout{10};
   static constexpr std::chrono::seconds kStateTimeout{1};
   static constexpr std::chrono::seconds kStopTimeout{3};
