@@ -32,7 +32,7 @@ SettingsTable<ExecutorSettings> executor_settings(const std::string& service_id,
       setting<S>("gripper", true, &S::gripper, "offer the gripper (gripper/cmd, gripper/state)"),
       setting<S>("world_model", true, &S::world_model,
                  "resolve feature_ref params through the world model, and offer its features and pose updates "
-                 "(Localize, Screw, InsertVisuallyGuided)"),
+                 "(Localize, Screw, InsertVisuallyGuided) and cell revisions (CalibrateCamera)"),
       setting<S>("crane", true, &S::crane,
                  "offer the crane's health and external control (crane/state, crane/control)"),
       setting<S>("tracker", true, &S::tracker, "offer the vision tracker (tracker/command, tracker/pose)"),

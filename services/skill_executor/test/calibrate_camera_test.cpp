@@ -233,5 +233,21 @@ TEST_F(CalibrateCameraTest, AShutdownWhileMovingStopsTheArm) {
   EXPECT_TRUE(h.stopped()) << h.describe_result();
 }
 
+TEST_F(CalibrateCameraTest, APauseWhileMovingStopsTheArmAndResumeAsksForTheSamePose) {
+  RunHarness h(type_, params_);
+  h.run->start();
+  for (int i = 0; i < 10 && h.state() != "move"; ++i) step(h);
+  ASSERT_EQ(h.state(), "move");
+  const Eigen::Isometry3d asked = h.robot.pending(Kind::kMove)->goal.pose_frame_tool;
+  ASSERT_TRUE(h.run->pause(true));
+  ASSERT_TRUE(h.robot.complete(Kind::kStop, OpResult::success()));
+  EXPECT_EQ(h.robot.pending(Kind::kMove), nullptr) << "no motion while paused";
+  ASSERT_TRUE(h.run->pause(false));
+  ASSERT_NE(h.robot.pending(Kind::kMove), nullptr);
+  EXPECT_TRUE(h.robot.pending(Kind::kMove)->goal.pose_frame_tool.isApprox(asked));
+  run(h);
+  EXPECT_TRUE(h.succeeded()) << h.describe_result();
+}
+
 }  // namespace
 }  // namespace rigger::skill_executor

@@ -72,6 +72,7 @@ const skill::SkillDescription& CalibrateCameraSkill::describe() {
         params::timeout_s(30.0, "Each motion fails with TIMEOUT after this (the arm is stopped)."),
     };
     d.resources = {"robot"};
+    d.pausable = true;
     return d;
   }();
   return kDescription;
@@ -80,9 +81,10 @@ const skill::SkillDescription& CalibrateCameraSkill::describe() {
 CalibrateCameraSkill::CalibrateCameraSkill() {
   const auto stop = [this](SafeStopDone done) { stop_robot(done); };
   add_state({"read_cell", [this] { read_cell(); }, nothing_to_stop});
-  add_state({"move", [this] { move(); }, stop});
+  // Paused, the arm stops where it is; resumed, the same pose is asked for again from there.
+  add_state({"move", [this] { move(); }, stop, stop});
   add_state({"measure", [this] { measure(); }, nothing_to_stop});
-  add_state({"return", [this] { return_to_start(); }, stop});
+  add_state({"return", [this] { return_to_start(); }, stop, stop});
   add_state({"solve", [this] { solve(); }, nothing_to_stop});
   add_state({"check", [this] { check(); }, nothing_to_stop});
   add_state({"apply", [this] { apply(); }, nothing_to_stop});

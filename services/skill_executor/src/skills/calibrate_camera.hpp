@@ -25,7 +25,8 @@
 /// MOTION_FAILED, MOTION_ABORTED, TIMEOUT, ROBOT_STATE_STALE; WORLD_UPDATE_REJECTED (the world model
 /// refused the revision: its code and message), WORLD_UNREACHABLE.
 ///
-/// Safe stops: the robot is stopped in move and return; the other states command nothing.
+/// Safe stops: the robot is stopped in move and return; the other states command nothing. Pausable: a pause
+/// stops the arm in move and return, and resume asks for the same pose again; the other states run on.
 /// Params: see describe(). Claims "robot" (the camera is not claimed: the world model refuses a revision
 /// that moves what a running skill holds).
 
