@@ -3,8 +3,6 @@
 // the tracker reports the board in the camera's frame, within a few millimetres of where the arm's tool (its
 // state) and the board's mount put it.
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -12,7 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cell_sim_test_support.hpp"
+#include "calibration_board_support.hpp"
 #include "rigger/cell_config/cell_file.hpp"
 #include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/vision.hpp"
@@ -25,39 +23,14 @@ using nlohmann::json;
 
 constexpr const char* kBoard = "robot/calibration_board";
 
-class CalibrationBoardProcessTest : public MultiProcessTest {
- protected:
-  /// The demo cell with the board on its robot, in the log folder beside a copy of its STEP models; its path.
-  std::string write_cell() {
-    const std::filesystem::path dir = std::filesystem::path(cell_.log_dir()) / "cell";
-    std::filesystem::create_directories(dir);
-    std::filesystem::copy(repo_file("deploy/cell/models"), dir / "models", std::filesystem::copy_options::recursive);
-    std::ifstream in(repo_file("deploy/cell/simulated_cell.json"));
-    json cell = json::parse(in);
-    std::ifstream board(repo_file("test/data/calibration_board.json"));
-    for (json& entity : cell["entities"])
-      if (entity["id"] == "robot") entity["calibration_board"] = json::parse(board);
-    const std::string path = (dir / "simulated_cell.json").string();
-    std::ofstream(path) << cell.dump(2);
-    return path;
-  }
-
-  /// deploy/config/<name>.json on `cell_file` with `patch` merged in, in the log folder; its path.
-  std::string config(const std::string& name, const std::string& cell_file, const json& patch = json::object()) {
-    std::ifstream in(repo_file("deploy/config/" + name + ".json"));
-    json c = json::parse(in);
-    c["cell_file"] = cell_file;
-    c.merge_patch(patch);
-    const std::string path = cell_.log_dir() + "/" + name + ".json";
-    std::ofstream(path) << c.dump(2);
-    return path;
-  }
-};
+class CalibrationBoardProcessTest : public MultiProcessTest {};
 
 TEST_F(CalibrationBoardProcessTest, TheTrackerMeasuresTheBoardTheArmHoldsUpToTheCamera) {
-  const std::string cell_file = write_cell();
-  cell_.start("cell_sim", "cell_sim", {"--config", config("cell_sim", cell_file, {{"plc", {{"port", 0}}}})});
-  cell_.start("vision_tracker", "vision_tracker", {"--config", config("vision_tracker", cell_file)});
+  const std::string cell_file = write_board_cell(cell_.log_dir());
+  cell_.start("cell_sim", "cell_sim",
+              {"--config", config_on(cell_.log_dir(), "cell_sim", cell_file, {{"plc", {{"port", 0}}}})});
+  cell_.start("vision_tracker", "vision_tracker",
+              {"--config", config_on(cell_.log_dir(), "vision_tracker", cell_file)});
   ASSERT_TRUE(cell_.wait_ready({"cell_sim", "vision_tracker"}, 60s)) << cell_.logs();
 
   std::optional<Eigen::Isometry3d> pose_base_tool;

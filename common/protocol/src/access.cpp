@@ -62,7 +62,7 @@ Part world_client() {
 Part cell_follower() {
   return {{}, names(world::kCell, world::kCellModel)};
 }
-// Who may propose cell revisions (riggerctl cell, the console's programmer).
+// Who may propose cell revisions (riggerctl cell, the console's programmer, the CalibrateCamera skill).
 Part cell_client() {
   return {names(world::kCellRequest), names(world::kCellReply)};
 }
@@ -155,9 +155,10 @@ std::vector<Grant> build() {
                       names(robot::kCmdTwist)}}));
   t.push_back(
       grant("monitor_host", "the monitors (timer, force, yank)", {service(), executor(), {{}, names(robot::kWrench)}}));
+  // cell_client: CalibrateCamera writes the camera's calibrated pose as a cell revision.
   t.push_back(grant("robot-skills", "the robot's skill executor (deploy/config/robot-skills.json)",
                     {service(), executor(), world_client(), robot_device(), gripper_device(), crane_device(),
-                     tracker_device(), admittance_device(), operator_device()}));
+                     tracker_device(), admittance_device(), operator_device(), cell_client()}));
   t.push_back(grant("perception-skills", "the perception skill executor (Localize)",
                     {service(), executor(), world_client(), tracker_device()}));
   t.push_back(grant("operator-skills", "the operator skill executor (Screw)",

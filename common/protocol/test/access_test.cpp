@@ -54,10 +54,11 @@ TEST(AccessTable, EveryTopicHasAWriterAndAReader) {
   }
 }
 
-// Cell revisions: proposed by the user tools only (the programmer's identities), published by the world model
-// only, read by every reader of the cell file.
-TEST(AccessTable, OnlyTheUserToolsProposeCellRevisions) {
-  EXPECT_EQ(writers_of(world::kCellRequest.name), (std::set<std::string>{"console", "riggerctl"}));
+// Cell revisions: proposed by the user tools (the programmer's identities) and the robot's executor (CalibrateCamera
+// writes the camera's pose), not by the other executors; published by the world model only, read by every reader
+// of the cell file.
+TEST(AccessTable, OnlyTheUserToolsAndTheCalibrationProposeCellRevisions) {
+  EXPECT_EQ(writers_of(world::kCellRequest.name), (std::set<std::string>{"console", "riggerctl", "robot-skills"}));
   EXPECT_EQ(writers_of(world::kCell.name), std::set<std::string>{"world_model"});
   EXPECT_EQ(writers_of(world::kCellReply.name), std::set<std::string>{"world_model"});
   for (const char* reader : {"cell_sim", "vision_tracker", "admittance_control", "cad", "console"})

@@ -7,7 +7,8 @@
 ///    rigger/admittance/state (state QoS) through its last_command_seq;
 ///  - DdsOperatorPanel: rigger/operator/prompt and rigger/operator/response (state QoS), one prompt_id per
 ///    prompt ("<source>-<seq>");
-///  - DdsWorldAccess: the world model's FEATURES query and pose updates through world_client::WorldClient.
+///  - DdsWorldAccess: the world model's FEATURES query and pose updates through world_client::WorldClient,
+///    and its cell revisions through DdsCellRequests (dds_cell_requests.hpp).
 /// Commands carry `source` = the executor id. Sequence numbers start at the wall clock in ns, so that a
 /// restarted executor's commands are newer than its predecessor's.
 /// Thread safety: the event loop thread; destroy before the loop.
@@ -19,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "dds_cell_requests.hpp"
 #include "dds_proxy.hpp"
 #include "rigger/base/logging.hpp"
 #include "rigger/dds/event_loop.hpp"
@@ -120,17 +122,33 @@ class DdsOperatorPanel final : public OperatorPanel, private DdsProxy {
 
 class DdsWorldAccess final : public WorldAccess {
  public:
-  explicit DdsWorldAccess(world_client::WorldClient& client) : client_(client) {}
+  DdsWorldAccess(world_client::WorldClient& client, const dds::Participant& participant, dds::EventLoop& loop,
+                 Logger log, std::string client_id)
+      : client_(client), cells_(participant, loop, std::move(log), std::move(client_id)) {}
   OpId features(const std::string& entity, std::chrono::nanoseconds timeout,
                 std::function<void(const OpResult&, const nlohmann::json&)> done) override;
   OpId update_pose(const std::string& entity, const std::string& parent_frame, const Eigen::Isometry3d& pose,
                    WallTime stamp, double quality, std::chrono::nanoseconds timeout, OpCallback done) override;
   OpId mark_unlocalized(const std::string& entity, WallTime stamp, std::chrono::nanoseconds timeout,
                         OpCallback done) override;
-  void cancel(OpId id) override { client_.cancel(id); }
+  OpId running_cell(std::chrono::nanoseconds timeout,
+                    std::function<void(const OpResult&, const CellDocument&)> done) override {
+    return cells_.running_cell(timeout, std::move(done));
+  }
+  OpId propose_cell(const CellProposal& proposal, std::chrono::nanoseconds timeout,
+                    std::function<void(const OpResult&, const CellProposalAnswer&)> done) override {
+    return cells_.propose_cell(proposal, timeout, std::move(done));
+  }
+  void cancel(OpId id) override {
+    if ((id & DdsCellRequests::kIdBit) != 0)
+      cells_.cancel(id);
+    else
+      client_.cancel(id);
+  }
 
  private:
   world_client::WorldClient& client_;
+  DdsCellRequests cells_;
 };
 
 }  // namespace rigger::skill_sdk

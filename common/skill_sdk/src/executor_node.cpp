@@ -32,7 +32,7 @@ SettingsTable<ExecutorSettings> executor_settings(const std::string& service_id,
       setting<S>("gripper", true, &S::gripper, "offer the gripper (gripper/cmd, gripper/state)"),
       setting<S>("world_model", true, &S::world_model,
                  "resolve feature_ref params through the world model, and offer its features and pose updates "
-                 "(Localize, Screw, InsertVisuallyGuided)"),
+                 "(Localize, Screw, InsertVisuallyGuided) and cell revisions (CalibrateCamera)"),
       setting<S>("crane", true, &S::crane,
                  "offer the crane's health and external control (crane/state, crane/control)"),
       setting<S>("tracker", true, &S::tracker, "offer the vision tracker (tracker/command, tracker/pose)"),
@@ -52,10 +52,10 @@ SkillExecutorNode::SkillExecutorNode(service::ServiceContext& ctx, SkillRegistry
   if (settings.robot) robot_ = std::make_unique<DdsRobot>(ctx.participant, ctx.loop, ctx.log, executor_id);
   if (settings.gripper) gripper_ = std::make_unique<DdsGripper>(ctx.participant, ctx.loop, ctx.log, executor_id);
   if (settings.world_model) {
-    world_client_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log,
-                                                                executor_id + "-" + std::to_string(::getpid()));
+    const std::string client_id = executor_id + "-" + std::to_string(::getpid());
+    world_client_ = std::make_unique<world_client::WorldClient>(ctx.participant, ctx.loop, ctx.log, client_id);
     resolver_ = std::make_unique<WorldFeatureResolver>(*world_client_);
-    world_access_ = std::make_unique<DdsWorldAccess>(*world_client_);
+    world_access_ = std::make_unique<DdsWorldAccess>(*world_client_, ctx.participant, ctx.loop, ctx.log, client_id);
   }
   if (settings.crane) crane_ = std::make_unique<DdsCraneMonitor>(ctx.participant, ctx.loop, ctx.log, executor_id);
   if (settings.tracker) tracker_ = std::make_unique<DdsVisionTracker>(ctx.participant, ctx.loop, ctx.log, executor_id);

@@ -82,6 +82,12 @@ RevisionPlan plan_revision(const json& changes, const cell::CellFile& running, c
       const std::string id = moved.at("id").get<std::string>();
       const cell::CellEntity* entity = next.find(id);
       if (entity == nullptr) return refuse("it moves " + id + ", which it does not hold");
+      // A camera drawn elsewhere: its drawing is corrected, the camera (its true pose) is not moved.
+      if (entity->kind == cell::EntityKind::kDevice && entity->camera && running.find(id) != nullptr &&
+          running.find(id)->camera) {
+        plan.cameras_redrawn.push_back(id);
+        continue;
+      }
       if (entity->kind != cell::EntityKind::kObject)
         return refuse("it moves the device or frame " + id + ": cell_sim places devices at start; restart it");
       // A static object is where the model puts it: built anew; a free one is put there after.

@@ -6,12 +6,14 @@
 /// Pure: no DDS, no physics.
 ///
 /// Taken: a revision that, against the cell cell_sim runs on, moves objects, adds, removes or reshapes
-/// objects (their model, features or markers), moves a static object, or changes only what the physics
-/// does not use (`localized`, `comment`, `description`, `attributes`). Refused, with the reason: one that
-/// moves or changes a device, adds or removes one, or removes, reshapes or replaces the crane's load (it
-/// hangs from the rope). Whether the model can be swapped now (the arm at rest, the magnet holding nothing)
-/// and each moved object moved (free, not on the rope, not in the magnet) is the physics' to say when it
-/// applies the plan.
+/// objects (their model, features or markers), moves a static object, changes only what the physics
+/// does not use (`localized`, `comment`, `description`, `attributes`), or moves a camera. A camera's move
+/// is a new drawing of where it is (a calibration's result): the camera itself stays where it was bolted
+/// (the start's drawing times camera/pose_error) and renders from there; only what the cell says of it
+/// changes. Refused, with the reason: one that moves any other device, changes, adds or removes a device,
+/// or removes, reshapes or replaces the crane's load (it hangs from the rope). Whether the model can be
+/// swapped now (the arm at rest, the magnet holding nothing) and each moved object moved (free, not on the
+/// rope, not in the magnet) is the physics' to say when it applies the plan.
 
 #include <cstdint>
 #include <string>
@@ -36,6 +38,9 @@ struct RevisionPlan {
   bool rebuild = false;
   /// What makes the rebuild, for the log: "adds part_b; removes part; reshapes bracket".
   std::string rebuild_reason;
+  /// Cameras the revision draws elsewhere (moved devices with a camera block): nothing in the simulation
+  /// moves; the camera renders from its true pose as before.
+  std::vector<std::string> cameras_redrawn;
   std::string refusal;
 };
 

@@ -116,7 +116,9 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
   if (config_.camera_enabled) {
     bool mujoco = false;
     try {
-      const sim::CameraScene scene = as_rendered(sim::load_camera_scene(config_.cell_file, config_.camera_id));
+      const sim::CameraScene drawn = sim::load_camera_scene(config_.cell_file, config_.camera_id);
+      pose_world_camera_true_ = drawn.pose_world_camera * config_.camera_pose_error;
+      const sim::CameraScene scene = as_rendered(drawn);
       const CameraRendererKind renderer = resolve_renderer(config_.camera_renderer, geometry, scene.camera);
       camera_kind_ = renderer;
       mujoco = renderer == CameraRendererKind::kMujoco;
@@ -190,8 +192,9 @@ CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& comman
 
 sim::CameraScene CellSimNode::as_rendered(sim::CameraScene scene) const {
   scene = resize_camera(std::move(scene), config_.camera_width_px, config_.camera_height_px);
-  // Rendered from where the camera really is (camera/pose_error); what the file says stays the cell's.
-  scene.pose_world_camera = scene.pose_world_camera * config_.camera_pose_error;
+  // Rendered from where the camera really is: where the start's drawing put it, times camera/pose_error. A
+  // revision that draws the camera elsewhere (a calibration) changes what the cell says, not where it is.
+  scene.pose_world_camera = pose_world_camera_true_;
   return scene;
 }
 
@@ -206,6 +209,14 @@ cell_follower::Outcome CellSimNode::on_revision(const cell_follower::FollowedRev
   const RevisionPlan plan =
       plan_revision(cell::diff_cells(running_cell_, running_doc_, next.cell, next.document), running_cell_, next.cell);
   if (!plan.refusal.empty()) return cell_follower::Outcome::refuse(plan.refusal);
+  for (const std::string& id : plan.cameras_redrawn) {
+    if (!camera_ || id != config_.camera_id) continue;
+    const Eigen::Isometry3d off = next.cell.pose_root_entity(id).inverse() * pose_world_camera_true_;
+    ctx_.log->info("camera drawn anew by cell revision {} id={}: it stays where it is, {:.2f} mm and {:.3f} deg from "
+                   "the new drawing",
+                   next.revision, id, 1000.0 * off.translation().norm(),
+                   Eigen::AngleAxisd(off.rotation()).angle() * 180.0 / 3.14159265358979323846);
+  }
   if (plan.rebuild) return rebuild(next, plan);
   if (plan.moves.empty()) return take(next);
   ObjectMovesCommand command;

@@ -57,7 +57,7 @@ class CellSimNode : public service::Node, private SimOutputs {
   void publish_ground_truth(const GroundTruth& truth, WallTime stamp) override;
   void publish_status(const StatusReport& status, WallTime stamp) override;
   void publish_control_result(const ControlResult& result, WallTime stamp) override;
-  /// The camera scene as configured (camera/width, height) and as the camera really is (camera/pose_error).
+  /// The camera scene as configured (camera/width, height) and as the camera really is (pose_world_camera_true_).
   /// @throws std::invalid_argument for a size of another aspect ratio.
   sim::CameraScene as_rendered(sim::CameraScene scene) const;
   /// What the camera thread renders: the image while a reader of it is matched, depth likewise.
@@ -90,6 +90,9 @@ class CellSimNode : public service::Node, private SimOutputs {
   service::ServiceContext& ctx_;
   CellSimConfig config_;
   Eigen::Isometry3d pose_world_base_ = Eigen::Isometry3d::Identity();
+  /// Where the camera really is, for the process' life: the cell file's drawing at start times
+  /// camera/pose_error. Revisions that draw the camera elsewhere do not move it.
+  Eigen::Isometry3d pose_world_camera_true_ = Eigen::Isometry3d::Identity();
   CommandGate twist_gate_;
   std::uint64_t twists_refused_ = 0;
   std::chrono::steady_clock::time_point last_twist_log_{};

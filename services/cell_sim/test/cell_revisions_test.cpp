@@ -1,7 +1,7 @@
 // What cell_sim takes of a cell revision: moved objects become moves at their new world poses; added, removed
-// or reshaped objects and a moved static one have the model built anew; a moved or changed device and a
-// removed or reshaped crane load are refused with the reason. The changes are cell_sim's own diff against the
-// cell it runs on, whichever revision that is.
+// or reshaped objects and a moved static one have the model built anew; a moved camera is redrawn, not moved;
+// any other moved or changed device and a removed or reshaped crane load are refused with the reason. The
+// changes are cell_sim's own diff against the cell it runs on, whichever revision that is.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -103,6 +103,32 @@ TEST(PlanRevision, RefusesAMovedDeviceAndWhatItCannotRead) {
               HasSubstr("it moves nothing, which it does not hold"));
   EXPECT_THAT(plan(json::parse(R"({"moved":[{"name":"part"}]})")).refusal,
               HasSubstr("not in the expected form"));
+}
+
+// A calibration draws the camera where it really is: the revision is taken, and nothing in the simulation moves
+// (no object moves, no model built anew); the camera is only listed as redrawn. Any other device still is not moved.
+TEST(PlanRevision, AMovedCameraIsADrawingCorrectedNotACameraMoved) {
+  std::ifstream in(kShipped, std::ios::binary);
+  const json running_doc = json::parse(in);
+  json next_doc = running_doc;
+  for (json& entity : next_doc["entities"]) {
+    if (entity["id"] == "camera") {
+      entity["pose"]["position_m"][1] = entity["pose"]["position_m"][1].get<double>() + 0.02;
+      entity["pose"]["rpy_deg"][0] = entity["pose"]["rpy_deg"][0].get<double>() + 1.5;
+    }
+  }
+  const cell::CellFile running = shipped();
+  const cell::CellFile next = cell::cell_file_from_json(next_doc, "next");
+  const json changes = cell::diff_cells(running, running_doc, next, next_doc);
+  ASSERT_EQ(changes["moved"].size(), 1u);
+  const RevisionPlan p = plan_revision(changes, running, next);
+  EXPECT_EQ(p.refusal, "");
+  EXPECT_EQ(p.cameras_redrawn, std::vector<std::string>{"camera"});
+  EXPECT_TRUE(p.moves.empty());
+  EXPECT_FALSE(p.rebuild);
+  // A camera's intrinsics are still the device's own: a change of them asks for a restart.
+  EXPECT_THAT(plan(json::parse(R"({"changed":[{"id":"camera","keys":["camera"]}]})")).refusal,
+              HasSubstr("it changes camera of the device or frame camera"));
 }
 
 // The board is drawn on the tool of a model built at start: a revision that mounts or changes it is in the

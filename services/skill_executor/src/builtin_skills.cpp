@@ -3,6 +3,7 @@
 #include "rigger/skill_executor/library.hpp"
 #include "rigger/skill_executor/settings.hpp"
 #include "skills/attach_robot_to_load.hpp"
+#include "skills/calibrate_camera.hpp"
 #include "skills/collaborative_move_load.hpp"
 #include "skills/insert_visually_guided.hpp"
 #include "skills/localize.hpp"
@@ -24,6 +25,7 @@ SkillRegistry builtin_skills() {
   registry.add<ReleaseSkill>();
   registry.add<PickSkill>();
   registry.add<PlaceSkill>();
+  registry.add<CalibrateCameraSkill>();
   return registry;
 }
 

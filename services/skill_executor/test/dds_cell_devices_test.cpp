@@ -44,7 +44,7 @@ class DdsCellDevicesTest : public ::testing::Test {
 TEST_F(DdsCellDevicesTest, LocalizeTracksOnceAndWaitsForTheWorldModelsAcceptance) {
   DdsVisionTracker tracker(participant_, loop_, null_logger(), "perception-skills");
   world_client::WorldClient client(participant_, loop_, null_logger(), "perception-skills-1");
-  DdsWorldAccess world(client);
+  DdsWorldAccess world(client, participant_, loop_, null_logger(), "perception-skills-1");
 
   // The test as vision tracker: answers each TRACK_ONCE with one pose, the first of low quality.
   dds::Reader<rigger_vision_TrackerCommand> commands(participant_, protocol::vision::kTrackerCommand);

@@ -63,6 +63,12 @@ void add_topic_commands(CLI::App& app, const CommonOptions& common, int& exit_co
 /// world model's message are printed) or unanswered; 2 usage or an unreadable FILE; 3 no world model.
 void add_cell_command(CLI::App& app, const CommonOptions& common, int& exit_code);
 
+/// `calibrate camera [--camera ID] [--robot ID] [--poses N] [--tilt-deg D] [--shift-m M] [--max-residual-mm R]
+/// [--max-residual-deg R] [--speed-scale S] [--timeout S] [--quiet]`: one run of the CalibrateCamera skill through
+/// the task controller, followed like `run`. Exit codes as `run`'s: 0 calibrated (a new cell revision); 1 failed
+/// (the skill's code and figures are printed; the cell is unchanged); 2 usage; 3 no task controller.
+void add_calibrate_command(CLI::App& app, const CommonOptions& common, int& exit_code);
+
 /// `cad inspect FILE [--json [--entities]]`, `cad frame FILE (--point X,Y,Z --edges E1,E2 | --face F
 /// --point X,Y,Z | --hole H) [--json]`: offline STEP inspection (docs/cad.md). Exit codes: 0 ok; 1 the
 /// file cannot be read or the picks make no frame (the CAD_* code is printed); 2 usage.

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   rigger::ctl::add_crane_command(app, common, exit_code);
   rigger::ctl::add_topic_commands(app, common, exit_code);
   rigger::ctl::add_cell_command(app, common, exit_code);
+  rigger::ctl::add_calibrate_command(app, common, exit_code);
   rigger::ctl::add_cad_command(app, exit_code);
   try {
     app.parse(argc, argv);

@@ -59,7 +59,7 @@ std::string read_file(const std::string& path, std::string& error) {
 
 int run_recipe(const CommonOptions& common, const RunOptions& opt) {
   std::string error;
-  std::string text = read_file(opt.file, error);
+  std::string text = opt.recipe_text.empty() ? read_file(opt.file, error) : opt.recipe_text;
   if (!error.empty()) {
     std::fprintf(stderr, "riggerctl: %s\n", error.c_str());
     return 2;

@@ -81,6 +81,7 @@ int validate(const std::string& file, const std::string& library_file);
 
 struct RunOptions {
   std::string file;
+  std::string recipe_text;  ///< when set, the recipe itself (file only names it in messages)
   std::string task_id;
   double timeout_s = 0;  // 0: no limit
   double match_timeout_s = 10;

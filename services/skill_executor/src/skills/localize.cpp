@@ -1,19 +1,9 @@
 #include "localize.hpp"
+
+#include "fixed_text.hpp"
 #include "rigger/skill_sdk/params.hpp"
 
-#include <cstdio>
-
 namespace rigger::skill_executor {
-
-namespace {
-
-std::string fixed(double v, int digits = 2) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
-
-}  // namespace
 
 const skill::SkillDescription& LocalizeSkill::describe() {
   static const skill::SkillDescription kDescription = [] {
@@ -77,7 +67,7 @@ void LocalizeSkill::detect() {
     if (last_seen_) {
       seen = !last_seen_->tracked
                  ? "the last pose said not tracked"
-                 : "the last pose had quality " + fixed(last_seen_->quality) + " < " + fixed(min_quality_);
+                 : "the last pose had quality " + fixed(last_seen_->quality, 2) + " < " + fixed(min_quality_, 2);
     }
     fail("NOT_DETECTED", "no good pose of '" + object_ + "' within " + fixed(timeout_s, 1) + " s: " + seen);
   });
@@ -113,7 +103,7 @@ void LocalizeSkill::on_sample(const TrackedObjectSample& s) {
 
 void LocalizeSkill::update() {
   ++update_attempts_;
-  ctx().progress(0.7, "storing the pose of " + object_ + " (quality " + fixed(detected_->quality) + ")");
+  ctx().progress(0.7, "storing the pose of " + object_ + " (quality " + fixed(detected_->quality, 2) + ")");
   WorldAccess* world = ctx().devices().world_access;
   const TrackedObjectSample s = *detected_;
   const OpId id = world->update_pose(
@@ -121,7 +111,7 @@ void LocalizeSkill::update() {
         if (result.ok) {
           succeed("localized " + object_ + " in '" + s.frame + "' at (" + fixed(s.pose.translation().x(), 3) + ", " +
                   fixed(s.pose.translation().y(), 3) + ", " + fixed(s.pose.translation().z(), 3) + ") m, quality " +
-                  fixed(s.quality));
+                  fixed(s.quality, 2));
           return;
         }
         if (result.code == "STAMP_BACKWARDS" && update_attempts_ < kMaxUpdateAttempts) {

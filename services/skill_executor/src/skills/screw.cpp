@@ -1,21 +1,10 @@
 #include "screw.hpp"
 
-#include <cstdio>
-
+#include "fixed_text.hpp"
 #include "rigger/skill_sdk/primitives.hpp"
 #include "rigger/skill_sdk/params.hpp"
 
 namespace rigger::skill_executor {
-
-namespace {
-
-std::string fixed(double v, int digits = 1) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
-
-}  // namespace
 
 std::string find_screw_hole(const nlohmann::json& features, const std::string& id, ScrewHole& hole) {
   const auto holes = features.find("screw_holes");
@@ -139,7 +128,7 @@ void ScrewSkill::prompt() {
   OperatorPromptSpec spec;
   spec.kind = "screw";
   spec.title = "Screw hole " + hole.id + " (" + of + ")";
-  spec.text = "Screw a " + hole.screw_type + " into " + hole.ref + " and tighten it to " + fixed(hole.torque_nm) +
+  spec.text = "Screw a " + hole.screw_type + " into " + hole.ref + " and tighten it to " + fixed(hole.torque_nm, 1) +
               " Nm; answer done, failed or abort.";
   spec.options = {kDone, kFailed, kAbort};
   spec.details = {{"hole", hole.id},
@@ -149,7 +138,7 @@ void ScrewSkill::prompt() {
                   {"position_m", {hole.position_world_m.x(), hole.position_world_m.y(), hole.position_world_m.z()}}};
   spec.timeout_s = timeout_s;
   ctx().progress(static_cast<double>(current_) / static_cast<double>(holes_.size()),
-                 "hole " + hole.ref + " (" + of + "): " + hole.screw_type + " at " + fixed(hole.torque_nm) + " Nm");
+                 "hole " + hole.ref + " (" + of + "): " + hole.screw_type + " at " + fixed(hole.torque_nm, 1) + " Nm");
   OperatorPanel* panel = ctx().devices().operator_panel;
   const OpId id =
       panel->ask(spec, from_seconds(timeout_s), guard([this, timeout_s](std::optional<std::string> answer) {

@@ -85,12 +85,12 @@ inline constexpr Topic<rigger_world_CellModel> kCellModel{
     "(a STEP model pinned by the running revision: its sha256, its name, its bytes; a late joiner gets them)",
     ""};
 
-/// riggerctl, console → world_model.
+/// riggerctl, console, the CalibrateCamera skill → world_model.
 inline constexpr Topic<rigger_world_CellRequest> kCellRequest{
     "rigger/world/cell_request",
     QosProfile::kCommands,
     "client_id",
-    "riggerctl, console",
+    "riggerctl, console, CalibrateCamera (robot-skills)",
     "world_model",
     "(APPLY a cell document with the STEP models it pins, optionally dry run; ROLLBACK to a revision; SHOW a revision; HISTORY; who, comment; "
     "request id)",

@@ -183,7 +183,27 @@ class OperatorPanel {
 };
 
 // ---------------------------------------------------------------------------------------------------
-// World model (features, pose updates)
+// World model (features, pose updates, cell revisions)
+
+/// A revision of the cell as the world model keeps it (rigger/world/cell_request CELL_SHOW).
+struct CellDocument {
+  std::uint64_t revision = 0;
+  std::string cell_json;  ///< the whole cell document
+};
+
+/// A revision proposed to the world model (rigger/world/cell_request CELL_APPLY).
+struct CellProposal {
+  std::string cell_json;  ///< the whole proposed document
+  std::string who;        ///< kept in the revision's history (at most 256 bytes)
+  std::string comment;    ///< why, kept in the history (at most 4096 bytes)
+  bool dry_run = false;   ///< validate and diff only; nothing changes
+};
+
+/// The world model's answer to an accepted proposal.
+struct CellProposalAnswer {
+  std::uint64_t revision = 0;                         ///< the running revision after it (dry run: unchanged)
+  nlohmann::json changes = nlohmann::json::object();  ///< what changed, as rigger/world/cell's changes_json
+};
 
 class WorldAccess {
  public:
@@ -200,6 +220,16 @@ class WorldAccess {
   /// unknown); ok once the world model accepted it.
   virtual OpId mark_unlocalized(const std::string& entity, WallTime stamp, std::chrono::nanoseconds timeout,
                                 OpCallback done) = 0;
+  /// The running revision of the cell (CELL_SHOW); a failure carries the world model's code, or
+  /// WORLD_UNREACHABLE when it did not answer within `timeout`.
+  virtual OpId running_cell(std::chrono::nanoseconds timeout,
+                            std::function<void(const OpResult&, const CellDocument&)> done) = 0;
+  /// Proposes a revision (CELL_APPLY, checked and applied like `riggerctl cell apply`); ok once the world
+  /// model accepted it (a dry run: would accept it), else its code (INVALID, HELD_BY_TASK, UNCHANGED, ...)
+  /// and message, or WORLD_UNREACHABLE after `timeout`. Cell_sim and the other readers follow an accepted
+  /// revision on their own, and may refuse it (their service state says so).
+  virtual OpId propose_cell(const CellProposal& proposal, std::chrono::nanoseconds timeout,
+                            std::function<void(const OpResult&, const CellProposalAnswer&)> done) = 0;
   virtual void cancel(OpId id) = 0;
 };
 

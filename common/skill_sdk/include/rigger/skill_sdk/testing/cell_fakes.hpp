@@ -220,7 +220,39 @@ class FakeWorldAccess final : public WorldAccess {
     updates_[++next_] = {entity, "", Eigen::Isometry3d::Identity(), stamp, -1.0, std::move(done), false};
     return next_;
   }
-  void cancel(OpId id) override { feature_requests_.erase(id) || updates_.erase(id); }
+  OpId running_cell(std::chrono::nanoseconds,
+                    std::function<void(const OpResult&, const CellDocument&)> done) override {
+    cell_reads_[++next_] = std::move(done);
+    return next_;
+  }
+  OpId propose_cell(const CellProposal& proposal, std::chrono::nanoseconds,
+                    std::function<void(const OpResult&, const CellProposalAnswer&)> done) override {
+    proposals.push_back(proposal);
+    cell_proposals_[++next_] = std::move(done);
+    return next_;
+  }
+  void cancel(OpId id) override {
+    feature_requests_.erase(id) || updates_.erase(id) || cell_reads_.erase(id) || cell_proposals_.erase(id);
+  }
+
+  /// Answers the oldest pending running_cell(); false when none is pending.
+  bool answer_running_cell(const OpResult& r, const CellDocument& document) {
+    if (cell_reads_.empty()) return false;
+    auto cb = std::move(cell_reads_.begin()->second);
+    cell_reads_.erase(cell_reads_.begin());
+    cb(r, document);
+    return true;
+  }
+  /// Answers the oldest pending propose_cell(); false when none is pending.
+  bool answer_proposal(const OpResult& r, const CellProposalAnswer& answer = {}) {
+    if (cell_proposals_.empty()) return false;
+    auto cb = std::move(cell_proposals_.begin()->second);
+    cell_proposals_.erase(cell_proposals_.begin());
+    cb(r, answer);
+    return true;
+  }
+  /// Every proposal made, in order (answered or not).
+  std::vector<CellProposal> proposals;
 
   /// The entity of the oldest pending features request ("" when none).
   std::string features_entity() const {
@@ -245,6 +277,8 @@ class FakeWorldAccess final : public WorldAccess {
  private:
   std::map<OpId, std::pair<std::string, std::function<void(const OpResult&, const nlohmann::json&)>>> feature_requests_;
   std::map<OpId, Update> updates_;
+  std::map<OpId, std::function<void(const OpResult&, const CellDocument&)>> cell_reads_;
+  std::map<OpId, std::function<void(const OpResult&, const CellProposalAnswer&)>> cell_proposals_;
   OpId next_ = 0;
 };
 
