@@ -24,7 +24,7 @@ import { DeclarePanel } from './declare.js';
 import { NodeForm } from './form.js';
 import { ObjectPicker } from './objects.js';
 import { listenKeys } from './keys.js';
-import { CONTROL, DECORATORS, TreeDocument, WRAPPERS, changedOwners, emptyRecipe, errorsByNode, leafName, nodeAt, screwErrors } from './tree_document.js';
+import { CONTROL, DECORATORS, TreeDocument, WRAPPERS, changedOwners, emptyRecipe, errorsByNode, leafName, nodeAt } from './tree_document.js';
 import { TreeView } from './tree_view.js';
 import { History } from './undo.js';
 
@@ -247,7 +247,7 @@ export function plannerPage(main, me) {
       return say(`Validation failed: ${e.message}`, true);
     }
     if (seq !== state.validations) return state.validation;  // a newer edit is being validated
-    r.errors = [...r.errors, ...screwErrors(state.doc), ...state.staleBindings];
+    r.errors = [...r.errors, ...state.staleBindings];
     r.ok = r.ok && r.errors.length === 0;
     state.validation = r;
     state.validated = seq;
@@ -291,7 +291,7 @@ export function plannerPage(main, me) {
   async function rehearse() {
     const v = await validate();
     if (!v?.canonical) return say('Nothing to rehearse: the recipe does not parse.', true);
-    const local = [...screwErrors(state.doc), ...state.staleBindings];
+    const local = state.staleBindings;
     if (local.length) return say(`Not rehearsed: ${local[0].message}`, true);
     try {
       const recipe = JSON.parse(v.canonical);
