@@ -53,3 +53,17 @@ if(TARGET rigger_generated_cell AND TARGET rigger_world_client)
                           rigger_operator_protocol)
   endif()
 endif()
+# A new crane load rehearsed in physics: the console's rehearsal link starts the rehearsal cell (a world
+# model, cell_sim and a controller run by a shell script) on the cell's revision, and starts it again on a
+# revision that puts the generated cell's L bracket on the rope (no browser).
+if(TARGET rigger_generated_cell AND TARGET rigger_console_core AND TARGET cell_sim AND TARGET world_model
+   AND TARGET task_controller)
+  rigger_add_test(rigger_rehearsal_new_load_test
+    SOURCES rehearsal_new_load_test.cpp
+    DEPS rigger_test_harness rigger_console_core rigger_generated_cell rigger_sha256 nlohmann_json::nlohmann_json
+    LABEL integration TIMEOUT 600 RUN_SERIAL)
+  if(TARGET rigger_rehearsal_new_load_test)
+    target_include_directories(rigger_rehearsal_new_load_test PRIVATE ${PROJECT_SOURCE_DIR}/services/console/src)
+    add_dependencies(rigger_rehearsal_new_load_test cell_sim world_model task_controller)
+  endif()
+endif()

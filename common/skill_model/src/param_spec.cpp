@@ -14,7 +14,7 @@ namespace {
 
 using Json = nlohmann::json;
 
-constexpr std::array<std::pair<ParamType, std::string_view>, 9> kTypeNames{{
+constexpr std::array<std::pair<ParamType, std::string_view>, 10> kTypeNames{{
     {ParamType::kNumber, "number"},
     {ParamType::kInteger, "integer"},
     {ParamType::kBoolean, "boolean"},
@@ -24,10 +24,12 @@ constexpr std::array<std::pair<ParamType, std::string_view>, 9> kTypeNames{{
     {ParamType::kFeatureRef, "feature_ref"},
     {ParamType::kStringList, "string_list"},
     {ParamType::kObjectId, "object_id"},
+    {ParamType::kNumberList, "number_list"},
 }};
 
+// Has a unit and bounds its values (a number_list each of its numbers).
 bool is_numeric(ParamType type) {
-  return type == ParamType::kNumber || type == ParamType::kInteger;
+  return type == ParamType::kNumber || type == ParamType::kInteger || type == ParamType::kNumberList;
 }
 bool is_sized(ParamType type) {
   return type == ParamType::kString || type == ParamType::kStringList;
@@ -242,6 +244,11 @@ std::string describe_expectation(const ParamSpec& spec) {
       return "feature reference \"entity/feature\" (e.g. \"load/grasp_side\")";
     case ParamType::kObjectId:
       return "object id (1-64 of A-Z a-z 0-9 _ . -, e.g. \"load\")";
+    case ParamType::kNumberList: {
+      ParamSpec each = spec;
+      each.type = ParamType::kNumber;
+      return "array of numbers, each a " + describe_expectation(each);
+    }
     case ParamType::kStringList:
       out = "array of strings";
       if (spec.min || spec.max) {
@@ -347,6 +354,24 @@ std::vector<ModelError> check_value(const ParamSpec& spec, const Json& value, co
         *normalized = value;
       }
       break;
+    case ParamType::kNumberList: {
+      if (!value.is_array()) {
+        fail(expected + ", got " + detail::describe_json(value));
+        break;
+      }
+      ParamSpec each = spec;
+      each.type = ParamType::kNumber;
+      Json values = Json::array();
+      for (std::size_t i = 0; i < value.size(); ++i) {
+        Json v;
+        for (auto& e : check_value(each, value[i], pointer + "/" + std::to_string(i), &v)) errors.push_back(std::move(e));
+        values.push_back(std::move(v));
+      }
+      if (errors.empty() && normalized != nullptr) {
+        *normalized = std::move(values);
+      }
+      break;
+    }
     case ParamType::kStringList: {
       if (!value.is_array()) {
         fail(expected + ", got " + detail::describe_json(value));
@@ -428,7 +453,7 @@ Parsed<ParamSpec> parse_param_spec(const Json& json, const std::string& pointer)
         errors.push_back({pointer + "/unit", "unit \"" + spec.unit + "\" is not an SI unit; expected one of " +
                                                  detail::join(si_units(), true)});
       } else if (!spec.unit.empty() && !is_numeric(spec.type)) {
-        errors.push_back({pointer + "/unit", "only number and integer parameters have a unit"});
+        errors.push_back({pointer + "/unit", "only number, integer and number_list parameters have a unit"});
       }
     }
   }
@@ -440,7 +465,7 @@ Parsed<ParamSpec> parse_param_spec(const Json& json, const std::string& pointer)
     const Json& b = json[bound];
     if (!is_numeric(spec.type) && !is_sized(spec.type)) {
       errors.push_back({pointer + "/" + bound,
-                        std::string("\"") + bound + "\" applies to number, integer, string and string_list only"});
+                        std::string("\"") + bound + "\" applies to number, integer, number_list, string and string_list only"});
     } else if (!b.is_number() || !std::isfinite(b.get<double>())) {
       errors.push_back({pointer + "/" + bound, "expected a number, got " + detail::describe_json(b)});
     } else if (is_sized(spec.type) && (b.get<double>() < 0 || std::floor(b.get<double>()) != b.get<double>())) {

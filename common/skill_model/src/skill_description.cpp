@@ -19,7 +19,7 @@ constexpr std::pair<SkillKind, std::string_view> kKindNames[] = {
 
 // A "$param" reference must name a parameter whose value grounds to a single word.
 bool is_scalar_type(ParamType type) {
-  return type != ParamType::kPose && type != ParamType::kStringList;
+  return type != ParamType::kPose && type != ParamType::kStringList && type != ParamType::kNumberList;
 }
 
 bool is_word_type(ParamType type) {

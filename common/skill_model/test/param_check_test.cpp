@@ -185,6 +185,27 @@ TEST(CheckParams, StringListItemsMustBeStrings) {
   EXPECT_EQ(r.errors[0].pointer, "/p/holes/1");
 }
 
+// number_list: each value a number (or a quantity) in the declared unit and range, at its own pointer.
+TEST(CheckParams, NumberListChecksAndConvertsEachValue) {
+  const auto d = description_from_json(Json::parse(R"json({
+    "name": "Demo", "kind": "skill",
+    "params": [{"name": "torques_nm", "type": "number_list", "unit": "Nm", "min": 0, "max": 400, "default": []}]})json"));
+  EXPECT_EQ(describe_expectation(d.params[0]), "array of numbers, each a number in [0, 400] Nm");
+  auto r = check_params(d, Json::object());
+  ASSERT_TRUE(r.ok()) << dump(r);
+  EXPECT_EQ(r.params["torques_nm"], Json::array());
+  r = check_params(d, {{"torques_nm", {60, 45.5}}});
+  ASSERT_TRUE(r.ok()) << dump(r);
+  EXPECT_EQ(r.params["torques_nm"], Json({60, 45.5}));
+  r = check_params(d, {{"torques_nm", {60, -1, "x"}}}, "/p");
+  EXPECT_EQ(r.errors.size(), 2U) << dump(r);
+  EXPECT_TRUE(has_error(r, "/p/torques_nm/1", "got -1 Nm")) << dump(r);
+  EXPECT_TRUE(has_error(r, "/p/torques_nm/2", "got string")) << dump(r);
+  r = check_params(d, {{"torques_nm", 60}}, "/p");
+  EXPECT_TRUE(has_error(r, "/p/torques_nm", "expected array of numbers")) << dump(r);
+  EXPECT_EQ(param_type_from_string("number_list"), ParamType::kNumberList);
+}
+
 TEST(CheckParams, PointerTokensEscaped) {
   const auto r = check_params(make_description(), {{"object", "l"}, {"a/b", 1}}, "/p");
   ASSERT_EQ(r.errors.size(), 1U);

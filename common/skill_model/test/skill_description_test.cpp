@@ -125,7 +125,7 @@ TEST(SkillDescription, ParamDeclarationCoherence) {
                         "duplicate"));
   EXPECT_TRUE(has_error(errors_of({{"name", "a"}, {"type", "boolean"}, {"min", 0}}), "/params/0/min", "applies to"));
   EXPECT_TRUE(has_error(errors_of({{"name", "a"}, {"type", "string"}, {"unit", "m"}}), "/params/0/unit",
-                        "only number and integer"));
+                        "only number, integer and number_list"));
   EXPECT_TRUE(has_error(errors_of({{"name", "a"}, {"type", "string"}, {"min", 1.5}}), "/params/0/min",
                         "non-negative integer"));
   EXPECT_TRUE(has_error(errors_of({{"name", "a"}, {"type", "string"}, {"values", {"x"}}}), "/params/0/values",

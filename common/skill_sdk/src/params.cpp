@@ -47,6 +47,7 @@ Param text(std::string name) { return Param(std::move(name), skill::ParamType::k
 Param pose(std::string name) { return Param(std::move(name), skill::ParamType::kPose); }
 Param feature(std::string name) { return Param(std::move(name), skill::ParamType::kFeatureRef); }
 Param string_list(std::string name) { return Param(std::move(name), skill::ParamType::kStringList); }
+Param number_list(std::string name) { return Param(std::move(name), skill::ParamType::kNumberList); }
 
 Param choice(std::string name, std::vector<std::string> values) {
   Param param(std::move(name), skill::ParamType::kEnum);

@@ -32,6 +32,16 @@ TEST(ParamBuilder, ChoiceKeepsItsValuesAndObjectIsAnObjectId) {
   EXPECT_TRUE(params::object("target", "The target.").spec().required());
 }
 
+TEST(ParamBuilder, ANumberListHasAUnitAndBoundsEachValue) {
+  const auto torques = params::number_list("torques_nm").unit("Nm").range(0, 400).fallback(nlohmann::json::array()).spec();
+  EXPECT_EQ(torques.type, skill::ParamType::kNumberList);
+  EXPECT_EQ(torques.unit, "Nm");
+  EXPECT_TRUE(skill::check_value(torques, {60, 400}, "/p", nullptr).empty());
+  const auto errors = skill::check_value(torques, {60, 401}, "/p", nullptr);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].pointer, "/p/1");
+}
+
 TEST(ParamBuilder, SharedTimeoutHasOneRangeAndUnit) {
   const auto a = params::timeout_s(30).spec();
   const auto b = params::timeout_s(5, "The motion is stopped when it takes longer.").spec();

@@ -261,9 +261,10 @@ const SettingsTable<CellSimConfig>& cell_sim_settings() {
   return table;
 }
 
-CellSimConfig read_cell_sim_config(const Config& config) {
+CellSimConfig read_cell_sim_config(const Config& config, const std::filesystem::path& cell_file) {
   CellSimConfig out;
   read_into(config, cell_sim_settings(), out);
+  if (!cell_file.empty()) out.cell_file = cell_file;
   if ((out.camera_width_px == 0) != (out.camera_height_px == 0)) {
     config.child_or_empty("camera").fail(out.camera_width_px == 0 ? "width" : "height",
                                          "expected width and height together (or neither)");
@@ -272,6 +273,7 @@ CellSimConfig read_cell_sim_config(const Config& config) {
     out.plc.program.limits = crane::load_crane_limits(out.cell_file.string(), out.crane_id);
     plc::validate(out.plc.program);
   } catch (const crane::CraneConfigError& e) {
+    if (!cell_file.empty()) throw ConfigError(cell_file.string(), "", e.what());
     config.fail(config.has("cell_file") ? "cell_file" : "", e.what());
   } catch (const plc::PlcConfigError& e) {
     config.fail("plc", e.what());

@@ -110,9 +110,9 @@ struct CellSimConfig {
 
 /// Reads cell_sim_settings() from `config`; paths are found by the rule of rigger/base/install.hpp (beside
 /// the configuration file, then in the data folder). Does not call finish(). Loads the cell file's crane
-/// limits.
+/// limits. `cell_file`, when not empty, replaces the configuration's `cell_file` (the --cell option).
 /// @throws ConfigError naming the file, the key and what was expected.
-CellSimConfig read_cell_sim_config(const Config& config);
+CellSimConfig read_cell_sim_config(const Config& config, const std::filesystem::path& cell_file = {});
 
 /// The cell file used without a configuration: deploy/cell/simulated_cell.json in the installation's
 /// data folder (rigger/base/install.hpp).

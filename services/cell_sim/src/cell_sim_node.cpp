@@ -56,11 +56,12 @@ void CommandLine::add_to(CLI::App& app) {
   app.add_option("--real-time-factor", real_time_factor,
                  "Simulated seconds per wall second (overrides real_time_factor; 0: as fast as possible)")
       ->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--cell", cell_file, "Cell file (overrides cell_file; \"\": the configuration's)");
 }
 
 CellSimNode::CellSimNode(service::ServiceContext& ctx, const CommandLine& command_line)
     : ctx_(ctx),
-      config_(read_cell_sim_config(ctx.config)),
+      config_(read_cell_sim_config(ctx.config, command_line.cell_file)),
       twist_gate_(config_.max_command_future, config_.max_twist_timeout),
       motion_status_(ctx.participant, protocol::robot::kMotionStatus),
       gripper_state_(ctx.participant, protocol::robot::kGripperState),

@@ -37,6 +37,9 @@ inline constexpr const char* kWorldFrame = "world";
 struct CommandLine {
   std::optional<std::uint16_t> plc_port;
   std::optional<double> real_time_factor;
+  /// The cell file instead of the configuration's `cell_file` ("": the configuration's). The console
+  /// starts its rehearsal cell on a revision's document this way (docs/console.md).
+  std::string cell_file;
   void add_to(CLI::App& app);
 };
 

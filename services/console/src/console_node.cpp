@@ -125,7 +125,8 @@ ConsoleNode::ConsoleNode(service::ServiceContext& ctx)
         [this, domain = *rehearsal_domain](const CellChange& change, const std::string& who) {
           ctx_.log->info("rehearsal_cell domain={} phase={} what={}", domain, phase_name(change.phase), change.what);
           if (http_) http_->audit_system("rehearsal_cell", "domain " + std::to_string(domain), change.what, who);
-        });
+        },
+        settings.rehearsal_cell_folder);
     rehearsal_feed.emplace(rehearsal_->feed());
     ctx.log->info("rehearsal domain={}", *rehearsal_domain);
   }

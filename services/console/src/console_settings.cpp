@@ -1,4 +1,5 @@
 #include "rigger/console/settings.hpp"
+#include "rigger/base/install.hpp"
 
 namespace rigger::console {
 
@@ -56,6 +57,16 @@ const SettingsTable<ConsoleSettings>& console_settings() {
           "then in `PATH` ([console.md](console.md#the-rehearsal-cell-on-demand)); `[]`: the rehearsal cell is started by hand")),
       rehearsal(setting<S>("env", std::vector<std::string>{}, &S::rehearsal_env,
                            "`NAME=value` entries added to the start command's environment")),
+      rehearsal(own_setting<S>(
+          "cell_folder", "path", "none", "",
+          [](const Config& config, const std::string& key, S& s) {
+            if (config.has(key)) s.rehearsal_cell_folder = config_path(config, key).string();
+          },
+          "the folder of the cell file the rehearsal cell's services are configured with (relative to this "
+          "file): where the models a revision does not pin by sha256 are read when the console starts the "
+          "rehearsal cell on the cell's revision (`RIGGER_CELL_FILE`, "
+          "[console.md](console.md#the-rehearsal-cell-on-demand)); none: only a revision whose models are all "
+          "pinned is started on")),
       rehearsal(setting<S>("log_file", "/var/tmp/rigger/console-rehearsal-cell.log", &S::rehearsal_log,
                            "where the start command's output is appended (the page names it when a start "
                            "fails); its folder is made")),

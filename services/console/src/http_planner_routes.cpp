@@ -337,10 +337,18 @@ void HttpApi::post_planner_rehearse(const httplib::Request& req, httplib::Respon
   if (r.data.is_object() && r.data.value("starting", false)) {
     // No controller yet: the cell is being started; the page follows /api/rehearsal/cell and sends again.
     const json cell = r.data.value("cell", json::object());
+    // Restarting: its simulator refused the cell's revision live, it starts again on the revision's document.
+    const bool restarting = r.data.value("restarting", false);
     audit(*user, "rehearse", task_id,
-          "held: " + std::string(r.data.value("started", false) ? "started" : "starting") + " the rehearsal cell of domain " +
-              domain + " (log " + cell.value("log", "") + "); nothing was sent");
-    return send_json(res, {{"starting", true}, {"task_id", task_id}, {"domain", rehearsal_->domain_id}, {"cell", cell}},
+          "held: " +
+              std::string(restarting                         ? "restarting"
+                          : r.data.value("started", false) ? "started"
+                                                           : "starting") +
+              " the rehearsal cell of domain " + domain + " (log " + cell.value("log", "") + "); nothing was sent" +
+              (restarting ? ": " + r.message : ""));
+    return send_json(res,
+                     {{"starting", true}, {"restarting", restarting}, {"task_id", task_id},
+                      {"domain", rehearsal_->domain_id}, {"cell", cell}, {"why", restarting ? r.message : ""}},
                      202);
   }
   const bool rejected = r.data.is_object() && r.data.value("state", "") == "REJECTED";

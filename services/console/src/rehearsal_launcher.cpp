@@ -85,10 +85,20 @@ nlohmann::json RehearsalLauncher::status() const {
           {"log", command_.log_file},
           {"error", error_},
           {"start_timeout_s", seconds(times_.start_timeout)},
-          {"idle_stop_s", seconds(times_.idle_stop)}};
+          {"idle_stop_s", seconds(times_.idle_stop)},
+          {"restart", restart_}};
 }
 
-std::optional<CellChange> RehearsalLauncher::start(Clock::time_point now) {
+std::optional<CellChange> RehearsalLauncher::restart(Clock::time_point now, const std::vector<std::string>& env,
+                                                     const std::string& why) {
+  if (phase_ == CellPhase::kIdle) return start(now, env);
+  restart_ = true;
+  restart_env_ = env;
+  if (phase_ == CellPhase::kStopping) return std::nullopt;  // it starts again once stopped
+  return begin_stop(now, why, false);
+}
+
+std::optional<CellChange> RehearsalLauncher::start(Clock::time_point now, const std::vector<std::string>& env) {
   if (phase_ == CellPhase::kStarting || phase_ == CellPhase::kReady) return std::nullopt;
   if (phase_ == CellPhase::kStopping) {
     return CellChange{phase_, "not started: the rehearsal cell (pid " + std::to_string(pid_) + ") is still stopping",
@@ -102,15 +112,21 @@ std::optional<CellChange> RehearsalLauncher::start(Clock::time_point now) {
     program = command_.program_dir + "/" + program;
 
   // Everything the child needs is made before fork: between fork and exec only async-signal-safe calls.
+  std::vector<std::string> mine = command_.env;
+  mine.insert(mine.end(), env.begin(), env.end());
   std::vector<std::string> env_text;
+  const auto name_of = [](const std::string& entry) { return entry.substr(0, entry.find('=')); };
   for (char** e = environ; *e != nullptr; ++e) {
     const std::string entry = *e;
-    const std::string name = entry.substr(0, entry.find('='));
     bool replaced = false;
-    for (const auto& mine : command_.env) replaced = replaced || mine.substr(0, mine.find('=')) == name;
+    for (const auto& m : mine) replaced = replaced || name_of(m) == name_of(entry);
     if (!replaced) env_text.push_back(entry);
   }
-  env_text.insert(env_text.end(), command_.env.begin(), command_.env.end());
+  for (std::size_t i = 0; i < mine.size(); ++i) {  // this start's entries over the command's own
+    bool later = false;
+    for (std::size_t j = i + 1; j < mine.size(); ++j) later = later || name_of(mine[j]) == name_of(mine[i]);
+    if (!later) env_text.push_back(mine[i]);
+  }
   std::vector<char*> envp, argv;
   for (auto& e : env_text) envp.push_back(e.data());
   envp.push_back(nullptr);
@@ -237,10 +253,15 @@ std::optional<CellChange> RehearsalLauncher::step(Clock::time_point now, bool th
       if (gone) {
         phase_ = CellPhase::kIdle;
         pid_ = 0;
-        return CellChange{phase_,
-                          "stopped (pid " + pid + ", " + stop_why_ + ") after " +
-                              one_decimal(seconds(now - since_)) + " s" + (killed_ ? " (SIGKILL)" : ""),
-                          stop_failed_};
+        CellChange stopped{phase_,
+                           "stopped (pid " + pid + ", " + stop_why_ + ") after " +
+                               one_decimal(seconds(now - since_)) + " s" + (killed_ ? " (SIGKILL)" : ""),
+                           stop_failed_};
+        if (!restart_) return stopped;
+        restart_ = false;
+        const auto again = start(now, restart_env_);
+        if (!again) return stopped;
+        return CellChange{again->phase, stopped.what + "; " + again->what, again->failed};
       }
       if (!leader_alive_) kill(-pid_, SIGTERM);  // what outlived the leader
       if (!killed_ && now - since_ >= times_.stop_timeout) {

@@ -59,15 +59,21 @@ class RehearsalLauncher {
   RehearsalLauncher& operator=(const RehearsalLauncher&) = delete;
 
   /// Starts the command when idle (nothing when it is already starting or ready; a failed change when
-  /// it is still stopping or cannot be spawned).
-  std::optional<CellChange> start(Clock::time_point now);
+  /// it is still stopping or cannot be spawned). `env`: "NAME=value" for this start only, over the
+  /// command's own.
+  std::optional<CellChange> start(Clock::time_point now, const std::vector<std::string>& env = {});
+  /// Stops the cell for `why` and, once all of it ended, starts it again with `env` (this start only);
+  /// starts it at once when idle. status() says "restart": true until it starts again.
+  std::optional<CellChange> restart(Clock::time_point now, const std::vector<std::string>& env, const std::string& why);
   /// Advances the state machine: `there` — the cell is there (see above), it is ready;
   /// `busy` — a rehearsal runs or someone watches one (the idle time restarts).
   std::optional<CellChange> step(Clock::time_point now, bool there, bool busy);
 
   CellPhase phase() const { return phase_; }
+  /// Stopping to start again (restart()).
+  bool restarting() const { return restart_; }
   /// {"phase", "pid" (0: none), "log", "error" (why the last start failed, "" otherwise),
-  ///  "start_timeout_s", "idle_stop_s"}.
+  ///  "start_timeout_s", "idle_stop_s", "restart": stopping to start again}.
   nlohmann::json status() const;
   const std::string& log_file() const { return command_.log_file; }
 
@@ -88,6 +94,8 @@ class RehearsalLauncher {
   bool killed_ = false;
   bool stop_failed_ = false;       ///< the stop ends a failed start
   std::string stop_why_;
+  bool restart_ = false;               ///< start again once stopped
+  std::vector<std::string> restart_env_;
 };
 
 }  // namespace rigger::console

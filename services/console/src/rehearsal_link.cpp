@@ -18,7 +18,8 @@ constexpr std::chrono::milliseconds kRevisionTimeout{30000};
 RehearsalLink::RehearsalLink(std::uint32_t domain_id, dds::EventLoop& loop, const std::string& epoch,
                              std::chrono::milliseconds verdict_timeout,
                              std::optional<std::pair<LaunchCommand, LaunchTimes>> launch,
-                             std::function<void(const CellChange&, const std::string&)> journal)
+                             std::function<void(const CellChange&, const std::string&)> journal,
+                             const std::string& cell_folder)
     : participant_(domain_id),
       loop_(loop),
       events_(kEventCapacity, epoch),
@@ -31,6 +32,9 @@ RehearsalLink::RehearsalLink(std::uint32_t domain_id, dds::EventLoop& loop, cons
   if (launch) {
     launch->first.env.push_back("RIGGER_DOMAIN=" + std::to_string(domain_id));
     launcher_ = std::make_unique<RehearsalLauncher>(std::move(launch->first), launch->second);
+    cell_files_ = std::make_unique<RehearsalCellFiles>(
+        cell_folder, std::filesystem::temp_directory_path() /
+                         ("rigger-rehearsal-cells-" + std::to_string(::getpid()) + "-" + std::to_string(domain_id)));
   }
   dds_listener_t* listener = dds_create_listener(this);
   dds_lset_data_available(listener, [](dds_entity_t, void* self) { static_cast<RehearsalLink*>(self)->wake(); });
@@ -71,14 +75,25 @@ void RehearsalLink::publish(const std::string& task_id, const std::string& recip
   const std::string domain = std::to_string(participant_.domain_id());
   // A started cell is waited for until it is ready (its world model too), even when its controller is
   // there already.
-  if (launcher_ && (recipes_.matched_readers() == 0 || launcher_->phase() == CellPhase::kStarting)) {
-    const auto change = launcher_->start(RehearsalLauncher::Clock::now());
-    if (change && journal_) journal_(*change, submitter);
-    if (change && change->failed) {
-      answer->set_value({false, "the rehearsal cell of domain " + domain + " was not started: " + change->what, {}});
-      return;
+  if (launcher_ && (recipes_.matched_readers() == 0 || launcher_->phase() == CellPhase::kStarting ||
+                    launcher_->restarting())) {
+    std::optional<CellChange> change;
+    if (!launcher_->restarting()) {
+      std::string why_not;
+      const std::vector<std::string> env =
+          launcher_->phase() == CellPhase::kIdle ? cell_env(cell, why_not) : std::vector<std::string>{};
+      change = launcher_->start(RehearsalLauncher::Clock::now(), env);
+      if (change && !change->failed)
+        change->what += env.empty() ? " on its own cell file" + (why_not.empty() ? "" : " (" + why_not + ")")
+                                    : " on the cell's revision " + std::to_string(cell.revision);
+      if (change && journal_) journal_(*change, submitter);
+      if (change && change->failed) {
+        answer->set_value({false, "the rehearsal cell of domain " + domain + " was not started: " + change->what, {}});
+        return;
+      }
+      if (change && !env.empty()) restarted_for_ = cell.sha256;  // on it already: no restart helps
     }
-    if (cell_timer_ == 0) cell_timer_ = loop_.every(kCellStep, [this] { step_cell(); });
+    watch_cell();
     answer->set_value({false, "starting the rehearsal cell of domain " + domain,
                        {{"starting", true}, {"started", change.has_value()}, {"cell", cell_status()}}});
     return;
@@ -97,14 +112,62 @@ void RehearsalLink::publish(const std::string& task_id, const std::string& recip
   }
   if (cell.sha256.empty()) return send(task_id, recipe_json, submitter, std::move(answer));
   bringing_.insert(task_id);
-  revision_.bring_to(cell, submitter, [this, task_id, recipe_json, submitter, answer](const std::string& error) {
+  revision_.bring_to(cell, submitter, [this, task_id, recipe_json, submitter, answer, cell](const std::string& error) {
     bringing_.erase(task_id);
-    if (!error.empty()) {
-      answer->set_value({false, error + "; nothing was sent", {{"cell_refused", true}}});
-      return;
+    if (error.empty()) {
+      restarted_for_.clear();
+      return send(task_id, recipe_json, submitter, answer);
     }
-    send(task_id, recipe_json, submitter, answer);
+    std::string why_not;
+    if (revision_.simulator_refused() && restart_on(cell, error, submitter, answer, why_not)) return;
+    answer->set_value({false, error + (why_not.empty() ? "" : "; " + why_not) + "; nothing was sent",
+                       {{"cell_refused", true}}});
   });
+}
+
+std::vector<std::string> RehearsalLink::cell_env(const CellTarget& cell, std::string& why_not) {
+  if (cell.sha256.empty()) return {};  // no revision known: the cell's own file is all there is
+  try {
+    return {"RIGGER_CELL_FILE=" + cell_files_->write(cell).string()};
+  } catch (const std::exception& e) {
+    why_not = e.what();
+    return {};
+  }
+}
+
+bool RehearsalLink::restart_on(const CellTarget& cell, const std::string& refusal, const std::string& submitter,
+                               const std::shared_ptr<std::promise<ActionResult>>& answer, std::string& why_not) {
+  if (!launcher_) {
+    why_not = "the rehearsal cell was started by hand: restart it on the cell's revision (its world model and "
+              "cell_sim with --cell on the revision's document)";
+    return false;
+  }
+  if (restarted_for_ == cell.sha256) {
+    why_not = "it was started again on that revision already";
+    return false;
+  }
+  std::string cannot;
+  const std::vector<std::string> env = cell_env(cell, cannot);
+  if (env.empty()) {
+    why_not = "the rehearsal cell cannot be started on it: " + cannot;
+    return false;
+  }
+  restarted_for_ = cell.sha256;
+  revision_.forget();
+  const auto change = launcher_->restart(RehearsalLauncher::Clock::now(), env,
+                                         "to start on the cell's revision " + std::to_string(cell.revision) +
+                                             ", which its simulator cannot take live");
+  if (change && journal_) journal_(*change, submitter);
+  watch_cell();
+  const std::string domain = std::to_string(participant_.domain_id());
+  answer->set_value({false, "restarting the rehearsal cell of domain " + domain + " on the cell's revision " +
+                                std::to_string(cell.revision) + ": " + refusal,
+                     {{"starting", true}, {"restarting", true}, {"started", true}, {"cell", cell_status()}}});
+  return true;
+}
+
+void RehearsalLink::watch_cell() {
+  if (cell_timer_ == 0) cell_timer_ = loop_.every(kCellStep, [this] { step_cell(); });
 }
 
 void RehearsalLink::send(const std::string& task_id, const std::string& recipe_json, const std::string& submitter,

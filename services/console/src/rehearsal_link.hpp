@@ -11,7 +11,9 @@
 /// starts the rehearsal cell (RehearsalLauncher) instead of failing; it is ready once a controller reads
 /// recipes and a world model answers cell requests there, and it is stopped again after
 /// `rehearsal/idle_stop_s` without a rehearsal running or a page watching one. Each rehearsal runs on the
-/// real cell's running revision (RehearsalRevision).
+/// real cell's running revision (RehearsalRevision). The started cell starts on that revision's document
+/// (RehearsalCellFiles, RIGGER_CELL_FILE), and is started again on it when its simulator cannot take a
+/// revision live (one that reshapes the crane's load): once per revision.
 ///
 /// The console stays one process with one work loop: a waitset holds only entities of its own
 /// participant, so this participant's readers get a data-available listener that only wakes that loop
@@ -31,6 +33,7 @@
 #include "event_log.hpp"
 #include "http_api.hpp"
 #include "planner.hpp"
+#include "rehearsal_cell_file.hpp"
 #include "rehearsal_launcher.hpp"
 #include "rehearsal_revision.hpp"
 #include "rigger/dds/event_loop.hpp"
@@ -46,11 +49,13 @@ class RehearsalLink {
   /// (the console's start); `verdict_timeout`: how long publish() waits for the controller's first status.
   /// `launch`: how to start the rehearsal cell on demand (none: it is started by hand); `journal` is
   /// told of each change of the started cell and who caused it (the submitter for a start, "console"
-  /// otherwise). @throws DdsError.
+  /// otherwise). `cell_folder`: the rehearsal cell's own cell folder, where the models a revision does
+  /// not pin are (RehearsalCellFiles; empty: unknown). @throws DdsError.
   RehearsalLink(std::uint32_t domain_id, dds::EventLoop& loop, const std::string& epoch,
                 std::chrono::milliseconds verdict_timeout,
                 std::optional<std::pair<LaunchCommand, LaunchTimes>> launch = std::nullopt,
-                std::function<void(const CellChange&, const std::string& who)> journal = {});
+                std::function<void(const CellChange&, const std::string& who)> journal = {},
+                const std::string& cell_folder = {});
   ~RehearsalLink();
   RehearsalLink(const RehearsalLink&) = delete;
   RehearsalLink& operator=(const RehearsalLink&) = delete;
@@ -66,9 +71,12 @@ class RehearsalLink {
   /// there (nothing sent) or none answered within the verdict timeout. With a launcher and no controller:
   /// nothing is sent, the rehearsal cell is started, and the answer is !ok with data {"starting": true,
   /// "started": whether this call started it, "cell": its status()} (a start that fails at once: !ok with
-  /// the reason). When the rehearsal world model is not brought to `cell` (it refused the document, it
-  /// is not there, it did not report the revision in time): !ok with data {"cell_refused": true}, nothing
-  /// sent. Loop thread only.
+  /// the reason); the cell starts on `cell`'s document when it can be written (else on its own cell
+  /// file, `cell` applied after). When the simulator refuses `cell` and the launcher has not restarted
+  /// the cell for it yet: the cell is restarted on its document, the answer as for a start with
+  /// "restarting": true. When the rehearsal world model is not brought to `cell` (it refused the
+  /// document, it is not there, it did not report the revision in time, the simulator refused it and the
+  /// cell cannot be restarted on it): !ok with data {"cell_refused": true}, nothing sent. Loop thread only.
   void publish(const std::string& task_id, const std::string& recipe_json, const std::string& submitter,
                const CellTarget& cell, std::shared_ptr<std::promise<ActionResult>> answer);
 
@@ -83,6 +91,12 @@ class RehearsalLink {
   void send(const std::string& task_id, const std::string& recipe_json, const std::string& submitter,
             std::shared_ptr<std::promise<ActionResult>> answer);  // the recipe, once the cell runs the revision
   void step_cell();        // the launcher's state machine, every kCellStep while the cell is not idle
+  void watch_cell();       // steps the launcher until it is idle again
+  /// RIGGER_CELL_FILE for a start on `cell`; empty, with `why_not`, when its document cannot be written.
+  std::vector<std::string> cell_env(const CellTarget& cell, std::string& why_not);
+  /// The simulator refused `cell`: restarts the cell on it, or says why not (then `answer` is untouched).
+  bool restart_on(const CellTarget& cell, const std::string& refusal, const std::string& submitter,
+                  const std::shared_ptr<std::promise<ActionResult>>& answer, std::string& why_not);
 
   dds::Participant participant_;  // first: destroyed last
   dds::EventLoop& loop_;
@@ -102,6 +116,8 @@ class RehearsalLink {
   std::map<std::string, Verdict> verdicts_;  ///< by task id
   std::atomic<int> watchers_{0};             ///< open /api/rehearsal/events streams
   std::unique_ptr<RehearsalLauncher> launcher_;  ///< null: the rehearsal cell is started by hand
+  std::unique_ptr<RehearsalCellFiles> cell_files_;  ///< with a launcher: the documents it starts on
+  std::string restarted_for_;  ///< the sha256 of the revision the cell was last restarted on
   std::function<void(const CellChange&, const std::string&)> journal_;
   dds::EventLoop::TimerId cell_timer_ = 0;   ///< 0: the cell is idle
 };

@@ -99,9 +99,19 @@ void RehearsalRevision::take() {
   settle();
 }
 
+bool RehearsalRevision::simulator_refused() const {
+  return simulator_seen_ && simulator_detail_.rfind("refused cell revision " + std::to_string(running_revision_) + ":", 0) == 0;
+}
+
+void RehearsalRevision::forget() {
+  running_sha256_.clear();
+  running_revision_ = 0;
+  simulator_detail_.clear();
+  simulator_seen_ = false;
+}
+
 void RehearsalRevision::settle() {
   const std::string on = "cell revision " + std::to_string(running_revision_);
-  const std::string refused = "refused " + on + ":";
   for (auto it = pending_.begin(); it != pending_.end();) {
     if (!it->second.applied || it->second.sha256 != running_sha256_) {
       ++it;
@@ -109,7 +119,7 @@ void RehearsalRevision::settle() {
     }
     // The simulator follows the world model: wait for its word on the same revision, when it has one.
     std::string error;
-    if (simulator_seen_ && simulator_detail_.rfind(refused, 0) == 0) {
+    if (simulator_refused()) {
       error = "the rehearsal cell's simulator " + simulator_detail_ + " (nothing was rehearsed)";
     } else if (simulator_seen_ && simulator_detail_ != on) {
       ++it;

@@ -60,6 +60,12 @@ class RehearsalRevision {
   /// What the rehearsal cell's simulator last said of its cell revision ("" before it said).
   const std::string& simulator_detail() const { return simulator_detail_; }
 
+  /// The rehearsal cell's simulator refused the revision its world model runs ("refused cell revision N:").
+  bool simulator_refused() const;
+  /// Forgets what the rehearsal cell said (its world model's revision, its simulator's word): it is being
+  /// started again, and only what the new one says counts.
+  void forget();
+
   /// Brings the rehearsal world model to `target` (journaled there as `who`), then calls `done` once the
   /// rehearsal cell's simulator (a service of kind cell_sim, when there is one) says it runs on that
   /// revision too; when it refused it (a revision that reshapes the crane's load needs its restart),

@@ -1,5 +1,6 @@
 // The rehearsal cell's launcher with shell scripts for the cell: idle -> starting -> ready -> idle stop,
-// a command that exits, one that never brings a controller, one that cannot run, and the console's stop.
+// a command that exits, one that never brings a controller, one that cannot run, the console's stop, and
+// a restart with another environment.
 // Time is given to step(): the timeouts are crossed by passing a later time, never by waiting; the
 // processes' ends are real, so those are awaited with a deadline.
 #include <signal.h>
@@ -163,6 +164,39 @@ TEST_F(RehearsalLauncherTest, TheConsolesStopEndsTheWholeGroup) {
   }
   EXPECT_FALSE(alive(leader));
   EXPECT_FALSE(alive(child));
+}
+
+// Restarted on another revision: the whole group ends, then it starts again with this start's environment
+// over the command's own (RIGGER_CELL_FILE: the document it starts on).
+TEST_F(RehearsalLauncherTest, ARestartEndsTheWholeGroupThenStartsWithItsOwnEnvironment) {
+  RehearsalLauncher l(shell("echo cell=$RIGGER_CELL_FILE mark=$REHEARSAL_MARK; sleep 60 & echo $! > child.pid; wait"),
+                      times());
+  const auto t0 = Clock::now();
+  ASSERT_TRUE(l.start(t0, {"RIGGER_CELL_FILE=/first/cell.json"}));
+  const pid_t child = pid_in("child.pid");
+  const pid_t leader = l.status().value("pid", 0);
+  ASSERT_TRUE(l.step(t0 + 1s, true, false));
+  ASSERT_EQ(l.phase(), CellPhase::kReady);
+  std::filesystem::remove(dir_ + "/child.pid");
+  const auto stopping = l.restart(t0 + 2s, {"RIGGER_CELL_FILE=/second/cell.json", "REHEARSAL_MARK=y"}, "a new load");
+  ASSERT_TRUE(stopping);
+  EXPECT_EQ(stopping->phase, CellPhase::kStopping);
+  EXPECT_NE(stopping->what.find("a new load"), std::string::npos) << stopping->what;
+  EXPECT_TRUE(l.restarting());
+  EXPECT_EQ(l.status()["restart"], true);
+  const auto changes = step_until(l, CellPhase::kStarting, t0 + 3s, false, false);
+  ASSERT_FALSE(changes.empty());
+  EXPECT_NE(changes.back().what.find("stopped (pid " + std::to_string(leader)), std::string::npos)
+      << changes.back().what;
+  EXPECT_NE(changes.back().what.find("; started (pid "), std::string::npos) << changes.back().what;
+  EXPECT_FALSE(changes.back().failed);
+  EXPECT_FALSE(alive(leader));
+  EXPECT_FALSE(alive(child)) << "the first cell's child outlived the restart";
+  EXPECT_FALSE(l.restarting());
+  EXPECT_NE(l.status().value("pid", 0), leader);
+  EXPECT_TRUE(alive(pid_in("child.pid")));
+  EXPECT_NE(log().find("cell=/first/cell.json mark=x"), std::string::npos) << log();
+  EXPECT_NE(log().find("cell=/second/cell.json mark=y"), std::string::npos) << log();
 }
 
 }  // namespace

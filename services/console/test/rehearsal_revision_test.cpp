@@ -101,7 +101,8 @@ TEST_F(RehearsalRevisionTest, AnAcceptedRevisionRunsOnlyOnceTheWorldModelReports
 }
 
 // The simulator of the rehearsal cell follows the world model: the rehearsal runs once it says it runs on
-// the same revision, and not at all when it refused it (a revision that reshapes the crane's load).
+// the same revision, and not at all when it refused it (a revision that reshapes the crane's load: the
+// link then restarts the cell on it, rigger_rehearsal_new_load_test); forgotten for a restarted cell.
 TEST_F(RehearsalRevisionTest, ARevisionTheSimulatorRefusedIsNotRehearsed) {
   dds::Writer<rigger_system_ServiceState> states(participant_, protocol::system::kServiceState);
   const auto simulator_says = [&](const std::string& detail) {
@@ -123,6 +124,7 @@ TEST_F(RehearsalRevisionTest, ARevisionTheSimulatorRefusedIsNotRehearsed) {
   ASSERT_TRUE(loop_.run_until([&] { return done.has_value(); }, 5s));
   EXPECT_NE(done->find("the rehearsal cell's simulator refused cell revision 2: it reshapes the crane's load"),
             std::string::npos) << *done;
+  EXPECT_TRUE(revision_.simulator_refused());
   // Asked again while the world model runs it: still refused, nothing sent.
   done.reset();
   revision_.bring_to(target_, "console:ada", [&](const std::string& error) { done = error; });
@@ -136,6 +138,15 @@ TEST_F(RehearsalRevisionTest, ARevisionTheSimulatorRefusedIsNotRehearsed) {
   revision_.bring_to(target_, "console:ada", [&](const std::string& error) { done = error; });
   ASSERT_TRUE(loop_.run_until([&] { return done.has_value(); }, 5s));
   EXPECT_EQ(*done, "");
+  EXPECT_FALSE(revision_.simulator_refused());
+  // A restarted cell: what the old one said counts no more, the revision is applied again.
+  revision_.forget();
+  EXPECT_EQ(revision_.running_sha256(), "");
+  EXPECT_EQ(revision_.simulator_detail(), "");
+  done.reset();
+  revision_.bring_to(target_, "console:ada", [&](const std::string& error) { done = error; });
+  ASSERT_TRUE(loop_.run_until([&] { return seen_.size() == 2; }, 5s));
+  EXPECT_FALSE(done.has_value());
 }
 
 TEST_F(RehearsalRevisionTest, NoWorldModelOrNoReportIsNotRunEither) {

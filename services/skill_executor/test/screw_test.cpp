@@ -83,6 +83,57 @@ TEST_F(ScrewTest, ParamsOverrideTheWorldModelsTypeAndTorque) {
   EXPECT_DOUBLE_EQ(h.operator_panel.newest()->spec.details["torque_nm"].get<double>(), 80.0);
 }
 
+// Per hole from the recipe: the hole's own value, else the one for every hole, else the world model's.
+TEST_F(ScrewTest, PerHoleValuesComeBeforeTheEveryHoleParamsAndTheWorldModel) {
+  params_["torque_nm"] = 80.0;
+  params_["screw_type"] = "M16x50";
+  params_["torque_per_hole_nm"] = {0.0, 30.0};
+  params_["screw_type_per_hole"] = {"M8x20", ""};
+  RunHarness h(type_, params_);
+  look_up(h);
+  EXPECT_EQ(h.operator_panel.newest()->spec.details["screw_type"], "M8x20");
+  EXPECT_DOUBLE_EQ(h.operator_panel.newest()->spec.details["torque_nm"].get<double>(), 80.0);
+  ASSERT_TRUE(h.operator_panel.answer("done"));
+  EXPECT_EQ(h.operator_panel.newest()->spec.details["screw_type"], "M16x50");
+  EXPECT_DOUBLE_EQ(h.operator_panel.newest()->spec.details["torque_nm"].get<double>(), 30.0);
+  ASSERT_TRUE(h.operator_panel.answer("done"));
+  EXPECT_TRUE(h.succeeded());
+  // Without the every-hole params a hole left out per hole takes the world model's.
+  params_.erase("torque_nm");
+  params_.erase("screw_type");
+  RunHarness w(type_, params_);
+  look_up(w);
+  EXPECT_DOUBLE_EQ(w.operator_panel.newest()->spec.details["torque_nm"].get<double>(), 60.0);
+  ASSERT_TRUE(w.operator_panel.answer("done"));
+  EXPECT_EQ(w.operator_panel.newest()->spec.details["screw_type"], "M10x30");
+}
+
+TEST_F(ScrewTest, PerHoleListsThatDoNotFitTheHolesFailAtTheirPath) {
+  struct Case {
+    const char* name;
+    nlohmann::json value;
+    const char* says;
+  };
+  for (const auto& c :
+       {Case{"torque_per_hole_nm",
+             {10.0},
+             "/params/torque_per_hole_nm: expected 2 values, one per entry of /params/holes (or none), got 1"},
+        Case{"screw_type_per_hole", {"a", "b", "c"}, "/params/screw_type_per_hole: expected 2 values"},
+        Case{"screw_type_per_hole",
+             {"M8", std::string(65, 'x')},
+             "/params/screw_type_per_hole/1: expected at most 64 bytes, got 65"},
+        Case{"torque_per_hole_nm", {10.0, -1.0}, "torque_per_hole_nm/1"},
+        Case{"torque_per_hole_nm", 10.0, "torque_per_hole_nm"}}) {
+    nlohmann::json params = params_;
+    params[c.name] = c.value;
+    RunHarness h(type_, params);
+    h.run->start();
+    ASSERT_TRUE(h.failed_with("BAD_PARAMS")) << params.dump();
+    EXPECT_NE(h.result->message.find(c.says), std::string::npos) << h.result->message;
+    EXPECT_TRUE(h.operator_panel.prompts.empty());
+  }
+}
+
 TEST_F(ScrewTest, EachAnswerAndTheTimeoutEndTheRunWithItsCode) {
   struct Case {
     std::optional<std::string> answer;

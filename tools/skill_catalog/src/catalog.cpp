@@ -28,7 +28,7 @@ std::string range_text(const nlohmann::json& p) {
   if (!lo && !hi) return "";
   const std::string type = p.value("type", "");
   const bool count = type == "string" || type == "string_list";
-  std::string out = count ? (type == "string" ? "length " : "items ") : "";
+  std::string out = count ? (type == "string" ? "length " : "items ") : type == "number_list" ? "each " : "";
   if (lo && hi) return out + "[" + number(p["min"]) + ", " + number(p["max"]) + "]";
   if (lo) return out + "≥ " + number(p["min"]);
   return out + "≤ " + number(p["max"]);

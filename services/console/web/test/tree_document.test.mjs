@@ -5,7 +5,7 @@ import assert from 'node:assert/strict';
 import { describe, it } from 'node:test';
 
 import {
-  TreeDocument, allNodes, canonical, changedOwners, errorsByNode, newNode, ownerOf, parentOf, screwErrors,
+  TreeDocument, allNodes, canonical, changedOwners, errorsByNode, newNode, ownerOf, parentOf,
 } from '../js/planner/tree_document.js';
 
 /// A document built by palette values added in turn, each `[select, value]` (select: a pointer to
@@ -208,19 +208,23 @@ describe('bindings', () => {
     assert.deepEqual(node.params, { holes: ['target/h1', 'target/h2'] });
     assert.equal(node.bindings.holes.rule, 'screw_list');
     assert.deepEqual(node.bindings.holes.screws.map((s) => [s.world_screw_type, s.world_torque_nm]), [['M6', 8], ['M6', 8]]);
-    assert.deepEqual(screwErrors(tree.doc), []);
   });
 
-  it('takes one typed torque for every hole, and flags typed torques that differ', () => {
+  it('takes one typed torque for every hole, or one per hole when they differ', () => {
     const tree = screwTree();
     tree.bindScrews('/root/children/0', answer);
+    const params = () => tree.doc.root.children[0].params;
     assert.deepEqual(tree.setScrew('/root/children/0', 0, 'torque_nm', 10), {});
-    assert.equal(tree.doc.root.children[0].params.torque_nm, undefined, 'differing torques are not exported');
-    assert.deepEqual(screwErrors(tree.doc), [{ pointer: '/root/children/0/bindings/holes',
-      message: 'the Screw skill takes one torque_nm for every hole, or each hole\'s from the world model; these differ: 10, 8' }]);
+    assert.equal(params().torque_nm, undefined);
+    assert.deepEqual(params().torque_per_hole_nm, [10, 8], 'differing torques go hole by hole');
+    assert.deepEqual(tree.setScrew('/root/children/0', 1, 'screw_type', 'M8'), {});
+    assert.deepEqual(params().screw_type_per_hole, ['M6', 'M8']);
     assert.deepEqual(tree.setScrew('/root/children/0', 1, 'torque_nm', 10), {});
-    assert.equal(tree.doc.root.children[0].params.torque_nm, 10);
-    assert.deepEqual(screwErrors(tree.doc), []);
+    assert.equal(params().torque_nm, 10);
+    assert.equal(params().torque_per_hole_nm, undefined);
+    assert.deepEqual(tree.setScrew('/root/children/0', 1, 'screw_type', 'M6'), {});
+    assert.equal(params().screw_type_per_hole, undefined, 'the world model\'s again for every hole');
+    assert.equal(params().screw_type, undefined);
     refused(tree, () => tree.setScrew('/root/children/0', 2, 'torque_nm', 10), /no hole 2 of 2/);
     refused(tree, () => tree.setScrew('/root/children/0', 0, 'feature', 'target/h9'), /feature is not typed/);
     refused(tree, () => tree.setScrew('/root', 0, 'torque_nm', 1), /no screw holes bound at \/root/);

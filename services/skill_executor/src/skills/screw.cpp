@@ -18,6 +18,22 @@ std::string find_screw_hole(const nlohmann::json& features, const std::string& i
   return "'" + hole.entity + "' has no screw hole '" + id + "'";
 }
 
+std::string per_hole_problem(const nlohmann::json& params, std::size_t holes) {
+  for (const char* name : {"torque_per_hole_nm", "screw_type_per_hole"}) {
+    const nlohmann::json& values = params.at(name);
+    if (!values.empty() && values.size() != holes)
+      return std::string("/params/") + name + ": expected " + std::to_string(holes) +
+             " values, one per entry of /params/holes (or none), got " + std::to_string(values.size());
+  }
+  const nlohmann::json& types = params.at("screw_type_per_hole");
+  for (std::size_t i = 0; i < types.size(); ++i) {
+    if (types[i].get<std::string>().size() > 64)
+      return "/params/screw_type_per_hole/" + std::to_string(i) + ": expected at most 64 bytes, got " +
+             std::to_string(types[i].get<std::string>().size());
+  }
+  return "";
+}
+
 const skill::SkillDescription& ScrewSkill::describe() {
   static const skill::SkillDescription kDescription = [] {
     skill::SkillDescription d;
@@ -33,6 +49,12 @@ const skill::SkillDescription& ScrewSkill::describe() {
             "Tightening torque for every hole; 0: each hole's torque from the world model."),
         params::text("screw_type").at_most(64.0).fallback("").doc(
             "Screw type for every hole; empty: each hole's type from the world model."),
+        params::number_list("torque_per_hole_nm").unit("Nm").range(0.0, 400.0).fallback(nlohmann::json::array()).doc(
+            "Tightening torque hole by hole, one per entry of holes (or none); 0 for a hole: torque_nm, else "
+            "the world model's."),
+        params::string_list("screw_type_per_hole").range(0.0, 32.0).fallback(nlohmann::json::array()).doc(
+            "Screw type hole by hole (each at most 64 bytes), one per entry of holes (or none); \"\" for "
+            "a hole: screw_type, else the world model's."),
         params::number("timeout_per_hole_s").unit("s").range(1.0, 3600.0).fallback(600.0).doc(
             "Fails with OPERATOR_TIMEOUT when a hole is not confirmed within this time."),
         params::object("object", "The object being fastened (for the conditions).", "load"),
@@ -68,6 +90,10 @@ void ScrewSkill::lookup() {
     }
     holes_.push_back(ScrewHole{ref, parts->first, parts->second, "", 0.0, Eigen::Vector3d::Zero()});
   }
+  if (const std::string error = per_hole_problem(params(), holes_.size()); !error.empty()) {
+    fail("BAD_PARAMS", error);
+    return;
+  }
   ctx().progress(0.0, "looking up " + std::to_string(holes_.size()) + " screw holes");
   lookup_next();
 }
@@ -98,8 +124,14 @@ void ScrewSkill::lookup_next() {
     fail("UNKNOWN_FEATURE", hole.ref + ": " + error);
     return;
   }
-  const std::string type_override = params().at("screw_type").get<std::string>();
-  const double torque_override = params().at("torque_nm").get<double>();
+  // The hole's own value, else the one for every hole, else the world model's.
+  const nlohmann::json& types = params().at("screw_type_per_hole");
+  const nlohmann::json& torques = params().at("torque_per_hole_nm");
+  std::string type_override = params().at("screw_type").get<std::string>();
+  double torque_override = params().at("torque_nm").get<double>();
+  if (!types.empty() && !types[lookup_index_].get<std::string>().empty())
+    type_override = types[lookup_index_].get<std::string>();
+  if (!torques.empty() && torques[lookup_index_].get<double>() > 0.0) torque_override = torques[lookup_index_].get<double>();
   if (!type_override.empty()) hole.screw_type = type_override;
   if (torque_override > 0.0) hole.torque_nm = torque_override;
   if (hole.screw_type.empty() || !(hole.torque_nm > 0.0)) {

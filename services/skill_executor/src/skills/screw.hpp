@@ -46,6 +46,11 @@ struct ScrewHole {
 /// Returns an error text when the hole is not there.
 std::string find_screw_hole(const nlohmann::json& features, const std::string& id, ScrewHole& hole);
 
+/// Why Screw's per-hole params (torque_per_hole_nm, screw_type_per_hole; already checked against their
+/// types) do not fit `holes` holes — each list empty or one entry per hole, each type at most 64 bytes —
+/// naming the param's path ("/params/torque_per_hole_nm: expected 4 values, …"); "" when they fit.
+std::string per_hole_problem(const nlohmann::json& params, std::size_t holes);
+
 class ScrewSkill final : public Skill {
  public:
   static const skill::SkillDescription& describe();

@@ -23,9 +23,11 @@ enum class ParamType {
   kFeatureRef,  ///< "entity/feature[/sub…]" naming a world-model feature, e.g. "load/grasp_side"
   kStringList,  ///< an array of strings; min/max bound the number of items
   kObjectId,    ///< a world-model object's id ("load", "target"): 1-64 of [A-Za-z0-9_.-], as the cell file's ids
+  kNumberList,  ///< an array of numbers (each as kNumber, in `unit`); min/max bound each value
 };
 
-/// "number", "integer", "boolean", "string", "enum", "pose", "feature_ref", "string_list", "object_id".
+/// "number", "integer", "boolean", "string", "enum", "pose", "feature_ref", "string_list", "object_id",
+/// "number_list".
 std::string_view to_string(ParamType type);
 /// Inverse of to_string(ParamType); std::nullopt for an unknown name.
 std::optional<ParamType> param_type_from_string(std::string_view name);
@@ -36,8 +38,9 @@ const std::vector<std::string_view>& param_type_names();
 struct ParamSpec {
   std::string name;  ///< [a-z][a-z0-9_]*, units in the name when it has one (max_force_n)
   ParamType type = ParamType::kNumber;
-  std::string unit;           ///< SI unit of number/integer values ("" = dimensionless); see units.hpp
-  std::optional<double> min;  ///< inclusive lower bound: value (number/integer), length (string), count (string_list)
+  std::string unit;           ///< SI unit of number/integer/number_list values ("" = dimensionless); see units.hpp
+  /// Inclusive lower bound: value (number, integer, each of a number_list), length (string), count (string_list).
+  std::optional<double> min;
   std::optional<double> max;  ///< inclusive upper bound, same meaning as `min`
   std::optional<nlohmann::json> default_value;  ///< absent ⇒ the parameter is required
   std::vector<std::string> enum_values;         ///< the allowed strings when type == kEnum

@@ -31,7 +31,8 @@ class Param {
  public:
   Param(std::string name, skill::ParamType type);
 
-  /// Inclusive bounds: the value (number, integer), the length (string), the count (string_list).
+  /// Inclusive bounds: the value (number, integer, each of a number_list), the length (string), the count
+  /// (string_list).
   Param& range(double min, double max);
   Param& at_least(double min);
   Param& at_most(double max);
@@ -58,6 +59,8 @@ Param choice(std::string name, std::vector<std::string> values);
 Param pose(std::string name);
 Param feature(std::string name);
 Param string_list(std::string name);
+/// An array of numbers in unit(); range() bounds each of them.
+Param number_list(std::string name);
 
 // Shared parameters, declared once.
 

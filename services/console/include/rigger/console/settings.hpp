@@ -31,6 +31,7 @@ struct ConsoleSettings {
   // The rehearsal cell on demand (rehearsal_launcher.hpp): none without a start command.
   std::vector<std::string> rehearsal_start;  ///< argv; empty: the rehearsal cell is started by hand
   std::vector<std::string> rehearsal_env;    ///< "NAME=value" for the start command
+  std::string rehearsal_cell_folder;         ///< the rehearsal cell's own cell folder; empty: not known
   std::string rehearsal_log;
   std::chrono::milliseconds rehearsal_start_timeout{};
   std::chrono::milliseconds rehearsal_idle_stop{};

@@ -99,6 +99,12 @@ export class NodeForm {
     } else if (p.type === 'string_list') {
       input = el('input', { type: 'text', value: Array.isArray(cur) ? cur.join(', ') : '', placeholder: 'comma-separated',
         oninput: () => set(input.value.trim() === '' ? undefined : input.value.split(',').map((s) => s.trim()).filter(Boolean)) });
+    } else if (p.type === 'number_list') {
+      // Numbers in the declared unit; what is not a number is kept as typed, for the validator to name.
+      input = el('input', { type: 'text', value: Array.isArray(cur) ? cur.join(', ') : '',
+        placeholder: `comma-separated${p.unit ? ` ${p.unit}` : ''}, e.g. one per hole`,
+        oninput: () => set(input.value.trim() === '' ? undefined : input.value.split(',').map((s) => s.trim())
+          .filter((s) => s !== '').map((s) => (Number.isFinite(Number(s)) ? Number(s) : s))) });
     } else if (p.type === 'object_id') {
       const chooser = this.objects.field(ptr, p.name, cur, p.default, set);
       input = chooser.select;

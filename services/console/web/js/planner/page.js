@@ -24,7 +24,7 @@ import { DeclarePanel } from './declare.js';
 import { NodeForm } from './form.js';
 import { ObjectPicker } from './objects.js';
 import { listenKeys } from './keys.js';
-import { CONTROL, DECORATORS, TreeDocument, WRAPPERS, changedOwners, emptyRecipe, errorsByNode, leafName, nodeAt, screwErrors } from './tree_document.js';
+import { CONTROL, DECORATORS, TreeDocument, WRAPPERS, changedOwners, emptyRecipe, errorsByNode, leafName, nodeAt } from './tree_document.js';
 import { TreeView } from './tree_view.js';
 import { History } from './undo.js';
 
@@ -248,7 +248,7 @@ export function plannerPage(main, me) {
       return say(`Validation failed: ${e.message}`, true);
     }
     if (seq !== state.validations) return state.validation;  // a newer edit is being validated
-    r.errors = [...r.errors, ...screwErrors(state.doc), ...state.staleBindings];
+    r.errors = [...r.errors, ...state.staleBindings];
     r.ok = r.ok && r.errors.length === 0;
     state.validation = r;
     state.validated = seq;
@@ -292,7 +292,7 @@ export function plannerPage(main, me) {
   async function rehearse() {
     const v = await validate();
     if (!v?.canonical) return say('Nothing to rehearse: the recipe does not parse.', true);
-    const local = [...screwErrors(state.doc), ...state.staleBindings];
+    const local = state.staleBindings;
     if (local.length) return say(`Not rehearsed: ${local[0].message}`, true);
     try {
       const recipe = JSON.parse(v.canonical);
@@ -305,19 +305,21 @@ export function plannerPage(main, me) {
       say(`Not rehearsed: ${e.message}`, true);
     }
   }
-  /// The console is starting the rehearsal cell (`r` its 202 answer): follows it until a controller is
-  /// there, then sends the recipe; rejects with the console's reason (and its log) when the start fails.
+  /// The console is starting the rehearsal cell (`r` its 202 answer), or stopping it to start it again on
+  /// the cell's revision (`r.restarting`): follows it until a controller is there, then sends the recipe; rejects with the console's reason (and its log) when the start fails.
   async function rehearseOnceStarted(recipe, r) {
     const deadline = Date.now() + ((r.cell?.start_timeout_s || 120) + 30) * 1000;
     for (;;) {
-      say(`Starting the rehearsal cell of domain ${r.domain}… (its log: ${r.cell?.log || '?'})`);
+      const what = r.restarting ? 'Restarting the rehearsal cell of domain ' + r.domain + ' on the cell\'s revision'
+        : 'Starting the rehearsal cell of domain ' + r.domain;
+      say(`${what}… (its log: ${r.cell?.log || '?'})`);
       await new Promise((done) => setTimeout(done, 500));
       const cell = await rehearsalCell();
       if (cell.error) throw new Error(`the rehearsal cell of domain ${cell.domain} did not start: ${cell.error}`);
       if (cell.phase === 'ready') {
         r = await rehearseRecipe(recipe);
         if (!r.starting) return r;
-      } else if (cell.phase !== 'starting') {
+      } else if (cell.phase !== 'starting' && !(cell.phase === 'stopping' && cell.restart)) {
         throw new Error(`the rehearsal cell of domain ${cell.domain} is ${cell.phase}; see ${cell.log}`);
       }
       if (Date.now() > deadline) throw new Error(`the rehearsal cell did not come up; see ${cell.log}`);

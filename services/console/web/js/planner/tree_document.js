@@ -18,8 +18,9 @@ export const DECORATORS = {
 /// What Wrap may put around the selected node.
 export const WRAPPERS = [...Object.keys(DECORATORS), 'Sequence', 'Fallback', 'OperatorDecision'];
 const LEAVES = { skill: 'Skill', monitor: 'Monitor', condition: 'Condition' };
-/// The fields of a Screw binding's holes that the page lets the programmer type.
-const SCREW_FIELDS = ['torque_nm', 'screw_type'];
+/// The fields of a Screw binding's holes that the page lets the programmer type, each with the Screw's
+/// parameter that takes it hole by hole.
+const SCREW_FIELDS = { torque_nm: 'torque_per_hole_nm', screw_type: 'screw_type_per_hole' };
 
 /// A recipe with nothing in it yet.
 export function emptyRecipe() { return { recipe_version: 1, task_id: 'planned-task', root: null }; }
@@ -111,35 +112,21 @@ export function changedOwners(before, after) {
   const same = (a = [], b = []) => a.length === b.length && a.every((e, i) => e.pointer === b[i].pointer && e.message === b[i].message);
   return [...new Set([...before.keys(), ...after.keys()])].filter((ptr) => !same(before.get(ptr), after.get(ptr)));
 }
-/// The Screw bindings' errors: the Screw skill takes one torque (and type) for every hole, or each
-/// hole's from the world model.
-export function screwErrors(doc) {
-  const out = [];
-  for (const [ptr, node] of allNodes(doc)) {
-    const b = node.bindings?.holes;
-    if (!b) continue;
-    for (const f of SCREW_FIELDS) {
-      const vals = b.screws.map((s) => s[f]);
-      const fromWorld = b.screws.every((s) => s[f] === s[`world_${f}`]);
-      if (!fromWorld && new Set(vals).size > 1) {
-        out.push({ pointer: `${ptr}/bindings/holes`, message: `the Screw skill takes one ${f} for every hole, or each hole's from the world model; these differ: ${vals.join(', ')}` });
-      }
-    }
-  }
-  return out;
-}
-/// A Screw's parameters from its holes' binding: the holes' features, and one torque and type when the
-/// typed values agree (none when each hole's comes from the world model, or when they differ).
+/// A Screw's parameters from its holes' binding: the holes' features, and the typed torque and type —
+/// none when each hole's comes from the world model, one for every hole when they agree, else one per
+/// hole (`torque_per_hole_nm`, `screw_type_per_hole`).
 function applyScrews(node) {
   const b = node.bindings.holes;
   node.params = node.params || {};
   node.params.holes = b.screws.map((s) => s.feature);
-  for (const f of SCREW_FIELDS) {
-    const vals = new Set(b.screws.map((s) => s[f]));
+  for (const [f, perHole] of Object.entries(SCREW_FIELDS)) {
+    const vals = b.screws.map((s) => s[f]);
     const fromWorld = b.screws.every((s) => s[f] === s[`world_${f}`]);
-    if (fromWorld) delete node.params[f];  // the skill takes each hole's value from the world model
-    else if (vals.size === 1) node.params[f] = [...vals][0];
-    else delete node.params[f];  // flagged by screwErrors()
+    delete node.params[f];
+    delete node.params[perHole];
+    if (fromWorld) continue;  // the skill takes each hole's value from the world model
+    if (new Set(vals).size === 1) node.params[f] = vals[0];
+    else node.params[perHole] = vals;
   }
 }
 /// The recipe to send: `doc` without an empty root.
@@ -343,7 +330,7 @@ export class TreeDocument {
   setScrew(pointer, index, field, value) {
     const screws = nodeAt(this.doc, pointer)?.bindings?.holes?.screws;
     if (!screws) return { error: `no screw holes bound at ${pointer}` };
-    if (!SCREW_FIELDS.includes(field)) return { error: `a screw's ${field} is not typed: only ${SCREW_FIELDS.join(' and ')}` };
+    if (!(field in SCREW_FIELDS)) return { error: `a screw's ${field} is not typed: only ${Object.keys(SCREW_FIELDS).join(' and ')}` };
     if (!screws[index]) return { error: `no hole ${index} of ${screws.length} at ${pointer}` };
     screws[index][field] = value;
     applyScrews(nodeAt(this.doc, pointer));
