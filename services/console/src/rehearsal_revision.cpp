@@ -57,7 +57,7 @@ dds::EventLoop::TimerId RehearsalRevision::expire_after_timeout(std::uint64_t id
     auto it = pending_.find(id);
     if (it == pending_.end()) return;
     const Done late = std::move(it->second.done);
-    const bool reported = it->second.applied && it->second.sha256 == running_sha256_;
+    const bool reported = runs(it->second);
     const std::string what = reported ? "the rehearsal cell's simulator did not take the revision (it says: " +
                                             simulator_detail_ + ")"
                              : it->second.applied ? "the rehearsal world model did not report the revision it accepted"
@@ -84,6 +84,7 @@ void RehearsalRevision::take() {
     auto it = pending_.find(rep.request_id);
     if (it == pending_.end() || it->second.applied) return;
     // The same document under another text (whitespace, key order) runs already: nothing to wait for.
+    // Its report may not have reached us yet: then the revision it reports next is that document.
     if (rep.ok || rep.code == world_protocol::cell_code::kUnchanged) {
       it->second.applied = true;
       if (!rep.ok) it->second.sha256 = running_sha256_;
@@ -97,6 +98,11 @@ void RehearsalRevision::take() {
             ": " + rep.message);
   });
   settle();
+}
+
+bool RehearsalRevision::runs(const Pending& p) const {
+  if (!p.applied || running_sha256_.empty()) return false;
+  return p.sha256.empty() || p.sha256 == running_sha256_;
 }
 
 bool RehearsalRevision::simulator_refused() const {
@@ -113,7 +119,7 @@ void RehearsalRevision::forget() {
 void RehearsalRevision::settle() {
   const std::string on = "cell revision " + std::to_string(running_revision_);
   for (auto it = pending_.begin(); it != pending_.end();) {
-    if (!it->second.applied || it->second.sha256 != running_sha256_) {
+    if (!runs(it->second)) {
       ++it;
       continue;
     }

@@ -89,13 +89,15 @@ class RehearsalRevision {
   std::string simulator_detail_;        ///< what the rehearsal cell_sim last said of its cell revision
   bool simulator_seen_ = false;
   struct Pending {
-    std::string sha256;
+    std::string sha256;  ///< empty: whatever runs (the world model said the document runs already)
     std::uint64_t revision = 0;
     bool applied = false;  ///< the world model accepted it; its report on rigger/world/cell is awaited
     Done done;
     dds::EventLoop::TimerId timer = 0;
   };
   std::map<std::uint64_t, Pending> pending_;  ///< by request id
+  /// Whether `p` was accepted and its document is the one the world model reports running.
+  bool runs(const Pending& p) const;
 };
 
 }  // namespace rigger::console

@@ -100,6 +100,20 @@ TEST_F(RehearsalRevisionTest, AnAcceptedRevisionRunsOnlyOnceTheWorldModelReports
   EXPECT_EQ(seen_.size(), 1u);
 }
 
+// A freshly started rehearsal cell may answer that the document runs already (UNCHANGED) before its
+// report of that revision reached the console: the report that comes next is the one to wait for.
+TEST_F(RehearsalRevisionTest, UnchangedBeforeAnyReportRunsOnceTheRevisionIsReported) {
+  start_world_model();
+  std::optional<std::string> done;
+  revision_.bring_to(target_, "console:ada", [&](const std::string& error) { done = error; });
+  ASSERT_TRUE(loop_.run_until([&] { return !seen_.empty(); }, 5s));
+  reply(false, "UNCHANGED", "the document equals the running revision 1's");
+  EXPECT_FALSE(loop_.run_until([&] { return done.has_value(); }, 300ms)) << "nothing reported yet";
+  report("sha-of-the-same-document-as-another-text");
+  ASSERT_TRUE(loop_.run_until([&] { return done.has_value(); }, 5s));
+  EXPECT_EQ(*done, "");
+}
+
 // The simulator of the rehearsal cell follows the world model: the rehearsal runs once it says it runs on
 // the same revision, and not at all when it refused it (a revision that reshapes the crane's load: the
 // link then restarts the cell on it, rigger_rehearsal_new_load_test); forgotten for a restarted cell.
