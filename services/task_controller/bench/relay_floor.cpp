@@ -183,9 +183,12 @@ class Relay {
 
   void send(rigger_skill_SkillCommandKind kind, const std::string& executor, const std::string& task, const char* node,
             const char* skill_name, const char* params) {
-    Unanswered u{executor, task, node, skill_name, params, ++seq_, dds::wire_now()};
-    write_command(kind, u);
-    if (kind == rigger_skill_SKILL_START && answered_.count(executor) == 0) unanswered_[executor + "\t" + task] = u;
+    const std::uint64_t seq = ++seq_;
+    const rigger_geometry_Time stamp = dds::wire_now();
+    write_command(kind, executor, task, node, skill_name, params, seq, stamp);
+    // Kept (as strings) only until the executor first answers: nothing is copied on the measured path.
+    if (kind == rigger_skill_SKILL_START && answered_.count(executor) == 0)
+      unanswered_[executor + "\t" + task] = {executor, task, node, skill_name, params, seq, stamp};
   }
 
   struct Unanswered {
@@ -194,18 +197,20 @@ class Relay {
     rigger_geometry_Time stamp;
   };
 
-  void write_command(rigger_skill_SkillCommandKind kind, const Unanswered& u) {
+  void write_command(rigger_skill_SkillCommandKind kind, const std::string& executor, const std::string& task,
+                     const char* node, const char* skill_name, const char* params, std::uint64_t seq,
+                     const rigger_geometry_Time& stamp) {
     rigger_skill_SkillCommand c{};
-    c.executor_id = dds::wire_string(u.executor);
-    c.task_id = dds::wire_string(u.task);
-    c.node_id = const_cast<char*>(u.node.c_str());
-    c.skill = const_cast<char*>(u.skill.c_str());
+    c.executor_id = dds::wire_string(executor);
+    c.task_id = dds::wire_string(task);
+    c.node_id = const_cast<char*>(node);
+    c.skill = const_cast<char*>(skill_name);
     c.kind = kind;
-    c.params_json = const_cast<char*>(u.params.c_str());
+    c.params_json = const_cast<char*>(params);
     c.reason = const_cast<char*>("");
-    c.seq = u.seq;
-    c.stamp = u.stamp;
-    writers_.at(u.executor).write(c);
+    c.seq = seq;
+    c.stamp = stamp;
+    writers_.at(executor).write(c);
   }
 
   /// The same sample again (same seq and stamp): the executor drops it if the first one came through.
@@ -215,7 +220,9 @@ class Relay {
         it = unanswered_.erase(it);
         continue;
       }
-      write_command(rigger_skill_SKILL_START, it->second);
+      const Unanswered& u = it->second;
+      write_command(rigger_skill_SKILL_START, u.executor, u.task, u.node.c_str(), u.skill.c_str(), u.params.c_str(),
+                    u.seq, u.stamp);
       ++it;
     }
   }
