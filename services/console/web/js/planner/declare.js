@@ -9,7 +9,7 @@ import { describeChanges } from '../cell_revisions.js';
 import { DECLARE_KINDS, declareFromPicks } from './picks.js';
 
 const LABELS = { grasp_frame: 'grasp frame (a face, an edge of it for x)', approach_waypoint: 'approach waypoint (a face, a stand-off)',
-  screw_holes: 'screw holes (a hole)', insertion: 'insertion (a face of the part, then the face it mates)',
+  screw_holes: 'screw holes (a hole)', insertion: 'insertion (a face of the part, then the face it mates; a hole of each to pin them)',
   rope_attachment: 'rope attachment (a hole, or a point on a face)', marker: 'marker (a point on a face)' };
 const DICTIONARIES = ['DICT_4X4_50', 'DICT_4X4_100', 'DICT_4X4_250', 'DICT_5X5_50', 'DICT_5X5_100', 'DICT_6X6_50'];
 
