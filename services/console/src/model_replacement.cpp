@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <functional>
+#include <sstream>
 
 #include "planner.hpp"
 
@@ -36,12 +37,13 @@ bool same_signature(const json& a, const json& b) {
 
 std::string vector_text(const json& v) {
   if (!v.is_array() || v.size() != 3) return "?";
-  std::string out = "[";
-  for (std::size_t i = 0; i < 3; ++i) {
-    const double mm = v[i].is_number() ? v[i].get<double>() * 1000.0 : NAN;
-    out += (i ? ", " : "") + std::to_string(std::lround(mm * 10.0) / 10.0).substr(0, 8);
-  }
-  return out + "] mm";
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(1);
+  out << "[";
+  for (std::size_t i = 0; i < 3; ++i) out << (i ? ", " : "") << (v[i].is_number() ? v[i].get<double>() * 1000.0 : NAN);
+  out << "] mm";
+  return out.str();
 }
 
 /// "" when `ref` resolves in `features`, else why not (as cad::resolve: the index with the same signature,

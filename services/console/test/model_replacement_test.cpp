@@ -61,7 +61,7 @@ TEST(ModelReplacement, AHoleThatMovedIsDroppedWithItsPinTheRestKept) {
   EXPECT_EQ(r.kept, (std::vector<std::string>{"plate/top", "plate/m1"}));
   ASSERT_EQ(r.dropped.size(), 2u);
   EXPECT_EQ(r.dropped[0].feature, "plate/m2");
-  EXPECT_NE(r.dropped[0].why.find("hole: face 2 (cylinder at [100"), std::string::npos) << r.dropped[0].why;
+  EXPECT_NE(r.dropped[0].why.find("hole: face 2 (cylinder at [100.0, 100.0, 10.0] mm)"), std::string::npos) << r.dropped[0].why;
   EXPECT_NE(r.dropped[0].why.find("is not in the new model"), std::string::npos) << r.dropped[0].why;
   EXPECT_EQ(r.dropped[1].feature, "bracket/insertion");  // its pin is on the hole that moved
   EXPECT_EQ(plate["features"]["screw_holes"].size(), 1u);
