@@ -36,8 +36,15 @@ constexpr int kCoarseRefined = 24;
 constexpr int kFullyRefined = 5;
 // Surfaces of the image tried, largest first.
 constexpr int kSurfacesTried = 3;
+// A point of a face seen further than 70 degrees from its normal lands, moved along the part, on the
+// faces next to it at nearly their depth: no evidence of where the part ends.
+constexpr double kSquarelyFacing = 0.34;
 // A model point is seen where the depth image is within this of it.
 constexpr double kSeenM = 0.015;
+// Tracking: how far the part may have moved since its last pose, and the margin of its box within which
+// the image's points are judged (about twice the inlier distance).
+constexpr double kTrackedMoveM = 0.04;
+constexpr double kTrackedMarginM = 0.01;
 
 // The cells of one surface of the image, indexed for nearest-point search.
 struct SurfaceIndex {
@@ -132,6 +139,8 @@ struct Localizer::Impl {
   double dense_spacing_m = 0.0;  // between neighbouring dense samples
   Eigen::Vector3d centre_object_m = Eigen::Vector3d::Zero();
   double radius_m = 0.0;
+  Eigen::Vector3d box_low_m = Eigen::Vector3d::Zero();  // the part's bounding box, object frame
+  Eigen::Vector3d box_high_m = Eigen::Vector3d::Zero();
   std::vector<Eigen::Isometry3d> symmetries;  // object frame, identity first
   std::vector<Eigen::Matrix3d> symmetry_rotations;
   std::string symmetry_note;
@@ -179,13 +188,17 @@ struct Localizer::Impl {
   }
 
   // How well the image shows the points facing the camera: +1 where it sees the point, -1 where it
-  // sees through it (farther), 0 where something nearer hides it or nothing is seen.
+  // sees through it (farther), 0 where something nearer hides it or nothing is seen. A point counts
+  // as seen only on a cell of the searched surfaces (valid: with a normal, above the support) unless
+  // `any_depth`, when any depth at the point's distance confirms it (the cells near a face's end,
+  // which have no normal, are the very ones that say where the face ends).
   static double visibility_score(const DepthGrid& grid, const SurfacePoints& points, const Eigen::Isometry3d& pose,
-                                 int* supported = nullptr, int* seen_through = nullptr) {
+                                 int* supported = nullptr, int* seen_through = nullptr, bool any_depth = false) {
     double score = 0.0;
     for (std::size_t i = 0; i < points.points_m.size(); ++i) {
       const Eigen::Vector3d p = pose * points.points_m[i];
-      if ((pose.linear() * points.normals[i]).dot(p) >= 0.0) {
+      const double facing = -(pose.linear() * points.normals[i]).dot(p);
+      if (facing <= (any_depth ? kSquarelyFacing * p.norm() : 0.0)) {
         continue;
       }
       const int cell = grid.cell_of(p);
@@ -196,7 +209,7 @@ struct Localizer::Impl {
       if (seen > p.z() + kSeenM) {
         score -= 1.0;
         seen_through && ++*seen_through;
-      } else if (seen > p.z() - kSeenM && grid.valid(cell)) {
+      } else if (seen > p.z() - kSeenM && (any_depth || grid.valid(cell))) {
         score += 1.0;
         supported && ++*supported;
       }
@@ -243,8 +256,8 @@ struct Localizer::Impl {
           continue;  // facing away: the camera cannot see it
         }
         int cell = grid.cell_of(p);
-        if (cell < 0) {
-          continue;
+        if (cell < 0 || !std::isfinite(grid.seen_z(cell))) {
+          continue;  // out of view, or nothing seen there: no evidence either way
         }
         if (nearest) {
           // No test of what hides the point: a grazing face off by a centimetre along its normal is
@@ -264,9 +277,14 @@ struct Localizer::Impl {
           continue;  // hidden behind another surface, or a different face
         }
         Eigen::Matrix<double, 6, 1> row;
-        row << p.cross(nq), nq;
+        // Paired with the nearest point, against the model's plane: the model's normal is exact, the
+        // image's is the difference of noisy depths a few pixels apart (millimetres of noise at a metre
+        // and a half) and would tilt the pose. Paired along the ray (from further off), against the
+        // image's: its plane stops a point on the wrong face from dragging the pose along it.
+        const Eigen::Vector3d& plane = nearest ? n : nq;
+        row << p.cross(plane), plane;
         a += row * row.transpose();
-        b -= row * nq.dot(p - q);
+        b -= row * plane.dot(p - q);
         if (nearest) {
           // A little point-to-point as well: where only two faces are seen, nothing in their planes
           // stops the part sliding along their edge, but the points past the end of a face pull back.
@@ -303,6 +321,9 @@ struct Localizer::Impl {
   // the offset whose camera-facing points the image sees best: points past the end of a face are
   // seen through, so only the true offset (the middle of a plateau that the image's eroded edges
   // leave) has none.
+  // Every point with depth at its distance counts as seen (not only the cells with a normal):
+  // otherwise a face's last few millimetres, where the normals end, weigh the same as the holes past
+  // its end, and the plateau, so the pose, reaches into the holes of a face seen edge-on.
   Eigen::Isometry3d slide(const DepthGrid& grid, const Eigen::Isometry3d& pose,
                           const Eigen::Matrix3d& information) const {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(information);
@@ -316,7 +337,7 @@ struct Localizer::Impl {
     int last_best = 0;
     for (int i = -steps; i <= steps; ++i) {
       const Eigen::Isometry3d moved = Eigen::Translation3d(i * kSlideStepM * direction) * pose;
-      const double score = visibility_score(grid, model, moved);
+      const double score = visibility_score(grid, model, moved, nullptr, nullptr, true);
       if (score > best + 0.5) {
         best = score;
         first_best = last_best = i;
@@ -430,6 +451,29 @@ struct Localizer::Impl {
     }
   }
 
+  // The cells of `surfaces` inside the part's bounding box at `pose_camera_object` grown by `margin_m`:
+  // what a tracked part is judged on, whatever touches it (the load set down on the target).
+  Surface cropped(const DepthGrid& grid, const std::vector<Surface>& surfaces, const Eigen::Isometry3d& pose_camera_object,
+                  double margin_m) const {
+    const Eigen::Isometry3d object_camera = pose_camera_object.inverse();
+    const Eigen::Vector3d low = box_low_m.array() - margin_m;
+    const Eigen::Vector3d high = box_high_m.array() + margin_m;
+    Surface out;
+    for (const Surface& surface : surfaces) {
+      for (const int cell : surface.cells) {
+        const Eigen::Vector3d p = object_camera * grid.point(cell);
+        if ((p.array() >= low.array()).all() && (p.array() <= high.array()).all()) {
+          out.cells.push_back(cell);
+          out.centroid_m += grid.point(cell);
+        }
+      }
+    }
+    if (!out.cells.empty()) {
+      out.centroid_m /= static_cast<double>(out.cells.size());
+    }
+    return out;
+  }
+
   // The symmetric equivalent nearest the prior, or without one nearest the world axes.
   Eigen::Isometry3d canonical(const Eigen::Isometry3d& pose_world_object,
                               const std::optional<Eigen::Isometry3d>& prior) const {
@@ -479,6 +523,11 @@ Localizer::Localizer(const Mesh& mesh, LocalizeOptions options) : impl_(std::mak
     impl_->radius_m = std::max(impl_->radius_m, (p - impl_->centre_object_m).norm());
   }
   impl_->radius_m += 0.01;
+  impl_->box_low_m = impl_->box_high_m = impl_->dense.points_m.front();
+  for (const Eigen::Vector3d& p : impl_->dense.points_m) {
+    impl_->box_low_m = impl_->box_low_m.cwiseMin(p);
+    impl_->box_high_m = impl_->box_high_m.cwiseMax(p);
+  }
   impl_->find_symmetries();
 }
 
@@ -517,15 +566,29 @@ LocalizeResult Localizer::localize(const DepthFrame& frame,
   std::vector<Fit> fits;
   if (prior_world_object) {
     const Eigen::Isometry3d start_pose = camera_world * *prior_world_object;
-    // Finished and judged on the surface nearest the prior's centre.
-    const Eigen::Vector3d centre = start_pose * impl_->centre_object_m;
-    const auto surface = std::min_element(surfaces.begin(), surfaces.end(), [&](const Surface& a, const Surface& b) {
-      return (a.centroid_m - centre).norm() < (b.centroid_m - centre).norm();
-    });
-    const SurfaceIndex nearest(grid, *surface);
-    const Fit fit = impl_->evaluate(grid, surface->cells, impl_->finish(grid, nearest, start_pose));
-    if (impl_->acceptable(fit)) {
-      fits.push_back(fit);
+    if (impl_->options.search_when_prior_fails) {
+      // Finished and judged on the surface nearest the prior's centre.
+      const Eigen::Vector3d centre = start_pose * impl_->centre_object_m;
+      const auto surface = std::min_element(surfaces.begin(), surfaces.end(), [&](const Surface& a, const Surface& b) {
+        return (a.centroid_m - centre).norm() < (b.centroid_m - centre).norm();
+      });
+      const SurfaceIndex nearest(grid, *surface);
+      const Fit fit = impl_->evaluate(grid, surface->cells, impl_->finish(grid, nearest, start_pose));
+      if (impl_->acceptable(fit)) {
+        fits.push_back(fit);
+      }
+    } else {
+      // Tracking: refined on what lies within the part's box near the last pose (as far as it may have
+      // moved), judged on what lies within it at the pose found; a refused fit is reported as such.
+      const Surface region = impl_->cropped(grid, surfaces, start_pose, kTrackedMoveM);
+      if (static_cast<int>(region.cells.size()) < impl_->options.min_supporting_points) {
+        return finish(LocalizeStatus::kNotFound, "only " + std::to_string(region.cells.size()) +
+                                                     " points of the image within the part's box near its last pose");
+      }
+      const SurfaceIndex nearest(grid, region);
+      const Eigen::Isometry3d pose = impl_->finish(grid, nearest, start_pose);
+      const Surface judged = impl_->cropped(grid, {region}, pose, kTrackedMarginM);
+      fits.push_back(impl_->evaluate(grid, judged.cells, pose));
     }
   }
   if (fits.empty()) {

@@ -314,5 +314,35 @@ TEST_F(MarkerlessLocalizeTest, RefinesFromAPriorAndReportsTheEquivalentNearestIt
   EXPECT_GT(result.inlier_ratio, 0.7);
 }
 
+TEST_F(MarkerlessLocalizeTest, TrackingJudgesThePartInItsOwnBoxWhatEverTouchesIt) {
+  // The load on the table with the table kept (no support height): one connected surface, table and load.
+  // From a prior, the localizer judges that surface and refuses; tracking judges what lies in the load's
+  // box and finds it; tracking from a prior far off refuses, and never searches the image instead.
+  Cell cell = make_cell(kLoad);
+  ASSERT_TRUE(cell.model);
+  auto camera = make_camera(cell);
+  RIGGER_REQUIRE_OR_SKIP(camera != nullptr, gl_error_);
+  const Eigen::Isometry3d truth = Eigen::Translation3d(0.05, 0.0, kTableTopM + 0.1) *
+                                  Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) * Eigen::Isometry3d::Identity();
+  cell.place(truth);
+  sim::CameraFrame frame;
+  ASSERT_EQ(camera->render(*cell.data, camera_pose(), {}, frame), sim::RenderStatus::kOk);
+  const Eigen::Isometry3d prior = Eigen::Translation3d(0.015, -0.01, 0.005) * truth *
+                                  Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ());
+  Localizer once{mesh_of(kLoad)};
+  EXPECT_NE(once.localize(frame_of(frame.depth_m), prior).status, LocalizeStatus::kFound);
+  LocalizeOptions tracking;
+  tracking.search_when_prior_fails = false;
+  Localizer tracker(mesh_of(kLoad), tracking);
+  const LocalizeResult found = tracker.localize(frame_of(frame.depth_m), prior);
+  ASSERT_EQ(found.status, LocalizeStatus::kFound) << found.message;
+  const auto [mm, deg] = errors(tracker, found.pose_world_object, truth, Eigen::Vector3d::Zero());
+  EXPECT_LT(mm, 5.0);  // the table under it pulls at its bottom edge: within the insertion's 5 mm
+  EXPECT_LT(deg, 0.5);
+  const Eigen::Isometry3d far = Eigen::Translation3d(0.3, 0.0, 0.0) * truth;
+  const LocalizeResult lost = tracker.localize(frame_of(frame.depth_m), far);
+  EXPECT_NE(lost.status, LocalizeStatus::kFound) << "tracking does not search the image for a part it lost";
+}
+
 }  // namespace
 }  // namespace rigger::perception
