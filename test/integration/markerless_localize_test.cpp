@@ -140,7 +140,8 @@ TEST_F(MarkerlessLocalizeTest, LocalizeByModelStoresAPoseWithinFiveMillimetresAn
   for (const auto& [object, truth] : truths) {
     const std::optional<Event> e = localize(object);
     ASSERT_TRUE(e) << object << ": Localize did not end\n" << cell_.logs();
-    std::cout << object << ": " << e->code << " " << e->message << "\n";
+    std::cout << object << ": " << e->code << " " << e->message << " (truth at " << truth.translation().transpose()
+              << " m)\n";
     if (e->kind == rigger_skill_SKILL_EVENT_SUCCESS) {
       expect_near(object, truth);
       continue;

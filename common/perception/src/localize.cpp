@@ -41,10 +41,10 @@ constexpr int kSurfacesTried = 3;
 constexpr double kSquarelyFacing = 0.34;
 // A model point is seen where the depth image is within this of it.
 constexpr double kSeenM = 0.015;
-// Tracking: how far the part may have moved since its last pose, and the margin of its box within which
-// the image's points are judged (about twice the inlier distance).
-constexpr double kTrackedMoveM = 0.04;
-constexpr double kTrackedMarginM = 0.01;
+// With a prior: how far the part may be from it (its box grown by this holds the points it is refined
+// on), and the margin of its box within which the image's points are judged (twice the inlier distance).
+constexpr double kPriorOffM = 0.04;
+constexpr double kJudgedMarginM = 0.01;
 
 // The cells of one surface of the image, indexed for nearest-point search.
 struct SurfaceIndex {
@@ -566,32 +566,23 @@ LocalizeResult Localizer::localize(const DepthFrame& frame,
   std::vector<Fit> fits;
   if (prior_world_object) {
     const Eigen::Isometry3d start_pose = camera_world * *prior_world_object;
-    if (impl_->options.search_when_prior_fails) {
-      // Finished and judged on the surface nearest the prior's centre.
-      const Eigen::Vector3d centre = start_pose * impl_->centre_object_m;
-      const auto surface = std::min_element(surfaces.begin(), surfaces.end(), [&](const Surface& a, const Surface& b) {
-        return (a.centroid_m - centre).norm() < (b.centroid_m - centre).norm();
-      });
-      const SurfaceIndex nearest(grid, *surface);
-      const Fit fit = impl_->evaluate(grid, surface->cells, impl_->finish(grid, nearest, start_pose));
-      if (impl_->acceptable(fit)) {
-        fits.push_back(fit);
-      }
-    } else {
-      // Tracking: refined on what lies within the part's box near the last pose (as far as it may have
-      // moved), judged on what lies within it at the pose found; a refused fit is reported as such.
-      const Surface region = impl_->cropped(grid, surfaces, start_pose, kTrackedMoveM);
-      if (static_cast<int>(region.cells.size()) < impl_->options.min_supporting_points) {
-        return finish(LocalizeStatus::kNotFound, "only " + std::to_string(region.cells.size()) +
-                                                     " points of the image within the part's box near its last pose");
-      }
+    // Refined on what lies within the part's box near the prior (as far as it may be off), judged on
+    // what lies within it at the pose found: not on a connected surface, which may hold more than the
+    // part (the rope it hangs from, the part it stands on) or less (a face cut off by a hole).
+    const Surface region = impl_->cropped(grid, surfaces, start_pose, kPriorOffM);
+    if (static_cast<int>(region.cells.size()) >= impl_->options.min_supporting_points) {
       const SurfaceIndex nearest(grid, region);
       const Eigen::Isometry3d pose = impl_->finish(grid, nearest, start_pose);
-      const Surface judged = impl_->cropped(grid, {region}, pose, kTrackedMarginM);
+      const Surface judged = impl_->cropped(grid, {region}, pose, kJudgedMarginM);
+      // Refused, it is what a search is judged against, and reported if nothing better is found.
       fits.push_back(impl_->evaluate(grid, judged.cells, pose));
+    } else if (!impl_->options.search_when_prior_fails) {
+      return finish(LocalizeStatus::kNotFound, "only " + std::to_string(region.cells.size()) +
+                                                   " points of the image within the part's box near its last pose");
     }
   }
-  if (fits.empty()) {
+  const bool prior_fits = !fits.empty() && impl_->acceptable(fits.front());
+  if (!prior_fits && (!prior_world_object || impl_->options.search_when_prior_fails)) {
     int tried = 0;
     for (const Surface& surface : surfaces) {
       // A surface wider than the part is not the part alone (the support, or parts touching).
@@ -601,7 +592,7 @@ LocalizeResult Localizer::localize(const DepthFrame& frame,
       ++tried;
       impl_->search(grid, surface, fits);
     }
-    if (tried == 0) {
+    if (tried == 0 && fits.empty()) {
       return finish(LocalizeStatus::kNotFound, "every connected surface in the image is wider than the part (" +
                                                    std::to_string(surfaces.front().radius_m) + " m from its centre)");
     }
@@ -609,7 +600,12 @@ LocalizeResult Localizer::localize(const DepthFrame& frame,
   if (fits.empty()) {
     return finish(LocalizeStatus::kNotFound, "no pose hypothesis for the part in the depth image");
   }
-  std::sort(fits.begin(), fits.end(), [](const Fit& a, const Fit& b) { return a.score > b.score; });
+  // Acceptable fits first, then by score: a refused one is reported only when none passes.
+  std::sort(fits.begin(), fits.end(), [this](const Fit& a, const Fit& b) {
+    const bool a_ok = impl_->acceptable(a);
+    const bool b_ok = impl_->acceptable(b);
+    return a_ok != b_ok ? a_ok : a.score > b.score;
+  });
   const Fit& best = fits.front();
   result.pose_world_object = impl_->canonical(frame.pose_world_camera * best.pose_camera_object, prior_world_object);
   result.rms_m = best.rms_m;

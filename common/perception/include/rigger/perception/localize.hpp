@@ -68,9 +68,10 @@ struct LocalizeOptions {
   int min_supporting_points = 150;
   /// With a prior whose refinement does not fit: search the whole image (true), or report that fit's
   /// refusal (false: tracking from the last pose, where a pose far from it is no track and a search
-  /// would cost several frames' time). When false, the fit is also refined on the image's points within
-  /// the part's box (grown by 4 cm) at the prior and judged on those within it (grown by 1 cm) at the pose
-  /// found, not on a connected surface: a part set down on another is judged alone.
+  /// would cost several frames' time). Either way a fit from a prior is refined on the image's points
+  /// within the part's box (grown by 4 cm) at the prior and judged on those within it (grown by 1 cm) at
+  /// the pose found, not on a connected surface: a part set down on another, or hanging from a rope, is
+  /// judged alone.
   bool search_when_prior_fails = true;
 };
 
