@@ -110,26 +110,6 @@ std::vector<Eigen::Matrix3d> orientation_samples() {
 
 }  // namespace
 
-const char* to_string(LocalizeStatus status) {
-  switch (status) {
-    case LocalizeStatus::kFound:
-      return "FOUND";
-    case LocalizeStatus::kNotFound:
-      return "NOT_FOUND";
-    case LocalizeStatus::kAmbiguous:
-      return "AMBIGUOUS";
-    case LocalizeStatus::kLowFit:
-      return "LOW_FIT";
-    case LocalizeStatus::kBadDepth:
-      return "BAD_DEPTH";
-    case LocalizeStatus::kNoVisibleSurface:
-      return "NO_VISIBLE_SURFACE";
-    case LocalizeStatus::kBadMesh:
-      return "BAD_MESH";
-  }
-  return "UNKNOWN";
-}
-
 struct Localizer::Impl {
   LocalizeOptions options;
   SurfacePoints model;   // refinement and the model-side check
@@ -188,10 +168,8 @@ struct Localizer::Impl {
   }
 
   // How well the image shows the points facing the camera: +1 where it sees the point, -1 where it
-  // sees through it (farther), 0 where something nearer hides it or nothing is seen. A point counts
-  // as seen only on a cell of the searched surfaces (valid: with a normal, above the support) unless
-  // `any_depth`, when any depth at the point's distance confirms it (the cells near a face's end,
-  // which have no normal, are the very ones that say where the face ends).
+  // sees through it (farther), 0 where something nearer hides it or nothing is seen. Seen: on a valid
+  // cell (a normal, above the support), or with `any_depth` on any depth at the point's distance.
   static double visibility_score(const DepthGrid& grid, const SurfacePoints& points, const Eigen::Isometry3d& pose,
                                  int* supported = nullptr, int* seen_through = nullptr, bool any_depth = false) {
     double score = 0.0;
@@ -321,9 +299,8 @@ struct Localizer::Impl {
   // the offset whose camera-facing points the image sees best: points past the end of a face are
   // seen through, so only the true offset (the middle of a plateau that the image's eroded edges
   // leave) has none.
-  // Every point with depth at its distance counts as seen (not only the cells with a normal):
-  // otherwise a face's last few millimetres, where the normals end, weigh the same as the holes past
-  // its end, and the plateau, so the pose, reaches into the holes of a face seen edge-on.
+  // Any depth at a point's distance counts (not only cells with a normal): else a face's last millimetres,
+  // where normals end, weigh as the holes past its end, and the plateau reaches into a grazing face's holes.
   Eigen::Isometry3d slide(const DepthGrid& grid, const Eigen::Isometry3d& pose,
                           const Eigen::Matrix3d& information) const {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(information);
@@ -451,27 +428,11 @@ struct Localizer::Impl {
     }
   }
 
-  // The cells of `surfaces` inside the part's bounding box at `pose_camera_object` grown by `margin_m`:
-  // what a tracked part is judged on, whatever touches it (the load set down on the target).
+  // The image's points within the part's box at `pose_camera_object` grown by `margin_m`.
   Surface cropped(const DepthGrid& grid, const std::vector<Surface>& surfaces, const Eigen::Isometry3d& pose_camera_object,
                   double margin_m) const {
-    const Eigen::Isometry3d object_camera = pose_camera_object.inverse();
-    const Eigen::Vector3d low = box_low_m.array() - margin_m;
-    const Eigen::Vector3d high = box_high_m.array() + margin_m;
-    Surface out;
-    for (const Surface& surface : surfaces) {
-      for (const int cell : surface.cells) {
-        const Eigen::Vector3d p = object_camera * grid.point(cell);
-        if ((p.array() >= low.array()).all() && (p.array() <= high.array()).all()) {
-          out.cells.push_back(cell);
-          out.centroid_m += grid.point(cell);
-        }
-      }
-    }
-    if (!out.cells.empty()) {
-      out.centroid_m /= static_cast<double>(out.cells.size());
-    }
-    return out;
+    return detail::within_box(grid, surfaces, pose_camera_object.inverse(), box_low_m.array() - margin_m,
+                              box_high_m.array() + margin_m);
   }
 
   // The symmetric equivalent nearest the prior, or without one nearest the world axes.
