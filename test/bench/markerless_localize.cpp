@@ -37,7 +37,7 @@
 namespace {
 
 using namespace rigger;
-constexpr int kPoses = 40;
+constexpr int kPoses = 50;
 constexpr double kWrongM = 0.010;
 constexpr double kWrongDeg = 2.0;
 
@@ -196,6 +196,11 @@ PartFigures run_part(const std::string& name, const std::filesystem::path& cell_
           localizer.localize(id, depth, with_prior ? std::optional<Eigen::Isometry3d>(prior) : std::nullopt);
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       if (!r.found() && std::getenv("RIGGER_BENCH_VERBOSE")) std::fprintf(stderr, "%s %d %s: %s\n", name.c_str(), i, r.status.c_str(), r.detail.c_str());
+      if (r.found() && std::getenv("RIGGER_BENCH_VERBOSE")) {
+        const Eigen::Vector3d e = truth.linear().transpose() * (r.pose_world_object.translation() - truth.translation()) * 1e3;
+        std::fprintf(stderr, "%s %d %s found, error in the part's frame (%.1f, %.1f, %.1f) mm\n", name.c_str(), i,
+                     with_prior ? "prior" : "global", e.x(), e.y(), e.z());
+      }
       (with_prior ? figures.prior : figures.global).add(r.found(), r.status, r.pose_world_object, truth, symmetries, ms);
     }
   }

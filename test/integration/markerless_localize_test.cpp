@@ -2,13 +2,12 @@
 // (deploy/cell/simulated_cell_markerless.json) with MuJoCo and a structured-light sensor's depth noise;
 // the vision tracker answers TRACK_ONCE_MODEL from the depth image and the objects' STEP models; the
 // perception-skills executor runs Localize with method "model". What must hold on every run: Localize
-// either succeeds and the world model then holds the object's pose within 10 mm and 2 degrees of the
-// simulator's truth (decision 0024's bound of a wrong pose; the insertion wants 5 mm, which this fit does
-// not reach yet: decision 0027), or it fails with the tracker's code for a refused fit (NOT_FOUND, LOW_FIT, AMBIGUOUS)
-// and the world model still holds the object as not localized: never a wrong pose. (In this cell the
-// camera sees the hanging load and the tall target nearly edge-on from above, and the localizer refuses
-// most frames: docs/decisions/0027-localize-by-model.md.) An object without a model fails at once with
-// NO_MODEL.
+// either succeeds and the world model then holds the object's pose within 5 mm and 1 degree of the
+// simulator's truth (the insertion's tolerance; measured 2.7-3.9 mm, decision 0032), or it fails with the
+// tracker's code for a refused fit (NOT_FOUND, LOW_FIT, AMBIGUOUS) and the world model still holds the object
+// as not localized: never a wrong pose. (In this cell the camera sees the hanging load and the tall target
+// nearly edge-on from above, and the localizer refuses some frames: docs/decisions/0027-localize-by-model.md.)
+// An object without a model fails at once with NO_MODEL.
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -30,9 +29,9 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// Decision 0024's bound of a wrong pose: the markerless fit is not yet within the insertion's 5 mm here.
-constexpr double kPositionToleranceM = 0.010;
-constexpr double kRotationToleranceDeg = 2.0;
+// The insertion's tolerance.
+constexpr double kPositionToleranceM = 0.005;
+constexpr double kRotationToleranceDeg = 1.0;
 
 double angle_deg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / M_PI;
@@ -133,7 +132,7 @@ class MarkerlessLocalizeTest : public MultiProcessTest {
   std::uint64_t seq_ = 0;
 };
 
-TEST_F(MarkerlessLocalizeTest, LocalizeByModelStoresAPoseWithinTenMillimetresAndTwoDegreesOrFailsWithACode) {
+TEST_F(MarkerlessLocalizeTest, LocalizeByModelStoresAPoseWithinFiveMillimetresAndOneDegreeOrFailsWithACode) {
   ASSERT_TRUE(cell_.wait_until([&] { return truth_.count("load") != 0; }, 20s)) << "no ground truth of the load";
   // The load hangs still from the crane; the target is static (its truth is the cell file's pose).
   const std::map<std::string, Eigen::Isometry3d> truths = {
@@ -141,7 +140,8 @@ TEST_F(MarkerlessLocalizeTest, LocalizeByModelStoresAPoseWithinTenMillimetresAnd
   for (const auto& [object, truth] : truths) {
     const std::optional<Event> e = localize(object);
     ASSERT_TRUE(e) << object << ": Localize did not end\n" << cell_.logs();
-    std::cout << object << ": " << e->code << " " << e->message << "\n";
+    std::cout << object << ": " << e->code << " " << e->message << " (truth at " << truth.translation().transpose()
+              << " m)\n";
     if (e->kind == rigger_skill_SKILL_EVENT_SUCCESS) {
       expect_near(object, truth);
       continue;

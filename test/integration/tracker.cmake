@@ -1,6 +1,6 @@
 # Markerless Localize on real processes: cell_sim (MuJoCo depth with noise) on the marker-free cell file,
 # world_model, vision_tracker and the perception-skills executor; Localize with method model stores a pose
-# within 10 mm and 2 degrees of the truth or fails with a code, never a wrong pose.
+# within 5 mm and 1 degree of the truth or fails with a code, never a wrong pose.
 if(TARGET cell_sim AND TARGET world_model AND TARGET vision_tracker AND TARGET skill_executor)
   rigger_add_test(rigger_markerless_localize_test
     SOURCES markerless_localize_test.cpp

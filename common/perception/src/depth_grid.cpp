@@ -141,4 +141,22 @@ std::vector<Surface> DepthGrid::surfaces(int min_cells) const {
   return out;
 }
 
+Surface within_box(const DepthGrid& grid, const std::vector<Surface>& surfaces, const Eigen::Isometry3d& object_camera,
+                   const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+  Surface out;
+  for (const Surface& surface : surfaces) {
+    for (const int cell : surface.cells) {
+      const Eigen::Vector3d p = object_camera * grid.point(cell);
+      if ((p.array() >= low.array()).all() && (p.array() <= high.array()).all()) {
+        out.cells.push_back(cell);
+        out.centroid_m += grid.point(cell);
+      }
+    }
+  }
+  if (!out.cells.empty()) {
+    out.centroid_m /= static_cast<double>(out.cells.size());
+  }
+  return out;
+}
+
 }  // namespace rigger::perception::detail

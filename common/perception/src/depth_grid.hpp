@@ -50,4 +50,10 @@ class DepthGrid {
   std::vector<std::uint8_t> valid_;
 };
 
+/// The cells of `surfaces` whose points lie within the box [low, high] of a part's frame (`object_camera`:
+/// camera to part), with their centroid: what a part is refined on and judged on near a pose, whatever
+/// touches it.
+Surface within_box(const DepthGrid& grid, const std::vector<Surface>& surfaces, const Eigen::Isometry3d& object_camera,
+                   const Eigen::Vector3d& low, const Eigen::Vector3d& high);
+
 }  // namespace rigger::perception::detail

@@ -36,8 +36,15 @@ constexpr int kCoarseRefined = 24;
 constexpr int kFullyRefined = 5;
 // Surfaces of the image tried, largest first.
 constexpr int kSurfacesTried = 3;
+// A point of a face seen further than 70 degrees from its normal lands, moved along the part, on the
+// faces next to it at nearly their depth: no evidence of where the part ends.
+constexpr double kSquarelyFacing = 0.34;
 // A model point is seen where the depth image is within this of it.
 constexpr double kSeenM = 0.015;
+// With a prior: how far the part may be from it (its box grown by this holds the points it is refined
+// on), and the margin of its box within which the image's points are judged (twice the inlier distance).
+constexpr double kPriorOffM = 0.04;
+constexpr double kJudgedMarginM = 0.01;
 
 // The cells of one surface of the image, indexed for nearest-point search.
 struct SurfaceIndex {
@@ -103,26 +110,6 @@ std::vector<Eigen::Matrix3d> orientation_samples() {
 
 }  // namespace
 
-const char* to_string(LocalizeStatus status) {
-  switch (status) {
-    case LocalizeStatus::kFound:
-      return "FOUND";
-    case LocalizeStatus::kNotFound:
-      return "NOT_FOUND";
-    case LocalizeStatus::kAmbiguous:
-      return "AMBIGUOUS";
-    case LocalizeStatus::kLowFit:
-      return "LOW_FIT";
-    case LocalizeStatus::kBadDepth:
-      return "BAD_DEPTH";
-    case LocalizeStatus::kNoVisibleSurface:
-      return "NO_VISIBLE_SURFACE";
-    case LocalizeStatus::kBadMesh:
-      return "BAD_MESH";
-  }
-  return "UNKNOWN";
-}
-
 struct Localizer::Impl {
   LocalizeOptions options;
   SurfacePoints model;   // refinement and the model-side check
@@ -132,6 +119,8 @@ struct Localizer::Impl {
   double dense_spacing_m = 0.0;  // between neighbouring dense samples
   Eigen::Vector3d centre_object_m = Eigen::Vector3d::Zero();
   double radius_m = 0.0;
+  Eigen::Vector3d box_low_m = Eigen::Vector3d::Zero();  // the part's bounding box, object frame
+  Eigen::Vector3d box_high_m = Eigen::Vector3d::Zero();
   std::vector<Eigen::Isometry3d> symmetries;  // object frame, identity first
   std::vector<Eigen::Matrix3d> symmetry_rotations;
   std::string symmetry_note;
@@ -179,13 +168,15 @@ struct Localizer::Impl {
   }
 
   // How well the image shows the points facing the camera: +1 where it sees the point, -1 where it
-  // sees through it (farther), 0 where something nearer hides it or nothing is seen.
+  // sees through it (farther), 0 where something nearer hides it or nothing is seen. Seen: on a valid
+  // cell (a normal, above the support), or with `any_depth` on any depth at the point's distance.
   static double visibility_score(const DepthGrid& grid, const SurfacePoints& points, const Eigen::Isometry3d& pose,
-                                 int* supported = nullptr, int* seen_through = nullptr) {
+                                 int* supported = nullptr, int* seen_through = nullptr, bool any_depth = false) {
     double score = 0.0;
     for (std::size_t i = 0; i < points.points_m.size(); ++i) {
       const Eigen::Vector3d p = pose * points.points_m[i];
-      if ((pose.linear() * points.normals[i]).dot(p) >= 0.0) {
+      const double facing = -(pose.linear() * points.normals[i]).dot(p);
+      if (facing <= (any_depth ? kSquarelyFacing * p.norm() : 0.0)) {
         continue;
       }
       const int cell = grid.cell_of(p);
@@ -196,7 +187,7 @@ struct Localizer::Impl {
       if (seen > p.z() + kSeenM) {
         score -= 1.0;
         seen_through && ++*seen_through;
-      } else if (seen > p.z() - kSeenM && grid.valid(cell)) {
+      } else if (seen > p.z() - kSeenM && (any_depth || grid.valid(cell))) {
         score += 1.0;
         supported && ++*supported;
       }
@@ -243,8 +234,8 @@ struct Localizer::Impl {
           continue;  // facing away: the camera cannot see it
         }
         int cell = grid.cell_of(p);
-        if (cell < 0) {
-          continue;
+        if (cell < 0 || !std::isfinite(grid.seen_z(cell))) {
+          continue;  // out of view, or nothing seen there: no evidence either way
         }
         if (nearest) {
           // No test of what hides the point: a grazing face off by a centimetre along its normal is
@@ -264,9 +255,14 @@ struct Localizer::Impl {
           continue;  // hidden behind another surface, or a different face
         }
         Eigen::Matrix<double, 6, 1> row;
-        row << p.cross(nq), nq;
+        // Paired with the nearest point, against the model's plane: the model's normal is exact, the
+        // image's is the difference of noisy depths a few pixels apart (millimetres of noise at a metre
+        // and a half) and would tilt the pose. Paired along the ray (from further off), against the
+        // image's: its plane stops a point on the wrong face from dragging the pose along it.
+        const Eigen::Vector3d& plane = nearest ? n : nq;
+        row << p.cross(plane), plane;
         a += row * row.transpose();
-        b -= row * nq.dot(p - q);
+        b -= row * plane.dot(p - q);
         if (nearest) {
           // A little point-to-point as well: where only two faces are seen, nothing in their planes
           // stops the part sliding along their edge, but the points past the end of a face pull back.
@@ -303,6 +299,8 @@ struct Localizer::Impl {
   // the offset whose camera-facing points the image sees best: points past the end of a face are
   // seen through, so only the true offset (the middle of a plateau that the image's eroded edges
   // leave) has none.
+  // Any depth at a point's distance counts (not only cells with a normal): else a face's last millimetres,
+  // where normals end, weigh as the holes past its end, and the plateau reaches into a grazing face's holes.
   Eigen::Isometry3d slide(const DepthGrid& grid, const Eigen::Isometry3d& pose,
                           const Eigen::Matrix3d& information) const {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(information);
@@ -316,7 +314,7 @@ struct Localizer::Impl {
     int last_best = 0;
     for (int i = -steps; i <= steps; ++i) {
       const Eigen::Isometry3d moved = Eigen::Translation3d(i * kSlideStepM * direction) * pose;
-      const double score = visibility_score(grid, model, moved);
+      const double score = visibility_score(grid, model, moved, nullptr, nullptr, true);
       if (score > best + 0.5) {
         best = score;
         first_best = last_best = i;
@@ -430,6 +428,13 @@ struct Localizer::Impl {
     }
   }
 
+  // The image's points within the part's box at `pose_camera_object` grown by `margin_m`.
+  Surface cropped(const DepthGrid& grid, const std::vector<Surface>& surfaces, const Eigen::Isometry3d& pose_camera_object,
+                  double margin_m) const {
+    return detail::within_box(grid, surfaces, pose_camera_object.inverse(), box_low_m.array() - margin_m,
+                              box_high_m.array() + margin_m);
+  }
+
   // The symmetric equivalent nearest the prior, or without one nearest the world axes.
   Eigen::Isometry3d canonical(const Eigen::Isometry3d& pose_world_object,
                               const std::optional<Eigen::Isometry3d>& prior) const {
@@ -479,6 +484,11 @@ Localizer::Localizer(const Mesh& mesh, LocalizeOptions options) : impl_(std::mak
     impl_->radius_m = std::max(impl_->radius_m, (p - impl_->centre_object_m).norm());
   }
   impl_->radius_m += 0.01;
+  impl_->box_low_m = impl_->box_high_m = impl_->dense.points_m.front();
+  for (const Eigen::Vector3d& p : impl_->dense.points_m) {
+    impl_->box_low_m = impl_->box_low_m.cwiseMin(p);
+    impl_->box_high_m = impl_->box_high_m.cwiseMax(p);
+  }
   impl_->find_symmetries();
 }
 
@@ -517,18 +527,23 @@ LocalizeResult Localizer::localize(const DepthFrame& frame,
   std::vector<Fit> fits;
   if (prior_world_object) {
     const Eigen::Isometry3d start_pose = camera_world * *prior_world_object;
-    // Finished and judged on the surface nearest the prior's centre.
-    const Eigen::Vector3d centre = start_pose * impl_->centre_object_m;
-    const auto surface = std::min_element(surfaces.begin(), surfaces.end(), [&](const Surface& a, const Surface& b) {
-      return (a.centroid_m - centre).norm() < (b.centroid_m - centre).norm();
-    });
-    const SurfaceIndex nearest(grid, *surface);
-    const Fit fit = impl_->evaluate(grid, surface->cells, impl_->finish(grid, nearest, start_pose));
-    if (impl_->acceptable(fit)) {
-      fits.push_back(fit);
+    // Refined on what lies within the part's box near the prior (as far as it may be off), judged on
+    // what lies within it at the pose found: not on a connected surface, which may hold more than the
+    // part (the rope it hangs from, the part it stands on) or less (a face cut off by a hole).
+    const Surface region = impl_->cropped(grid, surfaces, start_pose, kPriorOffM);
+    if (static_cast<int>(region.cells.size()) >= impl_->options.min_supporting_points) {
+      const SurfaceIndex nearest(grid, region);
+      const Eigen::Isometry3d pose = impl_->finish(grid, nearest, start_pose);
+      const Surface judged = impl_->cropped(grid, {region}, pose, kJudgedMarginM);
+      // Refused, it is what a search is judged against, and reported if nothing better is found.
+      fits.push_back(impl_->evaluate(grid, judged.cells, pose));
+    } else if (!impl_->options.search_when_prior_fails) {
+      return finish(LocalizeStatus::kNotFound, "only " + std::to_string(region.cells.size()) +
+                                                   " points of the image within the part's box near its last pose");
     }
   }
-  if (fits.empty()) {
+  const bool prior_fits = !fits.empty() && impl_->acceptable(fits.front());
+  if (!prior_fits && (!prior_world_object || impl_->options.search_when_prior_fails)) {
     int tried = 0;
     for (const Surface& surface : surfaces) {
       // A surface wider than the part is not the part alone (the support, or parts touching).
@@ -538,7 +553,7 @@ LocalizeResult Localizer::localize(const DepthFrame& frame,
       ++tried;
       impl_->search(grid, surface, fits);
     }
-    if (tried == 0) {
+    if (tried == 0 && fits.empty()) {
       return finish(LocalizeStatus::kNotFound, "every connected surface in the image is wider than the part (" +
                                                    std::to_string(surfaces.front().radius_m) + " m from its centre)");
     }
@@ -546,7 +561,12 @@ LocalizeResult Localizer::localize(const DepthFrame& frame,
   if (fits.empty()) {
     return finish(LocalizeStatus::kNotFound, "no pose hypothesis for the part in the depth image");
   }
-  std::sort(fits.begin(), fits.end(), [](const Fit& a, const Fit& b) { return a.score > b.score; });
+  // Acceptable fits first, then by score: a refused one is reported only when none passes.
+  std::sort(fits.begin(), fits.end(), [this](const Fit& a, const Fit& b) {
+    const bool a_ok = impl_->acceptable(a);
+    const bool b_ok = impl_->acceptable(b);
+    return a_ok != b_ok ? a_ok : a.score > b.score;
+  });
   const Fit& best = fits.front();
   result.pose_world_object = impl_->canonical(frame.pose_world_camera * best.pose_camera_object, prior_world_object);
   result.rms_m = best.rms_m;

@@ -169,6 +169,12 @@ double percentile(std::vector<double> values, double fraction) {
   return values[static_cast<std::size_t>(std::ceil(fraction * values.size())) - 1];
 }
 
+const std::vector<PartBox> kLoad = {{Eigen::Vector3d::Zero(), Eigen::Vector3d(0.20, 0.15, 0.10)}};
+// A bracket: a 200 x 120 x 20 mm plate with a 20 mm upright 100 mm tall along one short edge;
+// frame at the plate's bottom centre.
+const std::vector<PartBox> kBracket = {{Eigen::Vector3d(0.0, 0.0, 0.01), Eigen::Vector3d(0.10, 0.06, 0.01)},
+                                       {Eigen::Vector3d(-0.09, 0.0, 0.07), Eigen::Vector3d(0.01, 0.06, 0.05)}};
+
 class MarkerlessLocalizeTest : public ::testing::Test {
  protected:
   std::unique_ptr<sim::MujocoCamera> make_camera(const Cell& cell) {
@@ -238,14 +244,23 @@ class MarkerlessLocalizeTest : public ::testing::Test {
     RecordProperty("rotation_p95_deg", std::to_string(percentile(rotation_deg, 0.95)));
   }
 
+  /// The depth image of the demo load at `truth` on the table; empty (gl_error_ set) without OpenGL.
+  cv::Mat load_depth(const Eigen::Isometry3d& truth) {
+    Cell cell = make_cell(kLoad);
+    auto camera = cell.model ? make_camera(cell) : nullptr;
+    if (camera == nullptr) {
+      return {};
+    }
+    cell.place(truth);
+    sim::CameraFrame frame;
+    if (camera->render(*cell.data, camera_pose(), {}, frame) != sim::RenderStatus::kOk) {
+      ADD_FAILURE() << "rendering failed";
+    }
+    return frame.depth_m;
+  }
+
   std::string gl_error_;
 };
-
-const std::vector<PartBox> kLoad = {{Eigen::Vector3d::Zero(), Eigen::Vector3d(0.20, 0.15, 0.10)}};
-// A bracket: a 200 x 120 x 20 mm plate with a 20 mm upright 100 mm tall along one short edge;
-// frame at the plate's bottom centre.
-const std::vector<PartBox> kBracket = {{Eigen::Vector3d(0.0, 0.0, 0.01), Eigen::Vector3d(0.10, 0.06, 0.01)},
-                                       {Eigen::Vector3d(-0.09, 0.0, 0.07), Eigen::Vector3d(0.01, 0.06, 0.05)}};
 
 TEST_F(MarkerlessLocalizeTest, ReportsNoWrongPoseOfTheDemoLoadAtFiftyPoses) {
   check_accuracy("demo load", kLoad, 0.10, Eigen::Vector3d::Zero(), 36);
@@ -289,15 +304,11 @@ TEST_F(MarkerlessLocalizeTest, APartOutOfViewIsAFailureCodeNeverAPose) {
 }
 
 TEST_F(MarkerlessLocalizeTest, RefinesFromAPriorAndReportsTheEquivalentNearestIt) {
-  Cell cell = make_cell(kLoad);
-  ASSERT_TRUE(cell.model);
-  auto camera = make_camera(cell);
-  RIGGER_REQUIRE_OR_SKIP(camera != nullptr, gl_error_);
   const Eigen::Isometry3d truth = Eigen::Translation3d(0.1, 0.05, kTableTopM + 0.1) *
                                   Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) * Eigen::Isometry3d::Identity();
-  cell.place(truth);
   sim::CameraFrame frame;
-  ASSERT_EQ(camera->render(*cell.data, camera_pose(), {}, frame), sim::RenderStatus::kOk);
+  frame.depth_m = load_depth(truth);
+  RIGGER_REQUIRE_OR_SKIP(!frame.depth_m.empty(), gl_error_);
   Localizer localizer(mesh_of(kLoad), table_options());
   // The prior is 2 cm and 4 degrees off, and turned half a turn (a symmetric equivalent).
   const Eigen::Isometry3d prior =
@@ -312,6 +323,33 @@ TEST_F(MarkerlessLocalizeTest, RefinesFromAPriorAndReportsTheEquivalentNearestIt
   EXPECT_NE(result.symmetry.find("2-fold about z"), std::string::npos) << result.symmetry;
   EXPECT_LT(result.rms_m, 0.0025);
   EXPECT_GT(result.inlier_ratio, 0.7);
+}
+
+TEST_F(MarkerlessLocalizeTest, AFitFromAPriorIsJudgedInThePartsBoxAndTrackingNeverSearches) {
+  // The load on the table with the table kept (no support height): one connected surface, table and load,
+  // wider than the part, which the search from no prior refuses to take for it. From a prior the fit is
+  // judged on what lies in the load's box: found. Tracking from a prior far off refuses, and does not
+  // search the image instead.
+  const Eigen::Isometry3d truth = Eigen::Translation3d(0.05, 0.0, kTableTopM + 0.1) *
+                                  Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) * Eigen::Isometry3d::Identity();
+  sim::CameraFrame frame;
+  frame.depth_m = load_depth(truth);
+  RIGGER_REQUIRE_OR_SKIP(!frame.depth_m.empty(), gl_error_);
+  const Eigen::Isometry3d prior = Eigen::Translation3d(0.015, -0.01, 0.005) * truth *
+                                  Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ());
+  Localizer once{mesh_of(kLoad)};
+  EXPECT_NE(once.localize(frame_of(frame.depth_m)).status, LocalizeStatus::kFound);
+  const LocalizeResult found = once.localize(frame_of(frame.depth_m), prior);
+  ASSERT_EQ(found.status, LocalizeStatus::kFound) << found.message;
+  const auto [mm, deg] = errors(once, found.pose_world_object, truth, Eigen::Vector3d::Zero());
+  EXPECT_LT(mm, 5.0);  // the table under it pulls at its bottom edge: within the insertion's 5 mm
+  EXPECT_LT(deg, 0.5);
+  LocalizeOptions tracking;
+  tracking.search_when_prior_fails = false;
+  Localizer tracker(mesh_of(kLoad), tracking);
+  const Eigen::Isometry3d far = Eigen::Translation3d(0.3, 0.0, 0.0) * truth;
+  const LocalizeResult lost = tracker.localize(frame_of(frame.depth_m), far);
+  EXPECT_NE(lost.status, LocalizeStatus::kFound) << "tracking does not search the image for a part it lost";
 }
 
 }  // namespace

@@ -66,6 +66,13 @@ struct LocalizeOptions {
   /// At least this many scene points must lie on the fitted part (else the part is not seen); also
   /// the smallest connected surface of the image searched.
   int min_supporting_points = 150;
+  /// With a prior whose refinement does not fit: search the whole image (true), or report that fit's
+  /// refusal (false: tracking from the last pose, where a pose far from it is no track and a search
+  /// would cost several frames' time). Either way a fit from a prior is refined on the image's points
+  /// within the part's box (grown by 4 cm) at the prior and judged on those within it (grown by 1 cm) at
+  /// the pose found, not on a connected surface: a part set down on another, or hanging from a rope, is
+  /// judged alone.
+  bool search_when_prior_fails = true;
 };
 
 enum class LocalizeStatus {
