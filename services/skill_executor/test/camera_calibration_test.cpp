@@ -56,7 +56,7 @@ TEST(CalibrationPoses, KeepTheBoardInThePictureAndTurnItAboutMoreThanOneAxis) {
   for (const Eigen::Isometry3d& tool : poses) {
     const Eigen::Isometry3d camera_board = camera_base * tool * scene.tool_board;
     // The whole board in the picture (the arm holds it with its top row at the picture's edge).
-    for (const Eigen::Vector3d corner : {Eigen::Vector3d(-0.16, -0.16, 0), Eigen::Vector3d(0.16, -0.16, 0),
+    for (const Eigen::Vector3d& corner : {Eigen::Vector3d(-0.16, -0.16, 0), Eigen::Vector3d(0.16, -0.16, 0),
                                          Eigen::Vector3d(0.16, 0.16, 0), Eigen::Vector3d(-0.16, 0.16, 0)}) {
       const Eigen::Vector2d px = scene.camera.project(camera_board * corner);
       EXPECT_GT(px.x(), 0.0);
