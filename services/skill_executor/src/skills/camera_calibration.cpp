@@ -16,8 +16,6 @@ constexpr double kGoldenAngle = 2.39996322972865332;  // rad: successive axes ne
 constexpr double kImageMargin = 0.05;                 // of the image's width and height
 constexpr double kMaxViewAngle = 60.0 * kPi / 180.0;  // between the board's normal and the line of sight
 constexpr double kMinPairAngle = 2.0 * kPi / 180.0;
-constexpr double kCentreBox = 0.3;    // of the image's width and height, about its principal point
-constexpr double kMaxRecentre = 0.2;  // m
 constexpr int kMaxIterations = 30;
 
 // The board's four corners and its centre, in its frame.
@@ -30,34 +28,12 @@ std::array<Eigen::Vector3d, 5> board_points(double size_m) {
 bool in_view(const Eigen::Isometry3d& camera_board, const cell::CameraIntrinsics& camera, double size_m) {
   const Eigen::Vector3d to_camera = -camera_board.translation().normalized();
   if (std::acos(std::clamp(camera_board.linear().col(2).dot(to_camera), -1.0, 1.0)) > kMaxViewAngle) return false;
-  // The whole board in the picture, with a margin for a camera a degree or two off its drawing: a board
-  // partly out of it was often not found at all.
+  for (const Eigen::Vector3d& corner : board_points(size_m))
+    if ((camera_board * corner).z() <= 0.0) return false;
+  // The centre in the picture: a board partly out of it is still measured by the markers it shows.
   const double mx = kImageMargin * camera.width_px, my = kImageMargin * camera.height_px;
-  for (const Eigen::Vector3d& corner : board_points(size_m)) {
-    const Eigen::Vector3d p = camera_board * corner;
-    if (p.z() <= 0.0) return false;
-    const Eigen::Vector2d px = camera.project(p);
-    if (px.x() < mx || px.x() > camera.width_px - mx || px.y() < my || px.y() > camera.height_px - my) return false;
-  }
-  return true;
-}
-
-// `centre` (in the base) moved, at its distance from the camera, towards the middle of the picture until it
-// projects within the middle kCentreBox of it, by at most kMaxRecentre: poses about it then keep the whole
-// board in the picture, and the arm stays near where it held the board.
-Eigen::Vector3d recentred(const Eigen::Vector3d& centre, const Eigen::Isometry3d& camera_base,
-                          const cell::CameraIntrinsics& camera) {
-  const Eigen::Vector3d c = camera_base * centre;
-  if (c.z() <= 0.0) return centre;
-  const Eigen::Vector2d px = camera.project(c);
-  const double hx = kCentreBox * camera.width_px / 2.0, hy = kCentreBox * camera.height_px / 2.0;
-  const Eigen::Vector2d wanted(std::clamp(px.x(), camera.cx_px - hx, camera.cx_px + hx),
-                               std::clamp(px.y(), camera.cy_px - hy, camera.cy_px + hy));
-  const Eigen::Vector3d moved((wanted.x() - camera.cx_px) / camera.fx_px * c.z(),
-                              (wanted.y() - camera.cy_px) / camera.fy_px * c.z(), c.z());
-  Eigen::Vector3d step = camera_base.linear().transpose() * (moved - c);
-  if (step.norm() > kMaxRecentre) step *= kMaxRecentre / step.norm();
-  return centre + step;
+  const Eigen::Vector2d px = camera.project(camera_board.translation());
+  return px.x() >= mx && px.x() <= camera.width_px - mx && px.y() >= my && px.y() <= camera.height_px - my;
 }
 
 // A small change of a pose: rotation vector (rad) and translation (m), applied on the right.
@@ -102,13 +78,13 @@ nlohmann::json pose_json(const Eigen::Isometry3d& pose) {
 
 std::vector<Eigen::Isometry3d> plan_poses(const PosePlanInput& in) {
   const Eigen::Isometry3d base_board_now = in.pose_base_tool_now * in.pose_tool_board;
-  const Eigen::Isometry3d camera_base = in.pose_base_camera.inverse();
-  const Eigen::Vector3d centre = recentred(base_board_now.translation(), camera_base, in.camera);
+  const Eigen::Vector3d centre = base_board_now.translation();
   const Eigen::Vector3d to_camera = (in.pose_base_camera.translation() - centre).normalized();
   // The smallest turn that makes the board face the camera, from how the arm holds it now.
   const Eigen::Matrix3d facing =
       Eigen::Quaterniond::FromTwoVectors(base_board_now.linear().col(2), to_camera).toRotationMatrix() *
       base_board_now.linear();
+  const Eigen::Isometry3d camera_base = in.pose_base_camera.inverse();
   const Eigen::Isometry3d board_tool = in.pose_tool_board.inverse();
   std::vector<Eigen::Isometry3d> poses;
   for (int k = 0; k < 4 * in.count && static_cast<int>(poses.size()) < in.count; ++k) {

@@ -39,13 +39,13 @@ struct PosePlanInput {
   double shift_m = 0.05;   ///< how far each pose moves the board in its plane
 };
 
-/// Up to `count` tool poses (T_base_tool) about where the arm holds the board now, its centre first moved
-/// (by at most 0.2 m, at its distance from the camera) until it projects within the middle 30 % of the
-/// picture: the first turns the board to face the camera there; each further one tilts it by tilt_rad about
-/// an axis in its plane that turns by the golden angle from pose to pose, spins it by ±tilt_rad/2 about its
-/// normal and shifts it by shift_m in its plane. Poses that would put any corner of the board outside the
-/// image (a 5 % margin, the cell's camera pose and intrinsics, no distortion) or that face the camera at
-/// more than 60° are left out. Whether the arm reaches a pose is the arm's to say.
+/// Up to `count` tool poses (T_base_tool) about where the arm holds the board now: the first turns the board
+/// to face the camera where it is; each further one tilts it by tilt_rad about an axis in its plane that
+/// turns by the golden angle from pose to pose, spins it by ±tilt_rad/2 about its normal and shifts it by
+/// shift_m in its plane. Poses whose board centre would leave the image (a 5 % margin, the cell's camera pose
+/// and intrinsics, no distortion; a board partly out of the picture is measured by the markers it shows) or
+/// that face the camera at more than 60° are left out. Whether the arm reaches a
+/// pose is the arm's to say.
 std::vector<Eigen::Isometry3d> plan_poses(const PosePlanInput& in);
 
 /// How far apart the rotation axes of the relative motions between the tool poses are, in degrees: 0 when
