@@ -7,9 +7,9 @@
 ///
 /// read_cell: the running revision (the camera's drawn pose and intrinsics, the robot's base, the board's
 /// mount) and the arm's tool pose; plans up to `poses` tool poses about it (camera_calibration.hpp: the
-/// board moved towards the middle of the picture, turned to face the camera, then tilted about varied axes
-/// in its plane, spun and shifted), each with the whole board in the camera's drawn view. move: a Cartesian
-/// motion to the next pose; a pose the arm refuses as UNREACHABLE is skipped. measure: the arm's tool pose (its state after the motion) and TRACK_ONCE of the board
+/// board turned to face the camera, then tilted about varied axes in its plane, spun and shifted), each
+/// in the camera's view. move: a Cartesian motion to the next pose; a pose the arm refuses as UNREACHABLE
+/// is skipped. measure: the arm's tool pose (its state after the motion) and TRACK_ONCE of the board
 /// (robot/calibration_board, measured in the camera's frame), asked again every 2.5 s and after each image
 /// in which the board was not found, for at most view_timeout_s; a pose where it is not seen is skipped.
 /// return: the arm back where it started. solve: the camera's pose and the board's mount by least squares
