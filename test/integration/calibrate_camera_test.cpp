@@ -55,20 +55,19 @@ class CalibrateCameraProcessTest : public MultiProcessTest {
 };
 
 // What the camera's error does to the scenario when nobody calibrates it (by hand, a cell run of its own:
-// --gtest_also_run_disabled_tests): the figures are in docs/decisions (the camera's calibration acceptance).
-TEST_F(CalibrateCameraProcessTest, DISABLED_WithoutCalibrationTheScenarioMissesOrFails) {
+// --gtest_also_run_disabled_tests; figures in docs/decisions, the camera's calibration acceptance). Localize puts
+// the load and the target some 40 mm off, the magnet still takes the load, and the insertion servos on the
+// load's pose relative to the target's, both seen through the same camera: the camera's error cancels there,
+// and the load is screwed on within the 5 mm.
+TEST_F(CalibrateCameraProcessTest, DISABLED_WithoutCalibrationTheInsertionCancelsTheCameraError) {
   const auto cell = ScenarioCell::on(cell_, off_camera(false));
   ScenarioCell& s = *cell;
   ASSERT_TRUE(s.ready()) << "not every service came up";
   ASSERT_TRUE(s.submit("recipes/crane_insert.json"));
   ASSERT_TRUE(s.wait_task_end(std::chrono::minutes(4))) << "the task did not end in time: " << s.task_summary();
   print_report(s, "crane insert with the camera 20 mm / 1.5 deg off its drawing, not calibrated");
-  const auto screwed = s.insertion_error_at_start("release and retreat");
-  if (screwed)
-    std::printf("  load vs insertion pose when screwed on: %.1f mm, %.2f deg\n", screwed->first * 1e3,
-                screwed->second * 180.0 / M_PI);
-  EXPECT_TRUE(s.task_state() != rigger_task_TASK_SUCCEEDED || !screwed || screwed->first > 0.005)
-      << "the scenario succeeded within 5 mm on a camera 20 mm / 1.5 deg off its drawing";
+  ASSERT_EQ(s.task_state(), rigger_task_TASK_SUCCEEDED) << s.task_summary();
+  expect_screwed_on(s);
 }
 
 TEST_F(CalibrateCameraProcessTest, AfterCalibratingTheCameraOffItsDrawingTheScenarioSucceeds) {
