@@ -18,6 +18,8 @@ struct ScenarioSetup {
   std::string cell_file;             ///< absolute path; empty: the shipped deploy/cell/simulated_cell.json
   std::string load_id = "load";      ///< the object the crane carries and the robot inserts
   std::string target_id = "target";  ///< the object the load is inserted on
+  /// Merged into cell_sim's configuration (e.g. its camera's renderer and pose_error).
+  nlohmann::json cell_sim_patch = nlohmann::json::object();
 };
 
 /// The absolute path of the setup's cell file.

@@ -478,13 +478,11 @@ class ScenarioCell {
   void start_services(std::vector<std::string> operator_rules) {
     const std::string port = std::to_string(free_tcp_port());
     const std::string dir = cell_.log_dir();
-    if (behind_ros2_bridge_) {
-      start("cell_sim", "cell_sim",
-            {"--config", config("cell_sim", {{"ros2_driver", nlohmann::json::object()}}), "--plc-port", port});
+    nlohmann::json sim_patch = setup_.cell_sim_patch;
+    if (behind_ros2_bridge_) sim_patch["ros2_driver"] = nlohmann::json::object();
+    start("cell_sim", "cell_sim", {"--config", config("cell_sim", sim_patch), "--plc-port", port});
+    if (behind_ros2_bridge_)
       start("ros2_bridge", "ros2_bridge", {"--config", repo_file("deploy/config/ros2_bridge.json")});
-    } else {
-      start("cell_sim", "cell_sim", {"--config", config("cell_sim"), "--plc-port", port});
-    }
     start("crane_gateway", "crane_gateway", {"--config", config("crane_gateway"), "--plc-port", port});
     start("world_model", "world_model", {"--config", config("world_model"), "--db", dir + "/world_model.sqlite"});
     start("vision_tracker", "vision_tracker", {"--config", config("vision_tracker")});

@@ -39,6 +39,19 @@ void note(std::string& reason, const std::string& what, const std::string& id) {
   reason += (reason.empty() ? "" : "; ") + what + " " + id;
 }
 
+// The arm of the physics (cell_geometry's robot) by its entity id.
+constexpr const char* kPhysicsRobot = "robot";
+
+// What a revision does to the board on the arm's tool: a geom of the gripper, built with the model.
+std::string board_change(const cell::CellFile& running, const cell::CellFile& next) {
+  const cell::CellEntity* before = running.find(kPhysicsRobot);
+  const cell::CellEntity* after = next.find(kPhysicsRobot);
+  const bool had = before != nullptr && before->calibration_board.has_value();
+  const bool has = after != nullptr && after->calibration_board.has_value();
+  if (!had) return "mounts the calibration board on";
+  return has ? "changes the calibration board of" : "unmounts the calibration board from";
+}
+
 }  // namespace
 
 RevisionPlan plan_revision(const json& changes, const cell::CellFile& running, const cell::CellFile& next) {
@@ -67,6 +80,11 @@ RevisionPlan plan_revision(const json& changes, const cell::CellFile& running, c
       for (const json& key : changed.at("keys")) {
         const std::string k = key.get<std::string>();
         if (std::find(kIgnoredKeys.begin(), kIgnoredKeys.end(), k) != kIgnoredKeys.end()) continue;
+        // A board mounted or unmounted is a geom of the gripper: the model is built anew with or without it.
+        if (k == "calibration_board" && id == kPhysicsRobot) {
+          note(plan.rebuild_reason, board_change(running, next), id);
+          continue;
+        }
         if (!is_object(next.find(id))) return refuse("it changes " + k + " of the device or frame " + id + kRestart);
         if (id == load_id && k == "model")
           return refuse("it reshapes the crane's load " + id +

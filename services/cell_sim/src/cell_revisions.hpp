@@ -7,7 +7,8 @@
 ///
 /// Taken: a revision that, against the cell cell_sim runs on, moves objects, adds, removes or reshapes
 /// objects (their model, features or markers), moves a static object, changes only what the physics
-/// does not use (`localized`, `comment`, `description`, `attributes`), or moves a camera. A camera's move
+/// does not use (`localized`, `comment`, `description`, `attributes`), mounts, changes or unmounts the
+/// robot's calibration board (a geom of the gripper: the model is built anew), or moves a camera. A camera's move
 /// is a new drawing of where it is (a calibration's result): the camera itself stays where it was bolted
 /// (the start's drawing times camera/pose_error) and renders from there; only what the cell says of it
 /// changes. Refused, with the reason: one that moves any other device, changes, adds or removes a device,

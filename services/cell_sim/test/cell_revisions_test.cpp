@@ -131,21 +131,38 @@ TEST(PlanRevision, AMovedCameraIsADrawingCorrectedNotACameraMoved) {
               HasSubstr("it changes camera of the device or frame camera"));
 }
 
-// The board is drawn on the tool of a model built at start: a revision that mounts or changes it is in the
-// diff (a changed key of the robot) and cell_sim asks for a restart.
-TEST(PlanRevision, ACalibrationBoardMountedOnTheRobotIsAChangeThatNeedsARestart) {
+// The board is a geom of the gripper: a revision that mounts, changes or unmounts it (a changed key of the
+// robot) builds the model anew; any other change of the robot still asks for a restart.
+TEST(PlanRevision, ACalibrationBoardMountedOrUnmountedBuildsTheModelAnew) {
   std::ifstream in(kShipped, std::ios::binary);
-  const json running_doc = json::parse(in);
-  json next_doc = running_doc;
+  const json bare_doc = json::parse(in);
+  json board_doc = bare_doc;
   std::ifstream board(std::string(RIGGER_SOURCE_DIR) + "/test/data/calibration_board.json");
-  for (json& entity : next_doc["entities"])
+  for (json& entity : board_doc["entities"])
     if (entity["id"] == "robot") entity["calibration_board"] = json::parse(board);
-  const cell::CellFile running = shipped();
-  const cell::CellFile next = cell::cell_file_from_json(next_doc, "next");
-  const json changes = cell::diff_cells(running, running_doc, next, next_doc);
-  EXPECT_EQ(changes["changed"], json::parse(R"([{"id":"robot","keys":["calibration_board"]}])"));
-  EXPECT_THAT(plan_revision(changes, running, next).refusal,
-              HasSubstr("it changes calibration_board of the device or frame robot"));
+  const cell::CellFile bare = shipped();
+  const cell::CellFile with_board = cell::cell_file_from_json(board_doc, "with the board");
+  const json mounted = cell::diff_cells(bare, bare_doc, with_board, board_doc);
+  EXPECT_EQ(mounted["changed"], json::parse(R"([{"id":"robot","keys":["calibration_board"]}])"));
+  const RevisionPlan mount = plan_revision(mounted, bare, with_board);
+  EXPECT_EQ(mount.refusal, "");
+  EXPECT_TRUE(mount.rebuild);
+  EXPECT_EQ(mount.rebuild_reason, "mounts the calibration board on robot");
+  const RevisionPlan unmount =
+      plan_revision(cell::diff_cells(with_board, board_doc, bare, bare_doc), with_board, bare);
+  EXPECT_EQ(unmount.refusal, "");
+  EXPECT_TRUE(unmount.rebuild);
+  EXPECT_EQ(unmount.rebuild_reason, "unmounts the calibration board from robot");
+
+  json other_doc = board_doc;
+  for (json& entity : other_doc["entities"]) {
+    if (entity["id"] != "robot") continue;
+    entity["calibration_board"]["mount"]["position_m"][2] = 0.06;
+    entity["pose"]["position_m"][0] = 2.56;
+  }
+  const cell::CellFile other = cell::cell_file_from_json(other_doc, "other");
+  const RevisionPlan both = plan_revision(cell::diff_cells(with_board, board_doc, other, other_doc), with_board, other);
+  EXPECT_THAT(both.refusal, HasSubstr("it moves the device or frame robot"));
 }
 
 }  // namespace

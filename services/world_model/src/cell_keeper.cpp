@@ -68,6 +68,17 @@ json summary_of(const CellRevisionRecord& r) {
           {"changes", r.changes}};
 }
 
+// Whether a request from `client_id` comes from the skill executor `executor`: its runs' clients are
+// "<executor id>-<pid>" (skill_sdk's executor node). Such a revision may change what that executor's own runs
+// hold: the controller lets one run at a time hold a resource, so it is the run that proposes it (a calibration
+// writing the camera it claims).
+bool from_executor(const std::string& client_id, const std::string& executor) {
+  const std::size_t dash = client_id.rfind('-');
+  if (dash == std::string::npos || dash + 1 == client_id.size()) return false;
+  if (client_id.find_first_not_of("0123456789", dash + 1) != std::string::npos) return false;
+  return client_id.compare(0, dash, executor) == 0 && dash == executor.size();
+}
+
 }  // namespace
 
 CellKeeper::CellKeeper(Settings settings, Stamp now)
@@ -290,7 +301,7 @@ CellOutcome CellKeeper::propose(const std::string& text, const world_protocol::C
   }
   const std::set<std::string> touched = cell::touched_entities(changes);
   for (const HeldResource& h : held) {
-    if (touched.count(h.resource) == 0) continue;
+    if (touched.count(h.resource) == 0 || from_executor(request.client_id, h.executor)) continue;
     return {reply(false, code::kHeldByTask,
                   "\"" + h.resource + "\" is held by task " + h.task + " node " + h.node + " (skill " + h.skill +
                       " on " + h.executor + "): a revision may not move, remove or change it while the run lasts",

@@ -139,6 +139,13 @@ TEST_F(CellKeeperTest, ARevisionTouchingAHeldObjectIsRefusedUntilTheRunEnds) {
   EXPECT_EQ(out.reply.code, "HELD_BY_TASK");
   EXPECT_NE(out.reply.message.find("\"load\" is held by task t1 node insert"), std::string::npos) << out.reply.message;
   EXPECT_EQ(k.running().record.revision, 1U);
+  // The holder's own executor may (the run that holds it proposes it); an executor of a similar name may not.
+  CellRequest from_holder = request(CellOp::kApply, moved_load().dump());
+  from_holder.dry_run = true;
+  from_holder.client_id = "robot-skills-2-4711";
+  EXPECT_EQ(k.handle(from_holder, held, std::chrono::system_clock::now()).reply.code, "HELD_BY_TASK");
+  from_holder.client_id = "robot-skills-4711";
+  EXPECT_TRUE(k.handle(from_holder, held, std::chrono::system_clock::now()).reply.ok);
   out = k.handle(request(CellOp::kApply, moved_load().dump()), {}, std::chrono::system_clock::now());
   EXPECT_TRUE(out.reply.ok) << out.reply.message;
 }

@@ -71,7 +71,7 @@ const skill::SkillDescription& CalibrateCameraSkill::describe() {
             .doc("Who asked for the calibration (kept with the revision's who); riggerctl fills it."),
         params::timeout_s(30.0, "Each motion fails with TIMEOUT after this (the arm is stopped)."),
     };
-    d.resources = {"robot"};
+    d.resources = {"robot", "camera"};
     d.pausable = true;
     return d;
   }();

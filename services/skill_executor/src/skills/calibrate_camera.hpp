@@ -27,8 +27,8 @@
 ///
 /// Safe stops: the robot is stopped in move and return; the other states command nothing. Pausable: a pause
 /// stops the arm in move and return, and resume asks for the same pose again; the other states run on.
-/// Params: see describe(). Claims "robot" (the camera is not claimed: the world model refuses a revision
-/// that moves what a running skill holds).
+/// Params: see describe(). Claims "robot" and "camera" (the controller runs nothing else that needs either
+/// meanwhile; the world model lets the revision of the camera through, as it comes from the holder's executor).
 
 #include <optional>
 #include <string>
