@@ -4,6 +4,18 @@
 // Shown under the Planner's toolbar and read by the tests, which print it: the figure the Planner is
 // judged by is how little a person has to do, and how little of it is typing.
 
+/// Whether the field named `name` (its id or data-field) holds a coordinate: a position, a point, a pose
+/// or one component of one (an x, y or z, a stand-off along y). A distance along a face or out of it (an
+/// offset, a stand-off in mm) is one number with a unit, not a coordinate.
+export function isCoordinateField(name) {
+  return /position|pose|point|rpy|(^|[-_])[xyz](_m|_mm|_deg)?$|_[xyz]_(m|mm)$/.test(name || '');
+}
+
+/// The name a typed field is reported by: its id, its data-field, or its label.
+function fieldName(t) {
+  return t.id || t.dataset.field || t.getAttribute('aria-label') || t.name || '(unnamed)';
+}
+
 /// Whether typing into `t` is typing a value (a text, number or search field, or a text area).
 function typedInto(t) {
   if (t instanceof HTMLTextAreaElement) return true;
@@ -18,6 +30,7 @@ export class Effort {
     this.fieldsTyped = 0;
     this.characters = 0;
     this.typing = null;  // the field of the current stretch of typing
+    this.typedFields = [];  // the name of each field typed into, one per stretch of typing
     this.root = root;
     this.onChange = onChange;
     // Capture: a handler that re-renders the form must not hide the event from the count.
@@ -37,7 +50,10 @@ export class Effort {
       },
       input: (e) => {
         if (!typedInto(e.target)) return;
-        if (this.typing !== e.target) this.fieldsTyped += 1;
+        if (this.typing !== e.target) {
+          this.fieldsTyped += 1;
+          this.typedFields.push(fieldName(e.target));
+        }
         this.typing = e.target;
         this.characters += typeof e.data === 'string' ? e.data.length : 0;
         this.onChange(this);
@@ -50,6 +66,12 @@ export class Effort {
   /// {clicks, choices, fields_typed, characters}: what the tests print.
   counts() {
     return { clicks: this.clicks, choices: this.choices, fields_typed: this.fieldsTyped, characters: this.characters };
+  }
+
+  /// The fields typed into, in order ({name, coordinate}): a coordinate typed is what the Planner exists
+  /// to spare its programmer.
+  typed() {
+    return this.typedFields.map((name) => ({ name, coordinate: isCoordinateField(name) }));
   }
 
   /// One line for the page.
