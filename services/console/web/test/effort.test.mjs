@@ -3,7 +3,7 @@
 import assert from 'node:assert/strict';
 import { describe, it } from 'node:test';
 
-import { isCoordinateField } from '../js/planner/effort.js';
+import { isCoordinateField, isDrag } from '../js/planner/effort.js';
 
 describe('isCoordinateField', () => {
   it('names a position, a point, a pose or one component of one a coordinate', () => {
@@ -16,5 +16,13 @@ describe('isCoordinateField', () => {
       'param-tolerance_m', 'param-duration_s', 'planner-task-id', 'max_attempts', 'name', '']) {
       assert.equal(isCoordinateField(name), false, name);
     }
+  });
+});
+
+describe('isDrag', () => {
+  it('tells a drag (the 3D view orbited) from a click', () => {
+    assert.equal(isDrag([100, 100], { clientX: 100, clientY: 160 }), true);
+    assert.equal(isDrag([100, 100], { clientX: 102, clientY: 101 }), false);
+    assert.equal(isDrag(null, { clientX: 5, clientY: 5 }), false);
   });
 });
