@@ -21,13 +21,12 @@ const result = { timings_ms: {} };
 await waitForSkills(['Localize', 'AttachRobotToLoad', 'InsertVisuallyGuided', 'Screw', 'Release', 'YankMonitor', 'ForceMonitor', 'TimerMonitor']);
 result.revision_before = (await call('/api/cell')).json.cell_revision;
 
-const browser = await launchBrowser();
-try {
-  const [page, acts] = countActions(await openPlanner(browser));
-  result.timings_ms.page_ready = Date.now() - t0;
+/// The programming session on `page` (its actions counted in `acts`), from the two files to the exported
+/// recipe; what the page and the world model said goes to `result`. Pictures in round 1 only.
+async function session(page, acts, result, round) {
   const tSession = Date.now();
   const state = (fn, arg) => page.evaluate(fn, arg);
-  const picture = (name, selector) => page.locator(selector).first().screenshot({ path: path.join(ART, `new-product-${name}.png`) });
+  const picture = async (name, selector) => { if (round === 1) await page.locator(selector).first().screenshot({ path: path.join(ART, `new-product-${name}.png`) }); };
   const notice = () => page.locator('#planner-notice').innerText();
   const revisionIn = (text) => Number(/cell revision (\d+)/.exec(text)[1]);
   const gestures = await viewGestures(page);
@@ -272,7 +271,7 @@ try {
   }, asked, { timeout: 20000 });
   const errors = await page.$$eval('#planner-errors li', (lis) => lis.map((li) => li.innerText));
   check(errors.length === 0 && await page.locator('#planner-valid').count() === 1, `the page says valid: ${JSON.stringify(errors)}`);
-  await page.screenshot({ path: path.join(ART, 'new-product-4-tree.png'), fullPage: true });
+  if (round === 1) await page.screenshot({ path: path.join(ART, 'new-product-4-tree.png'), fullPage: true });
   const effort = await state(() => ({ counts: window.rigger.planner.effort.counts(), typed: window.rigger.planner.effort.typed(), shown: document.querySelector('#planner-effort').textContent }));
   result.effort = effort;
   result.actions = acts;
@@ -282,16 +281,41 @@ try {
   const coordinates = effort.typed.filter((f) => f.coordinate).map((f) => f.name);
   check(coordinates.length === 0, `no coordinate typed (typed: ${effort.typed.map((f) => f.name).join(', ')})`);
   const [download] = await Promise.all([page.waitForEvent('download'), page.click('#planner-export')]);
-  const exportedPath = path.join(ART, 'new-product.json');
+  const exportedPath = path.join(ART, `new-product-${round}.json`);
   await download.saveAs(exportedPath);
   result.exported = fs.readFileSync(exportedPath, 'utf8');
   result.screw = screw;
+  result.cell = (await call('/api/cell')).json;  // the revision the session made
+}
+
+
+const browser = await launchBrowser();
+try {
+  const [page, acts] = countActions(await openPlanner(browser));
+  result.timings_ms.page_ready = Date.now() - t0;
+  await session(page, acts, result, 1);
+  await page.close();
+
+  // --- canonical: the cell rolled back to where the session started, the same session again in a new page
+  //     gives the same recipe and the same cell document, byte for byte ---
+  const tReplay = Date.now();
+  const rollback = await call('/api/cell/revisions', { method: 'POST', body: { rollback: result.revision_before, comment: 'the new product again' } });
+  check(rollback.json?.confirmation_id, `the rollback was offered ${JSON.stringify(rollback.json)}`);
+  const rolled = await call('/api/confirm', { method: 'POST', body: { confirmation_id: rollback.json.confirmation_id } });
+  check(rolled.status < 300, `the rollback was applied ${JSON.stringify(rolled.json)}`);
+  const [again, actsAgain] = countActions(await openPlanner(browser));
+  result.replay = { timings_ms: {} };
+  await session(again, actsAgain, result.replay, 2);
+  result.timings_ms.replay = Date.now() - tReplay;
+  check(result.replay.exported === result.exported, 'the same session exports the same recipe, byte for byte');
+  check(result.replay.cell.cell_json === result.cell.cell_json && result.replay.cell.sha256 === result.cell.sha256,
+    `the same session makes the same cell document, byte for byte (sha256 ${result.cell.sha256} and ${result.replay.cell.sha256})`);
 
   // --- published: the console's cell runs it ---
-  await page.click('#planner-publish');
-  await page.waitForSelector('#confirm-yes', { state: 'visible', timeout: 20000 });
-  await page.click('#confirm-yes');
-  await page.waitForFunction(() => /Published /.test(document.body.innerText), null, { timeout: 60000 });
+  await again.click('#planner-publish');
+  await again.waitForSelector('#confirm-yes', { state: 'visible', timeout: 20000 });
+  await again.click('#confirm-yes');
+  await again.waitForFunction(() => /Published /.test(document.body.innerText), null, { timeout: 60000 });
   result.published = JSON.parse(result.exported).task_id;
   result.timings_ms.total = Date.now() - t0;
 } finally {
