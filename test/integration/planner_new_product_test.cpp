@@ -12,7 +12,9 @@
 //  - the bracket's grasp, approach (100 mm out), rope attachment (at its hole), marker and its insertion
 //    (its bottom face on the plate's top face) are served as the picks made them;
 //  - the exported recipe is canonical, names the planned objects and features, screws the six holes with the
-//    world model's per-hole torques, and the published task ran to SUCCEEDED on the console's cell.
+//    world model's per-hole torques, and the published task ran to SUCCEEDED on the console's cell;
+//  - the script itself checked that the session, replayed in a new page on the cell rolled back to where it
+//    started, exported the same recipe and made the same cell document, byte for byte.
 // The console's own cell is the scripted one (as in the planner's other tests): a physics rehearsal of the
 // new load is not part of this test.
 #include <cmath>

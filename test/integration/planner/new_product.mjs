@@ -8,7 +8,7 @@
 // screw holes (two patterns "all like this one", two torques) declared by picks, each a confirmed cell
 // revision; then the paper's tree shape built by clicks (Localize ×2, Attach ∥ Yank, Insert ∥ Force ∥
 // Timer with the back-off fallback, Screw over the six holes, Release), validated, exported and published.
-// Typed: names, screw types, torques, marker ids and sizes, a stand-off, monitor limits — never a
+// Typed: feature names, screw types, torques, marker ids and sizes, a stand-off, monitor limits — never a
 // coordinate (the page's own count says which fields were typed; a coordinate fails the script).
 // Synchronisation is on the page's state, never a sleep; a failed check exits 1. RESULT: what the page and
 // the world model said, the export, the session's count and timings.
@@ -100,14 +100,15 @@ async function session(page, acts, result, round) {
     await page.setInputFiles('#planner-import', file);
     await page.waitForFunction(() => document.querySelector('#planner-imported-summary') || document.querySelector('#planner-import-error'), null, { timeout: 60000 });
     const summary = await page.locator('#planner-imported-summary, #planner-import-error').first().innerText();
-    await page.fill('#planner-add-name', id);
+    // The name the page proposes, the file's: nothing typed.
+    await page.waitForFunction((n) => document.querySelector('#planner-add-name')?.value === n, id, { timeout: 10000 });
     await page.click('#planner-add-object');
     const added = await confirmed('#planner-notice', `^Added ${id} to the cell: cell revision \\d+`);
     await page.waitForFunction((e) => window.rigger.planner.view.parts.get(e)?.features?.faces?.length > 0, id, { timeout: 60000 });
     return { summary, added };
   };
   result.bracket_import = await add(env('BRACKET'), 'bracket');
-  check(/^new_bracket\.step: units m, 2 solids, \d+ faces, 2 holes/.test(result.bracket_import.summary), `the bracket's file: ${result.bracket_import.summary}`);
+  check(/^bracket\.step: units m, 2 solids, \d+ faces, 2 holes/.test(result.bracket_import.summary), `the bracket's file: ${result.bracket_import.summary}`);
   result.plate_import = await add(env('PLATE'), 'base_plate');
   check(/^base_plate\.step: units m, 1 solid, \d+ faces, 6 holes/.test(result.plate_import.summary), `the plate's file: ${result.plate_import.summary}`);
   await picture('1-imported', '.pview');
@@ -137,6 +138,7 @@ async function session(page, acts, result, round) {
   await clickHole('base_plate', -0.05, 0.0);
   result.holes_b = await declare('screw_holes', { name: 'b', 'screw-type': 'M16x50', torque: 80 });
   check(/base_plate\/b1, base_plate\/b2:/.test(result.holes_b), `two holes like the second: ${result.holes_b}`);
+  await picture('3-holes', '#planner-declare');
   // --- the plate's marker, where a 60 mm marker lies whole on its top face ---
   const plateTop = await planeFace('base_plate', [0, 0, 1]);
   const plateSpot = await spotOn('base_plate', plateTop.index, [[0.03, -0.08, 0], [0.02, 0.06, 0], [-0.05, -0.08, 0]], 0.035);
@@ -175,7 +177,6 @@ async function session(page, acts, result, round) {
   check(baseSpot, 'the bracket\'s base plate has room for an 80 mm marker in view');
   await clickAt('bracket', baseSpot);
   result.bracket_marker = await declare('marker', { 'marker-id': 41, 'marker-size': 80 });
-  await picture('3-declared', '.pview');
   // --- the insertion: the bracket's bottom face (from below) on the plate's top face ---
   const bracketBottom = await planeFace('bracket', [0, 0, -1]);
   // Dragged down a little at a time until the bottom face is under the pointer, as a person does.
@@ -271,7 +272,7 @@ async function session(page, acts, result, round) {
   }, asked, { timeout: 20000 });
   const errors = await page.$$eval('#planner-errors li', (lis) => lis.map((li) => li.innerText));
   check(errors.length === 0 && await page.locator('#planner-valid').count() === 1, `the page says valid: ${JSON.stringify(errors)}`);
-  if (round === 1) await page.screenshot({ path: path.join(ART, 'new-product-4-tree.png'), fullPage: true });
+  await picture('4-tree', 'section[aria-labelledby="pt"]');
   const effort = await state(() => ({ counts: window.rigger.planner.effort.counts(), typed: window.rigger.planner.effort.typed(), shown: document.querySelector('#planner-effort').textContent }));
   result.effort = effort;
   result.actions = acts;

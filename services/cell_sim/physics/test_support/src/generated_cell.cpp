@@ -303,8 +303,8 @@ NewProductModels write_new_product(const std::filesystem::path& dir) {
                                       {-0.05, 0.0, 0.007},
                                       {0.09, 0.04, 0.007}},
                                      -0.04, 0.05);
-  NewProductModels models{dir / "new_bracket.step", dir / "base_plate.step"};
-  cad::write_step(bracket, "new_bracket", models.bracket);
+  NewProductModels models{dir / "bracket.step", dir / "base_plate.step"};
+  cad::write_step(bracket, "bracket", models.bracket);
   cad::write_step(plate, "base_plate", models.plate);
   return models;
 }

@@ -74,7 +74,7 @@ class GeneratedCell {
 /// through holes of two diameters on a pattern that is not a rectangle (four of 17.5 mm on a trapezoid, two of
 /// 14 mm). The STEP files carry their units (metres) and nothing else: no feature is declared for them.
 struct NewProductModels {
-  std::filesystem::path bracket;  ///< new_bracket.step
+  std::filesystem::path bracket;  ///< bracket.step
   std::filesystem::path plate;    ///< base_plate.step
 };
 /// Writes both models into `dir` (created). Throws std::runtime_error (or cad::CadError) when one cannot be
