@@ -7,8 +7,10 @@
 // the bracket's grasp, approach, rope attachment, marker and insertion and the plate's marker and six
 // screw holes (two patterns "all like this one", two torques) declared by picks, each a confirmed cell
 // revision; then the paper's tree shape built by clicks (Localize ×2, Attach ∥ Yank, Insert ∥ Force ∥
-// Timer with the back-off fallback, Screw over the six holes, Release), validated, exported and published.
-// Typed: feature names, screw types, torques, marker ids and sizes, a stand-off, monitor limits — never a
+// Timer with the back-off fallback, Screw over the six holes, Release), validated and exported. The cell is
+// then rolled back to where the session started (by the API) and the same session in a new page must give
+// the same recipe and cell document, byte for byte; that page publishes. The objects take the names the
+// page proposes (the files'). Typed: feature names, screw types, torques, marker ids and sizes, a stand-off, monitor limits — never a
 // coordinate (the page's own count says which fields were typed; a coordinate fails the script).
 // Synchronisation is on the page's state, never a sleep; a failed check exits 1. RESULT: what the page and
 // the world model said, the export, the session's count and timings.
