@@ -143,10 +143,10 @@ async function session(page, acts, result, round) {
   await picture('3-holes', '#planner-declare');
   // --- the plate's marker, where a 60 mm marker lies whole on its top face ---
   const plateTop = await planeFace('base_plate', [0, 0, 1]);
-  const plateSpot = await spotOn('base_plate', plateTop.index, [[0.03, -0.08, 0], [0.02, 0.06, 0], [-0.05, -0.08, 0]], 0.035);
-  check(plateSpot, 'the plate\'s top face has room for a 60 mm marker in view');
+  const plateSpot = await spotOn('base_plate', plateTop.index, [[0.03, -0.08, 0], [0.02, 0.06, 0], [-0.05, -0.08, 0]], 0.045);
+  check(plateSpot, 'the plate\'s top face has room for an 80 mm marker (the size proposed) in view');
   await clickAt('base_plate', plateSpot);
-  result.plate_marker = await declare('marker', { 'marker-id': 40, 'marker-size': 60 });
+  result.plate_marker = await declare('marker', { 'marker-id': 40 });
 
   // --- the bracket: grasp and approach on its web's inner face, x along its vertical edge ---
   await page.click('[data-frame="bracket"]');
@@ -163,14 +163,14 @@ async function session(page, acts, result, round) {
     if (hit?.kind === 'edge' && hit.edge === e.index) { webEdge = { ...e, mid }; break; }
   }
   check(webEdge, `a vertical edge of the web's inner face is in view (${webEdges.length} such edges)`);
-  const frameByPicks = async (kind, fields) => {
+  const frameByPicks = async (kind, fields = {}) => {
     await clickAt('bracket', webSpot);
     const edge = await clickAt('bracket', webEdge.mid);
     check(edge.kind === 'edge' && edge.edge === webEdge.index, `picked the web's edge ${webEdge.index} (got ${edge.kind} ${edge.edge})`);
     return declare(kind, fields);
   };
-  result.grasp = await frameByPicks('grasp_frame', { name: 'grasp' });
-  result.approach = await frameByPicks('approach_waypoint', { name: 'pre_grasp', standoff: 100 });
+  result.grasp = await frameByPicks('grasp_frame');  // the name proposed: grasp
+  result.approach = await frameByPicks('approach_waypoint', { standoff: 100 });  // the name proposed: pre_grasp
   // --- its rope attachment at a hole of its base plate, its marker on the base plate's top face ---
   await clickHole('bracket', 0.06, 0.09);
   result.rope = await declare('rope_attachment');
@@ -178,7 +178,7 @@ async function session(page, acts, result, round) {
   const baseSpot = await spotOn('bracket', baseTop.index, [[0.06, 0.0, 0.03], [0.0, 0.0, 0.03], [0.1, 0.0, 0.03]], 0.045);
   check(baseSpot, 'the bracket\'s base plate has room for an 80 mm marker in view');
   await clickAt('bracket', baseSpot);
-  result.bracket_marker = await declare('marker', { 'marker-id': 41, 'marker-size': 80 });
+  result.bracket_marker = await declare('marker', { 'marker-id': 41 });
   // --- the insertion: the bracket's bottom face (from below) on the plate's top face ---
   const bracketBottom = await planeFace('bracket', [0, 0, -1]);
   // Dragged down a little at a time until the bottom face is under the pointer, as a person does.
