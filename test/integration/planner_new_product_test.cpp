@@ -15,8 +15,13 @@
 //    world model's per-hole torques, and the published task ran to SUCCEEDED on the console's cell;
 //  - the script itself checked that the session, replayed in a new page on the cell rolled back to where it
 //    started, exported the same recipe and made the same cell document, byte for byte.
-// The console's own cell is the scripted one (as in the planner's other tests): a physics rehearsal of the
-// new load is not part of this test.
+//  - Rehearse, clicked on the new product's plan, made the console start its rehearsal cell on a second
+//    domain (world model, controller and scripted executors: write_scripted_rehearsal_cell) on the new
+//    product's revision: that world model ran the revision's document (its sha256) before the controller
+//    gave the rehearsed task a status, and the page showed it SUCCEEDED.
+// The console's own cell and the rehearsal cell are scripted (as in the planner's other tests): a physics
+// rehearsal of the new load is not part of this test (docs/decisions/0031).
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -29,9 +34,11 @@
 #include "planner_test_support.hpp"
 #include "rigger/protocol/task.hpp"
 #include "rigger/protocol/task_names.hpp"
+#include "rigger/protocol/world.hpp"
 #include "rigger/sim/generated_cell.hpp"
 #include "rigger/testing/require.hpp"
-#include "world_query_support.hpp"
+#include "rigger/dds/conversions.hpp"
+#include "rigger/world_protocol/cell_protocol.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -65,7 +72,7 @@ Eigen::Isometry3d pose_of(const json& entity) {
   return t;
 }
 
-class PlannerNewProductTest : public PlannerCellTest {
+class PlannerNewProductTest : public WithRehearsalCell<PlannerCellTest> {
  protected:
   std::map<std::string, int> task_states_;
   std::unique_ptr<dds::Reader<rigger_task_TaskStatus>> status_;
@@ -81,10 +88,28 @@ TEST_F(PlannerNewProductTest, ANewProductImportedPlacedDeclaredAndProgrammedByCl
       task_states_[dds::to_string(s.task_id)] = s.state;
     });
   });
-  ASSERT_TRUE(start_planner_services());
+  // The rehearsal cell the console starts on demand, on the revision it rehearses: scripted executors.
+  const std::string script = write_scripted_rehearsal_cell(rehearsal_.log_dir(), true);
+  std::vector<std::string> seen;  // on the rehearsal domain, in order: its world model's revisions, task statuses
+  dds::Reader<rigger_world_CellRevision> revisions(rehearsal_.participant(), protocol::world::kCell);
+  dds::Reader<rigger_task_TaskStatus> statuses(rehearsal_.participant(), protocol::task::kStatus);
+  rehearsal_.loop().on_data(revisions, [&] {
+    revisions.take([&](const rigger_world_CellRevision& w, const dds_sample_info_t&) {
+      seen.push_back("revision " + world_protocol::from_wire(w).sha256);
+    });
+  });
+  rehearsal_.loop().on_data(statuses, [&] {
+    statuses.take(
+        [&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) { seen.push_back("task " + dds::to_string(s.task_id)); });
+  });
+  ASSERT_TRUE(start_planner_services(
+      {{"rehearsal_domain", rehearsal_.domain_id()},
+       {"rehearsal",
+        {{"start", {"/bin/sh", script}}, {"log_file", rehearsal_.log_dir() + "/rehearsal-cell.log"}, {"idle_stop_s", 3},
+         {"start_timeout_s", 40}, {"stop_timeout_s", 10}}}}));
   const std::string result_file = cell_.log_dir() + "/new-product-result.json";
   ASSERT_TRUE(run_browser_script("test/integration/planner/new_product.mjs", result_file, std::chrono::minutes(6),
-                                 {{"BRACKET", models.bracket.string()}, {"PLATE", models.plate.string()}}));
+                                 {{"BRACKET", models.bracket.string()}, {"PLATE", models.plate.string()}}, &rehearsal_));
   std::ifstream in(result_file);
   const json result = json::parse(in);
   const json& world = result.at("world");
@@ -103,7 +128,7 @@ TEST_F(PlannerNewProductTest, ANewProductImportedPlacedDeclaredAndProgrammedByCl
   const json& holes = world.at("base_plate").at("features").at("screw_holes");
   ASSERT_EQ(holes.size(), 6u) << holes.dump(2);
   std::map<std::string, double> torque_of;
-  std::set<std::pair<int, int>> seen;
+  std::set<std::pair<int, int>> holes_at;
   for (const json& h : holes) {
     const Eigen::Vector3d p = vec(h.at("pose").at("position_m"));
     const std::pair<int, int> mm{static_cast<int>(std::lround(p.x() * 1e3)), static_cast<int>(std::lround(p.y() * 1e3))};
@@ -112,9 +137,9 @@ TEST_F(PlannerNewProductTest, ANewProductImportedPlacedDeclaredAndProgrammedByCl
     EXPECT_EQ(h.at("screw_type"), expected.at(mm).first) << h.dump();
     EXPECT_EQ(h.at("torque_nm").get<double>(), expected.at(mm).second) << h.dump();
     torque_of["base_plate/" + h.at("id").get<std::string>()] = h.at("torque_nm").get<double>();
-    seen.insert(mm);
+    holes_at.insert(mm);
   }
-  EXPECT_EQ(seen.size(), 6u) << "two holes declared at one place";
+  EXPECT_EQ(holes_at.size(), 6u) << "two holes declared at one place";
 
   // The bracket's features as the picks made them.
   const json& bracket = world.at("bracket").at("features");
@@ -162,6 +187,17 @@ TEST_F(PlannerNewProductTest, ANewProductImportedPlacedDeclaredAndProgrammedByCl
       EXPECT_EQ(s.at("torque_nm").get<double>(), torque_of.at(feature)) << s.dump();
     }
   }
+
+  // Rehearsed on the new product's revision: the rehearsal cell's world model ran that document (sha256)
+  // before its controller gave the rehearsed task a status.
+  std::string order;
+  for (const auto& line : seen) order += line + "\n";
+  const auto revision_at = std::find(seen.begin(), seen.end(), "revision " + result.at("replay").at("cell").at("sha256").get<std::string>());
+  const auto task_at = std::find(seen.begin(), seen.end(), "task " + result.at("rehearsal").at("task_id").get<std::string>());
+  ASSERT_NE(revision_at, seen.end()) << "the rehearsal cell never ran the new product's revision\n" << order;
+  ASSERT_NE(task_at, seen.end()) << order;
+  EXPECT_LT(revision_at, task_at) << order;
+  EXPECT_EQ(result.at("rehearsal").at("state"), "SUCCEEDED");
 
   // Published: the console's cell (scripted executors) ran it to its end.
   const std::string task = result.at("published");

@@ -9,7 +9,8 @@
 // revision; then the paper's tree shape built by clicks (Localize ×2, Attach ∥ Yank, Insert ∥ Force ∥
 // Timer with the back-off fallback, Screw over the six holes, Release), validated and exported. The cell is
 // then rolled back to where the session started (by the API) and the same session in a new page must give
-// the same recipe and cell document, byte for byte; that page publishes. The objects take the names the
+// the same recipe and cell document, byte for byte; that page rehearses (the console starts its rehearsal
+// cell on the revision), goes back to the plan and publishes. The objects take the names the
 // page proposes (the files'). Typed: feature names, screw types, torques, marker ids and sizes, a stand-off, monitor limits — never a
 // coordinate (the page's own count says which fields were typed; a coordinate fails the script).
 // Synchronisation is on the page's state, never a sleep; a failed check exits 1. RESULT: what the page and
@@ -313,6 +314,20 @@ try {
   check(result.replay.exported === result.exported, 'the same session exports the same recipe, byte for byte');
   check(result.replay.cell.cell_json === result.cell.cell_json && result.replay.cell.sha256 === result.cell.sha256,
     `the same session makes the same cell document, byte for byte (sha256 ${result.cell.sha256} and ${result.replay.cell.sha256})`);
+
+  // --- rehearsed: the console starts the rehearsal cell on the new product's revision, the run is followed
+  //     to its end, then back to the plan ---
+  const tRehearse = Date.now();
+  await again.click('#planner-rehearse');
+  await again.waitForFunction(() => !document.querySelector('#rehearsal').hidden
+    || /Not rehearsed/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 90000, polling: 200 });
+  check(await again.locator('#rehearsal').isVisible(), `the rehearsal was sent once the rehearsal cell was up (${await again.locator('#planner-notice').innerText()})`);
+  await again.waitForFunction(() => window.rigger.planner.rehearsal.ended(), null, { timeout: 60000, polling: 200 });
+  result.rehearsal = { state: await again.evaluate(() => window.rigger.planner.rehearsal.state()), task_id: await again.evaluate(() => window.rigger.planner.rehearsal.taskId) };
+  result.rehearsal.cell = (await call('/api/rehearsal/cell')).json;
+  result.timings_ms.rehearsal = Date.now() - tRehearse;
+  check(result.rehearsal.state === 'SUCCEEDED', `the rehearsal ended ${result.rehearsal.state}`);
+  await again.click('#rehearsal-back');
 
   // --- published: the console's cell runs it ---
   await again.click('#planner-publish');
