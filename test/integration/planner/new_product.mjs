@@ -27,6 +27,7 @@ result.revision_before = (await call('/api/cell')).json.cell_revision;
 /// The programming session on `page` (its actions counted in `acts`), from the two files to the exported
 /// recipe; what the page and the world model said goes to `result`. Pictures in round 1 only.
 async function session(page, acts, result, round) {
+  shown = page;
   const tSession = Date.now();
   const state = (fn, arg) => page.evaluate(fn, arg);
   const picture = async (name, selector) => { if (round === 1) await page.locator(selector).first().screenshot({ path: path.join(ART, `new-product-${name}.png`) }); };
@@ -204,6 +205,12 @@ async function session(page, acts, result, round) {
     await page.click('#planner-add');
     const at = await state(() => window.rigger.planner.state.selected);
     check(at === expected, `Add ${value} put the node at ${at}, expected ${expected}`);
+    // What was added: the palette is rebuilt when an executor's announcement comes or goes (a lease
+    // missed on a loaded machine), and a choice it no longer offers falls back to its first entry.
+    const added = await state((ptr) => { let v = window.rigger.planner.state.doc; for (const k of ptr.split('/').slice(1)) v = v[k]; return v; }, at);
+    const [kind, name] = value.split(':');
+    check(kind === 'control' ? added.type === name : (added.skill || added.monitor) === name,
+      `Add ${value} added ${JSON.stringify(added).slice(0, 120)} (the palette offered ${await page.inputValue('#planner-add-kind')})`);
     return at;
   };
   const object = (param, id) => page.selectOption(`#param-${param}`, id);
@@ -293,6 +300,7 @@ async function session(page, acts, result, round) {
 }
 
 
+let shown = null;  // the page the session runs on: its picture and state go to the log folder on a failure
 const browser = await launchBrowser();
 try {
   const [page, acts] = countActions(await openPlanner(browser));
@@ -336,6 +344,13 @@ try {
   await again.waitForFunction(() => /Published /.test(document.body.innerText), null, { timeout: 60000 });
   result.published = JSON.parse(result.exported).task_id;
   result.timings_ms.total = Date.now() - t0;
+} catch (e) {
+  if (shown && !shown.isClosed()) {
+    await shown.screenshot({ path: path.join(ART, 'new-product-failed.png'), fullPage: true }).catch(() => {});
+    result.failed_at = await shown.evaluate(() => ({ selected: window.rigger.planner.state.selected,
+      drawn: window.rigger.planner.drawnRevision, form: document.querySelector('.pform')?.innerText.slice(0, 2000) })).catch((x) => String(x));
+  }
+  throw e;
 } finally {
   await closeBrowser(browser, result);
 }
