@@ -24,7 +24,7 @@ rigger_console_browser_test(rigger_planner_browser_test planner_browser_test.cpp
   console cad world_model scripted_executor task_controller)
 if(TARGET rigger_planner_browser_test)
   # The import's STEP file the repository does not ship: the generated cell's flange (OpenCascade).
-  target_link_libraries(rigger_planner_browser_test PRIVATE rigger_generated_cell)
+  target_link_libraries(rigger_planner_browser_test PRIVATE rigger_generated_cell rigger_cad_parts)
 endif()
 # The planner's acceptance: the paper's task (recipes/crane_insert.json) built in the planner by clicks and
 # CAD picks only, compared with the shipped recipe; the same services as the planner test.

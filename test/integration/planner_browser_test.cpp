@@ -15,6 +15,8 @@
 #include <nlohmann/json.hpp>
 
 #include "planner_test_support.hpp"
+#include "rigger/cad/model.hpp"
+#include "rigger/cad/parts.hpp"
 #include "rigger/sim/generated_cell.hpp"
 #include "world_query_support.hpp"
 #include "rigger/protocol/task.hpp"
@@ -193,10 +195,18 @@ TEST_F(PlannerBrowserTest, AStepFileImportedInThePlannerIsShownDrawnAndPickable)
 // Features declared by picks (planner/declare.mjs): screw holes "all like" a picked hole and a grasp
 // frame from the top face and an edge of it, each a confirmed cell revision; a taken name refused first.
 // This test checks what the world model serves afterwards: the rules it derived from the committed document.
+// Then a new version of the target's STEP model, its first hole drilled 2 mm further out (written here with
+// OpenCascade), replaces the target's model: the rules into the hole that moved are named and dropped.
 TEST_F(PlannerBrowserTest, FeaturesDeclaredByPicksAreServedByTheWorldModel) {
   RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
+  const std::string moved = cell_.log_dir() + "/target_moved.step";
+  auto drilled = cad::parts::cell_target_holes();
+  drilled.at(0).entry_m.x() -= 0.002;
+  const Eigen::Vector3d half(0.25, 0.20, 0.0);  // deploy/cell/simulated_cell.json: the target is 0.50 x 0.40 x 0.95 m
+  cad::write_step(cad::parts::drilled_box(-half - Eigen::Vector3d(0, 0, 0.95), half, drilled), "target", moved);
   json result;
-  ASSERT_TRUE(run_script("test/integration/planner/declare.mjs", "planner-declare-result.json", std::chrono::minutes(4), result));
+  ASSERT_TRUE(run_script("test/integration/planner/declare.mjs", "planner-declare-result.json", std::chrono::minutes(4),
+                         result, {{"TARGET_MOVED", moved}}));
   EXPECT_EQ(result.at("revision_after"), result.at("revision_before").get<std::uint64_t>() + 2) << result.dump(2);
   const json& features = result.at("world_features");
   std::map<std::string, json> holes;
@@ -215,7 +225,12 @@ TEST_F(PlannerBrowserTest, FeaturesDeclaredByPicksAreServedByTheWorldModel) {
   const std::string audit_text = audit_log();
   EXPECT_NE(audit_text.find("declare screw_holes target/m"), std::string::npos) << audit_text;
   EXPECT_EQ(audit_text.find("declare screw_holes target/h"), std::string::npos) << "the taken name reached the world model";
-  std::printf("browser artifacts in %s\n", cell_.log_dir().c_str());
+  // The new model: the shipped h1 and the declared m1 (the same hole) are gone, the other holes stay.
+  std::set<std::string> left;
+  for (const auto& h : result.at("world_after_replace").value("screw_holes", json::array())) left.insert(h.at("id"));
+  EXPECT_EQ(left, (std::set<std::string>{"h2", "h3", "h4", "m2", "m3", "m4"})) << result.dump(2);
+  EXPECT_NE(audit_text.find("cell replace the model of target"), std::string::npos) << audit_text;
+  std::printf("%s\nbrowser artifacts in %s\n", result.value("replaced", "").c_str(), cell_.log_dir().c_str());
 }
 
 }  // namespace

@@ -115,8 +115,6 @@ std::pair<double, double> distance(const json& pose, const Eigen::Isometry3d& ex
   return {(vec(pose.at("position_m")) - expected.translation()).norm(), turn};
 }
 
-using PlannerBrowserTest = PlannerCellTest;
-
 /// The planned recipe in `result` (paper_task.mjs's RESULT) against the shipped one and the CAD derivation.
 void expect_the_shipped_task(const json& result, const std::string& shipped_file) {
   const std::string exported = result.at("exported");
@@ -174,22 +172,8 @@ void expect_the_shipped_task(const json& result, const std::string& shipped_file
   }
 }
 
-TEST_F(PlannerBrowserTest, ThePapersTaskBuiltByClicksAndCadPicksMatchesTheShippedRecipe) {
-  RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
-  const std::string shipped_file = repo_file("recipes/crane_insert.json");
-  ASSERT_TRUE(start_planner_services());
-  const std::string result_file = cell_.log_dir() + "/paper-task-result.json";
-  ASSERT_TRUE(run_browser_script("test/integration/planner/paper_task.mjs", result_file, std::chrono::minutes(8),
-                                 {{"SHIPPED", shipped_file}}));
-  std::ifstream in(result_file);
-  const json result = json::parse(in);
-  expect_the_shipped_task(result, shipped_file);
-  std::printf("browser timings (ms): %s; programming effort: %s; artifacts in %s\n", result.at("timings_ms").dump().c_str(),
-              result.value("effort", json::object()).dump().c_str(), cell_.log_dir().c_str());
-}
-
-// The whole of the planner's acceptance in one run: the paper's task built by clicks and CAD picks as above,
-// then rehearsed from the planner on the full simulated cell with real physics (cell_sim, crane gateway,
+// The whole of the planner's acceptance in one run: the paper's task built by clicks and CAD picks, its
+// export compared with the shipped recipe as above, then rehearsed from the planner on the full simulated cell with real physics (cell_sim, crane gateway,
 // admittance, tracker, world model, the real skill executors, the scripted operator, a controller) on a
 // second DDS domain, which the console joins as its rehearsal_domain. The page follows the run to its end;
 // on DDS the rehearsal's task SUCCEEDED with the node states the page showed, the load screwed on within
@@ -212,6 +196,8 @@ TEST_F(PlannerRehearsalTest, ThePapersTaskBuiltByClicksRehearsesToSucceededInThe
   std::ifstream in(result_file);
   const json result = json::parse(in);
   expect_the_shipped_task(result, shipped_file);
+  std::printf("browser timings (ms): %s; programming effort: %s; artifacts in %s\n", result.at("timings_ms").dump().c_str(),
+              result.value("effort", json::object()).dump().c_str(), cell_.log_dir().c_str());
 
   ASSERT_TRUE(sim.wait_task_end(std::chrono::seconds(30))) << sim.task_summary();
   ASSERT_EQ(sim.task_state(), rigger_task_TASK_SUCCEEDED) << sim.task_summary();

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 
+#include "rigger/base/text.hpp"
 #include "rigger/cad/features.hpp"
 #include "rigger/cad/frames.hpp"
 #include "static_overlap.hpp"
@@ -146,13 +147,19 @@ class Deriver {
 
   Eigen::Isometry3d hole_frame(const CellEntity& entity, const std::string& feature, const CadRule& rule,
                                const LoadedModel& model) const {
-    const int face = resolve(entity, feature, rule.face, model);
+    return cad::frame_from_hole(model.features, hole_of(entity, feature, rule.face, model));
+  }
+
+  // The hole one of whose cylindrical faces `ref` designates.
+  int hole_of(const CellEntity& entity, const std::string& feature, const CadReference& ref,
+              const LoadedModel& model) const {
+    const int face = resolve(entity, feature, ref, model);
     for (const cad::Hole& hole : model.features.holes) {
       for (const int hole_face : hole.faces) {
-        if (hole_face == face) return cad::frame_from_hole(model.features, hole.index);
+        if (hole_face == face) return hole.index;
       }
     }
-    file_.fail(rule.face.pointer, describe(entity, feature, rule.face, model) + " being a face of a hole",
+    file_.fail(ref.pointer, describe(entity, feature, ref, model) + " being a face of a hole",
                "face " + std::to_string(face) + " is not part of a hole (a cylinder with the material outside that " +
                    "closes the full circle)");
   }
@@ -191,7 +198,8 @@ class Deriver {
   }
 
   // The entity's pose in the target's frame when inserted: its mating face lies on the target's mating
-  // face, normals opposite, the two faces' frames (x the model's x projected) aligned.
+  // face, normals opposite, the two faces' frames (x the model's x projected) aligned; then moved in the
+  // face's plane (and, with two pins, turned about its normal) so that each pin's two hole axes coincide.
   Eigen::Isometry3d derive_insertion(const CellEntity& entity, Insertion& insertion) {
     CadRule& rule = *insertion.cad;
     const CellEntity& target = file_.require(insertion.target, "the insertion target");
@@ -204,6 +212,7 @@ class Deriver {
       const Eigen::Isometry3d pose_target_face = face_frame(other, resolve(entity, feature, *rule.target_face, other));
       const Eigen::Isometry3d half_turn_about_x(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()));
       pose = pose_target_face * half_turn_about_x * pose_entity_face.inverse();
+      if (!rule.pins.empty()) pose = pinned(entity, target, rule, pose, pose_target_face.linear().col(2));
     } catch (const cad::CadError& error) {
       file_.fail(rule.pointer, "mating faces for the insertion of \"" + entity.id + "\" into \"" + target.id + "\"",
                  cad_failure(error));
@@ -211,6 +220,57 @@ class Deriver {
     rule.derived = true;
     ++stats_.features;
     return pose;
+  }
+
+  // `pose` (the entity in the target's frame, faces mated; `normal` the target face's, target frame) moved
+  // so that the pins' holes share their axes. A hole whose axis is not along the mating faces' normal, or
+  // two pins whose holes are not as far apart on both parts, fail at the pin.
+  Eigen::Isometry3d pinned(const CellEntity& entity, const CellEntity& target, const CadRule& rule,
+                           Eigen::Isometry3d pose, const Eigen::Vector3d& normal) {
+    constexpr double kAxisTolRad = 0.5 * kPi / 180.0;  // a hole's axis off the faces' normal
+    constexpr double kSpanTolM = 5e-4;                 // the two pins' spans on the two parts
+    const std::string feature = "insertion";
+    const auto in_plane = [&](const Eigen::Vector3d& v) -> Eigen::Vector3d { return v - v.dot(normal) * normal; };
+    struct Axis {
+      Eigen::Vector3d entry;  // in the target's frame
+      Eigen::Vector3d axis;
+    };
+    const auto axis_of = [&](const CellEntity& e, const LoadedModel& m, const CadReference& ref,
+                             const Eigen::Isometry3d& to_target) {
+      const cad::Hole& hole = m.features.holes[static_cast<std::size_t>(hole_of(e, feature, ref, m))];
+      const Axis a{to_target * hole.entry_m, (to_target.linear() * hole.axis).normalized()};
+      const double off = std::acos(std::min(1.0, std::abs(a.axis.dot(normal))));
+      if (off > kAxisTolRad) {
+        file_.fail(ref.pointer, describe(e, feature, ref, m) + " being a hole across the mating faces",
+                   "its axis makes " + number_text(off * 180.0 / kPi) + "° with the faces' normal (at most " +
+                       number_text(kAxisTolRad * 180.0 / kPi) + "°)");
+      }
+      return a;
+    };
+    const LoadedModel& own = model_of(entity);
+    const LoadedModel& other = model_of(target);
+    const auto pin_axes = [&](const CadPin& pin) {
+      return std::make_pair(axis_of(entity, own, pin.hole, pose), axis_of(target, other, pin.target_hole,
+                                                                          Eigen::Isometry3d::Identity()));
+    };
+    if (rule.pins.size() == 2) {
+      const auto [own_1, target_1] = pin_axes(rule.pins[0]);
+      const auto [own_2, target_2] = pin_axes(rule.pins[1]);
+      const Eigen::Vector3d span_own = in_plane(own_2.entry - own_1.entry);
+      const Eigen::Vector3d span_target = in_plane(target_2.entry - target_1.entry);
+      if (span_own.norm() < kSpanTolM || std::abs(span_own.norm() - span_target.norm()) > kSpanTolM) {
+        file_.fail(rule.pointer + "/pins/1",
+                   "two pins as far apart on \"" + entity.id + "\" as on \"" + target.id + "\" (within " +
+                       number_text(kSpanTolM * 1e3) + " mm)",
+                   "their holes are " + number_text(span_own.norm() * 1e3) + " mm apart on \"" + entity.id + "\", " +
+                       number_text(span_target.norm() * 1e3) + " mm on \"" + target.id + "\"");
+      }
+      const double turn = std::atan2(normal.dot(span_own.cross(span_target)), span_own.dot(span_target));
+      pose = Eigen::Translation3d(own_1.entry) * Eigen::AngleAxisd(turn, normal) *
+             Eigen::Translation3d(-own_1.entry) * pose;
+    }
+    const auto [own_1, target_1] = pin_axes(rule.pins[0]);
+    return Eigen::Translation3d(in_plane(target_1.entry - own_1.entry)) * pose;
   }
 
   CellFile& file_;

@@ -291,7 +291,7 @@ CadReference EntityParser::parse_reference(const json& value, const std::string&
 CadRule EntityParser::parse_cad_rule(const json& value, const std::string& pointer,
                                    std::initializer_list<CadRuleKind> allowed) const {
   check_.object(value, pointer,
-                {"rule", "face", "hole", "z", "x_edge", "x_reversed", "standoff_m", "target_face"});
+                {"rule", "face", "hole", "z", "x_edge", "x_reversed", "standoff_m", "target_face", "pins"});
   std::string rule_names;
   for (const CadRuleKind kind : allowed) {
     const char* name = kind == CadRuleKind::kFace ? "face" : kind == CadRuleKind::kHole ? "hole" : "mate_faces";
@@ -318,6 +318,7 @@ CadRule EntityParser::parse_cad_rule(const json& value, const std::string& point
     only_for(key, CadRuleKind::kFace, "face");
   }
   only_for("target_face", CadRuleKind::kMateFaces, "mate_faces");
+  only_for("pins", CadRuleKind::kMateFaces, "mate_faces");
   switch (rule.rule) {
     case CadRuleKind::kHole:
       rule.face = parse_reference(check_.require(value, pointer, "hole", "a cylindrical face of the hole"),
@@ -348,6 +349,23 @@ CadRule EntityParser::parse_cad_rule(const json& value, const std::string& point
       rule.target_face = parse_reference(
           check_.require(value, pointer, "target_face", "the target's mating face (in the target's STEP model)"),
           pointer + "/target_face", {"face"});
+      if (const json* pins = Checker::find(value, "pins")) {
+        const std::string pins_pointer = pointer + "/pins";
+        if (!pins->is_array() || pins->empty() || pins->size() > 2) {
+          check_.fail(pins_pointer, "one or two pins: [{\"hole\", \"target_hole\"}, ...]", describe_json(*pins));
+        }
+        for (std::size_t i = 0; i < pins->size(); ++i) {
+          const std::string pin_pointer = pins_pointer + "/" + std::to_string(i);
+          const json& pin = (*pins)[i];
+          check_.object(pin, pin_pointer, {"hole", "target_hole"});
+          rule.pins.push_back(
+              {parse_reference(check_.require(pin, pin_pointer, "hole", "a cylindrical face of this object's hole"),
+                               pin_pointer + "/hole", {"face"}),
+               parse_reference(check_.require(pin, pin_pointer, "target_hole",
+                                              "a cylindrical face of the target's hole (in the target's STEP model)"),
+                               pin_pointer + "/target_hole", {"face"})});
+        }
+      }
       break;
   }
   return rule;

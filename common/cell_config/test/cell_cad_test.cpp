@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "rigger/cad/features.hpp"
+#include "rigger/cad/model.hpp"
 #include "rigger/cad/parts.hpp"
 #include "rigger/cell_config/cell_cad.hpp"
 
@@ -263,6 +265,68 @@ TEST(CellCad, AHoleRuleOnAFaceThatIsNoHoleIsRefused) {
   EXPECT_NE(copy.pointer().find("/features/screw_holes/1/cad/hole"), std::string::npos) << copy.pointer();
 }
 
+// The cell file's reference to one cylindrical face of hole `hole` of the shipped model `step`.
+json hole_reference(const std::string& step, int hole) {
+  const cad::Model model = cad::read_step_file(kSource / "deploy/cell/models" / step);
+  const cad::Features features = cad::classify(model);
+  const int face = features.holes.at(static_cast<std::size_t>(hole)).faces.at(0);
+  const cad::Signature& sig = features.faces.at(static_cast<std::size_t>(face)).signature;
+  const auto vec = [](const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); };
+  return {{"kind", "face"},
+          {"index", face},
+          {"signature",
+           {{"type", sig.type}, {"centroid_m", vec(sig.centroid_m)}, {"direction", vec(sig.direction)},
+            {"radius_m", sig.radius_m}}}};
+}
+
+// The shipped load's insertion, pinned: its hole `own` on the target's hole `target` (and a second pair).
+json pins(std::initializer_list<std::pair<int, int>> pairs) {
+  json out = json::array();
+  for (const auto& [own, target] : pairs)
+    out.push_back({{"hole", hole_reference("load.step", own)}, {"target_hole", hole_reference("target.step", target)}});
+  return out;
+}
+
+TEST(CellCad, OnePinMovesTheMatedPartAlongTheFaceUntilTheHolesShareTheirAxis) {
+  // The load's hole 0 (at -0.15, -0.1 on its bottom) on the target's hole 3 (at 0.15, 0.1): the faces
+  // stay mated and turned as without the pin, the load slides 0.3 m along x and 0.2 m along y.
+  CellCopy copy;
+  entity_json(copy.cell, "load")["features"]["insertion"]["cad"]["pins"] = pins({{0, 3}});
+  ASSERT_EQ(copy.load_error(), "");
+  const CellFile cell = load_cell_file_with_cad(copy.dir() / "cell.json");
+  expect_pose_near(cell.find("load")->features.insertion->pose_target_entity,
+                   pose_from_position_rpy_deg({0.3, 0.2, 0.10}, {0, 0, 0}), "insertion with one pin");
+}
+
+TEST(CellCad, TwoPinsAlsoTurnThePartAboutTheFacesNormal) {
+  // Hole 0 on hole 3 and hole 3 on hole 0: the load turned half a turn about z, in place.
+  CellCopy copy;
+  entity_json(copy.cell, "load")["features"]["insertion"]["cad"]["pins"] = pins({{0, 3}, {3, 0}});
+  ASSERT_EQ(copy.load_error(), "");
+  const CellFile cell = load_cell_file_with_cad(copy.dir() / "cell.json");
+  expect_pose_near(cell.find("load")->features.insertion->pose_target_entity,
+                   pose_from_position_rpy_deg({0, 0, 0.10}, {0, 0, 180}), "insertion with two pins");
+}
+
+TEST(CellCad, PinsThatCannotBothFitAreRefusedWithTheirSpans) {
+  // The load's holes 0 and 1 are 300 mm apart; the target's 0 and 2 are 200 mm apart.
+  CellCopy copy;
+  entity_json(copy.cell, "load")["features"]["insertion"]["cad"]["pins"] = pins({{0, 0}, {1, 2}});
+  const std::string error = copy.load_error();
+  EXPECT_NE(error.find("300 mm apart on \"load\", 200 mm on \"target\""), std::string::npos) << error;
+  EXPECT_NE(copy.pointer().find("/features/insertion/cad/pins/1"), std::string::npos) << copy.pointer();
+}
+
+TEST(CellCad, APinOnAFaceThatIsNoHoleIsRefused) {
+  CellCopy copy;
+  json& insertion = entity_json(copy.cell, "load")["features"]["insertion"]["cad"];
+  insertion["pins"] = pins({{0, 0}});
+  insertion["pins"][0]["target_hole"] = insertion["target_face"];
+  const std::string error = copy.load_error();
+  EXPECT_NE(error.find("not part of a hole"), std::string::npos) << error;
+  EXPECT_NE(copy.pointer().find("/features/insertion/cad/pins/0/target_hole"), std::string::npos) << copy.pointer();
+}
+
 TEST(CellCadSchema, RulesAreCheckedWhenTheFileIsRead) {
   const json shipped = read_json(kShippedCell);
   const auto expect_error = [](const json& cell, const std::string& pointer, const std::string& text) {
@@ -320,6 +384,16 @@ TEST(CellCadSchema, RulesAreCheckedWhenTheFileIsRead) {
     entity_json(cell, "load")["model"] = {
         {"shape", "box"}, {"size_m", {0.1, 0.1, 0.1}}, {"sha256", std::string(64, 'a')}};
     expect_error(cell, "/entities/5/model/sha256", "a STEP model");
+  }
+  {  // pins in a rule that is not mate_faces, and three pins
+    json cell = shipped;
+    entity_json(cell, "target")["features"]["screw_holes"][0]["cad"]["pins"] = json::array();
+    expect_error(cell, "/entities/6/features/screw_holes/0/cad/pins", "only in a \"mate_faces\" rule");
+    json three = shipped;
+    json& rule = entity_json(three, "load")["features"]["insertion"]["cad"];
+    const json pin = {{"hole", rule["face"]}, {"target_hole", rule["target_face"]}};
+    rule["pins"] = json::array({pin, pin, pin});
+    expect_error(three, "/entities/5/features/insertion/cad/pins", "one or two pins");
   }
   {  // an insertion target without a STEP model
     json cell = shipped;

@@ -246,6 +246,7 @@ void HttpApi::routes() {
       {Method::kGet, "/api/planner/cell_models", &HttpApi::get_planner_cell_models},
       {Method::kPost, "/api/planner/declare", &HttpApi::post_planner_declare},
       {Method::kPost, "/api/planner/add", &HttpApi::post_planner_add},
+      {Method::kPost, "/api/planner/replace", &HttpApi::post_planner_replace},
       {Method::kGet, "/api/rehearsal/state", &HttpApi::get_rehearsal_state},
       {Method::kGet, "/api/rehearsal/events", &HttpApi::get_rehearsal_events},
       {Method::kPost, "/api/planner/rehearse", &HttpApi::post_planner_rehearse},

@@ -192,6 +192,9 @@ class HttpApi {
   void get_planner_cell_models(const httplib::Request& req, httplib::Response& res);
   void post_planner_declare(const httplib::Request& req, httplib::Response& res);
   void post_planner_add(const httplib::Request& req, httplib::Response& res);
+  void post_planner_replace(const httplib::Request& req, httplib::Response& res);
+  bool refused_while_tasks_run(const User& user, const std::string& what, const std::string& doing,
+                               const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_state(const httplib::Request& req, httplib::Response& res);
   void get_rehearsal_events(const httplib::Request& req, httplib::Response& res);
   void post_planner_rehearse(const httplib::Request& req, httplib::Response& res);

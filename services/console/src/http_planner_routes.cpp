@@ -5,6 +5,7 @@
 #include <string>
 
 // Eigen before httplib.h, whose system headers define names Eigen uses.
+#include "model_replacement.hpp"
 #include "placement.hpp"
 #include "planner_declare_frames.hpp"
 
@@ -204,14 +205,7 @@ void HttpApi::post_planner_add(const httplib::Request& req, httplib::Response& r
     const AddRequest request = parse_add_request(*b);
     if (!imports_.find(request.sha256)) return imported_file_gone(req, res, request.sha256);
     // A new object is built into the simulator's running physics: not while a task moves the cell.
-    if (const std::size_t running = state_.running_tasks(); running > 0) {
-      audit(*user, "select cell add " + request.id, "cell", "refused: a task runs");
-      return send_error(res, 409,
-                        std::to_string(running) + " task" + (running == 1 ? " runs" : "s run") +
-                            " on the cell: add the part once " + (running == 1 ? "it has" : "they have") +
-                            " ended; nothing was changed",
-                        req.path);
-    }
+    if (refused_while_tasks_run(*user, "add " + request.id, "add the part", req, res)) return;
     const auto features = backend_.cad("features", "sha256:" + request.sha256, "{}");
     if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
     const double lowest_z = lowest_vertex_z(features.data.value("result", json::object()));
@@ -226,6 +220,49 @@ void HttpApi::post_planner_add(const httplib::Request& req, httplib::Response& r
                          {{"object", request.id}, {"material", request.material}});
   } catch (const PlannerError& e) {
     send_error(res, e.pointer == "/id" ? 409 : 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
+  }
+}
+
+// A task moving the cell refuses a revision that rebuilds its physics (`what`: the audit's target, `doing`:
+// what the person does, for the message): true when refused (answered 409).
+bool HttpApi::refused_while_tasks_run(const User& user, const std::string& what, const std::string& doing,
+                                      const httplib::Request& req, httplib::Response& res) {
+  const std::size_t running = state_.running_tasks();
+  if (running == 0) return false;
+  audit(user, "select cell " + what, "cell", "refused: a task runs");
+  send_error(res, 409,
+             std::to_string(running) + " task" + (running == 1 ? " runs" : "s run") + " on the cell: " + doing +
+                 " once " + (running == 1 ? "it has" : "they have") + " ended; nothing was changed",
+             req.path);
+  return true;
+}
+
+// A new version of an object's model: the imported file replaces it, pinned by its sha256, with the CAD
+// rules that no longer resolve on it dropped and named in the answer (declared again by picks).
+void HttpApi::post_planner_replace(const httplib::Request& req, httplib::Response& res) {
+  auto user = who(req, res, Role::kProgrammer);
+  if (!user) return;
+  auto b = body(req, res);
+  if (!b) return;
+  try {
+    const ReplaceRequest request = parse_replace_request(*b);
+    if (!imports_.find(request.sha256)) return imported_file_gone(req, res, request.sha256);
+    if (refused_while_tasks_run(*user, "replace the model of " + request.object, "replace the model", req, res)) return;
+    const auto features = backend_.cad("features", "sha256:" + request.sha256, "{}");
+    if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
+    const auto running = running_cell(req, res);
+    if (!running) return;
+    const Replacement r = cell_with_replaced_model(running->document, request, features.data.value("result", json::object()));
+    const std::string comment = request.comment.empty() ? "a new model of " + request.object : request.comment;
+    const json payload = {{"op", "apply"}, {"cell_json", to_text(r.cell)}, {"comment", comment},
+                          {"models", json::array({{{"sha256", request.sha256},
+                                                   {"name", replaced_model_name(request.object, request.sha256)}}})}};
+    json dropped = json::array();
+    for (const DroppedFeature& d : r.dropped) dropped.push_back({{"feature", d.feature}, {"why", d.why}});
+    select_cell_revision(*user, payload, "replace the model of " + request.object, req, res,
+                         {{"object", request.object}, {"kept", r.kept}, {"dropped", dropped}});
+  } catch (const PlannerError& e) {
+    send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
   }
 }
 

@@ -133,8 +133,17 @@ json screw_hole_rules(const DeclareRequest& r, const json& cad) {
   return out;
 }
 
+/// One cylindrical face of hole `index` of a model, as the cell file's reference (`pointer`: the request's key).
+json hole_face_reference(const json& cad, const json& index, const std::string& pointer, const std::string& model) {
+  const json& hole = entry(cad, "holes", index, pointer, model);
+  const json& faces = hole.at("faces");
+  if (!faces.is_array() || faces.empty())
+    throw PlannerError{pointer, "the CAD service gives hole " + hole["index"].dump() + " of " + model + " no face"};
+  return reference("face", entry(cad, "faces", faces[0], pointer, model));
+}
+
 /// The insertion: the picked face of this object lies on the picked face of the target (the cell file's
-/// `mate_faces` rule); both planes.
+/// `mate_faces` rule); both planes. With pins (one or two pairs of a hole of each), the holes line up.
 json insertion_rule(const DeclareRequest& r, const json& cad, const json& target_cad) {
   const json& p = r.picks;
   const auto plane = [&](const json& features, const json& index, const std::string& pointer, const std::string& model) -> const json& {
@@ -149,8 +158,22 @@ json insertion_rule(const DeclareRequest& r, const json& cad, const json& target
     throw PlannerError{"/target/face", "expected the picked face of the part it is inserted into"};
   const json& own = plane(cad, p["face"], "/face", r.model);
   const json& onto = plane(target_cad, p["target"]["face"], "/target/face", "object:" + r.target);
-  return {{"target", r.target},
-          {"cad", {{"rule", "mate_faces"}, {"face", reference("face", own)}, {"target_face", reference("face", onto)}}}};
+  json rule = {{"rule", "mate_faces"}, {"face", reference("face", own)}, {"target_face", reference("face", onto)}};
+  if (p.contains("pins")) {
+    const json& pins = p["pins"];
+    if (!pins.is_array() || pins.empty() || pins.size() > 2)
+      throw PlannerError{"/pins", "expected one or two pins: [{\"hole\": a hole of " + r.entity +
+                                      ", \"target_hole\": a hole of " + r.target + "}]"};
+    for (std::size_t i = 0; i < pins.size(); ++i) {
+      const std::string at = "/pins/" + std::to_string(i);
+      if (!pins[i].is_object() || !pins[i].contains("hole") || !pins[i].contains("target_hole"))
+        throw PlannerError{at, "expected {\"hole\", \"target_hole\"}: a hole of each part"};
+      rule["pins"].push_back({{"hole", hole_face_reference(cad, pins[i]["hole"], at + "/hole", r.model)},
+                              {"target_hole", hole_face_reference(target_cad, pins[i]["target_hole"], at + "/target_hole",
+                                                                  "object:" + r.target)}});
+    }
+  }
+  return {{"target", r.target}, {"cad", std::move(rule)}};
 }
 
 }  // namespace

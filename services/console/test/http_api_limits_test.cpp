@@ -161,6 +161,31 @@ TEST_F(HttpApiImportTest, AnImportedPartIsNotAddedWhileATaskRunsOrWhenItsFileIsG
   EXPECT_TRUE(backend_.actions().empty()) << "nothing reached the world model";
 }
 
+// An imported file as the new version of an object's model: refused while a task runs on the cell, when
+// the console no longer keeps the file and for a viewer; nothing reaches the world model.
+TEST_F(HttpApiImportTest, AModelIsNotReplacedWhileATaskRunsOrWhenItsFileIsGone) {
+  backend_.cad_answer_ = {true, "", json{{"model_sha256", std::string(64, 'a')}, {"result", {{"units", "m"}}}}};
+  ASSERT_EQ(client_->Post("/api/planner/import?name=plate-v2.step", as(kAda), std::string(1000, 'x'),
+                          "application/octet-stream")->status, 200);
+  const json replace = {{"model", "sha256:" + std::string(64, 'a')}, {"object", "plate"}};
+  state_.update_task({{"task_id", "t1"}, {"state", "RUNNING"}});
+  auto r = post("/api/planner/replace", replace.dump(), kAda);
+  EXPECT_EQ(r->status, 409) << r->body;
+  EXPECT_NE(body(r)["error"].get<std::string>().find("1 task runs on the cell: replace the model once it has ended"),
+            std::string::npos) << r->body;
+  json gone = replace;
+  gone["model"] = "sha256:" + std::string(64, 'b');
+  r = post("/api/planner/replace", gone.dump(), kAda);
+  EXPECT_EQ(r->status, 409) << r->body;
+  EXPECT_NE(body(r)["error"].get<std::string>().find("import it again"), std::string::npos) << r->body;
+  json bad = replace;
+  bad.erase("object");
+  r = post("/api/planner/replace", bad.dump(), kAda);
+  EXPECT_EQ(r->status, 400) << r->body;
+  EXPECT_EQ(post("/api/planner/replace", replace.dump(), kVic)->status, 403);
+  EXPECT_TRUE(backend_.actions().empty()) << "nothing reached the world model";
+}
+
 // cpp-httplib 0.11 compresses with brotli at quality 11 whenever a client accepts br, as every
 // browser does (1.8 s of CPU for three.js per page load): JSON and JavaScript go out uncompressed.
 }  // namespace

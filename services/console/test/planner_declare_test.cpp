@@ -191,5 +191,37 @@ TEST(PlannerDeclare, AnInsertionMatesAPickedFaceOfThePartOnAPickedFaceOfTheTarge
   EXPECT_EQ(refusal(none).substr(0, 14), "/target/model:");
 }
 
+TEST(PlannerDeclare, AnInsertionPinnedByAHoleOfEachPartNamesTheHolesFaces) {
+  // Both parts are plates here: the load's hole 0 on the target's hole 1, its hole 1 on the target's 0.
+  json body = {{"model", "object:load"}, {"kind", "insertion"}, {"face", 0},
+               {"target", {{"model", "object:target"}, {"face", 0}}},
+               {"pins", {{{"hole", 0}, {"target_hole", 1}}, {{"hole", 1}, {"target_hole", 0}}}}};
+  const json out = declare_feature(parse_declare_request(body), cell_with_load(), plate(), plate());
+  const json& pins = out.at("cell").at("entities").at(1).at("features").at("insertion").at("cad").at("pins");
+  ASSERT_EQ(pins.size(), 2u);
+  EXPECT_EQ(pins[0].at("hole").at("index"), 2);  // hole 0's cylinder is face 2
+  EXPECT_EQ(pins[0].at("target_hole").at("index"), 3);
+  EXPECT_EQ(pins[0].at("target_hole").at("signature").at("type"), "cylinder");
+  EXPECT_EQ(pins[1].at("hole").at("index"), 3);
+
+  const auto refused = [&](const json& request) {
+    try {
+      declare_feature(parse_declare_request(request), cell_with_load(), plate(), plate());
+    } catch (const PlannerError& e) {
+      return e.pointer + ": " + e.message;
+    }
+    return std::string("accepted");
+  };
+  json unknown = body;
+  unknown["pins"][1]["target_hole"] = 9;
+  EXPECT_EQ(refused(unknown), "/pins/1/target_hole: object:target has 4 holes, no hole 9");
+  json three = body;
+  three["pins"].push_back(body["pins"][0]);
+  EXPECT_EQ(refused(three).substr(0, 7), "/pins: ");
+  json half = body;
+  half["pins"][0].erase("target_hole");
+  EXPECT_EQ(refused(half).substr(0, 9), "/pins/0: ");
+}
+
 }  // namespace
 }  // namespace rigger::console

@@ -3,9 +3,11 @@
 // top face and a straight edge of it, and screw holes "all like" one picked hole, each confirmed in the
 // page's dialog; the world model serves them at once (the page's feature list shows them). One bad input
 // first: screw holes named so that they take the names of the target's own (h1…), refused in the panel
-// with nothing committed. Any failed check ends the script with exit code 1.
+// with nothing committed. Last, a new version of the target's model with its first hole moved 2 mm
+// (TARGET_MOVED) replaces it: the dialog names the rules into that hole, and they are dropped. Any failed
+// check ends the script with exit code 1.
 import path from 'node:path';
-import { ART, call, check, closeBrowser, launchBrowser, openPlanner, waitForDrawnRevision } from './harness.mjs';
+import { ART, call, check, closeBrowser, env, launchBrowser, openPlanner, waitForDrawnRevision } from './harness.mjs';
 
 const result = {};
 const features = (await call('/api/cad/features?model=object:target')).json;
@@ -85,6 +87,27 @@ try {
   result.edge = chosen.edge.index;
   await page.screenshot({ path: path.join(ART, 'planner-declared.png'), fullPage: true });
   console.log('ok: the declared features are in the page\'s feature list');
+
+  // --- a new version of the target's model (TARGET_MOVED: its first hole 2 mm further out): the dialog names
+  //     the rules the new model no longer carries before anything changes; confirmed, they are dropped ---
+  await page.setInputFiles('#planner-import', env('TARGET_MOVED'));
+  await page.waitForFunction(() => document.querySelector('#planner-imported-summary') || document.querySelector('#planner-import-error'), null, { timeout: 60000 });
+  check(await page.locator('#planner-imported-summary').count() === 1, `the new version is read: ${await page.locator('#planner-imported').innerText()}`);
+  await page.selectOption('#planner-replace-object', 'target');
+  await page.click('#planner-replace-model');
+  await page.waitForFunction(() => document.querySelector('#confirm[open]') || document.querySelector('#planner-notice.error'), null, { timeout: 30000 });
+  check(await page.locator('#confirm[open]').count() === 1, `the console asked to confirm the new model (${await page.locator('#planner-notice').innerText()})`);
+  const question = await page.locator('#confirm-text').innerText();
+  result.replace_question = question;
+  for (const dropped of ['target/h1 (hole: face', 'target/m1 (hole: face'])
+    check(question.includes(dropped), `the dialog names ${dropped.split(' ')[0]} as not in the new model: ${question}`);
+  for (const kept of ['target/h2 (', 'target/m2 ('])
+    check(!question.includes(kept), `the dialog keeps ${kept.split(' ')[0]}: ${question}`);
+  await page.click('#confirm-yes');
+  await page.waitForFunction(() => /^Replaced the model of target: cell revision \d+/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 30000 });
+  result.replaced = await page.locator('#planner-notice').innerText();
+  check(/Declare again: .*target\/m1/.test(result.replaced), `the page says what to declare again: ${result.replaced}`);
+  result.world_after_replace = (await call('/api/world/entity/target')).json.features;
 } finally {
   await closeBrowser(browser, result);
 }

@@ -79,6 +79,15 @@ describe('declareFromPicks', () => {
     assert.match(declareFromPicks([face, { ...face, face: 3 }], { kind: 'insertion' }).error, /face of the part it goes into/);
     assert.match(declareFromPicks([face, hole], { kind: 'insertion' }).error, /face of the part it goes into/);
   });
+  it('pins the insertion by a hole of each part, paired in the order picked', () => {
+    const onto = { ...face, entity: 'plate', face: 5 };
+    const own = (n) => ({ ...hole, entity: 'target', hole: n }), theirs = (n) => ({ ...hole, entity: 'plate', hole: n });
+    assert.deepEqual(declareFromPicks([face, onto, own(1), theirs(4), own(2), theirs(3)], { kind: 'insertion' }).pins,
+      [{ hole: 1, target_hole: 4 }, { hole: 2, target_hole: 3 }]);
+    assert.match(declareFromPicks([face, onto, own(1)], { kind: 'insertion' }).error, /in pairs/);
+    assert.match(declareFromPicks([face, onto, own(1), own(2)], { kind: 'insertion' }).error, /in pairs/);
+    assert.equal(declareFromPicks([face, onto], { kind: 'insertion' }).pins, undefined);
+  });
   it('places a marker or the rope attachment at the picked point of a face, or the rope at a hole', () => {
     const at = { ...face, point_m: [0.2, 0, 0.05] };
     assert.deepEqual(declareFromPicks([at], { kind: 'marker', dictionary: 'DICT_4X4_50', marker_id: '12', marker_size_mm: '80' }),

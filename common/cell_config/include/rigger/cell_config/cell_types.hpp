@@ -48,6 +48,12 @@ enum class CadRuleKind {
 /// "face", "hole", "mate_faces"; std::nullopt for anything else.
 std::optional<CadRuleKind> cad_rule_from_string(std::string_view text);
 
+/// A pin of a `mate_faces` insertion: a hole of this object on the axis of a hole of the target.
+struct CadPin {
+  CadReference hole;         ///< one cylindrical face of this object's hole
+  CadReference target_hole;  ///< one cylindrical face of the target's hole
+};
+
 /// A feature defined by a rule over the STEP model instead of by numbers. The pose it stands for is
 /// filled in by cell::derive_cad_features (rigger_cell_cad), which sets `derived`.
 struct CadRule {
@@ -59,6 +65,9 @@ struct CadRule {
   bool x_reversed = false;             ///< kFace: x against the edge's direction
   double standoff_m = 0.0;             ///< kFace: origin moved this far out along the outward normal
   std::optional<CadReference> target_face;  ///< kMateFaces: the face of the insertion target's model
+  /// kMateFaces: up to two pins. One puts its holes on one axis (the faces' frames keep the turn about
+  /// it); two also turn the object so that the second pair lines up.
+  std::vector<CadPin> pins;
   std::string pointer;                      ///< the "cad" object's JSON pointer
   bool derived = false;                     ///< the pose has been derived from the model
 };

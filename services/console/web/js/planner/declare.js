@@ -9,7 +9,7 @@ import { describeChanges } from '../cell_revisions.js';
 import { DECLARE_KINDS, declareFromPicks } from './picks.js';
 
 const LABELS = { grasp_frame: 'grasp frame (a face, an edge of it for x)', approach_waypoint: 'approach waypoint (a face, a stand-off)',
-  screw_holes: 'screw holes (a hole)', insertion: 'insertion (a face of the part, then the face it mates)',
+  screw_holes: 'screw holes (a hole)', insertion: 'insertion (a face of the part, then the face it mates; a hole of each to pin them)',
   rope_attachment: 'rope attachment (a hole, or a point on a face)', marker: 'marker (a point on a face)' };
 // The names a frame is proposed by (the shipped cell's): typed over when the part has one already.
 const PROPOSED_NAMES = { grasp_frame: 'grasp', approach_waypoint: 'pre_grasp' };

@@ -7,7 +7,9 @@
 // too large) is said with its reason; nothing changes in the cell. "Add to the cell…" makes it an object
 // of the cell: named, of a material (or fixed to the floor), standing on the floor beside the cell; the
 // console sends its bytes with the revision, so every service gets them (POST /api/planner/add, then the
-// confirmation). Place then puts it where it belongs.
+// confirmation). Place then puts it where it belongs. Or "Replace its model…" makes it the new version of an
+// object's model (POST /api/planner/replace): the features the new model no longer carries are dropped and
+// named, and recipes made on the old model see their bindings stale.
 import { api, el, confirmDialog } from '../api.js';
 import { describeChanges } from '../cell_revisions.js';
 
@@ -34,8 +36,11 @@ export class ImportPanel {
       ...[['steel', 'steel (loose)'], ['aluminium', 'aluminium (loose)'], ['plastic', 'plastic (loose)'], ['fixed', 'fixed to the floor']]
         .map(([value, label]) => el('option', { value }, label)));
     this.addButton = el('button', { id: 'planner-add-object', onclick: () => this.add() }, 'Add to the cell…');
-    this.addForm = el('div', { class: 'toolbar', hidden: true }, el('label', {}, 'Name ', this.name),
-      el('label', {}, 'Material ', this.material), this.addButton);
+    this.replaceObject = el('select', { id: 'planner-replace-object' });
+    this.replaceButton = el('button', { id: 'planner-replace-model', onclick: () => this.replace() }, 'Replace its model…');
+    this.addForm = el('div', { hidden: true },
+      el('div', { class: 'toolbar' }, el('label', {}, 'Name ', this.name), el('label', {}, 'Material ', this.material), this.addButton),
+      el('div', { class: 'toolbar' }, el('label', {}, 'or a new version of the model of ', this.replaceObject), this.replaceButton));
     this.cellModel = el('select', { id: 'planner-cell-model' }, el('option', { value: '' }, '(none)'));
     this.cellModelButton = el('button', { id: 'planner-import-cell-model', onclick: () => this.readCellModel() }, 'Import');
     this.root = el('div', { role: 'group', 'aria-labelledby': 'planner-import-title' },
@@ -89,6 +94,10 @@ export class ImportPanel {
       await this.draw(r);
       // A name for the object it may become: the file's, as an id.
       this.name.value = r.name.replace(/\.(step|stp)$/i, '').replace(/[^A-Za-z0-9_-]+/g, '_').slice(0, 64) || 'part';
+      // The objects given by a STEP model (not a box), whose model this file may replace.
+      const objects = [...this.view.parts.entries()].filter(([id, p]) => id !== IMPORTED && !p.box).map(([id]) => id).sort();
+      this.replaceObject.replaceChildren(...objects.map((id) => el('option', { value: id }, id)));
+      this.replaceButton.disabled = !objects.length;
       this.addForm.hidden = false;
       this.say(`Imported ${r.name}: drawn beside the cell; its faces and holes can be picked.`);
     } catch (e) {
@@ -96,6 +105,29 @@ export class ImportPanel {
       this.addForm.hidden = true;
       this.result.replaceChildren(el('p', { class: 'error', id: 'planner-import-error' }, `${label}: ${e.message}`));
       this.say(`Import of ${label} refused: ${e.message}`, true);
+    }
+  }
+
+  /// The imported file as a new version of an object's model, after the person confirmed what changes and
+  /// which features the new model no longer carries (dropped, to be declared again by picks).
+  async replace() {
+    const r = this.imported, object = this.replaceObject.value;
+    if (!r || !object) return this.say('Import a STEP file and choose the object whose model it replaces.', true);
+    try {
+      const sel = await api('/api/planner/replace', { method: 'POST', body: { model: r.model, object } });
+      const dropped = sel.dropped || [];
+      const lost = dropped.length
+        ? ` These features are not in the new model and are dropped, to be declared again: ${dropped.map((d) => `${d.feature} (${d.why})`).join('; ')}.`
+        : ' Every feature of it is in the new model.';
+      const question = `${r.name} becomes the model of ${object}: ${describeChanges(sel.changes)}.${lost} Recipes made on the old model show their bindings stale until they are picked again.`;
+      if (!(await confirmDialog(`Replace the model of ${object}?`, question, 'Replace'))) return this.say('Not replaced: the cell is unchanged.');
+      const done = await api('/api/confirm', { method: 'POST', body: { confirmation_id: sel.confirmation_id } });
+      const old = this.view.parts.get(IMPORTED);
+      if (old) { this.view.scene.remove(old.group); this.view.parts.delete(IMPORTED); }
+      this.addForm.hidden = true;
+      this.say(`Replaced the model of ${object}: cell revision ${done.cell_revision}.${dropped.length ? ` Declare again: ${dropped.map((d) => d.feature).join(', ')}.` : ''}`);
+    } catch (e) {
+      this.say(`Replace the model of ${object}: ${e.message}${e.where ? ` at ${e.where}` : ''}`, true);
     }
   }
 

@@ -58,11 +58,18 @@ export function declareFromPicks(picks, fields) {
   const { kind, name } = fields;
   if (!DECLARE_KINDS.includes(kind)) return { error: `choose what to declare: ${DECLARE_KINDS.join(', ')}` };
   if (kind === 'insertion') {
-    // The part's face first, then the face of the part it goes into.
-    if (picks.length !== 2 || picks.some((p) => p.kind !== 'face') || picks[0].entity === picks[1].entity)
-      return { error: 'pick the face of the part that mates, then the face of the part it goes into' };
-    return { model: `object:${picks[0].entity}`, kind, face: picks[0].face,
-      target: { model: `object:${picks[1].entity}`, face: picks[1].face } };
+    // The part's face first, then the face of the part it goes into; then, to pin them, a hole of each
+    // (one or two pairs, paired in the order picked).
+    const faces = picks.filter((p) => p.kind === 'face'), holes = picks.filter((p) => p.kind === 'hole');
+    if (faces.length !== 2 || faces.length + holes.length !== picks.length || faces[0].entity === faces[1].entity)
+      return { error: 'pick the face of the part that mates, then the face of the part it goes into (and a hole of each to pin them)' };
+    const [own, onto] = faces;
+    const ownHoles = holes.filter((h) => h.entity === own.entity), ontoHoles = holes.filter((h) => h.entity === onto.entity);
+    if (ownHoles.length + ontoHoles.length !== holes.length || ownHoles.length !== ontoHoles.length || holes.length > 4)
+      return { error: `to pin the insertion: pick one or two holes of ${own.entity} and as many of ${onto.entity}, in pairs` };
+    const request = { model: `object:${own.entity}`, kind, face: own.face, target: { model: `object:${onto.entity}`, face: onto.face } };
+    if (holes.length) request.pins = ownHoles.map((h, i) => ({ hole: h.hole, target_hole: ontoHoles[i].hole }));
+    return request;
   }
   if (kind === 'rope_attachment' || kind === 'marker') {
     const [p] = picks;

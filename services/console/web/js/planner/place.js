@@ -18,12 +18,16 @@ export class PlacePanel {
     // Known where it is placed, or found by a Localize skill at run time (the simulator starts it here).
     this.known = el('input', { type: 'checkbox', id: 'planner-place-known' });
     // A distance along the support's face (along its picked edge, else its x): one number, not a coordinate.
-    this.offset = el('input', { type: 'number', id: 'planner-place-offset', step: '1', value: '0', 'aria-label': 'Offset along the face (mm)' });
+    this.offset = el('input', { type: 'number', id: 'planner-place-offset', step: '1', value: '0', 'aria-label': 'Offset along the face (mm)',
+      oninput: () => { this.slider.value = this.offset.value; } });
+    // The same distance dragged: a slider of ±500 mm, kept equal to the field.
+    this.slider = el('input', { type: 'range', id: 'planner-place-offset-drag', min: '-500', max: '500', step: '1', value: '0',
+      'aria-label': 'Offset along the face, dragged (mm)', oninput: () => { this.offset.value = this.slider.value; } });
     this.hint = el('p', { id: 'planner-place-hint', class: 'muted small' });
     this.root = el('div', { role: 'group', 'aria-labelledby': 'planner-place-title' },
       el('h2', { id: 'planner-place-title' }, 'Place a part'),
       el('div', { class: 'toolbar' }, el('label', {}, 'Turn about the face ', this.turn),
-        el('label', {}, 'Offset (mm) ', this.offset),
+        el('label', {}, 'Offset (mm) ', this.offset, this.slider),
         el('label', { title: 'Unchecked: a Localize skill finds it at run time; the simulator starts it here' }, this.known, ' known here'),
         this.button), this.hint);
     this.refresh();
