@@ -339,7 +339,8 @@ try {
 
   // --- published: the console's cell runs it ---
   await again.click('#planner-publish');
-  await again.waitForSelector('#confirm-yes', { state: 'visible', timeout: 20000 });
+  await again.waitForFunction(() => document.querySelector('#confirm[open]') || document.querySelector('#planner-notice.error'), null, { timeout: 60000 });
+  check(await again.locator('#confirm[open]').count() === 1, `Publish asks for confirmation (${await again.locator('#planner-notice').innerText()})`);
   await again.click('#confirm-yes');
   await again.waitForFunction(() => /Published /.test(document.body.innerText), null, { timeout: 60000 });
   result.published = JSON.parse(result.exported).task_id;
