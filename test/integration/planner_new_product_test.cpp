@@ -10,7 +10,8 @@
 //  - the world model serves the plate where the picks put it (its bottom face on the target's top face) and
 //    its six screw holes where the file has them, each with the screw type and torque of its pattern;
 //  - the bracket's grasp, approach (100 mm out), rope attachment (at its hole), marker and its insertion
-//    (its bottom face on the plate's top face) are served as the picks made them;
+//    (its bottom face on the plate's top face, a hole of each lined up by the pin) are served as the picks
+//    made them;
 //  - the exported recipe is canonical, names the planned objects and features, screws the six holes with the
 //    world model's per-hole torques, and the published task ran to SUCCEEDED on the console's cell;
 //  - the script itself checked that the session, replayed in a new page on the cell rolled back to where it
@@ -163,8 +164,12 @@ TEST_F(PlannerNewProductTest, ANewProductImportedPlacedDeclaredAndProgrammedByCl
   EXPECT_EQ(world.at("base_plate").at("features").at("markers").at("items").at(0).at("id"), 40);
   const json& insertion = bracket.at("insertion");
   EXPECT_EQ(insertion.at("target"), "base_plate");
-  // The bracket's bottom face (z = 0) on the plate's top face (z = 0): the frames' origins in one plane.
+  // The bracket's bottom face (z = 0) on the plate's top face (z = 0), pinned: its hole at (0.06, 0.09) on the
+  // plate's at (0.09, 0.04).
+  const Eigen::Isometry3d inserted = pose_of(json{{"pose", insertion.at("pose_in_target")}});
   EXPECT_NEAR(insertion.at("pose_in_target").at("position_m").at(2).get<double>(), 0.0, 1e-6) << insertion.dump(2);
+  EXPECT_LT((inserted * Eigen::Vector3d(0.06, 0.09, 0.0) - Eigen::Vector3d(0.09, 0.04, 0.0)).norm(), 1e-6)
+      << "the pin does not line the holes up: " << insertion.dump(2);
 
   // The export: canonical, the planned objects and features, the six holes with the world model's torques.
   const std::string exported = result.at("exported");

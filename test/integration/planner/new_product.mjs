@@ -4,7 +4,7 @@
 // (BRACKET: an L bracket with two through holes; PLATE: a base plate with six holes of two diameters,
 // written with OpenCascade by the C++ side before the cell started) become the paper's task through the
 // page only: both imported and added to the cell, the plate placed on the target ("the table") by picks,
-// the bracket's grasp, approach, rope attachment, marker and insertion and the plate's marker and six
+// the bracket's grasp, approach, rope attachment, marker and insertion (pinned by a hole of each) and the plate's marker and six
 // screw holes (two patterns "all like this one", two torques) declared by picks, each a confirmed cell
 // revision; then the paper's tree shape built by clicks (Localize ×2, Attach ∥ Yank, Insert ∥ Force ∥
 // Timer with the back-off fallback, Screw over the six holes, Release), validated and exported. The cell is
@@ -192,6 +192,11 @@ async function session(page, acts, result, round) {
   await page.click('[data-frame="base_plate"]');
   const into = await clickAt('base_plate', plateSpot);
   check(into.entity === 'base_plate' && into.face === plateTop.index, `picked the plate's top face (got ${into.entity} ${into.kind} ${into.face})`);
+  // Pinned: the bracket's hole at (0.06, 0.09) on the plate's 14 mm hole at (0.09, 0.04).
+  await page.click('[data-frame="bracket"]');
+  await clickHole('bracket', 0.06, 0.09);
+  await page.click('[data-frame="base_plate"]');
+  await clickHole('base_plate', 0.09, 0.04);
   result.insertion = await declare('insertion');
   result.revision_declared = (await call('/api/cell')).json.cell_revision;
   result.timings_ms.declared = Date.now() - tSession;
