@@ -67,3 +67,12 @@ if(TARGET rigger_generated_cell AND TARGET rigger_console_core AND TARGET cell_s
     add_dependencies(rigger_rehearsal_new_load_test cell_sim world_model task_controller)
   endif()
 endif()
+# A new product: two STEP files written in the test (rigger::sim::write_new_product) imported, placed,
+# declared and programmed in the Planner by clicks only, validated, exported, replayed to the same bytes,
+# rehearsed on a scripted rehearsal cell the console starts on the revision, and published; the same
+# services as the planner test (no physics: about 50 s).
+rigger_console_browser_test(rigger_planner_new_product_test planner_new_product_test.cpp
+  console cad world_model scripted_executor task_controller)
+if(TARGET rigger_planner_new_product_test)
+  target_link_libraries(rigger_planner_new_product_test PRIVATE rigger_generated_cell)
+endif()

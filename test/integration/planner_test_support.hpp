@@ -10,6 +10,8 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -99,6 +101,43 @@ class PlannerCellTest : public MultiProcessTest {
   std::uint16_t port_ = 0;
   std::string token_;
 };
+
+/// Writes into `dir` (created) a rehearsal cell's start command for the console: a shell script running a
+/// world model (on $RIGGER_CELL_FILE, the revision the console starts it on, when `on_revision`; else on
+/// the simulated cell's file), scripted executors announcing the real skill library (skills succeed after
+/// 0.2 s, monitors run) and a task controller, each writing its PID to `dir`/cell.pids. Returns the
+/// script's path.
+inline std::string write_scripted_rehearsal_cell(const std::string& dir, bool on_revision = false) {
+  std::filesystem::create_directories(dir);
+  const std::string library = repo_file("recipes/examples/skill_library.json");
+  const auto config = [&](const std::string& name, const nlohmann::json& j) {
+    std::ofstream(dir + "/" + name + ".json") << j.dump(2);
+    return dir + "/" + name + ".json";
+  };
+  const std::string skills = config(
+      "skills", {{"library_file", library},
+                 {"skills", {"Localize", "AttachRobotToLoad", "InsertVisuallyGuided", "Screw", "Release", "Place", "MoveTo"}},
+                 {"default", {{"mode", "succeed"}, {"delay_s", 0.2}}}});
+  const std::string monitors = config("monitors", {{"library_file", library},
+                                                   {"skills", {"TimerMonitor", "ForceMonitor", "YankMonitor"}},
+                                                   {"default", {{"mode", "run"}}}});
+  const std::string controller = config("task_controller", {{"journal_path", dir + "/journal.sqlite"}});
+  const std::string world = config("world_model", {{"cell_config", repo_file("deploy/cell/simulated_cell.json")}});
+  const std::string pids = dir + "/cell.pids";
+  const std::string script = dir + "/rehearsal-cell.sh";
+  std::ofstream out(script);
+  out << "#!/bin/sh\n# The test's rehearsal cell: a controller and scripted executors on $RIGGER_DOMAIN.\n";
+  const std::string world_args =
+      world + " --db " + dir + "/world_model.sqlite" + (on_revision ? " --cell \"$RIGGER_CELL_FILE\"" : "");
+  for (const auto& [id, binary, args] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"world_model", "world_model", world_args},
+           {"skills", "scripted_executor", skills},
+           {"monitors", "scripted_executor", monitors},
+           {"task_controller", "task_controller", controller}})
+    out << bin_dir() << "/" << binary << " --id " << id << " --config " << args << " & echo $! >> " << pids << "\n";
+  out << "wait\n";
+  return script;
+}
 
 /// A second cell on a DDS domain of its own (a leased id; logs in rehearsal/): the console's rehearsal
 /// cell. Stopped after the test's own cell; its logs printed when the test failed.

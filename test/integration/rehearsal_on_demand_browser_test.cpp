@@ -41,34 +41,8 @@ TEST_F(RehearsalOnDemandTest, RehearseStartsTheRehearsalCellAndItStopsWhenIdle) 
   RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   const std::string dir = rehearsal_.log_dir();
   std::filesystem::create_directories(dir);
-  const std::string library = repo_file("recipes/examples/skill_library.json");
-  const auto config = [&](const std::string& name, const nlohmann::json& j) {
-    std::ofstream(dir + "/" + name + ".json") << j.dump(2);
-    return dir + "/" + name + ".json";
-  };
-  const std::string skills = config(
-      "skills", {{"library_file", library},
-                 {"skills", {"Localize", "AttachRobotToLoad", "InsertVisuallyGuided", "Screw", "Release", "Place", "MoveTo"}},
-                 {"default", {{"mode", "succeed"}, {"delay_s", 0.2}}}});
-  const std::string monitors = config("monitors", {{"library_file", library},
-                                                   {"skills", {"TimerMonitor", "ForceMonitor", "YankMonitor"}},
-                                                   {"default", {{"mode", "run"}}}});
-  const std::string controller = config("task_controller", {{"journal_path", dir + "/journal.sqlite"}});
-  const std::string world =
-      config("world_model", {{"cell_config", repo_file("deploy/cell/simulated_cell.json")}});
   const std::string pids = dir + "/cell.pids";
-  const std::string script = dir + "/rehearsal-cell.sh";
-  {
-    std::ofstream out(script);
-    out << "#!/bin/sh\n# The test's rehearsal cell: a controller and scripted executors on $RIGGER_DOMAIN.\n";
-    for (const auto& [id, binary, args] : std::vector<std::tuple<std::string, std::string, std::string>>{
-             {"world_model", "world_model", world + " --db " + dir + "/world_model.sqlite"},
-             {"skills", "scripted_executor", skills},
-             {"monitors", "scripted_executor", monitors},
-             {"task_controller", "task_controller", controller}})
-      out << bin_dir() << "/" << binary << " --id " << id << " --config " << args << " & echo $! >> " << pids << "\n";
-    out << "wait\n";
-  }
+  const std::string script = write_scripted_rehearsal_cell(dir);
 
   ASSERT_TRUE(start_planner_services(
       {{"rehearsal_domain", rehearsal_.domain_id()},

@@ -88,7 +88,8 @@ json screw_of(const json& s, const std::string& pointer) {
 }
 
 /// The holes the request names: the picked one, and with "like" every hole of the same diameter and
-/// axis whose entry lies on the picked hole's entry plane, in index order.
+/// axis whose entry lies on the picked hole's entry plane, in index order (holes of another diameter on
+/// that plane are left for a pattern of their own).
 std::vector<const json*> picked_holes(const DeclareRequest& r, const json& cad) {
   const json& p = r.picks;
   if (!p.contains("hole")) throw PlannerError{"/hole", "expected the picked hole (its index in the model's holes)"};
@@ -101,11 +102,8 @@ std::vector<const json*> picked_holes(const DeclareRequest& r, const json& cad) 
                                 h["entry_m"][1].get<double>() - first["entry_m"][1].get<double>(),
                                 h["entry_m"][2].get<double>() - first["entry_m"][2].get<double>()});
     if (dot(h["axis"], first["axis"]) < 1.0 - kSameAxis || std::abs(dot(d, first["axis"])) > kSameFace) continue;
-    if (std::abs(h["diameter_m"].get<double>() - first["diameter_m"].get<double>()) > kSameDiameter)
-      throw PlannerError{"/like", "the holes on hole " + first["index"].dump() + "'s face are of mixed diameters (" +
-                                      std::to_string(first["diameter_m"].get<double>() * 1000).substr(0, 6) + " and " +
-                                      std::to_string(h["diameter_m"].get<double>() * 1000).substr(0, 6) +
-                                      " mm, hole " + h["index"].dump() + "): pick them one at a time"};
+    // Holes of another diameter on the face are another pattern (another screw): picked on their own.
+    if (std::abs(h["diameter_m"].get<double>() - first["diameter_m"].get<double>()) > kSameDiameter) continue;
     out.push_back(&h);
   }
   return out;

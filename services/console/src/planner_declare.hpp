@@ -39,8 +39,9 @@ DeclareRequest parse_declare_request(const nlohmann::json& body);
 /// references taken from `cad_features` (the CAD service's CAD_FEATURES `result` of the entity's model:
 /// "faces", "edges", "holes"). {"cell": document, "features": [the new features' ids], "rule": [the new
 /// entries]}.
-/// @throws PlannerError when the picks make no such feature (not a plane, an edge not in the face, a
-/// hole pattern of mixed diameters, an index the model does not have) or the name is taken.
+/// @throws PlannerError when the picks make no such feature (not a plane, an edge not in the face, an
+/// index the model does not have) or the name is taken. Screw holes "like" the picked one are those of its
+/// diameter and axis on its entry plane: a face with holes of two diameters gives two patterns.
 /// An insertion ({"face", "target": {"model": "object:<target>", "face"}}) mates a face of the object on a
 /// face of the target (`target_cad_features`: the target model's) as the `mate_faces` rule; an object has
 /// one insertion.

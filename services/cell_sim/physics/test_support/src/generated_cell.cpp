@@ -9,6 +9,7 @@
 #include <TopTools_ListOfShape.hxx>
 #include <TopoDS_Compound.hxx>
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -49,6 +50,21 @@ TopoDS_Shape l_bracket() {
   return compound;
 }
 
+// `solid` with vertical through holes cut, each {x, y, radius} (metres), from z = `bottom` up for `height`.
+TopoDS_Shape drilled(const TopoDS_Shape& solid, const std::vector<std::array<double, 3>>& holes, double bottom,
+                     double height) {
+  TopTools_ListOfShape arguments, tools;
+  arguments.Append(solid);
+  for (const auto& [x, y, radius] : holes)
+    tools.Append(BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(x, y, bottom), gp::DZ()), radius, height).Shape());
+  BRepAlgoAPI_Cut cut;
+  cut.SetArguments(arguments);
+  cut.SetTools(tools);
+  cut.Build();
+  if (!cut.IsDone()) throw std::runtime_error("generated cell: OpenCascade could not cut the holes");
+  return cut.Shape();
+}
+
 // The flange plate: 0.50 m across, 0.04 m thick, frame at the centre of its top face, six 22 mm through
 // holes on a 0.36 m bolt circle; on its +x rim (the camera's side) a marker lug 0.02 x 0.24 x 0.12 m standing
 // on the top face, as a second solid: the camera looks down at about 23 degrees, so markers on the top face
@@ -56,22 +72,15 @@ TopoDS_Shape l_bracket() {
 // flange during the insertion.
 TopoDS_Shape flange_plate() {
   const TopoDS_Shape disc = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -0.04), gp::DZ()), 0.25, 0.04).Shape();
-  TopTools_ListOfShape arguments, tools;
-  arguments.Append(disc);
+  std::vector<std::array<double, 3>> holes;
   for (int k = 0; k < 6; ++k) {
     const double angle = k * M_PI / 3.0;
-    const gp_Pnt bottom(kBoltCircleRadius * std::cos(angle), kBoltCircleRadius * std::sin(angle), -0.05);
-    tools.Append(BRepPrimAPI_MakeCylinder(gp_Ax2(bottom, gp::DZ()), kHoleRadius, 0.06).Shape());
+    holes.push_back({kBoltCircleRadius * std::cos(angle), kBoltCircleRadius * std::sin(angle), kHoleRadius});
   }
-  BRepAlgoAPI_Cut cut;
-  cut.SetArguments(arguments);
-  cut.SetTools(tools);
-  cut.Build();
-  if (!cut.IsDone()) throw std::runtime_error("generated cell: OpenCascade could not cut the flange's holes");
   TopoDS_Compound compound;
   BRep_Builder builder;
   builder.MakeCompound(compound);
-  builder.Add(compound, cut.Shape());
+  builder.Add(compound, drilled(disc, holes, -0.05, 0.06));
   builder.Add(compound, box({kLugInnerX, -0.12, 0.0}, {kLugInnerX + 0.02, 0.12, 0.12}));
   return compound;
 }
@@ -273,6 +282,31 @@ std::filesystem::path GeneratedCell::write() const {
   out << cell_.dump(2);
   if (!out) throw std::runtime_error("generated cell: cannot write " + path.string());
   return path;
+}
+
+NewProductModels write_new_product(const std::filesystem::path& dir) {
+  std::filesystem::create_directories(dir);
+  // The L bracket of the generated cell, two 18 mm through holes in its base plate.
+  TopoDS_Compound bracket;
+  BRep_Builder builder;
+  builder.MakeCompound(bracket);
+  builder.Add(bracket, drilled(box({-0.20, -0.15, 0.0}, {0.20, 0.15, 0.03}), {{0.06, -0.09, 0.009}, {0.06, 0.09, 0.009}},
+                               -0.01, 0.05));
+  builder.Add(bracket, box({-0.20, -0.15, 0.03}, {-0.17, 0.15, 0.33}));
+  // The base plate 0.40 x 0.34 x 0.03 m, frame at the centre of its top face: four 17.5 mm holes on a
+  // trapezoid and two 14 mm holes off its axes.
+  const TopoDS_Shape plate = drilled(box({-0.20, -0.17, -0.03}, {0.20, 0.17, 0.0}),
+                                     {{-0.15, -0.12, 0.00875},
+                                      {0.15, -0.12, 0.00875},
+                                      {0.11, 0.12, 0.00875},
+                                      {-0.11, 0.12, 0.00875},
+                                      {-0.05, 0.0, 0.007},
+                                      {0.09, 0.04, 0.007}},
+                                     -0.04, 0.05);
+  NewProductModels models{dir / "bracket.step", dir / "base_plate.step"};
+  cad::write_step(bracket, "bracket", models.bracket);
+  cad::write_step(plate, "base_plate", models.plate);
+  return models;
 }
 
 CellGeometry GeneratedCell::load() const {

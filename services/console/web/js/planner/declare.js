@@ -11,6 +11,8 @@ import { DECLARE_KINDS, declareFromPicks } from './picks.js';
 const LABELS = { grasp_frame: 'grasp frame (a face, an edge of it for x)', approach_waypoint: 'approach waypoint (a face, a stand-off)',
   screw_holes: 'screw holes (a hole)', insertion: 'insertion (a face of the part, then the face it mates; a hole of each to pin them)',
   rope_attachment: 'rope attachment (a hole, or a point on a face)', marker: 'marker (a point on a face)' };
+// The names a frame is proposed by (the shipped cell's): typed over when the part has one already.
+const PROPOSED_NAMES = { grasp_frame: 'grasp', approach_waypoint: 'pre_grasp' };
 const DICTIONARIES = ['DICT_4X4_50', 'DICT_4X4_100', 'DICT_4X4_250', 'DICT_5X5_50', 'DICT_5X5_100', 'DICT_6X6_50'];
 
 export class DeclarePanel {
@@ -31,7 +33,7 @@ export class DeclarePanel {
       dictionary: el('label', {}, 'Dictionary ', el('select', { id: 'planner-declare-dictionary', 'aria-label': 'Marker dictionary' },
         ...DICTIONARIES.map((d) => el('option', { value: d }, d)))),
       marker_id: input('marker-id', 'Marker id', { type: 'number', min: '0', step: '1' }),
-      marker_size_mm: input('marker-size', 'Marker size (mm)', { type: 'number', min: '10', step: '1' }),
+      marker_size_mm: input('marker-size', 'Marker size (mm)', { type: 'number', min: '10', step: '1', value: '80' }),
     };
     this.status = el('p', { id: 'planner-declare-status', role: 'status', 'aria-live': 'polite', class: 'small' });
     this.undoBox = el('div', { class: 'toolbar' });
@@ -47,9 +49,11 @@ export class DeclarePanel {
     return box.type === 'checkbox' ? box.checked : box.value.trim();
   }
 
-  /// Shows the kind's own fields only.
+  /// Shows the kind's own fields only; a new kind's name is the one proposed for it, or empty (a name
+  /// typed for another kind, such as a screw holes' prefix, is not this one's).
   render() {
     const k = this.kind.value;
+    this.fields.name.querySelector('input').value = PROPOSED_NAMES[k] || '';
     const framed = k === 'grasp_frame' || k === 'approach_waypoint';
     const shown = { name: framed || k === 'screw_holes', x_reversed: framed, standoff_mm: k === 'approach_waypoint',
       like: k === 'screw_holes', screw_type: k === 'screw_holes', torque_nm: k === 'screw_holes',

@@ -55,7 +55,8 @@ export function plannerPage(main, me) {
   const notice = el('p', { id: 'planner-notice', role: 'status', 'aria-live': 'polite' });
   const say = (text, bad = false) => { notice.textContent = text; notice.className = bad ? 'error' : ''; };
   const effortLine = el('p', { id: 'planner-effort', class: 'muted small' });
-  const effort = new Effort(main, (e) => { effortLine.textContent = e.text(); });
+  // The confirmation dialog is outside the page's main: its Yes and No are the session's clicks too.
+  const effort = new Effort([main, document.getElementById('confirm')].filter(Boolean), (e) => { effortLine.textContent = e.text(); });
   effortLine.textContent = effort.text();
   const addSelect = el('select', { id: 'planner-add-kind', 'aria-label': 'Node to add' });
   const taskId = el('input', { type: 'text', id: 'planner-task-id', 'aria-label': 'Task id', value: state.doc.task_id,
