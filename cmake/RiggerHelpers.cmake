@@ -175,18 +175,20 @@ function(rigger_add_service name)
 endfunction()
 
 # rigger_add_test(NAME SOURCES ... DEPS ... LABEL unit|dds|integration|timing|lab [TIMEOUT s] [RUN_SERIAL]
-#                 [TIMING gtest-filter]) (lab: on demand, not test/run)
+#                 [TIMING gtest-filter] [LAB gtest-filter]) (lab: on demand, not test/run)
 # One GoogleTest binary; each test case becomes a ctest test with the label and a timeout.
 # RUN_SERIAL: for tests that assert a deadline (e.g. discovery within 3 s) and must not share the
 # machine's two cores with the rest of the suite.
 # TIMING: the test cases matching the filter (e.g. "Suite.A:Suite.B") are labelled `timing` instead: they
 # assert a real-time target, and test/run runs them one at a time after the rest, with the shipped
 # liveliness lease (label timing alone does the same for a whole binary).
+# LAB: the test cases matching the filter are labelled `lab` instead: a measurement run on demand
+# (ctest -L lab), not by test/run.
 function(rigger_add_test name)
   if(NOT RIGGER_BUILD_TESTS)
     return()
   endif()
-  cmake_parse_arguments(ARG "RUN_SERIAL" "LABEL;TIMEOUT;TIMING" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "RUN_SERIAL" "LABEL;TIMEOUT;TIMING;LAB" "SOURCES;DEPS" ${ARGN})
   if(NOT ARG_LABEL)
     message(FATAL_ERROR "rigger_add_test(${name}): LABEL is required (unit, dds, integration, timing, lab)")
   endif()
@@ -210,6 +212,18 @@ function(rigger_add_test name)
     set(serial TRUE)
   endif()
   set(environment "RIGGER_BIN_DIR=${PROJECT_BINARY_DIR}/bin;RIGGER_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+  if(ARG_TIMING AND ARG_LAB)
+    message(FATAL_ERROR "rigger_add_test(${name}): TIMING and LAB together are not supported")
+  endif()
+  if(ARG_LAB)
+    gtest_discover_tests(${name} TEST_FILTER "-${ARG_LAB}"
+      DISCOVERY_TIMEOUT 60
+      PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial} ENVIRONMENT "${environment}")
+    gtest_discover_tests(${name} TEST_FILTER "${ARG_LAB}"
+      DISCOVERY_TIMEOUT 60
+      PROPERTIES LABELS lab TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial} ENVIRONMENT "${environment}")
+    return()
+  endif()
   if(ARG_TIMING)
     gtest_discover_tests(${name} TEST_FILTER "-${ARG_TIMING}"
       DISCOVERY_TIMEOUT 60

@@ -54,12 +54,12 @@ class CalibrateCameraProcessTest : public MultiProcessTest {
   }
 };
 
-// What the camera's error does to the scenario when nobody calibrates it (by hand, a cell run of its own:
-// --gtest_also_run_disabled_tests; figures in docs/decisions, the camera's calibration acceptance). Localize puts
+// What the camera's error does to the scenario when nobody calibrates it (on demand, label lab: a cell run of
+// its own, `ctest -L lab`; figures in docs/decisions, the camera's calibration acceptance). Localize puts
 // the load and the target some 40 mm off, the magnet still takes the load, and the insertion servos on the
 // load's pose relative to the target's, both seen through the same camera: the camera's error cancels there,
 // and the load is screwed on within the 5 mm.
-TEST_F(CalibrateCameraProcessTest, DISABLED_WithoutCalibrationTheInsertionCancelsTheCameraError) {
+TEST_F(CalibrateCameraProcessTest, WithoutCalibrationTheInsertionCancelsTheCameraError) {
   const auto cell = ScenarioCell::on(cell_, off_camera(false));
   ScenarioCell& s = *cell;
   ASSERT_TRUE(s.ready()) << "not every service came up";

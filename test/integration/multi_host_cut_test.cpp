@@ -119,7 +119,12 @@ TEST_F(MultiHostTest, SkillsHostCutDuringInsertionStopsTheCellAndItRecovers) {
   const std::string rest_file = cell_->log_dir() + "/rest_of_the_task.json";
   std::ofstream(rest_file) << rest.dump(2);
   s->watch(second);
-  const auto again = on("controller", "run-again", riggerctl() + " run " + rest_file, 300s);
+  // The test's loop follows the task while riggerctl runs it: the simulator's truth is a keep-last-1 stream,
+  // and a loop that waited for riggerctl to return would read only the truth after the release.
+  auto run_again = start_on("controller", "run-again", riggerctl() + " run " + rest_file);
+  ASSERT_TRUE(cell_->wait_until([&] { return task_terminal(s->task_state()) || !run_again->running(); }, 300s))
+      << s->task_summary();
+  const auto again = finish(*run_again, "riggerctl run (again)", 30s);
   std::printf("--- the second run:\n%s\n", again.output.c_str());
   EXPECT_TRUE(again.status.ok()) << again.output;
   ASSERT_TRUE(s->wait_task_end(30s)) << s->task_summary();
