@@ -308,9 +308,9 @@ void HttpApi::post_planner_declare(const httplib::Request& req, httplib::Respons
     }
     const std::string what = "declare " + request.kind + " " + request.entity + "/" + request.name;
     const json payload = {{"op", "apply"}, {"cell_json", to_text(declared["cell"])}, {"comment", what}};
-    select_cell_revision(*user, payload, "apply (" + what + ")", req, res,
-                 {{"features", declared["features"]}, {"rule", declared["rule"]},
-                  {"base_revision", running->revision}});
+    json extra = {{"features", declared["features"]}, {"rule", declared["rule"]}, {"base_revision", running->revision}};
+    if (declared.contains("rope_from")) extra["rope_from"] = declared["rope_from"];
+    select_cell_revision(*user, payload, "apply (" + what + ")", req, res, extra);
   } catch (const PlannerError& e) {
     send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
   } catch (const json::exception& e) {

@@ -62,7 +62,18 @@ json declare_at_frame(const DeclareRequest& r, const json& cell, const Eigen::Is
     if (features.contains("rope_attachment"))
       throw PlannerError{"/kind", "\"" + r.entity + "\" has a rope attachment already: roll back its revision first"};
     features["rope_attachment"] = pose;
-    return {{"cell", std::move(doc)}, {"features", {r.entity + "/rope_attachment"}}, {"rule", json::array({pose})}};
+    // The crane carries one load: the rope moves here from the object it hooked (if any).
+    std::string rope_from;
+    for (json& e : doc["entities"]) {
+      if (!e.is_object() || e.value("id", "") == r.entity || !e.contains("features") || !e["features"].is_object() ||
+          !e["features"].contains("rope_attachment"))
+        continue;
+      e["features"].erase("rope_attachment");
+      rope_from = e.value("id", "");
+    }
+    json out = {{"cell", std::move(doc)}, {"features", {r.entity + "/rope_attachment"}}, {"rule", json::array({pose})}};
+    if (!rope_from.empty()) out["rope_from"] = rope_from;
+    return out;
   }
   const std::string dictionary = r.picks.value("dictionary", json()).is_string() ? r.picks["dictionary"].get<std::string>() : "";
   const std::optional<cell::MarkerDictionary> known = cell::marker_dictionary(dictionary);

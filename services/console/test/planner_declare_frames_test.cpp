@@ -85,6 +85,13 @@ TEST(PlannerDeclareFrames, TheRopeAttachmentIsAPickedHoleOrAFacePointOncePerPart
   EXPECT_EQ(rope.at("position_m"), json({0.2, 0.0, 0.05}));
   EXPECT_EQ(out.at("features"), json({"plate/rope_attachment"}));
   EXPECT_THROW(declare_at_frame(hole, out.at("cell"), side_face()), PlannerError) << "a second rope attachment";
+  EXPECT_FALSE(out.contains("rope_from")) << "no other object had the rope";
+  // The crane carries one load: declared on another object, the rope moves there from the plate.
+  const DeclareRequest on_target = parse_declare_request({{"model", "object:target"}, {"kind", "rope_attachment"}, {"hole", 2}});
+  const json moved = declare_at_frame(on_target, out.at("cell"), side_face());
+  EXPECT_EQ(moved.at("rope_from"), "plate");
+  EXPECT_TRUE(moved.at("cell").at("entities").at(0).at("features").contains("rope_attachment"));
+  EXPECT_FALSE(moved.at("cell").at("entities").at(1).at("features").contains("rope_attachment"));
   EXPECT_THROW(frame_args(parse_declare_request({{"model", "object:plate"}, {"kind", "rope_attachment"}})), PlannerError);
 }
 

@@ -76,8 +76,9 @@ export class DeclarePanel {
     try {
       const sel = await api('/api/planner/declare', { method: 'POST', body: request });
       this.status.textContent = `${what}: ${sel.features.join(', ')} — ${describeChanges(sel.changes)}`;
+      const rope = sel.rope_from ? `The crane's rope moves from ${sel.rope_from} to ${request.model.slice(7)}: it becomes the crane's load. ` : '';
       if (!(await confirmDialog('Declare the feature?', `${what} (${sel.features.join(', ')}): ${describeChanges(sel.changes)}. `
-        + 'Every service follows the new revision.', 'Declare'))) return this.tell('Feature not declared (not confirmed).');
+        + rope + 'Every service follows the new revision.', 'Declare'))) return this.tell('Feature not declared (not confirmed).');
       const done = await api('/api/confirm', { method: 'POST', body: { confirmation_id: sel.confirmation_id } });
       this.tell(`Declared ${sel.features.join(', ')}: cell revision ${done.cell_revision}.`);
       this.offerUndo(sel.base_revision, sel.features);
