@@ -122,7 +122,7 @@ void GripperSkill::check_crane(bool required, std::function<void()> then) {
     fail("DEVICE_UNAVAILABLE", "this executor has no crane state (needed by check_crane = true)");
     return;
   }
-  check_crane_health(std::move(then));
+  check_crane_health(std::move(then), std::chrono::nanoseconds::zero());
 }
 
 void GripperSkill::watch_crane(bool required) {

@@ -85,9 +85,10 @@ class GripperSkill : public CraneSkill {
   void on_run_paused() override;
   void on_run_resumed() override;
 
-  /// When `required`: the crane's health (CraneMonitor::check_health, a crane state at most 1 s old,
-  /// waiting up to 2 s); `then` when healthy, else CRANE_FAULT, or DEVICE_UNAVAILABLE without a crane
-  /// device. When not required: `then` at once.
+  /// When `required`: the crane's health (CraneMonitor::check_health) on a crane state published after the
+  /// check began, waiting up to 2 s for it: a grasp or a release decides on the crane as it is, not on a
+  /// state from before a fault the gateway has reported since. `then` when healthy, else CRANE_FAULT, or
+  /// DEVICE_UNAVAILABLE without a crane device. When not required: `then` at once.
   void check_crane(bool required, std::function<void()> then);
   /// When `required`: watches the crane's health for the rest of the current state (a bad crane state,
   /// or none for 1 s, fails CRANE_FAULT after the state's safe stop, e.g. stopping the robot).
