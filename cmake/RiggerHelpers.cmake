@@ -215,22 +215,24 @@ function(rigger_add_test name)
   if(ARG_TIMING AND ARG_LAB)
     message(FATAL_ERROR "rigger_add_test(${name}): TIMING and LAB together are not supported")
   endif()
-  if(ARG_LAB)
-    gtest_discover_tests(${name} TEST_FILTER "-${ARG_LAB}"
-      DISCOVERY_TIMEOUT 60
-      PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial} ENVIRONMENT "${environment}")
-    gtest_discover_tests(${name} TEST_FILTER "${ARG_LAB}"
-      DISCOVERY_TIMEOUT 60
-      PROPERTIES LABELS lab TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial} ENVIRONMENT "${environment}")
-    return()
-  endif()
+  # The cases a TIMING or LAB filter names are discovered apart, with their own label (timing cases alone).
+  set(split_filter "")
   if(ARG_TIMING)
-    gtest_discover_tests(${name} TEST_FILTER "-${ARG_TIMING}"
+    set(split_filter "${ARG_TIMING}")
+    set(split_label timing)
+    set(split_serial TRUE)
+  elseif(ARG_LAB)
+    set(split_filter "${ARG_LAB}")
+    set(split_label lab)
+    set(split_serial ${serial})
+  endif()
+  if(split_filter)
+    gtest_discover_tests(${name} TEST_FILTER "-${split_filter}"
       DISCOVERY_TIMEOUT 60
       PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial} ENVIRONMENT "${environment}")
-    gtest_discover_tests(${name} TEST_FILTER "${ARG_TIMING}"
+    gtest_discover_tests(${name} TEST_FILTER "${split_filter}"
       DISCOVERY_TIMEOUT 60
-      PROPERTIES LABELS timing TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL TRUE ENVIRONMENT "${environment}")
+      PROPERTIES LABELS ${split_label} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${split_serial} ENVIRONMENT "${environment}")
     return()
   endif()
   gtest_discover_tests(${name}
