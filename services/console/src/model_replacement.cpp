@@ -1,7 +1,6 @@
 #include "model_replacement.hpp"
 
 #include <cmath>
-#include <functional>
 #include <sstream>
 
 #include "planner.hpp"
@@ -126,44 +125,36 @@ Replacement cell_with_replaced_model(const json& cell, const ReplaceRequest& req
   model["step"] = replaced_model_name(request.object, request.sha256);
   model["sha256"] = request.sha256;
 
-  // Checks one feature's rule; drops the feature (`erase`) when it no longer holds.
-  const auto judge = [&](const std::string& name, const json& feature, bool own, const std::function<void()>& erase) {
-    if (!feature.is_object() || !feature.contains("cad")) return;
+  // Whether one feature's rule still holds on the new model (a feature without a rule does), recorded as
+  // kept or dropped.
+  const auto holds = [&](const std::string& name, const json& feature, bool own) {
+    if (!feature.is_object() || !feature.contains("cad")) return true;
     const std::string why = stale(feature["cad"], own, features);
-    if (why.empty()) {
+    if (why.empty())
       out.kept.push_back(name);
-    } else {
+    else
       out.dropped.push_back({name, why});
-      erase();
-    }
+    return why.empty();
   };
   for (json& e : out.cell["entities"]) {
     if (!e.is_object() || !e.contains("features") || !e["features"].is_object()) continue;
     const std::string id = e.value("id", "");
     json& f = e["features"];
-    if (&e == object) {
+    const bool own = &e == object;
+    if (own) {
       for (const char* list : {"grasp_frames", "approach_waypoints", "screw_holes"}) {
         if (!f.contains(list) || !f[list].is_array()) continue;
         json kept = json::array();
-        for (const json& item : f[list]) {
-          bool dropped = false;
-          judge(id + "/" + item.value("id", "?"), item, true, [&] { dropped = true; });
-          if (!dropped) kept.push_back(item);
-        }
+        for (const json& item : f[list])
+          if (holds(id + "/" + item.value("id", "?"), item, true)) kept.push_back(item);
         f[list] = kept;
       }
     }
-    if (f.contains("insertion") && f["insertion"].is_object()) {
-      const bool into_it = f["insertion"].value("target", "") == request.object;
-      if (&e == object || into_it) {
-        // Its own faces when it is the object, the target's when it goes into the object (or both).
-        json& insertion = f["insertion"];
-        bool dropped = false;
-        if (&e == object) judge(id + "/insertion", insertion, true, [&] { dropped = true; });
-        if (!dropped && into_it) judge(id + "/insertion", insertion, false, [&] { dropped = true; });
-        if (dropped) f.erase("insertion");
-      }
-    }
+    // The object's own insertion refers to its faces; another part's insertion into it, to the target's
+    // (the cell file refuses an insertion into itself).
+    if (f.contains("insertion") && f["insertion"].is_object() &&
+        (own || f["insertion"].value("target", "") == request.object) && !holds(id + "/insertion", f["insertion"], own))
+      f.erase("insertion");
   }
   return out;
 }
