@@ -1,6 +1,7 @@
 #include "side_effect_writer.hpp"
 
 #include <chrono>
+#include <iterator>
 #include <utility>
 
 namespace rigger::task_controller {
@@ -52,14 +53,24 @@ void SideEffectWriter::run() {
   for (;;) {
     queued_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
     if (queue_.empty()) return;  // stopping, and everything is written
-    Batch batch = std::move(queue_.front());
-    queue_.pop_front();
+    // Everything queued goes in one transaction: a writer that fell behind (a slow disk, a loaded
+    // machine) catches up at once instead of leaving more batches to a kill.
+    std::deque<Batch> taken = std::exchange(queue_, {});
     lock.unlock();
+    Batch batch = std::move(taken.front());
+    for (std::size_t i = 1; i < taken.size(); ++i) {
+      auto& next = taken[i];
+      batch.id = next.id;
+      batch.rows.insert(batch.rows.end(), std::make_move_iterator(next.rows.begin()),
+                        std::make_move_iterator(next.rows.end()));
+      batch.statuses.insert(batch.statuses.end(), std::make_move_iterator(next.statuses.begin()),
+                            std::make_move_iterator(next.statuses.end()));
+    }
     const std::int64_t began = steady_ns();
     write(batch);
     const std::int64_t ended = steady_ns();
     lock.lock();
-    if (keep_times_) times_.push_back({began, ended});
+    if (keep_times_) times_.insert(times_.end(), taken.size(), Times{began, ended});
     written_id_ = batch.id;
     done_.notify_all();
   }
