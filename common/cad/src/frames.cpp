@@ -3,6 +3,10 @@
 #include "occt_util.hpp"
 
 #include <BRepAdaptor_Surface.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepGProp.hxx>
+#include <Bnd_Box.hxx>
+#include <GProp_GProps.hxx>
 #include <BRepClass_FaceClassifier.hxx>
 #include <BRep_Tool.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
@@ -129,6 +133,23 @@ Eigen::Isometry3d frame_from_hole(const Features& features, int hole) {
   Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
   frame.linear() = rotation_from_z(h.axis);
   frame.translation() = h.entry_m;
+  return frame;
+}
+
+Eigen::Isometry3d frame_above_centre_of_mass(const Model& model, double clearance_m) {
+  GProp_GProps properties;
+  BRepGProp::VolumeProperties(model.shape(), properties);
+  if (!(properties.Mass() > 1e-12)) {
+    throw CadError(ErrorCode::kNotAFrame, "model " + model.sha256().substr(0, 12) +
+                                              " has no volume (no solid): its centre of mass is unknown");
+  }
+  Bnd_Box bounds;
+  BRepBndLib::AddOptimal(model.shape(), bounds, false, false);
+  double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
+  bounds.Get(x0, y0, z0, x1, y1, z1);
+  const gp_Pnt centre = properties.CentreOfMass();
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+  frame.translation() = Eigen::Vector3d(centre.X(), centre.Y(), z1 + clearance_m);
   return frame;
 }
 

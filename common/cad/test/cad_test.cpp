@@ -15,6 +15,7 @@
 #include <BRep_Builder.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
 #include <GProp_GProps.hxx>
@@ -412,6 +413,30 @@ TEST_F(CadTest, FramesFromEdgesFaceAndHole) {
     EXPECT_LT((h.linear().col(2) - hole.axis).norm(), kTolRad);
   }
   EXPECT_THROW(frame_from_hole(features, 3), CadError);
+}
+
+// An L of two boxes (a 0.4 x 0.3 x 0.03 m plate and a 0.03 x 0.3 x 0.3 m web on its -x edge): the sling's ring
+// 20 mm above the web, over the centre of mass (x = 0.0027 * -0.185 / 0.0063 = -0.07929 m).
+TEST_F(CadTest, TheSlingFrameIsAboveTheCentreOfMass) {
+  TopoDS_Compound l_shape;
+  BRep_Builder builder;
+  builder.MakeCompound(l_shape);
+  builder.Add(l_shape, BRepPrimAPI_MakeBox(gp_Pnt(-0.2, -0.15, 0.0), gp_Pnt(0.2, 0.15, 0.03)).Shape());
+  builder.Add(l_shape, BRepPrimAPI_MakeBox(gp_Pnt(-0.2, -0.15, 0.03), gp_Pnt(-0.17, 0.15, 0.33)).Shape());
+  const Model model = round_trip(l_shape, "l_bracket");
+  const Eigen::Isometry3d sling = frame_above_centre_of_mass(model, 0.02);
+  EXPECT_LT((sling.translation() - Eigen::Vector3d(-0.0027 * 0.185 / 0.0063, 0.0, 0.35)).norm(), 1e-6)
+      << sling.translation().transpose();
+  EXPECT_TRUE(sling.linear().isIdentity(1e-12));
+  // A face alone has no volume: no centre of mass.
+  TopExp_Explorer faces(l_shape, TopAbs_FACE);
+  try {
+    frame_above_centre_of_mass(Model(faces.Current(), {}, "face", "in memory"), 0.02);
+    FAIL() << "a face was given a centre of mass";
+  } catch (const CadError& error) {
+    EXPECT_EQ(error.code(), ErrorCode::kNotAFrame);
+    EXPECT_NE(std::string(error.what()).find("no volume"), std::string::npos) << error.what();
+  }
 }
 
 TEST_F(CadTest, TessellationIsGlbInMetresWithOnePrimitivePerFace) {

@@ -13,6 +13,9 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+// How far above a part the rule "above_centre_of_mass" puts the sling's ring (metres).
+constexpr double kSlingClearanceM = 0.02;
+
 // A request error that is not the CAD library's: bad arguments, unknown model, forbidden path.
 struct RequestError {
   std::string code;
@@ -261,8 +264,12 @@ CadAnswer CadService::frame(Entry& entry, const std::string& args_json) const {
                                 point_arg(args, "point_m"));
   } else if (rule == "hole") {
     pose = cad::frame_from_hole(entry.features, int_arg(args, "hole"));
+  } else if (rule == "above_centre_of_mass") {
+    // A sling's ring: 20 mm above the part, over its centre of mass.
+    pose = cad::frame_above_centre_of_mass(entry.model, kSlingClearanceM);
   } else {
-    throw RequestError{"CAD_BAD_REQUEST", "args_json.rule must be \"edges\", \"face\" or \"hole\", not \"" + rule + "\""};
+    throw RequestError{"CAD_BAD_REQUEST", "args_json.rule must be \"edges\", \"face\", \"hole\" or "
+                                          "\"above_centre_of_mass\", not \"" + rule + "\""};
   }
   CadAnswer answer;
   answer.result_json = json{{"rule", rule}, {"frame", cad::to_json(pose)}}.dump();

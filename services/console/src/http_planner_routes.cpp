@@ -281,7 +281,9 @@ void HttpApi::post_planner_declare(const httplib::Request& req, httplib::Respons
     json declared;
     if (request.kind == "rope_attachment" || request.kind == "marker") {
       const auto frame = backend_.cad("frame", request.model, frame_args(request).dump());
-      if (!frame.ok) return send_cad_refusal(res, req, frame.message, request.picks.contains("hole") ? "#/hole" : "#/face");
+      if (!frame.ok) return send_cad_refusal(res, req, frame.message, request.picks.contains("hole") ? "#/hole"
+                                                     : request.picks.contains("above_centre_of_mass") ? "#/above_centre_of_mass"
+                                                                                                     : "#/face");
       const Eigen::Isometry3d at = frame_from_cad(frame.data.value("result", json::object()));
       if (request.kind == "marker") {
         // The whole square on the face: each corner is a point of it.
@@ -294,7 +296,19 @@ void HttpApi::post_planner_declare(const httplib::Request& req, httplib::Respons
                                               " at that point: a corner is off the face (" + on_face.message + ")"};
         }
       }
-      declared = declare_at_frame(request, cell, at);
+      // The crane carries one load: a part taking the rope hangs where the load hung, the load set down
+      // where the part stood (cell_with_load_exchanged); both models' vertices give their lowest points.
+      const std::string holder = request.kind == "rope_attachment" ? rope_holder(cell, request.entity) : "";
+      json exchanged;
+      if (!holder.empty()) {
+        const auto own = backend_.cad("features", request.model, "{}");
+        if (!own.ok) return send_cad_refusal(res, req, own.message, "#/model");
+        const auto held = backend_.cad("features", "object:" + holder, "{}");
+        if (!held.ok) return send_cad_refusal(res, req, "the crane's load " + holder + ": " + held.message, "#/model");
+        exchanged = cell_with_load_exchanged(cell, request.entity, at.translation(), own.data.value("result", json::object()),
+                                             holder, held.data.value("result", json::object()));
+      }
+      declared = declare_at_frame(request, holder.empty() ? cell : exchanged, at);
     } else {
       const auto features = backend_.cad("features", request.model, "{}");
       if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "rigger/cell_config/cell_types.hpp"
@@ -284,6 +285,48 @@ json cell_with_new_object(const json& cell, const AddRequest& request, double lo
                              {"pose", {{"position_m", {beyond_x + 1.0, 0.0, z}}, {"rpy_deg", {0, 0, 0}}}},
                              {"model", model}});
   return out;
+}
+
+namespace {
+
+/// The lowest world z of the model's vertices with the model at `world_T_model`.
+double lowest_world_z(const json& features, const Eigen::Isometry3d& world_T_model, const std::string& id) {
+  std::optional<double> lowest;
+  for (const json& v : features.value("vertices", json::array())) {
+    const json p = v.value("point_m", json());
+    if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number()) continue;
+    const double z = (world_T_model * Eigen::Vector3d(p[0].get<double>(), p[1].get<double>(), p[2].get<double>())).z();
+    lowest = std::min(lowest.value_or(z), z);
+  }
+  if (!lowest) throw PlannerError{"/model", "the CAD service gave no vertex of \"" + id + "\": its lowest point is unknown"};
+  return *lowest;
+}
+
+}  // namespace
+
+json cell_with_load_exchanged(const json& cell, const std::string& part, const Eigen::Vector3d& attachment_m,
+                              const json& part_features, const std::string& holder, const json& holder_features) {
+  const json* held = entity_in(cell, holder);
+  if (held == nullptr || entity_in(cell, part) == nullptr)
+    throw PlannerError{"/model", "the running cell has no entity \"" + (held == nullptr ? holder : part) + "\""};
+  const json hook = held->value("features", json::object()).value("rope_attachment", json());
+  if (!hook.is_object()) throw PlannerError{"/model", "\"" + holder + "\" has no rope attachment to take"};
+  const Eigen::Isometry3d world_T_holder = world_pose(cell, holder);
+  const Eigen::Isometry3d world_T_part = world_pose(cell, part);
+  const Eigen::Vector3d hook_world = world_T_holder * pose_of(json{{"pose", hook}}).translation();
+  const double holder_low = lowest_world_z(holder_features, world_T_holder, holder);
+  const double part_low = lowest_world_z(part_features, world_T_part, part);
+
+  Eigen::Isometry3d hung = world_T_part;  // orientation kept
+  hung.translation().setZero();
+  const Eigen::Vector3d attachment = hung * attachment_m;
+  const double hung_low = lowest_world_z(part_features, hung, part);
+  hung.translation() = Eigen::Vector3d(hook_world.x() - attachment.x(), hook_world.y() - attachment.y(), holder_low - hung_low);
+
+  Eigen::Isometry3d set_down = world_T_holder;
+  set_down.translation() = world_T_part.translation();
+  set_down.translation().z() += part_low - lowest_world_z(holder_features, set_down, holder);
+  return cell_with_placement(cell_with_placement(cell, part, "world", hung, false), holder, "world", set_down);
 }
 
 }  // namespace rigger::console

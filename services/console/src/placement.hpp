@@ -91,4 +91,15 @@ double lowest_vertex_z(const nlohmann::json& features);
 /// @throws PlannerError at "/id" when an entity of that id exists.
 nlohmann::json cell_with_new_object(const nlohmann::json& cell, const AddRequest& request, double lowest_z_m);
 
+/// The crane's load exchanged: `part` takes the hook from `holder` (the object the rope hooked) and `holder` is
+/// set down where `part` stood. `part` hangs level as it stands now (its orientation kept), its rope
+/// attachment `attachment_m` (in its model frame) straight under the hook (the holder's attachment) and its
+/// lowest point as high as the holder's was; it is not localized there (a Localize finds it). The holder,
+/// its orientation kept, stands with its origin above where `part`'s was and its lowest point where `part`'s
+/// was. The lowest points come from the models' vertices (`*_features`: the CAD service's features answers).
+/// @throws PlannerError when an entity is missing or has no pose, or a model has no vertex.
+nlohmann::json cell_with_load_exchanged(const nlohmann::json& cell, const std::string& part,
+                                        const Eigen::Vector3d& attachment_m, const nlohmann::json& part_features,
+                                        const std::string& holder, const nlohmann::json& holder_features);
+
 }  // namespace rigger::console

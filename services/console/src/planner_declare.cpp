@@ -233,6 +233,12 @@ json declare_feature(const DeclareRequest& r, const json& cell, const json& cad,
       throw PlannerError{"/kind", "\"" + r.entity + "\" has an insertion already (into \"" +
                                       features["insertion"].value("target", "?") + "\"): roll back its revision first"};
     }
+    // The part goes into a fixture: a loose target would be pushed away (the physics refuses it).
+    for (const json& e : doc["entities"])
+      if (e.is_object() && e.value("id", "") == r.target &&
+          !(e.contains("model") && e["model"].is_object() && e["model"].value("static", false)))
+        throw PlannerError{"/target/model", "\"" + r.target + "\" is loose: a part is inserted into a fixed one "
+                                            "(add it fixed, or declare the insertion into what holds it)"};
     const json rule = insertion_rule(r, cad, target_cad);
     features["insertion"] = rule;
     return {{"cell", std::move(doc)}, {"features", {r.entity + "/insertion"}}, {"rule", json::array({rule})}};

@@ -27,8 +27,21 @@ json* entity_of(json& doc, const std::string& id) {
 
 }  // namespace
 
+std::string rope_holder(const json& cell, const std::string& except) {
+  for (const json& e : cell.value("entities", json::array()))
+    if (e.is_object() && e.value("id", "") != except && e.contains("features") && e["features"].is_object() &&
+        e["features"].contains("rope_attachment"))
+      return e.value("id", "");
+  return "";
+}
+
 json frame_args(const DeclareRequest& r) {
   const json& p = r.picks;
+  if (r.kind == "rope_attachment" && p.contains("above_centre_of_mass")) {
+    if (p["above_centre_of_mass"] != true)
+      throw PlannerError{"/above_centre_of_mass", "expected true (a sling above the part's centre of mass), or leave it out"};
+    return {{"rule", "above_centre_of_mass"}};
+  }
   if (r.kind == "rope_attachment" && p.contains("hole")) {
     if (!p["hole"].is_number_integer() || p["hole"].get<long long>() < 0)
       throw PlannerError{"/hole", "expected the picked hole's index (integer ≥ 0)"};
@@ -59,6 +72,8 @@ json declare_at_frame(const DeclareRequest& r, const json& cell, const Eigen::Is
   if (!features.is_object()) features = json::object();
   const json pose = position_rpy(at);
   if (r.kind == "rope_attachment") {
+    if (entity->contains("model") && (*entity)["model"].is_object() && (*entity)["model"].value("static", false))
+      throw PlannerError{"/model", "\"" + r.entity + "\" is fixed (static): the crane's rope hooks a loose part"};
     if (features.contains("rope_attachment"))
       throw PlannerError{"/kind", "\"" + r.entity + "\" has a rope attachment already: roll back its revision first"};
     features["rope_attachment"] = pose;

@@ -176,5 +176,37 @@ TEST(Placement, AnOffsetMovesTheContactAlongTheSupportsEdgeOrItsX) {
   EXPECT_THROW(parse_place_request(far), PlannerError);
 }
 
+/// A box's eight corners as the CAD service's features answer lists its vertices.
+json box_vertices(const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+  json vertices = json::array();
+  for (int i = 0; i < 8; ++i)
+    vertices.push_back({{"point_m", {(i & 1) ? high.x() : low.x(), (i & 2) ? high.y() : low.y(), (i & 4) ? high.z() : low.z()}}});
+  return {{"vertices", vertices}};
+}
+
+TEST(Placement, APartTakingTheRopeHangsWhereTheLoadHungAndTheLoadStandsWhereThePartStood) {
+  // The load (a 0.2 m box, frame at its centre) hangs at (3.5, 1.75, 1.2) turned 90°, hooked 0.1 m above its
+  // centre; the part (frame at its bottom, 0.3 m high) stands on the floor at (6, 0, 0).
+  const json doc = json::parse(R"({"cell_version": 1, "entities": [
+    {"id": "load", "kind": "object", "parent": "world", "pose": {"position_m": [3.5, 1.75, 1.2], "rpy_deg": [0, 0, 90]},
+     "features": {"rope_attachment": {"position_m": [0, 0, 0.1], "rpy_deg": [0, 0, 0]}}},
+    {"id": "part", "kind": "object", "parent": "world", "pose": {"position_m": [6, 0, 0.001], "rpy_deg": [0, 0, 0]}}]})");
+  const json load = box_vertices({-0.2, -0.15, -0.1}, {0.2, 0.15, 0.1});
+  const json part = box_vertices({-0.2, -0.15, 0.0}, {0.2, 0.15, 0.3});
+  const Eigen::Vector3d sling(-0.08, 0.0, 0.32);
+  const json out = cell_with_load_exchanged(doc, "part", sling, part, "load", load);
+  const Eigen::Isometry3d hung = pose_in(out, "part"), set_down = pose_in(out, "load");
+  // Its sling straight under the hook (3.5, 1.75, 1.3), its bottom as high as the load's was (1.1), level.
+  EXPECT_LT(((hung * sling).head<2>() - Eigen::Vector2d(3.5, 1.75)).norm(), 1e-9) << (hung * sling).transpose();
+  EXPECT_NEAR(hung.translation().z(), 1.1, 1e-9);
+  EXPECT_TRUE(hung.linear().isApprox(Eigen::Matrix3d::Identity(), 1e-9));
+  EXPECT_EQ(out["entities"][1]["localized"], false);
+  // The load where the part stood, turned as it was, its bottom 1 mm above the floor.
+  EXPECT_LT((set_down.translation() - Eigen::Vector3d(6, 0, 0.101)).norm(), 1e-9) << set_down.translation().transpose();
+  EXPECT_TRUE(set_down.linear().isApprox(pose_in(doc, "load").linear(), 1e-9));
+  EXPECT_THROW(cell_with_load_exchanged(doc, "part", sling, json::object(), "load", load), PlannerError) << "no vertex";
+  EXPECT_THROW(cell_with_load_exchanged(doc, "part", sling, part, "nobody", load), PlannerError);
+}
+
 }  // namespace
 }  // namespace rigger::console

@@ -93,6 +93,26 @@ TEST(PlannerDeclareFrames, TheRopeAttachmentIsAPickedHoleOrAFacePointOncePerPart
   EXPECT_TRUE(moved.at("cell").at("entities").at(0).at("features").contains("rope_attachment"));
   EXPECT_FALSE(moved.at("cell").at("entities").at(1).at("features").contains("rope_attachment"));
   EXPECT_THROW(frame_args(parse_declare_request({{"model", "object:plate"}, {"kind", "rope_attachment"}})), PlannerError);
+  EXPECT_EQ(rope_holder(moved.at("cell"), "plate"), "target");
+  EXPECT_EQ(rope_holder(moved.at("cell"), "target"), "");
+}
+
+TEST(PlannerDeclareFrames, ASlingAboveTheCentreOfMassNeedsNoPickAndNoFixedPartTakesTheRope) {
+  const DeclareRequest sling =
+      parse_declare_request({{"model", "object:plate"}, {"kind", "rope_attachment"}, {"above_centre_of_mass", true}});
+  EXPECT_EQ(frame_args(sling), json({{"rule", "above_centre_of_mass"}}));
+  EXPECT_THROW(frame_args(parse_declare_request(
+                   {{"model", "object:plate"}, {"kind", "rope_attachment"}, {"above_centre_of_mass", "yes"}})),
+               PlannerError);
+  json fixed = cell();
+  fixed["entities"][1]["model"] = {{"static", true}};
+  try {
+    declare_at_frame(sling, fixed, side_face());
+    ADD_FAILURE() << "a fixed part took the rope";
+  } catch (const PlannerError& e) {
+    EXPECT_EQ(e.pointer, "/model");
+    EXPECT_NE(e.message.find("\"plate\" is fixed"), std::string::npos) << e.message;
+  }
 }
 
 }  // namespace

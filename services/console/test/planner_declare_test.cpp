@@ -34,7 +34,7 @@ json plate(bool mixed = false) {
 
 json cell() {
   return {{"cell_version", 1},
-          {"entities", {{{"id", "target"}, {"features", {{"screw_holes", {{{"id", "h1"}}}}}}}}}};
+          {"entities", {{{"id", "target"}, {"model", {{"static", true}}}, {"features", {{"screw_holes", {{{"id", "h1"}}}}}}}}}};
 }
 
 json declare(const json& body, bool mixed = false) {
@@ -189,6 +189,16 @@ TEST(PlannerDeclare, AnInsertionMatesAPickedFaceOfThePartOnAPickedFaceOfTheTarge
   json none = body;
   none.erase("target");
   EXPECT_EQ(refusal(none).substr(0, 14), "/target/model:");
+  // Into a loose part: refused here, not first by the physics at a rehearsal.
+  json loose = cell_with_load();
+  loose["entities"][0]["model"]["static"] = false;
+  try {
+    declare_feature(parse_declare_request(body), loose, load_features(), plate());
+    ADD_FAILURE() << "an insertion into a loose part was declared";
+  } catch (const PlannerError& e) {
+    EXPECT_EQ(e.pointer, "/target/model");
+    EXPECT_NE(e.message.find("\"target\" is loose"), std::string::npos) << e.message;
+  }
 }
 
 TEST(PlannerDeclare, AnInsertionPinnedByAHoleOfEachPartNamesTheHolesFaces) {

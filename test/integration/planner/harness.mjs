@@ -86,14 +86,15 @@ export async function viewGestures(page) {
   const canvas = page.locator('.pview canvas');
   await canvas.scrollIntoViewIfNeeded();
   const box = await canvas.boundingBox();
-  const orbit = async (dy) => {
+  /// A drag from the canvas's centre: `dy` down (the view tilts), `dx` right (it turns about the vertical).
+  const orbit = async (dy, dx = 0) => {
     // Where the canvas is now: a screenshot or a click may have scrolled the page since.
     await canvas.scrollIntoViewIfNeeded();
     const now = await canvas.boundingBox();
     const x = now.x + now.width / 2, y = now.y + now.height / 2;
     await page.mouse.move(x, y);
     await page.mouse.down();
-    for (let i = 1; i <= 10; ++i) await page.mouse.move(x, y + (dy * i) / 10);
+    for (let i = 1; i <= 10; ++i) await page.mouse.move(x + (dx * i) / 10, y + (dy * i) / 10);
     await page.mouse.up();
   };
   const clickAt = async (entity, p) => {

@@ -3,14 +3,16 @@
 // console): headless Debian chromium through playwright-core. Two STEP files the repository does not ship
 // (BRACKET: an L bracket with two through holes; PLATE: a base plate with six holes of two diameters,
 // written with OpenCascade by the C++ side before the cell started) become the paper's task through the
-// page only: both imported and added to the cell, the plate placed on the target ("the table") by picks,
-// the bracket's grasp, approach, rope attachment, marker and insertion (pinned by a hole of each) and the plate's marker and six
-// screw holes (two patterns "all like this one", two torques) declared by picks, each a confirmed cell
-// revision; then the paper's tree shape built by clicks (Localize ×2, Attach ∥ Yank, Insert ∥ Force ∥
+// page only: both imported and added to the cell (the bracket loose, the plate fixed), the plate placed on
+// the target ("the table") by picks, the plate's two markers and six screw holes (two patterns "all like this
+// one", two torques), the bracket's grasp and approach (on its web's outer face, the robot's side), two
+// markers (on the web's inner face, the camera's side), insertion (pinned by a hole of each) and rope (a sling
+// above its centre of mass, which hangs it from the crane's hook where the shipped load hung) declared by
+// picks, each a confirmed cell revision; then the paper's tree shape built by clicks (Localize ×2, Attach ∥ Yank, Insert ∥ Force ∥
 // Timer with the back-off fallback, Screw over the six holes, Release), validated and exported. The cell is
 // then rolled back to where the session started (by the API) and the same session in a new page must give
 // the same recipe and cell document, byte for byte; that page rehearses (the console starts its rehearsal
-// cell on the revision), goes back to the plan and publishes. The objects take the names the
+// cell, the simulated cell in physics, on the revision), goes back to the plan and publishes. The objects take the names the
 // page proposes (the files'). Typed: feature names, screw types, torques, marker ids and sizes, a stand-off, monitor limits — never a
 // coordinate (the page's own count says which fields were typed; a coordinate fails the script).
 // Synchronisation is on the page's state, never a sleep; a failed check exits 1. RESULT: what the page and
@@ -94,26 +96,28 @@ async function session(page, acts, result, round) {
     await page.waitForFunction((b) => document.querySelector('#confirm[open]')
       || document.querySelector('#planner-declare-status').textContent !== b, before, { timeout: 20000 });
     check(await page.locator('#confirm[open]').count() === 1, `the console asked to confirm the ${kind} (${await page.locator('#planner-declare-status').innerText()})`);
+    result[`${kind}_dialog`] = await page.locator('#confirm').innerText();
     const text = await confirmed('#planner-declare-status', '^Declared ');
     await page.click('#planner-clear-picks');
     return text;
   };
 
   // --- import both files; each becomes a cell object by its name ---
-  const add = async (file, id) => {
+  const add = async (file, id, material) => {
     await page.setInputFiles('#planner-import', file);
     await page.waitForFunction(() => document.querySelector('#planner-imported-summary') || document.querySelector('#planner-import-error'), null, { timeout: 60000 });
     const summary = await page.locator('#planner-imported-summary, #planner-import-error').first().innerText();
     // The name the page proposes, the file's: nothing typed.
     await page.waitForFunction((n) => document.querySelector('#planner-add-name')?.value === n, id, { timeout: 10000 });
+    await page.selectOption('#planner-add-material', material);
     await page.click('#planner-add-object');
     const added = await confirmed('#planner-notice', `^Added ${id} to the cell: cell revision \\d+`);
     await page.waitForFunction((e) => window.rigger.planner.view.parts.get(e)?.features?.faces?.length > 0, id, { timeout: 60000 });
     return { summary, added };
   };
-  result.bracket_import = await add(env('BRACKET'), 'bracket');
+  result.bracket_import = await add(env('BRACKET'), 'bracket', 'steel');  // the crane's load: loose
   check(/^bracket\.step: units m, 2 solids, \d+ faces, 2 holes/.test(result.bracket_import.summary), `the bracket's file: ${result.bracket_import.summary}`);
-  result.plate_import = await add(env('PLATE'), 'base_plate');
+  result.plate_import = await add(env('PLATE'), 'base_plate', 'fixed');  // what the bracket goes into: fixed
   check(/^base_plate\.step: units m, 1 solid, \d+ faces, 6 holes/.test(result.plate_import.summary), `the plate's file: ${result.plate_import.summary}`);
   await picture('1-imported', '.pview');
   result.timings_ms.imported = Date.now() - tSession;
@@ -143,44 +147,57 @@ async function session(page, acts, result, round) {
   result.holes_b = await declare('screw_holes', { name: 'b', 'screw-type': 'M16x50', torque: 80 });
   check(/base_plate\/b1, base_plate\/b2:/.test(result.holes_b), `two holes like the second: ${result.holes_b}`);
   await picture('3-holes', '#planner-declare');
-  // --- the plate's marker, where a 60 mm marker lies whole on its top face ---
+  // --- the plate's two markers, where 80 mm markers (the size proposed) lie whole on its top face and the
+  //     inserted bracket leaves them in the camera's view (its -y part; the tracker needs both for a pose
+  //     good enough to servo on, seen this flat) ---
   const plateTop = await planeFace('base_plate', [0, 0, 1]);
-  const plateSpot = await spotOn('base_plate', plateTop.index, [[0.03, -0.08, 0], [0.02, 0.06, 0], [-0.05, -0.08, 0]], 0.045);
-  check(plateSpot, 'the plate\'s top face has room for an 80 mm marker (the size proposed) in view');
-  await clickAt('base_plate', plateSpot);
-  result.plate_marker = await declare('marker', { 'marker-id': 40 });
+  const plateSpots = [];
+  for (const [id, x] of [[40, -0.08], [41, 0.08]]) {
+    const spot = await spotOn('base_plate', plateTop.index, [[x, -0.08, 0], [x, -0.09, 0]], 0.045);
+    check(spot, `the plate's top face has room for an 80 mm marker at x ${x} in view`);
+    await clickAt('base_plate', spot);
+    result[`plate_marker_${id}`] = await declare('marker', { 'marker-id': id });
+    plateSpots.push(spot);
+  }
+  const plateSpot = plateSpots[0];
 
-  // --- the bracket: grasp and approach on its web's inner face, x along its vertical edge ---
+  // --- the bracket: grasp and approach on its web's outer face (the robot's side, hanging as it stands),
+  //     tool x down along its vertical edge: the view turned half round to see it ---
   await page.click('[data-frame="bracket"]');
-  const webFace = await planeFace('bracket', [1, 0, 0], (c) => Math.abs(c[0] + 0.17) < 1e-6);
-  check(webFace, 'the bracket has its web\'s inner (+x) face');
-  const webSpot = await spotOn('bracket', webFace.index, [[-0.17, 0.0, 0.2], [-0.17, 0.05, 0.25], [-0.17, -0.05, 0.15]], 0.02, [1, 2]);
-  check(webSpot, 'the web\'s inner face is in view');
+  await orbit(0, 0.5 * box.height);
+  const webFace = await planeFace('bracket', [-1, 0, 0], (c) => Math.abs(c[0] + 0.2) < 1e-6);
+  check(webFace, 'the bracket has its web\'s outer (-x) face');
+  const webSpot = await spotOn('bracket', webFace.index, [[-0.2, 0.0, 0.2], [-0.2, 0.05, 0.25], [-0.2, -0.05, 0.15]], 0.02, [1, 2]);
+  check(webSpot, 'the web\'s outer face is in view');
   const webEdges = (await features('bracket')).edges.filter((e) => e.signature?.type === 'line'
-    && [e.start_m, e.end_m].every((p) => Math.abs(p[0] + 0.17) < 1e-6) && Math.abs(e.start_m[2] - e.end_m[2]) > 0.2);
+    && [e.start_m, e.end_m].every((p) => Math.abs(p[0] + 0.2) < 1e-6) && Math.abs(e.start_m[2] - e.end_m[2]) > 0.2);
   let webEdge = null;
   for (const e of webEdges) {
     const mid = e.start_m.map((v, i) => (v + e.end_m[i]) / 2);
     const hit = await state(([pt]) => { const q = window.rigger.planner.screenOf('bracket', pt); const h = window.rigger.planner.view.pickAt(q.x, q.y); return h && { kind: h.kind, edge: h.edge }; }, [mid]);
     if (hit?.kind === 'edge' && hit.edge === e.index) { webEdge = { ...e, mid }; break; }
   }
-  check(webEdge, `a vertical edge of the web's inner face is in view (${webEdges.length} such edges)`);
+  check(webEdge, `a vertical edge of the web's outer face is in view (${webEdges.length} such edges)`);
+  // x along the edge from its first vertex to its last: reversed when that is up.
+  const down = webEdge.end_m[2] > webEdge.start_m[2] ? ['xrev'] : [];
   const frameByPicks = async (kind, fields = {}) => {
     await clickAt('bracket', webSpot);
     const edge = await clickAt('bracket', webEdge.mid);
     check(edge.kind === 'edge' && edge.edge === webEdge.index, `picked the web's edge ${webEdge.index} (got ${edge.kind} ${edge.edge})`);
-    return declare(kind, fields);
+    return declare(kind, fields, down);
   };
   result.grasp = await frameByPicks('grasp_frame');  // the name proposed: grasp
   result.approach = await frameByPicks('approach_waypoint', { standoff: 100 });  // the name proposed: pre_grasp
-  // --- its rope attachment at a hole of its base plate, its marker on the base plate's top face ---
-  await clickHole('bracket', 0.06, 0.09);
-  result.rope = await declare('rope_attachment');
-  const baseTop = await planeFace('bracket', [0, 0, 1], (c) => Math.abs(c[2] - 0.03) < 1e-6);
-  const baseSpot = await spotOn('bracket', baseTop.index, [[0.06, 0.0, 0.03], [0.0, 0.0, 0.03], [0.1, 0.0, 0.03]], 0.045);
-  check(baseSpot, 'the bracket\'s base plate has room for an 80 mm marker in view');
-  await clickAt('bracket', baseSpot);
-  result.bracket_marker = await declare('marker', { 'marker-id': 41 });
+  // --- its two markers on the web's inner face, which faces the camera ---
+  await page.click('[data-frame="bracket"]');
+  const innerFace = await planeFace('bracket', [1, 0, 0], (c) => Math.abs(c[0] + 0.17) < 1e-6);
+  check(innerFace, 'the bracket has its web\'s inner (+x) face');
+  for (const [id, y] of [[42, -0.075], [43, 0.075]]) {
+    const spot = await spotOn('bracket', innerFace.index, [[-0.17, y, 0.18], [-0.17, y, 0.2]], 0.045, [1, 2]);
+    check(spot, `the web's inner face has room for an 80 mm marker at y ${y} in view`);
+    await clickAt('bracket', spot);
+    result[`bracket_marker_${id}`] = await declare('marker', { 'marker-id': id });
+  }
   // --- the insertion: the bracket's bottom face (from below) on the plate's top face ---
   const bracketBottom = await planeFace('bracket', [0, 0, -1]);
   // Dragged down a little at a time until the bottom face is under the pointer, as a person does.
@@ -192,16 +209,24 @@ async function session(page, acts, result, round) {
   await page.click('[data-frame="base_plate"]');
   const into = await clickAt('base_plate', plateSpot);
   check(into.entity === 'base_plate' && into.face === plateTop.index, `picked the plate's top face (got ${into.entity} ${into.kind} ${into.face})`);
-  // Pinned: the bracket's hole at (0.06, 0.09) on the plate's 14 mm hole at (0.09, 0.04).
+  // Pinned: the bracket's hole at (0.06, -0.09) on the plate's 14 mm hole at (0.09, 0.04), which leaves the
+  // plate's markers free.
   await page.click('[data-frame="bracket"]');
-  await clickHole('bracket', 0.06, 0.09);
+  await clickHole('bracket', 0.06, -0.09);
   await page.click('[data-frame="base_plate"]');
   await clickHole('base_plate', 0.09, 0.04);
   result.insertion = await declare('insertion');
+  // --- its rope: a sling above its centre of mass (any pick names the part); the bracket then hangs where
+  //     the crane's load hung, and the load stands where the bracket stood ---
+  await page.click('[data-frame="bracket"]');
+  await clickHole('bracket', 0.06, 0.09);
+  result.rope = await declare('rope_attachment', {}, ['sling']);
+  check(/The crane's rope moves from load to bracket: it becomes the crane's load, hanging where load hung, and load is set down where bracket stood/
+    .test(result.rope_attachment_dialog), `the dialog said where the rope goes: ${result.rope_attachment_dialog}`);
   result.revision_declared = (await call('/api/cell')).json.cell_revision;
   result.timings_ms.declared = Date.now() - tSession;
   result.world = {};
-  for (const e of ['bracket', 'base_plate', 'target']) result.world[e] = (await call(`/api/world/entity/${e}`)).json;
+  for (const e of ['bracket', 'base_plate', 'target', 'load']) result.world[e] = (await call(`/api/world/entity/${e}`)).json;
 
   // --- the paper's tree shape by clicks, choices from lists and the monitors' limits ---
   const nodeSel = (ptr) => page.click(`button.pnode[data-pointer="${ptr}"]`);
@@ -333,9 +358,9 @@ try {
   const tRehearse = Date.now();
   await again.click('#planner-rehearse');
   await again.waitForFunction(() => !document.querySelector('#rehearsal').hidden
-    || /Not rehearsed/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 90000, polling: 200 });
+    || /Not rehearsed/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 240000, polling: 500 });
   check(await again.locator('#rehearsal').isVisible(), `the rehearsal was sent once the rehearsal cell was up (${await again.locator('#planner-notice').innerText()})`);
-  await again.waitForFunction(() => window.rigger.planner.rehearsal.ended(), null, { timeout: 60000, polling: 200 });
+  await again.waitForFunction(() => window.rigger.planner.rehearsal.ended(), null, { timeout: 360000, polling: 500 });
   result.rehearsal = { state: await again.evaluate(() => window.rigger.planner.rehearsal.state()), task_id: await again.evaluate(() => window.rigger.planner.rehearsal.taskId) };
   result.rehearsal.cell = (await call('/api/rehearsal/cell')).json;
   result.timings_ms.rehearsal = Date.now() - tRehearse;

@@ -96,6 +96,9 @@ describe('declareFromPicks', () => {
     assert.match(declareFromPicks([hole], { kind: 'marker' }).error, /point on a face/);
     assert.deepEqual(declareFromPicks([hole], { kind: 'rope_attachment' }), { model: 'object:target', kind: 'rope_attachment', hole: 1 });
     assert.deepEqual(declareFromPicks([at], { kind: 'rope_attachment' }), { model: 'object:target', kind: 'rope_attachment', face: 2, point_m: [0.2, 0, 0.05] });
+    // A sling: any one pick names the part; the CAD service finds its centre of mass.
+    assert.deepEqual(declareFromPicks([hole], { kind: 'rope_attachment', sling: true }), { model: 'object:target', kind: 'rope_attachment', above_centre_of_mass: true });
+    assert.match(declareFromPicks([], { kind: 'rope_attachment', sling: true }).error, /sling/);
   });
   it('makes screw holes of one picked hole and the screw', () => {
     assert.deepEqual(declareFromPicks([hole], { kind: 'screw_holes', name: 'm', like: true, screw_type: 'M10x30', torque_nm: '45' }),

@@ -27,6 +27,11 @@ Eigen::Isometry3d frame_from_face(const Model& model, const Features& features, 
 /// Origin at the hole's entry, z along its axis (out of the hole), x as for faces.
 Eigen::Isometry3d frame_from_hole(const Features& features, int hole);
 
+/// Where a sling hooks a part so that it hangs level: origin `clearance_m` above the model's highest point,
+/// straight above its centre of mass (uniform density, over its solids), axes the model's (z up when the
+/// part stands as modelled). Throws CadError(kNotAFrame) when the model has no volume (no solid).
+Eigen::Isometry3d frame_above_centre_of_mass(const Model& model, double clearance_m);
+
 /// A right-handed rotation with the given z and x = `x_hint` projected onto the plane normal to z
 /// (model y when x_hint is parallel to z).
 Eigen::Matrix3d rotation_from_z(const Eigen::Vector3d& z, const Eigen::Vector3d& x_hint = Eigen::Vector3d::UnitX());

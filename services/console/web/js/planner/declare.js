@@ -10,7 +10,7 @@ import { DECLARE_KINDS, declareFromPicks } from './picks.js';
 
 const LABELS = { grasp_frame: 'grasp frame (a face, an edge of it for x)', approach_waypoint: 'approach waypoint (a face, a stand-off)',
   screw_holes: 'screw holes (a hole)', insertion: 'insertion (a face of the part, then the face it mates; a hole of each to pin them)',
-  rope_attachment: 'rope attachment (a hole, or a point on a face)', marker: 'marker (a point on a face)' };
+  rope_attachment: 'rope attachment (a hole, a point on a face, or a sling)', marker: 'marker (a point on a face)' };
 // The names a frame is proposed by (the shipped cell's): typed over when the part has one already.
 const PROPOSED_NAMES = { grasp_frame: 'grasp', approach_waypoint: 'pre_grasp' };
 const DICTIONARIES = ['DICT_4X4_50', 'DICT_4X4_100', 'DICT_4X4_250', 'DICT_5X5_50', 'DICT_5X5_100', 'DICT_6X6_50'];
@@ -28,6 +28,7 @@ export class DeclarePanel {
       x_reversed: input('xrev', 'x reversed', { type: 'checkbox' }),
       standoff_mm: input('standoff', 'Stand-off (mm)', { type: 'number', min: '0', step: '1' }),
       like: input('like', 'All holes like this one', { type: 'checkbox' }),
+      sling: input('sling', 'A sling above its centre of mass', { type: 'checkbox' }),
       screw_type: input('screw-type', 'Screw', { type: 'text', placeholder: 'M12x40' }),
       torque_nm: input('torque', 'Torque (N·m)', { type: 'number', min: '0', step: '1' }),
       dictionary: el('label', {}, 'Dictionary ', el('select', { id: 'planner-declare-dictionary', 'aria-label': 'Marker dictionary' },
@@ -56,7 +57,7 @@ export class DeclarePanel {
     this.fields.name.querySelector('input').value = PROPOSED_NAMES[k] || '';
     const framed = k === 'grasp_frame' || k === 'approach_waypoint';
     const shown = { name: framed || k === 'screw_holes', x_reversed: framed, standoff_mm: k === 'approach_waypoint',
-      like: k === 'screw_holes', screw_type: k === 'screw_holes', torque_nm: k === 'screw_holes',
+      like: k === 'screw_holes', sling: k === 'rope_attachment', screw_type: k === 'screw_holes', torque_nm: k === 'screw_holes',
       dictionary: k === 'marker', marker_id: k === 'marker', marker_size_mm: k === 'marker' };
     for (const [key, on] of Object.entries(shown)) this.fields[key].hidden = !on;
   }
@@ -76,7 +77,9 @@ export class DeclarePanel {
     try {
       const sel = await api('/api/planner/declare', { method: 'POST', body: request });
       this.status.textContent = `${what}: ${sel.features.join(', ')} — ${describeChanges(sel.changes)}`;
-      const rope = sel.rope_from ? `The crane's rope moves from ${sel.rope_from} to ${request.model.slice(7)}: it becomes the crane's load. ` : '';
+      const part = request.model.slice(7);
+      const rope = sel.rope_from ? `The crane's rope moves from ${sel.rope_from} to ${part}: it becomes the crane's load, hanging where `
+        + `${sel.rope_from} hung, and ${sel.rope_from} is set down where ${part} stood. ` : '';
       if (!(await confirmDialog('Declare the feature?', `${what} (${sel.features.join(', ')}): ${describeChanges(sel.changes)}. `
         + rope + 'Every service follows the new revision.', 'Declare'))) return this.tell('Feature not declared (not confirmed).');
       const done = await api('/api/confirm', { method: 'POST', body: { confirmation_id: sel.confirmation_id } });

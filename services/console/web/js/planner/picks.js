@@ -74,6 +74,11 @@ export function declareFromPicks(picks, fields) {
   if (kind === 'rope_attachment' || kind === 'marker') {
     const [p] = picks;
     const model = p ? `object:${p.entity}` : '';
+    // A sling above the part's centre of mass: any pick says which part.
+    if (kind === 'rope_attachment' && fields.sling) {
+      if (picks.length !== 1) return { error: 'pick the part the sling goes round (any face of it)' };
+      return { model, kind, above_centre_of_mass: true };
+    }
     if (kind === 'rope_attachment' && picks.length === 1 && p.kind === 'hole') return { model, kind, hole: p.hole };
     if (picks.length !== 1 || p.kind !== 'face')
       return { error: kind === 'marker' ? 'pick the point on a face where the marker goes' : 'pick a hole, or the point on a face where the rope hooks' };
