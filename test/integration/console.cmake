@@ -69,10 +69,11 @@ if(TARGET rigger_generated_cell AND TARGET rigger_console_core AND TARGET cell_s
 endif()
 # A new product: two STEP files written in the test (rigger::sim::write_new_product) imported, placed,
 # declared and programmed in the Planner by clicks only, validated, exported, replayed to the same bytes,
-# rehearsed on a scripted rehearsal cell the console starts on the revision, and published; the same
-# services as the planner test (no physics: about 50 s).
+# rehearsed in physics on the rehearsal cell the console starts on the revision as deployed (rigger-compose
+# supervise on deploy/compose.yaml), and published on the planner test's services.
 rigger_console_browser_test(rigger_planner_new_product_test planner_new_product_test.cpp
-  console cad world_model scripted_executor task_controller)
+  console cad world_model scripted_executor task_controller rigger-compose cell_sim crane_gateway vision_tracker
+  admittance_control monitor_host skill_executor scripted_operator)
 if(TARGET rigger_planner_new_product_test)
   target_link_libraries(rigger_planner_new_product_test PRIVATE rigger_generated_cell)
 endif()

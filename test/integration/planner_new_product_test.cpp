@@ -175,10 +175,11 @@ TEST_F(PlannerNewProductTest, ANewProductImportedPlacedDeclaredAndProgrammedByCl
   });
   // The rehearsal cell the console starts on demand, on the revision it rehearses: the deployment's start
   // (deploy/config/console.json), its PLC port free and its state in the test's folder.
+  std::filesystem::create_directories(rehearsal_.log_dir());
   const json rehearsal = {
-      {"start", {bin_dir() + "/rigger-compose", "--file", repo_file("deploy/compose.yaml"), "supervise", "--in-group",
-                 "task_controller", "scripted_operator"}},
-      {"env", {"RIGGER_PLC_PORT=" + std::to_string(free_tcp_port()), "RIGGER_STATE_DIR=" + rehearsal_.log_dir()}},
+      {"start", json::array({bin_dir() + "/rigger-compose", "--file", repo_file("deploy/compose.yaml"), "supervise",
+                             "--in-group", "task_controller", "scripted_operator"})},
+      {"env", json::array({"RIGGER_PLC_PORT=" + std::to_string(free_tcp_port()), "RIGGER_STATE_DIR=" + rehearsal_.log_dir()})},
       {"cell_folder", repo_file("deploy/cell")},
       {"log_file", rehearsal_.log_dir() + "/rehearsal-cell.log"},
       {"idle_stop_s", 3},

@@ -281,9 +281,10 @@ void HttpApi::post_planner_declare(const httplib::Request& req, httplib::Respons
     json declared;
     if (request.kind == "rope_attachment" || request.kind == "marker") {
       const auto frame = backend_.cad("frame", request.model, frame_args(request).dump());
-      if (!frame.ok) return send_cad_refusal(res, req, frame.message, request.picks.contains("hole") ? "#/hole"
-                                                     : request.picks.contains("above_centre_of_mass") ? "#/above_centre_of_mass"
-                                                                                                     : "#/face");
+      const char* picked = request.picks.contains("hole")                   ? "#/hole"
+                           : request.picks.contains("above_centre_of_mass") ? "#/above_centre_of_mass"
+                                                                            : "#/face";
+      if (!frame.ok) return send_cad_refusal(res, req, frame.message, picked);
       const Eigen::Isometry3d at = frame_from_cad(frame.data.value("result", json::object()));
       if (request.kind == "marker") {
         // The whole square on the face: each corner is a point of it.
