@@ -312,9 +312,9 @@ TEST_F(PlannerNewProductTest, ANewProductImportedPlacedDeclaredAndProgrammedByCl
   // plate, both by the simulator's truth.
   const json& release = root.at("children").at(5);
   ASSERT_EQ(release.at("skill"), "Release");
-  const auto screwed = physics.at_start(release.value("name", std::string("Release")));
-  ASSERT_TRUE(screwed.has_value()) << "the Release never started in physics, or its truth was not seen\n" << physics.nodes();
-  const auto [error_m, error_deg] = pose_error(screwed->second * inserted, screwed->first);
+  const auto at_release = physics.at_start(release.value("name", std::string("Release")));
+  ASSERT_TRUE(at_release.has_value()) << "the Release never started in physics, or its truth was not seen\n" << physics.nodes();
+  const auto [error_m, error_deg] = pose_error(at_release->second * inserted, at_release->first);
   EXPECT_LT(error_m, 0.005) << "the bracket is not where its insertion puts it";
   EXPECT_LT(error_deg, 1.0);
   std::printf("rehearsed in physics in %.1f s (the cell's start included); the bracket screwed on %.1f mm / %.2f deg "
