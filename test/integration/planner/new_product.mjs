@@ -164,26 +164,46 @@ async function session(page, acts, result, round) {
   // --- the bracket: grasp and approach on its web's outer face (the robot's side, hanging as it stands),
   //     tool x down along its vertical edge: the view turned half round to see it ---
   await page.click('[data-frame="bracket"]');
-  await orbit(0, 0.5 * box.height);
-  const webFace = await planeFace('bracket', [-1, 0, 0], (c) => Math.abs(c[0] + 0.2) < 1e-6);
+  // (the base plate's end face looks the same way: the web's is the one above it)
+  const webFace = await planeFace('bracket', [-1, 0, 0], (c) => Math.abs(c[0] + 0.2) < 1e-6 && c[2] > 0.1);
   check(webFace, 'the bracket has its web\'s outer (-x) face');
-  const webSpot = await spotOn('bracket', webFace.index, [[-0.2, 0.0, 0.2], [-0.2, 0.05, 0.25], [-0.2, -0.05, 0.15]], 0.02, [1, 2]);
+  // Tilted down to look at it more from the side, then turned round a little at a time until the face is
+  // under the pointer, as a person does.
+  await orbit(-0.12 * box.height);
+  const outerSpot = () => spotOn('bracket', webFace.index, [[-0.2, 0.0, 0.2], [-0.2, 0.05, 0.25], [-0.2, -0.05, 0.15]], 0.02, [1, 2]);
+  let webSpot = await outerSpot();
+  for (let turns = 0; turns < 12 && !webSpot; ++turns) {
+    await orbit(0, 0.08 * box.height);
+    webSpot = await outerSpot();
+  }
   check(webSpot, 'the web\'s outer face is in view');
   const webEdges = (await features('bracket')).edges.filter((e) => e.signature?.type === 'line'
     && [e.start_m, e.end_m].every((p) => Math.abs(p[0] + 0.2) < 1e-6) && Math.abs(e.start_m[2] - e.end_m[2]) > 0.2);
+  // A point of the edge, on the canvas, that picks it (`mid`: where it is clicked).
   let webEdge = null;
   for (const e of webEdges) {
-    const mid = e.start_m.map((v, i) => (v + e.end_m[i]) / 2);
-    const hit = await state(([pt]) => { const q = window.rigger.planner.screenOf('bracket', pt); const h = window.rigger.planner.view.pickAt(q.x, q.y); return h && { kind: h.kind, edge: h.edge }; }, [mid]);
-    if (hit?.kind === 'edge' && hit.edge === e.index) { webEdge = { ...e, mid }; break; }
+    for (const f of [0.5, 0.35, 0.65, 0.2, 0.8]) {
+      const mid = e.start_m.map((v, i) => v + f * (e.end_m[i] - v));
+      const hit = await state(([pt]) => {
+        const q = window.rigger.planner.screenOf('bracket', pt);
+        const r = window.rigger.planner.view.renderer.domElement.getBoundingClientRect();
+        if (q.x < r.left + 2 || q.x > r.right - 2 || q.y < r.top + 2 || q.y > r.bottom - 2) return null;
+        const h = window.rigger.planner.view.pickAt(q.x, q.y);
+        return h && { kind: h.kind, edge: h.edge };
+      }, [mid]);
+      if (hit?.kind === 'edge' && hit.edge === e.index) { webEdge = { ...e, mid }; break; }
+    }
+    if (webEdge) break;
   }
   check(webEdge, `a vertical edge of the web's outer face is in view (${webEdges.length} such edges)`);
   // x along the edge from its first vertex to its last: reversed when that is up.
   const down = webEdge.end_m[2] > webEdge.start_m[2] ? ['xrev'] : [];
+  // The edge first: a picked face is drawn a little proud of itself, over its edges where it is seen at a slant.
   const frameByPicks = async (kind, fields = {}) => {
-    await clickAt('bracket', webSpot);
     const edge = await clickAt('bracket', webEdge.mid);
     check(edge.kind === 'edge' && edge.edge === webEdge.index, `picked the web's edge ${webEdge.index} (got ${edge.kind} ${edge.edge})`);
+    const face = await clickAt('bracket', webSpot);
+    check(face.kind === 'face' && face.face === webFace.index, `picked the web's outer face ${webFace.index} (got ${face.kind} ${face.face})`);
     return declare(kind, fields, down);
   };
   result.grasp = await frameByPicks('grasp_frame');  // the name proposed: grasp
