@@ -89,7 +89,8 @@ async function session(page, acts, result, round) {
   };
   const declare = async (kind, fields = {}, ticked = []) => {
     await page.selectOption('#planner-declare-kind', kind);
-    for (const id of ticked) await page.click(`#planner-declare-${id}`);
+    // A box stays ticked after a declaration: ticked once.
+    for (const id of ticked) if (!(await page.isChecked(`#planner-declare-${id}`))) await page.click(`#planner-declare-${id}`);
     for (const [id, value] of Object.entries(fields)) await page.fill(`#planner-declare-${id}`, String(value));
     const before = await page.locator('#planner-declare-status').innerText();
     await page.click('#planner-declare-submit');
