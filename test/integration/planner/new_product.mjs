@@ -71,6 +71,15 @@ async function session(page, acts, result, round) {
     }
     return null;
   };
+  /// What `find` gives, the view turned round a little at a time until it gives something, as a person does.
+  const turnUntil = async (find) => {
+    let found = await find();
+    for (let turns = 0; turns < 12 && !found; ++turns) {
+      await orbit(0, 0.08 * box.height);
+      found = await find();
+    }
+    return found;
+  };
   /// Clicks the hole of `entity` whose entry is nearest (x, y) in its frame, from the side its axis points.
   const clickHole = async (entity, x, y) => {
     const hole = (await features(entity)).holes.filter((h) => h.axis[2] > 0.99)
@@ -119,19 +128,20 @@ async function session(page, acts, result, round) {
   result.bracket_import = await add(env('BRACKET'), 'bracket', 'steel');  // the crane's load: loose
   check(/^bracket\.step: units m, 2 solids, \d+ faces, 2 holes/.test(result.bracket_import.summary), `the bracket's file: ${result.bracket_import.summary}`);
   result.plate_import = await add(env('PLATE'), 'base_plate', 'fixed');  // what the bracket goes into: fixed
-  check(/^base_plate\.step: units m, 1 solid, \d+ faces, 6 holes/.test(result.plate_import.summary), `the plate's file: ${result.plate_import.summary}`);
+  check(/^base_plate\.step: units m, 2 solids, \d+ faces, 6 holes/.test(result.plate_import.summary), `the plate's file: ${result.plate_import.summary}`);
   await picture('1-imported', '.pview');
   result.timings_ms.imported = Date.now() - tSession;
 
   // --- the plate placed on the target's top face: its bottom face seen from below, then the target ---
-  const plateBottom = await planeFace('base_plate', [0, 0, -1]);
+  // (its tab's bottom looks down too, on the plate's top)
+  const plateBottom = await planeFace('base_plate', [0, 0, -1], (c) => c[2] < -0.02);
   await page.click('[data-frame="base_plate"]');
   await orbit(-0.3 * box.height);
   const own = await clickAt('base_plate', [0.0, -0.08, plateBottom.signature.centroid_m[2]]);
   check(own.kind === 'face' && own.face === plateBottom.index, `picked the plate's bottom face ${plateBottom.index} (got ${own.kind} ${own.face})`);
   await orbit(0.3 * box.height);
   await page.click('[data-frame="target"]');
-  const onto = await clickAt('target', [0.0, 0.0, 0]);
+  const onto = await clickAt('target', [0.03, 0.0, 0]);
   check(onto.entity === 'target' && onto.kind === 'face', `picked the target's top face (got ${onto.entity} ${onto.kind})`);
   await page.click('#planner-place-known');
   await page.click('#planner-place');
@@ -148,19 +158,27 @@ async function session(page, acts, result, round) {
   result.holes_b = await declare('screw_holes', { name: 'b', 'screw-type': 'M16x50', torque: 80 });
   check(/base_plate\/b1, base_plate\/b2:/.test(result.holes_b), `two holes like the second: ${result.holes_b}`);
   await picture('3-holes', '#planner-declare');
-  // --- the plate's two markers, where 80 mm markers (the size proposed) lie whole on its top face and the
-  //     inserted bracket leaves them in the camera's view (its -y part; the tracker needs both for a pose
-  //     good enough to servo on, seen this flat) ---
-  const plateTop = await planeFace('base_plate', [0, 0, 1]);
-  const plateSpots = [];
-  for (const [id, x] of [[40, -0.08], [41, 0.08]]) {
-    const spot = await spotOn('base_plate', plateTop.index, [[x, -0.08, 0], [x, -0.09, 0]], 0.045);
-    check(spot, `the plate's top face has room for an 80 mm marker at x ${x} in view`);
-    await clickAt('base_plate', spot);
+  // --- the plate's two markers on its tab's outer face, which faces the camera (80 mm, the size proposed) ---
+  const tab = await planeFace('base_plate', [1, 0, 0], (c) => Math.abs(c[0] - 0.3) < 1e-6 && c[2] > 0.01);
+  check(tab, 'the plate has its tab\'s outer (+x) face');
+  await page.click('[data-frame="base_plate"]');
+  await orbit(-0.12 * box.height);  // tilted down to see it more from the side
+  const tabSpots = async () => {
+    const spots = [];
+    for (const y of [-0.06, 0.06]) spots.push(await spotOn('base_plate', tab.index, [[0.3, y, 0.06]], 0.045, [1, 2]));
+    return spots.every(Boolean) ? spots : null;
+  };
+  const spots = await turnUntil(tabSpots);
+  check(spots, 'the plate\'s tab has room for two 80 mm markers in view');
+  for (const [i, id] of [40, 41].entries()) {
+    await clickAt('base_plate', spots[i]);
     result[`plate_marker_${id}`] = await declare('marker', { 'marker-id': id });
-    plateSpots.push(spot);
   }
-  const plateSpot = plateSpots[0];
+  // Where the insertion's face is picked: the plate's top, clear of its holes.
+  await page.click('[data-frame="base_plate"]');
+  const plateTop = await planeFace('base_plate', [0, 0, 1], (c) => Math.abs(c[2]) < 1e-6);
+  const plateSpot = await spotOn('base_plate', plateTop.index, [[-0.08, -0.08, 0], [0.03, -0.08, 0], [0.0, 0.06, 0]]);
+  check(plateSpot, 'the plate\'s top face is in view');
 
   // --- the bracket: grasp and approach on its web's outer face (the robot's side, hanging as it stands),
   //     tool x down along its vertical edge: the view turned half round to see it ---
@@ -168,15 +186,9 @@ async function session(page, acts, result, round) {
   // (the base plate's end face looks the same way: the web's is the one above it)
   const webFace = await planeFace('bracket', [-1, 0, 0], (c) => Math.abs(c[0] + 0.2) < 1e-6 && c[2] > 0.1);
   check(webFace, 'the bracket has its web\'s outer (-x) face');
-  // Tilted down to look at it more from the side, then turned round a little at a time until the face is
-  // under the pointer, as a person does.
+  // Tilted down to look at it more from the side, then turned round until it is in view.
   await orbit(-0.12 * box.height);
-  const outerSpot = () => spotOn('bracket', webFace.index, [[-0.2, 0.0, 0.2], [-0.2, 0.05, 0.25], [-0.2, -0.05, 0.15]], 0.02, [1, 2]);
-  let webSpot = await outerSpot();
-  for (let turns = 0; turns < 12 && !webSpot; ++turns) {
-    await orbit(0, 0.08 * box.height);
-    webSpot = await outerSpot();
-  }
+  const webSpot = await turnUntil(() => spotOn('bracket', webFace.index, [[-0.2, 0.0, 0.2], [-0.2, 0.05, 0.25], [-0.2, -0.05, 0.15]], 0.02, [1, 2]));
   check(webSpot, 'the web\'s outer face is in view');
   const webEdges = (await features('bracket')).edges.filter((e) => e.signature?.type === 'line'
     && [e.start_m, e.end_m].every((p) => Math.abs(p[0] + 0.2) < 1e-6) && Math.abs(e.start_m[2] - e.end_m[2]) > 0.2);

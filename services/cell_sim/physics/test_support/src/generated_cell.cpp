@@ -293,16 +293,21 @@ NewProductModels write_new_product(const std::filesystem::path& dir) {
   builder.Add(bracket, drilled(box({-0.20, -0.15, 0.0}, {0.20, 0.15, 0.03}), {{0.06, -0.09, 0.009}, {0.06, 0.09, 0.009}},
                                -0.01, 0.05));
   builder.Add(bracket, box({-0.20, -0.15, 0.03}, {-0.17, 0.15, 0.33}));
-  // The base plate 0.40 x 0.34 x 0.03 m, frame at the centre of its top face: four 17.5 mm holes on a
-  // trapezoid and two 14 mm holes off its axes.
-  const TopoDS_Shape plate = drilled(box({-0.20, -0.17, -0.03}, {0.20, 0.17, 0.0}),
-                                     {{-0.15, -0.12, 0.00875},
-                                      {0.15, -0.12, 0.00875},
-                                      {0.11, 0.12, 0.00875},
-                                      {-0.11, 0.12, 0.00875},
-                                      {-0.05, 0.0, 0.007},
-                                      {0.09, 0.04, 0.007}},
-                                     -0.04, 0.05);
+  // The base plate 0.50 x 0.34 x 0.03 m, frame at the centre of its drilled 0.40 m (x from -0.20 to 0.20) on
+  // its top face: four 17.5 mm holes on a trapezoid and two 14 mm holes off its axes; at its +x end a marker
+  // tab 0.02 x 0.24 x 0.12 m standing on the top face, as a second solid (a camera 23 degrees above the
+  // horizon sees markers on the top face at 68 degrees from their normal, too flat for a pose to servo on).
+  TopoDS_Compound plate;
+  builder.MakeCompound(plate);
+  builder.Add(plate, drilled(box({-0.20, -0.17, -0.03}, {0.30, 0.17, 0.0}),
+                             {{-0.15, -0.12, 0.00875},
+                              {0.15, -0.12, 0.00875},
+                              {0.11, 0.12, 0.00875},
+                              {-0.11, 0.12, 0.00875},
+                              {-0.05, 0.0, 0.007},
+                              {0.09, 0.04, 0.007}},
+                             -0.04, 0.05));
+  builder.Add(plate, box({0.28, -0.12, 0.0}, {0.30, 0.12, 0.12}));
   NewProductModels models{dir / "bracket.step", dir / "base_plate.step"};
   cad::write_step(bracket, "bracket", models.bracket);
   cad::write_step(plate, "base_plate", models.plate);

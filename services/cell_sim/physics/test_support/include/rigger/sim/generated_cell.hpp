@@ -70,9 +70,9 @@ class GeneratedCell {
 
 /// A new product the repository does not ship, written with OpenCascade (the Planner's "your own product"):
 /// an L bracket (the generated cell's, 0.40 x 0.30 m base plate and 0.30 m web) with two 18 mm through holes
-/// in its base plate, and a base plate 0.40 x 0.34 x 0.03 m, frame at the centre of its top face, with six
-/// through holes of two diameters on a pattern that is not a rectangle (four of 17.5 mm on a trapezoid, two of
-/// 14 mm). The STEP files carry their units (metres) and nothing else: no feature is declared for them.
+/// in its base plate, and a base plate 0.50 x 0.34 x 0.03 m (x from -0.20 to 0.30), frame on its top face, with
+/// six through holes of two diameters on a pattern that is not a rectangle (four of 17.5 mm on a trapezoid, two
+/// of 14 mm) and a marker tab 0.02 x 0.24 x 0.12 m standing at its +x end (a second solid). The STEP files carry their units (metres) and nothing else: no feature is declared for them.
 struct NewProductModels {
   std::filesystem::path bracket;  ///< bracket.step
   std::filesystem::path plate;    ///< base_plate.step
