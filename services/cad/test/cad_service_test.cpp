@@ -2,6 +2,7 @@
 
 #include "cad_service.hpp"
 
+#include <Eigen/Core>
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -107,6 +108,11 @@ TEST(CadService, FramesAndDerivedParameters) {
   CadAnswer hole = ask(service, QueryKind::kFrame, "object:target", R"({"rule": "hole", "hole": 0})");
   ASSERT_TRUE(hole.ok) << hole.message;
   EXPECT_NEAR(json::parse(hole.result_json)["frame"]["position_m"][0].get<double>(), -0.15, 1e-9);
+  // The shipped load, a 0.40 x 0.30 x 0.20 m box about its centre: its sling 20 mm above its top, over its centre.
+  const CadAnswer sling = ask(service, QueryKind::kFrame, "object:load", R"({"rule": "above_centre_of_mass"})");
+  ASSERT_TRUE(sling.ok) << sling.message;
+  const json at = json::parse(sling.result_json)["frame"]["position_m"];
+  EXPECT_LT(Eigen::Vector3d(at[0].get<double>(), at[1].get<double>(), at[2].get<double>() - 0.12).norm(), 1e-6) << at;
   const CadAnswer screws = ask(service, QueryKind::kDerive, "object:target", R"({"parameter": "screw_list"})");
   ASSERT_TRUE(screws.ok) << screws.message;
   EXPECT_EQ(json::parse(screws.result_json)["screws"].size(), 4u);
