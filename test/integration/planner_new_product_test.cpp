@@ -1,9 +1,9 @@
 // A new product in the Planner (docs/console.md, "Your own product"): two STEP files the repository does not
 // ship, written here with OpenCascade before any service starts (rigger::sim::write_new_product: an L bracket
-// with two through holes, a base plate with six holes of two diameters on a pattern that is not a rectangle),
-// become the paper's task in a real browser (planner/new_product.mjs) against the real CAD service, world
-// model, task controller and console, with scripted executors announcing the real skill library on a private
-// DDS domain. Through the page only: imported, added to the cell, the plate placed on the target by picks,
+// with two through holes, a base plate with six holes of two diameters on a pattern that is not a rectangle
+// and a marker tab), become the paper's task in a real browser (planner/new_product.mjs) against the real CAD
+// service, world model, task controller and console, with scripted executors announcing the real skill library
+// on a private DDS domain. Through the page only: imported, added to the cell, the plate placed on the target by picks,
 // the features declared by picks (each a confirmed cell revision), the paper's tree shape built by clicks,
 // validated, exported and published; no coordinate typed (the page's count says which fields were typed).
 // This test checks what the system made of it, against the geometry it wrote:

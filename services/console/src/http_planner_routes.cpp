@@ -310,6 +310,10 @@ void HttpApi::post_planner_declare(const httplib::Request& req, httplib::Respons
                                              holder, held.data.value("result", json::object()));
       }
       declared = declare_at_frame(request, holder.empty() ? cell : exchanged, at);
+      if (request.kind == "marker") {
+        const std::string note = marker_view_note(declared["cell"], request.entity, request.picks.value("marker_id", 0), at);
+        if (!note.empty()) declared["note"] = note;
+      }
     } else {
       const auto features = backend_.cad("features", request.model, "{}");
       if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
@@ -325,6 +329,7 @@ void HttpApi::post_planner_declare(const httplib::Request& req, httplib::Respons
     const json payload = {{"op", "apply"}, {"cell_json", to_text(declared["cell"])}, {"comment", what}};
     json extra = {{"features", declared["features"]}, {"rule", declared["rule"]}, {"base_revision", running->revision}};
     if (declared.contains("rope_from")) extra["rope_from"] = declared["rope_from"];
+    if (declared.contains("note")) extra["note"] = declared["note"];
     select_cell_revision(*user, payload, "apply (" + what + ")", req, res, extra);
   } catch (const PlannerError& e) {
     send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));

@@ -63,6 +63,8 @@ Eigen::Isometry3d world_pose(const json& cell, const std::string& id, std::vecto
 
 }  // namespace
 
+Eigen::Isometry3d world_pose_of(const json& cell, const std::string& id) { return world_pose(cell, id); }
+
 PlaceRequest parse_place_request(const json& body) {
   PlaceRequest r;
   r.own = face_request(body, "");

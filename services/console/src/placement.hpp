@@ -54,6 +54,10 @@ double edge_turn_deg(const Eigen::Isometry3d& onto_face, const Eigen::Vector3d& 
 Eigen::Isometry3d offset_along(const Eigen::Isometry3d& onto_face, const std::optional<Eigen::Vector3d>& direction,
                                double offset_m);
 
+/// The entity's pose in the world, through the document's parents.
+/// @throws PlannerError when an entity is missing or the parents do not reach "world".
+Eigen::Isometry3d world_pose_of(const nlohmann::json& cell, const std::string& id);
+
 /// {"position_m", "rpy_deg"} of a pose (R = Rz Ry Rx, the cell file's), nanometres and micro-degrees.
 nlohmann::json position_rpy(const Eigen::Isometry3d& pose);
 

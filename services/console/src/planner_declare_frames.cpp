@@ -1,5 +1,7 @@
 #include "planner_declare_frames.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "placement.hpp"
@@ -111,6 +113,28 @@ json declare_at_frame(const DeclareRequest& r, const json& cell, const Eigen::Is
   const json item = {{"id", id}, {"size_m", size_of(r)}, {"pose", pose}};
   markers["items"].push_back(item);
   return {{"cell", std::move(doc)}, {"features", {r.entity + "/marker " + id.dump()}}, {"rule", json::array({item})}};
+}
+
+std::string marker_view_note(const json& cell, const std::string& entity, int marker_id, const Eigen::Isometry3d& at) {
+  constexpr double kGoodDeg = 60.0;  // vision_tracker's good_viewing_angle_deg (its default)
+  const Eigen::Isometry3d marker = world_pose_of(cell, entity) * at;
+  double nearest = 180.0;
+  std::string seen_by;
+  for (const json& e : cell.value("entities", json::array())) {
+    if (!e.is_object() || !e.contains("camera")) continue;
+    const Eigen::Vector3d to_camera = world_pose_of(cell, e.value("id", "")).translation() - marker.translation();
+    if (to_camera.norm() < 1e-9) continue;
+    const double angle = std::acos(std::clamp(to_camera.normalized().dot(marker.linear().col(2)), -1.0, 1.0)) * 180.0 / M_PI;
+    if (angle < nearest) {
+      nearest = angle;
+      seen_by = e.value("id", "");
+    }
+  }
+  if (seen_by.empty() || nearest <= kGoodDeg) return "";
+  return "Camera " + seen_by + " sees marker " + std::to_string(marker_id) + " at " + std::to_string(std::lround(nearest)) +
+         " degrees from its normal where " + entity + " stands now: the tracker weighs a marker down past " +
+         std::to_string(std::lround(kGoodDeg)) + " degrees and not at all past 85, so a pose from it is poor or none " +
+         "(a face that looks at the camera is better).";
 }
 
 }  // namespace rigger::console

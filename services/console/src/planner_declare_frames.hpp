@@ -33,4 +33,11 @@ std::array<Eigen::Vector3d, 4> marker_corners(const DeclareRequest& request, con
 /// dictionary, the marker id is not in the dictionary or is on an object of the cell already.
 nlohmann::json declare_at_frame(const DeclareRequest& request, const nlohmann::json& cell, const Eigen::Isometry3d& at);
 
+/// What the cell's cameras will make of a marker at `at` (in `entity`'s model frame) where the part stands now:
+/// "" when a camera sees its face within 60 degrees of its normal (the tracker's good viewing angle), else a
+/// sentence naming the nearest angle (the tracker weighs a marker down past 60 degrees, and not at all past 85: a
+/// pose from it is poor or none). A camera is an entity with a "camera" block.
+std::string marker_view_note(const nlohmann::json& cell, const std::string& entity, int marker_id,
+                             const Eigen::Isometry3d& at);
+
 }  // namespace rigger::console

@@ -115,5 +115,20 @@ TEST(PlannerDeclareFrames, ASlingAboveTheCentreOfMassNeedsNoPickAndNoFixedPartTa
   }
 }
 
+TEST(PlannerDeclareFrames, AMarkerACameraSeesTooFlatIsNamedWithItsAngle) {
+  json with_camera = cell();
+  with_camera["entities"].push_back({{"id", "camera"}, {"kind", "device"}, {"parent", "world"},
+                                     {"pose", {{"position_m", {1.55, 0, 0.62}}, {"rpy_deg", {0, 0, 0}}}},
+                                     {"camera", json::object()}});
+  // On the plate's top face at its origin: a camera 22 degrees above the horizon sees it 68 degrees off.
+  const std::string note = marker_view_note(with_camera, "plate", 40, Eigen::Isometry3d::Identity());
+  EXPECT_NE(note.find("Camera camera sees marker 40 at 68 degrees from its normal where plate stands now"),
+            std::string::npos)
+      << note;
+  // On the side facing the camera (23 degrees off), or with no camera in the cell: nothing to say.
+  EXPECT_EQ(marker_view_note(with_camera, "plate", 40, side_face()), "");
+  EXPECT_EQ(marker_view_note(cell(), "plate", 40, Eigen::Isometry3d::Identity()), "");
+}
+
 }  // namespace
 }  // namespace rigger::console

@@ -80,8 +80,9 @@ export class DeclarePanel {
       const part = request.model.slice(7);
       const rope = sel.rope_from ? `The crane's rope moves from ${sel.rope_from} to ${part}: it becomes the crane's load, hanging where `
         + `${sel.rope_from} hung, and ${sel.rope_from} is set down where ${part} stood. ` : '';
+      const note = sel.note ? `${sel.note} ` : '';
       if (!(await confirmDialog('Declare the feature?', `${what} (${sel.features.join(', ')}): ${describeChanges(sel.changes)}. `
-        + rope + 'Every service follows the new revision.', 'Declare'))) return this.tell('Feature not declared (not confirmed).');
+        + rope + note + 'Every service follows the new revision.', 'Declare'))) return this.tell('Feature not declared (not confirmed).');
       const done = await api('/api/confirm', { method: 'POST', body: { confirmation_id: sel.confirmation_id } });
       this.tell(`Declared ${sel.features.join(', ')}: cell revision ${done.cell_revision}.`);
       this.offerUndo(sel.base_revision, sel.features);
