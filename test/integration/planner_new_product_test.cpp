@@ -201,7 +201,7 @@ TEST_F(PlannerNewProductTest, ANewProductImportedPlacedDeclaredAndProgrammedByCl
   ASSERT_TRUE(start_planner_services(
       {{"rehearsal_domain", rehearsal_.domain_id()}, {"rehearsal", rehearsal}}));
   const std::string result_file = cell_.log_dir() + "/new-product-result.json";
-  ASSERT_TRUE(run_browser_script("test/integration/planner/new_product.mjs", result_file, std::chrono::minutes(12),
+  ASSERT_TRUE(run_browser_script("test/integration/planner/new_product.mjs", result_file, std::chrono::minutes(9),
                                  {{"BRACKET", models.bracket.string()}, {"PLATE", models.plate.string()}}, &rehearsal_))
       << physics.nodes() << compose_logs(rehearsal_.domain_id());
   std::ifstream in(result_file);
