@@ -11,8 +11,8 @@
 // then rolled back to where the session started (by the API) and the same session in a new page must give
 // the same recipe and cell document, byte for byte; that page rehearses (the console starts its rehearsal
 // cell on the revision), goes back to the plan and publishes. The objects take the names the
-// page proposes (the files'). Typed: feature names, screw types, torques, marker ids and sizes, a stand-off, monitor limits — never a
-// coordinate (the page's own count says which fields were typed; a coordinate fails the script).
+// page proposes (the files'), and so do the features' names, the hole patterns' prefixes, the marker ids and
+// sizes and the stand-off. Typed: screw types, torques and monitor limits — never a coordinate (the page's own count says which fields were typed; a coordinate fails the script).
 // Synchronisation is on the page's state, never a sleep; a failed check exits 1. RESULT: what the page and
 // the world model said, the export, the session's count and timings.
 import fs from 'node:fs';
@@ -137,10 +137,10 @@ async function session(page, acts, result, round) {
   // --- the plate's six screw holes: the four 17.5 mm "all like this one", then the two 14 mm ---
   await page.click('#planner-declare summary');
   await clickHole('base_plate', -0.15, -0.12);
-  result.holes_a = await declare('screw_holes', { name: 'a', 'screw-type': 'M20x60', torque: 120 }, ['like']);
+  result.holes_a = await declare('screw_holes', { 'screw-type': 'M20x60', torque: 120 }, ['like']);  // the prefix proposed: a
   check(/base_plate\/a1, base_plate\/a2, base_plate\/a3, base_plate\/a4:/.test(result.holes_a), `four holes like the first: ${result.holes_a}`);
   await clickHole('base_plate', -0.05, 0.0);
-  result.holes_b = await declare('screw_holes', { name: 'b', 'screw-type': 'M16x50', torque: 80 });
+  result.holes_b = await declare('screw_holes', { 'screw-type': 'M16x50', torque: 80 });  // the prefix proposed next: b
   check(/base_plate\/b1, base_plate\/b2:/.test(result.holes_b), `two holes like the second: ${result.holes_b}`);
   await picture('3-holes', '#planner-declare');
   // --- the plate's marker, where a 60 mm marker lies whole on its top face ---
@@ -148,7 +148,7 @@ async function session(page, acts, result, round) {
   const plateSpot = await spotOn('base_plate', plateTop.index, [[0.03, -0.08, 0], [0.02, 0.06, 0], [-0.05, -0.08, 0]], 0.045);
   check(plateSpot, 'the plate\'s top face has room for an 80 mm marker (the size proposed) in view');
   await clickAt('base_plate', plateSpot);
-  result.plate_marker = await declare('marker', { 'marker-id': 40 });
+  result.plate_marker = await declare('marker');  // the id proposed: the lowest no object carries
 
   // --- the bracket: grasp and approach on its web's inner face, x along its vertical edge ---
   await page.click('[data-frame="bracket"]');
@@ -172,7 +172,7 @@ async function session(page, acts, result, round) {
     return declare(kind, fields);
   };
   result.grasp = await frameByPicks('grasp_frame');  // the name proposed: grasp
-  result.approach = await frameByPicks('approach_waypoint', { standoff: 100 });  // the name proposed: pre_grasp
+  result.approach = await frameByPicks('approach_waypoint');  // the name and stand-off proposed: pre_grasp, 100 mm
   // --- its rope attachment at a hole of its base plate, its marker on the base plate's top face ---
   await clickHole('bracket', 0.06, 0.09);
   result.rope = await declare('rope_attachment');
@@ -180,7 +180,7 @@ async function session(page, acts, result, round) {
   const baseSpot = await spotOn('bracket', baseTop.index, [[0.06, 0.0, 0.03], [0.0, 0.0, 0.03], [0.1, 0.0, 0.03]], 0.045);
   check(baseSpot, 'the bracket\'s base plate has room for an 80 mm marker in view');
   await clickAt('bracket', baseSpot);
-  result.bracket_marker = await declare('marker', { 'marker-id': 41 });
+  result.bracket_marker = await declare('marker');
   // --- the insertion: the bracket's bottom face (from below) on the plate's top face ---
   const bracketBottom = await planeFace('bracket', [0, 0, -1]);
   // Dragged down a little at a time until the bottom face is under the pointer, as a person does.

@@ -138,7 +138,7 @@ export function plannerPage(main, me) {
     settle: () => history.settle(), validate });
   form.bindings = bindings;
   const place = new PlacePanel({ state, say, clearPicks: () => bindings.clearPicks() });
-  bindings.onPicks = () => place.refresh();
+  bindings.onPicks = () => { place.refresh(); declarePanel.propose(); };
   placeBox.replaceChildren(place.root);
   const importer = new ImportPanel({ view, say });
   importBox.replaceChildren(importer.root);
@@ -366,6 +366,7 @@ export function plannerPage(main, me) {
     bindings.renderHoles();
     form.render();  // the object lists of the fields
     features.load(objects.objects, objects.problem);
+    await declarePanel.refresh();
     window.rigger.planner.ready = true;
   })();
   // A new revision of the cell: its parts drawn afresh, the object lists with them.
@@ -376,6 +377,7 @@ export function plannerPage(main, me) {
     form.render();
     features.load(objects.objects, objects.problem);
     await importer.loadCellModels();
+    await declarePanel.refresh();
     window.rigger.planner.drawnRevision = Math.max(window.rigger.planner.drawnRevision || 0, d?.cell_revision || 0);
   });
   return () => {
