@@ -207,11 +207,13 @@ async function session(page, acts, result, round) {
   const nodeSel = (ptr) => page.click(`button.pnode[data-pointer="${ptr}"]`);
   const node = async (value, expected) => {
     await page.selectOption('#planner-add-kind', value);
+    // An executor that missed its liveliness lease on a loaded machine is out of the library until it is
+    // back: the palette keeps the choice, not offered ("no executor now"), and a person waits for it.
+    await page.waitForFunction(() => !document.querySelector('#planner-add-kind').selectedOptions[0]?.disabled, null, { timeout: 20000 });
     await page.click('#planner-add');
     const at = await state(() => window.rigger.planner.state.selected);
     check(at === expected, `Add ${value} put the node at ${at}, expected ${expected}`);
-    // What was added: the palette is rebuilt when an executor's announcement comes or goes (a lease
-    // missed on a loaded machine), and a choice it no longer offers falls back to its first entry.
+    // What was added: the palette is rebuilt when an executor's announcement comes or goes.
     const added = await state((ptr) => { let v = window.rigger.planner.state.doc; for (const k of ptr.split('/').slice(1)) v = v[k]; return v; }, at);
     const [kind, name] = value.split(':');
     check(kind === 'control' ? added.type === name : (added.skill || added.monitor) === name,
