@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -447,14 +448,16 @@ int resolve(const Features& features, const Reference& ref, double tolerance_m, 
   if (matches == 1) {
     return found;
   }
+  const auto mm = [](const Eigen::Vector3d& p) {
+    char text[96];
+    std::snprintf(text, sizeof text, "[%.1f, %.1f, %.1f] mm", p.x() * 1e3, p.y() * 1e3, p.z() * 1e3);
+    return std::string(text);
+  };
   std::string why = std::string(to_string(ref.kind)) + " " + std::to_string(ref.index) + " (" + ref.signature.type +
-                    " at [" + std::to_string(ref.signature.centroid_m.x()) + ", " +
-                    std::to_string(ref.signature.centroid_m.y()) + ", " + std::to_string(ref.signature.centroid_m.z()) +
-                    "] m) of model " + ref.model_sha256.substr(0, 12);
+                    " at " + mm(ref.signature.centroid_m) + ") of model " + ref.model_sha256.substr(0, 12);
   if (ref.index >= 0 && static_cast<std::size_t>(ref.index) < count) {
     const Signature& now = features.signature(ref.kind, ref.index);
-    why += " is now a " + now.type + " at [" + std::to_string(now.centroid_m.x()) + ", " +
-           std::to_string(now.centroid_m.y()) + ", " + std::to_string(now.centroid_m.z()) + "] m";
+    why += " is now a " + now.type + " at " + mm(now.centroid_m);
   } else {
     why += " no longer exists";
   }

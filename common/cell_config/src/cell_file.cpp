@@ -245,6 +245,7 @@ CellFile cell_file_from_json(const json& document, const std::string& source) {
   }
   // References are resolved after every id is known, so the file may list entities in any order.
   std::map<std::pair<std::string, int>, std::string> marker_owner;  // (dictionary, id) -> pointer
+  std::string hooked;  // the entity whose rope attachment the crane's rope hooks
   for (std::size_t i = 0; i < file.entities.size(); ++i) {
     const CellEntity& entity = file.entities[i];
     const std::string pointer = "/entities/" + std::to_string(i);
@@ -263,6 +264,15 @@ CellFile cell_file_from_json(const json& document, const std::string& source) {
                    "an insertion target whose model names a STEP file (model.step)",
                    "\"" + target + "\" without one");
       }
+    }
+    // The crane carries one load: a rope attachment declared on a second object is a mistake a simulator
+    // would only find when it builds the cell (moving the rope is one revision that changes both).
+    if (entity.features.rope_attachment) {
+      if (!hooked.empty()) {
+        check.fail(pointer + "/features/rope_attachment", "one object with a rope attachment (the crane carries one load)",
+                   "a second one: \"" + hooked + "\" has one");
+      }
+      hooked = entity.id;
     }
     // Objects' markers and calibration boards' markers share one id space per dictionary: the tracker
     // must know which entity a detected marker belongs to.

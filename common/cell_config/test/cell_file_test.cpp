@@ -329,6 +329,9 @@ TEST(CellFile, RejectsFeatureErrors) {
   expect_entity_error("load", "/features/markers/dictionary", "DICT_9X9_50", "OpenCV predefined dictionary");
   expect_entity_error("load", "/features/insertion/target", "fixture", "another entity of this cell");
   expect_entity_error("load", "/features/insertion/target", "load", "another entity of this cell");
+  // The crane carries one load: a second object with a rope attachment is refused where it is declared.
+  expect_entity_error("target", "/features/rope_attachment", cell["entities"][index_of(cell, "load")]["features"]["rope_attachment"],
+                      "one object with a rope attachment (the crane carries one load), got a second one: \"load\" has one");
 }
 
 TEST(CellFile, RejectsMalformedJsonText) {

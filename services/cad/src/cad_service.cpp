@@ -331,9 +331,32 @@ CadAnswer CadService::derive(Entry& entry, const std::string& args_json) const {
     Eigen::Isometry3d pose = cad::frame_from_face(entry.model, entry.features, face, point_arg(args, "point_m"));
     pose.linear() = pose.linear() * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
     result["pose"] = cad::to_json(pose);
+  } else if (parameter == "resolve") {
+    // Where each reference lands on this model, as every rule resolves it (cad::resolve): its index, or
+    // why it is stale. Asked once for every rule into a model that changed.
+    const auto refs = args.find("references");
+    if (refs == args.end() || !refs->is_array() || refs->size() > 10000) {
+      throw RequestError{"CAD_BAD_REQUEST", "args_json.references must be an array (at most 10000) of reference objects"};
+    }
+    result["resolved"] = json::array();
+    for (std::size_t i = 0; i < refs->size(); ++i) {
+      const std::string what = "references[" + std::to_string(i) + "]";
+      if (!(*refs)[i].is_object()) throw RequestError{"CAD_BAD_REQUEST", what + " must be a reference object"};
+      cad::Reference ref;
+      try {
+        ref = cad::reference_from_json((*refs)[i]);
+      } catch (const cad::CadError& error) {
+        throw RequestError{"CAD_BAD_REFERENCE", what + ": " + error.what()};
+      }
+      try {
+        result["resolved"].push_back({{"index", cad::resolve(entry.features, ref)}});
+      } catch (const cad::CadError& error) {
+        result["resolved"].push_back({{"stale", error.what()}});
+      }
+    }
   } else {
-    throw RequestError{"CAD_BAD_REQUEST",
-                       "args_json.parameter must be \"screw_list\" or \"grasp_pose\", not \"" + parameter + "\""};
+    throw RequestError{"CAD_BAD_REQUEST", "args_json.parameter must be \"screw_list\", \"grasp_pose\" or \"resolve\", not \"" +
+                                              parameter + "\""};
   }
   CadAnswer answer;
   answer.result_json = result.dump();

@@ -169,6 +169,38 @@ TEST(CadService, ScrewListOfPickedHolesInThePickedOrder) {
             "CAD_BAD_REQUEST");
 }
 
+TEST(CadService, ResolveSaysWhereEachReferenceLandsOrWhyItIsStale) {
+  CadService service(settings());
+  const json features = json::parse(ask(service, QueryKind::kFeatures, "object:target").result_json);
+  const auto ref = [&](int index) {
+    return json{{"model_sha256", features["model_sha256"]}, {"kind", "face"}, {"index", index},
+                {"signature", features["faces"][index]["signature"]}};
+  };
+  // Face 3 as it is; face 5's reference under index 7 (renumbered: its signature finds it); a face whose
+  // centroid moved 2 mm.
+  json renumbered = ref(5);
+  renumbered["index"] = 7;
+  json moved = ref(2);
+  moved["signature"]["centroid_m"][0] = moved["signature"]["centroid_m"][0].get<double>() + 0.002;
+  const CadAnswer answer = ask(service, QueryKind::kDerive, "object:target",
+                               json{{"parameter", "resolve"}, {"references", {ref(3), renumbered, moved}}}.dump());
+  ASSERT_TRUE(answer.ok) << answer.message;
+  const json resolved = json::parse(answer.result_json)["resolved"];
+  ASSERT_EQ(resolved.size(), 3u) << resolved.dump();
+  EXPECT_EQ(resolved[0], (json{{"index", 3}}));
+  EXPECT_EQ(resolved[1], (json{{"index", 5}}));
+  ASSERT_TRUE(resolved[2].contains("stale")) << resolved.dump();
+  EXPECT_NE(resolved[2]["stale"].get<std::string>().find("face 2 ("), std::string::npos) << resolved[2];
+  EXPECT_NE(resolved[2]["stale"].get<std::string>().find(" mm) of model "), std::string::npos) << resolved[2];
+
+  // What is not a list of references is refused, saying which.
+  EXPECT_EQ(ask(service, QueryKind::kDerive, "object:target", R"({"parameter": "resolve"})").code, "CAD_BAD_REQUEST");
+  const CadAnswer bad = ask(service, QueryKind::kDerive, "object:target",
+                            json{{"parameter", "resolve"}, {"references", {ref(3), {{"kind", "solid"}}}}}.dump());
+  EXPECT_EQ(bad.code, "CAD_BAD_REFERENCE");
+  EXPECT_NE(bad.message.find("references[1]: "), std::string::npos) << bad.message;
+}
+
 TEST(CadService, BadRequestsAreAnsweredWithACode) {
   CadService service(settings());
   EXPECT_EQ(ask(service, QueryKind::kFeatures, "object:crane").code, "CAD_UNKNOWN_MODEL");

@@ -2,7 +2,9 @@
 // the simulated cell on a domain of its own, where a recipe runs first.
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 
 // Eigen before httplib.h, whose system headers define names Eigen uses.
 #include "model_replacement.hpp"
@@ -248,11 +250,33 @@ void HttpApi::post_planner_replace(const httplib::Request& req, httplib::Respons
     const ReplaceRequest request = parse_replace_request(*b);
     if (!imports_.find(request.sha256)) return imported_file_gone(req, res, request.sha256);
     if (refused_while_tasks_run(*user, "replace the model of " + request.object, "replace the model", req, res)) return;
-    const auto features = backend_.cad("features", "sha256:" + request.sha256, "{}");
-    if (!features.ok) return send_cad_refusal(res, req, features.message, "#/model");
     const auto running = running_cell(req, res);
     if (!running) return;
-    const Replacement r = cell_with_replaced_model(running->document, request, features.data.value("result", json::object()));
+    // Every rule's references resolved on the new model at once, as the world model will resolve them.
+    struct CadRefusal {
+      std::string message;
+    };
+    const Resolver resolve = [&](const std::vector<json>& refs) {
+      std::vector<std::string> why;
+      if (refs.empty()) return why;
+      const auto answer = backend_.cad("derive", "sha256:" + request.sha256,
+                                       json{{"parameter", "resolve"}, {"references", refs}}.dump());
+      if (!answer.ok) throw CadRefusal{answer.message};
+      constexpr std::string_view kPrefix = "stale reference: ";
+      for (const json& r : answer.data.value("result", json::object()).value("resolved", json::array())) {
+        std::string stale = r.value("stale", "");
+        if (stale.rfind(kPrefix, 0) == 0) stale.erase(0, kPrefix.size());
+        why.push_back(std::move(stale));
+      }
+      return why;
+    };
+    std::optional<Replacement> replaced;
+    try {
+      replaced = cell_with_replaced_model(running->document, request, resolve);
+    } catch (const CadRefusal& e) {
+      return send_cad_refusal(res, req, e.message, "#/model");
+    }
+    const Replacement& r = *replaced;
     const std::string comment = request.comment.empty() ? "a new model of " + request.object : request.comment;
     const json payload = {{"op", "apply"}, {"cell_json", to_text(r.cell)}, {"comment", comment},
                           {"models", json::array({{{"sha256", request.sha256},

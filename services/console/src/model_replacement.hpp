@@ -3,11 +3,12 @@
 /// A new version of an object's STEP model (the Planner's "Replace the model of…", docs/console.md): the
 /// object keeps its id, pose and material; its model becomes the imported file, pinned by its sha256.
 /// Every CAD rule that refers into the model — the object's grasp frames, approach waypoints, screw holes
-/// and insertion, and the insertions of other objects into it — is checked against the new model's
-/// features as the world model will resolve it (the same index with the same signature, or the one
-/// entity that has it). A rule that no longer resolves (a hole that moved, a face that went) is dropped
+/// and insertion, and the insertions of other objects into it — is checked against the new model as the
+/// world model will resolve it (the same index with the same signature, or the one entity that has it),
+/// by the CAD service. A rule that no longer resolves (a hole that moved, a face that went) is dropped
 /// and named, to be declared again by picks; recipes made on the old model see their bindings stale.
 /// Free of HTTP and DDS, unit-tested.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -40,11 +41,14 @@ struct Replacement {
   std::vector<DroppedFeature> dropped;
 };
 
-/// The cell document `cell` with `request.object`'s model replaced by the imported file whose CAD
-/// features (the CAD service's `features` answer, entities included) are `features`.
+/// Where references land on the new model, as the world model will resolve them (the CAD service's
+/// `resolve` derivation, cad::resolve): for each reference, "" when it resolves, else why not.
+using Resolver = std::function<std::vector<std::string>(const std::vector<nlohmann::json>& references)>;
+
+/// The cell document `cell` with `request.object`'s model replaced by the imported file, whose references
+/// `resolve` answers for, all at once.
 /// @throws PlannerError at "/object" when the object is missing or has no STEP model, at "/model" when it
-/// already has this model.
-Replacement cell_with_replaced_model(const nlohmann::json& cell, const ReplaceRequest& request,
-                                     const nlohmann::json& features);
+/// already has this model or `resolve` did not answer for every reference.
+Replacement cell_with_replaced_model(const nlohmann::json& cell, const ReplaceRequest& request, const Resolver& resolve);
 
 }  // namespace rigger::console

@@ -12,9 +12,10 @@
 // Timer with the back-off fallback, Screw over the six holes, Release), validated and exported. The cell is
 // then rolled back to where the session started (by the API) and the same session in a new page must give
 // the same recipe and cell document, byte for byte; that page rehearses (the console starts its rehearsal
-// cell, the simulated cell in physics, on the revision), goes back to the plan and publishes. The objects take the names the
-// page proposes (the files'). Typed: feature names, screw types, torques, marker ids and sizes, a stand-off, monitor limits — never a
-// coordinate (the page's own count says which fields were typed; a coordinate fails the script).
+// cell, the simulated cell in physics, on the revision), goes back to the plan and publishes. The objects take
+// the names the page proposes (the files'), and so do the features' names, the hole patterns' prefixes, the
+// marker ids and sizes and the stand-off. Typed: screw types, torques and monitor limits — never a coordinate
+// (the page's own count says which fields were typed; a coordinate fails the script).
 // Synchronisation is on the page's state, never a sleep; a failed check exits 1. RESULT: what the page and
 // the world model said, the export, the session's count and timings.
 import fs from 'node:fs';
@@ -152,13 +153,13 @@ async function session(page, acts, result, round) {
   // --- the plate's six screw holes: the four 17.5 mm "all like this one", then the two 14 mm ---
   await page.click('#planner-declare summary');
   await clickHole('base_plate', -0.15, -0.12);
-  result.holes_a = await declare('screw_holes', { name: 'a', 'screw-type': 'M20x60', torque: 120 }, ['like']);
+  result.holes_a = await declare('screw_holes', { 'screw-type': 'M20x60', torque: 120 }, ['like']);  // the prefix proposed: a
   check(/base_plate\/a1, base_plate\/a2, base_plate\/a3, base_plate\/a4:/.test(result.holes_a), `four holes like the first: ${result.holes_a}`);
   await clickHole('base_plate', -0.05, 0.0);
-  result.holes_b = await declare('screw_holes', { name: 'b', 'screw-type': 'M16x50', torque: 80 });
+  result.holes_b = await declare('screw_holes', { 'screw-type': 'M16x50', torque: 80 });  // the prefix proposed next: b
   check(/base_plate\/b1, base_plate\/b2:/.test(result.holes_b), `two holes like the second: ${result.holes_b}`);
   await picture('3-holes', '#planner-declare');
-  // --- the plate's two markers on its tab's outer face, which faces the camera (80 mm, the size proposed) ---
+  // --- the plate's two markers on its tab's outer face, which faces the camera (80 mm and the ids proposed) ---
   const tab = await planeFace('base_plate', [1, 0, 0], (c) => Math.abs(c[0] - 0.3) < 1e-6 && c[2] > 0.01);
   check(tab, 'the plate has its tab\'s outer (+x) face');
   await page.click('[data-frame="base_plate"]');
@@ -170,9 +171,10 @@ async function session(page, acts, result, round) {
   };
   const spots = await turnUntil(tabSpots);
   check(spots, 'the plate\'s tab has room for two 80 mm markers in view');
-  for (const [i, id] of [40, 41].entries()) {
-    await clickAt('base_plate', spots[i]);
-    result[`plate_marker_${id}`] = await declare('marker', { 'marker-id': id });
+  result.plate_markers = [];
+  for (const spot of spots) {
+    await clickAt('base_plate', spot);
+    result.plate_markers.push(await declare('marker'));  // the id proposed: the lowest no object carries
   }
   // Where the insertion's face is picked: the plate's top, clear of its holes.
   await page.click('[data-frame="base_plate"]');
@@ -220,16 +222,17 @@ async function session(page, acts, result, round) {
     return declare(kind, fields, down);
   };
   result.grasp = await frameByPicks('grasp_frame');  // the name proposed: grasp
-  result.approach = await frameByPicks('approach_waypoint', { standoff: 100 });  // the name proposed: pre_grasp
+  result.approach = await frameByPicks('approach_waypoint');  // the name and stand-off proposed: pre_grasp, 100 mm
   // --- its two markers on the web's inner face, which faces the camera ---
   await page.click('[data-frame="bracket"]');
   const innerFace = await planeFace('bracket', [1, 0, 0], (c) => Math.abs(c[0] + 0.17) < 1e-6);
   check(innerFace, 'the bracket has its web\'s inner (+x) face');
-  for (const [id, y] of [[42, -0.075], [43, 0.075]]) {
+  result.bracket_markers = [];
+  for (const y of [-0.075, 0.075]) {
     const spot = await spotOn('bracket', innerFace.index, [[-0.17, y, 0.18], [-0.17, y, 0.2]], 0.045, [1, 2]);
     check(spot, `the web's inner face has room for an 80 mm marker at y ${y} in view`);
     await clickAt('bracket', spot);
-    result[`bracket_marker_${id}`] = await declare('marker', { 'marker-id': id });
+    result.bracket_markers.push(await declare('marker'));
   }
   // --- the insertion: the bracket's bottom face (from below) on the plate's top face ---
   const bracketBottom = await planeFace('bracket', [0, 0, -1]);
@@ -265,11 +268,13 @@ async function session(page, acts, result, round) {
   const nodeSel = (ptr) => page.click(`button.pnode[data-pointer="${ptr}"]`);
   const node = async (value, expected) => {
     await page.selectOption('#planner-add-kind', value);
+    // An executor that missed its liveliness lease on a loaded machine is out of the library until it is
+    // back: the palette keeps the choice, not offered ("no executor now"), and a person waits for it.
+    await page.waitForFunction(() => !document.querySelector('#planner-add-kind').selectedOptions[0]?.disabled, null, { timeout: 20000 });
     await page.click('#planner-add');
     const at = await state(() => window.rigger.planner.state.selected);
     check(at === expected, `Add ${value} put the node at ${at}, expected ${expected}`);
-    // What was added: the palette is rebuilt when an executor's announcement comes or goes (a lease
-    // missed on a loaded machine), and a choice it no longer offers falls back to its first entry.
+    // What was added: the palette is rebuilt when an executor's announcement comes or goes.
     const added = await state((ptr) => { let v = window.rigger.planner.state.doc; for (const k of ptr.split('/').slice(1)) v = v[k]; return v; }, at);
     const [kind, name] = value.split(':');
     check(kind === 'control' ? added.type === name : (added.skill || added.monitor) === name,

@@ -80,6 +80,9 @@ try {
   /// Adds from the palette and checks the new node landed where the shipped recipe has it.
   const add = async (value, expected) => {
     await page.selectOption('#planner-add-kind', value);
+    // An executor that missed its liveliness lease on a loaded machine is out of the library until it is
+    // back: the palette keeps the choice, not offered ("no executor now"), and a person waits for it.
+    await page.waitForFunction(() => !document.querySelector('#planner-add-kind').selectedOptions[0]?.disabled, null, { timeout: 20000 });
     await page.click('#planner-add');
     const at = await state(() => window.rigger.planner.state.selected);
     check(at === expected, `Add ${value} put the node at ${at}`);

@@ -7,12 +7,11 @@
 import { api, confirmDialog, el } from '../api.js';
 import { describeChanges } from '../cell_revisions.js';
 import { DECLARE_KINDS, declareFromPicks } from './picks.js';
+import { proposals } from './proposals.js';
 
 const LABELS = { grasp_frame: 'grasp frame (a face, an edge of it for x)', approach_waypoint: 'approach waypoint (a face, a stand-off)',
   screw_holes: 'screw holes (a hole)', insertion: 'insertion (a face of the part, then the face it mates; a hole of each to pin them)',
   rope_attachment: 'rope attachment (a hole, a point on a face, or a sling)', marker: 'marker (a point on a face)' };
-// The names a frame is proposed by (the shipped cell's): typed over when the part has one already.
-const PROPOSED_NAMES = { grasp_frame: 'grasp', approach_waypoint: 'pre_grasp' };
 const DICTIONARIES = ['DICT_4X4_50', 'DICT_4X4_100', 'DICT_4X4_250', 'DICT_5X5_50', 'DICT_5X5_100', 'DICT_6X6_50'];
 
 export class DeclarePanel {
@@ -26,12 +25,12 @@ export class DeclarePanel {
     this.fields = {
       name: input('name', 'Name', { type: 'text', placeholder: 'grasp_top, or m for m1, m2, …' }),
       x_reversed: input('xrev', 'x reversed', { type: 'checkbox' }),
-      standoff_mm: input('standoff', 'Stand-off (mm)', { type: 'number', min: '0', step: '1' }),
+      standoff_mm: input('standoff', 'Stand-off (mm)', { type: 'number', min: '0', step: '1', value: '100' }),
       like: input('like', 'All holes like this one', { type: 'checkbox' }),
       sling: input('sling', 'A sling above its centre of mass', { type: 'checkbox' }),
       screw_type: input('screw-type', 'Screw', { type: 'text', placeholder: 'M12x40' }),
       torque_nm: input('torque', 'Torque (N·m)', { type: 'number', min: '0', step: '1' }),
-      dictionary: el('label', {}, 'Dictionary ', el('select', { id: 'planner-declare-dictionary', 'aria-label': 'Marker dictionary' },
+      dictionary: el('label', {}, 'Dictionary ', el('select', { id: 'planner-declare-dictionary', 'aria-label': 'Marker dictionary', onchange: () => this.propose() },
         ...DICTIONARIES.map((d) => el('option', { value: d }, d)))),
       marker_id: input('marker-id', 'Marker id', { type: 'number', min: '0', step: '1' }),
       marker_size_mm: input('marker-size', 'Marker size (mm)', { type: 'number', min: '10', step: '1', value: '80' }),
@@ -42,7 +41,27 @@ export class DeclarePanel {
       el('div', { class: 'toolbar' }, this.kind, ...Object.values(this.fields),
         el('button', { id: 'planner-declare-submit', onclick: () => this.declare() }, 'Declare…')),
       this.status, this.undoBox);
+    this.doc = null;  // the running cell document, for the proposals
+    this.proposed = {};  // what was proposed per field: a field still holding it (or empty) takes the next
     this.render();
+  }
+
+  /// Reads the running cell document again (at the start and after each revision) and proposes anew.
+  async refresh() {
+    try { this.doc = JSON.parse((await api('/api/cell')).cell_json || '{}'); } catch { this.doc = null; }
+    this.propose();
+  }
+
+  /// Fills the name and the marker id with what the part and the cell leave free (proposals.js), unless
+  /// the person typed something else there; `fresh`: a new kind, whose fields start over.
+  propose(fresh = false) {
+    const wanted = proposals(this.doc, this.state.picks, this.kind.value, this.value('dictionary'));
+    for (const key of ['name', 'marker_id']) {
+      const box = this.fields[key].querySelector('input');
+      if (!fresh && box.value !== '' && box.value !== String(this.proposed[key] ?? '')) continue;
+      box.value = String(wanted[key] ?? '');
+      this.proposed[key] = box.value;
+    }
   }
 
   value(key) {
@@ -50,11 +69,11 @@ export class DeclarePanel {
     return box.type === 'checkbox' ? box.checked : box.value.trim();
   }
 
-  /// Shows the kind's own fields only; a new kind's name is the one proposed for it, or empty (a name
-  /// typed for another kind, such as a screw holes' prefix, is not this one's).
+  /// Shows the kind's own fields only; a new kind's name and marker id are the ones proposed for it (a
+  /// name typed for another kind, such as a screw holes' prefix, is not this one's).
   render() {
     const k = this.kind.value;
-    this.fields.name.querySelector('input').value = PROPOSED_NAMES[k] || '';
+    this.propose(true);
     const framed = k === 'grasp_frame' || k === 'approach_waypoint';
     const shown = { name: framed || k === 'screw_holes', x_reversed: framed, standoff_mm: k === 'approach_waypoint',
       like: k === 'screw_holes', sling: k === 'rope_attachment', screw_type: k === 'screw_holes', torque_nm: k === 'screw_holes',

@@ -58,7 +58,15 @@ export function plannerPage(main, me) {
   // The confirmation dialog is outside the page's main: its Yes and No are the session's clicks too.
   const effort = new Effort([main, document.getElementById('confirm')].filter(Boolean), (e) => { effortLine.textContent = e.text(); });
   effortLine.textContent = effort.text();
-  const addSelect = el('select', { id: 'planner-add-kind', 'aria-label': 'Node to add' });
+  // The node the person chose to add: kept through a rebuild of the palette (an executor that missed its
+  // liveliness lease takes its skills out of the live library until it is back).
+  let wantedKind = '';
+  const addSelect = el('select', { id: 'planner-add-kind', 'aria-label': 'Node to add', onchange: () => { wantedKind = addSelect.value; } });
+  const addNode = () => {
+    const option = addSelect.selectedOptions[0];
+    if (option?.disabled) return say(`${option.value.split(':')[1]} is not offered now: no executor announces it (it may be restarting); wait for it or choose another.`, true);
+    if (addSelect.value) edit(() => tree.add(addSelect.value));
+  };
   const taskId = el('input', { type: 'text', id: 'planner-task-id', 'aria-label': 'Task id', value: state.doc.task_id,
     oninput: () => { tree.set('/task_id', taskId.value); changed(false); } });
   const assumptions = el('input', { type: 'text', id: 'planner-assumptions', 'aria-label': 'Assumptions', placeholder: 'facts that hold at the start, e.g. hooked(crane,load)',
@@ -101,7 +109,7 @@ export function plannerPage(main, me) {
         declarePanel.root),
       el('section', { class: 'panel', 'aria-labelledby': 'pt' }, el('h2', { id: 'pt' }, 'Tree'),
         el('div', { class: 'toolbar' }, addSelect,
-          el('button', { id: 'planner-add', onclick: () => { if (addSelect.value) edit(() => tree.add(addSelect.value)); } }, 'Add'),
+          el('button', { id: 'planner-add', onclick: addNode }, 'Add'),
           el('button', { id: 'planner-up', title: 'Alt+↑', onclick: () => move(-1) }, 'Up'),
           el('button', { id: 'planner-down', title: 'Alt+↓', onclick: () => move(1) }, 'Down'),
           el('button', { id: 'planner-delete', class: 'danger', title: 'Delete', onclick: () => remove() }, 'Delete')),
@@ -138,7 +146,7 @@ export function plannerPage(main, me) {
     settle: () => history.settle(), validate });
   form.bindings = bindings;
   const place = new PlacePanel({ state, say, clearPicks: () => bindings.clearPicks() });
-  bindings.onPicks = () => place.refresh();
+  bindings.onPicks = () => { place.refresh(); declarePanel.propose(); };
   placeBox.replaceChildren(place.root);
   const importer = new ImportPanel({ view, say });
   importBox.replaceChildren(importer.root);
@@ -148,14 +156,18 @@ export function plannerPage(main, me) {
   async function loadLibrary() {
     const lib = await skillLibrary();
     state.library = lib.skills;
-    const chosen = addSelect.value;
+    const chosen = wantedKind || addSelect.value;
     addSelect.replaceChildren(
       el('optgroup', { label: 'Control' }, ...CONTROL.map((c) => el('option', { value: `control:${c}` }, c))),
       el('optgroup', { label: 'Decorators' }, ...Object.keys(DECORATORS).map((c) => el('option', { value: `decorator:${c}` }, c))),
       el('optgroup', { label: 'Operator' }, el('option', { value: 'decision:OperatorDecision' }, 'OperatorDecision')),
       ...['skill', 'monitor', 'condition'].map((kind) => el('optgroup', { label: `${kind[0].toUpperCase()}${kind.slice(1)}s` },
         ...lib.skills.filter((s) => s.kind === kind).map((s) => el('option', { value: `${kind}:${s.name}`, title: s.description || '' }, s.name)))));
-    if ([...addSelect.options].some((o) => o.value === chosen)) addSelect.value = chosen;
+    if (chosen && ![...addSelect.options].some((o) => o.value === chosen)) {
+      // Chosen, then gone from the library: kept in view, not offered, until its executor is back.
+      addSelect.append(el('option', { value: chosen, disabled: true }, `${chosen.split(':')[1]} (no executor now)`));
+    }
+    if (chosen) addSelect.value = chosen;
     if (lib.problems?.length) say(`Skill library: ${lib.problems.join('; ')}`, true);
   }
   // An executor that comes, goes or comes back (a missed liveliness lease on a loaded machine) changes
@@ -366,6 +378,7 @@ export function plannerPage(main, me) {
     bindings.renderHoles();
     form.render();  // the object lists of the fields
     features.load(objects.objects, objects.problem);
+    await declarePanel.refresh();
     window.rigger.planner.ready = true;
   })();
   // A new revision of the cell: its parts drawn afresh, the object lists with them.
@@ -376,6 +389,7 @@ export function plannerPage(main, me) {
     form.render();
     features.load(objects.objects, objects.problem);
     await importer.loadCellModels();
+    await declarePanel.refresh();
     window.rigger.planner.drawnRevision = Math.max(window.rigger.planner.drawnRevision || 0, d?.cell_revision || 0);
   });
   return () => {
