@@ -246,6 +246,24 @@ AddRequest parse_add_request(const json& body) {
   return r;
 }
 
+NodeRequest parse_node_request(const json& body) {
+  if (!body.is_object()) throw PlannerError{"", "expected a JSON object {model, node}"};
+  NodeRequest r;
+  const std::string model = body.value("model", json()).is_string() ? body["model"].get<std::string>() : "";
+  if (model.rfind("sha256:", 0) != 0 || model.size() != 7 + 64)
+    throw PlannerError{"/model", "expected \"sha256:<hex>\", the imported file's model"};
+  r.sha256 = model.substr(7);
+  const json node = body.value("node", json());
+  if (!node.is_array() || node.size() > 32)
+    throw PlannerError{"/node", "expected the node's path in the product tree: an array of at most 32 component indices"};
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    if (!node[i].is_number_integer() || node[i].get<long long>() < 0 || node[i].get<long long>() > 100'000)
+      throw PlannerError{"/node/" + std::to_string(i), "expected a component index (0 to 100000)"};
+    r.node.push_back(node[i].get<int>());
+  }
+  return r;
+}
+
 std::string imported_model_name(const std::string& id) { return "imported/" + id + ".step"; }
 
 double lowest_vertex_z(const json& features) {
