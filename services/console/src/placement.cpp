@@ -231,10 +231,7 @@ bool plain_id(const std::string& id) {
 AddRequest parse_add_request(const json& body) {
   if (!body.is_object()) throw PlannerError{"", "expected a JSON object {model, id, material}"};
   AddRequest r;
-  const std::string model = body.value("model", json()).is_string() ? body["model"].get<std::string>() : "";
-  if (model.rfind("sha256:", 0) != 0 || model.size() != 7 + 64)
-    throw PlannerError{"/model", "expected \"sha256:<hex>\", the imported file's model"};
-  r.sha256 = model.substr(7);
+  r.sha256 = imported_model_sha256(body);
   r.id = body.value("id", json()).is_string() ? body["id"].get<std::string>() : "";
   if (!plain_id(r.id))
     throw PlannerError{"/id", "expected a name of 1 to 64 letters, digits, '_' or '-', got \"" + r.id.substr(0, 64) + "\""};
@@ -249,10 +246,7 @@ AddRequest parse_add_request(const json& body) {
 NodeRequest parse_node_request(const json& body) {
   if (!body.is_object()) throw PlannerError{"", "expected a JSON object {model, node}"};
   NodeRequest r;
-  const std::string model = body.value("model", json()).is_string() ? body["model"].get<std::string>() : "";
-  if (model.rfind("sha256:", 0) != 0 || model.size() != 7 + 64)
-    throw PlannerError{"/model", "expected \"sha256:<hex>\", the imported file's model"};
-  r.sha256 = model.substr(7);
+  r.sha256 = imported_model_sha256(body);
   const json node = body.value("node", json());
   if (!node.is_array() || node.size() > 32)
     throw PlannerError{"/node", "expected the node's path in the product tree: an array of at most 32 component indices"};
