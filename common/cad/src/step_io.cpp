@@ -5,6 +5,9 @@
 #include <BinTools.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Static.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_Printer.hxx>
 #include <STEPCAFControl_Reader.hxx>
 #include <STEPCAFControl_Writer.hxx>
 #include <XSControl_WorkSession.hxx>
@@ -45,6 +48,8 @@
 #include <ostream>
 #include <sstream>
 #include <streambuf>
+#include <utility>
+#include <vector>
 
 namespace rigger::cad::detail {
 namespace {
@@ -447,6 +452,20 @@ StepContent read_step_isolated(std::string_view bytes, const std::string& source
 
 std::string write_step_bytes(const Handle(TDocStd_Document) & document, const std::string& file_name,
                              const std::string& unit) {
+  // The writer prints its statistics through OCCT's default printers (stdout: the service's log): only
+  // failures while it runs.
+  struct Quiet {
+    std::vector<std::pair<Handle(Message_Printer), Message_Gravity>> levels;
+    Quiet() {
+      for (const Handle(Message_Printer)& printer : Message::DefaultMessenger()->Printers()) {
+        levels.emplace_back(printer, printer->GetTraceLevel());
+        printer->SetTraceLevel(Message_Fail);
+      }
+    }
+    ~Quiet() {
+      for (auto& [printer, level] : levels) printer->SetTraceLevel(level);
+    }
+  } quiet;
   Interface_Static::SetCVal("write.step.unit", unit.c_str());
   STEPCAFControl_Writer writer;
   writer.SetNameMode(true);
