@@ -10,6 +10,7 @@
 #include <Message_Printer.hxx>
 #include <STEPCAFControl_Reader.hxx>
 #include <STEPCAFControl_Writer.hxx>
+#include <STEPControl_Controller.hxx>
 #include <XSControl_WorkSession.hxx>
 #include <STEPControl_Reader.hxx>
 #include <TColStd_SequenceOfAsciiString.hxx>
@@ -466,7 +467,12 @@ std::string write_step_bytes(const Handle(TDocStd_Document) & document, const st
       for (auto& [printer, level] : levels) printer->SetTraceLevel(level);
     }
   } quiet;
-  Interface_Static::SetCVal("write.step.unit", unit.c_str());
+  // The unit before the writer: it scales by the unit set when it is made and names the one set when it
+  // transfers. Its parameters exist once the STEP controller is initialised.
+  STEPControl_Controller::Init();
+  if (!Interface_Static::SetCVal("write.step.unit", unit.c_str())) {
+    throw CadError(ErrorCode::kWriteFailed, "cannot write " + file_name + " in " + unit + ": not a unit OCCT writes");
+  }
   STEPCAFControl_Writer writer;
   writer.SetNameMode(true);
   writer.SetColorMode(false);

@@ -140,6 +140,8 @@ TEST_F(AssemblyTest, ANodeIsItsOwnStepFileInItsOwnFrameWithItsNamesAndUnit) {
 TEST_F(AssemblyTest, AFileInInchesGivesNodesInInches) {
   const fs::path file = dir_ / "inches.step";
   write_step_assembly(parts::test_assembly(), file, "INCH");
+  ASSERT_NE(file_text(file).find("CONVERSION_BASED_UNIT('INCH'"), std::string::npos);
+  expect_box(bounds(read_step_file(file)), {-0.08, 0, 0}, {1.3, 1.3, 0.06});
   const ExtractedNode frame = extract_step_node(file, {0});
   EXPECT_NE(frame.step.find("CONVERSION_BASED_UNIT('INCH'"), std::string::npos) << "the file's inches";
   expect_box(bounds(read_step_bytes(frame.step, "frame.step")), {0, 0, 0}, {0.3, 0.2, 0.06});
