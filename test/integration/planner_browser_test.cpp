@@ -7,6 +7,8 @@
 // exported recipe validates and carries the CAD-derived screw positions, and the published task ran.
 // The second test (planner/errors.mjs) checks the editing errors on their nodes and fields and that
 // Publish is refused while the tree has them.
+#include <algorithm>
+#include <array>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -15,6 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "planner_test_support.hpp"
+#include "rigger/base/sha256.hpp"
+#include "rigger/cad/assembly.hpp"
 #include "rigger/cad/model.hpp"
 #include "rigger/cad/parts.hpp"
 #include "rigger/sim/generated_cell.hpp"
@@ -161,14 +165,19 @@ TEST_F(PlannerBrowserTest, APartPlacedByPicksBecomesACellRevisionWithItsFaceOnTh
 // cell's flange plate, written with OpenCascade here. The page showed what it holds and drew it, a click
 // picked its face; a file that is not STEP was refused on the page; the file became a cell object (its
 // bytes sent with the revision) and was placed by picks. The console audited the reads and revisions.
+// Then an assembly written here: its sub-assembly "frame" chosen in the product tree became an object
+// alone, its model the node's own STEP file (the same bytes as extracted here) with exactly its holes.
 TEST_F(PlannerBrowserTest, AStepFileImportedInThePlannerIsShownDrawnAndPickable) {
   RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   const sim::GeneratedCell generated(cell_.log_dir() + "/generated", repo_file("deploy/cell/simulated_cell.json"));
   const std::string not_step = cell_.log_dir() + "/notes.step";
   std::ofstream(not_step) << "these are notes, not a STEP file\n";
+  const std::filesystem::path assembly = cell_.log_dir() + "/cell_assembly.step";
+  cad::write_step_assembly(cad::parts::test_assembly(), assembly);
   json result;
-  ASSERT_TRUE(run_script("test/integration/planner/import.mjs", "planner-import-result.json", std::chrono::minutes(3),
-                         result, {{"FLANGE", (generated.dir() / "models/flange.step").string()}, {"NOT_STEP", not_step}}));
+  ASSERT_TRUE(run_script("test/integration/planner/import.mjs", "planner-import-result.json", std::chrono::minutes(4),
+                         result, {{"FLANGE", (generated.dir() / "models/flange.step").string()}, {"NOT_STEP", not_step},
+                                  {"ASSEMBLY", assembly.string()}}));
   EXPECT_EQ(result.at("model").get<std::string>().rfind("sha256:", 0), 0u) << result.dump(2);
   EXPECT_EQ(result.at("pick").at("sha256").get<std::string>(), result.at("model").get<std::string>().substr(7));
   const std::string audit_text = audit_log();
@@ -189,6 +198,24 @@ TEST_F(PlannerBrowserTest, AStepFileImportedInThePlannerIsShownDrawnAndPickable)
       << insertion.dump(2);
   EXPECT_NE(audit_text.find("cell add flange_imported"), std::string::npos) << audit_text;
   EXPECT_EQ(audit_text.find("cell add part\""), std::string::npos) << "the taken name reached the world model";
+  // The node added: the bytes this test extracts from the same file, the world model's box of the frame
+  // in its own frame, and the CAD service's holes of the object: the plate's three and the bracket's two
+  // where the frame places them, nothing else.
+  const json& node = result.at("assembly");
+  EXPECT_EQ(node.at("node_sha256"), sha256_hex(cad::extract_step_node(assembly, {0}).step)) << node.dump(2);
+  const std::array<double, 3> frame_size{0.3, 0.2, 0.06};
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR(node.at("size_m").at(i).get<double>(), frame_size[i], 1e-6) << node.dump(2);
+  std::vector<std::pair<Eigen::Vector3d, double>> expected;
+  for (const auto& [instance, holes] : {std::pair{"plate_1", cad::parts::plate_holes()}, std::pair{"bracket_1", cad::parts::bracket_holes()}})
+    for (const auto& hole : holes) expected.emplace_back(cad::parts::test_assembly_pose(instance) * hole.entry_m, hole.diameter_m);
+  ASSERT_EQ(node.at("holes").size(), expected.size()) << node.dump(2);
+  for (const auto& [entry, diameter] : expected) {
+    const auto found = std::count_if(node.at("holes").begin(), node.at("holes").end(), [&](const json& h) {
+      const Eigen::Vector3d at(h.at("entry_m").at(0).get<double>(), h.at("entry_m").at(1).get<double>(), h.at("entry_m").at(2).get<double>());
+      return (at - entry).norm() < 1e-6 && std::abs(h.at("diameter_m").get<double>() - diameter) < 1e-6;
+    });
+    EXPECT_EQ(found, 1) << "a hole of " << diameter << " m at " << entry.transpose() << ": " << node.dump(2);
+  }
   std::printf("%s; browser artifacts in %s\n", result.value("summary", "").c_str(), cell_.log_dir().c_str());
 }
 

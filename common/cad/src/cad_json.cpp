@@ -18,6 +18,7 @@ Eigen::Vector3d vec_from(const nlohmann::json& json, const char* what) {
 
 nlohmann::json to_json(const ProductNode& product) {
   nlohmann::json node{{"name", product.name}, {"assembly", product.assembly}};
+  if (!product.instance.empty()) node["instance"] = product.instance;
   if (!product.children.empty()) {
     node["children"] = nlohmann::json::array();
     for (const auto& child : product.children) {

@@ -37,7 +37,7 @@ std::string_view to_string(ErrorCode code) {
 Model::Model(TopoDS_Shape shape_m, ProductNode product, std::string sha256, std::string source)
     : shape_(std::move(shape_m)), product_(std::move(product)), sha256_(std::move(sha256)), source_(std::move(source)) {}
 
-namespace {
+namespace detail {
 
 std::string read_bounded(const std::filesystem::path& path, const ReadLimits& limits) {
   std::error_code error;
@@ -61,9 +61,9 @@ std::string read_bounded(const std::filesystem::path& path, const ReadLimits& li
   return bytes;
 }
 
-}  // namespace
+}  // namespace detail
 
-Model read_step_bytes(std::string_view bytes, const std::string& source, const ReadLimits& limits) {
+void detail::check_step_bytes(std::string_view bytes, const std::string& source, const ReadLimits& limits) {
   if (bytes.empty()) {
     throw CadError(ErrorCode::kEmpty, "STEP input " + source + " is empty");
   }
@@ -81,13 +81,17 @@ Model read_step_bytes(std::string_view bytes, const std::string& source, const R
     throw CadError(ErrorCode::kNotStep, "STEP input " + source + " holds a NUL byte at offset " +
                                             std::to_string(bytes.find('\0')) + ": not a text STEP file");
   }
+}
+
+Model read_step_bytes(std::string_view bytes, const std::string& source, const ReadLimits& limits) {
+  detail::check_step_bytes(bytes, source, limits);
   detail::StepContent content = limits.isolate ? detail::read_step_isolated(bytes, source, limits)
                                                : detail::read_step_in_process(bytes, source, limits);
   return Model(std::move(content.shape_m), std::move(content.product), sha256_hex(bytes), source);
 }
 
 Model read_step_file(const std::filesystem::path& path, const ReadLimits& limits) {
-  const std::string bytes = read_bounded(path, limits);
+  const std::string bytes = detail::read_bounded(path, limits);
   return read_step_bytes(bytes, path.string(), limits);
 }
 

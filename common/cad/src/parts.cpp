@@ -9,7 +9,9 @@
 #include <TopTools_ListOfShape.hxx>
 #include <gp_Ax2.hxx>
 
+#include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace rigger::cad::parts {
 namespace {
@@ -77,6 +79,43 @@ std::vector<DrilledHole> block_holes() {
 }
 
 TopoDS_Shape block() { return drilled_box({0, 0, 0}, {0.1, 0.08, 0.05}, block_holes()); }
+
+std::vector<DrilledHole> bracket_holes() {
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  return {{{0.025, 0.025, 0.01}, z, 0.008, 0.01, true}, {{0.075, 0.025, 0.01}, z, 0.008, 0.01, true}};
+}
+
+TopoDS_Shape bracket() { return drilled_box({0, 0, 0}, {0.1, 0.05, 0.01}, bracket_holes()); }
+
+Eigen::Isometry3d test_assembly_pose(const std::string& instance) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  const Eigen::Matrix3d turned = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  if (instance == "frame_1") {
+    pose.translation() = Eigen::Vector3d(1.0, 0, 0);
+  } else if (instance == "pair_1") {
+    pose.translation() = Eigen::Vector3d(0, 1.0, 0);
+    pose.linear() = turned;
+  } else if (instance == "plate_1") {
+    pose.translation() = Eigen::Vector3d(0.3, 0, 0);
+    pose.linear() = turned;
+  } else if (instance == "bracket_1") {
+    pose.translation() = Eigen::Vector3d(0, 0, 0.05);
+  } else if (instance == "block_right") {
+    pose.translation() = Eigen::Vector3d(0.2, 0, 0);
+  }
+  return pose;
+}
+
+std::vector<AssemblyProduct> test_assembly() {
+  using C = AssemblyProduct::Component;
+  const auto at = [](const std::string& instance, int product) { return C{instance, product, test_assembly_pose(instance)}; };
+  return {{"cell_assembly", {}, {at("frame_1", 1), at("pair_1", 2)}},
+          {"frame", {}, {at("plate_1", 3), at("bracket_1", 4)}},
+          {"pair", {}, {at("block_left", 5), at("block_right", 5)}},
+          {"plate", plate(), {}},
+          {"bracket", bracket(), {}},
+          {"block", block(), {}}};
+}
 
 std::vector<DrilledHole> boss_part_holes() { return {{{0.02, 0.02, 0.01}, Eigen::Vector3d::UnitZ(), 0.006, 0.01, true}}; }
 

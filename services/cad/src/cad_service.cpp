@@ -1,6 +1,7 @@
 #include "cad_service.hpp"
 
 #include "rigger/base/bounded_json.hpp"
+#include "rigger/cad/assembly.hpp"
 #include "rigger/cad/cad_json.hpp"
 #include "rigger/cad/frames.hpp"
 
@@ -64,6 +65,22 @@ int int_arg(const json& args, const char* key) {
     throw RequestError{"CAD_BAD_REQUEST", std::string("args_json.") + key + " must be an integer"};
   }
   return it->get<int>();
+}
+
+// args_json.node of CAD_LOAD: the indices of the components taken from the root, at most `max_depth`.
+cad::NodePath node_arg(const json& node, int max_depth) {
+  if (!node.is_array() || node.size() > static_cast<std::size_t>(max_depth)) {
+    throw RequestError{"CAD_BAD_REQUEST", "args_json.node must be an array of at most " + std::to_string(max_depth) +
+                                              " component indices (the path from the root)"};
+  }
+  cad::NodePath path;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    if (!node[i].is_number_integer() || node[i].get<long long>() < 0 || node[i].get<long long>() > 100'000) {
+      throw RequestError{"CAD_BAD_REQUEST", "args_json.node[" + std::to_string(i) + "] must be a component index (0 to 100000)"};
+    }
+    path.push_back(node[i].get<int>());
+  }
+  return path;
 }
 
 bool inside(const fs::path& path, const fs::path& dir) {
@@ -181,6 +198,10 @@ CadService::Entry& CadService::find_model(const std::string& spec) {
   if (spec.empty()) {
     throw RequestError{"CAD_BAD_REQUEST", "model is empty: expected object:<id>, sha256:<hex> or a file path"};
   }
+  return add(cad::read_step_file(readable(spec), settings_.limits), false);
+}
+
+fs::path CadService::readable(const std::string& spec) const {
   const fs::path path(spec);
   const bool allowed = path.is_absolute() && std::any_of(settings_.allowed_dirs.begin(), settings_.allowed_dirs.end(),
                                                          [&](const fs::path& dir) { return inside(path, dir); });
@@ -188,12 +209,54 @@ CadService::Entry& CadService::find_model(const std::string& spec) {
     throw RequestError{"CAD_FORBIDDEN_PATH", "the service may not read " + spec +
                                                  " (an absolute path inside an allowed folder is required)"};
   }
-  return add(cad::read_step_file(path, settings_.limits), false);
+  return path;
+}
+
+// A node of a file (args_json.node) as a model of its own: extracted as STEP, read back like any file
+// (its sha256 then names it), answered like a load with the node and, in data, its STEP bytes.
+CadAnswer CadService::load_node(const CadQuery& query) {
+  const json args = parse_args(query.args_json);
+  const cad::NodePath path = node_arg(args.at("node"), settings_.limits.max_assembly_depth);
+  cad::ExtractedNode node;
+  std::string source = "content";
+  if (!query.content.empty()) {
+    node = cad::extract_step_node(query.content, source, path, settings_.limits);
+  } else if (query.model.rfind("object:", 0) == 0) {
+    const auto file = object_paths_.find(query.model.substr(7));
+    if (file == object_paths_.end()) {
+      throw RequestError{"CAD_UNKNOWN_MODEL", "the cell file names no STEP model for " + query.model};
+    }
+    source = file->second.string();
+    node = cad::extract_step_node(file->second, path, settings_.limits);
+  } else if (query.model.rfind("sha256:", 0) == 0 || query.model.empty()) {
+    throw RequestError{"CAD_BAD_REQUEST", "a node is taken from a file: send its bytes in content, or name it by "
+                                          "object:<id> or its path (not " + (query.model.empty() ? "nothing" : query.model) + ")"};
+  } else {
+    source = query.model;
+    node = cad::extract_step_node(readable(query.model), path, settings_.limits);
+  }
+  Entry& entry = add(cad::read_step_bytes(node.step, source + " node " + cad::to_string(path), settings_.limits), false);
+  CadAnswer answer;
+  answer.model_sha256 = entry.model.sha256();
+  json result = cad::features_json(entry.features, false);
+  result["product"] = cad::to_json(entry.model.product());
+  result["source"] = entry.model.source();
+  result["node"] = {{"path", path}, {"name", node.name}, {"instance", node.instance},
+                    {"pose_in_file", cad::to_json(node.pose_in_file)}};
+  answer.result_json = result.dump();
+  answer.data.assign(node.step.begin(), node.step.end());
+  return answer;
 }
 
 CadAnswer CadService::answer(const CadQuery& query) {
   CadAnswer answer;
   try {
+    if (query.kind == QueryKind::kLoad && parse_args(query.args_json).contains("node")) {
+      answer = load_node(query);
+      answer.ok = true;
+      answer.code = "OK";
+      return answer;
+    }
     Entry* entry = nullptr;
     if (query.kind == QueryKind::kLoad && !query.content.empty()) {
       entry = &add(cad::read_step_bytes(query.content, "content", settings_.limits), false);

@@ -76,6 +76,8 @@ class CadService {
   };
 
   Entry& find_model(const std::string& spec);
+  std::filesystem::path readable(const std::string& spec) const;
+  CadAnswer load_node(const CadQuery& query);
   Entry& add(cad::Model model, bool pinned);
   CadAnswer frame(Entry& entry, const std::string& args_json) const;
   CadAnswer derive(Entry& entry, const std::string& args_json) const;

@@ -3,10 +3,16 @@
 #include "cad_service.hpp"
 
 #include <Eigen/Core>
+
+#include "rigger/base/sha256.hpp"
+#include "rigger/cad/parts.hpp"
+
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 namespace rigger::cad_service {
@@ -236,6 +242,49 @@ TEST(CadService, HostileContentIsRefusedAndTheServiceGoesOn) {
   ASSERT_TRUE(whole.ok) << whole.message;
   EXPECT_TRUE(ask(service, QueryKind::kFeatures, "sha256:" + whole.model_sha256).ok);
   EXPECT_TRUE(ask(service, QueryKind::kFeatures, "/usr/share/opencascade/data/step/screw.step").ok);
+}
+
+// A node of an assembly sent as content (CAD_LOAD with args_json.node): its own STEP bytes in data, named
+// by their sha256, answered like a load; a node that does not exist, a bad path and a model the service
+// has no bytes of are refused with a code and where.
+TEST(CadService, ANodeOfAnAssemblyIsLoadedAsAModelOfItsOwn) {
+  CadService service(settings());
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / ("rigger_cad_service_assembly_" + std::to_string(::getpid()) + ".step");
+  cad::write_step_assembly(cad::parts::test_assembly(), file);
+  std::ifstream in(file, std::ios::binary);
+  const std::string assembly((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::filesystem::remove(file);
+  const CadAnswer frame = ask(service, QueryKind::kLoad, "assembly.step", R"({"node": [0]})", assembly);
+  ASSERT_TRUE(frame.ok) << frame.code << " " << frame.message;
+  const std::string step(frame.data.begin(), frame.data.end());
+  EXPECT_EQ(frame.model_sha256, sha256_hex(step));
+  const json result = json::parse(frame.result_json);
+  EXPECT_EQ(result["node"]["name"], "frame");
+  EXPECT_EQ(result["node"]["instance"], "frame_1");
+  EXPECT_EQ(result["node"]["path"], json::array({0}));
+  EXPECT_NEAR(result["node"]["pose_in_file"]["position_m"][0].get<double>(), 1.0, 1e-9);
+  EXPECT_EQ(result["product"]["name"], "frame");
+  EXPECT_EQ(result["counts"]["holes"], 5);
+  EXPECT_EQ(result["counts"]["solids"], 2);
+  // The node's model is served by its sha256; the same node again gives the same model.
+  EXPECT_TRUE(ask(service, QueryKind::kFeatures, "sha256:" + frame.model_sha256).ok);
+  EXPECT_EQ(ask(service, QueryKind::kLoad, "assembly.step", R"({"node": [0]})", assembly).model_sha256, frame.model_sha256);
+  const CadAnswer missing = ask(service, QueryKind::kLoad, "assembly.step", R"({"node": [1, 5]})", assembly);
+  EXPECT_EQ(missing.code, "CAD_BAD_REFERENCE");
+  EXPECT_NE(missing.message.find("node 1 ('pair') has 2 components"), std::string::npos) << missing.message;
+  EXPECT_EQ(ask(service, QueryKind::kLoad, "assembly.step", R"({"node": ["0"]})", assembly).code, "CAD_BAD_REQUEST");
+  EXPECT_EQ(ask(service, QueryKind::kLoad, "assembly.step", R"({"node": [-1]})", assembly).code, "CAD_BAD_REQUEST");
+  EXPECT_EQ(ask(service, QueryKind::kLoad, "assembly.step", R"({"node": 0})", assembly).code, "CAD_BAD_REQUEST");
+  const json deep = {{"node", std::vector<int>(33, 0)}};
+  EXPECT_EQ(ask(service, QueryKind::kLoad, "assembly.step", deep.dump(), assembly).code, "CAD_BAD_REQUEST");
+  const CadAnswer no_bytes = ask(service, QueryKind::kLoad, "sha256:" + frame.model_sha256, R"({"node": [0]})");
+  EXPECT_EQ(no_bytes.code, "CAD_BAD_REQUEST");
+  EXPECT_NE(no_bytes.message.find("send its bytes in content"), std::string::npos) << no_bytes.message;
+  // A cell object's own file: its root (a part) is a node too.
+  const CadAnswer target = ask(service, QueryKind::kLoad, "object:target", R"({"node": []})");
+  ASSERT_TRUE(target.ok) << target.message;
+  EXPECT_EQ(json::parse(target.result_json)["counts"]["holes"], 4);
 }
 
 }  // namespace

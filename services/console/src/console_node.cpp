@@ -430,9 +430,9 @@ ActionResult ConsoleNode::cad(const std::string& kind, const std::string& model,
   return cad_request(k->second, model, args_json, {}, query_timeout_);
 }
 
-ActionResult ConsoleNode::cad_load(const std::string& name, std::string step) {
+ActionResult ConsoleNode::cad_load(const std::string& name, std::string step, const std::string& args_json) {
   // Reading a large STEP file takes the CAD service seconds (a minute for the largest it accepts).
-  return cad_request(rigger_cad_CAD_LOAD, name, "{}", std::move(step), std::max(query_timeout_, kCadLoadTimeout));
+  return cad_request(rigger_cad_CAD_LOAD, name, args_json, std::move(step), std::max(query_timeout_, kCadLoadTimeout));
 }
 
 ActionResult ConsoleNode::cad_request(rigger_cad_CadRequestKind kind, const std::string& model, const std::string& args_json,

@@ -56,7 +56,7 @@ class ConsoleNode : public service::Node, public Backend {
   ActionResult world_entity(const std::string& id) override;
   ActionResult world_list() override;
   ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) override;
-  ActionResult cad_load(const std::string& name, std::string step) override;
+  ActionResult cad_load(const std::string& name, std::string step, const std::string& args_json) override;
   ActionResult rehearse(const std::string& task_id, const std::string& recipe_json,
                         const std::string& submitter) override;
   ActionResult rehearsal_cell() override;

@@ -243,6 +243,7 @@ void HttpApi::routes() {
       {Method::kPost, "/api/planner/frame", &HttpApi::post_planner_frame},
       {Method::kPost, "/api/planner/place", &HttpApi::post_planner_place},
       {Method::kPost, kImportPath, &HttpApi::post_planner_import},
+      {Method::kPost, "/api/planner/import/node", &HttpApi::post_planner_import_node},
       {Method::kGet, "/api/planner/cell_models", &HttpApi::get_planner_cell_models},
       {Method::kPost, "/api/planner/declare", &HttpApi::post_planner_declare},
       {Method::kPost, "/api/planner/add", &HttpApi::post_planner_add},

@@ -70,8 +70,9 @@ class Backend {
   /// is !ok with message "CODE: why".
   virtual ActionResult cad(const std::string& kind, const std::string& model, const std::string& args_json) = 0;
   /// Has the CAD service read a STEP file sent as bytes (CAD_LOAD with content; `name` is what it is
-  /// called in messages): data as cad()'s, the result being CAD_LOAD's (product tree, counts, holes).
-  virtual ActionResult cad_load(const std::string& name, std::string step) = 0;
+  /// called in messages; `args_json` "{}", or {"node": [...]} for one node of its product tree): data as
+  /// cad()'s, the result being CAD_LOAD's (product tree, counts, holes; the node and its STEP bytes).
+  virtual ActionResult cad_load(const std::string& name, std::string step, const std::string& args_json) = 0;
   /// Publishes a recipe on the rehearsal domain (the simulated cell where a recipe runs first) and waits
   /// for the rehearsal controller's verdict: data = its first status of the task ({"state": "ACCEPTED"
   /// or "RUNNING" ...}, ok; {"state": "REJECTED", "errors": [...]}, !ok); !ok without data when no
@@ -189,6 +190,7 @@ class HttpApi {
   void post_planner_frame(const httplib::Request& req, httplib::Response& res);
   void post_planner_place(const httplib::Request& req, httplib::Response& res);
   void post_planner_import(const httplib::Request& req, httplib::Response& res);
+  void post_planner_import_node(const httplib::Request& req, httplib::Response& res);
   void get_planner_cell_models(const httplib::Request& req, httplib::Response& res);
   void post_planner_declare(const httplib::Request& req, httplib::Response& res);
   void post_planner_add(const httplib::Request& req, httplib::Response& res);

@@ -1,6 +1,7 @@
 // The console's planner routes (validation, screws and frames from CAD picks) and the rehearsal cell's:
 // the simulated cell on a domain of its own, where a recipe runs first.
 #include <atomic>
+#include <cctype>
 #include <memory>
 #include <optional>
 #include <string>
@@ -169,7 +170,7 @@ void HttpApi::post_planner_import(const httplib::Request& req, httplib::Response
     return send_error(res, 400, "name: expected the file's name (1 to 255 characters, no folder)", req.path + "#name");
   if (step.empty()) return send_error(res, 400, "the body is empty: send the STEP file's bytes", req.path);
   const std::size_t size = step.size();
-  const auto loaded = backend_.cad_load(name, step);
+  const auto loaded = backend_.cad_load(name, step, "{}");
   if (!loaded.ok) {
     audit(*user, "import STEP", name, "refused: " + loaded.message);
     return send_cad_refusal(res, req, loaded.message, "");
@@ -184,6 +185,50 @@ void HttpApi::post_planner_import(const httplib::Request& req, httplib::Response
   out["model"] = "sha256:" + sha;
   out["model_sha256"] = sha;
   send_json(res, out);
+}
+
+// A node of an imported file's product tree (a part or a sub-assembly, by its path from the root) as a file
+// of its own: the CAD service extracts it as STEP (its own frame, names and unit kept, the same bytes for
+// the same node) and reads it back; the console keeps those bytes like an imported file's, so Add makes
+// the node alone an object. Answered like an import, with the node ({"path", "name", "instance",
+// "pose_in_file"}) and the file it came from ({"model", "name"}). A node that does not exist or holds no
+// solid is the request's fault (400 at #/node with the CAD service's reason).
+void HttpApi::post_planner_import_node(const httplib::Request& req, httplib::Response& res) {
+  auto user = who(req, res, Role::kProgrammer);
+  if (!user) return;
+  auto b = body(req, res);
+  if (!b) return;
+  try {
+    const NodeRequest request = parse_node_request(*b);
+    auto file = imports_.find(request.sha256);
+    if (!file) return imported_file_gone(req, res, request.sha256);
+    imports_.touch(request.sha256);  // the file stays while its nodes are chosen
+    const std::string path = json(request.node).dump();
+    const auto loaded = backend_.cad_load(file->name, std::move(file->step), json{{"node", request.node}}.dump());
+    if (!loaded.ok) {
+      audit(*user, "import STEP node", file->name + " " + path, "refused: " + loaded.message);
+      return send_cad_refusal(res, req, loaded.message, "#/node");
+    }
+    const std::string sha = loaded.data.value("model_sha256", "");
+    json out = loaded.data.value("result", json::object());
+    out.erase("source");
+    const json node = out.value("node", json::object());
+    std::string name;
+    for (const char c : node.value("name", std::string())) name += std::isalnum(static_cast<unsigned char>(c)) || c == '-' ? c : '_';
+    name = (name.empty() ? "node" : name.substr(0, 64)) + ".step";
+    std::string step = loaded.data.value("data", std::string());
+    const std::size_t size = step.size();
+    audit(*user, "import STEP node", file->name + " " + path, "read as sha256:" + sha);
+    imports_.keep(sha, name, std::move(step));
+    out["name"] = name;
+    out["bytes"] = size;
+    out["model"] = "sha256:" + sha;
+    out["model_sha256"] = sha;
+    out["file"] = {{"model", "sha256:" + request.sha256}, {"name", file->name}};
+    send_json(res, out);
+  } catch (const PlannerError& e) {
+    send_error(res, 400, e.message, req.path + (e.pointer.empty() ? "" : "#" + e.pointer));
+  }
 }
 
 // The models of the cell's running revision, to import one of them again as a new object.

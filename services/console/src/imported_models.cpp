@@ -20,6 +20,17 @@ void ImportedModels::keep(const std::string& sha256, const std::string& name, st
   }
 }
 
+void ImportedModels::touch(const std::string& sha256) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (auto it = models_.begin(); it != models_.end(); ++it) {
+    if (it->sha256 != sha256) continue;
+    world_protocol::CellModel model = std::move(*it);
+    models_.erase(it);
+    models_.push_back(std::move(model));
+    return;
+  }
+}
+
 std::optional<world_protocol::CellModel> ImportedModels::find(const std::string& sha256) const {
   std::lock_guard<std::mutex> lock(mutex_);
   for (const world_protocol::CellModel& m : models_)

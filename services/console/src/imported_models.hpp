@@ -22,6 +22,8 @@ class ImportedModels {
 
   /// Keeps `bytes` (read by the CAD service as sha256 `sha256`) under the file's `name`.
   void keep(const std::string& sha256, const std::string& name, std::string bytes);
+  /// Makes `sha256`'s file the newest kept (the last one forgotten), when it is kept.
+  void touch(const std::string& sha256);
   /// The imported file of `sha256` (its name is the uploaded file's), or none when not (or no longer) kept.
   std::optional<world_protocol::CellModel> find(const std::string& sha256) const;
 

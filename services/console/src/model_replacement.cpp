@@ -32,10 +32,7 @@ std::vector<std::pair<std::string, const json*>> references(const json& rule, bo
 ReplaceRequest parse_replace_request(const json& body) {
   if (!body.is_object()) throw PlannerError{"", "expected a JSON object {model, object}"};
   ReplaceRequest r;
-  const std::string model = body.value("model", json()).is_string() ? body["model"].get<std::string>() : "";
-  if (model.rfind("sha256:", 0) != 0 || model.size() != 7 + 64)
-    throw PlannerError{"/model", "expected \"sha256:<hex>\", the imported file's model"};
-  r.sha256 = model.substr(7);
+  r.sha256 = imported_model_sha256(body);
   r.object = body.value("object", json()).is_string() ? body["object"].get<std::string>() : "";
   if (r.object.empty() || r.object.size() > 64) throw PlannerError{"/object", "expected the id of the object whose model it replaces"};
   r.comment = body.value("comment", json()).is_string() ? body["comment"].get<std::string>().substr(0, 200) : "";

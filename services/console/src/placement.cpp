@@ -234,10 +234,7 @@ bool plain_id(const std::string& id) {
 AddRequest parse_add_request(const json& body) {
   if (!body.is_object()) throw PlannerError{"", "expected a JSON object {model, id, material}"};
   AddRequest r;
-  const std::string model = body.value("model", json()).is_string() ? body["model"].get<std::string>() : "";
-  if (model.rfind("sha256:", 0) != 0 || model.size() != 7 + 64)
-    throw PlannerError{"/model", "expected \"sha256:<hex>\", the imported file's model"};
-  r.sha256 = model.substr(7);
+  r.sha256 = imported_model_sha256(body);
   r.id = body.value("id", json()).is_string() ? body["id"].get<std::string>() : "";
   if (!plain_id(r.id))
     throw PlannerError{"/id", "expected a name of 1 to 64 letters, digits, '_' or '-', got \"" + r.id.substr(0, 64) + "\""};
@@ -246,6 +243,21 @@ AddRequest parse_add_request(const json& body) {
     throw PlannerError{"/material", "expected \"steel\", \"aluminium\", \"plastic\" or \"fixed\", got \"" +
                                         r.material.substr(0, 32) + "\""};
   r.comment = body.value("comment", json()).is_string() ? body["comment"].get<std::string>() : "";
+  return r;
+}
+
+NodeRequest parse_node_request(const json& body) {
+  if (!body.is_object()) throw PlannerError{"", "expected a JSON object {model, node}"};
+  NodeRequest r;
+  r.sha256 = imported_model_sha256(body);
+  const json node = body.value("node", json());
+  if (!node.is_array() || node.size() > 32)
+    throw PlannerError{"/node", "expected the node's path in the product tree: an array of at most 32 component indices"};
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    if (!node[i].is_number_integer() || node[i].get<long long>() < 0 || node[i].get<long long>() > 100'000)
+      throw PlannerError{"/node/" + std::to_string(i), "expected a component index (0 to 100000)"};
+    r.node.push_back(node[i].get<int>());
+  }
   return r;
 }
 

@@ -7,6 +7,7 @@
 /// cell document of the revision that puts it there. Free of HTTP and DDS, unit-tested.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
@@ -81,6 +82,15 @@ struct AddRequest {
 };
 /// @throws PlannerError naming the field.
 AddRequest parse_add_request(const nlohmann::json& body);
+
+/// POST /api/planner/import/node: {"model": "sha256:<hex>" (an imported file), "node": [i, j, ...] (the
+/// path in its product tree from the root: the index of the component taken at each level, at most 32)}.
+struct NodeRequest {
+  std::string sha256;
+  std::vector<int> node;
+};
+/// @throws PlannerError naming the field.
+NodeRequest parse_node_request(const nlohmann::json& body);
 
 /// The model.step of the object an imported file becomes: "imported/<id>.step".
 std::string imported_model_name(const std::string& id);

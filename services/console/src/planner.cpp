@@ -43,6 +43,13 @@ bool is_reference(const json& v) {
 
 }  // namespace
 
+std::string imported_model_sha256(const json& body) {
+  const std::string model = body.value("model", json()).is_string() ? body["model"].get<std::string>() : "";
+  if (model.rfind("sha256:", 0) != 0 || model.size() != 7 + 64)
+    throw PlannerError{"/model", "expected \"sha256:<hex>\", the imported file's model"};
+  return model.substr(7);
+}
+
 void SkillCatalog::update(const std::string& executor_id, bool alive, const std::string& library_json) {
   std::lock_guard lock(mutex_);
   if (!alive) {

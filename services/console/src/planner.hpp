@@ -23,6 +23,10 @@ struct PlannerError {
   std::string message;
 };
 
+/// The hex sha256 of the imported file a request body names as "model": "sha256:<hex>".
+/// @throws PlannerError at "/model" for anything else.
+std::string imported_model_sha256(const nlohmann::json& body);
+
 /// The skill library as the controller builds it: every live executor's announced library merged,
 /// plus the conditions the controller answers itself. Thread-safe (the DDS loop updates, HTTP reads).
 class SkillCatalog {

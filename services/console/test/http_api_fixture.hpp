@@ -51,9 +51,10 @@ class RecordingBackend : public Backend {
     return cad_requests_;
   }
   ActionResult cad_answer_{false, "no CAD service on this domain", {}};
-  ActionResult cad_load(const std::string& name, std::string step) override {
+  ActionResult cad_load(const std::string& name, std::string step, const std::string& args_json) override {
     std::lock_guard lock(mutex_);
-    cad_requests_.push_back("load " + name + " " + std::to_string(step.size()) + " bytes");
+    cad_requests_.push_back("load " + name + " " + std::to_string(step.size()) + " bytes" +
+                            (args_json == "{}" ? "" : " " + args_json));
     return cad_answer_;
   }
   ActionResult rehearsal_cell() override { return {true, "", {{"phase", "starting"}, {"log", "/tmp/cell.log"}}}; }

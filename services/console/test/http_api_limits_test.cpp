@@ -186,6 +186,55 @@ TEST_F(HttpApiImportTest, AModelIsNotReplacedWhileATaskRunsOrWhenItsFileIsGone) 
   EXPECT_TRUE(backend_.actions().empty()) << "nothing reached the world model";
 }
 
+// A node of an imported file: the CAD service gets the file's bytes and the node's path (CAD_LOAD with
+// args_json.node), the console keeps the node's own STEP bytes under their sha256 (Add then takes them);
+// a bad path is refused before anything is read, the CAD service's refusal at #/node, a file the console no
+// longer keeps as gone.
+TEST_F(HttpApiImportTest, ANodeOfAnImportedFileBecomesAFileOfItsOwn) {
+  const std::string file_sha(64, 'a'), node_sha(64, 'e');
+  backend_.cad_answer_ = {true, "", json{{"model_sha256", file_sha}, {"result", {{"units", "m"}}}}};
+  ASSERT_EQ(client_->Post("/api/planner/import?name=cell_assembly.step", as(kAda), std::string(1000, 'x'),
+                          "application/octet-stream")->status, 200);
+  const json choose = {{"model", "sha256:" + file_sha}, {"node", {1, 0}}};
+  EXPECT_EQ(post("/api/planner/import/node", choose.dump(), kVic)->status, 403);
+  for (const json& bad : {json{{"model", "sha256:" + file_sha}, {"node", {1, -1}}}, json{{"model", "sha256:" + file_sha}, {"node", "1/0"}},
+                          json{{"model", "a.step"}, {"node", json::array()}}}) {
+    const auto r = post("/api/planner/import/node", bad.dump(), kAda);
+    EXPECT_EQ(r->status, 400) << r->body;
+  }
+  EXPECT_NE(body(post("/api/planner/import/node", json{{"model", "sha256:" + file_sha}, {"node", {1, -1}}}.dump(), kAda))["where"]
+                .get<std::string>().find("#/node/1"), std::string::npos);
+  EXPECT_EQ(backend_.cad_requests().size(), 1u) << "only the import reached the CAD service";
+  json gone = choose;
+  gone["model"] = "sha256:" + std::string(64, 'b');
+  EXPECT_EQ(post("/api/planner/import/node", gone.dump(), kAda)->status, 409);
+
+  backend_.cad_answer_ = {false, "CAD_BAD_REFERENCE: STEP input cell_assembly.step has no node 1/0: the root has 1 component", {}};
+  auto r = post("/api/planner/import/node", choose.dump(), kAda);
+  EXPECT_EQ(r->status, 400) << r->body;
+  EXPECT_EQ(body(r)["where"], "/api/planner/import/node#/node") << r->body;
+  EXPECT_EQ(backend_.cad_requests().back(), R"(load cell_assembly.step 1000 bytes {"node":[1,0]})");
+
+  backend_.cad_answer_ = {true, "", json{{"model_sha256", node_sha}, {"data", "ISO-10303-21; the node"},
+                                        {"result", {{"units", "m"}, {"source", "content node 1/0"},
+                                                    {"node", {{"path", {1, 0}}, {"name", "left block"}, {"instance", "b1"}}}}}}};
+  r = post("/api/planner/import/node", choose.dump(), kAda);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(body(r)["model"], "sha256:" + node_sha);
+  EXPECT_EQ(body(r)["name"], "left_block.step");
+  EXPECT_EQ(body(r)["bytes"], 22);
+  EXPECT_EQ(body(r)["file"]["model"], "sha256:" + file_sha);
+  EXPECT_FALSE(body(r).contains("source"));
+  // Kept: Add finds the node's file (and is refused here only because a task runs).
+  state_.update_task({{"task_id", "t1"}, {"state", "RUNNING"}});
+  r = post("/api/planner/add", json{{"model", "sha256:" + node_sha}, {"id", "left_block"}, {"material", "steel"}}.dump(), kAda);
+  EXPECT_EQ(r->status, 409) << r->body;
+  EXPECT_NE(body(r)["error"].get<std::string>().find("1 task runs on the cell"), std::string::npos) << r->body;
+  std::ifstream audit(dir_ + "/audit.log");
+  const std::string text{std::istreambuf_iterator<char>(audit), std::istreambuf_iterator<char>()};
+  EXPECT_NE(text.find(R"("action":"import STEP node")"), std::string::npos) << text;
+}
+
 // cpp-httplib 0.11 compresses with brotli at quality 11 whenever a client accepts br, as every
 // browser does (1.8 s of CPU for three.js per page load): JSON and JavaScript go out uncompressed.
 }  // namespace

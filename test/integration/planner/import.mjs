@@ -260,6 +260,51 @@ try {
   const again = await page.locator('#planner-imported-summary').innerText();
   check(again.includes(drawn.sha.slice(0, 12)) && /^flange_imported\.step: /.test(again), `imported again from the cell's copy: ${again}`);
   result.imported_from_cell = again;
+
+  // --- an assembly: its sub-assembly "frame" chosen in the product tree by the keyboard, drawn
+  //     highlighted in the faint file, added alone under its own name ---
+  const assemblyStarted = Date.now();
+  await imported(env('ASSEMBLY'));
+  const nodes = await page.$$eval('.product-tree .product-node', (bs) => bs.map((b) => ({ path: b.dataset.path, text: b.textContent })));
+  check(JSON.stringify(nodes.map((n) => n.path)) === JSON.stringify(['', '0', '0/0', '0/1', '1', '1/0', '1/1']),
+    `each node of the product tree is a button with its path ${JSON.stringify(nodes)}`);
+  check(/^block — instance block_left$/.test(nodes[5].text) && /^block — instance block_right$/.test(nodes[6].text),
+    `the part used twice is two nodes, by instance ${JSON.stringify(nodes.slice(5))}`);
+  const file = await state(() => window.rigger.planner.importer.imported.model);
+  await page.focus('.product-node[data-path="0"]');
+  await page.keyboard.press('Enter');
+  await page.waitForFunction(() => /^Chosen: frame/.test(document.querySelector('#planner-imported-node')?.textContent || ''), null, { timeout: 60000 });
+  await page.waitForFunction(() => window.rigger.planner.view.parts.get('imported')?.color !== undefined, null, { timeout: 60000 });
+  const chosenText = await page.locator('#planner-imported-node').innerText();
+  check(/: 2 solids, \d+ faces, 5 holes, drawn highlighted/.test(chosenText), `the page says what the node holds: ${chosenText}`);
+  const chosen = await state(() => {
+    const v = window.rigger.planner.view, node = v.parts.get('imported'), whole = v.parts.get('imported-file');
+    const p = (part) => { part.group.updateMatrixWorld(true); return part.group.position.toArray(); };
+    return { sha: node.sha256, holes: node.features.holes.length, ghost: Boolean(whole?.ghost), at: p(node), file_at: whole && p(whole),
+      pressed: document.querySelector('.product-node[data-path="0"]').getAttribute('aria-pressed'),
+      name: document.querySelector('#planner-add-name').value };
+  });
+  check(`sha256:${chosen.sha}` !== file && chosen.holes === 5 && chosen.ghost && chosen.pressed === 'true',
+    `the node is drawn from a model of its own, the file faint around it ${JSON.stringify(chosen)}`);
+  const offset = chosen.at.map((x, i) => x - chosen.file_at[i]);
+  check(Math.hypot(offset[0] - 1, offset[1], offset[2]) < 1e-9, `the node is drawn where the file has it (1 m along x): ${offset}`);
+  check(chosen.name === 'frame', `the object's name is proposed from the node's: ${chosen.name}`);
+  await picture('5-tree', '#planner-imported');
+  await picture('6-node', '.pview');
+  await page.selectOption('#planner-add-material', 'aluminium');
+  await page.click('#planner-add-object');
+  await page.waitForSelector('#confirm[open]', { timeout: 30000 });
+  await page.click('#confirm-yes');
+  await page.waitForFunction(() => /^Added frame to the cell: cell revision \d+/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 30000 });
+  const frameAdded = await notice();
+  await waitForDrawnRevision(page, Number(/cell revision (\d+)/.exec(frameAdded)[1]));
+  const frameWorld = (await call('/api/world/entity/frame')).json;
+  const frameFeatures = (await call('/api/cad/features?model=object%3Aframe')).json;
+  const frameModels = (await call('/api/planner/cell_models')).json.filter((m) => m.name === 'imported/frame.step');
+  check(frameModels.length === 1 && frameModels[0].sha256 === chosen.sha, `the revision pins the node's own file ${JSON.stringify(frameModels)}`);
+  result.assembly = { file, node_sha256: chosen.sha, chosen: chosenText, size_m: frameWorld.model?.size_m,
+    holes: frameFeatures.holes.map((h) => ({ entry_m: h.entry_m, diameter_m: h.diameter_m })), added: frameAdded,
+    seconds: (Date.now() - assemblyStarted) / 1000 };
 } finally {
   await closeBrowser(browser, result);
 }

@@ -34,8 +34,9 @@ std::string vec_text(const Eigen::Vector3d& v) {
 }
 
 void print_tree(const cad::ProductNode& node, int depth) {
-  std::printf("%*s%s%s\n", 2 * depth, "", node.name.empty() ? "(unnamed)" : node.name.c_str(),
-              node.assembly ? " [assembly]" : "");
+  const bool instance = !node.instance.empty() && node.instance != node.name;
+  std::printf("%*s%s%s%s%s\n", 2 * depth, "", node.name.empty() ? "(unnamed)" : node.name.c_str(),
+              node.assembly ? " [assembly]" : "", instance ? " instance " : "", instance ? node.instance.c_str() : "");
   for (const auto& child : node.children) {
     print_tree(child, depth + 1);
   }

@@ -211,6 +211,56 @@ export class PartsView {
 
   /// The parts shown, as [entity, part] pairs.
   shown() { return [...this.parts].filter(([, part]) => part.group.visible); }
+  /// The parts a click may pick: shown and not drawn as a ghost.
+  pickable() { return this.shown().filter(([, part]) => !part.ghost); }
+
+  /// Draws `entity` faint and out of the picks (`ghost`), or as a part again.
+  setGhost(entity, ghost) {
+    const part = this.parts.get(entity);
+    if (!part) return;
+    part.ghost = ghost;
+    for (const { mesh } of part.meshes) Object.assign(mesh.material, { transparent: ghost, opacity: ghost ? 0.18 : 1, depthWrite: !ghost });
+    for (const { line } of part.edges) Object.assign(line.material, { transparent: ghost, opacity: ghost ? 0.25 : 1 });
+    this.paint();
+  }
+
+  /// Draws `entity`'s faces in `color` (a hex number; null: the parts' colour).
+  setColor(entity, color) {
+    const part = this.parts.get(entity);
+    if (part) part.color = color;
+    this.paint();
+  }
+
+  /// Gives the loaded part `from` the id `to` (what a click on it picks).
+  rename(from, to) {
+    const part = this.parts.get(from);
+    if (!part) return;
+    this.parts.delete(from);
+    for (const { mesh } of part.meshes) mesh.userData.entity = to;
+    this.parts.set(to, part);
+  }
+
+  /// Takes the loaded part `entity` out of the view.
+  remove(entity) {
+    const part = this.parts.get(entity);
+    if (!part) return;
+    this.scene.remove(part.group);
+    this.parts.delete(entity);
+    this.render();
+  }
+
+  /// The world pose ({position_m, quaternion_xyzw}) of a frame given in `entity`'s frame as the CAD
+  /// service gives frames ({position_m, rotation: rows}).
+  worldPoseOf(entity, frame) {
+    const part = this.parts.get(entity);
+    const r = frame.rotation, p = frame.position_m;
+    const local = new THREE.Matrix4().set(r[0][0], r[0][1], r[0][2], p[0], r[1][0], r[1][1], r[1][2], p[1],
+      r[2][0], r[2][1], r[2][2], p[2], 0, 0, 0, 1);
+    part.group.updateMatrixWorld(true);
+    const position = new THREE.Vector3(), q = new THREE.Quaternion();
+    part.group.matrixWorld.clone().multiply(local).decompose(position, q, new THREE.Vector3());
+    return { position_m: position.toArray(), quaternion_xyzw: [q.x, q.y, q.z, q.w] };
+  }
 
   /// Puts the camera above `entity`, looking down at its top.
   frame(entity) {
@@ -248,13 +298,13 @@ export class PartsView {
     const ndc = new THREE.Vector2(((x - r.left) / r.width) * 2 - 1, -((y - r.top) / r.height) * 2 + 1);
     this.raycaster.setFromCamera(ndc, this.camera);
     const ray = this.raycaster.ray;
-    const meshes = this.shown().flatMap(([, p]) => p.meshes.map((m) => m.mesh));
+    const meshes = this.pickable().flatMap(([, p]) => p.meshes.map((m) => m.mesh));
     const hit = this.raycaster.intersectObjects(meshes, false)[0] || null;
     const fine = this.pickFine(x, y, hit);
     if (fine) return fine;
     // The opening of a hole: the ray crosses its entry disk before it hits anything else.
     let best = null;
-    for (const [entity, part] of this.shown()) {
+    for (const [entity, part] of this.pickable()) {
       for (const h of part.features.holes) {
         const entry = new THREE.Vector3(...h.entry_m).applyMatrix4(part.group.matrixWorld);
         const axis = new THREE.Vector3(...h.axis).transformDirection(part.group.matrixWorld);
@@ -287,7 +337,7 @@ export class PartsView {
     };
     const click = new THREE.Vector2(x, y);
     let best = null;
-    for (const [entity, part] of this.shown()) {
+    for (const [entity, part] of this.pickable()) {
       const m = part.group.matrixWorld;
       for (const { vertex } of part.vertices) {
         const w = new THREE.Vector3(...vertex.point_m).applyMatrix4(m);
@@ -354,7 +404,7 @@ export class PartsView {
     for (const [entity, part] of this.parts) {
       for (const { mesh, face } of part.meshes) {
         const key = `${entity}:${face}`;
-        mesh.material.color.setHex(hovered.has(key) ? HOVER : this.picked.has(key) ? PICKED : PART);
+        mesh.material.color.setHex(hovered.has(key) ? HOVER : this.picked.has(key) ? PICKED : part.color ?? PART);
         mesh.material.emissive.setHex(hovered.has(key) ? 0x103050 : 0x000000);
       }
       const fine = (kind, index) => {

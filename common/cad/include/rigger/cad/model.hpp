@@ -57,9 +57,11 @@ struct ReadLimits {
   bool isolate = true;  ///< read in a forked child process (false: in this process, e.g. for fuzzing)
 };
 
-/// One node of the product tree (STEP PRODUCT names, via OCCT's XCAF reader).
+/// One node of the product tree (STEP PRODUCT names, via OCCT's XCAF reader). A part used twice is two
+/// nodes, each with its instance's name.
 struct ProductNode {
-  std::string name;
+  std::string name;      ///< the product's name (the instance's when the product has none)
+  std::string instance;  ///< the instance's own name (the assembly usage's), "" for the root
   bool assembly = false;
   std::vector<ProductNode> children;
 };

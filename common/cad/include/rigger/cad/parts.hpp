@@ -3,6 +3,8 @@
 /// Parts built with OCCT from known dimensions (metres): the test parts of rigger_cad's unit tests and
 /// the load and target of the simulated cell (tools/cad_parts writes them as STEP).
 
+#include "rigger/cad/assembly.hpp"
+
 #include <Eigen/Core>
 #include <TopoDS_Shape.hxx>
 
@@ -46,5 +48,18 @@ TopoDS_Shape cell_load(const Eigen::Vector3d& size_m);
 /// the load.
 std::vector<DrilledHole> cell_target_holes();
 TopoDS_Shape cell_target(const Eigen::Vector3d& size_m);
+
+/// Bracket 100 x 50 x 10 mm at the origin, two through holes of 8 mm.
+std::vector<DrilledHole> bracket_holes();
+TopoDS_Shape bracket();
+
+/// An assembly for tests (write_step_assembly; products[0] is the root): "cell_assembly" holds
+///  - "frame_1" at x = 1 m, the sub-assembly "frame": "plate_1" (plate()) turned 90° about z at x = 0.3 m,
+///    and "bracket_1" (bracket()) 50 mm up: 5 holes, x in [0, 0.3], y in [0, 0.2], z in [0, 0.06];
+///  - "pair_1" at y = 1 m turned 90° about z, the sub-assembly "pair": the one product "block" used twice,
+///    "block_left" at its origin and "block_right" 0.2 m along x.
+std::vector<AssemblyProduct> test_assembly();
+/// The pose of each part instance of test_assembly() in its sub-assembly's frame, by instance name.
+Eigen::Isometry3d test_assembly_pose(const std::string& instance);
 
 }  // namespace rigger::cad::parts
