@@ -58,6 +58,9 @@ class CalibrateCameraTest : public ::testing::Test {
   /// Whether the board is seen at the n-th pose measured (0-based); the tool pose the arm reports for a goal.
   std::function<bool(int)> seen_ = [](int) { return true; };
   std::function<Eigen::Isometry3d(const Eigen::Isometry3d&)> reported_ = [](const Eigen::Isometry3d& g) { return g; };
+  /// The tracker answers a pose where the board is not seen with a not-tracked sample after its own 2 s wait
+  /// (else it stays silent until the skill's view timeout).
+  bool answer_not_seen_ = false;
   /// Noise added to the board's measured position (m).
   double noise_m_ = 0.0;
   std::mt19937 rng_{3};
@@ -87,7 +90,14 @@ class CalibrateCameraTest : public ::testing::Test {
         return;
       }
       if (!seen_(measured_++)) {
-        h.timers.advance(6100ms);
+        if (!answer_not_seen_) {
+          h.timers.advance(6100ms);
+          return;
+        }
+        TrackedObjectSample lost = h.tracker.sample(kBoard, false, 0.0, 2000ms);
+        lost.frame = "camera";
+        lost.detail = "no image of it good enough in 2 s";
+        h.tracker.publish(lost);
         return;
       }
       TrackedObjectSample s = h.tracker.sample(kBoard, true, 0.9);
@@ -150,8 +160,27 @@ TEST_F(CalibrateCameraTest, ABoardNotSeenFailsWithoutARevision) {
   RunHarness h(type_, params_);
   run(h);
   EXPECT_TRUE(h.failed_with("BOARD_NOT_SEEN")) << h.describe_result();
-  EXPECT_NE(h.result->message.find("at 2 of 6 poses"), std::string::npos) << h.result->message;
+  EXPECT_NE(h.result->message.find("at 2 of 9 poses"), std::string::npos) << h.result->message;
   EXPECT_TRUE(h.world.proposals.empty());
+}
+
+// The tracker's not-tracked answer skips a pose at once (one TRACK_ONCE, no wait for the view timeout), and spares
+// stand in for the poses skipped: the calibration ends with the poses asked for, the skipped ones recorded.
+TEST_F(CalibrateCameraTest, APoseNotSeenIsSkippedAtOnceAndASpareStandsInForIt) {
+  seen_ = [](int n) { return n != 1 && n != 4; };
+  answer_not_seen_ = true;
+  RunHarness h(type_, params_);
+  run(h);
+  // Time never moved on: no pose waited for a timeout, and each was asked for once.
+  EXPECT_EQ(h.tracker.count(TrackerRequest::kOnce), measured_);
+  ASSERT_TRUE(h.succeeded()) << h.describe_result();
+  const json proposed = json::parse(h.world.proposals.back().cell_json);
+  json record;
+  for (const json& e : proposed["entities"])
+    if (e["id"] == "camera") record = e["attributes"]["calibration"];
+  EXPECT_EQ(record["poses"].size(), 6u);
+  EXPECT_EQ(record["skipped"], json({"pose 2: board not seen: no image of it good enough in 2 s",
+                                     "pose 5: board not seen: no image of it good enough in 2 s"}));
 }
 
 // The arm stood at poses turned about the tool's z alone (whatever was asked): the camera's position along that
@@ -188,7 +217,7 @@ TEST_F(CalibrateCameraTest, UnreachablePosesAreSkippedUntilTooFewAreLeft) {
   s.frame = "robot";
   s.tool_pose = ready_tool();
   ASSERT_TRUE(h.robot.answer_state(s));
-  for (int i = 0; i < 6 && h.state() == "move"; ++i)
+  for (int i = 0; i < 20 && h.state() == "move"; ++i)
     ASSERT_TRUE(
         h.robot.complete(Kind::kMove, OpResult::failure("MOTION_FAILED", "UNREACHABLE: tool goal unreachable")));
   ASSERT_EQ(h.state(), "return");

@@ -48,26 +48,59 @@ Eigen::Isometry3d small_turn(const Eigen::Vector3d& axis, double deg, const Eige
   return t;
 }
 
-TEST(CalibrationPoses, KeepTheBoardInThePictureAndTurnItAboutMoreThanOneAxis) {
-  const Scene scene;
+// Whether the whole board (its four corners, through the lens) is in the picture, 5 % in from its edges.
+bool whole_board_in_picture(const Scene& scene, const Eigen::Isometry3d& tool) {
+  const Eigen::Isometry3d camera_board = scene.base_camera.inverse() * tool * scene.tool_board;
+  for (const double x : {-0.16, 0.16}) {
+    for (const double y : {-0.16, 0.16}) {
+      const Eigen::Vector2d px = project_through_lens(scene.camera, camera_board * Eigen::Vector3d(x, y, 0.0));
+      if (px.x() < 64.0 || px.x() > 1216.0 || px.y() < 36.0 || px.y() > 684.0) return false;
+    }
+  }
+  return true;
+}
+
+TEST(CalibrationPoses, KeepTheWholeBoardInThePictureAndTurnItAboutMoreThanOneAxis) {
+  Scene scene;
+  scene.camera.distortion = {-0.04, 0.01, 0.0, 0.0, 0.0};  // the acceptance's lens
+  // Where the arm holds it, the board's top edge is out of the picture: the poses are moved down into it.
+  ASSERT_FALSE(whole_board_in_picture(scene, scene.tool_now));
   const std::vector<Eigen::Isometry3d> poses = plan_poses(scene.plan_input(10));
   ASSERT_EQ(poses.size(), 10u);
-  const Eigen::Isometry3d camera_base = scene.base_camera.inverse();
   for (const Eigen::Isometry3d& tool : poses) {
-    const Eigen::Isometry3d camera_board = camera_base * tool * scene.tool_board;
-    const Eigen::Vector2d centre = scene.camera.project(camera_board.translation());
-    EXPECT_GT(centre.x(), 0.0);
-    EXPECT_LT(centre.x(), 1280.0);
-    EXPECT_GT(centre.y(), 0.0);
-    EXPECT_LT(centre.y(), 720.0);
-    // Within a few centimetres of where the arm held it: poses the arm is likely to reach.
-    EXPECT_LT((tool.translation() - scene.tool_now.translation()).norm(), 0.12);
+    EXPECT_TRUE(whole_board_in_picture(scene, tool));
+    // Within the planner's 20 cm of where the arm held it, plus the poses' shift and turn: poses the arm is
+    // likely to reach.
+    EXPECT_LT((tool.translation() - scene.tool_now.translation()).norm(), 0.3);
   }
   // The first faces the camera: its normal points at it.
   const Eigen::Isometry3d base_board = poses[0] * scene.tool_board;
   const Eigen::Vector3d to_camera = (scene.base_camera.translation() - base_board.translation()).normalized();
   EXPECT_NEAR(base_board.linear().col(2).dot(to_camera), 1.0, 1e-9);
+  EXPECT_LE((base_board.translation() - (scene.tool_now * scene.tool_board).translation()).norm(), 0.2 + 1e-9);
   EXPECT_GT(axis_spread_deg(poses), 20.0);
+}
+
+// A board held in the middle of the picture stays where it is.
+TEST(CalibrationPoses, ABoardInTheMiddleOfThePictureIsNotMoved) {
+  Scene scene;
+  const Eigen::Vector3d middle = scene.base_camera * Eigen::Vector3d(0.0, 0.0, 1.9);
+  scene.tool_now.translation() += middle - (scene.tool_now * scene.tool_board).translation();
+  const std::vector<Eigen::Isometry3d> poses = plan_poses(scene.plan_input(4));
+  ASSERT_EQ(poses.size(), 4u);
+  EXPECT_LT(((poses[0] * scene.tool_board).translation() - middle).norm(), 1e-9);
+}
+
+TEST(CalibrationLens, ProjectsThroughOpenCVsDistortionModel) {
+  cell::CameraIntrinsics camera = cell::CameraIntrinsics::pinhole(1280, 720, 1000.0, 640.0, 360.0);
+  const Eigen::Vector3d p(0.3, -0.2, 1.0);
+  EXPECT_TRUE(project_through_lens(camera, p).isApprox(camera.project(p), 1e-12));
+  // Radial k1, k2 and tangential p1, p2: x' = x (1 + k1 r² + k2 r⁴) + 2 p1 x y + p2 (r² + 2 x²), and y' alike.
+  camera.distortion = {-0.04, 0.01, 0.001, -0.002, 0.0};
+  const double r2 = 0.13, radial = 1.0 - 0.04 * r2 + 0.01 * r2 * r2;
+  const double x = 0.3 * radial + 2.0 * 0.001 * 0.3 * -0.2 - 0.002 * (r2 + 2.0 * 0.09);
+  const double y = -0.2 * radial + 0.001 * (r2 + 2.0 * 0.04) + 2.0 * -0.002 * 0.3 * -0.2;
+  EXPECT_TRUE(project_through_lens(camera, p).isApprox(Eigen::Vector2d(1000.0 * x + 640.0, 1000.0 * y + 360.0), 1e-12));
 }
 
 TEST(CalibrationPoses, NoneWhenTheBoardIsOutOfThePicture) {
@@ -90,7 +123,10 @@ TEST(AxisSpread, RotationsAboutOneAxisAreDegenerate) {
 }
 
 // The camera 20 mm and 1.5° off the drawing, the board mounted 2 mm and 0.5° off the cell file's mount; the
-// board measured with 0.3 mm and 0.05° of noise. The solve finds both from the drawing and the file's mount.
+// board measured with 0.1 mm and 0.02° of noise per axis (the tracker's errors on the simulated board were
+// 0.0–0.2 mm and 0.01–0.07°). The solve finds both from the drawing and the file's mount. Over 200 noise draws
+// the camera came out 1.2 mm off at the median and 2.2 mm at the 90th percentile with 15° tilts (0.8 and 1.4 mm
+// with 25°): ten poses of a 0.32 m board 1.9 m away determine it no better.
 TEST(CalibrationSolve, FindsTheCameraAndTheMountFromNoisyPosePairs) {
   const Scene scene;
   const Eigen::Isometry3d true_base_camera =
@@ -98,7 +134,7 @@ TEST(CalibrationSolve, FindsTheCameraAndTheMountFromNoisyPosePairs) {
   const Eigen::Isometry3d true_mount =
       scene.tool_board * small_turn(Eigen::Vector3d(0, 1, 1), 0.5, Eigen::Vector3d(0.002, 0.0, -0.001));
   std::mt19937 rng(7);
-  std::normal_distribution<double> mm(0.0, 0.3e-3), rad(0.0, 0.05 * kPi / 180.0);
+  std::normal_distribution<double> mm(0.0, 0.1e-3), rad(0.0, 0.02 * kPi / 180.0);
   std::vector<PosePair> pairs;
   for (const Eigen::Isometry3d& tool : plan_poses(scene.plan_input(10))) {
     Eigen::Isometry3d seen = true_base_camera.inverse() * tool * true_mount;

@@ -13,6 +13,9 @@ namespace {
 
 // Mirror solutions whose reprojection errors are within this ratio are ambiguous.
 constexpr double kAmbiguityRatio = 1.5;
+// Two starts refined to poses this close in rotation are one solution, not a mirror pair: IPPE's second
+// start often refines onto the first (a large layout seen at a moderate angle, or one facing the camera).
+constexpr double kSameSolutionRad = 1.0 * M_PI / 180.0;
 constexpr double kCoplanarTolerance_m = 1e-6;
 constexpr int kMaxRefineIterations = 10;
 
@@ -197,8 +200,15 @@ EstimateStatus PoseEstimator::estimate(const ObjectLayout& layout, const std::ve
       candidates.push_back({pose, rms_of(pose)});
     }
   }
+  if (candidates.empty()) {
+    return EstimateStatus::kFailed;
+  }
   std::sort(candidates.begin(), candidates.end(),
             [](const Candidate& a, const Candidate& b) { return a.rms_px < b.rms_px; });
+  if (candidates.size() > 1 &&
+      rotation_angle_between(candidates[0].pose.linear(), candidates[1].pose.linear()) < kSameSolutionRad) {
+    candidates.erase(candidates.begin() + 1);
+  }
   Candidate best = candidates.front();
   out.ambiguous = candidates.size() > 1 && candidates[1].rms_px < kAmbiguityRatio * std::max(best.rms_px, 1e-3);
   if (out.ambiguous && prior) {

@@ -2,6 +2,8 @@
 
 #include <filesystem>
 
+#include <fmt/format.h>
+
 #include "rigger/base/install.hpp"
 #include "rigger/cell_config/calibration_board.hpp"
 #include "rigger/dds/conversions.hpp"
@@ -81,6 +83,7 @@ VisionTrackerNode::VisionTrackerNode(service::ServiceContext& ctx, const VisionT
       tracker_(make_tracker(cell_file, settings, ctx.config)),
       schedule_(object_ids(tracker_.config()), settings.once_min_quality),
       once_timeout_(settings.once_timeout),
+      once_min_quality_(settings.once_min_quality),
       images_(ctx.participant, protocol::vision::kCameraImage),
       depth_(ctx.participant, protocol::vision::kCameraDepth),
       entities_(ctx.participant, protocol::world::kEntity),
@@ -147,6 +150,10 @@ bool VisionTrackerNode::apply(const rigger_vision_TrackerCommand& cmd) {
       const Stamp fresh_after = sent > Stamp{} ? sent : std::chrono::system_clock::now();
       known = schedule_.track_once(object_id, fresh_after, dds::EventLoop::Clock::now() + once_timeout_);
       if (known) ctx_.loop.after(once_timeout_, [this] { on_once_deadline(); });
+      if (object_id.empty())
+        once_attempts_.clear();
+      else
+        once_attempts_.erase(object_id);
       break;
     }
     case rigger_vision_TRACK_ONCE_MODEL: {
@@ -174,7 +181,16 @@ void VisionTrackerNode::on_once_deadline() {
     ctx_.log->warn("track_once timed out object={} timeout_s={}", id, std::chrono::duration<double>(once_timeout_).count());
     ObjectTrack lost;
     lost.object_id = id;
-    publish(lost, std::chrono::system_clock::now());
+    const OnceAttempt attempt = once_attempts_[id];
+    once_attempts_.erase(id);
+    std::string detail = fmt::format("{} image{} in {:.1f} s", attempt.images, attempt.images == 1 ? "" : "s",
+                                     std::chrono::duration<double>(once_timeout_).count());
+    if (attempt.best_markers > 0)
+      detail += fmt::format(": best quality {:.2f} from {} markers, under the {:.2f} a TRACK_ONCE takes",
+                            attempt.best_quality, attempt.best_markers, once_min_quality_);
+    else if (attempt.images > 0)
+      detail += ": no pose of it in any";
+    publish(lost, std::chrono::system_clock::now(), "NOT_SEEN", detail);
   }
 }
 
@@ -215,11 +231,20 @@ void VisionTrackerNode::process(const rigger_vision_Image& image) {
   }
   ++images_processed_;
   for (const ObjectTrack& track : result.objects) {
+    if (schedule_.once_pending(track.object_id)) {
+      OnceAttempt& attempt = once_attempts_[track.object_id];
+      ++attempt.images;
+      if (track.detected && track.quality > attempt.best_quality) {
+        attempt.best_quality = track.quality;
+        attempt.best_markers = track.markers_used;
+      }
+    }
     if (schedule_.on_track(track.object_id, result.stamp, track.detected, track.quality)) publish(track, result.stamp);
   }
 }
 
-void VisionTrackerNode::publish(const ObjectTrack& track, Stamp stamp) {
+void VisionTrackerNode::publish(const ObjectTrack& track, Stamp stamp, const std::string& status,
+                                const std::string& detail) {
   rigger_vision_TrackedPose out{};
   out.header.stamp = dds::to_wire(stamp);  // the image's stamp; a lost object says so with tracked=false
   // A calibration board is measured to find where the camera is: in the camera's frame, not through the
@@ -228,6 +253,8 @@ void VisionTrackerNode::publish(const ObjectTrack& track, Stamp stamp) {
   out.header.frame_id = dds::wire_string(board ? camera_id_ : frame_id_);
   out.object_id = dds::wire_string(track.object_id);
   out.tracked = track.detected;
+  out.status = dds::wire_string(status);
+  out.detail = dds::wire_string(detail);
   if (track.detected) {
     out.pose.pose = dds::to_wire(board ? track.pose_camera_object : track.pose_world_object);
     Eigen::Matrix<double, 6, 6> rotate = Eigen::Matrix<double, 6, 6>::Identity();

@@ -39,7 +39,8 @@ struct VisionTrackerSettings {
 ///   TRACK_ONCE        track the object until it has a pose from an image stamped after the command's
 ///                     header.stamp with quality >= once_min_quality, publish that one sample, then go
 ///                     back to what it did before; after once_timeout_s without one, publish tracked=false
-///                     for it (stamped with the wall clock) unless it is tracked continuously
+///                     for it (stamped with the wall clock; status NOT_SEEN, detail: the images looked at
+///                     and the best quality found in them) unless it is tracked continuously
 ///   STOP              neither (a pending TRACK_ONCE is dropped without a sample)
 ///   TRACK_ONCE_MODEL  without markers: the first depth image (rigger/camera/depth) stamped after the
 ///                     command is searched for the object by its STEP model (ModelLocalizer), starting
@@ -85,7 +86,8 @@ class VisionTrackerNode : public service::Node {
   void on_once_deadline();
   bool apply(const rigger_vision_TrackerCommand& cmd);
   void process(const rigger_vision_Image& image);
-  void publish(const ObjectTrack& track, Stamp stamp);
+  /// `status` and `detail` say why a TRACK_ONCE ended without a pose (empty otherwise).
+  void publish(const ObjectTrack& track, Stamp stamp, const std::string& status = "", const std::string& detail = "");
   void on_depth();
   void on_entities();
   bool request_by_model(const std::string& object_id, Stamp fresh_after);
@@ -101,6 +103,14 @@ class VisionTrackerNode : public service::Node {
   Tracker tracker_;
   TrackingSchedule schedule_;
   std::chrono::nanoseconds once_timeout_;
+  double once_min_quality_;
+  /// Per object with a pending TRACK_ONCE: what its images gave so far (the NOT_SEEN answer's detail).
+  struct OnceAttempt {
+    int images = 0;
+    double best_quality = 0.0;
+    int best_markers = 0;
+  };
+  std::map<std::string, OnceAttempt> once_attempts_;
   std::uint64_t commands_applied_ = 0;
   std::uint64_t commands_dropped_ = 0;
   std::uint64_t images_processed_ = 0;

@@ -358,6 +358,9 @@ TEST_F(VisionTrackerNodeTest, TrackOnceGivesUpAfterItsTimeoutWithTrackedFalse) {
   EXPECT_FALSE(lost.tracked);
   EXPECT_EQ(lost.quality, 0.0);
   EXPECT_GT(lost.stamp, sent);
+  // Why: the images it looked at, none with a pose of the load.
+  EXPECT_EQ(lost.status, "NOT_SEEN");
+  EXPECT_EQ(lost.detail, node_->images_processed() == 1 ? "1 image in 1.0 s: no pose of it in any" : "0 images in 1.0 s");
   EXPECT_FALSE(node_->schedule().any_active());
   EXPECT_EQ(received_.count("target"), 0u);
 }

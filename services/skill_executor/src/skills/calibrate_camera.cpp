@@ -34,14 +34,19 @@ const skill::SkillDescription& CalibrateCameraSkill::describe() {
     d.description =
         "Finds where the camera really is: the robot shows the calibration board on its tool to the camera in "
         "poses chosen about where the arm holds it (tilted about varied axes), the tracker measures the board in "
-        "the camera's frame at each, and the camera's pose is solved by least squares over the pose pairs. When "
+        "the camera's frame at each, and the camera's pose is solved by least squares over the pose pairs. A pose "
+        "counts when the whole board is in the camera's picture and faces it within 60 deg: the poses are moved up "
+        "to 20 cm toward the picture's middle for that. A pose the arm does not reach, or where the tracker does "
+        "not see the board, is skipped (recorded with why) and a spare pose stands in for it. When "
         "the residual is within bounds, the camera's pose is written as a cell revision with the calibration "
         "record in the camera's attributes.calibration; else nothing changes. Start with the board in the "
         "camera's picture.";
     d.params = {
         params::object("camera", "The camera entity to calibrate.", "camera"),
         params::object("robot", "The robot carrying the calibration board (its cell entity).", "robot"),
-        params::integer("poses").range(4, 24).fallback(10).doc("How many board poses to show the camera."),
+        params::integer("poses").range(4, 24).fallback(10).doc(
+            "How many board poses to measure; spares (half as many again, at least 2) stand in for poses not "
+            "reached or not seen."),
         params::number("tilt_rad")
             .unit("rad")
             .range(5.0 * kPi / 180.0, 35.0 * kPi / 180.0)
@@ -146,7 +151,9 @@ void CalibrateCameraSkill::plan(const RobotSnapshot& state) {
   in.pose_base_camera = pose_world_base_.inverse() * cell_->pose_root_entity(camera_id_);
   in.camera = *cell_->find(camera_id_)->camera;
   in.board_size_m = board_size_m_;
-  in.count = params().at("poses").get<int>();
+  wanted_ = params().at("poses").get<int>();
+  // Spares stand in for poses the arm does not reach or the camera does not see there.
+  in.count = wanted_ + std::max(2, wanted_ / 2);
   in.tilt_rad = params().at("tilt_rad").get<double>();
   in.shift_m = params().at("shift_m").get<double>();
   planned_ = calibration::plan_poses(in);
@@ -159,14 +166,16 @@ void CalibrateCameraSkill::plan(const RobotSnapshot& state) {
                                  "picture's centre, or lower tilt_rad and shift_m");
     return;
   }
-  ctx().log()->info("CalibrateCamera: {} poses planned about the tool at ({:.3f}, {:.3f}, {:.3f}) m", planned_.size(),
-                    start_tool_.translation().x(), start_tool_.translation().y(), start_tool_.translation().z());
+  ctx().log()->info("CalibrateCamera: {} poses wanted, {} planned about the tool at ({:.3f}, {:.3f}, {:.3f}) m",
+                    wanted_, planned_.size(), start_tool_.translation().x(), start_tool_.translation().y(),
+                    start_tool_.translation().z());
   transition("move");
 }
 
 void CalibrateCameraSkill::move() {
-  ctx().progress(0.05 + 0.8 * static_cast<double>(next_) / static_cast<double>(planned_.size()),
-                 "pose " + std::to_string(next_ + 1) + " of " + std::to_string(planned_.size()));
+  ctx().progress(0.05 + 0.8 * static_cast<double>(pairs_.size()) / static_cast<double>(wanted_),
+                 "pose " + std::to_string(next_ + 1) + " (" + std::to_string(pairs_.size()) + " of " +
+                     std::to_string(wanted_) + " seen)");
   MotionGoal goal;
   goal.kind = MotionGoal::Kind::kCartesian;
   goal.pose_frame_tool = planned_[next_];
@@ -234,6 +243,12 @@ void CalibrateCameraSkill::on_sample(const TrackedObjectSample& s) {
     next_pose("");
     return;
   }
+  // Not tracked: the tracker's answer to a TRACK_ONCE it could not end within its own wait (the board not
+  // found, or found too poorly), or one image without it while it tracks continuously, which is asked again.
+  if (s.stamp - *first_command_ >= kNotSeenAfter) {
+    next_pose("board not seen" + (s.detail.empty() ? std::string() : ": " + s.detail));
+    return;
+  }
   if (s.stamp > last_command_) send_once();
 }
 
@@ -243,7 +258,8 @@ void CalibrateCameraSkill::next_pose(const std::string& skipped_because) {
     ctx().log()->info("CalibrateCamera: pose {} skipped: {}", next_ + 1, skipped_because);
   }
   ++next_;
-  transition(next_ < planned_.size() ? "move" : "return");
+  const bool enough = static_cast<int>(pairs_.size()) >= wanted_;
+  transition(!enough && next_ < planned_.size() ? "move" : "return");
 }
 
 void CalibrateCameraSkill::return_to_start() {
@@ -267,7 +283,7 @@ void CalibrateCameraSkill::return_to_start() {
 void CalibrateCameraSkill::solve() {
   const std::string skipped = skipped_.empty() ? std::string() : " (" + std::to_string(skipped_.size()) + " skipped)";
   if (reached_ < kMinPoses) {
-    fail("POSES_UNREACHABLE", "the arm reached " + std::to_string(reached_) + " of " + std::to_string(planned_.size()) +
+    fail("POSES_UNREACHABLE", "the arm reached " + std::to_string(reached_) + " of " + std::to_string(next_) +
                                   " poses, " + std::to_string(kMinPoses) +
                                   " needed: start nearer the middle of the arm's reach");
     return;

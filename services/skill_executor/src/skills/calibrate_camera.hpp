@@ -6,12 +6,16 @@
 ///   read_cell ──▶ move ──▶ measure ──▶ (next pose: move) … ──▶ return ──▶ solve ──▶ check ──▶ apply ──▶ SUCCESS
 ///
 /// read_cell: the running revision (the camera's drawn pose and intrinsics, the robot's base, the board's
-/// mount) and the arm's tool pose; plans up to `poses` tool poses about it (camera_calibration.hpp: the
-/// board turned to face the camera, then tilted about varied axes in its plane, spun and shifted), each
-/// in the camera's view. move: a Cartesian motion to the next pose; a pose the arm refuses as UNREACHABLE
-/// is skipped. measure: the arm's tool pose (its state after the motion) and TRACK_ONCE of the board
-/// (robot/calibration_board, measured in the camera's frame), asked again every 2.5 s and after each image
-/// in which the board was not found, for at most view_timeout_s; a pose where it is not seen is skipped.
+/// mount) and the arm's tool pose; plans `poses` tool poses and spares (half as many again, at least 2) about
+/// it (camera_calibration.hpp: moved up to 20 cm across the line of sight so that the whole board is in the
+/// picture, the board turned to face the camera, then tilted about varied axes in its plane, spun and
+/// shifted). A pose counts when the whole board is in the picture (through the lens, 5 % in from its edges)
+/// and faces the camera within 60°. move: a Cartesian motion to the next pose; a pose the arm refuses as
+/// UNREACHABLE is skipped. measure: the arm's tool pose (its state after the motion) and TRACK_ONCE of the
+/// board (robot/calibration_board, measured in the camera's frame), asked again after 2.5 s without an
+/// answer and after an image in which the board was not found, for at most view_timeout_s; the tracker's
+/// not-tracked answer to it (after its own 2 s wait) skips the pose at once. Spares stand in for skipped
+/// poses until `poses` were seen or none is left; each skipped pose and why is in the record's `skipped`.
 /// return: the arm back where it started. solve: the camera's pose and the board's mount by least squares
 /// over the pose pairs. check: the new document (the camera's pose, and attributes.calibration, the record)
 /// as a dry run, which must change the camera and nothing else. apply: the revision, its `who`
@@ -51,6 +55,10 @@ class CalibrateCameraSkill final : public Skill {
   /// than the tracker's own 2 s wait for a TRACK_ONCE, which it ends with a not-tracked pose (answered at once):
   /// sent more often, each command restarted that wait.
   static constexpr std::chrono::milliseconds kRetryPeriod{2500};
+  /// A not-tracked answer stamped this long after the first TRACK_ONCE of a pose skips the pose at once: the
+  /// tracker looked at its images for its own wait (2 s) without a good pose of the board. An earlier one
+  /// (one image without the board, while it tracks continuously) is asked again.
+  static constexpr std::chrono::milliseconds kNotSeenAfter{1500};
   static constexpr std::chrono::seconds kWorldTimeout{10};
   static constexpr std::chrono::seconds kStateTimeout{1};
   static constexpr std::chrono::seconds kStopTimeout{3};
@@ -84,6 +92,7 @@ class CalibrateCameraSkill final : public Skill {
   Eigen::Isometry3d pose_tool_board_ = Eigen::Isometry3d::Identity();
   double board_size_m_ = 0.0;
   Eigen::Isometry3d start_tool_ = Eigen::Isometry3d::Identity();
+  int wanted_ = 0;  ///< the poses asked for; planned_ holds spares beyond them
   std::vector<Eigen::Isometry3d> planned_;
   std::size_t next_ = 0;
   int reached_ = 0;

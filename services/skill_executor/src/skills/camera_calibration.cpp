@@ -3,11 +3,23 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/Dense>
 
 namespace rigger::skill_executor::calibration {
+
+Eigen::Vector2d project_through_lens(const cell::CameraIntrinsics& camera, const Eigen::Vector3d& p) {
+  const std::vector<double>& d = camera.distortion;
+  const auto k = [&d](std::size_t i) { return i < d.size() ? d[i] : 0.0; };
+  const double x = p.x() / p.z(), y = p.y() / p.z();
+  const double r2 = x * x + y * y, r4 = r2 * r2, r6 = r4 * r2;
+  const double radial = (1.0 + k(0) * r2 + k(1) * r4 + k(4) * r6) / (1.0 + k(5) * r2 + k(6) * r4 + k(7) * r6);
+  const double xd = x * radial + 2.0 * k(2) * x * y + k(3) * (r2 + 2.0 * x * x) + k(8) * r2 + k(9) * r4;
+  const double yd = y * radial + k(2) * (r2 + 2.0 * y * y) + 2.0 * k(3) * x * y + k(10) * r2 + k(11) * r4;
+  return {camera.fx_px * xd + camera.cx_px, camera.fy_px * yd + camera.cy_px};
+}
 
 namespace {
 
@@ -25,15 +37,41 @@ std::array<Eigen::Vector3d, 5> board_points(double size_m) {
           Eigen::Vector3d::Zero()};
 }
 
+// How far (px) the picture of a square of half size `half_m` about the board's centre, in its plane, must move
+// to lie within the picture's margin: (0, 0) when it does. A square larger than the picture is centred on it.
+Eigen::Vector2d shift_into_picture(const Eigen::Isometry3d& camera_board, const cell::CameraIntrinsics& camera,
+                                   double half_m) {
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector2d high = Eigen::Vector2d::Constant(std::numeric_limits<double>::lowest());
+  for (const double x : {-half_m, half_m}) {
+    for (const double y : {-half_m, half_m}) {
+      const Eigen::Vector2d px = project_through_lens(camera, camera_board * Eigen::Vector3d(x, y, 0.0));
+      low = low.cwiseMin(px);
+      high = high.cwiseMax(px);
+    }
+  }
+  const Eigen::Vector2d size(camera.width_px, camera.height_px);
+  const Eigen::Vector2d margin = kImageMargin * size;
+  Eigen::Vector2d shift = Eigen::Vector2d::Zero();
+  for (int i = 0; i < 2; ++i) {
+    if (high(i) - low(i) > size(i) - 2.0 * margin(i))
+      shift(i) = 0.5 * size(i) - 0.5 * (low(i) + high(i));
+    else if (low(i) < margin(i))
+      shift(i) = margin(i) - low(i);
+    else if (high(i) > size(i) - margin(i))
+      shift(i) = size(i) - margin(i) - high(i);
+  }
+  return shift;
+}
+
 bool in_view(const Eigen::Isometry3d& camera_board, const cell::CameraIntrinsics& camera, double size_m) {
   const Eigen::Vector3d to_camera = -camera_board.translation().normalized();
   if (std::acos(std::clamp(camera_board.linear().col(2).dot(to_camera), -1.0, 1.0)) > kMaxViewAngle) return false;
   for (const Eigen::Vector3d& corner : board_points(size_m))
     if ((camera_board * corner).z() <= 0.0) return false;
-  // The centre in the picture: a board partly out of it is still measured by the markers it shows.
-  const double mx = kImageMargin * camera.width_px, my = kImageMargin * camera.height_px;
-  const Eigen::Vector2d px = camera.project(camera_board.translation());
-  return px.x() >= mx && px.x() <= camera.width_px - mx && px.y() >= my && px.y() <= camera.height_px - my;
+  // The whole board in the picture, through the lens: a board cut by the picture's edge loses the markers
+  // that measure its tilt best.
+  return shift_into_picture(camera_board, camera, size_m / 2.0).isZero();
 }
 
 // A small change of a pose: rotation vector (rad) and translation (m), applied on the right.
@@ -78,26 +116,43 @@ nlohmann::json pose_json(const Eigen::Isometry3d& pose) {
 
 std::vector<Eigen::Isometry3d> plan_poses(const PosePlanInput& in) {
   const Eigen::Isometry3d base_board_now = in.pose_base_tool_now * in.pose_tool_board;
-  const Eigen::Vector3d centre = base_board_now.translation();
-  const Eigen::Vector3d to_camera = (in.pose_base_camera.translation() - centre).normalized();
-  // The smallest turn that makes the board face the camera, from how the arm holds it now.
-  const Eigen::Matrix3d facing =
-      Eigen::Quaterniond::FromTwoVectors(base_board_now.linear().col(2), to_camera).toRotationMatrix() *
-      base_board_now.linear();
   const Eigen::Isometry3d camera_base = in.pose_base_camera.inverse();
   const Eigen::Isometry3d board_tool = in.pose_tool_board.inverse();
+  // The smallest turn that makes the board at `centre` face the camera, from how the arm holds it now.
+  const auto facing_at = [&](const Eigen::Vector3d& centre) {
+    const Eigen::Vector3d to_camera = (in.pose_base_camera.translation() - centre).normalized();
+    Eigen::Isometry3d base_board = Eigen::Isometry3d::Identity();
+    base_board.linear() =
+        Eigen::Quaterniond::FromTwoVectors(base_board_now.linear().col(2), to_camera).toRotationMatrix() *
+        base_board_now.linear();
+    base_board.translation() = centre;
+    return base_board;
+  };
+  // The centre moved across the line of sight (by at most max_recentre_m) until the facing board, grown by
+  // shift_m on every side, is in the picture: the poses about it then keep the whole board in view.
+  Eigen::Isometry3d facing = facing_at(base_board_now.translation());
+  for (int i = 0; i < 8; ++i) {
+    const Eigen::Isometry3d camera_board = camera_base * facing;
+    const Eigen::Vector2d px = shift_into_picture(camera_board, in.camera, in.board_size_m / 2.0 + in.shift_m);
+    if (px.norm() < 0.5) break;
+    const double depth = camera_board.translation().z();
+    const Eigen::Vector3d step_camera(px.x() * depth / in.camera.fx_px, px.y() * depth / in.camera.fy_px, 0.0);
+    Eigen::Vector3d moved = facing.translation() + in.pose_base_camera.linear() * step_camera -
+                            base_board_now.translation();
+    if (moved.norm() > in.max_recentre_m) moved *= in.max_recentre_m / moved.norm();
+    facing = facing_at(base_board_now.translation() + moved);
+  }
   std::vector<Eigen::Isometry3d> poses;
   for (int k = 0; k < 4 * in.count && static_cast<int>(poses.size()) < in.count; ++k) {
-    Eigen::Isometry3d base_board = Eigen::Isometry3d::Identity();
-    base_board.linear() = facing;
-    base_board.translation() = centre;
+    Eigen::Isometry3d base_board = facing;
     if (k > 0) {
       const double phi = k * kGoldenAngle;
       const Eigen::Vector3d axis(std::cos(phi), std::sin(phi), 0.0);
       const double spin = (k % 2 == 0 ? 0.5 : -0.5) * in.tilt_rad;
-      base_board.linear() = facing * Eigen::AngleAxisd(in.tilt_rad, axis).toRotationMatrix() *
+      base_board.linear() = facing.linear() * Eigen::AngleAxisd(in.tilt_rad, axis).toRotationMatrix() *
                             Eigen::AngleAxisd(spin, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-      base_board.translation() += facing * (in.shift_m * Eigen::Vector3d(-std::sin(phi), std::cos(phi), 0.0));
+      base_board.translation() +=
+          facing.linear() * (in.shift_m * Eigen::Vector3d(-std::sin(phi), std::cos(phi), 0.0));
     }
     if (!in_view(camera_base * base_board, in.camera, in.board_size_m)) continue;
     poses.push_back(base_board * board_tool);

@@ -37,16 +37,23 @@ struct PosePlanInput {
   int count = 10;                                                        ///< poses wanted
   double tilt_rad = 0.26;  ///< how far each pose turns the board off facing the camera
   double shift_m = 0.05;   ///< how far each pose moves the board in its plane
+  double max_recentre_m = 0.2;  ///< how far the poses' centre may move from where the arm holds the board
 };
 
-/// Up to `count` tool poses (T_base_tool) about where the arm holds the board now: the first turns the board
-/// to face the camera where it is; each further one tilts it by tilt_rad about an axis in its plane that
-/// turns by the golden angle from pose to pose, spins it by ±tilt_rad/2 about its normal and shifts it by
-/// shift_m in its plane. Poses whose board centre would leave the image (a 5 % margin, the cell's camera pose
-/// and intrinsics, no distortion; a board partly out of the picture is measured by the markers it shows) or
-/// that face the camera at more than 60° are left out. Whether the arm reaches a
-/// pose is the arm's to say.
+/// Up to `count` tool poses (T_base_tool) about where the arm holds the board now. Their centre is the
+/// board's, moved across the line of sight (by at most max_recentre_m) until the board facing the camera,
+/// grown by shift_m on every side, lies in the picture. The first pose turns the board to face the camera
+/// there; each further one tilts it by tilt_rad about an axis in its plane that turns by the golden angle
+/// from pose to pose, spins it by ±tilt_rad/2 about its normal and shifts it by shift_m in its plane. A pose
+/// counts when the whole board is in the picture (its four corners through the lens, 5 % of the picture in
+/// from its edges; the cell's camera pose and intrinsics) and faces the camera within 60°; the others are
+/// left out. Whether the arm reaches a pose, and whether the cell hides the board there, is for the arm and
+/// the tracker to say.
 std::vector<Eigen::Isometry3d> plan_poses(const PosePlanInput& in);
+
+/// Where a point in the camera's optical frame (z > 0) lands in its picture through the lens, in pixels:
+/// OpenCV's model (radial, tangential, rational and thin prism terms; not a tilted sensor's).
+Eigen::Vector2d project_through_lens(const cell::CameraIntrinsics& camera, const Eigen::Vector3d& point_camera);
 
 /// How far apart the rotation axes of the relative motions between the tool poses are, in degrees: 0 when
 /// every rotation between two poses is about one axis (the camera's position along it is then

@@ -85,7 +85,8 @@ struct TrackedObjectSample {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< T_frame_object, m; identity when !tracked
   double quality = 0.0;                                    ///< [0, 1]; 0 when !tracked
   bool tracked = false;
-  /// Empty from the marker tracker; the answer to a kOnceByModel: "FOUND" or why no pose is given
+  /// From the marker tracker: empty, or NOT_SEEN for a kOnce that ended without a pose (detail: the images
+  /// looked at and the best quality in them). The answer to a kOnceByModel: "FOUND" or why no pose is given
   /// (NOT_FOUND, LOW_FIT, AMBIGUOUS, BAD_DEPTH, NO_VISIBLE_SURFACE, NO_MODEL, NO_DEPTH), detail in words.
   std::string status;
   std::string detail;
