@@ -9,6 +9,7 @@
 
 #include "depth_grid.hpp"
 #include "mesh_points.hpp"
+#include "turns.hpp"
 
 namespace rigger::perception {
 
@@ -91,25 +92,6 @@ double rotation_deg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / M_PI;
 }
 
-// Rotations (object to camera) spread over all orientations: a Fibonacci sphere of directions for
-// the object's z axis, each with turns about it.
-std::vector<Eigen::Matrix3d> orientation_samples() {
-  std::vector<Eigen::Matrix3d> out;
-  out.reserve(kDirections * kTurns);
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < kDirections; ++i) {
-    const double z = 1.0 - (i + 0.5) * 2.0 / kDirections;
-    const double r = std::sqrt(1.0 - z * z);
-    const Eigen::Vector3d direction(r * std::cos(golden * i), r * std::sin(golden * i), z);
-    const Eigen::Matrix3d align =
-        Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), direction).toRotationMatrix();
-    for (int t = 0; t < kTurns; ++t) {
-      out.push_back(align * Eigen::AngleAxisd(2.0 * M_PI * t / kTurns, Eigen::Vector3d::UnitZ()).toRotationMatrix());
-    }
-  }
-  return out;
-}
-
 }  // namespace
 
 struct Localizer::Impl {
@@ -126,7 +108,7 @@ struct Localizer::Impl {
   std::vector<Eigen::Isometry3d> symmetries;  // object frame, identity first
   std::vector<Eigen::Matrix3d> symmetry_rotations;
   std::string symmetry_note;
-  std::vector<Eigen::Matrix3d> orientations = orientation_samples();
+  std::vector<Eigen::Matrix3d> orientations = detail::orientation_samples(kDirections, kTurns);
 
   // Distance to the surface: to the nearest samples' tangent planes, never less than the distance to
   // the sample less the sampling's spacing (so that the plane of a face does not reach past its edge).
@@ -144,37 +126,14 @@ struct Localizer::Impl {
   }
 
   void find_symmetries() {
-    const std::vector<Eigen::Matrix3d> candidates = {
-        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix(),
-        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix(),
-        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
-        Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix()};
-    const char* names[] = {"2-fold about x", "2-fold about y", "2-fold about z", "4-fold about z"};
     symmetries = {Eigen::Isometry3d::Identity()};
     symmetry_rotations = {Eigen::Matrix3d::Identity()};
-    const double tolerance_m = std::max(0.001, 0.01 * radius_m);
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-      // About the centroid: the symmetry maps the part onto itself where it stands.
-      const Eigen::Isometry3d s = Eigen::Translation3d(centre_object_m) * Eigen::Isometry3d(candidates[c]) *
-                                  Eigen::Translation3d(-centre_object_m);
-      // A point near an edge may have only the next face's samples near it, a few millimetres off its
-      // face: up to 1 % of the points may be off by up to three times the tolerance (a real feature the
-      // turn does not map, a blind hole or a notch, puts points much farther off).
-      int off = 0;
-      int checked = 0;
-      bool maps = true;
-      for (std::size_t i = 0; i < model.points_m.size() && maps; i += 3) {
-        const double d = surface_distance(s * model.points_m[i]);
-        ++checked;
-        off += d >= tolerance_m ? 1 : 0;
-        maps = d < 3.0 * tolerance_m;
-      }
-      maps = maps && off <= checked / 100;
-      if (maps) {
-        symmetries.push_back(s);
-        symmetry_rotations.push_back(candidates[c]);
-        symmetry_note += (symmetry_note.empty() ? "" : ", ") + std::string(names[c]);
-      }
+    const auto distance = [this](const Eigen::Vector3d& p) { return surface_distance(p); };
+    for (const detail::Turn& turn : detail::turns_onto_itself(model, distance, centre_object_m,
+                                                              std::max(0.001, 0.01 * radius_m))) {
+      symmetries.push_back(turn.about_centre);
+      symmetry_rotations.push_back(turn.rotation);
+      symmetry_note += (symmetry_note.empty() ? "" : ", ") + turn.name;
     }
   }
 
