@@ -7,7 +7,8 @@
 // core (this thread pinned, OpenCV single-threaded; rendering is not timed); accuracy against the truth up
 // to the part's symmetry; "wrong": found more than 10 mm or 2° off. Markerless twice: from the truth moved
 // by 2 cm and 4° (a world-model prior), and with no prior (the global search). Not a test.
-// RIGGER_BENCH_VERBOSE=1 prints each refusal's code and detail to stderr.
+// RIGGER_BENCH_VERBOSE=1 prints each refusal's code and detail to stderr, and each pose found: its error in
+// the part's frame and the faces the camera sees. RIGGER_BENCH_PART=load (or bracket) runs that part alone.
 #include <sched.h>
 #include <unistd.h>
 
@@ -72,6 +73,31 @@ std::unique_ptr<mjModel, ModelDeleter> scene_model(const std::string& id, const 
 
 double angle_deg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / M_PI;
+}
+
+/// The rotation from the truth to the pose found (nearest symmetric equivalent), as a rotation vector in
+/// the part's frame, degrees.
+Eigen::Vector3d rotation_error_deg(const Eigen::Matrix3d& found, const Eigen::Matrix3d& truth,
+                                   const std::vector<Eigen::Matrix3d>& symmetries) {
+  Eigen::Vector3d best = Eigen::Vector3d::Constant(1e9);
+  for (const Eigen::Matrix3d& s : symmetries) {
+    const Eigen::AngleAxisd d(truth.transpose() * found * s);
+    if (d.angle() < best.norm() * M_PI / 180.0) best = d.axis() * d.angle() * 180.0 / M_PI;
+  }
+  return best;
+}
+
+/// The part's faces (its frame's axes) and the angle the camera sees each at, for faces within 85 degrees.
+std::string faces_seen(const Eigen::Isometry3d& truth, const Eigen::Isometry3d& camera) {
+  const Eigen::Vector3d view = (camera.translation() - truth.translation()).normalized();
+  std::string out = "faces seen at";
+  const char* names[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+  for (int f = 0; f < 6; ++f) {
+    const Eigen::Vector3d n = (f % 2 == 0 ? 1.0 : -1.0) * truth.linear().col(f / 2);
+    const double deg = std::acos(std::clamp(n.dot(view), -1.0, 1.0)) * 180.0 / M_PI;
+    if (deg < 85.0) out += " " + std::string(names[f]) + " " + std::to_string(static_cast<int>(std::lround(deg)));
+  }
+  return out;
 }
 
 double percentile(std::vector<double> v, double p) {
@@ -198,8 +224,10 @@ PartFigures run_part(const std::string& name, const std::filesystem::path& cell_
       if (!r.found() && std::getenv("RIGGER_BENCH_VERBOSE")) std::fprintf(stderr, "%s %d %s: %s\n", name.c_str(), i, r.status.c_str(), r.detail.c_str());
       if (r.found() && std::getenv("RIGGER_BENCH_VERBOSE")) {
         const Eigen::Vector3d e = truth.linear().transpose() * (r.pose_world_object.translation() - truth.translation()) * 1e3;
-        std::fprintf(stderr, "%s %d %s found, error in the part's frame (%.1f, %.1f, %.1f) mm\n", name.c_str(), i,
-                     with_prior ? "prior" : "global", e.x(), e.y(), e.z());
+        const Eigen::Vector3d w = rotation_error_deg(r.pose_world_object.linear(), truth.linear(), symmetries);
+        std::fprintf(stderr, "%s %d %s found, error in the part's frame (%.1f, %.1f, %.1f) mm, (%.2f, %.2f, %.2f) deg; %s\n",
+                     name.c_str(), i, with_prior ? "prior" : "global", e.x(), e.y(), e.z(), w.x(), w.y(), w.z(),
+                     faces_seen(truth, scene.pose_world_camera).c_str());
       }
       (with_prior ? figures.prior : figures.global).add(r.found(), r.status, r.pose_world_object, truth, symmetries, ms);
     }
@@ -217,9 +245,12 @@ int run() {
                              "Markerless localization per frame (one core) next to the marker tracker, same frames");
   const std::map<std::string, PartFigures> parts = [] {
     std::map<std::string, PartFigures> out;
-    out["load"] = run_part("load", std::string(RIGGER_SOURCE_DIR) + "/deploy/cell/simulated_cell.json", "load");
+    const char* only = std::getenv("RIGGER_BENCH_PART");
+    auto wanted = [&](const std::string& part) { return only == nullptr || part == only; };
+    if (wanted("load"))
+      out["load"] = run_part("load", std::string(RIGGER_SOURCE_DIR) + "/deploy/cell/simulated_cell.json", "load");
     sim::GeneratedCell generated;
-    out["bracket"] = run_part("bracket", generated.write(), "bracket");
+    if (wanted("bracket")) out["bracket"] = run_part("bracket", generated.write(), "bracket");
     return out;
   }();
   for (const auto& [name, f] : parts) {

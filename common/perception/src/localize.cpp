@@ -9,6 +9,7 @@
 
 #include "depth_grid.hpp"
 #include "mesh_points.hpp"
+#include "turns.hpp"
 
 namespace rigger::perception {
 
@@ -39,6 +40,8 @@ constexpr int kSurfacesTried = 3;
 // A point of a face seen further than 70 degrees from its normal lands, moved along the part, on the
 // faces next to it at nearly their depth: no evidence of where the part ends.
 constexpr double kSquarelyFacing = 0.34;
+// An image normal this near a model point's (cosine: 53 degrees) is of the same face.
+constexpr double kSameFace = 0.6;
 // A model point is seen where the depth image is within this of it.
 constexpr double kSeenM = 0.015;
 // With a prior: how far the part may be from it (its box grown by this holds the points it is refined
@@ -89,25 +92,6 @@ double rotation_deg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / M_PI;
 }
 
-// Rotations (object to camera) spread over all orientations: a Fibonacci sphere of directions for
-// the object's z axis, each with turns about it.
-std::vector<Eigen::Matrix3d> orientation_samples() {
-  std::vector<Eigen::Matrix3d> out;
-  out.reserve(kDirections * kTurns);
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < kDirections; ++i) {
-    const double z = 1.0 - (i + 0.5) * 2.0 / kDirections;
-    const double r = std::sqrt(1.0 - z * z);
-    const Eigen::Vector3d direction(r * std::cos(golden * i), r * std::sin(golden * i), z);
-    const Eigen::Matrix3d align =
-        Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), direction).toRotationMatrix();
-    for (int t = 0; t < kTurns; ++t) {
-      out.push_back(align * Eigen::AngleAxisd(2.0 * M_PI * t / kTurns, Eigen::Vector3d::UnitZ()).toRotationMatrix());
-    }
-  }
-  return out;
-}
-
 }  // namespace
 
 struct Localizer::Impl {
@@ -124,7 +108,7 @@ struct Localizer::Impl {
   std::vector<Eigen::Isometry3d> symmetries;  // object frame, identity first
   std::vector<Eigen::Matrix3d> symmetry_rotations;
   std::string symmetry_note;
-  std::vector<Eigen::Matrix3d> orientations = orientation_samples();
+  std::vector<Eigen::Matrix3d> orientations = detail::orientation_samples(kDirections, kTurns);
 
   // Distance to the surface: to the nearest samples' tangent planes, never less than the distance to
   // the sample less the sampling's spacing (so that the plane of a face does not reach past its edge).
@@ -142,34 +126,21 @@ struct Localizer::Impl {
   }
 
   void find_symmetries() {
-    const std::vector<Eigen::Matrix3d> candidates = {
-        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix(),
-        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix(),
-        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
-        Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix()};
-    const char* names[] = {"2-fold about x", "2-fold about y", "2-fold about z", "4-fold about z"};
     symmetries = {Eigen::Isometry3d::Identity()};
     symmetry_rotations = {Eigen::Matrix3d::Identity()};
-    const double tolerance_m = std::max(0.001, 0.01 * radius_m);
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-      // About the centroid: the symmetry maps the part onto itself where it stands.
-      const Eigen::Isometry3d s = Eigen::Translation3d(centre_object_m) * Eigen::Isometry3d(candidates[c]) *
-                                  Eigen::Translation3d(-centre_object_m);
-      bool maps = true;
-      for (std::size_t i = 0; i < model.points_m.size() && maps; i += 3) {
-        maps = surface_distance(s * model.points_m[i]) < tolerance_m;
-      }
-      if (maps) {
-        symmetries.push_back(s);
-        symmetry_rotations.push_back(candidates[c]);
-        symmetry_note += (symmetry_note.empty() ? "" : ", ") + std::string(names[c]);
-      }
+    const auto distance = [this](const Eigen::Vector3d& p) { return surface_distance(p); };
+    for (const detail::Turn& turn : detail::turns_onto_itself(model, distance, centre_object_m,
+                                                              std::max(0.001, 0.01 * radius_m))) {
+      symmetries.push_back(turn.about_centre);
+      symmetry_rotations.push_back(turn.rotation);
+      symmetry_note += (symmetry_note.empty() ? "" : ", ") + turn.name;
     }
   }
 
   // How well the image shows the points facing the camera: +1 where it sees the point, -1 where it
   // sees through it (farther), 0 where something nearer hides it or nothing is seen. Seen: on a valid
-  // cell (a normal, above the support), or with `any_depth` on any depth at the point's distance.
+  // cell (a normal, above the support), or with `any_depth` on any depth at the point's distance unless
+  // the cell's normal says it is another face.
   static double visibility_score(const DepthGrid& grid, const SurfacePoints& points, const Eigen::Isometry3d& pose,
                                  int* supported = nullptr, int* seen_through = nullptr, bool any_depth = false) {
     double score = 0.0;
@@ -188,6 +159,9 @@ struct Localizer::Impl {
         score -= 1.0;
         seen_through && ++*seen_through;
       } else if (seen > p.z() - kSeenM && (any_depth || grid.valid(cell))) {
+        if (any_depth && grid.valid(cell) && grid.normal(cell).dot(pose.linear() * points.normals[i]) < kSameFace) {
+          continue;  // another face at nearly the point's depth: the one next to a fold
+        }
         score += 1.0;
         supported && ++*supported;
       }
@@ -217,9 +191,10 @@ struct Localizer::Impl {
   // Point-to-plane ICP of the points facing the camera onto the depth image. Without `nearest`,
   // each point is paired with the image cell it projects to (a pixel lookup: fast, but slow to
   // slide along a face); with it, with the nearest cell of the surface it indexes (exact to the end).
+  // `translation_only`: the orientation is kept, the position alone refined.
   static Eigen::Isometry3d refine(const DepthGrid& grid, const SurfacePoints& points, Eigen::Isometry3d pose,
                                   int iterations, double final_reject_m, const SurfaceIndex* nearest = nullptr,
-                                  Eigen::Matrix3d* translation_information = nullptr) {
+                                  Eigen::Matrix3d* translation_information = nullptr, bool translation_only = false) {
     // Wide at first: a face seen at a grazing angle may be the only one that fixes the pose along
     // the others' common edge, and starts as far from its match as the pose is off.
     double reject_m = 0.04;
@@ -279,7 +254,12 @@ struct Localizer::Impl {
       if (translation_information) {
         *translation_information = a.bottomRightCorner<3, 3>();
       }
-      const Eigen::Matrix<double, 6, 1> x = a.ldlt().solve(b);
+      Eigen::Matrix<double, 6, 1> x = Eigen::Matrix<double, 6, 1>::Zero();
+      if (translation_only) {
+        x.tail<3>() = a.bottomRightCorner<3, 3>().ldlt().solve(b.tail<3>());
+      } else {
+        x = a.ldlt().solve(b);
+      }
       const Eigen::Vector3d w = x.head<3>();
       Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
       if (w.norm() > 0.0) {
@@ -308,13 +288,23 @@ struct Localizer::Impl {
       return pose;  // no direction fixed less than half as well as the best
     }
     const Eigen::Vector3d direction = eigen.eigenvectors().col(0);
+    // The dense samples of the faces seen squarely: the refinement's are about 2 cm apart on a face of
+    // the demo load, so that its score changes only as a whole row of them crosses an edge.
+    SurfacePoints squarely;
+    for (std::size_t i = 0; i < dense.points_m.size(); ++i) {
+      const Eigen::Vector3d p = pose * dense.points_m[i];
+      if (-(pose.linear() * dense.normals[i]).dot(p) > kSquarelyFacing * p.norm()) {
+        squarely.points_m.push_back(dense.points_m[i]);
+        squarely.normals.push_back(dense.normals[i]);
+      }
+    }
     const int steps = static_cast<int>(std::ceil(kSlideM / kSlideStepM));
     double best = -1e18;
     int first_best = 0;
     int last_best = 0;
     for (int i = -steps; i <= steps; ++i) {
       const Eigen::Isometry3d moved = Eigen::Translation3d(i * kSlideStepM * direction) * pose;
-      const double score = visibility_score(grid, model, moved, nullptr, nullptr, true);
+      const double score = visibility_score(grid, squarely, moved, nullptr, nullptr, true);
       if (score > best + 0.5) {
         best = score;
         first_best = last_best = i;
@@ -326,12 +316,19 @@ struct Localizer::Impl {
   }
 
   // From a coarse pose to the final one: projective ICP, nearest-point ICP, a slide along the
-  // direction that fixes least, and nearest-point ICP again.
+  // direction that fixes least, and nearest-point ICP again, of the whole pose or of its position alone,
+  // whichever fits the image's points better: re-paired after the slide, the points across a slid edge
+  // may tilt a part seen nearly face-on (the demo load), while another part's orientation still gains
+  // from the whole pose (the bracket).
   Eigen::Isometry3d finish(const DepthGrid& grid, const SurfaceIndex& nearest, const Eigen::Isometry3d& start) const {
     const Eigen::Isometry3d close = refine(grid, model, start, 10, 0.015);
     Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
     const Eigen::Isometry3d fine = refine(grid, model, close, 20, 0.006, &nearest, &information);
-    return refine(grid, model, slide(grid, fine, information), 10, 0.006, &nearest);
+    const Eigen::Isometry3d slid = slide(grid, fine, information);
+    const Eigen::Isometry3d whole = refine(grid, model, slid, 10, 0.006, &nearest);
+    const Eigen::Isometry3d placed_only = refine(grid, model, slid, 10, 0.006, &nearest, nullptr, true);
+    return evaluate(grid, nearest.cells, placed_only).score > evaluate(grid, nearest.cells, whole).score ? placed_only
+                                                                                                        : whole;
   }
 
   // Judges a refined pose: from the image side (of the points of the surface searched, how many lie

@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include "rigger/cad/model.hpp"
+#include "rigger/cad/tessellation.hpp"
 #include "rigger/sim/mujoco_camera.hpp"
 #include "rigger/testing/require.hpp"
 
@@ -275,6 +277,25 @@ TEST_F(MarkerlessLocalizeTest, FindsTheLoadsThreeHalfTurnsAndNoneOfTheBracket) {
   EXPECT_EQ(load.symmetries().size(), 4U);
   const Localizer bracket(mesh_of(kBracket));
   EXPECT_EQ(bracket.symmetries().size(), 1U);  // its mirror image is not a turn
+}
+
+TEST_F(MarkerlessLocalizeTest, FindsTheThreeHalfTurnsOfTheDemoLoadsStepModel) {
+  // The shipped model (four through holes), as the CAD service tessellates it: near its edges a turned
+  // point may have only the next face's samples near it, a few millimetres off; still a symmetry.
+  const cad::TriangleMesh triangles =
+      cad::triangle_mesh(cad::read_step_file(std::string(RIGGER_SOURCE_DIR) + "/deploy/cell/models/load.step"));
+  const Localizer load(Mesh{triangles.vertices_m, triangles.triangles});
+  EXPECT_EQ(load.symmetries().size(), 4U);
+  const LocalizeResult none = Localizer(Mesh{triangles.vertices_m, triangles.triangles}).localize(frame_of(cv::Mat()));
+  EXPECT_EQ(none.symmetry, "2-fold about x, 2-fold about y, 2-fold about z");
+}
+
+TEST_F(MarkerlessLocalizeTest, ABumpOnOneEndLeavesOnlyTheTurnThatMapsIt) {
+  // A 20 x 20 x 10 mm bump on the load's +x face, on its x axis: a fraction of a per cent of the surface,
+  // but 10 mm off any face when turned about y or z; the half turn about x maps it onto itself.
+  const Localizer bumped(mesh_of({kLoad.front(), {Eigen::Vector3d(0.205, 0.0, 0.0), Eigen::Vector3d(0.005, 0.01, 0.01)}}));
+  ASSERT_EQ(bumped.symmetries().size(), 2U);
+  EXPECT_TRUE(bumped.symmetries()[1].isApprox(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix()));
 }
 
 TEST_F(MarkerlessLocalizeTest, AllNanOrEmptyDepthIsBadDepth) {
