@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include <chrono>
 #include <condition_variable>
 #include <functional>
 #include <map>
@@ -17,18 +18,36 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "model_localizer.hpp"
 #include "tracker_config.hpp"
 
 namespace rigger::vision {
 
+/// What the tracking cost over a period (ModelTracker's Report): what an integrator sizes the tracker's
+/// core by.
+struct ModelTrackerFigures {
+  std::chrono::steady_clock::duration period{};
+  int frames = 0;          ///< depth images searched (each for every object tracked)
+  int skipped = 0;         ///< images replaced by a newer one before they were searched
+  int objects = 0;         ///< objects tracked at the end of the period
+  int refused = 0;         ///< searches that gave no pose (a code instead)
+  double lowest_model_support = 1.0;  ///< of the poses found (perception::LocalizeResult::model_support)
+  double frame_ms_p50 = 0.0, frame_ms_max = 0.0;  ///< wall time per image searched
+  double cpu_ms_p50 = 0.0;  ///< the worker thread's CPU time per image searched
+  double busy_share = 0.0;  ///< the worker's CPU time over the period's wall time
+};
+
 class ModelTracker {
  public:
   /// Called on the worker thread for every object searched in a frame, with the frame's stamp.
   using Publish = std::function<void(const std::string& object_id, Stamp stamp, const ModelLocalization& result)>;
+  /// Called on the worker thread every kReportPeriod while objects are tracked, and when the last one stops.
+  using Report = std::function<void(const ModelTrackerFigures& figures)>;
+  static constexpr std::chrono::seconds kReportPeriod{10};
 
-  explicit ModelTracker(Publish publish);
+  explicit ModelTracker(Publish publish, Report report = {});
   /// Stops the worker (after the frame it is on).
   ~ModelTracker();
   ModelTracker(const ModelTracker&) = delete;
@@ -43,21 +62,31 @@ class ModelTracker {
   bool tracking(const std::string& object_id) const;
   bool any() const;
 
-  /// The newest depth image, stamped; replaces one not yet taken up.
-  void submit(perception::DepthFrame frame, Stamp stamp);
+  /// The newest depth image, stamped; replaces one not yet taken up. False (dropped) while nothing is tracked.
+  bool submit(perception::DepthFrame frame, Stamp stamp);
 
  private:
   struct Track {
     std::shared_ptr<const perception::Mesh> mesh;
-    std::optional<Eigen::Isometry3d> pose_world_object;
+    std::optional<Eigen::Isometry3d> pose_world_object;  ///< the last pose found (or the start)
     std::uint64_t generation = 0;  // a start() or stop() since the worker took it up makes its result stale
   };
   void run();
+  /// After a frame (or with `last`, when tracking ended): reports the figures when the period is over.
+  void account(std::chrono::steady_clock::time_point frame_start, double frame_ms, double cpu_ms, bool last);
 
   Publish publish_;
+  Report report_;
+  // The worker's figures since the last report (worker thread only).
+  std::optional<std::chrono::steady_clock::time_point> period_start_;  // unset: since no frame was searched
+  std::vector<double> frame_ms_, cpu_ms_;
+  int refused_ = 0;
+  double lowest_support_ = 1.0;
+  int skipped_ = 0;  // guarded by mutex_
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   bool quit_ = false;
+  bool report_due_ = false;  // the last object stopped: the figures so far are reported
   std::uint64_t generations_ = 0;
   std::map<std::string, Track> tracks_;
   std::optional<std::pair<perception::DepthFrame, Stamp>> waiting_;

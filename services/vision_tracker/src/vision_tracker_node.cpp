@@ -95,6 +95,13 @@ VisionTrackerNode::VisionTrackerNode(service::ServiceContext& ctx, const VisionT
           }
           publish_model(id, stamp, result);
         });
+      }, [this](const ModelTrackerFigures& f) {
+        ctx_.log->info(
+            "model tracking over {:.1f} s: {} objects, {} depth images searched, {} skipped, {} searches refused, "
+            "lowest model support found {:.2f}; per image {:.0f} ms (max {:.0f} ms), CPU {:.0f} ms; the search "
+            "thread used {:.0f} % of a core",
+            std::chrono::duration<double>(f.period).count(), f.objects, f.frames, f.skipped, f.refused,
+            f.lowest_model_support, f.frame_ms_p50, f.frame_ms_max, f.cpu_ms_p50, f.busy_share * 100.0);
       }),
       follower_(ctx.participant, ctx.loop, ctx.log, settings.cell_file,
                 [this](const cell_follower::FollowedRevision& revision) { return on_revision(revision); },
