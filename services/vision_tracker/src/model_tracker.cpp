@@ -85,6 +85,44 @@ bool ModelTracker::submit(perception::DepthFrame frame, Stamp stamp) {
   return true;
 }
 
+std::optional<Eigen::Isometry3d> ModelTracker::predicted(const Track& track, Stamp stamp) {
+  if (!track.pose_world_object || !track.stamp) return track.pose_world_object;
+  const double dt = std::chrono::duration<double>(stamp - *track.stamp).count();
+  if (!(dt > 0.0 && dt <= kMaxPredictionS)) return track.pose_world_object;
+  Eigen::Isometry3d pose = *track.pose_world_object;
+  pose.translation() += track.linear_mps * dt;
+  const Eigen::Vector3d turn = track.angular_radps * dt;
+  if (turn.norm() > 0.0) pose.linear() = Eigen::AngleAxisd(turn.norm(), turn.normalized()) * pose.linear();
+  return pose;
+}
+
+void ModelTracker::follow(Track& track, const Eigen::Isometry3d& pose, Stamp stamp) {
+  track.linear_mps.setZero();
+  track.angular_radps.setZero();
+  if (track.pose_world_object && track.stamp) {
+    const double dt = std::chrono::duration<double>(stamp - *track.stamp).count();
+    if (dt > 0.0 && dt <= kMaxPredictionS) {
+      track.linear_mps = (pose.translation() - track.pose_world_object->translation()) / dt;
+      const Eigen::AngleAxisd turn(pose.linear() * track.pose_world_object->linear().transpose());
+      track.angular_radps = turn.axis() * turn.angle() / dt;
+    }
+  }
+  track.pose_world_object = pose;
+  track.stamp = stamp;
+}
+
+ModelLocalization ModelTracker::search(const Track& track, const perception::DepthFrame& frame, Stamp stamp) {
+  const std::optional<Eigen::Isometry3d> ahead = predicted(track, stamp);
+  ModelLocalization result = localize_mesh(*track.mesh, frame, ahead, true);
+  // It may have stopped meanwhile (a servo stops without poses): then from where it was last found.
+  if (!result.found() && ahead && track.pose_world_object &&
+      (ahead->translation() - track.pose_world_object->translation()).norm() > kSamePlaceM) {
+    ModelLocalization still = localize_mesh(*track.mesh, frame, track.pose_world_object, true);
+    if (still.found()) return still;
+  }
+  return result;
+}
+
 void ModelTracker::run() {
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
@@ -105,7 +143,7 @@ void ModelTracker::run() {
     const double cpu_start = thread_cpu_ms();
     std::vector<std::pair<std::string, ModelLocalization>> results;
     for (const auto& [id, track] : work) {
-      results.emplace_back(id, localize_mesh(*track.mesh, frame.first, track.pose_world_object, true));
+      results.emplace_back(id, search(track, frame.first, frame.second));
       const ModelLocalization& r = results.back().second;
       if (!r.found()) ++refused_;
       else lowest_support_ = std::min(lowest_support_, r.result.model_support);
@@ -117,7 +155,7 @@ void ModelTracker::run() {
     for (const auto& [id, result] : results) {
       const auto now = tracks_.find(id);
       if (now == tracks_.end() || now->second.generation != work.at(id).generation) continue;  // stopped or restarted
-      if (result.found()) now->second.pose_world_object = result.pose_world_object;
+      if (result.found()) follow(now->second, result.pose_world_object, frame.second);
       lock.unlock();
       publish_(id, frame.second, result);
       lock.lock();

@@ -46,6 +46,11 @@ class ModelTracker {
   /// Called on the worker thread every kReportPeriod while objects are tracked, and when the last one stops.
   using Report = std::function<void(const ModelTrackerFigures& figures)>;
   static constexpr std::chrono::seconds kReportPeriod{10};
+  /// How far ahead a track is predicted from its last two poses (a servo moves a held load centimetres
+  /// between two depth images; a part not found for longer is searched for where it was last found).
+  static constexpr double kMaxPredictionS = 1.0;
+  /// A prediction this near the last pose is not searched from again.
+  static constexpr double kSamePlaceM = 0.005;
 
   explicit ModelTracker(Publish publish, Report report = {});
   /// Stops the worker (after the frame it is on).
@@ -70,7 +75,17 @@ class ModelTracker {
     std::shared_ptr<const perception::Mesh> mesh;
     std::optional<Eigen::Isometry3d> pose_world_object;  ///< the last pose found (or the start)
     std::uint64_t generation = 0;  // a start() or stop() since the worker took it up makes its result stale
+    std::optional<Stamp> stamp;    ///< of the image the last pose was found in (unset: the start)
+    Eigen::Vector3d linear_mps = Eigen::Vector3d::Zero();     ///< between the last two poses found
+    Eigen::Vector3d angular_radps = Eigen::Vector3d::Zero();  ///< world frame
   };
+  /// The last pose moved on at the velocity between the last two, to the image's stamp (up to
+  /// kMaxPredictionS after the last pose; later, the last pose).
+  static std::optional<Eigen::Isometry3d> predicted(const Track& track, Stamp stamp);
+  /// Takes `pose`, found in the image of `stamp`, as the track's last, with the velocity it implies.
+  static void follow(Track& track, const Eigen::Isometry3d& pose, Stamp stamp);
+  /// The object in `frame`: from the predicted pose, and if that is refused from the last pose found.
+  static ModelLocalization search(const Track& track, const perception::DepthFrame& frame, Stamp stamp);
   void run();
   /// After a frame (or with `last`, when tracking ended): reports the figures when the period is over.
   void account(std::chrono::steady_clock::time_point frame_start, double frame_ms, double cpu_ms, bool last);
