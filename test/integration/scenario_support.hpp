@@ -421,6 +421,8 @@ class ScenarioCell {
 
   static const char* state_name(int s) { return protocol::task::node_state_name(s); }
 
+  /// The simulator's true pose of `object` at `t` (its latest sample at most 100 ms before), if the test saw it.
+  std::optional<Eigen::Isometry3d> true_pose_at(const std::string& object, WallTime t) const { return truth_at(object, t); }
   /// The times the simulator fell behind real time (simulator_lag_report).
   std::string simulator_lag() const { return simulator_lag_report(cell_.log_dir()); }
 
