@@ -1,11 +1,11 @@
 #pragma once
 /// @file
-/// The tracker's markerless TRACK_CONTINUOUS: each object tracked is refined from its last pose in the
-/// newest depth image (localize_mesh() with `tracking`: no search of the whole image), on a thread of its
-/// own, so that the node's loop (markers, commands, TRACK_ONCE_MODEL) is never blocked by it. A frame that
-/// arrives while one is being searched replaces the one waiting: the work runs at the rate it can, on the
-/// newest image. A refused frame keeps the last pose to start the next one from. No DDS: results go to a
-/// callback (on the worker thread).
+/// The tracker's markerless TRACK_CONTINUOUS: each object tracked is refined in the newest depth image from
+/// where its last two poses predict it, and if that is refused from its last pose (localize_mesh() with
+/// `tracking`: no search of the whole image), on a thread of its own, so that the node's loop (markers,
+/// commands, TRACK_ONCE_MODEL) is never blocked by it. A frame that arrives while one is being searched
+/// replaces the one waiting: the work runs at the rate it can, on the newest image. A refused frame keeps the
+/// last pose found. No DDS: results go to a callback (on the worker thread).
 
 #include <Eigen/Geometry>
 
