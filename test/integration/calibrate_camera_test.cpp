@@ -50,7 +50,7 @@ class CalibrateCameraProcessTest : public MultiProcessTest {
       if (!board)
         for (json& entity : cell["entities"]) entity.erase("calibration_board");
     });
-    setup.cell_sim_patch = {{"camera", {{"renderer", "mujoco"}, {"pose_error", kPoseError}}}};
+    setup.patches["cell_sim"] = {{"camera", {{"renderer", "mujoco"}, {"pose_error", kPoseError}}}};
     return setup;
   }
 };

@@ -2,6 +2,7 @@
 // Which cell the scenario runs on, and the services' configurations that point at it: the shipped cell
 // (deploy/cell/simulated_cell.json) unless a test brings its own cell file and names its load and target.
 #include <fstream>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -18,8 +19,9 @@ struct ScenarioSetup {
   std::string cell_file;             ///< absolute path; empty: the shipped deploy/cell/simulated_cell.json
   std::string load_id = "load";      ///< the object the crane carries and the robot inserts
   std::string target_id = "target";  ///< the object the load is inserted on
-  /// Merged into cell_sim's configuration (e.g. its camera's renderer and pose_error).
-  nlohmann::json cell_sim_patch = nlohmann::json::object();
+  /// Per service configuration name (e.g. "cell_sim" for its camera's renderer and pose_error): merged into
+  /// its shipped configuration last.
+  std::map<std::string, nlohmann::json> patches = {};
 };
 
 /// The absolute path of the setup's cell file.

@@ -421,6 +421,8 @@ class ScenarioCell {
 
   static const char* state_name(int s) { return protocol::task::node_state_name(s); }
 
+  /// The simulator's true pose of `object` at `t` (its latest sample at most 100 ms before), if the test saw it.
+  std::optional<Eigen::Isometry3d> true_pose_at(const std::string& object, WallTime t) const { return truth_at(object, t); }
   /// The times the simulator fell behind real time (simulator_lag_report).
   std::string simulator_lag() const { return simulator_lag_report(cell_.log_dir()); }
 
@@ -448,7 +450,9 @@ class ScenarioCell {
   }
 
   std::string config(const std::string& name, const nlohmann::json& patch = nlohmann::json::object()) {
-    return service_config(cell_.log_dir(), setup_, name, patch);
+    nlohmann::json merged = patch;
+    if (const auto own = setup_.patches.find(name); own != setup_.patches.end()) merged.merge_patch(own->second);
+    return service_config(cell_.log_dir(), setup_, name, merged);
   }
 
   // Starts one service of the cell as process (and log) `name`; secured, as DDS identity `identity`
@@ -478,7 +482,7 @@ class ScenarioCell {
   void start_services(std::vector<std::string> operator_rules) {
     const std::string port = std::to_string(free_tcp_port());
     const std::string dir = cell_.log_dir();
-    nlohmann::json sim_patch = setup_.cell_sim_patch;
+    nlohmann::json sim_patch = nlohmann::json::object();
     if (behind_ros2_bridge_) sim_patch["ros2_driver"] = nlohmann::json::object();
     start("cell_sim", "cell_sim", {"--config", config("cell_sim", sim_patch), "--plc-port", port});
     if (behind_ros2_bridge_)

@@ -113,9 +113,10 @@ void CraneSkill::disengage_admittance(std::function<void()> then) {
   track([admittance, id] { admittance->cancel(id); });
 }
 
-void admittance_safe_stop(AdmittanceController* admittance, VisionTracker* tracker, const std::string& object,
-                          const Skill::SafeStopDone& done) {
-  if (tracker != nullptr) tracker->command(TrackerRequest::kStop, object);
+void admittance_safe_stop(AdmittanceController* admittance, VisionTracker* tracker,
+                          const std::vector<std::string>& objects, const Skill::SafeStopDone& done) {
+  if (tracker != nullptr)
+    for (const std::string& object : objects) tracker->command(TrackerRequest::kStop, object);
   if (admittance == nullptr) {
     done(true, "no admittance controller: nothing was commanded");
     return;

@@ -88,7 +88,8 @@ TEST_F(InsertTest, SuccessServoesSettlesThenHoldsWithAdmittanceOff) {
   EXPECT_EQ(h.state(), "servo") << "settled only 0.8 s";
   h.timers.advance(200ms);
   ASSERT_EQ(h.state(), "hold");
-  EXPECT_GE(h.tracker.count(TrackerRequest::kStop), 1);
+  EXPECT_GE(h.tracker.count(TrackerRequest::kStop, "load"), 1);
+  EXPECT_GE(h.tracker.count(TrackerRequest::kStop, "target"), 1) << "the target's tracking is the skill's too";
   ASSERT_NE(h.admittance.pending(), nullptr);
   EXPECT_EQ(h.admittance.pending()->mode, AdmittanceModeRequest::kOff);
   ASSERT_TRUE(h.admittance.complete(OpResult::success()));
@@ -191,7 +192,7 @@ TEST_F(InsertTest, ServoFailuresStopFirstThenReportTheirCode) {
     ASSERT_FALSE(h.result) << c.name << ": reported before admittance OFF was confirmed";
     ASSERT_NE(h.admittance.pending(), nullptr) << c.name;
     EXPECT_EQ(h.admittance.pending()->mode, AdmittanceModeRequest::kOff) << c.name;
-    EXPECT_EQ(h.tracker.count(TrackerRequest::kStop), stops_before + 1) << c.name;
+    EXPECT_EQ(h.tracker.count(TrackerRequest::kStop), stops_before + 2) << c.name << ": load and target";
     ASSERT_TRUE(h.admittance.complete(OpResult::success())) << c.name;
     EXPECT_TRUE(h.failed_with(c.code)) << c.name << " got "
                                        << (h.result ? h.result->code + " " + h.result->message : "nothing");
@@ -276,7 +277,8 @@ TEST_F(InsertTest, PreconditionAndLookupFailures) {
     h.timers.advance(InsertVisuallyGuidedSkill::kTrackStartTimeout);
     ASSERT_TRUE(h.failed_with("TRACKING_LOST"));
     EXPECT_NE(h.result->message.find("target"), std::string::npos);
-    EXPECT_EQ(h.tracker.count(TrackerRequest::kStop), 1);
+    EXPECT_EQ(h.tracker.count(TrackerRequest::kStop, "load"), 1);
+    EXPECT_EQ(h.tracker.count(TrackerRequest::kStop, "target"), 1);
     EXPECT_TRUE(h.admittance.requests.empty());
   }
 }
@@ -342,13 +344,13 @@ TEST_F(InsertTest, ShutdownInEveryStateReachesTheSafeStop) {
         EXPECT_FALSE(h.result) << state << ": STOPPED before admittance OFF was confirmed";
         ASSERT_EQ(h.admittance.requests.size(), commanded_before + 1) << state;
         EXPECT_EQ(h.admittance.requests.back().mode, AdmittanceModeRequest::kOff) << state;
-        EXPECT_EQ(h.tracker.count(TrackerRequest::kStop), stops_before + 1) << state;
+        EXPECT_EQ(h.tracker.count(TrackerRequest::kStop), stops_before + 2) << state << ": load and target";
         ASSERT_TRUE(h.admittance.complete(confirmed ? OpResult::success() : OpResult::failure("TIMEOUT", "no OFF")));
         EXPECT_TRUE(confirmed ? h.stopped() : h.failed_with("SAFE_STOP_FAILED")) << state;
       } else {
         EXPECT_TRUE(h.stopped()) << state;
         EXPECT_EQ(h.admittance.requests.size(), commanded_before) << state;
-        EXPECT_EQ(h.tracker.count(TrackerRequest::kStop), stops_before + (state == "track" ? 1 : 0)) << state;
+        EXPECT_EQ(h.tracker.count(TrackerRequest::kStop), stops_before + (state == "track" ? 2 : 0)) << state;
       }
       EXPECT_EQ(h.timers.pending(), 0u) << state;
       EXPECT_EQ(h.tracker.watches(), 0u) << state;

@@ -119,19 +119,30 @@ const perception::Mesh* ModelLocalizer::mesh(const std::string& object_id, std::
 
 ModelLocalization ModelLocalizer::localize(const std::string& object_id, const perception::DepthFrame& frame,
                                            const std::optional<Eigen::Isometry3d>& prior_world_object) {
-  ModelLocalization out;
   std::string problem;
   const perception::Mesh* part = mesh(object_id, problem);
   if (part == nullptr) {
+    ModelLocalization out;
     out.status = "NO_MODEL";
     out.detail = problem;
     return out;
   }
+  return localize_mesh(*part, frame, prior_world_object);
+}
+
+ModelLocalization localize_mesh(const perception::Mesh& mesh, const perception::DepthFrame& frame,
+                                const std::optional<Eigen::Isometry3d>& prior_world_object, bool tracking) {
+  ModelLocalization out;
+  const perception::Mesh* part = &mesh;
   perception::LocalizeOptions options;
+  options.search_when_prior_fails = !tracking;
+  // A load held by the robot shows a few per cent of its camera-facing points seen through (the arm and the
+  // magnet behind its silhouette): its correct poses score 0.87 to 1 (kTrackedModelSupport).
+  if (tracking) options.min_model_support = ModelLocalizer::kTrackedModelSupport;
   if (prior_world_object) {
     double lowest = std::numeric_limits<double>::infinity();
     for (const Eigen::Vector3d& v : part->vertices_m) lowest = std::min(lowest, (*prior_world_object * v).z());
-    options.min_height_world_m = lowest + kSupportMarginM;
+    options.min_height_world_m = lowest + ModelLocalizer::kSupportMarginM;
   }
   // Construction only samples the mesh (milliseconds); the support height is per request.
   perception::Localizer localizer(*part, options);
@@ -139,11 +150,11 @@ ModelLocalization ModelLocalizer::localize(const std::string& object_id, const p
   out.status = status_code(out.result.status);
   if (out.found()) {
     const double unseen = unseen_share(*part, out.result.pose_world_object, frame);
-    if (unseen > kMaxUnseenShare) {
+    if (unseen > ModelLocalizer::kMaxUnseenShare) {
       out.status = "LOW_FIT";
       char buf[160];
       std::snprintf(buf, sizeof buf, "%.0f %% of the surface facing the camera lands where the image has no depth (at most %.0f %%)",
-                    unseen * 100.0, kMaxUnseenShare * 100.0);
+                    unseen * 100.0, ModelLocalizer::kMaxUnseenShare * 100.0);
       out.detail = buf;
       out.detail += " (best: " + fit_text(out.result) + ")";
       return out;

@@ -1,5 +1,6 @@
-// The vision tracker node's markerless path (TRACK_ONCE_MODEL): depth images and the world model's poses
-// in, one rigger/tracker/pose per request out. The search itself is ModelLocalizer's.
+// The vision tracker node's markerless path (TRACK_ONCE_MODEL, and TRACK_CONTINUOUS of an object without
+// markers): depth images and the world model's poses in, rigger/tracker/pose out. The search itself is
+// ModelLocalizer's, the continuous tracking ModelTracker's (on its own thread).
 #include <cstring>
 
 #include "rigger/dds/conversions.hpp"
@@ -72,32 +73,62 @@ void VisionTrackerNode::on_entities() {
   });
 }
 
+bool VisionTrackerNode::track_by_model(const std::string& object_id) {
+  if (object_id.empty() || !model_localizer_.has_model(object_id)) return false;
+  std::string problem;
+  const perception::Mesh* mesh = model_localizer_.mesh(object_id, problem);
+  if (mesh == nullptr) {
+    ModelLocalization none;
+    none.status = "NO_MODEL";
+    none.detail = problem;
+    publish_model(object_id, std::chrono::system_clock::now(), none);
+    return true;
+  }
+  const auto prior = world_poses_.find(object_id);
+  model_tracker_.start(object_id, std::make_shared<const perception::Mesh>(*mesh),
+                       prior != world_poses_.end() ? std::optional<Eigen::Isometry3d>(prior->second) : std::nullopt);
+  ctx_.log->info("tracking object={} by its model from {}", object_id,
+                 prior != world_poses_.end() ? "its pose in the world model" : "a search of the whole image");
+  return true;
+}
+
 void VisionTrackerNode::on_depth() {
   depth_.take([this](const rigger_vision_Image& image, const dds_sample_info_t&) {
-    if (!model_requests_.empty()) localize_by_model(image);
+    const bool tracking = model_tracker_.any();
+    if (model_requests_.empty() && !tracking) return;
+    perception::DepthFrame frame;
+    const char* problem = depth_frame(image, frame);
+    const Stamp stamp = dds::to_domain(image.header.stamp);
+    if (!model_requests_.empty()) localize_by_model(stamp, frame, problem);
+    if (!tracking) return;
+    if (problem != nullptr) {
+      ctx_.log->warn("depth image not tracked in: {}", problem);
+      return;
+    }
+    model_tracker_.submit(std::move(frame), stamp);
   });
 }
 
-void VisionTrackerNode::localize_by_model(const rigger_vision_Image& image) {
-  const Stamp stamp = dds::to_domain(image.header.stamp);
+const char* VisionTrackerNode::depth_frame(const rigger_vision_Image& image, perception::DepthFrame& frame) const {
+  const CameraIntrinsics& camera = tracker_.config().camera;
+  const auto data = dds::elements(image.data);
+  const char* problem = depth_problem(image, data.size(), camera);
+  if (problem != nullptr) return problem;
+  // A copy: the localizer wants aligned floats, and the sample's buffer is returned after this call.
+  frame.depth_m.create(static_cast<int>(image.height), static_cast<int>(image.width), CV_32FC1);
+  for (int row = 0; row < frame.depth_m.rows; ++row) {
+    std::memcpy(frame.depth_m.ptr(row), data.data() + static_cast<std::size_t>(row) * image.step,
+                image.width * sizeof(float));
+  }
+  frame.intrinsics = {camera.fx_px, camera.fy_px, camera.cx_px, camera.cy_px};
+  frame.pose_world_camera = tracker_.config().pose_world_camera;
+  return nullptr;
+}
+
+void VisionTrackerNode::localize_by_model(Stamp stamp, const perception::DepthFrame& frame, const char* problem) {
   std::vector<std::string> due;  // the requests sent before this image was taken
   for (const auto& [id, request] : model_requests_) {
     if (stamp > request.fresh_after) due.push_back(id);
-  }
-  if (due.empty()) return;
-  const CameraIntrinsics& camera = tracker_.config().camera;
-  const auto data = dds::elements(image.data);
-  perception::DepthFrame frame;
-  const char* problem = depth_problem(image, data.size(), camera);
-  if (problem == nullptr) {
-    // A copy: the localizer wants aligned floats, and the sample's buffer is returned after this call.
-    frame.depth_m.create(static_cast<int>(image.height), static_cast<int>(image.width), CV_32FC1);
-    for (int row = 0; row < frame.depth_m.rows; ++row) {
-      std::memcpy(frame.depth_m.ptr(row), data.data() + static_cast<std::size_t>(row) * image.step,
-                  image.width * sizeof(float));
-    }
-    frame.intrinsics = {camera.fx_px, camera.fy_px, camera.cx_px, camera.cy_px};
-    frame.pose_world_camera = tracker_.config().pose_world_camera;
   }
   for (const std::string& id : due) {
     model_requests_.erase(id);

@@ -89,6 +89,23 @@ VisionTrackerNode::VisionTrackerNode(service::ServiceContext& ctx, const VisionT
       entities_(ctx.participant, protocol::world::kEntity),
       commands_(ctx.participant, protocol::vision::kTrackerCommand),
       poses_(ctx.participant, protocol::vision::kTrackerPose),
+      model_tracker_([this](const std::string& id, Stamp stamp, const ModelLocalization& result) {
+        ctx_.loop.post([this, id, stamp, result] {
+          if (!result.found()) {
+            ctx_.log->info("tracked by model object={} status={} elapsed_ms={} detail=\"{}\"", id, result.status,
+                           std::chrono::duration_cast<std::chrono::milliseconds>(result.result.elapsed).count(),
+                           result.detail);
+          }
+          publish_model(id, stamp, result);
+        });
+      }, [this](const ModelTrackerFigures& f) {
+        ctx_.log->info(
+            "model tracking over {:.1f} s: {} objects, {} depth images searched, {} skipped, {} searches refused, "
+            "lowest model support found {:.2f}; per image {:.0f} ms (max {:.0f} ms), CPU {:.0f} ms; the search "
+            "thread used {:.0f} % of a core",
+            std::chrono::duration<double>(f.period).count(), f.objects, f.frames, f.skipped, f.refused,
+            f.lowest_model_support, f.frame_ms_p50, f.frame_ms_max, f.cpu_ms_p50, f.busy_share * 100.0);
+      }),
       follower_(ctx.participant, ctx.loop, ctx.log, settings.cell_file,
                 [this](const cell_follower::FollowedRevision& revision) { return on_revision(revision); },
                 &ctx.announcer) {
@@ -161,8 +178,14 @@ bool VisionTrackerNode::apply(const rigger_vision_TrackerCommand& cmd) {
       known = request_by_model(object_id, sent > Stamp{} ? sent : std::chrono::system_clock::now());
       break;
     }
-    case rigger_vision_TRACK_CONTINUOUS: known = schedule_.track_continuous(object_id); break;
-    case rigger_vision_TRACK_STOP: known = schedule_.stop(object_id); break;
+    case rigger_vision_TRACK_CONTINUOUS:
+      known = schedule_.track_continuous(object_id) || track_by_model(object_id);
+      break;
+    case rigger_vision_TRACK_STOP: {
+      const bool by_model = model_tracker_.stop(object_id);
+      known = schedule_.stop(object_id) || by_model;
+      break;
+    }
     default:
       ctx_.log->warn("command dropped seq={} source={}: unknown kind {}", cmd.seq, dds::to_string(cmd.source),
                      static_cast<int>(cmd.kind));

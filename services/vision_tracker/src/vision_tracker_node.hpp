@@ -15,6 +15,7 @@
 #include "rigger/service/service.hpp"
 #include "rigger/vision_tracker/settings.hpp"
 #include "model_localizer.hpp"
+#include "model_tracker.hpp"
 #include "tracker.hpp"
 #include "tracking_schedule.hpp"
 
@@ -49,6 +50,12 @@ struct VisionTrackerSettings {
 ///                     tracked=false with the status code saying why (NO_MODEL at once for an object
 ///                     without a model, NO_DEPTH after once_timeout_s without a depth image). The
 ///                     search runs on the loop thread (a fraction of a second per request).
+///   TRACK_CONTINUOUS of an object without markers but with a STEP model: tracked by its model (ModelTracker,
+///                     on a thread of its own) from its pose in the world model (or a search of the whole
+///                     first depth image), each depth image's result published as it is ready (a few per
+///                     second): tracked=true with status FOUND, or tracked=false with the code of the refusal
+///                     (the next image starts again from the last pose found). STOP ends it. "" (every
+///                     object) means the objects with markers only.
 /// While no object is tracked, images are not looked at; depth images only while a TRACK_ONCE_MODEL is
 /// pending.
 /// A robot's calibration board (cell file calibration_board) is an object too, by cell::calibration_board_id
@@ -91,7 +98,10 @@ class VisionTrackerNode : public service::Node {
   void on_depth();
   void on_entities();
   bool request_by_model(const std::string& object_id, Stamp fresh_after);
-  void localize_by_model(const rigger_vision_Image& depth);
+  bool track_by_model(const std::string& object_id);
+  /// Fills `frame` from a depth image; why it cannot, or nullptr.
+  const char* depth_frame(const rigger_vision_Image& image, perception::DepthFrame& frame) const;
+  void localize_by_model(Stamp stamp, const perception::DepthFrame& frame, const char* problem);
   void on_model_deadline();
   void publish_model(const std::string& object_id, Stamp stamp, const ModelLocalization& result);
   cell_follower::Outcome on_revision(const cell_follower::FollowedRevision& revision);
@@ -130,6 +140,8 @@ class VisionTrackerNode : public service::Node {
   dds::Reader<rigger_world_EntityState> entities_;
   dds::Reader<rigger_vision_TrackerCommand> commands_;
   dds::Writer<rigger_vision_TrackedPose> poses_;
+  /// Markerless TRACK_CONTINUOUS; its results are posted to the loop thread and published there.
+  ModelTracker model_tracker_;
   cell_follower::CellFollower follower_;  // last: its callback uses the members above
 };
 

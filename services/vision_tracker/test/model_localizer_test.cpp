@@ -6,7 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
+
+#include "box_depth.hpp"
 
 namespace rigger::vision {
 namespace {
@@ -17,56 +18,6 @@ ModelLocalizer demo_localizer() {
   ModelLocalizer localizer;
   localizer.set_cell(cell::load_cell_file(kCell), cell::cell_model_folder(kCell));
   return localizer;
-}
-
-/// The demo camera (1280 x 720, f 1000 px) at `eye_offset` from a box of half sizes `half` at `pose`, looking at
-/// its centre: depth by ray casting the box and, behind it, the floor (z = 0; a part
-/// seen against nothing could slide off its silhouette unnoticed).
-perception::DepthFrame render_box(const Eigen::Isometry3d& pose_world_box, const Eigen::Vector3d& half,
-                                  const Eigen::Vector3d& eye_offset) {
-  perception::DepthFrame frame;
-  frame.intrinsics = {1000.0, 1000.0, 640.0, 360.0};
-  const Eigen::Vector3d eye = pose_world_box.translation() + eye_offset;
-  const Eigen::Vector3d z = (pose_world_box.translation() - eye).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-  frame.pose_world_camera.linear().col(0) = x;
-  frame.pose_world_camera.linear().col(1) = z.cross(x);
-  frame.pose_world_camera.linear().col(2) = z;
-  frame.pose_world_camera.translation() = eye;
-  frame.depth_m.create(720, 1280, CV_32FC1);
-  const Eigen::Isometry3d box_from_camera = pose_world_box.inverse() * frame.pose_world_camera;
-  for (int v = 0; v < 720; ++v) {
-    for (int u = 0; u < 1280; ++u) {
-      const Eigen::Vector3d ray_camera((u - 640.0) / 1000.0, (v - 360.0) / 1000.0, 1.0);
-      const Eigen::Vector3d o = box_from_camera.translation();
-      const Eigen::Vector3d d = box_from_camera.linear() * ray_camera;
-      double t_near = -std::numeric_limits<double>::infinity();
-      double t_far = std::numeric_limits<double>::infinity();
-      for (int i = 0; i < 3; ++i) {
-        const double a = (-half[i] - o[i]) / d[i];
-        const double b = (half[i] - o[i]) / d[i];
-        t_near = std::max(t_near, std::min(a, b));
-        t_far = std::min(t_far, std::max(a, b));
-      }
-      double t = t_near <= t_far && t_near > 0 ? t_near : std::numeric_limits<double>::quiet_NaN();
-      if (std::isnan(t)) {
-        const Eigen::Vector3d d_world = frame.pose_world_camera.linear() * ray_camera;
-        if (d_world.z() < 0) t = -eye.z() / d_world.z();
-      }
-      frame.depth_m.at<float>(v, u) = static_cast<float>(t);
-    }
-  }
-  // A structured-light sensor's holes on both sides of a depth step (as cell_sim's depth_noise edge_gap_m).
-  const cv::Mat seen = frame.depth_m.clone();
-  for (int v = 1; v + 1 < 720; ++v) {
-    for (int u = 1; u + 1 < 1280; ++u) {
-      const float here = seen.at<float>(v, u);
-      for (const auto& [dv, du] : {std::pair{0, 1}, std::pair{0, -1}, std::pair{1, 0}, std::pair{-1, 0}}) {
-        if (!(std::abs(seen.at<float>(v + dv, u + du) - here) <= 0.01F)) frame.depth_m.at<float>(v, u) = NAN;
-      }
-    }
-  }
-  return frame;
 }
 
 TEST(ModelLocalizerTest, ReadsTheLoadsStepModelInTheEntityFrame) {
@@ -143,6 +94,44 @@ TEST(ModelLocalizerTest, APoseSlidAlongTheEdgeOfTheTwoSeenFacesIsRefusedNotRepor
   slid.translation() += truth.linear() * Eigen::Vector3d(0.0, -0.02, 0.0);
   std::string problem;
   EXPECT_GT(unseen_share(*localizer.mesh("load", problem), slid, frame), ModelLocalizer::kMaxUnseenShare);
+}
+
+
+/// The demo cell's camera (deploy/cell/simulated_cell.json: at (5.1, 2.0, 1.6), rpy (-113, 0, 90) degrees).
+Eigen::Isometry3d demo_camera() {
+  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
+  camera.translation() = Eigen::Vector3d(5.1, 2.0, 1.6);
+  camera.linear() = (Eigen::AngleAxisd(M_PI / 2.0, Eigen::Vector3d::UnitZ()) *
+                     Eigen::AngleAxisd(-113.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()))
+                        .toRotationMatrix();
+  return camera;
+}
+
+TEST(ModelLocalizerTest, ALoadHeldByTheRobotIsFoundWithTheArmBehindIt) {
+  // The demo cell: the robot grips the load's -x face, away from the camera; its wrist and forearm rise
+  // behind the load, seen past the load's top edge.
+  ModelLocalizer localizer = demo_localizer();
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+  truth.translation() = Eigen::Vector3d(3.55, 1.75, 1.20);
+  const auto in_load = [&](const Eigen::Vector3d& at) {
+    Eigen::Isometry3d pose = truth;
+    pose.translation() = truth * at;
+    return pose;
+  };
+  const std::vector<DepthBox> cell = {
+      {truth, {0.20, 0.15, 0.10}},
+      {in_load({-0.26, 0.0, 0.0}), {0.06, 0.07, 0.07}},   // the gripper
+      {in_load({-0.36, 0.0, 0.30}), {0.06, 0.06, 0.30}},  // the forearm
+  };
+  for (const bool with_arm : {false, true}) {
+    const perception::DepthFrame frame =
+        render_boxes(demo_camera(), with_arm ? cell : std::vector<DepthBox>{cell.front()});
+    Eigen::Isometry3d prior = truth;
+    prior.translation() += Eigen::Vector3d(0.008, -0.006, 0.004);
+    const ModelLocalization found = localizer.localize("load", frame, prior);
+    ASSERT_EQ(found.status, "FOUND") << (with_arm ? "with" : "without") << " the arm: " << found.detail;
+    EXPECT_LT((found.pose_world_object.translation() - truth.translation()).norm(), 0.003) << with_arm;
+  }
 }
 
 }  // namespace

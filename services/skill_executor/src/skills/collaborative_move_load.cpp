@@ -50,7 +50,7 @@ CollaborativeMoveLoadSkill::CollaborativeMoveLoadSkill() {
 }
 
 void CollaborativeMoveLoadSkill::safe_stop(const SafeStopDone& done) {
-  admittance_safe_stop(ctx().devices().admittance, nullptr, "", done);
+  admittance_safe_stop(ctx().devices().admittance, nullptr, {}, done);
 }
 
 void CollaborativeMoveLoadSkill::check_crane() {

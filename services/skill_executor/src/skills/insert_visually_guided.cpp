@@ -79,7 +79,7 @@ InsertVisuallyGuidedSkill::InsertVisuallyGuidedSkill() {
   // Paused, admittance goes OFF (robot and crane at rest, magnet on) while the tracker keeps tracking;
   // resumed, the servo is engaged again from where the load is (timeout_s afresh).
   const auto hold_still = [this](SafeStopDone done) {
-    admittance_safe_stop(ctx().devices().admittance, nullptr, "", done);
+    admittance_safe_stop(ctx().devices().admittance, nullptr, {}, done);
   };
   add_state({"engage", [this] { engage(); }, stop, hold_still, "engage"});
   add_state({"servo", [this] { servo(); }, stop, hold_still, "engage"});
@@ -87,11 +87,11 @@ InsertVisuallyGuidedSkill::InsertVisuallyGuidedSkill() {
 }
 
 void InsertVisuallyGuidedSkill::safe_stop(const SafeStopDone& done) {
-  admittance_safe_stop(ctx().devices().admittance, ctx().devices().tracker, object_, done);
+  admittance_safe_stop(ctx().devices().admittance, ctx().devices().tracker, {object_, target_}, done);
 }
 
 void InsertVisuallyGuidedSkill::stop_tracking(const SafeStopDone& done) {
-  ctx().devices().tracker->command(TrackerRequest::kStop, object_);
+  for (const std::string& id : {object_, target_}) ctx().devices().tracker->command(TrackerRequest::kStop, id);
   done(true, "tracker stopped; nothing else was commanded");
 }
 
@@ -260,7 +260,8 @@ void InsertVisuallyGuidedSkill::on_admittance(const AdmittanceSnapshot& s) {
 
 void InsertVisuallyGuidedSkill::hold() {
   ctx().progress(0.95, "inserted; admittance OFF (robot and crane hold, magnet on)");
-  ctx().devices().tracker->command(TrackerRequest::kStop, object_);
+  // Both were tracked for the servo: a target tracked by its model costs the tracker a search per image.
+  for (const std::string& id : {object_, target_}) ctx().devices().tracker->command(TrackerRequest::kStop, id);
   disengage_admittance([this] {
     succeed("inserted " + object_ + " into " + target_ + " (servo error " +
             servo_error_text(last_error_m_, last_error_rad_) + "); admittance OFF, robot and crane hold, magnet on");

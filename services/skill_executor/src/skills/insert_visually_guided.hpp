@@ -19,13 +19,13 @@
 /// ADMITTANCE_FAULT (any other admittance fault lasting kAdmittanceFaultGrace), ADMITTANCE_PREEMPTED (another
 /// mode/reference commanded), TRACKING_LOST (no good tracker pose of object or target for tracking_lost_s, or the servo
 /// reports a tracking stop for that long), TIMEOUT (not settled within timeout_s, counted from engage). hold:
-/// admittance OFF (confirmed with robot and crane at rest) and TRACK_STOP. OFF, not ROBOT: with admittance OFF the
+/// admittance OFF (confirmed with robot and crane at rest) and TRACK_STOP of object and target. OFF, not ROBOT: with admittance OFF the
 /// robot holds its pose stiffly (no twist setpoints) and the crane its position, so the operator's screwing forces in
 /// the following Screw step cannot push the load out of the target, whereas ROBOT mode (no reference) would yield to
 /// them. The magnet stays on throughout.
 ///
-/// Safe stops: check_crane, lookup, crane_external → nothing commanded; track → TRACK_STOP;
-/// engage, servo, hold → admittance OFF (robot and crane ramp to zero), TRACK_STOP, and wait for the
+/// Safe stops: check_crane, lookup, crane_external → nothing commanded; track → TRACK_STOP (object and
+/// target); engage, servo, hold → admittance OFF (robot and crane ramp to zero), TRACK_STOP, and wait for the
 /// admittance state to report OFF at rest. The magnet is never touched.
 /// Claims robot, crane, camera, $object, $target. Pre: attached(robot,$object), localized($object),
 /// localized($target). Post: inserted($object,$target).

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "rigger/skill_sdk/cell_devices.hpp"
 #include "rigger/skill_sdk/skill.hpp"
@@ -67,9 +68,9 @@ class CraneSkill : public Skill {
 /// The collaborative safe stop: admittance OFF (robot twist and crane velocity ramp to zero; the
 /// magnet is not touched and stays on), done(true) once the admittance state reports OFF with both
 /// outputs at rest; done(false) when it does not within kAdmittanceStopTimeout. When `tracker` is
-/// given, the tracker's continuous mode is stopped too (TRACK_STOP for `object`).
-void admittance_safe_stop(AdmittanceController* admittance, VisionTracker* tracker, const std::string& object,
-                          const Skill::SafeStopDone& done);
+/// given, the tracker's continuous mode is stopped too (TRACK_STOP for each of `objects`).
+void admittance_safe_stop(AdmittanceController* admittance, VisionTracker* tracker,
+                          const std::vector<std::string>& objects, const Skill::SafeStopDone& done);
 
 /// True for the admittance fault codes that mean the crane side failed ("CRANE_FAULT" and the crane
 /// law's own "FORCE_*" faults are not: they are the admittance controller's).

@@ -98,6 +98,12 @@ class FakeTracker final : public VisionTracker {
     return static_cast<int>(
         std::count_if(commands.begin(), commands.end(), [request](const auto& c) { return c.first == request; }));
   }
+  /// Commands `request` for `object` only.
+  int count(TrackerRequest request, const std::string& object) const {
+    return static_cast<int>(std::count_if(commands.begin(), commands.end(), [&](const auto& c) {
+      return c.first == request && c.second == object;
+    }));
+  }
   std::size_t watches() const { return watches_.size(); }
 
   WallTime now = WallTime(std::chrono::seconds(1'700'000'000));

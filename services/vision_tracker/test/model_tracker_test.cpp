@@ -1,0 +1,140 @@
+// ModelTracker on depth images ray-cast here (box_depth.hpp): the demo load followed from image to image
+// by its STEP model, a refused image that keeps the last pose, and a stop that ends the results and reports
+// what the tracking cost.
+#include "model_tracker.hpp"
+
+#include <gtest/gtest.h>
+
+#include <condition_variable>
+#include <mutex>
+#include <vector>
+
+#include "box_depth.hpp"
+
+namespace rigger::vision {
+namespace {
+
+using namespace std::chrono_literals;
+
+const std::string kCell = std::string(RIGGER_SOURCE_DIR) + "/deploy/cell/simulated_cell_markerless.json";
+const Eigen::Vector3d kLoadHalf(0.20, 0.15, 0.10);
+
+/// What the tracker's callbacks delivered (on its worker thread), waited on by the test's thread.
+class Delivered {
+ public:
+  ModelTracker::Publish publish() {
+    return [this](const std::string& id, Stamp stamp, const ModelLocalization& result) {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      results_.push_back({id, stamp, result});
+      changed_.notify_all();
+    };
+  }
+  ModelTracker::Report report() {
+    return [this](const ModelTrackerFigures& f) {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      figures_.push_back(f);
+      changed_.notify_all();
+    };
+  }
+  struct Result {
+    std::string id;
+    Stamp stamp;
+    ModelLocalization localization;
+  };
+  /// The `n`th result (from 0), waiting for it up to 30 s (a search takes a fraction of a second).
+  std::optional<Result> result(std::size_t n) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (!changed_.wait_for(lock, 30s, [&] { return results_.size() > n; })) return std::nullopt;
+    return results_[n];
+  }
+  std::optional<ModelTrackerFigures> figures() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (!changed_.wait_for(lock, 30s, [&] { return !figures_.empty(); })) return std::nullopt;
+    return figures_.back();
+  }
+  std::size_t results() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return results_.size();
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<Result> results_;
+  std::vector<ModelTrackerFigures> figures_;
+};
+
+double millimetres(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return (a.translation() - b.translation()).norm() * 1000.0;
+}
+
+TEST(ModelTrackerTest, FollowsAMovingLoadImageByImageKeepsItsLastPoseOverARefusalAndStops) {
+  ModelLocalizer localizer;
+  localizer.set_cell(cell::load_cell_file(kCell), cell::cell_model_folder(kCell));
+  std::string problem;
+  const perception::Mesh* mesh = localizer.mesh("load", problem);
+  ASSERT_NE(mesh, nullptr) << problem;
+
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+  truth.translation() = Eigen::Vector3d(3.55, 1.75, 1.20);
+  truth.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  // Fixed, as a cell's camera is: the +x face, the -y face and the top in view.
+  const Eigen::Isometry3d camera = camera_looking(truth.translation() + Eigen::Vector3d(1.3, -0.7, 0.5), truth.translation());
+  const auto image = [&](const Eigen::Isometry3d& load) { return render_boxes(camera, {{load, kLoadHalf}}); };
+
+  Delivered delivered;
+  ModelTracker tracker(delivered.publish(), delivered.report());
+  EXPECT_FALSE(tracker.submit(image(truth), Stamp(1s))) << "nothing tracked: the image is dropped";
+  Eigen::Isometry3d prior = truth;
+  prior.translation() += Eigen::Vector3d(0.012, -0.008, 0.006);
+  tracker.start("load", std::make_shared<const perception::Mesh>(*mesh), prior);
+  EXPECT_TRUE(tracker.tracking("load"));
+
+  // The load speeds up to 0.3 m/s (three times the servo's limit), imaged every 0.2 s: 6 cm between the
+  // last images, each found from the pose in the one before.
+  std::size_t n = 0;
+  const Eigen::Isometry3d start = truth;
+  const double offsets_m[] = {0.0, 0.02, 0.06, 0.12, 0.18};
+  Stamp stamp(std::chrono::seconds(2));
+  for (const double offset : offsets_m) {
+    Eigen::Isometry3d now = start;
+    now.translation().y() += offset;
+    stamp += 200ms;
+    ASSERT_TRUE(tracker.submit(image(now), stamp));
+    const auto r = delivered.result(n++);
+    ASSERT_TRUE(r.has_value()) << "no result at " << offset << " m";
+    EXPECT_EQ(r->id, "load");
+    EXPECT_EQ(r->stamp, stamp) << "the image's stamp";
+    ASSERT_EQ(r->localization.status, "FOUND") << offset << " m: " << r->localization.detail;
+    EXPECT_LT(millimetres(r->localization.pose_world_object, now), 3.0) << offset << " m";
+    truth = now;
+  }
+  // The load out of its box (gone from where it was): refused with a code, no pose, no search elsewhere.
+  Eigen::Isometry3d gone = truth;
+  gone.translation() += Eigen::Vector3d(0.0, 0.6, 0.0);
+  ASSERT_TRUE(tracker.submit(image(gone), stamp += 200ms));
+  const auto refused = delivered.result(n++);
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_FALSE(refused->localization.found()) << "found it 0.6 m away: the tracking searched the whole image";
+  EXPECT_NE(refused->localization.status, "");
+  // Back where it was last found: found again from that pose.
+  ASSERT_TRUE(tracker.submit(image(truth), stamp += 200ms));
+  const auto again = delivered.result(n++);
+  ASSERT_TRUE(again.has_value());
+  ASSERT_EQ(again->localization.status, "FOUND") << again->localization.detail;
+  EXPECT_LT(millimetres(again->localization.pose_world_object, truth), 3.0);
+
+  EXPECT_TRUE(tracker.stop("load"));
+  EXPECT_FALSE(tracker.stop("load")) << "no longer tracked";
+  EXPECT_FALSE(tracker.any());
+  const auto figures = delivered.figures();
+  ASSERT_TRUE(figures.has_value()) << "the last object's stop reports the figures";
+  EXPECT_EQ(figures->frames, 7);
+  EXPECT_GT(figures->frame_ms_p50, 0.0);
+  EXPECT_GE(figures->frame_ms_max, figures->frame_ms_p50);
+  EXPECT_FALSE(tracker.submit(image(truth), stamp += 200ms)) << "stopped: images are dropped";
+  EXPECT_EQ(delivered.results(), n);
+}
+
+}  // namespace
+}  // namespace rigger::vision
