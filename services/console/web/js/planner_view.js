@@ -321,7 +321,10 @@ export class PartsView {
     const pick = this.describe(entity, face, this.holeOfFace(entity, face));
     if (pick.kind === 'face') {
       const local = hit.point.clone().applyMatrix4(this.parts.get(entity).group.matrixWorld.clone().invert());
-      pick.point_m = [local.x, local.y, local.z];
+      // To 0.1 mm: a click is not finer than that, and the same clicks then give the same bytes (the ray
+      // through a pixel moves by nanometres with the view's orbit). The CAD service projects the point
+      // onto the face.
+      pick.point_m = [local.x, local.y, local.z].map((v) => Math.round(v * 1e4) / 1e4);
     }
     return pick;
   }

@@ -40,7 +40,7 @@ inline constexpr Topic<rigger_vision_TrackedPose> kTrackerPose{"rigger/tracker/p
                                                                "object_id",
                                                                "vision_tracker",
                                                                "world_model, admittance_control",
-                                                               "(pose with covariance, quality, tracked, image stamp; a TRACK_ONCE_MODEL's status code and detail)",
+                                                               "(pose with covariance, quality, tracked, image stamp; a search by model's status code and detail, and NOT_SEEN for a TRACK_ONCE that ended without a pose)",
                                                                ""};
 
 /// skills → vision_tracker.
