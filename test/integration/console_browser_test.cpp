@@ -59,19 +59,22 @@ void expect_plots_are_the_physics(const ScenarioCell& scenario, const PhysicsTra
   EXPECT_GT(force.physics_peak, 1.0) << "the physics pushed with no force: nothing to compare";
   EXPECT_GT(speed.physics_peak, 0.01) << "the tool did not move: nothing to compare";
   // The console averages the samples that arrived in a row's interval, the physics here those stamped in
-  // it: a contact spike at a row's edge lands in one row or the next depending on the delivery lag. The
-  // page's peak must match the physics' peak for some lag of 0 to 20 ms, within 10 %.
-  double lag_peak_lo = force.physics_peak, lag_peak_hi = force.physics_peak;
+  // it: a contact spike at a row's edge lands in one row or the next depending on its delivery lag, which
+  // varies from sample to sample on a loaded machine (one row's peak was once 12 % under every constant
+  // lag's). So the peaks compared are those of the mean over a few rows in a row, and the page's must
+  // match the physics' for some lag of 0 to 20 ms, within 10 %.
+  double lag_peak_lo = force.physics_window_peak, lag_peak_hi = force.physics_window_peak;
   for (const double lag_s : {0.002, 0.005, 0.01, 0.02}) {
     const double peak = compare_series(plots.at("f"), from, to, kPlotRowS, [&](double row_from, double t) {
                           return physics.force_at(row_from - lag_s, t - lag_s);
-                        }).physics_peak;
+                        }).physics_window_peak;
     lag_peak_lo = std::min(lag_peak_lo, peak);
     lag_peak_hi = std::max(lag_peak_hi, peak);
   }
-  std::printf("  |F| physics peak for delivery lags of 0-20 ms: %.4f-%.4f N\n", lag_peak_lo, lag_peak_hi);
-  EXPECT_GE(force.page_peak, 0.9 * lag_peak_lo) << "|F| peak";
-  EXPECT_LE(force.page_peak, 1.1 * lag_peak_hi) << "|F| peak";
+  std::printf("  |F| physics peak over %d rows for delivery lags of 0-20 ms: %.4f-%.4f N\n", kPeakWindowRows,
+              lag_peak_lo, lag_peak_hi);
+  EXPECT_GE(force.page_window_peak, 0.9 * lag_peak_lo) << "|F| peak";
+  EXPECT_LE(force.page_window_peak, 1.1 * lag_peak_hi) << "|F| peak";
   EXPECT_NEAR(speed.page_peak, speed.physics_peak, 0.05 * speed.physics_peak) << "tool speed peak";
   EXPECT_LE(force.median_error, 0.1) << "|F| (N) row by row";
   EXPECT_LE(speed.median_error, 0.001) << "tool speed (m/s) row by row";

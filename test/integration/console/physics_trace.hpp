@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 #include <string>
 #include <utility>
 #include <vector>
@@ -75,19 +76,26 @@ class PhysicsTrace {
   std::vector<std::pair<double, double>> speed_;
 };
 
-/// A plotted series against the physics over [from, to]: the rows in it, the peaks, the largest and the
-/// median difference row by row.
+/// Rows in a window of the series' peaks over windows: a sample that arrives a row late moves between
+/// neighbouring rows, and stays in most windows that hold either.
+constexpr int kPeakWindowRows = 3;
+
+/// A plotted series against the physics over [from, to]: the rows in it, the peaks (of one row and of the
+/// mean over kPeakWindowRows rows in a row), the largest and the median difference row by row.
 struct SeriesComparison {
   int rows = 0;
   double first_t = 0.0, last_t = 0.0;
   double page_peak = 0.0, physics_peak = 0.0;
+  double page_window_peak = 0.0, physics_window_peak = 0.0;
   double median_error = 0.0, max_error = 0.0;
 
   std::string describe(const char* what, const char* unit) const {
-    char s[320];
+    char s[400];
     std::snprintf(s, sizeof s,
-                  "%s: %d rows over %.2f s; peak page %.4f %s, physics %.4f %s; row error median %.4f, max %.4f %s",
-                  what, rows, last_t - first_t, page_peak, unit, physics_peak, unit, median_error, max_error, unit);
+                  "%s: %d rows over %.2f s; peak page %.4f %s, physics %.4f %s (over %d rows: %.4f, %.4f); row error "
+                  "median %.4f, max %.4f %s",
+                  what, rows, last_t - first_t, page_peak, unit, physics_peak, unit, kPeakWindowRows, page_window_peak,
+                  physics_window_peak, median_error, max_error, unit);
     return s;
   }
 };
@@ -99,7 +107,7 @@ template <typename Physics>
 SeriesComparison compare_series(const nlohmann::json& series, double from, double to, double first_row_s,
                                 Physics physics) {
   SeriesComparison c;
-  std::vector<double> errors;
+  std::vector<double> errors, pages, truths;
   double previous_t = std::nan("");
   for (const auto& row : series) {
     const double t = row.at(0).get<double>(), page = row.at(1).get<double>();
@@ -113,7 +121,19 @@ SeriesComparison compare_series(const nlohmann::json& series, double from, doubl
     c.page_peak = std::max(c.page_peak, page);
     c.physics_peak = std::max(c.physics_peak, truth);
     errors.push_back(std::abs(page - truth));
+    pages.push_back(page);
+    truths.push_back(truth);
   }
+  const auto window_peak = [](const std::vector<double>& v) {
+    double peak = 0.0;
+    for (std::size_t i = 0; i + kPeakWindowRows <= v.size(); ++i)
+      peak = std::max(peak, std::accumulate(v.begin() + static_cast<std::ptrdiff_t>(i),
+                                            v.begin() + static_cast<std::ptrdiff_t>(i + kPeakWindowRows), 0.0) /
+                                kPeakWindowRows);
+    return peak;
+  };
+  c.page_window_peak = window_peak(pages);
+  c.physics_window_peak = window_peak(truths);
   if (!errors.empty()) {
     std::sort(errors.begin(), errors.end());
     c.median_error = errors[errors.size() / 2];
