@@ -463,7 +463,7 @@ int resolve(const Features& features, const Reference& ref, double tolerance_m, 
   }
   why += matches == 0 ? " and no entity of model " + features.model_sha256.substr(0, 12) + " has its signature"
                       : " and " + std::to_string(matches) + " entities have its signature";
-  throw CadError(ErrorCode::kStaleReference, "stale reference: " + why);
+  throw StaleReference(why);
 }
 
 }  // namespace rigger::cad

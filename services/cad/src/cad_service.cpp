@@ -413,8 +413,8 @@ CadAnswer CadService::derive(Entry& entry, const std::string& args_json) const {
       }
       try {
         result["resolved"].push_back({{"index", cad::resolve(entry.features, ref)}});
-      } catch (const cad::CadError& error) {
-        result["resolved"].push_back({{"stale", error.what()}});
+      } catch (const cad::StaleReference& error) {
+        result["resolved"].push_back({{"stale", error.why()}});
       }
     }
   } else {

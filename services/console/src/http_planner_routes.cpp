@@ -307,12 +307,8 @@ void HttpApi::post_planner_replace(const httplib::Request& req, httplib::Respons
       const auto answer = backend_.cad("derive", "sha256:" + request.sha256,
                                        json{{"parameter", "resolve"}, {"references", refs}}.dump());
       if (!answer.ok) throw CadRefusal{answer.message};
-      constexpr std::string_view kPrefix = "stale reference: ";
-      for (const json& r : answer.data.value("result", json::object()).value("resolved", json::array())) {
-        std::string stale = r.value("stale", "");
-        if (stale.rfind(kPrefix, 0) == 0) stale.erase(0, kPrefix.size());
-        why.push_back(std::move(stale));
-      }
+      for (const json& r : answer.data.value("result", json::object()).value("resolved", json::array()))
+        why.push_back(r.value("stale", ""));
       return why;
     };
     std::optional<Replacement> replaced;

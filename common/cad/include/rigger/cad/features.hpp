@@ -104,7 +104,7 @@ Features classify(const Model& model);
 
 /// The index `ref` designates in `features`. The index is kept when its signature still matches; when
 /// the model changed and exactly one other entity of the kind has the same signature, that one is
-/// returned; otherwise throws CadError(kStaleReference) saying what differs (or kBadReference).
+/// returned; otherwise throws StaleReference saying what differs (or kBadReference).
 int resolve(const Features& features, const Reference& ref, double tolerance_m = 1e-6, double tolerance_rad = 1e-6);
 
 }  // namespace rigger::cad

@@ -48,6 +48,17 @@ class CadError : public std::runtime_error {
   ErrorCode code_;
 };
 
+/// A reference that no longer lands on the model (kStaleReference): `why()` says what differs, without
+/// the "stale reference: " that what() begins with.
+class StaleReference : public CadError {
+ public:
+  explicit StaleReference(const std::string& why) : CadError(ErrorCode::kStaleReference, "stale reference: " + why), why_(why) {}
+  const std::string& why() const noexcept { return why_; }
+
+ private:
+  std::string why_;
+};
+
 /// Bounds on reading untrusted STEP input.
 struct ReadLimits {
   std::uintmax_t max_bytes = 64ull << 20;                ///< larger inputs are refused before parsing
