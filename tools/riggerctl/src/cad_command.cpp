@@ -1,15 +1,21 @@
-// `riggerctl cad inspect|frame FILE`: reads a STEP file with rigger's CAD library (in a child process,
-// bounded) and prints its product tree and features, or the frame a pick rule makes. Offline: no DDS.
+// `riggerctl cad inspect|frame|extract FILE`: reads a STEP file with rigger's CAD library (in a child
+// process, bounded) and prints its product tree and features, the frame a pick rule makes, or writes one
+// node of its product tree as a STEP file of its own. Offline: no DDS.
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
+#include "rigger/base/sha256.hpp"
 #include "rigger/base/text.hpp"
+#include "rigger/cad/assembly.hpp"
 #include "rigger/cad/cad_json.hpp"
 #include "rigger/cad/frames.hpp"
 
@@ -27,19 +33,39 @@ struct CadArgs {
   std::string edges;
   int face = -1;
   int hole = -1;
+  std::string node;
+  std::string output;
 };
 
 std::string vec_text(const Eigen::Vector3d& v) {
   return "(" + number_text(v.x()) + ", " + number_text(v.y()) + ", " + number_text(v.z()) + ")";
 }
 
-void print_tree(const cad::ProductNode& node, int depth) {
+// Each node with its path from the root ("0/1"), as `cad extract --node` takes it.
+void print_tree(const cad::ProductNode& node, const cad::NodePath& path) {
   const bool instance = !node.instance.empty() && node.instance != node.name;
-  std::printf("%*s%s%s%s%s\n", 2 * depth, "", node.name.empty() ? "(unnamed)" : node.name.c_str(),
-              node.assembly ? " [assembly]" : "", instance ? " instance " : "", instance ? node.instance.c_str() : "");
-  for (const auto& child : node.children) {
-    print_tree(child, depth + 1);
+  const std::string at = path.empty() ? "" : "  [" + cad::to_string(path) + "]";
+  std::printf("%*s%s%s%s%s%s\n", 2 * static_cast<int>(path.size() + 1), "", node.name.empty() ? "(unnamed)" : node.name.c_str(),
+              node.assembly ? " [assembly]" : "", instance ? " instance " : "", instance ? node.instance.c_str() : "",
+              at.c_str());
+  for (std::size_t i = 0; i < node.children.size(); ++i) {
+    cad::NodePath child = path;
+    child.push_back(static_cast<int>(i));
+    print_tree(node.children[i], child);
   }
+}
+
+// "0/1": the component indices from the root; nullopt when the text is not that.
+std::optional<cad::NodePath> parse_node_path(const std::string& text) {
+  cad::NodePath path;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, '/')) {
+    if (item.empty() || item.size() > 6 || item.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+    path.push_back(std::stoi(item));
+  }
+  if (path.empty() || text.back() == '/') return std::nullopt;
+  return path;
 }
 
 bool parse_numbers(const std::string& text, std::size_t count, std::vector<double>& out) {
@@ -95,7 +121,7 @@ int inspect(const CadArgs& args) {
     return 0;
   }
   std::printf("%s\nsha256 %s\n\nproduct tree:\n", args.file.c_str(), model.sha256().c_str());
-  print_tree(model.product(), 1);
+  print_tree(model.product(), {});
   const auto counts = cad::features_json(features, false)["counts"];
   std::printf("\nfeatures:\n");
   for (const auto& [kind, count] : counts.items()) {
@@ -158,6 +184,39 @@ int frame(const CadArgs& args) {
   return 0;
 }
 
+// One node of the file's product tree (a part or a sub-assembly) as a STEP file of its own, in its own
+// frame, as the Planner adds a node to the cell.
+int extract(const CadArgs& args) {
+  const auto path = parse_node_path(args.node);
+  if (!path) {
+    std::fprintf(stderr, "riggerctl: cad extract: --node must be the component indices from the root, e.g. 0/1 (as "
+                         "`riggerctl cad inspect` shows them), got \"%s\"\n", args.node.c_str());
+    return kExitUsage;
+  }
+  std::error_code error;
+  if (std::filesystem::exists(args.output, error)) {
+    std::fprintf(stderr, "riggerctl: cad extract: %s exists: not overwritten (remove it or name another)\n", args.output.c_str());
+    return kExitUsage;
+  }
+  const cad::ExtractedNode node = cad::extract_step_node(std::filesystem::path(args.file), *path);
+  std::ofstream out(args.output, std::ios::binary);
+  out.write(node.step.data(), static_cast<std::streamsize>(node.step.size()));
+  out.close();
+  if (!out) {
+    std::fprintf(stderr, "riggerctl: cad extract: could not write %s\n", args.output.c_str());
+    std::filesystem::remove(args.output, error);
+    return kExitCadError;
+  }
+  const Eigen::Isometry3d& at = node.pose_in_file;
+  std::printf("node %s ('%s'%s%s) of %s written to %s\n  %zu bytes, sha256 %s\n  placed in the file at %s m, "
+              "x %s, z %s\n",
+              cad::to_string(*path).c_str(), node.name.c_str(), node.instance.empty() ? "" : ", instance ",
+              node.instance.c_str(), args.file.c_str(), args.output.c_str(), node.step.size(),
+              sha256_hex(node.step).c_str(), vec_text(at.translation()).c_str(), vec_text(at.linear().col(0)).c_str(),
+              vec_text(at.linear().col(2)).c_str());
+  return 0;
+}
+
 int guarded(int (*command)(const CadArgs&), const CadArgs& args) {
   try {
     return command(args);
@@ -186,6 +245,11 @@ void add_cad_command(CLI::App& app, int& exit_code) {
   frame_cmd->add_option("--hole", args->hole, "hole index (z along its axis, origin at its entry)");
   frame_cmd->add_flag("--json", args->json, "One JSON document");
   frame_cmd->callback([args, &exit_code] { exit_code = guarded(frame, *args); });
+  auto* extract_cmd = cad->add_subcommand("extract", "One node of the product tree (a part or sub-assembly) as a STEP file of its own");
+  extract_cmd->add_option("file", args->file, "STEP file")->required();
+  extract_cmd->add_option("--node", args->node, "the node's path from the root, e.g. 0/1 (cad inspect shows each node's)")->required();
+  extract_cmd->add_option("--output,-o", args->output, "the STEP file to write (not overwritten if it exists)")->required();
+  extract_cmd->callback([args, &exit_code] { exit_code = guarded(extract, *args); });
 }
 
 }  // namespace rigger::ctl

@@ -1,6 +1,7 @@
 // `riggerctl cad` as a user runs it: the real binary on the cell's STEP files, on a part written as B-splines
 // and on a bad file.
 
+#include "rigger/cad/assembly.hpp"
 #include "rigger/cad/model.hpp"
 #include "rigger/cad/parts.hpp"
 
@@ -88,6 +89,44 @@ TEST(RiggerctlCad, InspectSaysWhatWasRecognisedFromBspline) {
       << run.out;
   EXPECT_NE(run.out.find("  plane faces (6):"), std::string::npos) << run.out;
   std::filesystem::remove(path);
+}
+
+// An assembly: inspect shows each node's path, extract writes the node it names as a STEP file of its own
+// (its product in its own frame), and refuses a bad path, a missing node and an existing output file.
+TEST(RiggerctlCad, ExtractWritesTheNodeInspectShowsAndRefusesSayingWhat) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("riggerctl_extract_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string file = (dir / "assembly.step").string(), out = (dir / "pair.step").string();
+  rigger::cad::write_step_assembly(rigger::cad::parts::test_assembly(), file);
+  CtlRun run = riggerctl("cad inspect " + file);
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  EXPECT_NE(run.out.find("instance pair_1  [1]\n"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("instance block_right  [1/1]\n"), std::string::npos) << run.out;
+
+  run = riggerctl("cad extract " + file + " --node 1 -o " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  EXPECT_NE(run.out.find("node 1 ('pair', instance pair_1)"), std::string::npos) << run.out;
+  const rigger::cad::Model pair = rigger::cad::read_step_file(out);
+  EXPECT_EQ(pair.product().name, "pair");
+  ASSERT_EQ(pair.product().children.size(), 2u);
+  EXPECT_EQ(pair.product().children[1].instance, "block_right");
+  EXPECT_NE(run.out.find("placed in the file at (0, 1, 0) m"), std::string::npos) << run.out;
+
+  const auto size = fs::file_size(out);
+  run = riggerctl("cad extract " + file + " --node 0 -o " + out);
+  EXPECT_EQ(run.exit_code, 2) << run.out;
+  EXPECT_NE(run.out.find("exists: not overwritten"), std::string::npos) << run.out;
+  EXPECT_EQ(fs::file_size(out), size) << "the existing file changed";
+  run = riggerctl("cad extract " + file + " --node 0/x -o " + (dir / "a.step").string());
+  EXPECT_EQ(run.exit_code, 2) << run.out;
+  EXPECT_NE(run.out.find("--node must be the component indices from the root"), std::string::npos) << run.out;
+  run = riggerctl("cad extract " + file + " --node 3 -o " + (dir / "b.step").string());
+  EXPECT_EQ(run.exit_code, 1) << run.out;
+  EXPECT_NE(run.out.find("CAD_BAD_REFERENCE"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("no node 3"), std::string::npos) << run.out;
+  EXPECT_FALSE(fs::exists(dir / "b.step")) << "a refused node left a file";
+  fs::remove_all(dir);
 }
 
 }  // namespace
