@@ -165,15 +165,16 @@ TEST_F(PlannerBrowserTest, APartPlacedByPicksBecomesACellRevisionWithItsFaceOnTh
 // cell's flange plate, written with OpenCascade here. The page showed what it holds and drew it, a click
 // picked its face; a file that is not STEP was refused on the page; the file became a cell object (its
 // bytes sent with the revision) and was placed by picks. The console audited the reads and revisions.
-// Then an assembly written here: its sub-assembly "frame" chosen in the product tree became an object
-// alone, its model the node's own STEP file (the same bytes as extracted here) with exactly its holes.
+// Then an assembly written here: its sheet (a node without a solid) was refused on the page when chosen,
+// and its sub-assembly "frame" chosen in the product tree became an object alone, its model the node's
+// own STEP file (the same bytes as extracted here) with exactly its holes.
 TEST_F(PlannerBrowserTest, AStepFileImportedInThePlannerIsShownDrawnAndPickable) {
   RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   const sim::GeneratedCell generated(cell_.log_dir() + "/generated", repo_file("deploy/cell/simulated_cell.json"));
   const std::string not_step = cell_.log_dir() + "/notes.step";
   std::ofstream(not_step) << "these are notes, not a STEP file\n";
   const std::filesystem::path assembly = cell_.log_dir() + "/cell_assembly.step";
-  cad::write_step_assembly(cad::parts::test_assembly(), assembly);
+  cad::write_step_assembly(cad::parts::test_assembly_with_a_sheet(), assembly);
   json result;
   ASSERT_TRUE(run_script("test/integration/planner/import.mjs", "planner-import-result.json", std::chrono::minutes(4),
                          result, {{"FLANGE", (generated.dir() / "models/flange.step").string()}, {"NOT_STEP", not_step},

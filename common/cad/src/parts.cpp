@@ -4,10 +4,12 @@
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <TopTools_ListOfShape.hxx>
 #include <gp_Ax2.hxx>
+#include <gp_Pln.hxx>
 
 #include <cmath>
 #include <stdexcept>
@@ -115,6 +117,13 @@ std::vector<AssemblyProduct> test_assembly() {
           {"plate", plate(), {}},
           {"bracket", bracket(), {}},
           {"block", block(), {}}};
+}
+
+std::vector<AssemblyProduct> test_assembly_with_a_sheet() {
+  std::vector<AssemblyProduct> products = test_assembly();
+  products[0].components.push_back({"sheet_1", static_cast<int>(products.size()), Eigen::Isometry3d::Identity()});
+  products.push_back({"sheet", BRepBuilderAPI_MakeFace(gp_Pln(), 0, 0.1, 0, 0.1).Shape(), {}});
+  return products;
 }
 
 std::vector<DrilledHole> boss_part_holes() { return {{{0.02, 0.02, 0.01}, Eigen::Vector3d::UnitZ(), 0.006, 0.01, true}}; }

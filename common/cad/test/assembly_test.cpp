@@ -8,10 +8,8 @@
 #include "step_file_test.hpp"
 
 #include <BRepBndLib.hxx>
-#include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <Bnd_Box.hxx>
-#include <gp_Pln.hxx>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -150,11 +148,7 @@ TEST_F(AssemblyTest, AFileInInchesGivesNodesInInches) {
 
 TEST_F(AssemblyTest, ANodeThatDoesNotExistOrHoldsNoSolidIsRefusedSayingWhere) {
   const fs::path file = dir_ / "assembly.step";
-  std::vector<AssemblyProduct> products = parts::test_assembly();
-  // A third component at the root: a sheet (one face, no solid).
-  products[0].components.push_back({"sheet_1", static_cast<int>(products.size()), Eigen::Isometry3d::Identity()});
-  products.push_back({"sheet", BRepBuilderAPI_MakeFace(gp_Pln(), 0, 0.1, 0, 0.1).Shape(), {}});
-  write_step_assembly(products, file);
+  write_step_assembly(parts::test_assembly_with_a_sheet(), file);  // node 2: a sheet (one face, no solid)
   const std::string bytes = file_text(file);
   std::string message;
   EXPECT_EQ(refusal(bytes, {3}, message), ErrorCode::kBadReference);

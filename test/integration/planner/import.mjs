@@ -266,11 +266,21 @@ try {
   const assemblyStarted = Date.now();
   await imported(env('ASSEMBLY'));
   const nodes = await page.$$eval('.product-tree .product-node', (bs) => bs.map((b) => ({ path: b.dataset.path, text: b.textContent })));
-  check(JSON.stringify(nodes.map((n) => n.path)) === JSON.stringify(['', '0', '0/0', '0/1', '1', '1/0', '1/1']),
+  check(JSON.stringify(nodes.map((n) => n.path)) === JSON.stringify(['', '0', '0/0', '0/1', '1', '1/0', '1/1', '2']),
     `each node of the product tree is a button with its path ${JSON.stringify(nodes)}`);
   check(/^block — instance block_left$/.test(nodes[5].text) && /^block — instance block_right$/.test(nodes[6].text),
     `the part used twice is two nodes, by instance ${JSON.stringify(nodes.slice(5))}`);
   const file = await state(() => window.rigger.planner.importer.imported.model);
+  // The sheet (one face, no solid) cannot be an object: the page says why, and the whole file stays chosen.
+  await page.click('.product-node[data-path="2"]');
+  await page.waitForFunction(() => /holds no solid/.test(document.querySelector('#planner-notice')?.textContent || ''), null, { timeout: 60000 });
+  const sheet = await state(() => ({ notice: document.querySelector('#planner-notice').textContent,
+    chosen: window.rigger.planner.importer.chosen, pressed: document.querySelector('.product-node[data-path="2"]').getAttribute('aria-pressed'),
+    whole: document.querySelector('.product-node[data-path=""]').getAttribute('aria-pressed') }));
+  check(/^sheet — instance sheet_1: .*node 2 \('sheet'\) holds no solid: only a solid can be an object/.test(sheet.notice) &&
+    sheet.chosen === null && sheet.pressed === 'false' && sheet.whole === 'true',
+    `a node without a solid is refused saying why, nothing chosen ${JSON.stringify(sheet)}`);
+  result.sheet_refused = sheet.notice;
   await page.focus('.product-node[data-path="0"]');
   await page.keyboard.press('Enter');
   await page.waitForFunction(() => /^Chosen: frame/.test(document.querySelector('#planner-imported-node')?.textContent || ''), null, { timeout: 60000 });

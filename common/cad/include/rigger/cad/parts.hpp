@@ -61,5 +61,8 @@ TopoDS_Shape bracket();
 std::vector<AssemblyProduct> test_assembly();
 /// The pose of each part instance of test_assembly() in its sub-assembly's frame, by instance name.
 Eigen::Isometry3d test_assembly_pose(const std::string& instance);
+/// test_assembly() with a third component at the root, "sheet_1": the product "sheet", one face of
+/// 0.1 x 0.1 m and no solid (a node that cannot be an object).
+std::vector<AssemblyProduct> test_assembly_with_a_sheet();
 
 }  // namespace rigger::cad::parts
