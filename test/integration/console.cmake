@@ -70,7 +70,8 @@ endif()
 # A new product: two STEP files written in the test (rigger::sim::write_new_product) imported, placed,
 # declared and programmed in the Planner by clicks only, validated, exported, replayed to the same bytes,
 # rehearsed in physics on the rehearsal cell the console starts on the revision as deployed (rigger-compose
-# supervise on deploy/compose.yaml), and published on the planner test's services.
+# supervise on deploy/compose.yaml), and published on the console's cell, made the simulated cell (the
+# scenario harness) once the rehearsal cell stopped.
 rigger_console_browser_test(rigger_planner_new_product_test planner_new_product_test.cpp
   console cad world_model scripted_executor task_controller rigger-compose cell_sim crane_gateway vision_tracker
   admittance_control monitor_host skill_executor scripted_operator)

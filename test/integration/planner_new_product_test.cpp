@@ -13,8 +13,8 @@
 //    (its bottom face on the plate's top face, a hole of each lined up by the pin) are served as the picks
 //    made them; the two markers' ids are the lowest no object carried (the page proposed them);
 //  - the session met the goal for the paper's task on a new product: at most 120 clicks and 10 typed values;
-//  - the exported recipe is canonical, names the planned objects and features, screws the six holes with the
-//    world model's per-hole torques, and the published task ran to SUCCEEDED on the console's cell;
+//  - the exported recipe is canonical, names the planned objects and features and screws the six holes with the
+//    world model's per-hole torques;
 //  - the script itself checked that the session, replayed in a new page on the cell rolled back to where it
 //    started, exported the same recipe and made the same cell document, byte for byte.
 //  - the bracket, given a sling above its centre of mass, took the crane's rope from the shipped load: it hangs
@@ -26,8 +26,15 @@
 //    rendered camera, admittance, the real skill executors, the scripted operator): that world model ran the
 //    revision's document (its sha256) before the controller gave the rehearsed task a status, the page showed
 //    it SUCCEEDED, and by the simulator's ground truth the bracket was within 5 mm / 1 degree of its CAD
-//    insertion pose on the plate when the Release started (screwed on; after it the bracket hangs again).
-// The console's own cell is scripted (as in the planner's other tests): the published run checks publishing.
+//    insertion pose on the plate when the Release started (screwed on; after it the bracket hangs again);
+//  - Publish ran the task in physics on the console's own cell: programmed with only what programming needs
+//    (scripted executors announcing the library), that cell becomes the simulated cell once the rehearsal cell
+//    has stopped (its services left their domain; two cells in physics do not keep up on two cores): the
+//    scripted executors stop and every other service of deploy/compose.yaml starts beside the world model and
+//    the controller, cell_sim on the world model's running revision (the session's document, written with its
+//    models as the console writes it for its rehearsal cell); the page publishes once the console offers the
+//    skills of exactly the cell's executors. The task ran to SUCCEEDED with the bracket, by the simulator's
+//    ground truth when the Release started, within 5 mm / 1 degree of the insertion the cell file's CAD gives.
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -42,6 +49,7 @@
 #include <nlohmann/json.hpp>
 
 #include "planner_test_support.hpp"
+#include "rehearsal_cell_file.hpp"
 #include "rigger/protocol/task.hpp"
 #include "rigger/protocol/sim.hpp"
 #include "rigger/protocol/task_names.hpp"
@@ -50,6 +58,7 @@
 #include "rigger/testing/require.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/world_protocol/cell_protocol.hpp"
+#include "scenario_support.hpp"
 
 namespace rigger::testing {
 namespace {
@@ -159,22 +168,28 @@ class RehearsalTruth {
   std::map<std::string, std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> started_;
 };
 
-class PlannerNewProductTest : public WithRehearsalCell<PlannerCellTest> {
- protected:
-  std::map<std::string, int> task_states_;
-  std::unique_ptr<dds::Reader<rigger_task_TaskStatus>> status_;
-};
+/// The bytes of the file at `path`.
+std::string file_bytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+using PlannerNewProductTest = WithRehearsalCell<PlannerCellTest>;
 
 TEST_F(PlannerNewProductTest, ANewProductImportedPlacedDeclaredAndProgrammedByClicksOnly) {
   RIGGER_REQUIRE_OR_SKIP(browser_tools_present(), "needs /usr/bin/chromium, node and services/console/web/node_modules (deploy/setup runs npm ci)");
   // Every file this test writes is written here, before the cell starts.
   const sim::NewProductModels models = sim::write_new_product(cell_.log_dir() + "/new-product");
-  status_ = std::make_unique<dds::Reader<rigger_task_TaskStatus>>(cell_.participant(), protocol::task::kStatus);
-  cell_.loop().on_data(*status_, [this] {
-    status_->take([this](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
-      task_states_[dds::to_string(s.task_id)] = s.state;
+  // The console's cell: its world model's running revision (the latest kept), which the published run's
+  // physics starts on.
+  std::optional<world_protocol::CellRevision> running;
+  dds::Reader<rigger_world_CellRevision> running_revisions(cell_.participant(), protocol::world::kCell);
+  const auto take_running = [&] {
+    running_revisions.take([&](const rigger_world_CellRevision& w, const dds_sample_info_t&) {
+      if (!running || w.cell_revision >= running->cell_revision) running = world_protocol::from_wire(w);
     });
-  });
+  };
+  cell_.loop().on_data(running_revisions, take_running);
   // The rehearsal cell the console starts on demand, on the revision it rehearses: the deployment's start
   // (deploy/config/console.json), its PLC port free and its state in the test's folder.
   std::filesystem::create_directories(rehearsal_.log_dir());
@@ -189,6 +204,8 @@ TEST_F(PlannerNewProductTest, ANewProductImportedPlacedDeclaredAndProgrammedByCl
       {"stop_timeout_s", 30}};
   RehearsalTruth physics(rehearsal_);
   std::vector<std::string> seen;  // on the rehearsal domain, in order: its world model's revisions, task statuses
+  std::string rehearsed;          // the rehearsed task and its latest state
+  int rehearsed_state = -1;
   dds::Reader<rigger_world_CellRevision> revisions(rehearsal_.participant(), protocol::world::kCell);
   dds::Reader<rigger_task_TaskStatus> statuses(rehearsal_.participant(), protocol::task::kStatus);
   rehearsal_.loop().on_data(revisions, [&] {
@@ -198,13 +215,57 @@ TEST_F(PlannerNewProductTest, ANewProductImportedPlacedDeclaredAndProgrammedByCl
   });
   rehearsal_.loop().on_data(statuses, [&] {
     statuses.take(
-        [&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) { seen.push_back("task " + dds::to_string(s.task_id)); });
+        [&](const rigger_task_TaskStatus& s, const dds_sample_info_t&) {
+          rehearsed = dds::to_string(s.task_id);
+          rehearsed_state = s.state;
+          seen.push_back("task " + rehearsed);
+        });
   });
   ASSERT_TRUE(start_planner_services(
       {{"rehearsal_domain", rehearsal_.domain_id()}, {"rehearsal", rehearsal}}));
   const std::string result_file = cell_.log_dir() + "/new-product-result.json";
-  ASSERT_TRUE(run_browser_script("test/integration/planner/new_product.mjs", result_file, std::chrono::minutes(9),
-                                 {{"BRACKET", models.bracket.string()}, {"PLATE", models.plate.string()}}, &rehearsal_))
+  // The script publishes once the console offers the skills of exactly these executors: the cell's own.
+  BrowserScript script = start_browser_script(
+      "test/integration/planner/new_product.mjs", result_file,
+      {{"BRACKET", models.bracket.string()},
+       {"PLATE", models.plate.string()},
+       {"CELL_EXECUTORS", "monitors,operator-skills,perception-skills,robot-skills"}},
+      {&rehearsal_, &cell_});
+  // Rehearsed, and the rehearsal cell stopped (idle): its every service left its domain. Two cells in physics
+  // at once do not keep up on two cores.
+  const auto rehearsal_over = [&] {
+    const auto& services = rehearsal_.directory().services();
+    return scenario::task_terminal(rehearsed_state) && !services.empty() &&
+           std::none_of(services.begin(), services.end(), [](const auto& s) { return s.second.alive; });
+  };
+  ASSERT_TRUE(rehearsal_.wait_until([&] { return *script.ended || rehearsal_over(); }, std::chrono::minutes(8)))
+      << "the rehearsal did not end, or its cell did not stop\n"
+      << physics.nodes() << compose_logs(rehearsal_.domain_id());
+  // Then the console's cell in physics: its scripted executors replaced by every other service of the
+  // simulated cell, cell_sim on the world model's running revision (written as the console writes it for its
+  // rehearsal cell, the new product's models from the files written above).
+  std::optional<console::RehearsalCellFiles> cell_files;
+  std::unique_ptr<scenario::ScenarioCell> physics_cell;
+  const auto t_swap = std::chrono::steady_clock::now();
+  if (!*script.ended) {
+    for (const char* scripted : {"skills", "monitors"}) {
+      const auto stopped = cell_.stop(scripted, SIGINT, 10s);
+      ASSERT_TRUE(stopped && stopped->ok()) << scripted << " did not stop cleanly";
+    }
+    take_running();  // what came while the rehearsal domain's loop ran
+    ASSERT_TRUE(running.has_value()) << "no running revision on the console's domain";
+    cell_files.emplace(repo_file("deploy/cell"), cell_.log_dir() + "/published-cell");
+    std::vector<world_protocol::CellModel> steps;
+    for (const auto& file : {models.bracket, models.plate})
+      steps.push_back({"", file.filename().string(), file_bytes(file)});
+    const std::string cell_file =
+        cell_files->write({running->cell_revision, running->sha256, running->cell_json, steps}).string();
+    physics_cell = scenario::ScenarioCell::beside_controller(cell_, {cell_file, "bracket", "base_plate"});
+    ASSERT_TRUE(physics_cell->ready()) << "the console's cell did not come up in physics";
+    physics_cell->watch(rehearsed);
+  }
+  const double swap_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_swap).count();
+  ASSERT_TRUE(finish_browser_script(script, cell_, std::chrono::minutes(5)))
       << physics.nodes() << compose_logs(rehearsal_.domain_id());
   std::ifstream in(result_file);
   const json result = json::parse(in);
@@ -332,15 +393,24 @@ TEST_F(PlannerNewProductTest, ANewProductImportedPlacedDeclaredAndProgrammedByCl
               "from its CAD insertion pose\n",
               result.at("timings_ms").at("rehearsal").get<double>() / 1e3, error_m * 1e3, error_deg);
 
-  // Published: the console's cell (scripted executors) ran it to its end.
+  // Published: the console's cell, in physics on the revision the session made, ran it to SUCCEEDED with the
+  // bracket screwed on where its insertion puts it on the plate (the simulator's truth when the Release
+  // started, against the insertion the cell file's CAD gives).
   const std::string task = result.at("published");
-  const auto ended = [&] {
-    const auto it = task_states_.find(task);
-    return it != task_states_.end() && (it->second == rigger_task_TASK_SUCCEEDED || it->second == rigger_task_TASK_FAILED ||
-                                        it->second == rigger_task_TASK_CANCELED || it->second == rigger_task_TASK_REJECTED);
-  };
-  ASSERT_TRUE(cell_.wait_until(ended, 60s)) << "the published task " << task << " did not end";
-  EXPECT_EQ(task_states_.at(task), rigger_task_TASK_SUCCEEDED) << protocol::task::task_state_name(task_states_.at(task));
+  EXPECT_EQ(task, rehearsed) << "the published task is not the rehearsed one";
+  EXPECT_EQ(running->sha256, result.at("replay").at("cell").at("sha256").get<std::string>())
+      << "the console's cell did not start on the session's revision";
+  ASSERT_NE(physics_cell, nullptr) << "the script published before the console's cell was in physics";
+  ASSERT_TRUE(physics_cell->wait_task_end(std::chrono::minutes(4))) << "the published task " << task << " did not end";
+  EXPECT_EQ(physics_cell->task_state(), rigger_task_TASK_SUCCEEDED) << physics_cell->task_summary();
+  const auto published = physics_cell->insertion_error_at_start(release.value("name", std::string("Release")));
+  ASSERT_TRUE(published.has_value()) << "the published Release never started, or its truth was not seen";
+  EXPECT_LT(published->first, 0.005) << "the published bracket is not where its insertion puts it";
+  EXPECT_LT(published->second * 180.0 / M_PI, 1.0);
+  std::printf("published: the console's cell up in physics in %.1f s once the rehearsal cell had stopped; from then "
+              "to SUCCEEDED %.1f s; the bracket screwed on %.1f mm / %.2f deg from its CAD insertion pose\n%s",
+              swap_s, physics_cell->task_seconds(), published->first * 1e3, published->second * 180.0 / M_PI,
+              physics_cell->durations().c_str());
 
   const json& effort = result.at("effort").at("counts");
   std::printf(

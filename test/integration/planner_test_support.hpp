@@ -68,34 +68,59 @@ class PlannerCellTest : public MultiProcessTest {
     return ::testing::AssertionSuccess();
   }
 
-  /// Runs `script` (a repository path) in node, niced, with the console's URL, the token, the log folder
-  /// (ARTIFACTS) and `result_file` (RESULT) in its environment plus `env`; the loop of `waiter` (the
-  /// console's cell unless another cell's readers must follow the run) runs meanwhile. Succeeds when the
-  /// script exited 0 within `timeout`; the failure carries its log.
-  ::testing::AssertionResult run_browser_script(const std::string& script, const std::string& result_file,
-                                                std::chrono::milliseconds timeout,
-                                                std::map<std::string, std::string> env = {}, Cell* waiter = nullptr) {
-    Cell& loop_cell = waiter != nullptr ? *waiter : cell_;
+  /// A browser script started by start_browser_script(): its process, and whether it ended (set on the
+  /// loops of the cells given at its start).
+  struct BrowserScript {
+    std::string script;
+    std::unique_ptr<ChildProcess> process;
+    std::shared_ptr<bool> ended = std::make_shared<bool>(false);
+  };
+
+  /// Starts `script` (a repository path) in node, niced, with the console's URL, the token, the log folder
+  /// (ARTIFACTS) and `result_file` (RESULT) in its environment plus `env`; its end wakes the loops of
+  /// `waiters` (the console's cell unless other cells' readers must follow the run).
+  BrowserScript start_browser_script(const std::string& script, const std::string& result_file,
+                                     std::map<std::string, std::string> env = {}, std::vector<Cell*> waiters = {}) {
+    if (waiters.empty()) waiters.push_back(&cell_);
     env.insert({{"CONSOLE_URL", "http://127.0.0.1:" + std::to_string(port_)},
                 {"TOKEN_PROGRAMMER", token_},
                 {"ARTIFACTS", cell_.log_dir()},
                 {"RESULT", result_file},
                 {"NODE_PATH", repo_file("services/console/web/node_modules")}});
     const std::string name = std::filesystem::path(script).stem().string();
-    // Shared: a script killed on timeout still posts its end to the loop after this function returned.
-    auto done = std::make_shared<bool>(false);
-    ChildProcess browser("/usr/bin/nice", {"-n", "15", "/usr/bin/node", repo_file(script)}, env,
-                         cell_.log_dir() + "/browser-" + name + ".log",
-                         [target = &loop_cell, done] { target->loop().post([done] { *done = true; }); });
-    const bool ended = loop_cell.wait_until([&] { return *done; }, timeout);
-    const std::string log = browser.log();
+    BrowserScript run{script, nullptr};
+    // Shared: a script killed on timeout still posts its end to the loops after its waiter returned.
+    run.process = std::make_unique<ChildProcess>(
+        "/usr/bin/nice", std::vector<std::string>{"-n", "15", "/usr/bin/node", repo_file(script)}, env,
+        cell_.log_dir() + "/browser-" + name + ".log", [waiters, ended = run.ended] {
+          for (Cell* c : waiters) c->loop().post([ended] { *ended = true; });
+        });
+    return run;
+  }
+
+  /// Runs the loop of `waiter` (one of the script's waiters) until the script ended, at most `timeout`.
+  /// Succeeds when it exited 0; the failure carries its log.
+  ::testing::AssertionResult finish_browser_script(BrowserScript& run, Cell& waiter,
+                                                   std::chrono::milliseconds timeout) {
+    const bool ended = waiter.wait_until([&] { return *run.ended; }, timeout);
+    const std::string log = run.process->log();
     if (!ended)
-      return ::testing::AssertionFailure() << "the browser script " << script << " did not end in time\n" << log;
-    const auto exit = browser.wait(std::chrono::seconds(5));
+      return ::testing::AssertionFailure() << "the browser script " << run.script << " did not end in time\n" << log;
+    const auto exit = run.process->wait(std::chrono::seconds(5));
     if (!exit || !exit->ok())
-      return ::testing::AssertionFailure() << "the browser script " << script << " failed:\n" << log;
+      return ::testing::AssertionFailure() << "the browser script " << run.script << " failed:\n" << log;
     std::printf("%s", log.c_str());
     return ::testing::AssertionSuccess();
+  }
+
+  /// start_browser_script() and finish_browser_script() within `timeout`, the loop of `waiter` (the
+  /// console's cell unless another cell's readers must follow the run) running meanwhile.
+  ::testing::AssertionResult run_browser_script(const std::string& script, const std::string& result_file,
+                                                std::chrono::milliseconds timeout,
+                                                std::map<std::string, std::string> env = {}, Cell* waiter = nullptr) {
+    Cell& loop_cell = waiter != nullptr ? *waiter : cell_;
+    BrowserScript run = start_browser_script(script, result_file, std::move(env), {&loop_cell});
+    return finish_browser_script(run, loop_cell, timeout);
   }
 
   std::uint16_t port_ = 0;

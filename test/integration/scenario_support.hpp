@@ -81,6 +81,13 @@ class ScenarioCell {
     return std::unique_ptr<ScenarioCell>(new ScenarioCell(cell, {}, true, {}, false, "", std::move(setup)));
   }
 
+  /// The cell on `setup`'s cell file beside the world model and task controller running in `cell` (the console's):
+  /// every other service of deploy/compose.yaml, the monitor host as "monitor_host", the executors once the devices
+  /// are READY and the crane ready (a recipe published when the console offers their skills finds the cell ready).
+  static std::unique_ptr<ScenarioCell> beside_controller(Cell& cell, ScenarioSetup setup) {
+    return std::unique_ptr<ScenarioCell>(new ScenarioCell(cell, {}, true, {}, false, "", std::move(setup), true));
+  }
+
   /// The robot and the camera behind the ROS 2 bridge: cell_sim plays their ROS 2 drivers (its
   /// ros2_driver configuration: rt/ topics, ROS 2 types and QoS) and ros2_bridge, with the shipped
   /// deploy/config/ros2_bridge.json, carries the wrench, the joint states (as the robot state), the twist and
@@ -112,10 +119,11 @@ class ScenarioCell {
 
   ScenarioCell(Cell& cell, std::vector<std::string> operator_rules, bool scripted_operator,
                std::vector<std::string> started_elsewhere, bool behind_ros2_bridge = false, std::string pki_dir = "",
-               ScenarioSetup setup = {})
+               ScenarioSetup setup = {}, bool beside_controller = false)
       : cell_(cell),
         setup_(std::move(setup)),
         insertion_offset_(insertion_offset(setup_)),
+        beside_controller_(beside_controller),
         scripted_operator_(scripted_operator),
         behind_ros2_bridge_(behind_ros2_bridge),
         pki_dir_(std::move(pki_dir)),
@@ -488,31 +496,33 @@ class ScenarioCell {
     if (behind_ros2_bridge_)
       start("ros2_bridge", "ros2_bridge", {"--config", repo_file("deploy/config/ros2_bridge.json")});
     start("crane_gateway", "crane_gateway", {"--config", config("crane_gateway"), "--plc-port", port});
-    start("world_model", "world_model", {"--config", config("world_model"), "--db", dir + "/world_model.sqlite"});
+    if (!beside_controller_)
+      start("world_model", "world_model", {"--config", config("world_model"), "--db", dir + "/world_model.sqlite"});
     start("vision_tracker", "vision_tracker", {"--config", config("vision_tracker")});
     start("admittance_control", "admittance_control", {"--config", config("admittance_control")});
-    start("monitors", "monitor_host", {"--id", "monitors", "--config", config("monitor_host")}, "monitor_host");
-    for (const char* executor : {"robot-skills", "perception-skills", "operator-skills"})
-      start(executor, "skill_executor", {"--id", executor, "--config", config(executor)});
-    start("task_controller", "task_controller",
-          {"--config", config("task_controller", {{"journal_path", dir + "/journal.sqlite"}})});
     std::vector<std::string> args = {"--config", config("scripted_operator")};
-    for (auto& r : operator_rules) {
-      args.push_back("--rule");
-      args.push_back(std::move(r));
-    }
-    std::vector<std::string> ready = {"cell_sim",           "crane_gateway",  "world_model",  "vision_tracker",
-                                      "admittance_control", "monitors",       "robot-skills", "perception-skills",
-                                      "operator-skills",    "task_controller"};
+    for (auto& r : operator_rules) args.insert(args.end(), {"--rule", std::move(r)});
+    std::vector<std::string> ready = {"cell_sim", "crane_gateway", "vision_tracker", "admittance_control"};
     if (scripted_operator_) {
       start("scripted_operator", "scripted_operator", args);
       ready.push_back("scripted_operator");
     }
     if (behind_ros2_bridge_) ready.push_back("ros2_bridge");
-    ready_ = cell_.wait_ready(ready, 60s);
     // READY means every process is up; the cell is ready once the gateway also holds its Modbus link to
     // the PLC (started together, the gateway may try before the emulator listens and back off).
-    ready_ = ready_ && cell_.wait_until([&] { return crane_ready_; }, 30s);
+    const auto up = [&] { return cell_.wait_ready(ready, 60s) && cell_.wait_until([&] { return crane_ready_; }, 30s); };
+    if (beside_controller_ && !up()) return;
+    const std::string monitors = beside_controller_ ? "monitor_host" : "monitors";
+    start(monitors, "monitor_host", {"--id", monitors, "--config", config("monitor_host")}, "monitor_host");
+    for (const char* executor : {"robot-skills", "perception-skills", "operator-skills"})
+      start(executor, "skill_executor", {"--id", executor, "--config", config(executor)});
+    ready.insert(ready.end(), {monitors, "robot-skills", "perception-skills", "operator-skills"});
+    if (!beside_controller_) {
+      start("task_controller", "task_controller",
+            {"--config", config("task_controller", {{"journal_path", dir + "/journal.sqlite"}})});
+      ready.insert(ready.end(), {"world_model", "task_controller"});
+    }
+    ready_ = up();
   }
 
  public:
@@ -522,6 +532,7 @@ class ScenarioCell {
   Cell& cell_;
   ScenarioSetup setup_;
   Eigen::Isometry3d insertion_offset_;  // the load in the target's frame when inserted (from the STEP models)
+  bool beside_controller_ = false;     // the world model and the controller run already
   bool scripted_operator_ = true;
   bool behind_ros2_bridge_ = false;
   std::string pki_dir_;                // empty: DDS Security off

@@ -28,6 +28,19 @@ export async function waitForSkills(needed) {
   }
 }
 
+/// Waits until the console's executors are exactly `ids` (sorted or not): the cell the test brought up,
+/// nothing of another left. Up to `timeoutMs`.
+export async function waitForExecutors(ids, timeoutMs) {
+  const wanted = JSON.stringify([...ids].sort());
+  for (const deadline = Date.now() + timeoutMs; ;) {
+    const r = await call('/api/skills');
+    const now = JSON.stringify(Object.keys(r.json?.executors || {}).sort());
+    if (now === wanted) return;
+    check(Date.now() < deadline, `the console's executors are ${wanted} within ${timeoutMs / 1000} s (are ${now})`);
+    await new Promise((ok) => setTimeout(ok, 200));
+  }
+}
+
 /// Headless chromium with a fresh profile (../browser.mjs); closeBrowser() ends it.
 export async function launchBrowser() {
   return launchChromium(MODULES, { acceptDownloads: true });

@@ -12,7 +12,9 @@
 // Timer with the back-off fallback, Screw over the six holes, Release), validated and exported. The cell is
 // then rolled back to where the session started (by the API) and the same session in a new page must give
 // the same recipe and cell document, byte for byte; that page rehearses (the console starts its rehearsal
-// cell, the simulated cell in physics, on the revision), goes back to the plan and publishes. The objects take
+// cell, the simulated cell in physics, on the revision), goes back to the plan and, once the console's cell is
+// the simulated cell too (the test brings it up after the rehearsal cell stopped: the console's executors are
+// then exactly CELL_EXECUTORS), publishes. The objects take
 // the names the page proposes (the files'), and so do the features' names, the hole patterns' prefixes, the
 // marker ids and sizes and the stand-off. Typed: screw types, torques and monitor limits — never a coordinate
 // (the page's own count says which fields were typed; a coordinate fails the script).
@@ -20,7 +22,7 @@
 // the world model said, the export, the session's count and timings.
 import fs from 'node:fs';
 import path from 'node:path';
-import { ART, call, check, closeBrowser, countActions, env, launchBrowser, openPlanner, viewGestures, waitForDrawnRevision, waitForSkills } from './harness.mjs';
+import { ART, call, check, closeBrowser, countActions, env, launchBrowser, openPlanner, viewGestures, waitForDrawnRevision, waitForExecutors, waitForSkills } from './harness.mjs';
 
 const t0 = Date.now();
 const result = { timings_ms: {} };
@@ -405,7 +407,11 @@ try {
   check(result.rehearsal.state === 'SUCCEEDED', `the rehearsal ended ${result.rehearsal.state}`);
   await again.click('#rehearsal-back');
 
-  // --- published: the console's cell runs it ---
+  // --- published: the console's cell runs it, once it is the cell in physics (CELL_EXECUTORS: the test
+  //     brings it up after the rehearsal cell stopped) ---
+  const tCell = Date.now();
+  await waitForExecutors(env('CELL_EXECUTORS').split(','), 300000);
+  result.timings_ms.cell_up = Date.now() - tCell;
   await again.click('#planner-publish');
   await again.waitForFunction(() => document.querySelector('#confirm[open]') || document.querySelector('#planner-notice.error'), null, { timeout: 60000 });
   check(await again.locator('#confirm[open]').count() === 1, `Publish asks for confirmation (${await again.locator('#planner-notice').innerText()})`);
