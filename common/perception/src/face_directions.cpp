@@ -11,6 +11,8 @@ constexpr double kConeCos = 0.985;     // 10 degrees
 constexpr double kSetAsideCos = 0.94;  // 20 degrees
 constexpr double kSameAngleRad = 10.0 * M_PI / 180.0;
 constexpr double kPlaneGapM = 0.005;
+constexpr std::size_t kPeakCandidates = 300;
+constexpr std::size_t kPeakCounted = 1200;
 
 // An orthonormal frame whose first axis is `a` and whose second lies in the plane of `a` and `b`.
 Eigen::Matrix3d frame_of(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
@@ -84,15 +86,19 @@ std::vector<FaceDirection> face_directions(const std::vector<Eigen::Vector3d>& p
   }
   std::vector<char> left(normals.size(), 1);
   const auto total = static_cast<double>(normals.size());
+  // The peak is looked for among a few hundred of the normals, its neighbours counted among a thousand or so:
+  // the cone is wide enough for either to hold a face's share.
+  const std::size_t peak_stride = std::max<std::size_t>(1, normals.size() / kPeakCandidates);
+  const std::size_t count_stride = std::max<std::size_t>(1, normals.size() / kPeakCounted);
   while (static_cast<int>(out.size()) < max_directions) {
     std::size_t peak = 0;
     int peak_count = -1;
-    for (std::size_t i = 0; i < normals.size(); ++i) {
+    for (std::size_t i = 0; i < normals.size(); i += peak_stride) {
       if (!left[i]) {
         continue;
       }
       int count = 0;
-      for (std::size_t j = 0; j < normals.size(); ++j) {
+      for (std::size_t j = 0; j < normals.size(); j += count_stride) {
         count += left[j] && normals[i].dot(normals[j]) > kConeCos ? 1 : 0;
       }
       if (count > peak_count) {
@@ -100,7 +106,14 @@ std::vector<FaceDirection> face_directions(const std::vector<Eigen::Vector3d>& p
         peak = i;
       }
     }
-    if (peak_count < 0 || peak_count < min_share * total) {
+    if (peak_count < 0) {
+      break;
+    }
+    int members = 0;
+    for (std::size_t j = 0; j < normals.size(); ++j) {
+      members += left[j] && normals[peak].dot(normals[j]) > kConeCos ? 1 : 0;
+    }
+    if (members < min_share * total) {
       break;
     }
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -119,7 +132,7 @@ std::vector<FaceDirection> face_directions(const std::vector<Eigen::Vector3d>& p
         left[j] = 0;
       }
     }
-    out.push_back({mean, peak_count / total, planes(offsets)});
+    out.push_back({mean, members / total, planes(offsets)});
   }
   return out;
 }

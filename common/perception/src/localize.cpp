@@ -52,6 +52,9 @@ constexpr int kFullyRefined = 5;
 constexpr int kSurfacesTried = 3;
 // A pose of the search is refused when more of its squarely facing surface than this lands on no depth.
 constexpr double kMaxUnseen = 0.05;
+// ... or more than this is behind nearer depth (correct poses of the bench's parts: at most 0.16; an L bracket
+// with its legs swapped, fitted behind the face it was fitted to: 0.33) ...
+constexpr double kMaxHidden = 0.25;
 // ... or reaches this far below the height under which the image's points are support.
 constexpr double kThroughSupportM = 0.03;
 // With a prior: how far the part may be from it (its box grown by this holds the points it is refined
@@ -67,9 +70,11 @@ struct Fit {
   double model_support = 0.0;
   double worst_direction_ratio = 0.0;
   int inliers = 0;
-  // Of the camera-facing surface seen within 70 degrees of its normal, the share that lands where the image
-  // has no depth (weighted by how squarely it faces): judged for the search's poses only.
+  // Of the camera-facing surface seen within 70 degrees of its normal, the shares that land where the image
+  // has no depth and behind something nearer (weighted by how squarely it faces): judged for the search's
+  // poses only.
   double unseen = 0.0;
+  double hidden = 0.0;
   bool searched = false;
   // How far the part reaches below the support's height (world), when it is known: a search's pose through the
   // support (a bracket's upright down through the table, which hides it) is no pose.
@@ -124,6 +129,19 @@ struct Localizer::Impl {
       best = std::min(best, std::max(along_normal, std::sqrt(d2[i]) - dense_spacing_m));
     }
     return best;
+  }
+
+  // The model's face directions, found when first searched for (a fit from a prior needs none).
+  void find_model_faces() {
+    if (!model_faces.empty()) {
+      return;
+    }
+    SurfacePoints some;
+    for (std::size_t i = 0; i < dense.points_m.size(); i += 10) {
+      some.points_m.push_back(dense.points_m[i]);
+      some.normals.push_back(dense.normals[i]);
+    }
+    model_faces = detail::face_directions(some.points_m, some.normals, kModelFaceShare, kModelFaces);
   }
 
   void find_symmetries() {
@@ -328,7 +346,9 @@ struct Localizer::Impl {
     visibility_score(grid, model, pose_camera_object, &supported, &seen_through);
     fit.model_support =
         supported + seen_through > 0 ? static_cast<double>(supported) / (supported + seen_through) : 0.0;
-    fit.unseen = detail::unseen_share(grid, model, pose_camera_object);
+    const detail::FacingShares shares = detail::facing_shares(grid, model, pose_camera_object);
+    fit.unseen = shares.unseen;
+    fit.hidden = shares.hidden;
     // The image's points alone do not tell a part from the same part slid along an edge of two seen
     // faces (both explain every point); the points it sees through do.
     fit.score = fit.inliers * fit.model_support * fit.model_support;
@@ -338,7 +358,8 @@ struct Localizer::Impl {
   // A pose of the search slid off the part into the image's holes (the void behind a hanging part, a face
   // seen edge-on) explains every point it is judged on; the surface it puts where nothing is seen does not.
   bool acceptable(const Fit& fit) const {
-    return !(fit.searched && (fit.unseen > kMaxUnseen || fit.below_support_m > kThroughSupportM)) &&
+    return !(fit.searched &&
+             (fit.unseen > kMaxUnseen || fit.hidden > kMaxHidden || fit.below_support_m > kThroughSupportM)) &&
            fit.inliers >= options.min_supporting_points && fit.rms_m <= options.max_rms_m &&
            fit.inlier_ratio >= options.min_inlier_ratio && fit.model_support >= options.min_model_support &&
            fit.worst_direction_ratio >= options.min_direction_ratio;
@@ -448,13 +469,6 @@ Localizer::Localizer(const Mesh& mesh, LocalizeOptions options) : impl_(std::mak
     impl_->box_high_m = impl_->box_high_m.cwiseMax(p);
   }
   impl_->find_symmetries();
-  std::vector<Eigen::Vector3d> points;
-  std::vector<Eigen::Vector3d> normals;
-  for (std::size_t i = 0; i < impl_->dense.points_m.size(); i += 10) {
-    points.push_back(impl_->dense.points_m[i]);
-    normals.push_back(impl_->dense.normals[i]);
-  }
-  impl_->model_faces = detail::face_directions(points, normals, kModelFaceShare, kModelFaces);
 }
 
 Localizer::~Localizer() = default;
@@ -517,6 +531,7 @@ LocalizeResult Localizer::localize(const DepthFrame& frame,
     return std::max(0.0, *impl_->options.min_height_world_m - lowest);
   };
   if (!prior_fits && (!prior_world_object || impl_->options.search_when_prior_fails)) {
+    impl_->find_model_faces();
     int tried = 0;
     for (const Surface& surface : surfaces) {
       // A surface wider than the part is not the part alone (the support, or parts touching).

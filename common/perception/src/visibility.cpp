@@ -32,9 +32,10 @@ double visibility_score(const DepthGrid& grid, const SurfacePoints& points, cons
   return score;
 }
 
-double unseen_share(const DepthGrid& grid, const SurfacePoints& points, const Eigen::Isometry3d& pose) {
+FacingShares facing_shares(const DepthGrid& grid, const SurfacePoints& points, const Eigen::Isometry3d& pose) {
   double seen = 0.0;
   double unseen = 0.0;
+  double hidden = 0.0;
   for (std::size_t i = 0; i < points.points_m.size(); ++i) {
     const Eigen::Vector3d p = pose * points.points_m[i];
     const double facing = -(pose.linear() * points.normals[i]).dot(p) / p.norm();
@@ -47,9 +48,16 @@ double unseen_share(const DepthGrid& grid, const SurfacePoints& points, const Ei
       unseen += facing;
     } else if (z > p.z() - kSeenM) {
       seen += facing;
+    } else {
+      hidden += facing;
     }
   }
-  return seen + unseen > 0.0 ? unseen / (seen + unseen) : 1.0;
+  FacingShares shares;
+  if (seen + unseen > 0.0) {
+    shares.unseen = unseen / (seen + unseen);
+    shares.hidden = hidden / (seen + unseen + hidden);
+  }
+  return shares;
 }
 
 }  // namespace rigger::perception::detail

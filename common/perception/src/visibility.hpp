@@ -22,9 +22,15 @@ constexpr double kSeenM = 0.015;
 double visibility_score(const DepthGrid& grid, const SurfacePoints& points, const Eigen::Isometry3d& pose,
                         int* supported = nullptr, int* seen_through = nullptr, bool any_depth = false);
 
-/// Of the points facing the camera within 70 degrees of their normal, in view and not hidden by anything
-/// nearer, the share (weighted by how squarely they face) that lands where the image has no depth; 1 when
-/// none is in view. The tracker's check of a pose slid into a strip without depth, on the localizer's samples.
-double unseen_share(const DepthGrid& grid, const SurfacePoints& points, const Eigen::Isometry3d& pose);
+/// Of the points facing the camera within 70 degrees of their normal and in view, the shares (weighted by how
+/// squarely they face) that land where the image has no depth, and behind something nearer.
+struct FacingShares {
+  /// Of those not hidden: 1 when none is in view. The tracker's check of a pose slid into a strip without
+  /// depth, on the localizer's samples.
+  double unseen = 1.0;
+  /// Of all in view: a part fitted behind the surface it was fitted to hides much of itself there.
+  double hidden = 0.0;
+};
+FacingShares facing_shares(const DepthGrid& grid, const SurfacePoints& points, const Eigen::Isometry3d& pose);
 
 }  // namespace rigger::perception::detail
