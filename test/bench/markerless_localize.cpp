@@ -265,12 +265,15 @@ int run() {
     report.add({name + ": model from a prior, p99", percentile(f.prior.time_ms, 0.99), "ms", "markers p99",
                 percentile(f.markers.time_ms, 0.99)});
     report.add({name + ": model, no prior, p50", percentile(f.global.time_ms, 0.5), "ms", "markers p50", marker_p50});
-    report.add({name + ": model from a prior, found", static_cast<double>(f.prior.found), "of " + std::to_string(kPoses),
-                "markers found", static_cast<double>(f.markers.found)});
-    report.add({name + ": model from a prior, wrong", static_cast<double>(f.prior.wrong), "", "markers wrong",
-                static_cast<double>(f.markers.wrong)});
-    report.add({name + ": model from a prior, position p95", percentile(f.prior.position_mm, 0.95), "mm",
-                "markers position p95", percentile(f.markers.position_mm, 0.95)});
+    for (const auto& [method, tally] : {std::pair{"model, no prior", &f.global}, {"model from a prior", &f.prior}}) {
+      const std::string figure = name + ": " + method + ", ";
+      report.add({figure + "found", static_cast<double>(tally->found), "of " + std::to_string(kPoses), "markers found",
+                  static_cast<double>(f.markers.found)});
+      report.add({figure + "wrong", static_cast<double>(tally->wrong), "", "markers wrong",
+                  static_cast<double>(f.markers.wrong)});
+      report.add({figure + "position p95", percentile(tally->position_mm, 0.95), "mm", "markers position p95",
+                  percentile(f.markers.position_mm, 0.95)});
+    }
     report.add({name + ": model from a prior, rotation p95", percentile(f.prior.rotation_deg, 0.95), "deg",
                 "markers rotation p95", percentile(f.markers.rotation_deg, 0.95)});
   }

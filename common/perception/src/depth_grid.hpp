@@ -4,6 +4,8 @@
 
 #include "rigger/perception/localize.hpp"
 
+#include "mesh_points.hpp"
+
 #include <cstdint>
 #include <vector>
 
@@ -55,5 +57,22 @@ class DepthGrid {
 /// touches it.
 Surface within_box(const DepthGrid& grid, const std::vector<Surface>& surfaces, const Eigen::Isometry3d& object_camera,
                    const Eigen::Vector3d& low, const Eigen::Vector3d& high);
+
+// The cells of one surface of the image, indexed for nearest-point search.
+struct SurfaceIndex {
+  std::vector<int> cells;
+  PointIndex index;
+
+  static std::vector<Eigen::Vector3d> points_of(const DepthGrid& grid, const std::vector<int>& cells) {
+    std::vector<Eigen::Vector3d> points;
+    points.reserve(cells.size());
+    for (const int cell : cells) {
+      points.push_back(grid.point(cell));
+    }
+    return points;
+  }
+  SurfaceIndex(const DepthGrid& grid, const Surface& surface)
+      : cells(surface.cells), index(points_of(grid, surface.cells), 0.01) {}
+};
 
 }  // namespace rigger::perception::detail

@@ -8,8 +8,10 @@
 #include <stdexcept>
 
 #include "depth_grid.hpp"
+#include "face_directions.hpp"
 #include "mesh_points.hpp"
 #include "turns.hpp"
+#include "visibility.hpp"
 
 namespace rigger::perception {
 
@@ -17,9 +19,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using detail::DepthGrid;
+using detail::kSquarelyFacing;
 using detail::PointIndex;
 using detail::Surface;
+using detail::SurfaceIndex;
 using detail::SurfacePoints;
+using detail::visibility_score;
 
 // Points per model kept for surface distances: about 4 mm apart on the demo load, so that the
 // distance to the nearest few samples' planes is exact to a fraction of a millimetre.
@@ -28,43 +33,36 @@ constexpr int kDenseModelPoints = 20000;
 constexpr int kCoarseModelPoints = 160;
 // Grid cells of the depth image (a pixel stride of 2 for 1280 x 720).
 constexpr int kGridCells = 250000;
-// Orientations tried: directions of the object's z axis in the camera, times turns about it
+// The image's dominant face directions matched (each holding this share of its normals, at most this many),
+// and the model's.
+constexpr double kImageFaceShare = 0.05;
+constexpr int kImageFaces = 3;
+constexpr double kModelFaceShare = 0.03;
+constexpr int kModelFaces = 12;
+// With one face direction matched, turns about it tried.
+constexpr int kFaceTurns = 36;
+// Without a dominant face: orientations tried, directions of the object's z axis in the camera, times turns about it
 // (about 18 degrees apart each way: inside the basin of the refinement).
 constexpr int kDirections = 128;
 constexpr int kTurns = 20;
-// Orientations refined coarsely, then fully, then judged.
+// Orientations refined coarsely, then fully (past the best, only those scoring this share of it after the
+// coarse refinement: no answer of the bench or the table test changed, the bracket's search took a third less).
 constexpr int kCoarseRefined = 24;
 constexpr int kFullyRefined = 5;
+constexpr double kFullyRefinedScore = 0.5;
 // Surfaces of the image tried, largest first.
 constexpr int kSurfacesTried = 3;
-// A point of a face seen further than 70 degrees from its normal lands, moved along the part, on the
-// faces next to it at nearly their depth: no evidence of where the part ends.
-constexpr double kSquarelyFacing = 0.34;
-// An image normal this near a model point's (cosine: 53 degrees) is of the same face.
-constexpr double kSameFace = 0.6;
-// A model point is seen where the depth image is within this of it.
-constexpr double kSeenM = 0.015;
+// A pose of the search is refused when more of its squarely facing surface than this lands on no depth.
+constexpr double kMaxUnseen = 0.05;
+// ... or more than this is behind nearer depth (correct poses of the bench's parts: at most 0.16; an L bracket
+// with its legs swapped, fitted behind the face it was fitted to: 0.33) ...
+constexpr double kMaxHidden = 0.25;
+// ... or reaches this far below the height under which the image's points are support.
+constexpr double kThroughSupportM = 0.03;
 // With a prior: how far the part may be from it (its box grown by this holds the points it is refined
 // on), and the margin of its box within which the image's points are judged (twice the inlier distance).
 constexpr double kPriorOffM = 0.04;
 constexpr double kJudgedMarginM = 0.01;
-
-// The cells of one surface of the image, indexed for nearest-point search.
-struct SurfaceIndex {
-  std::vector<int> cells;
-  PointIndex index;
-
-  static std::vector<Eigen::Vector3d> points_of(const DepthGrid& grid, const std::vector<int>& cells) {
-    std::vector<Eigen::Vector3d> points;
-    points.reserve(cells.size());
-    for (const int cell : cells) {
-      points.push_back(grid.point(cell));
-    }
-    return points;
-  }
-  SurfaceIndex(const DepthGrid& grid, const Surface& surface)
-      : cells(surface.cells), index(points_of(grid, surface.cells), 0.01) {}
-};
 
 struct Fit {
   Eigen::Isometry3d pose_camera_object = Eigen::Isometry3d::Identity();
@@ -74,6 +72,15 @@ struct Fit {
   double model_support = 0.0;
   double worst_direction_ratio = 0.0;
   int inliers = 0;
+  // Of the camera-facing surface seen within 70 degrees of its normal, the shares that land where the image
+  // has no depth and behind something nearer (weighted by how squarely it faces): judged for the search's
+  // poses only.
+  double unseen = 0.0;
+  double hidden = 0.0;
+  bool searched = false;
+  // How far the part reaches below the support's height (world), when it is known: a search's pose through the
+  // support (a bracket's upright down through the table, which hides it) is no pose.
+  double below_support_m = 0.0;
 };
 
 // Weight of the point-to-point residual next to the point-to-plane one in the final refinement.
@@ -109,6 +116,7 @@ struct Localizer::Impl {
   std::vector<Eigen::Matrix3d> symmetry_rotations;
   std::string symmetry_note;
   std::vector<Eigen::Matrix3d> orientations = detail::orientation_samples(kDirections, kTurns);
+  std::vector<detail::FaceDirection> model_faces;  // object frame
 
   // Distance to the surface: to the nearest samples' tangent planes, never less than the distance to
   // the sample less the sampling's spacing (so that the plane of a face does not reach past its edge).
@@ -125,67 +133,29 @@ struct Localizer::Impl {
     return best;
   }
 
+  // The model's face directions, found when first searched for (a fit from a prior needs none).
+  void find_model_faces() {
+    if (!model_faces.empty()) {
+      return;
+    }
+    SurfacePoints some;
+    for (std::size_t i = 0; i < dense.points_m.size(); i += 10) {
+      some.points_m.push_back(dense.points_m[i]);
+      some.normals.push_back(dense.normals[i]);
+    }
+    model_faces = detail::face_directions(some.points_m, some.normals, kModelFaceShare, kModelFaces);
+  }
+
   void find_symmetries() {
     symmetries = {Eigen::Isometry3d::Identity()};
     symmetry_rotations = {Eigen::Matrix3d::Identity()};
     const auto distance = [this](const Eigen::Vector3d& p) { return surface_distance(p); };
-    for (const detail::Turn& turn : detail::turns_onto_itself(model, distance, centre_object_m,
-                                                              std::max(0.001, 0.01 * radius_m))) {
+    for (const detail::Turn& turn :
+         detail::turns_onto_itself(model, distance, centre_object_m, std::max(0.001, 0.01 * radius_m))) {
       symmetries.push_back(turn.about_centre);
       symmetry_rotations.push_back(turn.rotation);
       symmetry_note += (symmetry_note.empty() ? "" : ", ") + turn.name;
     }
-  }
-
-  // How well the image shows the points facing the camera: +1 where it sees the point, -1 where it
-  // sees through it (farther), 0 where something nearer hides it or nothing is seen. Seen: on a valid
-  // cell (a normal, above the support), or with `any_depth` on any depth at the point's distance unless
-  // the cell's normal says it is another face.
-  static double visibility_score(const DepthGrid& grid, const SurfacePoints& points, const Eigen::Isometry3d& pose,
-                                 int* supported = nullptr, int* seen_through = nullptr, bool any_depth = false) {
-    double score = 0.0;
-    for (std::size_t i = 0; i < points.points_m.size(); ++i) {
-      const Eigen::Vector3d p = pose * points.points_m[i];
-      const double facing = -(pose.linear() * points.normals[i]).dot(p);
-      if (facing <= (any_depth ? kSquarelyFacing * p.norm() : 0.0)) {
-        continue;
-      }
-      const int cell = grid.cell_of(p);
-      const float seen = cell < 0 ? std::nanf("") : grid.seen_z(cell);
-      if (!std::isfinite(seen)) {
-        continue;
-      }
-      if (seen > p.z() + kSeenM) {
-        score -= 1.0;
-        seen_through && ++*seen_through;
-      } else if (seen > p.z() - kSeenM && (any_depth || grid.valid(cell))) {
-        if (any_depth && grid.valid(cell) && grid.normal(cell).dot(pose.linear() * points.normals[i]) < kSameFace) {
-          continue;  // another face at nearly the point's depth: the one next to a fold
-        }
-        score += 1.0;
-        supported && ++*supported;
-      }
-    }
-    return score;
-  }
-
-  // The pose with orientation `rotation` whose camera-facing points have their centroid at the
-  // surface's centroid.
-  static Eigen::Isometry3d placed(const SurfacePoints& points, const Eigen::Matrix3d& rotation,
-                                  const Eigen::Vector3d& centroid_camera_m) {
-    const Eigen::Vector3d view = centroid_camera_m.normalized();
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    int facing = 0;
-    for (std::size_t i = 0; i < points.points_m.size(); ++i) {
-      if ((rotation * points.normals[i]).dot(view) < 0.0) {
-        sum += rotation * points.points_m[i];
-        ++facing;
-      }
-    }
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.linear() = rotation;
-    pose.translation() = centroid_camera_m - (facing > 0 ? Eigen::Vector3d(sum / facing) : Eigen::Vector3d::Zero());
-    return pose;
   }
 
   // Point-to-plane ICP of the points facing the camera onto the depth image. Without `nearest`,
@@ -328,7 +298,7 @@ struct Localizer::Impl {
     const Eigen::Isometry3d whole = refine(grid, model, slid, 10, 0.006, &nearest);
     const Eigen::Isometry3d placed_only = refine(grid, model, slid, 10, 0.006, &nearest, nullptr, true);
     return evaluate(grid, nearest.cells, placed_only).score > evaluate(grid, nearest.cells, whole).score ? placed_only
-                                                                                                        : whole;
+                                                                                                         : whole;
   }
 
   // Judges a refined pose: from the image side (of the points of the surface searched, how many lie
@@ -378,26 +348,39 @@ struct Localizer::Impl {
     visibility_score(grid, model, pose_camera_object, &supported, &seen_through);
     fit.model_support =
         supported + seen_through > 0 ? static_cast<double>(supported) / (supported + seen_through) : 0.0;
+    const detail::FacingShares shares = detail::facing_shares(grid, model, pose_camera_object);
+    fit.unseen = shares.unseen;
+    fit.hidden = shares.hidden;
     // The image's points alone do not tell a part from the same part slid along an edge of two seen
     // faces (both explain every point); the points it sees through do.
     fit.score = fit.inliers * fit.model_support * fit.model_support;
     return fit;
   }
 
+  // A pose of the search slid off the part into the image's holes (the void behind a hanging part, a face
+  // seen edge-on) explains every point it is judged on; the surface it puts where nothing is seen does not.
   bool acceptable(const Fit& fit) const {
-    return fit.inliers >= options.min_supporting_points && fit.rms_m <= options.max_rms_m &&
+    return !(fit.searched &&
+             (fit.unseen > kMaxUnseen || fit.hidden > kMaxHidden || fit.below_support_m > kThroughSupportM)) &&
+           fit.inliers >= options.min_supporting_points && fit.rms_m <= options.max_rms_m &&
            fit.inlier_ratio >= options.min_inlier_ratio && fit.model_support >= options.min_model_support &&
            fit.worst_direction_ratio >= options.min_direction_ratio;
   }
 
-  // Every sampled orientation placed on the surface and scored; the best refined coarsely, rescored,
-  // and the best of those refined fully and judged.
+  // Candidate poses (from the faces seen or, without a dominant face, every sampled orientation placed on
+  // the surface) scored; the best refined coarsely, rescored, and the best of those refined fully and judged.
   void search(const DepthGrid& grid, const Surface& surface, std::vector<Fit>& fits) const {
     std::vector<std::pair<double, Eigen::Isometry3d>> scored;
-    scored.reserve(orientations.size());
-    for (const Eigen::Matrix3d& rotation : orientations) {
-      const Eigen::Isometry3d pose = placed(coarse, rotation, surface.centroid_m);
+    for (const Eigen::Isometry3d& pose :
+         detail::face_hypotheses(grid, surface, model_faces, coarse, kImageFaceShare, kImageFaces, kFaceTurns)) {
       scored.emplace_back(visibility_score(grid, coarse, pose), pose);
+    }
+    if (scored.empty()) {
+      scored.reserve(orientations.size());
+      for (const Eigen::Matrix3d& rotation : orientations) {
+        const Eigen::Isometry3d pose = detail::placed(coarse, rotation, surface.centroid_m);
+        scored.emplace_back(visibility_score(grid, coarse, pose), pose);
+      }
     }
     auto by_score = [](const auto& a, const auto& b) { return a.first > b.first; };
     const auto keep = std::min(scored.size(), static_cast<std::size_t>(kCoarseRefined));
@@ -410,7 +393,8 @@ struct Localizer::Impl {
     std::sort(scored.begin(), scored.end(), by_score);
     std::vector<Eigen::Isometry3d> refined;
     for (const auto& [score, pose] : scored) {
-      if (static_cast<int>(refined.size()) >= kFullyRefined) {
+      if (static_cast<int>(refined.size()) >= kFullyRefined ||
+          (!refined.empty() && score < kFullyRefinedScore * scored.front().first)) {
         break;
       }
       const bool seen = std::any_of(refined.begin(), refined.end(),
@@ -422,12 +406,13 @@ struct Localizer::Impl {
     const SurfaceIndex nearest(grid, surface);
     for (const Eigen::Isometry3d& pose : refined) {
       fits.push_back(evaluate(grid, surface.cells, finish(grid, nearest, pose)));
+      fits.back().searched = true;
     }
   }
 
   // The image's points within the part's box at `pose_camera_object` grown by `margin_m`.
-  Surface cropped(const DepthGrid& grid, const std::vector<Surface>& surfaces, const Eigen::Isometry3d& pose_camera_object,
-                  double margin_m) const {
+  Surface cropped(const DepthGrid& grid, const std::vector<Surface>& surfaces,
+                  const Eigen::Isometry3d& pose_camera_object, double margin_m) const {
     return detail::within_box(grid, surfaces, pose_camera_object.inverse(), box_low_m.array() - margin_m,
                               box_high_m.array() + margin_m);
   }
@@ -540,15 +525,34 @@ LocalizeResult Localizer::localize(const DepthFrame& frame,
     }
   }
   const bool prior_fits = !fits.empty() && impl_->acceptable(fits.front());
+  const auto below_support = [&](const Fit& fit) {
+    const Eigen::Isometry3d world_object = frame.pose_world_camera * fit.pose_camera_object;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < impl_->dense.points_m.size(); i += 10) {
+      lowest = std::min(lowest, (world_object * impl_->dense.points_m[i]).z());
+    }
+    return std::max(0.0, *impl_->options.min_height_world_m - lowest);
+  };
   if (!prior_fits && (!prior_world_object || impl_->options.search_when_prior_fails)) {
+    impl_->find_model_faces();
     int tried = 0;
     for (const Surface& surface : surfaces) {
       // A surface wider than the part is not the part alone (the support, or parts touching).
       if (tried >= kSurfacesTried || surface.radius_m > 2.0 * impl_->radius_m) {
         continue;
       }
+      // A fit scores at most its surface's points: one that could neither win nor tie is not searched.
+      const bool outscored = std::any_of(fits.begin(), fits.end(), [&](const Fit& fit) {
+        return impl_->acceptable(fit) && 0.97 * fit.score > static_cast<double>(surface.cells.size());
+      });
+      if (outscored) {
+        break;
+      }
       ++tried;
       impl_->search(grid, surface, fits);
+      for (Fit& fit : fits) {
+        fit.below_support_m = fit.searched && impl_->options.min_height_world_m ? below_support(fit) : 0.0;
+      }
     }
     if (tried == 0 && fits.empty()) {
       return finish(LocalizeStatus::kNotFound, "every connected surface in the image is wider than the part (" +

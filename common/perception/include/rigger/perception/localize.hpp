@@ -1,13 +1,16 @@
 #pragma once
 /// @file
 /// Markerless localization: where a rigid part is, from a depth image and the part's triangle mesh
-/// (the CAD service's tessellation of its STEP model). The global search places the part on each
-/// connected surface of the image at 2560 orientations spread over all of them, scores each by how
-/// the image sees its camera-facing points, and refines the best by point-to-plane ICP (each model
-/// point paired with the pixel it projects to); with a prior pose, ICP from the prior first and the
-/// global search only when that does not fit. A pose is reported only when it fits from both sides
-/// (the image's points near it lie on it, and the image does not see through it); otherwise a
-/// status says why. Pure C++, no DDS, no logging.
+/// (the CAD service's tessellation of its STEP model). The global search matches, on each connected
+/// surface of the image, its dominant face directions (clusters of its normals) with the model's: the two
+/// largest at the model's angle to each other give an orientation, and the planes of the matched faces its
+/// position up to a slide along their common edge (without a dominant face: 2560 orientations spread over
+/// all of them, placed at the surface's centroid). Each is scored by how the image sees its camera-facing
+/// points, and the best refined by point-to-plane ICP; with a prior pose, ICP from the prior first and the
+/// global search only when that does not fit. A pose is reported only when it fits from both sides (the
+/// image's points near it lie on it, and the image does not see through it) and, for a pose of the search,
+/// when its squarely facing surface does not land where the image has no depth and it does not reach
+/// through the support; otherwise a status says why. Pure C++, no DDS, no logging.
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
