@@ -67,16 +67,26 @@ class Delivered {
   std::vector<ModelTrackerFigures> figures_;
 };
 
+/// The demo load's mesh from its STEP model (null, with the problem printed, when it cannot be read).
+std::shared_ptr<const perception::Mesh> demo_load_mesh() {
+  ModelLocalizer localizer;
+  localizer.set_cell(cell::load_cell_file(kCell), cell::cell_model_folder(kCell));
+  std::string problem;
+  const perception::Mesh* mesh = localizer.mesh("load", problem);
+  if (mesh == nullptr) {
+    ADD_FAILURE() << problem;
+    return nullptr;
+  }
+  return std::make_shared<const perception::Mesh>(*mesh);
+}
+
 double millimetres(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return (a.translation() - b.translation()).norm() * 1000.0;
 }
 
 TEST(ModelTrackerTest, FollowsAMovingLoadImageByImageKeepsItsLastPoseOverARefusalAndStops) {
-  ModelLocalizer localizer;
-  localizer.set_cell(cell::load_cell_file(kCell), cell::cell_model_folder(kCell));
-  std::string problem;
-  const perception::Mesh* mesh = localizer.mesh("load", problem);
-  ASSERT_NE(mesh, nullptr) << problem;
+  const std::shared_ptr<const perception::Mesh> mesh = demo_load_mesh();
+  ASSERT_NE(mesh, nullptr);
 
   Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
   truth.translation() = Eigen::Vector3d(3.55, 1.75, 1.20);
@@ -90,7 +100,7 @@ TEST(ModelTrackerTest, FollowsAMovingLoadImageByImageKeepsItsLastPoseOverARefusa
   EXPECT_FALSE(tracker.submit(image(truth), Stamp(1s))) << "nothing tracked: the image is dropped";
   Eigen::Isometry3d prior = truth;
   prior.translation() += Eigen::Vector3d(0.012, -0.008, 0.006);
-  tracker.start("load", std::make_shared<const perception::Mesh>(*mesh), prior);
+  tracker.start("load", mesh, prior);
   EXPECT_TRUE(tracker.tracking("load"));
 
   // The load speeds up to 0.3 m/s (three times the servo's limit), imaged every 0.2 s: 6 cm between the
@@ -140,12 +150,8 @@ TEST(ModelTrackerTest, FollowsAMovingLoadImageByImageKeepsItsLastPoseOverARefusa
 }
 
 TEST(ModelTrackerTest, FollowsAHeldLoadWithTheRobotsToolAcrossJumpsAndRefusedImages) {
-  ModelLocalizer localizer;
-  localizer.set_cell(cell::load_cell_file(kCell), cell::cell_model_folder(kCell));
-  std::string problem;
-  const perception::Mesh* mesh = localizer.mesh("load", problem);
-  ASSERT_NE(mesh, nullptr) << problem;
-  const auto shared = std::make_shared<const perception::Mesh>(*mesh);
+  const std::shared_ptr<const perception::Mesh> mesh = demo_load_mesh();
+  ASSERT_NE(mesh, nullptr);
 
   Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
   start.translation() = Eigen::Vector3d(3.55, 1.75, 1.20);
@@ -169,8 +175,8 @@ TEST(ModelTrackerTest, FollowsAHeldLoadWithTheRobotsToolAcrossJumpsAndRefusedIma
   Delivered held, alone;
   ModelTracker tracker(held.publish());
   ModelTracker without_tool(alone.publish());  // the same images, no robot state: what the prediction alone does
-  tracker.start("load", shared, start);
-  without_tool.start("load", shared, start);
+  tracker.start("load", mesh, start);
+  without_tool.start("load", mesh, start);
   double fed_s = 1.0;  // the robot's state at 100 Hz up to `s`
   const auto feed = [&](double s) {
     for (; fed_s <= s + 1e-9; fed_s += 0.01) tracker.tool_pose(stamp_at(fed_s), load_at(fed_s) * load_tool);
