@@ -136,7 +136,7 @@ std::vector<Grant> build() {
        cell_follower(),
        {names(vision::kTrackerPose),
         names(vision::kCameraImage, vision::kCameraDepth, vision::kCameraInfo, vision::kTrackerCommand,
-              world::kEntity)}}));
+              world::kEntity, robot::kState)}}));
   t.push_back(grant("admittance_control", "admittance control: the only writer of robot twists and crane velocities",
                     {service(),
                      safe_stop_listener(),

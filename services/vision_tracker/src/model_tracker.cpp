@@ -1,7 +1,9 @@
 #include "model_tracker.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <ctime>
+#include <iterator>
 
 namespace rigger::vision {
 
@@ -39,6 +41,13 @@ void ModelTracker::start(const std::string& object_id, std::shared_ptr<const per
                          const std::optional<Eigen::Isometry3d>& start_world_object) {
   const std::lock_guard<std::mutex> lock(mutex_);
   Track track;
+  if (!mesh->vertices_m.empty()) {
+    track.box_low_m = track.box_high_m = mesh->vertices_m.front();
+    for (const Eigen::Vector3d& v : mesh->vertices_m) {
+      track.box_low_m = track.box_low_m.cwiseMin(v);
+      track.box_high_m = track.box_high_m.cwiseMax(v);
+    }
+  }
   track.mesh = std::move(mesh);
   track.pose_world_object = start_world_object;
   track.generation = ++generations_;
@@ -85,7 +94,31 @@ bool ModelTracker::submit(perception::DepthFrame frame, Stamp stamp) {
   return true;
 }
 
-std::optional<Eigen::Isometry3d> ModelTracker::predicted(const Track& track, Stamp stamp) {
+void ModelTracker::tool_pose(Stamp stamp, const Eigen::Isometry3d& pose_world_tool) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (!tool_poses_.empty() && stamp <= tool_poses_.back().first) return;  // out of order: dropped
+  tool_poses_.emplace_back(stamp, pose_world_tool);
+  const Stamp oldest = stamp - std::chrono::duration_cast<Stamp::duration>(std::chrono::duration<double>(kToolHistoryS));
+  const auto keep = std::find_if(tool_poses_.begin(), tool_poses_.end(), [&](const auto& p) { return p.first >= oldest; });
+  tool_poses_.erase(tool_poses_.begin(), keep);
+}
+
+std::optional<Eigen::Isometry3d> ModelTracker::tool_at(const ToolPoses& poses, Stamp stamp) {
+  const auto after = std::lower_bound(poses.begin(), poses.end(), stamp,
+                                      [](const auto& p, Stamp s) { return p.first < s; });
+  std::optional<Eigen::Isometry3d> best;
+  double best_s = kToolMatchS;
+  for (auto it : {after, after == poses.begin() ? poses.end() : std::prev(after)}) {
+    if (it == poses.end()) continue;
+    const double off_s = std::abs(std::chrono::duration<double>(it->first - stamp).count());
+    if (off_s <= best_s) best_s = off_s, best = it->second;
+  }
+  return best;
+}
+
+std::optional<Eigen::Isometry3d> ModelTracker::predicted(const Track& track, const std::optional<Eigen::Isometry3d>& tool,
+                                                         Stamp stamp) {
+  if (track.pose_tool_object && tool) return *tool * *track.pose_tool_object;
   if (!track.pose_world_object || !track.stamp) return track.pose_world_object;
   const double dt = std::chrono::duration<double>(stamp - *track.stamp).count();
   if (!(dt > 0.0 && dt <= kMaxPredictionS)) return track.pose_world_object;
@@ -96,7 +129,17 @@ std::optional<Eigen::Isometry3d> ModelTracker::predicted(const Track& track, Sta
   return pose;
 }
 
-void ModelTracker::follow(Track& track, const Eigen::Isometry3d& pose, Stamp stamp) {
+void ModelTracker::follow(Track& track, const Eigen::Isometry3d& pose, Stamp stamp,
+                          const std::optional<Eigen::Isometry3d>& tool) {
+  track.pose_tool_object.reset();
+  if (tool) {
+    const Eigen::Vector3d tool_in_object = pose.inverse() * tool->translation();
+    const Eigen::Vector3d margin = Eigen::Vector3d::Constant(kHeldMarginM);
+    if ((tool_in_object.array() >= (track.box_low_m - margin).array()).all() &&
+        (tool_in_object.array() <= (track.box_high_m + margin).array()).all()) {
+      track.pose_tool_object = tool->inverse() * pose;
+    }
+  }
   track.linear_mps.setZero();
   track.angular_radps.setZero();
   if (track.pose_world_object && track.stamp) {
@@ -111,8 +154,9 @@ void ModelTracker::follow(Track& track, const Eigen::Isometry3d& pose, Stamp sta
   track.stamp = stamp;
 }
 
-ModelLocalization ModelTracker::search(const Track& track, const perception::DepthFrame& frame, Stamp stamp) {
-  const std::optional<Eigen::Isometry3d> ahead = predicted(track, stamp);
+ModelLocalization ModelTracker::search(const Track& track, const perception::DepthFrame& frame, Stamp stamp,
+                                       const std::optional<Eigen::Isometry3d>& tool) {
+  const std::optional<Eigen::Isometry3d> ahead = predicted(track, tool, stamp);
   ModelLocalization result = localize_mesh(*track.mesh, frame, ahead, true);
   // It may have stopped meanwhile (a servo stops without poses): then from where it was last found.
   if (!result.found() && ahead && track.pose_world_object &&
@@ -138,12 +182,13 @@ void ModelTracker::run() {
     const std::pair<perception::DepthFrame, Stamp> frame = std::move(*waiting_);
     waiting_.reset();
     const std::map<std::string, Track> work = tracks_;  // meshes shared, not copied
+    const std::optional<Eigen::Isometry3d> tool = tool_at(tool_poses_, frame.second);
     lock.unlock();
     const auto wall_start = std::chrono::steady_clock::now();
     const double cpu_start = thread_cpu_ms();
     std::vector<std::pair<std::string, ModelLocalization>> results;
     for (const auto& [id, track] : work) {
-      results.emplace_back(id, search(track, frame.first, frame.second));
+      results.emplace_back(id, search(track, frame.first, frame.second, tool));
       const ModelLocalization& r = results.back().second;
       if (!r.found()) ++refused_;
       else lowest_support_ = std::min(lowest_support_, r.result.model_support);
@@ -155,7 +200,7 @@ void ModelTracker::run() {
     for (const auto& [id, result] : results) {
       const auto now = tracks_.find(id);
       if (now == tracks_.end() || now->second.generation != work.at(id).generation) continue;  // stopped or restarted
-      if (result.found()) follow(now->second, result.pose_world_object, frame.second);
+      if (result.found()) follow(now->second, result.pose_world_object, frame.second, tool);
       lock.unlock();
       publish_(id, frame.second, result);
       lock.lock();

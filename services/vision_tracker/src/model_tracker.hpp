@@ -1,11 +1,16 @@
 #pragma once
 /// @file
 /// The tracker's markerless TRACK_CONTINUOUS: each object tracked is refined in the newest depth image from
-/// where its last two poses predict it, and if that is refused from its last pose (localize_mesh() with
+/// where it is predicted to be, and if that is refused from its last pose (localize_mesh() with
 /// `tracking`: no search of the whole image), on a thread of its own, so that the node's loop (markers,
 /// commands, TRACK_ONCE_MODEL) is never blocked by it. A frame that arrives while one is being searched
 /// replaces the one waiting: the work runs at the rate it can, on the newest image. A refused frame keeps the
 /// last pose found. No DDS: results go to a callback (on the worker thread).
+///
+/// The prediction: an object held by the robot (the robot's tool within its box when it was last found)
+/// moves with the tool, whose poses the robot's state gives (tool_pose()); it is searched for where the tool
+/// has carried it since, however many images were refused in between. Any other object is searched for where
+/// the velocity between its last two poses would have taken it (at most kMaxPredictionS ahead).
 
 #include <Eigen/Geometry>
 
@@ -70,6 +75,14 @@ class ModelTracker {
   /// The newest depth image, stamped; replaces one not yet taken up. False (dropped) while nothing is tracked.
   bool submit(perception::DepthFrame frame, Stamp stamp);
 
+  /// The robot's tool in the world at `stamp` (from the robot's state, in stamp order). Kept for
+  /// kToolHistoryS; an image is matched with the tool pose nearest its stamp, within kToolMatchS.
+  void tool_pose(Stamp stamp, const Eigen::Isometry3d& pose_world_tool);
+  static constexpr double kToolHistoryS = 5.0;
+  static constexpr double kToolMatchS = 0.05;
+  /// An object is held when the tool lies within its box grown by this at the pose found.
+  static constexpr double kHeldMarginM = 0.02;
+
  private:
   struct Track {
     std::shared_ptr<const perception::Mesh> mesh;
@@ -78,14 +91,24 @@ class ModelTracker {
     std::optional<Stamp> stamp;    ///< of the image the last pose was found in (unset: the start)
     Eigen::Vector3d linear_mps = Eigen::Vector3d::Zero();     ///< between the last two poses found
     Eigen::Vector3d angular_radps = Eigen::Vector3d::Zero();  ///< world frame
+    Eigen::Vector3d box_low_m = Eigen::Vector3d::Zero(), box_high_m = Eigen::Vector3d::Zero();  ///< the mesh's
+    /// Set while held by the robot: the object in the tool's frame when it was last found.
+    std::optional<Eigen::Isometry3d> pose_tool_object;
   };
-  /// The last pose moved on at the velocity between the last two, to the image's stamp (up to
-  /// kMaxPredictionS after the last pose; later, the last pose).
-  static std::optional<Eigen::Isometry3d> predicted(const Track& track, Stamp stamp);
-  /// Takes `pose`, found in the image of `stamp`, as the track's last, with the velocity it implies.
-  static void follow(Track& track, const Eigen::Isometry3d& pose, Stamp stamp);
+  using ToolPoses = std::vector<std::pair<Stamp, Eigen::Isometry3d>>;
+  /// The tool pose of `poses` nearest `stamp` within kToolMatchS, if any.
+  static std::optional<Eigen::Isometry3d> tool_at(const ToolPoses& poses, Stamp stamp);
+  /// Held: where the tool at the image's stamp carries the object. Otherwise the last pose moved on at the
+  /// velocity between the last two, to the image's stamp (up to kMaxPredictionS after the last pose; later,
+  /// the last pose).
+  static std::optional<Eigen::Isometry3d> predicted(const Track& track, const std::optional<Eigen::Isometry3d>& tool,
+                                                    Stamp stamp);
+  /// Takes `pose`, found in the image of `stamp`, as the track's last, with the velocity it implies, and
+  /// whether the tool (its pose at that stamp, if known) holds it.
+  static void follow(Track& track, const Eigen::Isometry3d& pose, Stamp stamp, const std::optional<Eigen::Isometry3d>& tool);
   /// The object in `frame`: from the predicted pose, and if that is refused from the last pose found.
-  static ModelLocalization search(const Track& track, const perception::DepthFrame& frame, Stamp stamp);
+  static ModelLocalization search(const Track& track, const perception::DepthFrame& frame, Stamp stamp,
+                                  const std::optional<Eigen::Isometry3d>& tool);
   void run();
   /// After a frame (or with `last`, when tracking ended): reports the figures when the period is over.
   void account(std::chrono::steady_clock::time_point frame_start, double frame_ms, double cpu_ms, bool last);
@@ -105,6 +128,7 @@ class ModelTracker {
   std::uint64_t generations_ = 0;
   std::map<std::string, Track> tracks_;
   std::optional<std::pair<perception::DepthFrame, Stamp>> waiting_;
+  ToolPoses tool_poses_;  // oldest first
   std::thread worker_;  // last: it uses the members above
 };
 

@@ -5,6 +5,7 @@
 
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/sequences.hpp"
+#include "rigger/protocol/robot.hpp"
 #include "vision_tracker_node.hpp"
 
 namespace rigger::vision {
@@ -70,6 +71,27 @@ void VisionTrackerNode::on_entities() {
     } else {
       world_poses_.erase(id);
     }
+  });
+}
+
+void VisionTrackerNode::on_robot_state() {
+  robot_states_.take([this](const rigger_robot_RobotState& state, const dds_sample_info_t&) {
+    if (!model_tracker_.any()) return;
+    // The tool pose is in the robot's base frame: a cell entity (its pose in the world from the cell file).
+    const std::string base = dds::to_string(state.header.frame_id);
+    Eigen::Isometry3d pose_world_base = Eigen::Isometry3d::Identity();
+    if (base != frame_id_) {
+      if (cell_.find(base) == nullptr) {
+        if (!robot_frame_warned_) {
+          ctx_.log->warn("robot state in frame \"{}\", no entity of the cell: a held object is not followed with the "
+                         "robot's tool", base);
+        }
+        robot_frame_warned_ = true;
+        return;
+      }
+      pose_world_base = cell_.pose_root_entity(base);
+    }
+    model_tracker_.tool_pose(dds::to_domain(state.header.stamp), pose_world_base * dds::to_domain(state.tool_pose));
   });
 }
 

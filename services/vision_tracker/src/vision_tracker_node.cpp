@@ -8,6 +8,7 @@
 #include "rigger/cell_config/calibration_board.hpp"
 #include "rigger/dds/conversions.hpp"
 #include "rigger/dds/sequences.hpp"
+#include "rigger/protocol/robot.hpp"
 #include "rigger/protocol/vision.hpp"
 #include "rigger/protocol/world.hpp"
 
@@ -87,6 +88,7 @@ VisionTrackerNode::VisionTrackerNode(service::ServiceContext& ctx, const VisionT
       images_(ctx.participant, protocol::vision::kCameraImage),
       depth_(ctx.participant, protocol::vision::kCameraDepth),
       entities_(ctx.participant, protocol::world::kEntity),
+      robot_states_(ctx.participant, protocol::robot::kState),
       commands_(ctx.participant, protocol::vision::kTrackerCommand),
       poses_(ctx.participant, protocol::vision::kTrackerPose),
       model_tracker_([this](const std::string& id, Stamp stamp, const ModelLocalization& result) {
@@ -112,9 +114,11 @@ VisionTrackerNode::VisionTrackerNode(service::ServiceContext& ctx, const VisionT
   const bool continuous = settings.continuous;
   if (continuous) schedule_.track_continuous("");
   model_localizer_.set_cell(cell_file, cell::cell_model_folder(settings.cell_file));
+  cell_ = cell_file;
   ctx.loop.on_data(images_, [this] { on_image(); });
   ctx.loop.on_data(depth_, [this] { on_depth(); });
   ctx.loop.on_data(entities_, [this] { on_entities(); });
+  ctx.loop.on_data(robot_states_, [this] { on_robot_state(); });
   ctx.loop.on_data(commands_, [this] { on_command(); });
   ctx.log->info("tracking {} objects, mode {}", tracker_.config().objects.size(), continuous ? "continuous" : "idle");
 }
@@ -129,6 +133,7 @@ cell_follower::Outcome VisionTrackerNode::on_revision(const cell_follower::Follo
     return cell_follower::Outcome::refuse(e.what());
   }
   model_localizer_.set_cell(revision.cell, revision.model_dir);  // models may change with the view unchanged
+  cell_ = revision.cell;
   if (same_view(config, tracker_.config())) return cell_follower::Outcome::take();
   const std::vector<std::string> ids = object_ids(config);
   tracker_ = Tracker(std::move(config));

@@ -97,6 +97,8 @@ class VisionTrackerNode : public service::Node {
   void publish(const ObjectTrack& track, Stamp stamp, const std::string& status = "", const std::string& detail = "");
   void on_depth();
   void on_entities();
+  /// The robot's tool in the world, handed to the model tracking (a held object moves with it).
+  void on_robot_state();
   bool request_by_model(const std::string& object_id, Stamp fresh_after);
   bool track_by_model(const std::string& object_id);
   /// Fills `frame` from a depth image; why it cannot, or nullptr.
@@ -135,9 +137,13 @@ class VisionTrackerNode : public service::Node {
   ModelLocalizer model_localizer_;
   /// The world model's poses of the objects in frame_id (the priors of TRACK_ONCE_MODEL).
   std::map<std::string, Eigen::Isometry3d> world_poses_;
+  /// The cell's entities in the world (the robot's base, for the robot's tool pose); set with each revision.
+  cell::CellFile cell_;
+  bool robot_frame_warned_ = false;
   dds::Reader<rigger_vision_Image> images_;
   dds::Reader<rigger_vision_Image> depth_;
   dds::Reader<rigger_world_EntityState> entities_;
+  dds::Reader<rigger_robot_RobotState> robot_states_;
   dds::Reader<rigger_vision_TrackerCommand> commands_;
   dds::Writer<rigger_vision_TrackedPose> poses_;
   /// Markerless TRACK_CONTINUOUS; its results are posted to the loop thread and published there.

@@ -17,12 +17,13 @@ inline constexpr Topic<rigger_sensing_WrenchStamped> kWrench{"rigger/robot/wrenc
                                                              "(wrist F/T, sensor frame) ≥ 500 Hz",
                                                              ""};
 
-/// robot driver / cell_sim / ros2_bridge (from a ROS 2 driver's joint states) → skills, admittance_control.
+/// robot driver / cell_sim / ros2_bridge (from a ROS 2 driver's joint states) → skills, admittance_control,
+/// vision_tracker (a held object's model tracking follows the tool).
 inline constexpr Topic<rigger_robot_RobotState> kState{"rigger/robot/state",
                                                        QosProfile::kSensorStream,
                                                        "",
                                                        "robot driver / cell_sim / ros2_bridge",
-                                                       "skills, admittance_control",
+                                                       "skills, admittance_control, vision_tracker",
                                                        "(joints, flange and tool pose in base frame, tool twist, mode)",
                                                        ""};
 
