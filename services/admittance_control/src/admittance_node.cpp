@@ -190,7 +190,9 @@ void AdmittanceNode::on_tracker_pose() {
   tracker_poses_.take([&](const rigger_vision_TrackedPose& p, const dds_sample_info_t&) {
     const std::string id = dds::to_string(p.object_id);
     TrackerSample& sample = tracked_[id];
-    sample.pose_world = dds::to_domain(p.pose.pose);
+    // A refused or lost object's sample carries no pose: the servo's error stays that of the last pose
+    // seen (the servo stops on its quality), not one against whatever the sample holds.
+    if (p.tracked) sample.pose_world = dds::to_domain(p.pose.pose);
     sample.quality = p.quality;
     sample.tracked = p.tracked;
     sample.stamp = dds::to_domain(p.header.stamp);
