@@ -41,6 +41,20 @@ void no_rehearsal(const httplib::Request& req, httplib::Response& res) {
              req.path);
 }
 
+/// What the Planner is answered for a file it read (an import, or a node of one): the CAD service's
+/// result without its name for the bytes it was sent (not a file anyone can open), with the file's name,
+/// size and model id.
+json imported_answer(const ActionResult& loaded, const std::string& name, std::size_t bytes) {
+  const std::string sha = loaded.data.value("model_sha256", "");
+  json out = loaded.data.value("result", json::object());
+  out.erase("source");
+  out["name"] = name;
+  out["bytes"] = bytes;
+  out["model"] = "sha256:" + sha;
+  out["model_sha256"] = sha;
+  return out;
+}
+
 }  // namespace
 
 // Validation by the controller's own validator against the live library; the answer is 200 either way
@@ -178,13 +192,7 @@ void HttpApi::post_planner_import(const httplib::Request& req, httplib::Response
   const std::string sha = loaded.data.value("model_sha256", "");
   audit(*user, "import STEP", name, "read as sha256:" + sha);
   imports_.keep(sha, name, std::move(step));
-  json out = loaded.data.value("result", json::object());
-  out.erase("source");  // the CAD service's name for bytes it was sent, not a file anyone can open
-  out["name"] = name;
-  out["bytes"] = size;
-  out["model"] = "sha256:" + sha;
-  out["model_sha256"] = sha;
-  send_json(res, out);
+  send_json(res, imported_answer(loaded, name, size));
 }
 
 // A node of an imported file's product tree (a part or a sub-assembly, by its path from the root) as a file
@@ -210,9 +218,7 @@ void HttpApi::post_planner_import_node(const httplib::Request& req, httplib::Res
       return send_cad_refusal(res, req, loaded.message, "#/node");
     }
     const std::string sha = loaded.data.value("model_sha256", "");
-    json out = loaded.data.value("result", json::object());
-    out.erase("source");
-    const json node = out.value("node", json::object());
+    const json node = loaded.data.value("result", json::object()).value("node", json::object());
     std::string name;
     for (const char c : node.value("name", std::string())) name += std::isalnum(static_cast<unsigned char>(c)) || c == '-' ? c : '_';
     name = (name.empty() ? "node" : name.substr(0, 64)) + ".step";
@@ -220,10 +226,7 @@ void HttpApi::post_planner_import_node(const httplib::Request& req, httplib::Res
     const std::size_t size = step.size();
     audit(*user, "import STEP node", file->name + " " + path, "read as sha256:" + sha);
     imports_.keep(sha, name, std::move(step));
-    out["name"] = name;
-    out["bytes"] = size;
-    out["model"] = "sha256:" + sha;
-    out["model_sha256"] = sha;
+    json out = imported_answer(loaded, name, size);
     out["file"] = {{"model", "sha256:" + request.sha256}, {"name", file->name}};
     send_json(res, out);
   } catch (const PlannerError& e) {
