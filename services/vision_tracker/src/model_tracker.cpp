@@ -41,13 +41,7 @@ void ModelTracker::start(const std::string& object_id, std::shared_ptr<const per
                          const std::optional<Eigen::Isometry3d>& start_world_object) {
   const std::lock_guard<std::mutex> lock(mutex_);
   Track track;
-  if (!mesh->vertices_m.empty()) {
-    track.box_low_m = track.box_high_m = mesh->vertices_m.front();
-    for (const Eigen::Vector3d& v : mesh->vertices_m) {
-      track.box_low_m = track.box_low_m.cwiseMin(v);
-      track.box_high_m = track.box_high_m.cwiseMax(v);
-    }
-  }
+  for (const Eigen::Vector3d& v : mesh->vertices_m) track.box_m.extend(v);
   track.mesh = std::move(mesh);
   track.pose_world_object = start_world_object;
   track.generation = ++generations_;
@@ -133,12 +127,9 @@ void ModelTracker::follow(Track& track, const Eigen::Isometry3d& pose, Stamp sta
                           const std::optional<Eigen::Isometry3d>& tool) {
   track.pose_tool_object.reset();
   if (tool) {
-    const Eigen::Vector3d tool_in_object = pose.inverse() * tool->translation();
     const Eigen::Vector3d margin = Eigen::Vector3d::Constant(kHeldMarginM);
-    if ((tool_in_object.array() >= (track.box_low_m - margin).array()).all() &&
-        (tool_in_object.array() <= (track.box_high_m + margin).array()).all()) {
-      track.pose_tool_object = tool->inverse() * pose;
-    }
+    const Eigen::AlignedBox3d held(track.box_m.min() - margin, track.box_m.max() + margin);
+    if (held.contains(pose.inverse() * tool->translation())) track.pose_tool_object = tool->inverse() * pose;
   }
   track.linear_mps.setZero();
   track.angular_radps.setZero();

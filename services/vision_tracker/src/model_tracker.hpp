@@ -91,7 +91,7 @@ class ModelTracker {
     std::optional<Stamp> stamp;    ///< of the image the last pose was found in (unset: the start)
     Eigen::Vector3d linear_mps = Eigen::Vector3d::Zero();     ///< between the last two poses found
     Eigen::Vector3d angular_radps = Eigen::Vector3d::Zero();  ///< world frame
-    Eigen::Vector3d box_low_m = Eigen::Vector3d::Zero(), box_high_m = Eigen::Vector3d::Zero();  ///< the mesh's
+    Eigen::AlignedBox3d box_m;  ///< the mesh's bounding box, object frame
     /// Set while held by the robot: the object in the tool's frame when it was last found.
     std::optional<Eigen::Isometry3d> pose_tool_object;
   };
