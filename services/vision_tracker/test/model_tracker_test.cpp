@@ -80,6 +80,19 @@ std::shared_ptr<const perception::Mesh> demo_load_mesh() {
   return std::make_shared<const perception::Mesh>(*mesh);
 }
 
+// Where the load starts in these tests, hanging in the cell, turned a little about z.
+Eigen::Isometry3d load_start() {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(3.55, 1.75, 1.20);
+  pose.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return pose;
+}
+
+// Fixed, as a cell's camera is: the load's +x face, its -y face and its top in view.
+Eigen::Isometry3d camera_on(const Eigen::Isometry3d& load) {
+  return camera_looking(load.translation() + Eigen::Vector3d(1.3, -0.7, 0.5), load.translation());
+}
+
 double millimetres(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return (a.translation() - b.translation()).norm() * 1000.0;
 }
@@ -88,11 +101,8 @@ TEST(ModelTrackerTest, FollowsAMovingLoadImageByImageKeepsItsLastPoseOverARefusa
   const std::shared_ptr<const perception::Mesh> mesh = demo_load_mesh();
   ASSERT_NE(mesh, nullptr);
 
-  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
-  truth.translation() = Eigen::Vector3d(3.55, 1.75, 1.20);
-  truth.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  // Fixed, as a cell's camera is: the +x face, the -y face and the top in view.
-  const Eigen::Isometry3d camera = camera_looking(truth.translation() + Eigen::Vector3d(1.3, -0.7, 0.5), truth.translation());
+  Eigen::Isometry3d truth = load_start();
+  const Eigen::Isometry3d camera = camera_on(truth);
   const auto image = [&](const Eigen::Isometry3d& load) { return render_boxes(camera, {{load, kLoadHalf}}); };
 
   Delivered delivered;
@@ -153,10 +163,8 @@ TEST(ModelTrackerTest, FollowsAHeldLoadWithTheRobotsToolAcrossJumpsAndRefusedIma
   const std::shared_ptr<const perception::Mesh> mesh = demo_load_mesh();
   ASSERT_NE(mesh, nullptr);
 
-  Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
-  start.translation() = Eigen::Vector3d(3.55, 1.75, 1.20);
-  start.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const Eigen::Isometry3d camera = camera_looking(start.translation() + Eigen::Vector3d(1.3, -0.7, 0.5), start.translation());
+  const Eigen::Isometry3d start = load_start();
+  const Eigen::Isometry3d camera = camera_on(start);
   const auto image = [&](const Eigen::Isometry3d& load) { return render_boxes(camera, {{load, kLoadHalf}}); };
   // The magnet on the load's -x face, tool z into it (the load's +x).
   Eigen::Isometry3d load_tool = Eigen::Isometry3d::Identity();
