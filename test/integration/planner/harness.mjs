@@ -17,28 +17,30 @@ export function call(pathname, { method = 'GET', body } = {}) {
   return consoleRequest(URL_, pathname, { token: TOKEN, method, body });
 }
 
-/// The executors' announcements reach the console in their own time: waits until it knows `needed`.
-export async function waitForSkills(needed) {
-  for (const deadline = Date.now() + 60000; ;) {
-    const r = await call('/api/skills');
-    const names = (r.json?.skills || []).map((s) => s.name);
-    if (needed.every((n) => names.includes(n))) return;
-    check(Date.now() < deadline, `the console knows ${needed} within 60 s (has ${names})`);
+/// Asks the console `pathname` every 200 ms until `done(json)`; fails with `what(json)` after `timeoutMs`.
+export async function until(pathname, done, what, timeoutMs) {
+  for (const deadline = Date.now() + timeoutMs; ;) {
+    const json = (await call(pathname)).json || {};
+    if (done(json)) return;
+    check(Date.now() < deadline, what(json));
     await new Promise((ok) => setTimeout(ok, 200));
   }
+}
+
+/// The executors' announcements reach the console in their own time: waits until it knows `needed`.
+export async function waitForSkills(needed) {
+  const names = (json) => (json.skills || []).map((s) => s.name);
+  await until('/api/skills', (json) => needed.every((n) => names(json).includes(n)),
+    (json) => `the console knows ${needed} within 60 s (has ${names(json)})`, 60000);
 }
 
 /// Waits until the console's executors are exactly `ids` (sorted or not): the cell the test brought up,
 /// nothing of another left. Up to `timeoutMs`.
 export async function waitForExecutors(ids, timeoutMs) {
   const wanted = JSON.stringify([...ids].sort());
-  for (const deadline = Date.now() + timeoutMs; ;) {
-    const r = await call('/api/skills');
-    const now = JSON.stringify(Object.keys(r.json?.executors || {}).sort());
-    if (now === wanted) return;
-    check(Date.now() < deadline, `the console's executors are ${wanted} within ${timeoutMs / 1000} s (are ${now})`);
-    await new Promise((ok) => setTimeout(ok, 200));
-  }
+  const now = (json) => JSON.stringify(Object.keys(json.executors || {}).sort());
+  await until('/api/skills', (json) => now(json) === wanted,
+    (json) => `the console's executors are ${wanted} within ${timeoutMs / 1000} s (are ${now(json)})`, timeoutMs);
 }
 
 /// Headless chromium with a fresh profile (../browser.mjs); closeBrowser() ends it.

@@ -13,7 +13,7 @@
 // Synchronisation is on the page's state (waitForFunction), never a sleep; a failed check exits 1.
 import fs from 'node:fs';
 import path from 'node:path';
-import { ART, MODULES, call, check, closeBrowser, countActions, env, launchBrowser, openPlanner, waitForSkills } from './harness.mjs';
+import { ART, MODULES, call, check, closeBrowser, countActions, env, launchBrowser, openPlanner, until, waitForSkills } from './harness.mjs';
 
 const shipped = JSON.parse(fs.readFileSync(env('SHIPPED'), 'utf8'));
 const result = { timings_ms: {} };
@@ -40,13 +40,10 @@ result.world_features = world;
 /// rehearsal view to its end; its end state and every node's shown state go to the result.
 async function rehearse(page) {
   // The rehearsal cell's executors reach the console in their own time (READY on their domain first).
-  for (const deadline = Date.now() + 60000; ;) {
-    const r = await call('/api/rehearsal/state');
-    const ids = (r.json?.executors || []).map((e) => e.executor_id);
-    if (['robot-skills', 'perception-skills', 'operator-skills', 'monitors'].every((e) => ids.includes(e))) break;
-    check(Date.now() < deadline, `the console hears the rehearsal cell's executors within 60 s (has ${ids})`);
-    await new Promise((ok) => setTimeout(ok, 200));
-  }
+  const ids = (json) => (json.executors || []).map((e) => e.executor_id);
+  await until('/api/rehearsal/state',
+    (json) => ['robot-skills', 'perception-skills', 'operator-skills', 'monitors'].every((e) => ids(json).includes(e)),
+    (json) => `the console hears the rehearsal cell's executors within 60 s (has ${ids(json)})`, 60000);
   await page.evaluate(() => new Promise((ok) => requestIdleCallback(ok, { timeout: 10000 })));
   const tRun = Date.now();
   await page.click('#planner-rehearse');
